@@ -1,0 +1,339 @@
+"""Contact kernels of the clearance joint (paper Secs. 2-4, Eqs. 1-23).
+
+Pure numba functions on arrays.  Bodies: i carries the pin, j the bushing.
+The search works in the bushing frame: the pin centre relative to the bushing
+centre is the eccentricity e, and bushing point z sits at
+rho_z (cos phi_z, sin phi_z), rho_z = R_j + h_z (Eqs. 3, 35).
+
+Conventions (MODEL.md section 3): delta = R_i - |d| (Eq. 6, positive inside
+the pin); n points from the pin centre to the deepest bushing point (Eq. 8);
+the normal force on the pin is -F_N n (it pushes the pin back towards the
+bushing centre) and the friction on the pin opposes the pin's sliding velocity
+relative to the bushing; torques are planar cross products l_x F_y - l_y F_x.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .layout import (
+    BLOCK_SIZE, M_ACTIVE, M_IMPACT_VELOCITY, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y,
+    P_BUSHING_RADIUS, P_EXPONENT, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
+    P_RESTITUTION, P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR, R_BUSHING_FX, R_BUSHING_FY,
+    R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X,
+    R_ECCENTRICITY_Y, R_FRICTION_FORCE, R_NORMAL_FORCE, R_PENETRATION, R_PENETRATION_RATE,
+    R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, R_TANGENTIAL_VELOCITY,
+)
+
+TWO_PI = 2.0 * math.pi
+OUTWARD_SCAN_POINTS = 16  # points scanned each side of the direction of e before the block search
+
+
+@njit(cache=True)
+def bushing_point_angles(n_points):
+    """Body-frame angles phi_z = z 2 pi / N_d, z = 1..N_d (Eq. 3) [rad]; index k = z - 1."""
+    phi = np.empty(n_points)
+    for k in range(n_points):
+        phi[k] = (k + 1) * TWO_PI / n_points
+    return phi
+
+
+@njit(cache=True)
+def block_minimum(wear_depth, b):
+    """Smallest wear depth of block b (points b*BLOCK_SIZE .. b*BLOCK_SIZE + BLOCK_SIZE - 1)."""
+    lo = b * BLOCK_SIZE
+    m = wear_depth[lo]
+    for k in range(lo + 1, min(lo + BLOCK_SIZE, wear_depth.shape[0])):
+        m = min(m, wear_depth[k])
+    return m
+
+
+@njit(cache=True)
+def block_minimum_depth(wear_depth, block_min):
+    """Fill ``block_min[b]`` with the smallest wear depth of every block b."""
+    for b in range(block_min.shape[0]):
+        block_min[b] = block_minimum(wear_depth, b)
+
+
+@njit(cache=True)
+def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k):
+    """Smallest (|d_z|^2, z) over points lo..hi-1, ties to the lower index (Eqs. 4-5)."""
+    for k in range(lo, hi):
+        rho = bushing_radius + wear_depth[k]
+        dx = rho * cos_phi[k] - ex
+        dy = rho * sin_phi[k] - ey
+        d2 = dx * dx + dy * dy
+        if d2 < best_d2 or (d2 == best_d2 and k < best_k):
+            best_d2 = d2
+            best_k = k
+    return best_d2, best_k
+
+
+@njit(cache=True)
+def find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """Full scan of all bushing points: (index, |d|^2) of the point nearest the pin centre."""
+    return _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, 0, wear_depth.shape[0],
+                 np.inf, -1)[::-1]
+
+
+@njit(cache=True)
+def _angular_lower_bound_sq(e, c, rho_min):
+    """Lower bound of |d|^2 = rho^2 + e^2 - 2 rho e cos(Delta') over rho >= rho_min and
+    Delta' in [Delta, pi], with c = cos(Delta): reached at Delta' = Delta,
+    rho = max(rho_min, e c)."""
+    ec = e * c
+    r = max(rho_min, ec) - ec
+    return r * r + e * e * max(0.0, 1.0 - c * c)
+
+
+@njit(cache=True)
+def _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n):
+    """Lower bound of |d_z|^2 over block b (its span must not contain the direction of e):
+    cos Delta is the larger dot product of u_e with the block's end points."""
+    lo = b * BLOCK_SIZE
+    hi = min(lo + BLOCK_SIZE, n) - 1
+    c = max(cos_phi[lo] * ux + sin_phi[lo] * uy, cos_phi[hi] * ux + sin_phi[hi] * uy)
+    return _angular_lower_bound_sq(e, c, bushing_radius + block_min[b])
+
+
+@njit(cache=True)
+def _direction_point(ex, ey, n):
+    """|e|, the unit vector of e ((1, 0) for e = 0) and the point nearest its direction."""
+    e = math.sqrt(ex * ex + ey * ey)
+    if e > 0.0:
+        ux = ex / e
+        uy = ey / e
+    else:
+        ux = 1.0
+        uy = 0.0
+    return e, ux, uy, (int(round(math.atan2(uy, ux) / (TWO_PI / n))) - 1) % n
+
+
+@njit(cache=True)
+def _is_direction_block(b, b0, nb):
+    """True for the block holding the direction of e and its two neighbours."""
+    off = (b - b0) % nb
+    return off <= 1 or off == nb - 1
+
+
+@njit(cache=True)
+def _tie_margin(best_d2):
+    """Candidates whose bound is within rounding of the best are still scanned."""
+    return best_d2 * (1.0 + 1e-12) + 1e-30
+
+
+@njit(cache=True)
+def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min):
+    """Exact search with pruning, identical to :func:`find_deepest_point_full`.
+
+    1. Scan outward from the point nearest the direction of e; after offset o,
+       every unscanned point is at least as far in angle as k0 +- (o + 1), so
+       with the smallest radius of the profile it cannot be nearer than
+       :func:`_angular_lower_bound_sq`: stop once that bound exceeds the best.
+       On a circular or mildly worn bushing this decides after a few points.
+    2. Otherwise (deep local wear), scan the three blocks around the direction
+       of e and every other block whose own lower bound could still beat or
+       tie the best.
+    Ties go to the lower index, as in the full scan.
+    """
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    if nb <= 3:
+        return find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    e, ux, uy, k0 = _direction_point(ex, ey, n)
+    rho_min = bushing_radius + block_min.min()
+    best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf, -1)
+    for o in range(1, OUTWARD_SCAN_POINTS + 1):
+        kp = (k0 + o) % n
+        km = (k0 - o) % n
+        c = max(cos_phi[kp] * ux + sin_phi[kp] * uy, cos_phi[km] * ux + sin_phi[km] * uy)
+        if _angular_lower_bound_sq(e, c, rho_min) > _tie_margin(best_d2):
+            return best_k, best_d2
+        best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, kp, kp + 1, best_d2, best_k)
+        best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, km, km + 1, best_d2, best_k)
+    b0 = k0 // BLOCK_SIZE
+    for db in (-1, 0, 1):
+        lo = ((b0 + db) % nb) * BLOCK_SIZE
+        best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                lo, min(lo + BLOCK_SIZE, n), best_d2, best_k)
+    for b in range(nb):
+        if _is_direction_block(b, b0, nb):
+            continue
+        if _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) <= _tie_margin(best_d2):
+            lo = b * BLOCK_SIZE
+            best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                    lo, min(lo + BLOCK_SIZE, n), best_d2, best_k)
+    return best_k, best_d2
+
+
+@njit(cache=True)
+def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                       block_min, mask):
+    """Mark in ``mask`` every bushing point with |d_z| <= R_i (Eq. 5); return their count.
+
+    Blocks whose lower bound on |d|^2 exceeds R_i^2 hold no such point and are skipped.
+    """
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    e, ux, uy, k0 = _direction_point(ex, ey, n)
+    b0 = k0 // BLOCK_SIZE
+    r2 = pin_radius * pin_radius
+    count = 0
+    mask[:] = False
+    for b in range(nb):
+        if nb > 3 and not _is_direction_block(b, b0, nb) and _block_lower_bound_sq(
+                e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) > _tie_margin(r2):
+            continue
+        lo = b * BLOCK_SIZE
+        for k in range(lo, min(lo + BLOCK_SIZE, n)):
+            rho = bushing_radius + wear_depth[k]
+            dx = rho * cos_phi[k] - ex
+            dy = rho * sin_phi[k] - ey
+            if dx * dx + dy * dy <= r2:
+                mask[k] = True
+                count += 1
+    return count
+
+
+@njit(cache=True)
+def lankarani_nikravesh(penetration, penetration_rate, impact_velocity, stiffness, exponent,
+                        restitution):
+    """Normal force F_N = K delta^n (1 + 3(1 - e_r^2)/4 delta_dot/delta_dot^-) >= 0, Eq. (15) [N]."""
+    hysteresis = 1.0 + 0.75 * (1.0 - restitution * restitution) * penetration_rate / impact_velocity
+    return max(0.0, stiffness * penetration ** exponent * hysteresis)
+
+
+@njit(cache=True)
+def ambrosio_friction_factor(sliding_speed, v0, v1):
+    """Dynamic correction coefficient c_d of Eq. (19) on |v_T|; 0 below v0, 1 above v1."""
+    if sliding_speed <= v0:
+        return 0.0
+    if sliding_speed >= v1:
+        return 1.0
+    return (sliding_speed - v0) / (v1 - v0)
+
+
+@njit(cache=True)
+def _cross(lx, ly, fx, fy):
+    return lx * fy - ly * fx
+
+
+@njit(cache=True)
+def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
+                     memory, out):
+    """Contact forces of the clearance joint for given body kinematics (Eqs. 1-23, 34-37).
+
+    pos = (x, y, theta) of a body's reference point [m, m, rad], vel = its
+    velocities; i = pin body, j = bushing body.  ``memory`` holds the contact
+    onset bookkeeping of accepted steps: while no contact is active, the
+    current approach velocity stands in for delta_dot^- (a contact starting
+    inside a step).  Writes forces, torques and diagnostics into ``out``
+    (layout.R_*); never changes the joint's state.
+    """
+    ci = math.cos(pos_i[2])
+    si = math.sin(pos_i[2])
+    cj = math.cos(pos_j[2])
+    sj = math.sin(pos_j[2])
+    # pin centre, Eq. (1), and bushing centre in global coordinates
+    ax = ci * jp[P_PIN_OFFSET_X] - si * jp[P_PIN_OFFSET_Y]
+    ay = si * jp[P_PIN_OFFSET_X] + ci * jp[P_PIN_OFFSET_Y]
+    pin_x = pos_i[0] + ax
+    pin_y = pos_i[1] + ay
+    bx = cj * jp[P_BUSHING_OFFSET_X] - sj * jp[P_BUSHING_OFFSET_Y]
+    by = sj * jp[P_BUSHING_OFFSET_X] + cj * jp[P_BUSHING_OFFSET_Y]
+    # eccentricity in the bushing frame
+    gx = pin_x - (pos_j[0] + bx)
+    gy = pin_y - (pos_j[1] + by)
+    ex = cj * gx + sj * gy
+    ey = -sj * gx + cj * gy
+    out[R_ECCENTRICITY_X] = ex
+    out[R_ECCENTRICITY_Y] = ey
+    for r in range(R_ECCENTRICITY_X):
+        out[r] = 0.0
+    out[R_CONTACT_INDEX] = -1.0
+    out[R_TANGENTIAL_VELOCITY] = 0.0
+    out[R_PENETRATION_RATE] = 0.0
+    out[R_CONTACT_ANGLE] = math.atan2(ey, ex) % TWO_PI
+
+    pin_radius = jp[P_PIN_RADIUS]
+    bushing_radius = jp[P_BUSHING_RADIUS]
+    k, d2 = find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min)
+    if d2 > pin_radius * pin_radius:
+        return
+    d = math.sqrt(d2)
+    rho = bushing_radius + wear_depth[k]
+    # normal n (Eq. 8) in the bushing frame, then globally
+    if d > 0.0:
+        nlx = (rho * cos_phi[k] - ex) / d
+        nly = (rho * sin_phi[k] - ey) / d
+    else:
+        nlx = cos_phi[k]
+        nly = sin_phi[k]
+    nx = cj * nlx - sj * nly
+    ny = sj * nlx + cj * nly
+    tx = -ny
+    ty = nx
+    penetration = pin_radius - d                                   # Eq. (6)
+    # contact points: pin surface (Eq. 9) and the bushing point (Eqs. 10, 36)
+    qix = pin_x + pin_radius * nx
+    qiy = pin_y + pin_radius * ny
+    sx = jp[P_BUSHING_OFFSET_X] + rho * cos_phi[k]
+    sy = jp[P_BUSHING_OFFSET_Y] + rho * sin_phi[k]
+    ljx = cj * sx - sj * sy
+    ljy = sj * sx + cj * sy
+    lix = qix - pos_i[0]
+    liy = qiy - pos_i[1]
+    # material velocities of the two contact points (Eqs. 11-12, 37)
+    vix = vel_i[0] - vel_i[2] * liy
+    viy = vel_i[1] + vel_i[2] * lix
+    vjx = vel_j[0] - vel_j[2] * ljy
+    vjy = vel_j[1] + vel_j[2] * ljx
+    rvx = vix - vjx
+    rvy = viy - vjy
+    penetration_rate = rvx * nx + rvy * ny                         # Eq. (13)
+    v_t = rvx * tx + rvy * ty                                      # Eq. (14)
+    if memory[M_ACTIVE] > 0.5:
+        impact_velocity = memory[M_IMPACT_VELOCITY]
+    else:
+        impact_velocity = max(penetration_rate, jp[P_VELOCITY_FLOOR])
+    f_n = lankarani_nikravesh(penetration, penetration_rate, impact_velocity,
+                              jp[P_STIFFNESS], jp[P_EXPONENT], jp[P_RESTITUTION])
+    c_d = ambrosio_friction_factor(abs(v_t), jp[P_V0], jp[P_V1])
+    f_t = -jp[P_FRICTION] * c_d * f_n * (1.0 if v_t > 0.0 else -1.0)   # Eq. (18), along t on the pin
+    fx = -f_n * nx + f_t * tx                                      # Eq. (20), on the pin
+    fy = -f_n * ny + f_t * ty
+    out[R_PIN_FX] = fx
+    out[R_PIN_FY] = fy
+    out[R_PIN_TORQUE] = _cross(lix, liy, fx, fy)                   # Eq. (21)
+    out[R_BUSHING_FX] = -fx                                        # Eq. (22)
+    out[R_BUSHING_FY] = -fy
+    out[R_BUSHING_TORQUE] = _cross(ljx, ljy, -fx, -fy)             # Eq. (23)
+    out[R_NORMAL_FORCE] = f_n
+    out[R_FRICTION_FORCE] = f_t
+    out[R_PENETRATION] = penetration
+    out[R_CONTACT] = 1.0
+    out[R_CONTACT_INDEX] = k
+    out[R_TANGENTIAL_VELOCITY] = v_t
+    out[R_PENETRATION_RATE] = penetration_rate
+    out[R_CONTACT_ANGLE] = ((k + 1) * TWO_PI / wear_depth.shape[0]) % TWO_PI
+
+
+@njit(cache=True)
+def update_contact_memory(result, jp, memory):
+    """Onset bookkeeping after an accepted step (MODEL.md 3.5).
+
+    A contact that is new at the accepted state stores its approach velocity,
+    floored at ``impact_velocity_floor``, as delta_dot^- of Eq. (15); leaving
+    contact clears it.  Returns True if the memory changed.
+    """
+    if result[R_CONTACT] > 0.5:
+        if memory[M_ACTIVE] < 0.5:
+            memory[M_ACTIVE] = 1.0
+            memory[M_IMPACT_VELOCITY] = max(result[R_PENETRATION_RATE], jp[P_VELOCITY_FLOOR])
+            return True
+        return False
+    if memory[M_ACTIVE] > 0.5:
+        memory[M_ACTIVE] = 0.0
+        memory[M_IMPACT_VELOCITY] = 0.0
+        return True
+    return False

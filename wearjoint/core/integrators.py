@@ -1,0 +1,188 @@
+"""Integrators of the slider-crank with the clearance joint, and the per-step recorder.
+
+Fixed-step RK4 and adaptive Dormand-Prince 5(4) (error control on positions
+and velocities, maximum step).  The joint's state (wear profile, contact-onset
+memory) changes only at accepted points, through ``advance_joint``; stage
+evaluations never change it.  ``record_step`` accumulates per-revolution
+statistics and time-series samples; the co-simulation master uses it too.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .layout import (
+    CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_SAMPLE_DT, MODE_CLEARANCE,
+    MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
+    R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, ROD, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
+    S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
+    T_FRICTION_FORCE, T_NORMAL_FORCE, T_PENETRATION, T_PIN_FX, T_PIN_FY, T_SLIDER_A, T_SLIDER_V,
+    T_SLIDER_X, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
+)
+from .mechanism import derivative
+from .wear import advance_joint
+
+RK4 = 0
+DOPRI5 = 1
+
+# Dormand-Prince 5(4) tableau
+_C2, _C3, _C4, _C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
+_A21 = 1.0 / 5.0
+_A31, _A32 = 3.0 / 40.0, 9.0 / 40.0
+_A41, _A42, _A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+_A51, _A52, _A53, _A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+_A61, _A62, _A63, _A64, _A65 = 9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0
+_B1, _B3, _B4, _B5, _B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
+_E1, _E3, _E4, _E5, _E6, _E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0,
+                                22.0 / 525.0, -1.0 / 40.0)
+
+
+@njit(cache=True)
+def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
+    """Account the accepted point (t, y) that ends a step of length dt.
+
+    ``result`` is the joint evaluation there (layout.R_*).  Updates the row of
+    the current crank revolution in ``rev_stats`` (impacts = contact onsets,
+    contact time, slider acceleration extremes, max normal force, max
+    eccentricity) and appends a sample when t reaches the next sample time.
+    """
+    contact = result[R_CONTACT] > 0.5
+    rev = int(mp[MP_OMEGA] * t / (2.0 * math.pi) * (1.0 - 1e-14))
+    acc = dy[N_COORDINATES + SLIDER]
+    ecc = math.sqrt(result[R_ECCENTRICITY_X] ** 2 + result[R_ECCENTRICITY_Y] ** 2)
+    if 0 <= rev < rev_stats.shape[0]:
+        row = rev_stats[rev]
+        if contact and track[K_PREVIOUS_CONTACT] < 0.5:
+            row[S_IMPACTS] += 1.0
+        if contact:
+            row[S_CONTACT_TIME] += dt
+        row[S_TIME] += dt
+        row[S_ACC_MAX] = max(row[S_ACC_MAX], acc)
+        row[S_ACC_MIN] = min(row[S_ACC_MIN], acc)
+        row[S_FORCE_MAX] = max(row[S_FORCE_MAX], result[R_NORMAL_FORCE])
+        row[S_ECC_MAX] = max(row[S_ECC_MAX], ecc)
+    track[K_PREVIOUS_CONTACT] = 1.0 if contact else 0.0
+    if t >= track[K_NEXT_SAMPLE]:
+        i = int(track[K_N_SAMPLES])
+        if i < samples.shape[0]:
+            s = samples[i]
+            s[T_TIME] = t
+            s[T_CRANK_ANGLE] = y[CRANK + 2]
+            s[T_SLIDER_X] = y[Y_SLIDER_X]
+            s[T_SLIDER_V] = y[Y_SLIDER_V]
+            s[T_SLIDER_A] = acc
+            s[T_PIN_FX] = result[R_PIN_FX]
+            s[T_PIN_FY] = result[R_PIN_FY]
+            s[T_NORMAL_FORCE] = result[R_NORMAL_FORCE]
+            s[T_FRICTION_FORCE] = result[R_FRICTION_FORCE]
+            s[T_ECC_X] = result[R_ECCENTRICITY_X]
+            s[T_ECC_Y] = result[R_ECCENTRICITY_Y]
+            s[T_PENETRATION] = result[R_PENETRATION]
+            s[T_CONTACT] = 1.0 if contact else 0.0
+            track[K_N_SAMPLES] = i + 1
+        while track[K_NEXT_SAMPLE] <= t:
+            track[K_NEXT_SAMPLE] += track[K_SAMPLE_DT]
+
+
+@njit(cache=True)
+def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
+    """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint."""
+    n = N_COORDINATES
+    changed = False
+    if mode == MODE_CLEARANCE:
+        jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
+        changed = advance_joint(y[CRANK:CRANK + 3], y[n + CRANK:n + CRANK + 3], y[ROD:ROD + 3],
+                                y[n + ROD:n + ROD + 3], h, jp, cos_phi, sin_phi, wear_depth,
+                                block_min, memory, mask, result)
+    if reuse_k_end and not changed:
+        dy[:] = k_end
+    else:
+        derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+
+
+@njit(cache=True)
+def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
+              rev_stats, samples, track):
+    """Integrate y from t to t_end; ``dy`` must hold f(t, y) on entry and holds f at the end.
+
+    control = [h (RK4 step or DOPRI initial/next step), h_max, rtol, atol_position,
+    atol_velocity, h_min].  Returns (t, accepted steps, rejected steps); control[0]
+    holds the step to continue with.
+    """
+    n2 = y.shape[0]
+    n = N_COORDINATES
+    result = joint[7]
+    h = control[0]
+    h_max = control[1]
+    rtol = control[2]
+    atol_q = control[3]
+    atol_v = control[4]
+    h_min = control[5]
+    k2 = np.empty(n2)
+    k3 = np.empty(n2)
+    k4 = np.empty(n2)
+    k5 = np.empty(n2)
+    k6 = np.empty(n2)
+    k7 = np.empty(n2)
+    ys = np.empty(n2)
+    y_new = np.empty(n2)
+    accepted = 0
+    rejected = 0
+    while t < t_end * (1.0 - 1e-15) - 1e-300:
+        step = min(h, t_end - t)
+        if method == RK4:
+            for i in range(n2):
+                ys[i] = y[i] + 0.5 * step * dy[i]
+            derivative(t + 0.5 * step, ys, mode, mp, joint, body_forces, ws, k2)
+            for i in range(n2):
+                ys[i] = y[i] + 0.5 * step * k2[i]
+            derivative(t + 0.5 * step, ys, mode, mp, joint, body_forces, ws, k3)
+            for i in range(n2):
+                ys[i] = y[i] + step * k3[i]
+            derivative(t + step, ys, mode, mp, joint, body_forces, ws, k4)
+            for i in range(n2):
+                y[i] += step / 6.0 * (dy[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            t += step
+            accepted += 1
+            accept_point(t, y, step, k4, mode, mp, joint, body_forces, ws, dy, False)
+            record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
+            continue
+        # Dormand-Prince 5(4)
+        for i in range(n2):
+            ys[i] = y[i] + step * _A21 * dy[i]
+        derivative(t + _C2 * step, ys, mode, mp, joint, body_forces, ws, k2)
+        for i in range(n2):
+            ys[i] = y[i] + step * (_A31 * dy[i] + _A32 * k2[i])
+        derivative(t + _C3 * step, ys, mode, mp, joint, body_forces, ws, k3)
+        for i in range(n2):
+            ys[i] = y[i] + step * (_A41 * dy[i] + _A42 * k2[i] + _A43 * k3[i])
+        derivative(t + _C4 * step, ys, mode, mp, joint, body_forces, ws, k4)
+        for i in range(n2):
+            ys[i] = y[i] + step * (_A51 * dy[i] + _A52 * k2[i] + _A53 * k3[i] + _A54 * k4[i])
+        derivative(t + _C5 * step, ys, mode, mp, joint, body_forces, ws, k5)
+        for i in range(n2):
+            ys[i] = y[i] + step * (_A61 * dy[i] + _A62 * k2[i] + _A63 * k3[i] + _A64 * k4[i] + _A65 * k5[i])
+        derivative(t + step, ys, mode, mp, joint, body_forces, ws, k6)
+        for i in range(n2):
+            y_new[i] = y[i] + step * (_B1 * dy[i] + _B3 * k3[i] + _B4 * k4[i] + _B5 * k5[i] + _B6 * k6[i])
+        derivative(t + step, y_new, mode, mp, joint, body_forces, ws, k7)
+        err = 0.0
+        for i in range(n2):
+            e = step * (_E1 * dy[i] + _E3 * k3[i] + _E4 * k4[i] + _E5 * k5[i] + _E6 * k6[i] + _E7 * k7[i])
+            scale = (atol_q if i < n else atol_v) + rtol * max(abs(y[i]), abs(y_new[i]))
+            err += (e / scale) ** 2
+        err = math.sqrt(err / n2)
+        if err <= 1.0 or step <= h_min:
+            t += step
+            accepted += 1
+            y[:] = y_new
+            accept_point(t, y, step, k7, mode, mp, joint, body_forces, ws, dy, True)
+            record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
+            factor = 5.0 if err == 0.0 else min(5.0, max(0.2, 0.9 * err ** -0.2))
+            if step == h:
+                h = min(h_max, max(h_min, step * factor))
+        else:
+            rejected += 1
+            h = max(h_min, step * max(0.2, 0.9 * err ** -0.2))
+    control[0] = h
+    return t, accepted, rejected

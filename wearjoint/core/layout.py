@@ -1,0 +1,121 @@
+"""Index layout of the plain arrays the numba kernels share.
+
+Kernels take parameters and results as flat float64 arrays (numba compiles
+module-level integers as constants); these names are the only place the
+positions are defined.
+"""
+
+# --- joint parameter vector (JointParameters packed by wearjoint.joint.pack_joint_parameters)
+P_PIN_RADIUS = 0          # R_i [m]
+P_BUSHING_RADIUS = 1      # R_j [m]
+P_PIN_OFFSET_X = 2        # s_i^P in the pin body frame [m]
+P_PIN_OFFSET_Y = 3
+P_BUSHING_OFFSET_X = 4    # s_j^P in the bushing body frame [m]
+P_BUSHING_OFFSET_Y = 5
+P_STIFFNESS = 6           # K [N/m^n]
+P_EXPONENT = 7            # n [-]
+P_RESTITUTION = 8         # e_r [-]
+P_FRICTION = 9            # mu [-]
+P_V0 = 10                 # friction tolerance velocities [m/s]
+P_V1 = 11
+P_WEAR_COEFFICIENT = 12   # k_w times the wear acceleration factor [m^2/N]
+P_CONTACT_LENGTH = 13     # L [m]
+P_EFFECTIVE_MODULUS = 14  # E* [Pa]
+P_RHO_MODE = 15           # 0 conformal, 1 paper (MODEL.md 3.2)
+P_WEAR_PLACEMENT = 16     # 0 patch, 1 penetration (MODEL.md 3.7)
+P_SLIDING = 17            # 0 rotation, 1 tangential (MODEL.md 3.8)
+P_VELOCITY_FLOOR = 18     # floor on the stored impact velocity [m/s] (MODEL.md 3.5)
+N_JOINT_PARAMETERS = 19
+
+# --- contact memory (the joint's scalar state besides the wear profile)
+M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts
+M_IMPACT_VELOCITY = 1     # delta_dot^(-) stored at that contact's onset [m/s]
+N_MEMORY = 2
+
+# --- result of one joint evaluation
+R_PIN_FX = 0              # force on the pin body, global frame [N]
+R_PIN_FY = 1
+R_PIN_TORQUE = 2          # torque about the pin body's reference point [N m]
+R_BUSHING_FX = 3
+R_BUSHING_FY = 4
+R_BUSHING_TORQUE = 5
+R_NORMAL_FORCE = 6        # F_N >= 0 [N]
+R_FRICTION_FORCE = 7      # friction on the pin along t (signed) [N]
+R_PENETRATION = 8         # delta_max >= 0 [m]
+R_CONTACT = 9             # 1.0 in contact, else 0.0
+R_CONTACT_INDEX = 10      # bushing point index (0-based) of the deepest point, -1 if none
+R_ECCENTRICITY_X = 11     # pin centre relative to bushing centre, bushing frame [m]
+R_ECCENTRICITY_Y = 12
+R_TANGENTIAL_VELOCITY = 13  # pin relative to bushing along t [m/s]
+R_PENETRATION_RATE = 14   # delta_dot [m/s]
+R_CONTACT_ANGLE = 15      # bushing-frame angle of the contact point [rad], or of e without contact
+N_RESULT = 16
+
+# --- contact search blocks (see contact.find_deepest_point)
+BLOCK_SIZE = 32
+
+# --- slider-crank parameter vector (SliderCrankParameters packed by wearjoint.mechanism)
+MP_CRANK_LENGTH = 0
+MP_ROD_LENGTH = 1
+MP_CRANK_MASS = 2
+MP_CRANK_INERTIA = 3
+MP_ROD_MASS = 4
+MP_ROD_INERTIA = 5
+MP_SLIDER_MASS = 6
+MP_SLIDER_INERTIA = 7
+MP_GRAVITY = 8
+MP_OMEGA = 9              # crank speed magnitude [rad/s]; theta1 = theta0 - omega t
+MP_THETA0 = 10
+MP_ALPHA = 11             # Baumgarte
+MP_BETA = 12
+N_MECHANISM_PARAMETERS = 13
+
+# state vector y = [q (9), q_dot (9)], q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (Eq. 38)
+N_COORDINATES = 9
+Y_SLIDER_X = 6
+Y_SLIDER_V = 15
+# body blocks inside q: crank (pin body) 0..2, rod (bushing body) 3..5, slider 6..8
+CRANK = 0
+ROD = 3
+SLIDER = 6
+
+# --- how the contact forces enter the mechanism
+MODE_IDEAL = 0            # crank-rod revolute as a constraint (closed-form baseline)
+MODE_CLEARANCE = 1        # constraint removed, ClearanceJoint evaluated inside the RHS
+MODE_EXTERNAL = 2         # constraint removed, forces given (held from a co-simulation slave)
+
+# --- per-revolution statistics (one row per crank revolution)
+S_IMPACTS = 0             # contact onsets at accepted points
+S_CONTACT_TIME = 1        # time in contact [s]
+S_TIME = 2                # time covered [s]
+S_ACC_MAX = 3             # slider acceleration extremes [m/s^2]
+S_ACC_MIN = 4
+S_FORCE_MAX = 5           # max normal force [N]
+S_ECC_MAX = 6             # max |eccentricity| [m]
+N_STATS = 7
+
+# --- time series samples
+T_TIME = 0
+T_CRANK_ANGLE = 1         # theta1 [rad]
+T_SLIDER_X = 2
+T_SLIDER_V = 3
+T_SLIDER_A = 4
+T_PIN_FX = 5              # contact force on the pin (crank), global [N]
+T_PIN_FY = 6
+T_NORMAL_FORCE = 7
+T_FRICTION_FORCE = 8
+T_ECC_X = 9               # eccentricity in the bushing (rod) frame [m]
+T_ECC_Y = 10
+T_PENETRATION = 11
+T_CONTACT = 12
+N_SAMPLE_COLUMNS = 13
+SAMPLE_NAMES = ("time_s", "crank_angle_rad", "slider_x_m", "slider_v_m_s", "slider_a_m_s2",
+                "pin_force_x_N", "pin_force_y_N", "normal_force_N", "friction_force_N",
+                "eccentricity_x_m", "eccentricity_y_m", "penetration_m", "contact")
+
+# --- recorder bookkeeping
+K_PREVIOUS_CONTACT = 0
+K_NEXT_SAMPLE = 1
+K_SAMPLE_DT = 2
+K_N_SAMPLES = 3
+N_TRACK = 4

@@ -1,0 +1,229 @@
+"""Slider-crank multibody kernels (paper Sec. 6.1, Eqs. 38-44).
+
+Coordinates q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (crank, rod, slider, each at
+its centre of mass).  Constraints (Eq. 39): crank pivot at the origin, rod-
+slider revolute, slider on the X axis without rotation, the driver
+th1 = th0 - omega t; the ideal variant adds the crank-rod revolute.  The
+equations of motion (Eq. 44) are solved through the Schur complement
+(C M^-1 C^T) lambda = C M^-1 Q - c with the diagonal mass matrix (Eq. 42)
+and Baumgarte stabilisation c = gamma - 2 alpha Phi_dot - beta^2 Phi.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .contact import evaluate_contact
+from .layout import (
+    CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
+    MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
+    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, R_BUSHING_FX, R_BUSHING_FY,
+    R_BUSHING_TORQUE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
+)
+
+GROUND = -1
+N_CONSTRAINTS_CLEARANCE = 7
+N_CONSTRAINTS_IDEAL = 9
+
+
+def make_workspace():
+    """Scratch arrays of :func:`accelerations` (allocated once per host)."""
+    n = N_COORDINATES
+    return (np.zeros((n, n)), np.zeros((n, n)), np.zeros(n), np.zeros(n), np.zeros(n),
+            np.zeros(n), np.zeros(n))
+
+
+@njit(cache=True)
+def cholesky_solve(a, b, m):
+    """Solve a[:m, :m] x = b[:m] for symmetric positive definite a; a is overwritten
+    by its Cholesky factor, x by b."""
+    for j in range(m):
+        d = a[j, j]
+        for k in range(j):
+            d -= a[j, k] * a[j, k]
+        d = math.sqrt(d)
+        a[j, j] = d
+        for i in range(j + 1, m):
+            s = a[i, j]
+            for k in range(j):
+                s -= a[i, k] * a[j, k]
+            a[i, j] = s / d
+    for i in range(m):
+        s = b[i]
+        for k in range(i):
+            s -= a[i, k] * b[k]
+        b[i] = s / a[i, i]
+    for i in range(m - 1, -1, -1):
+        s = b[i]
+        for k in range(i + 1, m):
+            s -= a[k, i] * b[k]
+        b[i] = s / a[i, i]
+
+
+@njit(cache=True)
+def _revolute(row, q, qd, body_a, sax, say, body_b, sbx, sby, jac, phi, phi_dot, gamma):
+    """Rows row, row+1 of a revolute pair: Phi = r_a + A_a s_a - r_b - A_b s_b (Eq. 39)."""
+    for sign, body, sx, sy in ((1.0, body_a, sax, say), (-1.0, body_b, sbx, sby)):
+        if body == GROUND:                         # a fixed point (sx, sy) of the ground
+            phi[row] += sign * sx
+            phi[row + 1] += sign * sy
+            continue
+        th = q[body + 2]
+        w = qd[body + 2]
+        c = math.cos(th)
+        s = math.sin(th)
+        asx = c * sx - s * sy
+        asy = s * sx + c * sy
+        jac[row, body] = sign
+        jac[row + 1, body + 1] = sign
+        jac[row, body + 2] = -sign * asy          # d(A s)/d th = (-(A s)_y, (A s)_x)
+        jac[row + 1, body + 2] = sign * asx
+        phi[row] += sign * (q[body] + asx)
+        phi[row + 1] += sign * (q[body + 1] + asy)
+        phi_dot[row] += sign * (qd[body] - w * asy)
+        phi_dot[row + 1] += sign * (qd[body + 1] + w * asx)
+        gamma[row] += sign * asx * w * w           # Eq. (41)
+        gamma[row + 1] += sign * asy * w * w
+
+
+@njit(cache=True)
+def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
+    """Jacobian (Eq. 40), Phi (Eq. 39), Phi_dot and gamma (Eq. 41); returns the row count."""
+    m = N_CONSTRAINTS_IDEAL if ideal else N_CONSTRAINTS_CLEARANCE
+    for r in range(m):
+        phi[r] = 0.0
+        phi_dot[r] = 0.0
+        gamma[r] = 0.0
+        for c in range(N_COORDINATES):
+            jac[r, c] = 0.0
+    l1 = mp[MP_CRANK_LENGTH]
+    l2 = mp[MP_ROD_LENGTH]
+    _revolute(0, q, qd, CRANK, -0.5 * l1, 0.0, GROUND, 0.0, 0.0, jac, phi, phi_dot, gamma)
+    _revolute(2, q, qd, ROD, 0.5 * l2, 0.0, SLIDER, 0.0, 0.0, jac, phi, phi_dot, gamma)
+    jac[4, SLIDER + 1] = 1.0                      # y3 = 0
+    phi[4] = q[SLIDER + 1]
+    phi_dot[4] = qd[SLIDER + 1]
+    jac[5, SLIDER + 2] = 1.0                      # th3 = 0
+    phi[5] = q[SLIDER + 2]
+    phi_dot[5] = qd[SLIDER + 2]
+    jac[6, CRANK + 2] = 1.0                       # driver th1 - (th0 - omega t) = 0
+    phi[6] = q[CRANK + 2] - (mp[MP_THETA0] - mp[MP_OMEGA] * t)
+    phi_dot[6] = qd[CRANK + 2] + mp[MP_OMEGA]
+    if ideal:
+        _revolute(7, q, qd, CRANK, 0.5 * l1, 0.0, ROD, -0.5 * l2, 0.0, jac, phi, phi_dot, gamma)
+    return m
+
+
+@njit(cache=True)
+def mass_diagonal(mp, out):
+    """Diagonal of M, Eq. (42)."""
+    out[0] = out[1] = mp[MP_CRANK_MASS]
+    out[2] = mp[MP_CRANK_INERTIA]
+    out[3] = out[4] = mp[MP_ROD_MASS]
+    out[5] = mp[MP_ROD_INERTIA]
+    out[6] = out[7] = mp[MP_SLIDER_MASS]
+    out[8] = mp[MP_SLIDER_INERTIA]
+
+
+@njit(cache=True)
+def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
+    """q_dd of Eq. (44) for applied contact loads ``body_forces`` =
+    (Fx, Fy, T) on the crank then (Fx, Fy, T) on the rod (Eq. 43 with gravity in -Y)."""
+    jac, schur, phi, phi_dot, gamma, minv, force = ws
+    m = constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma)
+    mass_diagonal(mp, minv)
+    g = mp[MP_GRAVITY]
+    for k in range(N_COORDINATES):
+        minv[k] = 1.0 / minv[k]
+        force[k] = 0.0
+    force[CRANK + 1] = -mp[MP_CRANK_MASS] * g
+    force[ROD + 1] = -mp[MP_ROD_MASS] * g
+    force[SLIDER + 1] = -mp[MP_SLIDER_MASS] * g
+    for k in range(3):
+        force[CRANK + k] += body_forces[k]
+        force[ROD + k] += body_forces[3 + k]
+    alpha = mp[MP_ALPHA]
+    beta = mp[MP_BETA]
+    # right-hand side of the Schur system, stored in gamma
+    for r in range(m):
+        s = 0.0
+        for c in range(N_COORDINATES):
+            s += jac[r, c] * minv[c] * force[c]
+        gamma[r] = s - (gamma[r] - 2.0 * alpha * phi_dot[r] - beta * beta * phi[r])
+        for r2 in range(r + 1):
+            s = 0.0
+            for c in range(N_COORDINATES):
+                s += jac[r, c] * minv[c] * jac[r2, c]
+            schur[r, r2] = s
+    cholesky_solve(schur, gamma, m)
+    for c in range(N_COORDINATES):
+        s = force[c]
+        for r in range(m):
+            s -= jac[r, c] * gamma[r]
+        qdd[c] = minv[c] * s
+
+
+@njit(cache=True)
+def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
+    """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (writing its
+    result array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
+    n = N_COORDINATES
+    q = y[:n]
+    qd = y[n:]
+    if mode == MODE_CLEARANCE:
+        jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
+        evaluate_contact(q[CRANK:CRANK + 3], qd[CRANK:CRANK + 3], q[ROD:ROD + 3], qd[ROD:ROD + 3],
+                         jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
+        body_forces[0] = result[R_PIN_FX]
+        body_forces[1] = result[R_PIN_FY]
+        body_forces[2] = result[R_PIN_TORQUE]
+        body_forces[3] = result[R_BUSHING_FX]
+        body_forces[4] = result[R_BUSHING_FY]
+        body_forces[5] = result[R_BUSHING_TORQUE]
+    elif mode == MODE_IDEAL:
+        for k in range(6):
+            body_forces[k] = 0.0
+    for k in range(n):
+        dy[k] = qd[k]
+    accelerations(t, q, qd, mp, mode == MODE_IDEAL, body_forces, ws, dy[n:])
+
+
+@njit(cache=True)
+def initial_state(mp, ws, y):
+    """Consistent initial conditions: pin centred in the bushing, positions on the
+    ideal mechanism at th0, velocities solving the ideal velocity constraints."""
+    l1 = mp[MP_CRANK_LENGTH]
+    l2 = mp[MP_ROD_LENGTH]
+    th1 = mp[MP_THETA0]
+    px = l1 * math.cos(th1)
+    py = l1 * math.sin(th1)
+    xs = px + math.sqrt(l2 * l2 - py * py)
+    th2 = math.atan2(-py, xs - px)
+    n = N_COORDINATES
+    for k in range(2 * n):
+        y[k] = 0.0
+    y[CRANK] = 0.5 * px
+    y[CRANK + 1] = 0.5 * py
+    y[CRANK + 2] = th1
+    y[ROD] = px + 0.5 * l2 * math.cos(th2)
+    y[ROD + 1] = py + 0.5 * l2 * math.sin(th2)
+    y[ROD + 2] = th2
+    y[SLIDER] = xs
+    jac, schur, phi, phi_dot, gamma, _, _ = ws
+    zero = np.zeros(n)
+    m = constraints(0.0, y[:n], zero, mp, True, jac, phi, phi_dot, gamma)
+    # C q_dot = -Phi_t (Phi_t: omega in the driver row, i.e. phi_dot at q_dot = 0);
+    # C is square and regular, so q_dot = C^T z with (C C^T) z = -Phi_t
+    for r in range(m):
+        gamma[r] = -phi_dot[r]
+        for r2 in range(r + 1):
+            s = 0.0
+            for c in range(n):
+                s += jac[r, c] * jac[r2, c]
+            schur[r, r2] = s
+    cholesky_solve(schur, gamma, m)
+    for c in range(n):
+        s = 0.0
+        for r in range(m):
+            s += jac[r, c] * gamma[r]
+        y[n + c] = s

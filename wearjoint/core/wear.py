@@ -1,0 +1,142 @@
+"""Wear kernels of the clearance joint (paper Sec. 5, Eqs. 24-35).
+
+Archard's law removes the volume k_w F_N ds (Eq. 24); the depth update of
+Eq. (28) is h_z += k_w p Delta s_z with the Hertz mean pressure
+p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (MODEL.md 3.7):
+
+* ``patch`` (default): bushing point z stands for the arc cell
+  [phi_z - dphi/2, phi_z + dphi/2]; it receives the increment times the share
+  of its cell inside the contact patch [-b, b] around the contact point, so the
+  removed volume is k_w F_N Delta s to first order in h.
+* ``penetration``: every point with |d_z| <= R_i receives the full increment
+  (the literal reading of Eq. 28).
+"""
+import math
+
+from numba import njit
+
+from .contact import block_minimum, block_minimum_depth, evaluate_contact, penetrating_points, update_contact_memory
+from .layout import (
+    BLOCK_SIZE, P_BUSHING_RADIUS, P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_RADIUS,
+    P_RHO_MODE, P_SLIDING, P_WEAR_COEFFICIENT, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
+    R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_TANGENTIAL_VELOCITY,
+)
+
+
+@njit(cache=True)
+def equivalent_radius(pin_radius, worn_bushing_radius, rho_mode):
+    """rho* of Eq. (31) [m]: 0 = conformal R_i R~/(R~ - R_i) (default), 1 = paper R_i R~/(R_i + R~)."""
+    if rho_mode == 0:
+        return pin_radius * worn_bushing_radius / (worn_bushing_radius - pin_radius)
+    return pin_radius * worn_bushing_radius / (pin_radius + worn_bushing_radius)
+
+
+@njit(cache=True)
+def hertz_half_width(normal_force, equivalent_radius_m, contact_length, effective_modulus):
+    """Half contact width b = (4 F_N rho* / (pi L E*))^0.5, Eq. (30) [m]."""
+    return math.sqrt(4.0 * normal_force * equivalent_radius_m / (math.pi * contact_length * effective_modulus))
+
+
+@njit(cache=True)
+def patch_weight(offset_angle, half_angle, dphi):
+    """Share of the arc cell [offset - dphi/2, offset + dphi/2] inside [-half_angle, half_angle]."""
+    lo = max(offset_angle - 0.5 * dphi, -half_angle)
+    hi = min(offset_angle + 0.5 * dphi, half_angle)
+    return max(0.0, hi - lo) / dphi
+
+
+@njit(cache=True)
+def _refresh_blocks(wear_depth, block_min, first, last):
+    """Recompute block minima of the blocks holding points first..last (wrapping)."""
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    span = last - first
+    if span + 1 >= n:
+        block_minimum_depth(wear_depth, block_min)
+        return
+    b = (first % n) // BLOCK_SIZE
+    b_last = (last % n) // BLOCK_SIZE
+    while True:
+        block_min[b] = block_minimum(wear_depth, b)
+        if b == b_last:
+            return
+        b = (b + 1) % nb
+
+
+@njit(cache=True)
+def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask):
+    """Archard update of the wear profile over an accepted step of length dt, Eqs. (28)-(33).
+
+    ``result`` is the contact evaluation at the accepted state.  Sliding
+    distance: ``rotation`` (R_j + h_z)|d alpha| with alpha the relative angle
+    of the two bodies, Eq. (33), taken as |omega_i - omega_j| dt; or
+    ``tangential`` |v_T| dt at the contact.  Returns the largest depth increment [m].
+    """
+    k_w = jp[P_WEAR_COEFFICIENT]
+    f_n = result[R_NORMAL_FORCE]
+    if result[R_CONTACT] < 0.5 or k_w <= 0.0 or dt <= 0.0 or f_n <= 0.0:
+        return 0.0
+    n = wear_depth.shape[0]
+    dphi = 2.0 * math.pi / n
+    k = int(result[R_CONTACT_INDEX])
+    pin_radius = jp[P_PIN_RADIUS]
+    bushing_radius = jp[P_BUSHING_RADIUS]
+    worn_radius = bushing_radius + wear_depth[k]
+    rho = equivalent_radius(pin_radius, worn_radius, int(jp[P_RHO_MODE]))
+    half_width = hertz_half_width(f_n, rho, jp[P_CONTACT_LENGTH], jp[P_EFFECTIVE_MODULUS])
+    pressure = f_n / (2.0 * half_width * jp[P_CONTACT_LENGTH])          # Eqs. (25), (29)
+    rotation = int(jp[P_SLIDING]) == 0
+    relative_rate = abs(vel_i[2] - vel_j[2])
+    tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
+    largest = 0.0
+    if int(jp[P_WEAR_PLACEMENT]) == 0:
+        half_angle = min(half_width / worn_radius, math.pi)
+        m = min(int(math.ceil(half_angle / dphi + 0.5)), (n - 1) // 2)
+        for off in range(-m, m + 1):
+            w = patch_weight(off * dphi, half_angle, dphi)
+            if w <= 0.0:
+                continue
+            z = (k + off) % n
+            slide = (bushing_radius + wear_depth[z]) * relative_rate * dt if rotation else tangential_slide
+            dh = k_w * pressure * slide * w
+            wear_depth[z] += dh
+            largest = max(largest, dh)
+        _refresh_blocks(wear_depth, block_min, k - m, k + m)
+    else:
+        penetrating_points(result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius,
+                           bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask)
+        for z in range(n):
+            if mask[z]:
+                slide = (bushing_radius + wear_depth[z]) * relative_rate * dt if rotation else tangential_slide
+                dh = k_w * pressure * slide
+                wear_depth[z] += dh
+                largest = max(largest, dh)
+        block_minimum_depth(wear_depth, block_min)
+    return largest
+
+
+@njit(cache=True)
+def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                  memory, mask, result):
+    """Accept the state (pos, vel) as the end of a step of length dt.
+
+    Evaluates the contact there (into ``result``), applies the Archard update
+    over dt, then the contact-onset bookkeeping.  Returns True if the joint's
+    state changed (forces at the same kinematics would differ).
+    """
+    evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
+                     memory, result)
+    worn = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask) > 0.0
+    changed = update_contact_memory(result, jp, memory)
+    return worn or changed
+
+
+@njit(cache=True)
+def worn_area(bushing_radius, wear_depth):
+    """Area between the worn and the original bushing circle [m^2]: sum (rho^2 - R_j^2) dphi / 2."""
+    n = wear_depth.shape[0]
+    dphi = 2.0 * math.pi / n
+    total = 0.0
+    for z in range(n):
+        total += wear_depth[z] * (2.0 * bushing_radius + wear_depth[z])
+    return 0.5 * total * dphi

@@ -1,0 +1,225 @@
+"""`ClearanceJoint`: the clearance/wear joint as a force element.
+
+Every host (the monolithic integrator, the FMU slave, the exudyn model) holds
+one of these.  ``evaluate`` maps the kinematics of the pin body and the
+bushing body to forces and torques on both and never changes the joint;
+``advance`` accepts a step (Archard wear, contact-onset bookkeeping).  The
+state (wear profile + contact memory) can be copied, restored and serialised.
+"""
+from __future__ import annotations
+
+import io
+import math
+import struct
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .core import layout as L
+from .core.contact import block_minimum_depth, bushing_point_angles, evaluate_contact
+from .core.wear import advance_joint, worn_area
+from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
+
+_STATE_MAGIC = b"WJSTATE1"
+
+
+def pack_joint_parameters(p: JointParameters) -> np.ndarray:
+    """The flat parameter vector the kernels read (layout.P_*)."""
+    jp = np.zeros(L.N_JOINT_PARAMETERS)
+    jp[L.P_PIN_RADIUS] = p.pin_radius_m
+    jp[L.P_BUSHING_RADIUS] = p.bushing_radius_m
+    jp[L.P_PIN_OFFSET_X], jp[L.P_PIN_OFFSET_Y] = p.pin_offset_m
+    jp[L.P_BUSHING_OFFSET_X], jp[L.P_BUSHING_OFFSET_Y] = p.bushing_offset_m
+    jp[L.P_STIFFNESS] = p.contact_stiffness_N_m1_5
+    jp[L.P_EXPONENT] = p.contact_exponent
+    jp[L.P_RESTITUTION] = p.restitution
+    jp[L.P_FRICTION] = p.friction_coefficient
+    jp[L.P_V0] = p.friction_v0_m_s
+    jp[L.P_V1] = p.friction_v1_m_s
+    jp[L.P_WEAR_COEFFICIENT] = p.wear_coefficient_m2_N * p.wear_factor
+    jp[L.P_CONTACT_LENGTH] = p.contact_length_m
+    jp[L.P_EFFECTIVE_MODULUS] = p.effective_modulus_Pa
+    jp[L.P_RHO_MODE] = RHO_MODES.index(p.rho_mode)
+    jp[L.P_WEAR_PLACEMENT] = WEAR_PLACEMENTS.index(p.wear_placement)
+    jp[L.P_SLIDING] = SLIDING_DISTANCES.index(p.sliding_distance)
+    jp[L.P_VELOCITY_FLOOR] = p.impact_velocity_floor_m_s
+    return jp
+
+
+@dataclass(frozen=True)
+class ContactResult:
+    """Forces (global frame, N and N m about each body's reference point) and diagnostics."""
+
+    pin_force: tuple[float, float, float]       # (Fx, Fy, torque) on the pin body
+    bushing_force: tuple[float, float, float]   # (Fx, Fy, torque) on the bushing body
+    normal_force_N: float
+    friction_force_N: float                     # on the pin along t = n rotated +90 deg
+    penetration_m: float
+    in_contact: bool
+    contact_index: int                          # 0-based bushing point, -1 without contact
+    eccentricity_m: tuple[float, float]         # pin centre - bushing centre, bushing frame
+    tangential_velocity_m_s: float
+    penetration_rate_m_s: float
+    contact_angle_rad: float                    # bushing frame, 0..2 pi
+
+    @classmethod
+    def from_array(cls, r: np.ndarray) -> "ContactResult":
+        return cls((r[L.R_PIN_FX], r[L.R_PIN_FY], r[L.R_PIN_TORQUE]),
+                   (r[L.R_BUSHING_FX], r[L.R_BUSHING_FY], r[L.R_BUSHING_TORQUE]),
+                   r[L.R_NORMAL_FORCE], r[L.R_FRICTION_FORCE], r[L.R_PENETRATION],
+                   bool(r[L.R_CONTACT] > 0.5), int(r[L.R_CONTACT_INDEX]),
+                   (r[L.R_ECCENTRICITY_X], r[L.R_ECCENTRICITY_Y]),
+                   r[L.R_TANGENTIAL_VELOCITY], r[L.R_PENETRATION_RATE], r[L.R_CONTACT_ANGLE])
+
+
+@dataclass(frozen=True)
+class JointState:
+    """A copy of the joint's state: wear depth per bushing point [m] and contact memory."""
+
+    wear_depth_m: np.ndarray
+    memory: np.ndarray
+
+
+def _split_kinematics(name: str, kinematics) -> tuple[np.ndarray, np.ndarray]:
+    k = np.asarray(kinematics, dtype=float)
+    if k.shape != (6,):
+        raise ParameterError(f"{name} must be 6 numbers (x, y, angle, vx, vy, omega), got shape {k.shape}")
+    if not np.all(np.isfinite(k)):
+        raise ParameterError(f"{name} has non-finite values: {k.tolist()}")
+    return k[:3].copy(), k[3:].copy()
+
+
+class ClearanceJoint:
+    """Planar revolute clearance joint whose bushing wears (paper Secs. 2-5).
+
+    Kinematics are 6 numbers per body, global frame: reference point x, y [m],
+    angle [rad], and their rates vx, vy [m/s], omega [rad/s].  The pin body
+    (i) carries the pin, the bushing body (j) the wearing bushing.
+    """
+
+    def __init__(self, params: JointParameters | None = None):
+        self.params = params or JointParameters()
+        n = self.params.n_points
+        self.parameter_vector = pack_joint_parameters(self.params)
+        phi = bushing_point_angles(n)
+        self.phi_rad = phi
+        self.cos_phi = np.cos(phi)
+        self.sin_phi = np.sin(phi)
+        self.wear_depth = np.zeros(n)
+        self.block_min = np.zeros((n + L.BLOCK_SIZE - 1) // L.BLOCK_SIZE)
+        self.memory = np.zeros(L.N_MEMORY)
+        self.result = np.zeros(L.N_RESULT)
+        self._mask = np.zeros(n, dtype=np.bool_)
+
+    # ------------------------------------------------------------- forces
+    def evaluate_array(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
+        """Hot path: float64 arrays in, the joint's result array (layout.R_*) out (not a copy)."""
+        evaluate_contact(pos_i, vel_i, pos_j, vel_j, self.parameter_vector, self.cos_phi,
+                         self.sin_phi, self.wear_depth, self.block_min, self.memory, self.result)
+        return self.result
+
+    def evaluate(self, pin_kinematics, bushing_kinematics) -> ContactResult:
+        """Forces on both bodies for the given kinematics; the joint's state is unchanged."""
+        pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
+        pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
+        return ContactResult.from_array(self.evaluate_array(pos_i, vel_i, pos_j, vel_j).copy())
+
+    def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float) -> bool:
+        """Hot path of :meth:`advance`; returns True if the state changed."""
+        return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, self.parameter_vector, self.cos_phi,
+                             self.sin_phi, self.wear_depth, self.block_min, self.memory,
+                             self._mask, self.result)
+
+    def advance(self, pin_kinematics, bushing_kinematics, dt: float) -> ContactResult:
+        """Accept a step of length dt [s] ending (or, for a co-simulation slave, starting)
+        at these kinematics: Archard wear over dt and the contact-onset bookkeeping.
+        Returns the contact evaluated there before the update."""
+        if not (math.isfinite(dt) and dt >= 0.0):
+            raise ParameterError(f"dt={dt!r} is invalid: allowed a finite step >= 0 s")
+        pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
+        pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
+        self.advance_array(pos_i, vel_i, pos_j, vel_j, dt)
+        return ContactResult.from_array(self.result.copy())
+
+    # ------------------------------------------------------------- wear profile
+    @property
+    def phi_deg(self) -> np.ndarray:
+        """Bushing point angles in the bushing frame [deg], (0, 360]."""
+        return np.degrees(self.phi_rad)
+
+    @property
+    def wear_profile(self) -> tuple[np.ndarray, np.ndarray]:
+        """(phi_deg, wear_depth_m), copies."""
+        return self.phi_deg.copy(), self.wear_depth.copy()
+
+    @property
+    def max_wear_depth_m(self) -> float:
+        return float(self.wear_depth.max())
+
+    @property
+    def max_wear_angle_deg(self) -> float:
+        """Rod-frame angle of the deepest wear, in [0, 360)."""
+        return float(self.phi_deg[int(np.argmax(self.wear_depth))] % 360.0)
+
+    @property
+    def worn_volume_m3(self) -> float:
+        """Volume removed from the bushing: contact length times the worn area [m^3]."""
+        return float(self.params.contact_length_m * worn_area(self.params.bushing_radius_m, self.wear_depth))
+
+    def set_wear_profile(self, wear_depth_m) -> None:
+        """Replace the wear depth of every bushing point [m] (finite, >= 0)."""
+        h = np.asarray(wear_depth_m, dtype=float)
+        if h.shape != self.wear_depth.shape:
+            raise ParameterError(f"wear profile has {h.size} points, the joint has n_points={self.wear_depth.size}")
+        if not np.all(np.isfinite(h)) or np.any(h < 0.0):
+            raise ParameterError("wear profile depths must be finite and >= 0")
+        self.wear_depth[:] = h
+        block_minimum_depth(self.wear_depth, self.block_min)
+
+    def save_profile(self, path) -> Path:
+        """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (rod frame)."""
+        path = Path(path)
+        data = np.column_stack([self.phi_deg, self.wear_depth])
+        np.savetxt(path, data, delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")
+        return path
+
+    def load_profile(self, path) -> None:
+        """Read a profile written by :meth:`save_profile` (same n_points)."""
+        try:
+            data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        except (OSError, ValueError) as exc:
+            raise ParameterError(f"cannot read wear profile {path}: {exc}") from None
+        if data.shape[1] != 2:
+            raise ParameterError(f"wear profile {path} must have the columns phi_deg,wear_depth_m")
+        if data.shape[0] == self.wear_depth.size and not np.allclose(data[:, 0], self.phi_deg, atol=1e-9):
+            raise ParameterError(f"wear profile {path}: angles do not match n_points={self.wear_depth.size}")
+        self.set_wear_profile(data[:, 1])
+
+    # ------------------------------------------------------------- state
+    def get_state(self) -> JointState:
+        return JointState(self.wear_depth.copy(), self.memory.copy())
+
+    def set_state(self, state: JointState) -> None:
+        self.set_wear_profile(state.wear_depth_m)
+        self.memory[:] = state.memory
+
+    def state_to_bytes(self) -> bytes:
+        """Exact serialisation: magic, point count, contact memory, wear depths (float64, little endian)."""
+        buf = io.BytesIO()
+        buf.write(_STATE_MAGIC)
+        buf.write(struct.pack("<II", self.wear_depth.size, self.memory.size))
+        buf.write(self.memory.astype("<f8").tobytes())
+        buf.write(self.wear_depth.astype("<f8").tobytes())
+        return buf.getvalue()
+
+    def state_from_bytes(self, data: bytes) -> None:
+        head = len(_STATE_MAGIC) + 8
+        if len(data) < head or data[:len(_STATE_MAGIC)] != _STATE_MAGIC:
+            raise ParameterError("not a ClearanceJoint state (bad header)")
+        n, m = struct.unpack("<II", data[len(_STATE_MAGIC):head])
+        if n != self.wear_depth.size or m != self.memory.size or len(data) != head + 8 * (n + m):
+            raise ParameterError(f"state holds {n} bushing points, this joint has n_points={self.wear_depth.size}")
+        memory = np.frombuffer(data, dtype="<f8", count=m, offset=head)
+        depth = np.frombuffer(data, dtype="<f8", count=n, offset=head + 8 * m)
+        self.set_state(JointState(depth.astype(float), memory.astype(float)))

@@ -1,0 +1,76 @@
+"""The paper's slider-crank (Sec. 6.1): parameter packing, initial state, closed form."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .core import layout as L
+from .core.mechanism import derivative, initial_state, make_workspace
+from .parameters import SliderCrankParameters
+
+
+def pack_mechanism_parameters(p: SliderCrankParameters) -> np.ndarray:
+    """The flat parameter vector the kernels read (layout.MP_*)."""
+    mp = np.zeros(L.N_MECHANISM_PARAMETERS)
+    mp[L.MP_CRANK_LENGTH] = p.crank_length_m
+    mp[L.MP_ROD_LENGTH] = p.rod_length_m
+    mp[L.MP_CRANK_MASS] = p.crank_mass_kg
+    mp[L.MP_CRANK_INERTIA] = p.crank_inertia_kg_m2
+    mp[L.MP_ROD_MASS] = p.rod_mass_kg
+    mp[L.MP_ROD_INERTIA] = p.rod_inertia_kg_m2
+    mp[L.MP_SLIDER_MASS] = p.slider_mass_kg
+    mp[L.MP_SLIDER_INERTIA] = p.slider_inertia_kg_m2
+    mp[L.MP_GRAVITY] = p.gravity_m_s2
+    mp[L.MP_OMEGA] = p.omega_rad_s
+    mp[L.MP_THETA0] = math.radians(p.initial_crank_angle_deg)
+    mp[L.MP_ALPHA] = p.baumgarte_alpha
+    mp[L.MP_BETA] = p.baumgarte_beta
+    return mp
+
+
+class SliderCrank:
+    """Rigid slider-crank of Eqs. 38-44; ``ideal=True`` keeps the crank-rod revolute
+    as a constraint, otherwise the crank-rod joint is open (its loads come from a
+    clearance joint, in-process or from a co-simulation slave)."""
+
+    def __init__(self, params: SliderCrankParameters | None = None):
+        self.params = params or SliderCrankParameters()
+        self.parameter_vector = pack_mechanism_parameters(self.params)
+        self.workspace = make_workspace()
+
+    def initial_state(self) -> np.ndarray:
+        """y0 = [q, q_dot] with the pin centred and the ideal kinematic velocities."""
+        y = np.zeros(2 * L.N_COORDINATES)
+        initial_state(self.parameter_vector, self.workspace, y)
+        return y
+
+    def crank_angle(self, t) -> np.ndarray:
+        """Driven crank angle theta1(t) = theta0 - omega t [rad]."""
+        return self.parameter_vector[L.MP_THETA0] - self.params.omega_rad_s * np.asarray(t, dtype=float)
+
+    def accelerations_with_loads(self, t: float, y: np.ndarray, body_forces: np.ndarray) -> np.ndarray:
+        """dy/dt for given contact loads (Fx, Fy, T) on crank then rod; crank-rod joint open."""
+        dy = np.empty_like(y)
+        derivative(t, y, L.MODE_EXTERNAL, self.parameter_vector, None, np.asarray(body_forces, float),
+                   self.workspace, dy)
+        return dy
+
+    def closed_form(self, t) -> dict:
+        """Ideal slider-crank kinematics in closed form at times t [s].
+
+        Slider x = l1 cos th + sqrt(l2^2 - l1^2 sin^2 th) with th = theta1(t);
+        its velocity and acceleration by differentiation (th_dot = -omega);
+        rod angle th2 = -asin(l1 sin th / l2).
+        """
+        l1 = self.params.crank_length_m
+        l2 = self.params.rod_length_m
+        th = self.crank_angle(t)
+        w = -self.params.omega_rad_s
+        s = l1 * np.sin(th)
+        c = l1 * np.cos(th)
+        r = np.sqrt(l2 * l2 - s * s)
+        dx = -s - s * c / r
+        ddx = -c - ((c * c - s * s) / r + s * s * c * c / r ** 3)
+        return {"slider_x_m": c + r, "slider_v_m_s": dx * w, "slider_a_m_s2": ddx * w * w,
+                "rod_angle_rad": np.arcsin(-s / l2), "crank_angle_rad": th}

@@ -1,0 +1,245 @@
+"""Parameter sets of the clearance/wear joint and of the paper's slider-crank.
+
+All values are SI; field names carry their unit.  Defaults are the paper's
+Tables 1 and 2 (see ``shared/MODEL.md`` section 2).  Every constructor validates
+its values and raises :class:`ParameterError` naming the parameter, its value
+and the allowed range.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+RHO_MODES = ("conformal", "paper")
+WEAR_PLACEMENTS = ("patch", "penetration")
+SLIDING_DISTANCES = ("rotation", "tangential")
+
+
+class ParameterError(ValueError):
+    """A parameter value outside its allowed range."""
+
+
+def _require(name: str, value, ok: bool, allowed: str) -> None:
+    if not ok:
+        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed {allowed}")
+
+
+def _finite(name: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite real number") from None
+    _require(name, value, math.isfinite(x), "a finite real number")
+    return x
+
+
+def _positive(name: str, value) -> None:
+    _require(name, value, _finite(name, value) > 0.0, "> 0")
+
+
+def _choice(name: str, value, choices) -> None:
+    _require(name, value, value in choices, "one of " + ", ".join(choices))
+
+
+def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
+                      pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
+                      bushing_youngs_modulus_Pa: float, bushing_poisson_ratio: float,
+                      form: str = "internal") -> float:
+    """Contact stiffness K [N/m^1.5], paper Eqs. (16)-(17).
+
+    ``form="internal"`` (default, pin inside a bushing) uses the radius term
+    R_i R_j / (R_j - R_i); it reproduces Table 2's 7.95e10.  ``form="external"``
+    is the sum form printed in Eq. (16), R_i R_j / (R_i + R_j) (~5.6e9 for the
+    paper's values; MODEL.md section 3.1).
+    """
+    h_pin = (1.0 - pin_poisson_ratio ** 2) / (math.pi * pin_youngs_modulus_Pa)
+    h_bushing = (1.0 - bushing_poisson_ratio ** 2) / (math.pi * bushing_youngs_modulus_Pa)
+    if form == "internal":
+        radius = pin_radius_m * bushing_radius_m / (bushing_radius_m - pin_radius_m)
+    elif form == "external":
+        radius = pin_radius_m * bushing_radius_m / (bushing_radius_m + pin_radius_m)
+    else:
+        raise ParameterError(f"parameter form={form!r} is invalid: allowed one of internal, external")
+    return 4.0 / (3.0 * math.pi * (h_pin + h_bushing)) * math.sqrt(radius)
+
+
+def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
+                      bushing_youngs_modulus_Pa: float, bushing_poisson_ratio: float) -> float:
+    """Composite modulus E* [Pa] of Eq. (32): 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j.
+
+    The paper prints the denominator with the indices paired the other way
+    (E_i(1-nu_i^2) + E_j(1-nu_j^2)); we use the standard Hertz form.
+    """
+    return 1.0 / ((1.0 - pin_poisson_ratio ** 2) / pin_youngs_modulus_Pa
+                  + (1.0 - bushing_poisson_ratio ** 2) / bushing_youngs_modulus_Pa)
+
+
+@dataclass(frozen=True)
+class JointParameters:
+    """The clearance revolute joint with a wearing bushing (paper Secs. 2-5).
+
+    The pin (hard, body i) is a circle of radius ``pin_radius_m`` centred at
+    ``pin_offset_m`` in the pin body's frame; the bushing (soft, body j) is
+    ``n_points`` discrete points at radius ``bushing_radius_m`` + wear depth
+    around ``bushing_offset_m`` in the bushing body's frame (Eqs. 2-3, 34-35).
+    """
+
+    pin_radius_m: float = 0.0100
+    bushing_radius_m: float = 0.0101
+    pin_offset_m: tuple[float, float] = (0.025, 0.0)
+    bushing_offset_m: tuple[float, float] = (-0.110, 0.0)
+    contact_length_m: float = 0.006
+    pin_youngs_modulus_Pa: float = 207e9
+    pin_poisson_ratio: float = 0.29
+    bushing_youngs_modulus_Pa: float = 71.7e9
+    bushing_poisson_ratio: float = 0.33
+    contact_stiffness_N_m1_5: float = 7.95e10
+    contact_exponent: float = 1.5
+    restitution: float = 0.9
+    friction_coefficient: float = 0.1
+    friction_v0_m_s: float = 1e-3
+    friction_v1_m_s: float = 1e-2
+    wear_coefficient_m2_N: float = 5.05e-10
+    wear_factor: float = 1.0
+    n_points: int = 1257
+    rho_mode: str = "conformal"
+    wear_placement: str = "patch"
+    sliding_distance: str = "rotation"
+    impact_velocity_floor_m_s: float = 1e-3
+
+    def __post_init__(self):
+        for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
+                     "pin_youngs_modulus_Pa", "bushing_youngs_modulus_Pa",
+                     "contact_stiffness_N_m1_5", "contact_exponent",
+                     "friction_v1_m_s", "impact_velocity_floor_m_s"):
+            _positive(name, getattr(self, name))
+        for name in ("pin_offset_m", "bushing_offset_m"):
+            value = getattr(self, name)
+            _require(name, value, isinstance(value, (tuple, list)) and len(value) == 2,
+                     "a pair (x, y) of finite lengths in metres")
+            for component in value:
+                _finite(name, component)
+            object.__setattr__(self, name, (float(value[0]), float(value[1])))
+        _require("bushing_radius_m", self.bushing_radius_m,
+                 self.bushing_radius_m > self.pin_radius_m,
+                 f"> pin_radius_m = {self.pin_radius_m!r} (the clearance must be positive)")
+        for name in ("pin_poisson_ratio", "bushing_poisson_ratio"):
+            value = getattr(self, name)
+            _require(name, value, 0.0 < _finite(name, value) < 0.5, "in (0, 0.5)")
+        _require("restitution", self.restitution, 0.0 < _finite("restitution", self.restitution) <= 1.0,
+                 "in (0, 1]")
+        for name in ("friction_coefficient", "friction_v0_m_s", "wear_coefficient_m2_N", "wear_factor"):
+            value = getattr(self, name)
+            _require(name, value, _finite(name, value) >= 0.0, ">= 0")
+        _require("friction_v1_m_s", self.friction_v1_m_s, self.friction_v1_m_s > self.friction_v0_m_s,
+                 f"> friction_v0_m_s = {self.friction_v0_m_s!r}")
+        n = self.n_points
+        _require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
+                 "an integer >= 8")
+        _choice("rho_mode", self.rho_mode, RHO_MODES)
+        _choice("wear_placement", self.wear_placement, WEAR_PLACEMENTS)
+        _choice("sliding_distance", self.sliding_distance, SLIDING_DISTANCES)
+
+    @property
+    def clearance_m(self) -> float:
+        """Radial clearance c = R_j - R_i [m]."""
+        return self.bushing_radius_m - self.pin_radius_m
+
+    @property
+    def effective_modulus_Pa(self) -> float:
+        return effective_modulus(self.pin_youngs_modulus_Pa, self.pin_poisson_ratio,
+                                 self.bushing_youngs_modulus_Pa, self.bushing_poisson_ratio)
+
+    def stiffness_from_materials(self, form: str = "internal") -> float:
+        """K [N/m^1.5] from this joint's radii and materials (Eqs. 16-17)."""
+        return contact_stiffness(self.pin_radius_m, self.bushing_radius_m,
+                                 self.pin_youngs_modulus_Pa, self.pin_poisson_ratio,
+                                 self.bushing_youngs_modulus_Pa, self.bushing_poisson_ratio, form)
+
+    def replace(self, **changes) -> "JointParameters":
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        d = dataclasses.asdict(self)
+        d["pin_offset_m"] = list(self.pin_offset_m)
+        d["bushing_offset_m"] = list(self.bushing_offset_m)
+        return d
+
+
+@dataclass(frozen=True)
+class SliderCrankParameters:
+    """The paper's slider-crank (Table 1, Eqs. 38-44), crank driven clockwise.
+
+    ``theta1(t) = initial_crank_angle - omega t`` with omega from
+    ``crank_speed_rpm``.  The clearance joint sits between the crank tip and the
+    rod's crank-side end; its body-frame offsets follow from the lengths.
+    """
+
+    crank_length_m: float = 0.050
+    crank_mass_kg: float = 3.0
+    crank_inertia_kg_m2: float = 7.36e-3
+    rod_length_m: float = 0.220
+    rod_mass_kg: float = 0.19
+    rod_inertia_kg_m2: float = 8.8e-4
+    slider_mass_kg: float = 0.70
+    slider_inertia_kg_m2: float = 3.6e-4
+    crank_speed_rpm: float = 150.0
+    initial_crank_angle_deg: float = 0.0
+    gravity_m_s2: float = 9.81
+    baumgarte_alpha: float = 5.0
+    baumgarte_beta: float = 5.0
+
+    def __post_init__(self):
+        for name in ("crank_length_m", "crank_mass_kg", "crank_inertia_kg_m2", "rod_length_m",
+                     "rod_mass_kg", "rod_inertia_kg_m2", "slider_mass_kg", "slider_inertia_kg_m2",
+                     "crank_speed_rpm"):
+            _positive(name, getattr(self, name))
+        for name in ("initial_crank_angle_deg", "gravity_m_s2", "baumgarte_alpha", "baumgarte_beta"):
+            _finite(name, getattr(self, name))
+        _require("rod_length_m", self.rod_length_m, self.rod_length_m > self.crank_length_m,
+                 f"> crank_length_m = {self.crank_length_m!r} (the crank must turn fully)")
+        _require("baumgarte_alpha", self.baumgarte_alpha, self.baumgarte_alpha >= 0.0, ">= 0")
+        _require("baumgarte_beta", self.baumgarte_beta, self.baumgarte_beta >= 0.0, ">= 0")
+
+    @property
+    def omega_rad_s(self) -> float:
+        """Crank speed magnitude [rad/s]; the crank turns clockwise."""
+        return self.crank_speed_rpm * 2.0 * math.pi / 60.0
+
+    @property
+    def period_s(self) -> float:
+        """Duration of one crank revolution [s]."""
+        return 2.0 * math.pi / self.omega_rad_s
+
+    def joint_offsets(self) -> dict:
+        """Pin and bushing centres in the crank and rod frames (MODEL.md section 1)."""
+        return {"pin_offset_m": (0.5 * self.crank_length_m, 0.0),
+                "bushing_offset_m": (-0.5 * self.rod_length_m, 0.0)}
+
+    def replace(self, **changes) -> "SliderCrankParameters":
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def paper_joint(mechanism: SliderCrankParameters | None = None, **changes) -> JointParameters:
+    """Joint parameters of the paper with offsets matching ``mechanism``."""
+    mechanism = mechanism or SliderCrankParameters()
+    return JointParameters(**{**mechanism.joint_offsets(), **changes})
+
+
+def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankParameters) -> None:
+    """Raise if the joint's body-frame offsets do not sit at the crank tip and rod end."""
+    expected = mechanism.joint_offsets()
+    for name, value in expected.items():
+        got = getattr(joint, name)
+        _require(name, got, all(abs(a - b) <= 1e-12 for a, b in zip(got, value)),
+                 f"{tuple(value)} for this slider-crank (crank tip / rod end)")
+
+
+__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
+           "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
+           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES"]
+

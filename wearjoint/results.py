@@ -1,0 +1,147 @@
+"""Results contract (MODEL.md section 6): one folder per run.
+
+``summary.json`` (key figures, SI units named in the keys, every parameter
+used), ``profile.csv`` (phi_deg,wear_depth_m), ``timeseries.npz`` (all
+samples), ``last_revolution.csv`` (samples of the last revolution),
+``revolutions.csv`` (per-revolution statistics) and PNG figures.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .core import layout as L
+
+REVOLUTION_COLUMNS = ("revolution", "impacts", "contact_fraction", "slider_acc_max_m_s2",
+                      "slider_acc_min_m_s2", "max_contact_force_N", "max_eccentricity_m",
+                      "max_wear_depth_m")
+
+
+def new_revolution_stats(n_revolutions: int) -> np.ndarray:
+    """Empty per-revolution statistics (layout.S_*), extremes primed for max/min."""
+    stats = np.zeros((max(1, n_revolutions), L.N_STATS))
+    stats[:, L.S_ACC_MAX] = -np.inf
+    stats[:, L.S_ACC_MIN] = np.inf
+    return stats
+
+
+def new_track(sample_dt: float, t0: float = 0.0) -> np.ndarray:
+    track = np.zeros(L.N_TRACK)
+    track[L.K_NEXT_SAMPLE] = t0
+    track[L.K_SAMPLE_DT] = sample_dt
+    return track
+
+
+@dataclass
+class RunRecord:
+    """Everything a simulating command writes (see module docstring)."""
+
+    samples: np.ndarray                     # (n, layout.N_SAMPLE_COLUMNS)
+    revolution_stats: np.ndarray            # (n_rev, layout.N_STATS)
+    wear_growth_m: np.ndarray               # max wear depth at the end of each revolution
+    phi_deg: np.ndarray
+    wear_depth_m: np.ndarray
+    worn_volume_m3: float
+    simulated_time_s: float
+    wall_time_s: float
+    revolutions: float
+    period_s: float                         # duration of one crank revolution
+    clearance_m: float
+    parameters: dict
+    extra: dict = field(default_factory=dict)
+    completed: bool = True
+
+    def last_revolution(self) -> int:
+        """Index of the last revolution that was simulated (complete or partial)."""
+        covered = np.nonzero(self.revolution_stats[:, L.S_TIME] > 0.0)[0]
+        return int(covered[-1]) if covered.size else 0
+
+    def summary(self) -> dict:
+        rs = self.revolution_stats
+        last = rs[self.last_revolution()]
+        deepest = int(np.argmax(self.wear_depth_m))
+        covered = rs[:, L.S_TIME] > 0.0
+
+        def finite(x):
+            return float(x) if math.isfinite(x) else None
+
+        out = {
+            "revolutions": self.revolutions,
+            "simulated_time_s": self.simulated_time_s,
+            "wall_time_s": self.wall_time_s,
+            "realtime_factor": self.simulated_time_s / self.wall_time_s if self.wall_time_s > 0 else None,
+            "max_contact_force_N": float(rs[covered, L.S_FORCE_MAX].max()) if covered.any() else 0.0,
+            "contact_fraction": float(last[L.S_CONTACT_TIME] / last[L.S_TIME]) if last[L.S_TIME] > 0 else 0.0,
+            "impacts_per_revolution": int(last[L.S_IMPACTS]),
+            "slider_acc_max_m_s2": finite(last[L.S_ACC_MAX]),
+            "slider_acc_min_m_s2": finite(last[L.S_ACC_MIN]),
+            "max_eccentricity_m": float(rs[covered, L.S_ECC_MAX].max()) if covered.any() else 0.0,
+            "max_wear_depth_m": float(self.wear_depth_m[deepest]),
+            "max_wear_angle_deg": float(self.phi_deg[deepest] % 360.0),
+            "worn_volume_m3": self.worn_volume_m3,
+            "clearance_m": self.clearance_m,
+            "completed": self.completed,
+            "parameters": self.parameters,
+        }
+        out.update(self.extra)
+        return out
+
+    def revolution_table(self) -> np.ndarray:
+        rs = self.revolution_stats
+        n = self.last_revolution() + 1
+        table = np.zeros((n, len(REVOLUTION_COLUMNS)))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            table[:, 0] = np.arange(n)
+            table[:, 1] = rs[:n, L.S_IMPACTS]
+            table[:, 2] = rs[:n, L.S_CONTACT_TIME] / rs[:n, L.S_TIME]
+            table[:, 3] = rs[:n, L.S_ACC_MAX]
+            table[:, 4] = rs[:n, L.S_ACC_MIN]
+            table[:, 5] = rs[:n, L.S_FORCE_MAX]
+            table[:, 6] = rs[:n, L.S_ECC_MAX]
+            growth = np.full(n, np.nan)
+            m = min(n, self.wear_growth_m.size)
+            growth[:m] = self.wear_growth_m[:m]
+            table[:, 7] = growth
+        return table
+
+
+def write_json_atomic(path: Path, data: dict) -> None:
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(data, indent=2, default=_json_default))
+    os.replace(tmp, path)
+
+
+def _json_default(obj):
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
+    """Write the results folder; returns the summary dict."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    np.savetxt(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]),
+               delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")
+    np.savez_compressed(out / "timeseries.npz", columns=np.array(L.SAMPLE_NAMES),
+                        **{name: record.samples[:, k] for k, name in enumerate(L.SAMPLE_NAMES)})
+    in_last = record.samples[:, L.T_TIME] > record.last_revolution() * record.period_s
+    np.savetxt(out / "last_revolution.csv", record.samples[in_last], delimiter=",",
+               header=",".join(L.SAMPLE_NAMES), comments="", fmt="%.10g")
+    np.savetxt(out / "revolutions.csv", record.revolution_table(), delimiter=",",
+               header=",".join(REVOLUTION_COLUMNS), comments="", fmt="%.10g")
+    summary = record.summary()
+    if plots:
+        from .plots import plot_run  # matplotlib only when figures are written
+        summary["figures"] = plot_run(record, out)
+    write_json_atomic(out / "summary.json", summary)
+    return summary
