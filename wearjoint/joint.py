@@ -55,7 +55,7 @@ class ContactResult:
     bushing_force: tuple[float, float, float]   # (Fx, Fy, torque) on the bushing body
     normal_force_N: float
     friction_force_N: float                     # on the pin along t = n rotated +90 deg
-    penetration_m: float
+    penetration_m: float                        # R_i - |d_min|; negative: the gap
     in_contact: bool
     contact_index: int                          # 0-based bushing point, -1 without contact
     eccentricity_m: tuple[float, float]         # pin centre - bushing centre, bushing frame

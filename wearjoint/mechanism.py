@@ -37,7 +37,7 @@ class SliderCrank:
     def __init__(self, params: SliderCrankParameters | None = None):
         self.params = params or SliderCrankParameters()
         self.parameter_vector = pack_mechanism_parameters(self.params)
-        self.workspace = make_workspace()
+        self.workspace = make_workspace(self.parameter_vector)
 
     def initial_state(self) -> np.ndarray:
         """y0 = [q, q_dot] with the pin centred and the ideal kinematic velocities."""

@@ -34,6 +34,13 @@ def _finite(name: str, value) -> float:
     return x
 
 
+def _is_finite_pair(value) -> bool:
+    try:
+        return len(value) == 2 and all(math.isfinite(float(v)) for v in value)
+    except (TypeError, ValueError):
+        return False
+
+
 def _positive(name: str, value) -> None:
     _require(name, value, _finite(name, value) > 0.0, "> 0")
 
@@ -116,10 +123,7 @@ class JointParameters:
             _positive(name, getattr(self, name))
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
-            _require(name, value, isinstance(value, (tuple, list)) and len(value) == 2,
-                     "a pair (x, y) of finite lengths in metres")
-            for component in value:
-                _finite(name, component)
+            _require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
             object.__setattr__(self, name, (float(value[0]), float(value[1])))
         _require("bushing_radius_m", self.bushing_radius_m,
                  self.bushing_radius_m > self.pin_radius_m,

@@ -28,7 +28,9 @@ class SimulationOptions:
     """How to integrate.  ``rk4``: fixed ``step_s``.  ``dopri``: adaptive
     Dormand-Prince 5(4) with ``rtol``/``atol_*`` and ``max_step_s``.  ``gear``:
     scipy's BDF (the paper's Gear method; slow, for comparison) with the same
-    tolerances and ``max_step_s``.  ``sample_dt_s``: spacing of the time series."""
+    tolerances and ``max_step_s``.  ``onset_penetration_m``: how deep past a
+    contact onset an adaptive step may end (event location, see
+    ``core.integrators.integrate``).  ``sample_dt_s``: spacing of the time series."""
 
     revolutions: float = 2.0
     integrator: str = "dopri"
@@ -38,6 +40,7 @@ class SimulationOptions:
     atol_velocity_m_s: float = 1e-5
     max_step_s: float = 1e-4
     min_step_s: float = 1e-10
+    onset_penetration_m: float = 1e-8
     sample_dt_s: float = 1e-5
     ideal: bool = False
 
@@ -45,7 +48,7 @@ class SimulationOptions:
         _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
         _require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
         for name in ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "max_step_s",
-                     "min_step_s", "sample_dt_s"):
+                     "min_step_s", "sample_dt_s", "onset_penetration_m"):
             _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
         _require("min_step_s", self.min_step_s, self.min_step_s <= self.max_step_s,
                  f"<= max_step_s = {self.max_step_s!r}")
@@ -72,7 +75,7 @@ class Simulation:
         first_step = self.options.step_s if self.options.integrator == "rk4" else min(1e-6, self.options.max_step_s)
         self.control = np.array([first_step, self.options.max_step_s, self.options.rtol,
                                  self.options.atol_position_m, self.options.atol_velocity_m_s,
-                                 self.options.min_step_s])
+                                 self.options.min_step_s, self.options.onset_penetration_m])
         n_rev = int(math.ceil(self.options.revolutions)) + 1
         self.revolution_stats = new_revolution_stats(n_rev)
         self.track = new_track(self.options.sample_dt_s)

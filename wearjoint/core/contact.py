@@ -258,9 +258,10 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     pin_radius = jp[P_PIN_RADIUS]
     bushing_radius = jp[P_BUSHING_RADIUS]
     k, d2 = find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min)
-    if d2 > pin_radius * pin_radius:
-        return
     d = math.sqrt(d2)
+    out[R_PENETRATION] = pin_radius - d                            # Eq. (6); negative: the gap
+    if d > pin_radius:
+        return
     rho = bushing_radius + wear_depth[k]
     # normal n (Eq. 8) in the bushing frame, then globally
     if d > 0.0:
@@ -273,7 +274,7 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     ny = sj * nlx + cj * nly
     tx = -ny
     ty = nx
-    penetration = pin_radius - d                                   # Eq. (6)
+    penetration = pin_radius - d
     # contact points: pin surface (Eq. 9) and the bushing point (Eqs. 10, 36)
     qix = pin_x + pin_radius * nx
     qiy = pin_y + pin_radius * ny
@@ -310,7 +311,6 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     out[R_BUSHING_TORQUE] = _cross(ljx, ljy, -fx, -fy)             # Eq. (23)
     out[R_NORMAL_FORCE] = f_n
     out[R_FRICTION_FORCE] = f_t
-    out[R_PENETRATION] = penetration
     out[R_CONTACT] = 1.0
     out[R_CONTACT_INDEX] = k
     out[R_TANGENTIAL_VELOCITY] = v_t

@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from .layout import (
-    CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_SAMPLE_DT, MODE_CLEARANCE,
+    CRANK, K_N_SAMPLES, M_ACTIVE, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_SAMPLE_DT, MODE_CLEARANCE,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
     R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, ROD, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
@@ -106,8 +106,14 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     """Integrate y from t to t_end; ``dy`` must hold f(t, y) on entry and holds f at the end.
 
     control = [h (RK4 step or DOPRI initial/next step), h_max, rtol, atol_position,
-    atol_velocity, h_min].  Returns (t, accepted steps, rejected steps); control[0]
-    holds the step to continue with.
+    atol_velocity, h_min, onset_penetration].  Returns (t, accepted steps, rejected
+    steps); control[0] holds the step to continue with.
+
+    Contact onset (DOPRI, MODE_CLEARANCE): a step that starts in free flight and
+    ends deeper than ``onset_penetration`` inside the bushing is retried with a
+    step interpolated (linearly in the signed penetration) to end just past the
+    onset, so that the impact velocity stored for Eq. (15) does not depend on
+    the step size.
     """
     n2 = y.shape[0]
     n = N_COORDINATES
@@ -118,6 +124,10 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     atol_q = control[3]
     atol_v = control[4]
     h_min = control[5]
+    onset_tol = control[6]
+    locate_onsets = mode == MODE_CLEARANCE
+    memory = joint[5]
+    pen_start = result[R_PENETRATION]
     k2 = np.empty(n2)
     k3 = np.empty(n2)
     k4 = np.empty(n2)
@@ -166,6 +176,12 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
         for i in range(n2):
             y_new[i] = y[i] + step * (_B1 * dy[i] + _B3 * k3[i] + _B4 * k4[i] + _B5 * k5[i] + _B6 * k6[i])
         derivative(t + step, y_new, mode, mp, joint, body_forces, ws, k7)
+        pen_end = result[R_PENETRATION]
+        if (locate_onsets and memory[M_ACTIVE] < 0.5 and pen_start < 0.0 and pen_end > onset_tol
+                and step > h_min):
+            h = max(h_min, step * (0.5 * onset_tol - pen_start) / (pen_end - pen_start))
+            rejected += 1
+            continue
         err = 0.0
         for i in range(n2):
             e = step * (_E1 * dy[i] + _E3 * k3[i] + _E4 * k4[i] + _E5 * k5[i] + _E6 * k6[i] + _E7 * k7[i])
@@ -178,6 +194,7 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
             y[:] = y_new
             accept_point(t, y, step, k7, mode, mp, joint, body_forces, ws, dy, True)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
+            pen_start = result[R_PENETRATION]
             factor = 5.0 if err == 0.0 else min(5.0, max(0.2, 0.9 * err ** -0.2))
             if step == h:
                 h = min(h_max, max(h_min, step * factor))

@@ -41,7 +41,7 @@ R_BUSHING_FY = 4
 R_BUSHING_TORQUE = 5
 R_NORMAL_FORCE = 6        # F_N >= 0 [N]
 R_FRICTION_FORCE = 7      # friction on the pin along t (signed) [N]
-R_PENETRATION = 8         # delta_max >= 0 [m]
+R_PENETRATION = 8         # delta_max = R_i - |d_min| [m]; negative without contact (minus the gap)
 R_CONTACT = 9             # 1.0 in contact, else 0.0
 R_CONTACT_INDEX = 10      # bushing point index (0-based) of the deepest point, -1 if none
 R_ECCENTRICITY_X = 11     # pin centre relative to bushing centre, bushing frame [m]
@@ -106,7 +106,7 @@ T_NORMAL_FORCE = 7
 T_FRICTION_FORCE = 8
 T_ECC_X = 9               # eccentricity in the bushing (rod) frame [m]
 T_ECC_Y = 10
-T_PENETRATION = 11
+T_PENETRATION = 11        # signed: negative is the gap
 T_CONTACT = 12
 N_SAMPLE_COLUMNS = 13
 SAMPLE_NAMES = ("time_s", "crank_angle_rad", "slider_x_m", "slider_v_m_s", "slider_a_m_s2",

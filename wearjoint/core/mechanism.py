@@ -22,42 +22,55 @@ from .layout import (
 )
 
 GROUND = -1
+NO_BODY = -1
 N_CONSTRAINTS_CLEARANCE = 7
 N_CONSTRAINTS_IDEAL = 9
+# Constraint rows and the bodies (offsets into q) each one touches: crank pivot (0, 1),
+# driver (2), rod-slider revolute (3, 4), y3 = 0 (5), th3 = 0 (6), and for the ideal
+# mechanism the crank-rod revolute (7, 8).  With the crank-rod joint open the Schur
+# matrix is block diagonal: rows 0-2 (crank) and 3-6 (rod and slider).
+ROW_BODIES = np.array([[CRANK, NO_BODY], [CRANK, NO_BODY], [CRANK, NO_BODY],
+                       [ROD, SLIDER], [ROD, SLIDER], [SLIDER, NO_BODY], [SLIDER, NO_BODY],
+                       [CRANK, ROD], [CRANK, ROD]])
+CLEARANCE_BLOCKS = np.array([0, 3, 7])
+IDEAL_BLOCKS = np.array([0, 9])
 
 
-def make_workspace():
-    """Scratch arrays of :func:`accelerations` (allocated once per host)."""
+def make_workspace(mp):
+    """Scratch arrays of :func:`accelerations` (one set per host) and M^-1 (Eq. 42)."""
     n = N_COORDINATES
+    inverse_mass = np.empty(n)
+    mass_diagonal(mp, inverse_mass)
     return (np.zeros((n, n)), np.zeros((n, n)), np.zeros(n), np.zeros(n), np.zeros(n),
-            np.zeros(n), np.zeros(n))
+            1.0 / inverse_mass, np.zeros(n))
 
 
 @njit(cache=True)
-def cholesky_solve(a, b, m):
-    """Solve a[:m, :m] x = b[:m] for symmetric positive definite a; a is overwritten
-    by its Cholesky factor, x by b."""
-    for j in range(m):
+def ldl_solve(a, b, lo, hi):
+    """Solve a[lo:hi, lo:hi] x = b[lo:hi] for a symmetric positive definite block
+    (lower triangle used) by L D L^T with one division per pivot; the block is
+    overwritten by the factors, x by b."""
+    for j in range(lo, hi):
         d = a[j, j]
-        for k in range(j):
-            d -= a[j, k] * a[j, k]
-        d = math.sqrt(d)
+        for k in range(lo, j):
+            d -= a[j, k] * a[j, k] * a[k, k]
         a[j, j] = d
-        for i in range(j + 1, m):
+        inv = 1.0 / d
+        for i in range(j + 1, hi):
             s = a[i, j]
-            for k in range(j):
-                s -= a[i, k] * a[j, k]
-            a[i, j] = s / d
-    for i in range(m):
+            for k in range(lo, j):
+                s -= a[i, k] * a[j, k] * a[k, k]
+            a[i, j] = s * inv
+    for i in range(lo, hi):
         s = b[i]
-        for k in range(i):
+        for k in range(lo, i):
             s -= a[i, k] * b[k]
-        b[i] = s / a[i, i]
-    for i in range(m - 1, -1, -1):
-        s = b[i]
-        for k in range(i + 1, m):
+        b[i] = s
+    for i in range(hi - 1, lo - 1, -1):
+        s = b[i] / a[i, i]
+        for k in range(i + 1, hi):
             s -= a[k, i] * b[k]
-        b[i] = s / a[i, i]
+        b[i] = s
 
 
 @njit(cache=True)
@@ -99,16 +112,16 @@ def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
     l1 = mp[MP_CRANK_LENGTH]
     l2 = mp[MP_ROD_LENGTH]
     _revolute(0, q, qd, CRANK, -0.5 * l1, 0.0, GROUND, 0.0, 0.0, jac, phi, phi_dot, gamma)
-    _revolute(2, q, qd, ROD, 0.5 * l2, 0.0, SLIDER, 0.0, 0.0, jac, phi, phi_dot, gamma)
-    jac[4, SLIDER + 1] = 1.0                      # y3 = 0
-    phi[4] = q[SLIDER + 1]
-    phi_dot[4] = qd[SLIDER + 1]
-    jac[5, SLIDER + 2] = 1.0                      # th3 = 0
-    phi[5] = q[SLIDER + 2]
-    phi_dot[5] = qd[SLIDER + 2]
-    jac[6, CRANK + 2] = 1.0                       # driver th1 - (th0 - omega t) = 0
-    phi[6] = q[CRANK + 2] - (mp[MP_THETA0] - mp[MP_OMEGA] * t)
-    phi_dot[6] = qd[CRANK + 2] + mp[MP_OMEGA]
+    jac[2, CRANK + 2] = 1.0                       # driver th1 - (th0 - omega t) = 0
+    phi[2] = q[CRANK + 2] - (mp[MP_THETA0] - mp[MP_OMEGA] * t)
+    phi_dot[2] = qd[CRANK + 2] + mp[MP_OMEGA]
+    _revolute(3, q, qd, ROD, 0.5 * l2, 0.0, SLIDER, 0.0, 0.0, jac, phi, phi_dot, gamma)
+    jac[5, SLIDER + 1] = 1.0                      # y3 = 0
+    phi[5] = q[SLIDER + 1]
+    phi_dot[5] = qd[SLIDER + 1]
+    jac[6, SLIDER + 2] = 1.0                      # th3 = 0
+    phi[6] = q[SLIDER + 2]
+    phi_dot[6] = qd[SLIDER + 2]
     if ideal:
         _revolute(7, q, qd, CRANK, 0.5 * l1, 0.0, ROD, -0.5 * l2, 0.0, jac, phi, phi_dot, gamma)
     return m
@@ -131,10 +144,8 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
     (Fx, Fy, T) on the crank then (Fx, Fy, T) on the rod (Eq. 43 with gravity in -Y)."""
     jac, schur, phi, phi_dot, gamma, minv, force = ws
     m = constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma)
-    mass_diagonal(mp, minv)
     g = mp[MP_GRAVITY]
     for k in range(N_COORDINATES):
-        minv[k] = 1.0 / minv[k]
         force[k] = 0.0
     force[CRANK + 1] = -mp[MP_CRANK_MASS] * g
     force[ROD + 1] = -mp[MP_ROD_MASS] * g
@@ -144,23 +155,37 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
         force[ROD + k] += body_forces[3 + k]
     alpha = mp[MP_ALPHA]
     beta = mp[MP_BETA]
-    # right-hand side of the Schur system, stored in gamma
+    # Schur system (C M^-1 C^T) lambda = C M^-1 Q - c, assembled over the bodies
+    # that each pair of rows shares (ROW_BODIES); the rhs is stored in gamma
     for r in range(m):
         s = 0.0
-        for c in range(N_COORDINATES):
-            s += jac[r, c] * minv[c] * force[c]
+        for slot in range(2):
+            b = ROW_BODIES[r, slot]
+            if b != NO_BODY:
+                for c in range(b, b + 3):
+                    s += jac[r, c] * minv[c] * force[c]
         gamma[r] = s - (gamma[r] - 2.0 * alpha * phi_dot[r] - beta * beta * phi[r])
         for r2 in range(r + 1):
             s = 0.0
-            for c in range(N_COORDINATES):
-                s += jac[r, c] * minv[c] * jac[r2, c]
+            for slot in range(2):
+                b = ROW_BODIES[r, slot]
+                if b != NO_BODY and (ROW_BODIES[r2, 0] == b or ROW_BODIES[r2, 1] == b):
+                    for c in range(b, b + 3):
+                        s += jac[r, c] * minv[c] * jac[r2, c]
             schur[r, r2] = s
-    cholesky_solve(schur, gamma, m)
+    blocks = IDEAL_BLOCKS if ideal else CLEARANCE_BLOCKS
+    for i in range(blocks.shape[0] - 1):
+        ldl_solve(schur, gamma, blocks[i], blocks[i + 1])
     for c in range(N_COORDINATES):
-        s = force[c]
-        for r in range(m):
-            s -= jac[r, c] * gamma[r]
-        qdd[c] = minv[c] * s
+        qdd[c] = force[c]
+    for r in range(m):
+        for slot in range(2):
+            b = ROW_BODIES[r, slot]
+            if b != NO_BODY:
+                for c in range(b, b + 3):
+                    qdd[c] -= jac[r, c] * gamma[r]
+    for c in range(N_COORDINATES):
+        qdd[c] *= minv[c]
 
 
 @njit(cache=True)
@@ -221,7 +246,7 @@ def initial_state(mp, ws, y):
             for c in range(n):
                 s += jac[r, c] * jac[r2, c]
             schur[r, r2] = s
-    cholesky_solve(schur, gamma, m)
+    ldl_solve(schur, gamma, 0, m)
     for c in range(n):
         s = 0.0
         for r in range(m):

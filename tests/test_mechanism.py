@@ -1,0 +1,77 @@
+"""Slider-crank (Eqs. 38-44): constraint derivatives, the ideal closed form, the 1 um clearance limit."""
+import numpy as np
+import pytest
+
+from wearjoint import SliderCrankParameters
+from wearjoint.core import layout as L
+from wearjoint.core.mechanism import N_CONSTRAINTS_IDEAL, constraints
+from wearjoint.mechanism import SliderCrank
+from wearjoint.parameters import paper_joint
+from wearjoint.simulate import Simulation, SimulationOptions, run_simulation
+
+
+def _constraint_values(mech, t, q, qd):
+    n = L.N_COORDINATES
+    jac, phi, phi_dot, gamma = np.zeros((n, n)), np.zeros(n), np.zeros(n), np.zeros(n)
+    constraints(t, q, qd, mech.parameter_vector, True, jac, phi, phi_dot, gamma)
+    return jac, phi, phi_dot, gamma
+
+
+def test_jacobian_and_gamma_match_finite_differences():
+    mech = SliderCrank()
+    rng = np.random.default_rng(0)
+    q, qd = rng.normal(0, 0.3, 9), rng.normal(0, 2.0, 9)
+    t = 0.013
+    jac, phi, phi_dot, gamma = _constraint_values(mech, t, q, qd)
+    eps = 1e-7
+    for c in range(9):
+        dq = np.zeros(9)
+        dq[c] = eps
+        fd = (_constraint_values(mech, t, q + dq, qd)[1] - _constraint_values(mech, t, q - dq, qd)[1]) / (2 * eps)
+        assert np.allclose(jac[:, c], fd, atol=1e-7)
+    # Phi_dot = C q_dot + Phi_t, and gamma = -(d/dt C) q_dot (Eq. 41): differentiate Phi_dot along the motion
+    phi_t = (_constraint_values(mech, t + eps, q, qd)[1] - _constraint_values(mech, t - eps, q, qd)[1]) / (2 * eps)
+    assert np.allclose(phi_dot, jac @ qd + phi_t, atol=1e-9)
+    h = 1e-6
+    jac_next = _constraint_values(mech, t, q + h * qd, qd)[0]
+    jac_prev = _constraint_values(mech, t, q - h * qd, qd)[0]
+    assert np.allclose(-(jac_next - jac_prev) / (2 * h) @ qd, gamma, rtol=1e-5, atol=1e-6)
+
+
+def test_initial_state_satisfies_the_ideal_constraints():
+    for angle in (0.0, 37.0, 180.0, 291.0):
+        mech = SliderCrank(SliderCrankParameters(initial_crank_angle_deg=angle))
+        y = mech.initial_state()
+        jac, phi, phi_dot, _ = _constraint_values(mech, 0.0, y[:9], y[9:])
+        assert np.abs(phi[:N_CONSTRAINTS_IDEAL]).max() < 1e-15
+        assert np.abs(phi_dot[:N_CONSTRAINTS_IDEAL]).max() < 1e-12
+        assert y[9 + 2] == pytest.approx(-mech.params.omega_rad_s)
+
+
+def test_ideal_mechanism_matches_the_closed_form():
+    rec = run_simulation(options=SimulationOptions(revolutions=1, integrator="rk4", step_s=1e-5, ideal=True),
+                         progress=False)
+    s = rec.samples
+    closed = SliderCrank().closed_form(s[:, L.T_TIME])
+    assert np.abs(closed["slider_x_m"] - s[:, L.T_SLIDER_X]).max() < 1e-9
+    assert np.abs(closed["slider_v_m_s"] - s[:, L.T_SLIDER_V]).max() < 1e-8
+    assert np.abs(closed["slider_a_m_s2"] - s[:, L.T_SLIDER_A]).max() < 1e-6
+    # the paper's ideal peak: l1 w^2 (1 + l1/l2) = 15.1 m/s^2 at 150 rpm
+    assert np.abs(s[:, L.T_SLIDER_A]).max() == pytest.approx(15.14, abs=0.01)
+    assert rec.summary()["max_contact_force_N"] == 0.0
+
+
+def test_one_micrometre_clearance_follows_the_ideal_kinematics():
+    joint = paper_joint(bushing_radius_m=0.010001, wear_factor=0.0)
+    sim = Simulation(joint, options=SimulationOptions(revolutions=1))
+    mech = sim.mechanism
+    buf = np.zeros((50000, L.N_SAMPLE_COLUMNS))
+    worst_x = worst_rod = 0.0
+    for k in range(1, 41):
+        t = k * mech.params.period_s / 40
+        n = sim.advance_to(t, buf)
+        closed = mech.closed_form(buf[:n, L.T_TIME])
+        worst_x = max(worst_x, np.abs(closed["slider_x_m"] - buf[:n, L.T_SLIDER_X]).max())
+        worst_rod = max(worst_rod, abs(mech.closed_form(t)["rod_angle_rad"] - sim.y[L.ROD + 2]))
+    assert worst_x < 3e-6            # clearance 1 um plus contact deflection
+    assert worst_rod < 3e-6 / 0.22   # the same over the rod length, in rad

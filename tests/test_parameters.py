@@ -1,0 +1,85 @@
+"""Parameter defaults, the stiffness helper (Eqs. 16-17) and validation messages."""
+import math
+
+import pytest
+
+from wearjoint import JointParameters, ParameterError, SliderCrankParameters, contact_stiffness
+from wearjoint.parameters import effective_modulus
+
+
+def test_stiffness_internal_form_reproduces_table_2():
+    k = JointParameters().stiffness_from_materials("internal")
+    assert k == pytest.approx(7.95e10, rel=5e-3)
+
+
+def test_stiffness_external_form_is_the_printed_sum_form():
+    k = JointParameters().stiffness_from_materials("external")
+    assert k == pytest.approx(5.6e9, rel=1e-2)
+
+
+def test_stiffness_by_hand():
+    # Eq. 16 by hand for equal materials: H = (1 - nu^2)/(pi E), K = 4/(3 pi 2H) sqrt(R_i R_j/(R_j - R_i))
+    e, nu, ri, rj = 200e9, 0.3, 0.01, 0.0102
+    h = (1 - nu * nu) / (math.pi * e)
+    expected = 4 / (3 * math.pi * 2 * h) * math.sqrt(ri * rj / (rj - ri))
+    assert contact_stiffness(ri, rj, e, nu, e, nu) == pytest.approx(expected, rel=1e-14)
+
+
+def test_effective_modulus_standard_hertz():
+    # equal materials: E* = E / (2 (1 - nu^2))
+    assert effective_modulus(100e9, 0.25, 100e9, 0.25) == pytest.approx(100e9 / (2 * (1 - 0.0625)), rel=1e-14)
+
+
+def test_defaults_are_the_paper_tables():
+    j = JointParameters()
+    m = SliderCrankParameters()
+    assert j.clearance_m == pytest.approx(1e-4)
+    assert (j.n_points, j.restitution, j.friction_coefficient) == (1257, 0.9, 0.1)
+    assert m.omega_rad_s == pytest.approx(150 * 2 * math.pi / 60)
+    assert (m.crank_length_m, m.rod_length_m, m.slider_mass_kg) == (0.05, 0.22, 0.7)
+
+
+BAD_JOINT = [
+    ("bushing_radius_m", 0.0099, "pin_radius_m"),
+    ("bushing_radius_m", 0.0100, "pin_radius_m"),
+    ("n_points", 7, ">= 8"),
+    ("n_points", 100.5, "integer"),
+    ("pin_youngs_modulus_Pa", 0.0, "> 0"),
+    ("bushing_youngs_modulus_Pa", -1.0, "> 0"),
+    ("pin_poisson_ratio", 0.5, "(0, 0.5)"),
+    ("bushing_poisson_ratio", 0.0, "(0, 0.5)"),
+    ("restitution", 0.0, "(0, 1]"),
+    ("restitution", 1.2, "(0, 1]"),
+    ("friction_coefficient", -0.1, ">= 0"),
+    ("friction_v1_m_s", 1e-3, "friction_v0_m_s"),
+    ("wear_coefficient_m2_N", -1e-10, ">= 0"),
+    ("wear_factor", -2.0, ">= 0"),
+    ("pin_radius_m", float("nan"), "finite"),
+    ("contact_stiffness_N_m1_5", float("inf"), "finite"),
+    ("contact_length_m", 0.0, "> 0"),
+    ("rho_mode", "flat", "conformal"),
+    ("wear_placement", "everywhere", "patch"),
+    ("sliding_distance", "guess", "rotation"),
+    ("pin_offset_m", (0.0, float("nan")), "finite"),
+]
+
+
+@pytest.mark.parametrize("name,value,allowed", BAD_JOINT)
+def test_bad_joint_parameter_is_named_in_the_error(name, value, allowed):
+    with pytest.raises(ParameterError) as err:
+        JointParameters(**{name: value})
+    text = str(err.value)
+    assert name in text and repr(value)[:6] in text and allowed in text
+
+
+BAD_MECHANISM = [
+    ("crank_mass_kg", 0.0), ("rod_mass_kg", -1.0), ("slider_mass_kg", float("nan")),
+    ("crank_length_m", 0.0), ("rod_length_m", 0.04), ("crank_inertia_kg_m2", -1e-3),
+    ("crank_speed_rpm", 0.0), ("gravity_m_s2", float("inf")),
+]
+
+
+@pytest.mark.parametrize("name,value", BAD_MECHANISM)
+def test_bad_mechanism_parameter_is_named_in_the_error(name, value):
+    with pytest.raises(ParameterError, match=name):
+        SliderCrankParameters(**{name: value})

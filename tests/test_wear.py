@@ -1,0 +1,102 @@
+"""Hertz patch (Eqs. 29-32) and the Archard update (Eqs. 28, 33)."""
+import math
+
+import numpy as np
+import pytest
+
+from wearjoint import ClearanceJoint, JointParameters
+from wearjoint.core.wear import equivalent_radius, hertz_half_width
+
+C = JointParameters().clearance_m
+
+
+def contact_state(params, delta=4e-6, pin_omega=-15.7, rod_omega=3.6, pin_v=(0.0, 0.0)):
+    """Pin pressed along +x of the bushing (rod angle 0) by delta, bodies spinning."""
+    pin_centre = np.array(params.pin_offset_m)
+    bushing = pin_centre - np.array([params.clearance_m + delta, 0.0]) - np.array(params.bushing_offset_m)
+    return [0.0, 0.0, 0.0, pin_v[0], pin_v[1], pin_omega], [bushing[0], bushing[1], 0.0, 0.0, 0.0, rod_omega]
+
+
+def test_hertz_half_width_by_hand():
+    p = JointParameters()
+    rho = equivalent_radius(p.pin_radius_m, p.bushing_radius_m, 0)
+    assert rho == pytest.approx(0.01 * 0.0101 / 0.0001)
+    assert equivalent_radius(p.pin_radius_m, p.bushing_radius_m, 1) == pytest.approx(0.01 * 0.0101 / 0.0201)
+    b = hertz_half_width(500.0, rho, p.contact_length_m, p.effective_modulus_Pa)
+    assert b == pytest.approx(math.sqrt(4 * 500.0 * rho / (math.pi * 0.006 * p.effective_modulus_Pa)))
+
+
+@pytest.mark.parametrize("rho_mode", ["conformal", "paper"])
+def test_archard_volume_over_one_step_in_patch_mode(rho_mode):
+    params = JointParameters(rho_mode=rho_mode)
+    joint = ClearanceJoint(params)
+    pin, bushing = contact_state(params)
+    dt = 1e-5
+    before = joint.worn_volume_m3
+    r = joint.advance(pin, bushing, dt)
+    assert r.in_contact
+    slide = params.bushing_radius_m * abs(pin[5] - bushing[5]) * dt        # Eq. 33, rotation mode
+    expected = params.wear_coefficient_m2_N * r.normal_force_N * slide     # Eq. 24: V = k_w F_N s
+    assert joint.worn_volume_m3 - before == pytest.approx(expected, rel=1e-5)
+
+
+def test_patch_width_follows_hertz_and_wear_is_centred_on_the_contact():
+    params = JointParameters()
+    joint = ClearanceJoint(params)
+    pin, bushing = contact_state(params)
+    r = joint.advance(pin, bushing, 1e-5)
+    worn = np.nonzero(joint.wear_depth > 0)[0]
+    b = hertz_half_width(r.normal_force_N, equivalent_radius(0.01, 0.0101, 0), 0.006, params.effective_modulus_Pa)
+    arc = (params.bushing_radius_m * 2 * math.pi / params.n_points)
+    assert abs(worn.size * arc - 2 * b) <= 2 * arc
+    # contact at 0 deg of the bushing: the depth-weighted mean direction of the wear is 0 deg
+    phi = joint.phi_rad
+    centre = math.degrees(math.atan2(np.sum(joint.wear_depth * np.sin(phi)), np.sum(joint.wear_depth * np.cos(phi))))
+    assert abs(centre) < 0.3
+    # depth at the centre = k_w p ds with the Hertz mean pressure p = F_N/(2 b L), Eqs. 25, 28-29
+    p = r.normal_force_N / (2 * b * params.contact_length_m)
+    ds = params.bushing_radius_m * abs(pin[5] - bushing[5]) * 1e-5
+    assert joint.max_wear_depth_m == pytest.approx(params.wear_coefficient_m2_N * p * ds, rel=1e-9)
+
+
+def test_tangential_sliding_distance_uses_the_contact_velocity():
+    params = JointParameters(sliding_distance="tangential")
+    joint = ClearanceJoint(params)
+    pin, bushing = contact_state(params, pin_omega=0.0, rod_omega=0.0, pin_v=(0.0, 0.2))
+    r = joint.advance(pin, bushing, 1e-5)
+    expected = params.wear_coefficient_m2_N * r.normal_force_N * abs(r.tangential_velocity_m_s) * 1e-5
+    assert abs(r.tangential_velocity_m_s) == pytest.approx(0.2, rel=1e-9)
+    assert joint.worn_volume_m3 == pytest.approx(expected, rel=1e-5)
+
+
+def test_penetration_mode_gives_every_penetrating_point_the_full_increment():
+    params = JointParameters(wear_placement="penetration")
+    joint = ClearanceJoint(params)
+    pin, bushing = contact_state(params)
+    r = joint.evaluate(pin, bushing)
+    # penetrating points, computed here independently from the geometry
+    e = np.array(r.eccentricity_m)
+    pts = params.bushing_radius_m * np.c_[joint.cos_phi, joint.sin_phi]
+    inside = np.linalg.norm(pts - e, axis=1) <= params.pin_radius_m
+    joint.advance(pin, bushing, 1e-5)
+    assert np.array_equal(joint.wear_depth > 0, inside)
+    assert np.ptp(joint.wear_depth[inside]) < 1e-12 * joint.max_wear_depth_m + 1e-30
+
+
+def test_no_wear_without_contact_or_with_zero_factor():
+    params = JointParameters(wear_factor=0.0)
+    joint = ClearanceJoint(params)
+    joint.advance(*contact_state(params), 1e-5)
+    assert joint.max_wear_depth_m == 0.0
+    joint = ClearanceJoint(JointParameters())
+    pin, bushing = contact_state(JointParameters(), delta=-5e-5)
+    assert not joint.advance(pin, bushing, 1e-5).in_contact
+    assert joint.max_wear_depth_m == 0.0
+
+
+def test_wear_factor_scales_the_increment():
+    base = ClearanceJoint(JointParameters())
+    fast = ClearanceJoint(JointParameters(wear_factor=10.0))
+    for j in (base, fast):
+        j.advance(*contact_state(j.params), 1e-5)
+    assert fast.worn_volume_m3 == pytest.approx(10 * base.worn_volume_m3, rel=1e-9)

@@ -1,0 +1,104 @@
+"""PNG figures of a run (matplotlib, Agg backend; imported only when figures are written)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .core import layout as L  # noqa: E402
+from .mechanism import SliderCrank  # noqa: E402
+from .parameters import SliderCrankParameters  # noqa: E402
+
+
+def crank_rotation_deg(t, period_s):
+    """Crank rotation travelled since t = 0, wrapped to [0, 360) deg."""
+    return (np.asarray(t) / period_s * 360.0) % 360.0
+
+
+def plot_slider_acceleration(record, path: Path) -> None:
+    s = record.samples
+    last = s[:, L.T_TIME] > record.last_revolution() * record.period_s
+    t = s[last, L.T_TIME]
+    mech = SliderCrank(SliderCrankParameters(**record.parameters["mechanism"]))
+    grid = np.linspace(0.0, record.period_s, 721)
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.plot(crank_rotation_deg(t, record.period_s), s[last, L.T_SLIDER_A], ".", ms=1.5, label="clearance joint")
+    ax.plot(crank_rotation_deg(grid, record.period_s)[:-1], mech.closed_form(grid)["slider_a_m_s2"][:-1],
+            "k-", lw=1.5, label="ideal joint (closed form)")
+    ax.set_xlabel("crank rotation [deg] (last revolution)")
+    ax.set_ylabel("slider acceleration [m/s$^2$]")
+    ax.set_xlim(0, 360)
+    ax.legend(loc="upper right")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_pin_orbit(record, path: Path) -> None:
+    s = record.samples
+    c_um = record.clearance_m * 1e6
+    fig, ax = plt.subplots(figsize=(5.5, 5.5))
+    ax.plot(s[:, L.T_ECC_X] * 1e6, s[:, L.T_ECC_Y] * 1e6, lw=0.4)
+    phi = np.radians(record.phi_deg)
+    ax.plot((c_um + record.wear_depth_m * 1e6) * np.cos(phi), (c_um + record.wear_depth_m * 1e6) * np.sin(phi),
+            "k-", lw=1, label="clearance + wear")
+    ax.set_aspect("equal")
+    ax.set_xlabel("eccentricity x, rod frame [µm]")
+    ax.set_ylabel("eccentricity y, rod frame [µm]")
+    ax.set_title("pin centre relative to bushing centre")
+    ax.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_contact_force(record, path: Path) -> None:
+    s = record.samples
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.plot(s[:, L.T_TIME], s[:, L.T_NORMAL_FORCE], lw=0.6)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("normal contact force $F_N$ [N]")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushing wear") -> None:
+    """Paper Fig. 7 layout: (a) polar depth, (b) depth vs rod-frame angle, one curve per label."""
+    fig = plt.figure(figsize=(11, 4.8))
+    ax_polar = fig.add_subplot(1, 2, 1, projection="polar")
+    ax = fig.add_subplot(1, 2, 2)
+    phi = np.radians(phi_deg)
+    for label, depth in profiles.items():
+        ax_polar.plot(np.r_[phi, phi[:1]], np.r_[depth, depth[:1]] * 1e6, lw=1.2, label=label)
+        ax.plot(phi_deg, depth * 1e6, lw=1.2, label=label)
+    ax_polar.set_title("(a) wear depth [µm], rod frame", fontsize=10)
+    ax.set_xlabel("angle in the rod frame [deg] (0 = towards the slider)")
+    ax.set_ylabel("wear depth [µm]")
+    ax.set_xlim(0, 360)
+    ax.set_xticks(range(0, 361, 45))
+    ax.grid(alpha=0.3)
+    ax.set_title("(b) wear depth vs angle", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_run(record, out: Path) -> list[str]:
+    """Write the run's standard figures into ``out``; returns their file names."""
+    out = Path(out)
+    names = ["slider_acceleration.png", "pin_orbit.png", "contact_force.png", "wear_profile.png"]
+    plot_slider_acceleration(record, out / names[0])
+    plot_pin_orbit(record, out / names[1])
+    plot_contact_force(record, out / names[2])
+    plot_wear_profiles(record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m},
+                       out / names[3])
+    return names

@@ -1,0 +1,64 @@
+"""`wearjoint simulate`: the monolithic run from the command line."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from .cli_options import add_model_arguments, model_from_args
+from .results import write_results
+from .simulate import INTEGRATORS, SimulationOptions, run_simulation
+
+_DEFAULTS = SimulationOptions()
+
+
+def add_integration_arguments(parser) -> None:
+    g = parser.add_argument_group("integration")
+    g.add_argument("--revolutions", type=float, default=_DEFAULTS.revolutions, help="crank revolutions to simulate")
+    g.add_argument("--integrator", choices=INTEGRATORS, default=_DEFAULTS.integrator,
+                   help="rk4 (fixed step), dopri (adaptive Dormand-Prince 5(4)), gear (scipy BDF, slow)")
+    g.add_argument("--step", type=float, default=_DEFAULTS.step_s, help="RK4 step [s]")
+    g.add_argument("--rtol", type=float, default=_DEFAULTS.rtol, help="relative tolerance (dopri, gear)")
+    g.add_argument("--atol-position", type=float, default=_DEFAULTS.atol_position_m, help="absolute tolerance on positions [m, rad]")
+    g.add_argument("--atol-velocity", type=float, default=_DEFAULTS.atol_velocity_m_s, help="absolute tolerance on velocities [m/s, rad/s]")
+    g.add_argument("--max-step", type=float, default=None,
+                   help=f"largest step [s] (default {_DEFAULTS.max_step_s:g}; 1e-5 when wear is on, MODEL.md 7)")
+    g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
+    g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
+
+
+def options_from_args(args, wear_on: bool) -> SimulationOptions:
+    max_step = args.max_step if args.max_step is not None else (1e-5 if wear_on else _DEFAULTS.max_step_s)
+    return SimulationOptions(revolutions=args.revolutions, integrator=args.integrator, step_s=args.step,
+                             rtol=args.rtol, atol_position_m=args.atol_position,
+                             atol_velocity_m_s=args.atol_velocity, max_step_s=max_step,
+                             sample_dt_s=args.sample_dt, ideal=args.ideal)
+
+
+def cli_arguments(parser) -> None:
+    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
+    parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
+    parser.add_argument("--quiet", action="store_true", help="no progress line")
+    add_integration_arguments(parser)
+    add_model_arguments(parser)
+
+
+def cli_run(args) -> int:
+    joint, mechanism = model_from_args(args)
+    wear_on = joint.wear_coefficient_m2_N * joint.wear_factor > 0.0 and not args.ideal
+    options = options_from_args(args, wear_on)
+    record = run_simulation(joint, mechanism, options, progress=not args.quiet)
+    summary = write_results(record, args.out, plots=not args.no_plots)
+    _print_summary(summary, args.out)
+    return 0 if record.completed else 130
+
+
+def _print_summary(summary: dict, out: Path) -> None:
+    keys = ("revolutions", "realtime_factor", "max_contact_force_N", "contact_fraction", "impacts_per_revolution",
+            "slider_acc_max_m_s2", "slider_acc_min_m_s2", "max_eccentricity_m", "max_wear_depth_m",
+            "max_wear_angle_deg", "worn_volume_m3")
+    for k in keys:
+        v = summary.get(k)
+        print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
+    print(f"results in {out}")
+
+
+__all__ = ["cli_arguments", "cli_run", "add_integration_arguments", "options_from_args"]
