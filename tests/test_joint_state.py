@@ -1,4 +1,6 @@
 """ClearanceJoint state: copy/restore, bytes round trip, profile CSV, input errors."""
+import pickle
+
 import numpy as np
 import pytest
 
@@ -49,14 +51,14 @@ def test_simulation_resumed_from_a_copied_state_is_bit_identical():
     buf = np.zeros((20000, 13))
     a = Simulation(params, options=opts)
     a.advance_to(0.01, buf)
-    saved = (a.t, a.y.copy(), a.dy.copy(), a.control.copy(), a.joint.state_to_bytes())
+    saved = pickle.dumps(a.checkpoint())
     a.advance_to(0.03, buf)
     b = Simulation(params, options=opts)
-    b.t, b.y[:], b.dy[:], b.control[:] = saved[0], saved[1], saved[2], saved[3]
-    b.joint.state_from_bytes(saved[4])
+    b.restore(pickle.loads(saved))
     b.advance_to(0.03, buf)
     assert a.joint.max_wear_depth_m > 0
     assert np.array_equal(a.y, b.y) and np.array_equal(a.joint.wear_depth, b.joint.wear_depth)
+    assert np.array_equal(a.revolution_stats, b.revolution_stats)
 
 
 def test_profile_csv_round_trip(tmp_path):

@@ -93,6 +93,24 @@ class Simulation:
         derivative(self.t, self.y, self.mode, self.mechanism.parameter_vector, self._joint_arrays,
                    self.body_forces, self.mechanism.workspace, self.dy)
 
+    def checkpoint(self) -> dict:
+        """Everything needed to continue bit-identically (arrays and bytes; picklable)."""
+        return {"t": self.t, "y": self.y.copy(), "control": self.control.copy(),
+                "joint_state": self.joint.state_to_bytes(), "revolution_stats": self.revolution_stats.copy(),
+                "track": self.track.copy(), "accepted": self.accepted, "rejected": self.rejected}
+
+    def restore(self, checkpoint: dict) -> None:
+        """Continue from :meth:`checkpoint` (same parameters and options)."""
+        self.t = float(checkpoint["t"])
+        self.y[:] = checkpoint["y"]
+        self.control[:] = checkpoint["control"]
+        self.joint.state_from_bytes(checkpoint["joint_state"])
+        self.revolution_stats[:] = checkpoint["revolution_stats"]
+        self.track[:] = checkpoint["track"]
+        self.accepted = int(checkpoint["accepted"])
+        self.rejected = int(checkpoint["rejected"])
+        self._derivative()
+
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         """Integrate to t_end, writing samples into ``samples``; returns how many."""
         self.track[L.K_N_SAMPLES] = 0
