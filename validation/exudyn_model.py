@@ -1,0 +1,384 @@
+"""The paper's slider-crank built natively in exudyn 1.13 (issue 4): an independent
+check of the monolithic engine (:mod:`wearjoint.simulate`).
+
+Crank, rod and slider are ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` with the
+nodes at the centres of mass (so the inertias are about the COM, MODEL.md 7);
+gravity is a mass-proportional load; the crank pivot and the rod-slider joint
+are ``ObjectJointRevolute2D``; the slider runs on an ``ObjectJointPrismatic2D``
+along X with its rotation constrained; the crank is driven by an
+``ObjectConnectorCoordinate`` whose offset acts on the displacement from the
+reference angle, offset(t) = -omega t (theta1 = theta0 - omega t).
+
+``ideal=True`` closes the crank-rod joint with another revolute joint.  Otherwise
+one zero-mass ``ObjectGenericODE2`` on the crank and rod nodes applies the
+clearance force pair (both forces and both torques, paper Eqs. 20-23) through its
+force user function; exudyn adds that vector on the right-hand side
+(M q_tt + ... = f_user), so it is the applied load.  Wear and the contact-onset
+bookkeeping advance in the post-step user function, once per accepted step.
+
+``contact="eccentricity"`` replaces the discrete-point search (Eqs. 1-14) by the
+classical formulation for a circular bushing (delta = |e| - c along n = e/|e|,
+contact points on the line of centres), an independent check of the geometry.
+
+Only this module of the package imports exudyn.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import (
+    LoadMassProportional, MarkerBodyMass, MarkerBodyPosition, MarkerBodyRigid, MarkerNodeCoordinate,
+    NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGenericODE2, ObjectGround,
+    ObjectJointPrismatic2D, ObjectJointRevolute2D, ObjectRigidBody2D,
+)
+from numba import njit
+
+from wearjoint.core import layout as L
+from wearjoint.core.contact import ambrosio_friction_factor, lankarani_nikravesh, update_contact_memory
+from wearjoint.core.integrators import record_step
+from wearjoint.joint import ClearanceJoint
+from wearjoint.mechanism import SliderCrank
+from wearjoint.parameters import (
+    JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
+)
+from wearjoint.progress import Progress
+from wearjoint.results import RunRecord, new_revolution_stats, new_track
+
+CONTACT_FORMULATIONS = ("discrete", "eccentricity")
+DISCRETE = 0
+ECCENTRICITY = 1
+SAMPLE_BLOCK_ROWS = 4096     # samples are collected in blocks of this many rows
+SPECTRAL_RADIUS = 0.9        # generalized-alpha rho_inf (exudyn's default; 1 = no numerical damping)
+
+
+@njit(cache=True)
+def eccentricity_contact(pos_i, vel_i, pos_j, vel_j, jp, memory, out):
+    """Contact of a pin in an unworn circular bushing, classical eccentricity form.
+
+    e = pin centre - bushing centre (global), delta = |e| - (R_j - R_i) along
+    n = e/|e|; contact points on the line of centres: pin centre + R_i n and
+    bushing centre + R_j n.  Normal force (Lankarani-Nikravesh, Eq. 15), friction
+    (Ambrosio, Eqs. 18-19), forces and torques about the reference points
+    (Eqs. 20-23) and diagnostics as :func:`wearjoint.core.contact.evaluate_contact`
+    writes them (layout.R_*; R_CONTACT_INDEX stays -1: there is no bushing point;
+    R_PENETRATION = |e| - c is negative, minus the gap, without contact).
+    ``memory`` holds delta_dot^- as in the discrete form; it is not changed.
+    """
+    ci = math.cos(pos_i[2])
+    si = math.sin(pos_i[2])
+    cj = math.cos(pos_j[2])
+    sj = math.sin(pos_j[2])
+    pin_x = pos_i[0] + ci * jp[L.P_PIN_OFFSET_X] - si * jp[L.P_PIN_OFFSET_Y]
+    pin_y = pos_i[1] + si * jp[L.P_PIN_OFFSET_X] + ci * jp[L.P_PIN_OFFSET_Y]
+    bushing_x = pos_j[0] + cj * jp[L.P_BUSHING_OFFSET_X] - sj * jp[L.P_BUSHING_OFFSET_Y]
+    bushing_y = pos_j[1] + sj * jp[L.P_BUSHING_OFFSET_X] + cj * jp[L.P_BUSHING_OFFSET_Y]
+    gx = pin_x - bushing_x
+    gy = pin_y - bushing_y
+    for r in range(L.N_RESULT):
+        out[r] = 0.0
+    out[L.R_ECCENTRICITY_X] = cj * gx + sj * gy
+    out[L.R_ECCENTRICITY_Y] = -sj * gx + cj * gy
+    out[L.R_CONTACT_INDEX] = -1.0
+    out[L.R_CONTACT_ANGLE] = math.atan2(out[L.R_ECCENTRICITY_Y], out[L.R_ECCENTRICITY_X]) % (2.0 * math.pi)
+    e = math.sqrt(gx * gx + gy * gy)
+    penetration = e - (jp[L.P_BUSHING_RADIUS] - jp[L.P_PIN_RADIUS])
+    out[L.R_PENETRATION] = penetration                         # negative: the gap
+    if penetration < 0.0 or e == 0.0:
+        return
+    nx = gx / e
+    ny = gy / e
+    tx = -ny
+    ty = nx
+    lix = pin_x + jp[L.P_PIN_RADIUS] * nx - pos_i[0]          # pin contact point - pin reference
+    liy = pin_y + jp[L.P_PIN_RADIUS] * ny - pos_i[1]
+    ljx = bushing_x + jp[L.P_BUSHING_RADIUS] * nx - pos_j[0]  # bushing contact point - bushing reference
+    ljy = bushing_y + jp[L.P_BUSHING_RADIUS] * ny - pos_j[1]
+    rvx = (vel_i[0] - vel_i[2] * liy) - (vel_j[0] - vel_j[2] * ljy)
+    rvy = (vel_i[1] + vel_i[2] * lix) - (vel_j[1] + vel_j[2] * ljx)
+    penetration_rate = rvx * nx + rvy * ny                     # Eq. (13)
+    v_t = rvx * tx + rvy * ty                                  # Eq. (14)
+    if memory[L.M_ACTIVE] > 0.5:
+        impact_velocity = memory[L.M_IMPACT_VELOCITY]
+    else:
+        impact_velocity = max(penetration_rate, jp[L.P_VELOCITY_FLOOR])
+    f_n = lankarani_nikravesh(penetration, penetration_rate, impact_velocity,
+                              jp[L.P_STIFFNESS], jp[L.P_EXPONENT], jp[L.P_RESTITUTION])
+    c_d = ambrosio_friction_factor(abs(v_t), jp[L.P_V0], jp[L.P_V1])
+    f_t = -jp[L.P_FRICTION] * c_d * f_n * (1.0 if v_t > 0.0 else -1.0)
+    fx = -f_n * nx + f_t * tx
+    fy = -f_n * ny + f_t * ty
+    out[L.R_PIN_FX] = fx
+    out[L.R_PIN_FY] = fy
+    out[L.R_PIN_TORQUE] = lix * fy - liy * fx
+    out[L.R_BUSHING_FX] = -fx
+    out[L.R_BUSHING_FY] = -fy
+    out[L.R_BUSHING_TORQUE] = -(ljx * fy - ljy * fx)
+    out[L.R_NORMAL_FORCE] = f_n
+    out[L.R_FRICTION_FORCE] = f_t
+    out[L.R_CONTACT] = 1.0
+    out[L.R_TANGENTIAL_VELOCITY] = v_t
+    out[L.R_PENETRATION_RATE] = penetration_rate
+
+
+def _contact_formulation(contact: str) -> int:
+    _require("contact", contact, contact in CONTACT_FORMULATIONS, "one of " + ", ".join(CONTACT_FORMULATIONS))
+    return CONTACT_FORMULATIONS.index(contact)
+
+
+def _kinematics(name: str, values) -> tuple[np.ndarray, np.ndarray]:
+    k = np.asarray(values, dtype=float)
+    if k.shape != (6,) or not np.all(np.isfinite(k)):
+        raise ParameterError(f"{name} must be 6 finite numbers (x, y, angle, vx, vy, omega), got {values!r}")
+    return k[:3].copy(), k[3:].copy()
+
+
+def contact_forces(joint: ClearanceJoint, pin_kinematics, bushing_kinematics,
+                   contact: str = "discrete") -> np.ndarray:
+    """The joint's result array (layout.R_*) for the given kinematics, computed by the
+    discrete-point search (``ClearanceJoint.evaluate_array``) or by the eccentricity
+    form; kinematics = (x [m], y [m], angle [rad], vx, vy, omega) of each body's
+    reference point, global frame.  The joint's state is read, not changed."""
+    formulation = _contact_formulation(contact)
+    pos_i, vel_i = _kinematics("pin_kinematics", pin_kinematics)
+    pos_j, vel_j = _kinematics("bushing_kinematics", bushing_kinematics)
+    if formulation == DISCRETE:
+        return joint.evaluate_array(pos_i, vel_i, pos_j, vel_j).copy()
+    out = np.zeros(L.N_RESULT)
+    eccentricity_contact(pos_i, vel_i, pos_j, vel_j, joint.parameter_vector, joint.memory, out)
+    return out
+
+
+class ExudynSliderCrank:
+    """The slider-crank as an exudyn system (see module docstring), with its
+    per-step recording into our standard statistics and samples.
+
+    ``initial_state`` = [q (9), q_dot (9)] (q = crank, rod, slider: x, y, angle at
+    the centres of mass); default: :meth:`SliderCrank.initial_state` (pin centred,
+    ideal velocities).  It must satisfy the mechanism's constraints.
+    """
+
+    def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                 contact: str = "discrete", ideal: bool = False, initial_state=None):
+        self.mechanism = SliderCrank(mechanism)
+        mp = self.mechanism.params
+        joint = joint or JointParameters(**mp.joint_offsets())
+        check_joint_fits_mechanism(joint, mp)
+        self.formulation = _contact_formulation(contact)
+        if self.formulation == ECCENTRICITY and not ideal and joint.wear_coefficient_m2_N * joint.wear_factor > 0.0:
+            raise ParameterError("contact='eccentricity' models the unworn circular bushing: set "
+                                 "wear_factor=0 (or wear_coefficient_m2_N=0) or use contact='discrete'")
+        self.joint = ClearanceJoint(joint)
+        self.ideal = bool(ideal)
+        y0 = self.mechanism.initial_state() if initial_state is None else np.array(initial_state, dtype=float)
+        if y0.shape != (2 * L.N_COORDINATES,) or not np.all(np.isfinite(y0)):
+            raise ParameterError(f"initial_state must be {2 * L.N_COORDINATES} finite numbers [q, q_dot]")
+        n = L.N_COORDINATES
+        theta0 = self.mechanism.parameter_vector[L.MP_THETA0]
+        if abs(y0[L.CRANK + 2] - theta0) > 1e-12 or abs(y0[n + L.CRANK + 2] + mp.omega_rad_s) > 1e-9:
+            raise ParameterError(f"initial_state: the crank angle and rate must follow the driver, "
+                                 f"{theta0!r} rad and {-mp.omega_rad_s!r} rad/s; got {y0[L.CRANK + 2]!r}, "
+                                 f"{y0[n + L.CRANK + 2]!r}")
+        self.reference = y0[:n].copy()                     # node reference coordinates = initial q
+        self.y = y0.copy()
+        self.dy = np.zeros_like(y0)
+        self.force = np.zeros(2 * 3)                       # generalised forces of the GenericODE2
+        self._pos_i, self._vel_i, self._pos_j, self._vel_j = (np.zeros(3) for _ in range(4))
+        self.t = 0.0
+        self.accepted_steps = 0
+        self.wear_growth = []
+        self._progress = None
+        self.system_container = exu.SystemContainer()
+        self.mbs = self.system_container.AddSystem()
+        self._build(y0)
+
+    # ------------------------------------------------------------------ model
+    def _build(self, y0: np.ndarray) -> None:
+        mbs = self.mbs
+        p = self.mechanism.params
+        n = L.N_COORDINATES
+        bodies = ((p.crank_mass_kg, p.crank_inertia_kg_m2), (p.rod_mass_kg, p.rod_inertia_kg_m2),
+                  (p.slider_mass_kg, p.slider_inertia_kg_m2))
+        self.nodes = []
+        self.bodies = []
+        for k, (mass, inertia) in enumerate(bodies):
+            node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=list(y0[3 * k:3 * k + 3]),
+                                               initialCoordinates=[0.0, 0.0, 0.0],
+                                               initialVelocities=list(y0[n + 3 * k:n + 3 * k + 3])))
+            body = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=mass, inertia=inertia))
+            mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=body)),
+                                             loadVector=[0.0, -p.gravity_m_s2, 0.0]))
+            self.nodes.append(node)
+            self.bodies.append(body)
+        crank, rod, slider = self.bodies
+        ground = mbs.AddObject(ObjectGround())
+        l1 = p.crank_length_m
+        l2 = p.rod_length_m
+
+        def revolute(body_a, local_a, body_b, local_b):
+            mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[
+                mbs.AddMarker(MarkerBodyPosition(bodyNumber=body_a, localPosition=[*local_a, 0.0])),
+                mbs.AddMarker(MarkerBodyPosition(bodyNumber=body_b, localPosition=[*local_b, 0.0]))]))
+
+        revolute(ground, (0.0, 0.0), crank, (-0.5 * l1, 0.0))           # crank pivot at the origin
+        revolute(rod, (0.5 * l2, 0.0), slider, (0.0, 0.0))               # rod - slider
+        mbs.AddObject(ObjectJointPrismatic2D(                            # slider on X, rotation fixed
+            markerNumbers=[mbs.AddMarker(MarkerBodyRigid(bodyNumber=ground, localPosition=[0.0, 0.0, 0.0])),
+                           mbs.AddMarker(MarkerBodyRigid(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0]))],
+            axisMarker0=[1.0, 0.0, 0.0], normalMarker1=[0.0, 1.0, 0.0], constrainRotation=True))
+        omega = p.omega_rad_s
+        ground_node = mbs.AddNode(NodePointGround())
+        mbs.AddObject(ObjectConnectorCoordinate(                         # driver: th1 - th0 = -omega t
+            markerNumbers=[mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground_node, coordinate=0)),
+                           mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=self.nodes[0], coordinate=2))],
+            offsetUserFunction=lambda mbs_, t, item, offset: -omega * t))
+        if self.ideal:
+            revolute(crank, (0.5 * l1, 0.0), rod, (-0.5 * l2, 0.0))
+        else:
+            mbs.AddObject(ObjectGenericODE2(nodeNumbers=self.nodes[:2], massMatrix=np.zeros((6, 6)),
+                                            forceUserFunction=self.generalized_contact_force))
+        mbs.SetPostStepUserFunction(self.post_step)
+        mbs.Assemble()
+        for k, node in enumerate(self.nodes):
+            if list(mbs.systemData.GetNodeLTGODE2(node)) != [3 * k, 3 * k + 1, 3 * k + 2]:
+                raise RuntimeError("exudyn ordered the ODE2 coordinates unexpectedly; q must be crank, rod, slider")
+
+    def _evaluate(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
+        if self.formulation == DISCRETE:
+            return self.joint.evaluate_array(pos_i, vel_i, pos_j, vel_j)
+        eccentricity_contact(pos_i, vel_i, pos_j, vel_j, self.joint.parameter_vector, self.joint.memory,
+                             self.joint.result)
+        return self.joint.result
+
+    def generalized_contact_force(self, mbs, t, item, q, q_t):
+        """GenericODE2 force user function: q, q_t = displacements and velocities of the
+        crank then rod node; returns (Fx, Fy, T) on the crank then on the rod (applied)."""
+        ref = self.reference
+        pos_i, vel_i, pos_j, vel_j = self._pos_i, self._vel_i, self._pos_j, self._vel_j
+        for k in range(3):
+            pos_i[k] = ref[L.CRANK + k] + q[k]
+            vel_i[k] = q_t[k]
+            pos_j[k] = ref[L.ROD + k] + q[3 + k]
+            vel_j[k] = q_t[3 + k]
+        r = self._evaluate(pos_i, vel_i, pos_j, vel_j)
+        force = self.force
+        force[0:6] = r[L.R_PIN_FX:L.R_BUSHING_TORQUE + 1]
+        return force
+
+    # ------------------------------------------------------------------ stepping
+    def post_step(self, mbs, t):
+        """Once per accepted step (exudyn calls it after the step converged): joint
+        bookkeeping (wear, contact onsets) at the step's end, then our recorder."""
+        dt = t - self.t
+        if dt <= 0.0:               # exudyn also calls it once for the initial state
+            return True
+        sd = mbs.systemData
+        n = L.N_COORDINATES
+        y = self.y
+        dy = self.dy
+        q_t = sd.GetODE2Coordinates_t()
+        y[:n] = self.reference + sd.GetODE2Coordinates()
+        y[n:] = q_t
+        dy[:n] = q_t
+        dy[n:] = sd.GetODE2Coordinates_tt()
+        joint = self.joint
+        if self.ideal:
+            joint.result[:] = 0.0
+        elif self.formulation == DISCRETE:
+            joint.advance_array(y[L.CRANK:L.CRANK + 3], y[n + L.CRANK:n + L.CRANK + 3],
+                                y[L.ROD:L.ROD + 3], y[n + L.ROD:n + L.ROD + 3], dt)
+        else:
+            self._evaluate(y[L.CRANK:L.CRANK + 3], y[n + L.CRANK:n + L.CRANK + 3],
+                           y[L.ROD:L.ROD + 3], y[n + L.ROD:n + L.ROD + 3])
+            update_contact_memory(joint.result, joint.parameter_vector, joint.memory)
+        record_step(t, dt, y, dy, joint.result, self.mechanism.parameter_vector, self.revolution_stats,
+                    self._sample_block, self.track)
+        if self.track[L.K_N_SAMPLES] >= self._sample_block.shape[0]:
+            self._flush_samples()
+        if t >= (len(self.wear_growth) + 1) * self.mechanism.params.period_s * (1.0 - 1e-12):
+            self.wear_growth.append(joint.max_wear_depth_m)
+        self.t = t
+        self.accepted_steps += 1
+        if self.accepted_steps % 1000 == 0 and self._progress is not None:
+            self._progress.update(t)
+        return True
+
+    def _flush_samples(self) -> None:
+        n = int(self.track[L.K_N_SAMPLES])
+        self._sample_blocks.append(self._sample_block[:n].copy())
+        self.track[L.K_N_SAMPLES] = 0
+
+    def simulate(self, end_time_s: float, step_s: float = 1e-5, sample_dt_s: float = 1e-5,
+                 spectral_radius: float = SPECTRAL_RADIUS, progress: bool = False) -> None:
+        """Integrate from t = 0 to ``end_time_s`` [s] with exudyn's implicit
+        generalized-alpha solver at the fixed step ``step_s`` [s] (rounded so that
+        whole steps end at ``end_time_s``); fills :attr:`samples`,
+        :attr:`revolution_stats`, :attr:`wear_growth`.  Call once per instance."""
+        _require("end_time_s", end_time_s, _finite("end_time_s", end_time_s) > 0.0, "> 0")
+        _require("step_s", step_s, 0.0 < _finite("step_s", step_s) <= end_time_s, f"in (0, end_time_s = {end_time_s!r}]")
+        _require("sample_dt_s", sample_dt_s, _finite("sample_dt_s", sample_dt_s) > 0.0, "> 0")
+        _require("spectral_radius", spectral_radius, 0.0 <= _finite("spectral_radius", spectral_radius) <= 1.0,
+                 "in [0, 1]")
+        if self.accepted_steps or self.t > 0.0:
+            raise RuntimeError("ExudynSliderCrank.simulate runs once; build a new model for another run")
+        period = self.mechanism.params.period_s
+        self.revolution_stats = new_revolution_stats(int(math.ceil(end_time_s / period)) + 1)
+        self.track = new_track(sample_dt_s)
+        self._sample_block = np.zeros((SAMPLE_BLOCK_ROWS, L.N_SAMPLE_COLUMNS))
+        self._sample_blocks = []
+        settings = exu.SimulationSettings()
+        ti = settings.timeIntegration
+        ti.endTime = end_time_s
+        ti.numberOfSteps = max(1, int(math.ceil(end_time_s / step_s - 1e-9)))
+        ti.verboseMode = 0
+        ti.generalizedAlpha.spectralRadius = spectral_radius
+        settings.solution.file.write = False
+        settings.solution.sensors.active = False
+        settings.show.computationTime = False
+        settings.show.statistics = False
+        settings.show.globalTimers = False
+        self.step_s = end_time_s / ti.numberOfSteps
+        self._progress = Progress(end_time_s, "exudyn", enabled=progress)
+        wall0 = time.perf_counter()
+        try:
+            exu.SolveDynamic(self.mbs, settings, solverType=exu.DynamicSolverType.GeneralizedAlpha)
+        finally:
+            self.wall_time_s = time.perf_counter() - wall0
+            self._progress.close()
+            self._progress = None
+            self._flush_samples()
+            self.samples = np.concatenate(self._sample_blocks)
+            self.revolution_stats = self.revolution_stats[:max(1, int(math.ceil(self.t / period - 1e-9)))]
+        if self.t < end_time_s * (1.0 - 1e-9):
+            raise RuntimeError(f"exudyn stopped at t = {self.t:.6g} s before end_time_s = {end_time_s:.6g} s")
+
+
+def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters | None, revolutions: float,
+               step_s: float = 1e-5, contact: str = "discrete", ideal: bool = False, sample_dt_s: float = 1e-5,
+               progress: bool = True) -> RunRecord:
+    """Simulate ``revolutions`` crank revolutions of the slider-crank in exudyn
+    (generalized-alpha, fixed step ``step_s`` [s]; None = the paper's parameters);
+    returns the same :class:`RunRecord` as :func:`wearjoint.simulate.run_simulation`,
+    with ``parameters["engine"] == "exudyn"``."""
+    _require("revolutions", revolutions, _finite("revolutions", revolutions) > 0.0, "> 0")
+    _require("ideal", ideal, isinstance(ideal, bool), "True or False")
+    model = ExudynSliderCrank(joint, mechanism, contact=contact, ideal=ideal)
+    period = model.mechanism.params.period_s
+    model.simulate(revolutions * period, step_s, sample_dt_s, progress=progress)
+    j = model.joint
+    return RunRecord(
+        samples=model.samples, revolution_stats=model.revolution_stats,
+        wear_growth_m=np.asarray(model.wear_growth), phi_deg=j.phi_deg, wear_depth_m=j.wear_depth.copy(),
+        worn_volume_m3=j.worn_volume_m3, simulated_time_s=model.t, wall_time_s=model.wall_time_s,
+        revolutions=model.t / period, period_s=period, clearance_m=j.params.clearance_m,
+        parameters={"joint": j.params.to_dict(), "mechanism": model.mechanism.params.to_dict(),
+                    "simulation": {"revolutions": revolutions, "integrator": "exudyn GeneralizedAlpha",
+                                   "step_s": model.step_s, "spectral_radius": SPECTRAL_RADIUS,
+                                   "contact": contact, "ideal": ideal, "sample_dt_s": sample_dt_s},
+                    "engine": "exudyn"},
+        extra={"integrator_accepted_steps": model.accepted_steps, "exudyn_version": exu.config.Version()})
+
+
+__all__ = ["run_exudyn", "CONTACT_FORMULATIONS", "ExudynSliderCrank", "contact_forces", "eccentricity_contact"]
