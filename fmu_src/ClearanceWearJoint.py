@@ -1,0 +1,382 @@
+"""pythonfmu slave ``ClearanceWearJoint``: a thin FMI 2.0 Co-Simulation adapter to one
+:class:`wearjoint.ClearanceJoint` (contract: shared/MODEL.md section 5).
+
+* Variables come from :mod:`wearjoint.fmu_variables`, registered in its order
+  (value reference = position in ``fmu_variables(n_points)``).
+* Outputs are direct feed-through: forces are evaluated lazily from the current
+  inputs at the first getReal after a change (one evaluation per input set).
+* ``doStep(t, h)`` advances wear and contact memory with the inputs held at the
+  start of the step (left-endpoint convention), then outputs belong to the new
+  state at the same inputs.
+* Parameters are read at exitInitializationMode and are fixed afterwards; the
+  numba kernels are compiled there too.
+* Errors never raise out of pythonfmu unguarded: see :meth:`_abort_call`.
+
+Built by ``wearjoint build-fmu`` (wearjoint/fmu_build.py), which fixes n_points in
+resources/wearjoint_fmu.json.
+"""
+import contextlib
+import functools
+import json
+import math
+import struct
+import sys
+from pathlib import Path
+
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu.enums import Fmi2Initial, Fmi2Status
+
+
+@contextlib.contextmanager
+def _scipy_hidden():
+    """Make ``import scipy`` fail inside the block unless the host already imported it.
+
+    numba imports scipy when it loads (a version check) and on its first compile
+    (BLAS probe); scipy's Fortran runtime has crashed non-Python hosts at exit.
+    Afterwards the host's own ``import scipy`` works normally.
+    """
+    hide = "scipy" not in sys.modules
+    if hide:
+        sys.modules["scipy"] = None
+    try:
+        yield
+    finally:
+        if hide and sys.modules.get("scipy", 0) is None:
+            del sys.modules["scipy"]
+
+
+with _scipy_hidden():
+    import numpy as np
+
+    from wearjoint import ClearanceJoint, JointParameters, ParameterError, __version__
+    from wearjoint import fmu_variables as fv
+    from wearjoint.core import layout
+
+_RESULT_INDEX = {
+    "pin_force_x": layout.R_PIN_FX, "pin_force_y": layout.R_PIN_FY, "pin_torque": layout.R_PIN_TORQUE,
+    "bushing_force_x": layout.R_BUSHING_FX, "bushing_force_y": layout.R_BUSHING_FY,
+    "bushing_torque": layout.R_BUSHING_TORQUE, "normal_force": layout.R_NORMAL_FORCE,
+    "friction_force": layout.R_FRICTION_FORCE, "penetration": layout.R_PENETRATION,
+    "contact": layout.R_CONTACT, "contact_angle": layout.R_CONTACT_ANGLE,
+    "eccentricity_x": layout.R_ECCENTRICITY_X, "eccentricity_y": layout.R_ECCENTRICITY_Y,
+}
+
+_STATE_MAGIC = b"WJFMU001"
+_STATE_HEAD = struct.Struct("<8sdd")   # magic, time [s], 1.0 if initialised
+_N_INPUTS = len(fv.INPUTS)
+
+# Objects pythonfmu 0.7 releases once too often after a Python exception (see _abort_call).
+_OVER_RELEASED = []
+
+
+def _built_n_points(resources) -> int:
+    """N_d fixed by the build (resources/wearjoint_fmu.json); the default outside an FMU."""
+    if resources is None:
+        return JointParameters.n_points
+    return int(json.loads((Path(resources) / fv.BUILD_CONFIG_FILE).read_text())["n_points"])
+
+
+def _compile_kernels(params) -> None:
+    """Run evaluate/advance once on a throwaway joint so numba compiles now, not in doStep."""
+    scratch = ClearanceJoint(params)
+    kinematics = np.zeros(12)
+    scratch.evaluate_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12])
+    scratch.advance_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12], 0.0)
+    scratch.worn_volume_m3  # noqa: B018 - compiles worn_area
+
+
+class FmuCallFailed(Exception):
+    """An FMI call of this slave failed; the message was logged with fmi2Error."""
+
+
+def _guarded(method):
+    """Turn any exception escaping an FMI hook into :meth:`_abort_call` (logged, no crash)."""
+    @functools.wraps(method)
+    def call(self, *args):
+        try:
+            return method(self, *args)
+        except FmuCallFailed:
+            raise
+        except Exception as exc:  # noqa: BLE001 - every exception must take the guarded path
+            self._abort_call(f"{method.__name__} failed: {exc!r}")
+    return call
+
+
+class ClearanceWearJoint(Fmi2Slave):
+    """FMI 2.0 Co-Simulation slave holding one ClearanceJoint (see the module docstring)."""
+
+    author = "wearjoint"
+    description = ("Planar revolute clearance joint with a wearing bushing (Archard wear, "
+                   "Lankarani-Nikravesh contact, Ambrosio friction). Inputs: kinematics of the pin "
+                   "and bushing bodies; outputs: forces (direct feed-through) and the wear profile.")
+    version = __version__
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        n_points = self.n_points = _built_n_points(self.resources)
+        variables = fv.fmu_variables(n_points)
+        self._names = [v.name for v in variables]
+        vr_of = {name: vr for vr, name in enumerate(self._names)}
+        self._reals = np.zeros(len(variables))
+        self._non_real_vrs = frozenset(vr for vr, v in enumerate(variables) if v.type != fv.REAL)
+        self._integers = {}
+        self._parameter_vrs = {vr_of[p.variable.name]: p.variable.name for p in fv.PARAMETERS}
+        self._real_parameter_vrs = [vr_of[p.variable.name] for p in fv.PARAMETERS if p.variable.type == fv.REAL]
+        self._integer_parameter_vrs = [vr_of[p.variable.name] for p in fv.PARAMETERS
+                                       if p.variable.type == fv.INTEGER]
+        self._n_points_vr = vr_of[fv.N_POINTS_NAME]
+        for vr, v in enumerate(variables):
+            self._register(vr, v)
+        inputs = self._reals[:_N_INPUTS]
+        self._pin_position, self._pin_velocity = inputs[0:3], inputs[3:6]
+        self._bushing_position, self._bushing_velocity = inputs[6:9], inputs[9:12]
+        self._first_output_vr = vr_of[fv.SCALAR_OUTPUTS[0].name]
+        self._feed_through_vrs = np.array([vr_of[name] for name in _RESULT_INDEX])
+        self._feed_through_results = np.array(list(_RESULT_INDEX.values()))
+        self._max_wear_vr = vr_of["max_wear_depth"]
+        self._worn_volume_vr = vr_of["worn_volume"]
+        first = vr_of[fv.wear_depth_name(1)]
+        self._wear_slice = slice(first, first + n_points)
+        # getReal refreshes forces for vrs >= _first_output_vr and wear for vrs >= _first_wear_vr
+        self._first_wear_vr = min(self._max_wear_vr, self._worn_volume_vr, first)
+        if max(self._feed_through_vrs) >= self._first_wear_vr or min(self._feed_through_vrs) < self._first_output_vr:
+            raise RuntimeError("wearjoint.fmu_variables must list force outputs before the wear outputs")
+        self._non_finite_input_vrs = set()
+        self._time = 0.0
+        self._initialised = False
+        self._joint = None
+        self._joint_parameters_used = None
+        self._parameters_changed = True
+        self._forces_stale = True
+        self._wear_stale = True
+
+    def _register(self, vr: int, v) -> None:
+        kind = Real if v.type == fv.REAL else Integer
+        if v.causality == fv.INPUT:
+            extra = dict(causality=Fmi2Causality.input, variability=Fmi2Variability.continuous)
+        elif v.causality == fv.OUTPUT:
+            extra = dict(causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
+                         initial=Fmi2Initial.calculated)
+        elif v.causality == fv.PARAMETER:
+            extra = dict(causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                         initial=Fmi2Initial.exact)
+        else:  # n_points: read-only
+            extra = dict(causality=Fmi2Causality.local, variability=Fmi2Variability.constant,
+                         initial=Fmi2Initial.exact)
+        if kind is Real:
+            self._reals[vr] = math.nan if v.start is None else v.start
+        else:
+            self._integers[vr] = v.start
+        # values go through the overridden get_*/set_* below, never through pythonfmu getters
+        self.register_variable(kind(v.name, description=v.description, **extra))
+        if self.vars[vr].value_reference != vr:
+            raise RuntimeError(f"variable {v.name} got value reference {self.vars[vr].value_reference}, expected {vr}")
+
+    # ------------------------------------------------------------- errors
+    def _abort_call(self, message: str):
+        """Log ``message`` (fmi2Error) and make the current FMI call fail.
+
+        pythonfmu 0.7 maps a Python exception to fmi2Fatal and then releases its
+        references to the slave class, the instance and its log queue while still
+        holding them (the host segfaults at the next garbage collection).  One
+        extra reference to each is kept here, forever, to balance that.
+        """
+        self._log_error(message)
+        _OVER_RELEASED.extend((type(self), self, self.log_queue))
+        raise FmuCallFailed(message)
+
+    def _log_error(self, message: str) -> None:
+        # the FMI logger treats the message as a printf format
+        self.log(message.replace("%", "%%"), Fmi2Status.error)
+
+    def _name(self, vr: int) -> str:
+        return self._names[vr] if 0 <= vr < len(self._names) else f"<no variable with valueReference {vr}>"
+
+    # ------------------------------------------------------------- the joint
+    def _parameter_values(self) -> dict:
+        return {name: (int(self._integers[vr]) if vr in self._integers else float(self._reals[vr]))
+                for vr, name in self._parameter_vrs.items()}
+
+    def _ensure_joint(self) -> None:
+        """(Re)build the joint if a parameter was set to a new value since it was built."""
+        if not self._parameters_changed:
+            return
+        values = self._parameter_values()
+        if values != self._joint_parameters_used:
+            try:
+                params = fv.joint_parameters_from_fmi(values, self.n_points)
+            except ParameterError as exc:
+                self._abort_call(f"invalid FMU parameter: {exc}")
+            with _scipy_hidden():
+                self._joint = ClearanceJoint(params)
+                _compile_kernels(params)
+            self._joint_parameters_used = values
+            self._forces_stale = self._wear_stale = True
+        self._parameters_changed = False
+
+    def _non_finite_inputs(self) -> str:
+        return ", ".join(f"{self._names[vr]}={float(self._reals[vr])!r}" for vr in sorted(self._non_finite_input_vrs))
+
+    def _refresh_force_outputs(self) -> None:
+        self._ensure_joint()
+        if not self._non_finite_input_vrs:
+            result = self._joint.evaluate_array(self._pin_position, self._pin_velocity,
+                                                self._bushing_position, self._bushing_velocity)
+            self._reals[self._feed_through_vrs] = result[self._feed_through_results]
+        else:
+            self._reals[self._feed_through_vrs] = math.nan
+            self._log_error(f"non-finite inputs ({self._non_finite_inputs()}): force outputs are NaN")
+        self._forces_stale = False
+
+    def _refresh_wear_outputs(self) -> None:
+        self._ensure_joint()
+        joint = self._joint
+        self._reals[self._wear_slice] = joint.wear_depth
+        self._reals[self._max_wear_vr] = joint.max_wear_depth_m
+        self._reals[self._worn_volume_vr] = joint.worn_volume_m3
+        self._wear_stale = False
+
+    # ------------------------------------------------------------- FMI hooks
+    @_guarded
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self._time = float(start_time)
+
+    @_guarded
+    def exit_initialization_mode(self):
+        self._ensure_joint()  # builds the joint from the final parameters, compiles the kernels
+        self._initialised = True
+
+    @_guarded
+    def do_step(self, current_time, step_size):
+        if self._non_finite_input_vrs:
+            self._log_error(f"doStep at t={current_time!r} s rejected: non-finite inputs "
+                            f"({self._non_finite_inputs()})")
+            return False
+        if not (math.isfinite(step_size) and step_size >= 0.0):
+            self._log_error(f"doStep rejected: step size {step_size!r} s is not a finite value >= 0")
+            return False
+        self._ensure_joint()
+        changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
+                                            self._bushing_position, self._bushing_velocity, step_size)
+        self._time = current_time + step_size
+        self._forces_stale = True
+        self._wear_stale = self._wear_stale or changed
+        return True
+
+    @_guarded
+    def get_real(self, vrs):
+        if not vrs:
+            return []
+        top = max(vrs)
+        if top >= len(self._names) or not self._non_real_vrs.isdisjoint(vrs):
+            bad = [self._name(vr) for vr in vrs if vr >= len(self._names) or vr in self._non_real_vrs]
+            self._abort_call(f"getReal: not Real variables: {', '.join(bad)}")
+        if top >= self._first_output_vr:
+            if self._forces_stale:
+                self._refresh_force_outputs()
+            if top >= self._first_wear_vr and self._wear_stale:
+                self._refresh_wear_outputs()
+        return self._reals[vrs].tolist()
+
+    @_guarded
+    def set_real(self, vrs, values):
+        for vr, value in zip(vrs, values):
+            if vr < _N_INPUTS:
+                self._reals[vr] = value
+                if math.isfinite(value):
+                    self._non_finite_input_vrs.discard(vr)
+                else:
+                    self._non_finite_input_vrs.add(vr)
+            elif vr in self._real_parameter_vrs:
+                self._check_parameter_settable(vr)
+                self._reals[vr] = value
+                self._parameters_changed = True
+            else:
+                self._abort_call(f"setReal: variable {self._name(vr)} cannot be set")
+        self._forces_stale = True
+
+    @_guarded
+    def get_integer(self, vrs):
+        bad = [self._name(vr) for vr in vrs if vr not in self._integers]
+        if bad:
+            self._abort_call(f"getInteger: not Integer variables: {', '.join(bad)}")
+        return [self._integers[vr] for vr in vrs]
+
+    @_guarded
+    def set_integer(self, vrs, values):
+        for vr, value in zip(vrs, values):
+            if vr == self._n_points_vr:
+                if value != self.n_points:
+                    self._abort_call(f"n_points is fixed at {self.n_points} when the FMU is built; "
+                                     f"rebuild it for {value} points (wearjoint build-fmu --n-points {value})")
+            elif vr in self._integer_parameter_vrs:
+                self._check_parameter_settable(vr)
+                self._integers[vr] = int(value)
+                self._parameters_changed = True
+            else:
+                self._abort_call(f"setInteger: variable {self._name(vr)} cannot be set")
+        self._forces_stale = True
+
+    def _check_parameter_settable(self, vr: int) -> None:
+        if self._initialised:
+            self._abort_call(f"parameter {self._names[vr]} is fixed: set it before exitInitializationMode")
+
+    @_guarded
+    def get_boolean(self, vrs):
+        self._abort_call(f"getBoolean: this FMU has no Boolean variables (asked for {list(vrs)})")
+
+    @_guarded
+    def set_boolean(self, vrs, values):
+        self._abort_call(f"setBoolean: this FMU has no Boolean variables (asked for {list(vrs)})")
+
+    @_guarded
+    def get_string(self, vrs):
+        self._abort_call(f"getString: this FMU has no String variables (asked for {list(vrs)})")
+
+    @_guarded
+    def set_string(self, vrs, values):
+        self._abort_call(f"setString: this FMU has no String variables (asked for {list(vrs)})")
+
+    # ------------------------------------------------------------- FMU state
+    # The state object is the serialised bytes themselves: exact, immutable, and
+    # getFMUstate / serializeFMUstate share one code path.
+    @_guarded
+    def _get_fmu_state(self):
+        self._ensure_joint()
+        head = _STATE_HEAD.pack(_STATE_MAGIC, self._time, 1.0 if self._initialised else 0.0)
+        integers = np.array([self._integers[vr] for vr in self._integer_parameter_vrs], dtype="<f8")
+        return (head + self._reals[:_N_INPUTS].astype("<f8").tobytes()
+                + self._reals[self._real_parameter_vrs].astype("<f8").tobytes()
+                + integers.tobytes() + self._joint.state_to_bytes())
+
+    @_guarded
+    def _set_fmu_state(self, state):
+        real_vrs, integer_vrs = self._real_parameter_vrs, self._integer_parameter_vrs
+        n_values = _N_INPUTS + len(real_vrs) + len(integer_vrs)
+        offset = _STATE_HEAD.size + 8 * n_values
+        if not isinstance(state, bytes) or len(state) < offset or state[:len(_STATE_MAGIC)] != _STATE_MAGIC:
+            self._abort_call("setFMUstate: not a ClearanceWearJoint state")
+        _, time, initialised = _STATE_HEAD.unpack_from(state)
+        values = np.frombuffer(state, dtype="<f8", count=n_values, offset=_STATE_HEAD.size)
+        self._reals[:_N_INPUTS] = values[:_N_INPUTS]
+        self._non_finite_input_vrs = {vr for vr in range(_N_INPUTS) if not math.isfinite(values[vr])}
+        self._reals[real_vrs] = values[_N_INPUTS:_N_INPUTS + len(real_vrs)]
+        for vr, value in zip(integer_vrs, values[_N_INPUTS + len(real_vrs):]):
+            self._integers[vr] = int(value)
+        self._parameters_changed = True
+        self._ensure_joint()
+        try:
+            self._joint.state_from_bytes(state[offset:])
+        except ParameterError as exc:
+            self._abort_call(f"setFMUstate: {exc}")
+        self._time = time
+        self._initialised = initialised == 1.0
+        self._forces_stale = self._wear_stale = True
+
+    @staticmethod
+    def _fmu_state_to_bytes(state):
+        return bytes(state)
+
+    @staticmethod
+    def _fmu_state_from_bytes(data):
+        return bytes(data)

@@ -1,0 +1,402 @@
+"""The ClearanceWearJoint FMU (MODEL.md section 5) driven through fmpy.
+
+The FMU is built once per session (fixture ``built_fmu``); every test gets fresh instances.
+"""
+import collections
+import gc
+import itertools
+import json
+import math
+import os
+import subprocess
+import sys
+import textwrap
+from ctypes import byref
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy import extract, read_model_description  # noqa: E402
+from fmpy.fmi1 import FMICallException  # noqa: E402
+from fmpy.fmi2 import (FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,  # noqa: E402
+                       fmi2CallbackLoggerTYPE)
+from fmpy.logging import addLoggerProxy  # noqa: E402
+from fmpy.validation import validate_fmu  # noqa: E402
+
+from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
+from wearjoint import fmu_variables as fv  # noqa: E402
+from wearjoint.fmu_build import build_fmu, cli_arguments, cli_run, default_fmu_path  # noqa: E402
+
+FMI_DISCARD, FMI_ERROR = 2, 3
+INPUT_NAMES = [v.name for v in fv.INPUTS]
+FORCE_NAMES = ["pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y", "bushing_torque"]
+SCALAR_NAMES = [v.name for v in fv.SCALAR_OUTPUTS]
+P = JointParameters()
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+def rotate(angle, x, y):
+    c, s = math.cos(angle), math.sin(angle)
+    return c * x - s * y, s * x + c * y
+
+
+def contact_inputs(depth=5e-6, direction=1.0, pin_omega=10.0, bushing_x=0.2):
+    """Inputs with the pin centre at clearance + ``depth`` from the bushing centre along
+    the global angle ``direction``; both bodies rotated, the pin spinning about its resting centre."""
+    bushing_angle, pin_angle = 0.3, 0.7
+    bx, by = rotate(bushing_angle, *P.bushing_offset_m)
+    centre = (bushing_x + bx, 0.05 + by)
+    e = P.clearance_m + depth
+    pin_centre = (centre[0] + e * math.cos(direction), centre[1] + e * math.sin(direction))
+    px, py = rotate(pin_angle, *P.pin_offset_m)
+    return [pin_centre[0] - px, pin_centre[1] - py, pin_angle, pin_omega * py, -pin_omega * px, pin_omega,
+            bushing_x, 0.05, bushing_angle, 0.0, 0.0, 0.0]
+
+
+# fmpy's native logger proxy (it formats the printf-style message) keeps ONE logger per
+# process, so all instances share this one and messages are routed by instance name.
+LOGS = collections.defaultdict(list)
+_LOGGER = fmi2CallbackLoggerTYPE(
+    lambda env, instance, status, category, message: LOGS[instance.decode()].append((status, message.decode())))
+CALLBACKS = fmi2CallbackFunctions(logger=_LOGGER, allocateMemory=defaultCallbacks.allocateMemory,
+                                  freeMemory=defaultCallbacks.freeMemory)
+addLoggerProxy(byref(CALLBACKS))
+_INSTANCE_NUMBERS = itertools.count()
+
+
+class Slave:
+    """One fmpy FMU2Slave instance (unique instance name) with its log messages as (status, text)."""
+
+    def __init__(self, fmu, name, parameters=None, integers=None):
+        self.vr = fmu["vr"]
+        name = f"{name}_{next(_INSTANCE_NUMBERS)}"
+        self.log = LOGS[name]
+        md = fmu["md"]
+        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmu["dir"],
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu.instantiate(callbacks=CALLBACKS, loggingOn=True)
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        if parameters:
+            self.fmu.setReal([self.vr[k] for k in parameters], list(parameters.values()))
+        if integers:
+            self.fmu.setInteger([self.vr[k] for k in integers], list(integers.values()))
+
+    def initialise(self):
+        self.fmu.exitInitializationMode()
+        return self
+
+    def set_inputs(self, values):
+        self.fmu.setReal([self.vr[n] for n in INPUT_NAMES], list(values))
+
+    def get(self, names):
+        return np.array(self.fmu.getReal([self.vr[n] for n in names]))
+
+    def errors(self):
+        return [text for status, text in self.log if status >= FMI_ERROR]
+
+    def free(self):
+        self.fmu.freeInstance()
+
+
+@pytest.fixture(scope="module")
+def fmu(built_fmu, tmp_path_factory):
+    md = read_model_description(str(built_fmu))
+    directory = extract(str(built_fmu), unzipdir=str(tmp_path_factory.mktemp("fmu_extracted")))
+    wear = [fv.wear_depth_name(z) for z in range(1, P.n_points + 1)]
+    return {"md": md, "dir": directory, "vr": fv.value_references(md), "wear": wear}
+
+
+@pytest.fixture
+def slave(fmu):
+    s = Slave(fmu, "joint").initialise()
+    yield s
+    s.free()
+
+
+# ------------------------------------------------------------- modelDescription
+def test_validate_fmu_reports_no_problem(built_fmu):
+    assert validate_fmu(str(built_fmu)) == []
+
+
+def test_model_description_matches_the_variable_table(fmu):
+    md = fmu["md"]
+    table = fv.fmu_variables(P.n_points)
+    assert [v.name for v in md.modelVariables] == [v.name for v in table]
+    for v, row in zip(md.modelVariables, table):
+        assert v.description, v.name
+        assert v.causality == row.causality
+        if v.type == "Real":
+            assert v.unit == row.unit, v.name
+    n_points = next(v for v in md.modelVariables if v.name == "n_points")
+    assert (n_points.variability, int(n_points.start)) == ("constant", P.n_points)
+    assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
+
+
+def test_parameter_defaults_are_the_papers(fmu):
+    starts = {}
+    for v in fmu["md"].modelVariables:
+        if v.causality == "parameter":
+            starts[v.name] = int(v.start) if v.type == "Integer" else float(v.start)
+    assert fv.joint_parameters_from_fmi(starts, P.n_points) == JointParameters()
+
+
+def test_every_joint_parameter_is_an_fmu_parameter():
+    from dataclasses import fields
+
+    covered = {p.field for p in fv.PARAMETERS} | {"n_points"}
+    assert covered == {f.name for f in fields(JointParameters)}
+    assert fv.joint_parameters_from_fmi(fv.fmi_parameter_values(P.replace(rho_mode="paper")), P.n_points) \
+        == P.replace(rho_mode="paper")
+
+
+def test_model_structure_declares_direct_feed_through(fmu):
+    md = fmu["md"]
+    inputs = {v.name for v in md.modelVariables if v.causality == "input"}
+    for unknown in md.outputs:
+        depends_on = {v.name for v in unknown.dependencies}
+        if unknown.variable.name in fv.FEED_THROUGH_OUTPUTS:
+            assert depends_on == inputs, unknown.variable.name
+        else:
+            assert depends_on == set(), unknown.variable.name
+
+
+# ------------------------------------------------------------- forces
+def test_forces_are_the_joints_and_point_back_to_the_bushing_centre(slave):
+    direction = 1.0
+    x = contact_inputs(direction=direction)
+    slave.set_inputs(x)
+    out = dict(zip(SCALAR_NAMES, slave.get(SCALAR_NAMES)))
+
+    expected = ClearanceJoint(JointParameters()).evaluate(x[:6], x[6:])
+    got = [out[n] for n in FORCE_NAMES]
+    np.testing.assert_allclose(got, [*expected.pin_force, *expected.bushing_force], rtol=1e-12, atol=0)
+    assert out["contact"] == 1.0
+    assert out["penetration"] == pytest.approx(5e-6, rel=1e-3)
+    assert out["normal_force"] == pytest.approx(P.contact_stiffness_N_m1_5 * 5e-6 ** 1.5, rel=1e-2)
+
+    pin_force = np.array([out["pin_force_x"], out["pin_force_y"]])
+    outward = np.array([math.cos(direction), math.sin(direction)])
+    cos_to_centre = -pin_force @ outward / np.linalg.norm(pin_force)
+    assert cos_to_centre >= math.cos(math.atan(P.friction_coefficient)) - 1e-9
+    assert out["pin_force_x"] == -out["bushing_force_x"] and out["pin_force_y"] == -out["bushing_force_y"]
+    # contact angle and eccentricity in the bushing frame (bushing body angle 0.3 rad)
+    assert out["contact_angle"] == pytest.approx(direction - 0.3, abs=2 * math.pi / P.n_points)
+    np.testing.assert_allclose([out["eccentricity_x"], out["eccentricity_y"]],
+                               (P.clearance_m + 5e-6) * np.array([math.cos(0.7), math.sin(0.7)]), rtol=1e-6)
+
+
+def test_outputs_follow_inputs_without_a_step(slave):
+    slave.set_inputs(contact_inputs(depth=2e-6))
+    shallow = slave.get(["normal_force"])[0]
+    slave.set_inputs(contact_inputs(depth=4e-6))
+    deep = slave.get(["normal_force"])[0]
+    assert deep / shallow == pytest.approx(2.0 ** 1.5, rel=1e-2)
+    slave.set_inputs(contact_inputs(depth=-5e-5))
+    assert list(slave.get(["contact", "normal_force", "pin_force_x"])) == [0.0, 0.0, 0.0]
+
+
+# ------------------------------------------------------------- wear
+def test_do_step_wears_where_the_pin_presses(slave, fmu):
+    x = contact_inputs(direction=2.0, pin_omega=10.0)
+    slave.set_inputs(x)
+    dt, steps, archard = 1e-5, 40, 0.0
+    for k in range(steps):
+        normal_force = slave.get(["normal_force"])[0]
+        archard += P.wear_coefficient_m2_N * normal_force * P.bushing_radius_m * 10.0 * dt
+        slave.fmu.doStep(k * dt, dt)
+    h = slave.get(fmu["wear"])
+    contact_angle, max_wear, volume = slave.get(["contact_angle", "max_wear_depth", "worn_volume"])
+
+    phi = np.arange(1, P.n_points + 1) * 2 * math.pi / P.n_points
+    assert h.min() >= 0.0 and h.max() > 0.0
+    offset = np.abs(np.remainder(phi - contact_angle + math.pi, 2 * math.pi) - math.pi)
+    assert h[np.argmin(offset)] > 0.0
+    worn = h > 0.0
+    centre = math.atan2(np.sin(phi[worn]).mean(), np.cos(phi[worn]).mean())
+    assert abs(math.remainder(centre - contact_angle, 2 * math.pi)) < 2 * 2 * math.pi / P.n_points
+    assert np.all(h[offset > 0.5] == 0.0)
+    assert max_wear == h.max()
+    # polar area between the worn and the unworn circle, times the contact length
+    area = 0.5 * np.sum((P.bushing_radius_m + h) ** 2 - P.bushing_radius_m ** 2) * 2 * math.pi / P.n_points
+    assert volume == pytest.approx(P.contact_length_m * area, rel=1e-12)
+    # Archard: removed volume = k_w * F_N * sliding distance (rotation: R_j |omega_rel| dt)
+    assert volume == pytest.approx(archard, rel=2e-2)
+
+
+def test_two_instances_keep_independent_state(fmu):
+    a = Slave(fmu, "a").initialise()
+    b = Slave(fmu, "b").initialise()
+    try:
+        a.set_inputs(contact_inputs(depth=5e-6))
+        b.set_inputs(contact_inputs(depth=-2e-5))
+        for k in range(20):
+            a.fmu.doStep(k * 1e-5, 1e-5)
+            b.fmu.doStep(k * 1e-5, 1e-5)
+        assert a.get(["max_wear_depth"])[0] > 0.0
+        assert b.get(["max_wear_depth", "worn_volume", "normal_force"]).tolist() == [0.0, 0.0, 0.0]
+        assert a.get(["contact"])[0] == 1.0
+    finally:
+        a.free()
+        b.free()
+
+
+# ------------------------------------------------------------- FMU state
+def _run(slave, fmu, steps, t0, dt=1e-5):
+    """Steps with a slowly changing input; every output after every step."""
+    names = SCALAR_NAMES + fmu["wear"]
+    rows = []
+    for k in range(steps):
+        slave.set_inputs(contact_inputs(depth=3e-6 + 1e-7 * k, direction=1.0 + 0.01 * k))
+        slave.fmu.doStep(t0 + k * dt, dt)
+        rows.append(slave.get(names))
+    return np.array(rows)
+
+
+def test_fmu_state_round_trip_is_exact(slave, fmu):
+    _run(slave, fmu, 10, 0.0)
+    state = slave.fmu.getFMUstate()
+    first = _run(slave, fmu, 15, 1e-4)
+    slave.fmu.setFMUstate(state)
+    again = _run(slave, fmu, 15, 1e-4)
+    assert first[:, SCALAR_NAMES.index("max_wear_depth")].max() > 0.0
+    assert np.array_equal(first, again)
+
+    serialised = slave.fmu.serializeFMUstate(state)
+    slave.fmu.freeFMUstate(state)
+    other = Slave(fmu, "restored").initialise()
+    try:
+        restored = other.fmu.deSerializeFMUstate(serialised)
+        other.fmu.setFMUstate(restored)
+        assert np.array_equal(_run(other, fmu, 15, 1e-4), first)
+    finally:
+        other.free()
+
+
+# ------------------------------------------------------------- errors
+@pytest.mark.parametrize("name, value", [("bushing_radius", 0.0099), ("restitution", 1.5),
+                                         ("friction_v1", 1e-4), ("rho_mode", 2)])
+def test_bad_parameter_fails_initialisation_with_its_name(fmu, name, value):
+    kind = "integers" if isinstance(value, int) else "parameters"
+    s = Slave(fmu, f"bad_{name}", **{kind: {name: value}})
+    with pytest.raises(FMICallException) as failure:
+        s.initialise()
+    # pythonfmu 0.7 maps every Python exception to fmi2Fatal; fmi2Error is not reachable
+    assert failure.value.status >= FMI_ERROR
+    assert any(name in text for text in s.errors()), s.log
+    s.free()
+    gc.collect()  # the host survives pythonfmu's reference release after the failure
+    fresh = Slave(fmu, "after_failure").initialise()
+    fresh.set_inputs(contact_inputs())
+    assert fresh.get(["contact"])[0] == 1.0
+    fresh.free()
+
+
+def test_n_points_and_fixed_parameters_cannot_change(fmu, slave):
+    s = Slave(fmu, "n_points")
+    s.fmu.setInteger([s.vr["n_points"]], [P.n_points])  # the built value is accepted
+    with pytest.raises(FMICallException):
+        s.fmu.setInteger([s.vr["n_points"]], [100])
+    assert any("n_points" in text and "100" in text for text in s.errors())
+    s.free()
+    with pytest.raises(FMICallException):
+        slave.fmu.setReal([slave.vr["restitution"]], [0.5])
+    assert any("restitution" in text for text in slave.errors()), slave.log
+    gc.collect()
+
+
+def test_non_finite_input_is_reported_and_discarded(slave):
+    x = contact_inputs()
+    x[0] = math.nan
+    slave.set_inputs(x)
+    assert np.isnan(slave.get(FORCE_NAMES)).all()
+    assert any("pin_x" in text for text in slave.errors())
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.doStep(0.0, 1e-5)
+    assert failure.value.status == FMI_DISCARD
+    assert sum("doStep" in text and "pin_x" in text for text in slave.errors()) == 1
+    slave.set_inputs(contact_inputs())
+    slave.fmu.doStep(0.0, 1e-5)
+    assert slave.get(["contact"])[0] == 1.0
+
+
+# ------------------------------------------------------------- run-time imports
+HOST_SCRIPT = textwrap.dedent("""
+    import json, sys
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    fmu = sys.argv[1]
+    md = read_model_description(fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    before = set(sys.modules)
+    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu), modelIdentifier="ClearanceWearJoint",
+                  instanceName="imports")
+    s.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    s.setReal([vr["pin_x"]], [-0.135])
+    s.doStep(0.0, 1e-5)
+    force = s.getReal([vr["pin_force_x"], vr["worn_volume"]])
+    s.terminate()
+    s.freeInstance()
+    loaded = sorted(set(sys.modules) - before)
+    wearjoint_file = sys.modules["wearjoint"].__file__
+    try:
+        import scipy  # the host may still import it itself
+        host_scipy = True
+    except ImportError:
+        host_scipy = False
+    print(json.dumps({"loaded": loaded, "wearjoint": wearjoint_file, "host_scipy": host_scipy}))
+""")
+
+
+def test_fmu_runtime_imports_only_numpy_numba_and_wearjoint(built_fmu, tmp_path):
+    done = subprocess.run([sys.executable, "-c", HOST_SCRIPT, str(built_fmu)], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=120)
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout.strip().splitlines()[-1])
+    heavy = [m for m in report["loaded"] if m.split(".")[0] in ("scipy", "matplotlib", "exudyn", "fmpy_gui")]
+    assert heavy == []
+    assert "numba" in report["loaded"] and "wearjoint.joint" in report["loaded"]
+    assert "resources" in report["wearjoint"]  # the FMU's own copy of the package
+    try:
+        import scipy  # noqa: F401
+    except ImportError:
+        return
+    assert report["host_scipy"], "the FMU left scipy blocked in sys.modules"
+
+
+def test_library_modules_stay_light(tmp_path):
+    code = ("import sys, wearjoint.fmu_variables, wearjoint.fmu_build; "
+            "print(sorted(m for m in ('pythonfmu', 'fmpy', 'exudyn', 'matplotlib') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                          cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(REPO_ROOT)})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
+# ------------------------------------------------------------- build command
+def test_build_is_skipped_when_identical_and_n_points_is_built_in(built_fmu, tmp_path):
+    stamp = built_fmu.stat().st_mtime_ns
+    assert build_fmu(built_fmu.parent) == built_fmu
+    assert built_fmu.stat().st_mtime_ns == stamp
+
+    small = build_fmu(tmp_path, n_points=64)
+    md = read_model_description(str(small))
+    assert sum(v.name.startswith("wear_depth[") for v in md.modelVariables) == 64
+    assert next(int(v.start) for v in md.modelVariables if v.name == "n_points") == 64
+    assert validate_fmu(str(small)) == []
+    assert default_fmu_path(64) != default_fmu_path(P.n_points)
+
+
+def test_cli_reports_a_bad_n_points(capsys, tmp_path):
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    cli_arguments(parser)
+    assert cli_run(parser.parse_args(["--out", str(tmp_path), "--n-points", "3"])) == 2
+    assert "n_points" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())

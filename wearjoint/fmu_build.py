@@ -1,0 +1,200 @@
+"""Build ``ClearanceWearJoint.fmu`` (FMI 2.0 Co-Simulation) from ``fmu_src/`` with pythonfmu.
+
+The FMU ships the ``wearjoint`` package (its top level and ``core/``) and a
+requirements file (numpy, numba) in its resources.  pythonfmu's
+modelDescription.xml is then completed so that ``fmpy.validate_fmu`` reports
+no problem: units, ModelStructure dependencies (direct feed-through of the
+force outputs on the 12 inputs) and InitialUnknowns.
+
+pythonfmu is imported only inside :func:`build_fmu` (``import wearjoint`` stays light).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import sys
+import tempfile
+import zipfile
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+from . import __version__
+from . import fmu_variables as fv
+from .parameters import JointParameters, ParameterError
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+SLAVE_SOURCE = PACKAGE_DIR.parent / "fmu_src" / f"{fv.MODEL_NAME}.py"
+FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
+REQUIREMENTS = "numpy\nnumba\n"
+
+
+def shipped_sources() -> list[Path]:
+    """The files that define the FMU: the slave, wearjoint/*.py and wearjoint/core/*.py."""
+    return [SLAVE_SOURCE, *sorted(PACKAGE_DIR.glob("*.py")), *sorted((PACKAGE_DIR / "core").glob("*.py"))]
+
+
+def build_key(n_points: int) -> str:
+    """Identifies an FMU build: wearjoint version, n_points, pythonfmu version, hash of the sources."""
+    from importlib.metadata import version
+
+    digest = hashlib.sha256()
+    for path in shipped_sources():
+        digest.update(path.relative_to(PACKAGE_DIR.parent).as_posix().encode() + b"\0" + path.read_bytes())
+    return f"{__version__}-n{n_points}-pythonfmu{version('pythonfmu')}-{digest.hexdigest()[:16]}"
+
+
+def _user_cache_dir() -> Path:
+    if sys.platform == "win32":
+        return Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local")) / "wearjoint" / "Cache"
+    if sys.platform == "darwin":
+        return Path.home() / "Library" / "Caches" / "wearjoint"
+    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "wearjoint"
+
+
+def default_fmu_path(n_points: int = JointParameters.n_points) -> Path:
+    """Cache location of the FMU for this wearjoint source tree and n_points."""
+    return _user_cache_dir() / "fmu" / build_key(n_points) / FMU_FILE_NAME
+
+
+def _existing_build_key(fmu_path: Path) -> str | None:
+    try:
+        with zipfile.ZipFile(fmu_path) as zf:
+            return json.loads(zf.read(f"resources/{fv.BUILD_CONFIG_FILE}"))["build_key"]
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile):
+        return None
+
+
+def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False) -> Path:
+    """Build ``out_dir/ClearanceWearJoint.fmu`` with ``n_points`` bushing points; return its path.
+
+    Skipped (the existing file is returned) when the FMU there was built from the
+    same sources and n_points, unless ``force``.  Raises ParameterError for a bad n_points.
+    """
+    JointParameters(n_points=n_points)  # validates n_points, names it in the error
+    out_dir = Path(out_dir)
+    target = out_dir / FMU_FILE_NAME
+    key = build_key(n_points)
+    if not force and _existing_build_key(target) == key:
+        return target
+    if not SLAVE_SOURCE.is_file():
+        raise FileNotFoundError(f"FMU slave source {SLAVE_SOURCE} not found (wearjoint must be used from its source tree)")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="wearjoint_fmu_") as tmp:
+        tmp = Path(tmp)
+        project_files = _stage_project_files(tmp / "stage", n_points, key)
+        raw = _run_pythonfmu(tmp / "raw", project_files)
+        partial = target.with_name(target.name + ".partial")
+        _finish_fmu(raw, partial, n_points)
+        partial.replace(target)
+    return target
+
+
+def _stage_project_files(stage: Path, n_points: int, key: str) -> list[Path]:
+    """Stage the resources: wearjoint (top level + core, no caches), requirements.txt, build config."""
+    package = stage / "wearjoint"
+    (package / "core").mkdir(parents=True)
+    for path in shipped_sources()[1:]:
+        shutil.copy2(path, package / path.relative_to(PACKAGE_DIR))
+    requirements = stage / "requirements.txt"
+    requirements.write_text(REQUIREMENTS)
+    config = stage / fv.BUILD_CONFIG_FILE
+    config.write_text(json.dumps({"n_points": n_points, "build_key": key}))
+    return [package, requirements, config]
+
+
+def _run_pythonfmu(dest: Path, project_files: list[Path]) -> Path:
+    """pythonfmu's builder on fmu_src, leaving the caller's sys.path and sys.modules as they were.
+
+    The builder imports the slave by module name: fmu_src goes first on sys.path so
+    that an FMU loaded earlier in this process (its resources are on sys.path) is not used.
+    """
+    from pythonfmu.builder import FmuBuilder
+
+    saved_path = list(sys.path)
+    slave_module = SLAVE_SOURCE.stem
+    saved_module = sys.modules.pop(slave_module, None)
+    sys.path.insert(0, str(SLAVE_SOURCE.parent))
+    try:
+        return Path(FmuBuilder.build_FMU(SLAVE_SOURCE, dest=dest, project_files=project_files,
+                                         canGetAndSetFMUstate=True, canSerializeFMUstate=True))
+    finally:
+        sys.path[:] = saved_path
+        sys.modules.pop(slave_module, None)
+        if saved_module is not None:
+            sys.modules[slave_module] = saved_module
+
+
+def _finish_fmu(raw: Path, target: Path, n_points: int) -> None:
+    """Copy ``raw`` to ``target`` with the completed modelDescription.xml."""
+    with zipfile.ZipFile(raw) as src, zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as dst:
+        for item in src.infolist():
+            data = src.read(item.filename)
+            if item.filename == "modelDescription.xml":
+                data = complete_model_description(data, n_points)
+            dst.writestr(item.filename, data)
+
+
+def complete_model_description(xml: bytes, n_points: int) -> bytes:
+    """Add what pythonfmu 0.7 leaves out: units, state flags, ModelStructure dependencies."""
+    root = ET.fromstring(xml)
+    variables = root.find("ModelVariables").findall("ScalarVariable")
+    expected = fv.fmu_variables(n_points)
+    names = [sv.get("name") for sv in variables]
+    if names != [v.name for v in expected]:
+        raise RuntimeError("pythonfmu wrote the variables in another order than wearjoint.fmu_variables")
+
+    cosim = root.find("CoSimulation")
+    cosim.set("canGetAndSetFMUstate", "true")
+    cosim.set("canSerializeFMUstate", "true")
+
+    units = ET.Element("UnitDefinitions")
+    for name, exponents in fv.UNIT_DEFINITIONS.items():
+        unit = ET.SubElement(units, "Unit", name=name)
+        if exponents:
+            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in exponents.items()})
+    root.insert(list(root).index(cosim) + 1, units)
+
+    for sv, v in zip(variables, expected):
+        if v.type == fv.REAL:
+            sv.find("Real").set("unit", v.unit)
+
+    index = {v.name: i + 1 for i, v in enumerate(expected)}   # ModelStructure indices are 1-based
+    inputs = " ".join(str(index[v.name]) for v in fv.INPUTS)
+    inputs_and_parameters = " ".join(str(index[v.name]) for v in (*fv.INPUTS, *(p.variable for p in fv.PARAMETERS)))
+    structure = root.find("ModelStructure")
+    structure.clear()
+    outputs = ET.SubElement(structure, "Outputs")
+    initial_unknowns = ET.SubElement(structure, "InitialUnknowns")
+    for v in expected:
+        if v.causality != fv.OUTPUT:
+            continue
+        feed_through = v.name in fv.FEED_THROUGH_OUTPUTS
+        ET.SubElement(outputs, "Unknown", index=str(index[v.name]), dependencies=inputs if feed_through else "")
+        ET.SubElement(initial_unknowns, "Unknown", index=str(index[v.name]),
+                      dependencies=inputs_and_parameters if feed_through else "")
+    ET.indent(root)
+    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+
+
+# ------------------------------------------------------------- CLI (wearjoint build-fmu)
+def cli_arguments(parser) -> None:
+    """Options of ``wearjoint build-fmu``."""
+    parser.add_argument("--out", metavar="DIR", default=None,
+                        help="directory for ClearanceWearJoint.fmu (default: the user cache, keyed by the sources)")
+    parser.add_argument("--n-points", type=int, default=JointParameters.n_points, metavar="N",
+                        help="number of bushing points N_d, fixed in the FMU (default %(default)s)")
+    parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
+
+
+def cli_run(args) -> int:
+    """Build the FMU and print its path; 0 on success, 2 with a message on stderr otherwise."""
+    try:
+        out = Path(args.out) if args.out is not None else default_fmu_path(args.n_points).parent
+        path = build_fmu(out, n_points=args.n_points, force=args.force)
+    except (ParameterError, OSError, RuntimeError) as exc:
+        print(f"wearjoint build-fmu: error: {exc}", file=sys.stderr)
+        return 2
+    print(path)
+    return 0

@@ -1,0 +1,204 @@
+"""The variables of the ``ClearanceWearJoint`` FMU: names, order, units, descriptions, defaults.
+
+This table is the single definition shared by the pythonfmu slave
+(``fmu_src/ClearanceWearJoint.py``), the build step (units, ModelStructure) and
+co-simulation masters (value references looked up by name).  The slave
+registers the variables in exactly the order of :func:`fmu_variables`, so
+value reference = position in that list; masters should still look them up
+from the modelDescription with :func:`value_references`.
+
+Imports only the standard library and :mod:`wearjoint.parameters`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
+
+MODEL_NAME = "ClearanceWearJoint"
+# JSON file in the FMU's resources written by the build: {"n_points": N_d, "build_key": ...}
+BUILD_CONFIG_FILE = "wearjoint_fmu.json"
+
+# causality / variability / type labels as written in modelDescription.xml
+INPUT, OUTPUT, PARAMETER, LOCAL = "input", "output", "parameter", "local"
+REAL, INTEGER = "Real", "Integer"
+
+
+@dataclass(frozen=True)
+class FmuVariable:
+    """One FMI scalar variable.  ``unit`` is '' for Integer variables (FMI 2 gives them no unit)."""
+
+    name: str
+    causality: str
+    type: str
+    unit: str
+    description: str
+    start: float | int | None = None
+
+
+def _kinematics(body: str, frame_note: str) -> tuple[FmuVariable, ...]:
+    rows = (("x", "m", "x of the reference point"), ("y", "m", "y of the reference point"),
+            ("angle", "rad", "rotation angle, counter-clockwise"),
+            ("vx", "m/s", "x velocity of the reference point"), ("vy", "m/s", "y velocity of the reference point"),
+            ("omega", "rad/s", "angular velocity, counter-clockwise"))
+    return tuple(FmuVariable(f"{body}_{suffix}", INPUT, REAL, unit, f"{body} body ({frame_note}): {text}, global frame", 0.0)
+                 for suffix, unit, text in rows)
+
+
+INPUTS: tuple[FmuVariable, ...] = (_kinematics("pin", "carries the pin, paper body i")
+                                   + _kinematics("bushing", "carries the wearing bushing, paper body j"))
+
+# Scalar outputs; the slave maps each name to the joint's result (layout.R_*) or wear summary.
+SCALAR_OUTPUTS: tuple[FmuVariable, ...] = tuple(FmuVariable(name, OUTPUT, REAL, unit, text) for name, unit, text in (
+    ("pin_force_x", "N", "contact force on the pin body, x, global frame"),
+    ("pin_force_y", "N", "contact force on the pin body, y, global frame"),
+    ("pin_torque", "N.m", "contact torque on the pin body about its reference point"),
+    ("bushing_force_x", "N", "contact force on the bushing body, x, global frame"),
+    ("bushing_force_y", "N", "contact force on the bushing body, y, global frame"),
+    ("bushing_torque", "N.m", "contact torque on the bushing body about its reference point"),
+    ("normal_force", "N", "normal contact force F_N >= 0"),
+    ("friction_force", "N", "friction force on the pin along the contact tangent (signed)"),
+    ("penetration", "m", "maximum penetration depth >= 0"),
+    ("contact", "1", "contact flag: 1 in contact, 0 otherwise"),
+    ("contact_angle", "rad", "angle of the contact point (of the eccentricity without contact), bushing frame, 0..2 pi"),
+    ("eccentricity_x", "m", "pin centre minus bushing centre, x, bushing frame"),
+    ("eccentricity_y", "m", "pin centre minus bushing centre, y, bushing frame"),
+    ("max_wear_depth", "m", "largest wear depth of the bushing profile"),
+    ("worn_volume", "m3", "volume removed from the bushing: contact length times worn area"),
+))
+
+# Names of the outputs that depend directly on the inputs (the rest change only in doStep).
+FEED_THROUGH_OUTPUTS = frozenset(v.name for v in SCALAR_OUTPUTS if v.name not in ("max_wear_depth", "worn_volume"))
+
+
+@dataclass(frozen=True)
+class ParameterField:
+    """How an FMU parameter maps onto a :class:`JointParameters` field."""
+
+    variable: FmuVariable
+    field: str
+    component: int | None = None               # index into a (x, y) field
+    choices: tuple[str, ...] | None = None     # Integer enumeration: value = index into choices
+
+
+def _real(name, unit, field, text, component=None) -> ParameterField:
+    default = getattr(JointParameters, field)
+    start = default if component is None else default[component]
+    return ParameterField(FmuVariable(name, PARAMETER, REAL, unit, text, float(start)), field, component)
+
+
+def _choice(name, field, choices, text) -> ParameterField:
+    listed = ", ".join(f"{i} = {c}" for i, c in enumerate(choices))
+    start = choices.index(getattr(JointParameters, field))
+    return ParameterField(FmuVariable(name, PARAMETER, INTEGER, "", f"{text} ({listed})", start), field, choices=choices)
+
+
+PARAMETERS: tuple[ParameterField, ...] = (
+    _real("pin_radius", "m", "pin_radius_m", "pin radius R_i"),
+    _real("bushing_radius", "m", "bushing_radius_m", "unworn bushing radius R_j (> pin_radius)"),
+    _real("pin_offset_x", "m", "pin_offset_m", "pin centre in the pin body frame, x", 0),
+    _real("pin_offset_y", "m", "pin_offset_m", "pin centre in the pin body frame, y", 1),
+    _real("bushing_offset_x", "m", "bushing_offset_m", "bushing centre in the bushing body frame, x", 0),
+    _real("bushing_offset_y", "m", "bushing_offset_m", "bushing centre in the bushing body frame, y", 1),
+    _real("contact_length", "m", "contact_length_m", "axial contact length L"),
+    _real("pin_youngs_modulus", "Pa", "pin_youngs_modulus_Pa", "Young's modulus of the pin"),
+    _real("pin_poisson_ratio", "1", "pin_poisson_ratio", "Poisson ratio of the pin"),
+    _real("bushing_youngs_modulus", "Pa", "bushing_youngs_modulus_Pa", "Young's modulus of the bushing"),
+    _real("bushing_poisson_ratio", "1", "bushing_poisson_ratio", "Poisson ratio of the bushing"),
+    _real("contact_stiffness", "N/m1.5", "contact_stiffness_N_m1_5",
+          "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent)"),
+    _real("contact_exponent", "1", "contact_exponent", "exponent n of the contact law"),
+    _real("restitution", "1", "restitution", "coefficient of restitution e_r in (0, 1]"),
+    _real("friction_coefficient", "1", "friction_coefficient", "Coulomb friction coefficient mu"),
+    _real("friction_v0", "m/s", "friction_v0_m_s", "friction tolerance velocity v0 (stick below)"),
+    _real("friction_v1", "m/s", "friction_v1_m_s", "friction tolerance velocity v1 (> friction_v0, full slip above)"),
+    _real("wear_coefficient", "m2/N", "wear_coefficient_m2_N", "Archard wear coefficient k_w"),
+    _real("wear_factor", "1", "wear_factor", "wear acceleration factor multiplying k_w"),
+    _real("impact_velocity_floor", "m/s", "impact_velocity_floor_m_s",
+          "floor on the stored impact velocity of the contact damping"),
+    _choice("rho_mode", "rho_mode", RHO_MODES, "equivalent radius of the Hertz half-width"),
+    _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
+    _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),
+)
+
+N_POINTS_NAME = "n_points"
+
+
+def n_points_variable(n_points: int) -> FmuVariable:
+    """The read-only Integer fixing the number of bushing points (chosen when the FMU is built)."""
+    return FmuVariable(N_POINTS_NAME, LOCAL, INTEGER, "",
+                       "number of bushing points N_d, fixed when the FMU is built "
+                       "(wearjoint build-fmu --n-points); not settable", n_points)
+
+
+def wear_depth_name(point: int) -> str:
+    """FMI structured name of the wear depth of bushing point ``point`` (1-based)."""
+    return f"wear_depth[{point}]"
+
+
+def wear_depth_outputs(n_points: int) -> tuple[FmuVariable, ...]:
+    """``wear_depth[1..N_d]``: point z sits at bushing-frame angle z 2 pi / N_d."""
+    return tuple(FmuVariable(wear_depth_name(z), OUTPUT, REAL, "m",
+                             f"wear depth of bushing point {z} at angle {z}*2*pi/{n_points} rad, bushing frame")
+                 for z in range(1, n_points + 1))
+
+
+def fmu_variables(n_points: int) -> list[FmuVariable]:
+    """Every variable of the FMU in value-reference order."""
+    return [*INPUTS, *(p.variable for p in PARAMETERS), n_points_variable(n_points),
+            *SCALAR_OUTPUTS, *wear_depth_outputs(n_points)]
+
+
+UNIT_DEFINITIONS: dict[str, dict[str, int]] = {
+    # unit name -> SI base-unit exponents (FMI 2 BaseUnit attributes); N/m1.5 has a
+    # non-integer exponent of m and is declared without BaseUnit.
+    "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1},
+    "N": {"kg": 1, "m": 1, "s": -2}, "N.m": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
+    "N/m1.5": {}, "m2/N": {"kg": -1, "m": 1, "s": 2}, "m3": {"m": 3}, "1": {},
+}
+
+
+def value_references(model_description) -> dict[str, int]:
+    """Name -> value reference from a parsed modelDescription (e.g. ``fmpy.read_model_description``)."""
+    return {v.name: v.valueReference for v in model_description.modelVariables}
+
+
+def joint_parameters_from_fmi(values: dict, n_points: int) -> JointParameters:
+    """Build :class:`JointParameters` from FMU parameter values keyed by FMU name.
+
+    Missing names take the defaults; raises :class:`ParameterError` naming the parameter.
+    """
+    unknown = sorted(set(values) - {p.variable.name for p in PARAMETERS})
+    if unknown:
+        raise ParameterError(f"unknown FMU parameter(s) {', '.join(unknown)}")
+    changes: dict = {"n_points": n_points}
+    for p in PARAMETERS:
+        if p.variable.name not in values:
+            continue
+        value = values[p.variable.name]
+        if p.choices is not None:
+            if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(p.choices):
+                allowed = ", ".join(f"{i} ({c})" for i, c in enumerate(p.choices))
+                raise ParameterError(f"parameter {p.variable.name}={value!r} is invalid: allowed {allowed}")
+            changes[p.field] = p.choices[value]
+        elif p.component is not None:
+            pair = list(changes.get(p.field, getattr(JointParameters, p.field)))
+            pair[p.component] = value
+            changes[p.field] = tuple(pair)
+        else:
+            changes[p.field] = value
+    return JointParameters(**changes)
+
+
+def fmi_parameter_values(params: JointParameters) -> dict[str, float | int]:
+    """FMU parameter values (keyed by FMU name) reproducing ``params`` (n_points excluded: fixed at build)."""
+    out: dict[str, float | int] = {}
+    for p in PARAMETERS:
+        value = getattr(params, p.field)
+        if p.choices is not None:
+            out[p.variable.name] = p.choices.index(value)
+        elif p.component is not None:
+            out[p.variable.name] = float(value[p.component])
+        else:
+            out[p.variable.name] = float(value)
+    return out
