@@ -379,12 +379,14 @@ def test_library_modules_stay_light(tmp_path):
 
 
 # ------------------------------------------------------------- build command
-def test_build_is_skipped_when_identical_and_n_points_is_built_in(built_fmu, tmp_path):
-    stamp = built_fmu.stat().st_mtime_ns
-    assert build_fmu(built_fmu.parent) == built_fmu
-    assert built_fmu.stat().st_mtime_ns == stamp
-
+def test_build_is_skipped_when_identical_and_n_points_is_built_in(tmp_path):
     small = build_fmu(tmp_path, n_points=64)
+    stamp = small.stat().st_mtime_ns
+    assert build_fmu(tmp_path, n_points=64) == small
+    assert small.stat().st_mtime_ns == stamp
+    build_fmu(tmp_path, n_points=64, force=True)
+    assert small.stat().st_mtime_ns != stamp
+
     md = read_model_description(str(small))
     assert sum(v.name.startswith("wear_depth[") for v in md.modelVariables) == 64
     assert next(int(v.start) for v in md.modelVariables if v.name == "n_points") == 64
