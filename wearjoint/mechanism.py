@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from .core import layout as L
-from .core.mechanism import derivative, initial_state, make_workspace
+from .core.mechanism import initial_state, make_workspace
 from .parameters import SliderCrankParameters
 
 
@@ -48,13 +48,6 @@ class SliderCrank:
     def crank_angle(self, t) -> np.ndarray:
         """Driven crank angle theta1(t) = theta0 - omega t [rad]."""
         return self.parameter_vector[L.MP_THETA0] - self.params.omega_rad_s * np.asarray(t, dtype=float)
-
-    def accelerations_with_loads(self, t: float, y: np.ndarray, body_forces: np.ndarray) -> np.ndarray:
-        """dy/dt for given contact loads (Fx, Fy, T) on crank then rod; crank-rod joint open."""
-        dy = np.empty_like(y)
-        derivative(t, y, L.MODE_EXTERNAL, self.parameter_vector, None, np.asarray(body_forces, float),
-                   self.workspace, dy)
-        return dy
 
     def closed_form(self, t) -> dict:
         """Ideal slider-crank kinematics in closed form at times t [s].

@@ -24,6 +24,8 @@ from .wear import advance_joint
 
 RK4 = 0
 DOPRI5 = 1
+_PI_BETA = 0.04
+_PI_EXPONENT = 0.2 - 0.75 * _PI_BETA
 
 # Dormand-Prince 5(4) tableau
 _C2, _C3, _C4, _C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
@@ -128,6 +130,7 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     locate_onsets = mode == MODE_CLEARANCE
     memory = joint[5]
     pen_start = result[R_PENETRATION]
+    err_previous = 1e-4
     k2 = np.empty(n2)
     k3 = np.empty(n2)
     k4 = np.empty(n2)
@@ -195,11 +198,13 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
             accept_point(t, y, step, k7, mode, mp, joint, body_forces, ws, dy, True)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             pen_start = result[R_PENETRATION]
-            factor = 5.0 if err == 0.0 else min(5.0, max(0.2, 0.9 * err ** -0.2))
+            # PI step-size control (Hairer, Norsett & Wanner, dopri5: beta = 0.04)
+            factor = min(5.0, max(0.1, 0.9 * max(err, 1e-10) ** -_PI_EXPONENT * err_previous ** _PI_BETA))
+            err_previous = max(err, 1e-4)
             if step == h:
                 h = min(h_max, max(h_min, step * factor))
         else:
             rejected += 1
-            h = max(h_min, step * max(0.2, 0.9 * err ** -0.2))
+            h = max(h_min, step * max(0.2, 0.9 * err ** -_PI_EXPONENT))
     control[0] = h
     return t, accepted, rejected

@@ -1,0 +1,75 @@
+"""Monolithic engine speed on the paper case (issue 2), measured in one run.
+
+Prints simulated seconds per wall second (real-time factor) for RK4 at 1 us and
+for the adaptive Dormand-Prince integrator, without and with wear, next to the
+per-revolution statistics of each run (the adaptive run must fall inside the
+scatter of the RK4 run), and the first-call compile time (fresh numba cache)
+against a warm-cache start.  One core: the kernels are single-threaded.
+
+    python benchmarks/bench_monolithic.py [--revolutions 3]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+from wearjoint.parameters import paper_joint
+from wearjoint.simulate import SimulationOptions, run_simulation
+
+STARTUP = ("import time; t0 = time.perf_counter(); "
+           "from wearjoint.simulate import run_simulation, SimulationOptions; "
+           "run_simulation(options=SimulationOptions(revolutions=0.001), progress=False); "
+           "run_simulation(options=SimulationOptions(revolutions=0.001, integrator='rk4'), progress=False); "
+           "print(time.perf_counter() - t0)")
+
+
+def startup_seconds(cache_dir: str) -> float:
+    env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir}
+    out = subprocess.run([sys.executable, "-c", STARTUP], env=env, capture_output=True, text=True, check=True)
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+def run(label: str, wear: bool, revolutions: float, **options) -> dict:
+    joint = paper_joint(wear_factor=1.0 if wear else 0.0)
+    rec = run_simulation(joint, options=SimulationOptions(revolutions=revolutions, **options), progress=False)
+    table = rec.revolution_table()[1:] if rec.revolution_table().shape[0] > 1 else rec.revolution_table()
+    s = rec.summary()
+    return {"label": label, "rtf": s["realtime_factor"], "wall": s["wall_time_s"],
+            "steps": s["integrator_accepted_steps"], "rejected": s["integrator_rejected_steps"],
+            "impacts": table[:, 1].mean(), "contact": table[:, 2].mean(), "acc_max": table[:, 3].mean(),
+            "acc_min": table[:, 4].mean(), "force": table[:, 5].mean(), "wear": s["max_wear_depth_m"]}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--revolutions", type=float, default=3.0, help="revolutions per run (default 3)")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as cold:
+        compile_s = startup_seconds(cold)
+        warm_s = startup_seconds(cold)
+    print(f"first call, empty numba cache: {compile_s:.1f} s; with the cache filled: {warm_s:.1f} s "
+          f"(compile time {compile_s - warm_s:.1f} s)")
+    n = args.revolutions
+    rows = [run("rk4 1e-6 s, no wear", False, n, integrator="rk4", step_s=1e-6),
+            run("dopri (default), no wear", False, n),
+            run("rk4 1e-6 s, wear", True, n, integrator="rk4", step_s=1e-6),
+            run("dopri max step 1e-5 s, wear", True, n, max_step_s=1e-5)]
+    print(f"\npaper case, {n:g} revolutions each; statistics are means over revolutions 2..{int(np.ceil(n))}")
+    head = (f"{'run':30s} {'real-time':>9s} {'wall s':>7s} {'steps':>8s} {'rejected':>8s} {'impacts/rev':>11s} "
+            f"{'contact':>7s} {'a_max':>7s} {'a_min':>8s} {'F_max N':>8s} {'wear um':>8s}")
+    print(head)
+    for r in rows:
+        print(f"{r['label']:30s} {r['rtf']:9.3f} {r['wall']:7.2f} {r['steps']:8d} {r['rejected']:8d} "
+              f"{r['impacts']:11.1f} {r['contact']:7.3f} {r['acc_max']:7.0f} {r['acc_min']:8.0f} "
+              f"{r['force']:8.0f} {r['wear'] * 1e6:8.2f}")
+    print(f"\nadaptive / rk4 speed-up: no wear {rows[1]['rtf'] / rows[0]['rtf']:.1f}x, "
+          f"wear {rows[3]['rtf'] / rows[2]['rtf']:.1f}x")
+
+
+if __name__ == "__main__":
+    main()
