@@ -6,7 +6,7 @@ per-revolution statistics of each run (the adaptive run must fall inside the
 scatter of the RK4 run), and the first-call compile time (fresh numba cache)
 against a warm-cache start.  One core: the kernels are single-threaded.
 
-    python benchmarks/bench_monolithic.py [--revolutions 3]
+    python benchmarks/bench_monolithic.py [--revolutions 5]
 """
 from __future__ import annotations
 
@@ -34,20 +34,38 @@ def startup_seconds(cache_dir: str) -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
+STATISTICS = {"impacts": 1, "contact": 2, "acc_max": 3, "acc_min": 4, "force": 5}
+
+
 def run(label: str, wear: bool, revolutions: float, **options) -> dict:
     joint = paper_joint(wear_factor=1.0 if wear else 0.0)
     rec = run_simulation(joint, options=SimulationOptions(revolutions=revolutions, **options), progress=False)
     table = rec.revolution_table()[1:] if rec.revolution_table().shape[0] > 1 else rec.revolution_table()
     s = rec.summary()
-    return {"label": label, "rtf": s["realtime_factor"], "wall": s["wall_time_s"],
-            "steps": s["integrator_accepted_steps"], "rejected": s["integrator_rejected_steps"],
-            "impacts": table[:, 1].mean(), "contact": table[:, 2].mean(), "acc_max": table[:, 3].mean(),
-            "acc_min": table[:, 4].mean(), "force": table[:, 5].mean(), "wear": s["max_wear_depth_m"]}
+    row = {"label": label, "rtf": s["realtime_factor"], "wall": s["wall_time_s"],
+           "steps": s["integrator_accepted_steps"], "rejected": s["integrator_rejected_steps"],
+           "wear": s["max_wear_depth_m"], "per_revolution": {}}
+    for name, column in STATISTICS.items():
+        row[name] = table[:, column].mean()
+        row["per_revolution"][name] = table[:, column]
+    return row
+
+
+def inside_scatter(reference: dict, candidate: dict) -> str:
+    """Per statistic: is the candidate's mean within two standard errors of the difference of
+    means, the standard errors taken from the revolution-to-revolution scatter of both runs?"""
+    verdicts = []
+    for name in STATISTICS:
+        a, b = reference["per_revolution"][name], candidate["per_revolution"][name]
+        bound = 2.0 * np.sqrt(a.var(ddof=1) / a.size + b.var(ddof=1) / b.size) if min(a.size, b.size) > 1 else np.inf
+        verdicts.append(f"{name} {'inside' if abs(a.mean() - b.mean()) <= bound else 'OUTSIDE'} "
+                        f"(|diff| {abs(a.mean() - b.mean()):.3g} vs 2 s.e. {bound:.3g})")
+    return "; ".join(verdicts)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--revolutions", type=float, default=3.0, help="revolutions per run (default 3)")
+    parser.add_argument("--revolutions", type=float, default=5.0, help="revolutions per run (default 5)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as cold:
         compile_s = startup_seconds(cold)
@@ -69,6 +87,8 @@ def main() -> None:
               f"{r['force']:8.0f} {r['wear'] * 1e6:8.2f}")
     print(f"\nadaptive / rk4 speed-up: no wear {rows[1]['rtf'] / rows[0]['rtf']:.1f}x, "
           f"wear {rows[3]['rtf'] / rows[2]['rtf']:.1f}x")
+    print("adaptive vs rk4 1e-6 s, no wear: " + inside_scatter(rows[0], rows[1]))
+    print("adaptive vs rk4 1e-6 s, wear:    " + inside_scatter(rows[2], rows[3]))
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ COMMANDS = {
 
 
 def build_parser(command: str | None) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="wearjoint", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="wearjoint", description="wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, FMU co-simulation, validation and the paper's wear study.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module, help_text) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
