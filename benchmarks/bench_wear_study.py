@@ -1,0 +1,62 @@
+"""Benchmark: the 4000-revolution wear study with the default acceleration.
+
+Issue 5 target on the 2-core machine: <= 20 s monolithic, <= 2 min through the FMU.
+Prints the wall time of the simulation part (what the target is about), the
+end-to-end time including imports and figures, and the load average before and
+after (the CPU may be shared: a load above 2 means the numbers are pessimistic).
+
+    python benchmarks/bench_wear_study.py [--engine monolithic|cosim] [--revolutions 4000]
+                                          [--wear-coefficient-m2-N K] [--integrator dopri|rk4]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
+from wearjoint.validation.wear_study import (
+    DEFAULT_WEAR_FACTOR, ENGINES, STUDY_INTEGRATORS, WearStudyConfig, run_wear_study,
+)
+
+TARGET_S = {"monolithic": 20.0, "cosim": 120.0}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--engine", choices=ENGINES, default="monolithic")
+    parser.add_argument("--revolutions", type=int, default=4000)
+    parser.add_argument("--wear-factor", type=float, default=DEFAULT_WEAR_FACTOR)
+    parser.add_argument("--wear-coefficient-m2-N", dest="k_w", type=float, default=paper_joint().wear_coefficient_m2_N)
+    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default="dopri")
+    args = parser.parse_args()
+    try:
+        config = WearStudyConfig(joint=paper_joint(wear_factor=args.wear_factor, wear_coefficient_m2_N=args.k_w),
+                                 mechanism=SliderCrankParameters(), revolutions=args.revolutions,
+                                 snapshots=tuple(args.revolutions * q // 4 for q in (1, 2, 3, 4)),
+                                 engine=args.engine, integrator=args.integrator)
+        load_before = os.getloadavg()
+        start = time.perf_counter()
+        with tempfile.TemporaryDirectory() as out:
+            summary = run_wear_study(config, out, progress=True, plots=True)
+        total = time.perf_counter() - start
+    except ParameterError as exc:
+        print(f"bench_wear_study: error: {exc}", file=sys.stderr)
+        return 2
+    load_after = os.getloadavg()
+    sim_s = summary["wall_time_s"]
+    print(f"engine {args.engine}, integrator {args.integrator}, {args.revolutions} revolutions at wear factor "
+          f"{args.wear_factor:g} ({config.simulated_revolutions:g} simulated), k_w {args.k_w:.4g} m^2/N")
+    print(f"  simulation wall time     {sim_s:8.1f} s  (target {TARGET_S[args.engine]:.0f} s: "
+          f"{'met' if sim_s <= TARGET_S[args.engine] else 'NOT met'})")
+    print(f"  per simulated revolution {sim_s / config.simulated_revolutions:8.2f} s")
+    print(f"  end to end (+ figures)   {total:8.1f} s")
+    print(f"  load average (1 min) before {load_before[0]:.2f}, after {load_after[0]:.2f} on {os.cpu_count()} CPUs")
+    print(f"  max wear depth {summary['max_wear_depth_m'] * 1e3:.4f} mm")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

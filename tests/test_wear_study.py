@@ -1,0 +1,147 @@
+"""`wearjoint wear-study`: resume after a kill, outputs, lobes, impact events, factor convergence, bad arguments."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from wearjoint.cli import main as cli_main
+from wearjoint.mechanism import SliderCrank
+from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
+from wearjoint.validation.wear_study import (
+    CHECKPOINT_NAME, WearStudyConfig, impact_events, run_convergence, run_wear_study,
+)
+
+MODEL_SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
+                      "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
+                      "max_eccentricity_m", "max_wear_depth_m", "max_wear_angle_deg", "worn_volume_m3", "parameters"}
+SNAPSHOT_KEYS = {"revolution", "max_wear_depth_m", "max_wear_angle_deg", "lobe_0_angle_deg", "lobe_180_angle_deg",
+                 "worn_volume_m3", "impact_events", "impact_peak_max_m_s2", "wall_time_s"}
+
+
+def wearjoint(*args, timeout=600):
+    return subprocess.run([sys.executable, "-m", "wearjoint.cli", *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def small_config(**changes) -> WearStudyConfig:
+    """10 revolutions at wear factor 20: half a simulated revolution."""
+    values = dict(joint=paper_joint(wear_factor=20.0), mechanism=SliderCrankParameters(), revolutions=10,
+                  snapshots=(5, 10), checkpoint_every_revolutions=0.125)
+    values.update(changes)
+    return WearStudyConfig(**values)
+
+
+def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path):
+    config = small_config()
+    whole = run_wear_study(config, tmp_path / "whole", progress=False, plots=False)
+    stopped = run_wear_study(config, tmp_path / "killed", progress=False, plots=False, stop_after_checkpoints=2)
+    assert stopped["finished"] is False
+    assert not (tmp_path / "killed" / "summary.json").exists()
+    with pytest.raises(ParameterError, match="--resume"):
+        run_wear_study(config, tmp_path / "killed", progress=False, plots=False)
+    resumed = run_wear_study(config, tmp_path / "killed", resume=True, progress=False, plots=False)
+    for name in ("profile_rev5.csv", "profile_rev10.csv", "profile.csv", "wear_growth.csv"):
+        assert (tmp_path / "killed" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
+    assert resumed["max_wear_depth_m"] > 0
+    for a, b in zip(resumed["snapshots"], whole["snapshots"]):
+        assert a["impact_event_list"] == b["impact_event_list"]
+
+
+def test_resume_refuses_a_checkpoint_of_other_settings(tmp_path):
+    run_wear_study(small_config(), tmp_path, progress=False, plots=False, stop_after_checkpoints=1)
+    assert (tmp_path / CHECKPOINT_NAME).exists()
+    with pytest.raises(ParameterError, match="other settings"):
+        run_wear_study(small_config(joint=paper_joint(wear_factor=10.0)), tmp_path, resume=True,
+                       progress=False, plots=False)
+
+
+@pytest.fixture(scope="module")
+def cli_study(tmp_path_factory):
+    """100 revolutions at wear factor 100 with the printed k_w: one simulated revolution, ~0.2 mm of wear."""
+    out = tmp_path_factory.mktemp("study")
+    done = wearjoint("wear-study", "--revolutions", "100", "--snapshots", "50,100", "--wear-factor", "100",
+                     "--out", str(out), "--quiet")
+    assert done.returncode == 0, done.stderr
+    return out, json.loads((out / "summary.json").read_text())
+
+
+def test_study_writes_snapshot_files_figures_and_summary(cli_study):
+    out, summary = cli_study
+    assert MODEL_SUMMARY_KEYS <= set(summary)
+    assert summary["revolutions"] == 100 and summary["simulated_revolutions"] == pytest.approx(1.0)
+    assert [s["revolution"] for s in summary["snapshots"]] == [50, 100]
+    for s in summary["snapshots"]:
+        assert SNAPSHOT_KEYS <= set(s)
+        text = (out / f"profile_rev{s['revolution']}.csv").read_text()
+        assert text.startswith("phi_deg,wear_depth_m\n")
+        profile = np.loadtxt(out / f"profile_rev{s['revolution']}.csv", delimiter=",", skiprows=1)
+        assert profile.shape == (1257, 2)
+        assert profile[:, 1].max() == pytest.approx(s["max_wear_depth_m"])
+    first, last = summary["snapshots"]
+    assert last["max_wear_depth_m"] > first["max_wear_depth_m"] and last["worn_volume_m3"] > first["worn_volume_m3"]
+    assert summary["max_wear_depth_m"] == pytest.approx(last["max_wear_depth_m"])
+    growth = np.loadtxt(out / "wear_growth.csv", delimiter=",", skiprows=1)
+    assert np.all(np.diff(growth[:, 1]) >= 0.0) and growth[-1, 0] == pytest.approx(100)
+    for png in ("fig7_wear_profiles.png", "fig8_slider_acceleration.png", "wear_growth.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert summary["growth"]["experiment_depth_ratio_full_to_half"] == pytest.approx(0.55 / 0.19)
+
+
+def test_wear_forms_two_lobes_where_crank_and_rod_are_collinear(cli_study):
+    """Paper Sec. 6.2: wear at the bushing's flanks (0 and 180 deg in the rod frame), little at 90/270 deg."""
+    _, summary = cli_study
+    s = summary["snapshots"][-1]
+    deepest = s["max_wear_depth_m"]
+    assert abs(s["lobe_0_angle_deg"]) < 30.0 and abs(s["lobe_180_angle_deg"] - 180.0) < 30.0
+    assert min(s["lobe_0_depth_m"], s["lobe_180_depth_m"]) > 0.3 * deepest
+    assert max(s["depth_at_90_deg_m"], s["depth_at_270_deg_m"]) < 0.1 * deepest
+
+
+def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
+    mech = SliderCrankParameters()
+    t = np.linspace(0.0, mech.period_s, 40001)
+    a = SliderCrank(mech).closed_form(t)["slider_a_m_s2"].copy()
+    at_deg = lambda deg: int(round(deg / 360.0 * (t.size - 1)))  # noqa: E731
+    a[at_deg(90):at_deg(91)] += 500.0         # one event
+    a[at_deg(250)] -= 800.0                   # a second one, made of two spikes 5 deg apart (merge)
+    a[at_deg(255)] += 300.0
+    a[at_deg(120)] += 50.0                    # below the threshold
+    events = impact_events(t, a, mech, threshold_m_s2=100.0, merge_deg=15.0)
+    assert len(events) == 2
+    assert events[0]["peak_crank_rotation_deg"] == pytest.approx(90.0, abs=1.0)
+    assert events[0]["peak_deviation_m_s2"] == pytest.approx(500.0, rel=1e-9)
+    assert events[1]["peak_crank_rotation_deg"] == pytest.approx(250.0, abs=0.1)
+    assert events[1]["peak_deviation_m_s2"] == pytest.approx(800.0, rel=1e-9)
+    assert impact_events(t, SliderCrank(mech).closed_form(t)["slider_a_m_s2"], mech, 100.0, 15.0) == []
+
+
+@pytest.mark.parametrize("args,message", [
+    (("--revolutions", "100", "--snapshots", "50,200"), "beyond"),
+    (("--revolutions", "100", "--snapshots", "50.5,100"), "not an integer"),
+    (("--revolutions", "100.5"), "not an integer"),
+    (("--revolutions", "100", "--wear-factor=-5"), "wear_factor"),
+    (("--revolutions", "100", "--cycle-jump", "3"), "M,J"),
+    (("--revolutions", "100", "--cycle-jump", "3,10"), "cycle-jump block"),
+    (("--revolutions", "100", "--convergence", "1,-10"), "factor"),
+])
+def test_bad_arguments_give_one_clear_error(tmp_path, capsys, args, message):
+    assert cli_main(["wear-study", "--out", str(tmp_path / "x"), "--quiet", *args]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert not (tmp_path / "x").exists()
+
+
+def test_bad_argument_exit_status_from_the_shell(tmp_path):
+    done = wearjoint("wear-study", "--out", str(tmp_path / "x"), "--revolutions", "100", "--snapshots", "0,100")
+    assert done.returncode == 2
+    assert "snapshots=0" in done.stderr and "Traceback" not in done.stderr
+
+
+@pytest.mark.slow
+def test_accelerated_profiles_agree_with_brute_force(tmp_path):
+    """Factor 10 vs factor 1 (brute force) at matched revolutions, within the stated tolerance."""
+    config = small_config(revolutions=20, snapshots=(10, 20), checkpoint_every_revolutions=5.0)
+    result = run_convergence(config, [1.0, 10.0], tmp_path, progress=False)
+    assert result["within_tolerance"]["F=10"], result["rows"]
