@@ -1,0 +1,149 @@
+"""The fmpy co-simulation master (wearjoint.cosim) against the monolithic engine.
+
+The FMU is built once per session (fixture ``built_fmu``).  Pointwise agreement is
+checked only over the first 15 ms (the motion is chaotic afterwards), with the
+tolerance taken from two equally valid monolithic runs (RK4 1 us and DOPRI).
+"""
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fmpy")
+
+from wearjoint import cli  # noqa: E402
+from wearjoint import cosim  # noqa: E402
+from wearjoint.core import layout as L  # noqa: E402
+from wearjoint.cosim import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation  # noqa: E402
+from wearjoint.parameters import JointParameters, SliderCrankParameters  # noqa: E402
+from wearjoint.simulate import SimulationOptions, run_simulation  # noqa: E402
+
+WINDOW_S = 0.015
+PERIOD_S = SliderCrankParameters().period_s
+NO_WEAR = JointParameters(wear_factor=0.0)
+
+
+def pin_path(record):
+    """(time, [eccentricity x, eccentricity y, slider x]) of a run's samples [s, m]."""
+    s = record.samples
+    return s[:, L.T_TIME], s[:, [L.T_ECC_X, L.T_ECC_Y, L.T_SLIDER_X]]
+
+
+def max_deviation(record, reference):
+    """Max |difference| per column over the reference's samples (record interpolated) [m]."""
+    t_ref, ref = pin_path(reference)
+    t, values = pin_path(record)
+    return np.max(np.abs(np.column_stack([np.interp(t_ref, t, values[:, k]) for k in range(3)]) - ref), axis=0)
+
+
+@pytest.fixture(scope="module")
+def monolithic_window():
+    """Two valid monolithic runs over the first 15 ms: (reference RK4 1 us, DOPRI)."""
+    rev = WINDOW_S / PERIOD_S
+    rk4 = run_simulation(NO_WEAR, None, SimulationOptions(revolutions=rev, integrator="rk4", step_s=1e-6),
+                         progress=False)
+    dopri = run_simulation(NO_WEAR, None, SimulationOptions(revolutions=rev, integrator="dopri", max_step_s=1e-5),
+                           progress=False)
+    return rk4, dopri
+
+
+@pytest.mark.parametrize("scheme", ["extrapolation", "adaptive"])
+def test_cosimulation_reproduces_the_monolithic_run_over_the_first_15_ms(built_fmu, monolithic_window, scheme):
+    rk4, dopri = monolithic_window
+    assert rk4.samples[:, L.T_CONTACT].any(), "the window must contain impacts"
+    tolerance = max_deviation(dopri, rk4)          # scatter of two valid monolithic runs
+    record = run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=WINDOW_S / PERIOD_S, scheme=scheme,
+                                                                 step_s=1e-6), fmu_path=built_fmu, progress=False)
+    assert record.simulated_time_s == pytest.approx(WINDOW_S)
+    deviation = max_deviation(record, rk4)
+    assert np.all(deviation <= tolerance), (deviation, tolerance)
+
+
+def test_zero_order_hold_and_the_adaptive_scheme_both_run(built_fmu):
+    """Both schemes go through contact; the adaptive one needs far fewer steps in free flight."""
+    rev = 0.02                                      # 8 ms: free flight, then the first impacts
+    runs = {scheme: run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=rev, scheme=scheme, step_s=2e-6),
+                                     fmu_path=built_fmu, progress=False) for scheme in ("zoh", "adaptive")}
+    for record in runs.values():
+        assert record.completed and record.samples[:, L.T_CONTACT].any()
+        assert np.all(np.isfinite(record.samples))
+        ecc = np.hypot(record.samples[:, L.T_ECC_X], record.samples[:, L.T_ECC_Y])
+        assert ecc.max() < NO_WEAR.clearance_m * 1.1     # penetrations stay micrometres
+    assert runs["zoh"].extra["communication_steps"] == round(rev * PERIOD_S / 2e-6)
+    assert runs["adaptive"].extra["communication_steps"] < 0.5 * runs["zoh"].extra["communication_steps"]
+    assert runs["adaptive"].extra["rollbacks"] >= 1
+
+
+def test_checkpoint_restore_continues_bit_identically(built_fmu):
+    """With wear on, through pickle, across contact onsets and rollbacks (adaptive)."""
+    options = CoSimulationOptions(revolutions=0.05, scheme="adaptive", step_s=2e-6)
+    joint = JointParameters()
+    samples_a = np.zeros((400, L.N_SAMPLE_COLUMNS))
+    samples_b = np.zeros_like(samples_a)
+    with CoSimulation(joint, None, options, fmu_path=built_fmu) as a:
+        a.advance_to(0.004, samples_a)                 # past the first impact (~3.1 ms)
+        saved = pickle.loads(pickle.dumps(a.checkpoint()))
+        n_a = a.advance_to(0.009, samples_a)
+        wear_a = a.wear_profile()[1]
+        buf_a = a.buf.copy()
+        assert a.max_wear_depth_m() > 0.0
+    with CoSimulation(joint, None, options, fmu_path=built_fmu) as b:
+        b.restore(saved)
+        n_b = b.advance_to(0.009, samples_b)
+        np.testing.assert_array_equal(b.buf, buf_a)
+        np.testing.assert_array_equal(b.wear_profile()[1], wear_a)
+    assert n_a == n_b and n_a > 0
+    np.testing.assert_array_equal(samples_a[:n_a], samples_b[:n_b])
+
+
+SUMMARY_KEYS = ("revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
+                "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
+                "max_eccentricity_m", "max_wear_depth_m", "max_wear_angle_deg", "worn_volume_m3", "parameters",
+                "communication_steps", "rollbacks", "fmi_time_s", "master_time_s")
+
+
+def test_cli_writes_the_results_contract(built_fmu, tmp_path, capsys):
+    out = tmp_path / "run"
+    code = cli.main(["cosim", "--revolutions", "0.02", "--out", str(out), "--quiet", "--fmu", str(built_fmu),
+                     "--wear-factor", "0.1"])
+    assert code == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(SUMMARY_KEYS) <= set(summary)
+    assert summary["parameters"]["engine"] == "cosim"
+    assert summary["parameters"]["joint"]["wear_factor"] == 0.1
+    assert summary["simulated_time_s"] == pytest.approx(0.02 * PERIOD_S)
+    assert summary["max_wear_depth_m"] > 0.0 and summary["worn_volume_m3"] > 0.0
+    profile = np.loadtxt(out / "profile.csv", delimiter=",", skiprows=1)
+    assert profile.shape == (JointParameters().n_points, 2)
+    assert profile[:, 1].max() == pytest.approx(summary["max_wear_depth_m"])
+    with np.load(out / "timeseries.npz") as series:
+        assert series["time_s"].size > 100 and "eccentricity_x_m" in series
+    assert list(out.glob("*.png"))
+
+
+@pytest.mark.parametrize("option, value, name", [("--friction-coefficient", "-1", "friction_coefficient"),
+                                                 ("--step", "-1e-6", "step_s")])
+def test_cli_bad_parameter_exits_nonzero_naming_it(built_fmu, tmp_path, capsys, option, value, name):
+    code = cli.main(["cosim", "--revolutions", "0.01", "--out", str(tmp_path / "x"), "--quiet",
+                     "--fmu", str(built_fmu), f"{option}={value}"])
+    err = capsys.readouterr().err
+    assert code != 0
+    assert name in err and "Traceback" not in err
+    assert not (tmp_path / "x").exists()
+
+
+def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monkeypatch):
+    """Non-finite kinematics: the FMU rejects the call; the error carries its log; the instance is freed."""
+    closed = []
+    original_close = cosim._FmuSlave.close
+
+    def spy_close(self):
+        original_close(self)
+        closed.append(self.instantiated)
+
+    monkeypatch.setattr(cosim._FmuSlave, "close", spy_close)
+    monkeypatch.setattr(cosim.SliderCrank, "initial_state", lambda self: np.full(2 * L.N_COORDINATES, np.nan))
+    with pytest.raises(CoSimulationError, match=r"FMU call fmi2\w+ returned fmi2(Error|Discard).*non-finite inputs"):
+        run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu, progress=False)
+    assert closed == [False]

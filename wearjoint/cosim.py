@@ -1,0 +1,644 @@
+"""Co-simulation master: the rigid slider-crank coupled to the ``ClearanceWearJoint`` FMU.
+
+The crank-rod joint of the mechanism is open (``MODE_EXTERNAL``); its loads come
+from the FMU (MODEL.md section 5) through fmpy's low-level FMI 2.0 API.  Each
+communication step [t, t + h]: the FMU already holds the kinematics at t (crank =
+pin body, rod = bushing body) and its forces were read; one numba call records
+the point t and integrates the mechanism over the step with those forces held
+(RK4); then ``doStep(t, h)``, ``setReal`` of the 12 inputs at t + h and
+``getReal`` of the 12 outputs the master needs.
+
+Schemes (``CoSimulationOptions.scheme``):
+
+* ``zoh`` -- fixed communication step ``step_s``, forces held (zero-order hold).
+* ``extrapolation`` -- fixed step; while the contact persists (in contact at t
+  and at the point before) the forces are extrapolated linearly from the last
+  two points and their mean over the step is held (second order in h).
+* ``adaptive`` -- extrapolation, ``step_s`` while the pin touches the bushing; in free flight
+  the step grows up to ``max_step_s``, limited by the predicted time to the next
+  contact onset (from the FMU's signed penetration and its rate).  A step that
+  starts in free flight and ends deeper than ``onset_penetration_m`` is rolled
+  back (``getFMUstate``/``setFMUstate`` plus the mechanism state) and retried
+  with a step interpolated to the onset, as ``core.integrators.integrate`` does
+  for DOPRI.  Free flight carries no joint force, so large steps there cost no
+  accuracy.  The default (validation/cosim_study.py): ``adaptive`` with 5 us in
+  contact.  Zero-order hold is first order in h (pointwise 100x off the
+  monolithic run at 1 us) and unstable from ~5 us on (stiff contact).
+"""
+from __future__ import annotations
+
+import ctypes
+import dataclasses
+import math
+import shutil
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from . import fmu_variables as fv
+from .core import layout as L
+from .core.contact import bushing_point_angles
+from .core.integrators import RK4, integrate, record_step
+from .core.mechanism import derivative
+from .mechanism import SliderCrank
+from .cli_options import add_model_arguments, model_from_args
+from .parameters import (
+    JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
+)
+from .progress import Progress
+from .results import RunRecord, new_revolution_stats, new_track, write_results
+
+SCHEMES = ("zoh", "extrapolation", "adaptive")
+FMI_OK, FMI_WARNING = 0, 1
+_FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+
+# --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
+OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
+                "bushing_torque", "normal_force", "friction_force", "penetration", "contact",
+                "eccentricity_x", "eccentricity_y")
+OUTPUT_RESULT_INDEX = np.array([L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
+                                L.R_BUSHING_TORQUE, L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION,
+                                L.R_CONTACT, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y])
+N_OUTPUTS = len(OUTPUT_NAMES)
+O_PENETRATION = OUTPUT_NAMES.index("penetration")
+O_CONTACT = OUTPUT_NAMES.index("contact")
+INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
+N_INPUTS = len(INPUT_NAMES)
+
+# --- the master's state buffer: one float64 array, so the per-step kernel takes few arguments.
+# Everything a rollback restores is at its start (one copy saves it).
+_N_Y = 2 * L.N_COORDINATES
+B_Y = 0                                   # mechanism state [q, q_dot]
+B_OUTPUT = B_Y + _N_Y                     # FMU outputs at t (OUTPUT_NAMES), aliased by a ctypes array
+B_PREVIOUS_FORCES = B_OUTPUT + N_OUTPUTS  # FMU forces at the accepted point before t (extrapolation)
+B_PREVIOUS_CONTACT = B_PREVIOUS_FORCES + 6   # 1.0 if the pin touched there
+B_LAST_STEP = B_PREVIOUS_CONTACT + 1      # length of the step that ended at t [s]
+B_ROLLBACK_END = B_LAST_STEP + 1
+B_DY = B_ROLLBACK_END                     # f(t, y) with the held forces
+B_INPUT = B_DY + _N_Y                     # FMU inputs at the end of the step, aliased by a ctypes array
+B_RESULT = B_INPUT + N_INPUTS             # outputs in the layout.R_* result layout (for record_step)
+B_FORCES = B_RESULT + L.N_RESULT          # (Fx, Fy, T) on the crank then the rod
+B_CONTROL = B_FORCES + 6                  # integrate's control vector (control[0] = RK4 step)
+B_TRACK = B_CONTROL + 7                   # record_step bookkeeping (samples, previous contact)
+B_IDLE_TRACK = B_TRACK + L.N_TRACK        # bookkeeping for integrate's own recorder (never samples)
+B_MP = B_IDLE_TRACK + L.N_TRACK           # mechanism parameter vector
+B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces during contact
+B_STATS = B_EXTRAPOLATE + 1               # per-revolution statistics (rows of layout.N_STATS)
+
+
+class CoSimulationError(RuntimeError):
+    """An FMI call failed; the message carries the FMU's log."""
+
+
+@dataclass(frozen=True)
+class CoSimulationOptions:
+    """How to co-simulate.  ``step_s``: communication step [s] (``zoh``: always;
+    ``adaptive``: while in contact).  ``max_step_s`` / ``min_step_s``: bounds of
+    the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
+    an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s]."""
+
+    revolutions: float = 2.0
+    scheme: str = "adaptive"
+    step_s: float = 5e-6     # default from validation/cosim_study.py (adaptive, 5 us)
+    max_step_s: float = 1e-4
+    min_step_s: float = 1e-9
+    onset_penetration_m: float = 1e-8
+    sample_dt_s: float = 1e-5
+
+    def __post_init__(self):
+        _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
+        _require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
+        for name in ("step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):
+            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
+        _require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
+        _require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+@njit(cache=True)
+def communication_step(t, h, record, buf, ws, samples):
+    """One communication step of the master; returns the time reached [s].
+
+    From the FMU outputs at t (``buf[B_OUTPUT:]``) sets the forces and f(t, y);
+    if ``record``, accounts the point t (``record_step``, the step that ended
+    there being ``buf[B_LAST_STEP]``); if h > 0, integrates y over [t, t + h]
+    with one RK4 step (MODE_EXTERNAL), the forces held at their value at t or,
+    with extrapolation in persisting contact, at the mean of their linear
+    extrapolation.  Writes the FMU inputs at the time reached (crank = pin
+    body, rod = bushing body).
+    """
+    n = L.N_COORDINATES
+    y = buf[B_Y:B_Y + 2 * n]
+    dy = buf[B_DY:B_DY + 2 * n]
+    outputs = buf[B_OUTPUT:B_OUTPUT + N_OUTPUTS]
+    result = buf[B_RESULT:B_RESULT + L.N_RESULT]
+    forces = buf[B_FORCES:B_FORCES + 6]
+    mp = buf[B_MP:B_MP + L.N_MECHANISM_PARAMETERS]
+    for k in range(N_OUTPUTS):
+        result[OUTPUT_RESULT_INDEX[k]] = outputs[k]
+    for k in range(6):
+        forces[k] = outputs[k]
+    # integrate needs a joint tuple of the in-process layout; in MODE_EXTERNAL it only reads
+    # the result (its recorder here is idle: no revolution rows, no sample rows)
+    no_rows = buf[0:0]
+    joint = (mp, mp, mp, mp, mp, no_rows, np.zeros(0, dtype=np.bool_), result)
+    derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+    if record:
+        stats = buf[B_STATS:].reshape((-1, L.N_STATS))
+        record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
+    previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
+    if h > 0.0:
+        if (buf[B_EXTRAPOLATE] > 0.5 and outputs[O_CONTACT] > 0.5 and buf[B_PREVIOUS_CONTACT] > 0.5
+                and buf[B_LAST_STEP] > 0.0):
+            # in contact at t and at the point before: hold the mean over [t, t + h]
+            # of the forces' linear extrapolation instead of their value at t
+            slope = 0.5 * h / buf[B_LAST_STEP]
+            for k in range(6):
+                forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
+            derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+        control = buf[B_CONTROL:B_CONTROL + 7]
+        control[0] = h
+        t_end, _, _ = integrate(RK4, t, t + h, y, control, L.MODE_EXTERNAL, mp, joint, forces, ws, dy,
+                                no_rows.reshape((0, L.N_STATS)), samples[0:0],
+                                buf[B_IDLE_TRACK:B_IDLE_TRACK + L.N_TRACK])
+        for k in range(6):
+            previous[k] = outputs[k]
+        buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
+        buf[B_LAST_STEP] = t_end - t
+        t = t_end
+    inputs = buf[B_INPUT:B_INPUT + N_INPUTS]
+    for k in range(3):
+        inputs[k] = y[L.CRANK + k]
+        inputs[3 + k] = y[n + L.CRANK + k]
+        inputs[6 + k] = y[L.ROD + k]
+        inputs[9 + k] = y[n + L.ROD + k]
+    return t
+
+
+# ------------------------------------------------------------------ the FMU side
+_MODEL_DESCRIPTIONS: dict = {}
+
+
+def _model_description(fmu_path: Path):
+    """fmpy's parsed modelDescription (about 1 s for N_d = 1257), cached per file and mtime."""
+    from fmpy import read_model_description
+
+    key = (str(fmu_path), fmu_path.stat().st_mtime_ns)
+    if key not in _MODEL_DESCRIPTIONS:
+        _MODEL_DESCRIPTIONS[key] = read_model_description(str(fmu_path))
+    return _MODEL_DESCRIPTIONS[key]
+
+
+def ensure_fmu(n_points: int, fmu_path=None) -> Path:
+    """The FMU to use: ``fmu_path`` if given (must exist), else the cached build for
+    ``n_points`` (built now if missing, see ``wearjoint.fmu_build``)."""
+    from .fmu_build import build_fmu, default_fmu_path
+
+    if fmu_path is not None:
+        path = Path(fmu_path)
+        if not path.is_file():
+            raise ParameterError(f"parameter fmu_path={str(path)!r} is invalid: allowed an existing .fmu file")
+        return path
+    path = default_fmu_path(n_points)
+    if path.is_file():
+        return path
+    try:
+        return build_fmu(path.parent, n_points=n_points)
+    except (OSError, RuntimeError) as exc:
+        raise CoSimulationError(f"building the FMU into {path.parent} failed: {exc}") from None
+
+
+class _FmuSlave:
+    """One instance of the joint FMU: fmpy's FMU2Slave, its raw FMI functions, its log."""
+
+    def __init__(self, fmu_path: Path, joint: JointParameters, buf: np.ndarray):
+        from fmpy import extract
+        from fmpy.fmi2 import (FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
+                               fmi2CallbackLoggerTYPE, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference)
+
+        md = _model_description(fmu_path)
+        if md.modelName != fv.MODEL_NAME or md.coSimulation is None:
+            raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
+                                 f"allowed a {fv.MODEL_NAME} co-simulation FMU")
+        self.vr = fv.value_references(md)
+        built = next((int(v.start) for v in md.modelVariables if v.name == fv.N_POINTS_NAME), None)
+        if built != joint.n_points:
+            raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: the FMU {fmu_path} "
+                                 f"was built for {built} points (wearjoint build-fmu --n-points N)")
+        self.log: list[tuple[int, str]] = []
+        # A plain ctypes logger (no fmpy logger proxy: that proxy is one per process).
+        # pythonfmu passes the message as the format string with '%' doubled.
+        self._logger = fmi2CallbackLoggerTYPE(
+            lambda env, instance, status, category, message: self.log.append(
+                (status, message.decode(errors="replace").replace("%%", "%"))))
+        self._callbacks = fmi2CallbackFunctions(logger=self._logger, allocateMemory=defaultCallbacks.allocateMemory,
+                                                freeMemory=defaultCallbacks.freeMemory)
+        self.instantiated = False
+        self.unzip_dir = extract(str(fmu_path))
+        try:
+            self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.unzip_dir,
+                                 modelIdentifier=md.coSimulation.modelIdentifier, instanceName="joint")
+        except Exception as exc:  # fmpy raises a bare Exception (e.g. no binary for this platform)
+            shutil.rmtree(self.unzip_dir, ignore_errors=True)
+            raise CoSimulationError(f"FMU {fmu_path} cannot be loaded: {exc}") from None
+        self.state = fmi2FMUstate()            # the rollback snapshot (getFMUstate), NULL when none
+        self._fmi2FMUstate = fmi2FMUstate
+        dll = self.fmu.dll                     # fmpy has set argtypes/restype on these
+        self.set_real = dll.fmi2SetReal
+        self.get_real = dll.fmi2GetReal
+        self.do_step = dll.fmi2DoStep
+        self.input_vrs = (fmi2ValueReference * N_INPUTS)(*(self.vr[n] for n in INPUT_NAMES))
+        self.output_vrs = (fmi2ValueReference * N_OUTPUTS)(*(self.vr[n] for n in OUTPUT_NAMES))
+        # ctypes arrays aliasing the master's buffer: the FMI calls read and write it directly
+        self.inputs = (fmi2Real * N_INPUTS).from_buffer(buf[B_INPUT:B_INPUT + N_INPUTS])
+        self.outputs = (fmi2Real * N_OUTPUTS).from_buffer(buf[B_OUTPUT:B_OUTPUT + N_OUTPUTS])
+        self._fmi2Real, self._fmi2Integer, self._fmi2ValueReference = fmi2Real, fmi2Integer, fmi2ValueReference
+        n = joint.n_points
+        wear_names = [fv.wear_depth_name(z) for z in range(1, n + 1)] + ["max_wear_depth", "worn_volume"]
+        self.wear_vrs = (fmi2ValueReference * (n + 2))(*(self.vr[name] for name in wear_names))
+        self.wear_values = (fmi2Real * (n + 2))()
+        try:
+            try:
+                self.fmu.instantiate(callbacks=self._callbacks, loggingOn=True)
+            except Exception as exc:  # fmpy raises a bare Exception here
+                raise CoSimulationError(f"FMU {fmu_path}: fmi2Instantiate failed ({exc}){self._log_tail()}") from None
+            self.instantiated = True
+            self.component = self.fmu.component
+            self.check(dll.fmi2SetupExperiment(self.component, 0, 0.0, 0.0, 0, 0.0), "fmi2SetupExperiment", 0.0)
+            self._set_parameters(joint)
+            self.check(dll.fmi2EnterInitializationMode(self.component), "fmi2EnterInitializationMode", 0.0)
+            self.check(dll.fmi2ExitInitializationMode(self.component), "fmi2ExitInitializationMode", 0.0)
+        except BaseException:
+            self.close()
+            raise
+
+    def _set_parameters(self, joint: JointParameters) -> None:
+        values = fv.fmi_parameter_values(joint)
+        integer_names = {p.variable.name for p in fv.PARAMETERS if p.variable.type == fv.INTEGER}
+        reals = [(self.vr[k], v) for k, v in values.items() if k not in integer_names]
+        ints = [(self.vr[k], v) for k, v in values.items() if k in integer_names]
+        for rows, value_type, function in ((reals, self._fmi2Real, self.set_real),
+                                           (ints, self._fmi2Integer, self.fmu.dll.fmi2SetInteger)):
+            vrs = (self._fmi2ValueReference * len(rows))(*(vr for vr, _ in rows))
+            vals = (value_type * len(rows))(*(v for _, v in rows))
+            self.check(function(self.component, vrs, len(rows), vals), function.__name__, 0.0)
+
+    def _log_tail(self) -> str:
+        errors = [text for status, text in self.log if status > FMI_WARNING] or [text for _, text in self.log[-3:]]
+        return (": " + " | ".join(errors[-3:])) if errors else ""
+
+    def check(self, status: int, call: str, t: float) -> None:
+        """Raise CoSimulationError (with the FMU's log) for a status worse than fmi2Warning."""
+        if status > FMI_WARNING:
+            name = _FMI_STATUS[status] if 0 <= status < len(_FMI_STATUS) else str(status)
+            raise CoSimulationError(f"FMU call {call} returned fmi2{name.capitalize()} at t={t:.9g} s"
+                                    f"{self._log_tail()}")
+
+    def exchange(self, t: float) -> None:
+        """setReal of the inputs, getReal of the outputs (both in the master's buffer)."""
+        self.check(self.set_real(self.component, self.input_vrs, N_INPUTS, self.inputs), "fmi2SetReal", t)
+        self.check(self.get_real(self.component, self.output_vrs, N_OUTPUTS, self.outputs), "fmi2GetReal", t)
+
+    def wear(self, t: float) -> np.ndarray:
+        """[wear_depth[1..N] ..., max_wear_depth, worn_volume] [m, m, m^3] (a copy)."""
+        self.check(self.get_real(self.component, self.wear_vrs, len(self.wear_values), self.wear_values),
+                   "fmi2GetReal", t)
+        return np.array(self.wear_values)
+
+    def max_wear_depth(self, t: float) -> float:
+        value = self._fmi2Real()
+        vr = self._fmi2ValueReference(self.vr["max_wear_depth"])
+        self.check(self.get_real(self.component, ctypes.byref(vr), 1, ctypes.byref(value)), "fmi2GetReal", t)
+        return value.value
+
+    # -- FMU state
+    def save_state(self, t: float) -> None:
+        """Snapshot for a rollback (the previous snapshot is freed)."""
+        self.free_state(t)
+        self.check(self.fmu.dll.fmi2GetFMUstate(self.component, ctypes.byref(self.state)), "fmi2GetFMUstate", t)
+
+    def restore_state(self, t: float) -> None:
+        self.check(self.fmu.dll.fmi2SetFMUstate(self.component, self.state), "fmi2SetFMUstate", t)
+
+    def free_state(self, t: float) -> None:
+        if self.state:
+            self.check(self.fmu.dll.fmi2FreeFMUstate(self.component, ctypes.byref(self.state)), "fmi2FreeFMUstate", t)
+            self.state = self._fmi2FMUstate()
+
+    def serialize(self, t: float) -> bytes:
+        state = self._fmi2FMUstate()
+        self.check(self.fmu.dll.fmi2GetFMUstate(self.component, ctypes.byref(state)), "fmi2GetFMUstate", t)
+        try:
+            return self.fmu.serializeFMUstate(state)
+        except Exception as exc:  # fmpy's FMICallException
+            raise CoSimulationError(f"fmi2SerializeFMUstate failed at t={t:.9g} s ({exc}){self._log_tail()}") from None
+        finally:
+            self.fmu.fmi2FreeFMUstate(self.component, ctypes.byref(state))
+
+    def deserialize(self, data: bytes, t: float) -> None:
+        state = self._fmi2FMUstate()
+        buffer = ctypes.create_string_buffer(data, len(data))
+        self.check(self.fmu.dll.fmi2DeSerializeFMUstate(self.component, buffer, len(data), ctypes.byref(state)),
+                   "fmi2DeSerializeFMUstate", t)
+        try:
+            self.check(self.fmu.dll.fmi2SetFMUstate(self.component, state), "fmi2SetFMUstate", t)
+        finally:
+            self.fmu.fmi2FreeFMUstate(self.component, ctypes.byref(state))
+
+    def close(self) -> None:
+        """Free the snapshot and the instance (terminate first), remove the extracted files.
+        Safe to call twice; errors here are not raised (the instance is gone either way)."""
+        if self.instantiated:
+            self.instantiated = False
+            if self.state:
+                self.fmu.dll.fmi2FreeFMUstate(self.component, ctypes.byref(self.state))
+            self.fmu.dll.fmi2Terminate(self.component)
+            self.fmu.dll.fmi2FreeInstance(self.component)
+        shutil.rmtree(self.unzip_dir, ignore_errors=True)
+
+
+# ------------------------------------------------------------------ the master
+class CoSimulation:
+    """The slider-crank (crank-rod joint open) and one joint FMU instance, with the
+    same stepping interface as :class:`wearjoint.simulate.Simulation`.  Call
+    :meth:`close` (or use ``with``) to free the FMU instance."""
+
+    def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                 options: CoSimulationOptions | None = None, fmu_path=None):
+        self.options = options or CoSimulationOptions()
+        self.mechanism = SliderCrank(mechanism)
+        self.joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
+        check_joint_fits_mechanism(self.joint, self.mechanism.params)
+        self.fmu_path = ensure_fmu(self.joint.n_points, fmu_path)
+        n_rev = int(math.ceil(self.options.revolutions)) + 1
+        self.buf = np.zeros(B_STATS + n_rev * L.N_STATS)
+        b = self.buf
+        b[B_MP:B_MP + L.N_MECHANISM_PARAMETERS] = self.mechanism.parameter_vector
+        b[B_EXTRAPOLATE] = 1.0 if self.options.scheme in ("extrapolation", "adaptive") else 0.0
+        b[B_TRACK:B_TRACK + L.N_TRACK] = new_track(self.options.sample_dt_s)
+        b[B_IDLE_TRACK:B_IDLE_TRACK + L.N_TRACK] = new_track(math.inf, t0=math.inf)   # never samples
+        b[B_STATS:] = new_revolution_stats(n_rev).ravel()
+        self.revolution_stats = b[B_STATS:].reshape((n_rev, L.N_STATS))
+        self.y = b[B_Y:B_Y + _N_Y]
+        self.outputs = b[B_OUTPUT:B_OUTPUT + N_OUTPUTS]
+        self.y[:] = self.mechanism.initial_state()
+        self.t = 0.0
+        self.communication_steps = 0
+        self.rollbacks = 0
+        self.fmi_time_s = 0.0
+        self.master_time_s = 0.0
+        self._previous_penetration = -math.inf   # FMU penetration at the accepted point before t [m]
+        self._saved = np.empty(B_ROLLBACK_END)   # y and outputs at the start of a step (rollback)
+        self._slave = _FmuSlave(self.fmu_path, self.joint, b)
+        try:
+            communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
+            self._slave.exchange(0.0)
+        except BaseException:
+            self.close()
+            raise
+
+    # -- lifetime
+    def close(self) -> None:
+        """Free the FMU instance (idempotent)."""
+        if self._slave is not None:
+            self._slave.close()
+            self._slave = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    @property
+    def fmu_log(self) -> list[tuple[int, str]]:
+        """The FMU's log messages as (FMI status, text)."""
+        return [] if self._slave is None else list(self._slave.log)
+
+    def _live_slave(self) -> _FmuSlave:
+        if self._slave is None:
+            raise CoSimulationError("the FMU instance of this co-simulation has been freed (close() was called)")
+        return self._slave
+
+    # -- stepping
+    def advance_to(self, t_end: float, samples: np.ndarray) -> int:
+        """Co-simulate to t_end [s], writing samples into ``samples``; returns how many.
+        An FMU error raises CoSimulationError (the instance stays allocated until close())."""
+        slave = self._live_slave()
+        o = self.options
+        adaptive = o.scheme == "adaptive"
+        h_contact, h_max, h_min, onset = o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m
+        buf, ws, saved, out = self.buf, self.mechanism.workspace, self._saved, self.outputs
+        component, set_real, get_real, do_step = slave.component, slave.set_real, slave.get_real, slave.do_step
+        input_vrs, output_vrs, inputs, outputs = slave.input_vrs, slave.output_vrs, slave.inputs, slave.outputs
+        clock = time.perf_counter
+        buf[B_TRACK + L.K_N_SAMPLES] = 0
+        t = self.t
+        record = False                    # the point t was accounted when it was accepted
+        pen_before = self._previous_penetration
+        retry_step = 0.0
+        steps = rollbacks = 0
+        fmi_time = 0.0
+        t_stop = t_end * (1.0 - 1e-15)
+        wall0 = clock()
+        try:
+            while t < t_stop:
+                pen = out[O_PENETRATION]
+                free = out[O_CONTACT] < 0.5
+                if retry_step > 0.0:
+                    h = retry_step
+                elif adaptive and free:
+                    h = h_max
+                    rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
+                    if rate > 0.0:                       # approaching the wall: aim just past the onset
+                        h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
+                    saved[:] = buf[:B_ROLLBACK_END]
+                    c1 = clock()
+                    slave.save_state(t)
+                    fmi_time += clock() - c1
+                else:
+                    h = h_contact
+                h = min(h, t_end - t)
+                t_new = communication_step(t, h, record, buf, ws, samples)
+                record = False
+                c2 = clock()
+                status = do_step(component, t, t_new - t, 1)
+                if status > FMI_WARNING:
+                    slave.check(status, "fmi2DoStep", t)
+                status = set_real(component, input_vrs, N_INPUTS, inputs)
+                if status > FMI_WARNING:
+                    slave.check(status, "fmi2SetReal", t_new)
+                status = get_real(component, output_vrs, N_OUTPUTS, outputs)
+                if status > FMI_WARNING:
+                    slave.check(status, "fmi2GetReal", t_new)
+                fmi_time += clock() - c2
+                if adaptive and free and out[O_PENETRATION] > onset and h > h_min:
+                    # the step crossed a contact onset too deep: back to t, retry to end just past it
+                    pen_end = out[O_PENETRATION]
+                    buf[:B_ROLLBACK_END] = saved
+                    c1 = clock()
+                    slave.restore_state(t)
+                    fmi_time += clock() - c1
+                    retry_step = max(h_min, h * (0.5 * onset - pen) / (pen_end - pen))
+                    rollbacks += 1
+                    continue
+                retry_step = 0.0
+                pen_before = pen
+                t = t_new
+                record = True
+                steps += 1
+            if record:
+                communication_step(t, 0.0, True, buf, ws, samples)
+        finally:
+            self.t = t
+            self._previous_penetration = pen_before
+            self.communication_steps += steps
+            self.rollbacks += rollbacks
+            self.fmi_time_s += fmi_time
+            self.master_time_s += clock() - wall0 - fmi_time
+        return int(buf[B_TRACK + L.K_N_SAMPLES])
+
+    # -- checkpoints
+    def checkpoint(self) -> dict:
+        """Everything needed to continue bit-identically: the master's buffer (mechanism
+        state, outputs at t, statistics, recorder), the FMU state (serializeFMUstate
+        bytes) and the counters.  Picklable."""
+        slave = self._live_slave()
+        return {"t": self.t, "buffer": self.buf.copy(), "fmu_state": slave.serialize(self.t),
+                "previous_penetration": self._previous_penetration,
+                "communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
+                "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
+
+    def restore(self, checkpoint: dict) -> None:
+        """Continue from :meth:`checkpoint` (same parameters and options)."""
+        slave = self._live_slave()
+        buffer = np.asarray(checkpoint["buffer"], dtype=float)
+        if buffer.shape != self.buf.shape:
+            raise ParameterError(f"checkpoint buffer has {buffer.size} values, this co-simulation "
+                                 f"{self.buf.size} (different revolutions or version)")
+        slave.deserialize(bytes(checkpoint["fmu_state"]), float(checkpoint["t"]))
+        self.buf[:] = buffer
+        self.t = float(checkpoint["t"])
+        self._previous_penetration = float(checkpoint["previous_penetration"])
+        self.communication_steps = int(checkpoint["communication_steps"])
+        self.rollbacks = int(checkpoint["rollbacks"])
+        self.fmi_time_s = float(checkpoint["fmi_time_s"])
+        self.master_time_s = float(checkpoint["master_time_s"])
+
+    # -- results
+    def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
+        values = self._live_slave().wear(self.t)
+        n = self.joint.n_points
+        return np.degrees(bushing_point_angles(n)), values[:n], float(values[n + 1])
+
+    def max_wear_depth_m(self) -> float:
+        return self._live_slave().max_wear_depth(self.t)
+
+
+def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                     options: CoSimulationOptions | None = None, fmu_path=None, progress: bool = True,
+                     chunks_per_revolution: int = 8) -> RunRecord:
+    """Co-simulate ``options.revolutions`` crank revolutions with the joint FMU; the run's record.
+
+    Mirrors :func:`wearjoint.simulate.run_simulation` (chunks, progress line,
+    Ctrl-C keeps the finished chunks with ``completed = False``).  The FMU
+    instance is always freed.  ``extra`` holds the communication statistics.
+    """
+    sim = CoSimulation(joint, mechanism, options, fmu_path)
+    try:
+        o = sim.options
+        period = sim.mechanism.params.period_s
+        t_final = o.revolutions * period
+        chunk = period / chunks_per_revolution
+        samples_list = []
+        wear_growth = []
+        buffer = np.zeros((int(chunk / o.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
+        bar = Progress(t_final, "cosim", enabled=progress)
+        completed = True
+        wall0 = time.perf_counter()
+        try:
+            for i in range(int(math.ceil(o.revolutions * chunks_per_revolution - 1e-9))):
+                n = sim.advance_to(min(t_final, (i + 1) * chunk), buffer)
+                samples_list.append(buffer[:n].copy())
+                if (i + 1) % chunks_per_revolution == 0:
+                    wear_growth.append(sim.max_wear_depth_m())
+                bar.update(sim.t)
+        except KeyboardInterrupt:
+            completed = False
+        wall = time.perf_counter() - wall0
+        bar.close()
+        phi_deg, wear_depth, worn_volume = sim.wear_profile()
+    finally:
+        sim.close()
+    samples = np.concatenate(samples_list) if samples_list else np.zeros((0, L.N_SAMPLE_COLUMNS))
+    return RunRecord(
+        samples=samples, revolution_stats=sim.revolution_stats[:int(math.ceil(o.revolutions))].copy(),
+        wear_growth_m=np.asarray(wear_growth), phi_deg=phi_deg, wear_depth_m=wear_depth,
+        worn_volume_m3=worn_volume, simulated_time_s=sim.t, wall_time_s=wall, revolutions=sim.t / period,
+        period_s=period, clearance_m=sim.joint.clearance_m,
+        parameters={"joint": sim.joint.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
+                    "cosimulation": o.to_dict(), "fmu": str(sim.fmu_path), "engine": "cosim"},
+        extra={"communication_steps": sim.communication_steps, "rollbacks": sim.rollbacks,
+               "fmi_time_s": sim.fmi_time_s, "master_time_s": sim.master_time_s},
+        completed=completed)
+
+
+# ------------------------------------------------------------------ CLI (wearjoint cosim)
+_DEFAULTS = CoSimulationOptions()
+
+
+def cli_arguments(parser) -> None:
+    """Options of ``wearjoint cosim``: results folder, coupling, and every model parameter."""
+    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
+    parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
+    parser.add_argument("--quiet", action="store_true", help="no progress line")
+    parser.add_argument("--fmu", type=Path, default=None,
+                        help="ClearanceWearJoint.fmu to use (default: the cached build, built if missing)")
+    g = parser.add_argument_group("co-simulation")
+    g.add_argument("--revolutions", type=float, default=_DEFAULTS.revolutions, help="crank revolutions to simulate")
+    g.add_argument("--scheme", choices=SCHEMES, default=_DEFAULTS.scheme,
+                   help="zoh: fixed communication step, forces held; extrapolation: fixed step, forces "
+                        "extrapolated in contact; adaptive: extrapolation, large steps in free flight, "
+                        "rollback to contact onsets (default %(default)s)")
+    g.add_argument("--step", type=float, default=_DEFAULTS.step_s,
+                   help="communication step [s] (adaptive: in contact) (default %(default)g)")
+    g.add_argument("--max-step", type=float, default=_DEFAULTS.max_step_s,
+                   help="largest adaptive communication step [s] (default %(default)g)")
+    g.add_argument("--min-step", type=float, default=_DEFAULTS.min_step_s,
+                   help="smallest adaptive communication step [s] (default %(default)g)")
+    g.add_argument("--onset-penetration", type=float, default=_DEFAULTS.onset_penetration_m,
+                   help="how deep past a contact onset an adaptive step may end [m] (default %(default)g)")
+    g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
+    add_model_arguments(parser)
+
+
+def cli_run(args) -> int:
+    """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error."""
+    import sys
+
+    from .simulate_cli import _print_summary
+
+    joint, mechanism = model_from_args(args)
+    options = CoSimulationOptions(revolutions=args.revolutions, scheme=args.scheme, step_s=args.step,
+                                  max_step_s=args.max_step, min_step_s=args.min_step,
+                                  onset_penetration_m=args.onset_penetration, sample_dt_s=args.sample_dt)
+    try:
+        record = run_cosimulation(joint, mechanism, options, fmu_path=args.fmu, progress=not args.quiet)
+    except CoSimulationError as exc:
+        print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
+        return 1
+    summary = write_results(record, args.out, plots=not args.no_plots)
+    _print_summary(summary, args.out)
+    for key in ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s"):
+        print(f"  {key:28s} {summary[key]:.6g}")
+    return 0 if record.completed else 130
+
+
+__all__ = ["CoSimulation", "CoSimulationOptions", "CoSimulationError", "run_cosimulation", "ensure_fmu",
+           "communication_step", "SCHEMES", "cli_arguments", "cli_run"]
