@@ -10,12 +10,18 @@
   state at the same inputs.
 * Parameters are read at exitInitializationMode and are fixed afterwards; the
   numba kernels are compiled there too.
-* Errors never raise out of pythonfmu unguarded: see :meth:`_abort_call`.
+* Errors never raise out of pythonfmu unguarded: see :meth:`_abort_call`.  The
+  FMU's binary is a status shim (fmu_src/status_shim.c) in front of pythonfmu's:
+  errors flagged to it come out as fmi2Error (pythonfmu alone gives fmi2Fatal).
+* Non-finite inputs: getReal of a force output fails (fmi2Error) and doStep is
+  refused (fmi2Discard, state unchanged); both log the inputs by name.  Finite
+  inputs set afterwards make the instance usable again.
 
 Built by ``wearjoint build-fmu`` (wearjoint/fmu_build.py), which fixes n_points in
 resources/wearjoint_fmu.json.
 """
 import contextlib
+import ctypes
 import functools
 import json
 import math
@@ -67,6 +73,20 @@ _N_INPUTS = len(fv.INPUTS)
 
 # Objects pythonfmu 0.7 releases once too often after a Python exception (see _abort_call).
 _OVER_RELEASED = []
+# The status shim, relative to the FMU's root folder (the parent of its resources folder).
+_SHIM_BINARY = Path("binaries", "linux64", f"{fv.MODEL_NAME}.so")
+
+
+@functools.lru_cache(maxsize=None)
+def _shim_error_flag(resources: str):
+    """The status shim's ``wearjoint_shim_flag_error``, or None if this FMU has no shim.
+
+    dlopen of the shim's path returns the library the host already loaded.
+    """
+    try:
+        return ctypes.CDLL(str(Path(resources).parent / _SHIM_BINARY)).wearjoint_shim_flag_error
+    except (OSError, AttributeError):
+        return None
 
 
 def _built_n_points(resources) -> int:
@@ -174,15 +194,19 @@ class ClearanceWearJoint(Fmi2Slave):
 
     # ------------------------------------------------------------- errors
     def _abort_call(self, message: str):
-        """Log ``message`` (fmi2Error) and make the current FMI call fail.
+        """Log ``message`` (fmi2Error) and make the current FMI call fail with fmi2Error.
 
-        pythonfmu 0.7 maps a Python exception to fmi2Fatal and then releases its
-        references to the slave class, the instance and its log queue while still
-        holding them (the host segfaults at the next garbage collection).  One
-        extra reference to each is kept here, forever, to balance that.
+        pythonfmu 0.7 maps a Python exception to fmi2Fatal; flagging the error to
+        the status shim first makes the call return fmi2Error.  pythonfmu then
+        releases its references to the slave class, the instance and its log
+        queue while still holding them (the host segfaults at the next garbage
+        collection): one extra reference to each is kept here, forever.
         """
         self._log_error(message)
         _OVER_RELEASED.extend((type(self), self, self.log_queue))
+        flag_error = _shim_error_flag(self.resources) if self.resources is not None else None
+        if flag_error is not None:
+            flag_error()
         raise FmuCallFailed(message)
 
     def _log_error(self, message: str) -> None:
@@ -217,15 +241,17 @@ class ClearanceWearJoint(Fmi2Slave):
     def _non_finite_inputs(self) -> str:
         return ", ".join(f"{self._names[vr]}={float(self._reals[vr])!r}" for vr in sorted(self._non_finite_input_vrs))
 
-    def _refresh_force_outputs(self) -> None:
+    def _refresh_force_outputs(self, vrs) -> None:
         self._ensure_joint()
-        if not self._non_finite_input_vrs:
-            result = self._joint.evaluate_array(self._pin_position, self._pin_velocity,
-                                                self._bushing_position, self._bushing_velocity)
-            self._reals[self._feed_through_vrs] = result[self._feed_through_results]
-        else:
-            self._reals[self._feed_through_vrs] = math.nan
-            self._log_error(f"non-finite inputs ({self._non_finite_inputs()}): force outputs are NaN")
+        if self._non_finite_input_vrs:
+            asked = [self._names[vr] for vr in vrs if self._first_output_vr <= vr < self._first_wear_vr]
+            if asked:
+                self._abort_call(f"getReal of {', '.join(asked)}: undefined for non-finite inputs "
+                                 f"({self._non_finite_inputs()})")
+            return  # only wear outputs were asked for; the forces stay stale
+        result = self._joint.evaluate_array(self._pin_position, self._pin_velocity,
+                                            self._bushing_position, self._bushing_velocity)
+        self._reals[self._feed_through_vrs] = result[self._feed_through_results]
         self._forces_stale = False
 
     def _refresh_wear_outputs(self) -> None:
@@ -273,7 +299,7 @@ class ClearanceWearJoint(Fmi2Slave):
             self._abort_call(f"getReal: not Real variables: {', '.join(bad)}")
         if top >= self._first_output_vr:
             if self._forces_stale:
-                self._refresh_force_outputs()
+                self._refresh_force_outputs(vrs)
             if top >= self._first_wear_vr and self._wear_stale:
                 self._refresh_wear_outputs()
         return self._reals[vrs].tolist()

@@ -29,7 +29,7 @@ from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint import fmu_variables as fv  # noqa: E402
 from wearjoint.fmu_build import build_fmu, cli_arguments, cli_run, default_fmu_path  # noqa: E402
 
-FMI_DISCARD, FMI_ERROR = 2, 3
+FMI_DISCARD, FMI_ERROR, FMI_FATAL = 2, 3, 4
 INPUT_NAMES = [v.name for v in fv.INPUTS]
 FORCE_NAMES = ["pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y", "bushing_torque"]
 SCALAR_NAMES = [v.name for v in fv.SCALAR_OUTPUTS]
@@ -69,20 +69,25 @@ _INSTANCE_NUMBERS = itertools.count()
 class Slave:
     """One fmpy FMU2Slave instance (unique instance name) with its log messages as (status, text)."""
 
-    def __init__(self, fmu, name, parameters=None, integers=None):
+    def __init__(self, fmu, name, parameters=None, integers=None, logging_on=True):
         self.vr = fmu["vr"]
         name = f"{name}_{next(_INSTANCE_NUMBERS)}"
         self.log = LOGS[name]
         md = fmu["md"]
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmu["dir"],
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-        self.fmu.instantiate(callbacks=CALLBACKS, loggingOn=True)
+        self.fmu.instantiate(callbacks=CALLBACKS, loggingOn=logging_on)
+        self.start(parameters, integers)
+
+    def start(self, parameters=None, integers=None):
+        """setupExperiment, enterInitializationMode and the given parameter values."""
         self.fmu.setupExperiment(startTime=0.0)
         self.fmu.enterInitializationMode()
         if parameters:
             self.fmu.setReal([self.vr[k] for k in parameters], list(parameters.values()))
         if integers:
             self.fmu.setInteger([self.vr[k] for k in integers], list(integers.values()))
+        return self
 
     def initialise(self):
         self.fmu.exitInitializationMode()
@@ -96,6 +101,12 @@ class Slave:
 
     def errors(self):
         return [text for status, text in self.log if status >= FMI_ERROR]
+
+    def assert_failed_with_error(self, failure, *words):
+        """The call failed with fmi2Error, logged (status error, no fatal) with all ``words``."""
+        assert failure.value.status == FMI_ERROR
+        assert any(all(w in text for w in words) for status, text in self.log if status == FMI_ERROR), self.log
+        assert not any(status == FMI_FATAL for status, _ in self.log), self.log
 
     def free(self):
         self.fmu.freeInstance()
@@ -276,16 +287,16 @@ def test_fmu_state_round_trip_is_exact(slave, fmu):
 
 
 # ------------------------------------------------------------- errors
+# The FMU's status shim turns the slave's errors into fmi2Error (pythonfmu alone: fmi2Fatal).
 @pytest.mark.parametrize("name, value", [("bushing_radius", 0.0099), ("restitution", 1.5),
                                          ("friction_v1", 1e-4), ("rho_mode", 2)])
-def test_bad_parameter_fails_initialisation_with_its_name(fmu, name, value):
+def test_bad_parameter_fails_initialisation_with_fmi2_error_naming_it(fmu, name, value):
     kind = "integers" if isinstance(value, int) else "parameters"
     s = Slave(fmu, f"bad_{name}", **{kind: {name: value}})
     with pytest.raises(FMICallException) as failure:
         s.initialise()
-    # pythonfmu 0.7 maps every Python exception to fmi2Fatal; fmi2Error is not reachable
-    assert failure.value.status >= FMI_ERROR
-    assert any(name in text for text in s.errors()), s.log
+    s.assert_failed_with_error(failure, name, repr(value))
+    s.fmu.terminate()
     s.free()
     gc.collect()  # the host survives pythonfmu's reference release after the failure
     fresh = Slave(fmu, "after_failure").initialise()
@@ -294,25 +305,50 @@ def test_bad_parameter_fails_initialisation_with_its_name(fmu, name, value):
     fresh.free()
 
 
-def test_n_points_and_fixed_parameters_cannot_change(fmu, slave):
-    s = Slave(fmu, "n_points")
-    s.fmu.setInteger([s.vr["n_points"]], [P.n_points])  # the built value is accepted
+def test_instance_is_reset_after_a_failed_initialisation(fmu):
+    s = Slave(fmu, "reset", parameters={"restitution": 1.5})
     with pytest.raises(FMICallException):
-        s.fmu.setInteger([s.vr["n_points"]], [100])
-    assert any("n_points" in text and "100" in text for text in s.errors())
+        s.initialise()
+    s.fmu.reset()
+    gc.collect()
+    s.start(parameters={"restitution": 0.8}).initialise()
+    x = contact_inputs()
+    s.set_inputs(x)
+    expected = ClearanceJoint(P.replace(restitution=0.8)).evaluate(x[:6], x[6:])
+    np.testing.assert_allclose(s.get(FORCE_NAMES[:3]), expected.pin_force, rtol=1e-12, atol=0)
     s.free()
-    with pytest.raises(FMICallException):
-        slave.fmu.setReal([slave.vr["restitution"]], [0.5])
-    assert any("restitution" in text for text in slave.errors()), slave.log
+
+
+def test_errors_are_logged_with_logging_off(fmu):
+    s = Slave(fmu, "quiet", parameters={"restitution": 1.5}, logging_on=False)
+    with pytest.raises(FMICallException) as failure:
+        s.initialise()
+    s.assert_failed_with_error(failure, "restitution")
+    s.free()
     gc.collect()
 
 
-def test_non_finite_input_is_reported_and_discarded(slave):
+def test_n_points_and_fixed_parameters_cannot_change(fmu, slave):
+    s = Slave(fmu, "n_points")
+    s.fmu.setInteger([s.vr["n_points"]], [P.n_points])  # the built value is accepted
+    with pytest.raises(FMICallException) as failure:
+        s.fmu.setInteger([s.vr["n_points"]], [100])
+    s.assert_failed_with_error(failure, "n_points", "100")
+    s.free()
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.setReal([slave.vr["restitution"]], [0.5])
+    slave.assert_failed_with_error(failure, "restitution", "fixed")
+    gc.collect()
+
+
+def test_non_finite_input_fails_get_real_and_discards_do_step(slave, fmu):
     x = contact_inputs()
     x[0] = math.nan
     slave.set_inputs(x)
-    assert np.isnan(slave.get(FORCE_NAMES)).all()
-    assert any("pin_x" in text for text in slave.errors())
+    with pytest.raises(FMICallException) as failure:
+        slave.get(["normal_force", "worn_volume"])
+    slave.assert_failed_with_error(failure, "normal_force", "pin_x=nan")
+    assert slave.get(["worn_volume", "max_wear_depth"]).tolist() == [0.0, 0.0]  # not input-dependent
     with pytest.raises(FMICallException) as failure:
         slave.fmu.doStep(0.0, 1e-5)
     assert failure.value.status == FMI_DISCARD
@@ -320,6 +356,7 @@ def test_non_finite_input_is_reported_and_discarded(slave):
     slave.set_inputs(contact_inputs())
     slave.fmu.doStep(0.0, 1e-5)
     assert slave.get(["contact"])[0] == 1.0
+    gc.collect()
 
 
 # ------------------------------------------------------------- run-time imports
@@ -392,6 +429,19 @@ def test_build_is_skipped_when_identical_and_n_points_is_built_in(tmp_path):
     assert next(int(v.start) for v in md.modelVariables if v.name == "n_points") == 64
     assert validate_fmu(str(small)) == []
     assert default_fmu_path(64) != default_fmu_path(P.n_points)
+
+
+def test_build_fails_clearly_without_a_c_compiler(tmp_path, monkeypatch, capsys):
+    import argparse
+
+    monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
+    with pytest.raises(RuntimeError, match="C compiler"):
+        build_fmu(tmp_path, n_points=64, force=True)
+    parser = argparse.ArgumentParser()
+    cli_arguments(parser)
+    assert cli_run(parser.parse_args(["--out", str(tmp_path / "out"), "--n-points", "64"])) == 2
+    assert "no-such-cc" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_cli_reports_a_bad_n_points(capsys, tmp_path):

@@ -6,14 +6,23 @@ modelDescription.xml is then completed so that ``fmpy.validate_fmu`` reports
 no problem: units, ModelStructure dependencies (direct feed-through of the
 force outputs on the 12 inputs) and InitialUnknowns.
 
+pythonfmu 0.7 reports every Python exception as fmi2Fatal.  The build therefore
+compiles ``fmu_src/status_shim.c`` (a C compiler is required: ``$CC``, default
+gcc; Linux x86_64 only) into the FMU's ``binaries/linux64/ClearanceWearJoint.so``;
+pythonfmu's binary becomes ``binaries/linux64/pythonfmu_ClearanceWearJoint.so``
+behind it, and errors the slave reports come out as fmi2Error.
+
 pythonfmu is imported only inside :func:`build_fmu` (``import wearjoint`` stays light).
 """
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import json
 import os
+import platform
 import shutil
+import subprocess
 import sys
 import tempfile
 import zipfile
@@ -26,13 +35,22 @@ from .parameters import JointParameters, ParameterError
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 SLAVE_SOURCE = PACKAGE_DIR.parent / "fmu_src" / f"{fv.MODEL_NAME}.py"
+SHIM_SOURCE = PACKAGE_DIR.parent / "fmu_src" / "status_shim.c"
+# the shim takes the place of pythonfmu's binary, which it loads from the same folder
+SHIM_ARCNAME = f"binaries/linux64/{fv.MODEL_NAME}.so"
+WRAPPED_BINARY_NAME = f"pythonfmu_{fv.MODEL_NAME}.so"
 FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
 REQUIREMENTS = "numpy\nnumba\n"
 
 
+def _package_sources() -> list[Path]:
+    """wearjoint/*.py and wearjoint/core/*.py, shipped in the FMU's resources."""
+    return [*sorted(PACKAGE_DIR.glob("*.py")), *sorted((PACKAGE_DIR / "core").glob("*.py"))]
+
+
 def shipped_sources() -> list[Path]:
-    """The files that define the FMU: the slave, wearjoint/*.py and wearjoint/core/*.py."""
-    return [SLAVE_SOURCE, *sorted(PACKAGE_DIR.glob("*.py")), *sorted((PACKAGE_DIR / "core").glob("*.py"))]
+    """The files that define the FMU: the slave, the status shim and the wearjoint package sources."""
+    return [SLAVE_SOURCE, SHIM_SOURCE, *_package_sources()]
 
 
 def build_key(n_points: int) -> str:
@@ -70,7 +88,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     """Build ``out_dir/ClearanceWearJoint.fmu`` with ``n_points`` bushing points; return its path.
 
     Skipped (the existing file is returned) when the FMU there was built from the
-    same sources and n_points, unless ``force``.  Raises ParameterError for a bad n_points.
+    same sources and n_points, unless ``force``.  Raises ParameterError for a bad
+    n_points, RuntimeError when the status shim cannot be built (no C compiler).
     """
     JointParameters(n_points=n_points)  # validates n_points, names it in the error
     out_dir = Path(out_dir)
@@ -78,24 +97,47 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     key = build_key(n_points)
     if not force and _existing_build_key(target) == key:
         return target
-    if not SLAVE_SOURCE.is_file():
-        raise FileNotFoundError(f"FMU slave source {SLAVE_SOURCE} not found (wearjoint must be used from its source tree)")
-    out_dir.mkdir(parents=True, exist_ok=True)
+    for source in (SLAVE_SOURCE, SHIM_SOURCE):
+        if not source.is_file():
+            raise FileNotFoundError(f"FMU source {source} not found (wearjoint must be used from its source tree)")
     with tempfile.TemporaryDirectory(prefix="wearjoint_fmu_") as tmp:
         tmp = Path(tmp)
+        shim = _compile_status_shim(tmp / "shim.so")
         project_files = _stage_project_files(tmp / "stage", n_points, key)
         raw = _run_pythonfmu(tmp / "raw", project_files)
+        out_dir.mkdir(parents=True, exist_ok=True)
         partial = target.with_name(target.name + ".partial")
-        _finish_fmu(raw, partial, n_points)
+        _finish_fmu(raw, partial, n_points, shim)
         partial.replace(target)
     return target
+
+
+def _compile_status_shim(library: Path) -> Path:
+    """Compile fmu_src/status_shim.c into ``library`` (``$CC``, default gcc); RuntimeError if impossible."""
+    if not sys.platform.startswith("linux") or platform.machine() != "x86_64":
+        raise RuntimeError(f"the FMU's status shim is built for binaries/linux64 only; this is {sys.platform} "
+                           f"{platform.machine()} (build the FMU on Linux x86_64)")
+    compiler = os.environ.get("CC") or "gcc"
+    if shutil.which(compiler) is None:
+        raise RuntimeError(f"building the FMU needs a C compiler for its status shim: {compiler!r} not found "
+                           "(install gcc or set CC)")
+    fmpy = importlib.util.find_spec("fmpy")
+    headers = Path(next(iter(fmpy.submodule_search_locations))) / "c-code" if fmpy else None
+    if headers is None or not (headers / "fmi2Functions.h").is_file():
+        raise RuntimeError("building the FMU needs the FMI 2.0 headers shipped with fmpy (fmpy/c-code/fmi2Functions.h)")
+    command = [compiler, "-shared", "-fPIC", "-O2", "-fvisibility=hidden", f"-I{headers}",
+               f'-DWRAPPED_LIBRARY="{WRAPPED_BINARY_NAME}"', str(SHIM_SOURCE), "-o", str(library), "-ldl"]
+    done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"compiling the FMU's status shim failed ({' '.join(command)}):\n{done.stderr.strip()}")
+    return library
 
 
 def _stage_project_files(stage: Path, n_points: int, key: str) -> list[Path]:
     """Stage the resources: wearjoint (top level + core, no caches), requirements.txt, build config."""
     package = stage / "wearjoint"
     (package / "core").mkdir(parents=True)
-    for path in shipped_sources()[1:]:
+    for path in _package_sources():
         shutil.copy2(path, package / path.relative_to(PACKAGE_DIR))
     requirements = stage / "requirements.txt"
     requirements.write_text(REQUIREMENTS)
@@ -126,14 +168,20 @@ def _run_pythonfmu(dest: Path, project_files: list[Path]) -> Path:
             sys.modules[slave_module] = saved_module
 
 
-def _finish_fmu(raw: Path, target: Path, n_points: int) -> None:
-    """Copy ``raw`` to ``target`` with the completed modelDescription.xml."""
-    with zipfile.ZipFile(raw) as src, zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as dst:
-        for item in src.infolist():
-            data = src.read(item.filename)
-            if item.filename == "modelDescription.xml":
-                data = complete_model_description(data, n_points)
-            dst.writestr(item.filename, data)
+def _finish_fmu(raw: Path, target: Path, n_points: int, shim: Path) -> None:
+    """Copy ``raw`` to ``target`` with the completed modelDescription.xml and the status shim
+    in place of pythonfmu's linux64 binary (renamed to WRAPPED_BINARY_NAME)."""
+    wrapped_arcname = f"{Path(SHIM_ARCNAME).parent.as_posix()}/{WRAPPED_BINARY_NAME}"
+    with zipfile.ZipFile(raw) as src:
+        if SHIM_ARCNAME not in src.namelist():
+            raise RuntimeError(f"pythonfmu wrote no {SHIM_ARCNAME} to wrap")
+        with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as dst:
+            dst.write(shim, SHIM_ARCNAME)
+            for item in src.infolist():
+                data = src.read(item.filename)
+                if item.filename == "modelDescription.xml":
+                    data = complete_model_description(data, n_points)
+                dst.writestr(wrapped_arcname if item.filename == SHIM_ARCNAME else item.filename, data)
 
 
 def complete_model_description(xml: bytes, n_points: int) -> bytes:
