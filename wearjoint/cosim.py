@@ -41,7 +41,7 @@ from numba import njit
 from . import fmu_variables as fv
 from .core import layout as L
 from .core.contact import bushing_point_angles
-from .core.integrators import RK4, integrate, record_step
+from .core.integrators import record_step, rk4_step
 from .core.mechanism import derivative
 from .mechanism import SliderCrank
 from .cli_options import add_model_arguments, model_from_args
@@ -81,10 +81,9 @@ B_DY = B_ROLLBACK_END                     # f(t, y) with the held forces
 B_INPUT = B_DY + _N_Y                     # FMU inputs at the end of the step, aliased by a ctypes array
 B_RESULT = B_INPUT + N_INPUTS             # outputs in the layout.R_* result layout (for record_step)
 B_FORCES = B_RESULT + L.N_RESULT          # (Fx, Fy, T) on the crank then the rod
-B_CONTROL = B_FORCES + 6                  # integrate's control vector (control[0] = RK4 step)
-B_TRACK = B_CONTROL + 7                   # record_step bookkeeping (samples, previous contact)
-B_IDLE_TRACK = B_TRACK + L.N_TRACK        # bookkeeping for integrate's own recorder (never samples)
-B_MP = B_IDLE_TRACK + L.N_TRACK           # mechanism parameter vector
+B_STAGES = B_FORCES + 6                   # RK4 stage scratch (4 rows of the state size)
+B_TRACK = B_STAGES + 4 * _N_Y             # record_step bookkeeping (samples, previous contact)
+B_MP = B_TRACK + L.N_TRACK                # mechanism parameter vector
 B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces during contact
 B_STATS = B_EXTRAPOLATE + 1               # per-revolution statistics (rows of layout.N_STATS)
 
@@ -127,7 +126,7 @@ def communication_step(t, h, record, buf, ws, samples):
     From the FMU outputs at t (``buf[B_OUTPUT:]``) sets the forces and f(t, y);
     if ``record``, accounts the point t (``record_step``, the step that ended
     there being ``buf[B_LAST_STEP]``); if h > 0, integrates y over [t, t + h]
-    with one RK4 step (MODE_EXTERNAL), the forces held at their value at t or,
+    with one RK4 step (``rk4_step``, MODE_EXTERNAL), the forces held at their value at t or,
     with extrapolation in persisting contact, at the mean of their linear
     extrapolation.  Writes the FMU inputs at the time reached (crank = pin
     body, rod = bushing body).
@@ -143,10 +142,8 @@ def communication_step(t, h, record, buf, ws, samples):
         result[OUTPUT_RESULT_INDEX[k]] = outputs[k]
     for k in range(6):
         forces[k] = outputs[k]
-    # integrate needs a joint tuple of the in-process layout; in MODE_EXTERNAL it only reads
-    # the result (its recorder here is idle: no revolution rows, no sample rows)
-    no_rows = buf[0:0]
-    joint = (mp, mp, mp, mp, mp, no_rows, np.zeros(0, dtype=np.bool_), result)
+    # derivative takes a joint tuple of the in-process layout; MODE_EXTERNAL reads none of it
+    joint = (mp, mp, mp, mp, mp, mp, np.zeros(0, dtype=np.bool_), result)
     derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
         stats = buf[B_STATS:].reshape((-1, L.N_STATS))
@@ -161,16 +158,13 @@ def communication_step(t, h, record, buf, ws, samples):
             for k in range(6):
                 forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
             derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
-        control = buf[B_CONTROL:B_CONTROL + 7]
-        control[0] = h
-        t_end, _, _ = integrate(RK4, t, t + h, y, control, L.MODE_EXTERNAL, mp, joint, forces, ws, dy,
-                                no_rows.reshape((0, L.N_STATS)), samples[0:0],
-                                buf[B_IDLE_TRACK:B_IDLE_TRACK + L.N_TRACK])
+        rk4_step(t, y, h, L.MODE_EXTERNAL, mp, joint, forces, ws, dy,
+                 buf[B_STAGES:B_STAGES + 4 * 2 * n].reshape((4, 2 * n)))
         for k in range(6):
             previous[k] = outputs[k]
         buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
-        buf[B_LAST_STEP] = t_end - t
-        t = t_end
+        buf[B_LAST_STEP] = h
+        t = t + h
     inputs = buf[B_INPUT:B_INPUT + N_INPUTS]
     for k in range(3):
         inputs[k] = y[L.CRANK + k]
@@ -381,7 +375,6 @@ class CoSimulation:
         b[B_MP:B_MP + L.N_MECHANISM_PARAMETERS] = self.mechanism.parameter_vector
         b[B_EXTRAPOLATE] = 1.0 if self.options.scheme in ("extrapolation", "adaptive") else 0.0
         b[B_TRACK:B_TRACK + L.N_TRACK] = new_track(self.options.sample_dt_s)
-        b[B_IDLE_TRACK:B_IDLE_TRACK + L.N_TRACK] = new_track(math.inf, t0=math.inf)   # never samples
         b[B_STATS:] = new_revolution_stats(n_rev).ravel()
         self.revolution_stats = b[B_STATS:].reshape((n_rev, L.N_STATS))
         self.y = b[B_Y:B_Y + _N_Y]

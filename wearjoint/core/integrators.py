@@ -87,6 +87,28 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
 
 
 @njit(cache=True)
+def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
+    """One classical RK4 step of length h, y updated in place; k1 = f(t, y) on entry,
+    ``stages`` is (4, len(y)) scratch.  Four derivative evaluations, no bookkeeping."""
+    n2 = y.shape[0]
+    k2 = stages[0]
+    k3 = stages[1]
+    k4 = stages[2]
+    ys = stages[3]
+    for i in range(n2):
+        ys[i] = y[i] + 0.5 * h * k1[i]
+    derivative(t + 0.5 * h, ys, mode, mp, joint, body_forces, ws, k2)
+    for i in range(n2):
+        ys[i] = y[i] + 0.5 * h * k2[i]
+    derivative(t + 0.5 * h, ys, mode, mp, joint, body_forces, ws, k3)
+    for i in range(n2):
+        ys[i] = y[i] + h * k3[i]
+    derivative(t + h, ys, mode, mp, joint, body_forces, ws, k4)
+    for i in range(n2):
+        y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@njit(cache=True)
 def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
     """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint."""
     n = N_COORDINATES
@@ -131,9 +153,10 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     memory = joint[5]
     pen_start = result[R_PENETRATION]
     err_previous = 1e-4
-    k2 = np.empty(n2)
-    k3 = np.empty(n2)
-    k4 = np.empty(n2)
+    stages = np.empty((4, n2))
+    k2 = stages[0]
+    k3 = stages[1]
+    k4 = stages[2]
     k5 = np.empty(n2)
     k6 = np.empty(n2)
     k7 = np.empty(n2)
@@ -144,20 +167,10 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     while t < t_end * (1.0 - 1e-15) - 1e-300:
         step = min(h, t_end - t)
         if method == RK4:
-            for i in range(n2):
-                ys[i] = y[i] + 0.5 * step * dy[i]
-            derivative(t + 0.5 * step, ys, mode, mp, joint, body_forces, ws, k2)
-            for i in range(n2):
-                ys[i] = y[i] + 0.5 * step * k2[i]
-            derivative(t + 0.5 * step, ys, mode, mp, joint, body_forces, ws, k3)
-            for i in range(n2):
-                ys[i] = y[i] + step * k3[i]
-            derivative(t + step, ys, mode, mp, joint, body_forces, ws, k4)
-            for i in range(n2):
-                y[i] += step / 6.0 * (dy[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            rk4_step(t, y, step, mode, mp, joint, body_forces, ws, dy, stages)
             t += step
             accepted += 1
-            accept_point(t, y, step, k4, mode, mp, joint, body_forces, ws, dy, False)
+            accept_point(t, y, step, dy, mode, mp, joint, body_forces, ws, dy, False)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             continue
         # Dormand-Prince 5(4)
