@@ -145,3 +145,16 @@ def test_accelerated_profiles_agree_with_brute_force(tmp_path):
     config = small_config(revolutions=20, snapshots=(10, 20), checkpoint_every_revolutions=5.0)
     result = run_convergence(config, [1.0, 10.0], tmp_path, progress=False)
     assert result["within_tolerance"]["F=10"], result["rows"]
+
+
+def test_cycle_jumping_and_wear_acceleration_agree(tmp_path):
+    """Two ways to let one simulated revolution stand for ten remove the same Archard volume.
+
+    (Max depth is not compared: a jump repeats one revolution's contact pattern without the
+    feedback of the evolving profile, so it concentrates the wear; measured 60 vs 37 µm here.)"""
+    jumped = run_wear_study(small_config(joint=paper_joint(wear_factor=1.0), snapshots=(10,), jump_revolutions=1,
+                                         jump_factor=10.0), tmp_path / "jump", progress=False, plots=False)
+    accelerated = run_wear_study(small_config(joint=paper_joint(wear_factor=10.0), snapshots=(10,)),
+                                 tmp_path / "factor", progress=False, plots=False)
+    assert jumped["simulated_revolutions"] == accelerated["simulated_revolutions"] == pytest.approx(1.0)
+    assert jumped["worn_volume_m3"] == pytest.approx(accelerated["worn_volume_m3"], rel=0.2)
