@@ -48,7 +48,7 @@ from .cli_options import add_model_arguments, model_from_args
 from .parameters import (
     JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
 )
-from .progress import Progress
+from .runner import run_in_chunks
 from .results import RunRecord, new_revolution_stats, new_track, write_results
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
@@ -539,47 +539,29 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
                      chunks_per_revolution: int = 8) -> RunRecord:
     """Co-simulate ``options.revolutions`` crank revolutions with the joint FMU; the run's record.
 
-    Mirrors :func:`wearjoint.simulate.run_simulation` (chunks, progress line,
-    Ctrl-C keeps the finished chunks with ``completed = False``).  The FMU
+    Runs through :func:`wearjoint.runner.run_in_chunks` like
+    :func:`wearjoint.simulate.run_simulation` (progress line, Ctrl-C keeps the
+    finished chunks with ``completed = False``).  The FMU
     instance is always freed.  ``extra`` holds the communication statistics.
     """
     sim = CoSimulation(joint, mechanism, options, fmu_path)
     try:
         o = sim.options
         period = sim.mechanism.params.period_s
-        t_final = o.revolutions * period
-        chunk = period / chunks_per_revolution
-        samples_list = []
-        wear_growth = []
-        buffer = np.zeros((int(chunk / o.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-        bar = Progress(t_final, "cosim", enabled=progress)
-        completed = True
-        wall0 = time.perf_counter()
-        try:
-            for i in range(int(math.ceil(o.revolutions * chunks_per_revolution - 1e-9))):
-                n = sim.advance_to(min(t_final, (i + 1) * chunk), buffer)
-                samples_list.append(buffer[:n].copy())
-                if (i + 1) % chunks_per_revolution == 0:
-                    wear_growth.append(sim.max_wear_depth_m())
-                bar.update(sim.t)
-        except KeyboardInterrupt:
-            completed = False
-        wall = time.perf_counter() - wall0
-        bar.close()
+        run = run_in_chunks(sim, o.revolutions, period, o.sample_dt_s, "cosim", progress, chunks_per_revolution)
         phi_deg, wear_depth, worn_volume = sim.wear_profile()
     finally:
         sim.close()
-    samples = np.concatenate(samples_list) if samples_list else np.zeros((0, L.N_SAMPLE_COLUMNS))
     return RunRecord(
-        samples=samples, revolution_stats=sim.revolution_stats[:int(math.ceil(o.revolutions))].copy(),
-        wear_growth_m=np.asarray(wear_growth), phi_deg=phi_deg, wear_depth_m=wear_depth,
-        worn_volume_m3=worn_volume, simulated_time_s=sim.t, wall_time_s=wall, revolutions=sim.t / period,
+        samples=run.samples, revolution_stats=sim.revolution_stats[:int(math.ceil(o.revolutions))].copy(),
+        wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth,
+        worn_volume_m3=worn_volume, simulated_time_s=sim.t, wall_time_s=run.wall_time_s, revolutions=sim.t / period,
         period_s=period, clearance_m=sim.joint.clearance_m,
         parameters={"joint": sim.joint.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
                     "cosimulation": o.to_dict(), "fmu": str(sim.fmu_path), "engine": "cosim"},
         extra={"communication_steps": sim.communication_steps, "rollbacks": sim.rollbacks,
                "fmi_time_s": sim.fmi_time_s, "master_time_s": sim.master_time_s},
-        completed=completed)
+        completed=run.completed)
 
 
 # ------------------------------------------------------------------ CLI (wearjoint cosim)

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,8 +16,8 @@ from .parameters import (
     JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
     check_joint_fits_mechanism,
 )
-from .progress import Progress
 from .results import RunRecord, new_revolution_stats, new_track
+from .runner import run_in_chunks
 
 INTEGRATORS = ("rk4", "dopri", "gear")
 
@@ -111,6 +110,16 @@ class Simulation:
         self.rejected = int(checkpoint["rejected"])
         self._derivative()
 
+    def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """(phi_deg, wear_depth_m, worn_volume_m3) of the bushing (rod frame), copies."""
+        return self.joint.phi_deg, self.joint.wear_depth.copy(), self.joint.worn_volume_m3
+
+    def max_wear_depth_m(self) -> float:
+        return self.joint.max_wear_depth_m
+
+    def close(self) -> None:
+        """Nothing to free (the co-simulation engine frees its FMU instance here)."""
+
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         """Integrate to t_end, writing samples into ``samples``; returns how many."""
         self.track[L.K_N_SAMPLES] = 0
@@ -156,53 +165,28 @@ class Simulation:
             self.accepted += 1
 
 
-def _sample_capacity(duration: float, options: SimulationOptions) -> int:
-    return int(duration / options.sample_dt_s) + 16
-
-
 def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                    options: SimulationOptions | None = None, progress: bool = True,
                    chunks_per_revolution: int = 8) -> RunRecord:
     """Simulate ``options.revolutions`` crank revolutions; returns the run's record.
 
-    The run proceeds in chunks (a progress line on stderr for runs longer than a
-    few seconds); Ctrl-C stops it after the current chunk and returns what was
-    finished (``completed = False``).
+    The run proceeds in chunks (:func:`wearjoint.runner.run_in_chunks`: progress
+    line, Ctrl-C keeps the finished chunks with ``completed = False``).
     """
     sim = Simulation(joint, mechanism, options)
     o = sim.options
     period = sim.mechanism.params.period_s
-    t_final = o.revolutions * period
-    chunk = period / chunks_per_revolution
-    samples_list = []
-    wear_growth = []
-    buffer = np.zeros((_sample_capacity(chunk, o), L.N_SAMPLE_COLUMNS))
-    bar = Progress(t_final, "simulate", enabled=progress)
-    completed = True
-    wall0 = time.perf_counter()
-    n_chunks = int(math.ceil(o.revolutions * chunks_per_revolution - 1e-9))
-    try:
-        for i in range(n_chunks):
-            n = sim.advance_to(min(t_final, (i + 1) * chunk), buffer)
-            samples_list.append(buffer[:n].copy())
-            if (i + 1) % chunks_per_revolution == 0:
-                wear_growth.append(sim.joint.max_wear_depth_m)
-            bar.update(sim.t)
-    except KeyboardInterrupt:
-        completed = False
-    wall = time.perf_counter() - wall0
-    bar.close()
-    samples = np.concatenate(samples_list) if samples_list else np.zeros((0, L.N_SAMPLE_COLUMNS))
+    run = run_in_chunks(sim, o.revolutions, period, o.sample_dt_s, "simulate", progress, chunks_per_revolution)
+    phi_deg, wear_depth, worn_volume = sim.wear_profile()
     return RunRecord(
-        samples=samples, revolution_stats=sim.revolution_stats[:int(math.ceil(o.revolutions))],
-        wear_growth_m=np.asarray(wear_growth), phi_deg=sim.joint.phi_deg,
-        wear_depth_m=sim.joint.wear_depth.copy(), worn_volume_m3=sim.joint.worn_volume_m3,
-        simulated_time_s=sim.t, wall_time_s=wall, revolutions=sim.t / period, period_s=period,
+        samples=run.samples, revolution_stats=sim.revolution_stats[:int(math.ceil(o.revolutions))],
+        wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth, worn_volume_m3=worn_volume,
+        simulated_time_s=sim.t, wall_time_s=run.wall_time_s, revolutions=sim.t / period, period_s=period,
         clearance_m=sim.joint.params.clearance_m,
         parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
                     "simulation": o.to_dict(), "engine": "monolithic"},
         extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected},
-        completed=completed)
+        completed=run.completed)
 
 
 __all__ = ["SimulationOptions", "Simulation", "run_simulation", "INTEGRATORS", "ParameterError"]
