@@ -1,0 +1,174 @@
+"""`wearjoint validate` (validation/compare.py): the quick cross-check passes and writes its
+files; a genuinely different model in one engine makes it fail; the comparison rules."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from wearjoint import JointParameters
+from wearjoint.core import layout as L
+from wearjoint.results import RunRecord, new_revolution_stats
+
+pytest.importorskip("wearjoint.validation.exudyn_model")
+cmp = pytest.importorskip("wearjoint.validation.compare")
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def wearjoint(*args, timeout=600):
+    return subprocess.run([sys.executable, "-m", "wearjoint.cli", *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def _available_engines():
+    """The reference and every engine whose module imports (the FMU co-simulation may be absent)."""
+    engines = []
+    for engine in cmp.ENGINES:
+        try:
+            if engine != cmp.REFERENCE:
+                cmp.engine_runner(engine, JointParameters())
+            engines.append(engine)
+        except ImportError:
+            pass
+    return engines
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("validate")
+    engines = _available_engines()
+    done = wearjoint("validate", "--quick", "--out", str(out), "--engines", ",".join(engines))
+    return out, engines, done
+
+
+def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
+    out, engines, done = quick
+    assert done.returncode == 0, done.stdout + done.stderr[-3000:]
+    assert "validate: [1/" in done.stderr                                   # progress lines
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["passed"] and summary["complete"] and summary["exit_status"] == 0
+    assert summary["metrics_failed"] == [] and summary["gaps"] == []
+    others = set(engines) - {cmp.REFERENCE}
+    by_group = {}
+    for m in summary["metrics"]:
+        by_group.setdefault(m["group"], []).append(m)
+        assert m["passed"] and abs(m["difference"]) <= m["tolerance"]
+        assert m["scatter"] >= 0.0 and m["tolerance"] > 0.0 and m["scatter_values"]
+    assert {m["engine"] for m in by_group[cmp.GROUP_STATISTICS]} == others
+    assert {m["name"] for m in by_group[cmp.GROUP_STATISTICS]} == set(cmp.STATISTICS)
+    assert {m["engine"] for m in by_group[cmp.GROUP_POINTWISE]} == others
+    assert {m["name"] for m in by_group[cmp.GROUP_POINTWISE]} == set(cmp.POINTWISE)
+    assert {m["engine"] for m in by_group[cmp.GROUP_PROFILE]} == others & set(cmp.WEAR_ENGINES)
+    assert {"max_wear_depth_m", "worn_volume_m3", "profile_decorrelation"} <= {
+        m["name"] for m in by_group[cmp.GROUP_PROFILE]}
+    for m in by_group[cmp.GROUP_POINTWISE]:
+        if m["name"] == "eccentricity_max_difference_m":
+            assert m["difference"] < 0.02 * 1e-4                            # < 2 % of the clearance: same trajectory
+    assert summary["reference_profile"]["max_wear_depth_m"] > 0.0
+    rows = {r["run"]: r for r in summary["runs"]}
+    n_monolithic = 2 + len(cmp.DOPRI_RTOLS)
+    assert len(rows) == 2 * n_monolithic + 3 * len(others) + len(others & set(cmp.WEAR_ENGINES))
+    assert all(r["wall_time_s"] > 0 and r["realtime_factor"] > 0 for r in rows.values())
+    report = (out / "report.md").read_text()
+    assert "**PASS**" in report and report.count("| pass |") == len(summary["metrics"])
+    for name in ("slider_acceleration.png", "pin_orbits.png", "first_impacts.png", "worn_profiles.png"):
+        assert name in summary["figures"] and (out / name).read_bytes()[:8] == PNG
+
+
+def test_validation_fails_when_one_engine_has_a_different_restitution(tmp_path):
+    """exudyn with e_r = 0.5 instead of 0.9: the rebound of the first impact (3 ms) differs,
+    so the point-wise traces must fail, and the command must exit 1."""
+    done = wearjoint("validate", "--quick", "--no-wear", "--out", str(tmp_path), "--quiet",
+                     "--engines", "monolithic,exudyn-discrete", "--perturb", "exudyn-discrete", "restitution=0.5")
+    assert done.returncode == 1, done.stdout + done.stderr[-3000:]
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert not summary["passed"] and summary["engine_joint_changes"] == {"exudyn-discrete": {"restitution": 0.5}}
+    failed = {m["name"] for m in summary["metrics"] if not m["passed"]}
+    assert "eccentricity_max_difference_m" in failed
+    assert "FAIL" in done.stdout and "**FAIL**" in (tmp_path / "report.md").read_text()
+
+
+@pytest.mark.parametrize("args,name", [
+    (["--engines", "monolithic,adams"], "engines"),
+    (["--engines", "exudyn-discrete"], "engines"),
+    (["--perturb", "exudyn-discrete", "stiffness=1"], "perturb"),
+    (["--perturb", "monolithic", "restitution=0.5"], "perturbed engine"),
+    (["--revolutions", "0.01"], "window_s"),
+])
+def test_bad_options_exit_2_with_a_message(tmp_path, args, name):
+    done = wearjoint("validate", "--quick", "--out", str(tmp_path / "v"), "--quiet", *args)
+    assert done.returncode == 2 and name in done.stderr and "Traceback" not in done.stderr
+    assert not (tmp_path / "v" / "summary.json").exists()
+
+
+# ---------------------------------------------------------------- the comparison rules
+def _record(stats_rows, samples=None, period=0.4):
+    stats = new_revolution_stats(len(stats_rows))
+    for k, row in enumerate(stats_rows):
+        for column, value in row.items():
+            stats[k, column] = value
+    samples = np.zeros((0, L.N_SAMPLE_COLUMNS)) if samples is None else samples
+    return RunRecord(samples=samples, revolution_stats=stats, wear_growth_m=np.zeros(0), phi_deg=np.zeros(4),
+                     wear_depth_m=np.zeros(4), worn_volume_m3=0.0, simulated_time_s=0.8, wall_time_s=1.0,
+                     revolutions=2.0, period_s=period, clearance_m=1e-4, parameters={})
+
+
+def test_revolution_statistics_average_over_revolutions():
+    samples = np.zeros((4, L.N_SAMPLE_COLUMNS))
+    samples[:, L.T_CONTACT] = [1.0, 0.0, 1.0, 1.0]
+    samples[:, L.T_ECC_X] = [3e-5, 9e-5, 0.0, 4e-5]
+    samples[:, L.T_ECC_Y] = [4e-5, 0.0, 1e-4, 3e-5]
+    rows = [{L.S_IMPACTS: 100, L.S_CONTACT_TIME: 0.2, L.S_TIME: 0.4, L.S_ACC_MAX: 600.0, L.S_ACC_MIN: -1000.0,
+             L.S_FORCE_MAX: 900.0, L.S_ECC_MAX: 1.05e-4},
+            {L.S_IMPACTS: 140, L.S_CONTACT_TIME: 0.28, L.S_TIME: 0.4, L.S_ACC_MAX: 800.0, L.S_ACC_MIN: -1200.0,
+             L.S_FORCE_MAX: 1100.0, L.S_ECC_MAX: 1.07e-4},
+            {L.S_IMPACTS: 1, L.S_TIME: 1e-6, L.S_ACC_MAX: 5000.0}]        # a sliver after the end: ignored
+    stats = cmp.revolution_statistics(_record(rows, samples))
+    assert stats["impacts_per_revolution"] == pytest.approx(120.0)
+    assert stats["contact_fraction"] == pytest.approx(0.6)
+    assert stats["slider_acc_max_m_s2"] == pytest.approx(700.0)
+    assert stats["slider_acc_min_m_s2"] == pytest.approx(-1100.0)
+    assert stats["max_contact_force_N"] == pytest.approx(1000.0)
+    assert stats["max_eccentricity_m"] == pytest.approx(1.06e-4)
+    assert stats["mean_eccentricity_in_contact_m"] == pytest.approx((5e-5 + 1e-4 + 5e-5) / 3)
+
+
+def test_tolerance_is_k_times_scatter_or_the_floor():
+    rule = cmp.Rule(k=2.0, floor=1.0, floor_relative=0.05)
+    assert rule.tolerance(3.0, 10.0) == 6.0           # k * scatter
+    assert rule.tolerance(0.1, 10.0) == 1.0           # absolute floor
+    assert rule.tolerance(0.1, -100.0) == 5.0         # relative floor
+    metric = cmp._judge("g", "x", "N", rule, "e", 107.0, 100.0, 7.0, {"a": 1.0, "b": 3.0})
+    assert metric.scatter == 3.0 and metric.tolerance == 6.0 and not metric.passed
+    assert cmp._judge("g", "x", "N", rule, "e", 95.0, 100.0, -5.0, {"a": 3.0}).passed
+
+
+def test_pointwise_differences_and_profile_quantities():
+    t = np.arange(0.0, 0.02, 1e-5)
+    ref = np.zeros((t.size, L.N_SAMPLE_COLUMNS))
+    ref[:, L.T_TIME] = t
+    other = ref.copy()
+    other[:, L.T_ECC_X] = np.where(t < 0.01, 3e-7, 1e-3)             # 1 mm off only after the window
+    other[:, L.T_ECC_Y] = -4e-7
+    other[:, L.T_NORMAL_FORCE] = np.where(np.abs(t - 0.005) < 1e-6, 50.0, 0.0)
+    d = cmp.pointwise_differences(_record([{}], other), _record([{}], ref), 0.01 - 1e-9)
+    assert d["eccentricity_max_difference_m"] == pytest.approx(5e-7)
+    assert d["normal_force_max_difference_N"] == pytest.approx(50.0)
+    assert d["slider_acc_max_difference_m_s2"] == 0.0
+    record = _record([{}])
+    record.phi_deg = np.arange(0.0, 360.0, 1.0)
+    record.wear_depth_m = np.zeros(360)
+    record.wear_depth_m[[350, 10, 185]] = [2e-6, 1e-6, 3e-6]
+    q = cmp.profile_quantities(record)
+    assert q["max_wear_depth_m"] == 3e-6
+    # depth-weighted mean direction of 2 um at -10 deg and 1 um at +10 deg: tan = -tan(10 deg) / 3
+    assert q["lobe_angle_near_0_deg"] == pytest.approx(np.degrees(np.arctan(-np.tan(np.radians(10.0)) / 3.0)))
+    assert q["lobe_angle_near_180_deg"] == pytest.approx(185.0)
+    record.wear_depth_m[[350, 10]] = 0.0
+    assert cmp.profile_quantities(record)["lobe_angle_near_0_deg"] is None      # no wear in that half
+    shifted = _record([{}])
+    shifted.wear_depth_m = np.roll(record.wear_depth_m, 90)
+    assert cmp.profile_decorrelation(record, record) == pytest.approx(0.0, abs=1e-12)
+    assert cmp.profile_decorrelation(shifted, record) > 0.9
