@@ -91,3 +91,11 @@ def test_gear_bdf_runs_and_stays_in_the_regime():
     assert times[-1] == pytest.approx(0.02 * 0.4, rel=1e-6)
     ecc = np.hypot(rec.samples[:, L.T_ECC_X], rec.samples[:, L.T_ECC_Y])
     assert ecc.max() < CLEARANCE + 2e-5
+
+
+@pytest.mark.parametrize("start,end,share", [(-2e-6, -1e-6, 0.0), (1e-6, 3e-6, 1.0), (-3e-6, 1e-6, 0.25),
+                                             (1e-6, -1e-6, 0.5), (-np.inf, 1e-6, 0.0), (0.0, 0.0, 1.0)])
+def test_contact_share_of_a_step_is_linear_in_the_signed_penetration(start, end, share):
+    from wearjoint.core.integrators import contact_share
+    assert contact_share(start, end) == pytest.approx(share)
+

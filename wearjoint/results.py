@@ -33,6 +33,7 @@ def new_revolution_stats(n_revolutions: int) -> np.ndarray:
 def new_track(sample_dt: float, t0: float = 0.0) -> np.ndarray:
     track = np.zeros(L.N_TRACK)
     track[L.K_NEXT_SAMPLE] = t0
+    track[L.K_PREVIOUS_PENETRATION] = -np.inf     # starts in free flight
     track[L.K_SAMPLE_DT] = sample_dt
     return track
 

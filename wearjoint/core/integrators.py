@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 
 from .layout import (
-    CRANK, K_N_SAMPLES, M_ACTIVE, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_SAMPLE_DT, MODE_CLEARANCE,
+    CRANK, K_N_SAMPLES, M_ACTIVE, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, MODE_CLEARANCE,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
     R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, ROD, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
@@ -40,12 +40,25 @@ _E1, _E3, _E4, _E5, _E6, _E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, 
 
 
 @njit(cache=True)
+def contact_share(penetration_start, penetration_end):
+    """Share of a step spent in contact, the signed penetration taken linear over the
+    step: 1 or 0 when both ends agree, else the part on the positive side.  (An
+    adaptive step that ends just past a contact onset counts almost no contact time.)"""
+    if penetration_start >= 0.0 and penetration_end >= 0.0:
+        return 1.0
+    if penetration_start < 0.0 and penetration_end < 0.0:
+        return 0.0
+    inside = penetration_end if penetration_end >= 0.0 else penetration_start
+    return inside / (abs(penetration_end) + abs(penetration_start))
+
+
+@njit(cache=True)
 def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
     """Account the accepted point (t, y) that ends a step of length dt.
 
     ``result`` is the joint evaluation there (layout.R_*).  Updates the row of
     the current crank revolution in ``rev_stats`` (impacts = contact onsets,
-    contact time, slider acceleration extremes, max normal force, max
+    contact time (:func:`contact_share`), slider acceleration extremes, max normal force, max
     eccentricity) and appends a sample when t reaches the next sample time.
     """
     contact = result[R_CONTACT] > 0.5
@@ -56,14 +69,14 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
         row = rev_stats[rev]
         if contact and track[K_PREVIOUS_CONTACT] < 0.5:
             row[S_IMPACTS] += 1.0
-        if contact:
-            row[S_CONTACT_TIME] += dt
+        row[S_CONTACT_TIME] += dt * contact_share(track[K_PREVIOUS_PENETRATION], result[R_PENETRATION])
         row[S_TIME] += dt
         row[S_ACC_MAX] = max(row[S_ACC_MAX], acc)
         row[S_ACC_MIN] = min(row[S_ACC_MIN], acc)
         row[S_FORCE_MAX] = max(row[S_FORCE_MAX], result[R_NORMAL_FORCE])
         row[S_ECC_MAX] = max(row[S_ECC_MAX], ecc)
     track[K_PREVIOUS_CONTACT] = 1.0 if contact else 0.0
+    track[K_PREVIOUS_PENETRATION] = result[R_PENETRATION]
     if t >= track[K_NEXT_SAMPLE]:
         i = int(track[K_N_SAMPLES])
         if i < samples.shape[0]:

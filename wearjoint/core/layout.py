@@ -118,4 +118,5 @@ K_PREVIOUS_CONTACT = 0
 K_NEXT_SAMPLE = 1
 K_SAMPLE_DT = 2
 K_N_SAMPLES = 3
-N_TRACK = 4
+K_PREVIOUS_PENETRATION = 4   # signed penetration at the previous accepted point [m]
+N_TRACK = 5
