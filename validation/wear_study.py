@@ -172,9 +172,6 @@ class MonolithicEngine(Simulation):
     def set_wear_profile(self, depth_m) -> None:
         self.joint.set_wear_profile(depth_m)
 
-    def close(self) -> None:
-        """Nothing to free (the co-simulation engine frees its FMU instance)."""
-
 
 def make_engine(config: WearStudyConfig):
     """The simulation engine of ``config.engine`` (same interface as `Simulation`, plus
