@@ -5,6 +5,10 @@
   (value reference = position in ``fmu_variables(n_points)``).
 * Outputs are direct feed-through: forces are evaluated lazily from the current
   inputs at the first getReal after a change (one evaluation per input set).
+* getReal reads each value where it lives (the joint's result array, its wear
+  profile, or this slave's own store of inputs, parameters and wear summary)
+  through a read plan built once per distinct value-reference list; setReal of
+  all 12 inputs in value-reference order is one array write.
 * ``doStep(t, h)`` advances wear and contact memory with the inputs held at the
   start of the step (left-endpoint convention), then outputs belong to the new
   state at the same inputs.
@@ -27,6 +31,7 @@ import json
 import math
 import struct
 import sys
+import typing
 from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
@@ -57,6 +62,7 @@ with _scipy_hidden():
     from wearjoint import ClearanceJoint, JointParameters, ParameterError, __version__
     from wearjoint import fmu_variables as fv
     from wearjoint.core import layout
+    from wearjoint.core.contact import block_minimum_depth
 
 _RESULT_INDEX = {
     "pin_force_x": layout.R_PIN_FX, "pin_force_y": layout.R_PIN_FY, "pin_torque": layout.R_PIN_TORQUE,
@@ -67,9 +73,18 @@ _RESULT_INDEX = {
     "eccentricity_x": layout.R_ECCENTRICITY_X, "eccentricity_y": layout.R_ECCENTRICITY_Y,
 }
 
-_STATE_MAGIC = b"WJFMU001"
-_STATE_HEAD = struct.Struct("<8sdd")   # magic, time [s], 1.0 if initialised
+# FMU state: magic, time [s], 1.0 if initialised, then float64 values: the inputs,
+# the parameters (fv.PARAMETERS order), the joint's contact memory and wear depths.
+# Native byte order, which is little-endian: the FMU's binaries are linux64 (x86_64) only.
+_STATE_MAGIC = b"WJFMU002"
+_STATE_HEAD = struct.Struct("<8sdd")
 _N_INPUTS = len(fv.INPUTS)
+_ALL_INPUT_VRS = list(range(_N_INPUTS))   # value references of the inputs, in order
+
+# Where getReal finds a variable's value (see _ReadPlan).
+_FROM_STORE, _FROM_RESULT, _FROM_WEAR_DEPTH = 0, 1, 2
+_WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
+_MAX_READ_PLANS = 64   # distinct getReal value-reference lists remembered per instance
 
 # Objects pythonfmu 0.7 releases once too often after a Python exception (see _abort_call).
 _OVER_RELEASED = []
@@ -97,12 +112,33 @@ def _built_n_points(resources) -> int:
 
 
 def _compile_kernels(params) -> None:
-    """Run evaluate/advance once on a throwaway joint so numba compiles now, not in doStep."""
+    """Run every kernel the slave calls once on a throwaway joint so numba compiles now, not in doStep."""
     scratch = ClearanceJoint(params)
     kinematics = np.zeros(12)
     scratch.evaluate_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12])
     scratch.advance_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12], 0.0)
     scratch.worn_volume_m3  # noqa: B018 - compiles worn_area
+    block_minimum_depth(scratch.wear_depth, scratch.block_min)   # setFMUstate
+
+
+class _ReadPlan(typing.NamedTuple):
+    """How getReal gathers the values of one value-reference list.
+
+    ``gathers``: (source, positions in the answer, indices in the source) per source
+    read (_FROM_*); ``force_names``: the force outputs asked for (they need an
+    evaluation of the current inputs); ``reads_joint``: a joint array is read;
+    ``reads_wear_summary``: max_wear_depth or worn_volume is asked for.
+    """
+
+    n_values: int
+    gathers: tuple
+    force_names: tuple
+    reads_joint: bool
+    reads_wear_summary: bool
+
+
+class _DeserialisedState(bytes):
+    """An FMU state read back by deSerializeFMUstate: setFMUstate validates it in full."""
 
 
 class FmuCallFailed(Exception):
@@ -137,30 +173,42 @@ class ClearanceWearJoint(Fmi2Slave):
         variables = fv.fmu_variables(n_points)
         self._names = [v.name for v in variables]
         vr_of = {name: vr for vr, name in enumerate(self._names)}
-        self._reals = np.zeros(len(variables))
-        self._non_real_vrs = frozenset(vr for vr, v in enumerate(variables) if v.type != fv.REAL)
+        self._reals = np.zeros(len(variables))   # store: inputs, Real parameters, wear summary
         self._integers = {}
         self._parameter_vrs = {vr_of[p.variable.name]: p.variable.name for p in fv.PARAMETERS}
-        self._real_parameter_vrs = [vr_of[p.variable.name] for p in fv.PARAMETERS if p.variable.type == fv.REAL]
-        self._integer_parameter_vrs = [vr_of[p.variable.name] for p in fv.PARAMETERS
-                                       if p.variable.type == fv.INTEGER]
+        self._real_parameter_vrs = frozenset(vr_of[p.variable.name] for p in fv.PARAMETERS
+                                             if p.variable.type == fv.REAL)
+        self._integer_parameter_vrs = frozenset(vr_of[p.variable.name] for p in fv.PARAMETERS
+                                                if p.variable.type == fv.INTEGER)
         self._n_points_vr = vr_of[fv.N_POINTS_NAME]
         for vr, v in enumerate(variables):
             self._register(vr, v)
-        inputs = self._reals[:_N_INPUTS]
-        self._pin_position, self._pin_velocity = inputs[0:3], inputs[3:6]
-        self._bushing_position, self._bushing_velocity = inputs[6:9], inputs[9:12]
-        self._first_output_vr = vr_of[fv.SCALAR_OUTPUTS[0].name]
-        self._feed_through_vrs = np.array([vr_of[name] for name in _RESULT_INDEX])
-        self._feed_through_results = np.array(list(_RESULT_INDEX.values()))
-        self._max_wear_vr = vr_of["max_wear_depth"]
-        self._worn_volume_vr = vr_of["worn_volume"]
-        first = vr_of[fv.wear_depth_name(1)]
-        self._wear_slice = slice(first, first + n_points)
-        # getReal refreshes forces for vrs >= _first_output_vr and wear for vrs >= _first_wear_vr
-        self._first_wear_vr = min(self._max_wear_vr, self._worn_volume_vr, first)
-        if max(self._feed_through_vrs) >= self._first_wear_vr or min(self._feed_through_vrs) < self._first_output_vr:
-            raise RuntimeError("wearjoint.fmu_variables must list force outputs before the wear outputs")
+        self._inputs = self._reals[:_N_INPUTS]
+        self._pin_position, self._pin_velocity = self._inputs[0:3], self._inputs[3:6]
+        self._bushing_position, self._bushing_velocity = self._inputs[6:9], self._inputs[9:12]
+        self._max_wear_vr, self._worn_volume_vr = (vr_of[name] for name in _WEAR_SUMMARY_NAMES)
+        # (source, index) per value reference for getReal; None for Integer variables
+        self._read_source = [None if v.type != fv.REAL else (_FROM_STORE, vr) for vr, v in enumerate(variables)]
+        for name, index in _RESULT_INDEX.items():
+            self._read_source[vr_of[name]] = (_FROM_RESULT, index)
+        for z in range(n_points):
+            self._read_source[vr_of[fv.wear_depth_name(z + 1)]] = (_FROM_WEAR_DEPTH, z)
+        missing = [v.name for v in variables if v.causality == fv.OUTPUT and v.name not in _WEAR_SUMMARY_NAMES
+                   and self._read_source[vr_of[v.name]][0] == _FROM_STORE]
+        if missing:
+            raise RuntimeError(f"outputs without a source in the joint: {', '.join(missing)}")
+        self._read_plans = {}
+        # the source arrays, indexed by _FROM_*; the joint's arrays once it is built
+        self._sources = (self._reals, None, None)
+        # FMU state layout: bytes of the parameters; float64 positions after the head
+        n_parameters = len(self._parameter_vrs)
+        self._state_parameters = slice(_STATE_HEAD.size + 8 * _N_INPUTS,
+                                       _STATE_HEAD.size + 8 * (_N_INPUTS + n_parameters))
+        memory_start = _N_INPUTS + n_parameters
+        self._state_memory = slice(memory_start, memory_start + layout.N_MEMORY)
+        self._state_wear = slice(self._state_memory.stop, self._state_memory.stop + n_points)
+        self._state_size = _STATE_HEAD.size + 8 * self._state_wear.stop
+        self._parameter_block = None   # the parameters of the joint as state bytes
         self._non_finite_input_vrs = set()
         self._time = 0.0
         self._initialised = False
@@ -168,7 +216,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._joint_parameters_used = None
         self._parameters_changed = True
         self._forces_stale = True
-        self._wear_stale = True
+        self._wear_summary_stale = True
 
     def _register(self, vr: int, v) -> None:
         kind = Real if v.type == fv.REAL else Integer
@@ -232,35 +280,60 @@ class ClearanceWearJoint(Fmi2Slave):
             except ParameterError as exc:
                 self._abort_call(f"invalid FMU parameter: {exc}")
             with _scipy_hidden():
-                self._joint = ClearanceJoint(params)
+                joint = self._joint = ClearanceJoint(params)
                 _compile_kernels(params)
+            self._sources = (self._reals, joint.result, joint.wear_depth)
             self._joint_parameters_used = values
-            self._forces_stale = self._wear_stale = True
+            self._parameter_block = np.array(list(values.values()), dtype=float).tobytes()
+            self._forces_stale = self._wear_summary_stale = True
         self._parameters_changed = False
 
     def _non_finite_inputs(self) -> str:
         return ", ".join(f"{self._names[vr]}={float(self._reals[vr])!r}" for vr in sorted(self._non_finite_input_vrs))
 
-    def _refresh_force_outputs(self, vrs) -> None:
-        self._ensure_joint()
+    def _note_input_finiteness(self, vrs, values) -> None:
+        for vr, value in zip(vrs, values):
+            if math.isfinite(value):
+                self._non_finite_input_vrs.discard(vr)
+            else:
+                self._non_finite_input_vrs.add(vr)
+
+    def _evaluate_forces(self, plan: _ReadPlan) -> None:
         if self._non_finite_input_vrs:
-            asked = [self._names[vr] for vr in vrs if self._first_output_vr <= vr < self._first_wear_vr]
-            if asked:
-                self._abort_call(f"getReal of {', '.join(asked)}: undefined for non-finite inputs "
-                                 f"({self._non_finite_inputs()})")
-            return  # only wear outputs were asked for; the forces stay stale
-        result = self._joint.evaluate_array(self._pin_position, self._pin_velocity,
-                                            self._bushing_position, self._bushing_velocity)
-        self._reals[self._feed_through_vrs] = result[self._feed_through_results]
+            self._abort_call(f"getReal of {', '.join(plan.force_names)}: undefined for non-finite inputs "
+                             f"({self._non_finite_inputs()})")
+        self._joint.evaluate_array(self._pin_position, self._pin_velocity,
+                                   self._bushing_position, self._bushing_velocity)
         self._forces_stale = False
 
-    def _refresh_wear_outputs(self) -> None:
-        self._ensure_joint()
+    def _refresh_wear_summary(self) -> None:
         joint = self._joint
-        self._reals[self._wear_slice] = joint.wear_depth
         self._reals[self._max_wear_vr] = joint.max_wear_depth_m
         self._reals[self._worn_volume_vr] = joint.worn_volume_m3
-        self._wear_stale = False
+        self._wear_summary_stale = False
+
+    def _read_plan(self, vrs: tuple) -> _ReadPlan:
+        """The plan for ``vrs`` (remembered for the next getReal of the same list)."""
+        n_variables = len(self._names)
+        bad = [self._name(vr) for vr in vrs if not 0 <= vr < n_variables or self._read_source[vr] is None]
+        if bad:
+            self._abort_call(f"getReal: not Real variables: {', '.join(bad)}")
+        by_source = {}
+        for position, vr in enumerate(vrs):
+            source, index = self._read_source[vr]
+            positions, indices = by_source.setdefault(source, ([], []))
+            positions.append(position)
+            indices.append(index)
+        plan = _ReadPlan(
+            n_values=len(vrs),
+            gathers=tuple((source, np.array(positions), np.array(indices))
+                          for source, (positions, indices) in by_source.items()),
+            force_names=tuple(self._names[vr] for vr in vrs if self._read_source[vr][0] == _FROM_RESULT),
+            reads_joint=not by_source.keys() <= {_FROM_STORE},
+            reads_wear_summary=self._max_wear_vr in vrs or self._worn_volume_vr in vrs)
+        if len(self._read_plans) < _MAX_READ_PLANS:
+            self._read_plans[vrs] = plan
+        return plan
 
     # ------------------------------------------------------------- FMI hooks
     @_guarded
@@ -278,47 +351,55 @@ class ClearanceWearJoint(Fmi2Slave):
             self._log_error(f"doStep at t={current_time!r} s rejected: non-finite inputs "
                             f"({self._non_finite_inputs()})")
             return False
-        if not (math.isfinite(step_size) and step_size >= 0.0):
+        if not 0.0 <= step_size < math.inf:
             self._log_error(f"doStep rejected: step size {step_size!r} s is not a finite value >= 0")
             return False
         self._ensure_joint()
-        changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
-                                            self._bushing_position, self._bushing_velocity, step_size)
+        if self._joint.advance_array(self._pin_position, self._pin_velocity,
+                                     self._bushing_position, self._bushing_velocity, step_size):
+            self._wear_summary_stale = True
         self._time = current_time + step_size
         self._forces_stale = True
-        self._wear_stale = self._wear_stale or changed
         return True
 
     @_guarded
     def get_real(self, vrs):
-        if not vrs:
-            return []
-        top = max(vrs)
-        if top >= len(self._names) or not self._non_real_vrs.isdisjoint(vrs):
-            bad = [self._name(vr) for vr in vrs if vr >= len(self._names) or vr in self._non_real_vrs]
-            self._abort_call(f"getReal: not Real variables: {', '.join(bad)}")
-        if top >= self._first_output_vr:
-            if self._forces_stale:
-                self._refresh_force_outputs(vrs)
-            if top >= self._first_wear_vr and self._wear_stale:
-                self._refresh_wear_outputs()
-        return self._reals[vrs].tolist()
+        key = tuple(vrs)
+        plan = self._read_plans.get(key) or self._read_plan(key)
+        if plan.reads_joint or plan.reads_wear_summary:
+            self._ensure_joint()
+            if plan.force_names and self._forces_stale:
+                self._evaluate_forces(plan)
+            if plan.reads_wear_summary and self._wear_summary_stale:
+                self._refresh_wear_summary()
+        sources = self._sources
+        if len(plan.gathers) == 1:   # one source: its indices are the answer, in order
+            source, _, indices = plan.gathers[0]
+            return sources[source].take(indices).tolist()
+        values = np.empty(plan.n_values)
+        for source, positions, indices in plan.gathers:
+            values[positions] = sources[source][indices]
+        return values.tolist()
 
     @_guarded
     def set_real(self, vrs, values):
-        for vr, value in zip(vrs, values):
-            if vr < _N_INPUTS:
-                self._reals[vr] = value
-                if math.isfinite(value):
-                    self._non_finite_input_vrs.discard(vr)
+        if vrs == _ALL_INPUT_VRS:   # the master's call every step: one array write
+            self._inputs[:] = values
+            if not math.isfinite(sum(values)):   # non-finite, or finite values whose sum overflows
+                self._note_input_finiteness(vrs, values)
+            elif self._non_finite_input_vrs:
+                self._non_finite_input_vrs.clear()
+        else:
+            for vr, value in zip(vrs, values):
+                if 0 <= vr < _N_INPUTS:
+                    self._reals[vr] = value
+                    self._note_input_finiteness((vr,), (value,))
+                elif vr in self._real_parameter_vrs:
+                    self._check_parameter_settable(vr)
+                    self._reals[vr] = value
+                    self._parameters_changed = True
                 else:
-                    self._non_finite_input_vrs.add(vr)
-            elif vr in self._real_parameter_vrs:
-                self._check_parameter_settable(vr)
-                self._reals[vr] = value
-                self._parameters_changed = True
-            else:
-                self._abort_call(f"setReal: variable {self._name(vr)} cannot be set")
+                    self._abort_call(f"setReal: variable {self._name(vr)} cannot be set")
         self._forces_stale = True
 
     @_guarded
@@ -365,39 +446,47 @@ class ClearanceWearJoint(Fmi2Slave):
 
     # ------------------------------------------------------------- FMU state
     # The state object is the serialised bytes themselves: exact, immutable, and
-    # getFMUstate / serializeFMUstate share one code path.
+    # getFMUstate / serializeFMUstate share one code path.  A state made here is
+    # trusted; one read back by deSerializeFMUstate is validated at setFMUstate.
     @_guarded
     def _get_fmu_state(self):
         self._ensure_joint()
-        head = _STATE_HEAD.pack(_STATE_MAGIC, self._time, 1.0 if self._initialised else 0.0)
-        integers = np.array([self._integers[vr] for vr in self._integer_parameter_vrs], dtype="<f8")
-        return (head + self._reals[:_N_INPUTS].astype("<f8").tobytes()
-                + self._reals[self._real_parameter_vrs].astype("<f8").tobytes()
-                + integers.tobytes() + self._joint.state_to_bytes())
+        joint = self._joint
+        return b"".join((_STATE_HEAD.pack(_STATE_MAGIC, self._time, 1.0 if self._initialised else 0.0),
+                         self._inputs.tobytes(), self._parameter_block,
+                         joint.memory.tobytes(), joint.wear_depth.tobytes()))
 
     @_guarded
     def _set_fmu_state(self, state):
-        real_vrs, integer_vrs = self._real_parameter_vrs, self._integer_parameter_vrs
-        n_values = _N_INPUTS + len(real_vrs) + len(integer_vrs)
-        offset = _STATE_HEAD.size + 8 * n_values
-        if not isinstance(state, bytes) or len(state) < offset or state[:len(_STATE_MAGIC)] != _STATE_MAGIC:
-            self._abort_call("setFMUstate: not a ClearanceWearJoint state")
+        if not isinstance(state, bytes) or len(state) != self._state_size or not state.startswith(_STATE_MAGIC):
+            self._abort_call(f"setFMUstate: not a ClearanceWearJoint state for n_points={self.n_points}")
         _, time, initialised = _STATE_HEAD.unpack_from(state)
-        values = np.frombuffer(state, dtype="<f8", count=n_values, offset=_STATE_HEAD.size)
-        self._reals[:_N_INPUTS] = values[:_N_INPUTS]
-        self._non_finite_input_vrs = {vr for vr in range(_N_INPUTS) if not math.isfinite(values[vr])}
-        self._reals[real_vrs] = values[_N_INPUTS:_N_INPUTS + len(real_vrs)]
-        for vr, value in zip(integer_vrs, values[_N_INPUTS + len(real_vrs):]):
-            self._integers[vr] = int(value)
-        self._parameters_changed = True
-        self._ensure_joint()
-        try:
-            self._joint.state_from_bytes(state[offset:])
-        except ParameterError as exc:
-            self._abort_call(f"setFMUstate: {exc}")
+        parameters = state[self._state_parameters]
+        if parameters != self._parameter_block or self._parameters_changed:
+            values = np.frombuffer(parameters, dtype=float)
+            for vr, value in zip(self._parameter_vrs, values.tolist()):
+                if vr in self._integers:
+                    self._integers[vr] = int(value)
+                else:
+                    self._reals[vr] = value
+            self._parameters_changed = True
+            self._ensure_joint()
+        joint = self._joint
+        values = np.frombuffer(state, dtype=float, offset=_STATE_HEAD.size)
+        wear_depth = values[self._state_wear]
+        if type(state) is _DeserialisedState and not (np.all(np.isfinite(wear_depth)) and wear_depth.min() >= 0.0):
+            self._abort_call("setFMUstate: the state's wear depths must be finite and >= 0")
+        inputs = values[:_N_INPUTS].tolist()
+        self._inputs[:] = inputs
+        self._non_finite_input_vrs.clear()
+        if not math.isfinite(sum(inputs)):
+            self._note_input_finiteness(_ALL_INPUT_VRS, inputs)
+        joint.memory[:] = values[self._state_memory]
+        joint.wear_depth[:] = wear_depth
+        block_minimum_depth(joint.wear_depth, joint.block_min)
         self._time = time
         self._initialised = initialised == 1.0
-        self._forces_stale = self._wear_stale = True
+        self._forces_stale = self._wear_summary_stale = True
 
     @staticmethod
     def _fmu_state_to_bytes(state):
@@ -405,4 +494,4 @@ class ClearanceWearJoint(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(data):
-        return bytes(data)
+        return _DeserialisedState(data)

@@ -27,7 +27,7 @@ from fmpy.validation import validate_fmu  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint import fmu_variables as fv  # noqa: E402
-from wearjoint.fmu_build import build_fmu, cli_arguments, cli_run, default_fmu_path  # noqa: E402
+from wearjoint.fmu_build import build_fmu, build_key, cli_arguments, cli_run, default_fmu_path  # noqa: E402
 
 FMI_DISCARD, FMI_ERROR, FMI_FATAL = 2, 3, 4
 INPUT_NAMES = [v.name for v in fv.INPUTS]
@@ -209,6 +209,51 @@ def test_outputs_follow_inputs_without_a_step(slave):
     assert list(slave.get(["contact", "normal_force", "pin_force_x"])) == [0.0, 0.0, 0.0]
 
 
+def test_get_real_of_any_list_matches_one_value_at_a_time(slave, fmu):
+    slave.set_inputs(contact_inputs(depth=4e-6))
+    for k in range(20):
+        slave.fmu.doStep(k * 1e-5, 1e-5)
+    worn = int(np.argmax(slave.get(fmu["wear"]))) + 1
+    names = [fv.wear_depth_name(worn), "pin_force_x", "pin_x", "max_wear_depth", "restitution", "pin_force_x",
+             "worn_volume", "normal_force", fv.wear_depth_name(1), "bushing_omega"]
+    together = slave.get(names)
+    one_by_one = [slave.get([name])[0] for name in names]
+    assert together.tolist() == one_by_one
+    assert together[0] > 0.0 and together[3] == together[0] and together[4] == P.restitution
+    assert slave.fmu.getReal([]) == []
+
+
+def test_set_real_in_any_order_or_subset_equals_the_full_write(slave):
+    x = contact_inputs(depth=3e-6)
+    slave.set_inputs(x)
+    expected = slave.get(SCALAR_NAMES)
+    slave.set_inputs(contact_inputs(depth=-5e-5))
+    order = list(reversed(INPUT_NAMES))
+    slave.fmu.setReal([slave.vr[n] for n in order], [x[INPUT_NAMES.index(n)] for n in order])
+    assert slave.get(SCALAR_NAMES).tolist() == expected.tolist()
+    slave.set_inputs(contact_inputs(depth=-5e-5))
+    for name, value in zip(INPUT_NAMES, x):
+        slave.fmu.setReal([slave.vr[name]], [value])
+    assert slave.get(SCALAR_NAMES).tolist() == expected.tolist()
+
+
+def test_non_finite_input_is_forgotten_once_set_finite(slave):
+    x = contact_inputs()
+    x[3] = math.inf
+    slave.set_inputs(x)
+    with pytest.raises(FMICallException) as failure:
+        slave.get(["pin_force_x"])
+    slave.assert_failed_with_error(failure, "pin_force_x", "pin_vx=inf")
+    slave.fmu.setReal([slave.vr["pin_vx"]], [0.0])   # a subset write clears it
+    assert slave.get(["contact"])[0] == 1.0
+    huge = contact_inputs(depth=-5e-5)
+    huge[0] += 1e308   # finite values whose sum overflows: both bodies far out, no contact
+    huge[6] += 1e308
+    slave.set_inputs(huge)
+    assert slave.get(["contact", "normal_force"]).tolist() == [0.0, 0.0]
+    gc.collect()
+
+
 # ------------------------------------------------------------- wear
 def test_do_step_wears_where_the_pin_presses(slave, fmu):
     x = contact_inputs(direction=2.0, pin_omega=10.0)
@@ -284,6 +329,39 @@ def test_fmu_state_round_trip_is_exact(slave, fmu):
         assert np.array_equal(_run(other, fmu, 15, 1e-4), first)
     finally:
         other.free()
+
+
+def test_fmu_state_carries_the_parameters(fmu):
+    a = Slave(fmu, "state_a", parameters={"restitution": 0.5, "friction_coefficient": 0.2}).initialise()
+    b = Slave(fmu, "state_b").initialise()
+    try:
+        _run(a, fmu, 5, 0.0)
+        state = a.fmu.getFMUstate()
+        serialised = a.fmu.serializeFMUstate(state)
+        expected = _run(a, fmu, 5, 5e-5)
+        b.fmu.setFMUstate(b.fmu.deSerializeFMUstate(serialised))
+        assert np.array_equal(_run(b, fmu, 5, 5e-5), expected)
+        a.fmu.setFMUstate(state)   # back to the state taken, same parameters: nothing rebuilt
+        assert np.array_equal(_run(a, fmu, 5, 5e-5), expected)
+    finally:
+        a.free()
+        b.free()
+
+
+def test_a_bad_deserialised_state_fails_with_fmi2_error(slave, fmu):
+    _run(slave, fmu, 3, 0.0)
+    good = slave.fmu.serializeFMUstate(slave.fmu.getFMUstate())
+    negative_wear = bytearray(good)
+    negative_wear[-8:] = np.array([-1e-6]).tobytes()
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(bytes(negative_wear)))
+    slave.assert_failed_with_error(failure, "setFMUstate", "wear depths")
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good[:-8]))
+    slave.assert_failed_with_error(failure, "setFMUstate", f"n_points={P.n_points}")
+    slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good))
+    assert slave.get(["max_wear_depth"])[0] > 0.0
+    gc.collect()
 
 
 # ------------------------------------------------------------- errors
@@ -413,6 +491,56 @@ def test_library_modules_stay_light(tmp_path):
                           cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(REPO_ROOT)})
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+CLOSURE_SCRIPT = textwrap.dedent("""
+    import json, sys
+    resources = sys.argv[1]
+    sys.path.insert(0, resources)
+    import ClearanceWearJoint  # noqa: F401
+    print(json.dumps({name: module.__file__ for name, module in sys.modules.items()
+                      if name == "wearjoint" or name.startswith("wearjoint.")}))
+""")
+
+
+def test_fmu_ships_exactly_the_slaves_import_closure(fmu, tmp_path):
+    resources = Path(fmu["dir"]) / "resources"
+    done = subprocess.run([sys.executable, "-c", CLOSURE_SCRIPT, str(resources)], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=120)
+    assert done.returncode == 0, done.stderr
+    loaded = {Path(f).resolve() for f in json.loads(done.stdout.strip().splitlines()[-1]).values()}
+    package = (resources / "wearjoint").resolve()
+    assert all(package in f.parents for f in loaded), loaded   # nothing from the source tree
+    assert loaded == {f.resolve() for f in package.rglob("*.py")}
+
+
+def test_build_key_follows_the_shipped_files_only(tmp_path, monkeypatch):
+    from wearjoint import fmu_build
+
+    tree = tmp_path / "tree"
+    for source in (*fmu_build.shipped_sources(), fmu_build.PACKAGE_DIR / "cosim.py"):
+        copy = tree / source.relative_to(fmu_build.PACKAGE_DIR.parent)
+        copy.parent.mkdir(parents=True, exist_ok=True)
+        copy.write_bytes(source.read_bytes())
+    monkeypatch.setattr(fmu_build, "PACKAGE_DIR", tree / "wearjoint")
+    monkeypatch.setattr(fmu_build, "SLAVE_SOURCE", tree / fmu_build.SLAVE_SOURCE.relative_to(REPO_ROOT))
+    monkeypatch.setattr(fmu_build, "SHIM_SOURCE", tree / fmu_build.SHIM_SOURCE.relative_to(REPO_ROOT))
+    key = fmu_build.build_key(P.n_points)
+    assert key == build_key(P.n_points)
+
+    def edited(relative):
+        path = tree / relative
+        original = path.read_bytes()
+        path.write_bytes(original + b"\n# edited\n")
+        try:
+            return fmu_build.build_key(P.n_points)
+        finally:
+            path.write_bytes(original)
+
+    assert edited("wearjoint/cosim.py") == key
+    for shipped in ("wearjoint/joint.py", "wearjoint/core/contact.py", "fmu_src/status_shim.c",
+                    "fmu_src/ClearanceWearJoint.py"):
+        assert edited(shipped) != key, shipped
 
 
 # ------------------------------------------------------------- build command

@@ -1,7 +1,9 @@
 """Build ``ClearanceWearJoint.fmu`` (FMI 2.0 Co-Simulation) from ``fmu_src/`` with pythonfmu.
 
-The FMU ships the ``wearjoint`` package (its top level and ``core/``) and a
-requirements file (numpy, numba) in its resources.  pythonfmu's
+The FMU ships the part of the ``wearjoint`` package the slave imports at run
+time (:data:`RUNTIME_MODULES`) and a requirements file (numpy, numba) in its
+resources; editing any other module (the master, the CLI, plots, ...) leaves
+the build key, and so the cached FMU, unchanged.  pythonfmu's
 modelDescription.xml is then completed so that ``fmpy.validate_fmu`` reports
 no problem: units, ModelStructure dependencies (direct feed-through of the
 force outputs on the 12 inputs) and InitialUnknowns.
@@ -43,13 +45,19 @@ FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
 REQUIREMENTS = "numpy\nnumba\n"
 
 
+# The slave's run-time import closure within wearjoint (tests/test_fmu.py checks that
+# importing the slave from the FMU's resources loads exactly these).
+RUNTIME_MODULES = ("__init__.py", "parameters.py", "joint.py", "fmu_variables.py",
+                   "core/__init__.py", "core/layout.py", "core/contact.py", "core/wear.py")
+
+
 def _package_sources() -> list[Path]:
-    """wearjoint/*.py and wearjoint/core/*.py, shipped in the FMU's resources."""
-    return [*sorted(PACKAGE_DIR.glob("*.py")), *sorted((PACKAGE_DIR / "core").glob("*.py"))]
+    """The wearjoint modules shipped in the FMU's resources."""
+    return [PACKAGE_DIR / name for name in RUNTIME_MODULES]
 
 
 def shipped_sources() -> list[Path]:
-    """The files that define the FMU: the slave, the status shim and the wearjoint package sources."""
+    """The files that define the FMU: the slave, the status shim and the wearjoint run-time modules."""
     return [SLAVE_SOURCE, SHIM_SOURCE, *_package_sources()]
 
 
@@ -134,7 +142,7 @@ def _compile_status_shim(library: Path) -> Path:
 
 
 def _stage_project_files(stage: Path, n_points: int, key: str) -> list[Path]:
-    """Stage the resources: wearjoint (top level + core, no caches), requirements.txt, build config."""
+    """Stage the resources: the wearjoint run-time modules (no caches), requirements.txt, build config."""
     package = stage / "wearjoint"
     (package / "core").mkdir(parents=True)
     for path in _package_sources():
