@@ -48,15 +48,19 @@ def test_patch_width_follows_hertz_and_wear_is_centred_on_the_contact():
     worn = np.nonzero(joint.wear_depth > 0)[0]
     b = hertz_half_width(r.normal_force_N, equivalent_radius(0.01, 0.0101, 0), 0.006, params.effective_modulus_Pa)
     arc = (params.bushing_radius_m * 2 * math.pi / params.n_points)
-    assert abs(worn.size * arc - 2 * b) <= 2 * arc
+    assert abs(worn.size * arc - 2 * b) <= 3 * arc
     # contact at 0 deg of the bushing: the depth-weighted mean direction of the wear is 0 deg
     phi = joint.phi_rad
     centre = math.degrees(math.atan2(np.sum(joint.wear_depth * np.sin(phi)), np.sum(joint.wear_depth * np.cos(phi))))
     assert abs(centre) < 0.3
-    # depth at the centre = k_w p ds with the Hertz mean pressure p = F_N/(2 b L), Eqs. 25, 28-29
-    p = r.normal_force_N / (2 * b * params.contact_length_m)
+    # depth at the centre = k_w p_max ds with the peak of the semi-elliptical Hertz line-contact
+    # pressure, p_max = 2 F_N / (pi b L) = (4/pi) times the mean pressure of Eqs. 25, 29
+    p_max = 2 * r.normal_force_N / (math.pi * b * params.contact_length_m)
     ds = params.bushing_radius_m * abs(pin[5] - bushing[5]) * 1e-5
-    assert joint.max_wear_depth_m == pytest.approx(params.wear_coefficient_m2_N * p * ds, rel=1e-9)
+    assert joint.max_wear_depth_m == pytest.approx(params.wear_coefficient_m2_N * p_max * ds, rel=5e-3)
+    # and the profile follows the ellipse: at half the patch width the depth is sqrt(3)/2 of the peak
+    half = np.abs(np.degrees(np.angle(np.exp(1j * phi))) - 0.5 * math.degrees(b / params.bushing_radius_m)).argmin()
+    assert joint.wear_depth[half] / joint.max_wear_depth_m == pytest.approx(math.sqrt(3) / 2, abs=0.03)
 
 
 def test_tangential_sliding_distance_uses_the_contact_velocity():

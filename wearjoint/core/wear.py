@@ -7,7 +7,12 @@ p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (MODEL.md 3.7):
 * ``patch`` (default): bushing point z stands for the arc cell
   [phi_z - dphi/2, phi_z + dphi/2]; it receives the increment times the share
   of its cell inside the contact patch [-b, b] around the contact point, so the
-  removed volume is k_w F_N Delta s to first order in h.
+  removed volume is k_w F_N Delta s to first order in h.  The patch is centred
+  between bushing points, at the vertex of the parabola through |d|^2 of the
+  deepest point and its two neighbours (:func:`subgrid_contact_offset`):
+  centred on the deepest point itself, the wear aliases onto the point grid
+  (the contact runs from worn points to their unworn neighbours, leaving a
+  point-to-point sawtooth).
 * ``penetration``: every point with |d_z| <= R_i receives the full increment
   (the literal reading of Eq. 28).
 """
@@ -38,11 +43,46 @@ def hertz_half_width(normal_force, equivalent_radius_m, contact_length, effectiv
 
 
 @njit(cache=True)
+def _elliptic_integral(u):
+    """Integral of sqrt(1 - x^2) from 0 to u, u in [-1, 1]."""
+    return 0.5 * (u * math.sqrt(max(0.0, 1.0 - u * u)) + math.asin(u))
+
+
+@njit(cache=True)
 def patch_weight(offset_angle, half_angle, dphi):
-    """Share of the arc cell [offset - dphi/2, offset + dphi/2] inside [-half_angle, half_angle]."""
+    """Hertz pressure on the arc cell [offset - dphi/2, offset + dphi/2] relative to the mean
+    pressure, averaged over the cell: p(x)/p_mean = (4/pi) sqrt(1 - (x/b)^2) on [-b, b]
+    (semi-elliptical line-contact pressure), zero outside.  Summed over the cells the
+    weights integrate to the patch width, so the removed volume is k_w F_N Delta s."""
     lo = max(offset_angle - 0.5 * dphi, -half_angle)
     hi = min(offset_angle + 0.5 * dphi, half_angle)
-    return max(0.0, hi - lo) / dphi
+    if hi <= lo:
+        return 0.0
+    return 4.0 / math.pi * half_angle * (_elliptic_integral(hi / half_angle)
+                                         - _elliptic_integral(lo / half_angle)) / dphi
+
+
+@njit(cache=True)
+def _distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    rho = bushing_radius + wear_depth[z]
+    dx = rho * cos_phi[z] - ex
+    dy = rho * sin_phi[z] - ey
+    return dx * dx + dy * dy
+
+
+@njit(cache=True)
+def subgrid_contact_offset(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """Where, between bushing points, |d|^2 is smallest near the deepest point k, in
+    units of the point spacing (in [-0.5, 0.5]): vertex of the parabola through
+    points k - 1, k, k + 1."""
+    n = wear_depth.shape[0]
+    before = _distance_sq((k - 1) % n, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    at = _distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    after = _distance_sq((k + 1) % n, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    curvature = before - 2.0 * at + after
+    if curvature <= 0.0:
+        return 0.0
+    return min(0.5, max(-0.5, 0.5 * (before - after) / curvature))
 
 
 @njit(cache=True)
@@ -91,9 +131,11 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     largest = 0.0
     if int(jp[P_WEAR_PLACEMENT]) == 0:
         half_angle = min(half_width / worn_radius, math.pi)
-        m = min(int(math.ceil(half_angle / dphi + 0.5)), (n - 1) // 2)
+        centre = subgrid_contact_offset(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], bushing_radius,
+                                        cos_phi, sin_phi, wear_depth)
+        m = min(int(math.ceil(half_angle / dphi + 1.0)), (n - 1) // 2)
         for off in range(-m, m + 1):
-            w = patch_weight(off * dphi, half_angle, dphi)
+            w = patch_weight((off - centre) * dphi, half_angle, dphi)
             if w <= 0.0:
                 continue
             z = (k + off) % n
