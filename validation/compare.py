@@ -73,7 +73,10 @@ class ValidationPlan:
 
 
 FULL = ValidationPlan()
-QUICK = ValidationPlan(revolutions=0.1, wear_revolutions=0.1, wear_factor=1.0)
+# the quick wear run stays inside the point-wise window (before chaos the runs agree, so a
+# few impacts' worn volume is comparable; after it, 0.1 revolution holds too few impacts to
+# estimate their scatter from four runs)
+QUICK = ValidationPlan(revolutions=0.1, wear_revolutions=0.0375, wear_factor=20.0)
 
 
 @dataclass(frozen=True)

@@ -3,8 +3,13 @@
 Importing the package loads numpy and numba only; the FMI, exudyn and plotting
 layers are imported by the modules that need them.
 """
-from .joint import ClearanceJoint, ContactResult, JointState
-from .parameters import (
+from ._numba_cache import drop_stale_numba_cache
+
+drop_stale_numba_cache()
+
+# kernels load only after the cache check
+from .joint import ClearanceJoint, ContactResult, JointState  # noqa: E402
+from .parameters import (  # noqa: E402
     JointParameters, ParameterError, SliderCrankParameters, contact_stiffness, effective_modulus,
     paper_joint,
 )

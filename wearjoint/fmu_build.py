@@ -36,8 +36,10 @@ from . import fmu_variables as fv
 from .parameters import JointParameters, ParameterError
 
 PACKAGE_DIR = Path(__file__).resolve().parent
-SLAVE_SOURCE = PACKAGE_DIR.parent / "fmu_src" / f"{fv.MODEL_NAME}.py"
-SHIM_SOURCE = PACKAGE_DIR.parent / "fmu_src" / "status_shim.c"
+# fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
+FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
+SLAVE_SOURCE = FMU_SOURCE_DIR / f"{fv.MODEL_NAME}.py"
+SHIM_SOURCE = FMU_SOURCE_DIR / "status_shim.c"
 # the shim takes the place of pythonfmu's binary, which it loads from the same folder
 SHIM_ARCNAME = f"binaries/linux64/{fv.MODEL_NAME}.so"
 WRAPPED_BINARY_NAME = f"pythonfmu_{fv.MODEL_NAME}.so"
@@ -47,7 +49,7 @@ REQUIREMENTS = "numpy\nnumba\n"
 
 # The slave's run-time import closure within wearjoint (tests/test_fmu.py checks that
 # importing the slave from the FMU's resources loads exactly these).
-RUNTIME_MODULES = ("__init__.py", "parameters.py", "joint.py", "fmu_variables.py",
+RUNTIME_MODULES = ("__init__.py", "_numba_cache.py", "parameters.py", "joint.py", "fmu_variables.py",
                    "core/__init__.py", "core/layout.py", "core/contact.py", "core/wear.py")
 
 
