@@ -253,7 +253,6 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     out[R_CONTACT_INDEX] = -1.0
     out[R_TANGENTIAL_VELOCITY] = 0.0
     out[R_PENETRATION_RATE] = 0.0
-    out[R_CONTACT_ANGLE] = math.atan2(ey, ex) % TWO_PI
 
     pin_radius = jp[P_PIN_RADIUS]
     bushing_radius = jp[P_BUSHING_RADIUS]
@@ -261,6 +260,7 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     d = math.sqrt(d2)
     out[R_PENETRATION] = pin_radius - d                            # Eq. (6); negative: the gap
     if d > pin_radius:
+        out[R_CONTACT_ANGLE] = math.atan2(ey, ex) % TWO_PI
         return
     rho = bushing_radius + wear_depth[k]
     # normal n (Eq. 8) in the bushing frame, then globally

@@ -20,7 +20,7 @@ from .layout import (
     T_SLIDER_X, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
 from .mechanism import derivative
-from .wear import advance_joint
+from .wear import accept_contact, advance_joint
 
 RK4 = 0
 DOPRI5 = 1
@@ -123,14 +123,23 @@ def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
 
 @njit(cache=True)
 def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
-    """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint."""
+    """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint.
+
+    ``reuse_k_end``: ``k_end`` is f(t, y) and the joint's result array holds the contact
+    evaluated there (DOPRI's last stage); both are reused unless the joint changed.
+    """
     n = N_COORDINATES
     changed = False
     if mode == MODE_CLEARANCE:
         jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
-        changed = advance_joint(y[CRANK:CRANK + 3], y[n + CRANK:n + CRANK + 3], y[ROD:ROD + 3],
-                                y[n + ROD:n + ROD + 3], h, jp, cos_phi, sin_phi, wear_depth,
-                                block_min, memory, mask, result)
+        vel_i = y[n + CRANK:n + CRANK + 3]
+        vel_j = y[n + ROD:n + ROD + 3]
+        if reuse_k_end:
+            changed = accept_contact(result, vel_i, vel_j, h, jp, cos_phi, sin_phi, wear_depth, block_min,
+                                     memory, mask)
+        else:
+            changed = advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, jp, cos_phi, sin_phi,
+                                    wear_depth, block_min, memory, mask, result)
     if reuse_k_end and not changed:
         dy[:] = k_end
     else:

@@ -158,19 +158,23 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
 
 
 @njit(cache=True)
-def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
-                  memory, mask, result):
-    """Accept the state (pos, vel) as the end of a step of length dt.
-
-    Evaluates the contact there (into ``result``), applies the Archard update
-    over dt, then the contact-onset bookkeeping.  Returns True if the joint's
-    state changed (forces at the same kinematics would differ).
-    """
-    evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
-                     memory, result)
+def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask):
+    """Archard update over dt and the contact-onset bookkeeping for ``result``, the contact
+    evaluated at the accepted state.  Returns True if the joint's state changed."""
     worn = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask) > 0.0
     changed = update_contact_memory(result, jp, memory)
     return worn or changed
+
+
+@njit(cache=True)
+def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                  memory, mask, result):
+    """Accept the state (pos, vel) as the end of a step of length dt: evaluate the contact
+    there (into ``result``), then :func:`accept_contact`.  Returns True if the joint's state
+    changed (forces at the same kinematics would differ)."""
+    evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
+                     memory, result)
+    return accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask)
 
 
 @njit(cache=True)
