@@ -147,3 +147,10 @@ def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monke
     with pytest.raises(CoSimulationError, match=r"FMU call fmi2\w+ returned fmi2(Error|Discard).*non-finite inputs"):
         run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu, progress=False)
     assert closed == [False]
+
+
+def test_fmu_engine_refuses_to_set_the_wear_profile():
+    # the FMU has no input or parameter for its profile: cycle jumping must fail clearly, not silently
+    from wearjoint.parameters import ParameterError
+    with pytest.raises(ParameterError, match="wear profile"):
+        CoSimulation.set_wear_profile(None, np.zeros(1257))

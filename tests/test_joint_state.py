@@ -82,3 +82,17 @@ def test_bad_kinematics_and_profiles_are_rejected():
         joint.advance([0] * 6, [0] * 6, -1e-5)
     with pytest.raises(ParameterError, match=">= 0"):
         joint.set_wear_profile(-np.ones(1257))
+
+
+def test_setting_the_wear_profile_updates_the_engine_at_the_current_state():
+    from wearjoint.core import layout as L
+    sim = Simulation(JointParameters(wear_factor=0.0), options=SimulationOptions(revolutions=0.1))
+    buf = np.zeros((20000, 13))
+    t = 2e-3
+    while sim.joint.result[L.R_PENETRATION] < 0.0:     # integrate until the pin touches the bushing
+        t += 2e-4
+        sim.advance_to(t, buf)
+    before = sim.joint.result[L.R_PENETRATION]
+    sim.set_wear_profile(np.full(1257, 2e-6))           # the wall moves 2 um outwards everywhere
+    # (radially; the contact normal is radial to within |e|/R_j, a second-order 1e-12 m effect)
+    assert sim.joint.result[L.R_PENETRATION] == pytest.approx(before - 2e-6, abs=1e-10)

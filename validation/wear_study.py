@@ -163,42 +163,18 @@ def parse_float_list(name: str, text: str) -> tuple:
 
 
 # ----------------------------------------------------------------------------- engines
-class MonolithicEngine(Simulation):
-    """The in-process `Simulation` with the wear-profile access the study needs."""
-
-    def wear_depth_m(self) -> np.ndarray:
-        return self.joint.wear_depth.copy()
-
-    def set_wear_profile(self, depth_m) -> None:
-        self.joint.set_wear_profile(depth_m)
-
-
 def make_engine(config: WearStudyConfig):
-    """The simulation engine of ``config.engine`` (same interface as `Simulation`, plus
-    ``wear_depth_m()``, ``set_wear_profile(depth)`` and ``close()``)."""
+    """The simulation engine of ``config.engine``: ``Simulation`` or ``CoSimulation``
+    (``advance_to``, ``checkpoint``/``restore``, ``wear_profile``, ``set_wear_profile``, ``close``)."""
     revolutions = math.ceil(config.simulated_revolutions - 1e-9)
     if config.engine == "monolithic":
-        return MonolithicEngine(config.joint, config.mechanism,
-                                SimulationOptions(revolutions=revolutions, integrator=config.integrator,
-                                                  step_s=config.max_step_s, max_step_s=config.max_step_s,
-                                                  sample_dt_s=1e-5))
-    try:
-        from wearjoint.cosim import CoSimulation, CoSimulationOptions
-    except ImportError as exc:
-        raise ParameterError(f"engine 'cosim' is not available ({exc}); use --engine monolithic") from None
-
-    class CoSimEngine(CoSimulation):
-        """The FMU co-simulation; the wear profile is read from the FMU's outputs."""
-
-        def wear_depth_m(self) -> np.ndarray:
-            return np.array(self.wear_profile()[1])
-
-        def set_wear_profile(self, depth_m) -> None:
-            raise ParameterError("cycle jumping needs a way to set the FMU's wear profile, which "
-                                 "wearjoint.cosim.CoSimulation does not offer; use --wear-factor with --engine cosim")
-
-    return CoSimEngine(config.joint, config.mechanism,
-                       CoSimulationOptions(revolutions=revolutions, max_step_s=config.max_step_s, sample_dt_s=1e-5))
+        return Simulation(config.joint, config.mechanism,
+                          SimulationOptions(revolutions=revolutions, integrator=config.integrator,
+                                            step_s=config.max_step_s, max_step_s=config.max_step_s,
+                                            sample_dt_s=1e-5))
+    from wearjoint.cosim import CoSimulation, CoSimulationOptions
+    return CoSimulation(config.joint, config.mechanism,
+                        CoSimulationOptions(revolutions=revolutions, max_step_s=config.max_step_s, sample_dt_s=1e-5))
 
 
 # ----------------------------------------------------------------------------- analysis
@@ -318,7 +294,7 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
     try:
         if state is None:
             state = {"format": CHECKPOINT_FORMAT, "config": config.to_dict(), "next_stop": 0,
-                     "block_start_depth_m": engine.wear_depth_m(), "snapshots": [], "pending_samples": {},
+                     "block_start_depth_m": engine.wear_profile()[1], "snapshots": [], "pending_samples": {},
                      "growth": [], "wall_time_s": 0.0, "last_checkpoint_revolution": 0.0, "finished": False}
         else:
             engine.restore(state["engine"])
@@ -346,16 +322,16 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
         n = engine.advance_to(t_stop, buffer)
         _keep_window_samples(state["pending_samples"], config, buffer[:n], period)
         if block_end:
-            depth = engine.wear_depth_m()
+            depth = engine.wear_profile()[1]
             start = state["block_start_depth_m"]
             engine.set_wear_profile(start + config.jump_factor * (depth - start))
-            state["block_start_depth_m"] = engine.wear_depth_m()
+            state["block_start_depth_m"] = engine.wear_profile()[1]
         if config.jump_revolutions == 0 or block_end:
-            depth = engine.wear_depth_m()
+            depth = engine.wear_profile()[1]
             state["growth"].append((sim_rev * per, float(depth.max()), worn_volume_m3(config.joint, depth)))
         if snapshot is not None:
             samples = np.concatenate(state["pending_samples"].pop(snapshot, [np.zeros((0, L.N_SAMPLE_COLUMNS))]))
-            state["snapshots"].append(_snapshot(config, snapshot, sim_rev, phi_deg, engine.wear_depth_m(), samples,
+            state["snapshots"].append(_snapshot(config, snapshot, sim_rev, phi_deg, engine.wear_profile()[1], samples,
                                                 wall_before + time.perf_counter() - wall0))
         state["next_stop"] = i + 1
         final = i + 1 == len(stops)
@@ -612,7 +588,7 @@ def printed_wear_rate(config: WearStudyConfig, simulated_revolutions: int = 3) -
     depths = []
     for k in range(1, simulated_revolutions + 1):
         engine.advance_to(k * period, buffer)
-        depths.append(float(engine.wear_depth_m().max()))
+        depths.append(float(engine.wear_profile()[1].max()))
     return {"rho_mode": joint.rho_mode, "wear_coefficient_m2_N": PRINTED_WEAR_COEFFICIENT_M2_N,
             "max_depth_after_revolution_m": depths, "mean_depth_per_revolution_m": depths[-1] / simulated_revolutions}
 

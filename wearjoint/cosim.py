@@ -533,6 +533,11 @@ class CoSimulation:
     def max_wear_depth_m(self) -> float:
         return self._live_slave().max_wear_depth(self.t)
 
+    def set_wear_profile(self, depth_m) -> None:
+        """Not available: the FMU has no input or parameter that sets its wear profile."""
+        raise ParameterError("the joint FMU offers no way to set its wear profile (cycle jumping); "
+                             "use --wear-factor with --engine cosim")
+
 
 def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                      options: CoSimulationOptions | None = None, fmu_path=None, progress: bool = True,

@@ -117,6 +117,12 @@ class Simulation:
     def max_wear_depth_m(self) -> float:
         return self.joint.max_wear_depth_m
 
+    def set_wear_profile(self, depth_m) -> None:
+        """Replace the bushing's wear depths [m] (cycle jumping); the derivative at the current
+        state is recomputed with the new profile."""
+        self.joint.set_wear_profile(depth_m)
+        self._derivative()
+
     def close(self) -> None:
         """Nothing to free (the co-simulation engine frees its FMU instance here)."""
 
