@@ -39,7 +39,6 @@ import numpy as np
 from wearjoint.cli_options import add_model_arguments, model_from_args
 from wearjoint.core import layout as L
 from wearjoint.core.contact import bushing_point_angles
-from wearjoint.core.wear import worn_area
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
 from wearjoint.progress import Progress
@@ -183,10 +182,6 @@ def profile_angles_deg(n_points: int) -> np.ndarray:
     return np.degrees(bushing_point_angles(n_points))
 
 
-def worn_volume_m3(joint: JointParameters, depth_m: np.ndarray) -> float:
-    return float(joint.contact_length_m * worn_area(joint.bushing_radius_m, depth_m))
-
-
 def profile_features(phi_deg: np.ndarray, depth_m: np.ndarray) -> dict:
     """Max depth and its angle, the two lobes (|phi| < 90 deg and the rest), depth at 90/270 deg."""
     signed = (phi_deg + 180.0) % 360.0 - 180.0          # [-180, 180)
@@ -321,17 +316,17 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
         t_stop = sim_rev * period
         n = engine.advance_to(t_stop, buffer)
         _keep_window_samples(state["pending_samples"], config, buffer[:n], period)
+        _, depth, volume = engine.wear_profile()
         if block_end:
-            depth = engine.wear_profile()[1]
             start = state["block_start_depth_m"]
             engine.set_wear_profile(start + config.jump_factor * (depth - start))
-            state["block_start_depth_m"] = engine.wear_profile()[1]
+            _, depth, volume = engine.wear_profile()
+            state["block_start_depth_m"] = depth
         if config.jump_revolutions == 0 or block_end:
-            depth = engine.wear_profile()[1]
-            state["growth"].append((sim_rev * per, float(depth.max()), worn_volume_m3(config.joint, depth)))
+            state["growth"].append((sim_rev * per, float(depth.max()), volume))
         if snapshot is not None:
             samples = np.concatenate(state["pending_samples"].pop(snapshot, [np.zeros((0, L.N_SAMPLE_COLUMNS))]))
-            state["snapshots"].append(_snapshot(config, snapshot, sim_rev, phi_deg, engine.wear_profile()[1], samples,
+            state["snapshots"].append(_snapshot(config, snapshot, sim_rev, phi_deg, depth, volume, samples,
                                                 wall_before + time.perf_counter() - wall0))
         state["next_stop"] = i + 1
         final = i + 1 == len(stops)
@@ -362,13 +357,13 @@ def _keep_window_samples(pending: dict, config: WearStudyConfig, samples: np.nda
             pending.setdefault(s, []).append(samples[inside].copy())
 
 
-def _snapshot(config, revolution, sim_rev, phi_deg, depth, samples, wall_s) -> dict:
+def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall_s) -> dict:
     events = impact_events(samples[:, L.T_TIME], samples[:, L.T_SLIDER_A], config.mechanism,
                            config.impact_threshold_m_s2, config.impact_merge_deg)
     peaks = [e["peak_deviation_m_s2"] for e in events]
     acc = samples[:, L.T_SLIDER_A]
     return {"revolution": revolution, "simulated_revolutions": sim_rev, "wall_time_s": wall_s,
-            **profile_features(phi_deg, depth), "worn_volume_m3": worn_volume_m3(config.joint, depth),
+            **profile_features(phi_deg, depth), "worn_volume_m3": volume,
             "impact_events": len(events), "impact_peak_max_m_s2": max(peaks, default=0.0),
             "impact_peak_mean_m_s2": float(np.mean(peaks)) if peaks else 0.0, "impact_event_list": events,
             "slider_acc_max_m_s2": float(acc.max()) if acc.size else None,

@@ -12,7 +12,8 @@ import numpy as np
 from numba import njit
 
 from .layout import (
-    CRANK, K_N_SAMPLES, M_ACTIVE, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, MODE_CLEARANCE,
+    CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, M_ACTIVE,
+    MODE_CLEARANCE,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
     R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, ROD, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
@@ -179,10 +180,10 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     k2 = stages[0]
     k3 = stages[1]
     k4 = stages[2]
+    ys = stages[3]
     k5 = np.empty(n2)
     k6 = np.empty(n2)
     k7 = np.empty(n2)
-    ys = np.empty(n2)
     y_new = np.empty(n2)
     accepted = 0
     rejected = 0
