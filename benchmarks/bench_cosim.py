@@ -1,17 +1,16 @@
 """Where the co-simulation master spends its time, measured in one run.
 
-    python benchmarks/bench_cosim.py [--duration 0.2] [--scheme adaptive] [--step 2e-6]
+    python benchmarks/bench_cosim.py [--duration 0.2] [--scheme adaptive] [--step 5e-6]
 
-Two passes over the same interval (the second restores a checkpoint taken
-before the first, so both take exactly the same steps):
+1. As shipped: wall time, communication steps, rollbacks, and the master loop's
+   own split (``CoSimulation.fmi_time_s``: wall time inside the FMI calls, read
+   with clock_gettime around them in the numba loop; the rest is the master).
+2. The mechanism integration alone: ``communication_step`` (record + RK4 over
+   the step with held forces) run from numba as many times as there were steps,
+   at the mean step, on a copy of the master's buffer (no FMI calls).
 
-1. as shipped: wall time, communication steps, the master's own split of FMI
-   calls vs. the rest, and simulated seconds per wall second;
-2. instrumented: every FMI call (setReal, getReal, doStep, FMU state calls) and
-   the master's numba step (record + RK4 over the step) timed separately.
-
-The master's bookkeeping per step = (pass-1 time outside FMI calls - pass-2 time
-in the numba step) / steps.  Prints the figures in microseconds per communication step.
+Master bookkeeping per step = (master time of 1. - mechanism time of 2.) / steps.
+Prints microseconds per communication step and the real-time factor.
 """
 from __future__ import annotations
 
@@ -19,29 +18,22 @@ import argparse
 import time
 
 import numpy as np
+from numba import njit
 
 from wearjoint import cosim
 from wearjoint.core import layout as L
-from wearjoint.cosim import CoSimulation, CoSimulationOptions
+from wearjoint.cosim import CoSimulation, CoSimulationOptions, communication_step
 from wearjoint.parameters import JointParameters
 
 WARM_UP_S = 0.01   # past the first impacts; compiles everything
 
 
-class CallTimer:
-    """Wraps a callable, accumulating its wall time [s] and call count."""
-
-    def __init__(self, function):
-        self.function = function
-        self.seconds = 0.0
-        self.calls = 0
-
-    def __call__(self, *args):
-        t0 = time.perf_counter()
-        result = self.function(*args)
-        self.seconds += time.perf_counter() - t0
-        self.calls += 1
-        return result
+@njit(cache=True)
+def _mechanism_steps(buf, n_steps, h, ws, samples):
+    t = 0.0
+    for _ in range(n_steps):
+        t = communication_step(t, h, True, buf, ws, samples)
+    return t
 
 
 def main(argv=None) -> int:
@@ -58,9 +50,8 @@ def main(argv=None) -> int:
     samples = np.zeros((int(t_end / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
     with CoSimulation(JointParameters(wear_factor=0.0), None, options, fmu_path=args.fmu) as sim:
         sim.advance_to(WARM_UP_S, samples)
-        start = sim.checkpoint()
         before = (sim.communication_steps, sim.rollbacks, sim.fmi_time_s, sim.master_time_s)
-
+        buffer_at_start = sim.buf.copy()
         wall0 = time.perf_counter()
         sim.advance_to(t_end, samples)
         wall = time.perf_counter() - wall0
@@ -68,42 +59,26 @@ def main(argv=None) -> int:
         rollbacks = sim.rollbacks - before[1]
         fmi = sim.fmi_time_s - before[2]
         master = sim.master_time_s - before[3]
-        end_state = sim.buf.copy()
+        ws = sim.mechanism.workspace
 
-        sim.restore(start)
-        slave = sim._slave
-        timers = {name: CallTimer(getattr(slave, attr)) for name, attr in
-                  (("setReal", "set_real"), ("getReal", "get_real"), ("doStep", "do_step"))}
-        slave.set_real, slave.get_real, slave.do_step = timers["setReal"], timers["getReal"], timers["doStep"]
-        for name in ("save_state", "restore_state"):
-            timers[name] = CallTimer(getattr(slave, name))
-            setattr(slave, name, timers[name])
-        kernel = CallTimer(cosim.communication_step)
-        cosim.communication_step = kernel
-        try:
-            sim.advance_to(t_end, samples)
-        finally:
-            cosim.communication_step = kernel.function
-        if not np.array_equal(sim.buf, end_state):
-            raise SystemExit("instrumented pass diverged from the first pass (not a like-for-like measurement)")
+    mean_step = args.duration / steps
+    scratch = np.zeros((4, L.N_SAMPLE_COLUMNS))
+    _mechanism_steps(buffer_at_start.copy(), 2, mean_step, ws, scratch)   # compile / load outside the timing
+    buf = buffer_at_start.copy()
+    buf[cosim.B_TRACK + L.K_SAMPLE_DT] = 1e9                              # no samples
+    t0 = time.perf_counter()
+    _mechanism_steps(buf, steps + rollbacks, mean_step, ws, scratch)
+    mechanism = time.perf_counter() - t0
 
     us = 1e6 / steps
     print(f"scheme {args.scheme}, step {args.step:g} s, {args.duration:g} s simulated after {WARM_UP_S:g} s warm-up")
-    print(f"communication steps {steps}, rollbacks {rollbacks}, mean step {args.duration / steps * 1e6:.2f} us")
+    print(f"communication steps {steps}, rollbacks {rollbacks}, mean step {mean_step * 1e6:.2f} us")
     print("per communication step [us]:")
-    for name in ("setReal", "getReal", "doStep", "save_state", "restore_state"):
-        timer = timers[name]
-        label = {"save_state": "getFMUstate+free", "restore_state": "setFMUstate"}.get(name, name)
-        print(f"  FMI {label:18s} {timer.seconds * us:8.2f}   ({timer.calls} calls, "
-              f"{timer.seconds / max(timer.calls, 1) * 1e6:.2f} us per call)")
-    bookkeeping = master - kernel.seconds
-    print(f"  master numba step (record + RK4)  {kernel.seconds * us:8.2f}")
-    print(f"  master bookkeeping (Python loop)  {bookkeeping * us:8.2f}")
-    print(f"  master total (pass 1)             {master * us:8.2f}")
-    print(f"  FMI total (pass 1)                {fmi * us:8.2f}")
-    print(f"  wall (pass 1)                     {wall * us:8.2f}")
-    print(f"master share of wall time: {master / wall:.3f}")
-    print(f"simulated seconds per wall second (real-time factor): {args.duration / wall:.4f}")
+    print(f"  FMI calls (doStep, setReal, getReal, FMU states)  {fmi * us:8.2f}")
+    print(f"  mechanism integration (record + RK4, numba)       {mechanism * us:8.2f}")
+    print(f"  master bookkeeping (loop, rollback copies)        {(master - mechanism) * us:8.2f}")
+    print(f"  wall                                              {wall * us:8.2f}")
+    print(f"simulated seconds per wall second (real-time factor): {args.duration / wall:.3f}")
     return 0
 
 

@@ -20,6 +20,12 @@
 * Non-finite inputs: getReal of a force output fails (fmi2Error) and doStep is
   refused (fmi2Discard, state unchanged); both log the inputs by name.  Finite
   inputs set afterwards make the instance usable again.
+* Native path: once initialised, the slave attaches its arrays and the cfuncs of
+  :mod:`wearjoint.native` to the status shim, which then answers setReal of
+  finite inputs, getReal of everything but the wear summary, and doStep without
+  entering Python (same kernels, same arrays).  The staleness flags and the time
+  live in ``_flags``, shared with the shim; clearing its native flag (non-finite
+  inputs, not initialised) sends every call here.
 
 Built by ``wearjoint build-fmu`` (wearjoint/fmu_build.py), which fixes n_points in
 resources/wearjoint_fmu.json.
@@ -63,6 +69,7 @@ with _scipy_hidden():
     from wearjoint import fmu_variables as fv
     from wearjoint.core import layout
     from wearjoint.core.contact import block_minimum_depth
+    from wearjoint import native
 
 _RESULT_INDEX = {
     "pin_force_x": layout.R_PIN_FX, "pin_force_y": layout.R_PIN_FY, "pin_torque": layout.R_PIN_TORQUE,
@@ -81,8 +88,10 @@ _STATE_HEAD = struct.Struct("<8sdd")
 _N_INPUTS = len(fv.INPUTS)
 _ALL_INPUT_VRS = list(range(_N_INPUTS))   # value references of the inputs, in order
 
-# Where getReal finds a variable's value (see _ReadPlan).
-_FROM_STORE, _FROM_RESULT, _FROM_WEAR_DEPTH = 0, 1, 2
+# Where getReal finds a variable's value (see _ReadPlan); the shim's SOURCE_* (-1: ask the slave).
+_FROM_SLAVE, _FROM_STORE, _FROM_RESULT, _FROM_WEAR_DEPTH = -1, 0, 1, 2
+# _flags, shared with the status shim (its FLAG_*)
+_FLAG_NATIVE, _FLAG_FORCES_STALE, _FLAG_WEAR_SUMMARY_STALE, _FLAG_TIME = range(4)
 _WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
 _MAX_READ_PLANS = 64   # distinct getReal value-reference lists remembered per instance
 
@@ -93,15 +102,31 @@ _SHIM_BINARY = Path("binaries", "linux64", f"{fv.MODEL_NAME}.so")
 
 
 @functools.lru_cache(maxsize=None)
-def _shim_error_flag(resources: str):
-    """The status shim's ``wearjoint_shim_flag_error``, or None if this FMU has no shim.
+def _shim(resources: str):
+    """The status shim (ctypes), or None if this FMU has none.
 
     dlopen of the shim's path returns the library the host already loaded.
     """
     try:
-        return ctypes.CDLL(str(Path(resources).parent / _SHIM_BINARY)).wearjoint_shim_flag_error
+        shim = ctypes.CDLL(str(Path(resources).parent / _SHIM_BINARY))
+        shim.wearjoint_shim_flag_error  # noqa: B018 - present in every shim
     except (OSError, AttributeError):
         return None
+    return shim
+
+
+_F64P = ctypes.POINTER(ctypes.c_double)
+
+
+class _NativePath(ctypes.Structure):
+    """The shim's NativePath (fmu_src/status_shim.c): arrays by address, cfuncs by address."""
+
+    _fields_ = [("flags", _F64P), ("store", _F64P), ("read_source", ctypes.POINTER(ctypes.c_int32)),
+                ("read_index", ctypes.POINTER(ctypes.c_int32)), ("n_variables", ctypes.c_uint32),
+                ("n_inputs", ctypes.c_uint32), ("joint_parameters", _F64P), ("cos_phi", _F64P), ("sin_phi", _F64P),
+                ("wear_depth", _F64P), ("block_min", _F64P), ("memory", _F64P), ("result", _F64P),
+                ("mask", ctypes.c_void_p), ("n_points", ctypes.c_int64), ("n_blocks", ctypes.c_int64),
+                ("evaluate", ctypes.c_void_p), ("advance", ctypes.c_void_p)]
 
 
 def _built_n_points(resources) -> int:
@@ -198,6 +223,14 @@ class ClearanceWearJoint(Fmi2Slave):
         if missing:
             raise RuntimeError(f"outputs without a source in the joint: {', '.join(missing)}")
         self._read_plans = {}
+        # the same map as arrays for the shim's native getReal (wear summary and Integers: ask the slave)
+        self._native_read_source = np.array([_FROM_SLAVE if src is None else src[0] for src in self._read_source],
+                                            dtype=np.int32)
+        self._native_read_index = np.array([0 if src is None else src[1] for src in self._read_source],
+                                           dtype=np.int32)
+        self._native_read_source[[self._max_wear_vr, self._worn_volume_vr]] = _FROM_SLAVE
+        self._flags = np.zeros(4)
+        self._native_attached = False
         # the source arrays, indexed by _FROM_*; the joint's arrays once it is built
         self._sources = (self._reals, None, None)
         # FMU state layout: bytes of the parameters; float64 positions after the head
@@ -210,13 +243,37 @@ class ClearanceWearJoint(Fmi2Slave):
         self._state_size = _STATE_HEAD.size + 8 * self._state_wear.stop
         self._parameter_block = None   # the parameters of the joint as state bytes
         self._non_finite_input_vrs = set()
-        self._time = 0.0
         self._initialised = False
         self._joint = None
         self._joint_parameters_used = None
         self._parameters_changed = True
         self._forces_stale = True
         self._wear_summary_stale = True
+
+    # staleness flags and time, shared with the shim's native path
+    @property
+    def _forces_stale(self) -> bool:
+        return self._flags[_FLAG_FORCES_STALE] != 0.0
+
+    @_forces_stale.setter
+    def _forces_stale(self, value: bool) -> None:
+        self._flags[_FLAG_FORCES_STALE] = 1.0 if value else 0.0
+
+    @property
+    def _wear_summary_stale(self) -> bool:
+        return self._flags[_FLAG_WEAR_SUMMARY_STALE] != 0.0
+
+    @_wear_summary_stale.setter
+    def _wear_summary_stale(self, value: bool) -> None:
+        self._flags[_FLAG_WEAR_SUMMARY_STALE] = 1.0 if value else 0.0
+
+    @property
+    def _time(self) -> float:
+        return float(self._flags[_FLAG_TIME])
+
+    @_time.setter
+    def _time(self, value: float) -> None:
+        self._flags[_FLAG_TIME] = value
 
     def _register(self, vr: int, v) -> None:
         kind = Real if v.type == fv.REAL else Integer
@@ -252,9 +309,9 @@ class ClearanceWearJoint(Fmi2Slave):
         """
         self._log_error(message)
         _OVER_RELEASED.extend((type(self), self, self.log_queue))
-        flag_error = _shim_error_flag(self.resources) if self.resources is not None else None
-        if flag_error is not None:
-            flag_error()
+        shim = _shim(self.resources) if self.resources is not None else None
+        if shim is not None:
+            shim.wearjoint_shim_flag_error()
         raise FmuCallFailed(message)
 
     def _log_error(self, message: str) -> None:
@@ -286,7 +343,35 @@ class ClearanceWearJoint(Fmi2Slave):
             self._joint_parameters_used = values
             self._parameter_block = np.array(list(values.values()), dtype=float).tobytes()
             self._forces_stale = self._wear_summary_stale = True
+            self._attach_native()
         self._parameters_changed = False
+
+    def _attach_native(self) -> None:
+        """Hand the joint's arrays and the native kernels to the status shim (if this FMU has one)."""
+        shim = _shim(self.resources) if self.resources is not None else None
+        if shim is None or not hasattr(shim, "wearjoint_shim_attach_native"):
+            return
+        joint = self._joint
+
+        def pointer(array, kind=_F64P):
+            return array.ctypes.data_as(kind)
+
+        path = _NativePath(
+            flags=pointer(self._flags), store=pointer(self._reals),
+            read_source=pointer(self._native_read_source, ctypes.POINTER(ctypes.c_int32)),
+            read_index=pointer(self._native_read_index, ctypes.POINTER(ctypes.c_int32)),
+            n_variables=len(self._names), n_inputs=_N_INPUTS, joint_parameters=pointer(joint.parameter_vector),
+            cos_phi=pointer(joint.cos_phi), sin_phi=pointer(joint.sin_phi), wear_depth=pointer(joint.wear_depth),
+            block_min=pointer(joint.block_min), memory=pointer(joint.memory), result=pointer(joint.result),
+            mask=joint._mask.ctypes.data, n_points=joint.wear_depth.size, n_blocks=joint.block_min.size,
+            evaluate=native.evaluate_native.address, advance=native.advance_native.address)
+        self._native_attached = shim.wearjoint_shim_attach_native(ctypes.byref(path)) == 0
+        self._sync_native_flag()
+
+    def _sync_native_flag(self) -> None:
+        """Let the shim answer the hot calls natively only while that is exactly what this slave would do."""
+        allowed = self._native_attached and self._initialised and not self._non_finite_input_vrs
+        self._flags[_FLAG_NATIVE] = 1.0 if allowed else 0.0
 
     def _non_finite_inputs(self) -> str:
         return ", ".join(f"{self._names[vr]}={float(self._reals[vr])!r}" for vr in sorted(self._non_finite_input_vrs))
@@ -344,6 +429,7 @@ class ClearanceWearJoint(Fmi2Slave):
     def exit_initialization_mode(self):
         self._ensure_joint()  # builds the joint from the final parameters, compiles the kernels
         self._initialised = True
+        self._sync_native_flag()
 
     @_guarded
     def do_step(self, current_time, step_size):
@@ -401,6 +487,7 @@ class ClearanceWearJoint(Fmi2Slave):
                 else:
                     self._abort_call(f"setReal: variable {self._name(vr)} cannot be set")
         self._forces_stale = True
+        self._sync_native_flag()
 
     @_guarded
     def get_integer(self, vrs):
@@ -487,6 +574,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._time = time
         self._initialised = initialised == 1.0
         self._forces_stale = self._wear_summary_stale = True
+        self._sync_native_flag()
 
     @staticmethod
     def _fmu_state_to_bytes(state):

@@ -149,6 +149,19 @@ def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monke
     assert closed == [False]
 
 
+def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_message(built_fmu):
+    """The numba master loop checks every FMI status: non-finite kinematics from step 1 on
+    make getReal fail; the run stops at that point with the FMU's log in the error."""
+    with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu) as sim:
+        samples = np.zeros((1000, L.N_SAMPLE_COLUMNS))
+        sim.advance_to(1e-4, samples)
+        t_good = sim.t
+        sim.buf[cosim.B_Y:cosim.B_Y + L.N_COORDINATES] = np.nan
+        with pytest.raises(CoSimulationError, match=r"fmi2GetReal returned fmi2Error at t=.*non-finite inputs"):
+            sim.advance_to(2e-4, samples)
+        assert sim.t == t_good
+
+
 def test_fmu_engine_refuses_to_set_the_wear_profile():
     # the FMU has no input or parameter for its profile: cycle jumping must fail clearly, not silently
     from wearjoint.parameters import ParameterError

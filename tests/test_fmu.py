@@ -254,6 +254,35 @@ def test_non_finite_input_is_forgotten_once_set_finite(slave):
     gc.collect()
 
 
+def test_per_step_calls_are_answered_natively_and_non_finite_inputs_by_the_slave(slave, fmu):
+    """After initialisation the status shim answers setReal of the inputs, getReal of the
+    outputs and doStep through wearjoint.native, without entering the Python slave; a
+    non-finite input goes to the slave, which reports it (the profiler sees that call)."""
+    entered = []
+
+    def profile(frame, event, arg):
+        if event == "call" and frame.f_code.co_filename.endswith(f"{fv.MODEL_NAME}.py"):
+            entered.append(frame.f_code.co_name)
+
+    names = FORCE_NAMES + ["normal_force", "penetration", "contact", fmu["wear"][0], "pin_x", "pin_radius"]
+    sys.setprofile(profile)
+    try:
+        for k in range(20):
+            slave.set_inputs(contact_inputs(depth=(k - 10) * 1e-6))
+            slave.get(names)
+            slave.fmu.doStep(currentCommunicationPoint=k * 1e-5, communicationStepSize=1e-5)
+        answered_natively = list(entered)
+        x = contact_inputs()
+        x[0] = math.nan
+        slave.set_inputs(x)
+    finally:
+        sys.setprofile(None)
+    assert answered_natively == []
+    assert entered, "the non-finite input should have reached the Python slave"
+    with pytest.raises(FMICallException):
+        slave.get(["pin_force_x"])
+
+
 # ------------------------------------------------------------- wear
 def test_do_step_wears_where_the_pin_presses(slave, fmu):
     x = contact_inputs(direction=2.0, pin_omega=10.0)

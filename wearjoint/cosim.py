@@ -1,12 +1,16 @@
 """Co-simulation master: the rigid slider-crank coupled to the ``ClearanceWearJoint`` FMU.
 
 The crank-rod joint of the mechanism is open (``MODE_EXTERNAL``); its loads come
-from the FMU (MODEL.md section 5) through fmpy's low-level FMI 2.0 API.  Each
-communication step [t, t + h]: the FMU already holds the kinematics at t (crank =
-pin body, rod = bushing body) and its forces were read; one numba call records
-the point t and integrates the mechanism over the step with those forces held
-(RK4); then ``doStep(t, h)``, ``setReal`` of the 12 inputs at t + h and
-``getReal`` of the 12 outputs the master needs.
+from the FMU (MODEL.md section 5).  fmpy loads, instantiates and initialises the
+FMU (``FMU2Slave``); the communication loop (:func:`master_loop`) is numba code
+that calls the FMU's ``fmi2DoStep``/``fmi2SetReal``/``fmi2GetReal`` (and the
+FMU-state functions for rollbacks) through their C entry points, with value
+references and values in pre-allocated arrays, so the master adds no Python
+work per step.  Each communication step [t, t + h]: the FMU already holds the
+kinematics at t (crank = pin body, rod = bushing body) and its forces were read;
+:func:`communication_step` records the point t and integrates the mechanism over
+the step with those forces held (RK4); then ``doStep(t, h)``, ``setReal`` of the
+12 inputs at t + h and ``getReal`` of the 12 outputs the master needs.
 
 Schemes (``CoSimulationOptions.scheme``):
 
@@ -86,6 +90,22 @@ B_TRACK = B_STAGES + 4 * _N_Y             # record_step bookkeeping (samples, pr
 B_MP = B_TRACK + L.N_TRACK                # mechanism parameter vector
 B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces during contact
 B_STATS = B_EXTRAPOLATE + 1               # per-revolution statistics (rows of layout.N_STATS)
+
+
+# --- master_loop's register: the loop's state between calls, its counters and its failure
+G_T = 0                  # time reached [s]
+G_PREVIOUS_PENETRATION = 1   # FMU penetration at the accepted point before t [m]
+G_STEPS = 2              # communication steps accepted (this call)
+G_ROLLBACKS = 3          # rollbacks (this call)
+G_FMI_TIME = 4           # wall time in FMI calls (this call) [s]
+G_FAILED_CALL = 5        # index into FMI_CALLS of the call that failed, 0 if none
+G_FAILED_STATUS = 6      # its fmi2Status
+G_FAILED_TIME = 7        # the communication point it was made for [s]
+N_REGISTER = 8
+FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
+             "fmi2FreeFMUstate")
+# --- master_loop's settings
+C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET = range(5)
 
 
 class CoSimulationError(RuntimeError):
@@ -174,6 +194,125 @@ def communication_step(t, h, record, buf, ws, samples):
     return t
 
 
+@njit(cache=True)
+def _seconds(clock, timespec):
+    """Monotonic clock [s] through libc's clock_gettime (CLOCK_MONOTONIC)."""
+    clock(1, timespec.ctypes.data)
+    return timespec[0] + 1e-9 * timespec[1]
+
+
+@njit(cache=True)
+def _failed(register, call, status, t):
+    register[G_FAILED_CALL] = call
+    register[G_FAILED_STATUS] = status
+    register[G_FAILED_TIME] = t
+
+
+@njit(cache=True)
+def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, timespec):
+    """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
+    call that returned worse than fmi2Warning (details in ``register``).
+
+    ``fmi`` = (component, input value references, output value references, FMU-state
+    slot (addresses), doStep, setReal, getReal, getFMUstate, setFMUstate,
+    freeFMUstate): the FMU's C functions, called with the buffers' addresses.
+    Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT).
+    Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
+    at the start of a free-flight step, the FMU state slot the matching FMU state.
+    """
+    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
+    adaptive = settings[C_ADAPTIVE] > 0.5
+    h_contact = settings[C_STEP]
+    h_max = settings[C_MAX_STEP]
+    h_min = settings[C_MIN_STEP]
+    onset = settings[C_ONSET]
+    inputs = buf.ctypes.data + B_INPUT * 8
+    outputs = buf.ctypes.data + B_OUTPUT * 8
+    t = register[G_T]
+    pen_before = register[G_PREVIOUS_PENETRATION]
+    record = False                    # the point t was accounted when it was accepted
+    retry_step = 0.0
+    steps = 0
+    rollbacks = 0
+    fmi_time = 0.0
+    failed = 0
+    t_stop = t_end * (1.0 - 1e-15)
+    while t < t_stop:
+        pen = buf[B_OUTPUT + O_PENETRATION]
+        free = buf[B_OUTPUT + O_CONTACT] < 0.5
+        if retry_step > 0.0:
+            h = retry_step
+        elif adaptive and free:
+            h = h_max
+            rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
+            if rate > 0.0:                       # approaching the wall: aim just past the onset
+                h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
+            saved[:] = buf[:B_ROLLBACK_END]
+            c1 = _seconds(clock, timespec)
+            if state_slot[0] != 0:
+                status = free_state(component, state_slot.ctypes.data)
+                state_slot[0] = 0
+                if status > FMI_WARNING:
+                    failed = 6
+                    _failed(register, failed, status, t)
+                    break
+            status = get_state(component, state_slot.ctypes.data)
+            fmi_time += _seconds(clock, timespec) - c1
+            if status > FMI_WARNING:
+                failed = 4
+                _failed(register, failed, status, t)
+                break
+        else:
+            h = h_contact
+        h = min(h, t_end - t)
+        t_new = communication_step(t, h, record, buf, ws, samples)
+        record = False
+        c2 = _seconds(clock, timespec)
+        status = do_step(component, t, t_new - t, 1)
+        if status > FMI_WARNING:
+            failed = 1
+            _failed(register, failed, status, t)
+            break
+        status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
+        if status > FMI_WARNING:
+            failed = 2
+            _failed(register, failed, status, t_new)
+            break
+        status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
+        fmi_time += _seconds(clock, timespec) - c2
+        if status > FMI_WARNING:
+            failed = 3
+            _failed(register, failed, status, t_new)
+            break
+        if adaptive and free and buf[B_OUTPUT + O_PENETRATION] > onset and h > h_min:
+            # the step crossed a contact onset too deep: back to t, retry to end just past it
+            pen_end = buf[B_OUTPUT + O_PENETRATION]
+            buf[:B_ROLLBACK_END] = saved
+            c1 = _seconds(clock, timespec)
+            status = set_state(component, state_slot[0])
+            fmi_time += _seconds(clock, timespec) - c1
+            if status > FMI_WARNING:
+                failed = 5
+                _failed(register, failed, status, t)
+                break
+            retry_step = max(h_min, h * (0.5 * onset - pen) / (pen_end - pen))
+            rollbacks += 1
+            continue
+        retry_step = 0.0
+        pen_before = pen
+        t = t_new
+        record = True
+        steps += 1
+    if record and failed == 0:
+        communication_step(t, 0.0, True, buf, ws, samples)
+    register[G_T] = t
+    register[G_PREVIOUS_PENETRATION] = pen_before
+    register[G_STEPS] = steps
+    register[G_ROLLBACKS] = rollbacks
+    register[G_FMI_TIME] = fmi_time
+    return failed
+
+
 # ------------------------------------------------------------------ the FMU side
 _MODEL_DESCRIPTIONS: dict = {}
 
@@ -205,6 +344,23 @@ def ensure_fmu(n_points: int, fmu_path=None) -> Path:
         return build_fmu(path.parent, n_points=n_points)
     except (OSError, RuntimeError) as exc:
         raise CoSimulationError(f"building the FMU into {path.parent} failed: {exc}") from None
+
+
+# C prototypes of the FMI functions master_loop calls (pointers as addresses)
+_STATUS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
+_REAL_VALUES_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
+_DO_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+_CLOCK_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int, ctypes.c_void_p)
+
+
+def _c_function(function, prototype):
+    """``function`` (a ctypes function of a loaded library) as a bare C function pointer of ``prototype``."""
+    return prototype(ctypes.cast(function, ctypes.c_void_p).value)
+
+
+def _monotonic_clock():
+    """libc's clock_gettime, for master_loop's split of FMI time and master time."""
+    return _c_function(ctypes.CDLL(None).clock_gettime, _CLOCK_CALL)
 
 
 class _FmuSlave:
@@ -240,7 +396,7 @@ class _FmuSlave:
         except Exception as exc:  # fmpy raises a bare Exception (e.g. no binary for this platform)
             shutil.rmtree(self.unzip_dir, ignore_errors=True)
             raise CoSimulationError(f"FMU {fmu_path} cannot be loaded: {exc}") from None
-        self.state = fmi2FMUstate()            # the rollback snapshot (getFMUstate), NULL when none
+        self.state_slot = np.zeros(1, dtype=np.uintp)   # the rollback snapshot (getFMUstate), 0 when none
         self._fmi2FMUstate = fmi2FMUstate
         dll = self.fmu.dll                     # fmpy has set argtypes/restype on these
         self.set_real = dll.fmi2SetReal
@@ -248,6 +404,8 @@ class _FmuSlave:
         self.do_step = dll.fmi2DoStep
         self.input_vrs = (fmi2ValueReference * N_INPUTS)(*(self.vr[n] for n in INPUT_NAMES))
         self.output_vrs = (fmi2ValueReference * N_OUTPUTS)(*(self.vr[n] for n in OUTPUT_NAMES))
+        self.input_vr_array = np.array(self.input_vrs, dtype=np.uint32)
+        self.output_vr_array = np.array(self.output_vrs, dtype=np.uint32)
         # ctypes arrays aliasing the master's buffer: the FMI calls read and write it directly
         self.inputs = (fmi2Real * N_INPUTS).from_buffer(buf[B_INPUT:B_INPUT + N_INPUTS])
         self.outputs = (fmi2Real * N_OUTPUTS).from_buffer(buf[B_OUTPUT:B_OUTPUT + N_OUTPUTS])
@@ -270,6 +428,11 @@ class _FmuSlave:
         except BaseException:
             self.close()
             raise
+        self.loop_functions = (
+            self.component, self.input_vr_array, self.output_vr_array, self.state_slot,
+            _c_function(dll.fmi2DoStep, _DO_STEP_CALL), _c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),
+            _c_function(dll.fmi2GetReal, _REAL_VALUES_CALL), _c_function(dll.fmi2GetFMUstate, _STATUS_CALL),
+            _c_function(dll.fmi2SetFMUstate, _STATUS_CALL), _c_function(dll.fmi2FreeFMUstate, _STATUS_CALL))
 
     def _set_parameters(self, joint: JointParameters) -> None:
         values = fv.fmi_parameter_values(joint)
@@ -311,19 +474,6 @@ class _FmuSlave:
         return value.value
 
     # -- FMU state
-    def save_state(self, t: float) -> None:
-        """Snapshot for a rollback (the previous snapshot is freed)."""
-        self.free_state(t)
-        self.check(self.fmu.dll.fmi2GetFMUstate(self.component, ctypes.byref(self.state)), "fmi2GetFMUstate", t)
-
-    def restore_state(self, t: float) -> None:
-        self.check(self.fmu.dll.fmi2SetFMUstate(self.component, self.state), "fmi2SetFMUstate", t)
-
-    def free_state(self, t: float) -> None:
-        if self.state:
-            self.check(self.fmu.dll.fmi2FreeFMUstate(self.component, ctypes.byref(self.state)), "fmi2FreeFMUstate", t)
-            self.state = self._fmi2FMUstate()
-
     def serialize(self, t: float) -> bytes:
         state = self._fmi2FMUstate()
         self.check(self.fmu.dll.fmi2GetFMUstate(self.component, ctypes.byref(state)), "fmi2GetFMUstate", t)
@@ -349,8 +499,10 @@ class _FmuSlave:
         Safe to call twice; errors here are not raised (the instance is gone either way)."""
         if self.instantiated:
             self.instantiated = False
-            if self.state:
-                self.fmu.dll.fmi2FreeFMUstate(self.component, ctypes.byref(self.state))
+            if self.state_slot[0]:
+                self.fmu.dll.fmi2FreeFMUstate(
+                    self.component, ctypes.cast(self.state_slot.ctypes.data, ctypes.POINTER(self._fmi2FMUstate)))
+                self.state_slot[0] = 0
             self.fmu.dll.fmi2Terminate(self.component)
             self.fmu.dll.fmi2FreeInstance(self.component)
         shutil.rmtree(self.unzip_dir, ignore_errors=True)
@@ -387,6 +539,13 @@ class CoSimulation:
         self.master_time_s = 0.0
         self._previous_penetration = -math.inf   # FMU penetration at the accepted point before t [m]
         self._saved = np.empty(B_ROLLBACK_END)   # y and outputs at the start of a step (rollback)
+        self._register = np.zeros(N_REGISTER)
+        o = self.options
+        self._settings = np.zeros(5)
+        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET]] = (
+            1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m)
+        self._clock = _monotonic_clock()
+        self._timespec = np.zeros(2, dtype=np.int64)
         self._slave = _FmuSlave(self.fmu_path, self.joint, b)
         try:
             communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
@@ -423,78 +582,25 @@ class CoSimulation:
         """Co-simulate to t_end [s], writing samples into ``samples``; returns how many.
         An FMU error raises CoSimulationError (the instance stays allocated until close())."""
         slave = self._live_slave()
-        o = self.options
-        adaptive = o.scheme == "adaptive"
-        h_contact, h_max, h_min, onset = o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m
-        buf, ws, saved, out = self.buf, self.mechanism.workspace, self._saved, self.outputs
-        component, set_real, get_real, do_step = slave.component, slave.set_real, slave.get_real, slave.do_step
-        input_vrs, output_vrs, inputs, outputs = slave.input_vrs, slave.output_vrs, slave.inputs, slave.outputs
-        clock = time.perf_counter
-        buf[B_TRACK + L.K_N_SAMPLES] = 0
-        t = self.t
-        record = False                    # the point t was accounted when it was accepted
-        pen_before = self._previous_penetration
-        retry_step = 0.0
-        steps = rollbacks = 0
-        fmi_time = 0.0
-        t_stop = t_end * (1.0 - 1e-15)
-        wall0 = clock()
+        register = self._register
+        register[G_T] = self.t
+        register[G_PREVIOUS_PENETRATION] = self._previous_penetration
+        register[G_STEPS:] = 0.0
+        self.buf[B_TRACK + L.K_N_SAMPLES] = 0
+        wall0 = time.perf_counter()
         try:
-            while t < t_stop:
-                pen = out[O_PENETRATION]
-                free = out[O_CONTACT] < 0.5
-                if retry_step > 0.0:
-                    h = retry_step
-                elif adaptive and free:
-                    h = h_max
-                    rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
-                    if rate > 0.0:                       # approaching the wall: aim just past the onset
-                        h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
-                    saved[:] = buf[:B_ROLLBACK_END]
-                    c1 = clock()
-                    slave.save_state(t)
-                    fmi_time += clock() - c1
-                else:
-                    h = h_contact
-                h = min(h, t_end - t)
-                t_new = communication_step(t, h, record, buf, ws, samples)
-                record = False
-                c2 = clock()
-                status = do_step(component, t, t_new - t, 1)
-                if status > FMI_WARNING:
-                    slave.check(status, "fmi2DoStep", t)
-                status = set_real(component, input_vrs, N_INPUTS, inputs)
-                if status > FMI_WARNING:
-                    slave.check(status, "fmi2SetReal", t_new)
-                status = get_real(component, output_vrs, N_OUTPUTS, outputs)
-                if status > FMI_WARNING:
-                    slave.check(status, "fmi2GetReal", t_new)
-                fmi_time += clock() - c2
-                if adaptive and free and out[O_PENETRATION] > onset and h > h_min:
-                    # the step crossed a contact onset too deep: back to t, retry to end just past it
-                    pen_end = out[O_PENETRATION]
-                    buf[:B_ROLLBACK_END] = saved
-                    c1 = clock()
-                    slave.restore_state(t)
-                    fmi_time += clock() - c1
-                    retry_step = max(h_min, h * (0.5 * onset - pen) / (pen_end - pen))
-                    rollbacks += 1
-                    continue
-                retry_step = 0.0
-                pen_before = pen
-                t = t_new
-                record = True
-                steps += 1
-            if record:
-                communication_step(t, 0.0, True, buf, ws, samples)
+            failed = master_loop(t_end, register, self._settings, self.buf, self._saved, samples,
+                                 self.mechanism.workspace, slave.loop_functions, self._clock, self._timespec)
         finally:
-            self.t = t
-            self._previous_penetration = pen_before
-            self.communication_steps += steps
-            self.rollbacks += rollbacks
-            self.fmi_time_s += fmi_time
-            self.master_time_s += clock() - wall0 - fmi_time
-        return int(buf[B_TRACK + L.K_N_SAMPLES])
+            self.t = float(register[G_T])
+            self._previous_penetration = float(register[G_PREVIOUS_PENETRATION])
+            self.communication_steps += int(register[G_STEPS])
+            self.rollbacks += int(register[G_ROLLBACKS])
+            self.fmi_time_s += register[G_FMI_TIME]
+            self.master_time_s += time.perf_counter() - wall0 - register[G_FMI_TIME]
+        if failed:
+            slave.check(int(register[G_FAILED_STATUS]), FMI_CALLS[failed], float(register[G_FAILED_TIME]))
+        return int(self.buf[B_TRACK + L.K_N_SAMPLES])
 
     # -- checkpoints
     def checkpoint(self) -> dict:

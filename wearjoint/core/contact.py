@@ -122,7 +122,7 @@ def _tie_margin(best_d2):
     return best_d2 * (1.0 + 1e-12) + 1e-30
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min):
     """Exact search with pruning, identical to :func:`find_deepest_point_full`.
 
@@ -200,7 +200,9 @@ def lankarani_nikravesh(penetration, penetration_rate, impact_velocity, stiffnes
                         restitution):
     """Normal force F_N = K delta^n (1 + 3(1 - e_r^2)/4 delta_dot/delta_dot^-) >= 0, Eq. (15) [N]."""
     hysteresis = 1.0 + 0.75 * (1.0 - restitution * restitution) * penetration_rate / impact_velocity
-    return max(0.0, stiffness * penetration ** exponent * hysteresis)
+    # delta^1.5 (Hertz, the default) as delta sqrt(delta): several times cheaper than pow
+    power = penetration * math.sqrt(penetration) if exponent == 1.5 else penetration ** exponent
+    return max(0.0, stiffness * power * hysteresis)
 
 
 @njit(cache=True)
@@ -218,7 +220,7 @@ def _cross(lx, ly, fx, fy):
     return lx * fy - ly * fx
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, out):
     """Contact forces of the clearance joint for given body kinematics (Eqs. 1-23, 34-37).

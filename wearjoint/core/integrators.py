@@ -28,16 +28,22 @@ DOPRI5 = 1
 _PI_BETA = 0.04
 _PI_EXPONENT = 0.2 - 0.75 * _PI_BETA
 
-# Dormand-Prince 5(4) tableau
-_C2, _C3, _C4, _C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
-_A21 = 1.0 / 5.0
-_A31, _A32 = 3.0 / 40.0, 9.0 / 40.0
-_A41, _A42, _A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
-_A51, _A52, _A53, _A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
-_A61, _A62, _A63, _A64, _A65 = 9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0
-_B1, _B3, _B4, _B5, _B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
-_E1, _E3, _E4, _E5, _E6, _E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0,
-                                22.0 / 525.0, -1.0 / 40.0)
+# Dormand-Prince 5(4) tableau: row s of _DOPRI_A gives stage s from stages 0..s-1; the last
+# row is the 5th-order solution (b), so the 7th stage is f at the step's end (FSAL)
+_DOPRI_C = np.array([0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0])
+_DOPRI_A = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+])
+# error estimate: 5th- minus 4th-order weights
+_DOPRI_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0,
+                     22.0 / 525.0, -1.0 / 40.0])
+_RK4_C = np.array([0.5, 0.5, 1.0])
 
 
 @njit(cache=True)
@@ -105,19 +111,17 @@ def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) on entry,
     ``stages`` is (4, len(y)) scratch.  Four derivative evaluations, no bookkeeping."""
     n2 = y.shape[0]
+    ys = stages[3]
+    previous = k1
+    for s in range(3):
+        c = _RK4_C[s]
+        for i in range(n2):
+            ys[i] = y[i] + c * h * previous[i]
+        derivative(t + c * h, ys, mode, mp, joint, body_forces, ws, stages[s])
+        previous = stages[s]
     k2 = stages[0]
     k3 = stages[1]
     k4 = stages[2]
-    ys = stages[3]
-    for i in range(n2):
-        ys[i] = y[i] + 0.5 * h * k1[i]
-    derivative(t + 0.5 * h, ys, mode, mp, joint, body_forces, ws, k2)
-    for i in range(n2):
-        ys[i] = y[i] + 0.5 * h * k2[i]
-    derivative(t + 0.5 * h, ys, mode, mp, joint, body_forces, ws, k3)
-    for i in range(n2):
-        ys[i] = y[i] + h * k3[i]
-    derivative(t + h, ys, mode, mp, joint, body_forces, ws, k4)
     for i in range(n2):
         y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
@@ -176,14 +180,8 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     memory = joint[5]
     pen_start = result[R_PENETRATION]
     err_previous = 1e-4
-    stages = np.empty((4, n2))
-    k2 = stages[0]
-    k3 = stages[1]
-    k4 = stages[2]
-    ys = stages[3]
-    k5 = np.empty(n2)
-    k6 = np.empty(n2)
-    k7 = np.empty(n2)
+    stages = np.empty((4, n2))                  # RK4 scratch
+    k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
     y_new = np.empty(n2)
     accepted = 0
     rejected = 0
@@ -197,24 +195,14 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             continue
         # Dormand-Prince 5(4)
-        for i in range(n2):
-            ys[i] = y[i] + step * _A21 * dy[i]
-        derivative(t + _C2 * step, ys, mode, mp, joint, body_forces, ws, k2)
-        for i in range(n2):
-            ys[i] = y[i] + step * (_A31 * dy[i] + _A32 * k2[i])
-        derivative(t + _C3 * step, ys, mode, mp, joint, body_forces, ws, k3)
-        for i in range(n2):
-            ys[i] = y[i] + step * (_A41 * dy[i] + _A42 * k2[i] + _A43 * k3[i])
-        derivative(t + _C4 * step, ys, mode, mp, joint, body_forces, ws, k4)
-        for i in range(n2):
-            ys[i] = y[i] + step * (_A51 * dy[i] + _A52 * k2[i] + _A53 * k3[i] + _A54 * k4[i])
-        derivative(t + _C5 * step, ys, mode, mp, joint, body_forces, ws, k5)
-        for i in range(n2):
-            ys[i] = y[i] + step * (_A61 * dy[i] + _A62 * k2[i] + _A63 * k3[i] + _A64 * k4[i] + _A65 * k5[i])
-        derivative(t + step, ys, mode, mp, joint, body_forces, ws, k6)
-        for i in range(n2):
-            y_new[i] = y[i] + step * (_B1 * dy[i] + _B3 * k3[i] + _B4 * k4[i] + _B5 * k5[i] + _B6 * k6[i])
-        derivative(t + step, y_new, mode, mp, joint, body_forces, ws, k7)
+        k[0, :] = dy
+        for stage in range(1, 7):
+            for i in range(n2):
+                acc = 0.0
+                for j in range(stage):
+                    acc += _DOPRI_A[stage, j] * k[j, i]
+                y_new[i] = y[i] + step * acc
+            derivative(t + _DOPRI_C[stage] * step, y_new, mode, mp, joint, body_forces, ws, k[stage])
         pen_end = result[R_PENETRATION]
         if (locate_onsets and memory[M_ACTIVE] < 0.5 and pen_start < 0.0 and pen_end > onset_tol
                 and step > h_min):
@@ -223,7 +211,10 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
             continue
         err = 0.0
         for i in range(n2):
-            e = step * (_E1 * dy[i] + _E3 * k3[i] + _E4 * k4[i] + _E5 * k5[i] + _E6 * k6[i] + _E7 * k7[i])
+            acc = 0.0
+            for j in range(7):
+                acc += _DOPRI_E[j] * k[j, i]
+            e = step * acc
             scale = (atol_q if i < n else atol_v) + rtol * max(abs(y[i]), abs(y_new[i]))
             err += (e / scale) ** 2
         err = math.sqrt(err / n2)
@@ -231,7 +222,7 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
             t += step
             accepted += 1
             y[:] = y_new
-            accept_point(t, y, step, k7, mode, mp, joint, body_forces, ws, dy, True)
+            accept_point(t, y, step, k[6], mode, mp, joint, body_forces, ws, dy, True)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             pen_start = result[R_PENETRATION]
             # PI step-size control (Hairer, Norsett & Wanner, dopri5: beta = 0.04)

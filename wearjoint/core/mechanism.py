@@ -188,7 +188,68 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
         qdd[c] *= minv[c]
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
+def open_joint_accelerations(t, q, qd, mp, body_forces, qdd):
+    """q_dd of Eq. (44) with the crank-rod joint open, in closed form.
+
+    The same equations as :func:`accelerations` (Eqs. 39-44, Baumgarte
+    c = gamma - 2 alpha Phi_dot - beta^2 Phi), solved through their structure:
+    the crank's three rows (pivot, driver) are square in its coordinates, so
+    C_1 q_dd_1 = c_1 fixes its accelerations whatever the loads; the slider's
+    rows y3 = 0 and th3 = 0 fix y3_dd and th3_dd; what remains is the rod-slider
+    revolute (rows 3-4) on (x2, y2, th2, x3), a 2x2 Schur complement.
+    """
+    alpha2 = 2.0 * mp[MP_ALPHA]
+    beta_sq = mp[MP_BETA] * mp[MP_BETA]
+    g = mp[MP_GRAVITY]
+    # crank: pivot r1 + A1 (-l1/2, 0) = 0 (rows 0-1) and driver th1 = th0 - omega t (row 2)
+    th1 = q[CRANK + 2]
+    w1 = qd[CRANK + 2]
+    h1 = -0.5 * mp[MP_CRANK_LENGTH]
+    ax = h1 * math.cos(th1)                     # A1 s1
+    ay = h1 * math.sin(th1)
+    c0 = ax * w1 * w1 - alpha2 * (qd[CRANK] - w1 * ay) - beta_sq * (q[CRANK] + ax)
+    c1 = ay * w1 * w1 - alpha2 * (qd[CRANK + 1] + w1 * ax) - beta_sq * (q[CRANK + 1] + ay)
+    c2 = -alpha2 * (w1 + mp[MP_OMEGA]) - beta_sq * (th1 - (mp[MP_THETA0] - mp[MP_OMEGA] * t))
+    qdd[CRANK + 2] = c2
+    qdd[CRANK] = c0 + ay * c2                   # x1_dd - ay th1_dd = c0
+    qdd[CRANK + 1] = c1 - ax * c2               # y1_dd + ax th1_dd = c1
+    # slider: y3 = 0 (row 5), th3 = 0 (row 6)
+    qdd[SLIDER + 1] = -alpha2 * qd[SLIDER + 1] - beta_sq * q[SLIDER + 1]
+    qdd[SLIDER + 2] = -alpha2 * qd[SLIDER + 2] - beta_sq * q[SLIDER + 2]
+    # rod-slider revolute r2 + A2 (l2/2, 0) - r3 = 0 (rows 3-4): J on (x2, y2, th2, x3)
+    # row 3 = [1, 0, -by, -1], row 4 = [0, 1, bx, 0] (y3 enters row 4 with y3_dd known)
+    th2 = q[ROD + 2]
+    w2 = qd[ROD + 2]
+    h2 = 0.5 * mp[MP_ROD_LENGTH]
+    bx = h2 * math.cos(th2)
+    by = h2 * math.sin(th2)
+    c3 = bx * w2 * w2 - alpha2 * (qd[ROD] - w2 * by - qd[SLIDER]) - beta_sq * (q[ROD] + bx - q[SLIDER])
+    c4 = (by * w2 * w2 - alpha2 * (qd[ROD + 1] + w2 * bx - qd[SLIDER + 1])
+          - beta_sq * (q[ROD + 1] + by - q[SLIDER + 1]) + qdd[SLIDER + 1])
+    inv_m2 = 1.0 / mp[MP_ROD_MASS]
+    inv_i2 = 1.0 / mp[MP_ROD_INERTIA]
+    inv_m3 = 1.0 / mp[MP_SLIDER_MASS]
+    fx2 = body_forces[3]
+    fy2 = body_forces[4] - mp[MP_ROD_MASS] * g
+    tz2 = body_forces[5]
+    fx3 = 0.0                                   # the slider carries no applied load along X
+    # (J M^-1 J^T) lambda = J M^-1 Q - c
+    s11 = inv_m2 + by * by * inv_i2 + inv_m3
+    s12 = -by * bx * inv_i2
+    s22 = inv_m2 + bx * bx * inv_i2
+    r1 = fx2 * inv_m2 - by * tz2 * inv_i2 - fx3 * inv_m3 - c3
+    r2 = fy2 * inv_m2 + bx * tz2 * inv_i2 - c4
+    det = s11 * s22 - s12 * s12
+    lam3 = (s22 * r1 - s12 * r2) / det
+    lam4 = (s11 * r2 - s12 * r1) / det
+    qdd[ROD] = (fx2 - lam3) * inv_m2
+    qdd[ROD + 1] = (fy2 - lam4) * inv_m2
+    qdd[ROD + 2] = (tz2 + by * lam3 - bx * lam4) * inv_i2
+    qdd[SLIDER] = (fx3 + lam3) * inv_m3
+
+
+@njit(cache=True, inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (writing its
     result array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
@@ -210,7 +271,10 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
             body_forces[k] = 0.0
     for k in range(n):
         dy[k] = qd[k]
-    accelerations(t, q, qd, mp, mode == MODE_IDEAL, body_forces, ws, dy[n:])
+    if mode == MODE_IDEAL:
+        accelerations(t, q, qd, mp, True, body_forces, ws, dy[n:])
+    else:
+        open_joint_accelerations(t, q, qd, mp, body_forces, dy[n:])
 
 
 @njit(cache=True)

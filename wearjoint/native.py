@@ -1,0 +1,47 @@
+"""C entry points of the joint's hot path, for hosts that call it from native code.
+
+The FMU's status shim (fmu_src/status_shim.c) answers the per-step FMI calls
+(setReal of the inputs, getReal of the outputs, doStep) itself through these
+numba ``cfunc``s, without entering Python: they run the same kernels as
+:meth:`wearjoint.ClearanceJoint.evaluate_array` and ``advance_array`` on the
+joint's own arrays, passed as raw pointers (``kinematics`` = the 12 FMU inputs:
+pin x, y, angle, vx, vy, omega, then the bushing's).  Nothing here allocates or
+touches Python objects, so a call costs about as much as the kernel.
+"""
+import numpy as np
+from numba import carray, cfunc, types
+
+from .core.contact import evaluate_contact
+from .core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
+from .core.wear import advance_joint
+
+_F64 = types.CPointer(types.float64)
+# (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
+#  n_points, n_blocks[, dt])
+_ARGUMENTS = (_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, types.voidptr, types.int64, types.int64)
+EVALUATE_SIGNATURE = types.int32(*_ARGUMENTS)
+ADVANCE_SIGNATURE = types.int32(*_ARGUMENTS, types.float64)
+
+
+@cfunc(EVALUATE_SIGNATURE, cache=True)
+def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
+                    n_points, n_blocks):
+    """Forces for the kinematics into ``result`` (layout.R_*), Eqs. 1-23; returns 0."""
+    k = carray(kinematics, 12)
+    evaluate_contact(k[0:3], k[3:6], k[6:9], k[9:12], carray(jp, N_JOINT_PARAMETERS), carray(cos_phi, n_points),
+                     carray(sin_phi, n_points), carray(wear_depth, n_points), carray(block_min, n_blocks),
+                     carray(memory, N_MEMORY), carray(result, N_RESULT))
+    return 0
+
+
+@cfunc(ADVANCE_SIGNATURE, cache=True)
+def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
+                   n_points, n_blocks, dt):
+    """Accept a step of dt [s] at the kinematics (wear, contact memory); returns 1 if the
+    joint's state changed, else 0."""
+    k = carray(kinematics, 12)
+    changed = advance_joint(k[0:3], k[3:6], k[6:9], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
+                            carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
+                            carray(block_min, n_blocks), carray(memory, N_MEMORY),
+                            carray(mask, n_points, dtype=np.bool_), carray(result, N_RESULT))
+    return 1 if changed else 0
