@@ -690,6 +690,8 @@ def config_from_args(args) -> WearStudyConfig:
 
 
 def cli_run(args) -> int:
+    from wearjoint.cosim import CoSimulationError
+
     config = config_from_args(args)
     try:
         if args.convergence is not None:
@@ -722,6 +724,9 @@ def cli_run(args) -> int:
         print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out} "
               "(continue with --resume)", file=sys.stderr)
         return 130
+    except CoSimulationError as exc:
+        print(f"wearjoint wear-study: error: {exc}\nfinished work is checkpointed in {args.out}", file=sys.stderr)
+        return 1
     print(f"results in {args.out}")
     return 0
 

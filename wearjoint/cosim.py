@@ -101,7 +101,14 @@ G_FMI_TIME = 4           # wall time in FMI calls (this call) [s]
 G_FAILED_CALL = 5        # index into FMI_CALLS of the call that failed, 0 if none
 G_FAILED_STATUS = 6      # its fmi2Status
 G_FAILED_TIME = 7        # the communication point it was made for [s]
-N_REGISTER = 8
+G_CONTACT_STEP = 8       # adaptive: the communication step in contact now [s] (0: step_s)
+N_REGISTER = 9
+# adaptive contact step: the relative miss of the extrapolated contact force that halves it (else
+# it grows back to step_s), and its floor as a share of step_s (force jumps, e.g. friction reversing
+# or the deepest bushing point moving on, miss at any step and must not drive it to nothing)
+_MISS_SHRINK = 0.3
+_SMALLEST_CONTACT_STEP = 1.0 / 16.0
+_MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching) is not stiff
 FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
              "fmi2FreeFMUstate")
 # --- master_loop's settings
@@ -237,9 +244,19 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     fmi_time = 0.0
     failed = 0
     t_stop = t_end * (1.0 - 1e-15)
+    h_touching = register[G_CONTACT_STEP] if register[G_CONTACT_STEP] > 0.0 else h_contact
     while t < t_stop:
         pen = buf[B_OUTPUT + O_PENETRATION]
         free = buf[B_OUTPUT + O_CONTACT] < 0.5
+        # forces predicted for the step's end where the contact persists (extrapolation)
+        extrapolating = (adaptive and not free and buf[B_PREVIOUS_CONTACT] > 0.5 and buf[B_LAST_STEP] > 0.0
+                         and retry_step == 0.0)
+        fx_t = buf[B_OUTPUT]
+        fy_t = buf[B_OUTPUT + 1]
+        fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
+        fy_slope = (fy_t - buf[B_PREVIOUS_FORCES + 1]) / buf[B_LAST_STEP] if extrapolating else 0.0
+        if free:
+            h_touching = h_contact
         if retry_step > 0.0:
             h = retry_step
         elif adaptive and free:
@@ -263,7 +280,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
                 _failed(register, failed, status, t)
                 break
         else:
-            h = h_contact
+            h = h_touching if adaptive else h_contact
         h = min(h, t_end - t)
         t_new = communication_step(t, h, record, buf, ws, samples)
         record = False
@@ -298,11 +315,24 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             retry_step = max(h_min, h * (0.5 * onset - pen) / (pen_end - pen))
             rollbacks += 1
             continue
+        if extrapolating:
+            # stiff contact (deep, or damped hard after a slow onset) makes the explicit
+            # coupling unstable at a fixed step: shrink the contact step while the force at
+            # the step's end misses its extrapolation, grow it back to step_s once it agrees
+            fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
+            fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
+            scale = max(math.hypot(buf[B_OUTPUT], buf[B_OUTPUT + 1]), math.hypot(fx_t, fy_t), _MISS_FORCE_FLOOR)
+            miss = math.hypot(fx_miss, fy_miss) / scale
+            if miss > _MISS_SHRINK:
+                h_touching = max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h)
+            else:
+                h_touching = min(h_contact, 1.25 * h_touching)
         retry_step = 0.0
         pen_before = pen
         t = t_new
         record = True
         steps += 1
+    register[G_CONTACT_STEP] = h_touching
     if record and failed == 0:
         communication_step(t, 0.0, True, buf, ws, samples)
     register[G_T] = t
@@ -585,7 +615,7 @@ class CoSimulation:
         register = self._register
         register[G_T] = self.t
         register[G_PREVIOUS_PENETRATION] = self._previous_penetration
-        register[G_STEPS:] = 0.0
+        register[G_STEPS:G_CONTACT_STEP] = 0.0
         self.buf[B_TRACK + L.K_N_SAMPLES] = 0
         wall0 = time.perf_counter()
         try:
@@ -609,7 +639,7 @@ class CoSimulation:
         bytes) and the counters.  Picklable."""
         slave = self._live_slave()
         return {"t": self.t, "buffer": self.buf.copy(), "fmu_state": slave.serialize(self.t),
-                "previous_penetration": self._previous_penetration,
+                "previous_penetration": self._previous_penetration, "contact_step": self._register[G_CONTACT_STEP],
                 "communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
                 "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
 
@@ -624,6 +654,7 @@ class CoSimulation:
         self.buf[:] = buffer
         self.t = float(checkpoint["t"])
         self._previous_penetration = float(checkpoint["previous_penetration"])
+        self._register[G_CONTACT_STEP] = float(checkpoint["contact_step"])
         self.communication_steps = int(checkpoint["communication_steps"])
         self.rollbacks = int(checkpoint["rollbacks"])
         self.fmi_time_s = float(checkpoint["fmi_time_s"])
