@@ -220,7 +220,7 @@ def _cross(lx, ly, fx, fy):
     return lx * fy - ly * fx
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, out):
     """Contact forces of the clearance joint for given body kinematics (Eqs. 1-23, 34-37).

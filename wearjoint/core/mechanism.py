@@ -21,6 +21,11 @@ from .layout import (
     R_BUSHING_TORQUE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
 )
 
+# The integrators' right-hand side inlines the contact evaluation (a call with a dozen
+# array arguments costs about as much as the mechanism itself); everywhere else, e.g. in
+# the FMU, evaluate_contact stays an ordinary compiled function (faster to compile).
+_evaluate_contact_inlined = njit(inline='always')(evaluate_contact.py_func)
+
 GROUND = -1
 NO_BODY = -1
 N_CONSTRAINTS_CLEARANCE = 7
@@ -258,8 +263,8 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     qd = y[n:]
     if mode == MODE_CLEARANCE:
         jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
-        evaluate_contact(q[CRANK:CRANK + 3], qd[CRANK:CRANK + 3], q[ROD:ROD + 3], qd[ROD:ROD + 3],
-                         jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
+        _evaluate_contact_inlined(q[CRANK:CRANK + 3], qd[CRANK:CRANK + 3], q[ROD:ROD + 3], qd[ROD:ROD + 3],
+                                  jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
         body_forces[0] = result[R_PIN_FX]
         body_forces[1] = result[R_PIN_FY]
         body_forces[2] = result[R_PIN_TORQUE]
