@@ -162,6 +162,19 @@ class _ReadPlan(typing.NamedTuple):
     reads_wear_summary: bool
 
 
+class _SharedFlag:
+    """A boolean attribute of the slave kept in ``_flags[index]`` (1.0 / 0.0), where the shim reads it."""
+
+    def __init__(self, index: int):
+        self.index = index
+
+    def __get__(self, slave, owner=None) -> bool:
+        return slave._flags[self.index] != 0.0
+
+    def __set__(self, slave, value: bool) -> None:
+        slave._flags[self.index] = 1.0 if value else 0.0
+
+
 class _DeserialisedState(bytes):
     """An FMU state read back by deSerializeFMUstate: setFMUstate validates it in full."""
 
@@ -251,21 +264,8 @@ class ClearanceWearJoint(Fmi2Slave):
         self._wear_summary_stale = True
 
     # staleness flags and time, shared with the shim's native path
-    @property
-    def _forces_stale(self) -> bool:
-        return self._flags[_FLAG_FORCES_STALE] != 0.0
-
-    @_forces_stale.setter
-    def _forces_stale(self, value: bool) -> None:
-        self._flags[_FLAG_FORCES_STALE] = 1.0 if value else 0.0
-
-    @property
-    def _wear_summary_stale(self) -> bool:
-        return self._flags[_FLAG_WEAR_SUMMARY_STALE] != 0.0
-
-    @_wear_summary_stale.setter
-    def _wear_summary_stale(self, value: bool) -> None:
-        self._flags[_FLAG_WEAR_SUMMARY_STALE] = 1.0 if value else 0.0
+    _forces_stale = _SharedFlag(_FLAG_FORCES_STALE)
+    _wear_summary_stale = _SharedFlag(_FLAG_WEAR_SUMMARY_STALE)
 
     @property
     def _time(self) -> float:

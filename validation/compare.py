@@ -415,13 +415,8 @@ def _profile_difference(name: str, value: float, reference: float) -> float:
 # ---------------------------------------------------------------- figures
 def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
     """Overlays: slider acceleration vs crank angle, pin orbits, first-impact traces, worn profiles."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from wearjoint.mechanism import SliderCrank
-    from wearjoint.plots import crank_rotation_deg, plot_wear_profiles
+    from wearjoint.plots import crank_rotation_deg, plot_wear_profiles, plt
 
     ref = runs.reference
     period = ref.period_s
@@ -491,11 +486,9 @@ def _mechanism_of(record: RunRecord) -> SliderCrankParameters:
 
 
 def _save(fig, out: Path, name: str) -> str:
-    import matplotlib.pyplot as plt
+    from wearjoint.plots import save_figure
 
-    fig.tight_layout()
-    fig.savefig(out / name, dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / name)
     return name
 
 

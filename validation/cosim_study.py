@@ -154,9 +154,7 @@ def markdown_table(study: dict) -> str:
 
 
 def plot_study(study: dict, path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from wearjoint.plots import plt, save_figure
 
     keys = [(f"{k}_rel", label) for k, _, label in STATISTICS] + [("profile_rel", "worn profile (L2)")]
     fig, axes = plt.subplots(2, 4, figsize=(15, 7))
@@ -172,9 +170,7 @@ def plot_study(study: dict, path: Path) -> None:
         ax.set_xlabel("communication step [s]")
         ax.grid(True, which="both", alpha=0.3)
     axes.flat[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def main(argv=None) -> int:

@@ -444,7 +444,7 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
 # ----------------------------------------------------------------------------- figures
 def plot_fig8(snaps: list, config: WearStudyConfig, path: Path) -> None:
     """Slider acceleration over the simulated revolution ending at each snapshot, impact events shaded."""
-    from wearjoint.plots import crank_rotation_deg, plt
+    from wearjoint.plots import crank_rotation_deg, plt, save_figure
 
     period = config.mechanism.period_s
     grid = np.linspace(0.0, period, 721)
@@ -465,14 +465,12 @@ def plot_fig8(snaps: list, config: WearStudyConfig, path: Path) -> None:
     axes[-1, 0].set_xlabel("crank rotation [deg] (simulated revolution ending at the snapshot; black: ideal joint)")
     axes[-1, 0].set_xlim(0, 360)
     fig.suptitle("Fig. 8: slider acceleration at each wear level (red: impact events)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_growth(growth: np.ndarray, path: Path) -> None:
     """Max depth vs revolutions, and its shape (normalised) against the experiment."""
-    from wearjoint.plots import plt
+    from wearjoint.plots import plt, save_figure
 
     r, d = growth[:, 0], growth[:, 1]
     fig, (ax, ax_n) = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -490,9 +488,7 @@ def plot_growth(growth: np.ndarray, path: Path) -> None:
     ax_n.set_title("shape of the growth", fontsize=10)
     ax_n.legend(fontsize=8)
     ax_n.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 # ----------------------------------------------------------------------------- convergence
@@ -555,7 +551,7 @@ def _read_profile(path: Path) -> np.ndarray:
 
 
 def _plot_convergence_growth(out: Path, folders: dict) -> None:
-    from wearjoint.plots import plt
+    from wearjoint.plots import plt, save_figure
 
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for label, folder in folders.items():
@@ -566,9 +562,7 @@ def _plot_convergence_growth(out: Path, folders: dict) -> None:
     ax.set_title("max depth vs revolutions for each acceleration factor", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "convergence_growth.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / "convergence_growth.png")
 
 
 # ----------------------------------------------------------------------------- calibration

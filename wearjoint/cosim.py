@@ -149,6 +149,14 @@ class CoSimulationOptions:
 
 
 @njit(cache=True)
+def _extrapolates(buf):
+    """True if the next step holds extrapolated forces: the scheme extrapolates and the pin
+    touched the bushing at t and at the accepted point before."""
+    return (buf[B_EXTRAPOLATE] > 0.5 and buf[B_OUTPUT + O_CONTACT] > 0.5 and buf[B_PREVIOUS_CONTACT] > 0.5
+            and buf[B_LAST_STEP] > 0.0)
+
+
+@njit(cache=True)
 def communication_step(t, h, record, buf, ws, samples):
     """One communication step of the master; returns the time reached [s].
 
@@ -179,8 +187,7 @@ def communication_step(t, h, record, buf, ws, samples):
         record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
     previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
     if h > 0.0:
-        if (buf[B_EXTRAPOLATE] > 0.5 and outputs[O_CONTACT] > 0.5 and buf[B_PREVIOUS_CONTACT] > 0.5
-                and buf[B_LAST_STEP] > 0.0):
+        if _extrapolates(buf):
             # in contact at t and at the point before: hold the mean over [t, t + h]
             # of the forces' linear extrapolation instead of their value at t
             slope = 0.5 * h / buf[B_LAST_STEP]
@@ -251,8 +258,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         pen = buf[B_OUTPUT + O_PENETRATION]
         free = buf[B_OUTPUT + O_CONTACT] < 0.5
         # forces predicted for the step's end where the contact persists (extrapolation)
-        extrapolating = (adaptive and not free and buf[B_PREVIOUS_CONTACT] > 0.5 and buf[B_LAST_STEP] > 0.0
-                         and retry_step == 0.0)
+        extrapolating = adaptive and _extrapolates(buf)
         fx_t = buf[B_OUTPUT]
         fy_t = buf[B_OUTPUT + 1]
         fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
@@ -434,10 +440,8 @@ class _FmuSlave:
         self.set_real = dll.fmi2SetReal
         self.get_real = dll.fmi2GetReal
         self.do_step = dll.fmi2DoStep
-        self.input_vrs = (fmi2ValueReference * N_INPUTS)(*(self.vr[n] for n in INPUT_NAMES))
-        self.output_vrs = (fmi2ValueReference * N_OUTPUTS)(*(self.vr[n] for n in OUTPUT_NAMES))
-        self.input_vr_array = np.array(self.input_vrs, dtype=np.uint32)
-        self.output_vr_array = np.array(self.output_vrs, dtype=np.uint32)
+        self.input_vrs = np.array([self.vr[n] for n in INPUT_NAMES], dtype=np.uint32)
+        self.output_vrs = np.array([self.vr[n] for n in OUTPUT_NAMES], dtype=np.uint32)
         # ctypes arrays aliasing the master's buffer: the FMI calls read and write it directly
         self.inputs = (fmi2Real * N_INPUTS).from_buffer(buf[B_INPUT:B_INPUT + N_INPUTS])
         self.outputs = (fmi2Real * N_OUTPUTS).from_buffer(buf[B_OUTPUT:B_OUTPUT + N_OUTPUTS])
@@ -461,7 +465,7 @@ class _FmuSlave:
             self.close()
             raise
         self.loop_functions = (
-            self.component, self.input_vr_array, self.output_vr_array, self.state_slot,
+            self.component, self.input_vrs, self.output_vrs, self.state_slot,
             _c_function(dll.fmi2DoStep, _DO_STEP_CALL), _c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),
             _c_function(dll.fmi2GetReal, _REAL_VALUES_CALL), _c_function(dll.fmi2GetFMUstate, _STATUS_CALL),
             _c_function(dll.fmi2SetFMUstate, _STATUS_CALL), _c_function(dll.fmi2FreeFMUstate, _STATUS_CALL))
@@ -490,8 +494,11 @@ class _FmuSlave:
 
     def exchange(self, t: float) -> None:
         """setReal of the inputs, getReal of the outputs (both in the master's buffer)."""
-        self.check(self.set_real(self.component, self.input_vrs, N_INPUTS, self.inputs), "fmi2SetReal", t)
-        self.check(self.get_real(self.component, self.output_vrs, N_OUTPUTS, self.outputs), "fmi2GetReal", t)
+        vr_pointer = ctypes.POINTER(self._fmi2ValueReference)
+        self.check(self.set_real(self.component, self.input_vrs.ctypes.data_as(vr_pointer), N_INPUTS, self.inputs),
+                   "fmi2SetReal", t)
+        self.check(self.get_real(self.component, self.output_vrs.ctypes.data_as(vr_pointer), N_OUTPUTS,
+                                 self.outputs), "fmi2GetReal", t)
 
     def wear(self, t: float) -> np.ndarray:
         """[wear_depth[1..N] ..., max_wear_depth, worn_volume] [m, m, m^3] (a copy)."""

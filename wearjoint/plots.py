@@ -14,6 +14,13 @@ from .mechanism import SliderCrank  # noqa: E402
 from .parameters import SliderCrankParameters  # noqa: E402
 
 
+def save_figure(fig, path: Path, dpi: int = 120) -> None:
+    """Lay out, write as PNG and close ``fig``."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+
+
 def crank_rotation_deg(t, period_s):
     """Crank rotation travelled since t = 0, wrapped to [0, 360) deg."""
     return (np.asarray(t) / period_s * 360.0) % 360.0
@@ -34,9 +41,7 @@ def plot_slider_acceleration(record, path: Path) -> None:
     ax.set_xlim(0, 360)
     ax.legend(loc="upper right")
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_pin_orbit(record, path: Path) -> None:
@@ -52,9 +57,7 @@ def plot_pin_orbit(record, path: Path) -> None:
     ax.set_ylabel("eccentricity y, rod frame [µm]")
     ax.set_title("pin centre relative to bushing centre")
     ax.legend(loc="upper right", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_contact_force(record, path: Path) -> None:
@@ -64,9 +67,7 @@ def plot_contact_force(record, path: Path) -> None:
     ax.set_xlabel("time [s]")
     ax.set_ylabel("normal contact force $F_N$ [N]")
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushing wear") -> None:
@@ -87,9 +88,7 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushin
     ax.set_title("(b) wear depth vs angle", fontsize=10)
     ax.legend(fontsize=8)
     fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_run(record, out: Path) -> list[str]:
