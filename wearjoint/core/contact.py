@@ -16,6 +16,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .jit import kernel
+
 from .layout import (
     BLOCK_SIZE, M_ACTIVE, M_IMPACT_VELOCITY, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y,
     P_BUSHING_RADIUS, P_EXPONENT, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
@@ -38,7 +40,18 @@ def bushing_point_angles(n_points):
     return phi
 
 
-@njit(cache=True)
+@kernel(inline='always')
+def wrap_index(k, n):
+    """k mod n for k in [-n, 2n) without an integer division (a hot-path modulo costs
+    tens of cycles)."""
+    if k < 0:
+        return k + n
+    if k >= n:
+        return k - n
+    return k
+
+
+@kernel
 def block_minimum(wear_depth, b):
     """Smallest wear depth of block b (points b*BLOCK_SIZE .. b*BLOCK_SIZE + BLOCK_SIZE - 1)."""
     lo = b * BLOCK_SIZE
@@ -48,14 +61,14 @@ def block_minimum(wear_depth, b):
     return m
 
 
-@njit(cache=True)
+@kernel
 def block_minimum_depth(wear_depth, block_min):
     """Fill ``block_min[b]`` with the smallest wear depth of every block b."""
     for b in range(block_min.shape[0]):
         block_min[b] = block_minimum(wear_depth, b)
 
 
-@njit(cache=True)
+@kernel
 def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k):
     """Smallest (|d_z|^2, z) over points lo..hi-1, ties to the lower index (Eqs. 4-5)."""
     for k in range(lo, hi):
@@ -69,14 +82,14 @@ def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2,
     return best_d2, best_k
 
 
-@njit(cache=True)
+@kernel
 def find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     """Full scan of all bushing points: (index, |d|^2) of the point nearest the pin centre."""
     return _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, 0, wear_depth.shape[0],
                  np.inf, -1)[::-1]
 
 
-@njit(cache=True)
+@kernel
 def _angular_lower_bound_sq(e, c, rho_min):
     """Lower bound of |d|^2 = rho^2 + e^2 - 2 rho e cos(Delta') over rho >= rho_min and
     Delta' in [Delta, pi], with c = cos(Delta): reached at Delta' = Delta,
@@ -86,7 +99,7 @@ def _angular_lower_bound_sq(e, c, rho_min):
     return r * r + e * e * max(0.0, 1.0 - c * c)
 
 
-@njit(cache=True)
+@kernel
 def _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n):
     """Lower bound of |d_z|^2 over block b (its span must not contain the direction of e):
     cos Delta is the larger dot product of u_e with the block's end points."""
@@ -96,7 +109,7 @@ def _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min
     return _angular_lower_bound_sq(e, c, bushing_radius + block_min[b])
 
 
-@njit(cache=True)
+@kernel
 def _direction_point(ex, ey, n):
     """|e|, the unit vector of e ((1, 0) for e = 0) and the point nearest its direction."""
     e = math.sqrt(ex * ex + ey * ey)
@@ -106,29 +119,29 @@ def _direction_point(ex, ey, n):
     else:
         ux = 1.0
         uy = 0.0
-    return e, ux, uy, (int(round(math.atan2(uy, ux) / (TWO_PI / n))) - 1) % n
+    return e, ux, uy, wrap_index(int(round(math.atan2(uy, ux) / (TWO_PI / n))) - 1, n)
 
 
-@njit(cache=True)
+@kernel
 def _is_direction_block(b, b0, nb):
     """True for the block holding the direction of e and its two neighbours."""
-    off = (b - b0) % nb
+    off = wrap_index(b - b0, nb)
     return off <= 1 or off == nb - 1
 
 
-@njit(cache=True)
+@kernel
 def _tie_margin(best_d2):
     """Candidates whose bound is within rounding of the best are still scanned."""
     return best_d2 * (1.0 + 1e-12) + 1e-30
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min):
     """Exact search with pruning, identical to :func:`find_deepest_point_full`.
 
     1. Scan outward from the point nearest the direction of e; after offset o,
        every unscanned point is at least as far in angle as k0 +- (o + 1), so
-       with the smallest radius of the profile it cannot be nearer than
+       with radius >= R_j (wear depths are >= 0) it cannot be nearer than
        :func:`_angular_lower_bound_sq`: stop once that bound exceeds the best.
        On a circular or mildly worn bushing this decides after a few points.
     2. Otherwise (deep local wear), scan the three blocks around the direction
@@ -141,11 +154,11 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
     if nb <= 3:
         return find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
     e, ux, uy, k0 = _direction_point(ex, ey, n)
-    rho_min = bushing_radius + block_min.min()
+    rho_min = bushing_radius                    # every wear depth is >= 0
     best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf, -1)
     for o in range(1, OUTWARD_SCAN_POINTS + 1):
-        kp = (k0 + o) % n
-        km = (k0 - o) % n
+        kp = wrap_index(k0 + o, n)
+        km = wrap_index(k0 - o, n)
         c = max(cos_phi[kp] * ux + sin_phi[kp] * uy, cos_phi[km] * ux + sin_phi[km] * uy)
         if _angular_lower_bound_sq(e, c, rho_min) > _tie_margin(best_d2):
             return best_k, best_d2
@@ -153,7 +166,7 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
         best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, km, km + 1, best_d2, best_k)
     b0 = k0 // BLOCK_SIZE
     for db in (-1, 0, 1):
-        lo = ((b0 + db) % nb) * BLOCK_SIZE
+        lo = wrap_index(b0 + db, nb) * BLOCK_SIZE
         best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth,
                                 lo, min(lo + BLOCK_SIZE, n), best_d2, best_k)
     for b in range(nb):
@@ -166,7 +179,7 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
     return best_k, best_d2
 
 
-@njit(cache=True)
+@kernel
 def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                        block_min, mask):
     """Mark in ``mask`` every bushing point with |d_z| <= R_i (Eq. 5); return their count.
@@ -195,7 +208,7 @@ def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wea
     return count
 
 
-@njit(cache=True)
+@kernel
 def lankarani_nikravesh(penetration, penetration_rate, impact_velocity, stiffness, exponent,
                         restitution):
     """Normal force F_N = K delta^n (1 + 3(1 - e_r^2)/4 delta_dot/delta_dot^-) >= 0, Eq. (15) [N]."""
@@ -205,7 +218,7 @@ def lankarani_nikravesh(penetration, penetration_rate, impact_velocity, stiffnes
     return max(0.0, stiffness * power * hysteresis)
 
 
-@njit(cache=True)
+@kernel
 def ambrosio_friction_factor(sliding_speed, v0, v1):
     """Dynamic correction coefficient c_d of Eq. (19) on |v_T|; 0 below v0, 1 above v1."""
     if sliding_speed <= v0:
@@ -215,12 +228,12 @@ def ambrosio_friction_factor(sliding_speed, v0, v1):
     return (sliding_speed - v0) / (v1 - v0)
 
 
-@njit(cache=True)
+@kernel
 def _cross(lx, ly, fx, fy):
     return lx * fy - ly * fx
 
 
-@njit(cache=True)
+@kernel
 def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, out):
     """Contact forces of the clearance joint for given body kinematics (Eqs. 1-23, 34-37).
@@ -232,20 +245,29 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     inside a step).  Writes forces, torques and diagnostics into ``out``
     (layout.R_*); never changes the joint's state.
     """
-    ci = math.cos(pos_i[2])
-    si = math.sin(pos_i[2])
-    cj = math.cos(pos_j[2])
-    sj = math.sin(pos_j[2])
+    evaluate_contact_scalars(pos_i[0], pos_i[1], math.cos(pos_i[2]), math.sin(pos_i[2]), vel_i[0], vel_i[1],
+                             vel_i[2], pos_j[0], pos_j[1], math.cos(pos_j[2]), math.sin(pos_j[2]), vel_j[0],
+                             vel_j[1], vel_j[2], jp, cos_phi, sin_phi, wear_depth, block_min, memory, out)
+
+
+@kernel
+def evaluate_contact_scalars(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos_phi, sin_phi,
+                             wear_depth, block_min, memory, out):
+    """:func:`evaluate_contact` on scalar kinematics: position (x, y), cos/sin theta and
+    velocities (vx, vy, omega) of the pin body i and the bushing body j.  For hosts
+    that hold the bodies in a state vector (the mechanism's right-hand side, which
+    also shares cos/sin with the equations of motion): no array views, whose
+    reference counting costs more than the contact itself in a hot loop."""
     # pin centre, Eq. (1), and bushing centre in global coordinates
     ax = ci * jp[P_PIN_OFFSET_X] - si * jp[P_PIN_OFFSET_Y]
     ay = si * jp[P_PIN_OFFSET_X] + ci * jp[P_PIN_OFFSET_Y]
-    pin_x = pos_i[0] + ax
-    pin_y = pos_i[1] + ay
+    pin_x = xi + ax
+    pin_y = yi + ay
     bx = cj * jp[P_BUSHING_OFFSET_X] - sj * jp[P_BUSHING_OFFSET_Y]
     by = sj * jp[P_BUSHING_OFFSET_X] + cj * jp[P_BUSHING_OFFSET_Y]
     # eccentricity in the bushing frame
-    gx = pin_x - (pos_j[0] + bx)
-    gy = pin_y - (pos_j[1] + by)
+    gx = pin_x - (xj + bx)
+    gy = pin_y - (yj + by)
     ex = cj * gx + sj * gy
     ey = -sj * gx + cj * gy
     out[R_ECCENTRICITY_X] = ex
@@ -262,7 +284,8 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     d = math.sqrt(d2)
     out[R_PENETRATION] = pin_radius - d                            # Eq. (6); negative: the gap
     if d > pin_radius:
-        out[R_CONTACT_ANGLE] = math.atan2(ey, ex) % TWO_PI
+        angle = math.atan2(ey, ex)
+        out[R_CONTACT_ANGLE] = angle + TWO_PI if angle < 0.0 else angle
         return
     rho = bushing_radius + wear_depth[k]
     # normal n (Eq. 8) in the bushing frame, then globally
@@ -284,13 +307,13 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     sy = jp[P_BUSHING_OFFSET_Y] + rho * sin_phi[k]
     ljx = cj * sx - sj * sy
     ljy = sj * sx + cj * sy
-    lix = qix - pos_i[0]
-    liy = qiy - pos_i[1]
+    lix = qix - xi
+    liy = qiy - yi
     # material velocities of the two contact points (Eqs. 11-12, 37)
-    vix = vel_i[0] - vel_i[2] * liy
-    viy = vel_i[1] + vel_i[2] * lix
-    vjx = vel_j[0] - vel_j[2] * ljy
-    vjy = vel_j[1] + vel_j[2] * ljx
+    vix = vxi - wi * liy
+    viy = vyi + wi * lix
+    vjx = vxj - wj * ljy
+    vjy = vyj + wj * ljx
     rvx = vix - vjx
     rvy = viy - vjy
     penetration_rate = rvx * nx + rvy * ny                         # Eq. (13)
@@ -317,10 +340,11 @@ def evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     out[R_CONTACT_INDEX] = k
     out[R_TANGENTIAL_VELOCITY] = v_t
     out[R_PENETRATION_RATE] = penetration_rate
-    out[R_CONTACT_ANGLE] = ((k + 1) * TWO_PI / wear_depth.shape[0]) % TWO_PI
+    n = wear_depth.shape[0]
+    out[R_CONTACT_ANGLE] = 0.0 if k == n - 1 else (k + 1) * TWO_PI / n          # phi_z in [0, 2 pi)
 
 
-@njit(cache=True)
+@kernel
 def update_contact_memory(result, jp, memory):
     """Onset bookkeeping after an accepted step (MODEL.md 3.5).
 

@@ -20,6 +20,7 @@ from .layout import (
     T_FRICTION_FORCE, T_NORMAL_FORCE, T_PENETRATION, T_PIN_FX, T_PIN_FY, T_SLIDER_A, T_SLIDER_V,
     T_SLIDER_X, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
+from .jit import kernel
 from .mechanism import derivative
 from .wear import accept_contact, advance_joint
 
@@ -46,7 +47,7 @@ _DOPRI_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253
 _RK4_C = np.array([0.5, 0.5, 1.0])
 
 
-@njit(cache=True)
+@kernel
 def contact_share(penetration_start, penetration_end):
     """Share of a step spent in contact, the signed penetration taken linear over the
     step: 1 or 0 when both ends agree, else the part on the positive side.  (An
@@ -59,7 +60,7 @@ def contact_share(penetration_start, penetration_end):
     return inside / (abs(penetration_end) + abs(penetration_start))
 
 
-@njit(cache=True)
+@kernel
 def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
     """Account the accepted point (t, y) that ends a step of length dt.
 
@@ -106,7 +107,7 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
             track[K_NEXT_SAMPLE] += track[K_SAMPLE_DT]
 
 
-@njit(cache=True)
+@kernel
 def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) on entry,
     ``stages`` is (4, len(y)) scratch.  Four derivative evaluations, no bookkeeping."""
@@ -126,7 +127,7 @@ def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
         y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True)
+@kernel
 def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
     """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint.
 
@@ -146,7 +147,8 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
             changed = advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, jp, cos_phi, sin_phi,
                                     wear_depth, block_min, memory, mask, result)
     if reuse_k_end and not changed:
-        dy[:] = k_end
+        for i in range(dy.shape[0]):
+            dy[i] = k_end[i]
     else:
         derivative(t, y, mode, mp, joint, body_forces, ws, dy)
 
@@ -167,6 +169,19 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     the step size.
     """
     n2 = y.shape[0]
+    stages = np.empty((4, n2))                  # RK4 scratch
+    k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
+    k_stage = np.empty(n2)                      # f of the current stage (no views of k in the loop)
+    y_new = np.empty(n2)
+    return _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
+                            rev_stats, samples, track, stages, k, k_stage, y_new)
+
+
+@kernel
+def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
+                     rev_stats, samples, track, stages, k, k_stage, y_new):
+    """The loop of :func:`integrate`, on preallocated scratch (a kernel cannot allocate)."""
+    n2 = y.shape[0]
     n = N_COORDINATES
     result = joint[7]
     h = control[0]
@@ -180,9 +195,6 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     memory = joint[5]
     pen_start = result[R_PENETRATION]
     err_previous = 1e-4
-    stages = np.empty((4, n2))                  # RK4 scratch
-    k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
-    y_new = np.empty(n2)
     accepted = 0
     rejected = 0
     while t < t_end * (1.0 - 1e-15) - 1e-300:
@@ -195,14 +207,17 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             continue
         # Dormand-Prince 5(4)
-        k[0, :] = dy
+        for i in range(n2):
+            k[0, i] = dy[i]
         for stage in range(1, 7):
             for i in range(n2):
                 acc = 0.0
                 for j in range(stage):
                     acc += _DOPRI_A[stage, j] * k[j, i]
                 y_new[i] = y[i] + step * acc
-            derivative(t + _DOPRI_C[stage] * step, y_new, mode, mp, joint, body_forces, ws, k[stage])
+            derivative(t + _DOPRI_C[stage] * step, y_new, mode, mp, joint, body_forces, ws, k_stage)
+            for i in range(n2):
+                k[stage, i] = k_stage[i]
         pen_end = result[R_PENETRATION]
         if (locate_onsets and memory[M_ACTIVE] < 0.5 and pen_start < 0.0 and pen_end > onset_tol
                 and step > h_min):
@@ -221,8 +236,9 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
         if err <= 1.0 or step <= h_min:
             t += step
             accepted += 1
-            y[:] = y_new
-            accept_point(t, y, step, k[6], mode, mp, joint, body_forces, ws, dy, True)
+            for i in range(n2):
+                y[i] = y_new[i]
+            accept_point(t, y, step, k_stage, mode, mp, joint, body_forces, ws, dy, True)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             pen_start = result[R_PENETRATION]
             # PI step-size control (Hairer, Norsett & Wanner, dopri5: beta = 0.04)

@@ -13,7 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact import evaluate_contact
+from .contact import evaluate_contact_scalars
+from .jit import kernel
 from .layout import (
     CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
     MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
@@ -23,8 +24,8 @@ from .layout import (
 
 # The integrators' right-hand side inlines the contact evaluation (a call with a dozen
 # array arguments costs about as much as the mechanism itself); everywhere else, e.g. in
-# the FMU, evaluate_contact stays an ordinary compiled function (faster to compile).
-_evaluate_contact_inlined = njit(inline='always')(evaluate_contact.py_func)
+# the FMU, it stays an ordinary compiled function (faster to compile).
+_evaluate_contact_inlined = njit(inline='always')(evaluate_contact_scalars.py_func)
 
 GROUND = -1
 NO_BODY = -1
@@ -50,7 +51,7 @@ def make_workspace(mp):
             1.0 / inverse_mass, np.zeros(n))
 
 
-@njit(cache=True)
+@kernel
 def ldl_solve(a, b, lo, hi):
     """Solve a[lo:hi, lo:hi] x = b[lo:hi] for a symmetric positive definite block
     (lower triangle used) by L D L^T with one division per pivot; the block is
@@ -78,7 +79,7 @@ def ldl_solve(a, b, lo, hi):
         b[i] = s
 
 
-@njit(cache=True)
+@kernel
 def _revolute(row, q, qd, body_a, sax, say, body_b, sbx, sby, jac, phi, phi_dot, gamma):
     """Rows row, row+1 of a revolute pair: Phi = r_a + A_a s_a - r_b - A_b s_b (Eq. 39)."""
     for sign, body, sx, sy in ((1.0, body_a, sax, say), (-1.0, body_b, sbx, sby)):
@@ -104,7 +105,7 @@ def _revolute(row, q, qd, body_a, sax, say, body_b, sbx, sby, jac, phi, phi_dot,
         gamma[row + 1] += sign * asy * w * w
 
 
-@njit(cache=True)
+@kernel
 def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
     """Jacobian (Eq. 40), Phi (Eq. 39), Phi_dot and gamma (Eq. 41); returns the row count."""
     m = N_CONSTRAINTS_IDEAL if ideal else N_CONSTRAINTS_CLEARANCE
@@ -132,7 +133,7 @@ def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
     return m
 
 
-@njit(cache=True)
+@kernel
 def mass_diagonal(mp, out):
     """Diagonal of M, Eq. (42)."""
     out[0] = out[1] = mp[MP_CRANK_MASS]
@@ -143,7 +144,7 @@ def mass_diagonal(mp, out):
     out[8] = mp[MP_SLIDER_INERTIA]
 
 
-@njit(cache=True)
+@kernel
 def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
     """q_dd of Eq. (44) for applied contact loads ``body_forces`` =
     (Fx, Fy, T) on the crank then (Fx, Fy, T) on the rod (Eq. 43 with gravity in -Y)."""
@@ -193,9 +194,20 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
         qdd[c] *= minv[c]
 
 
-@njit(cache=True, inline='always')
-def open_joint_accelerations(t, q, qd, mp, body_forces, qdd):
-    """q_dd of Eq. (44) with the crank-rod joint open, in closed form.
+@kernel
+def open_joint_accelerations(t, y, mp, body_forces, dy):
+    """dy[n:] = q_dd of Eq. (44) with the crank-rod joint open, y = [q, q_dot]
+    (:func:`open_joint_accelerations_rotated`)."""
+    open_joint_accelerations_rotated(t, y, mp, body_forces, math.cos(y[CRANK + 2]), math.sin(y[CRANK + 2]),
+                                     math.cos(y[ROD + 2]), math.sin(y[ROD + 2]), dy)
+
+
+@kernel(inline='always')
+def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, sin2, dy):
+    """dy[n:] = q_dd of Eq. (44) with the crank-rod joint open, in closed form; y = [q, q_dot],
+    cos1, sin1 and cos2, sin2 are cos/sin of the crank and rod angles.  Reads and writes
+    the state vectors by index (no array views: their reference counting is the
+    dominant cost of a hot loop).
 
     The same equations as :func:`accelerations` (Eqs. 39-44, Baumgarte
     c = gamma - 2 alpha Phi_dot - beta^2 Phi), solved through their structure:
@@ -204,34 +216,34 @@ def open_joint_accelerations(t, q, qd, mp, body_forces, qdd):
     rows y3 = 0 and th3 = 0 fix y3_dd and th3_dd; what remains is the rod-slider
     revolute (rows 3-4) on (x2, y2, th2, x3), a 2x2 Schur complement.
     """
+    n = N_COORDINATES
     alpha2 = 2.0 * mp[MP_ALPHA]
     beta_sq = mp[MP_BETA] * mp[MP_BETA]
     g = mp[MP_GRAVITY]
     # crank: pivot r1 + A1 (-l1/2, 0) = 0 (rows 0-1) and driver th1 = th0 - omega t (row 2)
-    th1 = q[CRANK + 2]
-    w1 = qd[CRANK + 2]
+    th1 = y[CRANK + 2]
+    w1 = y[n + CRANK + 2]
     h1 = -0.5 * mp[MP_CRANK_LENGTH]
-    ax = h1 * math.cos(th1)                     # A1 s1
-    ay = h1 * math.sin(th1)
-    c0 = ax * w1 * w1 - alpha2 * (qd[CRANK] - w1 * ay) - beta_sq * (q[CRANK] + ax)
-    c1 = ay * w1 * w1 - alpha2 * (qd[CRANK + 1] + w1 * ax) - beta_sq * (q[CRANK + 1] + ay)
+    ax = h1 * cos1                              # A1 s1
+    ay = h1 * sin1
+    c0 = ax * w1 * w1 - alpha2 * (y[n + CRANK] - w1 * ay) - beta_sq * (y[CRANK] + ax)
+    c1 = ay * w1 * w1 - alpha2 * (y[n + CRANK + 1] + w1 * ax) - beta_sq * (y[CRANK + 1] + ay)
     c2 = -alpha2 * (w1 + mp[MP_OMEGA]) - beta_sq * (th1 - (mp[MP_THETA0] - mp[MP_OMEGA] * t))
-    qdd[CRANK + 2] = c2
-    qdd[CRANK] = c0 + ay * c2                   # x1_dd - ay th1_dd = c0
-    qdd[CRANK + 1] = c1 - ax * c2               # y1_dd + ax th1_dd = c1
+    dy[n + CRANK + 2] = c2
+    dy[n + CRANK] = c0 + ay * c2                # x1_dd - ay th1_dd = c0
+    dy[n + CRANK + 1] = c1 - ax * c2            # y1_dd + ax th1_dd = c1
     # slider: y3 = 0 (row 5), th3 = 0 (row 6)
-    qdd[SLIDER + 1] = -alpha2 * qd[SLIDER + 1] - beta_sq * q[SLIDER + 1]
-    qdd[SLIDER + 2] = -alpha2 * qd[SLIDER + 2] - beta_sq * q[SLIDER + 2]
+    dy[n + SLIDER + 1] = -alpha2 * y[n + SLIDER + 1] - beta_sq * y[SLIDER + 1]
+    dy[n + SLIDER + 2] = -alpha2 * y[n + SLIDER + 2] - beta_sq * y[SLIDER + 2]
     # rod-slider revolute r2 + A2 (l2/2, 0) - r3 = 0 (rows 3-4): J on (x2, y2, th2, x3)
     # row 3 = [1, 0, -by, -1], row 4 = [0, 1, bx, 0] (y3 enters row 4 with y3_dd known)
-    th2 = q[ROD + 2]
-    w2 = qd[ROD + 2]
+    w2 = y[n + ROD + 2]
     h2 = 0.5 * mp[MP_ROD_LENGTH]
-    bx = h2 * math.cos(th2)
-    by = h2 * math.sin(th2)
-    c3 = bx * w2 * w2 - alpha2 * (qd[ROD] - w2 * by - qd[SLIDER]) - beta_sq * (q[ROD] + bx - q[SLIDER])
-    c4 = (by * w2 * w2 - alpha2 * (qd[ROD + 1] + w2 * bx - qd[SLIDER + 1])
-          - beta_sq * (q[ROD + 1] + by - q[SLIDER + 1]) + qdd[SLIDER + 1])
+    bx = h2 * cos2
+    by = h2 * sin2
+    c3 = bx * w2 * w2 - alpha2 * (y[n + ROD] - w2 * by - y[n + SLIDER]) - beta_sq * (y[ROD] + bx - y[SLIDER])
+    c4 = (by * w2 * w2 - alpha2 * (y[n + ROD + 1] + w2 * bx - y[n + SLIDER + 1])
+          - beta_sq * (y[ROD + 1] + by - y[SLIDER + 1]) + dy[n + SLIDER + 1])
     inv_m2 = 1.0 / mp[MP_ROD_MASS]
     inv_i2 = 1.0 / mp[MP_ROD_INERTIA]
     inv_m3 = 1.0 / mp[MP_SLIDER_MASS]
@@ -248,22 +260,26 @@ def open_joint_accelerations(t, q, qd, mp, body_forces, qdd):
     det = s11 * s22 - s12 * s12
     lam3 = (s22 * r1 - s12 * r2) / det
     lam4 = (s11 * r2 - s12 * r1) / det
-    qdd[ROD] = (fx2 - lam3) * inv_m2
-    qdd[ROD + 1] = (fy2 - lam4) * inv_m2
-    qdd[ROD + 2] = (tz2 + by * lam3 - bx * lam4) * inv_i2
-    qdd[SLIDER] = (fx3 + lam3) * inv_m3
+    dy[n + ROD] = (fx2 - lam3) * inv_m2
+    dy[n + ROD + 1] = (fy2 - lam4) * inv_m2
+    dy[n + ROD + 2] = (tz2 + by * lam3 - bx * lam4) * inv_i2
+    dy[n + SLIDER] = (fx3 + lam3) * inv_m3
 
 
-@njit(cache=True, inline='always')
+@kernel(inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (writing its
     result array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
     n = N_COORDINATES
-    q = y[:n]
-    qd = y[n:]
+    # the crank and the rod carry the pin and the bushing: one set of trigonometric calls for both
+    cos1 = math.cos(y[CRANK + 2])
+    sin1 = math.sin(y[CRANK + 2])
+    cos2 = math.cos(y[ROD + 2])
+    sin2 = math.sin(y[ROD + 2])
     if mode == MODE_CLEARANCE:
         jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
-        _evaluate_contact_inlined(q[CRANK:CRANK + 3], qd[CRANK:CRANK + 3], q[ROD:ROD + 3], qd[ROD:ROD + 3],
+        _evaluate_contact_inlined(y[CRANK], y[CRANK + 1], cos1, sin1, y[n + CRANK], y[n + CRANK + 1], y[n + CRANK + 2],
+                                  y[ROD], y[ROD + 1], cos2, sin2, y[n + ROD], y[n + ROD + 1], y[n + ROD + 2],
                                   jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
         body_forces[0] = result[R_PIN_FX]
         body_forces[1] = result[R_PIN_FY]
@@ -275,11 +291,11 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
         for k in range(6):
             body_forces[k] = 0.0
     for k in range(n):
-        dy[k] = qd[k]
+        dy[k] = y[n + k]
     if mode == MODE_IDEAL:
-        accelerations(t, q, qd, mp, True, body_forces, ws, dy[n:])
+        accelerations(t, y[:n], y[n:], mp, True, body_forces, ws, dy[n:])
     else:
-        open_joint_accelerations(t, q, qd, mp, body_forces, dy[n:])
+        open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, sin2, dy)
 
 
 @njit(cache=True)

@@ -18,9 +18,10 @@ p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (MODEL.md 3.7):
 """
 import math
 
-from numba import njit
-
-from .contact import block_minimum, block_minimum_depth, evaluate_contact, penetrating_points, update_contact_memory
+from .contact import (
+    block_minimum, block_minimum_depth, evaluate_contact, penetrating_points, update_contact_memory, wrap_index,
+)
+from .jit import kernel
 from .layout import (
     BLOCK_SIZE, P_BUSHING_RADIUS, P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_RADIUS,
     P_RHO_MODE, P_SLIDING, P_WEAR_COEFFICIENT, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
@@ -28,7 +29,7 @@ from .layout import (
 )
 
 
-@njit(cache=True)
+@kernel
 def equivalent_radius(pin_radius, worn_bushing_radius, rho_mode):
     """rho* of Eq. (31) [m]: 0 = conformal R_i R~/(R~ - R_i) (default), 1 = paper R_i R~/(R_i + R~)."""
     if rho_mode == 0:
@@ -36,19 +37,19 @@ def equivalent_radius(pin_radius, worn_bushing_radius, rho_mode):
     return pin_radius * worn_bushing_radius / (pin_radius + worn_bushing_radius)
 
 
-@njit(cache=True)
+@kernel
 def hertz_half_width(normal_force, equivalent_radius_m, contact_length, effective_modulus):
     """Half contact width b = (4 F_N rho* / (pi L E*))^0.5, Eq. (30) [m]."""
     return math.sqrt(4.0 * normal_force * equivalent_radius_m / (math.pi * contact_length * effective_modulus))
 
 
-@njit(cache=True)
+@kernel
 def _elliptic_integral(u):
     """Integral of sqrt(1 - x^2) from 0 to u, u in [-1, 1]."""
     return 0.5 * (u * math.sqrt(max(0.0, 1.0 - u * u)) + math.asin(u))
 
 
-@njit(cache=True)
+@kernel
 def patch_weight(offset_angle, half_angle, dphi):
     """Hertz pressure on the arc cell [offset - dphi/2, offset + dphi/2] relative to the mean
     pressure, averaged over the cell: p(x)/p_mean = (4/pi) sqrt(1 - (x/b)^2) on [-b, b]
@@ -62,7 +63,7 @@ def patch_weight(offset_angle, half_angle, dphi):
                                          - _elliptic_integral(lo / half_angle)) / dphi
 
 
-@njit(cache=True)
+@kernel
 def _distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     rho = bushing_radius + wear_depth[z]
     dx = rho * cos_phi[z] - ex
@@ -70,22 +71,22 @@ def _distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     return dx * dx + dy * dy
 
 
-@njit(cache=True)
+@kernel
 def subgrid_contact_offset(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     """Where, between bushing points, |d|^2 is smallest near the deepest point k, in
     units of the point spacing (in [-0.5, 0.5]): vertex of the parabola through
     points k - 1, k, k + 1."""
     n = wear_depth.shape[0]
-    before = _distance_sq((k - 1) % n, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    before = _distance_sq(wrap_index(k - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
     at = _distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
-    after = _distance_sq((k + 1) % n, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    after = _distance_sq(wrap_index(k + 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
     curvature = before - 2.0 * at + after
     if curvature <= 0.0:
         return 0.0
     return min(0.5, max(-0.5, 0.5 * (before - after) / curvature))
 
 
-@njit(cache=True)
+@kernel
 def _refresh_blocks(wear_depth, block_min, first, last):
     """Recompute block minima of the blocks holding points first..last (wrapping)."""
     n = wear_depth.shape[0]
@@ -100,10 +101,10 @@ def _refresh_blocks(wear_depth, block_min, first, last):
         block_min[b] = block_minimum(wear_depth, b)
         if b == b_last:
             return
-        b = (b + 1) % nb
+        b = wrap_index(b + 1, nb)
 
 
-@njit(cache=True)
+@kernel
 def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask):
     """Archard update of the wear profile over an accepted step of length dt, Eqs. (28)-(33).
 
@@ -138,7 +139,7 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
             w = patch_weight((off - centre) * dphi, half_angle, dphi)
             if w <= 0.0:
                 continue
-            z = (k + off) % n
+            z = wrap_index(k + off, n)
             slide = (bushing_radius + wear_depth[z]) * relative_rate * dt if rotation else tangential_slide
             dh = k_w * pressure * slide * w
             wear_depth[z] += dh
@@ -157,7 +158,7 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     return largest
 
 
-@njit(cache=True)
+@kernel
 def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask):
     """Archard update over dt and the contact-onset bookkeeping for ``result``, the contact
     evaluated at the accepted state.  Returns True if the joint's state changed."""
@@ -166,7 +167,7 @@ def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, b
     return worn or changed
 
 
-@njit(cache=True)
+@kernel
 def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
                   memory, mask, result):
     """Accept the state (pos, vel) as the end of a step of length dt: evaluate the contact
@@ -177,7 +178,7 @@ def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_dep
     return accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask)
 
 
-@njit(cache=True)
+@kernel
 def worn_area(bushing_radius, wear_depth):
     """Area between the worn and the original bushing circle [m^2]: sum (rho^2 - R_j^2) dphi / 2."""
     n = wear_depth.shape[0]
