@@ -96,3 +96,19 @@ def test_setting_the_wear_profile_updates_the_engine_at_the_current_state():
     sim.set_wear_profile(np.full(1257, 2e-6))           # the wall moves 2 um outwards everywhere
     # (radially; the contact normal is radial to within |e|/R_j, a second-order 1e-12 m effect)
     assert sim.joint.result[L.R_PENETRATION] == pytest.approx(before - 2e-6, abs=1e-10)
+
+
+def test_negative_wear_depths_are_refused_on_every_way_in():
+    """The deepest-point search bounds unscanned points with the unworn radius R_j, so a
+    profile may only ever deepen: a negative depth must not get into a joint, neither as a
+    profile nor through a serialised state."""
+    joint = ClearanceJoint(JointParameters())
+    profile = np.zeros(joint.wear_depth.size)
+    profile[7] = -1e-9
+    with pytest.raises(ParameterError, match=">= 0"):
+        joint.set_wear_profile(profile)
+    donor = ClearanceJoint(JointParameters())
+    donor.wear_depth[7] = -1e-9               # bypasses the API on purpose
+    with pytest.raises(ParameterError, match=">= 0"):
+        joint.state_from_bytes(donor.state_to_bytes())
+    assert np.all(joint.wear_depth == 0.0)

@@ -17,7 +17,6 @@ import numpy as np
 from numba import njit
 
 from .jit import kernel
-
 from .layout import (
     BLOCK_SIZE, M_ACTIVE, M_IMPACT_VELOCITY, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y,
     P_BUSHING_RADIUS, P_EXPONENT, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
