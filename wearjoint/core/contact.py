@@ -75,9 +75,10 @@ def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2,
         dx = rho * cos_phi[k] - ex
         dy = rho * sin_phi[k] - ey
         d2 = dx * dx + dy * dy
-        if d2 < best_d2 or (d2 == best_d2 and k < best_k):
-            best_d2 = d2
-            best_k = k
+        if d2 <= best_d2:                       # rarely true: one well-predicted branch per point
+            if d2 < best_d2 or k < best_k:
+                best_d2 = d2
+                best_k = k
     return best_d2, best_k
 
 
@@ -135,6 +136,14 @@ def _tie_margin(best_d2):
 
 
 @kernel(inline='always')
+def _outward_cos(k0, o, n, ux, uy, cos_phi, sin_phi):
+    """cos of the smaller angle between the direction (ux, uy) and points k0 +- o."""
+    kp = wrap_index(k0 + o, n)
+    km = wrap_index(k0 - o, n)
+    return max(cos_phi[kp] * ux + sin_phi[kp] * uy, cos_phi[km] * ux + sin_phi[km] * uy)
+
+
+@kernel(inline='always')
 def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min):
     """Exact search with pruning, identical to :func:`find_deepest_point_full`.
 
@@ -155,14 +164,20 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
     e, ux, uy, k0 = _direction_point(ex, ey, n)
     rho_min = bushing_radius                    # every wear depth is >= 0
     best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf, -1)
-    for o in range(1, OUTWARD_SCAN_POINTS + 1):
-        kp = wrap_index(k0 + o, n)
-        km = wrap_index(k0 - o, n)
-        c = max(cos_phi[kp] * ux + sin_phi[kp] * uy, cos_phi[km] * ux + sin_phi[km] * uy)
-        if _angular_lower_bound_sq(e, c, rho_min) > _tie_margin(best_d2):
-            return best_k, best_d2
-        best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, kp, kp + 1, best_d2, best_k)
-        best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, km, km + 1, best_d2, best_k)
+    # the outward scan can only decide if the bound at its last offset beats the point at k0
+    # (on a deep, conforming lobe it cannot: go straight to the blocks)
+    if _angular_lower_bound_sq(e, _outward_cos(k0, OUTWARD_SCAN_POINTS, n, ux, uy, cos_phi, sin_phi),
+                               rho_min) > _tie_margin(best_d2):
+        for o in range(1, OUTWARD_SCAN_POINTS + 1):
+            if _angular_lower_bound_sq(e, _outward_cos(k0, o, n, ux, uy, cos_phi, sin_phi),
+                                       rho_min) > _tie_margin(best_d2):
+                return best_k, best_d2
+            kp = wrap_index(k0 + o, n)
+            km = wrap_index(k0 - o, n)
+            best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, kp, kp + 1, best_d2,
+                                    best_k)
+            best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, km, km + 1, best_d2,
+                                    best_k)
     b0 = k0 // BLOCK_SIZE
     for db in (-1, 0, 1):
         lo = wrap_index(b0 + db, nb) * BLOCK_SIZE
