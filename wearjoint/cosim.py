@@ -113,6 +113,7 @@ _SMALLEST_CONTACT_STEP = 1.0 / 16.0
 _MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching) is not stiff
 FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
              "fmi2FreeFMUstate")
+F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
 # --- master_loop's settings
 C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET = range(5)
 
@@ -278,13 +279,13 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
                 status = free_state(component, state_slot.ctypes.data)
                 state_slot[0] = 0
                 if status > FMI_WARNING:
-                    failed = 6
+                    failed = F_FREE_STATE
                     _failed(register, failed, status, t)
                     break
             status = get_state(component, state_slot.ctypes.data)
             fmi_time += _seconds(clock, timespec) - c1
             if status > FMI_WARNING:
-                failed = 4
+                failed = F_GET_STATE
                 _failed(register, failed, status, t)
                 break
         else:
@@ -295,18 +296,18 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         c2 = _seconds(clock, timespec)
         status = do_step(component, t, t_new - t, 1)
         if status > FMI_WARNING:
-            failed = 1
+            failed = F_DO_STEP
             _failed(register, failed, status, t)
             break
         status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
         if status > FMI_WARNING:
-            failed = 2
+            failed = F_SET_REAL
             _failed(register, failed, status, t_new)
             break
         status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
         fmi_time += _seconds(clock, timespec) - c2
         if status > FMI_WARNING:
-            failed = 3
+            failed = F_GET_REAL
             _failed(register, failed, status, t_new)
             break
         if adaptive and free and buf[B_OUTPUT + O_PENETRATION] > onset and h > h_min:
@@ -317,7 +318,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             status = set_state(component, state_slot[0])
             fmi_time += _seconds(clock, timespec) - c1
             if status > FMI_WARNING:
-                failed = 5
+                failed = F_SET_STATE
                 _failed(register, failed, status, t)
                 break
             retry_step = max(h_min, h * (0.5 * onset - pen) / (pen_end - pen))
@@ -439,7 +440,6 @@ class _FmuSlave:
         dll = self.fmu.dll                     # fmpy has set argtypes/restype on these
         self.set_real = dll.fmi2SetReal
         self.get_real = dll.fmi2GetReal
-        self.do_step = dll.fmi2DoStep
         self.input_vrs = np.array([self.vr[n] for n in INPUT_NAMES], dtype=np.uint32)
         self.output_vrs = np.array([self.vr[n] for n in OUTPUT_NAMES], dtype=np.uint32)
         # ctypes arrays aliasing the master's buffer: the FMI calls read and write it directly
@@ -576,9 +576,9 @@ class CoSimulation:
         self.rollbacks = 0
         self.fmi_time_s = 0.0
         self.master_time_s = 0.0
-        self._previous_penetration = -math.inf   # FMU penetration at the accepted point before t [m]
         self._saved = np.empty(B_ROLLBACK_END)   # y and outputs at the start of a step (rollback)
         self._register = np.zeros(N_REGISTER)
+        self._register[G_PREVIOUS_PENETRATION] = -math.inf   # none yet
         o = self.options
         self._settings = np.zeros(5)
         self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET]] = (
@@ -623,7 +623,6 @@ class CoSimulation:
         slave = self._live_slave()
         register = self._register
         register[G_T] = self.t
-        register[G_PREVIOUS_PENETRATION] = self._previous_penetration
         register[G_STEPS:G_CONTACT_STEP] = 0.0
         self.buf[B_TRACK + L.K_N_SAMPLES] = 0
         wall0 = time.perf_counter()
@@ -632,7 +631,6 @@ class CoSimulation:
                                  self.mechanism.workspace, slave.loop_functions, self._clock, self._timespec)
         finally:
             self.t = float(register[G_T])
-            self._previous_penetration = float(register[G_PREVIOUS_PENETRATION])
             self.communication_steps += int(register[G_STEPS])
             self.rollbacks += int(register[G_ROLLBACKS])
             self.fmi_time_s += register[G_FMI_TIME]
@@ -648,7 +646,8 @@ class CoSimulation:
         bytes) and the counters.  Picklable."""
         slave = self._live_slave()
         return {"t": self.t, "buffer": self.buf.copy(), "fmu_state": slave.serialize(self.t),
-                "previous_penetration": self._previous_penetration, "contact_step": self._register[G_CONTACT_STEP],
+                "previous_penetration": float(self._register[G_PREVIOUS_PENETRATION]),
+                "contact_step": float(self._register[G_CONTACT_STEP]),
                 "communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
                 "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
 
@@ -662,7 +661,7 @@ class CoSimulation:
         slave.deserialize(bytes(checkpoint["fmu_state"]), float(checkpoint["t"]))
         self.buf[:] = buffer
         self.t = float(checkpoint["t"])
-        self._previous_penetration = float(checkpoint["previous_penetration"])
+        self._register[G_PREVIOUS_PENETRATION] = float(checkpoint["previous_penetration"])
         self._register[G_CONTACT_STEP] = float(checkpoint["contact_step"])
         self.communication_steps = int(checkpoint["communication_steps"])
         self.rollbacks = int(checkpoint["rollbacks"])
