@@ -18,7 +18,7 @@ import time
 
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.validation.wear_study import (
-    DEFAULT_WEAR_FACTOR, ENGINES, STUDY_INTEGRATORS, WearStudyConfig, run_wear_study,
+    DEFAULT_STUDY_INTEGRATOR, DEFAULT_WEAR_FACTOR, ENGINES, STUDY_INTEGRATORS, WearStudyConfig, run_wear_study,
 )
 
 TARGET_S = {"monolithic": 20.0, "cosim": 120.0}
@@ -30,7 +30,7 @@ def main() -> int:
     parser.add_argument("--revolutions", type=int, default=4000)
     parser.add_argument("--wear-factor", type=float, default=DEFAULT_WEAR_FACTOR)
     parser.add_argument("--wear-coefficient-m2-N", dest="k_w", type=float, default=paper_joint().wear_coefficient_m2_N)
-    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default="dopri")
+    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default=DEFAULT_STUDY_INTEGRATOR)
     args = parser.parse_args()
     try:
         config = WearStudyConfig(joint=paper_joint(wear_factor=args.wear_factor, wear_coefficient_m2_N=args.k_w),

@@ -127,9 +127,12 @@ def test_pruned_search_is_identical_to_the_full_scan_on_random_worn_profiles():
         for _ in range(10):
             e = rng.normal(0.0, 3e-4, 2) if rng.random() < 0.9 else np.zeros(2)
             full = find_deepest_point_full(e[0], e[1], 0.0101, joint.cos_phi, joint.sin_phi, joint.wear_depth)
-            fast = find_deepest_point(e[0], e[1], 0.0101, joint.cos_phi, joint.sin_phi, joint.wear_depth,
-                                      joint.block_min)
-            assert (fast[0], fast[1]) == (full[0], full[1])
+            # the hint (previous deepest point) changes the work, never the answer: none, out of range,
+            # the answer itself, a random point
+            for hint in (-1, h.size, full[0], int(rng.integers(h.size))):
+                fast = find_deepest_point(e[0], e[1], 0.0101, joint.cos_phi, joint.sin_phi, joint.wear_depth,
+                                          joint.block_min, hint)
+                assert (fast[0], fast[1]) == (full[0], full[1])
             checked += 1
     assert checked == 4000
 

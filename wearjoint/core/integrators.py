@@ -22,6 +22,7 @@ from .layout import (
 )
 from .jit import kernel
 from .mechanism import derivative
+from .contact import evaluate_contact
 from .wear import accept_contact, advance_joint
 
 RK4 = 0
@@ -197,14 +198,35 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     err_previous = 1e-4
     accepted = 0
     rejected = 0
+    onset_step = np.inf                         # RK4: a shortened step that ends just past a contact onset
     while t < t_end * (1.0 - 1e-15) - 1e-300:
         step = min(h, t_end - t)
         if method == RK4:
-            rk4_step(t, y, step, mode, mp, joint, body_forces, ws, dy, stages)
+            step = min(step, onset_step)
+            for i in range(n2):
+                y_new[i] = y[i]
+            rk4_step(t, y_new, step, mode, mp, joint, body_forces, ws, dy, stages)
+            if locate_onsets:
+                jp, cos_phi, sin_phi, wear_depth, block_min, _, mask, _ = joint
+                vel_i = y_new[n + CRANK:n + CRANK + 3]
+                vel_j = y_new[n + ROD:n + ROD + 3]
+                evaluate_contact(y_new[CRANK:CRANK + 3], vel_i, y_new[ROD:ROD + 3], vel_j, jp, cos_phi, sin_phi,
+                                 wear_depth, block_min, memory, result)
+                pen_end = result[R_PENETRATION]
+                if memory[M_ACTIVE] < 0.5 and pen_start < 0.0 and pen_end > onset_tol and step > h_min:
+                    onset_step = max(h_min, step * (0.5 * onset_tol - pen_start) / (pen_end - pen_start))
+                    rejected += 1
+                    continue
+                accept_contact(result, vel_i, vel_j, step, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                               mask)
+            onset_step = np.inf
             t += step
             accepted += 1
-            accept_point(t, y, step, dy, mode, mp, joint, body_forces, ws, dy, False)
+            for i in range(n2):
+                y[i] = y_new[i]
+            derivative(t, y, mode, mp, joint, body_forces, ws, dy)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
+            pen_start = result[R_PENETRATION]
             continue
         # Dormand-Prince 5(4)
         for i in range(n2):
