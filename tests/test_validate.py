@@ -68,7 +68,7 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
             assert m["difference"] < 0.02 * 1e-4                            # < 2 % of the clearance: same trajectory
     assert summary["reference_profile"]["max_wear_depth_m"] > 0.0
     rows = {r["run"]: r for r in summary["runs"]}
-    n_monolithic = 2 + len(cmp.DOPRI_RTOLS)
+    n_monolithic = 1 + len(cmp.RK4_STEP_FACTORS) + len(cmp.DOPRI_RTOLS)
     assert len(rows) == 2 * n_monolithic + 3 * len(others) + len(others & set(cmp.WEAR_ENGINES))
     assert all(r["wall_time_s"] > 0 and r["realtime_factor"] > 0 for r in rows.values())
     report = (out / "report.md").read_text()
