@@ -80,7 +80,7 @@ def test_contact_onsets_are_located_whatever_the_step(integrator):
     onset instant does not depend on the step."""
     onsets = []
     for h in (1e-5, 1e-6):
-        options = SimulationOptions(revolutions=1, integrator=integrator, step_s=h, max_step_s=h, sample_dt_s=1e-12)
+        options = SimulationOptions(revolutions=1, integrator=integrator, step_s=h, max_step_s=h, sample_dt_s=1e-9)
         sim = Simulation(NO_WEAR, options=options)
         buf = np.zeros((60000, L.N_SAMPLE_COLUMNS))
         n = sim.advance_to(0.03, buf)
