@@ -2,9 +2,10 @@
 
 Fixed-step RK4 and adaptive Dormand-Prince 5(4) (error control on positions
 and velocities, maximum step).  The joint's state (wear profile, contact-onset
-memory) changes only at accepted points, through ``advance_joint``; stage
-evaluations never change it.  ``record_step`` accumulates per-revolution
-statistics and time-series samples; the co-simulation master uses it too.
+memory) changes only at accepted points (``accept_contact``); stage
+evaluations never change it.  Both locate contact onsets (see :func:`integrate`).
+``record_step`` accumulates per-revolution statistics and time-series samples;
+the co-simulation master uses it too.
 """
 import math
 
@@ -20,9 +21,9 @@ from .layout import (
     T_FRICTION_FORCE, T_NORMAL_FORCE, T_PENETRATION, T_PIN_FX, T_PIN_FY, T_SLIDER_A, T_SLIDER_V,
     T_SLIDER_X, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
+from .contact import evaluate_contact
 from .jit import kernel
 from .mechanism import derivative
-from .contact import evaluate_contact
 from .wear import accept_contact, advance_joint
 
 RK4 = 0
@@ -163,11 +164,12 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     atol_velocity, h_min, onset_penetration].  Returns (t, accepted steps, rejected
     steps); control[0] holds the step to continue with.
 
-    Contact onset (DOPRI, MODE_CLEARANCE): a step that starts in free flight and
-    ends deeper than ``onset_penetration`` inside the bushing is retried with a
-    step interpolated (linearly in the signed penetration) to end just past the
-    onset, so that the impact velocity stored for Eq. (15) does not depend on
-    the step size.
+    Contact onset (RK4 and DOPRI, MODE_CLEARANCE): a step that starts in free
+    flight and ends deeper than ``onset_penetration`` inside the bushing is
+    retried with a step interpolated (linearly in the signed penetration) to end
+    just past the onset, so that the impact velocity stored for Eq. (15) does
+    not depend on the step size.  DOPRI continues from the shortened step; RK4
+    returns to its fixed step h after it.
     """
     n2 = y.shape[0]
     stages = np.empty((4, n2))                  # RK4 scratch
