@@ -47,7 +47,7 @@ from numba import njit
 from . import fmu_variables as fv
 from .core import layout as L
 from .core.contact import bushing_point_angles
-from .core.integrators import record_step, rk4_step
+from .core.integrators import onset_retry_step, record_step, rk4_step
 from .core.mechanism import derivative
 from .mechanism import SliderCrank
 from .cli_options import add_model_arguments, model_from_args
@@ -310,9 +310,9 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             failed = F_GET_REAL
             _failed(register, failed, status, t_new)
             break
-        if adaptive and free and buf[B_OUTPUT + O_PENETRATION] > onset and h > h_min:
+        retry = onset_retry_step(adaptive and free, pen, buf[B_OUTPUT + O_PENETRATION], onset, h, h_min)
+        if retry > 0.0:
             # the step crossed a contact onset too deep: back to t, retry to end just past it
-            pen_end = buf[B_OUTPUT + O_PENETRATION]
             buf[:B_ROLLBACK_END] = saved
             c1 = _seconds(clock, timespec)
             status = set_state(component, state_slot[0])
@@ -321,7 +321,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
                 failed = F_SET_STATE
                 _failed(register, failed, status, t)
                 break
-            retry_step = max(h_min, h * (0.5 * onset - pen) / (pen_end - pen))
+            retry_step = retry
             rollbacks += 1
             continue
         if extrapolating:

@@ -67,15 +67,22 @@ def block_minimum_depth(wear_depth, block_min):
         block_min[b] = block_minimum(wear_depth, b)
 
 
+@kernel(inline='always')
+def distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """|d_z|^2 [m^2]: squared distance from the pin centre (eccentricity e) to bushing point z
+    at radius R_j + h_z (Eqs. 3-5).  Hot loops pass an unsigned z: numba then skips its
+    negative-index wrap (a select per load, which turns a vectorised loop into gathers)."""
+    rho = bushing_radius + wear_depth[z]
+    dx = rho * cos_phi[z] - ex
+    dy = rho * sin_phi[z] - ey
+    return dx * dx + dy * dy
+
+
 @kernel
 def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k):
     """Smallest (|d_z|^2, z) over points lo..hi-1, ties to the lower index (Eqs. 4-5)."""
     for k in range(lo, hi):
-        u = np.uint64(k)                        # unsigned index: no negative-index wrap
-        rho = bushing_radius + wear_depth[u]
-        dx = rho * cos_phi[u] - ex
-        dy = rho * sin_phi[u] - ey
-        d2 = dx * dx + dy * dy
+        d2 = distance_sq(np.uint64(k), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
         if d2 <= best_d2:                       # rarely true: one well-predicted branch per point
             if d2 < best_d2 or k < best_k:
                 best_d2 = d2
@@ -87,13 +94,10 @@ def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2,
 def _count_candidates(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2):
     """How many of points lo..hi-1 have |d_z|^2 <= best_d2.  Branch-free, so the compiler
     vectorises it (a min/argmin loop it does not: ~9x faster per point than :func:`_scan`);
-    the same operations as :func:`_scan`, so the comparison is exact."""
+    the same :func:`distance_sq` as :func:`_scan`, so the comparison is exact."""
     count = 0
-    for k in range(np.uint64(lo), np.uint64(hi)):   # unsigned: no negative-index wrap, contiguous loads
-        rho = bushing_radius + wear_depth[k]
-        dx = rho * cos_phi[k] - ex
-        dy = rho * sin_phi[k] - ey
-        count += dx * dx + dy * dy <= best_d2
+    for k in range(np.uint64(lo), np.uint64(hi)):
+        count += distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth) <= best_d2
     return count
 
 
@@ -243,10 +247,7 @@ def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wea
             continue
         lo = b * BLOCK_SIZE
         for k in range(lo, min(lo + BLOCK_SIZE, n)):
-            rho = bushing_radius + wear_depth[k]
-            dx = rho * cos_phi[k] - ex
-            dy = rho * sin_phi[k] - ey
-            if dx * dx + dy * dy <= r2:
+            if distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth) <= r2:
                 mask[k] = True
                 count += 1
     return count

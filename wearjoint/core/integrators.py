@@ -62,6 +62,18 @@ def contact_share(penetration_start, penetration_end):
     return inside / (abs(penetration_end) + abs(penetration_start))
 
 
+@kernel(inline='always')
+def onset_retry_step(free_at_start, pen_start, pen_end, onset_tol, step, h_min):
+    """Contact-onset location: a step that started in free flight (``free_at_start``,
+    signed penetration pen_start < 0) and ended deeper than ``onset_tol`` [m] inside
+    the bushing is retried with the step interpolated linearly in the signed
+    penetration to end onset_tol / 2 past the onset (at least h_min) [s]; returns 0.0
+    when the step stands."""
+    if free_at_start and pen_start < 0.0 and pen_end > onset_tol and step > h_min:
+        return max(h_min, step * (0.5 * onset_tol - pen_start) / (pen_end - pen_start))
+    return 0.0
+
+
 @kernel
 def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
     """Account the accepted point (t, y) that ends a step of length dt.
@@ -214,9 +226,10 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                 vel_j = y_new[n + ROD:n + ROD + 3]
                 evaluate_contact(y_new[CRANK:CRANK + 3], vel_i, y_new[ROD:ROD + 3], vel_j, jp, cos_phi, sin_phi,
                                  wear_depth, block_min, memory, result)
-                pen_end = result[R_PENETRATION]
-                if memory[M_ACTIVE] < 0.5 and pen_start < 0.0 and pen_end > onset_tol and step > h_min:
-                    onset_step = max(h_min, step * (0.5 * onset_tol - pen_start) / (pen_end - pen_start))
+                retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
+                                         h_min)
+                if retry > 0.0:
+                    onset_step = retry
                     rejected += 1
                     continue
                 accept_contact(result, vel_i, vel_j, step, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
@@ -242,10 +255,10 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             derivative(t + _DOPRI_C[stage] * step, y_new, mode, mp, joint, body_forces, ws, k_stage)
             for i in range(n2):
                 k[stage, i] = k_stage[i]
-        pen_end = result[R_PENETRATION]
-        if (locate_onsets and memory[M_ACTIVE] < 0.5 and pen_start < 0.0 and pen_end > onset_tol
-                and step > h_min):
-            h = max(h_min, step * (0.5 * onset_tol - pen_start) / (pen_end - pen_start))
+        retry = onset_retry_step(locate_onsets and memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION],
+                                 onset_tol, step, h_min)
+        if retry > 0.0:
+            h = retry
             rejected += 1
             continue
         err = 0.0

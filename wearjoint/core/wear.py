@@ -19,7 +19,8 @@ p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (MODEL.md 3.7):
 import math
 
 from .contact import (
-    block_minimum, block_minimum_depth, evaluate_contact, penetrating_points, update_contact_memory, wrap_index,
+    block_minimum, block_minimum_depth, distance_sq, evaluate_contact, penetrating_points, update_contact_memory,
+    wrap_index,
 )
 from .jit import kernel
 from .layout import (
@@ -64,22 +65,14 @@ def patch_weight(offset_angle, half_angle, dphi):
 
 
 @kernel
-def _distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
-    rho = bushing_radius + wear_depth[z]
-    dx = rho * cos_phi[z] - ex
-    dy = rho * sin_phi[z] - ey
-    return dx * dx + dy * dy
-
-
-@kernel
 def subgrid_contact_offset(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     """Where, between bushing points, |d|^2 is smallest near the deepest point k, in
     units of the point spacing (in [-0.5, 0.5]): vertex of the parabola through
     points k - 1, k, k + 1."""
     n = wear_depth.shape[0]
-    before = _distance_sq(wrap_index(k - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
-    at = _distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
-    after = _distance_sq(wrap_index(k + 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    before = distance_sq(wrap_index(k - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    at = distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    after = distance_sq(wrap_index(k + 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
     curvature = before - 2.0 * at + after
     if curvature <= 0.0:
         return 0.0
