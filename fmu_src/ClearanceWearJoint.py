@@ -66,10 +66,10 @@ with _scipy_hidden():
     import numpy as np
 
     from wearjoint import ClearanceJoint, JointParameters, ParameterError, __version__
-    from wearjoint import fmu_variables as fv
+    from wearjoint.fmu import variables as fv
     from wearjoint.core import layout
     from wearjoint.core.contact import block_minimum_depth
-    from wearjoint import native
+    from wearjoint.fmu import entry_points as native
 
 _RESULT_INDEX = {
     "pin_force_x": layout.R_PIN_FX, "pin_force_y": layout.R_PIN_FY, "pin_torque": layout.R_PIN_TORQUE,

@@ -5,6 +5,6 @@ import pytest
 @pytest.fixture(scope="session")
 def built_fmu(tmp_path_factory):
     """ClearanceWearJoint.fmu (default n_points) built once per session into a temporary folder."""
-    from wearjoint.fmu_build import build_fmu
+    from wearjoint.fmu.build_pythonfmu import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu"))

@@ -136,13 +136,13 @@ def test_cli_bad_parameter_exits_nonzero_naming_it(built_fmu, tmp_path, capsys, 
 def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monkeypatch):
     """Non-finite kinematics: the FMU rejects the call; the error carries its log; the instance is freed."""
     closed = []
-    original_close = cosim._FmuSlave.close
+    original_close = cosim.FmuInstance.close
 
     def spy_close(self):
         original_close(self)
         closed.append(self.instantiated)
 
-    monkeypatch.setattr(cosim._FmuSlave, "close", spy_close)
+    monkeypatch.setattr(cosim.FmuInstance, "close", spy_close)
     monkeypatch.setattr(cosim.SliderCrank, "initial_state", lambda self: np.full(2 * L.N_COORDINATES, np.nan))
     with pytest.raises(CoSimulationError, match=r"FMU call fmi2\w+ returned fmi2(Error|Discard).*non-finite inputs"):
         run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu, progress=False)

@@ -26,8 +26,8 @@ from fmpy.logging import addLoggerProxy  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
-from wearjoint import fmu_variables as fv  # noqa: E402
-from wearjoint.fmu_build import build_fmu, build_key, cli_arguments, cli_run, default_fmu_path  # noqa: E402
+from wearjoint.fmu import variables as fv  # noqa: E402
+from wearjoint.fmu.build_pythonfmu import build_fmu, build_key, cli_arguments, cli_run, default_fmu_path  # noqa: E402
 
 FMI_DISCARD, FMI_ERROR, FMI_FATAL = 2, 3, 4
 INPUT_NAMES = [v.name for v in fv.INPUTS]
@@ -514,7 +514,7 @@ def test_fmu_runtime_imports_only_numpy_numba_and_wearjoint(built_fmu, tmp_path)
 
 
 def test_library_modules_stay_light(tmp_path):
-    code = ("import sys, wearjoint.fmu_variables, wearjoint.fmu_build; "
+    code = ("import sys, wearjoint.fmu.variables, wearjoint.fmu.build_pythonfmu; "
             "print(sorted(m for m in ('pythonfmu', 'fmpy', 'exudyn', 'matplotlib') if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
                           cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(REPO_ROOT)})
@@ -544,7 +544,7 @@ def test_fmu_ships_exactly_the_slaves_import_closure(fmu, tmp_path):
 
 
 def test_build_key_follows_the_shipped_files_only(tmp_path, monkeypatch):
-    from wearjoint import fmu_build
+    from wearjoint.fmu import build_pythonfmu as fmu_build
 
     tree = tmp_path / "tree"
     for source in (*fmu_build.shipped_sources(), fmu_build.PACKAGE_DIR / "cosim.py"):

@@ -17,7 +17,7 @@ from libcosimpy.CosimObserver import CosimObserver  # noqa: E402
 from libcosimpy.CosimSlave import CosimLocalSlave  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
-from wearjoint import fmu_variables as fv  # noqa: E402
+from wearjoint.fmu import variables as fv  # noqa: E402
 
 STEP_S = 1e-5
 OUTPUTS = ["pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y", "bushing_torque",

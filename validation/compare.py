@@ -187,7 +187,8 @@ def engine_runner(engine: str, joint: JointParameters):
         return lambda j, m, rev, step, dt, progress: run_exudyn(j, m, rev, step_s=step, contact=contact,
                                                                 sample_dt_s=dt, progress=progress)
     if engine == "cosim":
-        from wearjoint.cosim import CoSimulationOptions, ensure_fmu, run_cosimulation
+        from wearjoint.cosim import CoSimulationOptions, run_cosimulation
+        from wearjoint.fmu.instance import ensure_fmu
         fmu_path = ensure_fmu(joint.n_points)
         return lambda j, m, rev, step, dt, progress: run_cosimulation(
             j, m, CoSimulationOptions(revolutions=rev, step_s=step, sample_dt_s=dt), fmu_path=fmu_path,

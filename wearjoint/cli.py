@@ -14,7 +14,7 @@ from .parameters import ParameterError
 
 COMMANDS = {
     "simulate": ("wearjoint.simulate_cli", "monolithic slider-crank simulation (no FMI)"),
-    "build-fmu": ("wearjoint.fmu_build", "build the ClearanceWearJoint FMU (FMI 2.0 co-simulation)"),
+    "build-fmu": ("wearjoint.fmu.build_pythonfmu", "build the ClearanceWearJoint FMU (FMI 2.0 co-simulation)"),
     "cosim": ("wearjoint.cosim", "co-simulate the slider-crank with the joint FMU through fmpy"),
     "validate": ("wearjoint.validation.compare", "cross-check monolithic, FMU and exudyn runs"),
     "wear-study": ("wearjoint.validation.wear_study", "thousands of revolutions of wear (paper Figs. 7-8)"),

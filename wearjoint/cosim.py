@@ -36,7 +36,6 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import math
-import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,12 +43,12 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from . import fmu_variables as fv
 from .core import layout as L
 from .core.contact import bushing_point_angles
 from .core.integrators import onset_retry_step, record_step, rk4_step
 from .core.mechanism import derivative
 from .mechanism import SliderCrank
+from .fmu.instance import INPUT_NAMES, N_INPUTS, FmuError, FmuInstance, c_function, ensure_fmu
 from .cli_options import add_model_arguments, model_from_args
 from .parameters import (
     JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
@@ -58,8 +57,7 @@ from .runner import run_in_chunks
 from .results import RunRecord, new_revolution_stats, new_track, write_results
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
-FMI_OK, FMI_WARNING = 0, 1
-_FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
+FMI_WARNING = 1
 
 # --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
 OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
@@ -71,8 +69,6 @@ OUTPUT_RESULT_INDEX = np.array([L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSH
 N_OUTPUTS = len(OUTPUT_NAMES)
 O_PENETRATION = OUTPUT_NAMES.index("penetration")
 O_CONTACT = OUTPUT_NAMES.index("contact")
-INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
-N_INPUTS = len(INPUT_NAMES)
 
 # --- the master's state buffer: one float64 array, so the per-step kernel takes few arguments.
 # Everything a rollback restores is at its start (one copy saves it).
@@ -118,8 +114,7 @@ F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = rang
 C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET = range(5)
 
 
-class CoSimulationError(RuntimeError):
-    """An FMI call failed; the message carries the FMU's log."""
+CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
 
 
 @dataclass(frozen=True)
@@ -352,199 +347,12 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     return failed
 
 
-# ------------------------------------------------------------------ the FMU side
-_MODEL_DESCRIPTIONS: dict = {}
-
-
-def _model_description(fmu_path: Path):
-    """fmpy's parsed modelDescription (about 1 s for N_d = 1257), cached per file and mtime."""
-    from fmpy import read_model_description
-
-    key = (str(fmu_path), fmu_path.stat().st_mtime_ns)
-    if key not in _MODEL_DESCRIPTIONS:
-        _MODEL_DESCRIPTIONS[key] = read_model_description(str(fmu_path))
-    return _MODEL_DESCRIPTIONS[key]
-
-
-def ensure_fmu(n_points: int, fmu_path=None) -> Path:
-    """The FMU to use: ``fmu_path`` if given (must exist), else the cached build for
-    ``n_points`` (built now if missing, see ``wearjoint.fmu_build``)."""
-    from .fmu_build import build_fmu, default_fmu_path
-
-    if fmu_path is not None:
-        path = Path(fmu_path)
-        if not path.is_file():
-            raise ParameterError(f"parameter fmu_path={str(path)!r} is invalid: allowed an existing .fmu file")
-        return path
-    path = default_fmu_path(n_points)
-    if path.is_file():
-        return path
-    try:
-        return build_fmu(path.parent, n_points=n_points)
-    except (OSError, RuntimeError) as exc:
-        raise CoSimulationError(f"building the FMU into {path.parent} failed: {exc}") from None
-
-
-# C prototypes of the FMI functions master_loop calls (pointers as addresses)
-_STATUS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
-_REAL_VALUES_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
-_DO_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
 _CLOCK_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int, ctypes.c_void_p)
-
-
-def _c_function(function, prototype):
-    """``function`` (a ctypes function of a loaded library) as a bare C function pointer of ``prototype``."""
-    return prototype(ctypes.cast(function, ctypes.c_void_p).value)
 
 
 def _monotonic_clock():
     """libc's clock_gettime, for master_loop's split of FMI time and master time."""
-    return _c_function(ctypes.CDLL(None).clock_gettime, _CLOCK_CALL)
-
-
-class _FmuSlave:
-    """One instance of the joint FMU: fmpy's FMU2Slave, its raw FMI functions, its log."""
-
-    def __init__(self, fmu_path: Path, joint: JointParameters, buf: np.ndarray):
-        from fmpy import extract
-        from fmpy.fmi2 import (FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
-                               fmi2CallbackLoggerTYPE, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference)
-
-        md = _model_description(fmu_path)
-        if md.modelName != fv.MODEL_NAME or md.coSimulation is None:
-            raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
-                                 f"allowed a {fv.MODEL_NAME} co-simulation FMU")
-        self.vr = fv.value_references(md)
-        built = next((int(v.start) for v in md.modelVariables if v.name == fv.N_POINTS_NAME), None)
-        if built != joint.n_points:
-            raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: the FMU {fmu_path} "
-                                 f"was built for {built} points (wearjoint build-fmu --n-points N)")
-        self.log: list[tuple[int, str]] = []
-        # A plain ctypes logger (no fmpy logger proxy: that proxy is one per process).
-        # pythonfmu passes the message as the format string with '%' doubled.
-        self._logger = fmi2CallbackLoggerTYPE(
-            lambda env, instance, status, category, message: self.log.append(
-                (status, message.decode(errors="replace").replace("%%", "%"))))
-        self._callbacks = fmi2CallbackFunctions(logger=self._logger, allocateMemory=defaultCallbacks.allocateMemory,
-                                                freeMemory=defaultCallbacks.freeMemory)
-        self.instantiated = False
-        self.unzip_dir = extract(str(fmu_path))
-        try:
-            self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.unzip_dir,
-                                 modelIdentifier=md.coSimulation.modelIdentifier, instanceName="joint")
-        except Exception as exc:  # fmpy raises a bare Exception (e.g. no binary for this platform)
-            shutil.rmtree(self.unzip_dir, ignore_errors=True)
-            raise CoSimulationError(f"FMU {fmu_path} cannot be loaded: {exc}") from None
-        self.state_slot = np.zeros(1, dtype=np.uintp)   # the rollback snapshot (getFMUstate), 0 when none
-        self._fmi2FMUstate = fmi2FMUstate
-        dll = self.fmu.dll                     # fmpy has set argtypes/restype on these
-        self.set_real = dll.fmi2SetReal
-        self.get_real = dll.fmi2GetReal
-        self.input_vrs = np.array([self.vr[n] for n in INPUT_NAMES], dtype=np.uint32)
-        self.output_vrs = np.array([self.vr[n] for n in OUTPUT_NAMES], dtype=np.uint32)
-        # ctypes arrays aliasing the master's buffer: the FMI calls read and write it directly
-        self.inputs = (fmi2Real * N_INPUTS).from_buffer(buf[B_INPUT:B_INPUT + N_INPUTS])
-        self.outputs = (fmi2Real * N_OUTPUTS).from_buffer(buf[B_OUTPUT:B_OUTPUT + N_OUTPUTS])
-        self._fmi2Real, self._fmi2Integer, self._fmi2ValueReference = fmi2Real, fmi2Integer, fmi2ValueReference
-        n = joint.n_points
-        wear_names = [fv.wear_depth_name(z) for z in range(1, n + 1)] + ["max_wear_depth", "worn_volume"]
-        self.wear_vrs = (fmi2ValueReference * (n + 2))(*(self.vr[name] for name in wear_names))
-        self.wear_values = (fmi2Real * (n + 2))()
-        try:
-            try:
-                self.fmu.instantiate(callbacks=self._callbacks, loggingOn=True)
-            except Exception as exc:  # fmpy raises a bare Exception here
-                raise CoSimulationError(f"FMU {fmu_path}: fmi2Instantiate failed ({exc}){self._log_tail()}") from None
-            self.instantiated = True
-            self.component = self.fmu.component
-            self.check(dll.fmi2SetupExperiment(self.component, 0, 0.0, 0.0, 0, 0.0), "fmi2SetupExperiment", 0.0)
-            self._set_parameters(joint)
-            self.check(dll.fmi2EnterInitializationMode(self.component), "fmi2EnterInitializationMode", 0.0)
-            self.check(dll.fmi2ExitInitializationMode(self.component), "fmi2ExitInitializationMode", 0.0)
-        except BaseException:
-            self.close()
-            raise
-        self.loop_functions = (
-            self.component, self.input_vrs, self.output_vrs, self.state_slot,
-            _c_function(dll.fmi2DoStep, _DO_STEP_CALL), _c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),
-            _c_function(dll.fmi2GetReal, _REAL_VALUES_CALL), _c_function(dll.fmi2GetFMUstate, _STATUS_CALL),
-            _c_function(dll.fmi2SetFMUstate, _STATUS_CALL), _c_function(dll.fmi2FreeFMUstate, _STATUS_CALL))
-
-    def _set_parameters(self, joint: JointParameters) -> None:
-        values = fv.fmi_parameter_values(joint)
-        integer_names = {p.variable.name for p in fv.PARAMETERS if p.variable.type == fv.INTEGER}
-        reals = [(self.vr[k], v) for k, v in values.items() if k not in integer_names]
-        ints = [(self.vr[k], v) for k, v in values.items() if k in integer_names]
-        for rows, value_type, function in ((reals, self._fmi2Real, self.set_real),
-                                           (ints, self._fmi2Integer, self.fmu.dll.fmi2SetInteger)):
-            vrs = (self._fmi2ValueReference * len(rows))(*(vr for vr, _ in rows))
-            vals = (value_type * len(rows))(*(v for _, v in rows))
-            self.check(function(self.component, vrs, len(rows), vals), function.__name__, 0.0)
-
-    def _log_tail(self) -> str:
-        errors = [text for status, text in self.log if status > FMI_WARNING] or [text for _, text in self.log[-3:]]
-        return (": " + " | ".join(errors[-3:])) if errors else ""
-
-    def check(self, status: int, call: str, t: float) -> None:
-        """Raise CoSimulationError (with the FMU's log) for a status worse than fmi2Warning."""
-        if status > FMI_WARNING:
-            name = _FMI_STATUS[status] if 0 <= status < len(_FMI_STATUS) else str(status)
-            raise CoSimulationError(f"FMU call {call} returned fmi2{name.capitalize()} at t={t:.9g} s"
-                                    f"{self._log_tail()}")
-
-    def exchange(self, t: float) -> None:
-        """setReal of the inputs, getReal of the outputs (both in the master's buffer)."""
-        vr_pointer = ctypes.POINTER(self._fmi2ValueReference)
-        self.check(self.set_real(self.component, self.input_vrs.ctypes.data_as(vr_pointer), N_INPUTS, self.inputs),
-                   "fmi2SetReal", t)
-        self.check(self.get_real(self.component, self.output_vrs.ctypes.data_as(vr_pointer), N_OUTPUTS,
-                                 self.outputs), "fmi2GetReal", t)
-
-    def wear(self, t: float) -> np.ndarray:
-        """[wear_depth[1..N] ..., max_wear_depth, worn_volume] [m, m, m^3] (a copy)."""
-        self.check(self.get_real(self.component, self.wear_vrs, len(self.wear_values), self.wear_values),
-                   "fmi2GetReal", t)
-        return np.array(self.wear_values)
-
-    def max_wear_depth(self, t: float) -> float:
-        value = self._fmi2Real()
-        vr = self._fmi2ValueReference(self.vr["max_wear_depth"])
-        self.check(self.get_real(self.component, ctypes.byref(vr), 1, ctypes.byref(value)), "fmi2GetReal", t)
-        return value.value
-
-    # -- FMU state
-    def serialize(self, t: float) -> bytes:
-        state = self._fmi2FMUstate()
-        self.check(self.fmu.dll.fmi2GetFMUstate(self.component, ctypes.byref(state)), "fmi2GetFMUstate", t)
-        try:
-            return self.fmu.serializeFMUstate(state)
-        except Exception as exc:  # fmpy's FMICallException
-            raise CoSimulationError(f"fmi2SerializeFMUstate failed at t={t:.9g} s ({exc}){self._log_tail()}") from None
-        finally:
-            self.fmu.fmi2FreeFMUstate(self.component, ctypes.byref(state))
-
-    def deserialize(self, data: bytes, t: float) -> None:
-        state = self._fmi2FMUstate()
-        buffer = ctypes.create_string_buffer(data, len(data))
-        self.check(self.fmu.dll.fmi2DeSerializeFMUstate(self.component, buffer, len(data), ctypes.byref(state)),
-                   "fmi2DeSerializeFMUstate", t)
-        try:
-            self.check(self.fmu.dll.fmi2SetFMUstate(self.component, state), "fmi2SetFMUstate", t)
-        finally:
-            self.fmu.fmi2FreeFMUstate(self.component, ctypes.byref(state))
-
-    def close(self) -> None:
-        """Free the snapshot and the instance (terminate first), remove the extracted files.
-        Safe to call twice; errors here are not raised (the instance is gone either way)."""
-        if self.instantiated:
-            self.instantiated = False
-            if self.state_slot[0]:
-                self.fmu.dll.fmi2FreeFMUstate(
-                    self.component, ctypes.cast(self.state_slot.ctypes.data, ctypes.POINTER(self._fmi2FMUstate)))
-                self.state_slot[0] = 0
-            self.fmu.dll.fmi2Terminate(self.component)
-            self.fmu.dll.fmi2FreeInstance(self.component)
-        shutil.rmtree(self.unzip_dir, ignore_errors=True)
+    return c_function(ctypes.CDLL(None).clock_gettime, _CLOCK_CALL)
 
 
 # ------------------------------------------------------------------ the master
@@ -585,7 +393,8 @@ class CoSimulation:
             1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m)
         self._clock = _monotonic_clock()
         self._timespec = np.zeros(2, dtype=np.int64)
-        self._slave = _FmuSlave(self.fmu_path, self.joint, b)
+        self._slave = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
+                                  b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
         try:
             communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
             self._slave.exchange(0.0)
@@ -611,7 +420,7 @@ class CoSimulation:
         """The FMU's log messages as (FMI status, text)."""
         return [] if self._slave is None else list(self._slave.log)
 
-    def _live_slave(self) -> _FmuSlave:
+    def _live_slave(self) -> FmuInstance:
         if self._slave is None:
             raise CoSimulationError("the FMU instance of this co-simulation has been freed (close() was called)")
         return self._slave

@@ -11,9 +11,9 @@ touches Python objects, so a call costs about as much as the kernel.
 import numpy as np
 from numba import carray, cfunc, types
 
-from .core.contact import evaluate_contact
-from .core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
-from .core.wear import advance_joint
+from ..core.contact import evaluate_contact
+from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
+from ..core.wear import advance_joint
 
 _F64 = types.CPointer(types.float64)
 # (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
+from ..parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
 
 MODEL_NAME = "ClearanceWearJoint"
 # JSON file in the FMU's resources written by the build: {"n_points": N_d, "build_key": ...}

@@ -31,11 +31,11 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
-from . import __version__
-from . import fmu_variables as fv
-from .parameters import JointParameters, ParameterError
+from .. import __version__
+from ..parameters import JointParameters, ParameterError
+from . import variables as fv
 
-PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE_DIR = Path(__file__).resolve().parent.parent   # wearjoint/
 # fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
 FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
 SLAVE_SOURCE = FMU_SOURCE_DIR / f"{fv.MODEL_NAME}.py"
@@ -49,7 +49,8 @@ REQUIREMENTS = "numpy\nnumba\n"
 
 # The slave's run-time import closure within wearjoint (tests/test_fmu.py checks that
 # importing the slave from the FMU's resources loads exactly these).
-RUNTIME_MODULES = ("__init__.py", "_numba_cache.py", "parameters.py", "joint.py", "fmu_variables.py", "native.py",
+RUNTIME_MODULES = ("__init__.py", "_numba_cache.py", "parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
+                   "fmu/entry_points.py",
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py")
 
 
@@ -147,6 +148,7 @@ def _stage_project_files(stage: Path, n_points: int, key: str) -> list[Path]:
     """Stage the resources: the wearjoint run-time modules (no caches), requirements.txt, build config."""
     package = stage / "wearjoint"
     (package / "core").mkdir(parents=True)
+    (package / "fmu").mkdir()
     for path in _package_sources():
         shutil.copy2(path, package / path.relative_to(PACKAGE_DIR))
     requirements = stage / "requirements.txt"

@@ -1,0 +1,6 @@
+"""Everything FMI: the variable table, model descriptions, the FMU builders and the
+FMU-instance wrapper a co-simulation master uses (docs/model.md, "The FMU").
+
+Importing this package loads nothing heavy; fmpy and pythonfmu are imported by
+the functions that need them.
+"""
