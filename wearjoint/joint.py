@@ -17,33 +17,39 @@ from pathlib import Path
 import numpy as np
 
 from .core import layout as L
-from .core.contact import block_minimum_depth, bushing_point_angles, evaluate_contact
-from .core.wear import advance_joint, worn_area
+from .core.contact import block_minimum_depth, bushing_points, evaluate_contact
+from .core.wear import advance_joint, complete_joint_parameters, worn_area
 from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
 
 _STATE_MAGIC = b"WJSTATE1"
 
 
+# JointParameters field (or (field, component) of a pair) given to each slot of the parameter vector
+PARAMETER_SLOTS = {
+    L.P_PIN_RADIUS: "pin_radius_m", L.P_BUSHING_RADIUS: "bushing_radius_m",
+    L.P_PIN_OFFSET_X: ("pin_offset_m", 0), L.P_PIN_OFFSET_Y: ("pin_offset_m", 1),
+    L.P_BUSHING_OFFSET_X: ("bushing_offset_m", 0), L.P_BUSHING_OFFSET_Y: ("bushing_offset_m", 1),
+    L.P_STIFFNESS: "contact_stiffness_N_m1_5", L.P_EXPONENT: "contact_exponent", L.P_RESTITUTION: "restitution",
+    L.P_FRICTION: "friction_coefficient", L.P_V0: "friction_v0_m_s", L.P_V1: "friction_v1_m_s",
+    L.P_CONTACT_LENGTH: "contact_length_m", L.P_RHO_MODE: "rho_mode", L.P_WEAR_PLACEMENT: "wear_placement",
+    L.P_SLIDING: "sliding_distance", L.P_VELOCITY_FLOOR: "impact_velocity_floor_m_s",
+    L.P_PIN_YOUNGS_MODULUS: "pin_youngs_modulus_Pa", L.P_PIN_POISSON_RATIO: "pin_poisson_ratio",
+    L.P_BUSHING_YOUNGS_MODULUS: "bushing_youngs_modulus_Pa", L.P_BUSHING_POISSON_RATIO: "bushing_poisson_ratio",
+    L.P_ARCHARD_COEFFICIENT: "wear_coefficient_m2_N", L.P_WEAR_FACTOR: "wear_factor",
+}
+_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES}
+
+
 def pack_joint_parameters(p: JointParameters) -> np.ndarray:
-    """The flat parameter vector the kernels read (layout.P_*)."""
+    """The flat parameter vector the kernels read (layout.P_*): the given slots from ``p``
+    (options as their index), the derived ones by :func:`core.wear.complete_joint_parameters`."""
     jp = np.zeros(L.N_JOINT_PARAMETERS)
-    jp[L.P_PIN_RADIUS] = p.pin_radius_m
-    jp[L.P_BUSHING_RADIUS] = p.bushing_radius_m
-    jp[L.P_PIN_OFFSET_X], jp[L.P_PIN_OFFSET_Y] = p.pin_offset_m
-    jp[L.P_BUSHING_OFFSET_X], jp[L.P_BUSHING_OFFSET_Y] = p.bushing_offset_m
-    jp[L.P_STIFFNESS] = p.contact_stiffness_N_m1_5
-    jp[L.P_EXPONENT] = p.contact_exponent
-    jp[L.P_RESTITUTION] = p.restitution
-    jp[L.P_FRICTION] = p.friction_coefficient
-    jp[L.P_V0] = p.friction_v0_m_s
-    jp[L.P_V1] = p.friction_v1_m_s
-    jp[L.P_WEAR_COEFFICIENT] = p.wear_coefficient_m2_N * p.wear_factor
-    jp[L.P_CONTACT_LENGTH] = p.contact_length_m
-    jp[L.P_EFFECTIVE_MODULUS] = p.effective_modulus_Pa
-    jp[L.P_RHO_MODE] = RHO_MODES.index(p.rho_mode)
-    jp[L.P_WEAR_PLACEMENT] = WEAR_PLACEMENTS.index(p.wear_placement)
-    jp[L.P_SLIDING] = SLIDING_DISTANCES.index(p.sliding_distance)
-    jp[L.P_VELOCITY_FLOOR] = p.impact_velocity_floor_m_s
+    for slot, source in PARAMETER_SLOTS.items():
+        field, component = source if isinstance(source, tuple) else (source, None)
+        value = getattr(p, field)
+        jp[slot] = (_CHOICES[field].index(value) if field in _CHOICES
+                    else value[component] if component is not None else value)
+    complete_joint_parameters(jp)
     return jp
 
 
@@ -102,10 +108,8 @@ class ClearanceJoint:
         self.params = params or JointParameters()
         n = self.params.n_points
         self.parameter_vector = pack_joint_parameters(self.params)
-        phi = bushing_point_angles(n)
-        self.phi_rad = phi
-        self.cos_phi = np.cos(phi)
-        self.sin_phi = np.sin(phi)
+        self.phi_rad, self.cos_phi, self.sin_phi = np.empty(n), np.empty(n), np.empty(n)
+        bushing_points(self.phi_rad, self.cos_phi, self.sin_phi)
         self.wear_depth = np.zeros(n)
         self.block_min = np.zeros((n + L.BLOCK_SIZE - 1) // L.BLOCK_SIZE)
         self.memory = np.zeros(L.N_MEMORY)

@@ -73,13 +73,10 @@ def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
 
 def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
                       bushing_youngs_modulus_Pa: float, bushing_poisson_ratio: float) -> float:
-    """Composite modulus E* [Pa] of Eq. (32): 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j.
+    """Composite modulus E* [Pa] of Eq. (32) (:func:`wearjoint.core.wear.effective_modulus`)."""
+    from .core.wear import effective_modulus as kernel
 
-    The paper prints the denominator with the indices paired the other way
-    (E_i(1-nu_i^2) + E_j(1-nu_j^2)); we use the standard Hertz form.
-    """
-    return 1.0 / ((1.0 - pin_poisson_ratio ** 2) / pin_youngs_modulus_Pa
-                  + (1.0 - bushing_poisson_ratio ** 2) / bushing_youngs_modulus_Pa)
+    return float(kernel(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa, bushing_poisson_ratio))
 
 
 @dataclass(frozen=True)

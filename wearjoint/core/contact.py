@@ -14,7 +14,6 @@ relative to the bushing; torques are planar cross products l_x F_y - l_y F_x.
 import math
 
 import numpy as np
-from numba import njit
 
 from .jit import kernel
 from .layout import (
@@ -30,12 +29,21 @@ TWO_PI = 2.0 * math.pi
 OUTWARD_SCAN_POINTS = 16  # points scanned each side of the direction of e before the block search
 
 
-@njit(cache=True)
-def bushing_point_angles(n_points):
-    """Body-frame angles phi_z = z 2 pi / N_d, z = 1..N_d (Eq. 3) [rad]; index k = z - 1."""
-    phi = np.empty(n_points)
-    for k in range(n_points):
-        phi[k] = (k + 1) * TWO_PI / n_points
+@kernel
+def bushing_points(phi, cos_phi, sin_phi):
+    """Body-frame angles phi_z = z 2 pi / N_d, z = 1..N_d (Eq. 3) [rad], index k = z - 1, and
+    their cosines and sines, for N_d = len(phi)."""
+    n = phi.shape[0]
+    for k in range(n):
+        phi[k] = (k + 1) * TWO_PI / n
+        cos_phi[k] = math.cos(phi[k])
+        sin_phi[k] = math.sin(phi[k])
+
+
+def bushing_point_angles(n_points: int) -> np.ndarray:
+    """phi_z of :func:`bushing_points` [rad] as a new array."""
+    phi, cos_phi, sin_phi = np.empty(n_points), np.empty(n_points), np.empty(n_points)
+    bushing_points(phi, cos_phi, sin_phi)
     return phi
 
 

@@ -5,7 +5,9 @@ module-level integers as constants); these names are the only place the
 positions are defined.
 """
 
-# --- joint parameter vector (JointParameters packed by wearjoint.joint.pack_joint_parameters)
+# --- joint parameter vector.  Slots up to P_VELOCITY_FLOOR and from P_PIN_YOUNGS_MODULUS on
+# are given (JointParameters, or the FMU's parameters: wearjoint.fmu.variables maps each to
+# its slot); the derived slots are filled by core.wear.complete_joint_parameters.
 P_PIN_RADIUS = 0          # R_i [m]
 P_BUSHING_RADIUS = 1      # R_j [m]
 P_PIN_OFFSET_X = 2        # s_i^P in the pin body frame [m]
@@ -18,14 +20,20 @@ P_RESTITUTION = 8         # e_r [-]
 P_FRICTION = 9            # mu [-]
 P_V0 = 10                 # friction tolerance velocities [m/s]
 P_V1 = 11
-P_WEAR_COEFFICIENT = 12   # k_w times the wear acceleration factor [m^2/N]
+P_WEAR_COEFFICIENT = 12   # derived: k_w times the wear acceleration factor [m^2/N]
 P_CONTACT_LENGTH = 13     # L [m]
-P_EFFECTIVE_MODULUS = 14  # E* [Pa]
-P_RHO_MODE = 15           # 0 conformal, 1 paper (MODEL.md 3.2)
-P_WEAR_PLACEMENT = 16     # 0 patch, 1 penetration (MODEL.md 3.7)
-P_SLIDING = 17            # 0 rotation, 1 tangential (MODEL.md 3.8)
-P_VELOCITY_FLOOR = 18     # floor on the stored impact velocity [m/s] (MODEL.md 3.5)
-N_JOINT_PARAMETERS = 19
+P_EFFECTIVE_MODULUS = 14  # derived: E* of Eq. 32 [Pa]
+P_RHO_MODE = 15           # 0 conformal, 1 paper (docs/model.md 3.2)
+P_WEAR_PLACEMENT = 16     # 0 patch, 1 penetration (docs/model.md 3.7)
+P_SLIDING = 17            # 0 rotation, 1 tangential (docs/model.md 3.8)
+P_VELOCITY_FLOOR = 18     # floor on the stored impact velocity [m/s] (docs/model.md 3.5)
+P_PIN_YOUNGS_MODULUS = 19     # E_i [Pa]
+P_PIN_POISSON_RATIO = 20      # nu_i [-]
+P_BUSHING_YOUNGS_MODULUS = 21  # E_j [Pa]
+P_BUSHING_POISSON_RATIO = 22  # nu_j [-]
+P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
+P_WEAR_FACTOR = 24            # wear acceleration factor [-]
+N_JOINT_PARAMETERS = 25
 
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts

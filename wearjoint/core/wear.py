@@ -24,10 +24,28 @@ from .contact import (
 )
 from .jit import kernel
 from .layout import (
-    BLOCK_SIZE, P_BUSHING_RADIUS, P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_RADIUS,
-    P_RHO_MODE, P_SLIDING, P_WEAR_COEFFICIENT, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
+    BLOCK_SIZE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO, P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS,
+    P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE,
+    P_SLIDING, P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
     R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_TANGENTIAL_VELOCITY,
 )
+
+
+@kernel
+def effective_modulus(pin_youngs_modulus, pin_poisson_ratio, bushing_youngs_modulus, bushing_poisson_ratio):
+    """Composite modulus E* of Eq. (32) [Pa]: 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j (standard Hertz
+    form; the paper pairs the indices the other way, docs/model.md 3)."""
+    return 1.0 / ((1.0 - pin_poisson_ratio * pin_poisson_ratio) / pin_youngs_modulus
+                  + (1.0 - bushing_poisson_ratio * bushing_poisson_ratio) / bushing_youngs_modulus)
+
+
+@kernel
+def complete_joint_parameters(jp):
+    """Fill the derived slots of the joint parameter vector from the given ones: E* (Eq. 32) and
+    the wear coefficient the updates use, k_w times the wear acceleration factor."""
+    jp[P_EFFECTIVE_MODULUS] = effective_modulus(jp[P_PIN_YOUNGS_MODULUS], jp[P_PIN_POISSON_RATIO],
+                                                jp[P_BUSHING_YOUNGS_MODULUS], jp[P_BUSHING_POISSON_RATIO])
+    jp[P_WEAR_COEFFICIENT] = jp[P_ARCHARD_COEFFICIENT] * jp[P_WEAR_FACTOR]
 
 
 @kernel
