@@ -71,14 +71,7 @@ with _scipy_hidden():
     from wearjoint.core.contact import block_minimum_depth
     from wearjoint.fmu import entry_points as native
 
-_RESULT_INDEX = {
-    "pin_force_x": layout.R_PIN_FX, "pin_force_y": layout.R_PIN_FY, "pin_torque": layout.R_PIN_TORQUE,
-    "bushing_force_x": layout.R_BUSHING_FX, "bushing_force_y": layout.R_BUSHING_FY,
-    "bushing_torque": layout.R_BUSHING_TORQUE, "normal_force": layout.R_NORMAL_FORCE,
-    "friction_force": layout.R_FRICTION_FORCE, "penetration": layout.R_PENETRATION,
-    "contact": layout.R_CONTACT, "contact_angle": layout.R_CONTACT_ANGLE,
-    "eccentricity_x": layout.R_ECCENTRICITY_X, "eccentricity_y": layout.R_ECCENTRICITY_Y,
-}
+_RESULT_INDEX = fv.RESULT_SLOTS
 
 # FMU state: magic, time [s], 1.0 if initialised, then float64 values: the inputs,
 # the parameters (fv.PARAMETERS order), the joint's contact memory and wear depths.
@@ -92,7 +85,7 @@ _ALL_INPUT_VRS = list(range(_N_INPUTS))   # value references of the inputs, in o
 _FROM_SLAVE, _FROM_STORE, _FROM_RESULT, _FROM_WEAR_DEPTH = -1, 0, 1, 2
 # _flags, shared with the status shim (its FLAG_*)
 _FLAG_NATIVE, _FLAG_FORCES_STALE, _FLAG_WEAR_SUMMARY_STALE, _FLAG_TIME = range(4)
-_WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
+_WEAR_SUMMARY_NAMES = fv.WEAR_SUMMARY_NAMES
 _MAX_READ_PLANS = 64   # distinct getReal value-reference lists remembered per instance
 
 # Objects pythonfmu 0.7 releases once too often after a Python exception (see _abort_call).

@@ -18,7 +18,7 @@ import numpy as np
 
 from .core import layout as L
 from .core.contact import block_minimum_depth, bushing_points, evaluate_contact
-from .core.wear import advance_joint, complete_joint_parameters, worn_area
+from .core.wear import advance_joint, complete_joint_parameters, worn_volume
 from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
 
 _STATE_MAGIC = b"WJSTATE1"
@@ -169,7 +169,7 @@ class ClearanceJoint:
     @property
     def worn_volume_m3(self) -> float:
         """Volume removed from the bushing: contact length times the worn area [m^3]."""
-        return float(self.params.contact_length_m * worn_area(self.params.bushing_radius_m, self.wear_depth))
+        return float(worn_volume(self.parameter_vector, self.wear_depth))
 
     def set_wear_profile(self, wear_depth_m) -> None:
         """Replace the wear depth of every bushing point [m] (finite, >= 0)."""

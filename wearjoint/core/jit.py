@@ -15,5 +15,5 @@ from numba import njit
 
 def kernel(function=None, *, inline="never"):
     """Decorator: ``@kernel`` or ``@kernel(inline='always')``."""
-    decorate = njit(cache=True, inline=inline, _nrt=False)
+    decorate = njit(cache=True, inline=inline, _nrt=False, error_model="numpy")
     return decorate if function is None else decorate(function)

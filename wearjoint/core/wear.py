@@ -198,3 +198,9 @@ def worn_area(bushing_radius, wear_depth):
     for z in range(n):
         total += wear_depth[z] * (2.0 * bushing_radius + wear_depth[z])
     return 0.5 * total * dphi
+
+
+@kernel
+def worn_volume(jp, wear_depth):
+    """Volume removed from the bushing: contact length L times :func:`worn_area` [m^3]."""
+    return jp[P_CONTACT_LENGTH] * worn_area(jp[P_BUSHING_RADIUS], wear_depth)

@@ -18,11 +18,7 @@ pythonfmu is imported only inside :func:`build_fmu` (``import wearjoint`` stays 
 """
 from __future__ import annotations
 
-import hashlib
-import importlib.util
 import json
-import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -34,16 +30,17 @@ from xml.etree import ElementTree as ET
 from .. import __version__
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
+from .build import (
+    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, existing_build_key, fmi2_headers,
+    source_digest, user_cache_dir,
+)
+from .model_description import model_description_xml
 
-PACKAGE_DIR = Path(__file__).resolve().parent.parent   # wearjoint/
-# fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
-FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
 SLAVE_SOURCE = FMU_SOURCE_DIR / f"{fv.MODEL_NAME}.py"
 SHIM_SOURCE = FMU_SOURCE_DIR / "status_shim.c"
 # the shim takes the place of pythonfmu's binary, which it loads from the same folder
-SHIM_ARCNAME = f"binaries/linux64/{fv.MODEL_NAME}.so"
+SHIM_ARCNAME = BINARY_ARCNAME
 WRAPPED_BINARY_NAME = f"pythonfmu_{fv.MODEL_NAME}.so"
-FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
 REQUIREMENTS = "numpy\nnumba\n"
 
 
@@ -68,31 +65,13 @@ def build_key(n_points: int) -> str:
     """Identifies an FMU build: wearjoint version, n_points, pythonfmu version, hash of the sources."""
     from importlib.metadata import version
 
-    digest = hashlib.sha256()
-    for path in shipped_sources():
-        digest.update(path.relative_to(PACKAGE_DIR.parent).as_posix().encode() + b"\0" + path.read_bytes())
-    return f"{__version__}-n{n_points}-pythonfmu{version('pythonfmu')}-{digest.hexdigest()[:16]}"
-
-
-def _user_cache_dir() -> Path:
-    if sys.platform == "win32":
-        return Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local")) / "wearjoint" / "Cache"
-    if sys.platform == "darwin":
-        return Path.home() / "Library" / "Caches" / "wearjoint"
-    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "wearjoint"
+    digest = source_digest(shipped_sources(), PACKAGE_DIR.parent)
+    return f"{__version__}-n{n_points}-pythonfmu{version('pythonfmu')}-{digest}"
 
 
 def default_fmu_path(n_points: int = JointParameters.n_points) -> Path:
     """Cache location of the FMU for this wearjoint source tree and n_points."""
-    return _user_cache_dir() / "fmu" / build_key(n_points) / FMU_FILE_NAME
-
-
-def _existing_build_key(fmu_path: Path) -> str | None:
-    try:
-        with zipfile.ZipFile(fmu_path) as zf:
-            return json.loads(zf.read(f"resources/{fv.BUILD_CONFIG_FILE}"))["build_key"]
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile):
-        return None
+    return user_cache_dir() / "fmu" / build_key(n_points) / FMU_FILE_NAME
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False) -> Path:
@@ -106,7 +85,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     out_dir = Path(out_dir)
     target = out_dir / FMU_FILE_NAME
     key = build_key(n_points)
-    if not force and _existing_build_key(target) == key:
+    if not force and existing_build_key(target) == key:
         return target
     for source in (SLAVE_SOURCE, SHIM_SOURCE):
         if not source.is_file():
@@ -125,17 +104,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
 
 def _compile_status_shim(library: Path) -> Path:
     """Compile fmu_src/status_shim.c into ``library`` (``$CC``, default gcc); RuntimeError if impossible."""
-    if not sys.platform.startswith("linux") or platform.machine() != "x86_64":
-        raise RuntimeError(f"the FMU's status shim is built for binaries/linux64 only; this is {sys.platform} "
-                           f"{platform.machine()} (build the FMU on Linux x86_64)")
-    compiler = os.environ.get("CC") or "gcc"
-    if shutil.which(compiler) is None:
-        raise RuntimeError(f"building the FMU needs a C compiler for its status shim: {compiler!r} not found "
-                           "(install gcc or set CC)")
-    fmpy = importlib.util.find_spec("fmpy")
-    headers = Path(next(iter(fmpy.submodule_search_locations))) / "c-code" if fmpy else None
-    if headers is None or not (headers / "fmi2Functions.h").is_file():
-        raise RuntimeError("building the FMU needs the FMI 2.0 headers shipped with fmpy (fmpy/c-code/fmi2Functions.h)")
+    compiler = c_compiler("the FMU's status shim")
+    headers = fmi2_headers()
     command = [compiler, "-shared", "-fPIC", "-O2", "-fvisibility=hidden", f"-I{headers}",
                f'-DWRAPPED_LIBRARY="{WRAPPED_BINARY_NAME}"', str(SHIM_SOURCE), "-o", str(library), "-ldl"]
     done = subprocess.run(command, capture_output=True, text=True)
@@ -197,45 +167,15 @@ def _finish_fmu(raw: Path, target: Path, n_points: int, shim: Path) -> None:
 
 
 def complete_model_description(xml: bytes, n_points: int) -> bytes:
-    """Add what pythonfmu 0.7 leaves out: units, state flags, ModelStructure dependencies."""
+    """pythonfmu's modelDescription.xml replaced by the one generated from the variable table
+    (:mod:`wearjoint.fmu.model_description`), keeping pythonfmu's GUID, generation tool and
+    ``<CoSimulation>`` attributes (with the FMU-state flags set)."""
     root = ET.fromstring(xml)
-    variables = root.find("ModelVariables").findall("ScalarVariable")
-    expected = fv.fmu_variables(n_points)
-    names = [sv.get("name") for sv in variables]
-    if names != [v.name for v in expected]:
-        raise RuntimeError("pythonfmu wrote the variables in another order than wearjoint.fmu_variables")
-
-    cosim = root.find("CoSimulation")
-    cosim.set("canGetAndSetFMUstate", "true")
-    cosim.set("canSerializeFMUstate", "true")
-
-    units = ET.Element("UnitDefinitions")
-    for name, exponents in fv.UNIT_DEFINITIONS.items():
-        unit = ET.SubElement(units, "Unit", name=name)
-        if exponents:
-            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in exponents.items()})
-    root.insert(list(root).index(cosim) + 1, units)
-
-    for sv, v in zip(variables, expected):
-        if v.type == fv.REAL:
-            sv.find("Real").set("unit", v.unit)
-
-    index = {v.name: i + 1 for i, v in enumerate(expected)}   # ModelStructure indices are 1-based
-    inputs = " ".join(str(index[v.name]) for v in fv.INPUTS)
-    inputs_and_parameters = " ".join(str(index[v.name]) for v in (*fv.INPUTS, *(p.variable for p in fv.PARAMETERS)))
-    structure = root.find("ModelStructure")
-    structure.clear()
-    outputs = ET.SubElement(structure, "Outputs")
-    initial_unknowns = ET.SubElement(structure, "InitialUnknowns")
-    for v in expected:
-        if v.causality != fv.OUTPUT:
-            continue
-        feed_through = v.name in fv.FEED_THROUGH_OUTPUTS
-        ET.SubElement(outputs, "Unknown", index=str(index[v.name]), dependencies=inputs if feed_through else "")
-        ET.SubElement(initial_unknowns, "Unknown", index=str(index[v.name]),
-                      dependencies=inputs_and_parameters if feed_through else "")
-    ET.indent(root)
-    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    names = [sv.get("name") for sv in root.find("ModelVariables").findall("ScalarVariable")]
+    if names != [v.name for v in fv.fmu_variables(n_points)]:
+        raise RuntimeError("pythonfmu wrote the variables in another order than wearjoint.fmu.variables")
+    cosimulation = dict(root.find("CoSimulation").attrib, canGetAndSetFMUstate="true", canSerializeFMUstate="true")
+    return model_description_xml(n_points, root.get("guid"), root.get("generationTool"), cosimulation)
 
 
 # ------------------------------------------------------------- CLI (wearjoint build-fmu)

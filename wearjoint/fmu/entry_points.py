@@ -11,9 +11,9 @@ touches Python objects, so a call costs about as much as the kernel.
 import numpy as np
 from numba import carray, cfunc, types
 
-from ..core.contact import evaluate_contact
+from ..core.contact import block_minimum_depth, bushing_points, evaluate_contact
 from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
-from ..core.wear import advance_joint
+from ..core.wear import advance_joint, complete_joint_parameters, worn_volume
 
 _F64 = types.CPointer(types.float64)
 # (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
@@ -23,7 +23,7 @@ EVALUATE_SIGNATURE = types.int32(*_ARGUMENTS)
 ADVANCE_SIGNATURE = types.int32(*_ARGUMENTS, types.float64)
 
 
-@cfunc(EVALUATE_SIGNATURE, cache=True)
+@cfunc(EVALUATE_SIGNATURE, cache=True, error_model="numpy")
 def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
                     n_points, n_blocks):
     """Forces for the kinematics into ``result`` (layout.R_*), Eqs. 1-23; returns 0."""
@@ -34,7 +34,7 @@ def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
     return 0
 
 
-@cfunc(ADVANCE_SIGNATURE, cache=True)
+@cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
 def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
                    n_points, n_blocks, dt):
     """Accept a step of dt [s] at the kinematics (wear, contact memory); returns 1 if the
@@ -45,3 +45,30 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
                             carray(mask, n_points, dtype=np.bool_), carray(result, N_RESULT))
     return 1 if changed else 0
+
+
+@cfunc(types.int32(_F64, _F64, _F64, types.int64), cache=True, error_model="numpy")
+def bushing_points_native(phi, cos_phi, sin_phi, n_points):
+    """phi_z, cos phi_z, sin phi_z of the bushing points (Eq. 3); returns 0."""
+    bushing_points(carray(phi, n_points), carray(cos_phi, n_points), carray(sin_phi, n_points))
+    return 0
+
+
+@cfunc(types.int32(_F64, _F64, types.int64, types.int64), cache=True, error_model="numpy")
+def block_minima_native(wear_depth, block_min, n_points, n_blocks):
+    """Refresh the contact search's block minima after the wear profile was replaced; returns 0."""
+    block_minimum_depth(carray(wear_depth, n_points), carray(block_min, n_blocks))
+    return 0
+
+
+@cfunc(types.float64(_F64, _F64, types.int64), cache=True, error_model="numpy")
+def worn_volume_native(jp, wear_depth, n_points):
+    """Volume removed from the bushing [m^3]."""
+    return worn_volume(carray(jp, N_JOINT_PARAMETERS), carray(wear_depth, n_points))
+
+
+@cfunc(types.int32(_F64), cache=True, error_model="numpy")
+def complete_parameters_native(jp):
+    """Fill the derived slots of the joint parameter vector (E*, effective k_w); returns 0."""
+    complete_joint_parameters(carray(jp, N_JOINT_PARAMETERS))
+    return 0

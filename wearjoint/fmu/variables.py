@@ -7,12 +7,13 @@ registers the variables in exactly the order of :func:`fmu_variables`, so
 value reference = position in that list; masters should still look them up
 from the modelDescription with :func:`value_references`.
 
-Imports only the standard library and :mod:`wearjoint.parameters`.
+Imports only the standard library, :mod:`wearjoint.parameters` and :mod:`wearjoint.core.layout`.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..core import layout
 from ..parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
 
 MODEL_NAME = "ClearanceWearJoint"
@@ -58,7 +59,7 @@ SCALAR_OUTPUTS: tuple[FmuVariable, ...] = tuple(FmuVariable(name, OUTPUT, REAL, 
     ("bushing_torque", "N.m", "contact torque on the bushing body about its reference point"),
     ("normal_force", "N", "normal contact force F_N >= 0"),
     ("friction_force", "N", "friction force on the pin along the contact tangent (signed)"),
-    ("penetration", "m", "maximum penetration depth >= 0"),
+    ("penetration", "m", "signed penetration R_i - |d| of the deepest bushing point: > 0 in contact, negative = the gap"),
     ("contact", "1", "contact flag: 1 in contact, 0 otherwise"),
     ("contact_angle", "rad", "angle of the contact point (of the eccentricity without contact), bushing frame, 0..2 pi"),
     ("eccentricity_x", "m", "pin centre minus bushing centre, x, bushing frame"),
@@ -67,8 +68,46 @@ SCALAR_OUTPUTS: tuple[FmuVariable, ...] = tuple(FmuVariable(name, OUTPUT, REAL, 
     ("worn_volume", "m3", "volume removed from the bushing: contact length times worn area"),
 ))
 
+# Where each joint output is in the kernels' result array (layout.R_*); the other scalar
+# outputs are the wear summary.
+RESULT_SLOTS: dict[str, int] = {
+    "pin_force_x": layout.R_PIN_FX, "pin_force_y": layout.R_PIN_FY, "pin_torque": layout.R_PIN_TORQUE,
+    "bushing_force_x": layout.R_BUSHING_FX, "bushing_force_y": layout.R_BUSHING_FY,
+    "bushing_torque": layout.R_BUSHING_TORQUE, "normal_force": layout.R_NORMAL_FORCE,
+    "friction_force": layout.R_FRICTION_FORCE, "penetration": layout.R_PENETRATION,
+    "contact": layout.R_CONTACT, "contact_angle": layout.R_CONTACT_ANGLE,
+    "eccentricity_x": layout.R_ECCENTRICITY_X, "eccentricity_y": layout.R_ECCENTRICITY_Y,
+}
+WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
+
 # Names of the outputs that depend directly on the inputs (the rest change only in doStep).
-FEED_THROUGH_OUTPUTS = frozenset(v.name for v in SCALAR_OUTPUTS if v.name not in ("max_wear_depth", "worn_volume"))
+FEED_THROUGH_OUTPUTS = frozenset(RESULT_SLOTS)
+
+
+@dataclass(frozen=True)
+class Allowed:
+    """The allowed values of a Real parameter: finite, within (or on) ``low`` / ``high`` where
+    given, and greater than the parameter named ``above`` (the same rules as
+    :class:`JointParameters`; the native FMU checks them from this table)."""
+
+    low: float | None = None
+    low_open: bool = False
+    high: float | None = None
+    high_open: bool = False
+    above: str | None = None
+
+    def text(self) -> str:
+        """The rule as :class:`ParameterError` messages state it, e.g. ``> 0`` or ``in (0, 1]``."""
+        if self.low is not None and self.high is not None:
+            rule = f"in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
+        elif self.low is not None:
+            rule = f"{'>' if self.low_open else '>='} {self.low:g}"
+        else:
+            rule = "a finite real number"
+        return rule + (f" and > {self.above}" if self.above else "")
+
+
+ANY, POSITIVE, NON_NEGATIVE = Allowed(), Allowed(0.0, True), Allowed(0.0)
 
 
 @dataclass(frozen=True)
@@ -79,12 +118,19 @@ class ParameterField:
     field: str
     component: int | None = None               # index into a (x, y) field
     choices: tuple[str, ...] | None = None     # Integer enumeration: value = index into choices
+    allowed: Allowed = ANY                     # Real parameters: the allowed values
+
+    def allowed_text(self) -> str:
+        if self.choices is not None:
+            return "one of " + ", ".join(f"{i} ({c})" for i, c in enumerate(self.choices))
+        return self.allowed.text()
 
 
-def _real(name, unit, field, text, component=None) -> ParameterField:
+def _real(name, unit, field, text, component=None, allowed=ANY) -> ParameterField:
     default = getattr(JointParameters, field)
     start = default if component is None else default[component]
-    return ParameterField(FmuVariable(name, PARAMETER, REAL, unit, text, float(start)), field, component)
+    return ParameterField(FmuVariable(name, PARAMETER, REAL, unit, text, float(start)), field, component,
+                          allowed=allowed)
 
 
 def _choice(name, field, choices, text) -> ParameterField:
@@ -94,28 +140,37 @@ def _choice(name, field, choices, text) -> ParameterField:
 
 
 PARAMETERS: tuple[ParameterField, ...] = (
-    _real("pin_radius", "m", "pin_radius_m", "pin radius R_i"),
-    _real("bushing_radius", "m", "bushing_radius_m", "unworn bushing radius R_j (> pin_radius)"),
+    _real("pin_radius", "m", "pin_radius_m", "pin radius R_i", allowed=POSITIVE),
+    _real("bushing_radius", "m", "bushing_radius_m", "unworn bushing radius R_j (> pin_radius)",
+          allowed=Allowed(0.0, True, above="pin_radius")),
     _real("pin_offset_x", "m", "pin_offset_m", "pin centre in the pin body frame, x", 0),
     _real("pin_offset_y", "m", "pin_offset_m", "pin centre in the pin body frame, y", 1),
     _real("bushing_offset_x", "m", "bushing_offset_m", "bushing centre in the bushing body frame, x", 0),
     _real("bushing_offset_y", "m", "bushing_offset_m", "bushing centre in the bushing body frame, y", 1),
-    _real("contact_length", "m", "contact_length_m", "axial contact length L"),
-    _real("pin_youngs_modulus", "Pa", "pin_youngs_modulus_Pa", "Young's modulus of the pin"),
-    _real("pin_poisson_ratio", "1", "pin_poisson_ratio", "Poisson ratio of the pin"),
-    _real("bushing_youngs_modulus", "Pa", "bushing_youngs_modulus_Pa", "Young's modulus of the bushing"),
-    _real("bushing_poisson_ratio", "1", "bushing_poisson_ratio", "Poisson ratio of the bushing"),
+    _real("contact_length", "m", "contact_length_m", "axial contact length L", allowed=POSITIVE),
+    _real("pin_youngs_modulus", "Pa", "pin_youngs_modulus_Pa", "Young's modulus of the pin", allowed=POSITIVE),
+    _real("pin_poisson_ratio", "1", "pin_poisson_ratio", "Poisson ratio of the pin",
+          allowed=Allowed(0.0, True, 0.5, True)),
+    _real("bushing_youngs_modulus", "Pa", "bushing_youngs_modulus_Pa", "Young's modulus of the bushing",
+          allowed=POSITIVE),
+    _real("bushing_poisson_ratio", "1", "bushing_poisson_ratio", "Poisson ratio of the bushing",
+          allowed=Allowed(0.0, True, 0.5, True)),
     _real("contact_stiffness", "N/m1.5", "contact_stiffness_N_m1_5",
-          "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent)"),
-    _real("contact_exponent", "1", "contact_exponent", "exponent n of the contact law"),
-    _real("restitution", "1", "restitution", "coefficient of restitution e_r in (0, 1]"),
-    _real("friction_coefficient", "1", "friction_coefficient", "Coulomb friction coefficient mu"),
-    _real("friction_v0", "m/s", "friction_v0_m_s", "friction tolerance velocity v0 (stick below)"),
-    _real("friction_v1", "m/s", "friction_v1_m_s", "friction tolerance velocity v1 (> friction_v0, full slip above)"),
-    _real("wear_coefficient", "m2/N", "wear_coefficient_m2_N", "Archard wear coefficient k_w"),
-    _real("wear_factor", "1", "wear_factor", "wear acceleration factor multiplying k_w"),
+          "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent)", allowed=POSITIVE),
+    _real("contact_exponent", "1", "contact_exponent", "exponent n of the contact law", allowed=POSITIVE),
+    _real("restitution", "1", "restitution", "coefficient of restitution e_r in (0, 1]",
+          allowed=Allowed(0.0, True, 1.0)),
+    _real("friction_coefficient", "1", "friction_coefficient", "Coulomb friction coefficient mu",
+          allowed=NON_NEGATIVE),
+    _real("friction_v0", "m/s", "friction_v0_m_s", "friction tolerance velocity v0 (stick below)",
+          allowed=NON_NEGATIVE),
+    _real("friction_v1", "m/s", "friction_v1_m_s", "friction tolerance velocity v1 (> friction_v0, full slip above)",
+          allowed=Allowed(0.0, True, above="friction_v0")),
+    _real("wear_coefficient", "m2/N", "wear_coefficient_m2_N", "Archard wear coefficient k_w", allowed=NON_NEGATIVE),
+    _real("wear_factor", "1", "wear_factor", "wear acceleration factor multiplying k_w",
+          allowed=NON_NEGATIVE),
     _real("impact_velocity_floor", "m/s", "impact_velocity_floor_m_s",
-          "floor on the stored impact velocity of the contact damping"),
+          "floor on the stored impact velocity of the contact damping", allowed=POSITIVE),
     _choice("rho_mode", "rho_mode", RHO_MODES, "equivalent radius of the Hertz half-width"),
     _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
     _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),

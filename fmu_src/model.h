@@ -1,0 +1,43 @@
+/* The joint's kernels, compiled ahead of time from wearjoint's numba code (wearjoint/fmu/aot.py).
+ *
+ * Each is the function behind a numba cfunc of wearjoint/fmu/entry_points.py, with numba's
+ * calling convention: int32 status (0 = success), a pointer for the return value, a pointer
+ * for exception information (never written: the kernels have no path that raises), then the
+ * arguments.  The physics lives only there (wearjoint/core/); this file and fmi2Functions.c
+ * map FMI variables onto the kernels' arrays (layout: wearjoint/core/layout.py, mirrored in
+ * the generated model_variables.h).
+ */
+#ifndef WEARJOINT_MODEL_H
+#define WEARJOINT_MODEL_H
+
+#include <stdint.h>
+
+/* Forces for the kinematics (12 values: pin x, y, angle, vx, vy, omega, then the bushing's)
+ * into result (Eqs. 1-23); the joint's state is unchanged. */
+int32_t wearjoint_evaluate(int32_t *status, void *excinfo, const double *kinematics, const double *joint_parameters,
+                           const double *cos_phi, const double *sin_phi, const double *wear_depth,
+                           const double *block_min, const double *memory, double *result, void *mask,
+                           int64_t n_points, int64_t n_blocks);
+
+/* Accept a step of dt [s] at the kinematics: Archard wear and contact-onset bookkeeping;
+ * *changed = 1 if the joint's state changed. */
+int32_t wearjoint_advance(int32_t *changed, void *excinfo, const double *kinematics, const double *joint_parameters,
+                          const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
+                          double *memory, double *result, void *mask, int64_t n_points, int64_t n_blocks, double dt);
+
+/* Bushing point angles phi_z = z 2 pi / N_d (Eq. 3), their cosines and sines. */
+int32_t wearjoint_bushing_points(int32_t *status, void *excinfo, double *phi, double *cos_phi, double *sin_phi,
+                                 int64_t n_points);
+
+/* The contact search's per-block minima of the wear depth (after the profile was replaced). */
+int32_t wearjoint_block_minima(int32_t *status, void *excinfo, const double *wear_depth, double *block_min,
+                               int64_t n_points, int64_t n_blocks);
+
+/* Volume removed from the bushing: contact length times the worn area [m^3]. */
+int32_t wearjoint_worn_volume(double *volume, void *excinfo, const double *joint_parameters, const double *wear_depth,
+                              int64_t n_points);
+
+/* The derived slots of the joint parameter vector: E* (Eq. 32) and k_w times the wear factor. */
+int32_t wearjoint_complete_parameters(int32_t *status, void *excinfo, double *joint_parameters);
+
+#endif

@@ -1,0 +1,116 @@
+"""Ahead-of-time compilation of the joint's kernels for the native FMU.
+
+The native FMU runs the very kernels :class:`wearjoint.ClearanceJoint` runs:
+the numba ``cfunc`` entry points of :mod:`wearjoint.fmu.entry_points`.  For
+each, numba's optimised LLVM IR is taken, the ``cfunc`` wrapper (which reports
+Python exceptions through the CPython API) is dropped, and the compiled
+function behind it is exported under a stable C name with numba's calling
+convention ``int32 f(void *retptr, void *excinfo, arguments...)`` (status 0 =
+success).  Every other function becomes internal, unreferenced code is removed
+(global dead-code elimination), and llvmlite emits a position-independent
+object for a generic x86-64 CPU, so the FMU runs on any x86-64 host.
+
+The kernels are compiled with ``error_model="numpy"`` and without NRT
+(``core.jit.kernel``): they have no path that raises, allocates or touches
+Python.  :func:`compile_objects` proves it: the only symbols an object may
+leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
+build fails.
+
+Run as ``python -m wearjoint.fmu.aot OUT_DIR`` in a fresh process with an empty
+numba cache (a cached function has no IR) and ``NUMBA_CPU_NAME=generic``;
+:func:`wearjoint.fmu.build_native.build_fmu` does that.  Writes per entry point
+``<symbol>.ll`` (the IR compiled) and ``<symbol>.o``, and ``entry_points.json``.
+"""
+from __future__ import annotations
+
+import json
+import re
+import sys
+from pathlib import Path
+
+# stable C symbol -> cfunc in wearjoint.fmu.entry_points; C prototypes are in fmu_src/model.h
+ENTRY_POINTS = {
+    "wearjoint_evaluate": "evaluate_native",
+    "wearjoint_advance": "advance_native",
+    "wearjoint_bushing_points": "bushing_points_native",
+    "wearjoint_block_minima": "block_minima_native",
+    "wearjoint_worn_volume": "worn_volume_native",
+    "wearjoint_complete_parameters": "complete_parameters_native",
+}
+# what a kernel object may need from outside: libm (and memset/memcpy from libc)
+ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",
+                               "fabs", "exp", "log", "fmin", "fmax", "memset", "memcpy", "memmove"})
+TARGET_TRIPLE = "x86_64-unknown-linux-gnu"
+TARGET_CPU = "x86-64"
+
+
+def _drop_function(ir: str, name: str) -> str:
+    """``ir`` without the definition of function ``name``."""
+    lines = ir.splitlines()
+    out, skipping = [], False
+    for line in lines:
+        if not skipping and line.startswith("define") and (f'@"{name}"(' in line or f"@{name}(" in line):
+            skipping = True
+        if not skipping:
+            out.append(line)
+        elif line == "}":
+            skipping = False
+    return "\n".join(out) + "\n"
+
+
+def _export_ir(cfunc, symbol: str) -> str:
+    """The IR of ``cfunc``'s library with its wrapper dropped and the compiled function renamed to ``symbol``."""
+    wrapper = cfunc.native_name
+    inner = wrapper[len("cfunc."):]
+    ir = _drop_function(cfunc._library.get_llvm_str(), wrapper)
+    return re.sub(r'@"?' + re.escape(inner) + r'"?(?=[(\s,)])', "@" + symbol, ir)
+
+
+def _undefined_symbols(module) -> set[str]:
+    names = {f.name for f in module.functions if f.is_declaration and not f.name.startswith("llvm.")}
+    names |= {g.name for g in module.global_variables if g.is_declaration}
+    return names
+
+
+def compile_objects(out_dir: Path) -> dict:
+    """Compile every entry point into ``out_dir``; returns {symbol: object file name}."""
+    import llvmlite.binding as llvm
+
+    from . import entry_points
+
+    llvm.initialize_native_target()
+    llvm.initialize_native_asmprinter()
+    target = llvm.Target.from_triple(TARGET_TRIPLE)
+    machine = target.create_target_machine(cpu=TARGET_CPU, features="", opt=3, reloc="pic", codemodel="default")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    objects = {}
+    for symbol, name in ENTRY_POINTS.items():
+        ir = _export_ir(getattr(entry_points, name), symbol)
+        module = llvm.parse_assembly(ir)
+        module.triple = TARGET_TRIPLE
+        for function in module.functions:
+            if not function.is_declaration and function.name != symbol:
+                function.linkage = "internal"
+        for variable in module.global_variables:
+            if not variable.is_declaration:
+                variable.linkage = "internal"
+        passes = llvm.create_new_module_pass_manager()
+        passes.add_global_dead_code_eliminate_pass()
+        passes.add_strip_dead_prototype_pass()
+        passes.run(module, llvm.create_pass_builder(machine, llvm.create_pipeline_tuning_options()))
+        module.verify()
+        if module.get_function(symbol).is_declaration:
+            raise RuntimeError(f"AOT: {name} compiled to no definition of {symbol}")
+        leftover = _undefined_symbols(module) - ALLOWED_UNDEFINED
+        if leftover:
+            raise RuntimeError(f"AOT: {name} still needs {', '.join(sorted(leftover))} (a raise, allocation or "
+                               "Python path survived in the kernels; the native FMU must need libc/libm only)")
+        (out_dir / f"{symbol}.ll").write_text(str(module))
+        (out_dir / f"{symbol}.o").write_bytes(machine.emit_object(module))
+        objects[symbol] = f"{symbol}.o"
+    (out_dir / "entry_points.json").write_text(json.dumps(objects, indent=1))
+    return objects
+
+
+if __name__ == "__main__":
+    compile_objects(Path(sys.argv[1]))
