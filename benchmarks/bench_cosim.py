@@ -21,9 +21,10 @@ import time
 import numpy as np
 from numba import njit
 
-from wearjoint import cosim
 from wearjoint.core import layout as L
-from wearjoint.cosim import CoSimulation, CoSimulationOptions, communication_step
+from wearjoint.cosim import SCHEMES, CoSimulation, CoSimulationOptions, communication_step
+from wearjoint.cosim.master_loop import B_TRACK
+from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters
 
 WARM_UP_S = 0.01   # past the first impacts; compiles everything
@@ -42,15 +43,17 @@ def main(argv=None) -> int:
     defaults = CoSimulationOptions()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=0.2, help="simulated interval measured [s]")
-    parser.add_argument("--scheme", choices=cosim.SCHEMES, default=defaults.scheme)
+    parser.add_argument("--scheme", choices=SCHEMES, default=defaults.scheme)
     parser.add_argument("--step", type=float, default=defaults.step_s, help="communication step [s]")
-    parser.add_argument("--fmu", default=None, help="FMU to use (default: the cached build)")
+    parser.add_argument("--fmu", default=None, help="FMU to use (default: the cached build of --fmu-backend)")
+    parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND, help="FMU backend")
     args = parser.parse_args(argv)
 
     t_end = WARM_UP_S + args.duration
     options = CoSimulationOptions(revolutions=t_end / 0.4 + 0.1, scheme=args.scheme, step_s=args.step)
     samples = np.zeros((int(t_end / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-    with CoSimulation(JointParameters(wear_factor=0.0), None, options, fmu_path=args.fmu) as sim:
+    with CoSimulation(JointParameters(wear_factor=0.0), None, options, fmu_path=args.fmu,
+                      fmu_backend=args.fmu_backend) as sim:
         sim.advance_to(WARM_UP_S, samples)
         before = (sim.communication_steps, sim.rollbacks, sim.fmi_time_s, sim.master_time_s)
         buffer_at_start = sim.buf.copy()
@@ -69,7 +72,7 @@ def main(argv=None) -> int:
     replays = []
     for _ in range(REPLAYS):
         buf = buffer_at_start.copy()
-        buf[cosim.B_TRACK + L.K_SAMPLE_DT] = 1e9                          # no samples
+        buf[B_TRACK + L.K_SAMPLE_DT] = 1e9                          # no samples
         t0 = time.perf_counter()
         _mechanism_steps(buf, steps + rollbacks, mean_step, ws, scratch)
         replays.append(time.perf_counter() - t0)

@@ -17,6 +17,7 @@ import os
 import sys
 from pathlib import Path
 
+from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters, SliderCrankParameters
 from wearjoint.validation.compare import run_monolithic, engine_runner
 
@@ -24,7 +25,7 @@ WARM_UP_S = 0.005
 SAMPLE_DT_S = 1e-5
 
 
-def engines():
+def engines(fmu_backend: str = DEFAULT_BACKEND):
     """(label, run(revolutions) -> RunRecord) of every engine available here."""
     joint = JointParameters(wear_factor=0.0)
     table = [
@@ -35,7 +36,7 @@ def engines():
     ]
     for engine, step in (("exudyn-discrete", 1e-5), ("exudyn-eccentricity", 1e-5), ("cosim", 2e-6)):
         try:
-            runner = engine_runner(engine, joint)
+            runner = engine_runner(engine, joint, fmu_backend)
         except ImportError as exc:
             print(f"{engine}: not available ({exc})", file=sys.stderr)
             continue
@@ -48,10 +49,11 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--revolutions", type=float, default=0.5, help="crank revolutions timed per engine")
     parser.add_argument("--json", type=Path, default=None, help="also write the table as JSON")
+    parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND, help="the co-simulation's FMU")
     args = parser.parse_args(argv)
     period = SliderCrankParameters().period_s
     rows = []
-    for label, run in engines():
+    for label, run in engines(args.fmu_backend):
         run(WARM_UP_S / period)
         record = run(args.revolutions)
         rate = record.simulated_time_s / record.wall_time_s

@@ -18,6 +18,7 @@ import tempfile
 
 import numpy as np
 
+from wearjoint.analysis import REVOLUTION_COLUMNS
 from wearjoint.parameters import paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 
@@ -34,7 +35,9 @@ def startup_seconds(cache_dir: str) -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
-STATISTICS = {"impacts": 1, "contact": 2, "acc_max": 3, "acc_min": 4, "force": 5}
+STATISTICS = {label: REVOLUTION_COLUMNS.index(column) for label, column in (
+    ("impacts", "impacts"), ("contact", "contact_fraction"), ("acc_max", "slider_acc_max_m_s2"),
+    ("acc_min", "slider_acc_min_m_s2"), ("force", "max_contact_force_N"))}
 
 
 def run(label: str, wear: bool, revolutions: float, **options) -> dict:

@@ -95,7 +95,21 @@ static void log_message(const Instance *inst, fmi2Status status, const char *for
     inst->callbacks.logger(inst->callbacks.componentEnvironment, inst->name, status, category, "%s", text);
 }
 
-/* ------------------------------------------------------------------ names */
+/* ------------------------------------------------------------------ names and numbers */
+/* The shortest text that reads back as exactly x, written as Python's repr writes floats
+ * (so messages show a value as the user wrote it). */
+static const char *shortest(double x, char *out, size_t size)
+{
+    for (int precision = 1; precision <= 17; precision++) {
+        snprintf(out, size, "%.*g", precision, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    if (isfinite(x) && strpbrk(out, ".e") == NULL && strlen(out) + 3 <= size)
+        strcat(out, ".0");
+    return out;
+}
+
 static void variable_name(fmi2ValueReference vr, char *out, size_t size)
 {
     if (vr < N_INPUTS)
@@ -179,12 +193,22 @@ static int parameters_valid(const Instance *inst, const double *values, const ch
                 ok = x > values[p->above];
         }
         if (!ok) {
-            if (p->above >= 0)
-                log_message(inst, fmi2Error, "%s: parameter %s=%.17g is invalid: allowed %s (%s = %.17g)", when,
-                            p->name, x, p->allowed, PARAMETERS[p->above].name, values[p->above]);
+            char text[32], other[32];
+            if (p->n_choices > 0)   /* an Integer: its value as an integer */
+                snprintf(text, sizeof text, "%.0f", x);
             else
-                log_message(inst, fmi2Error, "%s: parameter %s=%.17g is invalid: allowed %s", when, p->name, x,
-                            p->allowed);
+                shortest(x, text, sizeof text);
+            /* a rule with bounds says "> 0"; for a non-finite value say that it must be finite, too */
+            const char *finite = p->n_choices == 0 && !isfinite(x) && (p->has_low || p->has_high || p->above >= 0)
+                                     ? "a finite value "
+                                     : "";
+            if (p->above >= 0)
+                log_message(inst, fmi2Error, "%s: parameter %s=%s is invalid: allowed %s%s (%s = %s)", when, p->name,
+                            text, finite, p->allowed, PARAMETERS[p->above].name,
+                            shortest(values[p->above], other, sizeof other));
+            else
+                log_message(inst, fmi2Error, "%s: parameter %s=%s is invalid: allowed %s%s", when, p->name, text,
+                            finite, p->allowed);
             return 0;
         }
     }
@@ -227,7 +251,9 @@ static void set_defaults(Instance *inst)
 }
 
 /* ------------------------------------------------------------------ the joint */
-static int evaluate_forces(Instance *inst, const char *function)
+/* The joint's outputs for the current inputs (evaluated once per input change); ``output``
+ * names the variable asked for, in messages. */
+static int evaluate_forces(Instance *inst, const char *function, const char *output)
 {
     if (!pack_parameters(inst, function))
         return 0;
@@ -236,8 +262,7 @@ static int evaluate_forces(Instance *inst, const char *function)
     if (inst->non_finite_inputs) {
         char inputs[512];
         describe_non_finite_inputs(inst, inputs, sizeof inputs);
-        log_message(inst, fmi2Error, "%s of the joint's outputs: undefined for non-finite inputs (%s)", function,
-                    inputs);
+        log_message(inst, fmi2Error, "%s of %s: undefined for non-finite inputs (%s)", function, output, inputs);
         return 0;
     }
     int32_t status = 0;
@@ -400,7 +425,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 fmi2Status fmi2Terminate(fmi2Component c)
 {
     Instance *inst = c;
-    if (inst == NULL || !mode_is(inst, "fmi2Terminate", M(MODE_STEP_COMPLETE)))
+    if (inst == NULL || !mode_is(inst, "fmi2Terminate", M(MODE_INITIALIZATION) | M(MODE_STEP_COMPLETE)))
         return fmi2Error;
     inst->mode = MODE_TERMINATED;
     return fmi2OK;
@@ -432,7 +457,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
         } else if (r >= VR_FIRST_OUTPUT && r < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS) {
             const OutputInfo *o = &OUTPUTS[r - VR_FIRST_OUTPUT];
             if (o->source == OUTPUT_FROM_RESULT) {
-                if (!evaluate_forces(inst, "fmi2GetReal"))
+                if (!evaluate_forces(inst, "fmi2GetReal", o->name))
                     return fmi2Error;
                 value[i] = inst->result[o->index];
             } else {
@@ -578,11 +603,11 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     if (inst->non_finite_inputs) {
         char inputs[512];
         describe_non_finite_inputs(inst, inputs, sizeof inputs);
-        log_message(inst, fmi2Error, "fmi2DoStep at t=%.17g s rejected: non-finite inputs (%s)", current_time, inputs);
+        log_message(inst, fmi2Error, "fmi2DoStep: doStep at t=%.17g s rejected: non-finite inputs (%s)", current_time, inputs);
         return fmi2Discard;
     }
     if (!(step_size >= 0.0 && isfinite(step_size)) || !isfinite(current_time)) {
-        log_message(inst, fmi2Error, "fmi2DoStep rejected: step size %g s at t=%g s is not a finite value >= 0",
+        log_message(inst, fmi2Error, "fmi2DoStep: doStep rejected: step size %g s at t=%g s is not a finite value >= 0",
                     step_size, current_time);
         return fmi2Discard;
     }

@@ -1,10 +1,33 @@
-"""Shared pytest fixtures."""
+"""Shared pytest fixtures: the FMU of each backend, built once per session."""
 import pytest
 
 
 @pytest.fixture(scope="session")
 def built_fmu(tmp_path_factory):
-    """ClearanceWearJoint.fmu (default n_points) built once per session into a temporary folder."""
-    from wearjoint.fmu.build_pythonfmu import build_fmu
+    """ClearanceWearJoint.fmu of the pythonfmu backend (default n_points), built once per session."""
+    from wearjoint.fmu.build import build_fmu
 
-    return build_fmu(tmp_path_factory.mktemp("fmu"))
+    return build_fmu(tmp_path_factory.mktemp("fmu"), backend="pythonfmu")
+
+
+@pytest.fixture(scope="session")
+def native_fmu(tmp_path_factory):
+    """ClearanceWearJoint.fmu of the native backend (default n_points), built once per session."""
+    from wearjoint.fmu.build import build_fmu
+
+    return build_fmu(tmp_path_factory.mktemp("native_fmu"), backend="native")
+
+
+@pytest.fixture(scope="session", params=["native", "pythonfmu"])
+def any_fmu(request):
+    """The FMU of each backend in turn: (backend, path)."""
+    return request.param, request.getfixturevalue("native_fmu" if request.param == "native" else "built_fmu")
+
+
+@pytest.fixture(scope="session")
+def c_host(tmp_path_factory):
+    """The C FMI 2.0 host of tests/c_host, compiled once per session (skips without gcc or headers)."""
+    from fmi_host import build_c_host, gcc_or_skip
+
+    gcc_or_skip()
+    return build_c_host(tmp_path_factory.mktemp("c_host"))

@@ -6,75 +6,29 @@ with a clean environment (PATH only).  Here it drives a tiny hand-written FMU,
 results have closed forms.  The command interface is documented at the top of ``fmi2_host.c`` and
 in ``tests/c_host/README.md``.
 
-Helpers meant for other test modules: ``build_c_host``, ``run_c_host``, ``build_dahlquist_fmu``,
-``fmi2_headers_dir``, ``needed_libraries`` and the session fixtures ``c_host`` / ``dahlquist_fmu``.
+The helpers are in ``tests/fmi_host.py``, the ``c_host`` fixture in ``tests/conftest.py``.
 """
 from __future__ import annotations
 
 import math
-import os
 import re
 import shutil
 import subprocess
-import tempfile
 from pathlib import Path
-from typing import Sequence, Union
+from typing import Sequence
 
 import pytest
+from fmi_host import (
+    C_HOST_DIR, CLEAN_ENV, Script, build_c_host, fmi2_headers_dir, gcc_or_skip, needed_libraries, run_c_host,
+    stderr_value, trace_rows, write_trace_file,
+)
 
-C_HOST_DIR = Path(__file__).resolve().parent / "c_host"
-HOST_SOURCE = C_HOST_DIR / "fmi2_host.c"
 DAHLQUIST_SOURCE = C_HOST_DIR / "test_fmu" / "dahlquist.c"
 DAHLQUIST_MODEL_DESCRIPTION = C_HOST_DIR / "test_fmu" / "modelDescription.xml"
 DAHLQUIST_ID = "dahlquist"
 DAHLQUIST_GUID = "{a3f0e8de-5c1b-4d7e-9a61-0d5a41c15701}"
 # value references of the test FMU
 VR_X, VR_K, VR_X0, VR_U, VR_NSTEPS, VR_RESOURCE = range(6)
-
-CLEAN_ENV = {"PATH": "/usr/bin:/bin"}
-VALGRIND_ARGS = ("valgrind", "--leak-check=full", "--error-exitcode=3")
-
-Script = Union[str, Sequence[str], os.PathLike]
-
-
-# --------------------------------------------------------------------------------------------
-# helpers (candidates for a shared conftest)
-
-def fmi2_headers_dir() -> Path | None:
-    """The FMI 2.0 headers shipped with fmpy (``<site-packages>/fmpy/c-code``), or None."""
-    import importlib.util
-
-    spec = importlib.util.find_spec("fmpy")
-    if spec is None or spec.origin is None:
-        return None
-    d = Path(spec.origin).parent / "c-code"
-    return d if (d / "fmi2FunctionTypes.h").is_file() else None
-
-
-def _gcc_or_skip() -> str:
-    gcc = shutil.which("gcc")
-    if gcc is None:
-        pytest.skip("gcc is not installed")
-    if fmi2_headers_dir() is None:
-        pytest.skip("the FMI 2.0 headers (fmpy/c-code) are not available")
-    return gcc
-
-
-def build_c_host(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
-    """Compile ``fmi2_host.c`` into ``out_dir/fmi2_host`` and return its path.
-
-    ``gcc -O2 -g -Wall -Wextra -I<fmi2 headers> fmi2_host.c -o fmi2_host -ldl`` (one process, one
-    core).  Raises ``RuntimeError`` with gcc's output if the compilation fails.
-    """
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    exe = out_dir / "fmi2_host"
-    cmd = ["gcc", "-O2", "-g", "-Wall", "-Wextra", *extra_flags, f"-I{fmi2_headers_dir()}",
-           str(HOST_SOURCE), "-o", str(exe), "-ldl"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=CLEAN_ENV)
-    if proc.returncode != 0:
-        raise RuntimeError(f"building the C host failed:\n{' '.join(cmd)}\n{proc.stderr}")
-    return exe
 
 
 def build_dahlquist_fmu(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
@@ -92,86 +46,13 @@ def build_dahlquist_fmu(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
     return fmu_dir
 
 
-def run_c_host(host: Path, fmu_dir: Path, model_identifier: str, guid: str, script: Script, *,
-               host_args: Sequence[str] = (), valgrind: bool = False,
-               timeout: float = 600.0) -> tuple[int, str, str]:
-    """Run the C host on an unzipped FMU with a clean environment; return (returncode, stdout, stderr).
-
-    ``script`` is the script text (``str``), a sequence of lines, or a path (``os.PathLike``) to an
-    existing script file.  Text is written to a temporary file that is removed afterwards.
-    The environment is only ``PATH=/usr/bin:/bin``: no PYTHONPATH, LD_LIBRARY_PATH or LD_PRELOAD.
-    ``valgrind=True`` runs under ``valgrind --leak-check=full --error-exitcode=3`` (valgrind's
-    report is at the end of stderr).  ``host_args`` go before the positional arguments
-    (e.g. ``["--no-unload"]``).
-    """
-    tmp_name = None
-    if isinstance(script, os.PathLike):
-        script_path = os.fspath(script)
-    else:
-        text = script if isinstance(script, str) else "\n".join(script)
-        fd, tmp_name = tempfile.mkstemp(prefix="fmi2_host_", suffix=".txt")
-        with os.fdopen(fd, "w") as f:
-            f.write(text if text.endswith("\n") else text + "\n")
-        script_path = tmp_name
-    cmd = [*(VALGRIND_ARGS if valgrind else ()), str(host), *host_args, str(fmu_dir),
-           model_identifier, guid, script_path]
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=dict(CLEAN_ENV),
-                              timeout=timeout)
-    finally:
-        if tmp_name is not None:
-            os.unlink(tmp_name)
-    return proc.returncode, proc.stdout, proc.stderr
-
-
-def needed_libraries(path: Path) -> set[str]:
-    """DT_NEEDED entries of an ELF file (``readelf -d``); skips the test if readelf is missing."""
-    if shutil.which("readelf") is None:
-        pytest.skip("readelf is not installed")
-    out = subprocess.run(["readelf", "-d", str(path)], capture_output=True, text=True,
-                         env=CLEAN_ENV, check=True).stdout
-    return set(re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]", out))
-
-
-def stderr_value(stderr: str, key: str) -> float:
-    """The number after ``key`` on its (last) line of stderr, e.g. ``trace_seconds``."""
-    values = re.findall(rf"^{re.escape(key)} (\S+)$", stderr, flags=re.M)
-    assert values, f"{key} not in stderr:\n{stderr[-2000:]}"
-    return float(values[-1])
-
-
-def trace_rows(stdout: str) -> list[list[str]]:
-    """The ``out <t> v1 v2 ...`` lines of a trace, as lists of strings (t first)."""
-    return [line.split()[1:] for line in stdout.splitlines() if line.startswith("out ")]
-
-
-def value_lines(stdout: str) -> list[str]:
-    """Every ``real/integer/boolean/string <vr> <value>`` line, in order."""
-    return [line for line in stdout.splitlines()
-            if line.split(" ", 1)[0] in ("real", "integer", "boolean", "string")]
-
-
-def write_trace_file(path: Path, rows: Sequence[Sequence[float]]) -> Path:
-    """Rows ``t h u1 .. un`` written with repr() so the host reads back the same doubles."""
-    path.write_text("# t h u...\n" + "".join(" ".join(repr(float(v)) for v in row) + "\n"
-                                             for row in rows))
-    return path
-
-
 # --------------------------------------------------------------------------------------------
 # fixtures
 
 @pytest.fixture(scope="session")
-def c_host(tmp_path_factory) -> Path:
-    """The compiled C host (once per session); skips if gcc or the FMI headers are missing."""
-    _gcc_or_skip()
-    return build_c_host(tmp_path_factory.mktemp("c_host"))
-
-
-@pytest.fixture(scope="session")
 def dahlquist_fmu(tmp_path_factory) -> Path:
     """The unzipped test FMU folder (once per session)."""
-    _gcc_or_skip()
+    gcc_or_skip()
     return build_dahlquist_fmu(tmp_path_factory.mktemp("dahlquist_fmu"))
 
 
@@ -200,7 +81,7 @@ def init(k=2.0, x0=1.5) -> str:
 # building
 
 def test_host_and_test_fmu_build_without_warnings(tmp_path):
-    _gcc_or_skip()
+    gcc_or_skip()
     build_c_host(tmp_path / "host", extra_flags=["-Werror", "-Wshadow"])
     build_dahlquist_fmu(tmp_path / "fmu", extra_flags=["-Werror"])
 
@@ -716,7 +597,7 @@ def test_valgrind_error_exits_are_clean(c_host, dahlquist_fmu, tmp_path, case, e
 def test_valgrind_check_detects_a_leaking_fmu(c_host, tmp_path):
     """The assertion is not vacuous: an FMU built to leak its instance name fails it."""
     _valgrind_or_skip()
-    _gcc_or_skip()
+    gcc_or_skip()
     leaky = build_dahlquist_fmu(tmp_path, extra_flags=["-DDAHLQUIST_LEAK"])
     rc, out, err = run_c_host(c_host, leaky, DAHLQUIST_ID, DAHLQUIST_GUID,
                               "instantiate leaky\nfree\n", valgrind=True)

@@ -2,6 +2,7 @@
 import json
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -23,6 +24,9 @@ def test_simulate_writes_the_results_contract(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert SUMMARY_KEYS <= set(summary)
     assert summary["revolutions"] == pytest.approx(0.1)
+    # JIT compilation is reported apart: the real-time factor is simulated time per wall time of the simulation
+    assert summary["compile_time_s"] >= 0.0 and summary["wall_time_s"] > 0.0
+    assert summary["realtime_factor"] == pytest.approx(summary["simulated_time_s"] / summary["wall_time_s"])
     assert summary["parameters"]["joint"]["wear_factor"] == 5.0
     assert summary["max_wear_depth_m"] > 0 and 0 <= summary["max_wear_angle_deg"] < 360
     profile = np.loadtxt(out / "profile.csv", delimiter=",", skiprows=1)
@@ -61,3 +65,39 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
 def test_unknown_choice_is_rejected_by_the_parser(tmp_path):
     done = wearjoint("simulate", "--out", str(tmp_path), "--rho-mode", "flat")
     assert done.returncode == 2 and "rho-mode" in done.stderr and "Traceback" not in done.stderr
+
+
+class _SlowCompilingEngine:
+    """An engine whose compilation (warm_up) takes 0.5 s and whose simulation takes none."""
+
+    t = 0.0
+
+    def warm_up(self):
+        time.sleep(0.5)
+
+    def advance_to(self, t_end, samples):
+        self.t = t_end
+        return 0
+
+    def max_wear_depth_m(self):
+        return 0.0
+
+    def wear_profile(self):
+        return np.array([180.0, 360.0]), np.array([1e-6, 0.0]), 0.0
+
+    def close(self):
+        pass
+
+
+def test_compile_time_is_reported_apart_from_the_simulation_wall_time(tmp_path):
+    from wearjoint import JointParameters
+    from wearjoint.results import new_revolution_stats, write_results
+    from wearjoint.runner import record_run, run_in_chunks
+
+    run = run_in_chunks(_SlowCompilingEngine, 1.0, 0.01, 1e-3, "test", progress=False)
+    assert run.compile_time_s >= 0.5 > run.wall_time_s
+    record = record_run(run, new_revolution_stats(2), 1.0, 0.01, JointParameters(), parameters={}, extra={})
+    write_results(record, tmp_path, plots=False)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["compile_time_s"] >= 0.5 > summary["wall_time_s"] > 0.0
+    assert summary["realtime_factor"] == pytest.approx(0.01 / summary["wall_time_s"])

@@ -13,9 +13,9 @@ import pytest
 pytest.importorskip("fmpy")
 
 from wearjoint import cli  # noqa: E402
-from wearjoint import cosim  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation  # noqa: E402
+from wearjoint.cosim import cosimulation, master_loop  # noqa: E402
 from wearjoint.parameters import JointParameters, SliderCrankParameters  # noqa: E402
 from wearjoint.simulate import SimulationOptions, run_simulation  # noqa: E402
 
@@ -54,7 +54,8 @@ def test_cosimulation_reproduces_the_monolithic_run_over_the_first_15_ms(built_f
     assert rk4.samples[:, L.T_CONTACT].any(), "the window must contain impacts"
     tolerance = max_deviation(dopri, rk4)          # scatter of two valid monolithic runs
     record = run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=WINDOW_S / PERIOD_S, scheme=scheme,
-                                                                 step_s=1e-6), fmu_path=built_fmu, progress=False)
+                                                                 step_s=1e-6), fmu_path=built_fmu, progress=False,
+                              fmu_backend="pythonfmu")
     assert record.simulated_time_s == pytest.approx(WINDOW_S)
     deviation = max_deviation(record, rk4)
     assert np.all(deviation <= tolerance), (deviation, tolerance)
@@ -64,7 +65,8 @@ def test_zero_order_hold_and_the_adaptive_scheme_both_run(built_fmu):
     """Both schemes go through contact; the adaptive one needs far fewer steps in free flight."""
     rev = 0.02                                      # 8 ms: free flight, then the first impacts
     runs = {scheme: run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=rev, scheme=scheme, step_s=2e-6),
-                                     fmu_path=built_fmu, progress=False) for scheme in ("zoh", "adaptive")}
+                                     fmu_path=built_fmu, progress=False, fmu_backend="pythonfmu")
+            for scheme in ("zoh", "adaptive")}
     for record in runs.values():
         assert record.completed and record.samples[:, L.T_CONTACT].any()
         assert np.all(np.isfinite(record.samples))
@@ -81,14 +83,14 @@ def test_checkpoint_restore_continues_bit_identically(built_fmu):
     joint = JointParameters()
     samples_a = np.zeros((400, L.N_SAMPLE_COLUMNS))
     samples_b = np.zeros_like(samples_a)
-    with CoSimulation(joint, None, options, fmu_path=built_fmu) as a:
+    with CoSimulation(joint, None, options, fmu_path=built_fmu, fmu_backend="pythonfmu") as a:
         a.advance_to(0.004, samples_a)                 # past the first impact (~3.1 ms)
         saved = pickle.loads(pickle.dumps(a.checkpoint()))
         n_a = a.advance_to(0.009, samples_a)
         wear_a = a.wear_profile()[1]
         buf_a = a.buf.copy()
         assert a.max_wear_depth_m() > 0.0
-    with CoSimulation(joint, None, options, fmu_path=built_fmu) as b:
+    with CoSimulation(joint, None, options, fmu_path=built_fmu, fmu_backend="pythonfmu") as b:
         b.restore(saved)
         n_b = b.advance_to(0.009, samples_b)
         np.testing.assert_array_equal(b.buf, buf_a)
@@ -100,17 +102,20 @@ def test_checkpoint_restore_continues_bit_identically(built_fmu):
 SUMMARY_KEYS = ("revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
                 "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
                 "max_eccentricity_m", "max_wear_depth_m", "max_wear_angle_deg", "worn_volume_m3", "parameters",
-                "communication_steps", "rollbacks", "fmi_time_s", "master_time_s")
+                "communication_steps", "rollbacks", "fmi_time_s", "master_time_s", "compile_time_s")
 
 
 def test_cli_writes_the_results_contract(built_fmu, tmp_path, capsys):
     out = tmp_path / "run"
     code = cli.main(["cosim", "--revolutions", "0.02", "--out", str(out), "--quiet", "--fmu", str(built_fmu),
-                     "--wear-factor", "0.1"])
+                     "--fmu-backend", "pythonfmu", "--wear-factor", "0.1"])
     assert code == 0
     summary = json.loads((out / "summary.json").read_text())
     assert set(SUMMARY_KEYS) <= set(summary)
-    assert summary["parameters"]["engine"] == "cosim"
+    assert summary["parameters"]["engine"] == "cosim" and summary["parameters"]["fmu_backend"] == "pythonfmu"
+    # FMU loading and JIT compilation are reported apart: the real-time factor is the simulation's alone
+    assert summary["compile_time_s"] > 0.0 and summary["wall_time_s"] > 0.0
+    assert summary["realtime_factor"] == pytest.approx(summary["simulated_time_s"] / summary["wall_time_s"])
     assert summary["parameters"]["joint"]["wear_factor"] == 0.1
     assert summary["simulated_time_s"] == pytest.approx(0.02 * PERIOD_S)
     assert summary["max_wear_depth_m"] > 0.0 and summary["worn_volume_m3"] > 0.0
@@ -126,7 +131,7 @@ def test_cli_writes_the_results_contract(built_fmu, tmp_path, capsys):
                                                  ("--step", "-1e-6", "step_s")])
 def test_cli_bad_parameter_exits_nonzero_naming_it(built_fmu, tmp_path, capsys, option, value, name):
     code = cli.main(["cosim", "--revolutions", "0.01", "--out", str(tmp_path / "x"), "--quiet",
-                     "--fmu", str(built_fmu), f"{option}={value}"])
+                     "--fmu", str(built_fmu), "--fmu-backend", "pythonfmu", f"{option}={value}"])
     err = capsys.readouterr().err
     assert code != 0
     assert name in err and "Traceback" not in err
@@ -136,27 +141,29 @@ def test_cli_bad_parameter_exits_nonzero_naming_it(built_fmu, tmp_path, capsys, 
 def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monkeypatch):
     """Non-finite kinematics: the FMU rejects the call; the error carries its log; the instance is freed."""
     closed = []
-    original_close = cosim.FmuInstance.close
+    original_close = cosimulation.FmuInstance.close
 
     def spy_close(self):
         original_close(self)
         closed.append(self.instantiated)
 
-    monkeypatch.setattr(cosim.FmuInstance, "close", spy_close)
-    monkeypatch.setattr(cosim.SliderCrank, "initial_state", lambda self: np.full(2 * L.N_COORDINATES, np.nan))
+    monkeypatch.setattr(cosimulation.FmuInstance, "close", spy_close)
+    monkeypatch.setattr(cosimulation.SliderCrank, "initial_state", lambda self: np.full(2 * L.N_COORDINATES, np.nan))
     with pytest.raises(CoSimulationError, match=r"FMU call fmi2\w+ returned fmi2(Error|Discard).*non-finite inputs"):
-        run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu, progress=False)
+        run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu, progress=False,
+                         fmu_backend="pythonfmu")
     assert closed == [False]
 
 
 def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_message(built_fmu):
     """The numba master loop checks every FMI status: non-finite kinematics from step 1 on
     make getReal fail; the run stops at that point with the FMU's log in the error."""
-    with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu) as sim:
+    with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu,
+                      fmu_backend="pythonfmu") as sim:
         samples = np.zeros((1000, L.N_SAMPLE_COLUMNS))
         sim.advance_to(1e-4, samples)
         t_good = sim.t
-        sim.buf[cosim.B_Y:cosim.B_Y + L.N_COORDINATES] = np.nan
+        sim.buf[master_loop.B_Y:master_loop.B_Y + L.N_COORDINATES] = np.nan
         with pytest.raises(CoSimulationError, match=r"fmi2GetReal returned fmi2Error at t=.*non-finite inputs"):
             sim.advance_to(2e-4, samples)
         assert sim.t == t_good

@@ -11,7 +11,7 @@ from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterErro
 from wearjoint.core import layout as L
 from wearjoint.core.mechanism import derivative
 from wearjoint.mechanism import SliderCrank
-from wearjoint.simulate import SimulationOptions, run_simulation
+from wearjoint.simulate import SimulationOptions, joint_arrays, run_simulation
 
 em = pytest.importorskip("wearjoint.validation.exudyn_model")
 
@@ -218,12 +218,11 @@ def test_generic_ode2_applies_the_contact_pair_with_the_right_sign():
     contact = joint.evaluate(np.r_[y[L.CRANK:L.CRANK + 3], y[n + L.CRANK:n + L.CRANK + 3]],
                              np.r_[y[L.ROD:L.ROD + 3], y[n + L.ROD:n + L.ROD + 3]])
     assert contact.in_contact and contact.normal_force_N > 100.0
-    joint_arrays = (joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-                    joint.memory, np.zeros(NO_WEAR.n_points, dtype=np.bool_), joint.result)
+    arrays = joint_arrays(joint)
 
     def monolithic_accelerations(body_forces):       # MODE_EXTERNAL: loads as given, joint unused
         dy = np.empty_like(y)
-        derivative(model.t, y, L.MODE_EXTERNAL, mechanism.parameter_vector, joint_arrays, np.asarray(body_forces),
+        derivative(model.t, y, L.MODE_EXTERNAL, mechanism.parameter_vector, arrays, np.asarray(body_forces),
                    mechanism.workspace, dy)
         return dy[n:]
 

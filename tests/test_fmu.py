@@ -1,6 +1,7 @@
-"""The ClearanceWearJoint FMU (MODEL.md section 5) driven through fmpy.
+"""The ClearanceWearJoint FMU (docs/model.md section 5) of both backends driven through fmpy.
 
-The FMU is built once per session (fixture ``built_fmu``); every test gets fresh instances.
+Each FMU is built once per session (fixtures ``native_fmu``, ``built_fmu`` for pythonfmu);
+the behaviour tests run on both backends (fixture ``fmu``); every test gets fresh instances.
 """
 import collections
 import gc
@@ -27,7 +28,8 @@ from fmpy.validation import validate_fmu  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.fmu.build_pythonfmu import build_fmu, build_key, cli_arguments, cli_run, default_fmu_path  # noqa: E402
+from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
+from wearjoint.fmu.build_pythonfmu import build_fmu, build_key, default_fmu_path  # noqa: E402
 
 FMI_DISCARD, FMI_ERROR, FMI_FATAL = 2, 3, 4
 INPUT_NAMES = [v.name for v in fv.INPUTS]
@@ -113,11 +115,13 @@ class Slave:
 
 
 @pytest.fixture(scope="module")
-def fmu(built_fmu, tmp_path_factory):
-    md = read_model_description(str(built_fmu))
-    directory = extract(str(built_fmu), unzipdir=str(tmp_path_factory.mktemp("fmu_extracted")))
+def fmu(any_fmu, tmp_path_factory):
+    backend, path = any_fmu
+    md = read_model_description(str(path))
+    directory = extract(str(path), unzipdir=str(tmp_path_factory.mktemp("fmu_extracted")))
     wear = [fv.wear_depth_name(z) for z in range(1, P.n_points + 1)]
-    return {"md": md, "dir": directory, "vr": fv.value_references(md), "wear": wear}
+    return {"md": md, "dir": directory, "vr": fv.value_references(md), "wear": wear, "backend": backend,
+            "path": path}
 
 
 @pytest.fixture
@@ -128,8 +132,8 @@ def slave(fmu):
 
 
 # ------------------------------------------------------------- modelDescription
-def test_validate_fmu_reports_no_problem(built_fmu):
-    assert validate_fmu(str(built_fmu)) == []
+def test_validate_fmu_reports_no_problem(fmu):
+    assert validate_fmu(str(fmu["path"])) == []
 
 
 def test_model_description_matches_the_variable_table(fmu):
@@ -258,6 +262,8 @@ def test_per_step_calls_are_answered_natively_and_non_finite_inputs_by_the_slave
     """After initialisation the status shim answers setReal of the inputs, getReal of the
     outputs and doStep through wearjoint.native, without entering the Python slave; a
     non-finite input goes to the slave, which reports it (the profiler sees that call)."""
+    if fmu["backend"] != "pythonfmu":
+        pytest.skip("the status shim's native path is the pythonfmu backend's")
     entered = []
 
     def profile(frame, event, arg):
@@ -378,16 +384,17 @@ def test_fmu_state_carries_the_parameters(fmu):
 
 
 def test_a_bad_deserialised_state_fails_with_fmi2_error(slave, fmu):
+    """Refused at deSerializeFMUstate (native) or at setFMUstate (pythonfmu), with fmi2Error."""
     _run(slave, fmu, 3, 0.0)
     good = slave.fmu.serializeFMUstate(slave.fmu.getFMUstate())
     negative_wear = bytearray(good)
     negative_wear[-8:] = np.array([-1e-6]).tobytes()
     with pytest.raises(FMICallException) as failure:
         slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(bytes(negative_wear)))
-    slave.assert_failed_with_error(failure, "setFMUstate", "wear depths")
+    slave.assert_failed_with_error(failure, "FMUstate", "wear depths")
     with pytest.raises(FMICallException) as failure:
         slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good[:-8]))
-    slave.assert_failed_with_error(failure, "setFMUstate", f"n_points={P.n_points}")
+    slave.assert_failed_with_error(failure, "FMUstate", f"n_points={P.n_points}")
     slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good))
     assert slave.get(["max_wear_depth"])[0] > 0.0
     gc.collect()
@@ -533,6 +540,8 @@ CLOSURE_SCRIPT = textwrap.dedent("""
 
 
 def test_fmu_ships_exactly_the_slaves_import_closure(fmu, tmp_path):
+    if fmu["backend"] != "pythonfmu":
+        pytest.skip("the native FMU ships no Python")
     resources = Path(fmu["dir"]) / "resources"
     done = subprocess.run([sys.executable, "-c", CLOSURE_SCRIPT, str(resources)], capture_output=True, text=True,
                           cwd=tmp_path, timeout=120)
@@ -547,7 +556,7 @@ def test_build_key_follows_the_shipped_files_only(tmp_path, monkeypatch):
     from wearjoint.fmu import build_pythonfmu as fmu_build
 
     tree = tmp_path / "tree"
-    for source in (*fmu_build.shipped_sources(), fmu_build.PACKAGE_DIR / "cosim.py"):
+    for source in (*fmu_build.shipped_sources(), fmu_build.PACKAGE_DIR / "runner.py"):
         copy = tree / source.relative_to(fmu_build.PACKAGE_DIR.parent)
         copy.parent.mkdir(parents=True, exist_ok=True)
         copy.write_bytes(source.read_bytes())
@@ -566,7 +575,7 @@ def test_build_key_follows_the_shipped_files_only(tmp_path, monkeypatch):
         finally:
             path.write_bytes(original)
 
-    assert edited("wearjoint/cosim.py") == key
+    assert edited("wearjoint/runner.py") == key
     for shipped in ("wearjoint/joint.py", "wearjoint/core/contact.py", "fmu_src/status_shim.c",
                     "fmu_src/ClearanceWearJoint.py"):
         assert edited(shipped) != key, shipped
@@ -588,24 +597,28 @@ def test_build_is_skipped_when_identical_and_n_points_is_built_in(tmp_path):
     assert default_fmu_path(64) != default_fmu_path(P.n_points)
 
 
-def test_build_fails_clearly_without_a_c_compiler(tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize("backend", ["native", "pythonfmu"])
+def test_build_fails_clearly_without_a_c_compiler(tmp_path, monkeypatch, capsys, backend):
     import argparse
+
+    from wearjoint.fmu.build import build_fmu as build_with
 
     monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
     with pytest.raises(RuntimeError, match="C compiler"):
-        build_fmu(tmp_path, n_points=64, force=True)
+        build_with(tmp_path, n_points=64, force=True, backend=backend)
     parser = argparse.ArgumentParser()
-    cli_arguments(parser)
-    assert cli_run(parser.parse_args(["--out", str(tmp_path / "out"), "--n-points", "64"])) == 2
+    add_arguments(parser)
+    assert run(parser.parse_args(["--out", str(tmp_path / "out"), "--n-points", "64", "--backend", backend])) == 2
     assert "no-such-cc" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
 
 
-def test_cli_reports_a_bad_n_points(capsys, tmp_path):
+@pytest.mark.parametrize("backend", ["native", "pythonfmu"])
+def test_cli_reports_a_bad_n_points(capsys, tmp_path, backend):
     import argparse
 
     parser = argparse.ArgumentParser()
-    cli_arguments(parser)
-    assert cli_run(parser.parse_args(["--out", str(tmp_path), "--n-points", "3"])) == 2
+    add_arguments(parser)
+    assert run(parser.parse_args(["--out", str(tmp_path), "--n-points", "3", "--backend", backend])) == 2
     assert "n_points" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())

@@ -4,7 +4,9 @@ import pytest
 
 from wearjoint import SliderCrankParameters
 from wearjoint.core import layout as L
-from wearjoint.core.mechanism import N_CONSTRAINTS_IDEAL, accelerations, constraints, open_joint_accelerations
+from wearjoint.core.mechanism import (
+    N_CONSTRAINTS_IDEAL, accelerations, constraints, open_joint_accelerations_rotated,
+)
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions, run_simulation
@@ -51,7 +53,8 @@ def test_closed_form_open_joint_solve_matches_the_general_schur_solve():
         t = rng.uniform(0.0, 1.0)
         general, reduced = np.empty(9), np.full(18, np.nan)
         accelerations(t, y[:9], y[9:], mech.parameter_vector, False, loads, mech.workspace, general)
-        open_joint_accelerations(t, y, mech.parameter_vector, loads, reduced)
+        open_joint_accelerations_rotated(t, y, mech.parameter_vector, loads, np.cos(y[L.CRANK + 2]),
+                                         np.sin(y[L.CRANK + 2]), np.cos(y[L.ROD + 2]), np.sin(y[L.ROD + 2]), reduced)
         np.testing.assert_allclose(reduced[9:], general, rtol=1e-9, atol=1e-9 * np.abs(general).max())
 
 

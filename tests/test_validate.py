@@ -28,7 +28,7 @@ def _available_engines():
     for engine in cmp.ENGINES:
         try:
             if engine != cmp.REFERENCE:
-                cmp.engine_runner(engine, JointParameters())
+                cmp.engine_runner(engine, JointParameters(), "pythonfmu")
             engines.append(engine)
         except ImportError:
             pass
@@ -39,7 +39,8 @@ def _available_engines():
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("validate")
     engines = _available_engines()
-    done = wearjoint("validate", "--quick", "--out", str(out), "--engines", ",".join(engines))
+    done = wearjoint("validate", "--quick", "--out", str(out), "--engines", ",".join(engines),
+                     "--fmu-backend", "pythonfmu")
     return out, engines, done
 
 

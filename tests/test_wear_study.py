@@ -6,12 +6,12 @@ import sys
 import numpy as np
 import pytest
 
+from wearjoint.analysis import impact_events
 from wearjoint.cli import main as cli_main
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
-from wearjoint.validation.wear_study import (
-    CHECKPOINT_NAME, WearStudyConfig, impact_events, run_convergence, run_wear_study,
-)
+from wearjoint.validation.wear_calibration import run_convergence
+from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study
 
 MODEL_SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
                       "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",

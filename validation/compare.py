@@ -14,20 +14,21 @@ valid monolithic runs (RK4 at 1/2, 2, 5 and 10 times the step, DOPRI at five tol
 traces, the monolithic step refinement (RK4 h vs h/2) plus the engine's own (the same
 engine at its window step and at twice that step).
 
-Writes ``report.md``, ``summary.json`` and PNG overlays; the exit status is 0 when every
-metric passes, 1 when one fails (or an engine raised), 3 when an engine is not available.
+Writes ``report.md``, ``summary.json`` and PNG overlays (:mod:`wearjoint.validation.report`);
+the exit status is 0 when every metric passes, 1 when one fails (or an engine raised), 3 when
+an engine is not available.
 """
 from __future__ import annotations
 
-import math
 import sys
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from wearjoint.cli_options import add_model_arguments, model_from_args
+from wearjoint import analysis
 from wearjoint.core import layout as L
+from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, _finite, _require
 from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.simulate import SimulationOptions, run_simulation
@@ -62,6 +63,7 @@ class ValidationPlan:
     sample_dt_s: float = 1e-5
     engines: tuple = ENGINES
     run_wear: bool = True
+    fmu_backend: str = DEFAULT_BACKEND       # the co-simulation's FMU (wearjoint.fmu.build.BACKENDS)
 
     def __post_init__(self):
         for name in ("revolutions", "window_s", "wear_revolutions", "wear_factor", "reference_step_s",
@@ -71,6 +73,7 @@ class ValidationPlan:
             _require("engines", name, name in ENGINES, "names from " + ", ".join(ENGINES))
         _require("engines", ",".join(self.engines), REFERENCE in self.engines,
                  f"a list that includes the reference {REFERENCE!r}")
+        _require("fmu_backend", self.fmu_backend, self.fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
 
     def engine_step_s(self, engine: str) -> float:
         """The step of an engine's statistics and wear runs [s]."""
@@ -174,13 +177,13 @@ def run_monolithic(joint, mechanism, revolutions, sample_dt_s, progress, **optio
                                                               **options), progress=progress)
 
 
-def engine_runner(engine: str, joint: JointParameters):
+def engine_runner(engine: str, joint: JointParameters, fmu_backend: str = DEFAULT_BACKEND):
     """f(joint, mechanism, revolutions, step_s, sample_dt_s, progress) -> RunRecord for a
     non-reference engine; ``step_s`` is exudyn's fixed step or the co-simulation's
     communication step in contact (adaptive scheme).  The co-simulation's FMU (for
-    ``joint.n_points``) is resolved, and built if missing, here once, so that every run
-    of a validation uses the same FMU.  Raises ImportError when the engine's module is
-    missing."""
+    ``joint.n_points``, backend ``fmu_backend``) is resolved, and built if missing, here
+    once, so that every run of a validation uses the same FMU.  Raises ImportError when
+    the engine's module (or the FMU backend) is missing."""
     if engine.startswith("exudyn-"):
         from wearjoint.validation.exudyn_model import run_exudyn
         contact = engine.split("-", 1)[1]
@@ -189,10 +192,10 @@ def engine_runner(engine: str, joint: JointParameters):
     if engine == "cosim":
         from wearjoint.cosim import CoSimulationOptions, run_cosimulation
         from wearjoint.fmu.instance import ensure_fmu
-        fmu_path = ensure_fmu(joint.n_points)
+        fmu_path = ensure_fmu(joint.n_points, backend=fmu_backend)
         return lambda j, m, rev, step, dt, progress: run_cosimulation(
             j, m, CoSimulationOptions(revolutions=rev, step_s=step, sample_dt_s=dt), fmu_path=fmu_path,
-            progress=progress)
+            progress=progress, fmu_backend=fmu_backend)
     raise ParameterError(f"engine={engine!r} is invalid: allowed one of " + ", ".join(ENGINES[1:]))
 
 
@@ -222,7 +225,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         if engine == REFERENCE:
             continue
         try:
-            available[engine] = engine_runner(engine, joint)
+            available[engine] = engine_runner(engine, joint, plan.fmu_backend)
         except ImportError as exc:
             gaps.append(f"{engine}: not run ({type(exc).__name__}: {exc})")
             _log(progress, gaps[-1])
@@ -293,72 +296,37 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
 
 
 # ---------------------------------------------------------------- quantities compared
+# (the definitions are wearjoint.analysis's; these read them off the run records)
 def revolution_statistics(record: RunRecord) -> dict:
-    """Robust per-revolution quantities of a run: impacts per revolution and contact
-    fraction over all covered time, the per-revolution extremes averaged over the
-    revolutions, and the mean eccentricity while in contact."""
-    rs = record.revolution_stats
-    covered = rs[:, L.S_TIME] > 0.5 * rs[:, L.S_TIME].max()     # drop a sliver row after the last revolution
-    rows = rs[covered]
-    time_s = rows[:, L.S_TIME].sum()
-    s = record.samples
-    contact = s[:, L.T_CONTACT] > 0.5
-    eccentricity = np.hypot(s[contact, L.T_ECC_X], s[contact, L.T_ECC_Y])
-    return {
-        "impacts_per_revolution": float(rows[:, L.S_IMPACTS].sum() / (time_s / record.period_s)),
-        "contact_fraction": float(rows[:, L.S_CONTACT_TIME].sum() / time_s),
-        "slider_acc_max_m_s2": float(rows[:, L.S_ACC_MAX].mean()),
-        "slider_acc_min_m_s2": float(rows[:, L.S_ACC_MIN].mean()),
-        "max_contact_force_N": float(rows[:, L.S_FORCE_MAX].mean()),
-        "max_eccentricity_m": float(rows[:, L.S_ECC_MAX].mean()),
-        "mean_eccentricity_in_contact_m": float(eccentricity.mean()) if eccentricity.size else float("nan"),
-    }
+    """:func:`wearjoint.analysis.mean_revolution_statistics` of a run (with the mean
+    eccentricity in contact)."""
+    return analysis.mean_revolution_statistics(record.revolution_stats, record.period_s, record.samples)
 
 
 def pointwise_differences(record: RunRecord, reference: RunRecord, window_s: float) -> dict:
     """Largest differences to ``reference`` at its sample times in [0, window_s]: the
     eccentricity vector (bushing frame), the normal force and the slider acceleration."""
-    ref = reference.samples
-    s = record.samples
-    t = ref[ref[:, L.T_TIME] <= window_s, L.T_TIME]
-    if s[-1, L.T_TIME] < t[-1] * (1.0 - 1e-9):
-        raise ValueError(f"run ends at {s[-1, L.T_TIME]:.6g} s, before the window end {t[-1]:.6g} s")
-    n = t.size
-
-    def delta(column):
-        return np.interp(t, s[:, L.T_TIME], s[:, column]) - ref[:n, column]
-
+    d = analysis.window_differences(record.samples, reference.samples, window_s,
+                                    (L.T_ECC_X, L.T_ECC_Y, L.T_NORMAL_FORCE, L.T_SLIDER_A))
     return {
-        "eccentricity_max_difference_m": float(np.hypot(delta(L.T_ECC_X), delta(L.T_ECC_Y)).max()),
-        "normal_force_max_difference_N": float(np.abs(delta(L.T_NORMAL_FORCE)).max()),
-        "slider_acc_max_difference_m_s2": float(np.abs(delta(L.T_SLIDER_A)).max()),
+        "eccentricity_max_difference_m": float(np.hypot(d[:, 0], d[:, 1]).max()),
+        "normal_force_max_difference_N": float(np.abs(d[:, 2]).max()),
+        "slider_acc_max_difference_m_s2": float(np.abs(d[:, 3]).max()),
     }
 
 
-def _wrap_deg(angle):
-    return (np.asarray(angle) + 180.0) % 360.0 - 180.0
-
-
 def profile_quantities(record: RunRecord) -> dict:
-    """Max wear depth, worn volume, and the centre of the wear lobe (depth-weighted mean
-    angle, rod frame, deg) within +-90 deg of 0 deg and of 180 deg (None without wear there)."""
-    phi = np.asarray(record.phi_deg) % 360.0
-    h = record.wear_depth_m
-    out = {"max_wear_depth_m": float(h.max()), "worn_volume_m3": float(record.worn_volume_m3)}
-    for centre in (0, 180):
-        offset = np.radians(_wrap_deg(phi - centre))
-        half = np.abs(offset) < 0.5 * math.pi
-        weight = h[half]
-        out[f"lobe_angle_near_{centre}_deg"] = (
-            centre + math.degrees(math.atan2((weight * np.sin(offset[half])).sum(),
-                                             (weight * np.cos(offset[half])).sum()))
-            if weight.sum() > 0.0 else None)
-    return out
+    """Max wear depth, worn volume, and the angle of each wear lobe
+    (:func:`wearjoint.analysis.lobes`: depth-weighted mean angle within +-90 deg of 0 deg
+    and of 180 deg, rod frame; None without wear there)."""
+    lobe = analysis.lobes(record.phi_deg, record.wear_depth_m)
+    return {"max_wear_depth_m": float(record.wear_depth_m.max()), "worn_volume_m3": float(record.worn_volume_m3),
+            **{f"lobe_angle_near_{centre}_deg": lobe[centre]["angle_deg"] for centre in analysis.LOBE_CENTRES_DEG}}
 
 
 def profile_decorrelation(record: RunRecord, reference: RunRecord) -> float:
     """1 - Pearson correlation of the two wear profiles h(phi) (0 for identical shapes)."""
-    return float(1.0 - np.corrcoef(record.wear_depth_m, reference.wear_depth_m)[0, 1])
+    return analysis.profile_decorrelation(record.wear_depth_m, reference.wear_depth_m)
 
 
 # ---------------------------------------------------------------- comparison
@@ -417,247 +385,7 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
 
 
 def _profile_difference(name: str, value: float, reference: float) -> float:
-    return float(_wrap_deg(value - reference)) if name.startswith("lobe") else value - reference
-
-
-# ---------------------------------------------------------------- figures
-def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
-    """Overlays: slider acceleration vs crank angle, pin orbits, first-impact traces, worn profiles."""
-    from wearjoint.mechanism import SliderCrank
-    from wearjoint.plots import crank_rotation_deg, plot_wear_profiles, plt
-
-    ref = runs.reference
-    period = ref.period_s
-    no_wear = {f"{REFERENCE} (reference)": ref, **runs.engines}
-    names = []
-
-    last = int(math.floor(ref.revolutions + 1e-9)) - 1      # last complete revolution (or the first, partial)
-    fig, ax = plt.subplots(figsize=(9, 5))
-    for label, record in no_wear.items():
-        s = record.samples
-        inside = (s[:, L.T_TIME] >= max(last, 0) * period) & (s[:, L.T_TIME] <= (max(last, 0) + 1) * period)
-        ax.plot(crank_rotation_deg(s[inside, L.T_TIME], period), s[inside, L.T_SLIDER_A], ".", ms=1.5, label=label)
-    grid = np.linspace(0.0, period, 721)
-    ax.plot(crank_rotation_deg(grid, period)[:-1], SliderCrank(_mechanism_of(ref)).closed_form(grid)["slider_a_m_s2"][:-1],
-            "k-", lw=1.2, label="ideal joint (closed form)")
-    ax.set_xlabel(f"crank rotation [deg] (revolution {max(last, 0) + 1})")
-    ax.set_ylabel("slider acceleration [m/s$^2$]")
-    ax.set_xlim(0, 360)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="upper right", fontsize=8, markerscale=6)
-    names.append(_save(fig, out, "slider_acceleration.png"))
-
-    fig, axes = plt.subplots(1, len(no_wear), figsize=(4.2 * len(no_wear), 4.4), squeeze=False)
-    c_um = ref.clearance_m * 1e6
-    circle = np.linspace(0.0, 2.0 * math.pi, 361)
-    for ax, (label, record) in zip(axes[0], no_wear.items()):
-        if record is not ref:
-            ax.plot(ref.samples[:, L.T_ECC_X] * 1e6, ref.samples[:, L.T_ECC_Y] * 1e6, color="0.75", lw=0.4,
-                    label="reference")
-        ax.plot(record.samples[:, L.T_ECC_X] * 1e6, record.samples[:, L.T_ECC_Y] * 1e6, lw=0.4, label=label)
-        ax.plot(c_um * np.cos(circle), c_um * np.sin(circle), "k-", lw=0.8)
-        ax.set_aspect("equal")
-        ax.set_title(label, fontsize=9)
-        ax.set_xlabel("eccentricity x, rod frame [µm]")
-    axes[0][0].set_ylabel("eccentricity y, rod frame [µm]")
-    names.append(_save(fig, out, "pin_orbits.png"))
-
-    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
-    traces = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": ref,
-              **{f"{e} step {_us(plan.window_step_s)}": pair[0] for e, pair in runs.window.items()}}
-    for label, record in traces.items():
-        s = record.samples[record.samples[:, L.T_TIME] <= plan.window_s]
-        t_ms = s[:, L.T_TIME] * 1e3
-        axes[0].plot(t_ms, np.hypot(s[:, L.T_ECC_X], s[:, L.T_ECC_Y]) * 1e6, lw=0.8, label=label)
-        axes[1].plot(t_ms, s[:, L.T_NORMAL_FORCE], lw=0.8)
-        axes[2].plot(t_ms, s[:, L.T_SLIDER_A], lw=0.8)
-    axes[0].axhline(c_um, color="k", lw=0.6, ls="--")
-    for ax, ylabel in zip(axes, ("|eccentricity| [µm]", "normal force $F_N$ [N]", "slider acceleration [m/s$^2$]")):
-        ax.set_ylabel(ylabel)
-        ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    axes[2].set_xlabel("time [ms]")
-    names.append(_save(fig, out, "first_impacts.png"))
-
-    if runs.wear_reference is not None:
-        profiles = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": runs.wear_reference.wear_depth_m,
-                    **{f"{REFERENCE} {label}": r.wear_depth_m for label, r in runs.wear_scatter.items()},
-                    **{engine: r.wear_depth_m for engine, r in runs.wear_engines.items()}}
-        plot_wear_profiles(runs.wear_reference.phi_deg, profiles, out / "worn_profiles.png",
-                           title=f"worn profile after {plan.wear_revolutions:g} rev, wear factor {plan.wear_factor:g}")
-        names.append("worn_profiles.png")
-    return names
-
-
-def _mechanism_of(record: RunRecord) -> SliderCrankParameters:
-    return SliderCrankParameters(**record.parameters["mechanism"])
-
-
-def _save(fig, out: Path, name: str) -> str:
-    from wearjoint.plots import save_figure
-
-    save_figure(fig, out / name)
-    return name
-
-
-# ---------------------------------------------------------------- report and summary
-_DISPLAY = {"m": (1e6, "µm"), "m³": (1e9, "mm³")}
-
-
-def _shown(value, unit: str) -> str:
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "—"
-    scale, _ = _DISPLAY.get(unit, (1.0, unit))
-    return f"{value * scale:.4g}"
-
-
-def _shown_unit(unit: str) -> str:
-    return _DISPLAY.get(unit, (1.0, unit))[1]
-
-
-def _status(metrics: list[Metric], runs: Runs) -> int:
-    """0: every metric passes and every engine ran; 1: a metric fails or an engine raised;
-    3: an engine is not available."""
-    if runs.errors or not all(m.passed for m in metrics):
-        return 1
-    return 3 if runs.gaps else 0
-
-
-def _runs_table(runs: Runs) -> list[dict]:
-    rows = []
-    for label, engine, record in runs.log:
-        rows.append({"run": label, "engine": engine, "simulated_time_s": record.simulated_time_s,
-                     "wall_time_s": record.wall_time_s,
-                     "realtime_factor": record.simulated_time_s / record.wall_time_s if record.wall_time_s > 0 else None})
-    return rows
-
-
-MACHINE_NOTE = ("wall times measured on a 2-core machine shared with other jobs (under load): "
-                "compare ratios within one run, not absolute figures")
-
-
-def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint: JointParameters,
-                  mechanism: SliderCrankParameters, changes: dict, figures: list[str]) -> dict:
-    """summary.json: every metric with its scatter, tolerance and verdict; run times."""
-    def clean(x):
-        return None if isinstance(x, float) and not math.isfinite(x) else x
-
-    status = _status(metrics, runs)
-    return {
-        "passed": status != 1,
-        "complete": not (runs.gaps or runs.errors),
-        "exit_status": status,
-        "metrics_total": len(metrics),
-        "metrics_failed": [f"{m.engine}: {m.name}" for m in metrics if not m.passed],
-        "gaps": runs.gaps,
-        "errors": runs.errors,
-        "plan": asdict(plan),
-        "tolerance_rule": "tolerance = max(k * scatter, floor, floor_relative * |reference|)",
-        "rules": {name: {"unit": unit, **asdict(rule)}
-                  for table in (STATISTICS, POINTWISE, PROFILE) for name, (unit, rule) in table.items()},
-        "reference_statistics": revolution_statistics(runs.reference),
-        "scatter_run_statistics": {label: revolution_statistics(r) for label, r in runs.scatter.items()},
-        "reference_profile": profile_quantities(runs.wear_reference) if runs.wear_reference else None,
-        "scatter_run_profiles": {label: profile_quantities(r) for label, r in runs.wear_scatter.items()},
-        "metrics": [{k: clean(v) for k, v in asdict(m).items()} for m in metrics],
-        "runs": _runs_table(runs),
-        "machine_note": MACHINE_NOTE,
-        "engine_joint_changes": changes,
-        "parameters": {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()},
-        "figures": figures,
-    }
-
-
-def build_report(summary: dict, metrics: list[Metric]) -> str:
-    """report.md: verdict, tolerance rules, one table per group, run times, gaps."""
-    plan = summary["plan"]
-    failed = summary["metrics_failed"]
-    verdict = "PASS" if summary["passed"] else "FAIL"
-    lines = [
-        "# wearjoint validate: monolithic vs co-simulation vs exudyn", "",
-        f"**{verdict}**: {len(metrics) - len(failed)} of {len(metrics)} metrics within tolerance"
-        + ("" if summary["complete"] else "; **incomplete**: engines missing or failed (see Gaps and errors)")
-        + ".", "",
-        f"No-wear runs: {plan['revolutions']:g} revolutions; point-wise window: first {plan['window_s'] * 1e3:g} ms; "
-        f"wear run: {plan['wear_revolutions']:g} revolutions at wear factor {plan['wear_factor']:g}"
-        + ("" if plan["run_wear"] else " (skipped)") + ". Reference: monolithic RK4 at "
-        f"{_us(plan['reference_step_s'])}. exudyn (generalized-alpha) at {_us(plan['exudyn_step_s'])}, "
-        f"co-simulation (adaptive) at {_us(plan['cosim_step_s'])} in contact; both at "
-        f"{_us(plan['window_step_s'])} and twice that over the window.", "",
-    ]
-    if summary["engine_joint_changes"]:
-        lines += [f"**Self-check**: engines given a different joint: `{summary['engine_joint_changes']}` "
-                  "(the comparison must fail).", ""]
-    lines += [
-        "## Tolerances", "",
-        "tolerance = max(k × scatter, floor, floor_rel × |reference|). The scatter is measured in this run "
-        "between equally valid runs of one simulator:", "",
-        "- per-revolution statistics and the worn profile: the largest difference between the reference and "
-        "the other valid monolithic runs (RK4 at 1/2, 2, 5 and 10 times the step; DOPRI at rtol 1e-6 to "
-        "1e-8). The motion is chaotic, so each valid run is a sample of the same statistics; k = 2 on the "
-        "largest of nine differences;",
-        "- point-wise traces: the monolithic step refinement (RK4 h vs h/2) plus the engine's own (its window "
-        "step vs twice it), an estimate of the two engines' discretisation errors (both first order at "
-        "contact onsets). DOPRI is not used here: over the window it is already micrometres off.", "",
-        "| metric | unit | k | floor | floor_rel | why the floor |", "|---|---|---|---|---|---|",
-    ]
-    for name, rule in summary["rules"].items():
-        lines.append(f"| {name} | {_shown_unit(rule['unit'])} | {rule['k']:g} | {_shown(rule['floor'], rule['unit'])} "
-                     f"| {rule['floor_relative']:g} | {rule['why_floor']} |")
-    for group in (GROUP_STATISTICS, GROUP_POINTWISE, GROUP_PROFILE):
-        rows = [m for m in metrics if m.group == group]
-        if not rows:
-            continue
-        lines += ["", f"## {group[0].upper()}{group[1:]}", ""]
-        if group == GROUP_STATISTICS:
-            labels = list(summary["scatter_run_statistics"])
-            lines += [f"Reference and valid monolithic runs ({plan['revolutions']:g} rev; extremes are means of the "
-                      "per-revolution extremes):", "",
-                      "| metric | unit | reference | " + " | ".join(labels) + " |",
-                      "|---|---|---|" + "---|" * len(labels)]
-            for name, (unit, _) in STATISTICS.items():
-                lines.append(f"| {name} | {_shown_unit(unit)} | {_shown(summary['reference_statistics'][name], unit)} | "
-                             + " | ".join(_shown(summary["scatter_run_statistics"][lb][name], unit) for lb in labels)
-                             + " |")
-            lines.append("")
-        if group == GROUP_PROFILE and summary["reference_profile"]:
-            labels = list(summary["scatter_run_profiles"])
-            lines += ["Reference and valid monolithic wear runs:", "",
-                      "| quantity | unit | reference | " + " | ".join(labels) + " |",
-                      "|---|---|---|" + "---|" * len(labels)]
-            for name, value in summary["reference_profile"].items():
-                unit = PROFILE[name][0]
-                lines.append(f"| {name} | {_shown_unit(unit)} | {_shown(value, unit)} | "
-                             + " | ".join(_shown(summary["scatter_run_profiles"][lb][name], unit) for lb in labels)
-                             + " |")
-            lines.append("")
-        if group == GROUP_POINTWISE:
-            lines += ["| metric | unit | engine | max abs difference to reference | monolithic scatter | engine "
-                      "scatter | scatter | tolerance | result |", "|---|---|---|---|---|---|---|---|---|"]
-            for m in rows:
-                parts = list(m.scatter_values.values())
-                lines.append(f"| {m.name} | {_shown_unit(m.unit)} | {m.engine} | {_shown(m.difference, m.unit)} | "
-                             f"{_shown(parts[0], m.unit)} | {_shown(parts[1], m.unit)} | {_shown(m.scatter, m.unit)} | "
-                             f"{_shown(m.tolerance, m.unit)} | {'pass' if m.passed else '**FAIL**'} |")
-        else:
-            lines += ["| metric | unit | engine | value | reference | difference | scatter | tolerance | result |",
-                      "|---|---|---|---|---|---|---|---|---|"]
-            for m in rows:
-                lines.append(f"| {m.name} | {_shown_unit(m.unit)} | {m.engine} | {_shown(m.value, m.unit)} | "
-                             f"{_shown(m.reference, m.unit)} | {_shown(m.difference, m.unit)} | "
-                             f"{_shown(m.scatter, m.unit)} | {_shown(m.tolerance, m.unit)} | "
-                             f"{'pass' if m.passed else '**FAIL**'} |")
-    lines += ["", "profile_decorrelation = 1 − Pearson correlation of h(φ) with the reference profile. Lobe angles: "
-              "depth-weighted mean angle of the wear within ±90° of 0° and of 180° (rod frame).", "",
-              "## Runs", "", f"{MACHINE_NOTE}.", "",
-              "| run | simulated [s] | wall [s] | simulated s per wall s |", "|---|---|---|---|"]
-    for row in summary["runs"]:
-        rate = row["realtime_factor"]
-        lines.append(f"| {row['run']} | {row['simulated_time_s']:.4g} | {row['wall_time_s']:.1f} | "
-                     + (f"{rate:.3g}" if rate else "—") + " |")
-    lines += ["", "## Figures", ""] + [f"![{name}]({name})" for name in summary["figures"]]
-    lines += ["", "## Gaps and errors", ""] + ([f"- {g}" for g in summary["gaps"] + summary["errors"]] or ["none"])
-    return "\n".join(lines) + "\n"
+    return float(analysis.wrap_deg(value - reference)) if name.startswith("lobe") else value - reference
 
 
 def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None = None,
@@ -672,6 +400,8 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
              f"<= the no-wear run ({plan.revolutions:g} rev = {plan.revolutions * mechanism.period_s:g} s)")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    from wearjoint.validation.report import build_report, build_summary, write_figures
+
     runs = run_engines(plan, joint, mechanism, engine_joint_changes, progress)
     metrics = compare(runs, plan)
     figures = write_figures(runs, plan, out)
@@ -681,78 +411,6 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
     return summary
 
 
-# ---------------------------------------------------------------- CLI (wearjoint validate)
-def _engine_list(text: str) -> tuple:
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    for name in names:
-        if name not in ENGINES:
-            raise ParameterError(f"parameter engines={text!r} is invalid: allowed names from " + ", ".join(ENGINES))
-    return names
-
-
-def _joint_change(engine: str, assignment: str) -> tuple[str, dict]:
-    """``--perturb ENGINE NAME=VALUE`` -> (engine, {name: value typed as the JointParameters field})."""
-    name, sep, text = assignment.partition("=")
-    defaults = JointParameters()
-    if not sep or not hasattr(defaults, name) or name.endswith("offset_m"):
-        raise ParameterError(f"parameter perturb={assignment!r} is invalid: allowed NAME=VALUE with NAME a scalar "
-                             "JointParameters field, e.g. restitution=0.5")
-    kind = type(getattr(defaults, name))
-    try:
-        value = kind(text)
-    except ValueError:
-        raise ParameterError(f"parameter perturb={assignment!r} is invalid: {name} takes a {kind.__name__}") from None
-    return engine, {name: value}
-
-
-def cli_arguments(parser) -> None:
-    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
-    parser.add_argument("--quick", action="store_true",
-                        help=f"short smoke version: {QUICK.revolutions:g} rev without wear, {QUICK.wear_revolutions:g} "
-                             f"rev of wear at factor {QUICK.wear_factor:g}")
-    parser.add_argument("--revolutions", type=float, default=None,
-                        help=f"revolutions of the no-wear runs (default {FULL.revolutions:g}, --quick {QUICK.revolutions:g})")
-    parser.add_argument("--wear-revolutions", type=float, default=None,
-                        help=f"revolutions of the wear run (default {FULL.wear_revolutions:g}, "
-                             f"--quick {QUICK.wear_revolutions:g}); --wear-factor sets its factor "
-                             f"(default {FULL.wear_factor:g}, --quick {QUICK.wear_factor:g}); --no-wear skips it")
-    parser.add_argument("--window", type=float, default=FULL.window_s,
-                        help="point-wise comparison over the first WINDOW seconds (default %(default)g)")
-    parser.add_argument("--engines", type=str, default=",".join(ENGINES),
-                        help="comma-separated engines to run (default %(default)s; monolithic is the reference)")
-    parser.add_argument("--perturb", nargs=2, action="append", default=[], metavar=("ENGINE", "NAME=VALUE"),
-                        help="self-check: give ENGINE a different joint parameter; the validation must then fail")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines")
-    add_model_arguments(parser)
-
-
-def cli_run(args) -> int:
-    """Exit status: 0 all metrics pass, 1 a metric fails or an engine raised, 3 an engine is
-    not available, 2 bad parameters."""
-    joint, mechanism = model_from_args(args)
-    base = QUICK if args.quick else FULL
-    changes = {}
-    for engine, assignment in args.perturb:
-        engine, change = _joint_change(engine, assignment)
-        changes.setdefault(engine, {}).update(change)
-    plan = replace(base, revolutions=args.revolutions or base.revolutions,
-                   wear_revolutions=args.wear_revolutions or base.wear_revolutions,
-                   wear_factor=args.wear_factor if args.wear_factor is not None else base.wear_factor,
-                   window_s=args.window, engines=_engine_list(args.engines), run_wear=not args.no_wear)
-    summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
-    for m in summary["metrics"]:
-        if not m["passed"]:
-            print(f"FAIL {m['group']}: {m['engine']} {m['name']}: difference {m['difference']:.4g} > tolerance "
-                  f"{m['tolerance']:.4g} (scatter {m['scatter']:.4g})")
-    for gap in summary["gaps"]:
-        print(f"GAP {gap}")
-    for error in summary["errors"]:
-        print(f"ERROR {error}")
-    print(f"{'PASS' if summary['passed'] else 'FAIL'}: {summary['metrics_total'] - len(summary['metrics_failed'])} of "
-          f"{summary['metrics_total']} metrics within tolerance; report in {args.out / 'report.md'}")
-    return summary["exit_status"]
-
-
 __all__ = ["ValidationPlan", "FULL", "QUICK", "Rule", "Metric", "Runs", "run_engines", "compare", "run_validation",
            "revolution_statistics", "pointwise_differences", "profile_quantities", "profile_decorrelation",
-           "engine_runner", "run_monolithic", "cli_arguments", "cli_run", "ENGINES", "WEAR_ENGINES", "REFERENCE"]
+           "engine_runner", "run_monolithic", "ENGINES", "WEAR_ENGINES", "REFERENCE"]

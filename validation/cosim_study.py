@@ -9,67 +9,51 @@ wear_factor) must differ from the reference by no more than equally valid
 monolithic runs differ from it (RK4 1 us, DOPRI at a tighter tolerance);
 pointwise agreement is checked only over the first 15 ms.
 
-    python -m wearjoint.validation.cosim_study --out DIR [--revolutions 2] [--steps ...] [--fmu PATH]
+    wearjoint cosim-study --out DIR [--revolutions 2] [--steps ...] [--fmu PATH] [--fmu-backend B]
 
 Writes ``cosim_study.md`` (the table), ``cosim_study.json`` and ``cosim_study.png``.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from wearjoint import analysis
 from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
+from wearjoint.fmu.build import DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 POINTWISE_WINDOW_S = 0.015
 WEAR_FACTOR = 0.01          # reduced wear: ~0.4 um per revolution, no effect on the dynamics
-STATISTICS = (              # (key, layout.S_* column or None for the contact fraction, label)
-    ("impacts", L.S_IMPACTS, "impacts / rev"),
-    ("contact_fraction", None, "contact fraction"),
-    ("acc_max", L.S_ACC_MAX, "slider acc. max [m/s^2]"),
-    ("acc_min", L.S_ACC_MIN, "slider acc. min [m/s^2]"),
-    ("force_max", L.S_FORCE_MAX, "max contact force [N]"),
-    ("ecc_max", L.S_ECC_MAX, "max eccentricity [m]"),
+STATISTICS = (              # (key, wearjoint.analysis.mean_revolution_statistics key, label)
+    ("impacts", "impacts_per_revolution", "impacts / rev"),
+    ("contact_fraction", "contact_fraction", "contact fraction"),
+    ("acc_max", "slider_acc_max_m_s2", "slider acc. max [m/s^2]"),
+    ("acc_min", "slider_acc_min_m_s2", "slider acc. min [m/s^2]"),
+    ("force_max", "max_contact_force_N", "max contact force [N]"),
+    ("ecc_max", "max_eccentricity_m", "max eccentricity [m]"),
 )
 
 
 def revolution_statistics(record: RunRecord) -> dict:
-    """Mean over the complete revolutions of each statistic of STATISTICS."""
-    rs = record.revolution_stats
-    complete = rs[:, L.S_TIME] > 0.999 * record.period_s
-    rows = rs[complete] if complete.any() else rs[:1]
-    out = {}
-    for key, column, _ in STATISTICS:
-        values = rows[:, L.S_CONTACT_TIME] / rows[:, L.S_TIME] if column is None else rows[:, column]
-        out[key] = float(np.mean(values))
-    return out
+    """Each statistic of STATISTICS, averaged over the revolutions
+    (:func:`wearjoint.analysis.mean_revolution_statistics`)."""
+    stats = analysis.mean_revolution_statistics(record.revolution_stats, record.period_s)
+    return {key: stats[name] for key, name, _ in STATISTICS}
 
 
 def pointwise_deviation(record: RunRecord, reference: RunRecord) -> dict:
     """Max |difference| over the first POINTWISE_WINDOW_S of slider position [m] and
     eccentricity [m], the record interpolated at the reference's sample times."""
-    ref = reference.samples
-    window = ref[:, L.T_TIME] <= POINTWISE_WINDOW_S
-    t = ref[window, L.T_TIME]
-    s = record.samples
-    out = {}
-    for key, column in (("slider_x_m", L.T_SLIDER_X), ("eccentricity_x_m", L.T_ECC_X),
-                        ("eccentricity_y_m", L.T_ECC_Y)):
-        out[key] = float(np.max(np.abs(np.interp(t, s[:, L.T_TIME], s[:, column]) - ref[window, column])))
-    return out
-
-
-def profile_deviation(record: RunRecord, reference: RunRecord) -> float:
-    """Relative L2 difference of the worn profiles [-]."""
-    return float(np.linalg.norm(record.wear_depth_m - reference.wear_depth_m)
-                 / max(np.linalg.norm(reference.wear_depth_m), 1e-300))
+    keys = {"slider_x_m": L.T_SLIDER_X, "eccentricity_x_m": L.T_ECC_X, "eccentricity_y_m": L.T_ECC_Y}
+    d = analysis.window_differences(record.samples, reference.samples, POINTWISE_WINDOW_S, keys.values())
+    return {key: float(np.max(np.abs(d[:, k]))) for k, key in enumerate(keys)}
 
 
 def compare(record: RunRecord, reference: RunRecord) -> dict:
@@ -77,12 +61,13 @@ def compare(record: RunRecord, reference: RunRecord) -> dict:
     stats, ref = revolution_statistics(record), revolution_statistics(reference)
     out = {f"{k}_rel": abs(stats[k] - ref[k]) / max(abs(ref[k]), 1e-300) for k in stats}
     out.update({f"pointwise_{k}": v for k, v in pointwise_deviation(record, reference).items()})
-    out["profile_rel"] = profile_deviation(record, reference)
+    out["profile_rel"] = analysis.profile_relative_l2(record.wear_depth_m, reference.wear_depth_m)
     out["statistics"] = stats
     return out
 
 
-def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print) -> dict:
+def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
+              fmu_backend: str = DEFAULT_BACKEND) -> dict:
     """All runs and their comparison (see module docstring)."""
     joint = JointParameters(wear_factor=WEAR_FACTOR)
     monolithic = {
@@ -106,7 +91,8 @@ def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print) -> d
             options = CoSimulationOptions(revolutions=revolutions, scheme=scheme, step_s=step,
                                           max_step_s=max(step, CoSimulationOptions.max_step_s))
             try:
-                record = run_cosimulation(joint, None, options, fmu_path=fmu_path, progress=False)
+                record = run_cosimulation(joint, None, options, fmu_path=fmu_path, progress=False,
+                                          fmu_backend=fmu_backend)
             except CoSimulationError as exc:
                 log(f"cosim {scheme} {step:g}: failed ({exc})")
                 rows.append({"engine": "cosim", "run": f"{scheme} {step:g}", "scheme": scheme, "step_s": step,
@@ -119,6 +105,7 @@ def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print) -> d
             rows.append(row)
             log(f"cosim {row['run']}: {record.wall_time_s:.1f} s")
     return {"revolutions": revolutions, "wear_factor": WEAR_FACTOR, "pointwise_window_s": POINTWISE_WINDOW_S,
+            "fmu_backend": fmu_backend,
             "reference": revolution_statistics(reference), "scatter": scatter, "rows": rows}
 
 
@@ -173,31 +160,17 @@ def plot_study(study: dict, path: Path) -> None:
     save_figure(fig, path, dpi=110)
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, required=True, help="output folder (created)")
-    parser.add_argument("--revolutions", type=float, default=2.0, help="crank revolutions per run")
-    parser.add_argument("--steps", type=float, nargs="+", default=[1e-6, 2e-6, 5e-6, 1e-5],
-                        help="communication steps [s]")
-    parser.add_argument("--schemes", nargs="+", default=["zoh", "extrapolation", "adaptive"],
-                        help="coupling schemes")
-    parser.add_argument("--fmu", type=Path, default=None, help="FMU to use (default: the cached build)")
-    parser.add_argument("--replot", type=Path, default=None, metavar="JSON",
-                        help="only redo the table and figure from a previous cosim_study.json")
-    args = parser.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
-    if args.replot is not None:
-        study = json.loads(args.replot.read_text())
-    else:
-        study = run_study(args.revolutions, args.steps, args.schemes, fmu_path=args.fmu,
-                          log=lambda m: print(m, file=sys.stderr, flush=True))
-    (args.out / "cosim_study.json").write_text(json.dumps(study, indent=2, default=str))
+def write_study(study: dict, out: Path) -> str:
+    """cosim_study.json, cosim_study.md and cosim_study.png into ``out``; returns the table."""
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "cosim_study.json").write_text(json.dumps(study, indent=2, default=str))
     table = markdown_table(study)
-    (args.out / "cosim_study.md").write_text(table)
-    plot_study(study, args.out / "cosim_study.png")
-    print(table)
-    return 0
+    (out / "cosim_study.md").write_text(table)
+    plot_study(study, out / "cosim_study.png")
+    return table
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":      # the command is `wearjoint cosim-study`
+    from wearjoint.cli import main
+
+    sys.exit(main(["cosim-study", *sys.argv[1:]]))

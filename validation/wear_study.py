@@ -20,26 +20,28 @@ one event; its size is the cluster's peak |a - a_ideal|.
 Nothing is lost: every ``checkpoint_every_revolutions`` simulated revolutions
 the engine state (``checkpoint()``), the study's progress and the snapshots so
 far go atomically to ``DIR/wear_study_checkpoint.pkl``; ``--resume`` continues
-bit-identically.  Also here: the factor-convergence study (``--convergence``)
-and the calibration of an effective k_w to a target depth (``--calibrate-max-depth-m``).
+bit-identically.  The factor-convergence study (``--convergence``) and the
+calibration of an effective k_w to a target depth (``--calibrate-max-depth-m``)
+are in :mod:`wearjoint.validation.wear_calibration`.
 """
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 import os
 import pickle
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from wearjoint.cli_options import add_model_arguments, model_from_args
+from wearjoint.analysis import (
+    growth_exponent, impact_events, profile_features, sample_statistics,
+)
 from wearjoint.core import layout as L
 from wearjoint.core.contact import bushing_point_angles
+from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
 from wearjoint.progress import Progress
@@ -78,6 +80,7 @@ class WearStudyConfig:
     checkpoint_every_revolutions: float = 1.0   # simulated revolutions between checkpoints
     impact_threshold_m_s2: float = 100.0
     impact_merge_deg: float = 15.0
+    fmu_backend: str = DEFAULT_BACKEND      # engine "cosim": the joint FMU's backend
 
     def __post_init__(self):
         _check_int("revolutions", self.revolutions, 1)
@@ -105,6 +108,8 @@ class WearStudyConfig:
         if self.engine == "cosim" and self.jump_revolutions > 0:
             raise ParameterError("cycle jumping is not available with --engine cosim (the FMU's wear profile "
                                  "cannot be set); use --wear-factor")
+        if self.fmu_backend not in BACKENDS:
+            raise ParameterError(f"fmu_backend {self.fmu_backend!r} is invalid: allowed one of {', '.join(BACKENDS)}")
         if self.integrator not in STUDY_INTEGRATORS:
             raise ParameterError(f"integrator {self.integrator!r} is invalid: allowed one of "
                                  f"{', '.join(STUDY_INTEGRATORS)}")
@@ -141,28 +146,6 @@ def _check_int(name, value, minimum) -> None:
         raise ParameterError(f"{name}={value!r} is invalid: allowed an integer >= {minimum}")
 
 
-def parse_int_list(name: str, text: str) -> tuple:
-    """'1000,2000' -> (1000, 2000); a clear ParameterError for anything else."""
-    values = []
-    for item in str(text).split(","):
-        item = item.strip()
-        try:
-            values.append(int(item))
-        except ValueError:
-            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. 1000,2000)") from None
-    return tuple(values)
-
-
-def parse_float_list(name: str, text: str) -> tuple:
-    values = []
-    for item in str(text).split(","):
-        try:
-            values.append(float(item))
-        except ValueError:
-            raise ParameterError(f"{name}: {item.strip()!r} is not a number (expected e.g. 1,10,50)") from None
-    return tuple(values)
-
-
 # ----------------------------------------------------------------------------- engines
 def make_engine(config: WearStudyConfig):
     """The simulation engine of ``config.engine``: ``Simulation`` or ``CoSimulation``
@@ -175,57 +158,13 @@ def make_engine(config: WearStudyConfig):
                                             sample_dt_s=1e-5))
     from wearjoint.cosim import CoSimulation, CoSimulationOptions
     return CoSimulation(config.joint, config.mechanism,
-                        CoSimulationOptions(revolutions=revolutions, max_step_s=config.max_step_s, sample_dt_s=1e-5))
+                        CoSimulationOptions(revolutions=revolutions, max_step_s=config.max_step_s, sample_dt_s=1e-5),
+                        fmu_backend=config.fmu_backend)
 
 
-# ----------------------------------------------------------------------------- analysis
 def profile_angles_deg(n_points: int) -> np.ndarray:
     """Rod-frame angles of the bushing points [deg], (0, 360]."""
     return np.degrees(bushing_point_angles(n_points))
-
-
-def profile_features(phi_deg: np.ndarray, depth_m: np.ndarray) -> dict:
-    """Max depth and its angle, the two lobes (|phi| < 90 deg and the rest), depth at 90/270 deg."""
-    signed = (phi_deg + 180.0) % 360.0 - 180.0          # [-180, 180)
-    near0 = np.abs(signed) < 90.0
-    i0 = np.flatnonzero(near0)[np.argmax(depth_m[near0])]
-    i180 = np.flatnonzero(~near0)[np.argmax(depth_m[~near0])]
-    deepest = int(np.argmax(depth_m))
-    return {"max_wear_depth_m": float(depth_m[deepest]),
-            "max_wear_angle_deg": float(phi_deg[deepest] % 360.0),
-            "lobe_0_angle_deg": float(signed[i0]), "lobe_0_depth_m": float(depth_m[i0]),
-            "lobe_180_angle_deg": float(phi_deg[i180] % 360.0), "lobe_180_depth_m": float(depth_m[i180]),
-            "depth_at_90_deg_m": float(np.interp(90.0, phi_deg, depth_m)),
-            "depth_at_270_deg_m": float(np.interp(270.0, phi_deg, depth_m))}
-
-
-def impact_events(time_s, slider_a_m_s2, mechanism: SliderCrankParameters,
-                  threshold_m_s2: float, merge_deg: float) -> list[dict]:
-    """Clusters of |a - a_ideal| > threshold; clusters closer than merge_deg of crank rotation merge.
-
-    Returns one dict per event: start/end time [s], crank rotation at the peak [deg], peak |a - a_ideal|.
-    """
-    t = np.asarray(time_s)
-    deviation = np.abs(np.asarray(slider_a_m_s2) - SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"])
-    above = np.flatnonzero(deviation > threshold_m_s2)
-    if above.size == 0:
-        return []
-    merge_s = merge_deg / 360.0 * mechanism.period_s
-    splits = np.flatnonzero(np.diff(t[above]) > merge_s) + 1
-    events = []
-    for cluster in np.split(above, splits):
-        peak = cluster[np.argmax(deviation[cluster])]
-        events.append({"start_s": float(t[cluster[0]]), "end_s": float(t[cluster[-1]]),
-                       "peak_crank_rotation_deg": float((t[peak] / mechanism.period_s * 360.0) % 360.0),
-                       "peak_deviation_m_s2": float(deviation[peak])})
-    return events
-
-
-def growth_exponent(revolutions, depth_m) -> float:
-    """p of depth ~ revolutions**p, least squares in log-log over the points with depth > 0."""
-    r, d = np.asarray(revolutions, float), np.asarray(depth_m, float)
-    ok = (r > 0) & (d > 0)
-    return float(np.polyfit(np.log(r[ok]), np.log(d[ok]), 1)[0]) if ok.sum() >= 2 else float("nan")
 
 
 # ----------------------------------------------------------------------------- the study
@@ -287,20 +226,25 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
         raise ParameterError(f"{out} already holds a wear study ({CHECKPOINT_NAME}); pass --resume to continue "
                              "it or choose another --out")
     state = _load_checkpoint(ckpt_path, config) if resume and ckpt_path.exists() else None
+    start = time.perf_counter()
     engine = make_engine(config)
     try:
+        engine.warm_up()                       # JIT compilation, timed apart from the simulation
+        compile_time_s = time.perf_counter() - start
         if state is None:
             state = {"format": CHECKPOINT_FORMAT, "config": config.to_dict(), "next_stop": 0,
                      "block_start_depth_m": engine.wear_profile()[1], "snapshots": [], "pending_samples": {},
                      "growth": [], "wall_time_s": 0.0, "last_checkpoint_revolution": 0.0, "finished": False}
         else:
             engine.restore(state["engine"])
-        return _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints)
+        return _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
+                              compile_time_s)
     finally:
         engine.close()
 
 
-def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints) -> dict:
+def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
+                   compile_time_s) -> dict:
     """The study's loop over its stops (see :func:`run_wear_study`)."""
     period = config.mechanism.period_s
     stops = _stops(config)
@@ -344,7 +288,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
                 return {"finished": False, "checkpoint": str(ckpt_path)}
         bar.update(sim_rev * per - done_at_start)
     bar.close()
-    return write_study_outputs(config, state, engine, out, plots)
+    return write_study_outputs(config, state, engine, out, plots, compile_time_s)
 
 
 def _keep_window_samples(pending: dict, config: WearStudyConfig, samples: np.ndarray, period: float) -> None:
@@ -363,15 +307,13 @@ def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall
     events = impact_events(samples[:, L.T_TIME], samples[:, L.T_SLIDER_A], config.mechanism,
                            config.impact_threshold_m_s2, config.impact_merge_deg)
     peaks = [e["peak_deviation_m_s2"] for e in events]
-    acc = samples[:, L.T_SLIDER_A]
     return {"revolution": revolution, "simulated_revolutions": sim_rev, "wall_time_s": wall_s,
             **profile_features(phi_deg, depth), "worn_volume_m3": volume,
             "impact_events": len(events), "impact_peak_max_m_s2": max(peaks, default=0.0),
             "impact_peak_mean_m_s2": float(np.mean(peaks)) if peaks else 0.0, "impact_event_list": events,
-            "slider_acc_max_m_s2": float(acc.max()) if acc.size else None,
-            "slider_acc_min_m_s2": float(acc.min()) if acc.size else None,
-            "contact_fraction_samples": float(samples[:, L.T_CONTACT].mean()) if acc.size else None,
-            "wear_depth_m": depth, "time_s": samples[:, L.T_TIME].copy(), "slider_a_m_s2": acc.copy(),
+            **sample_statistics(samples),
+            "wear_depth_m": depth, "time_s": samples[:, L.T_TIME].copy(),
+            "slider_a_m_s2": samples[:, L.T_SLIDER_A].copy(),
             "samples": samples if revolution == config.revolutions else None}
 
 
@@ -389,7 +331,8 @@ def _growth_assessment(growth: np.ndarray) -> dict:
             "note": "depth ~ revolutions**p; p > 1 (ratio > 2) means the growth accelerates, as in the experiment"}
 
 
-def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path, plots: bool = True) -> dict:
+def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path, plots: bool = True,
+                        compile_time_s: float = 0.0) -> dict:
     """Profiles, growth curve, figures and summary.json (MODEL.md 6 keys for the final state + the study)."""
     period = config.mechanism.period_s
     phi_deg = profile_angles_deg(config.joint.n_points)
@@ -408,7 +351,8 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         samples=final["samples"], revolution_stats=engine.revolution_stats[:n_complete],
         wear_growth_m=np.asarray(at_sim_rev_ends), phi_deg=phi_deg, wear_depth_m=final["wear_depth_m"],
         worn_volume_m3=final["worn_volume_m3"], simulated_time_s=config.simulated_revolutions * period,
-        wall_time_s=state["wall_time_s"], revolutions=float(config.revolutions), period_s=period,
+        wall_time_s=state["wall_time_s"], compile_time_s=compile_time_s, revolutions=float(config.revolutions),
+        period_s=period,
         clearance_m=config.joint.clearance_m,
         parameters={"joint": config.joint.to_dict(), "mechanism": config.mechanism.to_dict(),
                     "study": {k: v for k, v in config.to_dict().items() if k not in ("joint", "mechanism")},
@@ -493,240 +437,4 @@ def plot_growth(growth: np.ndarray, path: Path) -> None:
     save_figure(fig, path)
 
 
-# ----------------------------------------------------------------------------- convergence
-def run_convergence(config: WearStudyConfig, factors, out_dir, resume: bool = False, progress: bool = True,
-                    tolerance: float = CONVERGENCE_TOLERANCE) -> dict:
-    """Run the study once per acceleration factor (the first is the reference, normally 1) and a
-    repeat of the reference with the other integrator (the chaotic scatter between valid runs);
-    compare the profiles at the matched snapshots.  Writes convergence.csv/json/png into out_dir."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    factors = [float(f) for f in factors]
-    other = "rk4" if config.integrator == "dopri" else "dopri"
-    runs = {f"F={f:g}": config.replace(joint=config.joint.replace(wear_factor=f)) for f in factors}
-    runs[f"F={factors[0]:g} {other}"] = runs[f"F={factors[0]:g}"].replace(integrator=other)
-    folders = {label: out / label.replace("=", "").replace(" ", "_") for label in runs}
-    results = {label: run_wear_study(cfg, folders[label], resume=resume or (folders[label] / CHECKPOINT_NAME).exists(),
-                                     progress=progress, plots=False)
-               for label, cfg in runs.items()}
-    phi_deg = profile_angles_deg(config.joint.n_points)
-    profiles = {label: {s: _read_profile(folders[label] / f"profile_rev{s}.csv") for s in config.snapshots}
-                for label in runs}
-    reference = f"F={factors[0]:g}"
-    rows = []
-    for label in runs:
-        for s in config.snapshots:
-            ref, h = profiles[reference][s], profiles[label][s]
-            scale = ref.max()
-            rows.append({"run": label, "revolution": s, "max_wear_depth_m": float(h.max()),
-                         "reference_max_wear_depth_m": float(scale),
-                         "max_depth_rel_diff": float(h.max() / scale - 1.0),
-                         "rms_profile_diff_rel": float(np.sqrt(np.mean((h - ref) ** 2)) / scale),
-                         "wall_time_s": results[label]["wall_time_s"]})
-    verdict = {}
-    for label in runs:
-        mine = [r for r in rows if r["run"] == label]
-        verdict[label] = bool(all(abs(r["max_depth_rel_diff"]) <= tolerance and r["rms_profile_diff_rel"] <= tolerance
-                                  for r in mine))
-    passing = [f for f in factors if verdict[f"F={f:g}"]]
-    with open(out / "convergence.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    summary = {"reference": reference, "scatter_run": f"{reference} {other}", "tolerance_rel": tolerance,
-               "criterion": "at every matched revolution count: |max depth / reference - 1| <= tol and "
-                            "RMS(profile - reference) / reference max depth <= tol",
-               "within_tolerance": verdict, "largest_factor_within_tolerance": max(passing) if passing else None,
-               "rows": rows, "parameters": config.to_dict()}
-    from wearjoint.plots import plot_wear_profiles
-    last = config.snapshots[-1]
-    plot_wear_profiles(phi_deg, {label: profiles[label][last] for label in runs}, out / "convergence_profiles.png",
-                       title=f"acceleration factors at matched revolutions ({last} rev)")
-    _plot_convergence_growth(out, folders)
-    summary["figures"] = ["convergence_profiles.png", "convergence_growth.png"]
-    write_json_atomic(out / "convergence.json", summary)
-    return summary
-
-
-def _read_profile(path: Path) -> np.ndarray:
-    return np.loadtxt(path, delimiter=",", skiprows=1)[:, 1]
-
-
-def _plot_convergence_growth(out: Path, folders: dict) -> None:
-    from wearjoint.plots import plt, save_figure
-
-    fig, ax = plt.subplots(figsize=(7, 4.2))
-    for label, folder in folders.items():
-        g = np.loadtxt(folder / "wear_growth.csv", delimiter=",", skiprows=1, ndmin=2)
-        ax.plot(g[:, 0], g[:, 1] * 1e6, ".-" if len(g) < 40 else "-", ms=3, label=label)
-    ax.set_xlabel("crank revolutions")
-    ax.set_ylabel("max wear depth [µm]")
-    ax.set_title("max depth vs revolutions for each acceleration factor", fontsize=10)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    save_figure(fig, out / "convergence_growth.png")
-
-
-# ----------------------------------------------------------------------------- calibration
-def printed_wear_rate(config: WearStudyConfig, simulated_revolutions: int = 3) -> dict:
-    """Max depth after each of the first revolutions with the printed k_w and no acceleration (F = 1)."""
-    joint = config.joint.replace(wear_coefficient_m2_N=PRINTED_WEAR_COEFFICIENT_M2_N, wear_factor=1.0)
-    cfg = config.replace(joint=joint, revolutions=simulated_revolutions, snapshots=(simulated_revolutions,),
-                         jump_revolutions=0, jump_factor=1.0)
-    engine = make_engine(cfg)
-    period = config.mechanism.period_s
-    buffer = np.zeros((int(period / 1e-5) + 64, L.N_SAMPLE_COLUMNS))
-    depths = []
-    for k in range(1, simulated_revolutions + 1):
-        engine.advance_to(k * period, buffer)
-        depths.append(float(engine.wear_profile()[1].max()))
-    return {"rho_mode": joint.rho_mode, "wear_coefficient_m2_N": PRINTED_WEAR_COEFFICIENT_M2_N,
-            "max_depth_after_revolution_m": depths, "mean_depth_per_revolution_m": depths[-1] / simulated_revolutions}
-
-
-def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: float, out_dir, resume: bool = False,
-                               progress: bool = True, rel_tolerance: float = 0.05, max_trials: int = 6) -> dict:
-    """Effective k_w whose study (same acceleration, ``config.revolutions``) ends at the target max depth.
-
-    Start: linear extrapolation of the printed-k_w rate over the first revolutions; then a secant
-    on log(depth) vs log(k_w) (depth grows monotonically with k_w), slope clipped to [0.3, 3],
-    until |depth/target - 1| <= rel_tolerance.  Every trial is a full study in out_dir/trial_<i>.
-    """
-    if not (math.isfinite(target_max_depth_m) and target_max_depth_m > 0.0):
-        raise ParameterError(f"target max depth {target_max_depth_m!r} m is invalid: allowed > 0")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    rate = printed_wear_rate(config)
-    k = PRINTED_WEAR_COEFFICIENT_M2_N * target_max_depth_m / (rate["mean_depth_per_revolution_m"] * config.revolutions)
-    trials = []
-    for i in range(max_trials):
-        cfg = config.replace(joint=config.joint.replace(wear_coefficient_m2_N=k), snapshots=(config.revolutions,))
-        sub = out / f"trial_{i}"
-        summary = run_wear_study(cfg, sub, resume=resume and (sub / CHECKPOINT_NAME).exists(), progress=progress,
-                                 plots=False)
-        depth = summary["max_wear_depth_m"]
-        trials.append({"wear_coefficient_m2_N": k, "max_wear_depth_m": depth, "wall_time_s": summary["wall_time_s"]})
-        if abs(depth / target_max_depth_m - 1.0) <= rel_tolerance:
-            break
-        if len(trials) == 1:
-            slope = 1.0
-        else:
-            a, b = trials[-2], trials[-1]
-            slope = (math.log(b["max_wear_depth_m"] / a["max_wear_depth_m"])
-                     / math.log(b["wear_coefficient_m2_N"] / a["wear_coefficient_m2_N"]))
-            slope = min(3.0, max(0.3, slope)) if math.isfinite(slope) else 1.0
-        k = k * (target_max_depth_m / depth) ** (1.0 / slope)
-    best = min(trials, key=lambda t: abs(t["max_wear_depth_m"] / target_max_depth_m - 1.0))
-    result = {"rho_mode": config.joint.rho_mode, "target_max_depth_m": target_max_depth_m,
-              "revolutions": config.revolutions, "wear_factor": config.joint.wear_factor,
-              "printed_wear_coefficient_m2_N": PRINTED_WEAR_COEFFICIENT_M2_N, "printed_rate": rate,
-              "effective_wear_coefficient_m2_N": best["wear_coefficient_m2_N"],
-              "ratio_to_printed": best["wear_coefficient_m2_N"] / PRINTED_WEAR_COEFFICIENT_M2_N,
-              "reached_max_depth_m": best["max_wear_depth_m"],
-              "converged": abs(best["max_wear_depth_m"] / target_max_depth_m - 1.0) <= rel_tolerance,
-              "rel_tolerance": rel_tolerance, "trials": trials,
-              "method": "log-secant on k_w, each trial a full accelerated study"}
-    write_json_atomic(out / "calibration.json", result)
-    return result
-
-
-# ----------------------------------------------------------------------------- command line
-def cli_arguments(parser) -> None:
-    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
-    parser.add_argument("--revolutions", default="4000", help="crank revolutions to reach (integer)")
-    parser.add_argument("--snapshots", default=None,
-                        help="revolutions at which to keep the profile, comma separated (default: quarters)")
-    parser.add_argument("--engine", choices=ENGINES, default="monolithic", help="simulation engine")
-    parser.add_argument("--cycle-jump", default=None, metavar="M,J",
-                        help="after every M simulated revolutions scale their wear increment by J "
-                             "(wear factor 1 unless --wear-factor is given)")
-    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default=DEFAULT_STUDY_INTEGRATOR,
-                        help="rk4: fixed steps of --max-step (default); dopri: adaptive, at most --max-step")
-    parser.add_argument("--max-step", type=float, default=1e-5, help="largest integration step [s] (RK4: the step)")
-    parser.add_argument("--checkpoint-every", type=float, default=1.0,
-                        help="simulated revolutions between checkpoints")
-    parser.add_argument("--impact-threshold-m-s2", type=float, default=100.0,
-                        help="impact event: |a - a_ideal| above this [m/s^2]")
-    parser.add_argument("--resume", action="store_true", help="continue the study checkpointed in --out")
-    parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
-    parser.add_argument("--quiet", action="store_true", help="no progress line")
-    task = parser.add_argument_group("other tasks")
-    task.add_argument("--convergence", default=None, metavar="F1,F2,...",
-                      help="convergence study of the acceleration factors (first = reference, normally 1)")
-    task.add_argument("--calibrate-max-depth-m", type=float, default=None,
-                      help="find the effective k_w whose study ends at this max depth (e.g. 0.58e-3)")
-    add_model_arguments(parser)
-
-
-def config_from_args(args) -> WearStudyConfig:
-    joint, mechanism = model_from_args(args)
-    revolutions = parse_int_list("--revolutions", args.revolutions)
-    if len(revolutions) != 1:
-        raise ParameterError("--revolutions takes one integer")
-    revolutions = revolutions[0]
-    if args.snapshots is not None:
-        snapshots = parse_int_list("--snapshots", args.snapshots)
-    else:
-        snapshots = tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
-    jump_m, jump_j = 0, 1.0
-    if args.cycle_jump is not None:
-        parts = args.cycle_jump.split(",")
-        if len(parts) != 2:
-            raise ParameterError(f"--cycle-jump {args.cycle_jump!r}: expected M,J (e.g. 2,10)")
-        jump_m = parse_int_list("--cycle-jump M", parts[0])[0]
-        jump_j = parse_float_list("--cycle-jump J", parts[1])[0]
-        if jump_m < 1:
-            raise ParameterError(f"--cycle-jump M={jump_m} is invalid: allowed an integer >= 1")
-    if args.wear_factor is None and not args.no_wear:
-        joint = joint.replace(wear_factor=1.0 if args.cycle_jump is not None else DEFAULT_WEAR_FACTOR)
-    return WearStudyConfig(joint=joint, mechanism=mechanism, revolutions=revolutions, snapshots=snapshots,
-                           jump_revolutions=jump_m, jump_factor=jump_j, engine=args.engine,
-                           integrator=args.integrator, max_step_s=args.max_step,
-                           checkpoint_every_revolutions=args.checkpoint_every,
-                           impact_threshold_m_s2=args.impact_threshold_m_s2)
-
-
-def cli_run(args) -> int:
-    from wearjoint.cosim import CoSimulationError
-
-    config = config_from_args(args)
-    try:
-        if args.convergence is not None:
-            factors = parse_float_list("--convergence", args.convergence)
-            for f in factors:
-                if not (math.isfinite(f) and f > 0):
-                    raise ParameterError(f"--convergence: factor {f!r} is invalid: allowed > 0")
-            result = run_convergence(config, factors, args.out, resume=args.resume, progress=not args.quiet)
-            for row in result["rows"]:
-                print(f"  {row['run']:14s} rev {row['revolution']:6d}  max depth {row['max_wear_depth_m'] * 1e6:9.2f} µm"
-                      f"  rel diff {row['max_depth_rel_diff']:+.3f}  rms rel {row['rms_profile_diff_rel']:.3f}")
-            print(f"largest factor within {result['tolerance_rel']:.0%}: {result['largest_factor_within_tolerance']}")
-        elif args.calibrate_max_depth_m is not None:
-            result = calibrate_wear_coefficient(config, args.calibrate_max_depth_m, args.out, resume=args.resume,
-                                                progress=not args.quiet)
-            print(f"  printed k_w {PRINTED_WEAR_COEFFICIENT_M2_N:.3g} m^2/N wears "
-                  f"{result['printed_rate']['mean_depth_per_revolution_m'] * 1e6:.3g} µm per revolution")
-            print(f"  effective k_w {result['effective_wear_coefficient_m2_N']:.4g} m^2/N "
-                  f"(ratio to printed {result['ratio_to_printed']:.4g}) reaches "
-                  f"{result['reached_max_depth_m'] * 1e3:.4g} mm after {config.revolutions} revolutions")
-        else:
-            summary = run_wear_study(config, args.out, resume=args.resume, progress=not args.quiet,
-                                     plots=not args.no_plots)
-            for s in summary["snapshots"]:
-                print(f"  rev {s['revolution']:6d}  max depth {s['max_wear_depth_m'] * 1e3:.4f} mm at "
-                      f"{s['max_wear_angle_deg']:.1f} deg  lobes {s['lobe_0_angle_deg']:.1f}/"
-                      f"{s['lobe_180_angle_deg']:.1f} deg  impact events {s['impact_events']}")
-            print(f"  wall time {summary['wall_time_s']:.1f} s")
-    except KeyboardInterrupt:
-        print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out} "
-              "(continue with --resume)", file=sys.stderr)
-        return 130
-    except CoSimulationError as exc:
-        print(f"wearjoint wear-study: error: {exc}\nfinished work is checkpointed in {args.out}", file=sys.stderr)
-        return 1
-    print(f"results in {args.out}")
-    return 0
-
-
-__all__ = ["WearStudyConfig", "run_wear_study", "run_convergence", "calibrate_wear_coefficient",
-           "printed_wear_rate", "impact_events", "profile_features", "make_engine", "cli_arguments", "cli_run"]
+__all__ = ["WearStudyConfig", "run_wear_study", "make_engine", "profile_angles_deg", "write_study_outputs"]

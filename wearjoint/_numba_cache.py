@@ -15,7 +15,7 @@ STAMP = "kernels.sha256"
 def kernel_folders() -> list[Path]:
     """Folders holding the package's cached numba kernels (source tree or installed)."""
     root = Path(__file__).parent
-    candidates = [root, root / "core", root / "validation", root.parent / "validation"]
+    candidates = [root, root / "core", root / "cosim", root / "validation", root.parent / "validation"]
     return [folder for folder in candidates if (folder / "__init__.py").is_file()]
 
 

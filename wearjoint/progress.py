@@ -1,50 +1,46 @@
-"""A dependency-free progress line with ETA on stderr."""
+"""Progress bar of long runs on stderr (tqdm: elapsed, ETA, rate).
+
+On a terminal the bar appears once a run has taken ``delay_s`` seconds and redraws
+in place; when stderr is not a terminal (logs, pipes, CI) it stays silent
+(``disable=None``).  tqdm is imported only when a bar is shown.
+"""
 from __future__ import annotations
 
 import sys
-import time
+
+# n and total formatted short: simulated seconds or revolutions are not integers
+_FORMAT = "{desc}: {percentage:5.1f}%|{bar}| {n:.4g}/{total:.4g} {unit} [{elapsed}<{remaining}, {rate_fmt}]"
 
 
 class Progress:
-    """Shows ``label: 42.0 % (t/total) elapsed, ETA`` once a run has taken
-    ``quiet_s`` seconds; redraws in place on a terminal, else prints a line
-    every 10 %."""
+    """``update(done)`` takes the amount done so far (absolute, in ``unit``).  With
+    ``compiling=True`` the description reads "LABEL (compiling)" until :meth:`compiled`
+    is called (numba compiles the kernels before the first chunk)."""
 
-    def __init__(self, total: float, label: str, enabled: bool = True, quiet_s: float = 2.0, unit: str = "s"):
-        self.total = float(total)
+    def __init__(self, total: float, label: str, enabled: bool = True, unit: str = "s",
+                 compiling: bool = False, delay_s: float = 2.0):
         self.label = label
-        self.enabled = enabled
-        self.quiet_s = quiet_s
-        self.unit = unit
-        self.start = time.perf_counter()
-        self.last_draw = 0.0
-        self.last_decile = -1
-        self.tty = sys.stderr.isatty()
-        self.drawn = False
+        self.total = float(total)
+        self._bar = None
+        if enabled and self.total > 0.0:
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=self.total, desc=f"{label} (compiling)" if compiling else label, unit=unit,
+                             bar_format=_FORMAT, disable=None, delay=delay_s, mininterval=0.5,
+                             dynamic_ncols=True, file=sys.stderr, leave=False)
+
+    def compiled(self) -> None:
+        """Compilation is over: the description becomes the plain label."""
+        if self._bar is not None:
+            self._bar.set_description_str(self.label, refresh=False)
 
     def update(self, done: float) -> None:
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        elapsed = now - self.start
-        if elapsed < self.quiet_s or self.total <= 0:
-            return
-        frac = min(1.0, done / self.total)
-        decile = int(frac * 10)
-        if self.tty and now - self.last_draw < 0.5 and frac < 1.0:
-            return
-        if not self.tty and decile == self.last_decile:
-            return
-        self.last_draw = now
-        self.last_decile = decile
-        eta = elapsed * (1.0 - frac) / frac if frac > 0 else float("nan")
-        line = (f"{self.label}: {100 * frac:5.1f} % ({done:.4g}/{self.total:.4g} {self.unit}) "
-                f"elapsed {elapsed:6.1f} s, ETA {eta:6.1f} s")
-        sys.stderr.write(("\r" + line) if self.tty else (line + "\n"))
-        sys.stderr.flush()
-        self.drawn = True
+        if self._bar is not None:
+            step = min(float(done), self.total) - self._bar.n
+            if step > 0.0:
+                self._bar.update(step)
 
     def close(self) -> None:
-        if self.enabled and self.drawn and self.tty:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None

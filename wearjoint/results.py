@@ -8,18 +8,15 @@ samples), ``last_revolution.csv`` (samples of the last revolution),
 from __future__ import annotations
 
 import json
-import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from . import analysis
+from .analysis import REVOLUTION_COLUMNS
 from .core import layout as L
-
-REVOLUTION_COLUMNS = ("revolution", "impacts", "contact_fraction", "slider_acc_max_m_s2",
-                      "slider_acc_min_m_s2", "max_contact_force_N", "max_eccentricity_m",
-                      "max_wear_depth_m")
 
 
 def new_revolution_stats(n_revolutions: int) -> np.ndarray:
@@ -49,41 +46,29 @@ class RunRecord:
     wear_depth_m: np.ndarray
     worn_volume_m3: float
     simulated_time_s: float
-    wall_time_s: float
+    wall_time_s: float                      # the simulation alone (compilation excluded)
     revolutions: float
     period_s: float                         # duration of one crank revolution
     clearance_m: float
     parameters: dict
     extra: dict = field(default_factory=dict)
     completed: bool = True
+    compile_time_s: float = 0.0             # building the engine (FMU load, instantiation) and JIT compilation
 
     def last_revolution(self) -> int:
         """Index of the last revolution that was simulated (complete or partial)."""
-        covered = np.nonzero(self.revolution_stats[:, L.S_TIME] > 0.0)[0]
-        return int(covered[-1]) if covered.size else 0
+        return analysis.last_revolution(self.revolution_stats)
 
     def summary(self) -> dict:
-        rs = self.revolution_stats
-        last = rs[self.last_revolution()]
-        deepest = int(np.argmax(self.wear_depth_m))
-        covered = rs[:, L.S_TIME] > 0.0
-
-        def finite(x):
-            return float(x) if math.isfinite(x) else None
-
+        """summary.json's content (MODEL.md 6); the statistics are :mod:`wearjoint.analysis`'s."""
         out = {
             "revolutions": self.revolutions,
             "simulated_time_s": self.simulated_time_s,
             "wall_time_s": self.wall_time_s,
+            "compile_time_s": self.compile_time_s,
             "realtime_factor": self.simulated_time_s / self.wall_time_s if self.wall_time_s > 0 else None,
-            "max_contact_force_N": float(rs[covered, L.S_FORCE_MAX].max()) if covered.any() else 0.0,
-            "contact_fraction": float(last[L.S_CONTACT_TIME] / last[L.S_TIME]) if last[L.S_TIME] > 0 else 0.0,
-            "impacts_per_revolution": int(last[L.S_IMPACTS]),
-            "slider_acc_max_m_s2": finite(last[L.S_ACC_MAX]),
-            "slider_acc_min_m_s2": finite(last[L.S_ACC_MIN]),
-            "max_eccentricity_m": float(rs[covered, L.S_ECC_MAX].max()) if covered.any() else 0.0,
-            "max_wear_depth_m": float(self.wear_depth_m[deepest]),
-            "max_wear_angle_deg": float(self.phi_deg[deepest] % 360.0),
+            **analysis.run_statistics(self.revolution_stats),
+            **analysis.deepest_point(self.phi_deg, self.wear_depth_m),
             "worn_volume_m3": self.worn_volume_m3,
             "clearance_m": self.clearance_m,
             "completed": self.completed,
@@ -93,22 +78,8 @@ class RunRecord:
         return out
 
     def revolution_table(self) -> np.ndarray:
-        rs = self.revolution_stats
-        n = self.last_revolution() + 1
-        table = np.zeros((n, len(REVOLUTION_COLUMNS)))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            table[:, 0] = np.arange(n)
-            table[:, 1] = rs[:n, L.S_IMPACTS]
-            table[:, 2] = rs[:n, L.S_CONTACT_TIME] / rs[:n, L.S_TIME]
-            table[:, 3] = rs[:n, L.S_ACC_MAX]
-            table[:, 4] = rs[:n, L.S_ACC_MIN]
-            table[:, 5] = rs[:n, L.S_FORCE_MAX]
-            table[:, 6] = rs[:n, L.S_ECC_MAX]
-            growth = np.full(n, np.nan)
-            m = min(n, self.wear_growth_m.size)
-            growth[:m] = self.wear_growth_m[:m]
-            table[:, 7] = growth
-        return table
+        """Per-revolution statistics, columns :data:`wearjoint.analysis.REVOLUTION_COLUMNS`."""
+        return analysis.revolution_table(self.revolution_stats, self.wear_growth_m)
 
 
 def write_json_atomic(path: Path, data: dict) -> None:

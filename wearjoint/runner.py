@@ -1,52 +1,89 @@
 """The chunked run loop shared by the simulation engines.
 
 An engine (``simulate.Simulation``, ``cosim.CoSimulation``) offers
-``advance_to(t_end, samples) -> n``, ``t``, ``max_wear_depth_m()``,
-``wear_profile() -> (phi_deg, wear_depth_m, worn_volume_m3)`` and ``close()``.
+``warm_up()`` (compile its kernels without advancing), ``advance_to(t_end, samples) -> n``,
+``t``, ``max_wear_depth_m()``, ``wear_profile() -> (phi_deg, wear_depth_m, worn_volume_m3)``
+and ``close()``.
 """
 from __future__ import annotations
 
 import math
 import time
 from dataclasses import dataclass
+from typing import Any, Callable
 
 import numpy as np
 
 from .core import layout as L
 from .progress import Progress
+from .results import RunRecord
 
 
 @dataclass
 class ChunkedRun:
+    engine: Any                  # the engine that ran (the caller closes it)
     samples: np.ndarray          # (n, layout.N_SAMPLE_COLUMNS)
     wear_growth_m: np.ndarray    # max wear depth after each complete revolution
-    wall_time_s: float
+    wall_time_s: float           # the simulation itself, compilation excluded
+    compile_time_s: float        # building the engine (FMU load and instantiation) and JIT compilation
     completed: bool              # False if Ctrl-C stopped the run
 
 
-def run_in_chunks(engine, revolutions: float, period_s: float, sample_dt_s: float, label: str,
-                  progress: bool = True, chunks_per_revolution: int = 8) -> ChunkedRun:
-    """Advance ``engine`` by ``revolutions`` crank revolutions in chunks of 1/chunks_per_revolution
-    revolution, collecting samples and the wear growth; a progress line on stderr for
-    runs longer than a few seconds; Ctrl-C stops after the current chunk and keeps what
-    was finished."""
+def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: float, sample_dt_s: float,
+                  label: str, progress: bool = True, chunks_per_revolution: int = 8) -> ChunkedRun:
+    """Build the engine (``make_engine()``), compile it (``engine.warm_up()``), then advance
+    it by ``revolutions`` crank revolutions in chunks of 1/chunks_per_revolution revolution,
+    collecting samples and the wear growth.
+
+    Building and compiling are timed apart (``compile_time_s``) from the simulation
+    (``wall_time_s``), so that the real-time factor measures the simulation alone.  A
+    progress bar on stderr (its description says "compiling" until the first chunk);
+    Ctrl-C during the chunks stops after the current one and keeps what was finished.
+    If anything raises, the engine is closed before the error propagates.
+    """
     t_final = revolutions * period_s
     chunk = period_s / chunks_per_revolution
-    buffer = np.zeros((int(chunk / sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-    samples, growth = [], []
-    bar = Progress(t_final, label, enabled=progress)
-    completed = True
-    wall0 = time.perf_counter()
+    bar = Progress(t_final, label, enabled=progress, compiling=True)
+    engine = None
     try:
-        for i in range(int(math.ceil(revolutions * chunks_per_revolution - 1e-9))):
-            n = engine.advance_to(min(t_final, (i + 1) * chunk), buffer)
-            samples.append(buffer[:n].copy())
-            if (i + 1) % chunks_per_revolution == 0:
-                growth.append(engine.max_wear_depth_m())
-            bar.update(engine.t)
-    except KeyboardInterrupt:
-        completed = False
-    wall = time.perf_counter() - wall0
-    bar.close()
-    return ChunkedRun(np.concatenate(samples) if samples else np.zeros((0, L.N_SAMPLE_COLUMNS)),
-                      np.asarray(growth), wall, completed)
+        start = time.perf_counter()
+        engine = make_engine()
+        engine.warm_up()
+        compile_time = time.perf_counter() - start
+        bar.compiled()
+        buffer = np.zeros((int(chunk / sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
+        samples, growth = [], []
+        completed = True
+        wall0 = time.perf_counter()
+        try:
+            for i in range(int(math.ceil(revolutions * chunks_per_revolution - 1e-9))):
+                n = engine.advance_to(min(t_final, (i + 1) * chunk), buffer)
+                samples.append(buffer[:n].copy())
+                if (i + 1) % chunks_per_revolution == 0:
+                    growth.append(engine.max_wear_depth_m())
+                bar.update(engine.t)
+        except KeyboardInterrupt:
+            completed = False
+        wall = time.perf_counter() - wall0
+    except BaseException:
+        if engine is not None:
+            engine.close()
+        raise
+    finally:
+        bar.close()
+    return ChunkedRun(engine, np.concatenate(samples) if samples else np.zeros((0, L.N_SAMPLE_COLUMNS)),
+                      np.asarray(growth), wall, compile_time, completed)
+
+
+def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float, period_s: float, joint_params,
+               parameters: dict, extra: dict) -> RunRecord:
+    """The :class:`RunRecord` of a chunked run: the engine's wear profile (read now),
+    statistics of the requested revolutions, times and counters."""
+    phi_deg, wear_depth, worn_volume = run.engine.wear_profile()
+    t = run.engine.t
+    return RunRecord(
+        samples=run.samples, revolution_stats=revolution_stats[:int(math.ceil(revolutions))].copy(),
+        wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth, worn_volume_m3=worn_volume,
+        simulated_time_s=t, wall_time_s=run.wall_time_s, compile_time_s=run.compile_time_s,
+        revolutions=t / period_s, period_s=period_s, clearance_m=joint_params.clearance_m,
+        parameters=parameters, extra=extra, completed=run.completed)

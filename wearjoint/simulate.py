@@ -9,7 +9,7 @@ import numpy as np
 
 from .core import layout as L
 from .core.integrators import DOPRI5, RK4, accept_point, integrate, record_step
-from .core.mechanism import derivative
+from .core.mechanism import JointArrays, derivative
 from .joint import ClearanceJoint
 from .mechanism import SliderCrank
 from .parameters import (
@@ -17,7 +17,7 @@ from .parameters import (
     check_joint_fits_mechanism,
 )
 from .results import RunRecord, new_revolution_stats, new_track
-from .runner import run_in_chunks
+from .runner import record_run, run_in_chunks
 
 INTEGRATORS = ("rk4", "dopri", "gear")
 
@@ -83,10 +83,8 @@ class Simulation:
         self._derivative()
 
     @property
-    def _joint_arrays(self):
-        j = self.joint
-        return (j.parameter_vector, j.cos_phi, j.sin_phi, j.wear_depth, j.block_min, j.memory,
-                j._mask, j.result)
+    def _joint_arrays(self) -> JointArrays:
+        return joint_arrays(self.joint)
 
     def _derivative(self):
         derivative(self.t, self.y, self.mode, self.mechanism.parameter_vector, self._joint_arrays,
@@ -125,6 +123,21 @@ class Simulation:
 
     def close(self) -> None:
         """Nothing to free (the co-simulation engine frees its FMU instance here)."""
+
+    def warm_up(self) -> None:
+        """Compile the kernels :meth:`advance_to` calls (numba) without advancing: the
+        integrator runs over zero time, on copies of the state."""
+        joint = JointArrays(*(a.copy() for a in self._joint_arrays))
+        y, dy, forces = self.y.copy(), self.dy.copy(), self.body_forces.copy()
+        stats, track = self.revolution_stats.copy(), self.track.copy()
+        samples = np.zeros((0, L.N_SAMPLE_COLUMNS))
+        mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
+        if self.options.integrator == "gear":
+            accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False)
+            record_step(self.t, 0.0, y, dy, joint.result, mp, stats, samples, track)
+        else:
+            integrate(RK4, self.t, self.t, y, self.control.copy(), self.mode, mp, joint, forces, ws, dy,
+                      stats, samples, track)
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         """Integrate to t_end, writing samples into ``samples``; returns how many."""
@@ -177,22 +190,23 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
     """Simulate ``options.revolutions`` crank revolutions; returns the run's record.
 
     The run proceeds in chunks (:func:`wearjoint.runner.run_in_chunks`: progress
-    line, Ctrl-C keeps the finished chunks with ``completed = False``).
+    bar, compilation timed apart, Ctrl-C keeps the finished chunks with ``completed = False``).
     """
-    sim = Simulation(joint, mechanism, options)
-    o = sim.options
-    period = sim.mechanism.params.period_s
-    run = run_in_chunks(sim, o.revolutions, period, o.sample_dt_s, "simulate", progress, chunks_per_revolution)
-    phi_deg, wear_depth, worn_volume = sim.wear_profile()
-    return RunRecord(
-        samples=run.samples, revolution_stats=sim.revolution_stats[:int(math.ceil(o.revolutions))],
-        wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth, worn_volume_m3=worn_volume,
-        simulated_time_s=sim.t, wall_time_s=run.wall_time_s, revolutions=sim.t / period, period_s=period,
-        clearance_m=sim.joint.params.clearance_m,
-        parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
-                    "simulation": o.to_dict(), "engine": "monolithic"},
-        extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected},
-        completed=run.completed)
+    o = options or SimulationOptions()
+    period = (mechanism or SliderCrankParameters()).period_s
+    run = run_in_chunks(lambda: Simulation(joint, mechanism, o), o.revolutions, period, o.sample_dt_s, "simulate",
+                        progress, chunks_per_revolution)
+    sim = run.engine
+    return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
+                      parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
+                                  "simulation": o.to_dict(), "engine": "monolithic"},
+                      extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected})
 
 
-__all__ = ["SimulationOptions", "Simulation", "run_simulation", "INTEGRATORS", "ParameterError"]
+def joint_arrays(joint: ClearanceJoint) -> JointArrays:
+    """The arrays of a :class:`ClearanceJoint` as the kernels take them (no copies)."""
+    return JointArrays(joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
+                       joint.memory, joint._mask, joint.result)
+
+
+__all__ = ["SimulationOptions", "Simulation", "run_simulation", "joint_arrays", "INTEGRATORS", "ParameterError"]

@@ -151,15 +151,15 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
     n = N_COORDINATES
     changed = False
     if mode == MODE_CLEARANCE:
-        jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
         vel_i = y[n + CRANK:n + CRANK + 3]
         vel_j = y[n + ROD:n + ROD + 3]
         if reuse_k_end:
-            changed = accept_contact(result, vel_i, vel_j, h, jp, cos_phi, sin_phi, wear_depth, block_min,
-                                     memory, mask)
+            changed = accept_contact(joint.result, vel_i, vel_j, h, joint.parameters, joint.cos_phi, joint.sin_phi,
+                                     joint.wear_depth, joint.block_min, joint.memory, joint.mask)
         else:
-            changed = advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, jp, cos_phi, sin_phi,
-                                    wear_depth, block_min, memory, mask, result)
+            changed = advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, joint.parameters,
+                                    joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory,
+                                    joint.mask, joint.result)
     if reuse_k_end and not changed:
         for i in range(dy.shape[0]):
             dy[i] = k_end[i]
@@ -171,6 +171,7 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
 def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
               rev_stats, samples, track):
     """Integrate y from t to t_end; ``dy`` must hold f(t, y) on entry and holds f at the end.
+    ``joint`` is a :data:`core.mechanism.JointArrays`.
 
     control = [h (RK4 step or DOPRI initial/next step), h_max, rtol, atol_position,
     atol_velocity, h_min, onset_penetration].  Returns (t, accepted steps, rejected
@@ -198,7 +199,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     """The loop of :func:`integrate`, on preallocated scratch (a kernel cannot allocate)."""
     n2 = y.shape[0]
     n = N_COORDINATES
-    result = joint[7]
+    result = joint.result
     h = control[0]
     h_max = control[1]
     rtol = control[2]
@@ -207,7 +208,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     h_min = control[5]
     onset_tol = control[6]
     locate_onsets = mode == MODE_CLEARANCE
-    memory = joint[5]
+    memory = joint.memory
     pen_start = result[R_PENETRATION]
     err_previous = 1e-4
     accepted = 0
@@ -221,19 +222,18 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                 y_new[i] = y[i]
             rk4_step(t, y_new, step, mode, mp, joint, body_forces, ws, dy, stages)
             if locate_onsets:
-                jp, cos_phi, sin_phi, wear_depth, block_min, _, mask, _ = joint
                 vel_i = y_new[n + CRANK:n + CRANK + 3]
                 vel_j = y_new[n + ROD:n + ROD + 3]
-                evaluate_contact(y_new[CRANK:CRANK + 3], vel_i, y_new[ROD:ROD + 3], vel_j, jp, cos_phi, sin_phi,
-                                 wear_depth, block_min, memory, result)
+                evaluate_contact(y_new[CRANK:CRANK + 3], vel_i, y_new[ROD:ROD + 3], vel_j, joint.parameters,
+                                 joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min, memory, result)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
                                          h_min)
                 if retry > 0.0:
                     onset_step = retry
                     rejected += 1
                     continue
-                accept_contact(result, vel_i, vel_j, step, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
-                               mask)
+                accept_contact(result, vel_i, vel_j, step, joint.parameters, joint.cos_phi, joint.sin_phi,
+                               joint.wear_depth, joint.block_min, memory, joint.mask)
             onset_step = np.inf
             t += step
             accepted += 1

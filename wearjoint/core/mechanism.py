@@ -9,6 +9,7 @@ equations of motion (Eq. 44) are solved through the Schur complement
 and Baumgarte stabilisation c = gamma - 2 alpha Phi_dot - beta^2 Phi.
 """
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -26,6 +27,13 @@ from .layout import (
 # array arguments costs about as much as the mechanism itself); everywhere else, e.g. in
 # the FMU, it stays an ordinary compiled function (faster to compile).
 _evaluate_contact_inlined = njit(inline='always')(evaluate_contact_scalars.py_func)
+
+# The clearance joint's arrays as the kernels take them (numba compiles the attribute
+# access to the same code as tuple indexing): the joint parameter vector (layout.P_*), the
+# bushing points' cos/sin, the wear profile, the contact search's block minima, the contact
+# memory (layout.M_*), the wear kernel's scratch mask and the evaluation result (layout.R_*).
+JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
+                                         "memory", "mask", "result"))
 
 GROUND = -1
 NO_BODY = -1
@@ -194,14 +202,6 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
         qdd[c] *= minv[c]
 
 
-@kernel
-def open_joint_accelerations(t, y, mp, body_forces, dy):
-    """dy[n:] = q_dd of Eq. (44) with the crank-rod joint open, y = [q, q_dot]
-    (:func:`open_joint_accelerations_rotated`)."""
-    open_joint_accelerations_rotated(t, y, mp, body_forces, math.cos(y[CRANK + 2]), math.sin(y[CRANK + 2]),
-                                     math.cos(y[ROD + 2]), math.sin(y[ROD + 2]), dy)
-
-
 @kernel(inline='always')
 def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, sin2, dy):
     """dy[n:] = q_dd of Eq. (44) with the crank-rod joint open, in closed form; y = [q, q_dot],
@@ -268,8 +268,9 @@ def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, si
 
 @kernel(inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
-    """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (writing its
-    result array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
+    """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
+    :data:`JointArrays`; writes its result array); MODE_EXTERNAL uses ``body_forces`` as
+    given; MODE_IDEAL has none."""
     n = N_COORDINATES
     # the crank and the rod carry the pin and the bushing: one set of trigonometric calls for both
     cos1 = math.cos(y[CRANK + 2])
@@ -277,10 +278,11 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     cos2 = math.cos(y[ROD + 2])
     sin2 = math.sin(y[ROD + 2])
     if mode == MODE_CLEARANCE:
-        jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result = joint
+        result = joint.result
         _evaluate_contact_inlined(y[CRANK], y[CRANK + 1], cos1, sin1, y[n + CRANK], y[n + CRANK + 1], y[n + CRANK + 2],
                                   y[ROD], y[ROD + 1], cos2, sin2, y[n + ROD], y[n + ROD + 1], y[n + ROD + 2],
-                                  jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
+                                  joint.parameters, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
+                                  joint.memory, result)
         body_forces[0] = result[R_PIN_FX]
         body_forces[1] = result[R_PIN_FY]
         body_forces[2] = result[R_PIN_TORQUE]

@@ -28,7 +28,7 @@ from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from .. import __version__
-from ..parameters import JointParameters, ParameterError
+from ..parameters import JointParameters
 from . import variables as fv
 from .build import (
     BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, existing_build_key, fmi2_headers,
@@ -176,25 +176,3 @@ def complete_model_description(xml: bytes, n_points: int) -> bytes:
         raise RuntimeError("pythonfmu wrote the variables in another order than wearjoint.fmu.variables")
     cosimulation = dict(root.find("CoSimulation").attrib, canGetAndSetFMUstate="true", canSerializeFMUstate="true")
     return model_description_xml(n_points, root.get("guid"), root.get("generationTool"), cosimulation)
-
-
-# ------------------------------------------------------------- CLI (wearjoint build-fmu)
-def cli_arguments(parser) -> None:
-    """Options of ``wearjoint build-fmu``."""
-    parser.add_argument("--out", metavar="DIR", default=None,
-                        help="directory for ClearanceWearJoint.fmu (default: the user cache, keyed by the sources)")
-    parser.add_argument("--n-points", type=int, default=JointParameters.n_points, metavar="N",
-                        help="number of bushing points N_d, fixed in the FMU (default %(default)s)")
-    parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
-
-
-def cli_run(args) -> int:
-    """Build the FMU and print its path; 0 on success, 2 with a message on stderr otherwise."""
-    try:
-        out = Path(args.out) if args.out is not None else default_fmu_path(args.n_points).parent
-        path = build_fmu(out, n_points=args.n_points, force=args.force)
-    except (ParameterError, OSError, RuntimeError) as exc:
-        print(f"wearjoint build-fmu: error: {exc}", file=sys.stderr)
-        return 2
-    print(path)
-    return 0

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
+from .build import DEFAULT_BACKEND
 
 FMI_OK, FMI_WARNING = 0, 1
 _FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
@@ -41,7 +42,7 @@ def _model_description(fmu_path: Path):
     return _MODEL_DESCRIPTIONS[key]
 
 
-def ensure_fmu(n_points: int, fmu_path=None, backend: str = "pythonfmu") -> Path:
+def ensure_fmu(n_points: int, fmu_path=None, backend: str = DEFAULT_BACKEND) -> Path:
     """The FMU to use: ``fmu_path`` if given (must exist), else the cached build of ``backend``
     for ``n_points`` (built now if missing, see :mod:`wearjoint.fmu.build`)."""
     from .build import build_fmu, default_fmu_path

@@ -1,16 +1,19 @@
-"""Command-line options shared by every simulating command.
+"""Command-line options shared by several commands, defined once.
 
-Every field of :class:`JointParameters` and :class:`SliderCrankParameters`
-becomes an option named after it (SI units in the name, e.g.
-``--pin-radius-m 0.01``).  The joint's body-frame offsets follow the
-mechanism's lengths unless given explicitly.
+Model options: every field of :class:`JointParameters` and
+:class:`SliderCrankParameters` becomes an option named after it (SI units in the
+name, e.g. ``--pin-radius-m 0.01``); the joint's body-frame offsets follow the
+mechanism's lengths unless given explicitly.  Also the results folder and
+progress options, the FMU options and the printed summary.
 """
 from __future__ import annotations
 
 import argparse
 import dataclasses
+from pathlib import Path
 
-from .parameters import (
+from ..fmu.build import BACKENDS, DEFAULT_BACKEND
+from ..parameters import (
     RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, SliderCrankParameters,
 )
 
@@ -68,3 +71,37 @@ def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
     if args.stiffness_from_materials:
         joint = joint.replace(contact_stiffness_N_m1_5=joint.stiffness_from_materials("internal"))
     return joint, mechanism
+
+
+def add_output_arguments(parser: argparse.ArgumentParser, plots: bool = True) -> None:
+    """--out DIR (required), --no-plots (if ``plots``) and --quiet."""
+    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
+    if plots:
+        parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
+    parser.add_argument("--quiet", action="store_true", help="no progress output")
+
+
+def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:
+    """--fmu-backend (and --fmu FILE if ``fmu_file``): which joint FMU a co-simulation loads;
+    ``when`` qualifies the help (e.g. "with --engine cosim")."""
+    qualifier = f" ({when})" if when else ""
+    if fmu_file:
+        parser.add_argument("--fmu", type=Path, default=None,
+                            help="ClearanceWearJoint.fmu to use (default: the cached build of --fmu-backend, "
+                                 f"built if missing){qualifier}")
+    parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND,
+                        help="FMU backend: native (compiled kernels, C FMI layer) or pythonfmu (Python slave)"
+                             f"{qualifier} (default %(default)s)")
+
+
+SUMMARY_KEYS = ("revolutions", "realtime_factor", "compile_time_s", "max_contact_force_N", "contact_fraction",
+                "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2", "max_eccentricity_m",
+                "max_wear_depth_m", "max_wear_angle_deg", "worn_volume_m3")
+
+
+def print_summary(summary: dict, out: Path, extra_keys=()) -> None:
+    """The summary's key figures (and ``extra_keys``), one per line, then the results folder."""
+    for k in SUMMARY_KEYS + tuple(extra_keys):
+        v = summary.get(k)
+        print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
+    print(f"results in {out}")

@@ -1,11 +1,9 @@
 """`wearjoint simulate`: the monolithic run from the command line."""
 from __future__ import annotations
 
-from pathlib import Path
-
-from .cli_options import add_model_arguments, model_from_args
-from .results import write_results
-from .simulate import INTEGRATORS, SimulationOptions, run_simulation
+from ..results import write_results
+from ..simulate import INTEGRATORS, SimulationOptions, run_simulation
+from .options import add_model_arguments, add_output_arguments, model_from_args, print_summary
 
 _DEFAULTS = SimulationOptions()
 
@@ -33,32 +31,20 @@ def options_from_args(args, wear_on: bool) -> SimulationOptions:
                              sample_dt_s=args.sample_dt, ideal=args.ideal)
 
 
-def cli_arguments(parser) -> None:
-    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
-    parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
-    parser.add_argument("--quiet", action="store_true", help="no progress line")
+def add_arguments(parser) -> None:
+    add_output_arguments(parser)
     add_integration_arguments(parser)
     add_model_arguments(parser)
 
 
-def cli_run(args) -> int:
+def run(args) -> int:
     joint, mechanism = model_from_args(args)
     wear_on = joint.wear_coefficient_m2_N * joint.wear_factor > 0.0 and not args.ideal
     options = options_from_args(args, wear_on)
     record = run_simulation(joint, mechanism, options, progress=not args.quiet)
     summary = write_results(record, args.out, plots=not args.no_plots)
-    _print_summary(summary, args.out)
+    print_summary(summary, args.out, ("integrator_accepted_steps", "integrator_rejected_steps"))
     return 0 if record.completed else 130
 
 
-def _print_summary(summary: dict, out: Path) -> None:
-    keys = ("revolutions", "realtime_factor", "max_contact_force_N", "contact_fraction", "impacts_per_revolution",
-            "slider_acc_max_m_s2", "slider_acc_min_m_s2", "max_eccentricity_m", "max_wear_depth_m",
-            "max_wear_angle_deg", "worn_volume_m3")
-    for k in keys:
-        v = summary.get(k)
-        print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
-    print(f"results in {out}")
-
-
-__all__ = ["cli_arguments", "cli_run", "add_integration_arguments", "options_from_args"]
+__all__ = ["add_arguments", "run", "add_integration_arguments", "options_from_args"]

@@ -1,0 +1,124 @@
+"""Helpers to build and run the C FMI 2.0 host ``tests/c_host/fmi2_host.c`` (see its README):
+the proof that an FMU works from C with no Python on the host."""
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+from typing import Sequence, Union
+
+import pytest
+
+C_HOST_DIR = Path(__file__).resolve().parent / "c_host"
+HOST_SOURCE = C_HOST_DIR / "fmi2_host.c"
+
+CLEAN_ENV = {"PATH": "/usr/bin:/bin"}
+VALGRIND_ARGS = ("valgrind", "--leak-check=full", "--error-exitcode=3")
+
+Script = Union[str, Sequence[str], os.PathLike]
+
+
+def fmi2_headers_dir() -> Path | None:
+    """The FMI 2.0 headers shipped with fmpy (``<site-packages>/fmpy/c-code``), or None."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("fmpy")
+    if spec is None or spec.origin is None:
+        return None
+    d = Path(spec.origin).parent / "c-code"
+    return d if (d / "fmi2FunctionTypes.h").is_file() else None
+
+
+def gcc_or_skip() -> str:
+    gcc = shutil.which("gcc")
+    if gcc is None:
+        pytest.skip("gcc is not installed")
+    if fmi2_headers_dir() is None:
+        pytest.skip("the FMI 2.0 headers (fmpy/c-code) are not available")
+    return gcc
+
+
+def build_c_host(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
+    """Compile ``fmi2_host.c`` into ``out_dir/fmi2_host`` and return its path.
+
+    ``gcc -O2 -g -Wall -Wextra -I<fmi2 headers> fmi2_host.c -o fmi2_host -ldl`` (one process, one
+    core).  Raises ``RuntimeError`` with gcc's output if the compilation fails.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    exe = out_dir / "fmi2_host"
+    cmd = ["gcc", "-O2", "-g", "-Wall", "-Wextra", *extra_flags, f"-I{fmi2_headers_dir()}",
+           str(HOST_SOURCE), "-o", str(exe), "-ldl"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=CLEAN_ENV)
+    if proc.returncode != 0:
+        raise RuntimeError(f"building the C host failed:\n{' '.join(cmd)}\n{proc.stderr}")
+    return exe
+
+
+def run_c_host(host: Path, fmu_dir: Path, model_identifier: str, guid: str, script: Script, *,
+               host_args: Sequence[str] = (), valgrind: bool = False,
+               timeout: float = 600.0) -> tuple[int, str, str]:
+    """Run the C host on an unzipped FMU with a clean environment; return (returncode, stdout, stderr).
+
+    ``script`` is the script text (``str``), a sequence of lines, or a path (``os.PathLike``) to an
+    existing script file.  Text is written to a temporary file that is removed afterwards.
+    The environment is only ``PATH=/usr/bin:/bin``: no PYTHONPATH, LD_LIBRARY_PATH or LD_PRELOAD.
+    ``valgrind=True`` runs under ``valgrind --leak-check=full --error-exitcode=3`` (valgrind's
+    report is at the end of stderr).  ``host_args`` go before the positional arguments
+    (e.g. ``["--no-unload"]``).
+    """
+    tmp_name = None
+    if isinstance(script, os.PathLike):
+        script_path = os.fspath(script)
+    else:
+        text = script if isinstance(script, str) else "\n".join(script)
+        fd, tmp_name = tempfile.mkstemp(prefix="fmi2_host_", suffix=".txt")
+        with os.fdopen(fd, "w") as f:
+            f.write(text if text.endswith("\n") else text + "\n")
+        script_path = tmp_name
+    cmd = [*(VALGRIND_ARGS if valgrind else ()), str(host), *host_args, str(fmu_dir),
+           model_identifier, guid, script_path]
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=dict(CLEAN_ENV),
+                              timeout=timeout)
+    finally:
+        if tmp_name is not None:
+            os.unlink(tmp_name)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def needed_libraries(path: Path) -> set[str]:
+    """DT_NEEDED entries of an ELF file (``readelf -d``); skips the test if readelf is missing."""
+    if shutil.which("readelf") is None:
+        pytest.skip("readelf is not installed")
+    out = subprocess.run(["readelf", "-d", str(path)], capture_output=True, text=True,
+                         env=CLEAN_ENV, check=True).stdout
+    return set(re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]", out))
+
+
+def stderr_value(stderr: str, key: str) -> float:
+    """The number after ``key`` on its (last) line of stderr, e.g. ``trace_seconds``."""
+    values = re.findall(rf"^{re.escape(key)} (\S+)$", stderr, flags=re.M)
+    assert values, f"{key} not in stderr:\n{stderr[-2000:]}"
+    return float(values[-1])
+
+
+def trace_rows(stdout: str) -> list[list[str]]:
+    """The ``out <t> v1 v2 ...`` lines of a trace, as lists of strings (t first)."""
+    return [line.split()[1:] for line in stdout.splitlines() if line.startswith("out ")]
+
+
+def value_lines(stdout: str) -> list[str]:
+    """Every ``real/integer/boolean/string <vr> <value>`` line, in order."""
+    return [line for line in stdout.splitlines()
+            if line.split(" ", 1)[0] in ("real", "integer", "boolean", "string")]
+
+
+def write_trace_file(path: Path, rows: Sequence[Sequence[float]]) -> Path:
+    """Rows ``t h u1 .. un`` written with repr() so the host reads back the same doubles."""
+    path.write_text("# t h u...\n" + "".join(" ".join(repr(float(v)) for v in row) + "\n"
+                                             for row in rows))
+    return path

@@ -1,0 +1,213 @@
+"""Every statistic a report shows, defined once: per-revolution statistics, profile
+metrics (deepest point, wear lobes, profile differences), impact events and the wear
+growth exponent.
+
+Per-revolution statistics come from the rows the engines accumulate
+(``layout.S_*``, one row per crank revolution, filled by
+``core.integrators.record_step``); profile metrics from a worn profile
+(``phi_deg`` in the rod frame, ``wear_depth_m``).  ``summary.json`` (MODEL.md 6), the
+validation, the co-simulation study, the wear study and the benchmarks all read
+these functions.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .core import layout as L
+
+REVOLUTION_COLUMNS = ("revolution", "impacts", "contact_fraction", "slider_acc_max_m_s2",
+                      "slider_acc_min_m_s2", "max_contact_force_N", "max_eccentricity_m",
+                      "max_wear_depth_m")
+LOBE_CENTRES_DEG = (0, 180)
+
+
+# ---------------------------------------------------------------- per-revolution statistics
+def covered(stats: np.ndarray) -> np.ndarray:
+    """Rows (revolutions) the run reached (some time accounted)."""
+    return stats[:, L.S_TIME] > 0.0
+
+
+def last_revolution(stats: np.ndarray) -> int:
+    """Index of the last revolution that was simulated (complete or partial)."""
+    rows = np.nonzero(covered(stats))[0]
+    return int(rows[-1]) if rows.size else 0
+
+
+def contact_fraction(rows: np.ndarray):
+    """Share of time in contact of statistics rows (NaN for a row without time)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return rows[..., L.S_CONTACT_TIME] / rows[..., L.S_TIME]
+
+
+def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray) -> np.ndarray:
+    """One row per revolution up to the last one simulated, columns REVOLUTION_COLUMNS
+    (``max_wear_depth_m``: at the revolution's end, NaN where not reached)."""
+    n = last_revolution(stats) + 1
+    rows = stats[:n]
+    growth = np.full(n, np.nan)
+    m = min(n, wear_growth_m.size)
+    growth[:m] = wear_growth_m[:m]
+    return np.column_stack([np.arange(n), rows[:, L.S_IMPACTS], contact_fraction(rows), rows[:, L.S_ACC_MAX],
+                            rows[:, L.S_ACC_MIN], rows[:, L.S_FORCE_MAX], rows[:, L.S_ECC_MAX], growth])
+
+
+def run_statistics(stats: np.ndarray) -> dict:
+    """The statistics of ``summary.json`` (MODEL.md 6): of the last revolution the contact
+    fraction, the impacts and the slider acceleration extremes (None if not finite); over
+    the whole run the max contact force and the max eccentricity."""
+    last = stats[last_revolution(stats)]
+    reached = covered(stats)
+
+    def finite(x):
+        return float(x) if math.isfinite(x) else None
+
+    return {
+        "max_contact_force_N": float(stats[reached, L.S_FORCE_MAX].max()) if reached.any() else 0.0,
+        "contact_fraction": float(contact_fraction(last)) if last[L.S_TIME] > 0 else 0.0,
+        "impacts_per_revolution": int(last[L.S_IMPACTS]),
+        "slider_acc_max_m_s2": finite(last[L.S_ACC_MAX]),
+        "slider_acc_min_m_s2": finite(last[L.S_ACC_MIN]),
+        "max_eccentricity_m": float(stats[reached, L.S_ECC_MAX].max()) if reached.any() else 0.0,
+    }
+
+
+def mean_revolution_statistics(stats: np.ndarray, period_s: float, samples: np.ndarray | None = None) -> dict:
+    """Robust statistics of a run for comparing runs: impacts per revolution and contact
+    fraction over all the time of the revolutions that cover more than half the longest one
+    (a sliver row after the last revolution is dropped), the per-revolution extremes
+    averaged over those revolutions and, from ``samples``, the mean eccentricity while in
+    contact."""
+    rows = stats[stats[:, L.S_TIME] > 0.5 * stats[:, L.S_TIME].max()]
+    time_s = rows[:, L.S_TIME].sum()
+    out = {
+        "impacts_per_revolution": float(rows[:, L.S_IMPACTS].sum() / (time_s / period_s)),
+        "contact_fraction": float(rows[:, L.S_CONTACT_TIME].sum() / time_s),
+        "slider_acc_max_m_s2": float(rows[:, L.S_ACC_MAX].mean()),
+        "slider_acc_min_m_s2": float(rows[:, L.S_ACC_MIN].mean()),
+        "max_contact_force_N": float(rows[:, L.S_FORCE_MAX].mean()),
+        "max_eccentricity_m": float(rows[:, L.S_ECC_MAX].mean()),
+    }
+    if samples is not None:
+        contact = samples[:, L.T_CONTACT] > 0.5
+        eccentricity = np.hypot(samples[contact, L.T_ECC_X], samples[contact, L.T_ECC_Y])
+        out["mean_eccentricity_in_contact_m"] = float(eccentricity.mean()) if eccentricity.size else float("nan")
+    return out
+
+
+def sample_statistics(samples: np.ndarray) -> dict:
+    """Statistics of a window of time-series samples (e.g. the revolution ending at a wear
+    snapshot, which need not be one row of the statistics): slider acceleration extremes
+    and the share of samples in contact (None without samples)."""
+    acc = samples[:, L.T_SLIDER_A]
+    return {"slider_acc_max_m_s2": float(acc.max()) if acc.size else None,
+            "slider_acc_min_m_s2": float(acc.min()) if acc.size else None,
+            "contact_fraction_samples": float(samples[:, L.T_CONTACT].mean()) if acc.size else None}
+
+
+def window_differences(samples: np.ndarray, reference: np.ndarray, window_s: float, columns) -> np.ndarray:
+    """``samples`` interpolated at the reference's sample times in [0, window_s] minus the
+    reference, one column per sample column in ``columns``."""
+    t = reference[reference[:, L.T_TIME] <= window_s, L.T_TIME]
+    if samples[-1, L.T_TIME] < t[-1] * (1.0 - 1e-9):
+        raise ValueError(f"run ends at {samples[-1, L.T_TIME]:.6g} s, before the window end {t[-1]:.6g} s")
+    return np.column_stack([np.interp(t, samples[:, L.T_TIME], samples[:, c]) - reference[:t.size, c]
+                            for c in columns])
+
+
+# ---------------------------------------------------------------- profile metrics
+def wrap_deg(angle):
+    """Angle(s) [deg] wrapped to [-180, 180)."""
+    return (np.asarray(angle) + 180.0) % 360.0 - 180.0
+
+
+def deepest_point(phi_deg: np.ndarray, depth_m: np.ndarray) -> dict:
+    """Max wear depth [m] and its angle (rod frame, deg in [0, 360))."""
+    deepest = int(np.argmax(depth_m))
+    return {"max_wear_depth_m": float(depth_m[deepest]), "max_wear_angle_deg": float(phi_deg[deepest] % 360.0)}
+
+
+def _half(phi_deg: np.ndarray, centre: float):
+    """Offsets [rad] from ``centre`` and the points within +-90 deg of it."""
+    offset = np.radians(wrap_deg(np.asarray(phi_deg) % 360.0 - centre))
+    return offset, np.abs(offset) < 0.5 * math.pi
+
+
+def lobes(phi_deg: np.ndarray, depth_m: np.ndarray) -> dict:
+    """The two wear lobes, centred near 0 deg and near 180 deg (rod frame), where crank and
+    rod are collinear.  A lobe is the wear within +-90 deg of its centre; its angle is the
+    depth-weighted mean angle there (a circular mean; near 0: in (-90, 90), near 180: in
+    (90, 270)), None without wear in that half; its depth is the deepest point there [m]."""
+    out = {}
+    for centre in LOBE_CENTRES_DEG:
+        offset, half = _half(phi_deg, centre)
+        weight = depth_m[half]
+        out[centre] = {
+            "angle_deg": (centre + math.degrees(math.atan2((weight * np.sin(offset[half])).sum(),
+                                                           (weight * np.cos(offset[half])).sum()))
+                          if weight.sum() > 0.0 else None),
+            "depth_m": float(weight.max()) if weight.size else 0.0}
+    return out
+
+
+def profile_features(phi_deg: np.ndarray, depth_m: np.ndarray) -> dict:
+    """The deepest point, the two lobes (:func:`lobes`) and the depth at 90 and 270 deg."""
+    lobe = lobes(phi_deg, depth_m)
+    return {**deepest_point(phi_deg, depth_m),
+            "lobe_0_angle_deg": lobe[0]["angle_deg"], "lobe_0_depth_m": lobe[0]["depth_m"],
+            "lobe_180_angle_deg": lobe[180]["angle_deg"], "lobe_180_depth_m": lobe[180]["depth_m"],
+            "depth_at_90_deg_m": float(np.interp(90.0, phi_deg, depth_m)),
+            "depth_at_270_deg_m": float(np.interp(270.0, phi_deg, depth_m))}
+
+
+def profile_decorrelation(depth_m: np.ndarray, reference_m: np.ndarray) -> float:
+    """1 - Pearson correlation of two wear profiles h(phi) (0 for identical shapes)."""
+    return float(1.0 - np.corrcoef(depth_m, reference_m)[0, 1])
+
+
+def profile_relative_l2(depth_m: np.ndarray, reference_m: np.ndarray) -> float:
+    """|h - h_ref|_2 / |h_ref|_2 [-]."""
+    return float(np.linalg.norm(depth_m - reference_m) / max(np.linalg.norm(reference_m), 1e-300))
+
+
+def profile_convergence(depth_m: np.ndarray, reference_m: np.ndarray) -> dict:
+    """Max depth relative to the reference's minus 1, and the RMS difference of the profiles
+    relative to the reference's max depth."""
+    scale = reference_m.max()
+    return {"max_depth_rel_diff": float(depth_m.max() / scale - 1.0),
+            "rms_profile_diff_rel": float(np.sqrt(np.mean((depth_m - reference_m) ** 2)) / scale)}
+
+
+def growth_exponent(revolutions, depth_m) -> float:
+    """p of depth ~ revolutions**p, least squares in log-log over the points with depth > 0."""
+    r, d = np.asarray(revolutions, float), np.asarray(depth_m, float)
+    ok = (r > 0) & (d > 0)
+    return float(np.polyfit(np.log(r[ok]), np.log(d[ok]), 1)[0]) if ok.sum() >= 2 else float("nan")
+
+
+# ---------------------------------------------------------------- impact events
+def impact_events(time_s, slider_a_m_s2, mechanism, threshold_m_s2: float, merge_deg: float) -> list[dict]:
+    """Impact events seen in the slider acceleration: clusters of samples with
+    |a - a_ideal| > threshold (a_ideal: the closed-form ideal slider-crank of the
+    ``SliderCrankParameters`` ``mechanism``); clusters closer than merge_deg of crank
+    rotation merge.  (Not the contact onsets counted as ``impacts`` per revolution.)
+
+    Returns one dict per event: start/end time [s], crank rotation at the peak [deg], peak |a - a_ideal|.
+    """
+    from .mechanism import SliderCrank
+
+    t = np.asarray(time_s)
+    deviation = np.abs(np.asarray(slider_a_m_s2) - SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"])
+    above = np.flatnonzero(deviation > threshold_m_s2)
+    if above.size == 0:
+        return []
+    merge_s = merge_deg / 360.0 * mechanism.period_s
+    splits = np.flatnonzero(np.diff(t[above]) > merge_s) + 1
+    events = []
+    for cluster in np.split(above, splits):
+        peak = cluster[np.argmax(deviation[cluster])]
+        events.append({"start_s": float(t[cluster[0]]), "end_s": float(t[cluster[-1]]),
+                       "peak_crank_rotation_deg": float((t[peak] / mechanism.period_s * 360.0) % 360.0),
+                       "peak_deviation_m_s2": float(deviation[peak])})
+    return events

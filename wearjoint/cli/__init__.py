@@ -1,0 +1,59 @@
+"""`wearjoint` command line: one module per command in this package.
+
+Each command module provides ``add_arguments(parser)`` and ``run(args) -> int``
+(its one-line help is in :data:`COMMANDS`); only the invoked command's module is imported.  Options
+shared by several commands (the model, the results folder, the FMU) are defined
+once in :mod:`wearjoint.cli.options`.  Parameter errors print one line and exit
+with status 2, never a traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from ..parameters import ParameterError
+
+# command -> (module, one-line help); kept here so that `wearjoint --help` imports no command
+COMMANDS = {
+    "simulate": ("wearjoint.cli.simulate", "monolithic slider-crank simulation (no FMI)"),
+    "build-fmu": ("wearjoint.cli.build_fmu", "build the ClearanceWearJoint FMU (FMI 2.0 co-simulation)"),
+    "cosim": ("wearjoint.cli.cosim", "co-simulate the slider-crank with the joint FMU through fmpy"),
+    "validate": ("wearjoint.cli.validate", "cross-check monolithic, FMU and exudyn runs"),
+    "wear-study": ("wearjoint.cli.wear_study", "thousands of revolutions of wear (paper Figs. 7-8)"),
+    "cosim-study": ("wearjoint.cli.cosim_study", "co-simulation error versus communication step and scheme"),
+}
+DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, "
+               "FMU co-simulation, validation and the paper's wear study.")
+
+
+def build_parser(command: str | None) -> argparse.ArgumentParser:
+    """The parser; only ``command``'s options are added (its module imported)."""
+    parser = argparse.ArgumentParser(prog="wearjoint", description=DESCRIPTION)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, (module, help_text) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        if name == command:
+            importlib.import_module(module).add_arguments(p)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    if command not in COMMANDS:
+        command = None
+    parser = build_parser(command)
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    module = importlib.import_module(COMMANDS[args.command][0])
+    try:
+        return int(module.run(args) or 0)
+    except ParameterError as exc:
+        print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+__all__ = ["main", "build_parser", "COMMANDS"]

@@ -1,0 +1,37 @@
+"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..fmu.build import BACKENDS, DEFAULT_BACKEND, build_fmu, default_fmu_path
+from ..parameters import JointParameters, ParameterError
+
+
+def add_arguments(parser) -> None:
+    """Options of ``wearjoint build-fmu``."""
+    parser.add_argument("--out", metavar="DIR", default=None,
+                        help="directory for ClearanceWearJoint.fmu (default: the user cache, keyed by the sources "
+                             "and the backend)")
+    parser.add_argument("--n-points", type=int, default=JointParameters.n_points, metavar="N",
+                        help="number of bushing points N_d, fixed in the FMU (default %(default)s)")
+    parser.add_argument("--backend", choices=BACKENDS, default=DEFAULT_BACKEND,
+                        help="native: the kernels compiled ahead of time and a C FMI layer (needs only libc/libm); "
+                             "pythonfmu: the Python slave (the host needs Python with numpy and numba) "
+                             "(default %(default)s)")
+    parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
+
+
+def run(args) -> int:
+    """Build the FMU and print its path; 0 on success, 2 with a message on stderr otherwise."""
+    try:
+        out = Path(args.out) if args.out is not None else default_fmu_path(args.n_points, args.backend).parent
+        path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend)
+    except (ParameterError, OSError, RuntimeError) as exc:
+        print(f"wearjoint build-fmu: error: {exc}", file=sys.stderr)
+        return 2
+    print(path)
+    return 0
+
+
+__all__ = ["add_arguments", "run"]

@@ -1,0 +1,83 @@
+"""`wearjoint validate`: the cross-check of the engines (:mod:`wearjoint.validation.compare`)."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..parameters import JointParameters, ParameterError
+from ..validation.compare import ENGINES, FULL, QUICK, run_validation
+from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args
+
+
+def _engine_list(text: str) -> tuple:
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    for name in names:
+        if name not in ENGINES:
+            raise ParameterError(f"parameter engines={text!r} is invalid: allowed names from " + ", ".join(ENGINES))
+    return names
+
+
+def _joint_change(engine: str, assignment: str) -> tuple[str, dict]:
+    """``--perturb ENGINE NAME=VALUE`` -> (engine, {name: value typed as the JointParameters field})."""
+    name, sep, text = assignment.partition("=")
+    defaults = JointParameters()
+    if not sep or not hasattr(defaults, name) or name.endswith("offset_m"):
+        raise ParameterError(f"parameter perturb={assignment!r} is invalid: allowed NAME=VALUE with NAME a scalar "
+                             "JointParameters field, e.g. restitution=0.5")
+    kind = type(getattr(defaults, name))
+    try:
+        value = kind(text)
+    except ValueError:
+        raise ParameterError(f"parameter perturb={assignment!r} is invalid: {name} takes a {kind.__name__}") from None
+    return engine, {name: value}
+
+
+def add_arguments(parser) -> None:
+    add_output_arguments(parser, plots=False)
+    parser.add_argument("--quick", action="store_true",
+                        help=f"short smoke version: {QUICK.revolutions:g} rev without wear, {QUICK.wear_revolutions:g} "
+                             f"rev of wear at factor {QUICK.wear_factor:g}")
+    parser.add_argument("--revolutions", type=float, default=None,
+                        help=f"revolutions of the no-wear runs (default {FULL.revolutions:g}, --quick {QUICK.revolutions:g})")
+    parser.add_argument("--wear-revolutions", type=float, default=None,
+                        help=f"revolutions of the wear run (default {FULL.wear_revolutions:g}, "
+                             f"--quick {QUICK.wear_revolutions:g}); --wear-factor sets its factor "
+                             f"(default {FULL.wear_factor:g}, --quick {QUICK.wear_factor:g}); --no-wear skips it")
+    parser.add_argument("--window", type=float, default=FULL.window_s,
+                        help="point-wise comparison over the first WINDOW seconds (default %(default)g)")
+    parser.add_argument("--engines", type=str, default=",".join(ENGINES),
+                        help="comma-separated engines to run (default %(default)s; monolithic is the reference)")
+    parser.add_argument("--perturb", nargs=2, action="append", default=[], metavar=("ENGINE", "NAME=VALUE"),
+                        help="self-check: give ENGINE a different joint parameter; the validation must then fail")
+    add_fmu_arguments(parser, fmu_file=False, when="the cosim engine")
+    add_model_arguments(parser)
+
+
+def run(args) -> int:
+    """Exit status: 0 all metrics pass, 1 a metric fails or an engine raised, 3 an engine is
+    not available, 2 bad parameters."""
+    joint, mechanism = model_from_args(args)
+    base = QUICK if args.quick else FULL
+    changes = {}
+    for engine, assignment in args.perturb:
+        engine, change = _joint_change(engine, assignment)
+        changes.setdefault(engine, {}).update(change)
+    plan = replace(base, revolutions=args.revolutions or base.revolutions,
+                   wear_revolutions=args.wear_revolutions or base.wear_revolutions,
+                   wear_factor=args.wear_factor if args.wear_factor is not None else base.wear_factor,
+                   window_s=args.window, engines=_engine_list(args.engines), run_wear=not args.no_wear,
+                   fmu_backend=args.fmu_backend)
+    summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
+    for m in summary["metrics"]:
+        if not m["passed"]:
+            print(f"FAIL {m['group']}: {m['engine']} {m['name']}: difference {m['difference']:.4g} > tolerance "
+                  f"{m['tolerance']:.4g} (scatter {m['scatter']:.4g})")
+    for gap in summary["gaps"]:
+        print(f"GAP {gap}")
+    for error in summary["errors"]:
+        print(f"ERROR {error}")
+    print(f"{'PASS' if summary['passed'] else 'FAIL'}: {summary['metrics_total'] - len(summary['metrics_failed'])} of "
+          f"{summary['metrics_total']} metrics within tolerance; report in {args.out / 'report.md'}")
+    return summary["exit_status"]
+
+
+__all__ = ["add_arguments", "run"]

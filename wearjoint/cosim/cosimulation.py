@@ -1,0 +1,236 @@
+"""The co-simulation driver: :class:`CoSimulation` (the slider-crank with its crank-rod
+joint open and one joint FMU instance, stepped by :func:`.master_loop.master_loop`),
+its options and :func:`run_cosimulation`, a whole run into a :class:`RunRecord`."""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import layout as L
+from ..core.contact import bushing_point_angles
+from ..fmu.build import BACKENDS, DEFAULT_BACKEND
+from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
+from ..mechanism import SliderCrank
+from ..parameters import (
+    JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
+)
+from ..results import RunRecord, new_revolution_stats, new_track
+from ..runner import record_run, run_in_chunks
+from .master_loop import (
+    _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
+    C_MIN_STEP, C_ONSET, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_STATUS, G_FAILED_TIME, G_FMI_TIME,
+    G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_STEPS, G_T, N_INPUTS, N_OUTPUTS, N_REGISTER, OUTPUT_NAMES, SCHEMES,
+    _monotonic_clock, communication_step, master_loop,
+)
+
+CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
+
+
+@dataclass(frozen=True)
+class CoSimulationOptions:
+    """How to co-simulate.  ``step_s``: communication step [s] (``zoh``: always;
+    ``adaptive``: while in contact).  ``max_step_s`` / ``min_step_s``: bounds of
+    the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
+    an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s]."""
+
+    revolutions: float = 2.0
+    scheme: str = "adaptive"
+    step_s: float = 5e-6     # default from validation/cosim_study.py (adaptive, 5 us)
+    max_step_s: float = 1e-4
+    min_step_s: float = 1e-9
+    onset_penetration_m: float = 1e-8
+    sample_dt_s: float = 1e-5
+
+    def __post_init__(self):
+        _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
+        _require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
+        for name in ("step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):
+            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
+        _require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
+        _require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+# ------------------------------------------------------------------ the master
+class CoSimulation:
+    """The slider-crank (crank-rod joint open) and one joint FMU instance, with the
+    same stepping interface as :class:`wearjoint.simulate.Simulation`.  Call
+    :meth:`close` (or use ``with``) to free the FMU instance.
+
+    ``fmu_path``: the FMU to load; None takes the cached build of ``fmu_backend``
+    (``wearjoint.fmu.build.BACKENDS``), built if missing.  With an explicit
+    ``fmu_path``, ``fmu_backend`` should name the backend it was built with (it is
+    recorded in the run's parameters)."""
+
+    def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                 options: CoSimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND):
+        self.options = options or CoSimulationOptions()
+        self.mechanism = SliderCrank(mechanism)
+        self.joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
+        check_joint_fits_mechanism(self.joint, self.mechanism.params)
+        _require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
+        self.fmu_backend = fmu_backend
+        self.fmu_path = ensure_fmu(self.joint.n_points, fmu_path, backend=fmu_backend)
+        n_rev = int(math.ceil(self.options.revolutions)) + 1
+        self.buf = np.zeros(B_STATS + n_rev * L.N_STATS)
+        b = self.buf
+        b[B_MP:B_MP + L.N_MECHANISM_PARAMETERS] = self.mechanism.parameter_vector
+        b[B_EXTRAPOLATE] = 1.0 if self.options.scheme in ("extrapolation", "adaptive") else 0.0
+        b[B_TRACK:B_TRACK + L.N_TRACK] = new_track(self.options.sample_dt_s)
+        b[B_STATS:] = new_revolution_stats(n_rev).ravel()
+        self.revolution_stats = b[B_STATS:].reshape((n_rev, L.N_STATS))
+        self.y = b[B_Y:B_Y + _N_Y]
+        self.outputs = b[B_OUTPUT:B_OUTPUT + N_OUTPUTS]
+        self.y[:] = self.mechanism.initial_state()
+        self.t = 0.0
+        self.communication_steps = 0
+        self.rollbacks = 0
+        self.fmi_time_s = 0.0
+        self.master_time_s = 0.0
+        self._saved = np.empty(B_ROLLBACK_END)   # y and outputs at the start of a step (rollback)
+        self._register = np.zeros(N_REGISTER)
+        self._register[G_PREVIOUS_PENETRATION] = -math.inf   # none yet
+        o = self.options
+        self._settings = np.zeros(5)
+        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET]] = (
+            1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m)
+        self._clock = _monotonic_clock()
+        self._timespec = np.zeros(2, dtype=np.int64)
+        self._slave = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
+                                  b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
+        try:
+            communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
+            self._slave.exchange(0.0)
+        except BaseException:
+            self.close()
+            raise
+
+    # -- lifetime
+    def close(self) -> None:
+        """Free the FMU instance (idempotent)."""
+        if self._slave is not None:
+            self._slave.close()
+            self._slave = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    @property
+    def fmu_log(self) -> list[tuple[int, str]]:
+        """The FMU's log messages as (FMI status, text)."""
+        return [] if self._slave is None else list(self._slave.log)
+
+    def _live_slave(self) -> FmuInstance:
+        if self._slave is None:
+            raise CoSimulationError("the FMU instance of this co-simulation has been freed (close() was called)")
+        return self._slave
+
+    # -- stepping
+    def warm_up(self) -> None:
+        """Compile :func:`master_loop` (numba) without advancing: a call over zero time."""
+        register = self._register.copy()
+        register[G_T] = self.t
+        master_loop(self.t, register, self._settings, self.buf, self._saved, np.zeros((0, L.N_SAMPLE_COLUMNS)),
+                    self.mechanism.workspace, self._live_slave().loop_functions, self._clock, self._timespec)
+
+    def advance_to(self, t_end: float, samples: np.ndarray) -> int:
+        """Co-simulate to t_end [s], writing samples into ``samples``; returns how many.
+        An FMU error raises CoSimulationError (the instance stays allocated until close())."""
+        slave = self._live_slave()
+        register = self._register
+        register[G_T] = self.t
+        register[G_STEPS:G_CONTACT_STEP] = 0.0
+        self.buf[B_TRACK + L.K_N_SAMPLES] = 0
+        wall0 = time.perf_counter()
+        try:
+            failed = master_loop(t_end, register, self._settings, self.buf, self._saved, samples,
+                                 self.mechanism.workspace, slave.loop_functions, self._clock, self._timespec)
+        finally:
+            self.t = float(register[G_T])
+            self.communication_steps += int(register[G_STEPS])
+            self.rollbacks += int(register[G_ROLLBACKS])
+            self.fmi_time_s += register[G_FMI_TIME]
+            self.master_time_s += time.perf_counter() - wall0 - register[G_FMI_TIME]
+        if failed:
+            slave.check(int(register[G_FAILED_STATUS]), FMI_CALLS[failed], float(register[G_FAILED_TIME]))
+        return int(self.buf[B_TRACK + L.K_N_SAMPLES])
+
+    # -- checkpoints
+    def checkpoint(self) -> dict:
+        """Everything needed to continue bit-identically: the master's buffer (mechanism
+        state, outputs at t, statistics, recorder), the FMU state (serializeFMUstate
+        bytes) and the counters.  Picklable."""
+        slave = self._live_slave()
+        return {"t": self.t, "buffer": self.buf.copy(), "fmu_state": slave.serialize(self.t),
+                "previous_penetration": float(self._register[G_PREVIOUS_PENETRATION]),
+                "contact_step": float(self._register[G_CONTACT_STEP]),
+                "communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
+                "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
+
+    def restore(self, checkpoint: dict) -> None:
+        """Continue from :meth:`checkpoint` (same parameters and options)."""
+        slave = self._live_slave()
+        buffer = np.asarray(checkpoint["buffer"], dtype=float)
+        if buffer.shape != self.buf.shape:
+            raise ParameterError(f"checkpoint buffer has {buffer.size} values, this co-simulation "
+                                 f"{self.buf.size} (different revolutions or version)")
+        slave.deserialize(bytes(checkpoint["fmu_state"]), float(checkpoint["t"]))
+        self.buf[:] = buffer
+        self.t = float(checkpoint["t"])
+        self._register[G_PREVIOUS_PENETRATION] = float(checkpoint["previous_penetration"])
+        self._register[G_CONTACT_STEP] = float(checkpoint["contact_step"])
+        self.communication_steps = int(checkpoint["communication_steps"])
+        self.rollbacks = int(checkpoint["rollbacks"])
+        self.fmi_time_s = float(checkpoint["fmi_time_s"])
+        self.master_time_s = float(checkpoint["master_time_s"])
+
+    # -- results
+    def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
+        values = self._live_slave().wear(self.t)
+        n = self.joint.n_points
+        return np.degrees(bushing_point_angles(n)), values[:n], float(values[n + 1])
+
+    def max_wear_depth_m(self) -> float:
+        return self._live_slave().max_wear_depth(self.t)
+
+    def set_wear_profile(self, depth_m) -> None:
+        """Not available: the FMU has no input or parameter that sets its wear profile."""
+        raise ParameterError("the joint FMU offers no way to set its wear profile (cycle jumping); "
+                             "use --wear-factor with --engine cosim")
+
+
+def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                     options: CoSimulationOptions | None = None, fmu_path=None, progress: bool = True,
+                     chunks_per_revolution: int = 8, fmu_backend: str = DEFAULT_BACKEND) -> RunRecord:
+    """Co-simulate ``options.revolutions`` crank revolutions with the joint FMU; the run's record.
+
+    Runs through :func:`wearjoint.runner.run_in_chunks` like
+    :func:`wearjoint.simulate.run_simulation` (progress bar; loading the FMU and compiling
+    the master count as ``compile_time_s``, apart from the simulation's wall time; Ctrl-C
+    keeps the finished chunks with ``completed = False``).  The FMU instance is always
+    freed.  ``extra`` holds the communication statistics.
+    """
+    o = options or CoSimulationOptions()
+    period = (mechanism or SliderCrankParameters()).period_s
+    run = run_in_chunks(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend), o.revolutions, period,
+                        o.sample_dt_s, "cosim", progress, chunks_per_revolution)
+    sim = run.engine
+    try:
+        return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint,
+                          parameters={"joint": sim.joint.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
+                                      "cosimulation": o.to_dict(), "fmu": str(sim.fmu_path),
+                                      "fmu_backend": sim.fmu_backend, "engine": "cosim"},
+                          extra={"communication_steps": sim.communication_steps, "rollbacks": sim.rollbacks,
+                                 "fmi_time_s": sim.fmi_time_s, "master_time_s": sim.master_time_s})
+    finally:
+        sim.close()

@@ -1,0 +1,291 @@
+"""The co-simulation master's communication loop, compiled with numba.
+
+One float64 buffer holds the master's state (layout ``B_*``): the mechanism state,
+the FMU outputs at t and inputs at the step's end (aliased by the ctypes arrays the
+FMI calls read and write), the forces held over a step, the RK4 scratch, the
+recorder and the per-revolution statistics.  :func:`communication_step` advances
+the mechanism over one communication step; :func:`master_loop` runs the steps,
+calling the FMU's ``fmi2DoStep``/``fmi2SetReal``/``fmi2GetReal`` (and the FMU-state
+functions for rollbacks) through their C entry points, so the master adds no
+Python work per step.  The schemes are described in :mod:`wearjoint.cosim`.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+
+import numpy as np
+from numba import njit
+
+from ..core import layout as L
+from ..core.integrators import onset_retry_step, record_step, rk4_step
+from ..core.mechanism import JointArrays, derivative
+from ..fmu.instance import N_INPUTS, c_function
+
+SCHEMES = ("zoh", "extrapolation", "adaptive")
+FMI_WARNING = 1
+
+# --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
+OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
+                "bushing_torque", "normal_force", "friction_force", "penetration", "contact",
+                "eccentricity_x", "eccentricity_y")
+OUTPUT_RESULT_INDEX = np.array([L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
+                                L.R_BUSHING_TORQUE, L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION,
+                                L.R_CONTACT, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y])
+N_OUTPUTS = len(OUTPUT_NAMES)
+O_PENETRATION = OUTPUT_NAMES.index("penetration")
+O_CONTACT = OUTPUT_NAMES.index("contact")
+
+# --- the master's state buffer: one float64 array, so the per-step kernel takes few arguments.
+# Everything a rollback restores is at its start (one copy saves it).
+_N_Y = 2 * L.N_COORDINATES
+B_Y = 0                                   # mechanism state [q, q_dot]
+B_OUTPUT = B_Y + _N_Y                     # FMU outputs at t (OUTPUT_NAMES), aliased by a ctypes array
+B_PREVIOUS_FORCES = B_OUTPUT + N_OUTPUTS  # FMU forces at the accepted point before t (extrapolation)
+B_PREVIOUS_CONTACT = B_PREVIOUS_FORCES + 6   # 1.0 if the pin touched there
+B_LAST_STEP = B_PREVIOUS_CONTACT + 1      # length of the step that ended at t [s]
+B_ROLLBACK_END = B_LAST_STEP + 1
+B_DY = B_ROLLBACK_END                     # f(t, y) with the held forces
+B_INPUT = B_DY + _N_Y                     # FMU inputs at the end of the step, aliased by a ctypes array
+B_RESULT = B_INPUT + N_INPUTS             # outputs in the layout.R_* result layout (for record_step)
+B_FORCES = B_RESULT + L.N_RESULT          # (Fx, Fy, T) on the crank then the rod
+B_STAGES = B_FORCES + 6                   # RK4 stage scratch (4 rows of the state size)
+B_TRACK = B_STAGES + 4 * _N_Y             # record_step bookkeeping (samples, previous contact)
+B_MP = B_TRACK + L.N_TRACK                # mechanism parameter vector
+B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces during contact
+B_STATS = B_EXTRAPOLATE + 1               # per-revolution statistics (rows of layout.N_STATS)
+
+
+# --- master_loop's register: the loop's state between calls, its counters and its failure
+G_T = 0                  # time reached [s]
+G_PREVIOUS_PENETRATION = 1   # FMU penetration at the accepted point before t [m]
+G_STEPS = 2              # communication steps accepted (this call)
+G_ROLLBACKS = 3          # rollbacks (this call)
+G_FMI_TIME = 4           # wall time in FMI calls (this call) [s]
+G_FAILED_CALL = 5        # index into FMI_CALLS of the call that failed, 0 if none
+G_FAILED_STATUS = 6      # its fmi2Status
+G_FAILED_TIME = 7        # the communication point it was made for [s]
+G_CONTACT_STEP = 8       # adaptive: the communication step in contact now [s] (0: step_s)
+N_REGISTER = 9
+# adaptive contact step: the relative miss of the extrapolated contact force that halves it (else
+# it grows back to step_s), and its floor as a share of step_s (force jumps, e.g. friction reversing
+# or the deepest bushing point moving on, miss at any step and must not drive it to nothing)
+_MISS_SHRINK = 0.3
+_SMALLEST_CONTACT_STEP = 1.0 / 16.0
+_MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching) is not stiff
+FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
+             "fmi2FreeFMUstate")
+F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
+# --- master_loop's settings
+C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET = range(5)
+
+
+@njit(cache=True)
+def _extrapolates(buf):
+    """True if the next step holds extrapolated forces: the scheme extrapolates and the pin
+    touched the bushing at t and at the accepted point before."""
+    return (buf[B_EXTRAPOLATE] > 0.5 and buf[B_OUTPUT + O_CONTACT] > 0.5 and buf[B_PREVIOUS_CONTACT] > 0.5
+            and buf[B_LAST_STEP] > 0.0)
+
+
+@njit(cache=True)
+def communication_step(t, h, record, buf, ws, samples):
+    """One communication step of the master; returns the time reached [s].
+
+    From the FMU outputs at t (``buf[B_OUTPUT:]``) sets the forces and f(t, y);
+    if ``record``, accounts the point t (``record_step``, the step that ended
+    there being ``buf[B_LAST_STEP]``); if h > 0, integrates y over [t, t + h]
+    with one RK4 step (``rk4_step``, MODE_EXTERNAL), the forces held at their value at t or,
+    with extrapolation in persisting contact, at the mean of their linear
+    extrapolation.  Writes the FMU inputs at the time reached (crank = pin
+    body, rod = bushing body).
+    """
+    n = L.N_COORDINATES
+    y = buf[B_Y:B_Y + 2 * n]
+    dy = buf[B_DY:B_DY + 2 * n]
+    outputs = buf[B_OUTPUT:B_OUTPUT + N_OUTPUTS]
+    result = buf[B_RESULT:B_RESULT + L.N_RESULT]
+    forces = buf[B_FORCES:B_FORCES + 6]
+    mp = buf[B_MP:B_MP + L.N_MECHANISM_PARAMETERS]
+    for k in range(N_OUTPUTS):
+        result[OUTPUT_RESULT_INDEX[k]] = outputs[k]
+    for k in range(6):
+        forces[k] = outputs[k]
+    # derivative takes the in-process joint's arrays; MODE_EXTERNAL reads none of them
+    joint = JointArrays(mp, mp, mp, mp, mp, mp, np.zeros(0, dtype=np.bool_), result)
+    derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+    if record:
+        stats = buf[B_STATS:].reshape((-1, L.N_STATS))
+        record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
+    previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
+    if h > 0.0:
+        if _extrapolates(buf):
+            # in contact at t and at the point before: hold the mean over [t, t + h]
+            # of the forces' linear extrapolation instead of their value at t
+            slope = 0.5 * h / buf[B_LAST_STEP]
+            for k in range(6):
+                forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
+            derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+        rk4_step(t, y, h, L.MODE_EXTERNAL, mp, joint, forces, ws, dy,
+                 buf[B_STAGES:B_STAGES + 4 * 2 * n].reshape((4, 2 * n)))
+        for k in range(6):
+            previous[k] = outputs[k]
+        buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
+        buf[B_LAST_STEP] = h
+        t = t + h
+    inputs = buf[B_INPUT:B_INPUT + N_INPUTS]
+    for k in range(3):
+        inputs[k] = y[L.CRANK + k]
+        inputs[3 + k] = y[n + L.CRANK + k]
+        inputs[6 + k] = y[L.ROD + k]
+        inputs[9 + k] = y[n + L.ROD + k]
+    return t
+
+
+@njit(cache=True)
+def _seconds(clock, timespec):
+    """Monotonic clock [s] through libc's clock_gettime (CLOCK_MONOTONIC)."""
+    clock(1, timespec.ctypes.data)
+    return timespec[0] + 1e-9 * timespec[1]
+
+
+@njit(cache=True)
+def _failed(register, call, status, t):
+    register[G_FAILED_CALL] = call
+    register[G_FAILED_STATUS] = status
+    register[G_FAILED_TIME] = t
+
+
+@njit(cache=True)
+def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, timespec):
+    """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
+    call that returned worse than fmi2Warning (details in ``register``).
+
+    ``fmi`` = (component, input value references, output value references, FMU-state
+    slot (addresses), doStep, setReal, getReal, getFMUstate, setFMUstate,
+    freeFMUstate): the FMU's C functions, called with the buffers' addresses.
+    Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT).
+    Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
+    at the start of a free-flight step, the FMU state slot the matching FMU state.
+    """
+    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
+    adaptive = settings[C_ADAPTIVE] > 0.5
+    h_contact = settings[C_STEP]
+    h_max = settings[C_MAX_STEP]
+    h_min = settings[C_MIN_STEP]
+    onset = settings[C_ONSET]
+    inputs = buf.ctypes.data + B_INPUT * 8
+    outputs = buf.ctypes.data + B_OUTPUT * 8
+    t = register[G_T]
+    pen_before = register[G_PREVIOUS_PENETRATION]
+    record = False                    # the point t was accounted when it was accepted
+    retry_step = 0.0
+    steps = 0
+    rollbacks = 0
+    fmi_time = 0.0
+    failed = 0
+    t_stop = t_end * (1.0 - 1e-15)
+    h_touching = register[G_CONTACT_STEP] if register[G_CONTACT_STEP] > 0.0 else h_contact
+    while t < t_stop:
+        pen = buf[B_OUTPUT + O_PENETRATION]
+        free = buf[B_OUTPUT + O_CONTACT] < 0.5
+        # forces predicted for the step's end where the contact persists (extrapolation)
+        extrapolating = adaptive and _extrapolates(buf)
+        fx_t = buf[B_OUTPUT]
+        fy_t = buf[B_OUTPUT + 1]
+        fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
+        fy_slope = (fy_t - buf[B_PREVIOUS_FORCES + 1]) / buf[B_LAST_STEP] if extrapolating else 0.0
+        if free:
+            h_touching = h_contact
+        if retry_step > 0.0:
+            h = retry_step
+        elif adaptive and free:
+            h = h_max
+            rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
+            if rate > 0.0:                       # approaching the wall: aim just past the onset
+                h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
+            saved[:] = buf[:B_ROLLBACK_END]
+            c1 = _seconds(clock, timespec)
+            if state_slot[0] != 0:
+                status = free_state(component, state_slot.ctypes.data)
+                state_slot[0] = 0
+                if status > FMI_WARNING:
+                    failed = F_FREE_STATE
+                    _failed(register, failed, status, t)
+                    break
+            status = get_state(component, state_slot.ctypes.data)
+            fmi_time += _seconds(clock, timespec) - c1
+            if status > FMI_WARNING:
+                failed = F_GET_STATE
+                _failed(register, failed, status, t)
+                break
+        else:
+            h = h_touching if adaptive else h_contact
+        h = min(h, t_end - t)
+        t_new = communication_step(t, h, record, buf, ws, samples)
+        record = False
+        c2 = _seconds(clock, timespec)
+        status = do_step(component, t, t_new - t, 1)
+        if status > FMI_WARNING:
+            failed = F_DO_STEP
+            _failed(register, failed, status, t)
+            break
+        status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
+        if status > FMI_WARNING:
+            failed = F_SET_REAL
+            _failed(register, failed, status, t_new)
+            break
+        status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
+        fmi_time += _seconds(clock, timespec) - c2
+        if status > FMI_WARNING:
+            failed = F_GET_REAL
+            _failed(register, failed, status, t_new)
+            break
+        retry = onset_retry_step(adaptive and free, pen, buf[B_OUTPUT + O_PENETRATION], onset, h, h_min)
+        if retry > 0.0:
+            # the step crossed a contact onset too deep: back to t, retry to end just past it
+            buf[:B_ROLLBACK_END] = saved
+            c1 = _seconds(clock, timespec)
+            status = set_state(component, state_slot[0])
+            fmi_time += _seconds(clock, timespec) - c1
+            if status > FMI_WARNING:
+                failed = F_SET_STATE
+                _failed(register, failed, status, t)
+                break
+            retry_step = retry
+            rollbacks += 1
+            continue
+        if extrapolating:
+            # stiff contact (deep, or damped hard after a slow onset) makes the explicit
+            # coupling unstable at a fixed step: shrink the contact step while the force at
+            # the step's end misses its extrapolation, grow it back to step_s once it agrees
+            fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
+            fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
+            scale = max(math.hypot(buf[B_OUTPUT], buf[B_OUTPUT + 1]), math.hypot(fx_t, fy_t), _MISS_FORCE_FLOOR)
+            miss = math.hypot(fx_miss, fy_miss) / scale
+            if miss > _MISS_SHRINK:
+                h_touching = max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h)
+            else:
+                h_touching = min(h_contact, 1.25 * h_touching)
+        retry_step = 0.0
+        pen_before = pen
+        t = t_new
+        record = True
+        steps += 1
+    register[G_CONTACT_STEP] = h_touching
+    if record and failed == 0:
+        communication_step(t, 0.0, True, buf, ws, samples)
+    register[G_T] = t
+    register[G_PREVIOUS_PENETRATION] = pen_before
+    register[G_STEPS] = steps
+    register[G_ROLLBACKS] = rollbacks
+    register[G_FMI_TIME] = fmi_time
+    return failed
+
+
+_CLOCK_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int, ctypes.c_void_p)
+
+
+def _monotonic_clock():
+    """libc's clock_gettime, for master_loop's split of FMI time and master time."""
+    return c_function(ctypes.CDLL(None).clock_gettime, _CLOCK_CALL)
