@@ -1,0 +1,242 @@
+"""Property tests (hypothesis) at the boundary users touch: random valid parameters and finite
+kinematics in, for the in-process ClearanceJoint and for the native FMU.
+
+Properties: finite outputs; pin force = -bushing force (Eq. 22); torques consistent with the
+lever arms (Eqs. 21, 23: recomputed here from the contact angle, and the moment balance
+T_i + T_j - (r_j - r_i) x F_i = delta F_t, since the two contact points are delta n apart);
+evaluate changes no state; serialise -> deserialise gives the same outputs; the FMU gives the
+joint's numbers; invalid parameters give an error, never a crash.
+"""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from wearjoint import ClearanceJoint, JointParameters, ParameterError
+from wearjoint.fmu import variables as fv
+from wearjoint.parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS
+
+PROPERTY_SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+N_POINTS = 64   # the FMU's N_d is fixed at build time: a small native build for these tests
+
+
+def _finite(lo, hi):
+    return st.floats(lo, hi, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def joint_parameters(draw) -> JointParameters:
+    pin_radius = draw(_finite(1e-3, 5e-2))
+    v0 = draw(_finite(0.0, 1e-2))
+    return JointParameters(
+        pin_radius_m=pin_radius, bushing_radius_m=pin_radius + draw(_finite(1e-6, 1e-3)),
+        pin_offset_m=(draw(_finite(-0.2, 0.2)), draw(_finite(-0.2, 0.2))),
+        bushing_offset_m=(draw(_finite(-0.2, 0.2)), draw(_finite(-0.2, 0.2))),
+        contact_length_m=draw(_finite(1e-3, 5e-2)), pin_youngs_modulus_Pa=draw(_finite(1e9, 1e12)),
+        pin_poisson_ratio=draw(_finite(0.01, 0.49)), bushing_youngs_modulus_Pa=draw(_finite(1e9, 1e12)),
+        bushing_poisson_ratio=draw(_finite(0.01, 0.49)), contact_stiffness_N_m1_5=draw(_finite(1e8, 1e12)),
+        contact_exponent=draw(_finite(1.0, 2.0)), restitution=draw(_finite(0.05, 1.0)),
+        friction_coefficient=draw(_finite(0.0, 0.5)), friction_v0_m_s=v0,
+        friction_v1_m_s=v0 + draw(_finite(1e-4, 0.1)), wear_coefficient_m2_N=draw(_finite(0.0, 1e-8)),
+        wear_factor=draw(_finite(0.0, 100.0)), n_points=N_POINTS, rho_mode=draw(st.sampled_from(RHO_MODES)),
+        wear_placement=draw(st.sampled_from(WEAR_PLACEMENTS)),
+        sliding_distance=draw(st.sampled_from(SLIDING_DISTANCES)),
+        impact_velocity_floor_m_s=draw(_finite(1e-5, 1e-2)))
+
+
+def _rotate(angle, x, y):
+    c, s = math.cos(angle), math.sin(angle)
+    return c * x - s * y, s * x + c * y
+
+
+@st.composite
+def kinematics(draw, p: JointParameters):
+    """(pin body, bushing body) kinematics with the pin centre from the bushing centre at up to the
+    clearance + 2 % of it (free flight and contact), any direction, any velocities."""
+    bushing_angle, pin_angle = draw(_finite(-10.0, 10.0)), draw(_finite(-10.0, 10.0))
+    bx, by = draw(_finite(-1.0, 1.0)), draw(_finite(-1.0, 1.0))
+    ox, oy = _rotate(bushing_angle, *p.bushing_offset_m)
+    e = p.clearance_m * draw(_finite(0.0, 1.02))
+    direction = draw(_finite(0.0, 2 * math.pi))
+    px, py = _rotate(pin_angle, *p.pin_offset_m)
+    pin_body = (bx + ox + e * math.cos(direction) - px, by + oy + e * math.sin(direction) - py)
+    velocities = [draw(_finite(-10.0, 10.0)) for _ in range(6)]
+    pin = np.array([*pin_body, pin_angle, *velocities[:3]])
+    bushing = np.array([bx, by, bushing_angle, *velocities[3:]])
+    return pin, bushing
+
+
+@st.composite
+def joint_and_kinematics(draw):
+    p = draw(joint_parameters())
+    return p, draw(kinematics(p)), draw(st.lists(kinematics(p), min_size=0, max_size=5))
+
+
+def _result_vector(r) -> np.ndarray:
+    return np.array([*r.pin_force, *r.bushing_force, r.normal_force_N, r.friction_force_N, r.penetration_m,
+                     float(r.in_contact), r.contact_angle_rad, *r.eccentricity_m])
+
+
+def _lever_arm_torque(p: JointParameters, joint: ClearanceJoint, pin, bushing, r) -> float:
+    """Eq. 21 recomputed from the outputs: the pin's contact point is R_i along n from the pin
+    centre, n pointing to the deepest bushing point (at the contact angle, radius R_j + h)."""
+    k = r.contact_index
+    rho = p.bushing_radius_m + joint.wear_depth[k]
+    lx, ly = _rotate(bushing[2], p.bushing_offset_m[0] + rho * joint.cos_phi[k],
+                     p.bushing_offset_m[1] + rho * joint.sin_phi[k])
+    point = (bushing[0] + lx, bushing[1] + ly)
+    ax, ay = _rotate(pin[2], *p.pin_offset_m)
+    centre = (pin[0] + ax, pin[1] + ay)
+    d = math.hypot(point[0] - centre[0], point[1] - centre[1])
+    n = ((point[0] - centre[0]) / d, (point[1] - centre[1]) / d)
+    arm = (centre[0] + p.pin_radius_m * n[0] - pin[0], centre[1] + p.pin_radius_m * n[1] - pin[1])
+    return arm[0] * r.pin_force[1] - arm[1] * r.pin_force[0]
+
+
+@PROPERTY_SETTINGS
+@given(joint_and_kinematics())
+def test_forces_are_finite_opposite_and_balanced(case):
+    p, (pin, bushing), history = case
+    joint = ClearanceJoint(p)
+    for h_pin, h_bushing in history:     # some wear and contact memory first
+        joint.advance(h_pin, h_bushing, 1e-4)
+    before = joint.state_to_bytes()
+    r = joint.evaluate(pin, bushing)
+    assert np.all(np.isfinite(_result_vector(r)))
+    assert joint.state_to_bytes() == before                           # evaluate changes no state
+    assert np.array_equal(_result_vector(joint.evaluate(pin, bushing)), _result_vector(r))
+    assert r.bushing_force[:2] == (-r.pin_force[0], -r.pin_force[1])  # Eq. 22
+    assert r.in_contact == (r.penetration_m >= 0.0)
+    scale = max(1.0, abs(r.normal_force_N) + abs(r.friction_force_N))
+    if r.in_contact:
+        assert r.pin_force[2] == pytest.approx(_lever_arm_torque(p, joint, pin, bushing, r), abs=1e-9 * scale)
+        ri, rj = pin[:2], bushing[:2]
+        transfer = (rj[0] - ri[0]) * r.pin_force[1] - (rj[1] - ri[1]) * r.pin_force[0]
+        balance = r.pin_force[2] + r.bushing_force[2] - transfer
+        assert balance == pytest.approx(r.penetration_m * r.friction_force_N, abs=1e-9 * scale)
+    else:
+        assert r.pin_force == (0.0, 0.0, 0.0) and r.bushing_force == (0.0, 0.0, 0.0)
+
+
+@PROPERTY_SETTINGS
+@given(joint_and_kinematics())
+def test_state_round_trip_gives_the_same_outputs(case):
+    p, (pin, bushing), history = case
+    joint = ClearanceJoint(p)
+    for h_pin, h_bushing in history:
+        joint.advance(h_pin, h_bushing, 1e-4)
+    copy = ClearanceJoint(p)
+    copy.state_from_bytes(joint.state_to_bytes())
+    assert np.array_equal(_result_vector(copy.evaluate(pin, bushing)), _result_vector(joint.evaluate(pin, bushing)))
+    assert copy.state_to_bytes() == joint.state_to_bytes()
+
+
+INVALID = st.one_of(
+    st.tuples(st.just("restitution"), st.one_of(_finite(-1.0, 0.0), _finite(1.0 + 1e-9, 10.0))),
+    st.tuples(st.just("pin_poisson_ratio"), st.one_of(_finite(-1.0, 0.0), _finite(0.5, 2.0))),
+    st.tuples(st.just("contact_stiffness_N_m1_5"), st.one_of(_finite(-1e12, 0.0), st.just(math.inf))),
+    st.tuples(st.just("friction_coefficient"), _finite(-10.0, -1e-12)),
+    st.tuples(st.just("wear_factor"), st.one_of(_finite(-1e3, -1e-12), st.just(math.nan))),
+    st.tuples(st.just("bushing_radius_m"), _finite(0.0, 0.0100)),
+    st.tuples(st.just("contact_length_m"), _finite(-1.0, 0.0)),
+)
+
+
+@PROPERTY_SETTINGS
+@given(INVALID)
+def test_invalid_parameters_raise_naming_them(bad):
+    name, value = bad
+    with pytest.raises(ParameterError, match=name):
+        JointParameters(**{name: value})
+
+
+# ------------------------------------------------------------- the native FMU, same properties
+FIELD_TO_VARIABLE = {p.field if p.component is None else (p.field, p.component): p for p in fv.PARAMETERS}
+
+
+@pytest.fixture(scope="module")
+def small_native(tmp_path_factory):
+    fmpy = pytest.importorskip("fmpy")
+    from wearjoint.fmu.build import build_fmu
+
+    path = build_fmu(tmp_path_factory.mktemp("native64"), n_points=N_POINTS, backend="native")
+    md = fmpy.read_model_description(str(path))
+    return {"md": md, "dir": fmpy.extract(str(path)), "vr": fv.value_references(md)}
+
+
+def _instance(small_native, p: JointParameters | None, invalid: tuple | None = None):
+    from fmpy.fmi2 import FMU2Slave
+
+    fmu = FMU2Slave(guid=small_native["md"].guid, unzipDirectory=small_native["dir"],
+                    modelIdentifier=fv.MODEL_NAME, instanceName="property")
+    fmu.instantiate(loggingOn=False)
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    vr = small_native["vr"]
+    if p is not None:
+        values = fv.fmi_parameter_values(p)
+        integers = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
+        fmu.setReal([vr[k] for k in values if k not in integers], [v for k, v in values.items() if k not in integers])
+        fmu.setInteger([vr[k] for k in integers], [values[k] for k in integers])
+    if invalid is not None:
+        name, value = invalid
+        fmu.setReal([vr[name]], [value])
+    return fmu
+
+
+FMU_OUTPUTS = ["pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y", "bushing_torque",
+               "normal_force", "friction_force", "penetration", "contact", "contact_angle", "eccentricity_x",
+               "eccentricity_y"]
+
+
+@PROPERTY_SETTINGS
+@given(case=joint_and_kinematics())
+def test_native_fmu_gives_the_joints_numbers_and_round_trips_its_state(small_native, case):
+    p, (pin, bushing), history = case
+    vr = small_native["vr"]
+    inputs = [vr[v.name] for v in fv.INPUTS]
+    outputs = [vr[n] for n in FMU_OUTPUTS]
+    wear = [vr[fv.wear_depth_name(z)] for z in range(1, N_POINTS + 1)]
+    joint = ClearanceJoint(p)
+    fmu = _instance(small_native, p)
+    try:
+        fmu.exitInitializationMode()
+        for k, (h_pin, h_bushing) in enumerate(history):
+            fmu.setReal(inputs, [*h_pin, *h_bushing])
+            fmu.doStep(k * 1e-4, 1e-4)
+            joint.advance(h_pin, h_bushing, 1e-4)
+        fmu.setReal(inputs, [*pin, *bushing])
+        first = fmu.getReal(outputs)
+        assert fmu.getReal(outputs) == first                   # evaluation changes nothing
+        assert np.all(np.isfinite(first))
+        assert first[3:5] == [-first[0], -first[1]]
+        assert first == _result_vector(joint.evaluate(pin, bushing)).tolist()
+        assert fmu.getReal(wear) == joint.wear_depth.tolist()
+        restored = _instance(small_native, None)
+        try:
+            restored.exitInitializationMode()
+            restored.setFMUstate(restored.deSerializeFMUstate(fmu.serializeFMUstate(fmu.getFMUstate())))
+            assert restored.getReal(outputs) == first
+            assert restored.getReal(wear) == joint.wear_depth.tolist()
+        finally:
+            restored.freeInstance()
+    finally:
+        fmu.freeInstance()
+
+
+@PROPERTY_SETTINGS
+@given(bad=INVALID)
+def test_native_fmu_refuses_invalid_parameters_with_an_error(small_native, bad):
+    from fmpy.fmi1 import FMICallException
+
+    name, value = bad
+    variable = FIELD_TO_VARIABLE[name].variable.name
+    fmu = _instance(small_native, None, (variable, value))
+    try:
+        with pytest.raises(FMICallException) as failure:
+            fmu.exitInitializationMode()
+        assert failure.value.status == 3
+    finally:
+        fmu.freeInstance()
