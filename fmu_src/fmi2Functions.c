@@ -611,11 +611,16 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
                     step_size, current_time);
         return fmi2Discard;
     }
+    /* the forces read since the inputs changed are the evaluation the step accepts: no second one */
     int32_t changed = 0;
-    if (!kernel_ok(inst, "wearjoint_advance",
-                   wearjoint_advance(&changed, NULL, inst->inputs, inst->joint_parameters, inst->cos_phi,
-                                     inst->sin_phi, inst->wear_depth, inst->block_min, inst->memory, inst->result,
-                                     inst->mask, inst->n_points, inst->n_blocks, step_size)))
+    int32_t status = inst->forces_stale
+                         ? wearjoint_advance(&changed, NULL, inst->inputs, inst->joint_parameters, inst->cos_phi,
+                                             inst->sin_phi, inst->wear_depth, inst->block_min, inst->memory,
+                                             inst->result, inst->mask, inst->n_points, inst->n_blocks, step_size)
+                         : wearjoint_accept(&changed, NULL, inst->inputs, inst->joint_parameters, inst->cos_phi,
+                                            inst->sin_phi, inst->wear_depth, inst->block_min, inst->memory,
+                                            inst->result, inst->mask, inst->n_points, inst->n_blocks, step_size);
+    if (!kernel_ok(inst, "wearjoint_advance", status))
         return fmi2Error;
     if (changed)
         inst->wear_summary_stale = 1;

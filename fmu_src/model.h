@@ -25,6 +25,12 @@ int32_t wearjoint_advance(int32_t *changed, void *excinfo, const double *kinemat
                           const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
                           double *memory, double *result, void *mask, int64_t n_points, int64_t n_blocks, double dt);
 
+/* wearjoint_advance when result already holds the evaluation at these kinematics and this state:
+ * the wear and onset update only. */
+int32_t wearjoint_accept(int32_t *changed, void *excinfo, const double *kinematics, const double *joint_parameters,
+                         const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
+                         double *memory, double *result, void *mask, int64_t n_points, int64_t n_blocks, double dt);
+
 /* Bushing point angles phi_z = z 2 pi / N_d (Eq. 3), their cosines and sines. */
 int32_t wearjoint_bushing_points(int32_t *status, void *excinfo, double *phi, double *cos_phi, double *sin_phi,
                                  int64_t n_points);

@@ -32,6 +32,7 @@ from pathlib import Path
 ENTRY_POINTS = {
     "wearjoint_evaluate": "evaluate_native",
     "wearjoint_advance": "advance_native",
+    "wearjoint_accept": "accept_native",
     "wearjoint_bushing_points": "bushing_points_native",
     "wearjoint_block_minima": "block_minima_native",
     "wearjoint_worn_volume": "worn_volume_native",

@@ -13,7 +13,7 @@ from numba import carray, cfunc, types
 
 from ..core.contact import block_minimum_depth, bushing_points, evaluate_contact
 from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
-from ..core.wear import advance_joint, complete_joint_parameters, worn_volume
+from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
 
 _F64 = types.CPointer(types.float64)
 # (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
@@ -44,6 +44,20 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
                             carray(mask, n_points, dtype=np.bool_), carray(result, N_RESULT))
+    return 1 if changed else 0
+
+
+@cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
+def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, n_points, n_blocks,
+                  dt):
+    """:func:`advance_native` when ``result`` already holds the evaluation at these kinematics and
+    this state (the forces were read since the inputs last changed): the wear and onset update
+    only, without evaluating the contact again; returns 1 if the joint's state changed, else 0."""
+    k = carray(kinematics, 12)
+    changed = accept_contact(carray(result, N_RESULT), k[3:6], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
+                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
+                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
+                             carray(mask, n_points, dtype=np.bool_))
     return 1 if changed else 0
 
 
