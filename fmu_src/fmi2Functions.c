@@ -85,14 +85,23 @@ static void log_message(const Instance *inst, fmi2Status status, const char *for
 {
     if (status < fmi2Error && !inst->logging_on)
         return;
-    char text[1024];
+    char text[1024], escaped[2 * sizeof text];
     va_list args;
     va_start(args, format);
     vsnprintf(text, sizeof text, format, args);
     va_end(args);
+    /* the complete message as the logger's format, '%' doubled: hosts that do not format
+     * (a ctypes callback cannot read variadic arguments) show it as it is */
+    size_t n = 0;
+    for (const char *c = text; *c != '\0'; c++) {
+        if (*c == '%')
+            escaped[n++] = '%';
+        escaped[n++] = *c;
+    }
+    escaped[n] = '\0';
     const char *category = status >= fmi2Error ? "logStatusError" : status == fmi2Warning ? "logStatusWarning"
                                                                                            : "logAll";
-    inst->callbacks.logger(inst->callbacks.componentEnvironment, inst->name, status, category, "%s", text);
+    inst->callbacks.logger(inst->callbacks.componentEnvironment, inst->name, status, category, escaped);
 }
 
 /* ------------------------------------------------------------------ names and numbers */

@@ -1,6 +1,6 @@
 """The fmpy co-simulation master (wearjoint.cosim) against the monolithic engine.
 
-The FMU is built once per session (fixture ``built_fmu``).  Pointwise agreement is
+The FMUs are built once per session (fixtures ``native_fmu``, ``built_fmu`` for pythonfmu).  Pointwise agreement is
 checked only over the first 15 ms (the motion is chaotic afterwards), with the
 tolerance taken from two equally valid monolithic runs (RK4 1 us and DOPRI).
 """
@@ -16,12 +16,12 @@ from wearjoint import cli  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation  # noqa: E402
 from wearjoint.cosim import cosimulation, master_loop  # noqa: E402
-from wearjoint.parameters import JointParameters, SliderCrankParameters  # noqa: E402
+from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.simulate import SimulationOptions, run_simulation  # noqa: E402
 
 WINDOW_S = 0.015
 PERIOD_S = SliderCrankParameters().period_s
-NO_WEAR = JointParameters(wear_factor=0.0)
+NO_WEAR = paper_joint(wear_factor=0.0)
 
 
 def pin_path(record):
@@ -49,23 +49,24 @@ def monolithic_window():
 
 
 @pytest.mark.parametrize("scheme", ["extrapolation", "adaptive"])
-def test_cosimulation_reproduces_the_monolithic_run_over_the_first_15_ms(built_fmu, monolithic_window, scheme):
+def test_cosimulation_reproduces_the_monolithic_run_over_the_first_15_ms(any_fmu, monolithic_window, scheme):
+    backend, built_fmu = any_fmu
     rk4, dopri = monolithic_window
     assert rk4.samples[:, L.T_CONTACT].any(), "the window must contain impacts"
     tolerance = max_deviation(dopri, rk4)          # scatter of two valid monolithic runs
     record = run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=WINDOW_S / PERIOD_S, scheme=scheme,
                                                                  step_s=1e-6), fmu_path=built_fmu, progress=False,
-                              fmu_backend="pythonfmu")
+                              fmu_backend=backend)
     assert record.simulated_time_s == pytest.approx(WINDOW_S)
     deviation = max_deviation(record, rk4)
     assert np.all(deviation <= tolerance), (deviation, tolerance)
 
 
-def test_zero_order_hold_and_the_adaptive_scheme_both_run(built_fmu):
+def test_zero_order_hold_and_the_adaptive_scheme_both_run(native_fmu):
     """Both schemes go through contact; the adaptive one needs far fewer steps in free flight."""
     rev = 0.02                                      # 8 ms: free flight, then the first impacts
     runs = {scheme: run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=rev, scheme=scheme, step_s=2e-6),
-                                     fmu_path=built_fmu, progress=False, fmu_backend="pythonfmu")
+                                     fmu_path=native_fmu, progress=False, fmu_backend="native")
             for scheme in ("zoh", "adaptive")}
     for record in runs.values():
         assert record.completed and record.samples[:, L.T_CONTACT].any()
@@ -77,20 +78,20 @@ def test_zero_order_hold_and_the_adaptive_scheme_both_run(built_fmu):
     assert runs["adaptive"].extra["rollbacks"] >= 1
 
 
-def test_checkpoint_restore_continues_bit_identically(built_fmu):
+def test_checkpoint_restore_continues_bit_identically(native_fmu):
     """With wear on, through pickle, across contact onsets and rollbacks (adaptive)."""
     options = CoSimulationOptions(revolutions=0.05, scheme="adaptive", step_s=2e-6)
-    joint = JointParameters()
+    joint = paper_joint()
     samples_a = np.zeros((400, L.N_SAMPLE_COLUMNS))
     samples_b = np.zeros_like(samples_a)
-    with CoSimulation(joint, None, options, fmu_path=built_fmu, fmu_backend="pythonfmu") as a:
+    with CoSimulation(joint, None, options, fmu_path=native_fmu, fmu_backend="native") as a:
         a.advance_to(0.004, samples_a)                 # past the first impact (~3.1 ms)
         saved = pickle.loads(pickle.dumps(a.checkpoint()))
         n_a = a.advance_to(0.009, samples_a)
         wear_a = a.wear_profile()[1]
         buf_a = a.buf.copy()
         assert a.max_wear_depth_m() > 0.0
-    with CoSimulation(joint, None, options, fmu_path=built_fmu, fmu_backend="pythonfmu") as b:
+    with CoSimulation(joint, None, options, fmu_path=native_fmu, fmu_backend="native") as b:
         b.restore(saved)
         n_b = b.advance_to(0.009, samples_b)
         np.testing.assert_array_equal(b.buf, buf_a)
@@ -105,14 +106,14 @@ SUMMARY_KEYS = ("revolutions", "simulated_time_s", "wall_time_s", "realtime_fact
                 "communication_steps", "rollbacks", "fmi_time_s", "master_time_s", "compile_time_s")
 
 
-def test_cli_writes_the_results_contract(built_fmu, tmp_path, capsys):
+def test_cli_writes_the_results_contract(native_fmu, tmp_path, capsys):
     out = tmp_path / "run"
-    code = cli.main(["cosim", "--revolutions", "0.02", "--out", str(out), "--quiet", "--fmu", str(built_fmu),
-                     "--fmu-backend", "pythonfmu", "--wear-factor", "0.1"])
+    code = cli.main(["cosim", "--revolutions", "0.02", "--out", str(out), "--quiet", "--fmu", str(native_fmu),
+                     "--fmu-backend", "native", "--wear-factor", "0.1"])
     assert code == 0
     summary = json.loads((out / "summary.json").read_text())
     assert set(SUMMARY_KEYS) <= set(summary)
-    assert summary["parameters"]["engine"] == "cosim" and summary["parameters"]["fmu_backend"] == "pythonfmu"
+    assert summary["parameters"]["engine"] == "cosim" and summary["parameters"]["fmu_backend"] == "native"
     # FMU loading and JIT compilation are reported apart: the real-time factor is the simulation's alone
     assert summary["compile_time_s"] > 0.0 and summary["wall_time_s"] > 0.0
     assert summary["realtime_factor"] == pytest.approx(summary["simulated_time_s"] / summary["wall_time_s"])
@@ -129,16 +130,16 @@ def test_cli_writes_the_results_contract(built_fmu, tmp_path, capsys):
 
 @pytest.mark.parametrize("option, value, name", [("--friction-coefficient", "-1", "friction_coefficient"),
                                                  ("--step", "-1e-6", "step_s")])
-def test_cli_bad_parameter_exits_nonzero_naming_it(built_fmu, tmp_path, capsys, option, value, name):
+def test_cli_bad_parameter_exits_nonzero_naming_it(native_fmu, tmp_path, capsys, option, value, name):
     code = cli.main(["cosim", "--revolutions", "0.01", "--out", str(tmp_path / "x"), "--quiet",
-                     "--fmu", str(built_fmu), "--fmu-backend", "pythonfmu", f"{option}={value}"])
+                     "--fmu", str(native_fmu), "--fmu-backend", "native", f"{option}={value}"])
     err = capsys.readouterr().err
     assert code != 0
     assert name in err and "Traceback" not in err
     assert not (tmp_path / "x").exists()
 
 
-def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monkeypatch):
+def test_fmu_error_gives_a_clear_message_and_frees_the_instance(native_fmu, monkeypatch):
     """Non-finite kinematics: the FMU rejects the call; the error carries its log; the instance is freed."""
     closed = []
     original_close = cosimulation.FmuInstance.close
@@ -150,16 +151,16 @@ def test_fmu_error_gives_a_clear_message_and_frees_the_instance(built_fmu, monke
     monkeypatch.setattr(cosimulation.FmuInstance, "close", spy_close)
     monkeypatch.setattr(cosimulation.SliderCrank, "initial_state", lambda self: np.full(2 * L.N_COORDINATES, np.nan))
     with pytest.raises(CoSimulationError, match=r"FMU call fmi2\w+ returned fmi2(Error|Discard).*non-finite inputs"):
-        run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu, progress=False,
-                         fmu_backend="pythonfmu")
+        run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu, progress=False,
+                         fmu_backend="native")
     assert closed == [False]
 
 
-def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_message(built_fmu):
+def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_message(native_fmu):
     """The numba master loop checks every FMI status: non-finite kinematics from step 1 on
     make getReal fail; the run stops at that point with the FMU's log in the error."""
-    with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=built_fmu,
-                      fmu_backend="pythonfmu") as sim:
+    with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu,
+                      fmu_backend="native") as sim:
         samples = np.zeros((1000, L.N_SAMPLE_COLUMNS))
         sim.advance_to(1e-4, samples)
         t_good = sim.t

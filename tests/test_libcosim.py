@@ -35,7 +35,8 @@ def approach(params, steps=12):
              0.0, 0.0, 0.0, 0.0, 0.0, 0.0] for e in ecc]
 
 
-def test_libcosim_forces_match_the_joint(built_fmu):
+def test_libcosim_forces_match_the_joint(any_fmu):
+    _, built_fmu = any_fmu
     log_output_level(CosimLogLevel.ERROR)
     params = JointParameters(restitution=0.8, rho_mode="paper")
     vr = fv.value_references(read_model_description(str(built_fmu)))
