@@ -122,3 +122,9 @@ def write_trace_file(path: Path, rows: Sequence[Sequence[float]]) -> Path:
     path.write_text("# t h u...\n" + "".join(" ".join(repr(float(v)) for v in row) + "\n"
                                              for row in rows))
     return path
+
+
+def assert_valgrind_clean(stderr: str) -> None:
+    """valgrind's report (end of stderr) shows no error and no definite leak."""
+    assert "ERROR SUMMARY: 0 errors" in stderr, stderr[-3000:]
+    assert ("definitely lost: 0 bytes" in stderr or "no leaks are possible" in stderr), stderr[-3000:]

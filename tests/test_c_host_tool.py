@@ -19,8 +19,8 @@ from typing import Sequence
 
 import pytest
 from fmi_host import (
-    C_HOST_DIR, CLEAN_ENV, Script, build_c_host, fmi2_headers_dir, gcc_or_skip, needed_libraries, run_c_host,
-    stderr_value, trace_rows, write_trace_file,
+    C_HOST_DIR, CLEAN_ENV, Script, assert_valgrind_clean, build_c_host, fmi2_headers_dir, gcc_or_skip,
+    needed_libraries, run_c_host, stderr_value, trace_rows, write_trace_file,
 )
 
 DAHLQUIST_SOURCE = C_HOST_DIR / "test_fmu" / "dahlquist.c"
@@ -504,11 +504,6 @@ def test_missing_script_file(c_host, dahlquist_fmu, tmp_path):
 def _valgrind_or_skip():
     if shutil.which("valgrind", path=CLEAN_ENV["PATH"]) is None:
         pytest.skip("valgrind is not installed")
-
-
-def assert_valgrind_clean(stderr: str) -> None:
-    assert "ERROR SUMMARY: 0 errors" in stderr, stderr[-3000:]
-    assert ("definitely lost: 0 bytes" in stderr or "no leaks are possible" in stderr), stderr[-3000:]
 
 
 FULL_SCRIPT = """\

@@ -18,7 +18,9 @@ fmpy = pytest.importorskip("fmpy")
 from fmpy import extract, read_model_description  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import FMU2Slave  # noqa: E402
-from fmi_host import needed_libraries, run_c_host, stderr_value, trace_rows, value_lines, write_trace_file  # noqa: E402
+from fmi_host import (  # noqa: E402
+    assert_valgrind_clean, needed_libraries, run_c_host, stderr_value, trace_rows, value_lines, write_trace_file,
+)
 
 from wearjoint import ClearanceJoint, paper_joint  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
@@ -314,3 +316,57 @@ def test_bad_parameter_fails_initialisation_naming_the_fmu_variable(native, c_ho
     errors = [line for line in stderr.splitlines() if line.startswith("LOG error")]
     shown = "nan" if value != value else repr(value)
     assert any(f"parameter {name}={shown} is invalid: allowed" in m and allowed in m for m in errors), errors
+
+
+@pytest.mark.slow
+def test_the_c_host_runs_the_native_fmu_under_valgrind_without_errors_or_leaks(native, c_host, slider_crank_trace,
+                                                                                  tmp_path):
+    """A trace with wear, a state rollback and serialisation, error paths and instance cycles
+    under valgrind: zero errors, no definite leak."""
+    vr = native["vr"]
+    trace = write_trace_file(tmp_path / "trace.txt", slider_crank_trace[:3000])
+    script = (_init_script(native, _wear_factor_assignment(native))
+              + f"trace {trace} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "
+                f"{','.join(str(vr[n]) for n in SCALAR_NAMES)}\n"
+              + f"get_state 0\nserialize 0 {tmp_path / 'state.bin'}\ndeserialize 1 {tmp_path / 'state.bin'}\n"
+              + "set_state 1\ndo_step 0.03 1e-05\nfree_state 0\nfree_state 1\n"
+              + f"set_real {vr['pin_x']}=nan\ndo_step 0.03 1e-05\nexpect discard\n"
+              + f"get_real {vr['pin_force_x']}\nexpect error\nterminate\nfree\n"
+              + "instantiate bad {00000000-0000-0000-0000-000000000000}\nexpect error\n"
+              + f"instantiate again\nsetup 0\nenter_init\nset_real {vr['restitution']}=2.0\nexit_init\n"
+              + "expect error\nfree\ncycle 50\n")
+    code, stdout, stderr = run_c_host(c_host, native["dir"], fv.MODEL_NAME, native["md"].guid, script,
+                                      valgrind=True, timeout=1200)
+    assert code == 0, stdout[-2000:] + stderr[-3000:]
+    assert_valgrind_clean(stderr)
+
+
+def test_the_fmu_writes_nothing_to_stdout(native, capfd):
+    """Errors and every call sequence go to the host's logger; the FMU itself prints nothing."""
+    from fmpy.fmi2 import fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, defaultCallbacks
+
+    messages = []
+    logger = fmi2CallbackLoggerTYPE(lambda env, name, status, category, message: messages.append(message))
+    callbacks = fmi2CallbackFunctions(logger=logger, allocateMemory=defaultCallbacks.allocateMemory,
+                                      freeMemory=defaultCallbacks.freeMemory)
+    vr = native["vr"]
+    capfd.readouterr()
+    fmu = FMU2Slave(guid=native["md"].guid, unzipDirectory=str(native["dir"]), modelIdentifier=fv.MODEL_NAME,
+                    instanceName="quiet")
+    fmu.instantiate(callbacks=callbacks, loggingOn=True)
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.setReal([vr["friction_v1"]], [0.0])
+    with pytest.raises(FMICallException):
+        fmu.exitInitializationMode()
+    fmu.setReal([vr["friction_v1"]], [0.01])
+    fmu.exitInitializationMode()
+    fmu.setReal([vr[v.name] for v in fv.INPUTS], [math.inf] * 12)
+    with pytest.raises(FMICallException):
+        fmu.getReal([vr["normal_force"]])
+    with pytest.raises(FMICallException):
+        fmu.doStep(0.0, 1e-5)
+    fmu.terminate()
+    fmu.freeInstance()
+    assert len(messages) >= 3
+    assert capfd.readouterr().out == ""
