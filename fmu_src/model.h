@@ -31,6 +31,11 @@ int32_t wearjoint_accept(int32_t *changed, void *excinfo, const double *kinemati
                          const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
                          double *memory, double *result, void *mask, int64_t n_points, int64_t n_blocks, double dt);
 
+/* Contact-onset bookkeeping for the evaluation in result (a Model Exchange event): a new contact
+ * stores its approach velocity, leaving contact clears it; *changed = 1 if the memory changed. */
+int32_t wearjoint_update_contact_memory(int32_t *changed, void *excinfo, const double *result,
+                                        const double *joint_parameters, double *memory);
+
 /* Bushing point angles phi_z = z 2 pi / N_d (Eq. 3), their cosines and sines. */
 int32_t wearjoint_bushing_points(int32_t *status, void *excinfo, double *phi, double *cos_phi, double *sin_phi,
                                  int64_t n_points);

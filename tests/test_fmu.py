@@ -466,7 +466,7 @@ def test_non_finite_input_fails_get_real_and_discards_do_step(slave, fmu):
     with pytest.raises(FMICallException) as failure:
         slave.fmu.doStep(0.0, 1e-5)
     assert failure.value.status == FMI_DISCARD
-    assert sum("doStep" in text and "pin_x" in text for text in slave.errors()) == 1
+    assert sum("dostep" in text.lower() and "pin_x" in text for text in slave.errors()) == 1
     slave.set_inputs(contact_inputs())
     slave.fmu.doStep(0.0, 1e-5)
     assert slave.get(["contact"])[0] == 1.0

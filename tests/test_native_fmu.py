@@ -29,7 +29,7 @@ from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
 
 SCALAR_NAMES = [v.name for v in fv.SCALAR_OUTPUTS]
 N_POINTS = paper_joint().n_points
-WEAR_FACTOR = 100.0   # visible wear within a few revolutions
+WEAR_FACTOR = 1.0     # the paper's k_w: tens of um of wear per revolution, and impacts go on
 TRACE_STEP = 1e-5     # [s]
 TRACE_REVOLUTIONS = 4
 
@@ -108,7 +108,7 @@ def test_sources_relink_into_a_working_binary(native, tmp_path, c_host):
 def slider_crank_trace():
     """Kinematics of the pin body (crank) and bushing body (rod) every TRACE_STEP of a monolithic
     slider-crank run with wear: rows (t, h, 12 FMU inputs)."""
-    sim = Simulation(paper_joint(wear_factor=WEAR_FACTOR), None, SimulationOptions(revolutions=TRACE_REVOLUTIONS))
+    sim = Simulation(TRACE_JOINT, None, SimulationOptions(revolutions=TRACE_REVOLUTIONS))
     n = int(round(TRACE_REVOLUTIONS * sim.mechanism.params.period_s / TRACE_STEP))
     rows = np.empty((n, 14))
     samples = np.zeros((8, L.N_SAMPLE_COLUMNS))
@@ -126,7 +126,7 @@ def slider_crank_trace():
 def joint_on_trace(slider_crank_trace):
     """The in-process ClearanceJoint driven through the trace: scalar outputs before every step,
     wear profiles every 1000 steps and at the end."""
-    joint = ClearanceJoint(paper_joint(wear_factor=WEAR_FACTOR))
+    joint = ClearanceJoint(TRACE_JOINT)
     outputs = np.empty((len(slider_crank_trace), len(SCALAR_NAMES)))
     profiles = {}
     for i, row in enumerate(slider_crank_trace):
@@ -145,11 +145,17 @@ def test_trace_has_hundreds_of_onsets_and_visible_wear(joint_on_trace):
     outputs, _, joint = joint_on_trace
     contact = outputs[:, SCALAR_NAMES.index("contact")]
     assert np.count_nonzero((contact[1:] > 0.5) & (contact[:-1] < 0.5)) >= 150
-    assert joint.max_wear_depth_m > 1e-4
+    assert joint.max_wear_depth_m > 1e-5   # a tenth of the clearance
 
 
-def _wear_factor_assignment(native) -> str:
-    return f"{native['vr']['wear_factor']}={WEAR_FACTOR!r}"
+TRACE_JOINT = paper_joint(wear_factor=WEAR_FACTOR)   # the slider-crank's joint: its body-frame offsets
+
+
+def _parameter_values(params):
+    """(Real, Integer) FMU parameter values reproducing ``params``, keyed by FMU name."""
+    values = fv.fmi_parameter_values(params)
+    integers = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
+    return ({k: v for k, v in values.items() if k not in integers}, {k: values[k] for k in integers})
 
 
 def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_trace, joint_on_trace):
@@ -161,7 +167,9 @@ def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_tr
     try:
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
-        fmu.setReal([vr["wear_factor"]], [WEAR_FACTOR])
+        reals, integers = _parameter_values(TRACE_JOINT)
+        fmu.setReal([vr[k] for k in reals], list(reals.values()))
+        fmu.setInteger([vr[k] for k in integers], list(integers.values()))
         fmu.exitInitializationMode()
         inputs = [vr[v.name] for v in fv.INPUTS]
         scalars = [vr[n] for n in SCALAR_NAMES]
@@ -178,9 +186,13 @@ def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_tr
         fmu.freeInstance()
 
 
-def _init_script(native, parameters: str = "") -> str:
-    return (f"instantiate joint\nsetup 0\nenter_init\n{('set_real ' + parameters) if parameters else ''}\n"
-            "exit_init\n")
+def _init_script(native, params=None) -> str:
+    """Instantiate and initialise with the parameters of ``params`` (default: the paper's slider-crank joint)."""
+    reals, integers = _parameter_values(params or paper_joint())
+    vr = native["vr"]
+    return ("instantiate joint\nsetup 0\nenter_init\n"
+            f"set_real {' '.join(f'{vr[k]}={v!r}' for k, v in reals.items())}\n"
+            f"set_integer {' '.join(f'{vr[k]}={v!r}' for k, v in integers.items())}\nexit_init\n")
 
 
 def test_native_fmu_from_c_without_python_equals_the_joint(native, c_host, slider_crank_trace, joint_on_trace,
@@ -189,7 +201,7 @@ def test_native_fmu_from_c_without_python_equals_the_joint(native, c_host, slide
     vr = native["vr"]
     trace = write_trace_file(tmp_path / "trace.txt", slider_crank_trace)
     wear = " ".join(str(vr[fv.wear_depth_name(z)]) for z in range(1, N_POINTS + 1))
-    script = (_init_script(native, _wear_factor_assignment(native))
+    script = (_init_script(native, TRACE_JOINT)
               + f"trace {trace} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "
                 f"{','.join(str(vr[n]) for n in SCALAR_NAMES)}\n"
               + f"get_real {wear}\nterminate\nfree\n")
@@ -325,7 +337,7 @@ def test_the_c_host_runs_the_native_fmu_under_valgrind_without_errors_or_leaks(n
     under valgrind: zero errors, no definite leak."""
     vr = native["vr"]
     trace = write_trace_file(tmp_path / "trace.txt", slider_crank_trace[:3000])
-    script = (_init_script(native, _wear_factor_assignment(native))
+    script = (_init_script(native, TRACE_JOINT)
               + f"trace {trace} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "
                 f"{','.join(str(vr[n]) for n in SCALAR_NAMES)}\n"
               + f"get_state 0\nserialize 0 {tmp_path / 'state.bin'}\ndeserialize 1 {tmp_path / 'state.bin'}\n"

@@ -33,6 +33,7 @@ ENTRY_POINTS = {
     "wearjoint_evaluate": "evaluate_native",
     "wearjoint_advance": "advance_native",
     "wearjoint_accept": "accept_native",
+    "wearjoint_update_contact_memory": "update_contact_memory_native",
     "wearjoint_bushing_points": "bushing_points_native",
     "wearjoint_block_minima": "block_minima_native",
     "wearjoint_worn_volume": "worn_volume_native",

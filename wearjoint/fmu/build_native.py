@@ -4,7 +4,9 @@ time (:mod:`wearjoint.fmu.aot`) linked with the C FMI 2.0 layer of ``fmu_src/`` 
 
 Steps: (1) a fresh Python process with an empty numba cache compiles the kernels to
 objects for a generic x86-64 CPU; (2) the variable table becomes ``model_variables.h``
-(value references, start values, allowed ranges, where each output comes from);
+(value references, start values, allowed ranges, where each output comes from), and
+``joint_instance.c`` (the joint's data, FMI-independent) is compiled with the FMI 2.0 layer
+(Co-Simulation and Model Exchange);
 (3) gcc links the C layer and the objects, exporting only the ``fmi2*`` functions and
 refusing any undefined symbol outside libc/libm; (4) the FMU gets the generated
 ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR and
@@ -32,13 +34,15 @@ from .build import (
 )
 from .model_description import model_description_xml
 
-C_SOURCES = ("fmi2Functions.c", "model.h")
+C_SOURCES = ("fmi2Functions.c", "joint_instance.c", "joint_instance.h", "model.h")
+C_FILES = tuple(name for name in C_SOURCES if name.endswith(".c"))
+N_EVENT_INDICATORS = 1   # Model Exchange: the signed penetration
 # the wearjoint modules whose content decides the compiled FMU
 KERNEL_MODULES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "joint.py", "parameters.py",
                   "fmu/variables.py", "fmu/entry_points.py", "fmu/aot.py", "fmu/model_description.py",
                   "fmu/build_native.py")
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
-GCC_FLAGS = ("-shared", "-fPIC", "-O2", "-std=c11", "-Wall", "-Wextra", "-Werror", "-Wl,-z,defs",
+GCC_FLAGS = ("-shared", "-fPIC", "-O2", "-std=c11", "-Wall", "-Wextra", "-Wno-unused-parameter", "-Werror", "-Wl,-z,defs",
              "-Wl,--version-script=exports.map")
 EXPORTS_MAP = "{\n  global: fmi2*;\n  local: *;\n};\n"
 # the process that compiles the kernels: no cached code (it has no IR), a generic x86-64 CPU
@@ -116,6 +120,8 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define N_JOINT_PARAMETERS {layout.N_JOINT_PARAMETERS}
 #define N_MEMORY {layout.N_MEMORY}
 #define N_RESULT {layout.N_RESULT}
+#define R_PENETRATION {layout.R_PENETRATION}
+#define N_EVENT_INDICATORS {N_EVENT_INDICATORS}
 #define N_INPUTS {len(fv.INPUTS)}
 #define N_PARAMETERS {len(fv.PARAMETERS)}
 #define N_SCALAR_OUTPUTS {len(fv.SCALAR_OUTPUTS)}
@@ -173,7 +179,7 @@ def compile_kernels(out_dir: Path) -> dict:
 def _build_script(objects) -> str:
     return ("#!/bin/sh\n# Relink the FMU's binary from these sources (Linux x86_64, any C11 compiler).\n"
             "set -e\ncd \"$(dirname \"$0\")\"\n"
-            f"${{CC:-gcc}} {' '.join(GCC_FLAGS)} -I. fmi2Functions.c {' '.join('kernels/' + o for o in objects)} "
+            f"${{CC:-gcc}} {' '.join(GCC_FLAGS)} -I. {' '.join(C_FILES)} {' '.join('kernels/' + o for o in objects)} "
             f"-lm -o {fv.MODEL_NAME}.so\n")
 
 
@@ -203,21 +209,23 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         (sources / "exports.map").write_text(EXPORTS_MAP)
         script = sources / "build.sh"
         script.write_text(_build_script(objects.values()))
-        done = subprocess.run([compiler, *GCC_FLAGS, "-I.", "fmi2Functions.c",
+        done = subprocess.run([compiler, *GCC_FLAGS, "-I.", *C_FILES,
                                *(f"kernels/{o}" for o in objects.values()), "-lm", "-o", f"{fv.MODEL_NAME}.so"],
                               capture_output=True, text=True, cwd=sources)
         if done.returncode != 0:
             raise RuntimeError(f"linking the native FMU failed:\n{done.stderr.strip()[-3000:]}")
         binary = sources / f"{fv.MODEL_NAME}.so"
-        cosimulation = {"modelIdentifier": fv.MODEL_NAME, "needsExecutionTool": "false",
-                        "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false",
-                        "canBeInstantiatedOnlyOncePerProcess": "false", "canNotUseMemoryManagementFunctions": "false",
-                        "canGetAndSetFMUstate": "true", "canSerializeFMUstate": "true"}
+        common = {"modelIdentifier": fv.MODEL_NAME, "needsExecutionTool": "false",
+                  "canBeInstantiatedOnlyOncePerProcess": "false", "canNotUseMemoryManagementFunctions": "false",
+                  "canGetAndSetFMUstate": "true", "canSerializeFMUstate": "true"}
+        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
+        model_exchange = {**common, "completedIntegratorStepNotNeeded": "false"}
         out_dir.mkdir(parents=True, exist_ok=True)
         partial = target.with_name(target.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
             fmu.writestr("modelDescription.xml",
-                         model_description_xml(n_points, guid, f"wearjoint {__version__} (native)", cosimulation))
+                         model_description_xml(n_points, guid, f"wearjoint {__version__} (native)", cosimulation,
+                                               model_exchange, N_EVENT_INDICATORS))
             fmu.write(binary, BINARY_ARCNAME)
             fmu.writestr(f"resources/{fv.BUILD_CONFIG_FILE}",
                          json.dumps({"n_points": n_points, "build_key": key, "backend": "native"}))

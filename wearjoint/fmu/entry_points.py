@@ -11,7 +11,7 @@ touches Python objects, so a call costs about as much as the kernel.
 import numpy as np
 from numba import carray, cfunc, types
 
-from ..core.contact import block_minimum_depth, bushing_points, evaluate_contact
+from ..core.contact import block_minimum_depth, bushing_points, evaluate_contact, update_contact_memory
 from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
 from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
 
@@ -86,3 +86,12 @@ def complete_parameters_native(jp):
     """Fill the derived slots of the joint parameter vector (E*, effective k_w); returns 0."""
     complete_joint_parameters(carray(jp, N_JOINT_PARAMETERS))
     return 0
+
+
+@cfunc(types.int32(_F64, _F64, _F64), cache=True, error_model="numpy")
+def update_contact_memory_native(result, jp, memory):
+    """Contact-onset bookkeeping for the evaluation in ``result`` (a Model Exchange event);
+    returns 1 if the contact memory changed, else 0."""
+    changed = update_contact_memory(carray(result, N_RESULT), carray(jp, N_JOINT_PARAMETERS),
+                                    carray(memory, N_MEMORY))
+    return 1 if changed else 0

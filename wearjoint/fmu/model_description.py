@@ -29,14 +29,19 @@ def _number(value) -> str:
     return repr(float(value)) if isinstance(value, float) else str(value)
 
 
-def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str]) -> bytes:
-    """The complete modelDescription.xml; ``cosimulation`` are the ``<CoSimulation>`` attributes
-    (``modelIdentifier`` and the capability flags)."""
+def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str],
+                          model_exchange: dict[str, str] | None = None, event_indicators: int = 0) -> bytes:
+    """The complete modelDescription.xml; ``cosimulation`` / ``model_exchange`` are the
+    ``<CoSimulation>`` / ``<ModelExchange>`` attributes (``modelIdentifier`` and the capability
+    flags; no ``<ModelExchange>`` if None); ``event_indicators``: Model Exchange's number of
+    event indicators."""
     root = ET.Element("fmiModelDescription", {
         "fmiVersion": "2.0", "modelName": fv.MODEL_NAME, "guid": guid, "description": DESCRIPTION,
         "author": "wearjoint", "version": __version__, "generationTool": generation_tool,
         "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "variableNamingConvention": "structured", "numberOfEventIndicators": "0"})
+        "variableNamingConvention": "structured", "numberOfEventIndicators": str(event_indicators)})
+    if model_exchange is not None:
+        ET.SubElement(root, "ModelExchange", model_exchange)
     ET.SubElement(root, "CoSimulation", cosimulation)
     units = ET.SubElement(root, "UnitDefinitions")
     for name, exponents in fv.UNIT_DEFINITIONS.items():
@@ -63,7 +68,7 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
     inputs = " ".join(str(index[v.name]) for v in fv.INPUTS)
     inputs_and_parameters = " ".join(str(index[v.name]) for v in (*fv.INPUTS, *(p.variable for p in fv.PARAMETERS)))
     structure = ET.SubElement(root, "ModelStructure")
-    outputs = ET.SubElement(structure, "Outputs")
+    outputs = ET.SubElement(structure, "Outputs")   # no continuous states: no <Derivatives>
     initial_unknowns = ET.SubElement(structure, "InitialUnknowns")
     for v in variables:
         if v.causality != fv.OUTPUT:

@@ -1,0 +1,385 @@
+/* One clearance/wear joint as an FMU instance holds it (see joint_instance.h). */
+#include "joint_instance.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model.h"
+
+#define STATE_MAGIC "WJFMU002"
+#define STATE_HEAD_DOUBLES 3 /* magic (8 bytes), time, initialised */
+
+/* ------------------------------------------------------------------ logging */
+void joint_log(const JointInstance *joint, int status, const char *format, ...)
+{
+    if (status < JOINT_ERROR && !joint->logging_on)
+        return;
+    char text[1024];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    const char *category = status >= JOINT_ERROR ? "logStatusError" : status == JOINT_WARNING ? "logStatusWarning"
+                                                                                               : "logAll";
+    joint->log(joint->environment, joint->name, status, category, text);
+}
+
+const char *joint_shortest(double x, char *out, size_t size)
+{
+    for (int precision = 1; precision <= 17; precision++) {
+        snprintf(out, size, "%.*g", precision, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    if (isfinite(x) && strpbrk(out, ".e") == NULL && strlen(out) + 3 <= size)
+        strcat(out, ".0");
+    return out;
+}
+
+static int kernel_ok(const JointInstance *joint, const char *kernel, int32_t status)
+{
+    if (status == 0)
+        return 1;
+    joint->log(joint->environment, joint->name, JOINT_ERROR, "logStatusError", kernel);
+    return 0;
+}
+
+static void describe_non_finite_inputs(const JointInstance *joint, char *out, size_t size)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (int i = 0; i < N_INPUTS && used < size; i++)
+        if (joint->non_finite_inputs & (1u << i)) {
+            int n = snprintf(out + used, size - used, "%s%s=%g", used ? ", " : "", INPUT_NAMES[i], joint->inputs[i]);
+            if (n < 0)
+                break;
+            used += (size_t)n;
+        }
+}
+
+/* ------------------------------------------------------------------ lifetime */
+static int allocate_arrays(JointInstance *joint, int64_t n_points)
+{
+    int64_t n_blocks = (n_points + BLOCK_SIZE - 1) / BLOCK_SIZE;
+    double *arrays = joint->allocate(joint->environment, (size_t)(5 * n_points + n_blocks), sizeof(double));
+    unsigned char *mask = joint->allocate(joint->environment, (size_t)n_points, 1);
+    if (arrays == NULL || mask == NULL) {
+        if (arrays != NULL)
+            joint->release(joint->environment, arrays);
+        if (mask != NULL)
+            joint->release(joint->environment, mask);
+        joint_log(joint, JOINT_ERROR, "out of memory for %lld bushing points", (long long)n_points);
+        return 0;
+    }
+    if (joint->phi != NULL)
+        joint->release(joint->environment, joint->phi);
+    if (joint->mask != NULL)
+        joint->release(joint->environment, joint->mask);
+    joint->n_points = n_points;
+    joint->n_blocks = n_blocks;
+    joint->phi = arrays;
+    joint->cos_phi = arrays + n_points;
+    joint->sin_phi = arrays + 2 * n_points;
+    joint->wear_depth = arrays + 3 * n_points;
+    joint->block_min = arrays + 4 * n_points;
+    joint->mask = mask;
+    int32_t status = 0;
+    wearjoint_bushing_points(&status, NULL, joint->phi, joint->cos_phi, joint->sin_phi, n_points);
+    return 1;
+}
+
+JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, JointLogFunction *log,
+                         JointAllocateFunction *allocate, JointReleaseFunction *release, void *environment)
+{
+    JointInstance *joint = allocate(environment, 1, sizeof *joint);
+    char *copy = allocate(environment, strlen(name) + 1, 1);
+    if (joint == NULL || copy == NULL) {
+        log(environment, name, JOINT_ERROR, "logStatusError", "fmiInstantiate: out of memory");
+        if (joint != NULL)
+            release(environment, joint);
+        if (copy != NULL)
+            release(environment, copy);
+        return NULL;
+    }
+    memset(joint, 0, sizeof *joint);
+    strcpy(copy, name);
+    joint->name = copy;
+    joint->log = log;
+    joint->environment = environment;
+    joint->allocate = allocate;
+    joint->release = release;
+    joint->logging_on = logging_on;
+    if (!allocate_arrays(joint, n_points)) {
+        joint_free(joint);
+        return NULL;
+    }
+    joint_reset(joint);
+    return joint;
+}
+
+void joint_free(JointInstance *joint)
+{
+    if (joint == NULL)
+        return;
+    JointReleaseFunction *release = joint->release;
+    void *environment = joint->environment;
+    if (joint->phi != NULL)
+        release(environment, joint->phi);
+    if (joint->mask != NULL)
+        release(environment, joint->mask);
+    release(environment, joint->name);
+    release(environment, joint);
+}
+
+int joint_resize(JointInstance *joint, int64_t n_points)
+{
+    if (n_points != joint->n_points && !allocate_arrays(joint, n_points))
+        return 0;
+    joint_reset(joint);
+    return 1;
+}
+
+void joint_reset(JointInstance *joint)
+{
+    joint->time = joint->last_accepted_time = 0.0;
+    memset(joint->inputs, 0, sizeof joint->inputs);
+    joint->non_finite_inputs = 0;
+    for (int i = 0; i < N_PARAMETERS; i++)
+        joint->parameters[i] = PARAMETERS[i].start;
+    joint->parameters_changed = 1;
+    joint->forces_stale = joint->wear_summary_stale = 1;
+    memset(joint->memory, 0, sizeof joint->memory);
+    memset(joint->result, 0, sizeof joint->result);
+    memset(joint->wear_depth, 0, (size_t)joint->n_points * sizeof(double));
+    memset(joint->block_min, 0, (size_t)joint->n_blocks * sizeof(double));
+}
+
+/* ------------------------------------------------------------------ inputs and parameters */
+void joint_set_input(JointInstance *joint, int index, double value)
+{
+    joint->inputs[index] = value;
+    if (isfinite(value))
+        joint->non_finite_inputs &= ~(1u << index);
+    else
+        joint->non_finite_inputs |= 1u << index;
+    joint->forces_stale = 1;
+}
+
+void joint_set_parameter(JointInstance *joint, int index, double value)
+{
+    joint->parameters[index] = value;
+    joint->parameters_changed = 1;
+}
+
+/* 1 if every parameter is allowed; else logs the first that is not (name, value, allowed range). */
+static int parameters_valid(const JointInstance *joint, const double *values, const char *when)
+{
+    for (int i = 0; i < N_PARAMETERS; i++) {
+        const ParameterInfo *p = &PARAMETERS[i];
+        double x = values[i];
+        int ok;
+        if (p->n_choices > 0) {
+            ok = x == floor(x) && x >= 0.0 && x < p->n_choices;
+        } else {
+            ok = isfinite(x);
+            if (ok && p->has_low)
+                ok = p->low_open ? x > p->low : x >= p->low;
+            if (ok && p->has_high)
+                ok = p->high_open ? x < p->high : x <= p->high;
+            if (ok && p->above >= 0)
+                ok = x > values[p->above];
+        }
+        if (ok)
+            continue;
+        char text[32], other[32];
+        if (p->n_choices > 0)   /* an Integer: its value as an integer */
+            snprintf(text, sizeof text, "%.0f", x);
+        else
+            joint_shortest(x, text, sizeof text);
+        /* a rule with bounds says "> 0"; for a non-finite value say that it must be finite, too */
+        const char *finite =
+            p->n_choices == 0 && !isfinite(x) && (p->has_low || p->has_high || p->above >= 0) ? "a finite value " : "";
+        if (p->above >= 0)
+            joint_log(joint, JOINT_ERROR, "%s: parameter %s=%s is invalid: allowed %s%s (%s = %s)", when, p->name,
+                      text, finite, p->allowed, PARAMETERS[p->above].name,
+                      joint_shortest(values[p->above], other, sizeof other));
+        else
+            joint_log(joint, JOINT_ERROR, "%s: parameter %s=%s is invalid: allowed %s%s", when, p->name, text, finite,
+                      p->allowed);
+        return 0;
+    }
+    return 1;
+}
+
+int joint_pack_parameters(JointInstance *joint, const char *when)
+{
+    if (!joint->parameters_changed)
+        return 1;
+    if (!parameters_valid(joint, joint->parameters, when))
+        return 0;
+    memset(joint->joint_parameters, 0, sizeof joint->joint_parameters);
+    for (int i = 0; i < N_PARAMETERS; i++)
+        joint->joint_parameters[PARAMETERS[i].slot] = joint->parameters[i];
+    int32_t status = 0;
+    if (!kernel_ok(joint, "wearjoint_complete_parameters failed",
+                   wearjoint_complete_parameters(&status, NULL, joint->joint_parameters)))
+        return 0;
+    joint->parameters_changed = 0;
+    joint->forces_stale = joint->wear_summary_stale = 1;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ the kernels */
+int joint_evaluate(JointInstance *joint, const char *function, const char *output)
+{
+    if (!joint_pack_parameters(joint, function))
+        return 0;
+    if (!joint->forces_stale)
+        return 1;
+    if (joint->non_finite_inputs) {
+        char inputs[512];
+        describe_non_finite_inputs(joint, inputs, sizeof inputs);
+        joint_log(joint, JOINT_ERROR, "%s of %s: undefined for non-finite inputs (%s)", function, output, inputs);
+        return 0;
+    }
+    int32_t status = 0;
+    if (!kernel_ok(joint, "wearjoint_evaluate failed",
+                   wearjoint_evaluate(&status, NULL, joint->inputs, joint->joint_parameters, joint->cos_phi,
+                                      joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
+                                      joint->result, joint->mask, joint->n_points, joint->n_blocks)))
+        return 0;
+    joint->forces_stale = 0;
+    return 1;
+}
+
+int joint_wear_summary(JointInstance *joint, const char *function)
+{
+    if (!joint_pack_parameters(joint, function))
+        return 0;
+    if (!joint->wear_summary_stale)
+        return 1;
+    double largest = joint->wear_depth[0];
+    for (int64_t k = 1; k < joint->n_points; k++)
+        largest = joint->wear_depth[k] > largest ? joint->wear_depth[k] : largest;
+    double volume = 0.0;
+    if (!kernel_ok(joint, "wearjoint_worn_volume failed",
+                   wearjoint_worn_volume(&volume, NULL, joint->joint_parameters, joint->wear_depth, joint->n_points)))
+        return 0;
+    joint->max_wear_depth = largest;
+    joint->worn_volume = volume;
+    joint->wear_summary_stale = 0;
+    return 1;
+}
+
+int joint_accept_step(JointInstance *joint, double dt, const char *function)
+{
+    if (joint->non_finite_inputs) {
+        char inputs[512];
+        describe_non_finite_inputs(joint, inputs, sizeof inputs);
+        joint_log(joint, JOINT_ERROR, "%s: step at t=%.17g s rejected: non-finite inputs (%s)", function, joint->time,
+                  inputs);
+        return JOINT_DISCARD;
+    }
+    if (!(dt >= 0.0 && isfinite(dt))) {
+        joint_log(joint, JOINT_ERROR, "%s: step rejected: step size %g s is not a finite value >= 0", function, dt);
+        return JOINT_DISCARD;
+    }
+    if (!joint_pack_parameters(joint, function))
+        return JOINT_ERROR;
+    /* the forces read since the inputs changed are the evaluation the step accepts: no second one */
+    int32_t changed = 0;
+    int32_t status = joint->forces_stale
+                         ? wearjoint_advance(&changed, NULL, joint->inputs, joint->joint_parameters, joint->cos_phi,
+                                             joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
+                                             joint->result, joint->mask, joint->n_points, joint->n_blocks, dt)
+                         : wearjoint_accept(&changed, NULL, joint->inputs, joint->joint_parameters, joint->cos_phi,
+                                            joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
+                                            joint->result, joint->mask, joint->n_points, joint->n_blocks, dt);
+    if (!kernel_ok(joint, "wearjoint_advance failed", status))
+        return JOINT_ERROR;
+    if (changed)
+        joint->wear_summary_stale = 1;
+    joint->forces_stale = 1;
+    return JOINT_OK;
+}
+
+int joint_update_contact_memory(JointInstance *joint, const char *function)
+{
+    if (!joint_evaluate(joint, function, "the event indicator"))
+        return 0;
+    int32_t changed = 0;
+    if (!kernel_ok(joint, "wearjoint_update_contact_memory failed",
+                   wearjoint_update_contact_memory(&changed, NULL, joint->result, joint->joint_parameters,
+                                                   joint->memory)))
+        return 0;
+    if (changed)
+        joint->forces_stale = 1;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ FMU state */
+size_t joint_state_size(const JointInstance *joint)
+{
+    return (STATE_HEAD_DOUBLES + N_INPUTS + N_PARAMETERS + N_MEMORY + (size_t)joint->n_points) * sizeof(double);
+}
+
+void joint_write_state(const JointInstance *joint, void *bytes, int initialised)
+{
+    double *d = bytes;
+    memcpy(d, STATE_MAGIC, 8);
+    d[1] = joint->time;
+    d[2] = initialised ? 1.0 : 0.0;
+    d += STATE_HEAD_DOUBLES;
+    memcpy(d, joint->inputs, sizeof joint->inputs);
+    memcpy(d + N_INPUTS, joint->parameters, sizeof joint->parameters);
+    memcpy(d + N_INPUTS + N_PARAMETERS, joint->memory, sizeof joint->memory);
+    memcpy(d + N_INPUTS + N_PARAMETERS + N_MEMORY, joint->wear_depth, (size_t)joint->n_points * sizeof(double));
+}
+
+int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function)
+{
+    if (size != joint_state_size(joint) || memcmp(bytes, STATE_MAGIC, 8) != 0) {
+        joint_log(joint, JOINT_ERROR, "%s: not a ClearanceWearJoint state for n_points=%lld (%zu bytes)", function,
+                  (long long)joint->n_points, size);
+        return 0;
+    }
+    const double *d = bytes;
+    if (!isfinite(d[1]) || (d[2] != 0.0 && d[2] != 1.0)) {
+        joint_log(joint, JOINT_ERROR, "%s: the state's time or initialised flag is invalid", function);
+        return 0;
+    }
+    d += STATE_HEAD_DOUBLES;
+    if (!parameters_valid(joint, d + N_INPUTS, function))
+        return 0;
+    const double *wear = d + N_INPUTS + N_PARAMETERS + N_MEMORY;
+    for (int64_t k = 0; k < joint->n_points; k++)
+        if (!(wear[k] >= 0.0 && isfinite(wear[k]))) {
+            joint_log(joint, JOINT_ERROR, "%s: the state's wear depths must be finite and >= 0 (wear_depth[%lld]=%g)",
+                      function, (long long)k + 1, wear[k]);
+            return 0;
+        }
+    return 1;
+}
+
+int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, const char *function)
+{
+    const double *d = bytes;
+    joint->time = joint->last_accepted_time = d[1];
+    *initialised = d[2] == 1.0;
+    d += STATE_HEAD_DOUBLES;
+    for (int i = 0; i < N_INPUTS; i++)
+        joint_set_input(joint, i, d[i]);
+    if (memcmp(joint->parameters, d + N_INPUTS, sizeof joint->parameters) != 0) {
+        memcpy(joint->parameters, d + N_INPUTS, sizeof joint->parameters);
+        joint->parameters_changed = 1;
+    }
+    memcpy(joint->memory, d + N_INPUTS + N_PARAMETERS, sizeof joint->memory);
+    memcpy(joint->wear_depth, d + N_INPUTS + N_PARAMETERS + N_MEMORY, (size_t)joint->n_points * sizeof(double));
+    int32_t status = 0;
+    wearjoint_block_minima(&status, NULL, joint->wear_depth, joint->block_min, joint->n_points, joint->n_blocks);
+    joint->forces_stale = joint->wear_summary_stale = 1;
+    return joint_pack_parameters(joint, function);
+}

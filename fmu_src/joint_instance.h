@@ -1,0 +1,84 @@
+/* One clearance/wear joint as an FMU instance holds it, independent of the FMI version.
+ *
+ * The FMI layers (fmi2Functions.c; FMI 3.0 alike) own the call sequence and value references;
+ * this part owns the joint's memory and data (inputs, parameters, the kernels' arrays), checks
+ * parameters against the generated table, calls the compiled kernels (model.h) and reads and
+ * writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
+ */
+#ifndef WEARJOINT_JOINT_INSTANCE_H
+#define WEARJOINT_JOINT_INSTANCE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "model_variables.h"
+
+enum { JOINT_OK = 0, JOINT_WARNING = 1, JOINT_DISCARD = 2, JOINT_ERROR = 3, JOINT_FATAL = 4 };
+
+/* The host's logger, given a complete message ('%' not escaped). */
+typedef void JointLogFunction(void *environment, const char *instance_name, int status, const char *category,
+                              const char *message);
+
+/* The host's memory functions (``environment`` is the one given to joint_new). */
+typedef void *JointAllocateFunction(void *environment, size_t n, size_t size); /* zero-filled, like calloc */
+typedef void JointReleaseFunction(void *environment, void *p);
+
+typedef struct {
+    JointLogFunction *log;
+    JointAllocateFunction *allocate;
+    JointReleaseFunction *release;
+    void *environment;                 /* the FMI layer's, passed to the three functions above */
+    char *name;
+    int logging_on;                    /* messages below JOINT_ERROR only when on */
+    double time;
+    double last_accepted_time;         /* Model Exchange: end of the last completed integrator step */
+    double inputs[N_INPUTS];
+    uint32_t non_finite_inputs;        /* bit i: input i is not finite */
+    double parameters[N_PARAMETERS];   /* FMU parameter values (choices as their index) */
+    int parameters_changed;            /* since the joint parameter vector was packed */
+    int forces_stale;                  /* result does not belong to the current inputs */
+    int wear_summary_stale;
+    double max_wear_depth, worn_volume;
+    int64_t n_points, n_blocks;
+    double joint_parameters[N_JOINT_PARAMETERS];
+    double memory[N_MEMORY];
+    double result[N_RESULT];
+    double *phi, *cos_phi, *sin_phi, *wear_depth, *block_min; /* one allocation */
+    unsigned char *mask;
+} JointInstance;
+
+/* A joint with n_points bushing points and default parameters; NULL (logged) without memory. */
+JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, JointLogFunction *log,
+                         JointAllocateFunction *allocate, JointReleaseFunction *release, void *environment);
+void joint_free(JointInstance *joint);
+/* Re-size the bushing to n_points (>= 8) and restore the defaults; 0 (logged) on failure. */
+int joint_resize(JointInstance *joint, int64_t n_points);
+/* Default inputs and parameters, an unworn bushing, no contact memory. */
+void joint_reset(JointInstance *joint);
+
+void joint_log(const JointInstance *joint, int status, const char *format, ...) __attribute__((format(printf, 3, 4)));
+/* The shortest text that reads back as exactly x, written as Python's repr writes floats. */
+const char *joint_shortest(double x, char *out, size_t size);
+
+void joint_set_input(JointInstance *joint, int index, double value);
+void joint_set_parameter(JointInstance *joint, int index, double value);
+/* Check the parameters (the first bad one is logged, naming it) and pack the kernels' vector. */
+int joint_pack_parameters(JointInstance *joint, const char *when);
+/* The joint's outputs (result) for the current inputs; ``output`` names what was asked for. */
+int joint_evaluate(JointInstance *joint, const char *function, const char *output);
+int joint_wear_summary(JointInstance *joint, const char *function);
+/* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping.
+ * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt. */
+int joint_accept_step(JointInstance *joint, double dt, const char *function);
+/* The contact-onset bookkeeping alone at the current inputs (an event). */
+int joint_update_contact_memory(JointInstance *joint, const char *function);
+
+/* FMU state: magic, time, initialised flag, inputs, parameters, contact memory, wear depths (float64). */
+size_t joint_state_size(const JointInstance *joint);
+void joint_write_state(const JointInstance *joint, void *bytes, int initialised);
+/* 1 if ``bytes`` is a valid state of this joint (logged otherwise). */
+int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function);
+/* Restore a valid state; *initialised is its flag.  0 (logged) on failure. */
+int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, const char *function);
+
+#endif
