@@ -22,6 +22,7 @@ COMMANDS = {
     "validate": ("wearjoint.cli.validate", "cross-check monolithic, FMU and exudyn runs"),
     "wear-study": ("wearjoint.cli.wear_study", "thousands of revolutions of wear (paper Figs. 7-8)"),
     "cosim-study": ("wearjoint.cli.cosim_study", "co-simulation error versus communication step and scheme"),
+    "sweep": ("wearjoint.cli.sweep", "a grid of parameter values x seeds of simulate, cosim or wear-study on Dask"),
 }
 DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, "
                "FMU co-simulation, validation and the paper's wear study.")

@@ -12,6 +12,7 @@ from ..validation.wear_study import (
     WearStudyConfig, run_wear_study,
 )
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args
+from .sweep import add_ensemble_arguments
 
 
 def parse_int_list(name: str, text: str) -> tuple:
@@ -60,6 +61,7 @@ def add_arguments(parser) -> None:
     task.add_argument("--calibrate-max-depth-m", type=float, default=None,
                       help="find the effective k_w whose study ends at this max depth (e.g. 0.58e-3)")
     add_model_arguments(parser)
+    add_ensemble_arguments(parser)   # --seeds N: N seeds as Dask tasks (wearjoint.sweep), Fig. 7 with bands
 
 
 def config_from_args(args) -> WearStudyConfig:
@@ -93,6 +95,9 @@ def config_from_args(args) -> WearStudyConfig:
 def run(args) -> int:
     from ..cosim import CoSimulationError
 
+    if args.seeds is not None and args.seeds > 1:
+        from .sweep import run_from_args
+        return run_from_args("wear-study", args)
     config = config_from_args(args)
     try:
         if args.convergence is not None:

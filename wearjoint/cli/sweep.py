@@ -1,0 +1,117 @@
+"""`wearjoint sweep COMMAND [sweep options] [COMMAND's options]`: a grid of cases times an
+ensemble of seeds, each case one run of COMMAND (simulate, cosim, wear-study), run as Dask
+tasks (:mod:`wearjoint.sweep`, docs/sweeps.md).  Exit status 0 when every case is ok, 1 when
+some failed, 2 for bad input, 130 after Ctrl-C (finished cases kept; continue with --resume)."""
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+
+from ..parameters import ParameterError
+from ..sweep.design import TARGETS, check_seeds, command_options, parse_vary, read_design
+from . import COMMANDS
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("target", choices=TARGETS, metavar="COMMAND",
+                        help="the command each case runs: " + ", ".join(TARGETS))
+    parser.add_argument("options", nargs=argparse.REMAINDER,
+                        help="sweep options and COMMAND's options (wearjoint sweep COMMAND --help lists them)")
+
+
+def add_ensemble_arguments(parser) -> None:
+    """--seeds, --workers, --scheduler (each only if ``parser`` lacks it)."""
+    g = parser.add_argument_group("ensemble (Dask)")
+    _add(parser, g, "--seeds", type=int, default=None,
+         help="runs per grid point; seed s starts the crank s*1e-6 deg further (default 1)")
+    _add(parser, g, "--workers", type=int, default=None,
+         help="worker processes of the local Dask cluster (default: one per core)")
+    _add(parser, g, "--scheduler", default=None, metavar="ADDRESS",
+         help="submit to the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead of a local cluster")
+
+
+def _add(parser, group, flag, **kwargs) -> None:
+    if flag not in parser._option_string_actions:
+        group.add_argument(flag, **kwargs)
+
+
+def target_parser(target: str) -> argparse.ArgumentParser:
+    """The parser of ``wearjoint sweep TARGET``: TARGET's own options plus the sweep's."""
+    parser = argparse.ArgumentParser(prog=f"wearjoint sweep {target}", allow_abbrev=False,
+                                     description=f"run wearjoint {target} over a grid of parameter values and seeds "
+                                                 "as Dask tasks")
+    importlib.import_module(COMMANDS[target][0]).add_arguments(parser)
+    add_ensemble_arguments(parser)
+    g = parser.add_argument_group("sweep")
+    g.add_argument("--vary", action="append", default=[], metavar="NAME=V1,V2,...",
+                   help="values of one option (written without its dashes, e.g. restitution=0.6,0.9); "
+                        "repeat for a grid")
+    g.add_argument("--design", default=None, metavar="FILE.toml",
+                   help="a TOML design: seeds = N, [vary] name = [values] (a grid), [[case]] tables (points)")
+    _add(parser, g, "--resume", action="store_true", help="run only the cases not yet done in --out")
+    g.add_argument("--retry-failed", action="store_true", help="with --resume: run the failed cases again")
+    parser.set_defaults(seeds=None)
+    return parser
+
+
+def run(args) -> int:
+    return run_from_args(args.target, target_parser(args.target).parse_args(args.options))
+
+
+def run_from_args(command: str, args) -> int:
+    """Run the sweep ``args`` describes (TARGET's options plus the sweep's); prints the outcome."""
+    from ..sweep import run_sweep
+
+    vary = parse_vary(command, getattr(args, "vary", None))
+    points, seeds = (), args.seeds
+    if getattr(args, "design", None):
+        design = read_design(command, args.design)
+        vary, points = {**design["vary"], **vary}, design["points"]
+        seeds = seeds if seeds is not None else design["seeds"]
+    seeds = check_seeds(1 if seeds is None else seeds)
+    workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
+    if isinstance(workers, bool) or workers < 1:
+        raise ParameterError(f"--workers={workers!r} is invalid: allowed an integer >= 1")
+    try:
+        summary = run_sweep(command, command_options(command, args), args.out, vary=vary, points=points,
+                            seeds=seeds, no_plots=getattr(args, "no_plots", False), workers=workers,
+                            scheduler=args.scheduler, resume=args.resume,
+                            retry_failed=getattr(args, "retry_failed", False), progress=not args.quiet)
+    except KeyboardInterrupt:
+        summary = {"interrupted": True}
+    if summary.get("interrupted"):
+        print(f"wearjoint sweep: interrupted; finished cases are kept in {args.out} (continue with --resume)",
+              file=sys.stderr)
+        return 130
+    print_outcome(summary, args.out)
+    return 1 if summary["failed"] else 0
+
+
+def print_outcome(summary: dict, out) -> None:
+    """Counts, each grid point's key figures (mean +- std), the failed cases."""
+    import csv
+
+    print(f"  {summary['cases']} cases ({summary['grid_points']} grid points x {summary['seeds']} seeds): "
+          f"{summary['ok']} ok, {summary['failed']} failed, {summary['skipped_as_done']} already done; "
+          f"{summary['wall_time_s']:.1f} s")
+    with open(os.path.join(out, "ensemble.csv"), newline="") as f:
+        for row in csv.DictReader(f):
+            snapshots = sorted((int(k[3:].split("_")[0]), k[:-5]) for k in row
+                               if k.startswith("rev") and k.endswith("_max_wear_depth_m_mean"))
+            keys = ["max_wear_depth_m"] + [key for _, key in snapshots]
+            print(f"  point {row['point']}: {row['n_ok']} ok  " + "  ".join(filter(None, (_mean_std(row, k) for k in keys))))
+    for failure in summary["failures"][:10]:
+        print(f"  failed {failure['case_id']} (seed {failure['seed']}): {failure['error']}")
+    print(f"results in {out}")
+
+
+def _mean_std(row: dict, key: str) -> str:
+    mean, std = row.get(f"{key}_mean"), row.get(f"{key}_std")
+    if not mean:
+        return ""
+    return f"{key} {float(mean):.4g}" + (f" ± {float(std):.2g}" if std else "")
+
+
+__all__ = ["add_arguments", "run", "run_from_args", "add_ensemble_arguments", "target_parser"]

@@ -1,0 +1,50 @@
+"""Parameter sweeps and seed ensembles of ``simulate``, ``cosim`` and ``wear-study`` on Dask.
+
+:func:`run_sweep` builds the cases (:mod:`.design`), runs each as a Dask task (:mod:`.runner`,
+:mod:`.worker`) and writes the ensemble statistics and figures (:mod:`.report`).  Dask is
+imported only when cases run, never by ``import wearjoint`` (docs/sweeps.md).
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ..results import write_json_atomic
+from .design import SEED_ANGLE_STEP_DEG, TARGETS, Case, build_cases, command_options
+
+SUMMARY_NAME = "sweep_summary.json"
+
+
+def run_sweep(command: str, base: dict, out, vary: dict | None = None, points=(), seeds: int = 1,
+              no_plots: bool = False, workers: int | None = None, scheduler: str | None = None,
+              resume: bool = False, retry_failed: bool = False, progress: bool = True) -> dict:
+    """Run the cases of ``command`` (options ``base``, dest -> value) over the grid ``vary``
+    (name -> values) plus ``points``, ``seeds`` seeds each, into ``out``; returns
+    sweep_summary.json's content (counts, failures, timings, file names).  ``no_plots`` skips
+    the cases' own PNGs (the sweep's figures are always drawn).  ``resume``
+    skips the cases already done in ``out`` (``retry_failed``: except the failed ones)."""
+    from .report import write_reports
+    from .runner import SweepFolder, run_cases
+
+    start = time.perf_counter()
+    cases = build_cases(command, base, vary, points, seeds)
+    folder = SweepFolder(out, cases, resume, retry_failed)
+    skipped = len(cases) - len(folder.todo())
+    timing = run_cases(folder, no_plots=no_plots, workers=workers, scheduler=scheduler, progress=progress)
+    folder.write_table()
+    report = write_reports(folder.out, cases, folder.rows)
+    table = folder.table()
+    summary = {
+        "command": command, "cases": len(cases), "grid_points": len(report["ensemble"]), "seeds": seeds,
+        "ok": sum(r["status"] == "ok" for r in table), "failed": sum(r["status"] == "failed" for r in table),
+        "not_run": len(cases) - len(table), "skipped_as_done": skipped, **timing,
+        "wall_time_s": time.perf_counter() - start, "seed_angle_step_deg": SEED_ANGLE_STEP_DEG,
+        "failures": [{"case_id": r["case_id"], "seed": r["seed"], "error": r["error"]}
+                     for r in table if r["status"] == "failed"],
+        "files": ["sweep.csv", "ensemble.csv", "sweep.json", "bands/", "cases/", *report["figures"]],
+    }
+    write_json_atomic(Path(out) / SUMMARY_NAME, summary)
+    return summary
+
+
+__all__ = ["run_sweep", "build_cases", "command_options", "Case", "TARGETS", "SEED_ANGLE_STEP_DEG"]

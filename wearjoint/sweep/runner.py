@@ -1,0 +1,217 @@
+"""Run a sweep's cases as Dask tasks and keep every finished case on disk as it completes.
+
+Cluster: a ``distributed.LocalCluster`` of ``workers`` processes with one thread each, or the
+existing cluster at ``scheduler``.  Each task is :func:`wearjoint.sweep.worker.run_case`; its
+results folder comes back to the client (no shared file system needed) and is written to
+``OUT/cases/CASE_ID/`` with ``log.txt`` and, last, ``case.json`` (the case, its status and
+summary figures): a case with ``case.json`` is done.  ``sweep.csv`` is rewritten after every
+case.  Ctrl-C cancels the cases still running and keeps the finished ones.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import logging
+import os
+import shutil
+import signal
+import threading
+import time
+from pathlib import Path
+
+from ..parameters import ParameterError
+from ..progress import Progress
+from ..results import write_json_atomic
+from .design import SEED_ANGLE_STEP_DEG, Case, variable_actions
+
+SPEC_NAME = "sweep.json"
+CASE_NAME = "case.json"
+LEAD_COLUMNS = ("case_id", "seed", "status", "error")
+TAIL_COLUMNS = ("run_time_s", "warmup_time_s", "worker", "folder")
+SNAPSHOT_FIGURES = ("max_wear_depth_m", "worn_volume_m3", "lobe_0_depth_m", "lobe_180_depth_m", "impact_events",
+                    "impact_peak_max_m_s2")
+
+
+def summary_figures(summary: dict) -> dict:
+    """The numbers of a case's summary.json as flat columns: every top-level number, and for a
+    wear study ``rev{R}_{figure}`` per snapshot and the growth exponent."""
+    row = {k: v for k, v in summary.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    for snap in summary.get("snapshots", []):
+        for key in SNAPSHOT_FIGURES:
+            if isinstance(snap.get(key), (int, float)):
+                row[f"rev{snap['revolution']}_{key}"] = snap[key]
+    growth = summary.get("growth", {})
+    if isinstance(growth.get("growth_exponent"), (int, float)):
+        row["growth_exponent"] = growth["growth_exponent"]
+    return row
+
+
+def point_columns(case: Case) -> dict:
+    """The case's swept values keyed by parameter name (the option's dest, e.g. crank_speed_rpm)."""
+    actions = variable_actions(case.command)
+    return {actions[name].dest: value for name, value in case.point}
+
+
+def case_row(case: Case, status: str, error, figures: dict, extra: dict) -> dict:
+    return {"case_id": case.case_id, **point_columns(case), "seed": case.seed, "status": status,
+            "error": error or "", **figures, **extra, "folder": f"cases/{case.case_id}"}
+
+
+def write_csv_atomic(path: Path, rows: list[dict], lead=()) -> None:
+    """Rows as CSV (columns: ``lead`` first, then in order of first appearance)."""
+    columns = list(dict.fromkeys([*lead, *(k for r in rows for k in r)]))
+    tail = [c for c in TAIL_COLUMNS if c in columns]
+    columns = [c for c in columns if c not in tail] + tail
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    with open(tmp, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=columns, restval="")
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(tmp, path)
+
+
+class SweepFolder:
+    """``OUT``: sweep.json, cases/CASE_ID/, sweep.csv."""
+
+    def __init__(self, out, cases: list[Case], resume: bool, retry_failed: bool = False):
+        self.out = Path(out)
+        self.cases = cases
+        spec = self.out / SPEC_NAME
+        if spec.exists() and not resume:
+            raise ParameterError(f"--out {self.out} already holds a sweep ({SPEC_NAME}); pass --resume to continue "
+                                 "it or choose another --out")
+        self.out.mkdir(parents=True, exist_ok=True)
+        write_json_atomic(spec, {"command": cases[0].command if cases else None, "cases": [c.to_dict() for c in cases],
+                                 "seed_angle_step_deg": SEED_ANGLE_STEP_DEG})
+        self.rows = {}
+        for case in cases:
+            record = self.case_dir(case) / CASE_NAME
+            if resume and record.is_file():
+                row = json.loads(record.read_text())["row"]
+                if not (retry_failed and row["status"] != "ok"):
+                    self.rows[case.case_id] = row
+
+    def case_dir(self, case: Case) -> Path:
+        return self.out / "cases" / case.case_id
+
+    def todo(self) -> list[Case]:
+        return [c for c in self.cases if c.case_id not in self.rows]
+
+    def record(self, case: Case, result: dict) -> dict:
+        """Write a finished case's folder (files, log.txt, then case.json) and sweep.csv; returns its row."""
+        folder = self.case_dir(case)
+        shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True)
+        for name, data in result.get("files", {}).items():
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            (folder / name).write_bytes(data)
+        (folder / "log.txt").write_text(result.get("log", ""))
+        figures = {}
+        if result["status"] == "ok" and (folder / "summary.json").is_file():
+            figures = summary_figures(json.loads((folder / "summary.json").read_text()))
+        extra = {k: result[k] for k in ("run_time_s", "warmup_time_s", "worker") if k in result}
+        row = case_row(case, result["status"], result.get("error"), figures, extra)
+        write_json_atomic(folder / CASE_NAME, {**case.to_dict(), "row": row})
+        self.rows[case.case_id] = row
+        self.write_table()
+        return row
+
+    def table(self) -> list[dict]:
+        """The rows of the finished cases, in design order."""
+        return [self.rows[c.case_id] for c in self.cases if c.case_id in self.rows]
+
+    def write_table(self) -> None:
+        names = list(point_columns(self.cases[0])) if self.cases else []
+        write_csv_atomic(self.out / "sweep.csv", self.table(), lead=("case_id", *names, "seed", "status", "error"))
+
+
+# ------------------------------------------------------------------ Dask
+def start_client(workers: int | None, scheduler: str | None):
+    """(client, cluster or None): the cluster at ``scheduler``, or a LocalCluster of processes."""
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            return Client(scheduler, timeout=30), None
+        except (OSError, TimeoutError) as exc:
+            raise ParameterError(f"--scheduler {scheduler}: cannot connect: {exc}") from None
+    # the worker processes ignore Ctrl-C (they inherit SIG_IGN): the client stops them itself
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
+    return Client(cluster), cluster
+
+
+def _prepare_fmus(cases: list[Case]) -> None:
+    """Build the FMUs co-simulating cases load once, here, before the workers start on them."""
+    from ..cosim import ensure_fmu
+    from ..parameters import JointParameters
+
+    needed = set()
+    for case in cases:
+        o = dict(case.options)
+        if (case.command == "cosim" or o.get("engine") == "cosim") and o.get("fmu") is None:
+            needed.add((o.get("n_points") or JointParameters().n_points, o["fmu_backend"]))
+    for n_points, backend in sorted(needed):
+        try:
+            ensure_fmu(n_points, None, backend=backend)
+        except (ParameterError, RuntimeError, OSError):
+            pass                              # the cases report it
+
+
+def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None = None, scheduler: str | None = None,
+              progress: bool = True) -> dict:
+    """Run the cases not yet done; returns timings and whether Ctrl-C stopped the sweep."""
+    from .worker import run_case
+
+    todo = folder.todo()
+    timing = {"cases_run": 0, "interrupted": False, "cluster_start_s": 0.0, "run_wall_time_s": 0.0,
+              "case_run_time_s": 0.0, "warmup_time_s": 0.0, "workers": workers}
+    if not todo:
+        return timing
+    if scheduler is None:
+        _prepare_fmus(todo)
+    start = time.perf_counter()
+    client, cluster = start_client(workers, scheduler)
+    bar = None
+    try:
+        from distributed import as_completed
+
+        timing["cluster_start_s"] = time.perf_counter() - start
+        timing["workers"] = len(client.nthreads()) if scheduler else workers
+        run_start = time.perf_counter()
+        futures = {client.submit(run_case, case.command, case.argv(), no_plots, key=f"wearjoint-case-{case.case_id}",
+                                 pure=False): case for case in todo}
+        bar = Progress(len(todo), "sweep", enabled=progress, unit="case", delay_s=0.0)
+        try:
+            for k, future in enumerate(as_completed(futures), start=1):
+                case = futures[future]
+                try:
+                    result = future.result()
+                except Exception as exc:              # the worker died, the task could not run, ...
+                    result = {"status": "failed", "error": f"{type(exc).__name__}: {exc}", "log": repr(exc)}
+                if result["status"] != "interrupted":
+                    folder.record(case, result)
+                timing["cases_run"] += 1
+                timing["case_run_time_s"] += result.get("run_time_s", 0.0)
+                timing["warmup_time_s"] += result.get("warmup_time_s", 0.0)
+                bar.update(k)
+        except KeyboardInterrupt:
+            timing["interrupted"] = True
+            client.cancel(list(futures))
+        timing["run_wall_time_s"] = time.perf_counter() - run_start
+    finally:
+        if bar is not None:
+            bar.close()
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return timing
+
+
+__all__ = ["SweepFolder", "run_cases", "start_client", "summary_figures", "write_csv_atomic"]
