@@ -25,7 +25,7 @@ from wearjoint.core import layout as L
 from wearjoint.cosim import SCHEMES, CoSimulation, CoSimulationOptions, communication_step
 from wearjoint.cosim.master_loop import B_TRACK
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
-from wearjoint.parameters import JointParameters
+from wearjoint.parameters import paper_joint
 
 WARM_UP_S = 0.01   # past the first impacts; compiles everything
 REPLAYS = 5        # the mechanism replay is timed this often; the fastest counts
@@ -52,7 +52,7 @@ def main(argv=None) -> int:
     t_end = WARM_UP_S + args.duration
     options = CoSimulationOptions(revolutions=t_end / 0.4 + 0.1, scheme=args.scheme, step_s=args.step)
     samples = np.zeros((int(t_end / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-    with CoSimulation(JointParameters(wear_factor=0.0), None, options, fmu_path=args.fmu,
+    with CoSimulation(paper_joint(wear_factor=0.0), None, options, fmu_path=args.fmu,
                       fmu_backend=args.fmu_backend) as sim:
         sim.advance_to(WARM_UP_S, samples)
         before = (sim.communication_steps, sim.rollbacks, sim.fmi_time_s, sim.master_time_s)

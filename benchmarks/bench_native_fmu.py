@@ -71,7 +71,7 @@ fmu.freeInstance()
 
 
 @njit(cache=True)
-def _kernel_steps(rows, h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, result):
+def _kernel_steps(rows, h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work, result):
     """evaluate + advance per row: what the FMU computes per communication step."""
     total = 0.0
     for k in range(rows.shape[0]):
@@ -80,18 +80,18 @@ def _kernel_steps(rows, h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, 
                          result)
         total += result[0]
         advance_joint(r[0:3], r[3:6], r[6:9], r[9:12], h, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
-                      mask, result)
+                      mask, work, result)
     return total
 
 
 def in_process_seconds_per_step(rows: np.ndarray) -> float:
     joint = ClearanceJoint(JointParameters())
     arrays = (joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-              joint.memory, joint._mask, joint.result)
+              joint.memory, joint._mask, joint.work, joint.result)
     _kernel_steps(rows[:10], STEP_S, *arrays)   # compile
     joint = ClearanceJoint(JointParameters())
     arrays = (joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-              joint.memory, joint._mask, joint.result)
+              joint.memory, joint._mask, joint.work, joint.result)
     t0 = time.perf_counter()
     _kernel_steps(rows, STEP_S, *arrays)
     return (time.perf_counter() - t0) / len(rows)

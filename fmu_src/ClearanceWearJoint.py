@@ -1,5 +1,5 @@
 """pythonfmu slave ``ClearanceWearJoint``: a thin FMI 2.0 Co-Simulation adapter to one
-:class:`wearjoint.ClearanceJoint` (contract: shared/MODEL.md section 5).
+:class:`wearjoint.ClearanceJoint` (contract: docs/model.md §5).
 
 * Variables come from :mod:`wearjoint.fmu_variables`, registered in its order
   (value reference = position in ``fmu_variables(n_points)``).
@@ -118,7 +118,8 @@ class _NativePath(ctypes.Structure):
                 ("read_index", ctypes.POINTER(ctypes.c_int32)), ("n_variables", ctypes.c_uint32),
                 ("n_inputs", ctypes.c_uint32), ("joint_parameters", _F64P), ("cos_phi", _F64P), ("sin_phi", _F64P),
                 ("wear_depth", _F64P), ("block_min", _F64P), ("memory", _F64P), ("result", _F64P),
-                ("mask", ctypes.c_void_p), ("n_points", ctypes.c_int64), ("n_blocks", ctypes.c_int64),
+                ("mask", ctypes.c_void_p), ("work", _F64P), ("n_points", ctypes.c_int64),
+                ("n_blocks", ctypes.c_int64),
                 ("evaluate", ctypes.c_void_p), ("advance", ctypes.c_void_p)]
 
 
@@ -356,7 +357,8 @@ class ClearanceWearJoint(Fmi2Slave):
             n_variables=len(self._names), n_inputs=_N_INPUTS, joint_parameters=pointer(joint.parameter_vector),
             cos_phi=pointer(joint.cos_phi), sin_phi=pointer(joint.sin_phi), wear_depth=pointer(joint.wear_depth),
             block_min=pointer(joint.block_min), memory=pointer(joint.memory), result=pointer(joint.result),
-            mask=joint._mask.ctypes.data, n_points=joint.wear_depth.size, n_blocks=joint.block_min.size,
+            mask=joint._mask.ctypes.data, work=pointer(joint.work), n_points=joint.wear_depth.size,
+            n_blocks=joint.block_min.size,
             evaluate=native.evaluate_native.address, advance=native.advance_native.address)
         self._native_attached = shim.wearjoint_shim_attach_native(ctypes.byref(path)) == 0
         self._sync_native_flag()

@@ -43,8 +43,8 @@ typedef struct {
     double joint_parameters[N_JOINT_PARAMETERS];
     double memory[N_MEMORY];
     double result[N_RESULT];
-    double *phi, *cos_phi, *sin_phi, *wear_depth, *block_min; /* one allocation */
-    unsigned char *mask;
+    double *phi, *cos_phi, *sin_phi, *wear_depth, *work, *block_min; /* one allocation */
+    unsigned char *mask;               /* scratch of the wear update, like work */
 } JointInstance;
 
 /* A joint with n_points bushing points and default parameters; NULL (logged) without memory. */

@@ -51,7 +51,7 @@ typedef int32_t EvaluateFunction(double *kinematics, double *joint_parameters, d
                                  int64_t n_points, int64_t n_blocks);
 typedef int32_t AdvanceFunction(double *kinematics, double *joint_parameters, double *cos_phi, double *sin_phi,
                                 double *wear_depth, double *block_min, double *memory, double *result, void *mask,
-                                int64_t n_points, int64_t n_blocks, double dt);
+                                double *work, int64_t n_points, int64_t n_blocks, double dt);
 
 enum { FLAG_NATIVE, FLAG_FORCES_STALE, FLAG_WEAR_SUMMARY_STALE, FLAG_TIME };   /* flags[] */
 enum { SOURCE_SLAVE = -1, SOURCE_STORE, SOURCE_RESULT, SOURCE_WEAR_DEPTH };     /* read_source[] */
@@ -65,6 +65,7 @@ typedef struct {
     uint32_t n_inputs;                /* value references 0 .. n_inputs - 1 are the kinematic inputs */
     double *joint_parameters, *cos_phi, *sin_phi, *wear_depth, *block_min, *memory, *result;
     void *mask;
+    double *work;                     /* scratch of the wear kernels (N_d doubles), not state */
     int64_t n_points, n_blocks;
     EvaluateFunction *evaluate;
     AdvanceFunction *advance;
@@ -358,7 +359,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     const NativePath *p = native_path(inst);
     if (p != NULL && isfinite(step_size) && step_size >= 0.0) {
         if (p->advance(p->store, p->joint_parameters, p->cos_phi, p->sin_phi, p->wear_depth, p->block_min,
-                       p->memory, p->result, p->mask, p->n_points, p->n_blocks, step_size))
+                       p->memory, p->result, p->mask, p->work, p->n_points, p->n_blocks, step_size))
             p->flags[FLAG_WEAR_SUMMARY_STALE] = 1.0;
         p->flags[FLAG_TIME] = current_time + step_size;
         p->flags[FLAG_FORCES_STALE] = 1.0;

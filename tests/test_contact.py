@@ -4,11 +4,11 @@ import math
 import numpy as np
 import pytest
 
-from wearjoint import ClearanceJoint, JointParameters
+from wearjoint import ClearanceJoint, JointParameters, paper_joint
 from wearjoint.core.contact import find_deepest_point, find_deepest_point_full
 
 # N_d divisible by 4 puts bushing points exactly at 0, 90, 180 and 270 deg
-P = JointParameters(n_points=1256)
+P = paper_joint(n_points=1256)   # the slider-crank offsets: the torques below are by hand for them
 C = P.clearance_m
 
 

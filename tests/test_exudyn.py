@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, SliderCrankParameters
+from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.core import layout as L
 from wearjoint.core.mechanism import derivative
 from wearjoint.mechanism import SliderCrank
@@ -15,7 +15,7 @@ from wearjoint.simulate import SimulationOptions, joint_arrays, run_simulation
 
 em = pytest.importorskip("wearjoint.validation.exudyn_model")
 
-NO_WEAR = JointParameters(wear_factor=0.0)
+NO_WEAR = paper_joint(wear_factor=0.0)
 
 
 def _angle_distance(a, b):
@@ -44,7 +44,7 @@ def test_ideal_slider_follows_the_closed_form():
     dense = SliderCrank().closed_form(np.linspace(0.0, rec.period_s, 200001))["slider_a_m_s2"]
     peak = np.abs(s[:, L.T_SLIDER_A]).max()
     assert peak == pytest.approx(np.abs(dense).max(), rel=2e-3)
-    assert 15.0 < peak < 15.2                                            # MODEL.md 7: ideal peak 15.1 m/s^2
+    assert 15.0 < peak < 15.2                                            # docs/model.md §7: ideal peak 15.1 m/s^2
     assert rec.summary()["max_contact_force_N"] == 0.0
 
 
@@ -251,7 +251,7 @@ def _largest_eccentricity_difference(rec, ref):
 
 
 def test_clearance_run_matches_the_monolithic_engine_through_the_first_impacts(monolithic_15ms):
-    """Before the motion turns chaotic (~20 ms, MODEL.md 7) two correct simulators agree.
+    """Before the motion turns chaotic (~20 ms, docs/model.md §7) two correct simulators agree.
 
     The discrete normal jumps by 0.29 deg whenever the deepest bushing point changes and
     every contact onset is non-smooth, so fixed-step methods converge only to first order
@@ -286,7 +286,7 @@ def test_clearance_run_matches_the_monolithic_engine_through_the_first_impacts(m
 
 # ---------------------------------------------------------------- wear, post-step bookkeeping
 def test_wear_lands_at_the_contact_angles_once_per_accepted_step():
-    joint = JointParameters(wear_factor=10.0)
+    joint = paper_joint(wear_factor=10.0)
     model = em.ExudynSliderCrank(joint)
     post_times, pre_calls = [], [0]
 
@@ -332,6 +332,6 @@ def test_run_exudyn_validates_its_arguments():
     with pytest.raises(ParameterError, match="ideal"):
         em.run_exudyn(NO_WEAR, None, 0.01, ideal="yes", progress=False)
     with pytest.raises(ParameterError, match="eccentricity"):
-        em.run_exudyn(JointParameters(), None, 0.01, contact="eccentricity", progress=False)
+        em.run_exudyn(paper_joint(), None, 0.01, contact="eccentricity", progress=False)
     with pytest.raises(ParameterError, match="pin_offset_m"):
         em.run_exudyn(JointParameters(wear_factor=0.0, pin_offset_m=(0.03, 0.0)), None, 0.01, progress=False)

@@ -4,7 +4,7 @@ import pickle
 import numpy as np
 import pytest
 
-from wearjoint import ClearanceJoint, JointParameters, ParameterError
+from wearjoint import ClearanceJoint, JointParameters, ParameterError, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
 
 
@@ -47,7 +47,7 @@ def test_state_bytes_reject_a_joint_of_another_size():
 
 def test_simulation_resumed_from_a_copied_state_is_bit_identical():
     opts = SimulationOptions(revolutions=0.1, integrator="dopri", max_step_s=1e-5)
-    params = JointParameters(wear_factor=20.0)
+    params = paper_joint(wear_factor=20.0)
     buf = np.zeros((20000, 13))
     a = Simulation(params, options=opts)
     a.advance_to(0.01, buf)
@@ -86,7 +86,7 @@ def test_bad_kinematics_and_profiles_are_rejected():
 
 def test_setting_the_wear_profile_updates_the_engine_at_the_current_state():
     from wearjoint.core import layout as L
-    sim = Simulation(JointParameters(wear_factor=0.0), options=SimulationOptions(revolutions=0.1))
+    sim = Simulation(paper_joint(wear_factor=0.0), options=SimulationOptions(revolutions=0.1))
     buf = np.zeros((20000, 13))
     t = 2e-3
     while sim.joint.result[L.R_PENETRATION] < 0.0:     # integrate until the pin touches the bushing

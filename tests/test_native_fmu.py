@@ -22,10 +22,10 @@ from fmi_host import (  # noqa: E402
     assert_valgrind_clean, needed_libraries, run_c_host, stderr_value, trace_rows, value_lines, write_trace_file,
 )
 
-from wearjoint import ClearanceJoint, paper_joint  # noqa: E402
-from wearjoint.core import layout as L  # noqa: E402
+from kinematic_trace import slider_crank_trace as record_trace  # noqa: E402
+
+from wearjoint import ClearanceJoint, SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
 
 SCALAR_NAMES = [v.name for v in fv.SCALAR_OUTPUTS]
 N_POINTS = paper_joint().n_points
@@ -106,20 +106,9 @@ def test_sources_relink_into_a_working_binary(native, tmp_path, c_host):
 # ------------------------------------------------------------- the same numbers as the joint in process
 @pytest.fixture(scope="module")
 def slider_crank_trace():
-    """Kinematics of the pin body (crank) and bushing body (rod) every TRACE_STEP of a monolithic
-    slider-crank run with wear: rows (t, h, 12 FMU inputs)."""
-    sim = Simulation(TRACE_JOINT, None, SimulationOptions(revolutions=TRACE_REVOLUTIONS))
-    n = int(round(TRACE_REVOLUTIONS * sim.mechanism.params.period_s / TRACE_STEP))
-    rows = np.empty((n, 14))
-    samples = np.zeros((8, L.N_SAMPLE_COLUMNS))
-    y, m = sim.y, L.N_COORDINATES
-    for i in range(n):
-        rows[i, :2] = (sim.t, TRACE_STEP)
-        for body, column in ((L.CRANK, 2), (L.ROD, 8)):
-            rows[i, column:column + 3] = y[body:body + 3]
-            rows[i, column + 3:column + 6] = y[m + body:m + body + 3]
-        sim.advance_to((i + 1) * TRACE_STEP, samples)
-    return rows
+    """TRACE_REVOLUTIONS of the slider-crank with wear, every TRACE_STEP."""
+    period = SliderCrankParameters().period_s
+    return record_trace(TRACE_JOINT, int(round(TRACE_REVOLUTIONS * period / TRACE_STEP)), TRACE_STEP)
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from wearjoint import JointParameters
+from wearjoint import paper_joint
 from wearjoint.core import layout as L
 from wearjoint.results import RunRecord, new_revolution_stats
 
@@ -28,7 +28,7 @@ def _available_engines():
     for engine in cmp.ENGINES:
         try:
             if engine != cmp.REFERENCE:
-                cmp.engine_runner(engine, JointParameters(), "pythonfmu")
+                cmp.engine_runner(engine, paper_joint(), "pythonfmu")
             engines.append(engine)
         except ImportError:
             pass

@@ -1,4 +1,4 @@
-"""Hertz patch (Eqs. 29-32) and the Archard update (Eqs. 28, 33)."""
+"""Hertz patch (Eqs. 29-32), the elastic-foundation placement and the Archard update (Eqs. 28, 33)."""
 import math
 
 import numpy as np
@@ -28,7 +28,7 @@ def test_hertz_half_width_by_hand():
 
 @pytest.mark.parametrize("rho_mode", ["conformal", "paper"])
 def test_archard_volume_over_one_step_in_patch_mode(rho_mode):
-    params = JointParameters(rho_mode=rho_mode)
+    params = JointParameters(rho_mode=rho_mode, wear_placement="patch")
     joint = ClearanceJoint(params)
     pin, bushing = contact_state(params)
     dt = 1e-5
@@ -41,7 +41,7 @@ def test_archard_volume_over_one_step_in_patch_mode(rho_mode):
 
 
 def test_patch_width_follows_hertz_and_wear_is_centred_on_the_contact():
-    params = JointParameters()
+    params = JointParameters(wear_placement="patch")
     joint = ClearanceJoint(params)
     pin, bushing = contact_state(params)
     r = joint.advance(pin, bushing, 1e-5)
@@ -61,6 +61,45 @@ def test_patch_width_follows_hertz_and_wear_is_centred_on_the_contact():
     # and the profile follows the ellipse: at half the patch width the depth is sqrt(3)/2 of the peak
     half = np.abs(np.degrees(np.angle(np.exp(1j * phi))) - 0.5 * math.degrees(b / params.bushing_radius_m)).argmin()
     assert joint.wear_depth[half] / joint.max_wear_depth_m == pytest.approx(math.sqrt(3) / 2, abs=0.03)
+
+
+@pytest.mark.parametrize("n_points", [628, 1257, 5028])
+def test_foundation_keeps_archards_volume_and_follows_the_overlap(n_points):
+    """Default placement: pressure proportional to the local overlap R_i - |d| of each point's arc
+    cell (the pin circle crosses the circular bushing at cos phi = c/(c + delta)); the volume is
+    k_w F_N ds whatever N_d."""
+    params = JointParameters(n_points=n_points)
+    assert params.wear_placement == "foundation"
+    joint = ClearanceJoint(params)
+    pin, bushing = contact_state(params, delta=3e-6)
+    dt = 1e-5
+    r = joint.advance(pin, bushing, dt)
+    slide = params.bushing_radius_m * abs(pin[5] - bushing[5]) * dt
+    assert joint.worn_volume_m3 == pytest.approx(params.wear_coefficient_m2_N * r.normal_force_N * slide, rel=1e-5)
+    phi = np.angle(np.exp(1j * joint.phi_rad))
+    e = params.clearance_m + 3e-6
+    edge = math.acos(params.clearance_m / e)              # the pin circle crosses the bushing (to O(e/R))
+    worn = np.abs(phi[joint.wear_depth > 0])
+    assert worn.max() <= edge + 2 * math.pi / n_points
+    # inside the arc the depth follows the overlap R_i - |R_j u - e| (linear foundation)
+    inner = np.abs(phi) < 0.8 * edge
+    r_j = params.bushing_radius_m
+    overlap = params.pin_radius_m - np.sqrt(r_j ** 2 + e ** 2 - 2 * r_j * e * np.cos(phi[inner]))
+    ratio = joint.wear_depth[inner] / overlap
+    assert np.ptp(ratio) < 0.005 * ratio.mean()
+
+
+def test_foundation_increment_does_not_depend_on_the_point_spacing():
+    """The same contact worn at N_d = 628 and 5028: the same depth at the same angle."""
+    depths = []
+    for n in (628, 5028):
+        params = JointParameters(n_points=n)
+        joint = ClearanceJoint(params)
+        joint.advance(*contact_state(params, delta=3e-6), 1e-5)
+        phi = np.angle(np.exp(1j * joint.phi_rad))
+        order = np.argsort(phi)
+        depths.append(np.interp(np.radians([-10.0, -5.0, 0.0, 3.0, 8.0]), phi[order], joint.wear_depth[order]))
+    np.testing.assert_allclose(depths[0], depths[1], rtol=2e-3)
 
 
 def test_tangential_sliding_distance_uses_the_contact_velocity():

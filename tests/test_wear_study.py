@@ -147,14 +147,22 @@ def test_accelerated_profiles_agree_with_brute_force(tmp_path):
     assert result["within_tolerance"]["F=10"], result["rows"]
 
 
-def test_cycle_jumping_and_wear_acceleration_agree(tmp_path):
-    """Two ways to let one simulated revolution stand for ten remove the same Archard volume.
+@pytest.mark.parametrize("placement, ways", [("foundation", ("factor",)), ("patch", ("factor", "jump"))])
+def test_cycle_jumping_and_wear_acceleration_match_brute_force(tmp_path, placement, ways):
+    """Two ways to let one simulated revolution stand for ten remove the Archard volume of ten
+    simulated revolutions (wear factor 1) within 20 %.
 
-    (Max depth is not compared: a jump repeats one revolution's contact pattern without the
-    feedback of the evolving profile, so it concentrates the wear; measured 60 vs 37 µm here.)"""
-    jumped = run_wear_study(small_config(joint=paper_joint(wear_factor=1.0), snapshots=(10,), jump_revolutions=1,
-                                         jump_factor=10.0), tmp_path / "jump", progress=False, plots=False)
-    accelerated = run_wear_study(small_config(joint=paper_joint(wear_factor=10.0), snapshots=(10,)),
-                                 tmp_path / "factor", progress=False, plots=False)
-    assert jumped["simulated_revolutions"] == accelerated["simulated_revolutions"] == pytest.approx(1.0)
-    assert jumped["worn_volume_m3"] == pytest.approx(accelerated["worn_volume_m3"], rel=0.2)
+    Cycle jumping repeats one revolution's contact pattern without the feedback of the evolving
+    profile: with the Hertz patch that is harmless for the volume (measured +3 %; it concentrates
+    the depth, 60 vs 37 um), with the conforming foundation placement it is not (measured +23 %:
+    the profile's feedback lowers the contact forces within the ten revolutions), so jumping is
+    checked with ``patch`` only (docs/wear_study.md).  The wear factor: -3 % (foundation), +1 % (patch)."""
+    joint = paper_joint(wear_factor=1.0, wear_placement=placement)
+    brute = run_wear_study(small_config(joint=joint, snapshots=(10,)), tmp_path / "brute", progress=False, plots=False)
+    runs = {"jump": small_config(joint=joint, snapshots=(10,), jump_revolutions=1, jump_factor=10.0),
+            "factor": small_config(joint=joint.replace(wear_factor=10.0), snapshots=(10,))}
+    assert brute["simulated_revolutions"] == pytest.approx(10.0)
+    for way in ways:
+        summary = run_wear_study(runs[way], tmp_path / way, progress=False, plots=False)
+        assert summary["simulated_revolutions"] == pytest.approx(1.0)
+        assert summary["worn_volume_m3"] == pytest.approx(brute["worn_volume_m3"], rel=0.2), way

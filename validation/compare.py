@@ -3,7 +3,7 @@
 Engines: the monolithic simulation (:mod:`wearjoint.simulate`; the reference is RK4 at
 1 µs), the FMU co-simulation (:mod:`wearjoint.cosim`) and exudyn
 (:mod:`wearjoint.validation.exudyn_model`) with the discrete-point and with the
-eccentricity contact.  The clearance dynamics are chaotic (MODEL.md 7): trajectories
+eccentricity contact.  The clearance dynamics are chaotic (docs/model.md §7): trajectories
 are compared point by point only over the first impacts (``window_s``); beyond that,
 per-revolution statistics and the worn profile of a short wear run.
 
@@ -105,7 +105,7 @@ class Rule:
 # floors guard against a chance agreement of the valid runs.
 STATISTICS = {
     "impacts_per_revolution": ("1/rev", Rule(2.0, 0.0, 0.05, "5 % of the reference, below the 10-20 % "
-                                                             "run-to-run scatter (MODEL.md 7)")),
+                                                             "run-to-run scatter (docs/model.md §7)")),
     "contact_fraction": ("-", Rule(2.0, 0.02, 0.0, "0.02 (2 % of the time), below the 4-10 % spread "
                                                   "of valid monolithic runs")),
     "slider_acc_max_m_s2": ("m/s²", Rule(2.0, 0.0, 0.05, "5 % of the reference")),
@@ -116,7 +116,7 @@ STATISTICS = {
 }
 # Point-wise maximum differences over the window; scatter = monolithic + engine refinement.
 POINTWISE = {
-    "eccentricity_max_difference_m": ("m", Rule(2.0, 1e-8, 0.0, "1e-8 m, the agreement of valid runs (MODEL.md 7)")),
+    "eccentricity_max_difference_m": ("m", Rule(2.0, 1e-8, 0.0, "1e-8 m, the agreement of valid runs (docs/model.md §7)")),
     "normal_force_max_difference_N": ("N", Rule(2.0, 1.0, 0.0, "1 N, 0.1 % of the impact peaks")),
     "slider_acc_max_difference_m_s2": ("m/s²", Rule(2.0, 1.0, 0.0, "1 m/s², 0.1 % of the impact peaks")),
 }
@@ -280,7 +280,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         runs.wear_scatter = {f"RK4 {_us(h * f)}": monolithic(f"RK4 {_us(h * f)}", wear, wrev, integrator="rk4",
                                                              step_s=h * f)
                              for f in RK4_STEP_FACTORS}
-        for rtol in DOPRI_RTOLS:       # the wear step must stay <= 10 us (MODEL.md 7)
+        for rtol in DOPRI_RTOLS:       # the wear step must stay <= 10 us (docs/model.md §7)
             label = f"DOPRI rtol {rtol:g} max step 10 us"
             runs.wear_scatter[label] = monolithic(label, wear, wrev, integrator="dopri", rtol=rtol, max_step_s=1e-5)
         for engine in [e for e in wear_engines if e in available]:

@@ -25,7 +25,7 @@ from wearjoint import analysis
 from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
 from wearjoint.fmu.build import DEFAULT_BACKEND
-from wearjoint.parameters import JointParameters
+from wearjoint.parameters import paper_joint
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
 
@@ -69,7 +69,7 @@ def compare(record: RunRecord, reference: RunRecord) -> dict:
 def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
               fmu_backend: str = DEFAULT_BACKEND) -> dict:
     """All runs and their comparison (see module docstring)."""
-    joint = JointParameters(wear_factor=WEAR_FACTOR)
+    joint = paper_joint(wear_factor=WEAR_FACTOR)
     monolithic = {
         "dopri (reference)": SimulationOptions(revolutions=revolutions, integrator="dopri", max_step_s=1e-5),
         "rk4 1 us": SimulationOptions(revolutions=revolutions, integrator="rk4", step_s=1e-6),

@@ -2,7 +2,7 @@
 check of the monolithic engine (:mod:`wearjoint.simulate`).
 
 Crank, rod and slider are ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` with the
-nodes at the centres of mass (so the inertias are about the COM, MODEL.md 7);
+nodes at the centres of mass (so the inertias are about the COM, docs/model.md §7);
 gravity is a mass-proportional load; the crank pivot and the rod-slider joint
 are ``ObjectJointRevolute2D``; the slider runs on an ``ObjectJointPrismatic2D``
 along X with its rotation constrained; the crank is driven by an

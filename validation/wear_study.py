@@ -75,7 +75,7 @@ class WearStudyConfig:
     jump_factor: float = 1.0                # J: the block's wear increment is scaled by J
     engine: str = "monolithic"
     integrator: str = DEFAULT_STUDY_INTEGRATOR
-    max_step_s: float = 1e-5                # MODEL.md 7: wear runs need <= 1e-5 s
+    max_step_s: float = 1e-5                # docs/model.md §7: wear runs need <= 1e-5 s
     chunks_per_revolution: int = 8
     checkpoint_every_revolutions: float = 1.0   # simulated revolutions between checkpoints
     impact_threshold_m_s2: float = 100.0
@@ -333,7 +333,7 @@ def _growth_assessment(growth: np.ndarray) -> dict:
 
 def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path, plots: bool = True,
                         compile_time_s: float = 0.0) -> dict:
-    """Profiles, growth curve, figures and summary.json (MODEL.md 6 keys for the final state + the study)."""
+    """Profiles, growth curve, figures and summary.json (docs/model.md §6 keys for the final state + the study)."""
     period = config.mechanism.period_s
     phi_deg = profile_angles_deg(config.joint.n_points)
     snaps = state["snapshots"]

@@ -5,7 +5,7 @@ growth exponent.
 Per-revolution statistics come from the rows the engines accumulate
 (``layout.S_*``, one row per crank revolution, filled by
 ``core.integrators.record_step``); profile metrics from a worn profile
-(``phi_deg`` in the rod frame, ``wear_depth_m``).  ``summary.json`` (MODEL.md 6), the
+(``phi_deg`` in the rod frame, ``wear_depth_m``).  ``summary.json`` (docs/model.md §6), the
 validation, the co-simulation study, the wear study and the benchmarks all read
 these functions.
 """
@@ -54,7 +54,7 @@ def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray) -> np.ndarray
 
 
 def run_statistics(stats: np.ndarray) -> dict:
-    """The statistics of ``summary.json`` (MODEL.md 6): of the last revolution the contact
+    """The statistics of ``summary.json`` (docs/model.md §6): of the last revolution the contact
     fraction, the impacts and the slider acceleration extremes (None if not finite); over
     the whole run the max contact force and the max eccentricity."""
     last = stats[last_revolution(stats)]
@@ -177,6 +177,37 @@ def profile_convergence(depth_m: np.ndarray, reference_m: np.ndarray) -> dict:
     scale = reference_m.max()
     return {"max_depth_rel_diff": float(depth_m.max() / scale - 1.0),
             "rms_profile_diff_rel": float(np.sqrt(np.mean((depth_m - reference_m) ** 2)) / scale)}
+
+
+def moving_average_deg(phi_deg: np.ndarray, depth_m: np.ndarray, window_deg: float) -> np.ndarray:
+    """Circular moving average of a profile over ``window_deg`` of arc (points equally spaced on
+    the full circle; the window is the odd number of points nearest to window_deg)."""
+    h = np.asarray(depth_m, float)
+    n = h.size
+    m = max(1, int(round(window_deg / (360.0 / n))) // 2)
+    padded = np.concatenate([h[-m:], h, h[:m]])
+    kernel = np.full(2 * m + 1, 1.0 / (2 * m + 1))
+    return np.convolve(padded, kernel, mode="valid")
+
+
+def profile_ripple(phi_deg: np.ndarray, depth_m: np.ndarray, window_deg: float = 5.0,
+                   prominence_rel: float = 0.05) -> dict:
+    """Roughness of a worn profile, relative to its max depth: the RMS of (profile - its
+    ``window_deg`` circular moving average), and the local maxima whose topographic prominence
+    (on the circle) exceeds ``prominence_rel`` of the max depth -- a smooth two-lobe profile has
+    two, one per lobe."""
+    from scipy.signal import find_peaks
+
+    h = np.asarray(depth_m, float)
+    scale = float(h.max())
+    if scale <= 0.0:
+        return {"ripple_rms_rel": 0.0, "prominent_maxima": 0, "prominent_maxima_deg": []}
+    rms = float(np.sqrt(np.mean((h - moving_average_deg(phi_deg, h, window_deg)) ** 2)) / scale)
+    n = h.size
+    peaks, _ = find_peaks(np.concatenate([h, h, h]), prominence=prominence_rel * scale)
+    middle = np.sort(peaks[(peaks >= n) & (peaks < 2 * n)] - n)
+    return {"ripple_rms_rel": rms, "prominent_maxima": int(middle.size),
+            "prominent_maxima_deg": [float(np.asarray(phi_deg)[k] % 360.0) for k in middle]}
 
 
 def growth_exponent(revolutions, depth_m) -> float:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import math
 import struct
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,7 +19,9 @@ import numpy as np
 
 from .core import layout as L
 from .core.contact import block_minimum_depth, bushing_points, evaluate_contact
-from .core.wear import advance_joint, complete_joint_parameters, worn_volume
+from .core.wear import (
+    advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
+)
 from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
 
 _STATE_MAGIC = b"WJSTATE1"
@@ -68,15 +71,21 @@ class ContactResult:
     tangential_velocity_m_s: float
     penetration_rate_m_s: float
     contact_angle_rad: float                    # bushing frame, 0..2 pi
+    # the contact's extent (zero without contact; filled by ClearanceJoint.evaluate/advance):
+    half_width_m: float = 0.0                   # Hertz half-width b at the deepest point, Eq. (30)
+    mean_pressure_Pa: float = 0.0               # F_N / (2 b L), Eqs. (25), (29)
+    contact_arc_rad: tuple[float, float] = (0.0, 0.0)   # bushing-frame angles (start, end), counter-clockwise,
+    #                                             of the arc around the deepest point where the pin overlaps
+    #                                             the worn bushing (R_i - |d| > 0): where the wear goes
 
     @classmethod
-    def from_array(cls, r: np.ndarray) -> "ContactResult":
+    def from_array(cls, r: np.ndarray, **extent) -> "ContactResult":
         return cls((r[L.R_PIN_FX], r[L.R_PIN_FY], r[L.R_PIN_TORQUE]),
                    (r[L.R_BUSHING_FX], r[L.R_BUSHING_FY], r[L.R_BUSHING_TORQUE]),
                    r[L.R_NORMAL_FORCE], r[L.R_FRICTION_FORCE], r[L.R_PENETRATION],
                    bool(r[L.R_CONTACT] > 0.5), int(r[L.R_CONTACT_INDEX]),
                    (r[L.R_ECCENTRICITY_X], r[L.R_ECCENTRICITY_Y]),
-                   r[L.R_TANGENTIAL_VELOCITY], r[L.R_PENETRATION_RATE], r[L.R_CONTACT_ANGLE])
+                   r[L.R_TANGENTIAL_VELOCITY], r[L.R_PENETRATION_RATE], r[L.R_CONTACT_ANGLE], **extent)
 
 
 @dataclass(frozen=True)
@@ -101,7 +110,13 @@ class ClearanceJoint:
 
     Kinematics are 6 numbers per body, global frame: reference point x, y [m],
     angle [rad], and their rates vx, vy [m/s], omega [rad/s].  The pin body
-    (i) carries the pin, the bushing body (j) the wearing bushing.
+    (i) carries the pin, the bushing body (j) the wearing bushing; the pin and
+    bushing centres sit at ``params.pin_offset_m`` / ``bushing_offset_m`` in
+    their bodies' frames (default zero: at the reference points).
+
+    Bushing point k (0-based) sits at the bushing-frame angle
+    ``phi_rad[k] = (k + 1) 2 pi / N_d`` (the paper's z = k + 1, Eq. 3): point
+    N_d - 1 is at 0 deg, point 0 one spacing past it.
     """
 
     def __init__(self, params: JointParameters | None = None):
@@ -115,6 +130,7 @@ class ClearanceJoint:
         self.memory = np.zeros(L.N_MEMORY)
         self.result = np.zeros(L.N_RESULT)
         self._mask = np.zeros(n, dtype=np.bool_)
+        self.work = np.zeros(n)                     # scratch of the wear kernels (not state)
 
     # ------------------------------------------------------------- forces
     def evaluate_array(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
@@ -127,24 +143,60 @@ class ClearanceJoint:
         """Forces on both bodies for the given kinematics; the joint's state is unchanged."""
         pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
         pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
-        return ContactResult.from_array(self.evaluate_array(pos_i, vel_i, pos_j, vel_j).copy())
+        return self._contact_result(self.evaluate_array(pos_i, vel_i, pos_j, vel_j).copy(), self.wear_depth)
+
+    def _contact_result(self, r: np.ndarray, depth: np.ndarray) -> ContactResult:
+        """The result array as a :class:`ContactResult`, with the contact's extent; warns if the
+        pin centre lies outside the bushing (offsets that do not fit the bodies' frames)."""
+        p = self.params
+        ex, ey = r[L.R_ECCENTRICITY_X], r[L.R_ECCENTRICITY_Y]
+        if math.hypot(ex, ey) > p.bushing_radius_m + depth.max():
+            warnings.warn(f"the pin centre is {math.hypot(ex, ey):.6g} m from the bushing centre, outside the "
+                          f"bushing (radius {p.bushing_radius_m:g} m + wear): check pin_offset_m={p.pin_offset_m} "
+                          f"and bushing_offset_m={p.bushing_offset_m} against the bodies' reference points",
+                          RuntimeWarning, stacklevel=3)
+        if r[L.R_CONTACT] < 0.5 or r[L.R_NORMAL_FORCE] <= 0.0:
+            return ContactResult.from_array(r)
+        k = int(r[L.R_CONTACT_INDEX])
+        rho = equivalent_radius(p.pin_radius_m, p.bushing_radius_m + depth[k], RHO_MODES.index(p.rho_mode))
+        b = float(hertz_half_width(r[L.R_NORMAL_FORCE], rho, p.contact_length_m,
+                                   self.parameter_vector[L.P_EFFECTIVE_MODULUS]))
+        radius = p.bushing_radius_m + depth
+        inside = np.hypot(radius * self.cos_phi - ex, radius * self.sin_phi - ey) < p.pin_radius_m
+        n = inside.size
+        if inside.all():
+            arc = (0.0, 2.0 * math.pi)
+        else:
+            lo, hi = k, k
+            while inside[(lo - 1) % n] and (lo - 1) % n != k:
+                lo -= 1
+            while inside[(hi + 1) % n]:
+                hi += 1
+            arc = (float(self.phi_rad[lo % n] % (2 * math.pi)), float(self.phi_rad[hi % n] % (2 * math.pi)))
+        return ContactResult.from_array(r, half_width_m=b,
+                                        mean_pressure_Pa=float(r[L.R_NORMAL_FORCE] / (2.0 * b * p.contact_length_m)),
+                                        contact_arc_rad=arc)
 
     def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float) -> bool:
         """Hot path of :meth:`advance`; returns True if the state changed."""
         return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, self.parameter_vector, self.cos_phi,
                              self.sin_phi, self.wear_depth, self.block_min, self.memory,
-                             self._mask, self.result)
+                             self._mask, self.work, self.result)
 
     def advance(self, pin_kinematics, bushing_kinematics, dt: float) -> ContactResult:
-        """Accept a step of length dt [s] ending (or, for a co-simulation slave, starting)
-        at these kinematics: Archard wear over dt and the contact-onset bookkeeping.
-        Returns the contact evaluated there before the update."""
+        """Accept a step of length dt [s]: the contact is evaluated at these kinematics and
+        the wear of the whole step (Archard, docs/model.md 3.7 and 3.11) and the contact-onset
+        bookkeeping are taken from that one evaluation.  The joint does not care which end of
+        the step the kinematics belong to: the monolithic integrators pass the step's end
+        (the accepted state), a co-simulation slave the step's start (inputs held over the
+        step).  Returns the contact evaluated there, before the wear update."""
         if not (math.isfinite(dt) and dt >= 0.0):
             raise ParameterError(f"dt={dt!r} is invalid: allowed a finite step >= 0 s")
         pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
         pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
+        depth_before = self.wear_depth.copy()      # the contact's extent as evaluated, before the update
         self.advance_array(pos_i, vel_i, pos_j, vel_j, dt)
-        return ContactResult.from_array(self.result.copy())
+        return self._contact_result(self.result.copy(), depth_before)
 
     # ------------------------------------------------------------- wear profile
     @property

@@ -1,7 +1,7 @@
 """Parameter sets of the clearance/wear joint and of the paper's slider-crank.
 
 All values are SI; field names carry their unit.  Defaults are the paper's
-Tables 1 and 2 (see ``shared/MODEL.md`` section 2).  Every constructor validates
+Tables 1 and 2 (see docs/model.md §2).  Every constructor validates
 its values and raises :class:`ParameterError` naming the parameter, its value
 and the allowed range.
 """
@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 RHO_MODES = ("conformal", "paper")
-WEAR_PLACEMENTS = ("patch", "penetration")
+WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
 
 
@@ -58,7 +58,7 @@ def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
     ``form="internal"`` (default, pin inside a bushing) uses the radius term
     R_i R_j / (R_j - R_i); it reproduces Table 2's 7.95e10.  ``form="external"``
     is the sum form printed in Eq. (16), R_i R_j / (R_i + R_j) (~5.6e9 for the
-    paper's values; MODEL.md section 3.1).
+    paper's values; docs/model.md §3.1).
     """
     h_pin = (1.0 - pin_poisson_ratio ** 2) / (math.pi * pin_youngs_modulus_Pa)
     h_bushing = (1.0 - bushing_poisson_ratio ** 2) / (math.pi * bushing_youngs_modulus_Pa)
@@ -87,12 +87,16 @@ class JointParameters:
     ``pin_offset_m`` in the pin body's frame; the bushing (soft, body j) is
     ``n_points`` discrete points at radius ``bushing_radius_m`` + wear depth
     around ``bushing_offset_m`` in the bushing body's frame (Eqs. 2-3, 34-35).
+
+    The defaults are the joint's own: the paper's Table 2 values with the pin and bushing
+    centres at the two bodies' reference points (offsets zero).  The slider-crank's offsets
+    (crank tip, rod end) belong to the mechanism: :func:`paper_joint`.
     """
 
     pin_radius_m: float = 0.0100
     bushing_radius_m: float = 0.0101
-    pin_offset_m: tuple[float, float] = (0.025, 0.0)
-    bushing_offset_m: tuple[float, float] = (-0.110, 0.0)
+    pin_offset_m: tuple[float, float] = (0.0, 0.0)
+    bushing_offset_m: tuple[float, float] = (0.0, 0.0)
     contact_length_m: float = 0.006
     pin_youngs_modulus_Pa: float = 207e9
     pin_poisson_ratio: float = 0.29
@@ -108,7 +112,7 @@ class JointParameters:
     wear_factor: float = 1.0
     n_points: int = 1257
     rho_mode: str = "conformal"
-    wear_placement: str = "patch"
+    wear_placement: str = "foundation"
     sliding_distance: str = "rotation"
     impact_velocity_floor_m_s: float = 1e-3
 
@@ -214,7 +218,7 @@ class SliderCrankParameters:
         return 2.0 * math.pi / self.omega_rad_s
 
     def joint_offsets(self) -> dict:
-        """Pin and bushing centres in the crank and rod frames (MODEL.md section 1)."""
+        """Pin and bushing centres in the crank and rod frames (docs/model.md §1)."""
         return {"pin_offset_m": (0.5 * self.crank_length_m, 0.0),
                 "bushing_offset_m": (-0.5 * self.rod_length_m, 0.0)}
 

@@ -1,4 +1,4 @@
-"""Results contract (MODEL.md section 6): one folder per run.
+"""Results contract (docs/model.md §6): one folder per run.
 
 ``summary.json`` (key figures, SI units named in the keys, every parameter
 used), ``profile.csv`` (phi_deg,wear_depth_m), ``timeseries.npz`` (all
@@ -60,7 +60,7 @@ class RunRecord:
         return analysis.last_revolution(self.revolution_stats)
 
     def summary(self) -> dict:
-        """summary.json's content (MODEL.md 6); the statistics are :mod:`wearjoint.analysis`'s."""
+        """summary.json's content (docs/model.md §6); the statistics are :mod:`wearjoint.analysis`'s."""
         out = {
             "revolutions": self.revolutions,
             "simulated_time_s": self.simulated_time_s,

@@ -206,7 +206,7 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
 def joint_arrays(joint: ClearanceJoint) -> JointArrays:
     """The arrays of a :class:`ClearanceJoint` as the kernels take them (no copies)."""
     return JointArrays(joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-                       joint.memory, joint._mask, joint.result)
+                       joint.memory, joint._mask, joint.work, joint.result)
 
 
 __all__ = ["SimulationOptions", "Simulation", "run_simulation", "joint_arrays", "INTEGRATORS", "ParameterError"]

@@ -1,10 +1,10 @@
-"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend."""
+"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend (FMI 2.0, or 3.0 native)."""
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
-from ..fmu.build import BACKENDS, DEFAULT_BACKEND, build_fmu, default_fmu_path
+from ..fmu.build import BACKENDS, DEFAULT_BACKEND, DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
 from ..parameters import JointParameters, ParameterError
 
 
@@ -19,14 +19,20 @@ def add_arguments(parser) -> None:
                         help="native: the kernels compiled ahead of time and a C FMI layer (needs only libc/libm); "
                              "pythonfmu: the Python slave (the host needs Python with numpy and numba) "
                              "(default %(default)s)")
+    parser.add_argument("--fmi-version", type=int, choices=FMI_VERSIONS, default=DEFAULT_FMI_VERSION,
+                        help="FMI version of the FMU: 2, or 3 (native backend only: the wear profile is one array "
+                             "sized by the structural parameter n_points, --n-points is its start value) "
+                             "(default %(default)s)")
     parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
 
 
 def run(args) -> int:
     """Build the FMU and print its path; 0 on success, 2 with a message on stderr otherwise."""
     try:
-        out = Path(args.out) if args.out is not None else default_fmu_path(args.n_points, args.backend).parent
-        path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend)
+        version = args.fmi_version
+        out = Path(args.out) if args.out is not None else \
+            default_fmu_path(args.n_points, args.backend, fmi_version=version).parent
+        path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version)
     except (ParameterError, OSError, RuntimeError) as exc:
         print(f"wearjoint build-fmu: error: {exc}", file=sys.stderr)
         return 2

@@ -19,9 +19,9 @@ from ..parameters import (
 
 _CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES}
 _HELP = {
-    "rho_mode": "equivalent radius of the Hertz patch (MODEL.md 3.2)",
-    "wear_placement": "where the Archard increment goes (MODEL.md 3.7)",
-    "sliding_distance": "sliding distance of Eq. 33 (MODEL.md 3.8)",
+    "rho_mode": "equivalent radius of the Hertz patch (docs/model.md §3.2)",
+    "wear_placement": "where the Archard increment goes (docs/model.md §3.7)",
+    "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
     "wear_factor": "wear acceleration factor on k_w",
     "n_points": "bushing discrete points N_d",
 }
@@ -49,7 +49,7 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
     """Options for every mechanism and joint parameter, plus --no-wear and --stiffness-from-materials."""
     _add_dataclass_options(parser.add_argument_group("slider-crank (paper Table 1)"), SliderCrankParameters)
-    joint = parser.add_argument_group("clearance joint (paper Table 2, MODEL.md section 3)")
+    joint = parser.add_argument_group("clearance joint (paper Table 2, docs/model.md §3)")
     _add_dataclass_options(joint, JointParameters)
     joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
     joint.add_argument("--stiffness-from-materials", action="store_true",

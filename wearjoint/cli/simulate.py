@@ -18,7 +18,7 @@ def add_integration_arguments(parser) -> None:
     g.add_argument("--atol-position", type=float, default=_DEFAULTS.atol_position_m, help="absolute tolerance on positions [m, rad]")
     g.add_argument("--atol-velocity", type=float, default=_DEFAULTS.atol_velocity_m_s, help="absolute tolerance on velocities [m/s, rad/s]")
     g.add_argument("--max-step", type=float, default=None,
-                   help=f"largest step [s] (default {_DEFAULTS.max_step_s:g}; 1e-5 when wear is on, MODEL.md 7)")
+                   help=f"largest step [s] (default {_DEFAULTS.max_step_s:g}; 1e-5 when wear is on, docs/model.md §7)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
 

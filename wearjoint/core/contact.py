@@ -5,7 +5,7 @@ The search works in the bushing frame: the pin centre relative to the bushing
 centre is the eccentricity e, and bushing point z sits at
 rho_z (cos phi_z, sin phi_z), rho_z = R_j + h_z (Eqs. 3, 35).
 
-Conventions (MODEL.md section 3): delta = R_i - |d| (Eq. 6, positive inside
+Conventions (docs/model.md §3): delta = R_i - |d| (Eq. 6, positive inside
 the pin); n points from the pin centre to the deepest bushing point (Eq. 8);
 the normal force on the pin is -F_N n (it pushes the pin back towards the
 bushing centre) and the friction on the pin opposes the pin's sliding velocity
@@ -402,7 +402,7 @@ def evaluate_contact_scalars(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, 
 
 @kernel
 def update_contact_memory(result, jp, memory):
-    """Onset bookkeeping after an accepted step (MODEL.md 3.5).
+    """Onset bookkeeping after an accepted step (docs/model.md §3.5).
 
     A contact that is new at the accepted state stores its approach velocity,
     floored at ``impact_velocity_floor``, as delta_dot^- of Eq. (15); leaving

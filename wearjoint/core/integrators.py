@@ -16,15 +16,14 @@ from .layout import (
     CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, M_ACTIVE,
     MODE_CLEARANCE,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
-    R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, ROD, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
+    R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
     T_FRICTION_FORCE, T_NORMAL_FORCE, T_PENETRATION, T_PIN_FX, T_PIN_FY, T_SLIDER_A, T_SLIDER_V,
     T_SLIDER_X, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
-from .contact import evaluate_contact
 from .jit import kernel
+from .joint_access import accept_joint, contact_at, joint_failed
 from .mechanism import derivative
-from .wear import accept_contact, advance_joint
 
 RK4 = 0
 DOPRI5 = 1
@@ -148,18 +147,9 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
     ``reuse_k_end``: ``k_end`` is f(t, y) and the joint's result array holds the contact
     evaluated there (DOPRI's last stage); both are reused unless the joint changed.
     """
-    n = N_COORDINATES
     changed = False
     if mode == MODE_CLEARANCE:
-        vel_i = y[n + CRANK:n + CRANK + 3]
-        vel_j = y[n + ROD:n + ROD + 3]
-        if reuse_k_end:
-            changed = accept_contact(joint.result, vel_i, vel_j, h, joint.parameters, joint.cos_phi, joint.sin_phi,
-                                     joint.wear_depth, joint.block_min, joint.memory, joint.mask)
-        else:
-            changed = advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, joint.parameters,
-                                    joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory,
-                                    joint.mask, joint.result)
+        changed = accept_joint(joint, t, y, h, reuse_k_end)
     if reuse_k_end and not changed:
         for i in range(dy.shape[0]):
             dy[i] = k_end[i]
@@ -171,7 +161,8 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
 def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
               rev_stats, samples, track):
     """Integrate y from t to t_end; ``dy`` must hold f(t, y) on entry and holds f at the end.
-    ``joint`` is a :data:`core.mechanism.JointArrays`.
+    ``joint`` is a :data:`core.mechanism.JointArrays` (the joint in process) or a
+    :data:`core.joint_access.FmuJoint` (an FMU's Model Exchange interface): the same steps.
 
     control = [h (RK4 step or DOPRI initial/next step), h_max, rtol, atol_position,
     atol_velocity, h_min, onset_penetration].  Returns (t, accepted steps, rejected
@@ -214,7 +205,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     accepted = 0
     rejected = 0
     onset_step = np.inf                         # RK4: a shortened step that ends just past a contact onset
-    while t < t_end * (1.0 - 1e-15) - 1e-300:
+    while t < t_end * (1.0 - 1e-15) - 1e-300 and not joint_failed(joint):
         step = min(h, t_end - t)
         if method == RK4:
             step = min(step, onset_step)
@@ -222,18 +213,14 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                 y_new[i] = y[i]
             rk4_step(t, y_new, step, mode, mp, joint, body_forces, ws, dy, stages)
             if locate_onsets:
-                vel_i = y_new[n + CRANK:n + CRANK + 3]
-                vel_j = y_new[n + ROD:n + ROD + 3]
-                evaluate_contact(y_new[CRANK:CRANK + 3], vel_i, y_new[ROD:ROD + 3], vel_j, joint.parameters,
-                                 joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min, memory, result)
+                contact_at(joint, t + step, y_new)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
                                          h_min)
                 if retry > 0.0:
                     onset_step = retry
                     rejected += 1
                     continue
-                accept_contact(result, vel_i, vel_j, step, joint.parameters, joint.cos_phi, joint.sin_phi,
-                               joint.wear_depth, joint.block_min, memory, joint.mask)
+                accept_joint(joint, t + step, y_new, step, True)
             onset_step = np.inf
             t += step
             accepted += 1

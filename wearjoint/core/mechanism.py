@@ -14,8 +14,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from .contact import evaluate_contact_scalars
 from .jit import kernel
+from .joint_access import contact_forces
 from .layout import (
     CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
     MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
@@ -23,17 +23,13 @@ from .layout import (
     R_BUSHING_TORQUE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
 )
 
-# The integrators' right-hand side inlines the contact evaluation (a call with a dozen
-# array arguments costs about as much as the mechanism itself); everywhere else, e.g. in
-# the FMU, it stays an ordinary compiled function (faster to compile).
-_evaluate_contact_inlined = njit(inline='always')(evaluate_contact_scalars.py_func)
-
 # The clearance joint's arrays as the kernels take them (numba compiles the attribute
 # access to the same code as tuple indexing): the joint parameter vector (layout.P_*), the
 # bushing points' cos/sin, the wear profile, the contact search's block minima, the contact
-# memory (layout.M_*), the wear kernel's scratch mask and the evaluation result (layout.R_*).
+# memory (layout.M_*), the wear kernels' scratch (a bool mask and a float64 array ``work``, both
+# N_d long, not state) and the evaluation result (layout.R_*).
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
-                                         "memory", "mask", "result"))
+                                         "memory", "mask", "work", "result"))
 
 GROUND = -1
 NO_BODY = -1
@@ -269,8 +265,8 @@ def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, si
 @kernel(inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
-    :data:`JointArrays`; writes its result array); MODE_EXTERNAL uses ``body_forces`` as
-    given; MODE_IDEAL has none."""
+    :data:`JointArrays`, or a :data:`~wearjoint.core.joint_access.FmuJoint`; writes its result
+    array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
     n = N_COORDINATES
     # the crank and the rod carry the pin and the bushing: one set of trigonometric calls for both
     cos1 = math.cos(y[CRANK + 2])
@@ -279,10 +275,7 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     sin2 = math.sin(y[ROD + 2])
     if mode == MODE_CLEARANCE:
         result = joint.result
-        _evaluate_contact_inlined(y[CRANK], y[CRANK + 1], cos1, sin1, y[n + CRANK], y[n + CRANK + 1], y[n + CRANK + 2],
-                                  y[ROD], y[ROD + 1], cos2, sin2, y[n + ROD], y[n + ROD + 1], y[n + ROD + 2],
-                                  joint.parameters, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-                                  joint.memory, result)
+        contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
         body_forces[0] = result[R_PIN_FX]
         body_forces[1] = result[R_PIN_FY]
         body_forces[2] = result[R_PIN_TORQUE]

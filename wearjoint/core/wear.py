@@ -2,7 +2,7 @@
 
 Archard's law removes the volume k_w F_N ds (Eq. 24); the depth update of
 Eq. (28) is h_z += k_w p Delta s_z with the Hertz mean pressure
-p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (MODEL.md 3.7):
+p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (docs/model.md §3.7):
 
 * ``patch`` (default): bushing point z stands for the arc cell
   [phi_z - dphi/2, phi_z + dphi/2]; it receives the increment times the share
@@ -18,9 +18,11 @@ p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (MODEL.md 3.7):
 """
 import math
 
+import numpy as np
+
 from .contact import (
-    block_minimum, block_minimum_depth, distance_sq, evaluate_contact, penetrating_points, update_contact_memory,
-    wrap_index,
+    _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, block_minimum,
+    block_minimum_depth, distance_sq, evaluate_contact, penetrating_points, update_contact_memory, wrap_index,
 )
 from .jit import kernel
 from .layout import (
@@ -103,7 +105,7 @@ def _refresh_blocks(wear_depth, block_min, first, last):
     n = wear_depth.shape[0]
     nb = block_min.shape[0]
     span = last - first
-    if span + 1 >= n:
+    if span + BLOCK_SIZE >= n:                  # the ends may share a block after wrapping
         block_minimum_depth(wear_depth, block_min)
         return
     b = (first % n) // BLOCK_SIZE
@@ -115,8 +117,285 @@ def _refresh_blocks(wear_depth, block_min, first, last):
         b = wrap_index(b + 1, nb)
 
 
+@kernel(inline='always')
+def overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """Local overlap of bushing point z with the pin [m], (R_i^2 - |d_z|^2) / (2 R_i): R_i - |d_z|
+    (> 0 inside the pin; the elastic foundation's compression along the pin's normal) to within a
+    factor 1 - o/(2 R_i), without a square root."""
+    return (pin_radius * pin_radius - distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)) / (
+        2.0 * pin_radius)
+
+
+@kernel(inline='always')
+def _positive_mean(u, v):
+    """Mean over an interval of max(0, f) for f linear from u to v."""
+    if u >= 0.0 and v >= 0.0:
+        return 0.5 * (u + v)
+    if u <= 0.0 and v <= 0.0:
+        return 0.0
+    p = max(u, v)
+    return 0.5 * p * p / (p - min(u, v))
+
+
+@kernel(inline='always')
+def cell_overlap(before, at, after):
+    """Mean positive overlap over a point's arc cell [phi_z - dphi/2, phi_z + dphi/2], the overlap
+    taken linear in phi between the point (``at``) and its neighbours (``before``, ``after``).
+    Summed over the cells times dphi it is the integral of the positive part of that piecewise
+    linear overlap: the same function of the worn surface whatever the point spacing."""
+    return 0.5 * (_positive_mean(0.5 * (before + at), at) + _positive_mean(at, 0.5 * (at + after)))
+
+
 @kernel
-def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask):
+def _fill_overlaps(lo, hi, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
+    """work[z] = :func:`overlap` of point z for z = lo..hi-1 (0 <= lo <= hi <= N_d, no wrapping).
+    Returns how many of them are inside or on the pin (overlap >= 0, i.e. |d_z|^2 <= R_i^2: the
+    count of :func:`contact._count_candidates`).  Branch-free on unsigned indices: vectorised."""
+    count = 0
+    for z in range(np.uint64(lo), np.uint64(hi)):
+        o = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+        work[z] = o
+        count += o >= 0.0
+    return count
+
+
+@kernel
+def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, kept, work):
+    """kept[b] for every block b (``kept``: the first nb entries of the joint's point mask): False
+    only if block b holds no point inside the pin, by the block's lower bound
+    (:func:`contact._block_lower_bound_sq`), else by the overlaps of its points, which are left in
+    ``work`` (:func:`_fill_overlaps`).  Blocks of fewer than 4 points are always kept, so the runs
+    of kept blocks are at least 4 points apart.  Returns a block that is not kept, or -1 if all are."""
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    e, ux, uy, k0 = _direction_point(ex, ey, n)
+    b0 = k0 // BLOCK_SIZE
+    margin = _tie_margin(pin_radius * pin_radius)
+    skipped = -1
+    for b in range(nb):
+        lo = b * BLOCK_SIZE
+        hi = min(lo + BLOCK_SIZE, n)
+        forced = nb <= 3 or hi - lo < 4
+        if (not forced and not _is_direction_block(b, b0, nb)
+                and _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) > margin):
+            kept[b] = False
+        else:
+            inside = _fill_overlaps(lo, hi, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
+            kept[b] = forced or inside > 0
+        if not kept[b]:
+            skipped = b
+    return skipped
+
+
+@kernel(inline='always')
+def _common_weight(before, at, after):
+    """:func:`cell_overlap` of a point with these overlaps in the two common cases, the arc in
+    contact (all three >= 0) and outside it (all <= 0); -1 (a marker) where the signs are mixed."""
+    if min(before, min(at, after)) >= 0.0:
+        return 0.125 * (before + 6.0 * at + after)
+    if max(before, max(at, after)) <= 0.0:
+        return 0.0
+    return -1.0
+
+
+@kernel
+def _shifted_weights(lo, hi, work):
+    """work[z - 1] = :func:`_common_weight` of point z from the overlaps work[z - 1], work[z],
+    work[z + 1], for z = lo..hi-1 (1 <= lo, hi <= N_d - 1): each slot is written after the
+    last read of it, so the weights replace the overlaps in one array, one slot early, and the
+    loop vectorises (unsigned indices, selects)."""
+    for z in range(np.uint64(lo), np.uint64(hi)):
+        work[z - 1] = _common_weight(work[z - 1], work[z], work[z + 1])
+
+
+@kernel
+def _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
+    """The weights of points first..last (wrapping; ``cyclic``: the whole circle, first = 0, last
+    = N_d - 1) from their overlaps in ``work``, stored one slot early (point z's in
+    work[z - 1 mod N_d]); -1 where :func:`_common_weight` cannot tell.  A run that is not cyclic
+    first gets the overlaps of the two points on either side computed (their blocks may have been
+    skipped); it writes only slots first-1..last-1, so runs at least 4 points apart do not meet."""
+    n = wear_depth.shape[0]
+    if cyclic:
+        o_0 = work[0]
+        o_1 = work[1]
+        _shifted_weights(1, n - 1, work)
+        work[n - 2] = _common_weight(work[n - 2], work[n - 1], o_0)
+        work[n - 1] = _common_weight(work[n - 1], o_0, o_1)
+        return
+    for i in (first - 1, first, last, last + 1):
+        z = wrap_index(i, n)
+        work[z] = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+    i = first
+    while i <= last:
+        z = wrap_index(i, n)
+        if z == 0 or z == n - 1:
+            before = wrap_index(z - 1, n)
+            work[before] = _common_weight(work[before], work[z], work[wrap_index(z + 1, n)])
+            i += 1
+        else:
+            end = min(last + 1, i + n - 1 - z)          # up to point n - 2
+            _shifted_weights(z, z + end - i, work)
+            i = end
+
+
+@kernel
+def _run_sums(first, last, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
+    """Completes the weights of :func:`_run_weights` (the marked points get :func:`cell_overlap`
+    of their overlaps, recomputed) and returns (sum over points first..last of weight *
+    (R_j + h_z) dphi, the run's overlap integral; the largest weight * (R_j + h_z) (``rotation``)
+    or weight).  Four partial sums in a fixed order, which does not depend on the CPU (the native
+    FMU gives the same numbers)."""
+    n = wear_depth.shape[0]
+    sums = (0.0, 0.0, 0.0, 0.0)
+    peak = 0.0
+    for i in range(first, last + 1):
+        z = wrap_index(i, n)
+        slot = wrap_index(z - 1, n)
+        w = work[slot]
+        if w < 0.0:
+            w = cell_overlap(overlap(slot, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth),
+                             overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth),
+                             overlap(wrap_index(z + 1, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                                     wear_depth))
+            work[slot] = w
+        rho_w = (bushing_radius + wear_depth[z]) * w
+        sums = (sums[1], sums[2], sums[3], sums[0] + rho_w)
+        peak = max(peak, rho_w if rotation else w)
+    return ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n), peak
+
+
+@kernel
+def _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                  work):
+    """Turn the overlaps in ``work`` into the :func:`cell_overlap` weights of points first..last
+    (point z's in work[z - 1 mod N_d]) and return (the run's overlap integral, the largest
+    increment per unit scale): :func:`_run_weights`, then :func:`_run_sums`."""
+    _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
+    return _run_sums(first, last, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
+
+
+@kernel
+def _wear_cells(lo, hi, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, work):
+    """h_z += scale * w_z * Delta s_z for the points z = lo..hi-1 (1 <= lo, hi <= N_d) with a
+    positive weight w_z = work[z - 1]: Delta s_z = (R_j + h_z) relative_dt (``rotation``) or
+    ``slide``.  Branch-free on unsigned indices: vectorised."""
+    if rotation:
+        for z in range(np.uint64(lo), np.uint64(hi)):
+            w = work[z - 1]
+            rho = bushing_radius + wear_depth[z]
+            dh = scale * w * (rho * relative_dt)
+            wear_depth[z] = rho + dh - bushing_radius if w > 0.0 else wear_depth[z]
+    else:
+        for z in range(np.uint64(lo), np.uint64(hi)):
+            w = work[z - 1]
+            rho = bushing_radius + wear_depth[z]
+            dh = scale * w * slide
+            wear_depth[z] = rho + dh - bushing_radius if w > 0.0 else wear_depth[z]
+
+
+@kernel
+def _apply_run(first, last, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min, work):
+    """:func:`_wear_cells` over points first..last (first >= -1, last < 2 N_d, at most N_d points),
+    split where they wrap (point 0, whose weight is in the last slot, on its own); then the block
+    minima of those points."""
+    n = wear_depth.shape[0]
+    i = first
+    while i <= last:
+        z = wrap_index(i, n)
+        if z == 0:
+            w = work[n - 1]
+            if w > 0.0:
+                rho = bushing_radius + wear_depth[0]
+                dh = scale * w * (rho * relative_dt if rotation else slide)
+                wear_depth[0] = rho + dh - bushing_radius
+            i += 1
+        else:
+            end = min(last + 1, i + n - z)                # up to point n - 1
+            _wear_cells(z, z + end - i, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, work)
+            i = end
+    _refresh_blocks(wear_depth, block_min, first, last)
+
+
+@kernel(inline='always')
+def _block_start(b, nb, n):
+    """First point of block b, counted on past n for b >= nb (blocks of a second turn)."""
+    return n + (b - nb) * BLOCK_SIZE if b >= nb else b * BLOCK_SIZE
+
+
+@kernel
+def _foundation_pass(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                     wear_depth, block_min, kept, skipped, work):
+    """Over every run of kept blocks (:func:`_mark_blocks`; the whole circle if ``skipped`` < 0),
+    each run widened by one point on both sides (a cell just outside can still overlap over part
+    of its arc).  scale <= 0: :func:`_cell_weights`, returns (the summed overlap integral, the
+    largest peak); scale > 0: :func:`_apply_run` with those weights, returns (0, 0)."""
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    if skipped < 0:
+        if scale > 0.0:
+            _apply_run(0, n - 1, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min, work)
+            return 0.0, 0.0
+        return _cell_weights(0, n - 1, True, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                             wear_depth, work)
+    total = 0.0
+    peak = 0.0
+    start = -1
+    for j in range(1, nb + 1):
+        b = skipped + j
+        bb = b - nb if b >= nb else b
+        keep = j < nb and kept[bb]
+        if keep and start < 0:
+            start = b
+        elif not keep and start >= 0:
+            first = _block_start(start, nb, n) - 1                      # one point before the run ...
+            last = _block_start(b, nb, n)                               # ... and one after
+            if first >= n:
+                first -= n
+                last -= n
+            if scale > 0.0:
+                _apply_run(first, last, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min,
+                           work)
+            else:
+                part, top = _cell_weights(first, last, False, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                          sin_phi, wear_depth, work)
+                total += part
+                peak = max(peak, top)
+            start = -1
+    return total, peak
+
+
+@kernel
+def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
+                    cos_phi, sin_phi, wear_depth, block_min, mask, work, k):
+    """Elastic-foundation (Winkler) placement of the Archard increment (docs/model.md 3.7).
+
+    The pressure on the bushing is proportional to the local overlap of the worn surface with
+    the pin, p(phi) = F_N o+(phi) / (L int o+(phi') rho dphi'), so it integrates to the normal
+    force over the arc in contact; point z gets h_z += k_w p_z Delta s_z with p_z the pressure
+    averaged over its cell (:func:`cell_overlap`), all from the depths before the update.  The
+    removed volume is k_w F_N Delta s (to first order in the increment).  Scratch: ``mask`` (bool,
+    N_d), whose first nb entries flag the blocks of points that may overlap, and ``work``
+    (float64, N_d), which holds the points' overlaps and then their weights, so each point's
+    distance to the pin is computed once.  Returns the largest increment [m]."""
+    skipped = _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, work)
+    total, peak = _foundation_pass(0.0, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                   sin_phi, wear_depth, block_min, mask, skipped, work)
+    if total <= 0.0:                          # cannot happen with F_N > 0 (the deepest point overlaps)
+        n = wear_depth.shape[0]
+        rho = bushing_radius + wear_depth[k]
+        dh = k_w * f_n / (contact_length * rho * 2.0 * math.pi / n) * (rho * relative_dt if rotation else slide)
+        wear_depth[k] += dh
+        _refresh_blocks(wear_depth, block_min, k, k)
+        return dh
+    scale = k_w * f_n / (contact_length * total)
+    _foundation_pass(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                     wear_depth, block_min, mask, skipped, work)
+    return scale * peak * (relative_dt if rotation else slide)
+
+
+@kernel
+def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work):
     """Archard update of the wear profile over an accepted step of length dt, Eqs. (28)-(33).
 
     ``result`` is the contact evaluation at the accepted state.  Sliding
@@ -141,7 +420,12 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     relative_rate = abs(vel_i[2] - vel_j[2])
     tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
     largest = 0.0
-    if int(jp[P_WEAR_PLACEMENT]) == 0:
+    placement = int(jp[P_WEAR_PLACEMENT])
+    if placement == 2:
+        return foundation_wear(k_w, f_n, jp[P_CONTACT_LENGTH], relative_rate * dt, tangential_slide, rotation,
+                               result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius, bushing_radius,
+                               cos_phi, sin_phi, wear_depth, block_min, mask, work, k)
+    if placement == 0:
         half_angle = min(half_width / worn_radius, math.pi)
         centre = subgrid_contact_offset(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], bushing_radius,
                                         cos_phi, sin_phi, wear_depth)
@@ -170,23 +454,25 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
 
 
 @kernel
-def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask):
+def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work):
     """Archard update over dt and the contact-onset bookkeeping for ``result``, the contact
     evaluated at the accepted state.  Returns True if the joint's state changed."""
-    worn = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask) > 0.0
+    worn = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask,
+                      work) > 0.0
     changed = update_contact_memory(result, jp, memory)
     return worn or changed
 
 
 @kernel
 def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
-                  memory, mask, result):
+                  memory, mask, work, result):
     """Accept the state (pos, vel) as the end of a step of length dt: evaluate the contact
     there (into ``result``), then :func:`accept_contact`.  Returns True if the joint's state
     changed (forces at the same kinematics would differ)."""
     evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, result)
-    return accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask)
+    return accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
+                          work)
 
 
 @kernel

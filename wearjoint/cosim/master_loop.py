@@ -112,7 +112,7 @@ def communication_step(t, h, record, buf, ws, samples):
     for k in range(6):
         forces[k] = outputs[k]
     # derivative takes the in-process joint's arrays; MODE_EXTERNAL reads none of them
-    joint = JointArrays(mp, mp, mp, mp, mp, mp, np.zeros(0, dtype=np.bool_), result)
+    joint = JointArrays(mp, mp, mp, mp, mp, mp, np.zeros(0, dtype=np.bool_), mp, result)
     derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
         stats = buf[B_STATS:].reshape((-1, L.N_STATS))

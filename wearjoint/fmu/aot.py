@@ -28,16 +28,18 @@ import re
 import sys
 from pathlib import Path
 
-# stable C symbol -> cfunc in wearjoint.fmu.entry_points; C prototypes are in fmu_src/model.h
+# stable C symbol -> (cfunc in wearjoint.fmu.entry_points, its number of arguments); the C
+# prototypes in fmu_src/model.h take two more (return value, exception info).  A cfunc whose
+# argument count differs from its prototype's fails the build.
 ENTRY_POINTS = {
-    "wearjoint_evaluate": "evaluate_native",
-    "wearjoint_advance": "advance_native",
-    "wearjoint_accept": "accept_native",
-    "wearjoint_update_contact_memory": "update_contact_memory_native",
-    "wearjoint_bushing_points": "bushing_points_native",
-    "wearjoint_block_minima": "block_minima_native",
-    "wearjoint_worn_volume": "worn_volume_native",
-    "wearjoint_complete_parameters": "complete_parameters_native",
+    "wearjoint_evaluate": ("evaluate_native", 11),
+    "wearjoint_advance": ("advance_native", 13),
+    "wearjoint_accept": ("accept_native", 13),
+    "wearjoint_update_contact_memory": ("update_contact_memory_native", 3),
+    "wearjoint_bushing_points": ("bushing_points_native", 4),
+    "wearjoint_block_minima": ("block_minima_native", 4),
+    "wearjoint_worn_volume": ("worn_volume_native", 3),
+    "wearjoint_complete_parameters": ("complete_parameters_native", 1),
 }
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)
 ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",
@@ -86,8 +88,12 @@ def compile_objects(out_dir: Path) -> dict:
     machine = target.create_target_machine(cpu=TARGET_CPU, features="", opt=3, reloc="pic", codemodel="default")
     out_dir.mkdir(parents=True, exist_ok=True)
     objects = {}
-    for symbol, name in ENTRY_POINTS.items():
-        ir = _export_ir(getattr(entry_points, name), symbol)
+    for symbol, (name, n_arguments) in ENTRY_POINTS.items():
+        cfunc = getattr(entry_points, name)
+        if len(cfunc._sig.args) != n_arguments:
+            raise RuntimeError(f"AOT: {name} takes {len(cfunc._sig.args)} arguments, fmu_src/model.h's {symbol} "
+                               f"{n_arguments}: update both together")
+        ir = _export_ir(cfunc, symbol)
         module = llvm.parse_assembly(ir)
         module.triple = TARGET_TRIPLE
         for function in module.functions:

@@ -4,10 +4,10 @@ Backends (docs/model.md, "The FMU"):
 
 * ``native`` -- the joint's numba kernels compiled ahead of time and a C FMI layer
   (``fmu_src/``), one shared library needing only libc and libm
-  (:mod:`wearjoint.fmu.build_native`);
+  (:mod:`wearjoint.fmu.build_native`); FMI 2.0 (default) or FMI 3.0 (``fmi_version=3``);
 * ``pythonfmu`` -- the Python slave ``fmu_src/ClearanceWearJoint.py`` behind a C
   status shim; the host needs Python with numpy and numba
-  (:mod:`wearjoint.fmu.build_pythonfmu`).
+  (:mod:`wearjoint.fmu.build_pythonfmu`); FMI 2.0 only.
 """
 from __future__ import annotations
 
@@ -41,17 +41,38 @@ def _backend_module(backend: str):
     return importlib.import_module(_MODULES[backend])
 
 
-def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND) -> Path:
-    """Cache location of the FMU for this source tree, ``n_points`` and ``backend``."""
-    return _backend_module(backend).default_fmu_path(n_points)
+FMI_VERSIONS = (2, 3)
+DEFAULT_FMI_VERSION = 2
+
+
+def _check_fmi_version(fmi_version, backend: str) -> int:
+    if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
+        raise ParameterError(f"parameter fmi_version={fmi_version!r} is invalid: allowed one of 2, 3")
+    if fmi_version != 2 and backend != "native":
+        raise ParameterError(f"parameter fmi_version={fmi_version!r} is invalid for backend={backend!r}: "
+                             "the pythonfmu backend builds FMI 2.0 only (use backend='native' for FMI 3.0)")
+    return int(fmi_version)
+
+
+def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
+                     fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
+    """Cache location of the FMU for this source tree, ``n_points``, ``backend`` and ``fmi_version``."""
+    module = _backend_module(backend)
+    if _check_fmi_version(fmi_version, backend) == 2:
+        return module.default_fmu_path(n_points)
+    return module.default_fmu_path(n_points, fmi_version=fmi_version)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
-              backend: str = DEFAULT_BACKEND) -> Path:
+              backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
     """Build ``out_dir/ClearanceWearJoint.fmu``; return its path (an identical existing build is kept
-    unless ``force``).  Raises ParameterError for a bad argument, RuntimeError when the build
-    cannot run (no C compiler, unsupported platform)."""
-    return _backend_module(backend).build_fmu(out_dir, n_points=n_points, force=force)
+    unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend only; ``n_points`` is
+    then the start value of the structural parameter ``n_points``).  Raises ParameterError for a
+    bad argument, RuntimeError when the build cannot run (no C compiler, unsupported platform)."""
+    module = _backend_module(backend)
+    if _check_fmi_version(fmi_version, backend) == 2:
+        return module.build_fmu(out_dir, n_points=n_points, force=force)
+    return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version)
 
 
 # ------------------------------------------------------------- shared by the backends

@@ -1,21 +1,28 @@
 """Build the native ``ClearanceWearJoint.fmu``: the joint's numba kernels compiled ahead of
-time (:mod:`wearjoint.fmu.aot`) linked with the C FMI 2.0 layer of ``fmu_src/`` into
-``binaries/linux64/ClearanceWearJoint.so``, which needs only libc and libm.
+time (:mod:`wearjoint.fmu.aot`) linked with the C FMI layer of ``fmu_src/`` into one shared
+library that needs only libc and libm: FMI 2.0 (default, ``binaries/linux64/``) or FMI 3.0
+(``binaries/x86_64-linux/``), Co-Simulation and Model Exchange.
 
 Steps: (1) a fresh Python process with an empty numba cache compiles the kernels to
-objects for a generic x86-64 CPU; (2) the variable table becomes ``model_variables.h``
-(value references, start values, allowed ranges, where each output comes from), and
-``joint_instance.c`` (the joint's data, FMI-independent) is compiled with the FMI 2.0 layer
-(Co-Simulation and Model Exchange);
-(3) gcc links the C layer and the objects, exporting only the ``fmi2*`` functions and
+objects for a generic x86-64 CPU (kept in the user cache, keyed by the kernels' sources and
+the numba version, so further builds only relink); (2) the variable table becomes
+``model_variables.h`` (value references, start values, allowed ranges, where each output comes
+from), and ``joint_instance.c`` (the joint's data, FMI-independent) is compiled with the FMI
+layer (``fmi2Functions.c`` or ``fmi3Functions.c``);
+(3) gcc links the C layer and the objects, exporting only the ``fmi2*`` (``fmi3*``) functions and
 refusing any undefined symbol outside libc/libm; (4) the FMU gets the generated
 ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR and
 objects, ``build.sh``), so a user with a C compiler can relink it.
+
+FMI 3.0: the number of bushing points is the structural parameter ``n_points`` (the build's
+``n_points`` is its start value; a host sets another in Configuration Mode) and the wear profile
+one ``Float64`` array ``wear_depth`` of that size.
 """
 from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -26,43 +33,65 @@ from pathlib import Path
 from .. import __version__
 from ..core import layout
 from ..joint import PARAMETER_SLOTS
-from ..parameters import JointParameters
+from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .build import (
     BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, existing_build_key, fmi2_headers,
     source_digest, user_cache_dir,
 )
-from .model_description import model_description_xml
+from .model_description import (
+    N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, model_description_fmi3_xml,
+    model_description_xml,
+)
 
-C_SOURCES = ("fmi2Functions.c", "joint_instance.c", "joint_instance.h", "model.h")
+FMI_VERSIONS = (2, 3)
+DEFAULT_FMI_VERSION = 2
+COMMON_C_SOURCES = ("joint_instance.c", "joint_instance.h", "model.h")
+C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c", *COMMON_C_SOURCES), 3: ("fmi3Functions.c", *COMMON_C_SOURCES)}
+C_SOURCES = C_SOURCES_BY_VERSION[2]
 C_FILES = tuple(name for name in C_SOURCES if name.endswith(".c"))
 N_EVENT_INDICATORS = 1   # Model Exchange: the signed penetration
 # the wearjoint modules whose content decides the compiled FMU
 KERNEL_MODULES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "joint.py", "parameters.py",
                   "fmu/variables.py", "fmu/entry_points.py", "fmu/aot.py", "fmu/model_description.py",
                   "fmu/build_native.py")
-FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
+# what the compiled kernel objects depend on (with the numba and llvmlite versions): the key of their cache
+KERNEL_OBJECT_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/mechanism.py",
+                         "core/integrators.py", "joint.py", "parameters.py", "fmu/entry_points.py", "fmu/aot.py")
+FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
+                          3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
+FMI_HEADERS = FMI_HEADERS_BY_VERSION[2]
 GCC_FLAGS = ("-shared", "-fPIC", "-O2", "-std=c11", "-Wall", "-Wextra", "-Wno-unused-parameter", "-Werror", "-Wl,-z,defs",
              "-Wl,--version-script=exports.map")
 EXPORTS_MAP = "{\n  global: fmi2*;\n  local: *;\n};\n"
+EXPORTS_MAP_BY_VERSION = {2: EXPORTS_MAP, 3: "{\n  global: fmi3*;\n  local: *;\n};\n"}
+BINARY_ARCNAME_BY_VERSION = {2: BINARY_ARCNAME, 3: f"binaries/x86_64-linux/{fv.MODEL_NAME}.so"}
 # the process that compiles the kernels: no cached code (it has no IR), a generic x86-64 CPU
 AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}
 
 
-def shipped_sources() -> list[Path]:
-    return [*(FMU_SOURCE_DIR / name for name in C_SOURCES), *(PACKAGE_DIR / name for name in KERNEL_MODULES)]
+def check_fmi_version(fmi_version) -> int:
+    """``fmi_version`` as 2 or 3; ParameterError naming it otherwise."""
+    if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
+        raise ParameterError(f"parameter fmi_version={fmi_version!r} is invalid: allowed one of 2, 3")
+    return int(fmi_version)
 
 
-def build_key(n_points: int) -> str:
-    """Identifies a native build: wearjoint version, n_points, numba version, hash of the sources."""
+def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION) -> list[Path]:
+    return [*(FMU_SOURCE_DIR / name for name in C_SOURCES_BY_VERSION[check_fmi_version(fmi_version)]),
+            *(PACKAGE_DIR / name for name in KERNEL_MODULES)]
+
+
+def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION) -> str:
+    """Identifies a native build: wearjoint version, n_points, FMI version, numba version, hash of the sources."""
     import numba
 
-    digest = source_digest(shipped_sources(), PACKAGE_DIR.parent)
-    return f"{__version__}-n{n_points}-native-numba{numba.__version__}-{digest}"
+    digest = source_digest(shipped_sources(fmi_version), PACKAGE_DIR.parent)
+    return f"{__version__}-n{n_points}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}"
 
 
-def default_fmu_path(n_points: int = JointParameters.n_points) -> Path:
-    return user_cache_dir() / "fmu" / build_key(n_points) / FMU_FILE_NAME
+def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
+    return user_cache_dir() / "fmu" / build_key(n_points, fmi_version) / FMU_FILE_NAME
 
 
 def model_guid(key: str) -> str:
@@ -110,6 +139,10 @@ def model_variables_header(n_points: int, guid: str) -> str:
         raise RuntimeError("the FMU variable table is not in the order the C layer expects "
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
     inputs = ", ".join(_c_string(v.name) for v in fv.INPUTS)
+    vr3 = fmi3_value_references()
+    if any(vr3[name] != vr[name] for name in (*(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS),
+                                              fv.N_POINTS_NAME, *(v.name for v in fv.SCALAR_OUTPUTS))):
+        raise RuntimeError("the FMI 3.0 value references of the scalars must be their FMI 2.0 ones")
     return f"""/* Generated by wearjoint/fmu/build_native.py from wearjoint/fmu/variables.py: do not edit. */
 #ifndef WEARJOINT_MODEL_VARIABLES_H
 #define WEARJOINT_MODEL_VARIABLES_H
@@ -129,6 +162,20 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define VR_N_POINTS {vr[fv.N_POINTS_NAME]}
 #define VR_FIRST_OUTPUT {first_output}
 #define VR_FIRST_WEAR_DEPTH {first_wear}
+
+/* FMI 3.0 (fmi3Functions.c): the scalars keep their FMI 2.0 value references; the wear profile is
+ * one Float64 array sized by the structural parameter n_points (UInt64), then the independent time. */
+#define FMI3_INSTANTIATION_TOKEN MODEL_GUID
+#define FMI3_VR_FIRST_INPUT 0
+#define FMI3_VR_FIRST_PARAMETER {vr3[fv.PARAMETERS[0].variable.name]}
+#define FMI3_VR_N_POINTS {vr3[fv.N_POINTS_NAME]}
+#define FMI3_VR_FIRST_OUTPUT {vr3[fv.SCALAR_OUTPUTS[0].name]}
+#define FMI3_VR_WEAR_DEPTH {vr3[WEAR_DEPTH_NAME]}
+#define FMI3_VR_TIME {vr3[TIME_NAME]}
+#define FMI3_N_VALUE_REFERENCES {len(vr3)}
+#define FMI3_N_POINTS_START {n_points}
+#define FMI3_N_POINTS_MIN {N_POINTS_MIN}
+#define FMI3_N_POINTS_MAX {N_POINTS_MAX}
 
 typedef struct {{
     const char *name;
@@ -165,8 +212,17 @@ static const OutputInfo OUTPUTS[N_SCALAR_OUTPUTS] = {{
 """
 
 
-def compile_kernels(out_dir: Path) -> dict:
-    """Compile the kernels to objects in ``out_dir`` (a fresh process, empty numba cache)."""
+def kernel_key() -> str:
+    """What the kernel objects depend on: numba and llvmlite versions, the kernels' sources, model.h."""
+    import llvmlite
+    import numba
+
+    digest = source_digest([*(PACKAGE_DIR / name for name in KERNEL_OBJECT_SOURCES), FMU_SOURCE_DIR / "model.h"],
+                           PACKAGE_DIR.parent)
+    return f"numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
+
+
+def _compile_kernels_fresh(out_dir: Path) -> dict:
     with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache:
         env = {**os.environ, **AOT_ENVIRONMENT, "NUMBA_CACHE_DIR": cache}
         done = subprocess.run([sys.executable, "-m", "wearjoint.fmu.aot", str(out_dir)], capture_output=True,
@@ -176,59 +232,122 @@ def compile_kernels(out_dir: Path) -> dict:
     return json.loads((out_dir / "entry_points.json").read_text())
 
 
-def _build_script(objects) -> str:
+def compile_kernels(out_dir: Path, reuse: bool = True) -> dict:
+    """The kernel objects in ``out_dir``: compiled in a fresh process with an empty numba cache, or
+    (``reuse``) copied from the user cache where an earlier build of the same kernels left them."""
+    cached = user_cache_dir() / "kernels" / kernel_key()
+    if reuse:
+        try:
+            objects = json.loads((cached / "entry_points.json").read_text())
+            if all((cached / name).is_file() for name in objects.values()):
+                shutil.copytree(cached, out_dir, dirs_exist_ok=True)
+                return objects
+        except (OSError, ValueError):
+            pass
+    objects = _compile_kernels_fresh(out_dir)
+    try:   # keep them for the next build (another process may be writing the same: first one wins)
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        partial = Path(tempfile.mkdtemp(prefix=cached.name + ".", dir=cached.parent))
+        shutil.copytree(out_dir, partial, dirs_exist_ok=True)
+        if cached.exists():
+            shutil.rmtree(cached, ignore_errors=True)
+        try:
+            partial.rename(cached)
+        except OSError:
+            shutil.rmtree(partial, ignore_errors=True)
+    except OSError:
+        pass
+    return objects
+
+
+def _build_script(objects, fmi_version: int = DEFAULT_FMI_VERSION) -> str:
+    c_files = [name for name in C_SOURCES_BY_VERSION[fmi_version] if name.endswith(".c")]
     return ("#!/bin/sh\n# Relink the FMU's binary from these sources (Linux x86_64, any C11 compiler).\n"
             "set -e\ncd \"$(dirname \"$0\")\"\n"
-            f"${{CC:-gcc}} {' '.join(GCC_FLAGS)} -I. {' '.join(C_FILES)} {' '.join('kernels/' + o for o in objects)} "
+            f"${{CC:-gcc}} {' '.join(GCC_FLAGS)} -I. {' '.join(c_files)} {' '.join('kernels/' + o for o in objects)} "
             f"-lm -o {fv.MODEL_NAME}.so\n")
 
 
-def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False) -> Path:
-    """Build ``out_dir/ClearanceWearJoint.fmu`` (native backend); return its path.
+def fmi_headers(fmi_version: int) -> Path:
+    """The folder with the FMI headers of ``fmi_version`` (fmpy/c-code); RuntimeError if missing."""
+    headers = fmi2_headers()
+    missing = [name for name in FMI_HEADERS_BY_VERSION[fmi_version] if not (headers / name).is_file()]
+    if missing:
+        raise RuntimeError(f"building the FMI {fmi_version}.0 FMU needs the headers {', '.join(missing)} "
+                           f"(shipped with fmpy in {headers})")
+    return headers
 
-    An FMU there built from the same sources and n_points is kept unless ``force``.
-    Raises ParameterError for a bad n_points, RuntimeError when the build cannot run.
+
+def _model_description(fmi_version: int, n_points: int, token: str) -> bytes:
+    tool = f"wearjoint {__version__} (native)"
+    common = {"modelIdentifier": fv.MODEL_NAME, "needsExecutionTool": "false",
+              "canBeInstantiatedOnlyOncePerProcess": "false"}
+    if fmi_version == 2:
+        common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
+                       "canSerializeFMUstate": "true"})
+        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
+        model_exchange = {**common, "completedIntegratorStepNotNeeded": "false"}
+        return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS)
+    common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
+                   "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
+                   "providesPerElementDependencies": "false"})
+    model_exchange = {**common, "needsCompletedIntegratorStep": "true", "providesEvaluateDiscreteStates": "false"}
+    cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "maxOutputDerivativeOrder": "0",
+                    "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false",
+                    "canReturnEarlyAfterIntermediateUpdate": "false", "hasEventMode": "false",
+                    "providesEvaluateDiscreteStates": "false"}
+    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange)
+
+
+def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
+              fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
+    """Build ``out_dir/ClearanceWearJoint.fmu`` (native backend, FMI ``fmi_version`` 2 or 3); return its path.
+
+    FMI 2.0: ``n_points`` is fixed in the FMU; FMI 3.0: it is the start value of the structural
+    parameter ``n_points`` (a host may set another in Configuration Mode).  An FMU there built
+    from the same sources, n_points and FMI version is kept unless ``force`` (which also
+    recompiles the kernels).  Raises ParameterError for a bad n_points or fmi_version,
+    RuntimeError when the build cannot run.
     """
+    fmi_version = check_fmi_version(fmi_version)
     JointParameters(n_points=n_points)  # validates n_points, names it in the error
+    if fmi_version == 3 and not N_POINTS_MIN <= n_points <= N_POINTS_MAX:
+        raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
+                             f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
     out_dir = Path(out_dir)
     target = out_dir / FMU_FILE_NAME
-    key = build_key(n_points)
+    key = build_key(n_points, fmi_version)
     if not force and existing_build_key(target) == key:
         return target
     compiler = c_compiler("the native FMU")
-    headers = fmi2_headers()
+    headers = fmi_headers(fmi_version)
     guid = model_guid(key)
+    c_sources = C_SOURCES_BY_VERSION[fmi_version]
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
-        objects = compile_kernels(sources / "kernels")
-        for name in C_SOURCES:
+        objects = compile_kernels(sources / "kernels", reuse=not force)
+        for name in c_sources:
             (sources / name).write_bytes((FMU_SOURCE_DIR / name).read_bytes())
-        for name in FMI_HEADERS:
+        for name in FMI_HEADERS_BY_VERSION[fmi_version]:
             (sources / name).write_bytes((headers / name).read_bytes())
         (sources / "model_variables.h").write_text(model_variables_header(n_points, guid))
-        (sources / "exports.map").write_text(EXPORTS_MAP)
+        (sources / "exports.map").write_text(EXPORTS_MAP_BY_VERSION[fmi_version])
         script = sources / "build.sh"
-        script.write_text(_build_script(objects.values()))
-        done = subprocess.run([compiler, *GCC_FLAGS, "-I.", *C_FILES,
+        script.write_text(_build_script(objects.values(), fmi_version))
+        done = subprocess.run([compiler, *GCC_FLAGS, "-I.", *(name for name in c_sources if name.endswith(".c")),
                                *(f"kernels/{o}" for o in objects.values()), "-lm", "-o", f"{fv.MODEL_NAME}.so"],
                               capture_output=True, text=True, cwd=sources)
         if done.returncode != 0:
             raise RuntimeError(f"linking the native FMU failed:\n{done.stderr.strip()[-3000:]}")
         binary = sources / f"{fv.MODEL_NAME}.so"
-        common = {"modelIdentifier": fv.MODEL_NAME, "needsExecutionTool": "false",
-                  "canBeInstantiatedOnlyOncePerProcess": "false", "canNotUseMemoryManagementFunctions": "false",
-                  "canGetAndSetFMUstate": "true", "canSerializeFMUstate": "true"}
-        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
-        model_exchange = {**common, "completedIntegratorStepNotNeeded": "false"}
         out_dir.mkdir(parents=True, exist_ok=True)
         partial = target.with_name(target.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
-            fmu.writestr("modelDescription.xml",
-                         model_description_xml(n_points, guid, f"wearjoint {__version__} (native)", cosimulation,
-                                               model_exchange, N_EVENT_INDICATORS))
-            fmu.write(binary, BINARY_ARCNAME)
+            fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid))
+            fmu.write(binary, BINARY_ARCNAME_BY_VERSION[fmi_version])
             fmu.writestr(f"resources/{fv.BUILD_CONFIG_FILE}",
-                         json.dumps({"n_points": n_points, "build_key": key, "backend": "native"}))
+                         json.dumps({"n_points": n_points, "build_key": key, "backend": "native",
+                                     "fmi_version": fmi_version}))
             for path in sorted(sources.rglob("*")):
                 if path.is_file() and path != binary:
                     fmu.write(path, f"sources/{path.relative_to(sources).as_posix()}")

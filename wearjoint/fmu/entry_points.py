@@ -16,11 +16,12 @@ from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
 from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
 
 _F64 = types.CPointer(types.float64)
-# (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
-#  n_points, n_blocks[, dt])
-_ARGUMENTS = (_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, types.voidptr, types.int64, types.int64)
-EVALUATE_SIGNATURE = types.int32(*_ARGUMENTS)
-ADVANCE_SIGNATURE = types.int32(*_ARGUMENTS, types.float64)
+# evaluate: (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
+#  n_points, n_blocks); advance/accept: the same with the float64 scratch ``work`` (N_d) after ``mask``, and dt
+_ARRAYS = (_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, types.voidptr)
+_SIZES = (types.int64, types.int64)
+EVALUATE_SIGNATURE = types.int32(*_ARRAYS, *_SIZES)
+ADVANCE_SIGNATURE = types.int32(*_ARRAYS, _F64, *_SIZES, types.float64)
 
 
 @cfunc(EVALUATE_SIGNATURE, cache=True, error_model="numpy")
@@ -35,7 +36,7 @@ def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
 
 
 @cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
-def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
+def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work,
                    n_points, n_blocks, dt):
     """Accept a step of dt [s] at the kinematics (wear, contact memory); returns 1 if the
     joint's state changed, else 0."""
@@ -43,13 +44,13 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
     changed = advance_joint(k[0:3], k[3:6], k[6:9], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
-                            carray(mask, n_points, dtype=np.bool_), carray(result, N_RESULT))
+                            carray(mask, n_points, dtype=np.bool_), carray(work, n_points), carray(result, N_RESULT))
     return 1 if changed else 0
 
 
 @cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
-def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, n_points, n_blocks,
-                  dt):
+def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work, n_points,
+                  n_blocks, dt):
     """:func:`advance_native` when ``result`` already holds the evaluation at these kinematics and
     this state (the forces were read since the inputs last changed): the wear and onset update
     only, without evaluating the contact again; returns 1 if the joint's state changed, else 0."""
@@ -57,7 +58,7 @@ def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memor
     changed = accept_contact(carray(result, N_RESULT), k[3:6], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
                              carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                              carray(block_min, n_blocks), carray(memory, N_MEMORY),
-                             carray(mask, n_points, dtype=np.bool_))
+                             carray(mask, n_points, dtype=np.bool_), carray(work, n_points))
     return 1 if changed else 0
 
 

@@ -65,6 +65,9 @@ def ensure_fmu(n_points: int, fmu_path=None, backend: str = DEFAULT_BACKEND) -> 
 _STATUS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
 _REAL_VALUES_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
 _DO_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
+_SET_TIME_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double)
+_COMPLETED_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
+_COMPONENT_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
 
 
 def c_function(function, prototype):
@@ -73,25 +76,30 @@ def c_function(function, prototype):
 
 
 
+INTERFACES = ("co-simulation", "model-exchange")
+
+
 class FmuInstance:
-    """One initialised co-simulation instance of the joint FMU: fmpy's FMU2Slave, its raw FMI
-    functions (for a compiled master loop), its log.
+    """One initialised instance of the joint FMU: fmpy's FMU2Slave (co-simulation) or FMU2Model
+    (model exchange, left in continuous-time mode), its raw FMI functions (for compiled
+    loops), its log.
 
     ``inputs`` / ``outputs``: float64 arrays (e.g. views of a master's buffer) that
-    :meth:`exchange` and the master loop's setReal / getReal read and write directly;
+    :meth:`exchange` and the compiled loops' setReal / getReal read and write directly;
     ``output_names`` says which FMU output goes where (the inputs are :data:`INPUT_NAMES`).
     """
 
     def __init__(self, fmu_path: Path, joint: JointParameters, inputs: np.ndarray, outputs: np.ndarray,
-                 output_names: tuple[str, ...]):
+                 output_names: tuple[str, ...], interface: str = "co-simulation"):
         from fmpy import extract
-        from fmpy.fmi2 import (FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
+        from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                                fmi2CallbackLoggerTYPE, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference)
 
         md = _model_description(fmu_path)
-        if md.modelName != fv.MODEL_NAME or md.coSimulation is None:
+        kind = md.coSimulation if interface == "co-simulation" else md.modelExchange
+        if md.modelName != fv.MODEL_NAME or kind is None:
             raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
-                                 f"allowed a {fv.MODEL_NAME} co-simulation FMU")
+                                 f"allowed a {fv.MODEL_NAME} FMU with the {interface} interface")
         self.vr = fv.value_references(md)
         built = next((int(v.start) for v in md.modelVariables if v.name == fv.N_POINTS_NAME), None)
         if built != joint.n_points:
@@ -108,8 +116,9 @@ class FmuInstance:
         self.instantiated = False
         self.unzip_dir = extract(str(fmu_path))
         try:
-            self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=self.unzip_dir,
-                                 modelIdentifier=md.coSimulation.modelIdentifier, instanceName="joint")
+            fmu_class = FMU2Slave if interface == "co-simulation" else FMU2Model
+            self.fmu = fmu_class(guid=md.guid, unzipDirectory=self.unzip_dir, modelIdentifier=kind.modelIdentifier,
+                                 instanceName="joint")
         except Exception as exc:  # fmpy raises a bare Exception (e.g. no binary for this platform)
             shutil.rmtree(self.unzip_dir, ignore_errors=True)
             raise FmuError(f"FMU {fmu_path} cannot be loaded: {exc}") from None
@@ -139,9 +148,28 @@ class FmuInstance:
             self._set_parameters(joint)
             self.check(dll.fmi2EnterInitializationMode(self.component), "fmi2EnterInitializationMode", 0.0)
             self.check(dll.fmi2ExitInitializationMode(self.component), "fmi2ExitInitializationMode", 0.0)
+            if interface == "model-exchange":   # the initial event iteration, then continuous time
+                self.event_info = np.zeros(4)     # fmi2EventInfo (5 ints, a double)
+                while True:
+                    self.check(c_function(dll.fmi2NewDiscreteStates, _STATUS_CALL)(self.component,
+                                                                                  self.event_info.ctypes.data),
+                               "fmi2NewDiscreteStates", 0.0)
+                    if self.event_info.view(np.int32)[0] == 0:   # newDiscreteStatesNeeded
+                        break
+                self.check(dll.fmi2EnterContinuousTimeMode(self.component), "fmi2EnterContinuousTimeMode", 0.0)
         except BaseException:
             self.close()
             raise
+        if interface == "model-exchange":
+            self.loop_functions = None
+            self.model_exchange_functions = (
+                c_function(dll.fmi2SetTime, _SET_TIME_CALL), c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),
+                c_function(dll.fmi2GetReal, _REAL_VALUES_CALL),
+                c_function(dll.fmi2CompletedIntegratorStep, _COMPLETED_STEP_CALL),
+                c_function(dll.fmi2EnterEventMode, _COMPONENT_CALL),
+                c_function(dll.fmi2NewDiscreteStates, _STATUS_CALL),
+                c_function(dll.fmi2EnterContinuousTimeMode, _COMPONENT_CALL))
+            return
         self.loop_functions = (
             self.component, self.input_vrs, self.output_vrs, self.state_slot,
             c_function(dll.fmi2DoStep, _DO_STEP_CALL), c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),

@@ -79,3 +79,120 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
                       dependencies=inputs_and_parameters if feed_through else "")
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+
+
+# ------------------------------------------------------------------ FMI 3.0
+N_POINTS_MIN = 8              # FMI 3.0: the allowed values of the structural parameter n_points
+N_POINTS_MAX = 1_000_000
+WEAR_DEPTH_NAME = "wear_depth"  # FMI 3.0: the wear profile, one Float64 array of n_points values
+TIME_NAME = "time"
+# FMI 3.0 type of a FMI 2.0 variable type
+_FMI3_TYPE = {fv.REAL: "Float64", fv.INTEGER: "Int32"}
+
+
+def enumeration_type_name(parameter_name: str) -> str:
+    """The FMI 3.0 ``<EnumerationType>`` of an enumeration parameter, e.g. ``rho_mode`` -> ``RhoMode``."""
+    return "".join(part.capitalize() for part in parameter_name.split("_"))
+
+
+def fmi3_value_references() -> dict[str, int]:
+    """FMI 3.0 value references by name: every scalar keeps its FMI 2.0 value reference (inputs,
+    parameters, ``n_points``, scalar outputs), then the ``wear_depth`` array, then ``time``.
+    Independent of N_d (the array's size is the structural parameter ``n_points``)."""
+    scalars = fv.fmu_variables(0)   # no wear_depth[z] scalars
+    vr = {v.name: i for i, v in enumerate(scalars)}
+    vr[WEAR_DEPTH_NAME] = len(scalars)
+    vr[TIME_NAME] = len(scalars) + 1
+    return vr
+
+
+def model_description_fmi3_xml(n_points: int, instantiation_token: str, generation_tool: str,
+                               cosimulation: dict[str, str], model_exchange: dict[str, str] | None = None,
+                               event_indicators: tuple[str, ...] = ("penetration",)) -> bytes:
+    """modelDescription.xml of the FMI 3.0 FMU: the variables of :mod:`wearjoint.fmu.variables`
+    as ``Float64`` / ``Enumeration`` (the three option parameters, with their
+    ``<EnumerationType>``), the structural parameter ``n_points`` (``UInt64``, start
+    ``n_points``, settable in Configuration Mode) and the wear profile as one ``Float64`` array
+    ``wear_depth`` whose ``<Dimension>`` is ``n_points``; value references from
+    :func:`fmi3_value_references`; ``event_indicators`` names the outputs that are Model
+    Exchange's event indicators."""
+    vr = fmi3_value_references()
+    root = ET.Element("fmiModelDescription", {
+        "fmiVersion": "3.0", "modelName": fv.MODEL_NAME, "instantiationToken": instantiation_token,
+        "description": DESCRIPTION, "author": "wearjoint", "version": __version__, "generationTool": generation_tool,
+        "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "variableNamingConvention": "structured"})
+    if model_exchange is not None:
+        ET.SubElement(root, "ModelExchange", model_exchange)
+    ET.SubElement(root, "CoSimulation", cosimulation)
+    units = ET.SubElement(root, "UnitDefinitions")
+    for name, exponents in fv.UNIT_DEFINITIONS.items():
+        unit = ET.SubElement(units, "Unit", name=name)
+        if exponents:
+            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in exponents.items()})
+    types = ET.SubElement(root, "TypeDefinitions")
+    for p in fv.PARAMETERS:
+        if p.choices is not None:
+            enumeration = ET.SubElement(types, "EnumerationType", name=enumeration_type_name(p.variable.name),
+                                        description=p.variable.description)
+            for value, item in enumerate(p.choices):
+                ET.SubElement(enumeration, "Item", name=item, value=str(value))
+    categories = ET.SubElement(root, "LogCategories")
+    for name, text in LOG_CATEGORIES.items():
+        ET.SubElement(categories, "Category", name=name, description=text)
+
+    model_variables = ET.SubElement(root, "ModelVariables")
+
+    def variable(tag: str, name: str, description: str, causality: str, variability: str | None = None,
+                 initial: str | None = None, **typed) -> ET.Element:
+        attributes = {"name": name, "valueReference": str(vr[name]), "description": description,
+                      "causality": causality}
+        if variability:
+            attributes["variability"] = variability
+        if initial:
+            attributes["initial"] = initial
+        attributes.update({k: v for k, v in typed.items() if v is not None})
+        return ET.SubElement(model_variables, tag, attributes)
+
+    variable("Float64", TIME_NAME, "simulation time", "independent", "continuous", unit="s")
+    for v in fv.INPUTS:
+        variable("Float64", v.name, v.description, fv.INPUT, "continuous", unit=v.unit, start=_number(v.start))
+    for p in fv.PARAMETERS:
+        v = p.variable
+        if p.choices is not None:
+            variable("Enumeration", v.name, v.description, fv.PARAMETER, "fixed", "exact",
+                     declaredType=enumeration_type_name(v.name), start=str(v.start))
+        else:
+            variable(_FMI3_TYPE[v.type], v.name, v.description, fv.PARAMETER, "fixed", "exact", unit=v.unit,
+                     start=_number(v.start))
+    variable("UInt64", fv.N_POINTS_NAME,
+             f"number of bushing points N_d (the size of {WEAR_DEPTH_NAME}): a structural parameter, set it in "
+             f"Configuration Mode (fmi3EnterConfigurationMode), {N_POINTS_MIN} .. {N_POINTS_MAX}",
+             "structuralParameter", "fixed", "exact", start=str(n_points), min=str(N_POINTS_MIN),
+             max=str(N_POINTS_MAX))
+    for v in fv.SCALAR_OUTPUTS:
+        variable("Float64", v.name, v.description, fv.OUTPUT, "continuous", "calculated", unit=v.unit)
+    wear = variable("Float64", WEAR_DEPTH_NAME,
+                    "wear depth of the bushing points: element z (1-based) at bushing-frame angle z*2*pi/n_points rad",
+                    fv.OUTPUT, "continuous", "calculated", unit="m")
+    ET.SubElement(wear, "Dimension", valueReference=str(vr[fv.N_POINTS_NAME]))
+    # (the time unit "s" is not in the FMI 2.0 table)
+    if units.find("Unit[@name='s']") is None:
+        ET.SubElement(ET.SubElement(units, "Unit", name="s"), "BaseUnit", s="1")
+
+    inputs = " ".join(str(vr[v.name]) for v in fv.INPUTS)
+    inputs_and_parameters = " ".join(str(vr[name]) for name in (
+        *(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS), fv.N_POINTS_NAME))
+    structure = ET.SubElement(root, "ModelStructure")   # no continuous states
+    outputs = [*(v.name for v in fv.SCALAR_OUTPUTS), WEAR_DEPTH_NAME]
+    for name in outputs:
+        ET.SubElement(structure, "Output", valueReference=str(vr[name]),
+                      dependencies=inputs if name in fv.FEED_THROUGH_OUTPUTS else "")
+    for name in outputs:
+        ET.SubElement(structure, "InitialUnknown", valueReference=str(vr[name]),
+                      dependencies=inputs_and_parameters if name in fv.FEED_THROUGH_OUTPUTS else "")
+    if model_exchange is not None:
+        for name in event_indicators:
+            ET.SubElement(structure, "EventIndicator", valueReference=str(vr[name]), dependencies=inputs)
+    ET.indent(root)
+    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)

@@ -1,0 +1,114 @@
+"""The joint FMU's Model Exchange interface (docs/model.md section 5) inside the monolithic
+integrator: no coupling error, so it must reproduce ``wearjoint simulate --integrator dopri``."""
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+
+from wearjoint import ClearanceJoint, paper_joint  # noqa: E402
+from wearjoint.core import layout as L  # noqa: E402
+from wearjoint.cosim.model_exchange import ModelExchangeSimulation  # noqa: E402
+from wearjoint.fmu import variables as fv  # noqa: E402
+from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
+
+
+def _pair(native_fmu, joint, options):
+    mono = Simulation(joint, None, options)
+    me = ModelExchangeSimulation(joint, None, options, fmu_path=native_fmu, fmu_backend="native")
+    return mono, me
+
+
+def test_model_exchange_equals_the_monolithic_run_pointwise_over_15_ms(native_fmu):
+    """With wear: the same steps and the same states through the first 15 ms (many impacts)."""
+    options = SimulationOptions(revolutions=1, integrator="dopri", max_step_s=1e-5)
+    mono, me = _pair(native_fmu, paper_joint(), options)
+    try:
+        a, b = np.zeros((4000, L.N_SAMPLE_COLUMNS)), np.zeros((4000, L.N_SAMPLE_COLUMNS))
+        na, nb = mono.advance_to(0.015, a), me.advance_to(0.015, b)
+        assert (mono.accepted, mono.rejected) == (me.accepted, me.rejected)
+        assert na == nb and a[:na, L.T_CONTACT].any()
+        ecc = np.hypot(a[:na, L.T_ECC_X] - b[:nb, L.T_ECC_X], a[:na, L.T_ECC_Y] - b[:nb, L.T_ECC_Y])
+        assert ecc.max() <= 1e-9
+        assert np.abs(a[:na, L.T_NORMAL_FORCE] - b[:nb, L.T_NORMAL_FORCE]).max() <= 1e-6
+    finally:
+        me.close()
+
+
+def test_without_wear_every_step_and_statistic_is_the_monolithic_runs(native_fmu):
+    """Two revolutions: identical step counts, per-revolution statistics and final state; one
+    event iteration at every contact onset the monolithic run counts."""
+    options = SimulationOptions(revolutions=2, integrator="dopri")
+    mono, me = _pair(native_fmu, paper_joint(wear_factor=0.0), options)
+    try:
+        samples = np.zeros((200_000, L.N_SAMPLE_COLUMNS))
+        period = mono.mechanism.params.period_s
+        mono.advance_to(2 * period, samples)
+        me.advance_to(2 * period, samples)
+        assert (mono.accepted, mono.rejected) == (me.accepted, me.rejected)
+        assert np.array_equal(mono.revolution_stats, me.revolution_stats)
+        assert np.array_equal(mono.y, me.y)
+        onsets = int(mono.revolution_stats[:2, L.S_IMPACTS].sum())
+        assert onsets > 100 and me.events[0] == onsets
+    finally:
+        me.close()
+
+
+def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu):
+    """Stage evaluations (setTime/setReal/getReal) change nothing; fmi2CompletedIntegratorStep
+    wears the bushing over the time since the last completed step, like ClearanceJoint.advance."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Model
+
+    joint = paper_joint()
+    md = read_model_description(str(native_fmu))
+    vr = fv.value_references(md)
+    fmu = FMU2Model(guid=md.guid, unzipDirectory=extract(str(native_fmu)), modelIdentifier=fv.MODEL_NAME,
+                    instanceName="me")
+    fmu.instantiate()
+    try:
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        values = fv.fmi_parameter_values(joint)
+        choices = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
+        fmu.setReal([vr[k] for k in values if k not in choices], [v for k, v in values.items() if k not in choices])
+        fmu.exitInitializationMode()
+        fmu.newDiscreteStates()
+        fmu.enterContinuousTimeMode()
+        # the pin pressed 5 um into the bushing at the slider-crank's joint, crank at 0 rad
+        pin = [0.0, 0.0, 0.0, 0.0, 0.0, -15.7]
+        bushing = [0.025 - joint.bushing_offset_m[0] - (joint.clearance_m + 5e-6), 0.0, 0.0, 0.0, 0.0, 0.0]
+        inputs = [vr[v.name] for v in fv.INPUTS]
+        wear = [vr["max_wear_depth"], vr["worn_volume"]]
+        for t in (1e-5, 2e-5, 1.5e-5):                  # trial stages, one of them "rejected"
+            fmu.setTime(t)
+            fmu.setReal(inputs, pin + bushing)
+            assert fmu.getReal([vr["contact"]]) == [1.0]
+            assert fmu.getReal(wear) == [0.0, 0.0]
+        import ctypes
+
+        indicator = (ctypes.c_double * 1)()
+        fmu.getEventIndicators(indicator, 1)
+        assert indicator[0] == pytest.approx(5e-6, rel=1e-9)      # the signed penetration
+        fmu.setTime(2e-5)
+        fmu.completedIntegratorStep()
+        reference = ClearanceJoint(joint)
+        reference.advance(pin, bushing, 2e-5)
+        assert fmu.getReal(wear) == [reference.max_wear_depth_m, reference.worn_volume_m3]
+        assert reference.max_wear_depth_m > 0.0
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()
+
+
+def test_cli_runs_the_model_exchange_interface(native_fmu, tmp_path, capsys):
+    import json
+
+    from wearjoint import cli
+
+    out = tmp_path / "me"
+    code = cli.main(["cosim", "--fmu-interface", "model-exchange", "--revolutions", "0.05", "--out", str(out),
+                     "--quiet", "--no-plots", "--fmu", str(native_fmu)])
+    assert code == 0, capsys.readouterr().err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["parameters"]["fmu_interface"] == "model-exchange"
+    assert summary["integrator_accepted_steps"] > 0 and summary["max_wear_depth_m"] > 0.0

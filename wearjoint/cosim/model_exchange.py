@@ -1,0 +1,139 @@
+"""The slider-crank with the joint FMU's Model Exchange interface inside the monolithic integrator.
+
+The mechanism and the joint are integrated together by the same integrator as ``wearjoint
+simulate`` (:func:`wearjoint.core.integrators.integrate`), with the joint reached through the
+FMU (:data:`wearjoint.core.joint_access.FmuJoint`): every stage evaluation is
+``fmi2SetTime`` + ``fmi2SetReal`` of the 12 inputs + ``fmi2GetReal`` of the outputs, contact
+onsets are located on the event indicator (the signed penetration) exactly as the monolithic
+run locates them, and every accepted step ends with ``fmi2CompletedIntegratorStep`` (plus an
+event iteration where a contact begins or ends).  There is no coupling error: with the same
+options this reproduces the monolithic run step for step.
+"""
+from __future__ import annotations
+
+
+import numpy as np
+
+from ..core import layout as L
+from ..core.integrators import DOPRI5, RK4, integrate
+from ..core.joint_access import FMU_CALLS, FmuJoint
+from ..fmu.build import DEFAULT_BACKEND
+from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
+from ..runner import record_run, run_in_chunks
+from ..simulate import Simulation, SimulationOptions
+from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
+
+INTERFACES = ("co-simulation", "model-exchange")
+
+
+class ModelExchangeSimulation(Simulation):
+    """:class:`wearjoint.simulate.Simulation` with the joint in the FMU (Model Exchange); call
+    :meth:`close` (or use ``with``) to free the FMU instance."""
+
+    def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                 options: SimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND):
+        options = options or SimulationOptions()
+        if options.integrator == "gear" or options.ideal:
+            raise ParameterError(f"parameter integrator={options.integrator!r} is invalid with the FMU's Model "
+                                 "Exchange interface: allowed rk4 or dopri (no ideal joint)")
+        mechanism = mechanism or SliderCrankParameters()
+        joint = joint or paper_joint(mechanism)
+        self.fmu_path = ensure_fmu(joint.n_points, fmu_path, backend=fmu_backend)
+        self.fmu_backend = fmu_backend
+        self._io = np.zeros(12 + len(OUTPUT_NAMES))
+        self._fmu = FmuInstance(self.fmu_path, joint, self._io[:12], self._io[12:], OUTPUT_NAMES,
+                                interface="model-exchange")
+        try:
+            self._fmu_joint = None
+            super().__init__(joint, mechanism, options)   # builds the in-process joint only for its parameter vector
+            f = self._fmu
+            self._fmu_joint = FmuJoint(f.component, *f.model_exchange_functions, f.input_vrs, f.output_vrs,
+                                       OUTPUT_RESULT_INDEX.astype(np.int64), self._io, self.joint.result,
+                                       self.joint.parameter_vector, self.joint.memory, f.event_info,
+                                       np.zeros(2, dtype=np.int32), np.zeros(2, dtype=np.int64), np.zeros(3))
+            self._derivative()
+        except BaseException:
+            self.close()
+            raise
+
+    @property
+    def _joint_arrays(self):
+        """The joint the integrator sees: the FMU (before it is connected, the in-process arrays)."""
+        return super()._joint_arrays if self._fmu_joint is None else self._fmu_joint
+
+    @property
+    def events(self) -> tuple[int, int]:
+        """Event iterations so far: (at contact onsets, at separations)."""
+        return int(self._fmu_joint.events[0]), int(self._fmu_joint.events[1])
+
+    def _check(self) -> None:
+        failure = self._fmu_joint.failure
+        if failure[0] != 0.0:
+            self._fmu.check(int(failure[1]), FMU_CALLS[int(failure[0])], float(failure[2]))
+
+    def _derivative(self):
+        super()._derivative()
+        if self._fmu_joint is not None:
+            self._check()
+
+    def warm_up(self) -> None:
+        """Compile the integrator for the FMU joint without advancing (an empty interval)."""
+        method = RK4 if self.options.integrator == "rk4" else DOPRI5
+        integrate(method, self.t, self.t, self.y.copy(), self.control.copy(), self.mode,
+                  self.mechanism.parameter_vector, self._fmu_joint, self.body_forces.copy(), self.mechanism.workspace,
+                  self.dy.copy(), self.revolution_stats.copy(), np.zeros((0, L.N_SAMPLE_COLUMNS)), self.track.copy())
+
+    def advance_to(self, t_end: float, samples: np.ndarray) -> int:
+        n = super().advance_to(t_end, samples)
+        self._check()
+        return n
+
+    def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
+        values = self._fmu.wear(self.t)
+        n = self.joint.params.n_points
+        return self.joint.phi_deg, values[:n], float(values[n + 1])
+
+    def max_wear_depth_m(self) -> float:
+        return self._fmu.max_wear_depth(self.t)
+
+    def set_wear_profile(self, depth_m) -> None:
+        raise ParameterError("the joint FMU offers no way to set its wear profile (cycle jumping)")
+
+    def checkpoint(self) -> dict:
+        raise ParameterError("checkpoints of the Model Exchange engine are not supported")
+
+    def close(self) -> None:
+        if getattr(self, "_fmu", None) is not None:
+            self._fmu.close()
+            self._fmu = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                       options: SimulationOptions | None = None, fmu_path=None, progress: bool = True,
+                       fmu_backend: str = DEFAULT_BACKEND, chunks_per_revolution: int = 8):
+    """Simulate ``options.revolutions`` crank revolutions with the FMU's Model Exchange interface;
+    the run's record (as :func:`wearjoint.simulate.run_simulation`'s)."""
+    o = options or SimulationOptions()
+    period = (mechanism or SliderCrankParameters()).period_s
+    run = run_in_chunks(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend), o.revolutions,
+                        period, o.sample_dt_s, "cosim (model exchange)", progress, chunks_per_revolution)
+    sim = run.engine
+    try:
+        return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
+                          parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
+                                      "simulation": o.to_dict(), "engine": "cosim", "fmu_interface": "model-exchange",
+                                      "fmu": str(sim.fmu_path), "fmu_backend": fmu_backend},
+                          extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected})
+    finally:
+        sim.close()
+
+
+__all__ = ["ModelExchangeSimulation", "run_model_exchange", "INTERFACES", "FmuError"]
