@@ -31,3 +31,27 @@ def c_host(tmp_path_factory):
 
     gcc_or_skip()
     return build_c_host(tmp_path_factory.mktemp("c_host"))
+
+
+# The test process loads pythonfmu FMUs, libcosim and Dask in one interpreter; once in a while
+# (1 of 2 full runs on 2026-11-23, earlier "corrupted double-linked list" once in 13) it crashed
+# *after* every test had passed and the summary was printed, during interpreter finalisation
+# (pythonfmu's finalisation has a use-after-free under valgrind, docs/model.md §7).  The results
+# are final by then: leave without finalising, with pytest's own exit status.
+def pytest_sessionfinish(session, exitstatus):
+    session.config.stash[_EXIT_STATUS] = int(exitstatus)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_unconfigure(config):
+    import os
+    import sys
+
+    status = config.stash.get(_EXIT_STATUS, None)
+    if status is not None:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+
+
+_EXIT_STATUS = pytest.StashKey[int]()
