@@ -8,7 +8,7 @@
    resident set; and the resident set of the whole C host process with one live instance.
 3. Per communication step, from compiled code: the C host's ``trace`` loop (setReal of the
    12 inputs, getReal of the 6 forces, doStep) over the same input rows as the in-process
-   kernels in a numba loop (evaluate_contact for the forces, advance_joint for the step) --
+   kernels in a numba loop (evaluate_contact for the forces, accept_contact for the step) --
    the work the FMU does per step, without the FMI layer.  The pythonfmu FMU runs in the C
    host with libpython preloaded and the package on PYTHONPATH (the only way a C host can
    load it).
@@ -38,7 +38,7 @@ from fmi_host import build_c_host, run_c_host, stderr_value  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.core.contact import evaluate_contact  # noqa: E402
-from wearjoint.core.wear import advance_joint  # noqa: E402
+from wearjoint.core.wear import accept_contact  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.fmu.instance import ensure_fmu  # noqa: E402
 
@@ -72,15 +72,15 @@ fmu.freeInstance()
 
 @njit(cache=True)
 def _kernel_steps(rows, h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work, result):
-    """evaluate + advance per row: what the FMU computes per communication step."""
+    """evaluate + accept per row: what the FMU computes per communication step (its doStep accepts
+    the evaluation the forces were read from)."""
     total = 0.0
     for k in range(rows.shape[0]):
         r = rows[k]
         evaluate_contact(r[0:3], r[3:6], r[6:9], r[9:12], jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                          result)
         total += result[0]
-        advance_joint(r[0:3], r[3:6], r[6:9], r[9:12], h, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
-                      mask, work, result)
+        accept_contact(result, r[3:6], r[9:12], h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work)
     return total
 
 
@@ -185,7 +185,7 @@ def main(argv=None) -> int:
         a, b = median("native", key) * scale, median("pythonfmu", key) * scale
         print(f"{label + ' [' + unit + ']':48s}{a:14.3f}{b:14.3f}{b / a:18.2f}")
     step = median("native", "step_s")
-    print(f"in-process kernels per step (evaluate + advance, numba loop): {kernel * 1e6:.3f} us; "
+    print(f"in-process kernels per step (evaluate + accept, numba loop): {kernel * 1e6:.3f} us; "
           f"native FMU / in-process = {step / kernel:.2f}")
     return 0
 
