@@ -93,6 +93,12 @@ def source_digest(paths, root: Path) -> str:
     return digest.hexdigest()[:16]
 
 
+def current_build(out_dir, key: str, force: bool) -> tuple[Path, bool]:
+    """``out_dir``'s FMU file, and whether it already is the build ``key`` (and no ``force``)."""
+    target = Path(out_dir) / FMU_FILE_NAME
+    return target, not force and existing_build_key(target) == key
+
+
 def existing_build_key(fmu_path: Path) -> str | None:
     """The build key an FMU was built with (resources/wearjoint_fmu.json), None if unreadable."""
     try:

@@ -36,7 +36,7 @@ from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .build import (
-    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, existing_build_key, fmi2_headers,
+    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, current_build, fmi2_headers,
     source_digest, user_cache_dir,
 )
 from .model_description import (
@@ -314,11 +314,11 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     if fmi_version == 3 and not N_POINTS_MIN <= n_points <= N_POINTS_MAX:
         raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
                              f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
-    out_dir = Path(out_dir)
-    target = out_dir / FMU_FILE_NAME
     key = build_key(n_points, fmi_version)
-    if not force and existing_build_key(target) == key:
+    target, current = current_build(out_dir, key, force)
+    if current:
         return target
+    out_dir = Path(out_dir)
     compiler = c_compiler("the native FMU")
     headers = fmi_headers(fmi_version)
     guid = model_guid(key)

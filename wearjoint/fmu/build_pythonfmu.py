@@ -31,7 +31,7 @@ from .. import __version__
 from ..parameters import JointParameters
 from . import variables as fv
 from .build import (
-    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, existing_build_key, fmi2_headers,
+    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, current_build, fmi2_headers,
     source_digest, user_cache_dir,
 )
 from .model_description import model_description_xml
@@ -82,11 +82,11 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     n_points, RuntimeError when the status shim cannot be built (no C compiler).
     """
     JointParameters(n_points=n_points)  # validates n_points, names it in the error
-    out_dir = Path(out_dir)
-    target = out_dir / FMU_FILE_NAME
     key = build_key(n_points)
-    if not force and existing_build_key(target) == key:
+    target, current = current_build(out_dir, key, force)
+    if current:
         return target
+    out_dir = Path(out_dir)
     for source in (SLAVE_SOURCE, SHIM_SOURCE):
         if not source.is_file():
             raise FileNotFoundError(f"FMU source {source} not found (wearjoint must be used from its source tree)")
