@@ -29,25 +29,34 @@ def _number(value) -> str:
     return repr(float(value)) if isinstance(value, float) else str(value)
 
 
+def _root_with_interfaces_and_units(attributes: dict, cosimulation: dict, model_exchange: dict | None,
+                                    units: dict) -> ET.Element:
+    """<fmiModelDescription> with the common attributes, <ModelExchange> (if given), <CoSimulation>
+    and <UnitDefinitions> (unit name -> SI base-unit exponents)."""
+    root = ET.Element("fmiModelDescription", {
+        "modelName": fv.MODEL_NAME, "description": DESCRIPTION, "author": "wearjoint", "version": __version__,
+        "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "variableNamingConvention": "structured", **attributes})
+    if model_exchange is not None:
+        ET.SubElement(root, "ModelExchange", model_exchange)
+    ET.SubElement(root, "CoSimulation", cosimulation)
+    definitions = ET.SubElement(root, "UnitDefinitions")
+    for name, exponents in units.items():
+        unit = ET.SubElement(definitions, "Unit", name=name)
+        if exponents:
+            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in exponents.items()})
+    return root
+
+
 def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str],
                           model_exchange: dict[str, str] | None = None, event_indicators: int = 0) -> bytes:
     """The complete modelDescription.xml; ``cosimulation`` / ``model_exchange`` are the
     ``<CoSimulation>`` / ``<ModelExchange>`` attributes (``modelIdentifier`` and the capability
     flags; no ``<ModelExchange>`` if None); ``event_indicators``: Model Exchange's number of
     event indicators."""
-    root = ET.Element("fmiModelDescription", {
-        "fmiVersion": "2.0", "modelName": fv.MODEL_NAME, "guid": guid, "description": DESCRIPTION,
-        "author": "wearjoint", "version": __version__, "generationTool": generation_tool,
-        "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "variableNamingConvention": "structured", "numberOfEventIndicators": str(event_indicators)})
-    if model_exchange is not None:
-        ET.SubElement(root, "ModelExchange", model_exchange)
-    ET.SubElement(root, "CoSimulation", cosimulation)
-    units = ET.SubElement(root, "UnitDefinitions")
-    for name, exponents in fv.UNIT_DEFINITIONS.items():
-        unit = ET.SubElement(units, "Unit", name=name)
-        if exponents:
-            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in exponents.items()})
+    root = _root_with_interfaces_and_units(
+        {"fmiVersion": "2.0", "guid": guid, "generationTool": generation_tool,
+         "numberOfEventIndicators": str(event_indicators)}, cosimulation, model_exchange, fv.UNIT_DEFINITIONS)
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():
         ET.SubElement(categories, "Category", name=name, description=text)
@@ -117,19 +126,9 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
     :func:`fmi3_value_references`; ``event_indicators`` names the outputs that are Model
     Exchange's event indicators."""
     vr = fmi3_value_references()
-    root = ET.Element("fmiModelDescription", {
-        "fmiVersion": "3.0", "modelName": fv.MODEL_NAME, "instantiationToken": instantiation_token,
-        "description": DESCRIPTION, "author": "wearjoint", "version": __version__, "generationTool": generation_tool,
-        "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "variableNamingConvention": "structured"})
-    if model_exchange is not None:
-        ET.SubElement(root, "ModelExchange", model_exchange)
-    ET.SubElement(root, "CoSimulation", cosimulation)
-    units = ET.SubElement(root, "UnitDefinitions")
-    for name, exponents in fv.UNIT_DEFINITIONS.items():
-        unit = ET.SubElement(units, "Unit", name=name)
-        if exponents:
-            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in exponents.items()})
+    root = _root_with_interfaces_and_units(
+        {"fmiVersion": "3.0", "instantiationToken": instantiation_token, "generationTool": generation_tool},
+        cosimulation, model_exchange, {**fv.UNIT_DEFINITIONS, "s": {"s": 1}})   # FMI 3's time needs "s"
     types = ET.SubElement(root, "TypeDefinitions")
     for p in fv.PARAMETERS:
         if p.choices is not None:
@@ -176,9 +175,6 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
                     "wear depth of the bushing points: element z (1-based) at bushing-frame angle z*2*pi/n_points rad",
                     fv.OUTPUT, "continuous", "calculated", unit="m")
     ET.SubElement(wear, "Dimension", valueReference=str(vr[fv.N_POINTS_NAME]))
-    # (the time unit "s" is not in the FMI 2.0 table)
-    if units.find("Unit[@name='s']") is None:
-        ET.SubElement(ET.SubElement(units, "Unit", name="s"), "BaseUnit", s="1")
 
     inputs = " ".join(str(vr[v.name]) for v in fv.INPUTS)
     inputs_and_parameters = " ".join(str(vr[name]) for name in (
