@@ -523,12 +523,7 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean no_set_state
     }
     *enter_event_mode = fmi2False;
     *terminate_simulation = fmi2False;
-    JointInstance *joint = inst->joint;
-    int status = joint_accept_step(joint, joint->time - joint->last_accepted_time, "fmi2CompletedIntegratorStep");
-    if (status != JOINT_OK)
-        return (fmi2Status)status;
-    joint->last_accepted_time = joint->time;
-    return fmi2OK;
+    return (fmi2Status)joint_completed_integrator_step(inst->joint, "fmi2CompletedIntegratorStep");
 }
 
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
@@ -536,12 +531,7 @@ fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
     Instance *inst = c;
     if (inst == NULL || !mode_is(inst, "fmi2SetTime", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
         return fmi2Error;
-    if (!isfinite(time)) {
-        joint_log(inst->joint, fmi2Error, "fmi2SetTime: time=%g is not finite", time);
-        return fmi2Error;
-    }
-    inst->joint->time = time;
-    return fmi2OK;
+    return joint_set_time(inst->joint, time, "fmi2SetTime") ? fmi2OK : fmi2Error;
 }
 
 /* This FMU has no continuous states: nx must be 0. */

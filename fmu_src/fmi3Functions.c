@@ -768,12 +768,7 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean no_set
     }
     *enter_event_mode = fmi3False;
     *terminate_simulation = fmi3False;
-    JointInstance *joint = inst->joint;
-    int status = joint_accept_step(joint, joint->time - joint->last_accepted_time, "fmi3CompletedIntegratorStep");
-    if (status != JOINT_OK)
-        return (fmi3Status)status;
-    joint->last_accepted_time = joint->time;
-    return fmi3OK;
+    return (fmi3Status)joint_completed_integrator_step(inst->joint, "fmi3CompletedIntegratorStep");
 }
 
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
@@ -781,12 +776,7 @@ fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3SetTime", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
         return fmi3Error;
-    if (!isfinite(time)) {
-        joint_log(inst->joint, fmi3Error, "fmi3SetTime: time=%g is not finite", time);
-        return fmi3Error;
-    }
-    inst->joint->time = time;
-    return fmi3OK;
+    return joint_set_time(inst->joint, time, "fmi3SetTime") ? fmi3OK : fmi3Error;
 }
 
 /* This FMU has no continuous states: n must be 0. */

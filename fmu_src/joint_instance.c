@@ -309,6 +309,24 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function)
     return JOINT_OK;
 }
 
+int joint_completed_integrator_step(JointInstance *joint, const char *function)
+{
+    int status = joint_accept_step(joint, joint->time - joint->last_accepted_time, function);
+    if (status == JOINT_OK)
+        joint->last_accepted_time = joint->time;
+    return status;
+}
+
+int joint_set_time(JointInstance *joint, double time, const char *function)
+{
+    if (!isfinite(time)) {
+        joint_log(joint, JOINT_ERROR, "%s: time=%g is not finite", function, time);
+        return 0;
+    }
+    joint->time = time;
+    return 1;
+}
+
 int joint_update_contact_memory(JointInstance *joint, const char *function)
 {
     if (!joint_evaluate(joint, function, "the event indicator"))

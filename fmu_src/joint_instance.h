@@ -70,6 +70,10 @@ int joint_wear_summary(JointInstance *joint, const char *function);
 /* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping.
  * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt. */
 int joint_accept_step(JointInstance *joint, double dt, const char *function);
+/* Model Exchange: accept the step since the last completed one (wear, onsets); a JOINT_* status. */
+int joint_completed_integrator_step(JointInstance *joint, const char *function);
+/* Model Exchange: set the time (finite; 0, logged, otherwise). */
+int joint_set_time(JointInstance *joint, double time, const char *function);
 /* The contact-onset bookkeeping alone at the current inputs (an event). */
 int joint_update_contact_memory(JointInstance *joint, const char *function);
 
