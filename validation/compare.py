@@ -34,8 +34,8 @@ from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 REFERENCE = "monolithic"
-ENGINES = ("monolithic", "cosim", "exudyn-discrete", "exudyn-eccentricity")
-WEAR_ENGINES = ("monolithic", "cosim", "exudyn-discrete")     # the eccentricity form has no wear
+ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete", "exudyn-eccentricity")
+WEAR_ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete")     # the eccentricity form has no wear
 # The valid monolithic runs besides the reference, whose differences from it are the scatter.
 # Over one revolution the worn volume of eleven valid runs has a 16 % standard deviation
 # (max depth 12 %): four samples underestimated it (README "Validation").  h/2 comes first: it
@@ -179,8 +179,9 @@ def run_monolithic(joint, mechanism, revolutions, sample_dt_s, progress, **optio
 
 def engine_runner(engine: str, joint: JointParameters, fmu_backend: str = DEFAULT_BACKEND):
     """f(joint, mechanism, revolutions, step_s, sample_dt_s, progress) -> RunRecord for a
-    non-reference engine; ``step_s`` is exudyn's fixed step or the co-simulation's
-    communication step in contact (adaptive scheme).  The co-simulation's FMU (for
+    non-reference engine; ``step_s`` is exudyn's fixed step, the co-simulation's
+    communication step in contact (adaptive scheme), or the largest step of the Model
+    Exchange run (``cosim-me``: the FMU's ME interface in the monolithic Dormand-Prince).  The co-simulation's FMU (for
     ``joint.n_points``, backend ``fmu_backend``) is resolved, and built if missing, here
     once, so that every run of a validation uses the same FMU.  Raises ImportError when
     the engine's module (or the FMU backend) is missing."""
@@ -196,6 +197,13 @@ def engine_runner(engine: str, joint: JointParameters, fmu_backend: str = DEFAUL
         return lambda j, m, rev, step, dt, progress: run_cosimulation(
             j, m, CoSimulationOptions(revolutions=rev, step_s=step, sample_dt_s=dt), fmu_path=fmu_path,
             progress=progress, fmu_backend=fmu_backend)
+    if engine == "cosim-me":   # Model Exchange: the native backend's (pythonfmu is co-simulation only)
+        from wearjoint.cosim.model_exchange import run_model_exchange
+        from wearjoint.fmu.instance import ensure_fmu
+        fmu_path = ensure_fmu(joint.n_points, backend="native")
+        return lambda j, m, rev, step, dt, progress: run_model_exchange(
+            j, m, SimulationOptions(revolutions=rev, integrator="dopri", max_step_s=step, sample_dt_s=dt),
+            fmu_path=fmu_path, progress=progress, fmu_backend="native")
     raise ParameterError(f"engine={engine!r} is invalid: allowed one of " + ", ".join(ENGINES[1:]))
 
 
