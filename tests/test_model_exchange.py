@@ -112,3 +112,14 @@ def test_cli_runs_the_model_exchange_interface(native_fmu, tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["fmu_interface"] == "model-exchange"
     assert summary["integrator_accepted_steps"] > 0 and summary["max_wear_depth_m"] > 0.0
+
+
+def test_cli_refuses_the_pythonfmu_backend_for_model_exchange(tmp_path, capsys):
+    from wearjoint import cli
+
+    code = cli.main(["cosim", "--fmu-interface", "model-exchange", "--fmu-backend", "pythonfmu", "--revolutions",
+                     "0.01", "--out", str(tmp_path / "x"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and "fmu_backend='pythonfmu'" in err and "allowed native" in err
+    assert len(err.strip().splitlines()) == 1
+

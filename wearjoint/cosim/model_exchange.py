@@ -37,6 +37,9 @@ class ModelExchangeSimulation(Simulation):
         if options.integrator == "gear" or options.ideal:
             raise ParameterError(f"parameter integrator={options.integrator!r} is invalid with the FMU's Model "
                                  "Exchange interface: allowed rk4 or dopri (no ideal joint)")
+        if fmu_backend != "native":
+            raise ParameterError(f"parameter fmu_backend={fmu_backend!r} is invalid with the Model Exchange "
+                                 "interface: allowed native (the pythonfmu FMU is co-simulation only)")
         mechanism = mechanism or SliderCrankParameters()
         joint = joint or paper_joint(mechanism)
         self.fmu_path = ensure_fmu(joint.n_points, fmu_path, backend=fmu_backend)
