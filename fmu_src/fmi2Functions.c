@@ -580,10 +580,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real indicators[], size_t
                   N_EVENT_INDICATORS, ni);
         return fmi2Error;
     }
-    if (!joint_evaluate(inst->joint, "fmi2GetEventIndicators", "the event indicator"))
-        return fmi2Error;
-    indicators[0] = inst->joint->result[R_PENETRATION];
-    return fmi2OK;
+    return joint_event_indicator(inst->joint, "fmi2GetEventIndicators", &indicators[0]) ? fmi2OK : fmi2Error;
 }
 
 /* ------------------------------------------------------------------ FMU state */

@@ -825,10 +825,7 @@ fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 indicators[
                   N_EVENT_INDICATORS, ni);
         return fmi3Error;
     }
-    if (!joint_evaluate(inst->joint, "fmi3GetEventIndicators", "the event indicator"))
-        return fmi3Error;
-    indicators[0] = inst->joint->result[R_PENETRATION];
-    return fmi3OK;
+    return joint_event_indicator(inst->joint, "fmi3GetEventIndicators", &indicators[0]) ? fmi3OK : fmi3Error;
 }
 
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *n)

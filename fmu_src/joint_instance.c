@@ -327,6 +327,14 @@ int joint_set_time(JointInstance *joint, double time, const char *function)
     return 1;
 }
 
+int joint_event_indicator(JointInstance *joint, const char *function, double *value)
+{
+    if (!joint_evaluate(joint, function, "the event indicator"))
+        return 0;
+    *value = joint->result[R_PENETRATION];
+    return 1;
+}
+
 int joint_update_contact_memory(JointInstance *joint, const char *function)
 {
     if (!joint_evaluate(joint, function, "the event indicator"))

@@ -74,6 +74,9 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function);
 int joint_completed_integrator_step(JointInstance *joint, const char *function);
 /* Model Exchange: set the time (finite; 0, logged, otherwise). */
 int joint_set_time(JointInstance *joint, double time, const char *function);
+/* Model Exchange: the event indicator at the current inputs, the signed penetration of the
+ * deepest bushing point (a contact onset is its zero crossing); 0 (logged) on failure. */
+int joint_event_indicator(JointInstance *joint, const char *function, double *value);
 /* The contact-onset bookkeeping alone at the current inputs (an event). */
 int joint_update_contact_memory(JointInstance *joint, const char *function);
 
