@@ -64,7 +64,7 @@ static void describe_non_finite_inputs(const JointInstance *joint, char *out, si
 static int allocate_arrays(JointInstance *joint, int64_t n_points)
 {
     int64_t n_blocks = (n_points + BLOCK_SIZE - 1) / BLOCK_SIZE;
-    double *arrays = joint->allocate(joint->environment, (size_t)(6 * n_points + n_blocks), sizeof(double));
+    double *arrays = joint->allocate(joint->environment, (size_t)(7 * n_points + n_blocks), sizeof(double));
     unsigned char *mask = joint->allocate(joint->environment, (size_t)n_points, 1);
     if (arrays == NULL || mask == NULL) {
         if (arrays != NULL)
@@ -85,7 +85,7 @@ static int allocate_arrays(JointInstance *joint, int64_t n_points)
     joint->sin_phi = arrays + 2 * n_points;
     joint->wear_depth = arrays + 3 * n_points;
     joint->work = arrays + 4 * n_points;
-    joint->block_min = arrays + 5 * n_points;
+    joint->block_min = arrays + 6 * n_points;     /* work: 2 n_points */
     joint->mask = mask;
     int32_t status = 0;
     wearjoint_bushing_points(&status, NULL, joint->phi, joint->cos_phi, joint->sin_phi, n_points);

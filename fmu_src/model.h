@@ -20,7 +20,7 @@ int32_t wearjoint_evaluate(int32_t *status, void *excinfo, const double *kinemat
                            int64_t n_points, int64_t n_blocks);
 
 /* Accept a step of dt [s] at the kinematics: Archard wear and contact-onset bookkeeping;
- * *changed = 1 if the joint's state changed.  mask (n_points bytes) and work (n_points doubles)
+ * *changed = 1 if the joint's state changed.  mask (n_points bytes) and work (2 n_points doubles)
  * are scratch. */
 int32_t wearjoint_advance(int32_t *changed, void *excinfo, const double *kinematics, const double *joint_parameters,
                           const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,

@@ -130,7 +130,7 @@ class ClearanceJoint:
         self.memory = np.zeros(L.N_MEMORY)
         self.result = np.zeros(L.N_RESULT)
         self._mask = np.zeros(n, dtype=np.bool_)
-        self.work = np.zeros(n)                     # scratch of the wear kernels (not state)
+        self.work = np.zeros(2 * n)                 # scratch of the wear kernels (not state)
 
     # ------------------------------------------------------------- forces
     def evaluate_array(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:

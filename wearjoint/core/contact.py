@@ -60,12 +60,15 @@ def wrap_index(k, n):
 
 @kernel
 def block_minimum(wear_depth, b):
-    """Smallest wear depth of block b (points b*BLOCK_SIZE .. b*BLOCK_SIZE + BLOCK_SIZE - 1)."""
+    """Smallest wear depth of block b (points b*BLOCK_SIZE .. b*BLOCK_SIZE + BLOCK_SIZE - 1): four
+    interleaved minima (a minimum does not depend on the order), so each comparison waits for
+    the one four points back instead of the one before."""
     lo = b * BLOCK_SIZE
-    m = wear_depth[lo]
-    for k in range(lo + 1, min(lo + BLOCK_SIZE, wear_depth.shape[0])):
-        m = min(m, wear_depth[k])
-    return m
+    hi = min(lo + BLOCK_SIZE, wear_depth.shape[0])
+    m = (wear_depth[lo], wear_depth[lo], wear_depth[lo], wear_depth[lo])
+    for k in range(lo + 1, hi):
+        m = (m[1], m[2], m[3], min(m[0], wear_depth[k]))
+    return min(min(m[0], m[1]), min(m[2], m[3]))
 
 
 @kernel

@@ -26,8 +26,8 @@ from .layout import (
 # The clearance joint's arrays as the kernels take them (numba compiles the attribute
 # access to the same code as tuple indexing): the joint parameter vector (layout.P_*), the
 # bushing points' cos/sin, the wear profile, the contact search's block minima, the contact
-# memory (layout.M_*), the wear kernels' scratch (a bool mask and a float64 array ``work``, both
-# N_d long, not state) and the evaluation result (layout.R_*).
+# memory (layout.M_*), the wear kernels' scratch (a bool mask, N_d long, and a float64 array
+# ``work``, 2 N_d long; not state) and the evaluation result (layout.R_*).
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
                                          "memory", "mask", "work", "result"))
 

@@ -1,20 +1,19 @@
 """Wear kernels of the clearance joint (paper Sec. 5, Eqs. 24-35).
 
 Archard's law removes the volume k_w F_N ds (Eq. 24); the depth update of
-Eq. (28) is h_z += k_w p Delta s_z with the Hertz mean pressure
-p = F_N / (2 b L) (Eqs. 29-32).  Where the increment goes (docs/model.md §3.7):
+Eq. (28) is h_z += k_w p Delta s_z.  Where the increment goes (docs/model.md §3.7):
 
-* ``patch`` (default): bushing point z stands for the arc cell
-  [phi_z - dphi/2, phi_z + dphi/2]; it receives the increment times the share
-  of its cell inside the contact patch [-b, b] around the contact point, so the
-  removed volume is k_w F_N Delta s to first order in h.  The patch is centred
-  between bushing points, at the vertex of the parabola through |d|^2 of the
-  deepest point and its two neighbours (:func:`subgrid_contact_offset`):
-  centred on the deepest point itself, the wear aliases onto the point grid
-  (the contact runs from worn points to their unworn neighbours, leaving a
-  point-to-point sawtooth).
-* ``penetration``: every point with |d_z| <= R_i receives the full increment
-  (the literal reading of Eq. 28).
+* ``foundation`` (default): the pressure follows the local overlap of the worn
+  surface with the pin (an elastic, Winkler foundation), integrated over each
+  point's arc cell, normalised to the normal force (:func:`foundation_wear`).
+* ``patch``: the paper's Hertz patch, p = F_N / (2 b L) (Eqs. 29-32); bushing
+  point z stands for the arc cell [phi_z - dphi/2, phi_z + dphi/2] and receives
+  the increment times the share of its cell inside the patch [-b, b] around
+  the contact point, centred between bushing points at the vertex of the
+  parabola through |d|^2 of the deepest point and its two neighbours
+  (:func:`subgrid_contact_offset`).
+* ``penetration``: every point with |d_z| <= R_i receives the full Hertz
+  increment (the literal reading of Eq. 28).
 """
 import math
 
@@ -199,96 +198,98 @@ def _common_weight(before, at, after):
 
 
 @kernel
-def _shifted_weights(lo, hi, work):
-    """work[z - 1] = :func:`_common_weight` of point z from the overlaps work[z - 1], work[z],
-    work[z + 1], for z = lo..hi-1 (1 <= lo, hi <= N_d - 1): each slot is written after the
-    last read of it, so the weights replace the overlaps in one array, one slot early, and the
-    loop vectorises (unsigned indices, selects)."""
+def _segment_weights(lo, hi, overlaps, weights):
+    """weights[z] = :func:`_common_weight` of point z for z = lo..hi-1 (1 <= lo, hi <= N_d - 1: no
+    wrapping).  Unsigned indices, selects, two arrays: vectorised."""
     for z in range(np.uint64(lo), np.uint64(hi)):
-        work[z - 1] = _common_weight(work[z - 1], work[z], work[z + 1])
+        weights[z] = _common_weight(overlaps[z - 1], overlaps[z], overlaps[z + 1])
 
 
 @kernel
 def _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
-    """The weights of points first..last (wrapping; ``cyclic``: the whole circle, first = 0, last
-    = N_d - 1) from their overlaps in ``work``, stored one slot early (point z's in
-    work[z - 1 mod N_d]); -1 where :func:`_common_weight` cannot tell.  A run that is not cyclic
-    first gets the overlaps of the two points on either side computed (their blocks may have been
-    skipped); it writes only slots first-1..last-1, so runs at least 4 points apart do not meet."""
+    """The weights of points first..last (wrapping; ``cyclic``: the whole circle, first = 0,
+    last = N_d - 1) into work[N_d:] from the overlaps in work[:N_d]; -1 where
+    :func:`_common_weight` cannot tell.  A run that is not cyclic first gets the overlaps of the
+    two points on either side computed (their blocks may have been skipped)."""
     n = wear_depth.shape[0]
-    if cyclic:
-        o_0 = work[0]
-        o_1 = work[1]
-        _shifted_weights(1, n - 1, work)
-        work[n - 2] = _common_weight(work[n - 2], work[n - 1], o_0)
-        work[n - 1] = _common_weight(work[n - 1], o_0, o_1)
-        return
-    for i in (first - 1, first, last, last + 1):
-        z = wrap_index(i, n)
-        work[z] = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+    overlaps = work[:n]
+    weights = work[n:]
+    if not cyclic:
+        for i in (first - 1, first, last, last + 1):
+            z = wrap_index(i, n)
+            overlaps[z] = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
     i = first
     while i <= last:
         z = wrap_index(i, n)
         if z == 0 or z == n - 1:
-            before = wrap_index(z - 1, n)
-            work[before] = _common_weight(work[before], work[z], work[wrap_index(z + 1, n)])
+            weights[z] = _common_weight(overlaps[wrap_index(z - 1, n)], overlaps[z], overlaps[wrap_index(z + 1, n)])
             i += 1
         else:
             end = min(last + 1, i + n - 1 - z)          # up to point n - 2
-            _shifted_weights(z, z + end - i, work)
+            _segment_weights(z, z + end - i, overlaps, weights)
             i = end
 
 
-@kernel
-def _run_sums(first, last, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
-    """Completes the weights of :func:`_run_weights` (the marked points get :func:`cell_overlap`
-    of their overlaps, recomputed) and returns (sum over points first..last of weight *
-    (R_j + h_z) dphi, the run's overlap integral; the largest weight * (R_j + h_z) (``rotation``)
-    or weight).  Four partial sums in a fixed order, which does not depend on the CPU (the native
-    FMU gives the same numbers)."""
+@kernel(inline='always')
+def _segment_sums(lo, hi, rotation, bushing_radius, wear_depth, work, sums, peaks):
+    """:func:`_run_sums` over points lo..hi-1 (no wrapping), carrying its four partial sums and
+    maxima (four chains: each addition or comparison waits for the one four points back)."""
     n = wear_depth.shape[0]
-    sums = (0.0, 0.0, 0.0, 0.0)
-    peak = 0.0
-    for i in range(first, last + 1):
-        z = wrap_index(i, n)
-        slot = wrap_index(z - 1, n)
-        w = work[slot]
-        if w < 0.0:
-            w = cell_overlap(overlap(slot, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth),
-                             overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth),
-                             overlap(wrap_index(z + 1, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                                     wear_depth))
-            work[slot] = w
+    for z in range(lo, hi):
+        w = work[n + z]
+        if w < 0.0:                                    # a mixed-sign cell: the arc's two ends
+            w = cell_overlap(work[wrap_index(z - 1, n)], work[z], work[wrap_index(z + 1, n)])
+            work[n + z] = w
         rho_w = (bushing_radius + wear_depth[z]) * w
         sums = (sums[1], sums[2], sums[3], sums[0] + rho_w)
-        peak = max(peak, rho_w if rotation else w)
-    return ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n), peak
+        peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], rho_w if rotation else w))
+    return sums, peaks
+
+
+@kernel
+def _run_sums(first, last, rotation, bushing_radius, wear_depth, work):
+    """Completes the weights of :func:`_run_weights` (the marked points get :func:`cell_overlap`
+    of their overlaps) and returns (sum over points first..last (first >= -1, last < 2 N_d, at
+    most N_d points) of w_z (R_j + h_z) dphi, the run's overlap integral; the largest
+    w_z (R_j + h_z) (``rotation``) or w_z).  Four partial sums in a fixed order, which does not
+    depend on the CPU (the native FMU gives the same numbers)."""
+    n = wear_depth.shape[0]
+    sums = (0.0, 0.0, 0.0, 0.0)
+    peaks = (0.0, 0.0, 0.0, 0.0)
+    if first < 0:
+        sums, peaks = _segment_sums(n + first, n, rotation, bushing_radius, wear_depth, work, sums, peaks)
+        first = 0
+    sums, peaks = _segment_sums(first, min(last + 1, n), rotation, bushing_radius, wear_depth, work, sums, peaks)
+    if last >= n:
+        sums, peaks = _segment_sums(0, last + 1 - n, rotation, bushing_radius, wear_depth, work, sums, peaks)
+    return ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n), max(max(peaks[0], peaks[1]),
+                                                                                   max(peaks[2], peaks[3]))
 
 
 @kernel
 def _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                   work):
-    """Turn the overlaps in ``work`` into the :func:`cell_overlap` weights of points first..last
-    (point z's in work[z - 1 mod N_d]) and return (the run's overlap integral, the largest
-    increment per unit scale): :func:`_run_weights`, then :func:`_run_sums`."""
+    """The :func:`cell_overlap` weights of points first..last into work[N_d:] and (the run's
+    overlap integral, the largest increment per unit scale): :func:`_run_weights`, then
+    :func:`_run_sums`."""
     _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
-    return _run_sums(first, last, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
+    return _run_sums(first, last, rotation, bushing_radius, wear_depth, work)
 
 
 @kernel
-def _wear_cells(lo, hi, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, work):
-    """h_z += scale * w_z * Delta s_z for the points z = lo..hi-1 (1 <= lo, hi <= N_d) with a
-    positive weight w_z = work[z - 1]: Delta s_z = (R_j + h_z) relative_dt (``rotation``) or
-    ``slide``.  Branch-free on unsigned indices: vectorised."""
+def _wear_cells(lo, hi, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights):
+    """h_z += scale * w_z * Delta s_z for the points z = lo..hi-1 (0 <= lo <= hi <= N_d) with a
+    positive weight w_z: Delta s_z = (R_j + h_z) relative_dt (``rotation``) or ``slide``.
+    Branch-free on unsigned indices: vectorised."""
     if rotation:
         for z in range(np.uint64(lo), np.uint64(hi)):
-            w = work[z - 1]
+            w = weights[z]
             rho = bushing_radius + wear_depth[z]
             dh = scale * w * (rho * relative_dt)
             wear_depth[z] = rho + dh - bushing_radius if w > 0.0 else wear_depth[z]
     else:
         for z in range(np.uint64(lo), np.uint64(hi)):
-            w = work[z - 1]
+            w = weights[z]
             rho = bushing_radius + wear_depth[z]
             dh = scale * w * slide
             wear_depth[z] = rho + dh - bushing_radius if w > 0.0 else wear_depth[z]
@@ -296,24 +297,19 @@ def _wear_cells(lo, hi, scale, relative_dt, slide, rotation, bushing_radius, wea
 
 @kernel
 def _apply_run(first, last, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min, work):
-    """:func:`_wear_cells` over points first..last (first >= -1, last < 2 N_d, at most N_d points),
-    split where they wrap (point 0, whose weight is in the last slot, on its own); then the block
-    minima of those points."""
+    """:func:`_wear_cells` with the weights in work[N_d:] over points first..last (first >= -1,
+    last < 2 N_d, at most N_d points), split where they wrap; then the block minima of those
+    points."""
     n = wear_depth.shape[0]
-    i = first
-    while i <= last:
-        z = wrap_index(i, n)
-        if z == 0:
-            w = work[n - 1]
-            if w > 0.0:
-                rho = bushing_radius + wear_depth[0]
-                dh = scale * w * (rho * relative_dt if rotation else slide)
-                wear_depth[0] = rho + dh - bushing_radius
-            i += 1
-        else:
-            end = min(last + 1, i + n - z)                # up to point n - 1
-            _wear_cells(z, z + end - i, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, work)
-            i = end
+    weights = work[n:]
+    if first < 0:
+        _wear_cells(n + first, n, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
+        _wear_cells(0, last + 1, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
+    elif last >= n:
+        _wear_cells(first, n, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
+        _wear_cells(0, last + 1 - n, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
+    else:
+        _wear_cells(first, last + 1, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
     _refresh_blocks(wear_depth, block_min, first, last)
 
 
@@ -376,8 +372,8 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     averaged over its cell (:func:`cell_overlap`), all from the depths before the update.  The
     removed volume is k_w F_N Delta s (to first order in the increment).  Scratch: ``mask`` (bool,
     N_d), whose first nb entries flag the blocks of points that may overlap, and ``work``
-    (float64, N_d), which holds the points' overlaps and then their weights, so each point's
-    distance to the pin is computed once.  Returns the largest increment [m]."""
+    (float64, 2 N_d), which holds the points' overlaps (work[:N_d]; each point's distance to the
+    pin is computed once) and their weights (work[N_d:]).  Returns the largest increment [m]."""
     skipped = _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, work)
     total, peak = _foundation_pass(0.0, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
                                    sin_phi, wear_depth, block_min, mask, skipped, work)

@@ -17,7 +17,7 @@ from ..core.wear import accept_contact, advance_joint, complete_joint_parameters
 
 _F64 = types.CPointer(types.float64)
 # evaluate: (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
-#  n_points, n_blocks); advance/accept: the same with the float64 scratch ``work`` (N_d) after ``mask``, and dt
+#  n_points, n_blocks); advance/accept: the same with the float64 scratch ``work`` (2 N_d) after ``mask``, and dt
 _ARRAYS = (_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, types.voidptr)
 _SIZES = (types.int64, types.int64)
 EVALUATE_SIGNATURE = types.int32(*_ARRAYS, *_SIZES)
@@ -44,7 +44,8 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
     changed = advance_joint(k[0:3], k[3:6], k[6:9], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
-                            carray(mask, n_points, dtype=np.bool_), carray(work, n_points), carray(result, N_RESULT))
+                            carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points),
+                            carray(result, N_RESULT))
     return 1 if changed else 0
 
 
@@ -58,7 +59,7 @@ def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memor
     changed = accept_contact(carray(result, N_RESULT), k[3:6], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
                              carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                              carray(block_min, n_blocks), carray(memory, N_MEMORY),
-                             carray(mask, n_points, dtype=np.bool_), carray(work, n_points))
+                             carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points))
     return 1 if changed else 0
 
 
