@@ -152,6 +152,7 @@ void joint_reset(JointInstance *joint)
         joint->parameters[i] = PARAMETERS[i].start;
     joint->parameters_changed = 1;
     joint->forces_stale = joint->wear_summary_stale = 1;
+    joint->onsets_accepted = 0;
     memset(joint->memory, 0, sizeof joint->memory);
     memset(joint->result, 0, sizeof joint->result);
     memset(joint->wear_depth, 0, (size_t)joint->n_points * sizeof(double));
@@ -161,6 +162,8 @@ void joint_reset(JointInstance *joint)
 /* ------------------------------------------------------------------ inputs and parameters */
 void joint_set_input(JointInstance *joint, int index, double value)
 {
+    if (!(value == joint->inputs[index]))
+        joint->onsets_accepted = 0;
     joint->inputs[index] = value;
     if (isfinite(value))
         joint->non_finite_inputs &= ~(1u << index);
@@ -306,6 +309,7 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function)
     if (changed)
         joint->wear_summary_stale = 1;
     joint->forces_stale = 1;
+    joint->onsets_accepted = 1;
     return JOINT_OK;
 }
 
@@ -337,6 +341,8 @@ int joint_event_indicator(JointInstance *joint, const char *function, double *va
 
 int joint_update_contact_memory(JointInstance *joint, const char *function)
 {
+    if (joint->onsets_accepted)
+        return 1;
     if (!joint_evaluate(joint, function, "the event indicator"))
         return 0;
     int32_t changed = 0;
@@ -410,5 +416,6 @@ int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, 
     int32_t status = 0;
     wearjoint_block_minima(&status, NULL, joint->wear_depth, joint->block_min, joint->n_points, joint->n_blocks);
     joint->forces_stale = joint->wear_summary_stale = 1;
+    joint->onsets_accepted = 0;
     return joint_pack_parameters(joint, function);
 }

@@ -37,6 +37,7 @@ typedef struct {
     double parameters[N_PARAMETERS];   /* FMU parameter values (choices as their index) */
     int parameters_changed;            /* since the joint parameter vector was packed */
     int forces_stale;                  /* result does not belong to the current inputs */
+    int onsets_accepted;               /* an accepted step did the onset bookkeeping at these inputs */
     int wear_summary_stale;
     double max_wear_depth, worn_volume;
     int64_t n_points, n_blocks;
@@ -77,7 +78,8 @@ int joint_set_time(JointInstance *joint, double time, const char *function);
 /* Model Exchange: the event indicator at the current inputs, the signed penetration of the
  * deepest bushing point (a contact onset is its zero crossing); 0 (logged) on failure. */
 int joint_event_indicator(JointInstance *joint, const char *function, double *value);
-/* The contact-onset bookkeeping alone at the current inputs (an event). */
+/* The contact-onset bookkeeping alone at the current inputs (an event); nothing if an accepted
+ * step at these inputs did it (from the contact before that step's wear, as in process). */
 int joint_update_contact_memory(JointInstance *joint, const char *function);
 
 /* FMU state: magic, time, initialised flag, inputs, parameters, contact memory, wear depths (float64). */

@@ -33,6 +33,15 @@ def c_host(tmp_path_factory):
     return build_c_host(tmp_path_factory.mktemp("c_host"))
 
 
+@pytest.fixture(scope="session")
+def fmi3_host(tmp_path_factory):
+    """The C FMI 3.0 host of tests/c_host, compiled once per session (skips without gcc or headers)."""
+    from fmi_host import build_fmi3_host, gcc_or_skip
+
+    gcc_or_skip(fmi_version=3)
+    return build_fmi3_host(tmp_path_factory.mktemp("fmi3_host"))
+
+
 # The test process loads pythonfmu FMUs, libcosim and Dask in one interpreter; once in a while
 # (1 of 2 full runs on 2026-11-23, earlier "corrupted double-linked list" once in 13) it crashed
 # *after* every test had passed and the summary was printed, during interpreter finalisation

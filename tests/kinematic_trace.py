@@ -19,3 +19,24 @@ def slider_crank_trace(joint, n_rows: int, step_s: float) -> np.ndarray:
             rows[i, column + 3:column + 6] = y[m + body:m + body + 3]
         sim.advance_to((i + 1) * step_s, samples)
     return rows
+
+
+def run_joint_on_trace(params, rows, model_exchange: bool = False):
+    """The in-process ClearanceJoint with ``params`` driven through ``rows``: the FMU's scalar outputs
+    evaluated at every row before its step is accepted (over h, or in Model Exchange over
+    t_i - t_(i-1) from the start time 0), and the final wear profile."""
+    from wearjoint import ClearanceJoint
+    from wearjoint.fmu import variables as fv
+
+    joint = ClearanceJoint(params)
+    names = [v.name for v in fv.SCALAR_OUTPUTS]
+    outputs = np.empty((len(rows), len(names)))
+    previous_t = 0.0
+    for i, row in enumerate(rows):
+        k = row[2:]
+        result = joint.evaluate_array(k[0:3], k[3:6], k[6:9], k[9:12])
+        outputs[i] = [result[fv.RESULT_SLOTS[n]] if n in fv.RESULT_SLOTS
+                      else joint.max_wear_depth_m if n == "max_wear_depth" else joint.worn_volume_m3 for n in names]
+        joint.advance_array(k[0:3], k[3:6], k[6:9], k[9:12], row[0] - previous_t if model_exchange else row[1])
+        previous_t = row[0]
+    return outputs, joint.wear_depth.copy()
