@@ -61,14 +61,22 @@ def wrap_index(k, n):
 @kernel
 def block_minimum(wear_depth, b):
     """Smallest wear depth of block b (points b*BLOCK_SIZE .. b*BLOCK_SIZE + BLOCK_SIZE - 1): four
-    interleaved minima (a minimum does not depend on the order), so each comparison waits for
-    the one four points back instead of the one before."""
-    lo = b * BLOCK_SIZE
-    hi = min(lo + BLOCK_SIZE, wear_depth.shape[0])
-    m = (wear_depth[lo], wear_depth[lo], wear_depth[lo], wear_depth[lo])
-    for k in range(lo + 1, hi):
-        m = (m[1], m[2], m[3], min(m[0], wear_depth[k]))
-    return min(min(m[0], m[1]), min(m[2], m[3]))
+    interleaved minima, four points a round (a minimum does not depend on the order), so each
+    comparison waits for the one four points back instead of the one before."""
+    lo = np.uint64(b * BLOCK_SIZE)
+    hi = np.uint64(min(b * BLOCK_SIZE + BLOCK_SIZE, wear_depth.shape[0]))
+    m0 = m1 = m2 = m3 = wear_depth[lo]
+    k = lo + np.uint64(1)
+    while k + np.uint64(4) <= hi:
+        m0 = min(m0, wear_depth[k])
+        m1 = min(m1, wear_depth[k + np.uint64(1)])
+        m2 = min(m2, wear_depth[k + np.uint64(2)])
+        m3 = min(m3, wear_depth[k + np.uint64(3)])
+        k += np.uint64(4)
+    while k < hi:
+        m0 = min(m0, wear_depth[k])
+        k += np.uint64(1)
+    return min(min(m0, m1), min(m2, m3))
 
 
 @kernel

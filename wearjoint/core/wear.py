@@ -231,18 +231,40 @@ def _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_ph
 
 
 @kernel(inline='always')
+def _summand(z, rotation, bushing_radius, wear_depth, work):
+    """(w_z (R_j + h_z), the peak candidate) of point z (unsigned): its weight from work[N_d + z],
+    completed from its overlaps where :func:`_run_weights` marked it (the arc's two ends)."""
+    n = wear_depth.shape[0]
+    w = work[n + z]
+    if w < 0.0:
+        k = int(z)
+        w = cell_overlap(work[wrap_index(k - 1, n)], work[z], work[wrap_index(k + 1, n)])
+        work[n + z] = w
+    rho_w = (bushing_radius + wear_depth[z]) * w
+    return rho_w, (rho_w if rotation else w)
+
+
+@kernel(inline='always')
 def _segment_sums(lo, hi, rotation, bushing_radius, wear_depth, work, sums, peaks):
     """:func:`_run_sums` over points lo..hi-1 (no wrapping), carrying its four partial sums and
-    maxima (four chains: each addition or comparison waits for the one four points back)."""
-    n = wear_depth.shape[0]
-    for z in range(lo, hi):
-        w = work[n + z]
-        if w < 0.0:                                    # a mixed-sign cell: the arc's two ends
-            w = cell_overlap(work[wrap_index(z - 1, n)], work[z], work[wrap_index(z + 1, n)])
-            work[n + z] = w
-        rho_w = (bushing_radius + wear_depth[z]) * w
-        sums = (sums[1], sums[2], sums[3], sums[0] + rho_w)
-        peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], rho_w if rotation else w))
+    maxima: each new term goes to the chain the sum's rotation brings up, (s1, s2, s3, s0 + x),
+    so four terms in a row add to s0..s3 in place (the unrolled loop: no moves, and each
+    addition waits for the one four terms back)."""
+    z = np.uint64(lo)
+    end = np.uint64(hi)
+    while z + np.uint64(4) <= end:
+        x0, q0 = _summand(z, rotation, bushing_radius, wear_depth, work)
+        x1, q1 = _summand(z + np.uint64(1), rotation, bushing_radius, wear_depth, work)
+        x2, q2 = _summand(z + np.uint64(2), rotation, bushing_radius, wear_depth, work)
+        x3, q3 = _summand(z + np.uint64(3), rotation, bushing_radius, wear_depth, work)
+        sums = (sums[0] + x0, sums[1] + x1, sums[2] + x2, sums[3] + x3)
+        peaks = (max(peaks[0], q0), max(peaks[1], q1), max(peaks[2], q2), max(peaks[3], q3))
+        z += np.uint64(4)
+    while z < end:
+        x, q = _summand(z, rotation, bushing_radius, wear_depth, work)
+        sums = (sums[1], sums[2], sums[3], sums[0] + x)
+        peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], q))
+        z += np.uint64(1)
     return sums, peaks
 
 
