@@ -141,7 +141,12 @@ def cell_overlap(before, at, after):
     """Mean positive overlap over a point's arc cell [phi_z - dphi/2, phi_z + dphi/2], the overlap
     taken linear in phi between the point (``at``) and its neighbours (``before``, ``after``).
     Summed over the cells times dphi it is the integral of the positive part of that piecewise
-    linear overlap: the same function of the worn surface whatever the point spacing."""
+    linear overlap: the same function of the worn surface whatever the point spacing.  On the
+    arc in contact (all three >= 0) it is (before + 6 at + after) / 8, outside it (all <= 0) 0."""
+    if min(before, min(at, after)) >= 0.0:
+        return 0.125 * (before + 6.0 * at + after)
+    if max(before, max(at, after)) <= 0.0:
+        return 0.0
     return 0.5 * (_positive_mean(0.5 * (before + at), at) + _positive_mean(at, 0.5 * (at + after)))
 
 
@@ -187,115 +192,75 @@ def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_dept
 
 
 @kernel(inline='always')
-def _common_weight(before, at, after):
-    """:func:`cell_overlap` of a point with these overlaps in the two common cases, the arc in
-    contact (all three >= 0) and outside it (all <= 0); -1 (a marker) where the signs are mixed."""
-    if min(before, min(at, after)) >= 0.0:
-        return 0.125 * (before + 6.0 * at + after)
-    if max(before, max(at, after)) <= 0.0:
-        return 0.0
-    return -1.0
-
-
-@kernel
-def _segment_weights(lo, hi, overlaps, weights):
-    """weights[z] = :func:`_common_weight` of point z for z = lo..hi-1 (1 <= lo, hi <= N_d - 1: no
-    wrapping).  Unsigned indices, selects, two arrays: vectorised."""
-    for z in range(np.uint64(lo), np.uint64(hi)):
-        weights[z] = _common_weight(overlaps[z - 1], overlaps[z], overlaps[z + 1])
-
-
-@kernel
-def _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
-    """The weights of points first..last (wrapping; ``cyclic``: the whole circle, first = 0,
-    last = N_d - 1) into work[N_d:] from the overlaps in work[:N_d]; -1 where
-    :func:`_common_weight` cannot tell.  A run that is not cyclic first gets the overlaps of the
-    two points on either side computed (their blocks may have been skipped)."""
+def _summand(z, before, after, rotation, bushing_radius, wear_depth, work):
+    """Point z's weight w_z = :func:`cell_overlap` of the overlaps in work[:N_d] of points
+    ``before``, z, ``after``, stored in work[N_d + z]; returns (w_z (R_j + h_z), the peak
+    candidate: that (``rotation``) or w_z)."""
     n = wear_depth.shape[0]
-    overlaps = work[:n]
-    weights = work[n:]
-    if not cyclic:
-        for i in (first - 1, first, last, last + 1):
-            z = wrap_index(i, n)
-            overlaps[z] = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
-    i = first
-    while i <= last:
-        z = wrap_index(i, n)
-        if z == 0 or z == n - 1:
-            weights[z] = _common_weight(overlaps[wrap_index(z - 1, n)], overlaps[z], overlaps[wrap_index(z + 1, n)])
-            i += 1
-        else:
-            end = min(last + 1, i + n - 1 - z)          # up to point n - 2
-            _segment_weights(z, z + end - i, overlaps, weights)
-            i = end
-
-
-@kernel(inline='always')
-def _summand(z, rotation, bushing_radius, wear_depth, work):
-    """(w_z (R_j + h_z), the peak candidate) of point z (unsigned): its weight from work[N_d + z],
-    completed from its overlaps where :func:`_run_weights` marked it (the arc's two ends)."""
-    n = wear_depth.shape[0]
-    w = work[n + z]
-    if w < 0.0:
-        k = int(z)
-        w = cell_overlap(work[wrap_index(k - 1, n)], work[z], work[wrap_index(k + 1, n)])
-        work[n + z] = w
+    w = cell_overlap(work[before], work[z], work[after])
+    work[n + z] = w
     rho_w = (bushing_radius + wear_depth[z]) * w
     return rho_w, (rho_w if rotation else w)
 
 
 @kernel(inline='always')
 def _segment_sums(lo, hi, rotation, bushing_radius, wear_depth, work, sums, peaks):
-    """:func:`_run_sums` over points lo..hi-1 (no wrapping), carrying its four partial sums and
-    maxima: each new term goes to the chain the sum's rotation brings up, (s1, s2, s3, s0 + x),
-    so four terms in a row add to s0..s3 in place (the unrolled loop: no moves, and each
-    addition waits for the one four terms back)."""
+    """:func:`_cell_weights` over points lo..hi-1 (1 <= lo, hi <= N_d - 1: no wrapping), carrying its
+    four partial sums and maxima: each new term goes to the chain the sums' rotation brings up,
+    (s1, s2, s3, s0 + x), so four terms in a row add to s0..s3 in place (the unrolled loop: no
+    moves, and each addition waits for the one four terms back)."""
     z = np.uint64(lo)
     end = np.uint64(hi)
+    one = np.uint64(1)
     while z + np.uint64(4) <= end:
-        x0, q0 = _summand(z, rotation, bushing_radius, wear_depth, work)
-        x1, q1 = _summand(z + np.uint64(1), rotation, bushing_radius, wear_depth, work)
-        x2, q2 = _summand(z + np.uint64(2), rotation, bushing_radius, wear_depth, work)
-        x3, q3 = _summand(z + np.uint64(3), rotation, bushing_radius, wear_depth, work)
+        x0, q0 = _summand(z, z - one, z + one, rotation, bushing_radius, wear_depth, work)
+        x1, q1 = _summand(z + one, z, z + np.uint64(2), rotation, bushing_radius, wear_depth, work)
+        x2, q2 = _summand(z + np.uint64(2), z + one, z + np.uint64(3), rotation, bushing_radius, wear_depth, work)
+        x3, q3 = _summand(z + np.uint64(3), z + np.uint64(2), z + np.uint64(4), rotation, bushing_radius,
+                          wear_depth, work)
         sums = (sums[0] + x0, sums[1] + x1, sums[2] + x2, sums[3] + x3)
         peaks = (max(peaks[0], q0), max(peaks[1], q1), max(peaks[2], q2), max(peaks[3], q3))
         z += np.uint64(4)
     while z < end:
-        x, q = _summand(z, rotation, bushing_radius, wear_depth, work)
+        x, q = _summand(z, z - one, z + one, rotation, bushing_radius, wear_depth, work)
         sums = (sums[1], sums[2], sums[3], sums[0] + x)
         peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], q))
-        z += np.uint64(1)
+        z += one
     return sums, peaks
-
-
-@kernel
-def _run_sums(first, last, rotation, bushing_radius, wear_depth, work):
-    """Completes the weights of :func:`_run_weights` (the marked points get :func:`cell_overlap`
-    of their overlaps) and returns (sum over points first..last (first >= -1, last < 2 N_d, at
-    most N_d points) of w_z (R_j + h_z) dphi, the run's overlap integral; the largest
-    w_z (R_j + h_z) (``rotation``) or w_z).  Four partial sums in a fixed order, which does not
-    depend on the CPU (the native FMU gives the same numbers)."""
-    n = wear_depth.shape[0]
-    sums = (0.0, 0.0, 0.0, 0.0)
-    peaks = (0.0, 0.0, 0.0, 0.0)
-    if first < 0:
-        sums, peaks = _segment_sums(n + first, n, rotation, bushing_radius, wear_depth, work, sums, peaks)
-        first = 0
-    sums, peaks = _segment_sums(first, min(last + 1, n), rotation, bushing_radius, wear_depth, work, sums, peaks)
-    if last >= n:
-        sums, peaks = _segment_sums(0, last + 1 - n, rotation, bushing_radius, wear_depth, work, sums, peaks)
-    return ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n), max(max(peaks[0], peaks[1]),
-                                                                                   max(peaks[2], peaks[3]))
 
 
 @kernel
 def _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                   work):
-    """The :func:`cell_overlap` weights of points first..last into work[N_d:] and (the run's
-    overlap integral, the largest increment per unit scale): :func:`_run_weights`, then
-    :func:`_run_sums`."""
-    _run_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
-    return _run_sums(first, last, rotation, bushing_radius, wear_depth, work)
+    """The :func:`cell_overlap` weights of points first..last (first >= -1, last < 2 N_d, at most
+    N_d points, wrapping; ``cyclic``: the whole circle) into work[N_d:] from their overlaps in
+    work[:N_d], and (the run's overlap integral, sum of w_z (R_j + h_z) dphi; the largest
+    w_z (R_j + h_z) (``rotation``) or w_z).  A run that is not cyclic first gets the overlaps of
+    the two points on either side computed (their blocks may have been skipped).  Four partial
+    sums in a fixed order, which does not depend on the CPU (the native FMU gives the same
+    numbers)."""
+    n = wear_depth.shape[0]
+    if not cyclic:
+        for i in (first - 1, first, last, last + 1):
+            z = wrap_index(i, n)
+            work[z] = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+    sums = (0.0, 0.0, 0.0, 0.0)
+    peaks = (0.0, 0.0, 0.0, 0.0)
+    i = first
+    while i <= last:
+        z = wrap_index(i, n)
+        if z == 0 or z == n - 1:                     # the points whose neighbours wrap
+            x, q = _summand(z, wrap_index(z - 1, n), wrap_index(z + 1, n), rotation, bushing_radius, wear_depth,
+                            work)
+            sums = (sums[1], sums[2], sums[3], sums[0] + x)
+            peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], q))
+            i += 1
+        else:
+            end = min(last + 1, i + n - 1 - z)          # up to point n - 2
+            sums, peaks = _segment_sums(z, z + end - i, rotation, bushing_radius, wear_depth, work, sums, peaks)
+            i = end
+    total = ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n)
+    return total, max(max(peaks[0], peaks[1]), max(peaks[2], peaks[3]))
 
 
 @kernel
