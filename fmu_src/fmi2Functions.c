@@ -260,6 +260,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
         !mode_is(inst, "fmi2GetReal", M(MODE_INITIALIZATION) | INITIALISED))
         return fmi2Error;
     JointInstance *joint = inst->joint;
+    int evaluated = 0; /* the forces are current after the first joint output: no check per output */
     for (size_t i = 0; i < nvr; i++) {
         fmi2ValueReference r = vr[i];
         if (r < N_INPUTS) {
@@ -269,8 +270,9 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
         } else if (r >= VR_FIRST_OUTPUT && r < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS) {
             const OutputInfo *o = &OUTPUTS[r - VR_FIRST_OUTPUT];
             if (o->source == OUTPUT_FROM_RESULT) {
-                if (!joint_evaluate(joint, "fmi2GetReal", o->name))
+                if (!evaluated && !joint_evaluate(joint, "fmi2GetReal", o->name))
                     return fmi2Error;
+                evaluated = 1;
                 value[i] = joint->result[o->index];
             } else {
                 if (!joint_wear_summary(joint, "fmi2GetReal"))
