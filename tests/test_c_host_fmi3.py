@@ -71,12 +71,11 @@ def run3(host, fmu, script, **kw):
 def start3(interface="instantiate", n_points=None, params=JOINT) -> str:
     """An FMI 3.0 instance initialised with ``params`` (n_points set in Configuration Mode); a Model
     Exchange one left in Continuous-Time Mode."""
-    values = fv.fmi_parameter_values(params)
-    choices = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
+    reals, integers = fv.fmi_parameter_values_by_type(params)
     config = f"enter_config\nset_uint64 {VR3['n_points']}={n_points}\nexit_config\n" if n_points else ""
     script = (f"{interface} joint3\n{config}enter_init\n"
-              f"set_float64 {' '.join(f'{VR3[k]}={v!r}' for k, v in values.items() if k not in choices)}\n"
-              f"set_int64 {' '.join(f'{VR3[k]}={int(v)}' for k, v in values.items() if k in choices)}\nexit_init\n")
+              f"set_float64 {' '.join(f'{VR3[k]}={v!r}' for k, v in reals.items())}\n"
+              f"set_int64 {' '.join(f'{VR3[k]}={v}' for k, v in integers.items())}\nexit_init\n")
     return script + ("update_discrete_states\nenter_continuous_time_mode\n" if interface == "instantiate_me" else "")
 
 
@@ -86,12 +85,11 @@ def trace_command(vr, path, me=False, order="") -> str:
 
 
 def start2(fmu, interface="instantiate") -> str:
-    values = fv.fmi_parameter_values(JOINT)
-    choices = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
+    reals, integers = fv.fmi_parameter_values_by_type(JOINT)
     vr = fmu["vr"]
     script = (f"{interface} joint2\nsetup 0\nenter_init\n"
-              f"set_real {' '.join(f'{vr[k]}={v!r}' for k, v in values.items() if k not in choices)}\n"
-              f"set_integer {' '.join(f'{vr[k]}={int(v)}' for k, v in values.items() if k in choices)}\nexit_init\n")
+              f"set_real {' '.join(f'{vr[k]}={v!r}' for k, v in reals.items())}\n"
+              f"set_integer {' '.join(f'{vr[k]}={v}' for k, v in integers.items())}\nexit_init\n")
     return script + ("new_discrete_states\nenter_continuous_time_mode\n" if interface == "instantiate_me" else "")
 
 

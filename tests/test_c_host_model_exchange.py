@@ -70,11 +70,9 @@ def joint_reference(trace):
 
 def _parameters(vr) -> str:
     """set_real / set_integer lines for JOINT's FMU parameters."""
-    values = fv.fmi_parameter_values(JOINT)
-    choices = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-    reals = " ".join(f"{vr[k]}={v!r}" for k, v in values.items() if k not in choices)
-    integers = " ".join(f"{vr[k]}={int(v)}" for k, v in values.items() if k in choices)
-    return f"set_real {reals}\nset_integer {integers}\n"
+    reals, integers = fv.fmi_parameter_values_by_type(JOINT)
+    return (f"set_real {' '.join(f'{vr[k]}={v!r}' for k, v in reals.items())}\n"
+            f"set_integer {' '.join(f'{vr[k]}={v}' for k, v in integers.items())}\n")
 
 
 def _me_start(fmu, instantiate="instantiate_me joint") -> str:
@@ -117,10 +115,9 @@ def fmpy_model_exchange(fmu, rows, events_first=False):
     try:
         model.setupExperiment(startTime=0.0)
         model.enterInitializationMode()
-        values = fv.fmi_parameter_values(JOINT)
-        choices = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-        model.setReal([vr[k] for k in values if k not in choices], [v for k, v in values.items() if k not in choices])
-        model.setInteger([vr[k] for k in choices], [int(values[k]) for k in choices])
+        reals, integers = fv.fmi_parameter_values_by_type(JOINT)
+        model.setReal([vr[k] for k in reals], list(reals.values()))
+        model.setInteger([vr[k] for k in integers], list(integers.values()))
         model.exitInitializationMode()
         model.newDiscreteStates()
         model.enterContinuousTimeMode()

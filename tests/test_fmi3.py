@@ -68,13 +68,6 @@ def trace():
     return slider_crank_trace(TRACE_JOINT, TRACE_ROWS, TRACE_STEP)
 
 
-def _parameter_values(params):
-    """(Real, Integer/enumeration) FMU parameter values reproducing ``params``, keyed by FMU name."""
-    values = fv.fmi_parameter_values(params)
-    integers = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-    return ({k: v for k, v in values.items() if k not in integers}, {k: values[k] for k in integers})
-
-
 class Log:
     """An FMI 3.0 logger keeping (status, category, message)."""
 
@@ -98,7 +91,7 @@ def _slave3(fmi3, n_points=None, params=TRACE_JOINT, log=None, name="fmi3"):
         fmu.setUInt64([VR3["n_points"]], [n_points])
         fmu.exitConfigurationMode()
     fmu.enterInitializationMode(startTime=0.0)
-    reals, enumerations = _parameter_values(params)
+    reals, enumerations = fv.fmi_parameter_values_by_type(params)
     fmu.setFloat64([VR3[k] for k in reals], list(reals.values()))
     fmu.setInt64([VR3[k] for k in enumerations], list(enumerations.values()))
     fmu.exitInitializationMode()
@@ -112,7 +105,7 @@ def _slave2(fmi2, params=TRACE_JOINT, name="fmi2"):
     fmu.instantiate()
     fmu.setupExperiment(startTime=0.0)
     fmu.enterInitializationMode()
-    reals, integers = _parameter_values(params)
+    reals, integers = fv.fmi_parameter_values_by_type(params)
     fmu.setReal([vr[k] for k in reals], list(reals.values()))
     fmu.setInteger([vr[k] for k in integers], list(integers.values()))
     fmu.exitInitializationMode()
@@ -441,7 +434,7 @@ def test_model_exchange_in_fmpy_equals_the_joint_at_the_output_points(fmi3, fmi2
     solver gives the same records."""
     signals = _me_input(trace, ME_ROWS)
     stop = float(trace[ME_ROWS - 1, 0])
-    reals, _ = _parameter_values(TRACE_JOINT)
+    reals, _ = fv.fmi_parameter_values_by_type(TRACE_JOINT)
     fmu = FMU3Model(guid=fmi3["md"].guid, unzipDirectory=str(fmi3["dir"]), modelIdentifier=fv.MODEL_NAME,
                     instanceName="me")
     fmu.instantiate()

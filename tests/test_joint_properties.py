@@ -176,10 +176,9 @@ def _instance(small_native, p: JointParameters | None, invalid: tuple | None = N
     fmu.enterInitializationMode()
     vr = small_native["vr"]
     if p is not None:
-        values = fv.fmi_parameter_values(p)
-        integers = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-        fmu.setReal([vr[k] for k in values if k not in integers], [v for k, v in values.items() if k not in integers])
-        fmu.setInteger([vr[k] for k in integers], [values[k] for k in integers])
+        reals, integers = fv.fmi_parameter_values_by_type(p)
+        fmu.setReal([vr[k] for k in reals], list(reals.values()))
+        fmu.setInteger([vr[k] for k in integers], list(integers.values()))
     if invalid is not None:
         name, value = invalid
         fmu.setReal([vr[name]], [value])

@@ -68,9 +68,8 @@ def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu):
     try:
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
-        values = fv.fmi_parameter_values(joint)
-        choices = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-        fmu.setReal([vr[k] for k in values if k not in choices], [v for k, v in values.items() if k not in choices])
+        reals, _ = fv.fmi_parameter_values_by_type(joint)     # the options keep their defaults
+        fmu.setReal([vr[k] for k in reals], list(reals.values()))
         fmu.exitInitializationMode()
         fmu.newDiscreteStates()
         fmu.enterContinuousTimeMode()

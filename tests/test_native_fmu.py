@@ -140,13 +140,6 @@ def test_trace_has_hundreds_of_onsets_and_visible_wear(joint_on_trace):
 TRACE_JOINT = paper_joint(wear_factor=WEAR_FACTOR)   # the slider-crank's joint: its body-frame offsets
 
 
-def _parameter_values(params):
-    """(Real, Integer) FMU parameter values reproducing ``params``, keyed by FMU name."""
-    values = fv.fmi_parameter_values(params)
-    integers = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-    return ({k: v for k, v in values.items() if k not in integers}, {k: values[k] for k in integers})
-
-
 def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_trace, joint_on_trace):
     outputs, profiles, joint = joint_on_trace
     vr = native["vr"]
@@ -156,7 +149,7 @@ def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_tr
     try:
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
-        reals, integers = _parameter_values(TRACE_JOINT)
+        reals, integers = fv.fmi_parameter_values_by_type(TRACE_JOINT)
         fmu.setReal([vr[k] for k in reals], list(reals.values()))
         fmu.setInteger([vr[k] for k in integers], list(integers.values()))
         fmu.exitInitializationMode()
@@ -177,7 +170,7 @@ def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_tr
 
 def _init_script(native, params=None) -> str:
     """Instantiate and initialise with the parameters of ``params`` (default: the paper's slider-crank joint)."""
-    reals, integers = _parameter_values(params or paper_joint())
+    reals, integers = fv.fmi_parameter_values_by_type(params or paper_joint())
     vr = native["vr"]
     return ("instantiate joint\nsetup 0\nenter_init\n"
             f"set_real {' '.join(f'{vr[k]}={v!r}' for k, v in reals.items())}\n"

@@ -177,10 +177,9 @@ class FmuInstance:
             c_function(dll.fmi2SetFMUstate, _STATUS_CALL), c_function(dll.fmi2FreeFMUstate, _STATUS_CALL))
 
     def _set_parameters(self, joint: JointParameters) -> None:
-        values = fv.fmi_parameter_values(joint)
-        integer_names = {p.variable.name for p in fv.PARAMETERS if p.variable.type == fv.INTEGER}
-        reals = [(self.vr[k], v) for k, v in values.items() if k not in integer_names]
-        ints = [(self.vr[k], v) for k, v in values.items() if k in integer_names]
+        real_values, integer_values = fv.fmi_parameter_values_by_type(joint)
+        reals = [(self.vr[k], v) for k, v in real_values.items()]
+        ints = [(self.vr[k], v) for k, v in integer_values.items()]
         for rows, value_type, function in ((reals, self._fmi2Real, self.set_real),
                                            (ints, self._fmi2Integer, self.fmu.dll.fmi2SetInteger)):
             vrs = (self._fmi2ValueReference * len(rows))(*(vr for vr, _ in rows))

@@ -245,6 +245,13 @@ def joint_parameters_from_fmi(values: dict, n_points: int) -> JointParameters:
     return JointParameters(**changes)
 
 
+def fmi_parameter_values_by_type(params: JointParameters) -> tuple[dict[str, float], dict[str, int]]:
+    """:func:`fmi_parameter_values` as (the Real parameters, the Integer ones: the options)."""
+    values = fmi_parameter_values(params)
+    integers = {p.variable.name for p in PARAMETERS if p.variable.type == INTEGER}
+    return ({k: v for k, v in values.items() if k not in integers}, {k: v for k, v in values.items() if k in integers})
+
+
 def fmi_parameter_values(params: JointParameters) -> dict[str, float | int]:
     """FMU parameter values (keyed by FMU name) reproducing ``params`` (n_points excluded: fixed at build)."""
     out: dict[str, float | int] = {}
