@@ -19,8 +19,8 @@ from numba.extending import overload
 
 from .contact import evaluate_contact_scalars, update_contact_memory
 from .jit import kernel
-from .layout import CRANK, M_ACTIVE, N_COORDINATES, P_WEAR_COEFFICIENT, R_CONTACT, R_NORMAL_FORCE, ROD
-from .wear import accept_contact, advance_joint
+from .layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, ROD
+from .wear import accept_contact, advance_joint, wears
 
 # The integrators' right-hand side inlines the contact evaluation (a call with a dozen
 # array arguments costs about as much as the mechanism itself); everywhere else, e.g. in
@@ -128,16 +128,6 @@ def _fmu_contact_forces(joint, t, y):
         joint.result[joint.output_slots[k]] = io[N_INPUTS + k]
 
 
-@kernel(inline='always')
-def _fmu_may_wear(joint, h):
-    """True if the FMU's step of h [s] may have worn the bushing: the conditions under which
-    :func:`~wearjoint.core.wear.apply_wear` removes material (in contact, k_w > 0, h > 0,
-    F_N > 0), so the monolithic run's "changed" implies it."""
-    result = joint.result
-    return (result[R_CONTACT] >= 0.5 and joint.parameters[P_WEAR_COEFFICIENT] > 0.0 and h > 0.0
-            and result[R_NORMAL_FORCE] > 0.0)
-
-
 @kernel
 def _fmu_accept(joint, t, y, h, evaluated):
     """fmi2CompletedIntegratorStep (and an event iteration where a contact begins or ends).
@@ -161,7 +151,7 @@ def _fmu_accept(joint, t, y, h, evaluated):
         if _fmu_call_failed(joint, 7, joint.enter_continuous_time_mode(c), t):
             return True
     onset_changed = update_contact_memory(joint.result, joint.parameters, joint.memory)
-    return onset_changed or _fmu_may_wear(joint, h)
+    return onset_changed or wears(joint.result, joint.parameters, h)
 
 
 @overload(contact_forces)

@@ -377,6 +377,13 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     return scale * peak * (relative_dt if rotation else slide)
 
 
+@kernel(inline='always')
+def wears(result, jp, dt):
+    """True if an accepted step of dt [s] ending at the contact ``result`` wears the bushing (the
+    increments of :func:`apply_wear` may still round to 0): in contact, F_N > 0, k_w > 0, dt > 0."""
+    return not (result[R_CONTACT] < 0.5 or jp[P_WEAR_COEFFICIENT] <= 0.0 or dt <= 0.0 or result[R_NORMAL_FORCE] <= 0.0)
+
+
 @kernel
 def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work):
     """Archard update of the wear profile over an accepted step of length dt, Eqs. (28)-(33).
@@ -386,10 +393,10 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     of the two bodies, Eq. (33), taken as |omega_i - omega_j| dt; or
     ``tangential`` |v_T| dt at the contact.  Returns the largest depth increment [m].
     """
+    if not wears(result, jp, dt):
+        return 0.0
     k_w = jp[P_WEAR_COEFFICIENT]
     f_n = result[R_NORMAL_FORCE]
-    if result[R_CONTACT] < 0.5 or k_w <= 0.0 or dt <= 0.0 or f_n <= 0.0:
-        return 0.0
     n = wear_depth.shape[0]
     dphi = 2.0 * math.pi / n
     k = int(result[R_CONTACT_INDEX])
