@@ -66,10 +66,9 @@ def count(host: Path, fmu: Path, joint, trace: Path, rows: int, work: Path):
     directory = Path(extract(str(fmu), unzipdir=str(work)))
     md = read_model_description(str(fmu))
     vr = fv.value_references(md)
-    integers = {p.variable.name for p in fv.PARAMETERS if p.choices is not None}
-    values = fv.fmi_parameter_values(joint)
-    reals = " ".join(f"{vr[k]}={v!r}" for k, v in values.items() if k not in integers)
-    ints = " ".join(f"{vr[k]}={v!r}" for k, v in values.items() if k in integers)
+    real_values, integer_values = fv.fmi_parameter_values_by_type(joint)
+    reals = " ".join(f"{vr[k]}={v!r}" for k, v in real_values.items())
+    ints = " ".join(f"{vr[k]}={v}" for k, v in integer_values.items())
     script = work / "script.txt"
     script.write_text(f"instantiate joint\nsetup 0\nenter_init\nset_real {reals}\nset_integer {ints}\nexit_init\n"
                       f"trace {trace} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "

@@ -23,6 +23,7 @@ from fmpy.fmi2 import FMU2Model  # noqa: E402
 from fmi_host import (  # noqa: E402
     assert_valgrind_clean, event_lines, run_c_host, trace_rows, valgrind_or_skip, value_lines, write_trace_file,
 )
+from fmpy_instance import enter_initialisation  # noqa: E402
 from kinematic_trace import run_joint_on_trace, slider_crank_trace  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
@@ -113,11 +114,7 @@ def fmpy_model_exchange(fmu, rows, events_first=False):
                       instanceName="fmpy_me")
     model.instantiate()
     try:
-        model.setupExperiment(startTime=0.0)
-        model.enterInitializationMode()
-        reals, integers = fv.fmi_parameter_values_by_type(JOINT)
-        model.setReal([vr[k] for k in reals], list(reals.values()))
-        model.setInteger([vr[k] for k in integers], list(integers.values()))
+        enter_initialisation(model, vr, JOINT)
         model.exitInitializationMode()
         model.newDiscreteStates()
         model.enterContinuousTimeMode()

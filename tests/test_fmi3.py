@@ -19,6 +19,7 @@ from fmpy.fmi2 import FMU2Slave  # noqa: E402
 from fmpy.fmi3 import FMU3Model, FMU3Slave, fmi3Float64, fmi3ValueReference  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 from fmi_host import needed_libraries  # noqa: E402
+from fmpy_instance import enter_initialisation  # noqa: E402
 from kinematic_trace import slider_crank_trace  # noqa: E402
 
 from wearjoint import ClearanceJoint, paper_joint  # noqa: E402
@@ -103,11 +104,7 @@ def _slave2(fmi2, params=TRACE_JOINT, name="fmi2"):
     fmu = FMU2Slave(guid=fmi2["md"].guid, unzipDirectory=str(fmi2["dir"]), modelIdentifier=fv.MODEL_NAME,
                     instanceName=name)
     fmu.instantiate()
-    fmu.setupExperiment(startTime=0.0)
-    fmu.enterInitializationMode()
-    reals, integers = fv.fmi_parameter_values_by_type(params)
-    fmu.setReal([vr[k] for k in reals], list(reals.values()))
-    fmu.setInteger([vr[k] for k in integers], list(integers.values()))
+    enter_initialisation(fmu, vr, params)
     fmu.exitInitializationMode()
     return fmu, vr
 

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 
 from wearjoint import ClearanceJoint, JointParameters, ParameterError
 from wearjoint.fmu import variables as fv
+from fmpy_instance import enter_initialisation
 from wearjoint.parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS
 
 PROPERTY_SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -172,13 +173,8 @@ def _instance(small_native, p: JointParameters | None, invalid: tuple | None = N
     fmu = FMU2Slave(guid=small_native["md"].guid, unzipDirectory=small_native["dir"],
                     modelIdentifier=fv.MODEL_NAME, instanceName="property")
     fmu.instantiate(loggingOn=False)
-    fmu.setupExperiment(startTime=0.0)
-    fmu.enterInitializationMode()
     vr = small_native["vr"]
-    if p is not None:
-        reals, integers = fv.fmi_parameter_values_by_type(p)
-        fmu.setReal([vr[k] for k in reals], list(reals.values()))
-        fmu.setInteger([vr[k] for k in integers], list(integers.values()))
+    enter_initialisation(fmu, vr, p)
     if invalid is not None:
         name, value = invalid
         fmu.setReal([vr[name]], [value])

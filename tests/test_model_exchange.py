@@ -9,6 +9,7 @@ from wearjoint import ClearanceJoint, paper_joint  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim.model_exchange import ModelExchangeSimulation  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
+from fmpy_instance import enter_initialisation  # noqa: E402
 from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
 
 
@@ -66,10 +67,7 @@ def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu):
                     instanceName="me")
     fmu.instantiate()
     try:
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
-        reals, _ = fv.fmi_parameter_values_by_type(joint)     # the options keep their defaults
-        fmu.setReal([vr[k] for k in reals], list(reals.values()))
+        enter_initialisation(fmu, vr, joint)
         fmu.exitInitializationMode()
         fmu.newDiscreteStates()
         fmu.enterContinuousTimeMode()

@@ -22,6 +22,7 @@ from fmi_host import (  # noqa: E402
     assert_valgrind_clean, needed_libraries, run_c_host, stderr_value, trace_rows, value_lines, write_trace_file,
 )
 
+from fmpy_instance import enter_initialisation  # noqa: E402
 from kinematic_trace import slider_crank_trace as record_trace  # noqa: E402
 
 from wearjoint import ClearanceJoint, SliderCrankParameters, paper_joint  # noqa: E402
@@ -147,11 +148,7 @@ def test_native_fmu_in_fmpy_equals_the_joint_bit_for_bit(native, slider_crank_tr
                     instanceName="trace")
     fmu.instantiate()
     try:
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
-        reals, integers = fv.fmi_parameter_values_by_type(TRACE_JOINT)
-        fmu.setReal([vr[k] for k in reals], list(reals.values()))
-        fmu.setInteger([vr[k] for k in integers], list(integers.values()))
+        enter_initialisation(fmu, vr, TRACE_JOINT)
         fmu.exitInitializationMode()
         inputs = [vr[v.name] for v in fv.INPUTS]
         scalars = [vr[n] for n in SCALAR_NAMES]
