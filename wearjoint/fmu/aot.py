@@ -49,7 +49,6 @@ ENTRY_POINTS = {
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)
 ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",
                                "fabs", "exp", "log", "fmin", "fmax", "memset", "memcpy", "memmove"})
-IR_TRIPLE = "x86_64-unknown-linux-gnu"   # the triple the IR is written with (the linux64 binary's)
 
 
 def _drop_function(ir: str, name: str) -> str:
@@ -96,7 +95,8 @@ def compile_ir(out_dir: Path) -> dict:
 
     from . import entry_points
 
-    machine = _target_machine(IR_TRIPLE, "x86-64")
+    triple = llvm.get_process_triple()   # numba wrote the IR for this machine (generic CPU)
+    machine = _target_machine(triple, "x86-64" if triple.startswith("x86_64") else "generic")
     out_dir.mkdir(parents=True, exist_ok=True)
     modules = {}
     for symbol, (name, n_arguments) in ENTRY_POINTS.items():
@@ -105,7 +105,7 @@ def compile_ir(out_dir: Path) -> dict:
             raise RuntimeError(f"AOT: {name} takes {len(cfunc._sig.args)} arguments, fmu_src/model.h's {symbol} "
                                f"{n_arguments}: update both together")
         module = llvm.parse_assembly(_export_ir(cfunc, symbol))
-        module.triple = IR_TRIPLE
+        module.triple = triple
         module.data_layout = str(machine.target_data)
         for function in module.functions:
             if not function.is_declaration and function.name != symbol:
