@@ -14,6 +14,7 @@ from wearjoint.mechanism import SliderCrank
 from wearjoint.simulate import SimulationOptions, joint_arrays, run_simulation
 
 em = pytest.importorskip("wearjoint.validation.exudyn_model")
+from wearjoint.exudyn import set_post_step  # noqa: E402
 
 NO_WEAR = paper_joint(wear_factor=0.0)
 
@@ -298,7 +299,7 @@ def test_wear_lands_at_the_contact_angles_once_per_accepted_step():
         pre_calls[0] += 1
         return True
 
-    model.mbs.SetPostStepUserFunction(counting_post_step)
+    set_post_step(model.mbs, counting_post_step)      # after the joint's own bookkeeping
     model.mbs.SetPreStepUserFunction(counting_pre_step)
     end, step = 0.008, 1e-5
     model.simulate(end, step, sample_dt_s=step)

@@ -10,17 +10,17 @@ along X with its rotation constrained; the crank is driven by an
 reference angle, offset(t) = -omega t (theta1 = theta0 - omega t).
 
 ``ideal=True`` closes the crank-rod joint with another revolute joint.  Otherwise
-one zero-mass ``ObjectGenericODE2`` on the crank and rod nodes applies the
-clearance force pair (both forces and both torques, paper Eqs. 20-23) through its
-force user function; exudyn adds that vector on the right-hand side
-(M q_tt + ... = f_user), so it is the applied load.  Wear and the contact-onset
-bookkeeping advance in the post-step user function, once per accepted step.
+the clearance joint goes in through the public helper
+:func:`wearjoint.exudyn.add_clearance_joint` (crank = pin body, rod = bushing body):
+a zero-mass ``ObjectGenericODE2`` on the crank and rod nodes applies the clearance
+force pair (Eqs. 20-23) on exudyn's right-hand side, and wear and the contact-onset
+bookkeeping advance once per accepted step, before this model's recorder runs.
 
 ``contact="eccentricity"`` replaces the discrete-point search (Eqs. 1-14) by the
 classical formulation for a circular bushing (delta = |e| - c along n = e/|e|,
 contact points on the line of centres), an independent check of the geometry.
 
-Only this module of the package imports exudyn.
+Only this module, and wearjoint.exudyn, import exudyn.
 """
 from __future__ import annotations
 
@@ -31,14 +31,15 @@ import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import (
     LoadMassProportional, MarkerBodyMass, MarkerBodyPosition, MarkerBodyRigid, MarkerNodeCoordinate,
-    NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGenericODE2, ObjectGround,
-    ObjectJointPrismatic2D, ObjectJointRevolute2D, ObjectRigidBody2D,
+    NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGround, ObjectJointPrismatic2D,
+    ObjectJointRevolute2D, ObjectRigidBody2D,
 )
 from numba import njit
 
 from wearjoint.core import layout as L
-from wearjoint.core.contact import ambrosio_friction_factor, lankarani_nikravesh, update_contact_memory
+from wearjoint.core.contact import ambrosio_friction_factor, lankarani_nikravesh
 from wearjoint.core.integrators import record_step
+from wearjoint.exudyn import add_clearance_joint, set_post_step
 from wearjoint.joint import ClearanceJoint
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import (
@@ -151,6 +152,12 @@ def contact_forces(joint: ClearanceJoint, pin_kinematics, bushing_kinematics,
     return out
 
 
+def _eccentricity_evaluator(joint: ClearanceJoint, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
+    """The eccentricity form as the helper's ``contact`` (the joint's memory is read, not changed)."""
+    eccentricity_contact(pos_i, vel_i, pos_j, vel_j, joint.parameter_vector, joint.memory, joint.result)
+    return joint.result
+
+
 class ExudynSliderCrank:
     """The slider-crank as an exudyn system (see module docstring), with its
     per-step recording into our standard statistics and samples.
@@ -170,7 +177,7 @@ class ExudynSliderCrank:
         if self.formulation == ECCENTRICITY and not ideal and joint.wear_coefficient_m2_N * joint.wear_factor > 0.0:
             raise ParameterError("contact='eccentricity' models the unworn circular bushing: set "
                                  "wear_factor=0 (or wear_coefficient_m2_N=0) or use contact='discrete'")
-        self.joint = ClearanceJoint(joint)
+        self.joint_parameters = joint
         self.ideal = bool(ideal)
         y0 = self.mechanism.initial_state() if initial_state is None else np.array(initial_state, dtype=float)
         if y0.shape != (2 * L.N_COORDINATES,) or not np.all(np.isfinite(y0)):
@@ -184,8 +191,6 @@ class ExudynSliderCrank:
         self.reference = y0[:n].copy()                     # node reference coordinates = initial q
         self.y = y0.copy()
         self.dy = np.zeros_like(y0)
-        self.force = np.zeros(2 * 3)                       # generalised forces of the GenericODE2
-        self._pos_i, self._vel_i, self._pos_j, self._vel_j = (np.zeros(3) for _ in range(4))
         self.t = 0.0
         self.accepted_steps = 0
         self.wear_growth = []
@@ -236,41 +241,20 @@ class ExudynSliderCrank:
             offsetUserFunction=lambda mbs_, t, item, offset: -omega * t))
         if self.ideal:
             revolute(crank, (0.5 * l1, 0.0), rod, (-0.5 * l2, 0.0))
+            self.joint = ClearanceJoint(self.joint_parameters)        # no forces: its result stays zero
         else:
-            mbs.AddObject(ObjectGenericODE2(nodeNumbers=self.nodes[:2], massMatrix=np.zeros((6, 6)),
-                                            forceUserFunction=self.generalized_contact_force))
-        mbs.SetPostStepUserFunction(self.post_step)
+            self.joint = add_clearance_joint(mbs, crank, rod, self.joint_parameters, contact=(
+                _eccentricity_evaluator if self.formulation == ECCENTRICITY else None)).joint
+        set_post_step(mbs, self.post_step)
         mbs.Assemble()
         for k, node in enumerate(self.nodes):
             if list(mbs.systemData.GetNodeLTGODE2(node)) != [3 * k, 3 * k + 1, 3 * k + 2]:
                 raise RuntimeError("exudyn ordered the ODE2 coordinates unexpectedly; q must be crank, rod, slider")
 
-    def _evaluate(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
-        if self.formulation == DISCRETE:
-            return self.joint.evaluate_array(pos_i, vel_i, pos_j, vel_j)
-        eccentricity_contact(pos_i, vel_i, pos_j, vel_j, self.joint.parameter_vector, self.joint.memory,
-                             self.joint.result)
-        return self.joint.result
-
-    def generalized_contact_force(self, mbs, t, item, q, q_t):
-        """GenericODE2 force user function: q, q_t = displacements and velocities of the
-        crank then rod node; returns (Fx, Fy, T) on the crank then on the rod (applied)."""
-        ref = self.reference
-        pos_i, vel_i, pos_j, vel_j = self._pos_i, self._vel_i, self._pos_j, self._vel_j
-        for k in range(3):
-            pos_i[k] = ref[L.CRANK + k] + q[k]
-            vel_i[k] = q_t[k]
-            pos_j[k] = ref[L.ROD + k] + q[3 + k]
-            vel_j[k] = q_t[3 + k]
-        r = self._evaluate(pos_i, vel_i, pos_j, vel_j)
-        force = self.force
-        force[0:6] = r[L.R_PIN_FX:L.R_BUSHING_TORQUE + 1]
-        return force
-
     # ------------------------------------------------------------------ stepping
     def post_step(self, mbs, t):
-        """Once per accepted step (exudyn calls it after the step converged): joint
-        bookkeeping (wear, contact onsets) at the step's end, then our recorder."""
+        """Once per accepted step, after the clearance joint's own bookkeeping (wear, contact
+        onsets) at the step's end: our recorder."""
         dt = t - self.t
         if dt <= 0.0:               # exudyn also calls it once for the initial state
             return True
@@ -284,15 +268,6 @@ class ExudynSliderCrank:
         dy[:n] = q_t
         dy[n:] = sd.GetODE2Coordinates_tt()
         joint = self.joint
-        if self.ideal:
-            joint.result[:] = 0.0
-        elif self.formulation == DISCRETE:
-            joint.advance_array(y[L.CRANK:L.CRANK + 3], y[n + L.CRANK:n + L.CRANK + 3],
-                                y[L.ROD:L.ROD + 3], y[n + L.ROD:n + L.ROD + 3], dt)
-        else:
-            self._evaluate(y[L.CRANK:L.CRANK + 3], y[n + L.CRANK:n + L.CRANK + 3],
-                           y[L.ROD:L.ROD + 3], y[n + L.ROD:n + L.ROD + 3])
-            update_contact_memory(joint.result, joint.parameter_vector, joint.memory)
         record_step(t, dt, y, dy, joint.result, self.mechanism.parameter_vector, self.revolution_stats,
                     self._sample_block, self.track)
         if self.track[L.K_N_SAMPLES] >= self._sample_block.shape[0]:

@@ -1,0 +1,181 @@
+"""``wearjoint.exudyn.add_clearance_joint``: the wearing joint in any exudyn mechanism
+(docs/model.md §8).
+
+References independent of the helper: ``ClearanceJoint.evaluate`` on the same kinematics (the
+forces exudyn is given, bit for bit), the statics of a bar hung through the joint (its weight
+carried by the normal force), and joints that see different loads keeping different profiles.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+exu = pytest.importorskip("exudyn")
+from exudyn.itemInterface import (  # noqa: E402
+    LoadMassProportional, MarkerBodyMass, NodeRigidBody2D, ObjectGround, ObjectRigidBody2D,
+)
+
+from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
+from wearjoint.exudyn import HISTORY_COLUMNS, add_clearance_joint, check_step, set_post_step  # noqa: E402
+from wearjoint.parameters import ParameterError  # noqa: E402
+
+BAR_LENGTH, BAR_MASS = 0.2, 0.5                  # [m], [kg]
+BAR_INERTIA = BAR_MASS * BAR_LENGTH ** 2 / 12.0  # about its centre [kg m^2]
+GRAVITY = 9.81
+
+
+def new_system():
+    system_container = exu.SystemContainer()
+    return system_container, system_container.AddSystem()
+
+
+def rigid_body(mbs, position, velocity=(0.0, 0.0, 0.0), mass=BAR_MASS, inertia=BAR_INERTIA, gravity=True):
+    node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=list(position), initialVelocities=list(velocity)))
+    body = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=mass, inertia=inertia))
+    if gravity:
+        mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=body)),
+                                         loadVector=[0.0, -GRAVITY, 0.0]))
+    return body
+
+
+def hung_bar(mbs, pivot=(0.0, 0.0), angle=0.0, **joint):
+    """A bar of BAR_LENGTH whose upper end's bushing hangs on a ground pin at ``pivot``, the bar at
+    ``angle`` from the vertical, pin centred in the bushing; returns (bar, handle)."""
+    s, c = math.sin(angle), math.cos(angle)
+    centre = (pivot[0] + 0.5 * BAR_LENGTH * s, pivot[1] - 0.5 * BAR_LENGTH * c, angle)
+    bar = rigid_body(mbs, centre)
+    ground = mbs.AddObject(ObjectGround(referencePosition=[pivot[0], pivot[1], 0.0]))
+    params = JointParameters(bushing_offset_m=(0.0, 0.5 * BAR_LENGTH), **joint)
+    return bar, add_clearance_joint(mbs, ground, bar, params)
+
+
+def solve(mbs, end_time, step, explicit=False):
+    settings = exu.SimulationSettings()
+    settings.timeIntegration.endTime = end_time
+    settings.timeIntegration.numberOfSteps = int(round(end_time / step))
+    settings.timeIntegration.verboseMode = 0
+    settings.solution.file.write = False
+    settings.solution.sensors.active = False
+    if explicit:
+        exu.SolveDynamic(mbs, settings, solverType=exu.DynamicSolverType.RK44)
+    else:
+        exu.SolveDynamic(mbs, settings)
+
+
+# ------------------------------------------------------------------ the forces exudyn is given
+def test_the_forces_exudyn_applies_are_the_joints_bit_for_bit():
+    """The GenericODE2 force user function at arbitrary coordinates equals ClearanceJoint.evaluate
+    on the kinematics they mean: (Fx, Fy, T) on the pin body's node, then on the bushing body's."""
+    _, mbs = new_system()
+    params = JointParameters(pin_offset_m=(0.03, 0.01), bushing_offset_m=(-0.05, 0.002))
+    pin_ref, bushing_ref = np.array([0.1, 0.2, 0.3]), np.array([0.18, 0.19, 0.25])
+    pin = rigid_body(mbs, pin_ref, gravity=False)
+    bushing = rigid_body(mbs, bushing_ref, gravity=False)
+    # place the bushing centre on the pin centre at the start
+    handle = add_clearance_joint(mbs, pin, bushing, params.replace(
+        bushing_offset_m=_offset_placing_bushing_on_pin(pin_ref, bushing_ref, params)))
+    force_function = handle.generalized_force          # the GenericODE2's force user function
+    rng = np.random.default_rng(7)
+    reference = ClearanceJoint(handle.joint.params)
+    contacts = 0
+    for _ in range(200):
+        q = rng.normal(0.0, 4e-5, 6)
+        q[2] = rng.normal(0.0, 5e-4)
+        q[5] = q[2] + rng.normal(0.0, 2e-4)     # the centres stay within ~0.1 mm: contact and gap
+        q_t = rng.normal(0.0, 0.5, 6)
+        applied = np.array(force_function(mbs, 0.0, handle.object_number, q, q_t))
+        expected = reference.evaluate(np.r_[pin_ref + q[:3], q_t[:3]], np.r_[bushing_ref + q[3:], q_t[3:]])
+        assert np.array_equal(applied, np.r_[expected.pin_force, expected.bushing_force])
+        contacts += expected.in_contact
+    assert 20 < contacts < 180          # both sides of the contact were exercised
+
+
+def _offset_placing_bushing_on_pin(pin_ref, bushing_ref, params):
+    c, s = math.cos(pin_ref[2]), math.sin(pin_ref[2])
+    px = pin_ref[0] + c * params.pin_offset_m[0] - s * params.pin_offset_m[1]
+    py = pin_ref[1] + s * params.pin_offset_m[0] + c * params.pin_offset_m[1]
+    c, s = math.cos(bushing_ref[2]), math.sin(bushing_ref[2])
+    dx, dy = px - bushing_ref[0], py - bushing_ref[1]
+    return (c * dx + s * dy, -s * dx + c * dy)
+
+
+def test_a_ground_side_gets_no_force_and_the_body_gets_the_bushings():
+    _, mbs = new_system()
+    bar, handle = hung_bar(mbs)
+    force_function = handle.generalized_force          # the GenericODE2's force user function
+    q, q_t = np.array([0.0, -2e-4, 0.0]), np.array([0.0, -0.3, 0.0])     # 0.1 mm into the pin, falling
+    applied = np.array(force_function(mbs, 0.0, handle.object_number, q, q_t))
+    reference = ClearanceJoint(handle.joint.params).evaluate(
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0], np.r_[np.array([0.0, -0.5 * BAR_LENGTH, 0.0]) + q, q_t])
+    assert applied.shape == (3,) and np.array_equal(applied, np.array(reference.bushing_force))
+    assert applied[1] > 0.0                                              # the pin pushes the bar up
+
+
+# ------------------------------------------------------------------ statics, wear, several joints
+@pytest.mark.parametrize("explicit", [True, False], ids=["explicit-RK4", "generalized-alpha"])
+def test_a_hung_bar_comes_to_rest_on_its_normal_force(explicit):
+    """The bar drops through the clearance, bounces and settles: the normal force carries its
+    weight, m g, and the pin sits c + delta below the bushing centre (delta: Hertz, Eq. 16)."""
+    _, mbs = new_system()
+    bar, handle = hung_bar(mbs, wear_factor=0.0)
+    mbs.Assemble()
+    solve(mbs, 0.12, 1e-5, explicit)
+    h = handle.history()
+    assert set(h) == set(HISTORY_COLUMNS) and h["time_s"][-1] == pytest.approx(0.12)
+    late = h["time_s"] > 0.1
+    weight = BAR_MASS * GRAVITY
+    assert np.mean(h["normal_force_N"][late]) == pytest.approx(weight, rel=2e-3)
+    p = handle.joint.params
+    delta = (weight / p.contact_stiffness_N_m1_5) ** (1.0 / p.contact_exponent)     # Eq. (16) at rest
+    assert np.mean(h["penetration_m"][late]) == pytest.approx(delta, rel=0.05)
+    assert np.mean(np.hypot(h["eccentricity_x_m"], h["eccentricity_y_m"])[late]) == pytest.approx(
+        p.clearance_m + delta, rel=1e-3)
+    assert handle.result().in_contact and handle.joint.max_wear_depth_m == 0.0
+
+
+def test_two_joints_keep_their_own_profiles_and_states():
+    """Two bars hung side by side, one three times as heavy and wearing twice as fast: each joint
+    wears where its own bar pushes, by its own load."""
+    _, mbs = new_system()
+    light_bar, light = hung_bar(mbs, pivot=(0.0, 0.0), wear_factor=1e3)
+    heavy_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.5, -0.5 * BAR_LENGTH, 0.0]))
+    heavy_bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=heavy_node, mass=3 * BAR_MASS, inertia=3 * BAR_INERTIA))
+    mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=heavy_bar)),
+                                     loadVector=[0.0, -GRAVITY, 0.0]))
+    ground = mbs.AddObject(ObjectGround(referencePosition=[0.5, 0.0, 0.0]))
+    heavy = add_clearance_joint(mbs, ground, heavy_bar, JointParameters(bushing_offset_m=(0.0, 0.5 * BAR_LENGTH),
+                                                                       wear_factor=2e3))
+    seen = []
+    set_post_step(mbs, lambda mbs_, t: seen.append(t) or True)
+    mbs.Assemble()
+    solve(mbs, 0.05, 1e-5, explicit=True)
+    assert len(seen) - 1 == light.accepted_steps == heavy.accepted_steps == 5000   # seen: also the start
+    for handle in (light, heavy):                 # worn at the top of the bushing (rod frame +Y: 90 deg)
+        assert 85.0 < handle.joint.max_wear_angle_deg < 95.0
+    assert light.joint.worn_volume_m3 > 0.0
+    assert heavy.joint.worn_volume_m3 > 3.0 * light.joint.worn_volume_m3
+    assert not np.array_equal(light.joint.wear_depth, heavy.joint.wear_depth)
+
+
+# ------------------------------------------------------------------ errors
+def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
+    _, mbs = new_system()
+    bar = rigid_body(mbs, (0.0, -0.1, 0.0))
+    ground, other_ground = mbs.AddObject(ObjectGround()), mbs.AddObject(ObjectGround())
+    params = JointParameters(bushing_offset_m=(0.0, 0.1))
+    cases = [((ground, 99, params), "bushing_body=99 is invalid: not an object of this system"),
+             ((ground, bar, "paper"), "parameters='paper' is invalid"),
+             ((bar, bar, params), f"bushing_body={bar} is invalid: it is pin_body too"),
+             ((ground, other_ground, params), "pin_body is ground too"),
+             ((ground, bar, JointParameters(bushing_offset_m=(0.0, 0.13))),
+              "put the pin centre 0.03 m from the bushing centre at the initial configuration, outside the "
+              "bushing: allowed at most its radius 0.0101 m")]
+    for args, message in cases:
+        with pytest.raises(ParameterError, match=message.replace("(", r"\(").replace(")", r"\)")):
+            add_clearance_joint(mbs, *args)
+    handle = add_clearance_joint(mbs, ground, bar, params)
+    with pytest.raises(ParameterError, match=r"step_s=2e-05 is invalid with wear: allowed at most 1e-05 s"):
+        check_step(2e-5, [handle])
+    check_step(1e-5, [handle])

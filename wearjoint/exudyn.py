@@ -1,0 +1,239 @@
+"""The wearing clearance joint in any exudyn mechanism (docs/model.md §8).
+
+    from wearjoint.exudyn import add_clearance_joint
+    handle = add_clearance_joint(mbs, pin_body, bushing_body, JointParameters(...))
+    mbs.Assemble(); exu.SolveDynamic(mbs, settings)
+    handle.joint.wear_profile, handle.result(), handle.history()
+
+``pin_body`` and ``bushing_body`` are object numbers of ``ObjectRigidBody2D`` bodies or of an
+``ObjectGround`` (either side, not both).  The pin and bushing centres sit at the
+``JointParameters`` offsets in each body's frame, relative to the body's reference point (its
+node); for ground, relative to the ground's reference position (the global origin by default).
+Each joint is one zero-mass ``ObjectGenericODE2`` on the bodies' nodes whose force user function
+returns the contact forces and torques of :meth:`wearjoint.ClearanceJoint.evaluate_array` (the
+same kernels as the monolithic engine and the FMU: Eqs. 1-23), so exudyn's implicit
+(generalized-alpha) and explicit solvers see them on the right-hand side.  Wear and the
+contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function that
+serves every joint of the system and then calls the user's own post-step function, if one was
+set before the first joint was added (one set later replaces it: use :func:`set_post_step`).
+
+This module and ``validation/`` are the only ones that import exudyn.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import ObjectGenericODE2
+
+from .core import layout as L
+from .core.contact import update_contact_memory
+from .joint import ClearanceJoint, ContactResult
+from .parameters import JointParameters, ParameterError
+
+# the columns of ClearanceJointHandle.history(), one row per accepted step
+HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
+                   "eccentricity_y_m", "pin_force_x_N", "pin_force_y_N", "pin_torque_N_m", "bushing_force_x_N",
+                   "bushing_force_y_N", "bushing_torque_N_m", "max_wear_depth_m")
+_HISTORY_SLOTS = (L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y,
+                  L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY, L.R_BUSHING_TORQUE)
+MAX_WEAR_STEP_S = 1e-5   # a wear step must stay well below the penetration depth (docs/model.md §7)
+
+
+class _Body:
+    """One side of the joint: a planar rigid body's node, or ground (fixed)."""
+
+    def __init__(self, mbs, argument: str, number):
+        try:
+            item = mbs.GetObject(number)
+        except Exception:  # exudyn raises its own error types for unknown numbers
+            raise ParameterError(f"{argument}={number!r} is invalid: not an object of this system "
+                                 f"(allowed: the number of an ObjectRigidBody2D or ObjectGround)") from None
+        kind = item["objectType"]
+        if kind == "RigidBody2D":
+            self.node = item["nodeNumber"]
+            node = mbs.GetNode(self.node)
+            self.reference = np.array(node["referenceCoordinates"], dtype=float)
+            self.initial = self.reference + np.array(node["initialCoordinates"], dtype=float)
+        elif kind == "Ground":
+            self.node = None
+            position = np.array(item["referencePosition"], dtype=float)
+            self.reference = np.array([position[0], position[1], 0.0])
+            self.initial = self.reference.copy()
+        else:
+            raise ParameterError(f"{argument}={number!r} is invalid: it is an exudyn {kind} object "
+                                 "(allowed: ObjectRigidBody2D or ObjectGround)")
+        self.position = self.reference.copy()
+        self.velocity = np.zeros(3)
+        self.indices = None          # its node's ODE2 coordinates in the system (after Assemble)
+
+
+class ClearanceJointHandle:
+    """One clearance joint in an exudyn system: :attr:`joint` (the :class:`ClearanceJoint`:
+    profile, state, save/load), :meth:`result` and :meth:`history`; :attr:`object_number` is
+    its ``ObjectGenericODE2``."""
+
+    def __init__(self, mbs, pin: _Body, bushing: _Body, parameters: JointParameters, contact=None):
+        self.mbs = mbs
+        self.joint = ClearanceJoint(parameters)
+        self.pin, self.bushing = pin, bushing
+        self._contact = contact
+        self._nodes = [body for body in (pin, bushing) if body.node is not None]
+        self._force = np.zeros(3 * len(self._nodes))
+        self._history = np.zeros((1024, len(HISTORY_COLUMNS)))
+        self._rows = 0
+        self.t = 0.0
+        self.accepted_steps = 0
+        self.object_number = mbs.AddObject(ObjectGenericODE2(
+            nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((3 * len(self._nodes),) * 2),
+            forceUserFunction=self.generalized_force))
+
+    def _evaluate(self) -> np.ndarray:
+        pin, bushing = self.pin, self.bushing
+        if self._contact is None:
+            return self.joint.evaluate_array(pin.position, pin.velocity, bushing.position, bushing.velocity)
+        return self._contact(self.joint, pin.position, pin.velocity, bushing.position, bushing.velocity)
+
+    def generalized_force(self, mbs, t, item, q, q_t):
+        """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied."""
+        for k, body in enumerate(self._nodes):
+            for c in range(3):
+                body.position[c] = body.reference[c] + q[3 * k + c]
+                body.velocity[c] = q_t[3 * k + c]
+        r = self._evaluate()
+        force = self._force
+        k = 0
+        if self.pin.node is not None:
+            force[0:3] = r[L.R_PIN_FX:L.R_PIN_TORQUE + 1]
+            k = 3
+        if self.bushing.node is not None:
+            force[k:k + 3] = r[L.R_BUSHING_FX:L.R_BUSHING_TORQUE + 1]
+        return force
+
+    def _read_state(self, q, q_t) -> None:
+        """The bodies' kinematics from the system's coordinates (the accepted step's end)."""
+        for body in self._nodes:
+            if body.indices is None:
+                body.indices = np.array(self.mbs.systemData.GetNodeLTGODE2(body.node))
+            body.position[:] = body.reference + q[body.indices]
+            body.velocity[:] = q_t[body.indices]
+
+    def _accept(self, t: float, q, q_t) -> None:
+        """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row."""
+        dt = t - self.t
+        if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
+            return
+        self._read_state(q, q_t)
+        pin, bushing = self.pin, self.bushing
+        if self._contact is None:
+            self.joint.advance_array(pin.position, pin.velocity, bushing.position, bushing.velocity, dt)
+        else:
+            update_contact_memory(self._evaluate(), self.joint.parameter_vector, self.joint.memory)
+        if self._rows == self._history.shape[0]:
+            self._history = np.concatenate([self._history, np.zeros_like(self._history)])
+        row = self._history[self._rows]
+        row[0] = t
+        row[1:1 + len(_HISTORY_SLOTS)] = self.joint.result[list(_HISTORY_SLOTS)]
+        row[-1] = self.joint.max_wear_depth_m
+        self._rows += 1
+        self.t = t
+        self.accepted_steps += 1
+
+    def result(self) -> ContactResult:
+        """The contact at the end of the last accepted step (before that step's wear)."""
+        return ContactResult.from_array(self.joint.result.copy())
+
+    def history(self) -> dict:
+        """One row per accepted step: ``{column: array}`` with the columns of :data:`HISTORY_COLUMNS`
+        (SI units in the names; forces on each body in the global frame, the eccentricity in the
+        bushing frame, penetration negative for the gap)."""
+        return {name: self._history[:self._rows, k].copy() for k, name in enumerate(HISTORY_COLUMNS)}
+
+
+class _PostStep:
+    """The system's post-step function: every joint accepts the step, then the user's function runs."""
+
+    def __init__(self, user_function: Callable | None):
+        self.handles: list[ClearanceJointHandle] = []
+        self.user_function = user_function
+
+    def __call__(self, mbs, t):
+        data = mbs.systemData
+        q, q_t = data.GetODE2Coordinates(), data.GetODE2Coordinates_t()
+        for handle in self.handles:
+            handle._accept(t, q, q_t)
+        return True if self.user_function is None else self.user_function(mbs, t)
+
+
+def _post_step(mbs) -> _PostStep:
+    """The system's :class:`_PostStep`, installed over the user's function if there is none yet."""
+    current = mbs.GetPostStepUserFunction()          # 0, or {"function": f, "type": "Python"}
+    current = current.get("function") if isinstance(current, dict) else None
+    if isinstance(current, _PostStep):
+        return current
+    dispatcher = _PostStep(current if callable(current) else None)
+    mbs.SetPostStepUserFunction(dispatcher)
+    return dispatcher
+
+
+def set_post_step(mbs, user_function: Callable | None) -> None:
+    """Set the user's post-step function ``f(mbs, t) -> bool`` of a system with clearance joints:
+    it runs after the joints have accepted each step (``mbs.SetPostStepUserFunction`` would replace
+    the joints' own)."""
+    _post_step(mbs).user_function = user_function
+
+
+def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters, *,
+                        contact=None) -> ClearanceJointHandle:
+    """Add a wearing clearance joint between ``pin_body`` and ``bushing_body`` (object numbers of
+    ``ObjectRigidBody2D`` or ``ObjectGround``) of the exudyn system ``mbs``, before
+    ``mbs.Assemble()``; any number per system.  The pin centre must lie inside the bushing at the
+    initial configuration (usually within the radial clearance; a small overlap is a preload).
+
+    ``contact`` (for cross-checks, e.g. validation's eccentricity form): a function
+    ``(joint, pos_i, vel_i, pos_j, vel_j) -> result array`` (layout.R_*) used instead of the
+    discrete-point contact; the bushing then does not wear.  Raises ParameterError naming the
+    argument."""
+    if not isinstance(parameters, JointParameters):
+        raise ParameterError(f"parameters={parameters!r} is invalid: allowed a wearjoint.JointParameters")
+    pin, bushing = _Body(mbs, "pin_body", pin_body), _Body(mbs, "bushing_body", bushing_body)
+    if pin_body == bushing_body:
+        raise ParameterError(f"bushing_body={bushing_body!r} is invalid: it is pin_body too (allowed: another body)")
+    if pin.node is None and bushing.node is None:
+        raise ParameterError(f"bushing_body={bushing_body!r} is invalid: pin_body is ground too "
+                             "(allowed: a rigid body on at least one side)")
+    e, radius = _initial_eccentricity(pin, bushing, parameters), parameters.bushing_radius_m
+    if e > radius:
+        raise ParameterError(
+            f"parameters pin_offset_m={parameters.pin_offset_m} and bushing_offset_m={parameters.bushing_offset_m} "
+            f"are invalid for these bodies: they put the pin centre {e:.6g} m from the bushing centre at the "
+            f"initial configuration, outside the bushing: allowed at most its radius {radius:.6g} m")
+    handle = ClearanceJointHandle(mbs, pin, bushing, parameters, contact)
+    _post_step(mbs).handles.append(handle)
+    return handle
+
+
+def _initial_eccentricity(pin: _Body, bushing: _Body, p: JointParameters) -> float:
+    """|pin centre - bushing centre| [m] at the bodies' initial coordinates."""
+    def centre(body: _Body, offset) -> tuple[float, float]:
+        c, s = math.cos(body.initial[2]), math.sin(body.initial[2])
+        return body.initial[0] + c * offset[0] - s * offset[1], body.initial[1] + s * offset[0] + c * offset[1]
+    (xi, yi), (xj, yj) = centre(pin, p.pin_offset_m), centre(bushing, p.bushing_offset_m)
+    return math.hypot(xi - xj, yi - yj)
+
+
+def check_step(step_s: float, handles) -> None:
+    """A fixed solver step ``step_s`` [s] the joints can work with: with wear, at most
+    :data:`MAX_WEAR_STEP_S` (the wear of one step must stay well below the penetration)."""
+    if not (math.isfinite(step_s) and step_s > 0.0):
+        raise ParameterError(f"step_s={step_s!r} is invalid: allowed a finite step > 0 s")
+    wearing = [h for h in handles if h.joint.parameter_vector[L.P_WEAR_COEFFICIENT] > 0.0]
+    if wearing and step_s > MAX_WEAR_STEP_S:
+        raise ParameterError(f"step_s={step_s!r} is invalid with wear: allowed at most {MAX_WEAR_STEP_S!r} s "
+                             "(set wear_factor=0 for a longer step)")
+
+
+__all__ = ["add_clearance_joint", "set_post_step", "check_step", "ClearanceJointHandle", "HISTORY_COLUMNS",
+           "MAX_WEAR_STEP_S"]
