@@ -291,7 +291,7 @@ def _fit_terms(psi, scale, c0, c1, c2, c3, ex_a, ey_a, bushing_radius):
 
 
 FIT_ITERATIONS = 64           # safeguarded Newton on the fitted profile: 2-4 steps, bisection at worst
-FIT_TOLERANCE = 1e-12         # size of the last Newton step that ends it, relative to the point spacing
+FIT_TOLERANCE_RAD = 1e-14     # a Newton step this small ends it (the point it would move from is kept)
 
 
 @kernel
@@ -340,7 +340,7 @@ def fitted_contact(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
         new = 0.5 * (lo + hi)
         if dg > 0.0 and lo <= psi - g / dg <= hi:
             new = psi - g / dg
-        if abs(new - psi) <= FIT_TOLERANCE * dphi:   # the point at psi is as near as round-off tells
+        if abs(new - psi) <= FIT_TOLERANCE_RAD:     # the point at psi is as near as round-off tells
             break
         psi = new
     return a, psi, rho, cos_phi[a] * cs - sin_phi[a] * sn, sin_phi[a] * cs + cos_phi[a] * sn, rho - eu, -ew
