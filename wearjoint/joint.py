@@ -22,7 +22,7 @@ from .core.contact import block_minimum_depth, bushing_points, evaluate_contact
 from .core.wear import (
     advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
 )
-from .parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
+from .parameters import OPTION_CHOICES, RHO_MODES, JointParameters, ParameterError
 
 _STATE_MAGIC = b"WJSTATE1"
 
@@ -39,8 +39,8 @@ PARAMETER_SLOTS = {
     L.P_PIN_YOUNGS_MODULUS: "pin_youngs_modulus_Pa", L.P_PIN_POISSON_RATIO: "pin_poisson_ratio",
     L.P_BUSHING_YOUNGS_MODULUS: "bushing_youngs_modulus_Pa", L.P_BUSHING_POISSON_RATIO: "bushing_poisson_ratio",
     L.P_ARCHARD_COEFFICIENT: "wear_coefficient_m2_N", L.P_WEAR_FACTOR: "wear_factor",
+    L.P_CONTACT_POINT: "contact_point",
 }
-_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES}
 
 
 def pack_joint_parameters(p: JointParameters) -> np.ndarray:
@@ -50,7 +50,7 @@ def pack_joint_parameters(p: JointParameters) -> np.ndarray:
     for slot, source in PARAMETER_SLOTS.items():
         field, component = source if isinstance(source, tuple) else (source, None)
         value = getattr(p, field)
-        jp[slot] = (_CHOICES[field].index(value) if field in _CHOICES
+        jp[slot] = (OPTION_CHOICES[field].index(value) if field in OPTION_CHOICES
                     else value[component] if component is not None else value)
     complete_joint_parameters(jp)
     return jp

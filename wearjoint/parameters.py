@@ -14,6 +14,10 @@ from dataclasses import dataclass
 RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
+CONTACT_POINTS = ("fitted", "deepest")
+# the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
+OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
+                  "contact_point": CONTACT_POINTS}
 
 
 class ParameterError(ValueError):
@@ -115,6 +119,7 @@ class JointParameters:
     wear_placement: str = "foundation"
     sliding_distance: str = "rotation"
     impact_velocity_floor_m_s: float = 1e-3
+    contact_point: str = "fitted"
 
     def __post_init__(self):
         for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
@@ -145,6 +150,7 @@ class JointParameters:
         _choice("rho_mode", self.rho_mode, RHO_MODES)
         _choice("wear_placement", self.wear_placement, WEAR_PLACEMENTS)
         _choice("sliding_distance", self.sliding_distance, SLIDING_DISTANCES)
+        _choice("contact_point", self.contact_point, CONTACT_POINTS)
 
     @property
     def clearance_m(self) -> float:
@@ -246,5 +252,6 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
 
 __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
-           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES"]
+           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_POINTS",
+           "OPTION_CHOICES"]
 

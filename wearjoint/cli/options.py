@@ -13,15 +13,12 @@ import dataclasses
 from pathlib import Path
 
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
-from ..parameters import (
-    RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, SliderCrankParameters,
-)
-
-_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES}
+from ..parameters import OPTION_CHOICES, JointParameters, SliderCrankParameters
 _HELP = {
     "rho_mode": "equivalent radius of the Hertz patch (docs/model.md §3.2)",
     "wear_placement": "where the Archard increment goes (docs/model.md §3.7)",
     "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
+    "contact_point": "contact point and normal: fitted profile or deepest bushing point (docs/model.md §3.10)",
     "wear_factor": "wear acceleration factor on k_w",
     "n_points": "bushing discrete points N_d",
 }
@@ -37,8 +34,8 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
             continue
         default = f.default
         help_text = _HELP.get(f.name, "") + f" (default {default})"
-        if f.name in _CHOICES:
-            group.add_argument(_option(f.name), dest=f.name, choices=_CHOICES[f.name], default=None, help=help_text)
+        if f.name in OPTION_CHOICES:
+            group.add_argument(_option(f.name), dest=f.name, choices=OPTION_CHOICES[f.name], default=None, help=help_text)
         elif isinstance(default, tuple):
             group.add_argument(_option(f.name), dest=f.name, type=float, nargs=2, default=None,
                                metavar=("X", "Y"), help=help_text)

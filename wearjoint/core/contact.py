@@ -18,7 +18,7 @@ import numpy as np
 from .jit import kernel
 from .layout import (
     BLOCK_SIZE, M_ACTIVE, M_IMPACT_VELOCITY, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y,
-    P_BUSHING_RADIUS, P_EXPONENT, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
+    P_BUSHING_RADIUS, P_CONTACT_POINT, P_EXPONENT, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
     P_RESTITUTION, P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR, R_BUSHING_FX, R_BUSHING_FY,
     R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X,
     R_ECCENTRICITY_Y, R_FRICTION_FORCE, R_NORMAL_FORCE, R_PENETRATION, R_PENETRATION_RATE,
@@ -272,6 +272,80 @@ def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wea
     return count
 
 
+@kernel(inline='always')
+def _fit_terms(psi, scale, c0, c1, c2, c3, ex_a, ey_a, bushing_radius):
+    """The fitted profile of :func:`fitted_contact` at psi [rad] past its segment's first point a, with
+    e = (ex_a, ey_a) in point a's frame: (rho [m], cos psi, sin psi, e.u, e.w [m], g, dg/dpsi), u and w
+    the radial and tangential unit vectors there and g = (rho u - e).d(rho u)/dpsi [m^2]."""
+    t = psi * scale
+    rho = bushing_radius + (c0 + t * (c1 + t * (c2 + t * c3)))
+    drho = (c1 + t * (2.0 * c2 + 3.0 * t * c3)) * scale
+    d2rho = (2.0 * c2 + 6.0 * t * c3) * scale * scale
+    cs = math.cos(psi)
+    sn = math.sin(psi)
+    eu = ex_a * cs + ey_a * sn
+    ew = ey_a * cs - ex_a * sn
+    g = drho * (rho - eu) - rho * ew
+    dg = d2rho * (rho - eu) + drho * drho - 2.0 * drho * ew + rho * eu
+    return rho, cs, sn, eu, ew, g, dg
+
+
+FIT_ITERATIONS = 64           # safeguarded Newton on the fitted profile: 2-4 steps, bisection at worst
+FIT_TOLERANCE_RAD = 1e-14     # a Newton step this small ends it (the point it would move from is kept)
+
+
+@kernel
+def fitted_contact(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """Point of the fitted bushing profile nearest the pin centre (eccentricity e [m]), beside the
+    deepest bushing point k (docs/model.md 3.10; replaces Eqs. 7-8 by their continuous form).
+
+    Between points a and a + 1 the profile is rho = R_j + h(t), t = (phi - phi_a)/dphi, with h the
+    cubic that blends the parabola through points a - 1, a, a + 1 and the one through a, a + 1, a + 2
+    linearly in t (Catmull-Rom in polar form): through every point, with a continuous slope, exact
+    for a circle and for a quadratic h.  The segment is the one on the side of k towards which |d|
+    decreases; there Newton steps on g = (rho u - e).d(rho u)/dphi = 0, kept inside the segment
+    (else bisection), find the nearest point.  Returns (a, psi [rad] past phi_a, rho [m], u_x, u_y,
+    d_r, d_t): u the radial unit vector (bushing frame) and d = rho u - e split into its part along u
+    and along u rotated by +90 deg [m]."""
+    n = wear_depth.shape[0]
+    scale = n / TWO_PI
+    dphi = TWO_PI / n
+    rho_k = bushing_radius + wear_depth[k]
+    slope_k = 0.5 * (wear_depth[wrap_index(k + 1, n)] - wear_depth[wrap_index(k - 1, n)]) * scale
+    a = k
+    psi = 0.0
+    if slope_k * (rho_k - (ex * cos_phi[k] + ey * sin_phi[k])) > rho_k * (ey * cos_phi[k] - ex * sin_phi[k]):
+        a = wrap_index(k - 1, n)                # g > 0 at k: |d| decreases towards k - 1
+        psi = dphi
+    h0 = wear_depth[wrap_index(a - 1, n)]
+    h1 = wear_depth[a]
+    h2 = wear_depth[wrap_index(a + 1, n)]
+    h3 = wear_depth[wrap_index(a + 2, n)]
+    m1 = 0.5 * (h2 - h0)
+    m2 = 0.5 * (h3 - h1)
+    c2 = 3.0 * (h2 - h1) - 2.0 * m1 - m2
+    c3 = 2.0 * (h1 - h2) + m1 + m2
+    ex_a = ex * cos_phi[a] + ey * sin_phi[a]
+    ey_a = ey * cos_phi[a] - ex * sin_phi[a]
+    if ex_a > 0.0:                              # start near the direction of e (there on a circle)
+        psi = min(dphi, max(0.0, ey_a / ex_a))
+    lo = 0.0
+    hi = dphi
+    for _ in range(FIT_ITERATIONS):
+        rho, cs, sn, eu, ew, g, dg = _fit_terms(psi, scale, h1, m1, c2, c3, ex_a, ey_a, bushing_radius)
+        if g < 0.0:
+            lo = psi
+        else:
+            hi = psi
+        new = 0.5 * (lo + hi)
+        if dg > 0.0 and lo <= psi - g / dg <= hi:
+            new = psi - g / dg
+        if abs(new - psi) <= FIT_TOLERANCE_RAD:     # the point at psi is as near as round-off tells
+            break
+        psi = new
+    return a, psi, rho, cos_phi[a] * cs - sin_phi[a] * sn, sin_phi[a] * cs + cos_phi[a] * sn, rho - eu, -ew
+
+
 @kernel
 def lankarani_nikravesh(penetration, penetration_rate, impact_velocity, stiffness, exponent,
                         restitution):
@@ -348,20 +422,35 @@ def evaluate_contact_scalars(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, 
     pin_radius = jp[P_PIN_RADIUS]
     bushing_radius = jp[P_BUSHING_RADIUS]
     k, d2 = find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, hint)
-    d = math.sqrt(d2)
+    n = wear_depth.shape[0]
+    if int(jp[P_CONTACT_POINT]) == 0:          # nearest point of the fitted profile (docs/model.md 3.10)
+        a, psi, rho, ux, uy, d_r, d_t = fitted_contact(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+        d = math.sqrt(d_r * d_r + d_t * d_t)
+        dlx = d_r * ux - d_t * uy
+        dly = d_r * uy + d_t * ux
+        contact_angle = (0.0 if a == n - 1 else (a + 1) * TWO_PI / n) + psi
+        if contact_angle >= TWO_PI:
+            contact_angle -= TWO_PI
+    else:                                       # the deepest bushing point (Eqs. 7-8)
+        d = math.sqrt(d2)
+        rho = bushing_radius + wear_depth[k]
+        ux = cos_phi[k]
+        uy = sin_phi[k]
+        dlx = rho * ux - ex
+        dly = rho * uy - ey
+        contact_angle = 0.0 if k == n - 1 else (k + 1) * TWO_PI / n          # phi_z in [0, 2 pi)
     out[R_PENETRATION] = pin_radius - d                            # Eq. (6); negative: the gap
     if d > pin_radius:
         angle = math.atan2(ey, ex)
         out[R_CONTACT_ANGLE] = angle + TWO_PI if angle < 0.0 else angle
         return
-    rho = bushing_radius + wear_depth[k]
     # normal n (Eq. 8) in the bushing frame, then globally
     if d > 0.0:
-        nlx = (rho * cos_phi[k] - ex) / d
-        nly = (rho * sin_phi[k] - ey) / d
+        nlx = dlx / d
+        nly = dly / d
     else:
-        nlx = cos_phi[k]
-        nly = sin_phi[k]
+        nlx = ux
+        nly = uy
     nx = cj * nlx - sj * nly
     ny = sj * nlx + cj * nly
     tx = -ny
@@ -370,8 +459,8 @@ def evaluate_contact_scalars(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, 
     # contact points: pin surface (Eq. 9) and the bushing point (Eqs. 10, 36)
     qix = pin_x + pin_radius * nx
     qiy = pin_y + pin_radius * ny
-    sx = jp[P_BUSHING_OFFSET_X] + rho * cos_phi[k]
-    sy = jp[P_BUSHING_OFFSET_Y] + rho * sin_phi[k]
+    sx = jp[P_BUSHING_OFFSET_X] + rho * ux
+    sy = jp[P_BUSHING_OFFSET_Y] + rho * uy
     ljx = cj * sx - sj * sy
     ljy = sj * sx + cj * sy
     lix = qix - xi
@@ -407,8 +496,7 @@ def evaluate_contact_scalars(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, 
     out[R_CONTACT_INDEX] = k
     out[R_TANGENTIAL_VELOCITY] = v_t
     out[R_PENETRATION_RATE] = penetration_rate
-    n = wear_depth.shape[0]
-    out[R_CONTACT_ANGLE] = 0.0 if k == n - 1 else (k + 1) * TWO_PI / n          # phi_z in [0, 2 pi)
+    out[R_CONTACT_ANGLE] = contact_angle
 
 
 @kernel

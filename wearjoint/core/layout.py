@@ -33,7 +33,8 @@ P_BUSHING_YOUNGS_MODULUS = 21  # E_j [Pa]
 P_BUSHING_POISSON_RATIO = 22  # nu_j [-]
 P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
-N_JOINT_PARAMETERS = 25
+P_CONTACT_POINT = 25          # 0 fitted profile, 1 deepest bushing point (docs/model.md 3.10)
+N_JOINT_PARAMETERS = 26
 
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts

@@ -14,7 +14,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..core import layout
-from ..parameters import RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError
+from ..parameters import (
+    CONTACT_POINTS, RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError,
+)
 
 MODEL_NAME = "ClearanceWearJoint"
 # JSON file in the FMU's resources written by the build: {"n_points": N_d, "build_key": ...}
@@ -174,6 +176,8 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _choice("rho_mode", "rho_mode", RHO_MODES, "equivalent radius of the Hertz half-width"),
     _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
     _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),
+    _choice("contact_point", "contact_point", CONTACT_POINTS,
+            "contact point and normal: nearest point of the fitted profile, or the deepest bushing point"),
 )
 
 N_POINTS_NAME = "n_points"
