@@ -6,8 +6,8 @@ The ground carries the pin (centre at the origin); the bar (the paper's rod: 0.1
 of mass, and hangs in gravity.  It starts at rest, turned by ``angle_deg`` about the pin centre,
 with the bushing touching the pin (zero penetration).  exudyn's generalized-alpha solver with its
 default Newton settings and adaptive step (a step whose Newton iteration fails is halved) runs at
-the nominal step ``step_s``; the joint's forces enter through an ``ObjectGenericODE2`` force user
-function, wear once per accepted step (as in :mod:`validation.exudyn_model`).
+the nominal step ``step_s``; the joint goes in through :func:`wearjoint.exudyn.add_clearance_joint`
+(ground = pin body, bar = bushing body).
 
 Used by tests/test_fitted_contact.py and benchmarks/bench_contact_smoothness.py.
 """
@@ -18,11 +18,10 @@ import time
 
 import exudyn as exu
 import numpy as np
-from exudyn.itemInterface import LoadMassProportional, MarkerBodyMass, NodeRigidBody2D, ObjectGenericODE2, \
-    ObjectRigidBody2D
+from exudyn.itemInterface import LoadMassProportional, MarkerBodyMass, NodeRigidBody2D, ObjectGround, ObjectRigidBody2D
 
 from wearjoint.core import layout as L
-from wearjoint.joint import ClearanceJoint
+from wearjoint.exudyn import add_clearance_joint, set_post_step
 from wearjoint.parameters import JointParameters
 
 BAR_MASS_KG = 0.19
@@ -49,12 +48,6 @@ def run_pendulum(joint: JointParameters, angle_deg: float, end_time_s: float, st
     # bushing centre below the pin centre by the clearance along the bar's axis, COM half a bar below it
     x0 = s * gap + s * half
     y0 = -c * gap - c * half
-    jnt = ClearanceJoint(joint)
-    ground = np.zeros(3)
-    pos, vel = np.zeros(3), np.zeros(3)
-    force = np.zeros(3)
-    record = {"t": 0.0, "accepted": 0, "reduced": 0, "min_step": math.inf, "omega": []}
-
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[x0, y0, a], initialCoordinates=[0.0, 0.0, 0.0],
@@ -62,32 +55,16 @@ def run_pendulum(joint: JointParameters, angle_deg: float, end_time_s: float, st
     body = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=BAR_MASS_KG, inertia=BAR_INERTIA_KG_M2))
     mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=body)),
                                      loadVector=[0.0, -GRAVITY_M_S2, 0.0]))
-    reference = np.array([x0, y0, a])
+    handle = add_clearance_joint(mbs, mbs.AddObject(ObjectGround()), body, joint)
+    velocity = np.zeros(3)
+    omega = []
 
-    def contact_force(mbs_, t, item, q, q_t):
-        pos[:] = reference + q
-        vel[:] = q_t
-        r = jnt.evaluate_array(ground, ground, pos, vel)
-        force[:] = r[L.R_BUSHING_FX:L.R_BUSHING_TORQUE + 1]
-        return force
-
-    def post_step(mbs_, t):
-        dt = t - record["t"]
-        if dt <= 0.0:
-            return True
-        sd = mbs_.systemData
-        pos[:] = reference + sd.GetODE2Coordinates()
-        vel[:] = sd.GetODE2Coordinates_t()
-        jnt.advance_array(ground, ground, pos, vel, dt)
-        record["accepted"] += 1
-        record["reduced"] += dt < step_s * (1.0 - 1e-6)
-        record["min_step"] = min(record["min_step"], dt)
-        record["omega"].append((t, vel[2]))
-        record["t"] = t
+    def post_step(mbs_, t):                   # after the joint accepted the step
+        velocity[:] = mbs_.systemData.GetODE2Coordinates_t()
+        omega.append((t, velocity[2]))
         return True
 
-    mbs.AddObject(ObjectGenericODE2(nodeNumbers=[node], massMatrix=np.zeros((3, 3)), forceUserFunction=contact_force))
-    mbs.SetPostStepUserFunction(post_step)
+    set_post_step(mbs, post_step)
     mbs.Assemble()
     settings = exu.SimulationSettings()
     ti = settings.timeIntegration
@@ -103,13 +80,15 @@ def run_pendulum(joint: JointParameters, angle_deg: float, end_time_s: float, st
     except RuntimeError:                      # exudyn raises when the step would fall below its minimum
         pass
     wall = time.perf_counter() - wall0
-    omega = np.array(record["omega"]).reshape(-1, 2)
-    late = omega[omega[:, 0] >= 0.5 * record["t"], 1] if omega.size else np.zeros(1)
-    return {"completed": record["t"] >= end_time_s * (1.0 - 1e-9), "time_reached_s": record["t"],
-            "accepted_steps": record["accepted"], "reduced_steps": record["reduced"],
-            "min_step_s": record["min_step"], "newton_iterations": solver.it.newtonStepsCount,
-            "late_max_abs_omega_rad_s": float(np.abs(late).max()), "final_penetration_m": jnt.result[L.R_PENETRATION],
-            "final_speed_m_s": math.hypot(vel[0], vel[1]), "max_wear_depth_m": jnt.max_wear_depth_m,
+    steps = np.diff(np.r_[0.0, handle.history()["time_s"]])
+    omega = np.array(omega).reshape(-1, 2)[1:]     # [0]: exudyn's call at the start
+    late = omega[omega[:, 0] >= 0.5 * handle.t, 1] if omega.size else np.zeros(1)
+    return {"completed": handle.t >= end_time_s * (1.0 - 1e-9), "time_reached_s": handle.t,
+            "accepted_steps": handle.accepted_steps, "reduced_steps": int(np.sum(steps < step_s * (1.0 - 1e-6))),
+            "min_step_s": float(steps.min()) if steps.size else math.inf,
+            "newton_iterations": solver.it.newtonStepsCount, "late_max_abs_omega_rad_s": float(np.abs(late).max()),
+            "final_penetration_m": handle.joint.result[L.R_PENETRATION],
+            "final_speed_m_s": math.hypot(velocity[0], velocity[1]), "max_wear_depth_m": handle.joint.max_wear_depth_m,
             "wall_time_s": wall}
 
 
