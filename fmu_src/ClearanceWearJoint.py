@@ -162,6 +162,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._needs[self._result_vrs] = _FORCES
         self._needs[self._depth_vrs] = _WEAR
         self._needs[self._summary_vrs] = _WEAR
+        self._needs = self._needs.tolist()
         # FMU state layout: float64 positions after the head
         parameters_end = _N_INPUTS + len(fv.PARAMETERS)
         self._state_parameters = slice(_N_INPUTS, parameters_end)
@@ -200,8 +201,10 @@ class ClearanceWearJoint(Fmi2Slave):
 
     def _non_finite_inputs(self) -> str:
         """The non-finite inputs as ``name=value, ...`` ('' if all are finite)."""
-        return ", ".join(f"{name}={value!r}" for name, value in zip(_INPUT_NAMES, self._inputs.tolist())
-                         if not math.isfinite(value))
+        values = self._inputs.tolist()
+        if all(map(math.isfinite, values)):
+            return ""
+        return ", ".join(f"{name}={value!r}" for name, value in zip(_INPUT_NAMES, values) if not math.isfinite(value))
 
     # ------------------------------------------------------------- the joint
     def _ensure_joint(self) -> None:
@@ -268,13 +271,15 @@ class ClearanceWearJoint(Fmi2Slave):
 
     @_guarded
     def get_real(self, vrs):
-        bad = [self._name(vr) for vr in vrs if not 0 <= vr < len(self._names) or self._needs[vr] == _NOT_REAL]
-        if bad:
+        n_variables = len(self._needs)
+        needs = {self._needs[vr] if vr < n_variables else _NOT_REAL for vr in vrs}
+        if _NOT_REAL in needs:
+            bad = [self._name(vr) for vr in vrs if vr >= n_variables or self._needs[vr] == _NOT_REAL]
             self._abort_call(f"getReal: not Real variables: {', '.join(bad)}")
-        needs = set(self._needs[vrs].tolist())
         if needs - {_NOTHING}:
             self._refresh(vrs, needs)
-        return self._values[vrs].tolist()
+        values = self._values
+        return [values[vr] for vr in vrs]
 
     @_guarded
     def set_real(self, vrs, values):
@@ -286,10 +291,10 @@ class ClearanceWearJoint(Fmi2Slave):
 
     @_guarded
     def get_integer(self, vrs):
-        bad = [self._name(vr) for vr in vrs if not 0 <= vr < len(self._names) or self._needs[vr] != _NOT_REAL]
+        bad = [self._name(vr) for vr in vrs if vr >= len(self._needs) or self._needs[vr] != _NOT_REAL]
         if bad:
             self._abort_call(f"getInteger: not Integer variables: {', '.join(bad)}")
-        return [int(value) for value in self._values[vrs].tolist()]
+        return [int(self._values[vr]) for vr in vrs]
 
     @_guarded
     def set_integer(self, vrs, values):
