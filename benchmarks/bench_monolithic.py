@@ -101,7 +101,8 @@ def main() -> None:
     print(f"\npaper case, {n:g} revolutions each, real-time factor and wall time the median of {args.repeats} "
           f"runs ({load}); statistics are means over revolutions 2..{int(np.ceil(n))}")
     head = (f"{'run':30s} {'real-time':>9s} {'wall s':>7s} {'steps':>8s} {'rejected':>8s} {'impacts/rev':>11s} "
-            f"{'contact':>7s} {'a_max':>7s} {'a_min':>8s} {'F_max N':>8s} {'wear um':>8s}   real-time factor of each run")
+            f"{'contact':>7s} {'a_max':>7s} {'a_min':>8s} {'F_max N':>8s} {'wear um':>8s}   "
+            "real-time factor of each run")
     print(head)
     for r in rows:
         print(f"{r['label']:30s} {r['rtf']:9.3f} {r['wall']:7.2f} {r['steps']:8d} {r['rejected']:8d} "
