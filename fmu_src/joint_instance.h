@@ -57,7 +57,18 @@ int joint_resize(JointInstance *joint, int64_t n_points);
 /* Default inputs and parameters, an unworn bushing, no contact memory. */
 void joint_reset(JointInstance *joint);
 
-void joint_log(const JointInstance *joint, int status, const char *format, ...) __attribute__((format(printf, 3, 4)));
+/* MinGW checks "printf" formats against msvcrt's printf, which knows no %zu; the FMU is built with
+ * __USE_MINGW_ANSI_STDIO=1 (C99 printf from libmingwex), whose formats are GNU printf's. */
+#if defined(__MINGW32__)
+#if !defined(__USE_MINGW_ANSI_STDIO) || !__USE_MINGW_ANSI_STDIO
+#error "build the FMU for Windows with -D__USE_MINGW_ANSI_STDIO=1 (C99 printf: the log messages use %zu)"
+#endif
+#define JOINT_PRINTF_FORMAT gnu_printf
+#else
+#define JOINT_PRINTF_FORMAT printf
+#endif
+void joint_log(const JointInstance *joint, int status, const char *format, ...)
+    __attribute__((format(JOINT_PRINTF_FORMAT, 3, 4)));
 /* The shortest text that reads back as exactly x, written as Python's repr writes floats. */
 const char *joint_shortest(double x, char *out, size_t size);
 

@@ -1,6 +1,8 @@
 """Helpers to build and run the C FMI hosts ``tests/c_host/fmi2_host.c`` (FMI 2.0) and
 ``tests/c_host/fmi3_host.c`` (FMI 3.0), both on ``host_common.c`` (see the README there): the proof
-that an FMU works from C with no Python on the host."""
+that an FMU works from C with no Python on the host.  The hosts are portable C (dlopen or
+LoadLibrary): built for linux64 here, or cross-built for win64 (run under wine) and aarch64-linux
+(run under qemu-aarch64), they load the FMU binary of their own platform."""
 from __future__ import annotations
 
 import os
@@ -50,36 +52,79 @@ def gcc_or_skip(fmi_version: int = 2) -> str:
     return gcc
 
 
-def _build_host(source: Path, headers: Path | None, out_dir: Path, extra_flags: Sequence[str]) -> Path:
+# how each platform's host is compiled on this (Linux x86-64) machine, and run
+HOST_COMPILERS = {"linux64": ("gcc", ()), "win64": ("x86_64-w64-mingw32-gcc", ("-D__USE_MINGW_ANSI_STDIO=1", "-static-libgcc")),
+                  "aarch64-linux": ("aarch64-linux-gnu-gcc", ())}
+
+
+def wine_environment() -> dict:
+    """wine's environment: a prefix kept in the user cache (made once, ~10 s), no debug output, no
+    Mono/Gecko installer dialogs."""
+    from wearjoint.fmu.build import user_cache_dir
+
+    return {**CLEAN_ENV, "HOME": str(Path.home()), "WINEPREFIX": str(user_cache_dir() / "wine"), "WINEDEBUG": "-all",
+            "WINEDLLOVERRIDES": "mscoree,mshtml="}
+
+
+def platform_runner(platform: str) -> tuple[list[str], dict]:
+    """The command prefix and environment that run ``platform``'s programs here."""
+    from wearjoint.fmu.platforms import PLATFORMS
+
+    if platform == "win64":
+        return ["wine"], wine_environment()
+    return list(PLATFORMS[platform].emulator), dict(CLEAN_ENV)
+
+
+def missing_platform_tool(platform: str) -> str | None:
+    """What is missing to build and run ``platform``'s programs here (its compiler, its emulator), or None."""
+    from wearjoint.fmu.platforms import PLATFORMS
+
+    for tool in (HOST_COMPILERS[platform][0], *PLATFORMS[platform].emulator[:1]):
+        if shutil.which(tool) is None:
+            return f"{platform}: {tool} is not installed (run .ci/install-cross-toolchains)"
+    return None
+
+
+def platform_or_skip(platform: str) -> None:
+    """Skip unless ``platform``'s cross compiler and emulator are installed."""
+    missing = missing_platform_tool(platform)
+    if missing:
+        pytest.skip(missing)
+
+
+def _build_host(source: Path, headers: Path | None, out_dir: Path, extra_flags: Sequence[str],
+                platform: str = "linux64") -> Path:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    exe = out_dir / source.stem
-    cmd = ["gcc", "-O2", "-g", "-Wall", "-Wextra", *extra_flags, f"-I{headers}", str(source),
-           str(COMMON_SOURCE), "-o", str(exe), "-ldl"]
+    compiler, platform_flags = HOST_COMPILERS[platform]
+    exe = out_dir / (source.stem + (".exe" if platform == "win64" else ""))
+    cmd = [compiler, "-O2", "-g", "-Wall", "-Wextra", *platform_flags, *extra_flags, f"-I{headers}", str(source),
+           str(COMMON_SOURCE), "-o", str(exe), *(() if platform == "win64" else ("-ldl",))]
     proc = subprocess.run(cmd, capture_output=True, text=True, env=CLEAN_ENV)
     if proc.returncode != 0:
         raise RuntimeError(f"building the C host failed:\n{' '.join(cmd)}\n{proc.stderr}")
     return exe
 
 
-def build_c_host(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
+def build_c_host(out_dir: Path, extra_flags: Sequence[str] = (), platform: str = "linux64") -> Path:
     """Compile the FMI 2.0 host into ``out_dir/fmi2_host`` and return its path.
 
     ``gcc -O2 -g -Wall -Wextra -I<fmi2 headers> fmi2_host.c host_common.c -o fmi2_host -ldl``
-    (one process, one core).  Raises ``RuntimeError`` with gcc's output if the compilation fails.
+    (one process, one core); for ``platform`` win64 or aarch64-linux with its cross compiler
+    (:data:`HOST_COMPILERS`).  Raises ``RuntimeError`` with the compiler's output if it fails.
     """
-    return _build_host(HOST_SOURCE, fmi2_headers_dir(), out_dir, extra_flags)
+    return _build_host(HOST_SOURCE, fmi2_headers_dir(), out_dir, extra_flags, platform)
 
 
-def build_fmi3_host(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
+def build_fmi3_host(out_dir: Path, extra_flags: Sequence[str] = (), platform: str = "linux64") -> Path:
     """Compile the FMI 3.0 host into ``out_dir/fmi3_host`` and return its path (as
     :func:`build_c_host`, with ``fmi3_host.c``).  Run it with :func:`run_c_host`, the
     instantiationToken in place of the GUID."""
-    return _build_host(FMI3_HOST_SOURCE, fmi3_headers_dir(), out_dir, extra_flags)
+    return _build_host(FMI3_HOST_SOURCE, fmi3_headers_dir(), out_dir, extra_flags, platform)
 
 
 def run_c_host(host: Path, fmu_dir: Path, model_identifier: str, guid: str, script: Script, *,
-               host_args: Sequence[str] = (), valgrind: bool = False,
+               host_args: Sequence[str] = (), valgrind: bool = False, platform: str = "linux64",
                timeout: float = 600.0) -> tuple[int, str, str]:
     """Run a C host (either) on an unzipped FMU with a clean environment; return (returncode, stdout, stderr).
 
@@ -88,7 +133,8 @@ def run_c_host(host: Path, fmu_dir: Path, model_identifier: str, guid: str, scri
     The environment is only ``PATH=/usr/bin:/bin``: no PYTHONPATH, LD_LIBRARY_PATH or LD_PRELOAD.
     ``valgrind=True`` runs under ``valgrind --leak-check=full --error-exitcode=3`` (valgrind's
     report is at the end of stderr).  ``host_args`` go before the positional arguments
-    (e.g. ``["--no-unload"]``).
+    (e.g. ``["--no-unload"]``).  ``platform`` win64 runs the host under wine, aarch64-linux under
+    qemu-aarch64 (:func:`platform_runner`).
     """
     tmp_name = None
     if isinstance(script, os.PathLike):
@@ -99,11 +145,11 @@ def run_c_host(host: Path, fmu_dir: Path, model_identifier: str, guid: str, scri
         with os.fdopen(fd, "w") as f:
             f.write(text if text.endswith("\n") else text + "\n")
         script_path = tmp_name
-    cmd = [*(VALGRIND_ARGS if valgrind else ()), str(host), *host_args, str(fmu_dir),
+    runner, env = platform_runner(platform)
+    cmd = [*(VALGRIND_ARGS if valgrind else ()), *runner, str(host), *host_args, str(fmu_dir),
            model_identifier, guid, script_path]
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=dict(CLEAN_ENV),
-                              timeout=timeout)
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
     finally:
         if tmp_name is not None:
             os.unlink(tmp_name)
@@ -158,3 +204,52 @@ def valgrind_or_skip() -> None:
 def event_lines(stdout: str) -> list[tuple[float, str]]:
     """The ``event <t> <kind>`` lines of a ``trace_me``, as (t, kind)."""
     return [(float(line.split()[1]), line.split()[2]) for line in stdout.splitlines() if line.startswith("event ")]
+
+
+# ------------------------------------------------------------------ scripts for the joint FMU
+def start_script(fmi_version: int, vr: dict, params, interface: str = "instantiate", n_points: int | None = None,
+                 name: str = "joint") -> str:
+    """Instantiate (``instantiate`` or ``instantiate_me``) and initialise with ``params``' FMU
+    parameters; FMI 3.0: ``n_points`` set in Configuration Mode first.  A Model Exchange instance is
+    left in Continuous-Time Mode."""
+    from wearjoint.fmu import variables as fv
+
+    reals, integers = fv.fmi_parameter_values_by_type(params)
+    real_set, integer_set = ("set_real", "set_integer") if fmi_version == 2 else ("set_float64", "set_int64")
+    config = (f"enter_config\nset_uint64 {vr['n_points']}={n_points}\nexit_config\n"
+              if fmi_version == 3 and n_points else "")
+    script = (f"{interface} {name}\n{config}{'setup 0' + chr(10) if fmi_version == 2 else ''}enter_init\n"
+              f"{real_set} {' '.join(f'{vr[k]}={v!r}' for k, v in reals.items())}\n"
+              f"{integer_set} {' '.join(f'{vr[k]}={v}' for k, v in integers.items())}\nexit_init\n")
+    if interface == "instantiate_me":
+        script += ("new_discrete_states" if fmi_version == 2 else "update_discrete_states") + \
+            "\nenter_continuous_time_mode\n"
+    return script
+
+
+def trace_command(vr: dict, path, me: bool = False, order: str = "") -> str:
+    """``trace`` (``trace_me``) of the rows in ``path`` through the 12 inputs, reading every scalar output."""
+    from wearjoint.fmu import variables as fv
+
+    return (f"{'trace_me' if me else 'trace'} {path} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "
+            f"{','.join(str(vr[v.name]) for v in fv.SCALAR_OUTPUTS)} {order}\n")
+
+
+def profile_command(fmi_version: int, vr: dict, n_points: int) -> str:
+    """The command that prints the worn profile (FMI 2.0: n_points scalars; FMI 3.0: one array)."""
+    from wearjoint.fmu import variables as fv
+
+    if fmi_version == 2:
+        return "get_real " + " ".join(str(vr[fv.wear_depth_name(z)]) for z in range(1, n_points + 1)) + "\n"
+    return f"get_float64 {vr['wear_depth']}:{n_points}\n"
+
+
+def profile_values(stdout: str, fmi_version: int, vr: dict, n_points: int):
+    """The last worn profile :func:`profile_command` printed."""
+    import numpy as np
+
+    if fmi_version == 2:
+        return np.array([float(line.split()[2]) for line in value_lines(stdout)[-n_points:]])
+    line = [line for line in stdout.splitlines() if line.startswith(f"float64 {vr['wear_depth']} ")][-1].split()[2:]
+    assert len(line) == n_points
+    return np.array(line, dtype=float)

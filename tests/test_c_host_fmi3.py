@@ -16,8 +16,9 @@ import pytest
 fmpy = pytest.importorskip("fmpy")
 from fmpy import extract, read_model_description  # noqa: E402
 from fmi_host import (  # noqa: E402
-    assert_valgrind_clean, build_fmi3_host, event_lines, gcc_or_skip, needed_libraries, run_c_host, stderr_value,
-    trace_rows, valgrind_or_skip, write_trace_file,
+    assert_valgrind_clean, build_fmi3_host, event_lines, gcc_or_skip, needed_libraries, profile_command,
+    profile_values, run_c_host, start_script, stderr_value, trace_command, trace_rows, valgrind_or_skip,
+    write_trace_file,
 )
 from kinematic_trace import run_joint_on_trace, slider_crank_trace  # noqa: E402
 
@@ -32,7 +33,6 @@ JOINT = paper_joint(wear_factor=10.0)
 N_POINTS = JOINT.n_points
 ROWS, STEP = 1000, 1e-4          # 0.1 s of the slider-crank: contact onsets, separations, wear
 OUTPUTS = [v.name for v in fv.SCALAR_OUTPUTS]
-INPUTS = [v.name for v in fv.INPUTS]
 STATE_DOUBLES = 3 + len(fv.INPUTS) + len(fv.PARAMETERS) + L.N_MEMORY   # an FMU state without the wear depths
 
 
@@ -71,33 +71,16 @@ def run3(host, fmu, script, **kw):
 def start3(interface="instantiate", n_points=None, params=JOINT) -> str:
     """An FMI 3.0 instance initialised with ``params`` (n_points set in Configuration Mode); a Model
     Exchange one left in Continuous-Time Mode."""
-    reals, integers = fv.fmi_parameter_values_by_type(params)
-    config = f"enter_config\nset_uint64 {VR3['n_points']}={n_points}\nexit_config\n" if n_points else ""
-    script = (f"{interface} joint3\n{config}enter_init\n"
-              f"set_float64 {' '.join(f'{VR3[k]}={v!r}' for k, v in reals.items())}\n"
-              f"set_int64 {' '.join(f'{VR3[k]}={v}' for k, v in integers.items())}\nexit_init\n")
-    return script + ("update_discrete_states\nenter_continuous_time_mode\n" if interface == "instantiate_me" else "")
-
-
-def trace_command(vr, path, me=False, order="") -> str:
-    return (f"{'trace_me' if me else 'trace'} {path} 12 {','.join(str(vr[n]) for n in INPUTS)} "
-            f"{','.join(str(vr[n]) for n in OUTPUTS)} {order}\n")
+    return start_script(3, VR3, params, interface, n_points, name="joint3")
 
 
 def start2(fmu, interface="instantiate") -> str:
-    reals, integers = fv.fmi_parameter_values_by_type(JOINT)
-    vr = fmu["vr"]
-    script = (f"{interface} joint2\nsetup 0\nenter_init\n"
-              f"set_real {' '.join(f'{vr[k]}={v!r}' for k, v in reals.items())}\n"
-              f"set_integer {' '.join(f'{vr[k]}={v}' for k, v in integers.items())}\nexit_init\n")
-    return script + ("new_discrete_states\nenter_continuous_time_mode\n" if interface == "instantiate_me" else "")
+    return start_script(2, fmu["vr"], JOINT, interface, name="joint2")
 
 
 def profile3(out, n=N_POINTS) -> np.ndarray:
     """The last ``float64 <wear_depth vr> v1 .. vn`` line."""
-    line = [line for line in out.splitlines() if line.startswith(f"float64 {VR3['wear_depth']} ")][-1].split()[2:]
-    assert len(line) == n
-    return np.array(line, dtype=float)
+    return profile_values(out, 3, VR3, n)
 
 
 def relative(a, b) -> float:
@@ -123,7 +106,7 @@ def test_cosimulation_and_model_exchange_from_c_equal_fmi2(fmi3, fmi2, fmi3_host
     """The same rows through FMI 3.0 (fmi3_host) and FMI 2.0 (fmi2_host), in Co-Simulation and in
     Model Exchange: outputs, events and worn profiles within 1e-12 relative (in fact equal); and
     Co-Simulation equals the in-process joint."""
-    wear2 = "get_real " + " ".join(str(fmi2["vr"][fv.wear_depth_name(z)]) for z in range(1, N_POINTS + 1)) + "\n"
+    wear2 = profile_command(2, fmi2["vr"], N_POINTS)
     wear3 = f"get_float64 {VR3['wear_depth']}:{N_POINTS} {VR3['time']}\n"
     joint_outputs, joint_wear = joint_run(trace)
     for me in (False, True):

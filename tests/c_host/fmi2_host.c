@@ -641,7 +641,7 @@ static void load(void)
 
 static const HostOps OPS = {
     .host = "fmi2_host", .source = "fmi2_host.c and host_common.h", .token_name = "guid",
-    .platform = "linux64", .resource_prefix = "file://", .resource_suffix = "/resources",
+    .platform = HOST_FMI2_PLATFORM, .resource_prefix = "file://", .resource_suffix = "/resources",
     .names = NAMES, .new_discrete_states_command = "new_discrete_states",
     .load = load, .instantiate = op_instantiate, .free_instance = op_free_instance, .call = op_call,
     .set_debug_logging = op_set_debug_logging, .set_reals = op_set_reals, .get_reals = op_get_reals,

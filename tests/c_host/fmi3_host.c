@@ -382,7 +382,7 @@ static int execute(size_t ntok)
 
 static const HostOps OPS = {
     .host = "fmi3_host", .source = "fmi3_host.c and host_common.h", .token_name = "instantiation_token",
-    .platform = "x86_64-linux", .resource_prefix = "", .resource_suffix = "/resources/",
+    .platform = HOST_FMI3_PLATFORM, .resource_prefix = "", .resource_suffix = "/resources/",
     .names = NAMES, .new_discrete_states_command = "update_discrete_states",
     .load = load, .instantiate = op_instantiate, .free_instance = op_free_instance, .call = op_call,
     .set_debug_logging = op_set_debug_logging, .set_reals = op_set_reals, .get_reals = op_get_reals,

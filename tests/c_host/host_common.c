@@ -5,7 +5,6 @@
 #define _GNU_SOURCE
 #include "host_common.h"
 
-#include <dlfcn.h>
 #include <errno.h>
 #include <limits.h>
 #include <stdarg.h>
@@ -13,7 +12,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+#if defined(_WIN32)
+#include <fcntl.h>
+#include <io.h>
+#include <windows.h>
+#include <psapi.h>   /* K32GetProcessMemoryInfo: in KERNEL32 from Windows 7 on */
+#else
+#include <dlfcn.h>
 #include <unistd.h>
+#endif
 
 #define MAX_EVENT_ITERATIONS 1000
 
@@ -28,11 +36,181 @@ static void *scratch[8];   /* buffers of the command being executed */
 /* ------------------------------------------------------------------------- */
 /* Status bookkeeping, messages, exits                                        */
 
+/* ------------------------------------------------------------------------- */
+/* The operating system: loading a library, clocks, memory, paths (POSIX or Windows) */
+
 double host_now(void)
 {
+#if defined(_WIN32)
+    LARGE_INTEGER count, frequency;
+    QueryPerformanceCounter(&count);
+    QueryPerformanceFrequency(&frequency);
+    return (double)count.QuadPart / (double)frequency.QuadPart;
+#else
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+}
+
+/* the library at path, or NULL with the reason in why */
+static void *library_open(const char *path, char *why, size_t size)
+{
+#if defined(_WIN32)
+    void *lib = (void *)LoadLibraryA(path);
+    if (lib == NULL)
+        snprintf(why, size, "LoadLibrary error %lu", (unsigned long)GetLastError());
+    return lib;
+#else
+    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (lib == NULL) {
+        const char *e = dlerror();
+        snprintf(why, size, "%s", e ? e : "?");
+    }
+    return lib;
+#endif
+}
+
+static void *library_symbol(void *lib, const char *name)
+{
+#if defined(_WIN32)
+    return (void *)GetProcAddress((HMODULE)lib, name);
+#else
+    return dlsym(lib, name);
+#endif
+}
+
+static void library_close(void *lib)
+{
+#if defined(_WIN32)
+    FreeLibrary((HMODULE)lib);
+#else
+    dlclose(lib);
+#endif
+}
+
+/* the absolute path of an existing directory (malloc'ed, '/' separators), NULL with errno set */
+static char *absolute_directory(const char *path)
+{
+#if defined(_WIN32)
+    DWORD attributes = GetFileAttributesA(path);
+    char *full;
+    if (attributes == INVALID_FILE_ATTRIBUTES || !(attributes & FILE_ATTRIBUTE_DIRECTORY)) {
+        errno = ENOENT;
+        return NULL;
+    }
+    full = _fullpath(NULL, path, 0);
+    for (char *p = full; p != NULL && *p; p++)
+        if (*p == '\\')
+            *p = '/';
+    return full;
+#else
+    return realpath(path, NULL);
+#endif
+}
+
+/* resident memory of this process [kB], -1 if unknown */
+static long rss_kb(void)
+{
+#if defined(_WIN32)
+    PROCESS_MEMORY_COUNTERS counters;
+    if (!K32GetProcessMemoryInfo(GetCurrentProcess(), &counters, sizeof counters))
+        return -1;
+    return (long)(counters.WorkingSetSize / 1024);
+#else
+    long size = 0, resident = -1;
+    FILE *f = fopen("/proc/self/statm", "r");
+    if (f == NULL)
+        return -1;
+    if (fscanf(f, "%ld %ld", &size, &resident) != 2)
+        resident = -1;
+    fclose(f);
+    return resident < 0 ? -1 : resident * (sysconf(_SC_PAGESIZE) / 1024);
+#endif
+}
+
+/* The next token of *cursor delimited by any of delims (strtok_r without the C library's). */
+static char *next_token(char **cursor, const char *delims)
+{
+    char *start = *cursor + strspn(*cursor, delims), *end;
+    if (*start == '\0') {
+        *cursor = start;
+        return NULL;
+    }
+    end = start + strcspn(start, delims);
+    if (*end != '\0')
+        *end++ = '\0';
+    *cursor = end;
+    return start;
+}
+
+/* seconds since the operating system started this process (-1 if unknown) */
+static double seconds_since_exec(void)
+{
+#if defined(_WIN32)
+    FILETIME created, exited, kernel, user, now;
+    ULARGE_INTEGER a, b;
+    if (!GetProcessTimes(GetCurrentProcess(), &created, &exited, &kernel, &user))
+        return -1.0;
+    GetSystemTimeAsFileTime(&now);
+    a.LowPart = created.dwLowDateTime;
+    a.HighPart = created.dwHighDateTime;
+    b.LowPart = now.dwLowDateTime;
+    b.HighPart = now.dwHighDateTime;
+    return 1e-7 * (double)(b.QuadPart - a.QuadPart);
+#else
+    /* /proc/self/stat: starttime (field 22, clock ticks since boot) against CLOCK_BOOTTIME */
+    char buf[4096];
+    size_t n;
+    char *p, *cursor;
+    unsigned long long start_ticks = 0;
+    struct timespec ts;
+    FILE *f = fopen("/proc/self/stat", "r");
+    if (f == NULL)
+        return -1.0;
+    n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    p = strrchr(buf, ')');
+    if (p == NULL)
+        return -1.0;
+    /* fields after the command name start with field 3 (state) */
+    cursor = p + 1;
+    p = next_token(&cursor, " ");
+    for (int field = 3; p != NULL; field++, p = next_token(&cursor, " ")) {
+        if (field == 22) {
+            start_ticks = strtoull(p, NULL, 10);
+            break;
+        }
+    }
+    if (p == NULL || clock_gettime(CLOCK_BOOTTIME, &ts) != 0)
+        return -1.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec - (double)start_ticks / (double)sysconf(_SC_CLK_TCK);
+#endif
+}
+
+/* One line of f into *buf (grown as needed; newline kept, NUL-terminated); -1 at the end (getline). */
+static long read_line(char **buf, size_t *cap, FILE *f)
+{
+    size_t n = 0;
+    int c = EOF;
+    while ((c = getc(f)) != EOF) {
+        if (n + 2 > *cap) {
+            size_t ncap = *cap ? 2 * *cap : 256;
+            char *b = realloc(*buf, ncap);
+            if (b == NULL)
+                host_die2("out of memory reading a line");
+            *buf = b;
+            *cap = ncap;
+        }
+        (*buf)[n++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    if (n == 0)
+        return -1;
+    (*buf)[n] = '\0';
+    return (long)n;
 }
 
 static const char *const STATUS_NAMES[] = {"ok", "warning", "discard", "error", "fatal", "pending"};
@@ -79,7 +257,7 @@ static void cleanup(void)
     }
     H.instance = NULL;
     if (H.lib != NULL && H.unload)
-        dlclose(H.lib);
+        library_close(H.lib);
     H.lib = NULL;
     free_scratch();
     free(H.resource);
@@ -158,7 +336,7 @@ void *host_fn(int call)
 
 void *host_symbol(const char *name)
 {
-    return dlsym(H.lib, name);
+    return library_symbol(H.lib, name);
 }
 
 void *host_scratch(size_t n)
@@ -200,14 +378,14 @@ double host_parse_double(const char *s, const char *what)
     return v;
 }
 
-long host_parse_long(const char *s, long lo, long hi, const char *what)
+long long host_parse_long(const char *s, long long lo, long long hi, const char *what)
 {
     char *end;
-    long v;
+    long long v;
     errno = 0;
-    v = strtol(s, &end, 10);
+    v = strtoll(s, &end, 10);
     if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
-        host_die2("%s: not an integer in [%ld, %ld]: '%s'", what, lo, hi, s);
+        host_die2("%s: not an integer in [%lld, %lld]: '%s'", what, lo, hi, s);
     return v;
 }
 
@@ -252,7 +430,7 @@ char *host_split_assignment(char *s, unsigned *vr)
 static size_t parse_vr_list(const char *s, unsigned **out)
 {
     size_t n = 1, k = 0;
-    char *copy, *p, *save = NULL;
+    char *copy, *p, *cursor;
     *out = NULL;
     if (strcmp(s, "-") == 0)
         return 0;
@@ -262,7 +440,8 @@ static size_t parse_vr_list(const char *s, unsigned **out)
     *out = host_scratch(n * sizeof **out);
     copy = host_scratch(strlen(s) + 1);
     strcpy(copy, s);
-    for (p = strtok_r(copy, ",", &save); p != NULL; p = strtok_r(NULL, ",", &save))
+    cursor = copy;
+    for (p = next_token(&cursor, ","); p != NULL; p = next_token(&cursor, ","))
         (*out)[k++] = host_parse_vr(p);
     if (k != n)
         host_die2("bad value-reference list '%s'", s);
@@ -272,8 +451,8 @@ static size_t parse_vr_list(const char *s, unsigned **out)
 static size_t tokenize(char *s)
 {
     size_t n = 0;
-    char *save = NULL;
-    for (char *p = strtok_r(s, " \t\r\n", &save); p != NULL; p = strtok_r(NULL, " \t\r\n", &save)) {
+    char *cursor = s;
+    for (char *p = next_token(&cursor, " \t\r\n"); p != NULL; p = next_token(&cursor, " \t\r\n")) {
         if (n + 1 >= tok_cap) {
             size_t cap = tok_cap ? 2 * tok_cap : 16;
             char **t = realloc(H.tok, cap * sizeof *t);
@@ -291,48 +470,6 @@ static size_t tokenize(char *s)
 
 /* ------------------------------------------------------------------------- */
 /* Measurements                                                              */
-
-static long rss_kb(void)
-{
-    long size = 0, resident = -1;
-    FILE *f = fopen("/proc/self/statm", "r");
-    if (f == NULL)
-        return -1;
-    if (fscanf(f, "%ld %ld", &size, &resident) != 2)
-        resident = -1;
-    fclose(f);
-    return resident < 0 ? -1 : resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
-
-/* seconds since the kernel started this process (1/CLK_TCK resolution) */
-static double seconds_since_exec(void)
-{
-    char buf[4096];
-    size_t n;
-    char *p, *save = NULL;
-    unsigned long long start_ticks = 0;
-    struct timespec ts;
-    FILE *f = fopen("/proc/self/stat", "r");
-    if (f == NULL)
-        return -1.0;
-    n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    p = strrchr(buf, ')');
-    if (p == NULL)
-        return -1.0;
-    /* fields after the command name start with field 3 (state); starttime is field 22 */
-    p = strtok_r(p + 1, " ", &save);
-    for (int field = 3; p != NULL; field++, p = strtok_r(NULL, " ", &save)) {
-        if (field == 22) {
-            start_ticks = strtoull(p, NULL, 10);
-            break;
-        }
-    }
-    if (p == NULL || clock_gettime(CLOCK_BOOTTIME, &ts) != 0)
-        return -1.0;
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec - (double)start_ticks / (double)sysconf(_SC_CLK_TCK);
-}
 
 /* ------------------------------------------------------------------------- */
 /* Instances                                                                 */
@@ -576,7 +713,7 @@ static double *read_table(const char *cmd, const char *path, size_t ncol, size_t
     f = fopen(path, "r");
     if (f == NULL)
         host_die2("%s: cannot open '%s': %s", cmd, path, strerror(errno));
-    while (getline(&buf, &bufcap, f) != -1) {
+    while (read_line(&buf, &bufcap, f) != -1) {
         char *p = buf, *end;
         size_t k = 0;
         file_line++;
@@ -993,8 +1130,8 @@ static void execute(size_t ntok)
 static void load(const char *fmu_dir_arg, const char *model_id)
 {
     const HostOps *ops = H.ops;
-    char *dir = realpath(fmu_dir_arg, NULL);
-    char *so;
+    char *dir = absolute_directory(fmu_dir_arg);
+    char *so, why[512];
     size_t n;
     if (dir == NULL)
         host_die2("FMU directory '%s': %s", fmu_dir_arg, strerror(errno));
@@ -1007,19 +1144,20 @@ static void load(const char *fmu_dir_arg, const char *model_id)
         free(dir);
         host_die2("out of memory");
     }
-    snprintf(so, n, "%s/binaries/%s/%s.so", dir, ops->platform, model_id);
-    snprintf(H.resource, n, "%s%s%s", ops->resource_prefix, dir, ops->resource_suffix);
+    snprintf(so, n, "%s/binaries/%s/%s%s", dir, ops->platform, model_id, HOST_LIBRARY_EXTENSION);
+    /* a file URI of a Windows path has a third slash: file:///C:/... */
+    snprintf(H.resource, n, "%s%s%s%s", ops->resource_prefix, dir[0] != '/' && ops->resource_prefix[0] ? "/" : "",
+             dir, ops->resource_suffix);
     free(dir);
-    H.lib = dlopen(so, RTLD_NOW | RTLD_LOCAL);
+    H.lib = library_open(so, why, sizeof why);
     if (H.lib == NULL) {
-        const char *e = dlerror();
-        fprintf(stderr, "%s: error: cannot load the FMU binary %s: %s\n", ops->host, so, e ? e : "?");
+        fprintf(stderr, "%s: error: cannot load the FMU binary %s: %s\n", ops->host, so, why);
         free(so);
         finish(2);
     }
     free(so);
     for (int i = 0; i < N_CALLS; i++)
-        H.fn[i] = ops->names[i] != NULL ? dlsym(H.lib, ops->names[i]) : NULL;
+        H.fn[i] = ops->names[i] != NULL ? library_symbol(H.lib, ops->names[i]) : NULL;
     ops->load();
 }
 
@@ -1028,6 +1166,10 @@ int host_main(int argc, char **argv, const HostOps *ops)
     int a = 1;
     H.t_main = host_now();
     H.ops = ops;
+#if defined(_WIN32)
+    _setmode(_fileno(stdout), _O_BINARY);   /* the same bytes as on POSIX: '\n', not "\r\n" */
+    _setmode(_fileno(stderr), _O_BINARY);
+#endif
     H.unload = 1;
     for (; a < argc && strncmp(argv[a], "--", 2) == 0; a++) {
         if (strcmp(argv[a], "--no-unload") == 0)
@@ -1055,7 +1197,7 @@ int host_main(int argc, char **argv, const HostOps *ops)
         host_die2("bad model identifier '%s'", argv[a + 1]);
     load(argv[a], argv[a + 1]);
 
-    while (getline(&line, &line_cap, script) != -1) {
+    while (read_line(&line, &line_cap, script) != -1) {
         size_t ntok;
         H.line_no++;
         ntok = tokenize(line);

@@ -73,6 +73,39 @@
 
 #include <stddef.h>
 
+/* The FMU's binary for the machine the host was compiled for: binaries/<folder>/<id><extension>.
+ * FMI 2.0 names linux64 and win64; for ARM Linux FMI 2.0.4 (section 2.3) says to use the FMI 3.0
+ * platform tuple. */
+#if defined(_WIN32)
+#define HOST_FMI2_PLATFORM "win64"
+#define HOST_FMI3_PLATFORM "x86_64-windows"
+#define HOST_LIBRARY_EXTENSION ".dll"
+#elif defined(__APPLE__) && defined(__aarch64__)
+#define HOST_FMI2_PLATFORM "aarch64-darwin"
+#define HOST_FMI3_PLATFORM "aarch64-darwin"
+#define HOST_LIBRARY_EXTENSION ".dylib"
+#elif defined(__APPLE__)
+#define HOST_FMI2_PLATFORM "darwin64"
+#define HOST_FMI3_PLATFORM "x86_64-darwin"
+#define HOST_LIBRARY_EXTENSION ".dylib"
+#elif defined(__aarch64__)
+#define HOST_FMI2_PLATFORM "aarch64-linux"
+#define HOST_FMI3_PLATFORM "aarch64-linux"
+#define HOST_LIBRARY_EXTENSION ".so"
+#else
+#define HOST_FMI2_PLATFORM "linux64"
+#define HOST_FMI3_PLATFORM "x86_64-linux"
+#define HOST_LIBRARY_EXTENSION ".so"
+#endif
+
+/* MinGW checks "printf" formats against msvcrt's printf (no %zu); the hosts are built for Windows
+ * with __USE_MINGW_ANSI_STDIO=1, whose printf is C99's (GNU formats). */
+#if defined(__MINGW32__)
+#define HOST_PRINTF_FORMAT gnu_printf
+#else
+#define HOST_PRINTF_FORMAT printf
+#endif
+
 #define NSLOTS 64
 
 /* FMI statuses, numbered as fmi2Status and fmi3Status are */
@@ -104,7 +137,7 @@ typedef struct {
     const char *host;        /* program name, prefix of the host's messages: "fmi2_host" */
     const char *source;      /* where the commands are documented: "fmi2_host.c" */
     const char *token_name;  /* "guid" | "instantiation_token" (usage line) */
-    const char *platform;    /* binaries/<platform>/<model_identifier>.so */
+    const char *platform;    /* binaries/<platform>/<model_identifier><HOST_LIBRARY_EXTENSION> */
     const char *resource_prefix, *resource_suffix;   /* resource location = prefix + abs dir + suffix */
     const char *const *names;                        /* N_CALLS names */
     const char *new_discrete_states_command;         /* "new_discrete_states" | "update_discrete_states" */
@@ -156,20 +189,20 @@ extern Host H;
 int host_main(int argc, char **argv, const HostOps *ops);
 
 /* messages and exits */
-void host_die2(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn)); /* bad input: exit 2 */
-void host_die1(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn)); /* FMI failure: exit 1 */
+void host_die2(const char *fmt, ...) __attribute__((format(HOST_PRINTF_FORMAT, 1, 2), noreturn)); /* bad input: exit 2 */
+void host_die1(const char *fmt, ...) __attribute__((format(HOST_PRINTF_FORMAT, 1, 2), noreturn)); /* FMI failure: exit 1 */
 void host_log(int status, const char *category, const char *message);  /* "LOG <status> <category>: <msg>" */
 const char *host_status_name(int status);
 int host_check(int status, const char *what);        /* record a status; a failure must be expected */
 void *host_fn(int call);                             /* H.fn[call], exit 2 if the binary lacks it */
-void *host_symbol(const char *name);                 /* dlsym in the FMU binary */
+void *host_symbol(const char *name);                 /* a symbol of the FMU binary (dlsym/GetProcAddress) */
 void host_need_args(size_t ntok, size_t lo, size_t hi, const char *usage);
 void host_need_instance(void);
 void *host_scratch(size_t n);                        /* zeroed, freed after the command or at exit */
 
 /* parsing (exit 2 on bad input) */
 double host_parse_double(const char *s, const char *what);
-long host_parse_long(const char *s, long lo, long hi, const char *what);
+long long host_parse_long(const char *s, long long lo, long long hi, const char *what);
 unsigned host_parse_vr(const char *s);
 int host_parse_bool(const char *s);
 char *host_split_assignment(char *s, unsigned *vr);   /* "vr=value" -> value */

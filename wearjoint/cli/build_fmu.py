@@ -1,9 +1,11 @@
-"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend (FMI 2.0, or 3.0 native)."""
+"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend (FMI 2.0, or 3.0 native),
+the native one for linux64, win64 and aarch64-linux (whichever toolchains are installed)."""
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
+from ..fmu import platforms
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND, DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
 from ..parameters import JointParameters, ParameterError
 
@@ -23,6 +25,11 @@ def add_arguments(parser) -> None:
                         help="FMI version of the FMU: 2, or 3 (native backend only: the wear profile is one array "
                              "sized by the structural parameter n_points, --n-points is its start value) "
                              "(default %(default)s)")
+    parser.add_argument("--platforms", default="auto", metavar="LIST",
+                        help="native backend: comma-separated platforms to carry binaries for, of "
+                             f"{', '.join(platforms.CROSS_PLATFORMS)} (FMI 3.0 names accepted), or auto: this machine's "
+                             "plus every one whose cross toolchain is installed (.ci/install-cross-toolchains "
+                             "installs them) (default %(default)s)")
     parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
 
 
@@ -30,9 +37,16 @@ def run(args) -> int:
     """Build the FMU and print its path; 0 on success, 2 with a message on stderr otherwise."""
     try:
         version = args.fmi_version
+        requested = args.platforms
         out = Path(args.out) if args.out is not None else \
-            default_fmu_path(args.n_points, args.backend, fmi_version=version).parent
-        path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version)
+            default_fmu_path(args.n_points, args.backend, fmi_version=version, platforms=requested).parent
+        path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version,
+                         platforms=requested)
+        if args.backend == "native":
+            built, skipped = platforms.select(requested)
+            print(f"built: {', '.join(t.folder(version) for t in built)}", file=sys.stderr)
+            for name, reason in skipped.items():
+                print(f"skipped {name}: {reason}", file=sys.stderr)
     except (ParameterError, OSError, RuntimeError) as exc:
         print(f"wearjoint build-fmu: error: {exc}", file=sys.stderr)
         return 2

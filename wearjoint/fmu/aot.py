@@ -7,19 +7,24 @@ Python exceptions through the CPython API) is dropped, and the compiled
 function behind it is exported under a stable C name with numba's calling
 convention ``int32 f(void *retptr, void *excinfo, arguments...)`` (status 0 =
 success).  Every other function becomes internal, unreferenced code is removed
-(global dead-code elimination), and llvmlite emits a position-independent
-object for a generic x86-64 CPU, so the FMU runs on any x86-64 host.
+(global dead-code elimination), and the module's IR is written out: the one
+compilation of the kernels every platform's binary comes from.  :func:`emit_object`
+turns that IR into an object for a platform (:mod:`wearjoint.fmu.platforms`) by
+replacing only the target triple and data layout: a position-independent object for
+the architecture's baseline CPU (generic x86-64, generic aarch64), so the FMU runs on
+any machine of that architecture.  The IR has no fast-math flags, so no platform fuses
+a multiply and an add: aarch64 gives the x86-64 numbers bit for bit.
 
 The kernels are compiled with ``error_model="numpy"`` and without NRT
 (``core.jit.kernel``): they have no path that raises, allocates or touches
-Python.  :func:`compile_objects` proves it: the only symbols an object may
+Python.  :func:`compile_ir` proves it: the only symbols an object may
 leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
 build fails.
 
 Run as ``python -m wearjoint.fmu.aot OUT_DIR`` in a fresh process with an empty
 numba cache (a cached function has no IR) and ``NUMBA_CPU_NAME=generic``;
 :func:`wearjoint.fmu.build_native.build_fmu` does that.  Writes per entry point
-``<symbol>.ll`` (the IR compiled) and ``<symbol>.o``, and ``entry_points.json``.
+``<symbol>.ll`` and ``entry_points.json`` ({symbol: IR file}).
 """
 from __future__ import annotations
 
@@ -44,8 +49,6 @@ ENTRY_POINTS = {
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)
 ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",
                                "fabs", "exp", "log", "fmin", "fmax", "memset", "memcpy", "memmove"})
-TARGET_TRIPLE = "x86_64-unknown-linux-gnu"
-TARGET_CPU = "x86-64"
 
 
 def _drop_function(ir: str, name: str) -> str:
@@ -76,26 +79,34 @@ def _undefined_symbols(module) -> set[str]:
     return names
 
 
-def compile_objects(out_dir: Path) -> dict:
-    """Compile every entry point into ``out_dir``; returns {symbol: object file name}."""
+def _target_machine(triple: str, cpu: str):
+    import llvmlite.binding as llvm
+
+    llvm.initialize_all_targets()
+    llvm.initialize_all_asmprinters()
+    return llvm.Target.from_triple(triple).create_target_machine(cpu=cpu, features="", opt=3, reloc="pic",
+                                                                   codemodel="default")
+
+
+def compile_ir(out_dir: Path) -> dict:
+    """Every entry point's IR, internalised and stripped to what it needs, into ``out_dir``;
+    returns {symbol: IR file name}."""
     import llvmlite.binding as llvm
 
     from . import entry_points
 
-    llvm.initialize_native_target()
-    llvm.initialize_native_asmprinter()
-    target = llvm.Target.from_triple(TARGET_TRIPLE)
-    machine = target.create_target_machine(cpu=TARGET_CPU, features="", opt=3, reloc="pic", codemodel="default")
+    triple = llvm.get_process_triple()   # numba wrote the IR for this machine (generic CPU)
+    machine = _target_machine(triple, "x86-64" if triple.startswith("x86_64") else "generic")
     out_dir.mkdir(parents=True, exist_ok=True)
-    objects = {}
+    modules = {}
     for symbol, (name, n_arguments) in ENTRY_POINTS.items():
         cfunc = getattr(entry_points, name)
         if len(cfunc._sig.args) != n_arguments:
             raise RuntimeError(f"AOT: {name} takes {len(cfunc._sig.args)} arguments, fmu_src/model.h's {symbol} "
                                f"{n_arguments}: update both together")
-        ir = _export_ir(cfunc, symbol)
-        module = llvm.parse_assembly(ir)
-        module.triple = TARGET_TRIPLE
+        module = llvm.parse_assembly(_export_ir(cfunc, symbol))
+        module.triple = triple
+        module.data_layout = str(machine.target_data)
         for function in module.functions:
             if not function.is_declaration and function.name != symbol:
                 function.linkage = "internal"
@@ -114,11 +125,23 @@ def compile_objects(out_dir: Path) -> dict:
             raise RuntimeError(f"AOT: {name} still needs {', '.join(sorted(leftover))} (a raise, allocation or "
                                "Python path survived in the kernels; the native FMU must need libc/libm only)")
         (out_dir / f"{symbol}.ll").write_text(str(module))
-        (out_dir / f"{symbol}.o").write_bytes(machine.emit_object(module))
-        objects[symbol] = f"{symbol}.o"
-    (out_dir / "entry_points.json").write_text(json.dumps(objects, indent=1))
-    return objects
+        modules[symbol] = f"{symbol}.ll"
+    (out_dir / "entry_points.json").write_text(json.dumps(modules, indent=1))
+    return modules
+
+
+def emit_object(ir_path: Path, triple: str, cpu: str) -> bytes:
+    """The object code of the IR in ``ir_path`` for ``triple`` and ``cpu``: the IR with only its
+    target triple and data layout replaced."""
+    import llvmlite.binding as llvm
+
+    machine = _target_machine(triple, cpu)
+    module = llvm.parse_assembly(Path(ir_path).read_text())
+    module.triple = triple
+    module.data_layout = str(machine.target_data)
+    module.verify()
+    return machine.emit_object(module)
 
 
 if __name__ == "__main__":
-    compile_objects(Path(sys.argv[1]))
+    compile_ir(Path(sys.argv[1]))

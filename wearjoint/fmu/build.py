@@ -3,11 +3,12 @@
 Backends (docs/model.md, "The FMU"):
 
 * ``native`` -- the joint's numba kernels compiled ahead of time and a C FMI layer
-  (``fmu_src/``), one shared library needing only libc and libm
-  (:mod:`wearjoint.fmu.build_native`); FMI 2.0 (default) or FMI 3.0 (``fmi_version=3``);
+  (``fmu_src/``), one shared library per platform needing only the system C runtime
+  (:mod:`wearjoint.fmu.build_native`; linux64, win64, aarch64-linux:
+  :mod:`wearjoint.fmu.platforms`); FMI 2.0 (default) or FMI 3.0 (``fmi_version=3``);
 * ``pythonfmu`` -- the Python slave ``fmu_src/ClearanceWearJoint.py`` behind a C
   status shim; the host needs Python with numpy and numba
-  (:mod:`wearjoint.fmu.build_pythonfmu`); FMI 2.0 only.
+  (:mod:`wearjoint.fmu.build_pythonfmu`); FMI 2.0, linux64 only.
 """
 from __future__ import annotations
 
@@ -54,25 +55,43 @@ def _check_fmi_version(fmi_version, backend: str) -> int:
     return int(fmi_version)
 
 
+def _check_platforms(platform_names, backend: str):
+    """``platform_names`` parsed (None = automatic); the pythonfmu backend builds linux64 only."""
+    from .platforms import parse_platforms
+
+    names = parse_platforms(platform_names)
+    if backend != "native" and names not in (None, ("linux64",)):
+        raise ParameterError(f"parameter platforms={platform_names!r} is invalid for backend={backend!r}: "
+                             "the pythonfmu backend builds linux64 only (use backend='native')")
+    return names
+
+
 def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
-                     fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
-    """Cache location of the FMU for this source tree, ``n_points``, ``backend`` and ``fmi_version``."""
+                     fmi_version: int = DEFAULT_FMI_VERSION, platforms=None) -> Path:
+    """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``
+    and ``platforms`` (native; None: this machine's plus every cross platform installed)."""
     module = _backend_module(backend)
-    if _check_fmi_version(fmi_version, backend) == 2:
+    fmi_version = _check_fmi_version(fmi_version, backend)
+    names = _check_platforms(platforms, backend)
+    if backend != "native":
         return module.default_fmu_path(n_points)
-    return module.default_fmu_path(n_points, fmi_version=fmi_version)
+    return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
-              backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
+              backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION, platforms=None) -> Path:
     """Build ``out_dir/ClearanceWearJoint.fmu``; return its path (an identical existing build is kept
     unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend only; ``n_points`` is
-    then the start value of the structural parameter ``n_points``).  Raises ParameterError for a
-    bad argument, RuntimeError when the build cannot run (no C compiler, unsupported platform)."""
+    then the start value of the structural parameter ``n_points``).  ``platforms`` (native): a
+    comma-separated text or list of linux64, win64, aarch64-linux, ...; None builds this machine's
+    plus every cross platform whose compiler is installed.  Raises ParameterError for a bad
+    argument, RuntimeError when the build cannot run (no C compiler, a missing cross toolchain)."""
     module = _backend_module(backend)
-    if _check_fmi_version(fmi_version, backend) == 2:
+    fmi_version = _check_fmi_version(fmi_version, backend)
+    names = _check_platforms(platforms, backend)
+    if backend != "native":
         return module.build_fmu(out_dir, n_points=n_points, force=force)
-    return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version)
+    return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names)
 
 
 # ------------------------------------------------------------- shared by the backends

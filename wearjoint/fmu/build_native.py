@@ -1,18 +1,19 @@
 """Build the native ``ClearanceWearJoint.fmu``: the joint's numba kernels compiled ahead of
 time (:mod:`wearjoint.fmu.aot`) linked with the C FMI layer of ``fmu_src/`` into one shared
-library that needs only libc and libm: FMI 2.0 (default, ``binaries/linux64/``) or FMI 3.0
-(``binaries/x86_64-linux/``), Co-Simulation and Model Exchange.
+library per platform that needs only the system C runtime: FMI 2.0 (default) or FMI 3.0,
+Co-Simulation and Model Exchange, for linux64, win64 and aarch64-linux
+(:mod:`wearjoint.fmu.platforms`).
 
-Steps: (1) a fresh Python process with an empty numba cache compiles the kernels to
-objects for a generic x86-64 CPU (kept in the user cache, keyed by the kernels' sources and
-the numba version, so further builds only relink); (2) the variable table becomes
-``model_variables.h`` (value references, start values, allowed ranges, where each output comes
-from), and ``joint_instance.c`` (the joint's data, FMI-independent) is compiled with the FMI
-layer (``fmi2Functions.c`` or ``fmi3Functions.c``);
-(3) gcc links the C layer and the objects, exporting only the ``fmi2*`` (``fmi3*``) functions and
-refusing any undefined symbol outside libc/libm; (4) the FMU gets the generated
-``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR and
-objects, ``build.sh``), so a user with a C compiler can relink it.
+Steps: (1) a fresh Python process with an empty numba cache compiles the kernels once to LLVM IR
+(kept in the user cache, keyed by the kernels' sources and the numba version, so further builds
+only relink); (2) llvmlite turns that IR into objects for each platform (only the target triple
+and data layout change); (3) the variable table becomes ``model_variables.h`` (value
+references, start values, allowed ranges, where each output comes from), and each platform's C
+compiler links ``joint_instance.c`` (the joint's data, FMI-independent), the FMI layer
+(``fmi2Functions.c`` or ``fmi3Functions.c``) and the objects, exporting only the ``fmi2*``
+(``fmi3*``) functions and refusing any undefined symbol outside the C runtime; (4) the FMU gets
+the generated ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR,
+each platform's objects, ``build.sh PLATFORM``), so a user with a C compiler can relink it.
 
 FMI 3.0: the number of bushing points is the structural parameter ``n_points`` (the build's
 ``n_points`` is its start value; a host sets another in Configuration Mode) and the wear profile
@@ -35,10 +36,8 @@ from ..core import layout
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
-from .build import (
-    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, current_build, fmi2_headers,
-    source_digest, user_cache_dir,
-)
+from . import aot, platforms
+from .build import FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
 from .model_description import (
     N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, model_description_fmi3_xml,
     model_description_xml,
@@ -48,24 +47,17 @@ FMI_VERSIONS = (2, 3)
 DEFAULT_FMI_VERSION = 2
 COMMON_C_SOURCES = ("joint_instance.c", "joint_instance.h", "model.h")
 C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c", *COMMON_C_SOURCES), 3: ("fmi3Functions.c", *COMMON_C_SOURCES)}
-C_SOURCES = C_SOURCES_BY_VERSION[2]
-C_FILES = tuple(name for name in C_SOURCES if name.endswith(".c"))
 N_EVENT_INDICATORS = 1   # Model Exchange: the signed penetration
 # the wearjoint modules whose content decides the compiled FMU
 KERNEL_MODULES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "joint.py", "parameters.py",
                   "fmu/variables.py", "fmu/entry_points.py", "fmu/aot.py", "fmu/model_description.py",
-                  "fmu/build_native.py")
-# what the compiled kernel objects depend on (with the numba and llvmlite versions): the key of their cache
-KERNEL_OBJECT_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/mechanism.py",
+                  "fmu/build_native.py", "fmu/platforms.py")
+# what the kernels' IR depends on (with the numba and llvmlite versions): the key of its cache
+KERNEL_IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/mechanism.py",
                          "core/integrators.py", "joint.py", "parameters.py", "fmu/entry_points.py", "fmu/aot.py")
 FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                           3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
-FMI_HEADERS = FMI_HEADERS_BY_VERSION[2]
-GCC_FLAGS = ("-shared", "-fPIC", "-O2", "-std=c11", "-Wall", "-Wextra", "-Wno-unused-parameter", "-Werror", "-Wl,-z,defs",
-             "-Wl,--version-script=exports.map")
-EXPORTS_MAP = "{\n  global: fmi2*;\n  local: *;\n};\n"
-EXPORTS_MAP_BY_VERSION = {2: EXPORTS_MAP, 3: "{\n  global: fmi3*;\n  local: *;\n};\n"}
-BINARY_ARCNAME_BY_VERSION = {2: BINARY_ARCNAME, 3: f"binaries/x86_64-linux/{fv.MODEL_NAME}.so"}
+EXPORTS_MAP_BY_VERSION = {v: f"{{\n  global: fmi{v}*;\n  local: *;\n}};\n" for v in FMI_VERSIONS}   # ELF platforms
 # the process that compiles the kernels: no cached code (it has no IR), a generic x86-64 CPU
 AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}
 
@@ -82,16 +74,26 @@ def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION) -> list[Path]:
             *(PACKAGE_DIR / name for name in KERNEL_MODULES)]
 
 
-def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION) -> str:
-    """Identifies a native build: wearjoint version, n_points, FMI version, numba version, hash of the sources."""
+def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION) -> str:
+    """Identifies the model a native build implements (its GUID): wearjoint version, n_points, FMI
+    version, numba version, hash of the sources."""
     import numba
 
     digest = source_digest(shipped_sources(fmi_version), PACKAGE_DIR.parent)
     return f"{__version__}-n{n_points}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}"
 
 
-def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
-    return user_cache_dir() / "fmu" / build_key(n_points, fmi_version) / FMU_FILE_NAME
+def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, platform_names=("linux64",)) -> str:
+    """Identifies a native build: the model and the platforms it carries binaries for."""
+    return f"{model_key(n_points, fmi_version)}-{'+'.join(platform_names)}"
+
+
+def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION,
+                     platform_names=None) -> Path:
+    """Cache location of the build for ``platform_names`` (default: what :func:`platforms.select` picks)."""
+    if platform_names is None:
+        platform_names = [p.name for p in platforms.select()[0]]
+    return user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names) / FMU_FILE_NAME
 
 
 def model_guid(key: str) -> str:
@@ -213,16 +215,16 @@ static const OutputInfo OUTPUTS[N_SCALAR_OUTPUTS] = {{
 
 
 def kernel_key() -> str:
-    """What the kernel objects depend on: numba and llvmlite versions, the kernels' sources, model.h."""
+    """What the kernels' IR depends on: numba and llvmlite versions, the kernels' sources, model.h."""
     import llvmlite
     import numba
 
-    digest = source_digest([*(PACKAGE_DIR / name for name in KERNEL_OBJECT_SOURCES), FMU_SOURCE_DIR / "model.h"],
+    digest = source_digest([*(PACKAGE_DIR / name for name in KERNEL_IR_SOURCES), FMU_SOURCE_DIR / "model.h"],
                            PACKAGE_DIR.parent)
     return f"numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
 
 
-def _compile_kernels_fresh(out_dir: Path) -> dict:
+def _compile_ir_fresh(out_dir: Path) -> dict:
     with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache:
         env = {**os.environ, **AOT_ENVIRONMENT, "NUMBA_CACHE_DIR": cache}
         done = subprocess.run([sys.executable, "-m", "wearjoint.fmu.aot", str(out_dir)], capture_output=True,
@@ -232,20 +234,20 @@ def _compile_kernels_fresh(out_dir: Path) -> dict:
     return json.loads((out_dir / "entry_points.json").read_text())
 
 
-def compile_kernels(out_dir: Path, reuse: bool = True) -> dict:
-    """The kernel objects in ``out_dir``: compiled in a fresh process with an empty numba cache, or
-    (``reuse``) copied from the user cache where an earlier build of the same kernels left them."""
+def compile_kernel_ir(out_dir: Path, reuse: bool = True) -> dict:
+    """The kernels' IR in ``out_dir`` ({symbol: IR file}): compiled in a fresh process with an empty
+    numba cache, or (``reuse``) copied from the user cache where an earlier build left it."""
     cached = user_cache_dir() / "kernels" / kernel_key()
     if reuse:
         try:
-            objects = json.loads((cached / "entry_points.json").read_text())
-            if all((cached / name).is_file() for name in objects.values()):
+            modules = json.loads((cached / "entry_points.json").read_text())
+            if all((cached / name).is_file() for name in modules.values()):
                 shutil.copytree(cached, out_dir, dirs_exist_ok=True)
-                return objects
+                return modules
         except (OSError, ValueError):
             pass
-    objects = _compile_kernels_fresh(out_dir)
-    try:   # keep them for the next build (another process may be writing the same: first one wins)
+    modules = _compile_ir_fresh(out_dir)
+    try:   # keep it for the next build (another process may be writing the same: first one wins)
         cached.parent.mkdir(parents=True, exist_ok=True)
         partial = Path(tempfile.mkdtemp(prefix=cached.name + ".", dir=cached.parent))
         shutil.copytree(out_dir, partial, dirs_exist_ok=True)
@@ -257,15 +259,41 @@ def compile_kernels(out_dir: Path, reuse: bool = True) -> dict:
             shutil.rmtree(partial, ignore_errors=True)
     except OSError:
         pass
+    return modules
+
+
+def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform) -> list[str]:
+    """Objects of the kernels' IR for ``target`` in ``kernel_dir/<platform>/``; their paths relative
+    to ``kernel_dir``'s parent."""
+    folder = kernel_dir / target.name
+    folder.mkdir(parents=True, exist_ok=True)
+    objects = []
+    for symbol, ir_name in modules.items():
+        (folder / f"{symbol}.o").write_bytes(aot.emit_object(kernel_dir / ir_name, target.triple, target.cpu))
+        objects.append(f"{kernel_dir.name}/{target.name}/{symbol}.o")
     return objects
 
 
-def _build_script(objects, fmi_version: int = DEFAULT_FMI_VERSION) -> str:
+def link_arguments(target: platforms.Platform, fmi_version: int, objects) -> list[str]:
+    """The C compiler's arguments that link ``target``'s binary in the sources folder."""
     c_files = [name for name in C_SOURCES_BY_VERSION[fmi_version] if name.endswith(".c")]
-    return ("#!/bin/sh\n# Relink the FMU's binary from these sources (Linux x86_64, any C11 compiler).\n"
-            "set -e\ncd \"$(dirname \"$0\")\"\n"
-            f"${{CC:-gcc}} {' '.join(GCC_FLAGS)} -I. {' '.join(c_files)} {' '.join('kernels/' + o for o in objects)} "
-            f"-lm -o {fv.MODEL_NAME}.so\n")
+    return [*platforms.COMMON_C_FLAGS, *target.link_flags, *target.exports_flag(fmi_version), "-I.", *c_files,
+            *objects, "-lm", "-o", f"{fv.MODEL_NAME}{target.extension}"]
+
+
+def _build_script(targets, fmi_version: int, objects_by_platform: dict) -> str:
+    """``build.sh PLATFORM``: relinks one platform's binary into the sources folder (``$CC`` overrides
+    its compiler)."""
+    names = " ".join(t.name for t in targets)
+    cases = "".join(
+        f"  {t.name}) cc=${{CC:-{'gcc' if t.name == 'linux64' else t.cross_compiler or 'cc'}}}; "
+        f"args='{' '.join(link_arguments(t, fmi_version, objects_by_platform[t.name]))}' ;;\n" for t in targets)
+    return ("#!/bin/sh\n# Relink this FMU's binary for one platform from these sources: sh build.sh PLATFORM\n"
+            f"# (one of: {names}; default {targets[0].name}).  The kernels' objects are kernels/PLATFORM/*.o, all\n"
+            "# compiled from the IR kernels/*.ll.  CC overrides the C compiler.\n"
+            f"set -e\ncd \"$(dirname \"$0\")\"\nplatform=${{1:-{targets[0].name}}}\ncase \"$platform\" in\n{cases}"
+            f"  *) echo \"build.sh: unknown platform '$platform' (this FMU carries: {names})\" >&2; exit 2 ;;\n"
+            "esac\n$cc $args\n")
 
 
 def fmi_headers(fmi_version: int) -> Path:
@@ -300,56 +328,61 @@ def _model_description(fmi_version: int, n_points: int, token: str) -> bytes:
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
-              fmi_version: int = DEFAULT_FMI_VERSION) -> Path:
+              fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None) -> Path:
     """Build ``out_dir/ClearanceWearJoint.fmu`` (native backend, FMI ``fmi_version`` 2 or 3); return its path.
 
-    FMI 2.0: ``n_points`` is fixed in the FMU; FMI 3.0: it is the start value of the structural
-    parameter ``n_points`` (a host may set another in Configuration Mode).  An FMU there built
-    from the same sources, n_points and FMI version is kept unless ``force`` (which also
-    recompiles the kernels).  Raises ParameterError for a bad n_points or fmi_version,
-    RuntimeError when the build cannot run.
+    ``platform_names``: the platforms to carry binaries for (:func:`platforms.parse_platforms`);
+    None builds this machine's plus every cross platform whose compiler is installed.  FMI 2.0:
+    ``n_points`` is fixed in the FMU; FMI 3.0: it is the start value of the structural parameter
+    ``n_points`` (a host may set another in Configuration Mode).  An FMU there built from the same
+    sources, n_points, FMI version and platforms is kept unless ``force`` (which also recompiles the
+    kernels).  Raises ParameterError for a bad argument, RuntimeError when the build cannot run
+    (naming what to install).
     """
     fmi_version = check_fmi_version(fmi_version)
     JointParameters(n_points=n_points)  # validates n_points, names it in the error
     if fmi_version == 3 and not N_POINTS_MIN <= n_points <= N_POINTS_MAX:
         raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
                              f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
-    key = build_key(n_points, fmi_version)
-    target, current = current_build(out_dir, key, force)
+    targets, _ = platforms.select(platform_names)
+    key = build_key(n_points, fmi_version, [t.name for t in targets])
+    target_path, current = current_build(out_dir, key, force)
     if current:
-        return target
+        return target_path
     out_dir = Path(out_dir)
-    compiler = c_compiler("the native FMU")
     headers = fmi_headers(fmi_version)
-    guid = model_guid(key)
-    c_sources = C_SOURCES_BY_VERSION[fmi_version]
+    guid = model_guid(model_key(n_points, fmi_version))
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
-        objects = compile_kernels(sources / "kernels", reuse=not force)
-        for name in c_sources:
+        modules = compile_kernel_ir(sources / "kernels", reuse=not force)
+        for name in C_SOURCES_BY_VERSION[fmi_version]:
             (sources / name).write_bytes((FMU_SOURCE_DIR / name).read_bytes())
         for name in FMI_HEADERS_BY_VERSION[fmi_version]:
             (sources / name).write_bytes((headers / name).read_bytes())
         (sources / "model_variables.h").write_text(model_variables_header(n_points, guid))
         (sources / "exports.map").write_text(EXPORTS_MAP_BY_VERSION[fmi_version])
-        script = sources / "build.sh"
-        script.write_text(_build_script(objects.values(), fmi_version))
-        done = subprocess.run([compiler, *GCC_FLAGS, "-I.", *(name for name in c_sources if name.endswith(".c")),
-                               *(f"kernels/{o}" for o in objects.values()), "-lm", "-o", f"{fv.MODEL_NAME}.so"],
-                              capture_output=True, text=True, cwd=sources)
-        if done.returncode != 0:
-            raise RuntimeError(f"linking the native FMU failed:\n{done.stderr.strip()[-3000:]}")
-        binary = sources / f"{fv.MODEL_NAME}.so"
+        objects = {t.name: kernel_objects(sources / "kernels", modules, t) for t in targets}
+        (sources / "build.sh").write_text(_build_script(targets, fmi_version, objects))
+        binaries = {}
+        for t in targets:
+            done = subprocess.run([platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name])],
+                                  capture_output=True, text=True, cwd=sources)
+            if done.returncode != 0:
+                raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{done.stderr.strip()[-3000:]}")
+            binary = sources / f"{fv.MODEL_NAME}{t.extension}"
+            binaries[t.binary_arcname(fmi_version)] = binary.read_bytes()
+            binary.unlink()
         out_dir.mkdir(parents=True, exist_ok=True)
-        partial = target.with_name(target.name + ".partial")
+        partial = target_path.with_name(target_path.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
             fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid))
-            fmu.write(binary, BINARY_ARCNAME_BY_VERSION[fmi_version])
+            for arcname, data in binaries.items():
+                fmu.writestr(arcname, data)
             fmu.writestr(f"resources/{fv.BUILD_CONFIG_FILE}",
                          json.dumps({"n_points": n_points, "build_key": key, "backend": "native",
-                                     "fmi_version": fmi_version}))
+                                     "fmi_version": fmi_version, "platforms": [t.name for t in targets]}))
             for path in sorted(sources.rglob("*")):
-                if path.is_file() and path != binary:
+                if path.is_file():
                     fmu.write(path, f"sources/{path.relative_to(sources).as_posix()}")
-        partial.replace(target)
-    return target
+        partial.replace(target_path)
+    return target_path
