@@ -1,6 +1,9 @@
-"""Where the co-simulation master spends its time, measured in one run.
+"""Where the co-simulation master spends its time: the median of ``--repeats`` runs in one invocation.
 
-    python benchmarks/bench_cosim.py [--duration 0.2] [--scheme adaptive] [--step 5e-6]
+    python benchmarks/bench_cosim.py [--duration 0.2] [--scheme adaptive] [--step 5e-6] [--repeats 3]
+                                     [--fmu-backend native|pythonfmu] [--fmu PATH]
+
+Each run, on a fresh co-simulation:
 
 1. As shipped: wall time, communication steps, rollbacks, and the master loop's
    own split (``CoSimulation.fmi_time_s``: wall time inside the FMI calls, read
@@ -11,7 +14,8 @@
    fastest of REPLAYS replays.
 
 Master bookkeeping per step = (master time of 1. - mechanism time of 2.) / steps.
-Prints microseconds per communication step and the real-time factor.
+Prints microseconds per communication step and the real-time factor, each the median
+of the runs, with the machine's load.
 """
 from __future__ import annotations
 
@@ -27,6 +31,8 @@ from wearjoint.cosim.master_loop import B_TRACK
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import paper_joint
 
+from repeats import Load, add_repeats_argument, median_text
+
 WARM_UP_S = 0.01   # past the first impacts; compiles everything
 REPLAYS = 5        # the mechanism replay is timed this often; the fastest counts
 
@@ -39,16 +45,8 @@ def _mechanism_steps(buf, n_steps, h, ws, samples):
     return t
 
 
-def main(argv=None) -> int:
-    defaults = CoSimulationOptions()
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=0.2, help="simulated interval measured [s]")
-    parser.add_argument("--scheme", choices=SCHEMES, default=defaults.scheme)
-    parser.add_argument("--step", type=float, default=defaults.step_s, help="communication step [s]")
-    parser.add_argument("--fmu", default=None, help="FMU to use (default: the cached build of --fmu-backend)")
-    parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND, help="FMU backend")
-    args = parser.parse_args(argv)
-
+def measure(args) -> dict:
+    """One run on a fresh co-simulation: steps, rollbacks and seconds per communication step."""
     t_end = WARM_UP_S + args.duration
     options = CoSimulationOptions(revolutions=t_end / 0.4 + 0.1, scheme=args.scheme, step_s=args.step)
     samples = np.zeros((int(t_end / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
@@ -77,19 +75,39 @@ def main(argv=None) -> int:
         _mechanism_steps(buf, steps + rollbacks, mean_step, ws, scratch)
         replays.append(time.perf_counter() - t0)
     mechanism = min(replays)
-    bookkeeping = master - mechanism
+    return {"steps": steps, "rollbacks": rollbacks, "fmi": fmi / steps, "mechanism": mechanism / steps,
+            "bookkeeping": (master - mechanism) / steps, "replay_spread": (max(replays) - mechanism) / steps,
+            "wall": wall / steps, "rtf": args.duration / wall}
 
-    us = 1e6 / steps
-    print(f"scheme {args.scheme}, step {args.step:g} s, {args.duration:g} s simulated after {WARM_UP_S:g} s warm-up")
-    print(f"communication steps {steps}, rollbacks {rollbacks}, mean step {mean_step * 1e6:.2f} us")
+
+def main(argv=None) -> int:
+    defaults = CoSimulationOptions()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=0.2, help="simulated interval measured [s]")
+    parser.add_argument("--scheme", choices=SCHEMES, default=defaults.scheme)
+    parser.add_argument("--step", type=float, default=defaults.step_s, help="communication step [s]")
+    parser.add_argument("--fmu", default=None, help="FMU to use (default: the cached build of --fmu-backend)")
+    parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND, help="FMU backend")
+    add_repeats_argument(parser)
+    args = parser.parse_args(argv)
+
+    load = Load()
+    runs = [measure(args) for _ in range(args.repeats)]
+    load.stop()
+
+    def median(key, scale=1e6, fmt="8.2f"):
+        return median_text([run[key] * scale for run in runs], fmt)
+
+    print(f"scheme {args.scheme}, step {args.step:g} s, {args.duration:g} s simulated after {WARM_UP_S:g} s warm-up, "
+          f"FMU {args.fmu or args.fmu_backend + ' (cached build)'}; {load}")
+    print(f"communication steps {median('steps', 1, '.0f')}, rollbacks {median('rollbacks', 1, '.0f')}")
     print("per communication step [us]:")
-    print(f"  FMI calls (doStep, setReal, getReal, FMU states)  {fmi * us:8.2f}")
-    print(f"  mechanism integration (record + RK4, numba)       {mechanism * us:8.2f}")
-    print(f"  master bookkeeping (loop, rollback copies)        {bookkeeping * us:8.2f}"
-          + ("   (below the timing noise: the replay spread is "
-             f"{(max(replays) - mechanism) * us:.2f})" if bookkeeping < max(replays) - mechanism else ""))
-    print(f"  wall                                              {wall * us:8.2f}")
-    print(f"simulated seconds per wall second (real-time factor): {args.duration / wall:.3f}")
+    print(f"  FMI calls (doStep, setReal, getReal, FMU states)  {median('fmi')}")
+    print(f"  mechanism integration (record + RK4, numba)       {median('mechanism')}")
+    print(f"  master bookkeeping (loop, rollback copies)        {median('bookkeeping')}"
+          f"   (replay spread {median('replay_spread', fmt='.2f')}: less is timing noise)")
+    print(f"  wall                                              {median('wall')}")
+    print(f"simulated seconds per wall second (real-time factor): {median('rtf', 1, '.3f')}")
     return 0
 
 

@@ -1,13 +1,15 @@
 """Instructions per step of the native FMU (callgrind): a speed figure that the machine's load does not change.
 
-    python benchmarks/bench_fmu_instructions.py [--rows 20000] [--wear-factor 2000] [--fmu A.fmu ...]
+    python benchmarks/bench_fmu_instructions.py [--rows 20000] [--wear-factor 2000] [--fmu A.fmu ...] [--repeats 3]
 
 Drives the native FMU (default: the cached build of this tree; ``--fmu`` for others, e.g. a build
 of an older commit, compared in the same run) with the C host of tests/c_host over a kinematic
 trace of the slider-crank with wear (every 10 us; with the default wear factor the bushing is
 0.18 mm deep at the end), under ``valgrind --tool=callgrind`` collecting only inside
-fmi2GetReal + fmi2DoStep.  Prints instructions per step and the functions that take most of them.
-Two builds whose last outputs differ are reported (they should be bit-identical).
+fmi2GetReal + fmi2DoStep.  Prints instructions per step, the median of ``--repeats`` runs (the
+count does not depend on the machine's load, printed beside it; the runs should agree), and the
+functions that take most of them.  Two builds whose last outputs differ are reported (they should
+be bit-identical).
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from fmi_host import CLEAN_ENV, build_c_host, write_trace_file  # noqa: E402
 from kinematic_trace import slider_crank_trace  # noqa: E402
+from repeats import Load, add_repeats_argument, median_text  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
@@ -36,6 +39,7 @@ def main() -> int:
     parser.add_argument("--rows", type=int, default=20000, help="trace rows (steps of 10 us)")
     parser.add_argument("--wear-factor", type=float, default=2000.0)
     parser.add_argument("--fmu", action="append", default=None, help="FMU file (repeatable; default: this tree's)")
+    add_repeats_argument(parser)
     args = parser.parse_args()
     if shutil.which("valgrind") is None:
         print("bench_fmu_instructions: error: valgrind is not installed", file=sys.stderr)
@@ -48,8 +52,12 @@ def main() -> int:
         host = build_c_host(work / "host")
         last_outputs = {}
         for k, fmu in enumerate(fmus):
-            per_step, top, last_outputs[fmu] = count(host, fmu, joint, trace, args.rows, work / f"fmu{k}")
-            print(f"{fmu}: {per_step:,.0f} instructions per step (fmi2GetReal + fmi2DoStep), {args.rows} steps")
+            load = Load()
+            runs = [count(host, fmu, joint, trace, args.rows, work / f"fmu{k}_{r}") for r in range(args.repeats)]
+            per_step = [run[0] for run in runs]
+            _, top, last_outputs[fmu] = runs[-1]
+            print(f"{fmu}: {median_text(per_step, ',.0f')} instructions per step (fmi2GetReal + fmi2DoStep), "
+                  f"{args.rows} steps; {load.stop()}")
             for instructions, function in top:
                 print(f"  {instructions / args.rows:9,.0f}  {function}")
         if len(set(last_outputs.values())) > 1:

@@ -8,12 +8,12 @@ integrated by ``wearjoint simulate`` (:class:`~wearjoint.simulate.Simulation`) a
 joint FMU's Model Exchange interface inside the same integrator
 (:class:`~wearjoint.cosim.model_exchange.ModelExchangeSimulation`, native FMU), with wear
 (the default factor) and/or without (``wear_factor=0``).  Both engines are compiled untimed
-first; then each is timed ``--repeats`` times on fresh engines, alternating, and the fastest
+first; then each is timed ``--repeats`` times on fresh engines, alternating, and the median
 run of each counts.  Prints wall times, accepted/rejected steps (equal without wear; with wear
 the FMU's wear over t - t_last can differ from the in-process wear over h in the last digits,
 and the runs part after some impacts), real-time factors (simulated s per wall s), the ratio
-ME / monolithic (target 1.5) and the load average before and after (2 shared cores: above 1
-the figures are pessimistic and noisy).
+of the medians ME / monolithic (target 1.5) and the load average before and after (2 shared
+cores: above 1 the figures are pessimistic and noisy).
 
 Split (an estimate): one joint evaluation timed in a compiled loop over the states of the
 first SPLIT_S of the run, in process (the contact kernel) and through the FMU (``fmi2SetTime``
@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import statistics
 import sys
 import time
 
@@ -35,6 +36,8 @@ from wearjoint.core.joint_access import contact_at
 from wearjoint.cosim.model_exchange import ModelExchangeSimulation
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
+
+from repeats import add_repeats_argument, median_text
 
 TARGET = 1.5
 EVALUATIONS = 100_000  # joint evaluations per timed loop in the split
@@ -89,26 +92,28 @@ def _evaluation_costs(joint, options, fmu, samples):
 
 
 def bench(label, joint, options, fmu, repeats):
-    """Time both engines (alternating, best of ``repeats``), print the figures; the ratio ME / monolithic."""
+    """Time both engines (alternating, median of ``repeats``), print the figures; the ratio ME / monolithic."""
     period = SliderCrankParameters().period_s
     t_end = options.revolutions * period
     samples = np.zeros((int(t_end / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-    best = {}
+    walls = {"monolithic": [], "model-exchange": []}
     steps = {}
     for kind in ("monolithic", "model-exchange"):     # untimed: compile / load both
         _time_run(kind, joint, SimulationOptions(integrator="dopri", revolutions=0.01), fmu, 0.002, samples)
     for _ in range(repeats):
         for kind in ("monolithic", "model-exchange"):
             wall, accepted, rejected, sim = _time_run(kind, joint, options, fmu, t_end, samples)
-            best[kind] = min(best.get(kind, np.inf), wall)
+            walls[kind].append(wall)
             steps[kind] = (accepted, rejected)
             if kind == "model-exchange":
                 events = sim.events
-    print(f"{label}: {options.revolutions:g} revolutions ({t_end:g} s simulated), DOPRI, best of {repeats}")
+    median = {kind: statistics.median(runs) for kind, runs in walls.items()}
+    print(f"{label}: {options.revolutions:g} revolutions ({t_end:g} s simulated), DOPRI, median of {repeats}")
     for kind in ("monolithic", "model-exchange"):
         accepted, rejected = steps[kind]
-        print(f"  {kind:15s} wall {best[kind]:8.3f} s   steps accepted {accepted:7d} rejected {rejected:6d}   "
-              f"real-time factor {t_end / best[kind]:6.2f}   {best[kind] / accepted * 1e6:6.2f} us per accepted step")
+        print(f"  {kind:15s} wall {median_text(walls[kind], '.3f')} s   steps accepted {accepted:7d} "
+              f"rejected {rejected:6d}   real-time factor {t_end / median[kind]:6.2f}   "
+              f"{median[kind] / accepted * 1e6:6.2f} us per accepted step")
     same = steps["monolithic"] == steps["model-exchange"]
     print(f"  steps equal: {'yes' if same else 'NO'}; ME event iterations (onsets, separations) {events}")
     in_process, through_fmu = _evaluation_costs(joint, options, fmu, samples)
@@ -117,8 +122,9 @@ def bench(label, joint, options, fmu, repeats):
     print(f"  one joint evaluation: through the FMU {through_fmu * 1e9:.0f} ns, in process {in_process * 1e9:.0f} ns "
           "(with its own cos/sin; in the run it shares them with the mechanism)")
     print(f"  ME split ({evaluations} stage evaluations): FMI calls ~{fmi:.3f} s, the rest "
-          f"~{best['model-exchange'] - fmi:.3f} s; ME - monolithic {best['model-exchange'] - best['monolithic']:.3f} s")
-    ratio = best["model-exchange"] / best["monolithic"]
+          f"~{median['model-exchange'] - fmi:.3f} s; "
+          f"ME - monolithic {median['model-exchange'] - median['monolithic']:.3f} s")
+    ratio = median["model-exchange"] / median["monolithic"]
     print(f"  ME / monolithic wall time: {ratio:.2f} (target {TARGET}: {'met' if ratio <= TARGET else 'NOT met'})")
     return ratio
 
@@ -126,7 +132,7 @@ def bench(label, joint, options, fmu, repeats):
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--revolutions", type=float, default=8.0, help="crank revolutions timed per run")
-    parser.add_argument("--repeats", type=int, default=5, help="timed runs per engine (alternating); best counts")
+    add_repeats_argument(parser, default=5)
     parser.add_argument("--wear", choices=("both", "on", "off"), default="both",
                         help="with the paper's wear factor, without wear (wear_factor=0), or both")
     parser.add_argument("--fmu", default=None, help="native FMU to use (default: the cached build)")

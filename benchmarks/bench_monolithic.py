@@ -1,17 +1,20 @@
-"""Monolithic engine speed on the paper case (issue 2), measured in one run.
+"""Monolithic engine speed on the paper case (issue 2): the median of ``--repeats`` runs in one invocation.
 
 Prints simulated seconds per wall second (real-time factor) for RK4 at 1 us and
 for the adaptive Dormand-Prince integrator, without and with wear, next to the
 per-revolution statistics of each run (the adaptive run must fall inside the
-scatter of the RK4 run), and the first-call compile time (fresh numba cache)
-against a warm-cache start.  One core: the kernels are single-threaded.
+scatter of the RK4 run; the runs are deterministic, so every repeat has the same
+statistics), and the first-call compile time (fresh numba cache) against a
+warm-cache start.  Times are medians of the repeats, printed with the machine's
+load.  One core: the kernels are single-threaded.
 
-    python benchmarks/bench_monolithic.py [--revolutions 5]
+    python benchmarks/bench_monolithic.py [--revolutions 5] [--repeats 3]
 """
 from __future__ import annotations
 
 import argparse
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -21,6 +24,8 @@ import numpy as np
 from wearjoint.analysis import REVOLUTION_COLUMNS
 from wearjoint.parameters import paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
+
+from repeats import Load, add_repeats_argument, median_text
 
 STARTUP = ("import time; t0 = time.perf_counter(); "
            "from wearjoint.simulate import run_simulation, SimulationOptions; "
@@ -66,28 +71,44 @@ def inside_scatter(reference: dict, candidate: dict) -> str:
     return "; ".join(verdicts)
 
 
+CONFIGURATIONS = (("rk4 1e-6 s, no wear", False, dict(integrator="rk4", step_s=1e-6)),
+                  ("dopri (default), no wear", False, {}),
+                  ("rk4 1e-6 s, wear", True, dict(integrator="rk4", step_s=1e-6)),
+                  ("dopri max step 1e-5 s, wear", True, dict(max_step_s=1e-5)))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--revolutions", type=float, default=5.0, help="revolutions per run (default 5)")
+    add_repeats_argument(parser)
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as cold:
-        compile_s = startup_seconds(cold)
-        warm_s = startup_seconds(cold)
-    print(f"first call, empty numba cache: {compile_s:.1f} s; with the cache filled: {warm_s:.1f} s "
-          f"(compile time {compile_s - warm_s:.1f} s)")
+    load = Load()
+    compile_s, warm_s = [], []
+    for _ in range(args.repeats):
+        with tempfile.TemporaryDirectory() as cold:
+            compile_s.append(startup_seconds(cold))
+            warm_s.append(startup_seconds(cold))
+    print(f"first call, empty numba cache: {median_text(compile_s, '.1f')} s; with the cache filled: "
+          f"{median_text(warm_s, '.1f')} s; {load}")
     n = args.revolutions
-    rows = [run("rk4 1e-6 s, no wear", False, n, integrator="rk4", step_s=1e-6),
-            run("dopri (default), no wear", False, n),
-            run("rk4 1e-6 s, wear", True, n, integrator="rk4", step_s=1e-6),
-            run("dopri max step 1e-5 s, wear", True, n, max_step_s=1e-5)]
-    print(f"\npaper case, {n:g} revolutions each; statistics are means over revolutions 2..{int(np.ceil(n))}")
+    runs = {label: [] for label, _, _ in CONFIGURATIONS}
+    for _ in range(args.repeats):
+        for label, wear, options in CONFIGURATIONS:
+            runs[label].append(run(label, wear, n, **options))
+    load.stop()
+    rows = [dict(runs[label][0], rtf=statistics.median(r["rtf"] for r in runs[label]),
+                 wall=statistics.median(r["wall"] for r in runs[label])) for label, _, _ in CONFIGURATIONS]
+    print(f"\npaper case, {n:g} revolutions each, real-time factor and wall time the median of {args.repeats} "
+          f"runs ({load}); statistics are means over revolutions 2..{int(np.ceil(n))}")
     head = (f"{'run':30s} {'real-time':>9s} {'wall s':>7s} {'steps':>8s} {'rejected':>8s} {'impacts/rev':>11s} "
-            f"{'contact':>7s} {'a_max':>7s} {'a_min':>8s} {'F_max N':>8s} {'wear um':>8s}")
+            f"{'contact':>7s} {'a_max':>7s} {'a_min':>8s} {'F_max N':>8s} {'wear um':>8s}   "
+            "real-time factor of each run")
     print(head)
     for r in rows:
         print(f"{r['label']:30s} {r['rtf']:9.3f} {r['wall']:7.2f} {r['steps']:8d} {r['rejected']:8d} "
               f"{r['impacts']:11.1f} {r['contact']:7.3f} {r['acc_max']:7.0f} {r['acc_min']:8.0f} "
-              f"{r['force']:8.0f} {r['wear'] * 1e6:8.2f}")
+              f"{r['force']:8.0f} {r['wear'] * 1e6:8.2f}   "
+              + " ".join(f"{each['rtf']:.3f}" for each in runs[r['label']]))
     print(f"\nadaptive / rk4 speed-up: no wear {rows[1]['rtf'] / rows[0]['rtf']:.1f}x, "
           f"wear {rows[3]['rtf'] / rows[2]['rtf']:.1f}x")
     print("adaptive vs rk4 1e-6 s, no wear: " + inside_scatter(rows[0], rows[1]))

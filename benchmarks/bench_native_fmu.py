@@ -1,6 +1,6 @@
 """The native FMU against the pythonfmu FMU and the in-process kernels, measured in one run.
 
-    python benchmarks/bench_native_fmu.py [--steps 200000] [--rounds 3]
+    python benchmarks/bench_native_fmu.py [--steps 200000] [--repeats 3]
 
 1. Start-up: load + instantiate + initialise in a fresh process (fmpy child process, as in
    bench_fmu_calls.py; and for the native FMU also the C host of tests/c_host, no Python).
@@ -13,7 +13,8 @@
    host with libpython preloaded and the package on PYTHONPATH (the only way a C host can
    load it).
 
-Prints each figure per backend, the medians over ``--rounds`` repeats, and the ratios.
+Prints each figure per backend as the median of ``--repeats`` runs in this invocation, the ratios,
+and the machine's load.
 """
 from __future__ import annotations
 
@@ -35,6 +36,7 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE), str(HERE.parent / "tests")]
 from bench_fmu_calls import input_trajectory  # noqa: E402
 from fmi_host import build_c_host, run_c_host, stderr_value  # noqa: E402
+from repeats import add_repeats_argument  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.core.contact import evaluate_contact  # noqa: E402
@@ -130,7 +132,7 @@ def c_host_run(host: Path, fmu_dir: Path, guid: str, script: str, environment: d
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=200_000, help="communication steps of the timed loops")
-    parser.add_argument("--rounds", type=int, default=3, help="repeats of every measurement (median reported)")
+    add_repeats_argument(parser)
     args = parser.parse_args(argv)
     n_points = JointParameters().n_points
     fmus = {backend: ensure_fmu(n_points, backend=backend) for backend in ("native", "pythonfmu")}
@@ -145,7 +147,7 @@ def main(argv=None) -> int:
                for b in fmus}
     kernels = []
     load_before = os.getloadavg()
-    for _ in range(args.rounds):
+    for _ in range(args.repeats):
         kernels.append(in_process_seconds_per_step(rows))
         for backend, fmu in fmus.items():
             child = fresh_python_child(fmu)
@@ -174,7 +176,7 @@ def main(argv=None) -> int:
         return statistics.median(results[backend][key])
 
     kernel = statistics.median(kernels)
-    print(f"{args.rounds} rounds, {len(rows)} steps per loop, {os.cpu_count()} cores, "
+    print(f"medians of {args.repeats} runs, {len(rows)} steps per loop, {os.cpu_count()} cores, "
           f"load average {load_before[0]:.2f} before, {load_after[0]:.2f} after")
     print(f"{'figure':48s}{'native':>14s}{'pythonfmu':>14s}{'pythonfmu/native':>18s}")
     for label, key, scale, unit in (("load + instantiate + initialise, fresh Python", "startup_s", 1e3, "ms"),

@@ -10,22 +10,12 @@
  * The host's loggingOn only controls messages below fmi2Error: pythonfmu always
  * runs with logging on, so that error messages reach the host in any case.
  *
- * Native path: once initialised, the slave attaches its joint's arrays and the
- * numba cfuncs of wearjoint/native.py (wearjoint_shim_attach_native, during a
- * forwarded call).  setReal of inputs, getReal of forces, diagnostics, inputs,
- * parameters and wear depths, and doStep are then answered here without entering
- * Python, on the same arrays and kernels the slave uses; everything else, and any
- * call the native path cannot answer in full (non-finite values, other variables,
- * the native flag cleared by the slave), goes to the slave as before.
- *
- * Built by wearjoint/fmu_build.py: gcc -shared -fPIC -O2 -fvisibility=hidden
+ * Built by wearjoint/fmu/build_pythonfmu.py: gcc -shared -fPIC -O2 -fvisibility=hidden
  * -DWRAPPED_LIBRARY='"<file name>"' with the FMI 2.0 headers on the include path.
  */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <limits.h>
-#include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,41 +34,12 @@
     X(DeSerializeFMUstate) X(GetDirectionalDerivative) X(SetRealInputDerivatives) X(GetRealOutputDerivatives) \
     X(DoStep) X(CancelStep) X(GetStatus) X(GetRealStatus) X(GetIntegerStatus) X(GetBooleanStatus) X(GetStringStatus)
 
-/* ------------------------------------------------------------------ native path
- * Layout shared with fmu_src/ClearanceWearJoint.py (_NativePath, a ctypes Structure). */
-typedef int32_t EvaluateFunction(double *kinematics, double *joint_parameters, double *cos_phi, double *sin_phi,
-                                 double *wear_depth, double *block_min, double *memory, double *result, void *mask,
-                                 int64_t n_points, int64_t n_blocks);
-typedef int32_t AdvanceFunction(double *kinematics, double *joint_parameters, double *cos_phi, double *sin_phi,
-                                double *wear_depth, double *block_min, double *memory, double *result, void *mask,
-                                double *work, int64_t n_points, int64_t n_blocks, double dt);
-
-enum { FLAG_NATIVE, FLAG_FORCES_STALE, FLAG_WEAR_SUMMARY_STALE, FLAG_TIME };   /* flags[] */
-enum { SOURCE_SLAVE = -1, SOURCE_STORE, SOURCE_RESULT, SOURCE_WEAR_DEPTH };     /* read_source[] */
-
-typedef struct {
-    double *flags;                    /* 1.0 / 0.0 flags and the time, written by both sides */
-    double *store;                    /* the slave's Real values by value reference; inputs first */
-    const int32_t *read_source;       /* per value reference: where getReal finds it (SOURCE_*) */
-    const int32_t *read_index;        /* ... and at which index */
-    uint32_t n_variables;
-    uint32_t n_inputs;                /* value references 0 .. n_inputs - 1 are the kinematic inputs */
-    double *joint_parameters, *cos_phi, *sin_phi, *wear_depth, *block_min, *memory, *result;
-    void *mask;
-    double *work;                     /* scratch of the wear kernels (N_d doubles), not state */
-    int64_t n_points, n_blocks;
-    EvaluateFunction *evaluate;
-    AdvanceFunction *advance;
-} NativePath;
-
 typedef struct {
     fmi2Component wrapped;            /* pythonfmu's instance */
     void *library;                    /* dlopen handle of WRAPPED_LIBRARY, one per instance */
     fmi2CallbackFunctions host;       /* the host's callbacks */
     fmi2CallbackFunctions callbacks;  /* given to pythonfmu: shim logger, environment = this instance */
     fmi2Boolean host_logging_on;
-    int has_native;                   /* native path attached */
-    NativePath native;
 #define FUNCTION_POINTER(name) fmi2##name##TYPE *name;
     struct { FORWARDED(FUNCTION_POINTER) } fn;
 #undef FUNCTION_POINTER
@@ -89,9 +50,6 @@ static char wrapped_path[PATH_MAX];
 
 /* Set by the Python slave (through ctypes, in the calling thread) just before it raises. */
 static _Thread_local int error_flagged;
-
-/* The instance whose forwarded call is running in this thread (for wearjoint_shim_attach_native). */
-static _Thread_local void *current_instance;
 
 __attribute__((visibility("default"))) void wearjoint_shim_flag_error(void)
 {
@@ -138,23 +96,6 @@ static void release(Instance *inst)
     if (inst->library != NULL)
         dlclose(inst->library);
     free(inst);
-}
-
-/* Called by the slave during a forwarded call: answer the hot calls natively from now on
- * (the arrays must live as long as the instance, or until the next attach).  0 on success. */
-__attribute__((visibility("default"))) int wearjoint_shim_attach_native(const NativePath *path)
-{
-    Instance *inst = current_instance;
-    if (inst == NULL || path == NULL)
-        return -1;
-    inst->native = *path;
-    inst->has_native = 1;
-    return 0;
-}
-
-static const NativePath *native_path(const Instance *inst)
-{
-    return inst->has_native && inst->native.flags[FLAG_NATIVE] == 1.0 ? &inst->native : NULL;
 }
 
 /* ------------------------------------------------------------------ not forwarded */
@@ -230,21 +171,13 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean logging_on, size_t n
 }
 
 /* ------------------------------------------------------------------ forwarded with settle() */
-static fmi2Status forward_end(fmi2Status status)
-{
-    current_instance = NULL;
-    return settle(status);
-}
-
-#define FORWARD_CALL(name, arguments) (current_instance = inst, forward_end(inst->fn.name arguments))
-
 #define FORWARD(name, parameters, arguments)                                  \
     fmi2Status fmi2##name parameters                                          \
     {                                                                         \
         Instance *inst = c;                                                   \
         if (inst == NULL)                                                     \
             return fmi2Error;                                                 \
-        return FORWARD_CALL(name, arguments);                                 \
+        return settle(inst->fn.name arguments);                               \
     }
 
 FORWARD(SetupExperiment,
@@ -256,11 +189,15 @@ FORWARD(ExitInitializationMode, (fmi2Component c), (inst->wrapped))
 FORWARD(Terminate, (fmi2Component c), (inst->wrapped))
 FORWARD(Reset, (fmi2Component c), (inst->wrapped))
 
+FORWARD(GetReal, (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]),
+        (inst->wrapped, vr, nvr, value))
 FORWARD(GetInteger, (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]),
         (inst->wrapped, vr, nvr, value))
 FORWARD(GetBoolean, (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]),
         (inst->wrapped, vr, nvr, value))
 FORWARD(GetString, (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]),
+        (inst->wrapped, vr, nvr, value))
+FORWARD(SetReal, (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]),
         (inst->wrapped, vr, nvr, value))
 FORWARD(SetInteger, (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]),
         (inst->wrapped, vr, nvr, value))
@@ -289,6 +226,8 @@ FORWARD(GetRealOutputDerivatives,
         (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer order[], fmi2Real value[]),
         (inst->wrapped, vr, nvr, order, value))
 
+FORWARD(DoStep, (fmi2Component c, fmi2Real current_time, fmi2Real step_size, fmi2Boolean no_set_state_before),
+        (inst->wrapped, current_time, step_size, no_set_state_before))
 FORWARD(CancelStep, (fmi2Component c), (inst->wrapped))
 FORWARD(GetStatus, (fmi2Component c, const fmi2StatusKind kind, fmi2Status *value), (inst->wrapped, kind, value))
 FORWARD(GetRealStatus, (fmi2Component c, const fmi2StatusKind kind, fmi2Real *value), (inst->wrapped, kind, value))
@@ -298,72 +237,3 @@ FORWARD(GetBooleanStatus, (fmi2Component c, const fmi2StatusKind kind, fmi2Boole
         (inst->wrapped, kind, value))
 FORWARD(GetStringStatus, (fmi2Component c, const fmi2StatusKind kind, fmi2String *value),
         (inst->wrapped, kind, value))
-
-/* ------------------------------------------------------------------ native when possible */
-fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
-{
-    Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    const NativePath *p = native_path(inst);
-    if (p != NULL) {
-        size_t i = 0;
-        while (i < nvr && vr[i] < p->n_inputs && isfinite(value[i]))
-            i++;
-        if (i == nvr) {  /* finite kinematic inputs only */
-            for (i = 0; i < nvr; i++)
-                p->store[vr[i]] = value[i];
-            p->flags[FLAG_FORCES_STALE] = 1.0;
-            return fmi2OK;
-        }
-    }
-    return FORWARD_CALL(SetReal, (inst->wrapped, vr, nvr, value));
-}
-
-fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
-{
-    Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    const NativePath *p = native_path(inst);
-    if (p != NULL) {
-        int needs_forces = 0;
-        size_t i = 0;
-        for (; i < nvr && vr[i] < p->n_variables && p->read_source[vr[i]] != SOURCE_SLAVE; i++)
-            needs_forces |= p->read_source[vr[i]] == SOURCE_RESULT;
-        if (i == nvr) {
-            if (needs_forces && p->flags[FLAG_FORCES_STALE] != 0.0) {
-                p->evaluate(p->store, p->joint_parameters, p->cos_phi, p->sin_phi, p->wear_depth, p->block_min,
-                            p->memory, p->result, p->mask, p->n_points, p->n_blocks);
-                p->flags[FLAG_FORCES_STALE] = 0.0;
-            }
-            for (i = 0; i < nvr; i++) {
-                int32_t index = p->read_index[vr[i]];
-                switch (p->read_source[vr[i]]) {
-                case SOURCE_RESULT: value[i] = p->result[index]; break;
-                case SOURCE_WEAR_DEPTH: value[i] = p->wear_depth[index]; break;
-                default: value[i] = p->store[index]; break;
-                }
-            }
-            return fmi2OK;
-        }
-    }
-    return FORWARD_CALL(GetReal, (inst->wrapped, vr, nvr, value));
-}
-
-fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size, fmi2Boolean no_set_state_before)
-{
-    Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    const NativePath *p = native_path(inst);
-    if (p != NULL && isfinite(step_size) && step_size >= 0.0) {
-        if (p->advance(p->store, p->joint_parameters, p->cos_phi, p->sin_phi, p->wear_depth, p->block_min,
-                       p->memory, p->result, p->mask, p->work, p->n_points, p->n_blocks, step_size))
-            p->flags[FLAG_WEAR_SUMMARY_STALE] = 1.0;
-        p->flags[FLAG_TIME] = current_time + step_size;
-        p->flags[FLAG_FORCES_STALE] = 1.0;
-        return fmi2OK;
-    }
-    return FORWARD_CALL(DoStep, (inst->wrapped, current_time, step_size, no_set_state_before));
-}

@@ -258,35 +258,23 @@ def test_non_finite_input_is_forgotten_once_set_finite(slave):
     gc.collect()
 
 
-def test_per_step_calls_are_answered_natively_and_non_finite_inputs_by_the_slave(slave, fmu):
-    """After initialisation the status shim answers setReal of the inputs, getReal of the
-    outputs and doStep through wearjoint.native, without entering the Python slave; a
-    non-finite input goes to the slave, which reports it (the profiler sees that call)."""
-    if fmu["backend"] != "pythonfmu":
-        pytest.skip("the status shim's native path is the pythonfmu backend's")
-    entered = []
-
-    def profile(frame, event, arg):
-        if event == "call" and frame.f_code.co_filename.endswith(f"{fv.MODEL_NAME}.py"):
-            entered.append(frame.f_code.co_name)
-
-    names = FORCE_NAMES + ["normal_force", "penetration", "contact", fmu["wear"][0], "pin_x", "pin_radius"]
-    sys.setprofile(profile)
-    try:
-        for k in range(20):
-            slave.set_inputs(contact_inputs(depth=(k - 10) * 1e-6))
-            slave.get(names)
-            slave.fmu.doStep(currentCommunicationPoint=k * 1e-5, communicationStepSize=1e-5)
-        answered_natively = list(entered)
-        x = contact_inputs()
-        x[0] = math.nan
-        slave.set_inputs(x)
-    finally:
-        sys.setprofile(None)
-    assert answered_natively == []
-    assert entered, "the non-finite input should have reached the Python slave"
-    with pytest.raises(FMICallException):
-        slave.get(["pin_force_x"])
+def test_calls_on_the_wrong_variables_fail_with_fmi2_error_naming_them(slave):
+    """Outputs and Integers are not settable as Reals, Reals not as Integers, and the FMU has no
+    Booleans or Strings: each call fails with fmi2Error and the instance goes on."""
+    vr = slave.vr
+    for call, words in ((lambda: slave.fmu.setReal([vr["pin_force_x"]], [1.0]), ("pin_force_x", "cannot be set")),
+                        (lambda: slave.fmu.setReal([vr["rho_mode"]], [1.0]), ("rho_mode", "cannot be set")),
+                        (lambda: slave.fmu.setInteger([vr["restitution"]], [1]), ("restitution", "cannot be set")),
+                        (lambda: slave.fmu.getReal([vr["rho_mode"]]), ("rho_mode", "Real")),
+                        (lambda: slave.fmu.getInteger([vr["pin_x"]]), ("pin_x", "Integer")),
+                        (lambda: slave.fmu.getBoolean([0]), ("Boolean",))):
+        with pytest.raises(FMICallException) as failure:
+            call()
+        slave.assert_failed_with_error(failure, *words)
+    assert slave.fmu.getInteger([vr["rho_mode"], vr["n_points"]]) == [0, P.n_points]
+    slave.set_inputs(contact_inputs())
+    assert slave.get(["contact"])[0] == 1.0
+    gc.collect()
 
 
 # ------------------------------------------------------------- wear

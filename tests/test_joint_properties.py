@@ -81,17 +81,17 @@ def _result_vector(r) -> np.ndarray:
 
 
 def _lever_arm_torque(p: JointParameters, joint: ClearanceJoint, pin, bushing, r) -> float:
-    """Eq. 21 recomputed from the outputs: the pin's contact point is R_i along n from the pin
-    centre, n pointing to the deepest bushing point (at the contact angle, radius R_j + h)."""
-    k = r.contact_index
-    rho = p.bushing_radius_m + joint.wear_depth[k]
-    lx, ly = _rotate(bushing[2], p.bushing_offset_m[0] + rho * joint.cos_phi[k],
-                     p.bushing_offset_m[1] + rho * joint.sin_phi[k])
-    point = (bushing[0] + lx, bushing[1] + ly)
+    """Eq. 21 recomputed from the outputs: the pin's contact point is R_i along the normal n from the
+    pin centre, n recovered from the force F = -F_N n + F_T t (t = n turned +90 deg, Eqs. 20-22) with
+    the reported F_N and F_T; whichever contact point the joint chose, the torque must be its arm's."""
+    fx, fy = r.pin_force[0], r.pin_force[1]
+    f_n, f_t = r.normal_force_N, r.friction_force_N
+    det = f_n * f_n + f_t * f_t                 # F = M n with M = [[-F_N, -F_T], [F_T, -F_N]]
+    if det == 0.0:
+        return 0.0                              # touching with no force: no torque
+    n = ((-f_n * fx + f_t * fy) / det, (-f_t * fx - f_n * fy) / det)
     ax, ay = _rotate(pin[2], *p.pin_offset_m)
     centre = (pin[0] + ax, pin[1] + ay)
-    d = math.hypot(point[0] - centre[0], point[1] - centre[1])
-    n = ((point[0] - centre[0]) / d, (point[1] - centre[1]) / d)
     arm = (centre[0] + p.pin_radius_m * n[0] - pin[0], centre[1] + p.pin_radius_m * n[1] - pin[1])
     return arm[0] * r.pin_force[1] - arm[1] * r.pin_force[0]
 

@@ -6,7 +6,9 @@ linux64 natively, win64 under wine, aarch64-linux under qemu-aarch64, through th
 slider-crank trace in FMI 2.0 Co-Simulation and Model Exchange and FMI 3.0 Co-Simulation.
 References: linux64 (itself equal to the in-process joint, test_native_fmu.py).  aarch64 must
 give the same bits (no fused multiply-add anywhere); win64 differs in the last bits of sin, cos
-and atan2 (MinGW's msvcrt-based libm), so it is held to 1e-9 of each output's range.
+and atan2 (MinGW's msvcrt-based libm), so it is held to 1e-9 of each output's range; the contact
+angle to 1e-8 of its range: where the worn groove conforms to the pin the nearest point of the
+fitted profile is ill-conditioned (docs/model.md §5, Platforms: measured 4.7e-9 of 2 pi).
 
 Tests of a platform skip, naming what to install, where its cross compiler or emulator is
 missing (.ci/install-cross-toolchains installs them).
@@ -43,6 +45,7 @@ JOINT = paper_joint(wear_factor=10.0)      # micrometres of wear within the trac
 N_POINTS = JOINT.n_points
 ROWS, STEP = 2000, 1e-4                    # 0.2 s of the slider-crank: ten onsets, nine separations
 WIN64_TOLERANCE = 1e-9                     # of each output's range over the trace, and of the deepest wear
+WIN64_ANGLE_TOLERANCE = 1e-8               # the contact angle's, of its range (module docstring)
 CASES = {"fmi2-cs": (2, False), "fmi2-me": (2, True), "fmi3-cs": (3, False)}
 
 
@@ -107,12 +110,15 @@ def worn_trace(hosts, fmus, case: str, platform: str, trace_file) -> tuple[np.nd
     return np.array(trace_rows(out), float), profile_values(out, version, vr, N_POINTS)
 
 
-def assert_within_win64_tolerance(rows, profile, reference_rows, reference_profile) -> None:
-    """Each output within WIN64_TOLERANCE of its range over the rows (of its size where it is constant)."""
-    span = np.ptp(reference_rows, axis=0)
+def assert_within_win64_tolerance(rows, profile, reference_rows, reference_profile, span_rows=None) -> None:
+    """Each output within WIN64_TOLERANCE of its range over ``span_rows`` (default the reference
+    rows; of its size where it is constant)."""
+    span = np.ptp(reference_rows if span_rows is None else span_rows, axis=0)
     span = np.where(span > 0.0, span, np.max(np.abs(reference_rows), axis=0))
     worst = np.max(np.abs(rows - reference_rows), axis=0)
-    assert np.all(worst <= WIN64_TOLERANCE * span), (worst / np.maximum(span, 1e-300)).max()
+    tolerance = np.full(span.shape, WIN64_TOLERANCE)
+    tolerance[1 + [v.name for v in fv.SCALAR_OUTPUTS].index("contact_angle")] = WIN64_ANGLE_TOLERANCE
+    assert np.all(worst <= tolerance * span), (worst / np.maximum(span, 1e-300)).max()
     assert np.max(np.abs(profile - reference_profile)) <= WIN64_TOLERANCE * reference_profile.max()
 
 
@@ -194,7 +200,7 @@ def test_the_worn_trace_gives_linux64s_numbers(fmus, hosts, trace_file, case, pl
         assert_within_win64_tolerance(rows, profile, reference_rows, reference_profile)
 
 
-def test_a_state_serialised_on_one_platform_continues_on_another(fmus, hosts, trace, tmp_path):
+def test_a_state_serialised_on_one_platform_continues_on_another(fmus, hosts, trace, trace_file, tmp_path):
     """A state serialised half-way on linux64 continues on aarch64 bit for bit and on win64 within
     tolerance; win64's and aarch64's serialised states restore on linux64 (fixed little-endian layout)."""
     for platform in CROSS:
@@ -218,8 +224,9 @@ def test_a_state_serialised_on_one_platform_continues_on_another(fmus, hosts, tr
     assert reference[1].max() > 0.0
     on_aarch64 = continued("aarch64-linux", states["linux64"])
     assert np.array_equal(on_aarch64[0], reference[0]) and np.array_equal(on_aarch64[1], reference[1])
-    assert_within_win64_tolerance(*continued("win64", states["linux64"]), *reference)
-    assert_within_win64_tolerance(*continued("linux64", states["win64"]), *reference)
+    whole_trace = worn_trace(hosts, fmus, "fmi2-cs", "linux64", trace_file)[0]
+    assert_within_win64_tolerance(*continued("win64", states["linux64"]), *reference, whole_trace)
+    assert_within_win64_tolerance(*continued("linux64", states["win64"]), *reference, whole_trace)
 
 
 @pytest.mark.parametrize("platform", CROSS)

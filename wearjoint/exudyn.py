@@ -29,7 +29,8 @@ import numpy as np
 from exudyn.itemInterface import ObjectGenericODE2
 
 from .core import layout as L
-from .core.contact import update_contact_memory
+from .core.contact import evaluate_contact, update_contact_memory
+from .core.jit import kernel
 from .joint import ClearanceJoint, ContactResult
 from .parameters import JointParameters, ParameterError
 
@@ -37,9 +38,34 @@ from .parameters import JointParameters, ParameterError
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
                    "eccentricity_y_m", "pin_force_x_N", "pin_force_y_N", "pin_torque_N_m", "bushing_force_x_N",
                    "bushing_force_y_N", "bushing_torque_N_m", "max_wear_depth_m")
-_HISTORY_SLOTS = (L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y,
-                  L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY, L.R_BUSHING_TORQUE)
+_HISTORY_SLOTS = np.array([L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION, L.R_ECCENTRICITY_X,
+                           L.R_ECCENTRICITY_Y, L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
+                           L.R_BUSHING_TORQUE])
 MAX_WEAR_STEP_S = 1e-5   # a wear step must stay well below the penetration depth (docs/model.md §7)
+
+
+@kernel
+def generalized_contact_forces(q, q_t, pin_slot, bushing_slot, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
+                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force):
+    """The GenericODE2's force vector at its nodes' coordinates ``q``, ``q_t`` (displacements from
+    the references): the bodies' kinematics, the contact (Eqs. 1-23, the joint's state read, not
+    changed, into ``result``), then (Fx, Fy, T) on the pin body's node at ``pin_slot`` and on the
+    bushing body's at ``bushing_slot`` (-1: that side is ground and keeps its kinematics)."""
+    if pin_slot >= 0:
+        for c in range(3):
+            pos_i[c] = reference_i[c] + q[pin_slot + c]
+            vel_i[c] = q_t[pin_slot + c]
+    if bushing_slot >= 0:
+        for c in range(3):
+            pos_j[c] = reference_j[c] + q[bushing_slot + c]
+            vel_j[c] = q_t[bushing_slot + c]
+    evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
+    for c in range(3):
+        if pin_slot >= 0:
+            force[pin_slot + c] = result[L.R_PIN_FX + c]
+        if bushing_slot >= 0:
+            force[bushing_slot + c] = result[L.R_BUSHING_FX + c]
+    return force
 
 
 class _Body:
@@ -82,6 +108,8 @@ class ClearanceJointHandle:
         self._contact = contact
         self._nodes = [body for body in (pin, bushing) if body.node is not None]
         self._force = np.zeros(3 * len(self._nodes))
+        self._pin_slot = 0 if pin.node is not None else -1
+        self._bushing_slot = -1 if bushing.node is None else 3 * self._nodes.index(bushing)
         self._history = np.zeros((1024, len(HISTORY_COLUMNS)))
         self._rows = 0
         self.t = 0.0
@@ -98,6 +126,12 @@ class ClearanceJointHandle:
 
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied."""
+        if self._contact is None:                  # one compiled call (exudyn calls this per Newton iteration)
+            j = self.joint
+            return generalized_contact_forces(
+                np.asarray(q, dtype=np.float64), np.asarray(q_t, dtype=np.float64), self._pin_slot, self._bushing_slot, self.pin.reference, self.bushing.reference,
+                self.pin.position, self.pin.velocity, self.bushing.position, self.bushing.velocity,
+                j.parameter_vector, j.cos_phi, j.sin_phi, j.wear_depth, j.block_min, j.memory, j.result, self._force)
         for k, body in enumerate(self._nodes):
             for c in range(3):
                 body.position[c] = body.reference[c] + q[3 * k + c]
@@ -135,7 +169,7 @@ class ClearanceJointHandle:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
         row = self._history[self._rows]
         row[0] = t
-        row[1:1 + len(_HISTORY_SLOTS)] = self.joint.result[list(_HISTORY_SLOTS)]
+        row[1:1 + len(_HISTORY_SLOTS)] = self.joint.result[_HISTORY_SLOTS]
         row[-1] = self.joint.max_wear_depth_m
         self._rows += 1
         self.t = t

@@ -17,7 +17,7 @@ a multiply and an add: aarch64 gives the x86-64 numbers bit for bit.
 
 The kernels are compiled with ``error_model="numpy"`` and without NRT
 (``core.jit.kernel``): they have no path that raises, allocates or touches
-Python.  :func:`compile_objects` proves it: the only symbols an object may
+Python.  :func:`compile_ir` proves it: the only symbols an object may
 leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
 build fails.
 

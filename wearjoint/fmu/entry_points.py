@@ -1,12 +1,11 @@
 """C entry points of the joint's hot path, for hosts that call it from native code.
 
-The FMU's status shim (fmu_src/status_shim.c) answers the per-step FMI calls
-(setReal of the inputs, getReal of the outputs, doStep) itself through these
-numba ``cfunc``s, without entering Python: they run the same kernels as
-:meth:`wearjoint.ClearanceJoint.evaluate_array` and ``advance_array`` on the
-joint's own arrays, passed as raw pointers (``kinematics`` = the 12 FMU inputs:
-pin x, y, angle, vx, vy, omega, then the bushing's).  Nothing here allocates or
-touches Python objects, so a call costs about as much as the kernel.
+The native FMU (wearjoint/fmu/build_native.py) compiles these numba ``cfunc``s ahead of
+time (:mod:`wearjoint.fmu.aot`) and its C layer (fmu_src/joint_instance.c) calls them:
+they run the same kernels as :meth:`wearjoint.ClearanceJoint.evaluate_array` and
+``advance_array`` on the joint's arrays, passed as raw pointers (``kinematics`` = the 12
+FMU inputs: pin x, y, angle, vx, vy, omega, then the bushing's).  Nothing here allocates
+or touches Python objects, so a call costs about as much as the kernel.
 """
 import numpy as np
 from numba import carray, cfunc, types

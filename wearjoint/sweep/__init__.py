@@ -32,7 +32,7 @@ def run_sweep(command: str, base: dict, out, vary: dict | None = None, points=()
     skipped = len(cases) - len(folder.todo())
     timing = run_cases(folder, no_plots=no_plots, workers=workers, scheduler=scheduler, progress=progress)
     folder.write_table()
-    report = write_reports(folder.out, cases, folder.rows)
+    report = write_reports(folder.out, folder.table(pending=True), folder.point_names)
     table = folder.table()
     summary = {
         "command": command, "cases": len(cases), "grid_points": len(report["ensemble"]), "seeds": seeds,

@@ -1,4 +1,4 @@
-"""A sweep's ensemble statistics and figures, from the finished cases.
+"""A sweep's ensemble statistics and figures, from the rows of its cases (``SweepFolder.table``).
 
 ``ensemble.csv``: one row per grid point -- its swept values, ``n_ok``/``n_failed``/``n_pending``
 and, for every summary figure, ``_mean``, ``_std`` (sample standard deviation, n - 1; empty
@@ -16,8 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .design import Case
-from .runner import LEAD_COLUMNS, TAIL_COLUMNS, point_columns, write_csv_atomic
+from .runner import LEAD_COLUMNS, PENDING, TAIL_COLUMNS, write_csv_atomic
 
 FIGURES_OF_MERIT = ("max_wear_depth_m", "worn_volume_m3", "max_contact_force_N", "contact_fraction",
                     "impacts_per_revolution", "slider_acc_min_m_s2", "slider_acc_max_m_s2", "max_eccentricity_m")
@@ -25,32 +24,41 @@ PANELS_PER_PAGE = 16
 _PROFILE = re.compile(r"^profile(?:_rev(\d+))?\.csv$")
 
 
-def grid_points(cases: list[Case]) -> list[list[Case]]:
-    """The cases grouped by grid point (their seeds), in design order."""
+class GridPoint:
+    """The rows of one grid point's cases (its seeds) and its swept values (``names`` -> value)."""
+
+    def __init__(self, rows: list[dict], names: list[str]):
+        self.rows = rows
+        self.values = {name: rows[0][name] for name in names}
+        self.ok = [r for r in rows if r["status"] == "ok"]
+
+    @property
+    def label(self) -> str:
+        return ", ".join(f"{name}={value:g}" if isinstance(value, float) else f"{name}={value}"
+                         for name, value in self.values.items()) or "base case"
+
+
+def grid_points(rows: list[dict], names: list[str]) -> list[GridPoint]:
+    """The rows grouped by grid point (equal values in the columns ``names``), in design order."""
     groups = {}
-    for case in cases:
-        groups.setdefault(case.point, []).append(case)
-    return list(groups.values())
-
-
-def point_label(case: Case) -> str:
-    return ", ".join(f"{name}={value:g}" if isinstance(value, float) else f"{name}={value}"
-                     for name, value in point_columns(case).items()) or "base case"
+    for row in rows:
+        groups.setdefault(tuple(row[name] for name in names), []).append(row)
+    return [GridPoint(members, names) for members in groups.values()]
 
 
 def _number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def ensemble_rows(points: list[list[Case]], rows: dict) -> list[dict]:
+def ensemble_rows(points: list[GridPoint]) -> list[dict]:
     """ensemble.csv's rows (see the module docstring)."""
     out = []
-    for k, members in enumerate(points):
-        done = [rows[c.case_id] for c in members if c.case_id in rows]
-        ok = [r for r in done if r["status"] == "ok"]
-        skip = set(LEAD_COLUMNS) | set(TAIL_COLUMNS) | set(point_columns(members[0]))
-        row = {"point": k, **point_columns(members[0]), "n_ok": len(ok), "n_failed": len(done) - len(ok),
-               "n_pending": len(members) - len(done)}
+    for k, point in enumerate(points):
+        ok = point.ok
+        pending = sum(r["status"] == PENDING for r in point.rows)
+        skip = set(LEAD_COLUMNS) | set(TAIL_COLUMNS) | set(point.values)
+        row = {"point": k, **point.values, "n_ok": len(ok), "n_failed": len(point.rows) - len(ok) - pending,
+               "n_pending": pending}
         columns = dict.fromkeys(c for r in ok for c, v in r.items() if c not in skip and _number(v))
         for column in columns:
             values = np.array([r[column] for r in ok if _number(r.get(column))], dtype=float)
@@ -65,17 +73,15 @@ def ensemble_rows(points: list[list[Case]], rows: dict) -> list[dict]:
     return out
 
 
-def profile_bands(out: Path, points: list[list[Case]], rows: dict) -> dict:
+def profile_bands(out: Path, points: list[GridPoint]) -> dict:
     """{point k: {label: (phi_deg, depths (n_seeds, N_d))}} from the ok cases' profile CSVs;
     writes bands/pointK_LABEL.csv."""
     bands = {}
     (out / "bands").mkdir(exist_ok=True)
-    for k, members in enumerate(points):
+    for k, point in enumerate(points):
         stacks = {}
-        for case in members:
-            if rows.get(case.case_id, {}).get("status") != "ok":
-                continue
-            for path in sorted((out / "cases" / case.case_id).glob("profile*.csv")):
+        for row in point.ok:
+            for path in sorted((out / row["folder"]).glob("profile*.csv")):
                 match = _PROFILE.match(path.name)
                 if match:
                     data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
@@ -122,7 +128,7 @@ def plot_profile_bands(out: Path, points, bands: dict) -> list[str]:
             phi, depth = bands[k]["final"]
             ax.fill_between(phi, depth.min(axis=0) * 1e6, depth.max(axis=0) * 1e6, color="0.85", lw=0)
             _band(ax, phi, depth, 1e6)
-            ax.set_title(f"{point_label(points[k][0])} ({len(depth)} seeds)", fontsize=8)
+            ax.set_title(f"{points[k].label} ({len(depth)} seeds)", fontsize=8)
             ax.set_xlim(0, 360)
             ax.set_xticks(range(0, 361, 90))
             ax.grid(alpha=0.3)
@@ -158,33 +164,30 @@ def plot_fig7_bands(out: Path, points, bands: dict) -> list[str]:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
         n = len(by_label[snaps[0][1]][1])
-        ax.set_title(f"Fig. 7 with bands: mean ± std over {n} seeds ({point_label(points[k][0])})", fontsize=10)
+        ax.set_title(f"Fig. 7 with bands: mean ± std over {n} seeds ({points[k].label})", fontsize=10)
         names.append(f"fig7_bands_point{k}.png")
         save_figure(fig, out / names[-1])
     return names
 
 
-def plot_against_parameters(out: Path, points, rows: dict) -> list[str]:
+def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
     """vs_PARAMETER.png: each figure of merit against each swept parameter; one line per
     combination of the other swept parameters (mean, +-std band, every seed as a dot)."""
     from ..plots import plt, save_figure
 
-    if not points or not point_columns(points[0][0]):
+    if not points or not points[0].values:
         return []
     names = []
-    params = list(point_columns(points[0][0]))
-    ok = {c.case_id: rows[c.case_id] for members in points for c in members
-          if rows.get(c.case_id, {}).get("status") == "ok"}
-    merits = [m for m in FIGURES_OF_MERIT if any(_number(r.get(m)) for r in ok.values())]
+    params = list(points[0].values)
+    merits = [m for m in FIGURES_OF_MERIT if any(_number(r.get(m)) for point in points for r in point.ok)]
     for param in params:
-        values = list(dict.fromkeys(point_columns(m[0])[param] for m in points))
+        values = list(dict.fromkeys(point.values[param] for point in points))
         numeric = all(_number(v) for v in values)
         position = {v: (v if numeric else i) for i, v in enumerate(values)}
         lines = {}
-        for members in points:
-            pc = point_columns(members[0])
-            others = tuple((p, pc[p]) for p in params if p != param)
-            lines.setdefault(others, []).append((position[pc[param]], members))
+        for point in points:
+            others = tuple((p, point.values[p]) for p in params if p != param)
+            lines.setdefault(others, []).append((position[point.values[param]], point))
         ncols = min(4, len(merits))
         nrows = max(1, math.ceil(len(merits) / ncols))
         fig, axes = plt.subplots(nrows, ncols, figsize=(3.8 * ncols + 0.5, 3.0 * nrows + 0.8), squeeze=False)
@@ -193,9 +196,8 @@ def plot_against_parameters(out: Path, points, rows: dict) -> list[str]:
                 xs, means, stds = [], [], []
                 label = ", ".join(f"{p}={v:g}" if isinstance(v, float) else f"{p}={v}" for p, v in others) or None
                 color = None
-                for x, members in sorted(members_at, key=lambda item: item[0]):
-                    ys = np.array([ok[c.case_id][merit] for c in members if _number(ok.get(c.case_id, {}).get(merit))],
-                                  dtype=float)
+                for x, point in sorted(members_at, key=lambda item: item[0]):
+                    ys = np.array([r[merit] for r in point.ok if _number(r.get(merit))], dtype=float)
                     if ys.size == 0:
                         continue
                     dots = ax.plot(np.full(ys.size, x), ys, ".", ms=3, alpha=0.5, color=color)
@@ -222,19 +224,19 @@ def plot_against_parameters(out: Path, points, rows: dict) -> list[str]:
     return names
 
 
-def write_reports(out: Path, cases: list[Case], rows: dict, plots: bool = True) -> dict:
-    """ensemble.csv, the profile bands and (``plots``) the figures; returns their file names."""
+def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = True) -> dict:
+    """ensemble.csv, the profile bands and (``plots``) the figures from ``rows`` (every case's, in
+    design order; ``names``: the swept values' columns); returns their file names."""
     out = Path(out)
-    points = grid_points(cases)
-    ensemble = ensemble_rows(points, rows)
-    names = list(point_columns(cases[0])) if cases else []
+    points = grid_points(rows, names)
+    ensemble = ensemble_rows(points)
     write_csv_atomic(out / "ensemble.csv", ensemble, lead=("point", *names, "n_ok", "n_failed", "n_pending"))
-    bands = profile_bands(out, points, rows)
+    bands = profile_bands(out, points)
     figures = []
-    if plots and any(r["status"] == "ok" for r in rows.values()):
-        figures = (plot_against_parameters(out, points, rows) + plot_profile_bands(out, points, bands)
+    if plots and any(point.ok for point in points):
+        figures = (plot_against_parameters(out, points) + plot_profile_bands(out, points, bands)
                    + plot_fig7_bands(out, points, bands))
     return {"ensemble": ensemble, "figures": figures}
 
 
-__all__ = ["write_reports", "ensemble_rows", "grid_points", "profile_bands", "point_label", "FIGURES_OF_MERIT"]
+__all__ = ["write_reports", "ensemble_rows", "grid_points", "profile_bands", "GridPoint", "FIGURES_OF_MERIT"]

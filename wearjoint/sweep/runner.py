@@ -27,6 +27,7 @@ from .design import SEED_ANGLE_STEP_DEG, Case, variable_actions
 SPEC_NAME = "sweep.json"
 CASE_NAME = "case.json"
 LEAD_COLUMNS = ("case_id", "seed", "status", "error")
+PENDING = "pending"   # the status of a case not finished (never written to sweep.csv)
 TAIL_COLUMNS = ("run_time_s", "warmup_time_s", "worker", "folder")
 SNAPSHOT_FIGURES = ("max_wear_depth_m", "worn_volume_m3", "lobe_0_depth_m", "lobe_180_depth_m", "impact_events",
                     "impact_peak_max_m_s2")
@@ -52,9 +53,11 @@ def point_columns(case: Case) -> dict:
     return {actions[name].dest: value for name, value in case.point}
 
 
-def case_row(case: Case, status: str, error, figures: dict, extra: dict) -> dict:
+def case_row(case: Case, status: str = PENDING, error=None, figures=None, extra=None) -> dict:
+    """The case's row of sweep.csv (the one place rows are built): its id, swept values (columns
+    :func:`point_columns`), seed, status, error, summary figures, timings and folder."""
     return {"case_id": case.case_id, **point_columns(case), "seed": case.seed, "status": status,
-            "error": error or "", **figures, **extra, "folder": f"cases/{case.case_id}"}
+            "error": error or "", **(figures or {}), **(extra or {}), "folder": f"cases/{case.case_id}"}
 
 
 def write_csv_atomic(path: Path, rows: list[dict], lead=()) -> None:
@@ -76,6 +79,7 @@ class SweepFolder:
     def __init__(self, out, cases: list[Case], resume: bool, retry_failed: bool = False):
         self.out = Path(out)
         self.cases = cases
+        self.point_names = list(point_columns(cases[0])) if cases else []   # the swept values' columns
         spec = self.out / SPEC_NAME
         if spec.exists() and not resume:
             raise ParameterError(f"--out {self.out} already holds a sweep ({SPEC_NAME}); pass --resume to continue "
@@ -116,13 +120,14 @@ class SweepFolder:
         self.write_table()
         return row
 
-    def table(self) -> list[dict]:
-        """The rows of the finished cases, in design order."""
-        return [self.rows[c.case_id] for c in self.cases if c.case_id in self.rows]
+    def table(self, pending: bool = False) -> list[dict]:
+        """The rows of the finished cases in design order (``pending``: and a PENDING row for every other)."""
+        return [self.rows[c.case_id] if c.case_id in self.rows else case_row(c) for c in self.cases
+                if pending or c.case_id in self.rows]
 
     def write_table(self) -> None:
-        names = list(point_columns(self.cases[0])) if self.cases else []
-        write_csv_atomic(self.out / "sweep.csv", self.table(), lead=("case_id", *names, "seed", "status", "error"))
+        write_csv_atomic(self.out / "sweep.csv", self.table(),
+                         lead=("case_id", *self.point_names, "seed", "status", "error"))
 
 
 # ------------------------------------------------------------------ Dask
