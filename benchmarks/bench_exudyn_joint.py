@@ -30,7 +30,7 @@ from exudyn.itemInterface import (  # noqa: E402
 )
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
-from wearjoint.exudyn import add_clearance_joint  # noqa: E402
+from wearjoint.exudyn import add_clearance_joint, simulation_settings  # noqa: E402
 
 LENGTH, MASS = 0.22, 0.19          # the paper's rod [m], [kg]
 STEP = 1e-5
@@ -73,12 +73,7 @@ def run(n_bars: int, ideal: bool, end_time: float) -> tuple[float, int, int]:
     for handle in handles:       # exudyn keeps the function it was given: give it the counting one
         mbs.ModifyObject(handle.object_number, {"forceUserFunction": handle.generalized_force})
     mbs.Assemble()
-    settings = exu.SimulationSettings()
-    settings.timeIntegration.endTime = end_time
-    settings.timeIntegration.numberOfSteps = int(round(end_time / STEP))
-    settings.timeIntegration.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.active = False
+    settings = simulation_settings(end_time, STEP)
     wall = time.perf_counter()
     exu.SolveDynamic(mbs, settings)
     return time.perf_counter() - wall, settings.timeIntegration.numberOfSteps, calls[0]

@@ -18,7 +18,9 @@ from exudyn.itemInterface import (  # noqa: E402
 )
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
-from wearjoint.exudyn import HISTORY_COLUMNS, add_clearance_joint, check_step, set_post_step  # noqa: E402
+from wearjoint.exudyn import (  # noqa: E402
+    HISTORY_COLUMNS, add_clearance_joint, check_step, set_post_step, simulation_settings,
+)
 from wearjoint.parameters import ParameterError  # noqa: E402
 
 BAR_LENGTH, BAR_MASS = 0.2, 0.5                  # [m], [kg]
@@ -52,12 +54,7 @@ def hung_bar(mbs, pivot=(0.0, 0.0), angle=0.0, mass=BAR_MASS, **joint):
 
 
 def solve(mbs, end_time, step, explicit=False):
-    settings = exu.SimulationSettings()
-    settings.timeIntegration.endTime = end_time
-    settings.timeIntegration.numberOfSteps = int(round(end_time / step))
-    settings.timeIntegration.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.active = False
+    settings = simulation_settings(end_time, step)
     if explicit:
         exu.SolveDynamic(mbs, settings, solverType=exu.DynamicSolverType.RK44)
     else:

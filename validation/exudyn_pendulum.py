@@ -21,7 +21,7 @@ import numpy as np
 from exudyn.itemInterface import LoadMassProportional, MarkerBodyMass, NodeRigidBody2D, ObjectGround, ObjectRigidBody2D
 
 from wearjoint.core import layout as L
-from wearjoint.exudyn import add_clearance_joint, set_post_step
+from wearjoint.exudyn import add_clearance_joint, set_post_step, simulation_settings
 from wearjoint.parameters import JointParameters
 
 BAR_MASS_KG = 0.19
@@ -66,13 +66,7 @@ def run_pendulum(joint: JointParameters, angle_deg: float, end_time_s: float, st
 
     set_post_step(mbs, post_step)
     mbs.Assemble()
-    settings = exu.SimulationSettings()
-    ti = settings.timeIntegration
-    ti.endTime = end_time_s
-    ti.numberOfSteps = max(1, int(round(end_time_s / step_s)))
-    ti.verboseMode = 0
-    settings.solution.file.write = False
-    settings.solution.sensors.active = False
+    settings = simulation_settings(end_time_s, step_s)
     solver = exu.MainSolverImplicitSecondOrder()
     wall0 = time.perf_counter()
     try:

@@ -28,7 +28,7 @@ from exudyn.itemInterface import (
     NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGround, ObjectJointRevolute2D, ObjectRigidBody2D,
 )
 
-from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step
+from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step, simulation_settings
 from wearjoint.parameters import JointParameters, ParameterError, _require, contact_stiffness
 from wearjoint.progress import Progress
 
@@ -168,12 +168,7 @@ class FourBarModel:
         accepted step and the wall time."""
         _require("end_time_s", end_time_s, math.isfinite(end_time_s) and end_time_s > 0.0, "> 0 s")
         check_step(step_s, self.joints.values())
-        settings = exu.SimulationSettings()
-        settings.timeIntegration.endTime = end_time_s
-        settings.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
-        settings.timeIntegration.verboseMode = 0
-        settings.solution.file.write = False
-        settings.solution.sensors.active = False
+        settings = simulation_settings(end_time_s, step_s)
         self._progress = Progress(end_time_s, "four-bar", enabled=progress)
         wall = time.perf_counter()
         try:

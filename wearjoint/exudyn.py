@@ -258,6 +258,18 @@ def _initial_eccentricity(pin: _Body, bushing: _Body, p: JointParameters) -> flo
     return math.hypot(xi - xj, yi - yj)
 
 
+def simulation_settings(end_time_s: float, step_s: float) -> "exu.SimulationSettings":
+    """exudyn settings for ``end_time_s`` [s] in fixed steps of about ``step_s`` [s] (whole steps),
+    quiet: no solution file, no sensors, no console output."""
+    settings = exu.SimulationSettings()
+    settings.timeIntegration.endTime = end_time_s
+    settings.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
+    settings.timeIntegration.verboseMode = 0
+    settings.solution.file.write = False
+    settings.solution.sensors.active = False
+    return settings
+
+
 def check_step(step_s: float, handles) -> None:
     """A fixed solver step ``step_s`` [s] the joints can work with: with wear, at most
     :data:`MAX_WEAR_STEP_S` (the wear of one step must stay well below the penetration)."""
@@ -269,5 +281,5 @@ def check_step(step_s: float, handles) -> None:
                              "(set wear_factor=0 for a longer step)")
 
 
-__all__ = ["add_clearance_joint", "set_post_step", "check_step", "ClearanceJointHandle", "HISTORY_COLUMNS",
+__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "ClearanceJointHandle", "HISTORY_COLUMNS",
            "MAX_WEAR_STEP_S"]
