@@ -8,14 +8,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-int fmu_host_init(FmuHost *host, const char *name, int logging_on, FmuLogFunction *log,
-                  FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment)
+void *fmu_new_instance(size_t size, const char *name, int logging_on, FmuLogFunction *log,
+                       FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment)
 {
+    FmuHost *host = allocate(environment, 1, size);
     char *copy = allocate(environment, strlen(name) + 1, 1);
-    if (copy == NULL) {
+    if (host == NULL || copy == NULL) {
         log(environment, name, FMU_ERROR, "logStatusError", "fmiInstantiate: out of memory");
-        return 0;
+        if (host != NULL)
+            release(environment, host);
+        if (copy != NULL)
+            release(environment, copy);
+        return NULL;
     }
+    memset(host, 0, size);
     strcpy(copy, name);
     host->name = copy;
     host->log = log;
@@ -23,14 +29,14 @@ int fmu_host_init(FmuHost *host, const char *name, int logging_on, FmuLogFunctio
     host->release = release;
     host->environment = environment;
     host->logging_on = logging_on;
-    return 1;
+    return host;
 }
 
-void fmu_host_free(FmuHost *host)
+void fmu_free_instance(void *instance)
 {
-    if (host->name != NULL)
-        host->release(host->environment, host->name);
-    host->name = NULL;
+    FmuHost host = *(FmuHost *)instance;
+    host.release(host.environment, host.name);
+    host.release(host.environment, instance);
 }
 
 void fmu_log(const FmuHost *host, int status, const char *format, ...)

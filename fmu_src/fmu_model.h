@@ -35,7 +35,7 @@ typedef struct {
     FmuAllocateFunction *allocate;
     FmuReleaseFunction *release;
     void *environment;   /* the FMI layer's, passed to the three functions above */
-    char *name;          /* the instance name (allocated by fmu_host_init) */
+    char *name;          /* the instance name (a copy, fmu_new_instance) */
     int logging_on;      /* messages below FMU_ERROR only when on */
 } FmuHost;
 
@@ -50,10 +50,12 @@ typedef struct {
 #define FMU_PRINTF_FORMAT printf
 #endif
 
-/* Fill ``host`` and copy ``name``; 0 (logged) without memory. */
-int fmu_host_init(FmuHost *host, const char *name, int logging_on, FmuLogFunction *log,
-                  FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment);
-void fmu_host_free(FmuHost *host);
+/* ``size`` zero-filled bytes from the host whose first member is an FmuHost, filled in (the name
+ * copied); NULL (logged) without memory. */
+void *fmu_new_instance(size_t size, const char *name, int logging_on, FmuLogFunction *log,
+                       FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment);
+/* Release an instance of fmu_new_instance (what it owns besides is released before). */
+void fmu_free_instance(void *instance);
 void fmu_log(const FmuHost *host, int status, const char *format, ...) __attribute__((format(FMU_PRINTF_FORMAT, 3, 4)));
 /* The shortest text that reads back as exactly x, written as Python's repr writes floats. */
 const char *fmu_shortest(double x, char *out, size_t size);

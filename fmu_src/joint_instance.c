@@ -68,16 +68,9 @@ static int allocate_arrays(JointInstance *joint, int64_t n_points)
 JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, FmuLogFunction *log,
                          FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment)
 {
-    JointInstance *joint = allocate(environment, 1, sizeof *joint);
-    if (joint == NULL) {
-        log(environment, name, JOINT_ERROR, "logStatusError", "fmiInstantiate: out of memory");
+    JointInstance *joint = fmu_new_instance(sizeof *joint, name, logging_on, log, allocate, release, environment);
+    if (joint == NULL)
         return NULL;
-    }
-    memset(joint, 0, sizeof *joint);
-    if (!fmu_host_init(&joint->host, name, logging_on, log, allocate, release, environment)) {
-        release(environment, joint);
-        return NULL;
-    }
     if (!allocate_arrays(joint, n_points)) {
         joint_free(joint);
         return NULL;
@@ -90,13 +83,11 @@ void joint_free(JointInstance *joint)
 {
     if (joint == NULL)
         return;
-    FmuHost host = joint->host;
     if (joint->phi != NULL)
-        host.release(host.environment, joint->phi);
+        joint->host.release(joint->host.environment, joint->phi);
     if (joint->mask != NULL)
-        host.release(host.environment, joint->mask);
-    fmu_host_free(&host);
-    host.release(host.environment, joint);
+        joint->host.release(joint->host.environment, joint->mask);
+    fmu_free_instance(joint);
 }
 
 int joint_resize(JointInstance *joint, int64_t n_points)

@@ -1,9 +1,9 @@
 /* One clearance/wear joint as an FMU instance holds it, independent of the FMI version.
  *
- * The FMI layers (fmi2Functions.c; FMI 3.0 alike) own the call sequence and value references;
- * this part owns the joint's memory and data (inputs, parameters, the kernels' arrays), checks
- * parameters against the generated table, calls the compiled kernels (model.h) and reads and
- * writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
+ * The generic FMI layers (fmi2Functions.c, fmi3Functions.c) own the call sequence and
+ * joint_model.c the value references (the model interface of fmu_model.h); this part owns the
+ * joint's memory and data (inputs, parameters, the kernels' arrays), checks parameters against the
+ * generated table, calls the compiled kernels (model.h) and reads and writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
  */
 #ifndef WEARJOINT_JOINT_INSTANCE_H
 #define WEARJOINT_JOINT_INSTANCE_H
@@ -18,7 +18,7 @@ enum { JOINT_OK = FMU_OK, JOINT_WARNING = FMU_WARNING, JOINT_DISCARD = FMU_DISCA
        JOINT_FATAL = FMU_FATAL };
 
 typedef struct {
-    FmuHost host;                      /* logger, memory, instance name */
+    FmuHost host;                      /* first: logger, memory, instance name (fmu_new_instance) */
     double time;
     double last_accepted_time;         /* Model Exchange: end of the last completed integrator step */
     double inputs[N_INPUTS];

@@ -25,16 +25,16 @@ struct FmuModel {
 FmuModel *model_new(const char *name, int logging_on, FmuLogFunction *log, FmuAllocateFunction *allocate,
                     FmuReleaseFunction *release, void *environment)
 {
+    JointInstance *joint = joint_new(name, N_POINTS, logging_on, log, allocate, release, environment);
+    if (joint == NULL)
+        return NULL;
     FmuModel *model = allocate(environment, 1, sizeof *model);
     if (model == NULL) {
-        log(environment, name, FMU_ERROR, "logStatusError", "fmiInstantiate: out of memory");
+        joint_log(joint, FMU_ERROR, "fmiInstantiate: out of memory");
+        joint_free(joint);
         return NULL;
     }
-    model->joint = joint_new(name, N_POINTS, logging_on, log, allocate, release, environment);
-    if (model->joint == NULL) {
-        release(environment, model);
-        return NULL;
-    }
+    model->joint = joint;
     model->configured_n_points = N_POINTS;
     return model;
 }
@@ -61,7 +61,10 @@ int model_reset(FmuModel *model)
 
 double model_time(const FmuModel *model) { return model->joint->time; }
 
-void model_set_start_time(FmuModel *model, double time) { model->joint->time = model->joint->last_accepted_time = time; }
+void model_set_start_time(FmuModel *model, double time)
+{
+    model->joint->time = model->joint->last_accepted_time = time;
+}
 
 int model_exit_initialization(FmuModel *model, const char *function)
 {

@@ -21,7 +21,7 @@
 #define STATE_HEAD_DOUBLES 3 /* magic (8 bytes), time, initialised */
 
 struct FmuModel {
-    FmuHost host;
+    FmuHost host;                      /* first (fmu_new_instance) */
     double time;
     double inputs[N_INPUTS];
     double parameters[N_PARAMETERS];   /* FMU parameter values */
@@ -51,26 +51,16 @@ static void reset(FmuModel *model)
 FmuModel *model_new(const char *name, int logging_on, FmuLogFunction *log, FmuAllocateFunction *allocate,
                     FmuReleaseFunction *release, void *environment)
 {
-    FmuModel *model = allocate(environment, 1, sizeof *model);
-    if (model == NULL) {
-        log(environment, name, FMU_ERROR, "logStatusError", "fmiInstantiate: out of memory");
-        return NULL;
-    }
-    if (!fmu_host_init(&model->host, name, logging_on, log, allocate, release, environment)) {
-        release(environment, model);
-        return NULL;
-    }
-    reset(model);
+    FmuModel *model = fmu_new_instance(sizeof *model, name, logging_on, log, allocate, release, environment);
+    if (model != NULL)
+        reset(model);
     return model;
 }
 
 void model_free(FmuModel *model)
 {
-    if (model == NULL)
-        return;
-    FmuHost host = model->host;
-    fmu_host_free(&host);
-    host.release(host.environment, model);
+    if (model != NULL)
+        fmu_free_instance(model);
 }
 
 FmuHost *model_host(FmuModel *model) { return &model->host; }
@@ -280,7 +270,8 @@ int model_do_step(FmuModel *model, double t, double h, const char *function)
     double steps = ceil(h / model->parameters[P_MAX_INTERNAL_STEP]);
     if (steps > 1e9) {
         fmu_log(&model->host, FMU_ERROR, "%s: step rejected: h=%g s would take %.3g internal steps of at most "
-                "max_internal_step=%g s (allowed up to 1e9)", function, h, steps, model->parameters[P_MAX_INTERNAL_STEP]);
+                "max_internal_step=%g s (allowed up to 1e9)", function, h, steps,
+                model->parameters[P_MAX_INTERNAL_STEP]);
         return FMU_DISCARD;
     }
     if (h > 0.0) {

@@ -11,7 +11,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,7 @@ from fmpy import extract, read_model_description, simulate_fmu  # noqa: E402
 from fmpy.fmi2 import POINTER, FMU2Model, FMU2Slave, fmi2Real  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 from fmi_host import (  # noqa: E402
-    assert_valgrind_clean, build_c_host, build_fmi3_host, platform_or_skip, run_c_host, trace_rows,
+    assert_valgrind_clean, build_c_host, platform_or_skip, run_c_host, trace_rows,
     valgrind_or_skip, write_trace_file,
 )
 

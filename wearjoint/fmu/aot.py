@@ -4,9 +4,9 @@ A native FMU runs the very kernels the library runs: the numba ``cfunc`` entry p
 model (:data:`ENTRY_POINTS`: ``joint``, the ClearanceWearJoint FMU, from
 :mod:`wearjoint.fmu.entry_points`, the kernels :class:`wearjoint.ClearanceJoint` runs;
 ``slider-crank``, the SliderCrank FMU, from :mod:`wearjoint.fmu.slider_crank_entry_points`, the
-mechanism kernels of the monolithic engine).  For each, numba's optimised LLVM IR is taken, the ``cfunc`` wrapper (which reports
-Python exceptions through the CPython API) is dropped, and the compiled
-function behind it is exported under a stable C name with numba's calling
+mechanism kernels of the monolithic engine).  For each, numba's optimised LLVM IR is taken,
+the ``cfunc`` wrapper (which reports Python exceptions through the CPython API) is dropped,
+and the compiled function behind it is exported under a stable C name with numba's calling
 convention ``int32 f(void *retptr, void *excinfo, arguments...)`` (status 0 =
 success).  Every other function becomes internal, unreferenced code is removed
 (global dead-code elimination), and the module's IR is written out: the one

@@ -46,8 +46,8 @@ from .build import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, sou
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows
 from .model_description import (
-    N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, model_description_fmi3_xml,
-    model_description_xml,
+    N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, interfaces,
+    model_description_fmi3_xml, model_description_xml,
 )
 
 FMI_VERSIONS = (2, 3)
@@ -162,8 +162,9 @@ def model_variables_header(n_points: int, guid: str) -> str:
     slot_of = {(source if isinstance(source, tuple) else (source, None)): slot
                for slot, source in PARAMETER_SLOTS.items()}
     rows = parameter_rows([(p.variable.name, slot_of[(p.field, p.component)], p.variable.start,
-                            len(p.choices or ()), p.allowed, parameter_index[p.allowed.above] if p.allowed.above else -1,
-                            p.allowed_text()) for p in fv.PARAMETERS])
+                            len(p.choices or ()), p.allowed,
+                            parameter_index[p.allowed.above] if p.allowed.above else -1, p.allowed_text())
+                           for p in fv.PARAMETERS])
     outputs = []
     for v in fv.SCALAR_OUTPUTS:
         if v.name in fv.RESULT_SLOTS:
@@ -341,22 +342,9 @@ def _model_description(fmi_version: int, n_points: int, token: str, model: str) 
     tool = f"wearjoint {__version__} (native)"
     if model == "slider-crank":
         return sc.model_description(fmi_version, token, tool)
-    common = {"modelIdentifier": fv.MODEL_NAME, "needsExecutionTool": "false",
-              "canBeInstantiatedOnlyOncePerProcess": "false"}
+    cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
     if fmi_version == 2:
-        common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
-                       "canSerializeFMUstate": "true"})
-        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
-        model_exchange = {**common, "completedIntegratorStepNotNeeded": "false"}
         return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS)
-    common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
-                   "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
-                   "providesPerElementDependencies": "false"})
-    model_exchange = {**common, "needsCompletedIntegratorStep": "true", "providesEvaluateDiscreteStates": "false"}
-    cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "maxOutputDerivativeOrder": "0",
-                    "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false",
-                    "canReturnEarlyAfterIntermediateUpdate": "false", "hasEventMode": "false",
-                    "providesEvaluateDiscreteStates": "false"}
     return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange)
 
 

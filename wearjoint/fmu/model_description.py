@@ -29,6 +29,30 @@ def _number(value) -> str:
     return repr(float(value)) if isinstance(value, float) else str(value)
 
 
+def interfaces(fmi_version: int, model_identifier: str, completed_integrator_step: bool) -> tuple[dict, dict]:
+    """The ``<CoSimulation>`` and ``<ModelExchange>`` attributes of a native FMU (FMI ``fmi_version``):
+    FMU state get/set/serialise, variable communication steps, no early return or intermediate
+    update; ``completed_integrator_step``: Model Exchange needs completedIntegratorStep."""
+    common = {"modelIdentifier": model_identifier, "needsExecutionTool": "false",
+              "canBeInstantiatedOnlyOncePerProcess": "false"}
+    if fmi_version == 2:
+        common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
+                       "canSerializeFMUstate": "true"})
+        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
+        model_exchange = {**common, "completedIntegratorStepNotNeeded": str(not completed_integrator_step).lower()}
+        return cosimulation, model_exchange
+    common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
+                   "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
+                   "providesPerElementDependencies": "false"})
+    model_exchange = {**common, "needsCompletedIntegratorStep": str(completed_integrator_step).lower(),
+                      "providesEvaluateDiscreteStates": "false"}
+    cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "maxOutputDerivativeOrder": "0",
+                    "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false",
+                    "canReturnEarlyAfterIntermediateUpdate": "false", "hasEventMode": "false",
+                    "providesEvaluateDiscreteStates": "false"}
+    return cosimulation, model_exchange
+
+
 def root_with_interfaces_and_units(attributes: dict, cosimulation: dict, model_exchange: dict | None,
                                    units: dict, model_name: str = fv.MODEL_NAME,
                                    description: str = DESCRIPTION) -> ET.Element:

@@ -25,7 +25,7 @@ from ..core import layout
 from ..parameters import SliderCrankParameters
 from . import variables as fv
 from .c_tables import c_string, parameter_rows
-from .model_description import LOG_CATEGORIES, root_with_interfaces_and_units
+from .model_description import LOG_CATEGORIES, interfaces, root_with_interfaces_and_units
 
 MODEL_IDENTIFIER = "SliderCrank"
 DESCRIPTION = ("The rigid slider-crank of Sec. 6.1 (Eqs. 38-44, Baumgarte stabilisation), crank driven "
@@ -280,28 +280,14 @@ def _fmi3_variables(root: ET.Element) -> None:
 
 def model_description(fmi_version: int, guid: str, tool: str) -> bytes:
     """modelDescription.xml of the SliderCrank FMU (FMI ``fmi_version``), Co-Simulation and Model Exchange."""
-    common = {"modelIdentifier": MODEL_IDENTIFIER, "needsExecutionTool": "false",
-              "canBeInstantiatedOnlyOncePerProcess": "false"}
+    cosimulation, model_exchange = interfaces(fmi_version, MODEL_IDENTIFIER, completed_integrator_step=False)
     if fmi_version == 2:
-        common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
-                       "canSerializeFMUstate": "true"})
-        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
-        model_exchange = {**common, "completedIntegratorStepNotNeeded": "true"}
         root = root_with_interfaces_and_units(
             {"fmiVersion": "2.0", "guid": guid, "generationTool": tool, "numberOfEventIndicators": "0"},
             cosimulation, model_exchange, UNIT_DEFINITIONS, MODEL_IDENTIFIER, DESCRIPTION)
         _log_categories(root)
         _fmi2_variables(root)
     else:
-        common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
-                       "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
-                       "providesPerElementDependencies": "false"})
-        model_exchange = {**common, "needsCompletedIntegratorStep": "false",
-                          "providesEvaluateDiscreteStates": "false"}
-        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "maxOutputDerivativeOrder": "0",
-                        "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false",
-                        "canReturnEarlyAfterIntermediateUpdate": "false", "hasEventMode": "false",
-                        "providesEvaluateDiscreteStates": "false"}
         root = root_with_interfaces_and_units(
             {"fmiVersion": "3.0", "instantiationToken": guid, "generationTool": tool},
             cosimulation, model_exchange, UNIT_DEFINITIONS, MODEL_IDENTIFIER, DESCRIPTION)
