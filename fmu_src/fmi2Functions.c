@@ -1,25 +1,16 @@
-/* FMI 2.0 layer of the native ClearanceWearJoint FMU: Co-Simulation and Model Exchange.
+/* FMI 2.0 layer of the native FMUs: Co-Simulation and Model Exchange, for every model.
  *
  * Shaped like the Modelica Reference-FMUs' fmi2Functions.c: this file owns the FMI 2.0 call
- * sequence, the value references and the FMU-state objects; the joint (memory, parameters,
- * kernels, state bytes) is joint_instance.c, and the physics is the joint's numba kernels
- * compiled ahead of time (model.h).  The variable table is generated from
- * wearjoint/fmu/variables.py into model_variables.h by wearjoint/fmu/build_native.py.
+ * sequence and the FMU-state objects, and calls the model through the interface of fmu_model.h
+ * (joint_model.c: ClearanceWearJoint; slider_crank_model.c: SliderCrank), whose physics is its
+ * numba kernels compiled ahead of time.  Each model's variable table is generated into
+ * model_variables.h by wearjoint/fmu/build_native.py.
  *
- * Semantics (docs/model.md, "The FMU"), the same as the pythonfmu backend's:
- * - outputs are direct feed-through: the forces are evaluated from the current inputs at
- *   the first getReal of a joint output after an input changed;
- * - Co-Simulation: doStep(t, h) accepts the step with the inputs held at t (wear, contact
- *   onsets);
- * - Model Exchange: no continuous states; one event indicator, the signed penetration of the
- *   deepest point (a contact onset is a state event, where the approach velocity is stored:
- *   fmi2NewDiscreteStates); wear and the onset bookkeeping are applied at
- *   fmi2CompletedIntegratorStep over the step since the last completed one;
- * - parameters are fixed at exitInitializationMode, where they are checked (fmi2Error with a
- *   message naming the variable and its allowed range);
- * - non-finite inputs: getReal of a joint output gives fmi2Error, doStep fmi2Discard (state
- *   unchanged); finite inputs set afterwards make the instance usable again;
- * - the FMU state is its serialised form (the pythonfmu backend's layout).
+ * - parameters are fixed at exitInitializationMode, where the model checks them (fmi2Error with
+ *   a message naming the variable and its allowed range);
+ * - a value the model cannot compute (e.g. from non-finite inputs) gives fmi2Error, a step it
+ *   cannot take fmi2Discard (state unchanged);
+ * - the FMU state is the model's serialised form.
  * Nothing is printed; every message goes to the host's logger.
  */
 #include <math.h>
@@ -28,7 +19,8 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
-#include "joint_instance.h"
+#include "fmu_model.h"
+#include "model_variables.h"
 
 typedef enum {
     MODE_INSTANTIATED, MODE_INITIALIZATION, MODE_STEP_COMPLETE, MODE_EVENT, MODE_CONTINUOUS, MODE_TERMINATED
@@ -39,7 +31,7 @@ static const char *const MODE_NAMES[] = {"instantiated", "initialization mode", 
 #define INITIALISED (M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | M(MODE_CONTINUOUS) | M(MODE_TERMINATED))
 
 typedef struct {
-    JointInstance *joint;
+    FmuModel *model;
     fmi2CallbackFunctions callbacks;
     fmi2Type type;
     Mode mode;
@@ -85,12 +77,14 @@ static void log_to_host(void *environment, const char *name, int status, const c
     callbacks->logger(callbacks->componentEnvironment, name, (fmi2Status)status, category, escaped);
 }
 
+#define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)
+
 /* ------------------------------------------------------------------ checks shared by the calls */
 static int mode_is(const Instance *inst, const char *function, unsigned modes)
 {
     if (modes & M(inst->mode))
         return 1;
-    joint_log(inst->joint, fmi2Error, "%s: not allowed in state %s (FMI 2.0 call sequence)", function,
+    LOG(inst, fmi2Error, "%s: not allowed in state %s (FMI 2.0 call sequence)", function,
               MODE_NAMES[inst->mode]);
     return 0;
 }
@@ -101,32 +95,17 @@ static int arrays_given(const Instance *inst, const char *function, size_t nvr, 
     if (inst == NULL)
         return 0;
     if (nvr > 0 && (vr == NULL || value == NULL)) {
-        joint_log(inst->joint, fmi2Error, "%s: NULL value reference or value array for %zu variables", function, nvr);
+        LOG(inst, fmi2Error, "%s: NULL value reference or value array for %zu variables", function, nvr);
         return 0;
     }
     return 1;
 }
 
-static void variable_name(fmi2ValueReference vr, char *out, size_t size)
+static void not_a_variable(const Instance *inst, const char *function, fmi2ValueReference vr, const char *what)
 {
-    if (vr < N_INPUTS)
-        snprintf(out, size, "%s", INPUT_NAMES[vr]);
-    else if (vr < VR_FIRST_PARAMETER + N_PARAMETERS)
-        snprintf(out, size, "%s", PARAMETERS[vr - VR_FIRST_PARAMETER].name);
-    else if (vr == VR_N_POINTS)
-        snprintf(out, size, "n_points");
-    else if (vr < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS)
-        snprintf(out, size, "%s", OUTPUTS[vr - VR_FIRST_OUTPUT].name);
-    else if (vr < VR_FIRST_WEAR_DEPTH + N_POINTS)
-        snprintf(out, size, "wear_depth[%u]", (unsigned)(vr - VR_FIRST_WEAR_DEPTH + 1));
-    else
-        snprintf(out, size, "<no variable with valueReference %u>", (unsigned)vr);
-}
-
-static int is_parameter(fmi2ValueReference vr, int choice)
-{
-    return vr >= VR_FIRST_PARAMETER && vr < VR_FIRST_PARAMETER + N_PARAMETERS &&
-           (PARAMETERS[vr - VR_FIRST_PARAMETER].n_choices > 0) == choice;
+    char name[96];
+    model_variable_name(inst->model, 2, vr, name, sizeof name);
+    LOG(inst, fmi2Error, "%s: %s%s", function, name, what);
 }
 
 /* ------------------------------------------------------------------ lifetime */
@@ -163,8 +142,8 @@ fmi2Component fmi2Instantiate(fmi2String instance_name, fmi2Type fmu_type, fmi2S
     inst->callbacks = *functions;
     inst->type = fmu_type;
     inst->mode = MODE_INSTANTIATED;
-    inst->joint = joint_new(name, N_POINTS, logging_on, log_to_host, allocate, release, &inst->callbacks);
-    if (inst->joint == NULL) {
+    inst->model = model_new(name, logging_on, log_to_host, allocate, release, &inst->callbacks);
+    if (inst->model == NULL) {
         release((void *)functions, inst);
         return NULL;
     }
@@ -177,7 +156,7 @@ void fmi2FreeInstance(fmi2Component c)
     if (inst == NULL)
         return;
     fmi2CallbackFunctions callbacks = inst->callbacks;
-    joint_free(inst->joint);
+    model_free(inst->model);
     release(&callbacks, inst);
 }
 
@@ -189,7 +168,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean logging_on, size_t n
     (void)n_categories;
     if (inst == NULL)
         return fmi2Error;
-    inst->joint->logging_on = logging_on;
+    model_host(inst->model)->logging_on = logging_on;
     return fmi2OK;
 }
 
@@ -204,11 +183,11 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined, f
     if (inst == NULL || !mode_is(inst, "fmi2SetupExperiment", M(MODE_INSTANTIATED)))
         return fmi2Error;
     if (!isfinite(start_time)) {
-        joint_log(inst->joint, fmi2Error, "fmi2SetupExperiment: startTime=%g is invalid: allowed a finite time",
+        LOG(inst, fmi2Error, "fmi2SetupExperiment: startTime=%g is invalid: allowed a finite time",
                   start_time);
         return fmi2Error;
     }
-    inst->joint->time = inst->joint->last_accepted_time = start_time;
+    model_set_start_time(inst->model, start_time);
     return fmi2OK;
 }
 
@@ -226,9 +205,8 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
     Instance *inst = c;
     if (inst == NULL || !mode_is(inst, "fmi2ExitInitializationMode", M(MODE_INITIALIZATION)))
         return fmi2Error;
-    if (!joint_pack_parameters(inst->joint, "fmi2ExitInitializationMode"))
+    if (!model_exit_initialization(inst->model, "fmi2ExitInitializationMode"))
         return fmi2Error;
-    inst->joint->last_accepted_time = inst->joint->time;
     inst->mode = inst->type == fmi2CoSimulation ? MODE_STEP_COMPLETE : MODE_EVENT;
     return fmi2OK;
 }
@@ -247,7 +225,8 @@ fmi2Status fmi2Reset(fmi2Component c)
     Instance *inst = c;
     if (inst == NULL)
         return fmi2Error;
-    joint_reset(inst->joint);
+    if (!model_reset(inst->model))
+        return fmi2Error;
     inst->mode = MODE_INSTANTIATED;
     return fmi2OK;
 }
@@ -259,46 +238,33 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     if (!arrays_given(inst, "fmi2GetReal", nvr, vr, value) ||
         !mode_is(inst, "fmi2GetReal", M(MODE_INITIALIZATION) | INITIALISED))
         return fmi2Error;
-    JointInstance *joint = inst->joint;
-    int evaluated = 0; /* the forces are current after the first joint output: no check per output */
     for (size_t i = 0; i < nvr; i++) {
-        fmi2ValueReference r = vr[i];
-        if (r < N_INPUTS) {
-            value[i] = joint->inputs[r];
-        } else if (is_parameter(r, 0)) {
-            value[i] = joint->parameters[r - VR_FIRST_PARAMETER];
-        } else if (r >= VR_FIRST_OUTPUT && r < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS) {
-            const OutputInfo *o = &OUTPUTS[r - VR_FIRST_OUTPUT];
-            if (o->source == OUTPUT_FROM_RESULT) {
-                if (!evaluated && !joint_evaluate(joint, "fmi2GetReal", o->name))
-                    return fmi2Error;
-                evaluated = 1;
-                value[i] = joint->result[o->index];
-            } else {
-                if (!joint_wear_summary(joint, "fmi2GetReal"))
-                    return fmi2Error;
-                value[i] = o->source == OUTPUT_MAX_WEAR_DEPTH ? joint->max_wear_depth : joint->worn_volume;
-            }
-        } else if (r >= VR_FIRST_WEAR_DEPTH && r < VR_FIRST_WEAR_DEPTH + N_POINTS) {
-            value[i] = joint->wear_depth[r - VR_FIRST_WEAR_DEPTH];
-        } else {
-            char name[96];
-            variable_name(r, name, sizeof name);
-            joint_log(joint, fmi2Error, "fmi2GetReal: %s is not a Real variable", name);
+        int done = model_float64_count(inst->model, 2, vr[i]) == 1
+                       ? model_get_float64(inst->model, 2, vr[i], &value[i], "fmi2GetReal") : -1;
+        if (done == -1)
+            not_a_variable(inst, "fmi2GetReal", vr[i], " is not a Real variable");
+        if (done != 1)
             return fmi2Error;
-        }
     }
     return fmi2OK;
 }
 
 /* A parameter may be set before exitInitializationMode only. */
-static int parameter_settable(const Instance *inst, const char *function, fmi2ValueReference vr)
+static int parameters_settable(const Instance *inst)
 {
-    if (inst->mode == MODE_INSTANTIATED || inst->mode == MODE_INITIALIZATION)
-        return 1;
-    joint_log(inst->joint, fmi2Error, "%s: parameter %s is fixed: set it before fmi2ExitInitializationMode", function,
-              PARAMETERS[vr - VR_FIRST_PARAMETER].name);
-    return 0;
+    return inst->mode == MODE_INSTANTIATED || inst->mode == MODE_INITIALIZATION;
+}
+
+/* After a set: -1 the variable cannot be set, -2 a parameter after initialisation (logged here). */
+static fmi2Status set_failed(const Instance *inst, const char *function, fmi2ValueReference vr, int done)
+{
+    char name[96];
+    model_variable_name(inst->model, 2, vr, name, sizeof name);
+    if (done == -1)
+        LOG(inst, fmi2Error, "%s: variable %s cannot be set", function, name);
+    else if (done == -2)
+        LOG(inst, fmi2Error, "%s: parameter %s is fixed: set it before fmi2ExitInitializationMode", function, name);
+    return fmi2Error;
 }
 
 #define SETTABLE (M(MODE_INSTANTIATED) | M(MODE_INITIALIZATION) | M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | \
@@ -310,19 +276,9 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     if (!arrays_given(inst, "fmi2SetReal", nvr, vr, value) || !mode_is(inst, "fmi2SetReal", SETTABLE))
         return fmi2Error;
     for (size_t i = 0; i < nvr; i++) {
-        fmi2ValueReference r = vr[i];
-        if (r < N_INPUTS) {
-            joint_set_input(inst->joint, (int)r, value[i]);
-        } else if (is_parameter(r, 0)) {
-            if (!parameter_settable(inst, "fmi2SetReal", r))
-                return fmi2Error;
-            joint_set_parameter(inst->joint, (int)(r - VR_FIRST_PARAMETER), value[i]);
-        } else {
-            char name[96];
-            variable_name(r, name, sizeof name);
-            joint_log(inst->joint, fmi2Error, "fmi2SetReal: variable %s cannot be set", name);
-            return fmi2Error;
-        }
+        int done = model_set_float64(inst->model, 2, vr[i], value[i], parameters_settable(inst), "fmi2SetReal");
+        if (done != 1)
+            return set_failed(inst, "fmi2SetReal", vr[i], done);
     }
     return fmi2OK;
 }
@@ -334,17 +290,13 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
         !mode_is(inst, "fmi2GetInteger", M(MODE_INITIALIZATION) | INITIALISED))
         return fmi2Error;
     for (size_t i = 0; i < nvr; i++) {
-        fmi2ValueReference r = vr[i];
-        if (r == VR_N_POINTS) {
-            value[i] = (fmi2Integer)inst->joint->n_points;
-        } else if (is_parameter(r, 1)) {
-            value[i] = (fmi2Integer)inst->joint->parameters[r - VR_FIRST_PARAMETER];
-        } else {
-            char name[96];
-            variable_name(r, name, sizeof name);
-            joint_log(inst->joint, fmi2Error, "fmi2GetInteger: %s is not an Integer variable", name);
+        int64_t v = 0;
+        int done = model_get_integer(inst->model, 2, vr[i], &v, "fmi2GetInteger");
+        if (done == -1)
+            not_a_variable(inst, "fmi2GetInteger", vr[i], " is not an Integer variable");
+        if (done != 1)
             return fmi2Error;
-        }
+        value[i] = (fmi2Integer)v;
     }
     return fmi2OK;
 }
@@ -355,25 +307,9 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     if (!arrays_given(inst, "fmi2SetInteger", nvr, vr, value) || !mode_is(inst, "fmi2SetInteger", SETTABLE))
         return fmi2Error;
     for (size_t i = 0; i < nvr; i++) {
-        fmi2ValueReference r = vr[i];
-        if (r == VR_N_POINTS) {
-            if (value[i] != inst->joint->n_points) {
-                joint_log(inst->joint, fmi2Error,
-                          "fmi2SetInteger: n_points is fixed at %lld when the FMU is built; rebuild it for %d "
-                          "points (wearjoint build-fmu --n-points %d)",
-                          (long long)inst->joint->n_points, (int)value[i], (int)value[i]);
-                return fmi2Error;
-            }
-        } else if (is_parameter(r, 1)) {
-            if (!parameter_settable(inst, "fmi2SetInteger", r))
-                return fmi2Error;
-            joint_set_parameter(inst->joint, (int)(r - VR_FIRST_PARAMETER), value[i]);
-        } else {
-            char name[96];
-            variable_name(r, name, sizeof name);
-            joint_log(inst->joint, fmi2Error, "fmi2SetInteger: variable %s cannot be set", name);
-            return fmi2Error;
-        }
+        int done = model_set_integer(inst->model, 2, vr[i], value[i], parameters_settable(inst), "fmi2SetInteger");
+        if (done != 1)
+            return set_failed(inst, "fmi2SetInteger", vr[i], done);
     }
     return fmi2OK;
 }
@@ -386,7 +322,7 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
             return fmi2Error;                                                                                 \
         if (nvr == 0)                                                                                         \
             return fmi2OK;                                                                                    \
-        joint_log(inst->joint, fmi2Error, "%s: this FMU has no %s variables (valueReference %u)", #function,  \
+        LOG(inst, fmi2Error, "%s: this FMU has no %s variables (valueReference %u)", #function,  \
                   #type, (unsigned)vr[0]);                                                                    \
         return fmi2Error;                                                                                     \
     }
@@ -404,15 +340,10 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     if (inst == NULL || !mode_is(inst, "fmi2DoStep", M(MODE_STEP_COMPLETE)))
         return fmi2Error;
     if (!isfinite(current_time)) {
-        joint_log(inst->joint, fmi2Error, "fmi2DoStep: currentCommunicationPoint=%g is not finite", current_time);
+        LOG(inst, fmi2Error, "fmi2DoStep: currentCommunicationPoint=%g is not finite", current_time);
         return fmi2Discard;
     }
-    inst->joint->time = current_time;
-    int status = joint_accept_step(inst->joint, step_size, "fmi2DoStep");
-    if (status != JOINT_OK)
-        return (fmi2Status)status;
-    inst->joint->time = inst->joint->last_accepted_time = current_time + step_size;
-    return fmi2OK;
+    return (fmi2Status)model_do_step(inst->model, current_time, step_size, "fmi2DoStep");
 }
 
 fmi2Status fmi2CancelStep(fmi2Component c)
@@ -420,7 +351,7 @@ fmi2Status fmi2CancelStep(fmi2Component c)
     Instance *inst = c;
     if (inst == NULL)
         return fmi2Error;
-    joint_log(inst->joint, fmi2Error, "fmi2CancelStep: doStep always completes synchronously here");
+    LOG(inst, fmi2Error, "fmi2CancelStep: doStep always completes synchronously here");
     return fmi2Error;
 }
 
@@ -430,10 +361,10 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Rea
     if (inst == NULL || value == NULL)
         return fmi2Error;
     if (kind != fmi2LastSuccessfulTime) {
-        joint_log(inst->joint, fmi2Error, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is available");
+        LOG(inst, fmi2Error, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is available");
         return fmi2Error;
     }
-    *value = inst->joint->time;
+    *value = model_time(inst->model);
     return fmi2OK;
 }
 
@@ -445,7 +376,7 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Rea
         (void)value;                                                                                 \
         if (inst == NULL)                                                                            \
             return fmi2Error;                                                                        \
-        joint_log(inst->joint, fmi2Error, "%s: doStep never returns fmi2Pending here", #function);   \
+        LOG(inst, fmi2Error, "%s: doStep never returns fmi2Pending here", #function);   \
         return fmi2Error;                                                                            \
     }
 
@@ -461,7 +392,7 @@ NO_STATUS_OF_TYPE(fmi2GetStringStatus, fmi2String)
         Instance *inst = c;                                       \
         if (inst == NULL)                                         \
             return fmi2Error;                                     \
-        joint_log(inst->joint, fmi2Error, "%s: %s", #function, reason); \
+        LOG(inst, fmi2Error, "%s: %s", #function, reason); \
         return fmi2Error;                                         \
     }
 
@@ -488,18 +419,18 @@ fmi2Status fmi2EnterEventMode(fmi2Component c)
     return fmi2OK;
 }
 
-/* A state event (a contact begins or ends): the contact-onset bookkeeping at the current inputs. */
+/* An event: the model's update (ClearanceWearJoint: the contact-onset bookkeeping). */
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info)
 {
     Instance *inst = c;
     if (inst == NULL || !mode_is(inst, "fmi2NewDiscreteStates", M(MODE_EVENT)))
         return fmi2Error;
     if (info == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2NewDiscreteStates: NULL eventInfo");
+        LOG(inst, fmi2Error, "fmi2NewDiscreteStates: NULL eventInfo");
         return fmi2Error;
     }
     memset(info, 0, sizeof *info);
-    return joint_update_contact_memory(inst->joint, "fmi2NewDiscreteStates") ? fmi2OK : fmi2Error;
+    return model_event_update(inst->model, "fmi2NewDiscreteStates") ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
@@ -511,7 +442,7 @@ fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
     return fmi2OK;
 }
 
-/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs. */
+/* The model's bookkeeping of an accepted step (ClearanceWearJoint: wear and contact onsets). */
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean no_set_state_prior, fmi2Boolean *enter_event_mode,
                                        fmi2Boolean *terminate_simulation)
 {
@@ -520,12 +451,12 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean no_set_state
     if (inst == NULL || !mode_is(inst, "fmi2CompletedIntegratorStep", M(MODE_CONTINUOUS)))
         return fmi2Error;
     if (enter_event_mode == NULL || terminate_simulation == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2CompletedIntegratorStep: NULL output pointer");
+        LOG(inst, fmi2Error, "fmi2CompletedIntegratorStep: NULL output pointer");
         return fmi2Error;
     }
     *enter_event_mode = fmi2False;
     *terminate_simulation = fmi2False;
-    return (fmi2Status)joint_completed_integrator_step(inst->joint, "fmi2CompletedIntegratorStep");
+    return (fmi2Status)model_completed_integrator_step(inst->model, "fmi2CompletedIntegratorStep");
 }
 
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
@@ -533,65 +464,89 @@ fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
     Instance *inst = c;
     if (inst == NULL || !mode_is(inst, "fmi2SetTime", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
         return fmi2Error;
-    return joint_set_time(inst->joint, time, "fmi2SetTime") ? fmi2OK : fmi2Error;
+    return model_set_time(inst->model, time, "fmi2SetTime") ? fmi2OK : fmi2Error;
 }
 
-/* This FMU has no continuous states: nx must be 0. */
-static int no_states(const Instance *inst, const char *function, size_t nx)
+/* The model's N_CONTINUOUS_STATES continuous states: nx must be that, x given for nx > 0. */
+static int states_given(const Instance *inst, const char *function, size_t nx, const void *x)
 {
     if (inst == NULL)
         return 0;
-    if (nx == 0)
-        return 1;
-    joint_log(inst->joint, fmi2Error, "%s: this FMU has no continuous states (nx=%zu given)", function, nx);
-    return 0;
+    if (nx != N_CONTINUOUS_STATES) {
+        if (N_CONTINUOUS_STATES == 0)
+            LOG(inst, fmi2Error, "%s: this FMU has no continuous states (nx=%zu given)", function, nx);
+        else
+            LOG(inst, fmi2Error, "%s: this FMU has %d continuous states (nx=%zu given)", function,
+                N_CONTINUOUS_STATES, nx);
+        return 0;
+    }
+    if (nx > 0 && x == NULL) {
+        LOG(inst, fmi2Error, "%s: NULL array", function);
+        return 0;
+    }
+    return 1;
 }
 
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx)
 {
-    (void)x;
-    return no_states(c, "fmi2SetContinuousStates", nx) ? fmi2OK : fmi2Error;
+    Instance *inst = c;
+    if (!states_given(inst, "fmi2SetContinuousStates", nx, x) ||
+        !mode_is(inst, "fmi2SetContinuousStates", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
+        return fmi2Error;
+    return model_set_continuous_states(inst->model, x, "fmi2SetContinuousStates") ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
 {
-    (void)derivatives;
-    return no_states(c, "fmi2GetDerivatives", nx) ? fmi2OK : fmi2Error;
+    Instance *inst = c;
+    if (!states_given(inst, "fmi2GetDerivatives", nx, derivatives) ||
+        !mode_is(inst, "fmi2GetDerivatives", M(MODE_INITIALIZATION) | INITIALISED))
+        return fmi2Error;
+    return model_get_derivatives(inst->model, derivatives, "fmi2GetDerivatives") ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
 {
-    (void)x;
-    return no_states(c, "fmi2GetContinuousStates", nx) ? fmi2OK : fmi2Error;
+    Instance *inst = c;
+    if (!states_given(inst, "fmi2GetContinuousStates", nx, x) ||
+        !mode_is(inst, "fmi2GetContinuousStates", M(MODE_INITIALIZATION) | INITIALISED))
+        return fmi2Error;
+    return model_get_continuous_states(inst->model, x, "fmi2GetContinuousStates") ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)
 {
-    (void)x_nominal;
-    return no_states(c, "fmi2GetNominalsOfContinuousStates", nx) ? fmi2OK : fmi2Error;
+    Instance *inst = c;
+    if (!states_given(inst, "fmi2GetNominalsOfContinuousStates", nx, x_nominal))
+        return fmi2Error;
+    for (size_t i = 0; i < nx; i++)
+        x_nominal[i] = 1.0;
+    return fmi2OK;
 }
 
-/* The event indicator: the signed penetration of the deepest bushing point at the current inputs. */
+/* The model's N_EVENT_INDICATORS event indicators. */
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real indicators[], size_t ni)
 {
     Instance *inst = c;
     if (inst == NULL || !mode_is(inst, "fmi2GetEventIndicators", M(MODE_INITIALIZATION) | INITIALISED))
         return fmi2Error;
-    if (ni != N_EVENT_INDICATORS || indicators == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2GetEventIndicators: this FMU has %d event indicator (ni=%zu given)",
-                  N_EVENT_INDICATORS, ni);
+    if (ni != N_EVENT_INDICATORS || (ni > 0 && indicators == NULL)) {
+        LOG(inst, fmi2Error, "fmi2GetEventIndicators: this FMU has %d event indicator%s (ni=%zu given)",
+            N_EVENT_INDICATORS, N_EVENT_INDICATORS == 1 ? "" : "s", ni);
         return fmi2Error;
     }
-    return joint_event_indicator(inst->joint, "fmi2GetEventIndicators", &indicators[0]) ? fmi2OK : fmi2Error;
+    if (ni == 0)
+        return fmi2OK;
+    return model_get_event_indicators(inst->model, indicators, "fmi2GetEventIndicators") ? fmi2OK : fmi2Error;
 }
 
 /* ------------------------------------------------------------------ FMU state */
 static FmuState *new_state(const Instance *inst)
 {
-    size_t size = joint_state_size(inst->joint);
+    size_t size = model_state_size(inst->model);
     FmuState *s = allocate((void *)&inst->callbacks, 1, sizeof *s + size);
     if (s == NULL)
-        joint_log(inst->joint, fmi2Error, "FMU state: out of memory");
+        LOG(inst, fmi2Error, "FMU state: out of memory");
     else
         s->size = size;
     return s;
@@ -603,7 +558,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state)
     if (inst == NULL)
         return fmi2Error;
     if (state == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2GetFMUstate: NULL state pointer");
+        LOG(inst, fmi2Error, "fmi2GetFMUstate: NULL state pointer");
         return fmi2Error;
     }
     FmuState *s = *state;
@@ -611,11 +566,11 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state)
         if ((s = new_state(inst)) == NULL)
             return fmi2Error;
         *state = s;
-    } else if (s->size != joint_state_size(inst->joint)) {
-        joint_log(inst->joint, fmi2Error, "fmi2GetFMUstate: the state given to overwrite is not of this FMU");
+    } else if (s->size != model_state_size(inst->model)) {
+        LOG(inst, fmi2Error, "fmi2GetFMUstate: the state given to overwrite is not of this FMU");
         return fmi2Error;
     }
-    joint_write_state(inst->joint, s->bytes, (M(inst->mode) & INITIALISED) != 0);
+    model_write_state(inst->model, s->bytes, (M(inst->mode) & INITIALISED) != 0);
     return fmi2OK;
 }
 
@@ -625,12 +580,12 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state)
     if (inst == NULL)
         return fmi2Error;
     const FmuState *s = state;
-    if (s == NULL || s->size != joint_state_size(inst->joint)) {
-        joint_log(inst->joint, fmi2Error, "fmi2SetFMUstate: NULL or not a state of this FMU");
+    if (s == NULL || s->size != model_state_size(inst->model)) {
+        LOG(inst, fmi2Error, "fmi2SetFMUstate: NULL or not a state of this FMU");
         return fmi2Error;
     }
     int initialised = 0;
-    int ok = joint_read_state(inst->joint, s->bytes, &initialised, "fmi2SetFMUstate");
+    int ok = model_read_state(inst->model, s->bytes, &initialised, "fmi2SetFMUstate");
     if (initialised && !(M(inst->mode) & (M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
         inst->mode = inst->type == fmi2CoSimulation ? MODE_STEP_COMPLETE : MODE_EVENT;
     else if (!initialised && (M(inst->mode) & INITIALISED))
@@ -644,7 +599,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state)
     if (inst == NULL)
         return fmi2Error;
     if (state == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2FreeFMUstate: NULL state pointer");
+        LOG(inst, fmi2Error, "fmi2FreeFMUstate: NULL state pointer");
         return fmi2Error;
     }
     release(&inst->callbacks, *state);
@@ -659,7 +614,7 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_
         return fmi2Error;
     const FmuState *s = state;
     if (s == NULL || size == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2SerializedFMUstateSize: NULL state or size pointer");
+        LOG(inst, fmi2Error, "fmi2SerializedFMUstateSize: NULL state or size pointer");
         return fmi2Error;
     }
     *size = s->size;
@@ -673,7 +628,7 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte b
         return fmi2Error;
     const FmuState *s = state;
     if (s == NULL || bytes == NULL || size < s->size) {
-        joint_log(inst->joint, fmi2Error,
+        LOG(inst, fmi2Error,
                   "fmi2SerializeFMUstate: NULL state or buffer, or a buffer of %zu bytes for a state of %zu", size,
                   s != NULL ? s->size : (size_t)0);
         return fmi2Error;
@@ -688,14 +643,14 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size
     if (inst == NULL)
         return fmi2Error;
     if (bytes == NULL || state == NULL) {
-        joint_log(inst->joint, fmi2Error, "fmi2DeSerializeFMUstate: NULL bytes or state pointer");
+        LOG(inst, fmi2Error, "fmi2DeSerializeFMUstate: NULL bytes or state pointer");
         return fmi2Error;
     }
-    if (!joint_state_valid(inst->joint, bytes, size, "fmi2DeSerializeFMUstate"))
+    if (!model_state_valid(inst->model, bytes, size, "fmi2DeSerializeFMUstate"))
         return fmi2Error;
     FmuState *s = *state;
     if (s != NULL && s->size != size) {
-        joint_log(inst->joint, fmi2Error, "fmi2DeSerializeFMUstate: the state given to overwrite is not of this FMU");
+        LOG(inst, fmi2Error, "fmi2DeSerializeFMUstate: the state given to overwrite is not of this FMU");
         return fmi2Error;
     }
     if (s == NULL && (s = new_state(inst)) == NULL)

@@ -1,27 +1,19 @@
-/* FMI 3.0 layer of the native ClearanceWearJoint FMU: Co-Simulation and Model Exchange.
+/* FMI 3.0 layer of the native FMUs: Co-Simulation and Model Exchange, for every model.
  *
- * The FMI 3.0 twin of fmi2Functions.c, on the same FMI-independent joint (joint_instance.c) and
- * the same kernels (model.h), with the same semantics (docs/model.md, "The FMU"):
- * - outputs are direct feed-through: the forces are evaluated from the current inputs at the
- *   first fmi3GetFloat64 of a joint output after an input changed;
- * - Co-Simulation: fmi3DoStep(t, h) accepts the step with the inputs held at t (wear, contact
- *   onsets); no event mode, no intermediate update, never returns early;
- * - Model Exchange: no continuous states; one event indicator, the signed penetration (a contact
- *   onset is a state event, where the approach velocity is stored: fmi3UpdateDiscreteStates);
- *   wear and the onset bookkeeping are applied at fmi3CompletedIntegratorStep over the step
- *   since the last completed one;
- * - parameters are fixed at fmi3ExitInitializationMode, where they are checked (fmi3Error with a
- *   message naming the variable and its allowed range); the three options are FMI 3
- *   enumerations, read and written with fmi3GetInt64 / fmi3SetInt64;
- * - the number of bushing points is the structural parameter n_points (UInt64): set it in
- *   Configuration Mode (fmi3EnterConfigurationMode .. fmi3ExitConfigurationMode, where the
- *   bushing is re-sized); the wear profile is the Float64 array wear_depth of n_points values;
- * - non-finite inputs: fmi3GetFloat64 of a joint output gives fmi3Error, fmi3DoStep fmi3Discard
- *   (state unchanged, the instance stays in Step Mode); finite inputs make it usable again;
+ * The FMI 3.0 twin of fmi2Functions.c, on the same model interface (fmu_model.h) with the same
+ * semantics:
+ * - Co-Simulation: no event mode, no intermediate update, fmi3DoStep never returns early;
+ * - parameters are fixed at fmi3ExitInitializationMode, where the model checks them (fmi3Error
+ *   with a message naming the variable and its allowed range); enumerations are read and written
+ *   with fmi3GetInt64 / fmi3SetInt64;
+ * - structural parameters (UInt64; ClearanceWearJoint's n_points) are set in Configuration Mode
+ *   (fmi3EnterConfigurationMode .. fmi3ExitConfigurationMode, where the model applies them); an
+ *   array variable (ClearanceWearJoint's wear_depth) counts its size in nValues;
+ * - a step the model cannot take gives fmi3Discard (state unchanged, the instance stays in Step
+ *   Mode);
  * - the FMU state is the FMI 2.0 layer's (the same bytes).
- * Value references (model_variables.h, generated): the scalars keep their FMI 2.0 ones, then
- * wear_depth and time.  FMI 3.0 has no memory callbacks: calloc/free.  Nothing is printed; every
- * message goes to the host's fmi3LogMessageCallback (none if it gave NULL).
+ * FMI 3.0 has no memory callbacks: calloc/free.  Nothing is printed; every message goes to the
+ * host's fmi3LogMessageCallback (none if it gave NULL).
  */
 #include <math.h>
 #include <stdint.h>
@@ -30,7 +22,8 @@
 #include <string.h>
 
 #include "fmi3Functions.h"
-#include "joint_instance.h"
+#include "fmu_model.h"
+#include "model_variables.h"
 
 typedef enum {
     MODE_INSTANTIATED, MODE_CONFIGURATION, MODE_INITIALIZATION, MODE_STEP, MODE_EVENT, MODE_CONTINUOUS,
@@ -44,12 +37,11 @@ static const char *const MODE_NAMES[] = {"Instantiated", "Configuration Mode", "
 #define SETTABLE (M(MODE_INSTANTIATED) | M(MODE_INITIALIZATION) | M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS))
 
 typedef struct {
-    JointInstance *joint;
+    FmuModel *model;
     fmi3InstanceEnvironment environment;
     fmi3LogMessageCallback log_message;
     int co_simulation;             /* 1: Co-Simulation, 0: Model Exchange */
     Mode mode;
-    uint64_t n_points;             /* Configuration Mode: the value set for n_points */
 } Instance;
 
 typedef struct {
@@ -58,7 +50,7 @@ typedef struct {
 } FmuState;
 
 /* ------------------------------------------------------------------ host callbacks */
-/* FMI 3.0 has no memory callbacks: the C library's (JointAllocateFunction / JointReleaseFunction). */
+/* FMI 3.0 has no memory callbacks: the C library's (FmuAllocateFunction / FmuReleaseFunction). */
 static void *allocate(void *environment, size_t n, size_t size)
 {
     (void)environment;
@@ -80,12 +72,14 @@ static void log_to_host(void *environment, const char *name, int status, const c
         inst->log_message(inst->environment, (fmi3Status)status, category, message);
 }
 
+#define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)
+
 /* ------------------------------------------------------------------ checks shared by the calls */
 static int mode_is(const Instance *inst, const char *function, unsigned modes)
 {
     if (modes & M(inst->mode))
         return 1;
-    joint_log(inst->joint, fmi3Error, "%s: not allowed in state %s (FMI 3.0 call sequence)", function,
+    LOG(inst, fmi3Error, "%s: not allowed in state %s (FMI 3.0 call sequence)", function,
               MODE_NAMES[inst->mode]);
     return 0;
 }
@@ -96,66 +90,37 @@ static int arrays_given(const Instance *inst, const char *function, size_t nvr, 
     if (inst == NULL)
         return 0;
     if (nvr > 0 && (vr == NULL || value == NULL)) {
-        joint_log(inst->joint, fmi3Error, "%s: NULL value reference or value array for %zu variables", function, nvr);
+        LOG(inst, fmi3Error, "%s: NULL value reference or value array for %zu variables", function, nvr);
         return 0;
     }
     return 1;
 }
 
-static void variable_name(fmi3ValueReference vr, char *out, size_t size)
+static void variable_name(const Instance *inst, fmi3ValueReference vr, char *out, size_t size)
 {
-    if (vr < FMI3_VR_FIRST_INPUT + N_INPUTS)
-        snprintf(out, size, "%s", INPUT_NAMES[vr - FMI3_VR_FIRST_INPUT]);
-    else if (vr >= FMI3_VR_FIRST_PARAMETER && vr < FMI3_VR_FIRST_PARAMETER + N_PARAMETERS)
-        snprintf(out, size, "%s", PARAMETERS[vr - FMI3_VR_FIRST_PARAMETER].name);
-    else if (vr == FMI3_VR_N_POINTS)
-        snprintf(out, size, "n_points");
-    else if (vr >= FMI3_VR_FIRST_OUTPUT && vr < FMI3_VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS)
-        snprintf(out, size, "%s", OUTPUTS[vr - FMI3_VR_FIRST_OUTPUT].name);
-    else if (vr == FMI3_VR_WEAR_DEPTH)
-        snprintf(out, size, "wear_depth");
-    else if (vr == FMI3_VR_TIME)
-        snprintf(out, size, "time");
-    else
-        snprintf(out, size, "<no variable with valueReference %u>", (unsigned)vr);
+    model_variable_name(inst->model, 3, vr, out, size);
 }
 
-/* A Float64 parameter (enumeration = 0) or an enumeration (enumeration = 1). */
-static int is_parameter(fmi3ValueReference vr, int enumeration)
-{
-    return vr >= FMI3_VR_FIRST_PARAMETER && vr < FMI3_VR_FIRST_PARAMETER + N_PARAMETERS &&
-           (PARAMETERS[vr - FMI3_VR_FIRST_PARAMETER].n_choices > 0) == enumeration;
-}
-
-static int is_scalar_output(fmi3ValueReference vr)
-{
-    return vr >= FMI3_VR_FIRST_OUTPUT && vr < FMI3_VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS;
-}
-
-/* The number of values nvr Float64 value references stand for (the array counts n_points);
- * 0 (logged) if one is not a Float64 variable. */
+/* The number of values nvr Float64 value references stand for (an array counts its size);
+ * 0 (logged) if one is not a Float64 variable or the count is not n_values. */
 static int float64_values(const Instance *inst, const char *function, const fmi3ValueReference vr[], size_t nvr,
                           size_t n_values)
 {
     size_t needed = 0;
     for (size_t i = 0; i < nvr; i++) {
-        fmi3ValueReference r = vr[i];
-        if (r == FMI3_VR_WEAR_DEPTH) {
-            needed += (size_t)inst->joint->n_points;
-        } else if (r < FMI3_VR_FIRST_INPUT + N_INPUTS || is_parameter(r, 0) || is_scalar_output(r) ||
-                   r == FMI3_VR_TIME) {
-            needed += 1;
-        } else {
+        size_t n = model_float64_count(inst->model, 3, vr[i]);
+        if (n == 0) {
             char name[96];
-            variable_name(r, name, sizeof name);
-            joint_log(inst->joint, fmi3Error, "%s: %s is not a Float64 variable", function, name);
+            variable_name(inst, vr[i], name, sizeof name);
+            LOG(inst, fmi3Error, "%s: %s is not a Float64 variable", function, name);
             return 0;
         }
+        needed += n;
     }
     if (needed != n_values) {
-        joint_log(inst->joint, fmi3Error, "%s: nValues=%zu, but the %zu value references stand for %zu values "
-                  "(wear_depth has n_points=%lld)", function, n_values, nvr, needed,
-                  (long long)inst->joint->n_points);
+        char sizes[128];
+        LOG(inst, fmi3Error, "%s: nValues=%zu, but the %zu value references stand for %zu values%s", function,
+            n_values, nvr, needed, model_array_sizes(inst->model, sizes, sizeof sizes));
         return 0;
     }
     return 1;
@@ -166,7 +131,7 @@ static int scalar_values(const Instance *inst, const char *function, size_t nvr,
 {
     if (nvr == n_values)
         return 1;
-    joint_log(inst->joint, fmi3Error, "%s: nValues=%zu for %zu scalar variables", function, n_values, nvr);
+    LOG(inst, fmi3Error, "%s: nValues=%zu for %zu scalar variables", function, n_values, nvr);
     return 0;
 }
 
@@ -181,7 +146,7 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean logging_on, si
     (void)categories;
     if (inst == NULL)
         return fmi3Error;
-    inst->joint->logging_on = logging_on;
+    model_host(inst->model)->logging_on = logging_on;
     return fmi3OK;
 }
 
@@ -192,9 +157,9 @@ static Instance *instantiate(const char *function, fmi3String instance_name, fmi
     const char *problem = NULL;
     if (instance_name == NULL || instance_name[0] == '\0')
         problem = "instanceName is missing";
-    else if (token == NULL || strcmp(token, FMI3_INSTANTIATION_TOKEN) != 0)
+    else if (token == NULL || strcmp(token, MODEL_GUID) != 0)
         problem = "the instantiationToken does not match this FMU's modelDescription.xml ("
-                  FMI3_INSTANTIATION_TOKEN ")";
+                  MODEL_GUID ")";
     if (problem != NULL) {
         if (log_message != NULL) {
             char text[512];
@@ -213,9 +178,8 @@ static Instance *instantiate(const char *function, fmi3String instance_name, fmi
     inst->log_message = log_message;
     inst->co_simulation = co_simulation;
     inst->mode = MODE_INSTANTIATED;
-    inst->n_points = FMI3_N_POINTS_START;
-    inst->joint = joint_new(instance_name, FMI3_N_POINTS_START, logging_on, log_to_host, allocate, release, inst);
-    if (inst->joint == NULL) {
+    inst->model = model_new(instance_name, logging_on, log_to_host, allocate, release, inst);
+    if (inst->model == NULL) {
         free(inst);
         return NULL;
     }
@@ -284,7 +248,7 @@ void fmi3FreeInstance(fmi3Instance instance)
     Instance *inst = instance;
     if (inst == NULL)
         return;
-    joint_free(inst->joint);
+    model_free(inst->model);
     free(inst);
 }
 
@@ -299,11 +263,11 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
     if (inst == NULL || !mode_is(inst, "fmi3EnterInitializationMode", M(MODE_INSTANTIATED)))
         return fmi3Error;
     if (!isfinite(start_time)) {
-        joint_log(inst->joint, fmi3Error, "fmi3EnterInitializationMode: startTime=%g is invalid: allowed a finite time",
+        LOG(inst, fmi3Error, "fmi3EnterInitializationMode: startTime=%g is invalid: allowed a finite time",
                   start_time);
         return fmi3Error;
     }
-    inst->joint->time = inst->joint->last_accepted_time = start_time;
+    model_set_start_time(inst->model, start_time);
     inst->mode = MODE_INITIALIZATION;
     return fmi3OK;
 }
@@ -313,9 +277,8 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3ExitInitializationMode", M(MODE_INITIALIZATION)))
         return fmi3Error;
-    if (!joint_pack_parameters(inst->joint, "fmi3ExitInitializationMode"))
+    if (!model_exit_initialization(inst->model, "fmi3ExitInitializationMode"))
         return fmi3Error;
-    inst->joint->last_accepted_time = inst->joint->time;
     inst->mode = inst->co_simulation ? MODE_STEP : MODE_EVENT;
     return fmi3OK;
 }
@@ -326,7 +289,7 @@ fmi3Status fmi3EnterEventMode(fmi3Instance instance)
     if (inst == NULL)
         return fmi3Error;
     if (inst->co_simulation) {
-        joint_log(inst->joint, fmi3Error, "fmi3EnterEventMode: this Co-Simulation FMU has no event mode "
+        LOG(inst, fmi3Error, "fmi3EnterEventMode: this Co-Simulation FMU has no event mode "
                   "(hasEventMode=\"false\")");
         return fmi3Error;
     }
@@ -345,50 +308,37 @@ fmi3Status fmi3Terminate(fmi3Instance instance)
     return fmi3OK;
 }
 
-/* Back to Instantiated with every variable at its start value, n_points too. */
+/* Back to Instantiated with every variable at its start value, structural parameters too. */
 fmi3Status fmi3Reset(fmi3Instance instance)
 {
     Instance *inst = instance;
     if (inst == NULL)
         return fmi3Error;
-    if (!joint_resize(inst->joint, FMI3_N_POINTS_START))
+    if (!model_reset(inst->model))
         return fmi3Error;
-    inst->n_points = FMI3_N_POINTS_START;
     inst->mode = MODE_INSTANTIATED;
     return fmi3OK;
 }
 
-/* ------------------------------------------------------------------ Configuration Mode: n_points */
+/* ------------------------------------------------------------------ Configuration Mode: structural parameters */
 fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance)
 {
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3EnterConfigurationMode", M(MODE_INSTANTIATED)))
         return fmi3Error;
-    inst->n_points = (uint64_t)inst->joint->n_points;
+    model_enter_configuration(inst->model);
     inst->mode = MODE_CONFIGURATION;
     return fmi3OK;
 }
 
-/* Re-size the bushing to the n_points set; inputs, parameters and the time set before are kept. */
+/* Apply the structural parameters set; inputs, parameters and the time set before are kept. */
 fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance)
 {
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3ExitConfigurationMode", M(MODE_CONFIGURATION)))
         return fmi3Error;
-    JointInstance *joint = inst->joint;
-    if ((int64_t)inst->n_points != joint->n_points) {
-        double inputs[N_INPUTS], parameters[N_PARAMETERS];
-        double time = joint->time;
-        memcpy(inputs, joint->inputs, sizeof inputs);
-        memcpy(parameters, joint->parameters, sizeof parameters);
-        if (!joint_resize(joint, (int64_t)inst->n_points))
-            return fmi3Error;   /* out of memory (logged): the old size stays, still in Configuration Mode */
-        for (int i = 0; i < N_INPUTS; i++)
-            joint_set_input(joint, i, inputs[i]);
-        for (int i = 0; i < N_PARAMETERS; i++)
-            joint_set_parameter(joint, i, parameters[i]);
-        joint->time = joint->last_accepted_time = time;
-    }
+    if (!model_exit_configuration(inst->model))
+        return fmi3Error;   /* (logged): the old values stay, still in Configuration Mode */
     inst->mode = MODE_INSTANTIATED;
     return fmi3OK;
 }
@@ -401,50 +351,32 @@ fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
     if (!arrays_given(inst, "fmi3GetFloat64", nvr, vr, value) || !mode_is(inst, "fmi3GetFloat64", READABLE) ||
         !float64_values(inst, "fmi3GetFloat64", vr, nvr, n_values))
         return fmi3Error;
-    JointInstance *joint = inst->joint;
     size_t k = 0;
     for (size_t i = 0; i < nvr; i++) {
-        fmi3ValueReference r = vr[i];
-        if (r < FMI3_VR_FIRST_INPUT + N_INPUTS) {
-            value[k++] = joint->inputs[r - FMI3_VR_FIRST_INPUT];
-        } else if (is_parameter(r, 0)) {
-            value[k++] = joint->parameters[r - FMI3_VR_FIRST_PARAMETER];
-        } else if (is_scalar_output(r)) {
-            const OutputInfo *o = &OUTPUTS[r - FMI3_VR_FIRST_OUTPUT];
-            if (o->source == OUTPUT_FROM_RESULT) {
-                if (!joint_evaluate(joint, "fmi3GetFloat64", o->name))
-                    return fmi3Error;
-                value[k++] = joint->result[o->index];
-            } else {
-                if (!joint_wear_summary(joint, "fmi3GetFloat64"))
-                    return fmi3Error;
-                value[k++] = o->source == OUTPUT_MAX_WEAR_DEPTH ? joint->max_wear_depth : joint->worn_volume;
-            }
-        } else if (r == FMI3_VR_WEAR_DEPTH) {
-            memcpy(value + k, joint->wear_depth, (size_t)joint->n_points * sizeof(double));
-            k += (size_t)joint->n_points;
-        } else { /* FMI3_VR_TIME */
-            value[k++] = joint->time;
-        }
+        if (model_get_float64(inst->model, 3, vr[i], value + k, "fmi3GetFloat64") != 1)
+            return fmi3Error;
+        k += model_float64_count(inst->model, 3, vr[i]);
     }
     return fmi3OK;
 }
 
 /* A parameter may be set before fmi3ExitInitializationMode only. */
-static int parameter_settable(const Instance *inst, const char *function, fmi3ValueReference vr)
+static int parameters_settable(const Instance *inst)
 {
-    if (inst->mode == MODE_INSTANTIATED || inst->mode == MODE_INITIALIZATION)
-        return 1;
-    joint_log(inst->joint, fmi3Error, "%s: parameter %s is fixed: set it before fmi3ExitInitializationMode", function,
-              PARAMETERS[vr - FMI3_VR_FIRST_PARAMETER].name);
-    return 0;
+    return inst->mode == MODE_INSTANTIATED || inst->mode == MODE_INITIALIZATION;
 }
 
-static fmi3Status cannot_set(const Instance *inst, const char *function, fmi3ValueReference vr, const char *type)
+/* After a set that did not succeed: -1 the variable cannot be set, -2 a parameter after
+ * initialisation (logged here); 0 the model logged it. */
+static fmi3Status set_failed(const Instance *inst, const char *function, fmi3ValueReference vr, const char *type,
+                             int done)
 {
     char name[96];
-    variable_name(vr, name, sizeof name);
-    joint_log(inst->joint, fmi3Error, "%s: %s is not a %s variable that can be set", function, name, type);
+    variable_name(inst, vr, name, sizeof name);
+    if (done == -1)
+        LOG(inst, fmi3Error, "%s: %s is not a %s variable that can be set", function, name, type);
+    else if (done == -2)
+        LOG(inst, fmi3Error, "%s: parameter %s is fixed: set it before fmi3ExitInitializationMode", function, name);
     return fmi3Error;
 }
 
@@ -456,21 +388,14 @@ fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
         !scalar_values(inst, "fmi3SetFloat64", nvr, n_values))
         return fmi3Error;
     for (size_t i = 0; i < nvr; i++) {
-        fmi3ValueReference r = vr[i];
-        if (r < FMI3_VR_FIRST_INPUT + N_INPUTS) {
-            joint_set_input(inst->joint, (int)(r - FMI3_VR_FIRST_INPUT), value[i]);
-        } else if (is_parameter(r, 0)) {
-            if (!parameter_settable(inst, "fmi3SetFloat64", r))
-                return fmi3Error;
-            joint_set_parameter(inst->joint, (int)(r - FMI3_VR_FIRST_PARAMETER), value[i]);
-        } else {
-            return cannot_set(inst, "fmi3SetFloat64", r, "Float64");
-        }
+        int done = model_set_float64(inst->model, 3, vr[i], value[i], parameters_settable(inst), "fmi3SetFloat64");
+        if (done != 1)
+            return set_failed(inst, "fmi3SetFloat64", vr[i], "Float64", done);
     }
     return fmi3OK;
 }
 
-/* The enumerations (rho_mode, wear_placement, sliding_distance): their item values. */
+/* The enumerations: their item values. */
 fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Int64 value[],
                         size_t n_values)
 {
@@ -479,13 +404,16 @@ fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
         !scalar_values(inst, "fmi3GetInt64", nvr, n_values))
         return fmi3Error;
     for (size_t i = 0; i < nvr; i++) {
-        if (!is_parameter(vr[i], 1)) {
+        int64_t v = 0;
+        int done = model_get_integer(inst->model, 3, vr[i], &v, "fmi3GetInt64");
+        if (done == -1) {
             char name[96];
-            variable_name(vr[i], name, sizeof name);
-            joint_log(inst->joint, fmi3Error, "fmi3GetInt64: %s is not an Enumeration variable", name);
-            return fmi3Error;
+            variable_name(inst, vr[i], name, sizeof name);
+            LOG(inst, fmi3Error, "fmi3GetInt64: %s is not an Enumeration variable", name);
         }
-        value[i] = (fmi3Int64)inst->joint->parameters[vr[i] - FMI3_VR_FIRST_PARAMETER];
+        if (done != 1)
+            return fmi3Error;
+        value[i] = v;
     }
     return fmi3OK;
 }
@@ -498,18 +426,14 @@ fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
         !scalar_values(inst, "fmi3SetInt64", nvr, n_values))
         return fmi3Error;
     for (size_t i = 0; i < nvr; i++) {
-        fmi3ValueReference r = vr[i];
-        if (!is_parameter(r, 1))
-            return cannot_set(inst, "fmi3SetInt64", r, "Enumeration");
-        if (!parameter_settable(inst, "fmi3SetInt64", r))
-            return fmi3Error;
-        /* checked at fmi3ExitInitializationMode, like every parameter */
-        joint_set_parameter(inst->joint, (int)(r - FMI3_VR_FIRST_PARAMETER), (double)value[i]);
+        int done = model_set_integer(inst->model, 3, vr[i], value[i], parameters_settable(inst), "fmi3SetInt64");
+        if (done != 1)
+            return set_failed(inst, "fmi3SetInt64", vr[i], "Enumeration", done);
     }
     return fmi3OK;
 }
 
-/* The structural parameter n_points: readable in every state, set in Configuration Mode. */
+/* The structural parameters: readable in every state, set in Configuration Mode. */
 fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3UInt64 value[],
                          size_t n_values)
 {
@@ -517,13 +441,12 @@ fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], s
     if (!arrays_given(inst, "fmi3GetUInt64", nvr, vr, value) || !scalar_values(inst, "fmi3GetUInt64", nvr, n_values))
         return fmi3Error;
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] != FMI3_VR_N_POINTS) {
+        if (model_get_structural(inst->model, vr[i], inst->mode == MODE_CONFIGURATION, &value[i]) != 1) {
             char name[96];
-            variable_name(vr[i], name, sizeof name);
-            joint_log(inst->joint, fmi3Error, "fmi3GetUInt64: %s is not a UInt64 variable", name);
+            variable_name(inst, vr[i], name, sizeof name);
+            LOG(inst, fmi3Error, "fmi3GetUInt64: %s is not a UInt64 variable", name);
             return fmi3Error;
         }
-        value[i] = inst->mode == MODE_CONFIGURATION ? inst->n_points : (fmi3UInt64)inst->joint->n_points;
     }
     return fmi3OK;
 }
@@ -535,25 +458,10 @@ fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], s
     if (!arrays_given(inst, "fmi3SetUInt64", nvr, vr, value) || !scalar_values(inst, "fmi3SetUInt64", nvr, n_values))
         return fmi3Error;
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] != FMI3_VR_N_POINTS)
-            return cannot_set(inst, "fmi3SetUInt64", vr[i], "UInt64");
-        fmi3UInt64 n = value[i];
-        if (inst->mode != MODE_CONFIGURATION) {
-            if (n == (fmi3UInt64)inst->joint->n_points && (M(inst->mode) & SETTABLE))
-                continue;   /* its current value: nothing changes */
-            joint_log(inst->joint, fmi3Error,
-                      "fmi3SetUInt64: the structural parameter n_points (now %lld) can be changed in Configuration "
-                      "Mode only (fmi3EnterConfigurationMode after instantiation), not in state %s",
-                      (long long)inst->joint->n_points, MODE_NAMES[inst->mode]);
-            return fmi3Error;
-        }
-        if (n < FMI3_N_POINTS_MIN || n > FMI3_N_POINTS_MAX) {
-            joint_log(inst->joint, fmi3Error,
-                      "fmi3SetUInt64: structural parameter n_points=%llu is invalid: allowed an integer in [%d, %d]",
-                      (unsigned long long)n, FMI3_N_POINTS_MIN, FMI3_N_POINTS_MAX);
-            return fmi3Error;
-        }
-        inst->n_points = n;
+        int done = model_set_structural(inst->model, vr[i], value[i], inst->mode == MODE_CONFIGURATION,
+                                        (M(inst->mode) & SETTABLE) != 0, MODE_NAMES[inst->mode], "fmi3SetUInt64");
+        if (done != 1)
+            return set_failed(inst, "fmi3SetUInt64", vr[i], "UInt64", done);
     }
     return fmi3OK;
 }
@@ -569,7 +477,7 @@ fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], s
             return fmi3Error;                                                                                    \
         if (nvr == 0)                                                                                            \
             return fmi3OK;                                                                                       \
-        joint_log(inst->joint, fmi3Error, "%s: this FMU has no %s variables (valueReference %u)", #function,     \
+        LOG(inst, fmi3Error, "%s: this FMU has no %s variables (valueReference %u)", #function,     \
                   #type, (unsigned)vr[0]);                                                                       \
         return fmi3Error;                                                                                        \
     }
@@ -600,7 +508,7 @@ NO_VARIABLES_OF_TYPE(fmi3SetString, fmi3String, const)
         Instance *inst = instance;                                      \
         if (inst == NULL)                                               \
             return fmi3Error;                                           \
-        joint_log(inst->joint, fmi3Error, "%s: %s", #function, reason); \
+        LOG(inst, fmi3Error, "%s: %s", #function, reason); \
         return fmi3Error;                                               \
     }
 
@@ -680,7 +588,7 @@ fmi3Status fmi3EnterStepMode(fmi3Instance instance)
     if (inst == NULL)
         return fmi3Error;
     if (!inst->co_simulation) {
-        joint_log(inst->joint, fmi3Error, "fmi3EnterStepMode: a Co-Simulation function, this is Model Exchange");
+        LOG(inst, fmi3Error, "fmi3EnterStepMode: a Co-Simulation function, this is Model Exchange");
         return fmi3Error;
     }
     /* without event mode the instance is in Step Mode from fmi3ExitInitializationMode on */
@@ -697,32 +605,24 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 current_time, fmi3Float
         return fmi3Error;
     if (event_handling_needed == NULL || terminate_simulation == NULL || early_return == NULL ||
         last_successful_time == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3DoStep: NULL output pointer");
+        LOG(inst, fmi3Error, "fmi3DoStep: NULL output pointer");
         return fmi3Error;
     }
-    JointInstance *joint = inst->joint;
     *event_handling_needed = fmi3False;
     *terminate_simulation = fmi3False;
     *early_return = fmi3False;
-    *last_successful_time = joint->time;
+    *last_successful_time = model_time(inst->model);
     if (!isfinite(current_time)) {
-        joint_log(joint, fmi3Error, "fmi3DoStep: currentCommunicationPoint=%g is not finite", current_time);
+        LOG(inst, fmi3Error, "fmi3DoStep: currentCommunicationPoint=%g is not finite", current_time);
         return fmi3Discard;
     }
-    double previous = joint->time;
-    joint->time = current_time;
-    int status = joint_accept_step(joint, step_size, "fmi3DoStep");
-    if (status != JOINT_OK) {
-        joint->time = previous;
-        return (fmi3Status)status;
-    }
-    joint->time = joint->last_accepted_time = current_time + step_size;
-    *last_successful_time = joint->time;
-    return fmi3OK;
+    int status = model_do_step(inst->model, current_time, step_size, "fmi3DoStep");
+    *last_successful_time = model_time(inst->model);
+    return (fmi3Status)status;
 }
 
 /* ------------------------------------------------------------------ Model Exchange */
-/* A state event (a contact begins or ends): the contact-onset bookkeeping at the current inputs. */
+/* An event: the model's update (ClearanceWearJoint: the contact-onset bookkeeping). */
 fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete_states_need_update,
                                     fmi3Boolean *terminate_simulation, fmi3Boolean *nominals_changed,
                                     fmi3Boolean *values_changed, fmi3Boolean *next_event_time_defined,
@@ -733,7 +633,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
         return fmi3Error;
     if (discrete_states_need_update == NULL || terminate_simulation == NULL || nominals_changed == NULL ||
         values_changed == NULL || next_event_time_defined == NULL || next_event_time == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3UpdateDiscreteStates: NULL output pointer");
+        LOG(inst, fmi3Error, "fmi3UpdateDiscreteStates: NULL output pointer");
         return fmi3Error;
     }
     *discrete_states_need_update = fmi3False;
@@ -742,7 +642,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     *values_changed = fmi3False;
     *next_event_time_defined = fmi3False;
     *next_event_time = 0.0;
-    return joint_update_contact_memory(inst->joint, "fmi3UpdateDiscreteStates") ? fmi3OK : fmi3Error;
+    return model_event_update(inst->model, "fmi3UpdateDiscreteStates") ? fmi3OK : fmi3Error;
 }
 
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
@@ -754,7 +654,7 @@ fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
     return fmi3OK;
 }
 
-/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs. */
+/* The model's bookkeeping of an accepted step (ClearanceWearJoint: wear and contact onsets). */
 fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean no_set_state_prior,
                                        fmi3Boolean *enter_event_mode, fmi3Boolean *terminate_simulation)
 {
@@ -763,12 +663,12 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean no_set
     if (inst == NULL || !mode_is(inst, "fmi3CompletedIntegratorStep", M(MODE_CONTINUOUS)))
         return fmi3Error;
     if (enter_event_mode == NULL || terminate_simulation == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3CompletedIntegratorStep: NULL output pointer");
+        LOG(inst, fmi3Error, "fmi3CompletedIntegratorStep: NULL output pointer");
         return fmi3Error;
     }
     *enter_event_mode = fmi3False;
     *terminate_simulation = fmi3False;
-    return (fmi3Status)joint_completed_integrator_step(inst->joint, "fmi3CompletedIntegratorStep");
+    return (fmi3Status)model_completed_integrator_step(inst->model, "fmi3CompletedIntegratorStep");
 }
 
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
@@ -776,56 +676,79 @@ fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3SetTime", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
         return fmi3Error;
-    return joint_set_time(inst->joint, time, "fmi3SetTime") ? fmi3OK : fmi3Error;
+    return model_set_time(inst->model, time, "fmi3SetTime") ? fmi3OK : fmi3Error;
 }
 
-/* This FMU has no continuous states: n must be 0. */
-static int no_states(const Instance *inst, const char *function, size_t n)
+/* The model's N_CONTINUOUS_STATES continuous states: n must be that, the array given for n > 0. */
+static int states_given(const Instance *inst, const char *function, size_t n, const void *x)
 {
     if (inst == NULL)
         return 0;
-    if (n == 0)
-        return 1;
-    joint_log(inst->joint, fmi3Error, "%s: this FMU has no continuous states (%zu given)", function, n);
-    return 0;
+    if (n != N_CONTINUOUS_STATES) {
+        if (N_CONTINUOUS_STATES == 0)
+            LOG(inst, fmi3Error, "%s: this FMU has no continuous states (%zu given)", function, n);
+        else
+            LOG(inst, fmi3Error, "%s: this FMU has %d continuous states (%zu given)", function, N_CONTINUOUS_STATES,
+                n);
+        return 0;
+    }
+    if (n > 0 && x == NULL) {
+        LOG(inst, fmi3Error, "%s: NULL array", function);
+        return 0;
+    }
+    return 1;
 }
 
 fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 x[], size_t nx)
 {
-    (void)x;
-    return no_states(instance, "fmi3SetContinuousStates", nx) ? fmi3OK : fmi3Error;
+    Instance *inst = instance;
+    if (!states_given(inst, "fmi3SetContinuousStates", nx, x) ||
+        !mode_is(inst, "fmi3SetContinuousStates", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
+        return fmi3Error;
+    return model_set_continuous_states(inst->model, x, "fmi3SetContinuousStates") ? fmi3OK : fmi3Error;
 }
 
 fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t nx)
 {
-    (void)derivatives;
-    return no_states(instance, "fmi3GetContinuousStateDerivatives", nx) ? fmi3OK : fmi3Error;
+    Instance *inst = instance;
+    if (!states_given(inst, "fmi3GetContinuousStateDerivatives", nx, derivatives) ||
+        !mode_is(inst, "fmi3GetContinuousStateDerivatives", READABLE))
+        return fmi3Error;
+    return model_get_derivatives(inst->model, derivatives, "fmi3GetContinuousStateDerivatives") ? fmi3OK : fmi3Error;
 }
 
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 x[], size_t nx)
 {
-    (void)x;
-    return no_states(instance, "fmi3GetContinuousStates", nx) ? fmi3OK : fmi3Error;
+    Instance *inst = instance;
+    if (!states_given(inst, "fmi3GetContinuousStates", nx, x) || !mode_is(inst, "fmi3GetContinuousStates", READABLE))
+        return fmi3Error;
+    return model_get_continuous_states(inst->model, x, "fmi3GetContinuousStates") ? fmi3OK : fmi3Error;
 }
 
 fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nx)
 {
-    (void)nominals;
-    return no_states(instance, "fmi3GetNominalsOfContinuousStates", nx) ? fmi3OK : fmi3Error;
+    Instance *inst = instance;
+    if (!states_given(inst, "fmi3GetNominalsOfContinuousStates", nx, nominals))
+        return fmi3Error;
+    for (size_t i = 0; i < nx; i++)
+        nominals[i] = 1.0;
+    return fmi3OK;
 }
 
-/* The event indicator: the signed penetration of the deepest bushing point at the current inputs. */
+/* The model's N_EVENT_INDICATORS event indicators. */
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 indicators[], size_t ni)
 {
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3GetEventIndicators", READABLE))
         return fmi3Error;
-    if (ni != N_EVENT_INDICATORS || indicators == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3GetEventIndicators: this FMU has %d event indicator (%zu given)",
-                  N_EVENT_INDICATORS, ni);
+    if (ni != N_EVENT_INDICATORS || (ni > 0 && indicators == NULL)) {
+        LOG(inst, fmi3Error, "fmi3GetEventIndicators: this FMU has %d event indicator%s (%zu given)",
+            N_EVENT_INDICATORS, N_EVENT_INDICATORS == 1 ? "" : "s", ni);
         return fmi3Error;
     }
-    return joint_event_indicator(inst->joint, "fmi3GetEventIndicators", &indicators[0]) ? fmi3OK : fmi3Error;
+    if (ni == 0)
+        return fmi3OK;
+    return model_get_event_indicators(inst->model, indicators, "fmi3GetEventIndicators") ? fmi3OK : fmi3Error;
 }
 
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *n)
@@ -834,7 +757,7 @@ fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *n)
     if (inst == NULL)
         return fmi3Error;
     if (n == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3GetNumberOfEventIndicators: NULL pointer");
+        LOG(inst, fmi3Error, "fmi3GetNumberOfEventIndicators: NULL pointer");
         return fmi3Error;
     }
     *n = N_EVENT_INDICATORS;
@@ -847,20 +770,20 @@ fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *n)
     if (inst == NULL)
         return fmi3Error;
     if (n == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3GetNumberOfContinuousStates: NULL pointer");
+        LOG(inst, fmi3Error, "fmi3GetNumberOfContinuousStates: NULL pointer");
         return fmi3Error;
     }
-    *n = 0;
+    *n = N_CONTINUOUS_STATES;
     return fmi3OK;
 }
 
 /* ------------------------------------------------------------------ FMU state (the FMI 2.0 layer's bytes) */
 static FmuState *new_state(const Instance *inst)
 {
-    size_t size = joint_state_size(inst->joint);
+    size_t size = model_state_size(inst->model);
     FmuState *s = calloc(1, sizeof *s + size);
     if (s == NULL)
-        joint_log(inst->joint, fmi3Error, "FMU state: out of memory");
+        LOG(inst, fmi3Error, "FMU state: out of memory");
     else
         s->size = size;
     return s;
@@ -872,7 +795,7 @@ fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *state)
     if (inst == NULL)
         return fmi3Error;
     if (state == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3GetFMUState: NULL state pointer");
+        LOG(inst, fmi3Error, "fmi3GetFMUState: NULL state pointer");
         return fmi3Error;
     }
     FmuState *s = *state;
@@ -880,11 +803,11 @@ fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *state)
         if ((s = new_state(inst)) == NULL)
             return fmi3Error;
         *state = s;
-    } else if (s->size != joint_state_size(inst->joint)) {
-        joint_log(inst->joint, fmi3Error, "fmi3GetFMUState: the state given to overwrite is not of this FMU");
+    } else if (s->size != model_state_size(inst->model)) {
+        LOG(inst, fmi3Error, "fmi3GetFMUState: the state given to overwrite is not of this FMU");
         return fmi3Error;
     }
-    joint_write_state(inst->joint, s->bytes, (M(inst->mode) & INITIALISED) != 0);
+    model_write_state(inst->model, s->bytes, (M(inst->mode) & INITIALISED) != 0);
     return fmi3OK;
 }
 
@@ -894,13 +817,12 @@ fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state)
     if (inst == NULL || !mode_is(inst, "fmi3SetFMUState", ~M(MODE_CONFIGURATION)))
         return fmi3Error;
     const FmuState *s = state;
-    if (s == NULL || s->size != joint_state_size(inst->joint)) {
-        joint_log(inst->joint, fmi3Error, "fmi3SetFMUState: NULL or not a state of this FMU (n_points=%lld)",
-                  (long long)inst->joint->n_points);
+    if (s == NULL || s->size != model_state_size(inst->model)) {
+        LOG(inst, fmi3Error, "fmi3SetFMUState: NULL or not a state of this FMU");
         return fmi3Error;
     }
     int initialised = 0;
-    int ok = joint_read_state(inst->joint, s->bytes, &initialised, "fmi3SetFMUState");
+    int ok = model_read_state(inst->model, s->bytes, &initialised, "fmi3SetFMUState");
     if (initialised && !(M(inst->mode) & (M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
         inst->mode = inst->co_simulation ? MODE_STEP : MODE_EVENT;
     else if (!initialised && (M(inst->mode) & INITIALISED))
@@ -914,7 +836,7 @@ fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *state)
     if (inst == NULL)
         return fmi3Error;
     if (state == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3FreeFMUState: NULL state pointer");
+        LOG(inst, fmi3Error, "fmi3FreeFMUState: NULL state pointer");
         return fmi3Error;
     }
     free(*state);
@@ -929,7 +851,7 @@ fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState state,
         return fmi3Error;
     const FmuState *s = state;
     if (s == NULL || size == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3SerializedFMUStateSize: NULL state or size pointer");
+        LOG(inst, fmi3Error, "fmi3SerializedFMUStateSize: NULL state or size pointer");
         return fmi3Error;
     }
     *size = s->size;
@@ -943,7 +865,7 @@ fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState state, fmi3
         return fmi3Error;
     const FmuState *s = state;
     if (s == NULL || bytes == NULL || size < s->size) {
-        joint_log(inst->joint, fmi3Error,
+        LOG(inst, fmi3Error,
                   "fmi3SerializeFMUState: NULL state or buffer, or a buffer of %zu bytes for a state of %zu", size,
                   s != NULL ? s->size : (size_t)0);
         return fmi3Error;
@@ -958,14 +880,14 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte bytes[]
     if (inst == NULL)
         return fmi3Error;
     if (bytes == NULL || state == NULL) {
-        joint_log(inst->joint, fmi3Error, "fmi3DeserializeFMUState: NULL bytes or state pointer");
+        LOG(inst, fmi3Error, "fmi3DeserializeFMUState: NULL bytes or state pointer");
         return fmi3Error;
     }
-    if (!joint_state_valid(inst->joint, bytes, size, "fmi3DeserializeFMUState"))
+    if (!model_state_valid(inst->model, bytes, size, "fmi3DeserializeFMUState"))
         return fmi3Error;
     FmuState *s = *state;
     if (s != NULL && s->size != size) {
-        joint_log(inst->joint, fmi3Error, "fmi3DeserializeFMUState: the state given to overwrite is not of this FMU");
+        LOG(inst, fmi3Error, "fmi3DeserializeFMUState: the state given to overwrite is not of this FMU");
         return fmi3Error;
     }
     if (s == NULL && (s = new_state(inst)) == NULL)

@@ -12,38 +12,11 @@
 #define STATE_MAGIC "WJFMU002"
 #define STATE_HEAD_DOUBLES 3 /* magic (8 bytes), time, initialised */
 
-/* ------------------------------------------------------------------ logging */
-void joint_log(const JointInstance *joint, int status, const char *format, ...)
-{
-    if (status < JOINT_ERROR && !joint->logging_on)
-        return;
-    char text[1024];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(text, sizeof text, format, args);
-    va_end(args);
-    const char *category = status >= JOINT_ERROR ? "logStatusError" : status == JOINT_WARNING ? "logStatusWarning"
-                                                                                               : "logAll";
-    joint->log(joint->environment, joint->name, status, category, text);
-}
-
-const char *joint_shortest(double x, char *out, size_t size)
-{
-    for (int precision = 1; precision <= 17; precision++) {
-        snprintf(out, size, "%.*g", precision, x);
-        if (strtod(out, NULL) == x)
-            break;
-    }
-    if (isfinite(x) && strpbrk(out, ".e") == NULL && strlen(out) + 3 <= size)
-        strcat(out, ".0");
-    return out;
-}
-
 static int kernel_ok(const JointInstance *joint, const char *kernel, int32_t status)
 {
     if (status == 0)
         return 1;
-    joint->log(joint->environment, joint->name, JOINT_ERROR, "logStatusError", kernel);
+    fmu_log(&joint->host, JOINT_ERROR, "%s", kernel);
     return 0;
 }
 
@@ -64,20 +37,20 @@ static void describe_non_finite_inputs(const JointInstance *joint, char *out, si
 static int allocate_arrays(JointInstance *joint, int64_t n_points)
 {
     int64_t n_blocks = (n_points + BLOCK_SIZE - 1) / BLOCK_SIZE;
-    double *arrays = joint->allocate(joint->environment, (size_t)(7 * n_points + n_blocks), sizeof(double));
-    unsigned char *mask = joint->allocate(joint->environment, (size_t)n_points, 1);
+    double *arrays = joint->host.allocate(joint->host.environment, (size_t)(7 * n_points + n_blocks), sizeof(double));
+    unsigned char *mask = joint->host.allocate(joint->host.environment, (size_t)n_points, 1);
     if (arrays == NULL || mask == NULL) {
         if (arrays != NULL)
-            joint->release(joint->environment, arrays);
+            joint->host.release(joint->host.environment, arrays);
         if (mask != NULL)
-            joint->release(joint->environment, mask);
+            joint->host.release(joint->host.environment, mask);
         joint_log(joint, JOINT_ERROR, "out of memory for %lld bushing points", (long long)n_points);
         return 0;
     }
     if (joint->phi != NULL)
-        joint->release(joint->environment, joint->phi);
+        joint->host.release(joint->host.environment, joint->phi);
     if (joint->mask != NULL)
-        joint->release(joint->environment, joint->mask);
+        joint->host.release(joint->host.environment, joint->mask);
     joint->n_points = n_points;
     joint->n_blocks = n_blocks;
     joint->phi = arrays;
@@ -92,27 +65,12 @@ static int allocate_arrays(JointInstance *joint, int64_t n_points)
     return 1;
 }
 
-JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, JointLogFunction *log,
-                         JointAllocateFunction *allocate, JointReleaseFunction *release, void *environment)
+JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, FmuLogFunction *log,
+                         FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment)
 {
-    JointInstance *joint = allocate(environment, 1, sizeof *joint);
-    char *copy = allocate(environment, strlen(name) + 1, 1);
-    if (joint == NULL || copy == NULL) {
-        log(environment, name, JOINT_ERROR, "logStatusError", "fmiInstantiate: out of memory");
-        if (joint != NULL)
-            release(environment, joint);
-        if (copy != NULL)
-            release(environment, copy);
+    JointInstance *joint = fmu_new_instance(sizeof *joint, name, logging_on, log, allocate, release, environment);
+    if (joint == NULL)
         return NULL;
-    }
-    memset(joint, 0, sizeof *joint);
-    strcpy(copy, name);
-    joint->name = copy;
-    joint->log = log;
-    joint->environment = environment;
-    joint->allocate = allocate;
-    joint->release = release;
-    joint->logging_on = logging_on;
     if (!allocate_arrays(joint, n_points)) {
         joint_free(joint);
         return NULL;
@@ -125,14 +83,11 @@ void joint_free(JointInstance *joint)
 {
     if (joint == NULL)
         return;
-    JointReleaseFunction *release = joint->release;
-    void *environment = joint->environment;
     if (joint->phi != NULL)
-        release(environment, joint->phi);
+        joint->host.release(joint->host.environment, joint->phi);
     if (joint->mask != NULL)
-        release(environment, joint->mask);
-    release(environment, joint->name);
-    release(environment, joint);
+        joint->host.release(joint->host.environment, joint->mask);
+    fmu_free_instance(joint);
 }
 
 int joint_resize(JointInstance *joint, int64_t n_points)
@@ -181,41 +136,7 @@ void joint_set_parameter(JointInstance *joint, int index, double value)
 /* 1 if every parameter is allowed; else logs the first that is not (name, value, allowed range). */
 static int parameters_valid(const JointInstance *joint, const double *values, const char *when)
 {
-    for (int i = 0; i < N_PARAMETERS; i++) {
-        const ParameterInfo *p = &PARAMETERS[i];
-        double x = values[i];
-        int ok;
-        if (p->n_choices > 0) {
-            ok = x == floor(x) && x >= 0.0 && x < p->n_choices;
-        } else {
-            ok = isfinite(x);
-            if (ok && p->has_low)
-                ok = p->low_open ? x > p->low : x >= p->low;
-            if (ok && p->has_high)
-                ok = p->high_open ? x < p->high : x <= p->high;
-            if (ok && p->above >= 0)
-                ok = x > values[p->above];
-        }
-        if (ok)
-            continue;
-        char text[32], other[32];
-        if (p->n_choices > 0)   /* an Integer: its value as an integer */
-            snprintf(text, sizeof text, "%.0f", x);
-        else
-            joint_shortest(x, text, sizeof text);
-        /* a rule with bounds says "> 0"; for a non-finite value say that it must be finite, too */
-        const char *finite =
-            p->n_choices == 0 && !isfinite(x) && (p->has_low || p->has_high || p->above >= 0) ? "a finite value " : "";
-        if (p->above >= 0)
-            joint_log(joint, JOINT_ERROR, "%s: parameter %s=%s is invalid: allowed %s%s (%s = %s)", when, p->name,
-                      text, finite, p->allowed, PARAMETERS[p->above].name,
-                      joint_shortest(values[p->above], other, sizeof other));
-        else
-            joint_log(joint, JOINT_ERROR, "%s: parameter %s=%s is invalid: allowed %s%s", when, p->name, text, finite,
-                      p->allowed);
-        return 0;
-    }
-    return 1;
+    return fmu_parameters_valid(&joint->host, PARAMETERS, N_PARAMETERS, values, when);
 }
 
 int joint_pack_parameters(JointInstance *joint, const char *when)

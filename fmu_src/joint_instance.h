@@ -1,9 +1,9 @@
 /* One clearance/wear joint as an FMU instance holds it, independent of the FMI version.
  *
- * The FMI layers (fmi2Functions.c; FMI 3.0 alike) own the call sequence and value references;
- * this part owns the joint's memory and data (inputs, parameters, the kernels' arrays), checks
- * parameters against the generated table, calls the compiled kernels (model.h) and reads and
- * writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
+ * The generic FMI layers (fmi2Functions.c, fmi3Functions.c) own the call sequence and
+ * joint_model.c the value references (the model interface of fmu_model.h); this part owns the
+ * joint's memory and data (inputs, parameters, the kernels' arrays), checks parameters against the
+ * generated table, calls the compiled kernels (model.h) and reads and writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
  */
 #ifndef WEARJOINT_JOINT_INSTANCE_H
 #define WEARJOINT_JOINT_INSTANCE_H
@@ -11,25 +11,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "fmu_model.h"
 #include "model_variables.h"
 
-enum { JOINT_OK = 0, JOINT_WARNING = 1, JOINT_DISCARD = 2, JOINT_ERROR = 3, JOINT_FATAL = 4 };
-
-/* The host's logger, given a complete message ('%' not escaped). */
-typedef void JointLogFunction(void *environment, const char *instance_name, int status, const char *category,
-                              const char *message);
-
-/* The host's memory functions (``environment`` is the one given to joint_new). */
-typedef void *JointAllocateFunction(void *environment, size_t n, size_t size); /* zero-filled, like calloc */
-typedef void JointReleaseFunction(void *environment, void *p);
+enum { JOINT_OK = FMU_OK, JOINT_WARNING = FMU_WARNING, JOINT_DISCARD = FMU_DISCARD, JOINT_ERROR = FMU_ERROR,
+       JOINT_FATAL = FMU_FATAL };
 
 typedef struct {
-    JointLogFunction *log;
-    JointAllocateFunction *allocate;
-    JointReleaseFunction *release;
-    void *environment;                 /* the FMI layer's, passed to the three functions above */
-    char *name;
-    int logging_on;                    /* messages below JOINT_ERROR only when on */
+    FmuHost host;                      /* first: logger, memory, instance name (fmu_new_instance) */
     double time;
     double last_accepted_time;         /* Model Exchange: end of the last completed integrator step */
     double inputs[N_INPUTS];
@@ -49,28 +38,15 @@ typedef struct {
 } JointInstance;
 
 /* A joint with n_points bushing points and default parameters; NULL (logged) without memory. */
-JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, JointLogFunction *log,
-                         JointAllocateFunction *allocate, JointReleaseFunction *release, void *environment);
+JointInstance *joint_new(const char *name, int64_t n_points, int logging_on, FmuLogFunction *log,
+                         FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment);
 void joint_free(JointInstance *joint);
 /* Re-size the bushing to n_points (>= 8) and restore the defaults; 0 (logged) on failure. */
 int joint_resize(JointInstance *joint, int64_t n_points);
 /* Default inputs and parameters, an unworn bushing, no contact memory. */
 void joint_reset(JointInstance *joint);
 
-/* MinGW checks "printf" formats against msvcrt's printf, which knows no %zu; the FMU is built with
- * __USE_MINGW_ANSI_STDIO=1 (C99 printf from libmingwex), whose formats are GNU printf's. */
-#if defined(__MINGW32__)
-#if !defined(__USE_MINGW_ANSI_STDIO) || !__USE_MINGW_ANSI_STDIO
-#error "build the FMU for Windows with -D__USE_MINGW_ANSI_STDIO=1 (C99 printf: the log messages use %zu)"
-#endif
-#define JOINT_PRINTF_FORMAT gnu_printf
-#else
-#define JOINT_PRINTF_FORMAT printf
-#endif
-void joint_log(const JointInstance *joint, int status, const char *format, ...)
-    __attribute__((format(JOINT_PRINTF_FORMAT, 3, 4)));
-/* The shortest text that reads back as exactly x, written as Python's repr writes floats. */
-const char *joint_shortest(double x, char *out, size_t size);
+#define joint_log(joint, ...) fmu_log(&(joint)->host, __VA_ARGS__)
 
 void joint_set_input(JointInstance *joint, int index, double value);
 void joint_set_parameter(JointInstance *joint, int index, double value);

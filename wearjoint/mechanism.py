@@ -1,31 +1,19 @@
 """The paper's slider-crank (Sec. 6.1): parameter packing, initial state, closed form."""
 from __future__ import annotations
 
-import math
+import dataclasses
 
 import numpy as np
 
 from .core import layout as L
-from .core.mechanism import initial_state, make_workspace
+from .core.mechanism import initial_state, make_workspace, mechanism_parameter_vector
 from .parameters import SliderCrankParameters
 
 
 def pack_mechanism_parameters(p: SliderCrankParameters) -> np.ndarray:
     """The flat parameter vector the kernels read (layout.MP_*)."""
     mp = np.zeros(L.N_MECHANISM_PARAMETERS)
-    mp[L.MP_CRANK_LENGTH] = p.crank_length_m
-    mp[L.MP_ROD_LENGTH] = p.rod_length_m
-    mp[L.MP_CRANK_MASS] = p.crank_mass_kg
-    mp[L.MP_CRANK_INERTIA] = p.crank_inertia_kg_m2
-    mp[L.MP_ROD_MASS] = p.rod_mass_kg
-    mp[L.MP_ROD_INERTIA] = p.rod_inertia_kg_m2
-    mp[L.MP_SLIDER_MASS] = p.slider_mass_kg
-    mp[L.MP_SLIDER_INERTIA] = p.slider_inertia_kg_m2
-    mp[L.MP_GRAVITY] = p.gravity_m_s2
-    mp[L.MP_OMEGA] = p.omega_rad_s
-    mp[L.MP_THETA0] = math.radians(p.initial_crank_angle_deg)
-    mp[L.MP_ALPHA] = p.baumgarte_alpha
-    mp[L.MP_BETA] = p.baumgarte_beta
+    mechanism_parameter_vector(np.array([getattr(p, f.name) for f in dataclasses.fields(p)], dtype=float), mp)
     return mp
 
 
@@ -42,7 +30,7 @@ class SliderCrank:
     def initial_state(self) -> np.ndarray:
         """y0 = [q, q_dot] with the pin centred and the ideal kinematic velocities."""
         y = np.zeros(2 * L.N_COORDINATES)
-        initial_state(self.parameter_vector, self.workspace, y)
+        initial_state(0.0, self.parameter_vector, self.workspace, y)
         return y
 
     def crank_angle(self, t) -> np.ndarray:

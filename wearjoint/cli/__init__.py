@@ -18,6 +18,7 @@ from ..parameters import ParameterError
 COMMANDS = {
     "simulate": ("wearjoint.cli.simulate", "monolithic slider-crank simulation (no FMI)"),
     "build-fmu": ("wearjoint.cli.build_fmu", "build the ClearanceWearJoint FMU (FMI 2.0 co-simulation)"),
+    "export-ssp": ("wearjoint.cli.export_ssp", "write SliderCrankWithClearance.ssp: slider-crank and joint FMUs wired"),
     "cosim": ("wearjoint.cli.cosim", "co-simulate the slider-crank with the joint FMU through fmpy"),
     "validate": ("wearjoint.cli.validate", "cross-check monolithic, FMU and exudyn runs"),
     "wear-study": ("wearjoint.cli.wear_study", "thousands of revolutions of wear (paper Figs. 7-8)"),

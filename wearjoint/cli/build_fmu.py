@@ -1,5 +1,6 @@
 """`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend (FMI 2.0, or 3.0 native),
-the native one for linux64, win64 and aarch64-linux (whichever toolchains are installed)."""
+the native one for linux64, win64 and aarch64-linux (whichever toolchains are installed), or
+(``--model slider-crank``, native) the mechanism FMU SliderCrank.fmu."""
 from __future__ import annotations
 
 import sys
@@ -7,14 +8,18 @@ from pathlib import Path
 
 from ..fmu import platforms
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND, DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
+from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..parameters import JointParameters, ParameterError
 
 
 def add_arguments(parser) -> None:
     """Options of ``wearjoint build-fmu``."""
     parser.add_argument("--out", metavar="DIR", default=None,
-                        help="directory for ClearanceWearJoint.fmu (default: the user cache, keyed by the sources "
-                             "and the backend)")
+                        help="directory for the FMU (default: the user cache, keyed by the sources and the backend)")
+    parser.add_argument("--model", choices=tuple(MODELS), default=DEFAULT_MODEL,
+                        help="joint: ClearanceWearJoint.fmu; slider-crank: SliderCrank.fmu, the paper's slider-crank "
+                             "with the crank-rod joint open (native backend; --n-points does not apply) "
+                             "(default %(default)s)")
     parser.add_argument("--n-points", type=int, default=JointParameters.n_points, metavar="N",
                         help="number of bushing points N_d, fixed in the FMU (default %(default)s)")
     parser.add_argument("--backend", choices=BACKENDS, default=DEFAULT_BACKEND,
@@ -39,9 +44,10 @@ def run(args) -> int:
         version = args.fmi_version
         requested = args.platforms
         out = Path(args.out) if args.out is not None else \
-            default_fmu_path(args.n_points, args.backend, fmi_version=version, platforms=requested).parent
+            default_fmu_path(args.n_points, args.backend, fmi_version=version, platforms=requested,
+                             model=args.model).parent
         path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version,
-                         platforms=requested)
+                         platforms=requested, model=args.model)
         if args.backend == "native":
             built, skipped = platforms.select(requested)
             print(f"built: {', '.join(t.folder(version) for t in built)}", file=sys.stderr)

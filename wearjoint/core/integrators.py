@@ -14,7 +14,7 @@ from numba import njit
 
 from .layout import (
     CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, M_ACTIVE,
-    MODE_CLEARANCE,
+    MODE_CLEARANCE, MODE_EXTERNAL,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
     R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
@@ -138,6 +138,18 @@ def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
     k4 = stages[2]
     for i in range(n2):
         y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@kernel
+def rk4_hold(t, h, n_steps, y, mp, joint, body_forces, ws, dy, stages):
+    """Integrate y over [t, t + h] in ``n_steps`` RK4 steps with the open joint's loads held at
+    ``body_forces`` (MODE_EXTERNAL: a co-simulation step with the inputs held, Eqs. 39-44);
+    dy = f(t + h, y) on return.  ``stages``: (4, len(y)) scratch."""
+    step = h / n_steps
+    for i in range(n_steps):
+        derivative(t + i * step, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
+        rk4_step(t + i * step, y, step, MODE_EXTERNAL, mp, joint, body_forces, ws, dy, stages)
+    derivative(t + h, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
 
 
 @kernel

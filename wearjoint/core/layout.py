@@ -78,6 +78,7 @@ MP_THETA0 = 10
 MP_ALPHA = 11             # Baumgarte
 MP_BETA = 12
 N_MECHANISM_PARAMETERS = 13
+N_MECHANISM_FIELDS = 13    # SliderCrankParameters' fields (core.mechanism.mechanism_parameter_vector)
 
 # state vector y = [q (9), q_dot (9)], q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (Eq. 38)
 N_COORDINATES = 9

@@ -12,14 +12,13 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
 
 from .jit import kernel
 from .joint_access import contact_forces
 from .layout import (
     CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
     MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
-    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, R_BUSHING_FX, R_BUSHING_FY,
+    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_MECHANISM_FIELDS, R_BUSHING_FX, R_BUSHING_FY,
     R_BUSHING_TORQUE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
 )
 
@@ -50,9 +49,29 @@ def make_workspace(mp):
     """Scratch arrays of :func:`accelerations` (one set per host) and M^-1 (Eq. 42)."""
     n = N_COORDINATES
     inverse_mass = np.empty(n)
-    mass_diagonal(mp, inverse_mass)
-    return (np.zeros((n, n)), np.zeros((n, n)), np.zeros(n), np.zeros(n), np.zeros(n),
-            1.0 / inverse_mass, np.zeros(n))
+    inverse_mass_diagonal(mp, inverse_mass)
+    return (np.zeros((n, n)), np.zeros((n, n)), np.zeros(n), np.zeros(n), np.zeros(n), inverse_mass, np.zeros(n))
+
+
+@kernel
+def mechanism_parameter_vector(fields, mp):
+    """The kernels' parameter vector mp (layout.MP_*) from the :class:`SliderCrankParameters`
+    fields in their declaration order (layout.N_MECHANISM_FIELDS values, the user's units: rpm,
+    degrees): omega = 2 pi n / 60 [rad/s], theta0 in radians."""
+    mp[MP_CRANK_LENGTH] = fields[0]
+    mp[MP_CRANK_MASS] = fields[1]
+    mp[MP_CRANK_INERTIA] = fields[2]
+    mp[MP_ROD_LENGTH] = fields[3]
+    mp[MP_ROD_MASS] = fields[4]
+    mp[MP_ROD_INERTIA] = fields[5]
+    mp[MP_SLIDER_MASS] = fields[6]
+    mp[MP_SLIDER_INERTIA] = fields[7]
+    mp[MP_OMEGA] = fields[8] * 2.0 * math.pi / 60.0
+    mp[MP_THETA0] = math.radians(fields[9])
+    mp[MP_GRAVITY] = fields[10]
+    mp[MP_ALPHA] = fields[11]
+    mp[MP_BETA] = fields[12]
+    return N_MECHANISM_FIELDS
 
 
 @kernel
@@ -146,6 +165,14 @@ def mass_diagonal(mp, out):
     out[5] = mp[MP_ROD_INERTIA]
     out[6] = out[7] = mp[MP_SLIDER_MASS]
     out[8] = mp[MP_SLIDER_INERTIA]
+
+
+@kernel
+def inverse_mass_diagonal(mp, out):
+    """M^-1 of Eq. (42), its diagonal."""
+    mass_diagonal(mp, out)
+    for k in range(N_COORDINATES):
+        out[k] = 1.0 / out[k]
 
 
 @kernel
@@ -293,13 +320,14 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
         open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, sin2, dy)
 
 
-@njit(cache=True)
-def initial_state(mp, ws, y):
-    """Consistent initial conditions: pin centred in the bushing, positions on the
-    ideal mechanism at th0, velocities solving the ideal velocity constraints."""
+@kernel
+def initial_state(t, mp, ws, y):
+    """Consistent conditions at time t [s]: pin centred in the bushing, positions on the
+    ideal mechanism at th1 = th0 - omega t (Eq. 39), velocities solving the ideal velocity
+    constraints.  Uses ws's scratch (ws[6] as the zero velocity)."""
     l1 = mp[MP_CRANK_LENGTH]
     l2 = mp[MP_ROD_LENGTH]
-    th1 = mp[MP_THETA0]
+    th1 = mp[MP_THETA0] - mp[MP_OMEGA] * t
     px = l1 * math.cos(th1)
     py = l1 * math.sin(th1)
     xs = px + math.sqrt(l2 * l2 - py * py)
@@ -314,9 +342,10 @@ def initial_state(mp, ws, y):
     y[ROD + 1] = py + 0.5 * l2 * math.sin(th2)
     y[ROD + 2] = th2
     y[SLIDER] = xs
-    jac, schur, phi, phi_dot, gamma, _, _ = ws
-    zero = np.zeros(n)
-    m = constraints(0.0, y[:n], zero, mp, True, jac, phi, phi_dot, gamma)
+    jac, schur, phi, phi_dot, gamma, _, zero = ws
+    for c in range(n):
+        zero[c] = 0.0
+    m = constraints(t, y[:n], zero, mp, True, jac, phi, phi_dot, gamma)
     # C q_dot = -Phi_t (Phi_t: omega in the driver row, i.e. phi_dot at q_dot = 0);
     # C is square and regular, so q_dot = C^T z with (C C^T) z = -Phi_t
     for r in range(m):

@@ -1,10 +1,12 @@
-"""Ahead-of-time compilation of the joint's kernels for the native FMU.
+"""Ahead-of-time compilation of a model's kernels for its native FMU.
 
-The native FMU runs the very kernels :class:`wearjoint.ClearanceJoint` runs:
-the numba ``cfunc`` entry points of :mod:`wearjoint.fmu.entry_points`.  For
-each, numba's optimised LLVM IR is taken, the ``cfunc`` wrapper (which reports
-Python exceptions through the CPython API) is dropped, and the compiled
-function behind it is exported under a stable C name with numba's calling
+A native FMU runs the very kernels the library runs: the numba ``cfunc`` entry points of its
+model (:data:`ENTRY_POINTS`: ``joint``, the ClearanceWearJoint FMU, from
+:mod:`wearjoint.fmu.entry_points`, the kernels :class:`wearjoint.ClearanceJoint` runs;
+``slider-crank``, the SliderCrank FMU, from :mod:`wearjoint.fmu.slider_crank_entry_points`, the
+mechanism kernels of the monolithic engine).  For each, numba's optimised LLVM IR is taken,
+the ``cfunc`` wrapper (which reports Python exceptions through the CPython API) is dropped,
+and the compiled function behind it is exported under a stable C name with numba's calling
 convention ``int32 f(void *retptr, void *excinfo, arguments...)`` (status 0 =
 success).  Every other function becomes internal, unreferenced code is removed
 (global dead-code elimination), and the module's IR is written out: the one
@@ -21,30 +23,40 @@ Python.  :func:`compile_ir` proves it: the only symbols an object may
 leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
 build fails.
 
-Run as ``python -m wearjoint.fmu.aot OUT_DIR`` in a fresh process with an empty
+Run as ``python -m wearjoint.fmu.aot MODEL OUT_DIR`` in a fresh process with an empty
 numba cache (a cached function has no IR) and ``NUMBA_CPU_NAME=generic``;
 :func:`wearjoint.fmu.build_native.build_fmu` does that.  Writes per entry point
 ``<symbol>.ll`` and ``entry_points.json`` ({symbol: IR file}).
 """
 from __future__ import annotations
 
+import importlib
 import json
 import re
 import sys
 from pathlib import Path
 
-# stable C symbol -> (cfunc in wearjoint.fmu.entry_points, its number of arguments); the C
-# prototypes in fmu_src/model.h take two more (return value, exception info).  A cfunc whose
-# argument count differs from its prototype's fails the build.
+# model -> (module of its cfuncs, {stable C symbol: (cfunc, its number of arguments)}); the C
+# prototypes (the model's kernel header: fmu_src/model.h, fmu_src/slider_crank_kernels.h) take two
+# more (return value, exception info).  A cfunc whose argument count differs from its
+# prototype's fails the build.
 ENTRY_POINTS = {
-    "wearjoint_evaluate": ("evaluate_native", 11),
-    "wearjoint_advance": ("advance_native", 13),
-    "wearjoint_accept": ("accept_native", 13),
-    "wearjoint_update_contact_memory": ("update_contact_memory_native", 3),
-    "wearjoint_bushing_points": ("bushing_points_native", 4),
-    "wearjoint_block_minima": ("block_minima_native", 4),
-    "wearjoint_worn_volume": ("worn_volume_native", 3),
-    "wearjoint_complete_parameters": ("complete_parameters_native", 1),
+    "joint": ("wearjoint.fmu.entry_points", {
+        "wearjoint_evaluate": ("evaluate_native", 11),
+        "wearjoint_advance": ("advance_native", 13),
+        "wearjoint_accept": ("accept_native", 13),
+        "wearjoint_update_contact_memory": ("update_contact_memory_native", 3),
+        "wearjoint_bushing_points": ("bushing_points_native", 4),
+        "wearjoint_block_minima": ("block_minima_native", 4),
+        "wearjoint_worn_volume": ("worn_volume_native", 3),
+        "wearjoint_complete_parameters": ("complete_parameters_native", 1),
+    }),
+    "slider-crank": ("wearjoint.fmu.slider_crank_entry_points", {
+        "slider_crank_parameters": ("parameters_native", 3),
+        "slider_crank_initial_state": ("initial_state_native", 10),
+        "slider_crank_derivative": ("derivative_native", 12),
+        "slider_crank_step": ("step_native", 15),
+    }),
 }
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)
 ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",
@@ -88,21 +100,22 @@ def _target_machine(triple: str, cpu: str):
                                                                    codemodel="default")
 
 
-def compile_ir(out_dir: Path) -> dict:
-    """Every entry point's IR, internalised and stripped to what it needs, into ``out_dir``;
-    returns {symbol: IR file name}."""
+def compile_ir(model: str, out_dir: Path) -> dict:
+    """Every entry point of ``model``'s IR, internalised and stripped to what it needs, into
+    ``out_dir``; returns {symbol: IR file name}."""
     import llvmlite.binding as llvm
 
-    from . import entry_points
+    module_name, symbols = ENTRY_POINTS[model]
+    entry_points = importlib.import_module(module_name)
 
     triple = llvm.get_process_triple()   # numba wrote the IR for this machine (generic CPU)
     machine = _target_machine(triple, "x86-64" if triple.startswith("x86_64") else "generic")
     out_dir.mkdir(parents=True, exist_ok=True)
     modules = {}
-    for symbol, (name, n_arguments) in ENTRY_POINTS.items():
+    for symbol, (name, n_arguments) in symbols.items():
         cfunc = getattr(entry_points, name)
         if len(cfunc._sig.args) != n_arguments:
-            raise RuntimeError(f"AOT: {name} takes {len(cfunc._sig.args)} arguments, fmu_src/model.h's {symbol} "
+            raise RuntimeError(f"AOT: {name} takes {len(cfunc._sig.args)} arguments, the C prototype of {symbol} "
                                f"{n_arguments}: update both together")
         module = llvm.parse_assembly(_export_ir(cfunc, symbol))
         module.triple = triple
@@ -144,4 +157,4 @@ def emit_object(ir_path: Path, triple: str, cpu: str) -> bytes:
 
 
 if __name__ == "__main__":
-    compile_ir(Path(sys.argv[1]))
+    compile_ir(sys.argv[1], Path(sys.argv[2]))

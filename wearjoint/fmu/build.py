@@ -66,32 +66,49 @@ def _check_platforms(platform_names, backend: str):
     return names
 
 
+def _check_model(model: str, backend: str) -> str:
+    """``model`` checked against the backend: the pythonfmu backend builds the joint only."""
+    from .build_native import native_model
+
+    native_model(model)
+    if model != "joint" and backend != "native":
+        raise ParameterError(f"parameter model={model!r} is invalid for backend={backend!r}: the pythonfmu backend "
+                             "builds the joint only (use backend='native')")
+    return model
+
+
 def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
-                     fmi_version: int = DEFAULT_FMI_VERSION, platforms=None) -> Path:
-    """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``
-    and ``platforms`` (native; None: this machine's plus every cross platform installed)."""
+                     fmi_version: int = DEFAULT_FMI_VERSION, platforms=None, model: str = "joint") -> Path:
+    """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``,
+    ``platforms`` (native; None: this machine's plus every cross platform installed) and ``model``."""
     module = _backend_module(backend)
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
+    model = _check_model(model, backend)
     if backend != "native":
         return module.default_fmu_path(n_points)
-    return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names)
+    return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names, model=model)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
-              backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION, platforms=None) -> Path:
-    """Build ``out_dir/ClearanceWearJoint.fmu``; return its path (an identical existing build is kept
-    unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend only; ``n_points`` is
-    then the start value of the structural parameter ``n_points``).  ``platforms`` (native): a
-    comma-separated text or list of linux64, win64, aarch64-linux, ...; None builds this machine's
-    plus every cross platform whose compiler is installed.  Raises ParameterError for a bad
-    argument, RuntimeError when the build cannot run (no C compiler, a missing cross toolchain)."""
+              backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION, platforms=None,
+              model: str = "joint") -> Path:
+    """Build ``out_dir/ClearanceWearJoint.fmu`` (``model="joint"``) or ``out_dir/SliderCrank.fmu``
+    (``model="slider-crank"``, native only, ``n_points`` unused); return its path (an identical
+    existing build is kept unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend
+    only; the joint's ``n_points`` is then the start value of the structural parameter
+    ``n_points``).  ``platforms`` (native): a comma-separated text or list of linux64, win64,
+    aarch64-linux, ...; None builds this machine's plus every cross platform whose compiler is
+    installed.  Raises ParameterError for a bad argument, RuntimeError when the build cannot run
+    (no C compiler, a missing cross toolchain)."""
     module = _backend_module(backend)
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
+    model = _check_model(model, backend)
     if backend != "native":
         return module.build_fmu(out_dir, n_points=n_points, force=force)
-    return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names)
+    return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names,
+                            model=model)
 
 
 # ------------------------------------------------------------- shared by the backends
@@ -112,9 +129,9 @@ def source_digest(paths, root: Path) -> str:
     return digest.hexdigest()[:16]
 
 
-def current_build(out_dir, key: str, force: bool) -> tuple[Path, bool]:
-    """``out_dir``'s FMU file, and whether it already is the build ``key`` (and no ``force``)."""
-    target = Path(out_dir) / FMU_FILE_NAME
+def current_build(out_dir, key: str, force: bool, file_name: str = FMU_FILE_NAME) -> tuple[Path, bool]:
+    """``out_dir``'s FMU file ``file_name``, and whether it already is the build ``key`` (and no ``force``)."""
+    target = Path(out_dir) / file_name
     return target, not force and existing_build_key(target) == key
 
 

@@ -1,16 +1,18 @@
-"""Build the native ``ClearanceWearJoint.fmu``: the joint's numba kernels compiled ahead of
-time (:mod:`wearjoint.fmu.aot`) linked with the C FMI layer of ``fmu_src/`` into one shared
+"""Build a native FMU: a model's numba kernels compiled ahead of time (:mod:`wearjoint.fmu.aot`)
+linked with the generic C FMI layer of ``fmu_src/`` and the model's C part into one shared
 library per platform that needs only the system C runtime: FMI 2.0 (default) or FMI 3.0,
 Co-Simulation and Model Exchange, for linux64, win64 and aarch64-linux
-(:mod:`wearjoint.fmu.platforms`).
+(:mod:`wearjoint.fmu.platforms`).  The models (:data:`MODELS`): ``joint`` builds
+``ClearanceWearJoint.fmu``, ``slider-crank`` ``SliderCrank.fmu`` (:mod:`wearjoint.fmu.slider_crank`).
 
-Steps: (1) a fresh Python process with an empty numba cache compiles the kernels once to LLVM IR
-(kept in the user cache, keyed by the kernels' sources and the numba version, so further builds
-only relink); (2) llvmlite turns that IR into objects for each platform (only the target triple
-and data layout change); (3) the variable table becomes ``model_variables.h`` (value
-references, start values, allowed ranges, where each output comes from), and each platform's C
-compiler links ``joint_instance.c`` (the joint's data, FMI-independent), the FMI layer
-(``fmi2Functions.c`` or ``fmi3Functions.c``) and the objects, exporting only the ``fmi2*``
+Steps: (1) a fresh Python process with an empty numba cache compiles the model's kernels once to
+LLVM IR (kept in the user cache, keyed by the kernels' sources and the numba version, so further
+builds only relink); (2) llvmlite turns that IR into objects for each platform (only the target
+triple and data layout change); (3) the model's variable table becomes ``model_variables.h``
+(value references, start values, allowed ranges, where each value comes from), and each
+platform's C compiler links the FMI layer (``fmi2Functions.c`` or ``fmi3Functions.c``, the same
+for every model), ``fmu_model.c``, the model's C files (``joint_model.c`` on
+``joint_instance.c``; ``slider_crank_model.c``) and the objects, exporting only the ``fmi2*``
 (``fmi3*``) functions and refusing any undefined symbol outside the C runtime; (4) the FMU gets
 the generated ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR,
 each platform's objects, ``build.sh PLATFORM``), so a user with a C compiler can relink it.
@@ -31,30 +33,76 @@ import uuid
 import zipfile
 from pathlib import Path
 
+from dataclasses import dataclass
+
 from .. import __version__
 from ..core import layout
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
+from . import slider_crank as sc
 from . import variables as fv
 from . import aot, platforms
-from .build import FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
+from .build import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
+from .c_tables import c_string as _c_string
+from .c_tables import parameter_rows
 from .model_description import (
-    N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, model_description_fmi3_xml,
-    model_description_xml,
+    N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, interfaces,
+    model_description_fmi3_xml, model_description_xml,
 )
 
 FMI_VERSIONS = (2, 3)
 DEFAULT_FMI_VERSION = 2
-COMMON_C_SOURCES = ("joint_instance.c", "joint_instance.h", "model.h")
-C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c", *COMMON_C_SOURCES), 3: ("fmi3Functions.c", *COMMON_C_SOURCES)}
-N_EVENT_INDICATORS = 1   # Model Exchange: the signed penetration
-# the wearjoint modules whose content decides the compiled FMU
-KERNEL_MODULES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "joint.py", "parameters.py",
-                  "fmu/variables.py", "fmu/entry_points.py", "fmu/aot.py", "fmu/model_description.py",
-                  "fmu/build_native.py", "fmu/platforms.py")
-# what the kernels' IR depends on (with the numba and llvmlite versions): the key of its cache
-KERNEL_IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/mechanism.py",
-                         "core/integrators.py", "joint.py", "parameters.py", "fmu/entry_points.py", "fmu/aot.py")
+GLUE_C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c",), 3: ("fmi3Functions.c",)}   # the FMI layer, every model's
+COMMON_C_SOURCES = ("fmu_model.c", "fmu_model.h")
+N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
+# the wearjoint modules of every model's build
+BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
+                 "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/platforms.py")
+# what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
+IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/joint_access.py",
+              "core/mechanism.py", "core/integrators.py", "joint.py", "parameters.py", "fmu/aot.py")
+
+
+@dataclass(frozen=True)
+class NativeModel:
+    """One model of the native FMUs: its C part (besides the FMI layer and fmu_model.c), its kernels'
+    header and Python modules (the AOT entry points: :data:`aot.ENTRY_POINTS` [name])."""
+
+    name: str                  # build_fmu's ``model``
+    identifier: str            # modelIdentifier: the binary's and the .fmu's name
+    c_sources: tuple
+    kernel_header: str
+    modules: tuple             # the wearjoint modules whose content decides this model's FMU (with BUILD_MODULES)
+    ir_modules: tuple          # what its kernels' IR depends on (with IR_SOURCES)
+    fixed_size: bool           # n_points does not apply (no bushing)
+
+    @property
+    def file_name(self) -> str:
+        return f"{self.identifier}.fmu"
+
+
+MODELS = {m.name: m for m in (
+    NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h"), "model.h",
+                ("core/contact.py", "core/wear.py", "joint.py", "fmu/entry_points.py"), ("fmu/entry_points.py",),
+                False),
+    NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h"),
+                "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "fmu/slider_crank.py",
+                                           "fmu/slider_crank_entry_points.py"),
+                ("fmu/slider_crank_entry_points.py",), True),
+)}
+DEFAULT_MODEL = "joint"
+
+
+def native_model(model) -> NativeModel:
+    """``model`` (a name of :data:`MODELS`) checked; ParameterError naming it otherwise."""
+    if model not in MODELS:
+        raise ParameterError(f"parameter model={model!r} is invalid: allowed one of {', '.join(MODELS)}")
+    return MODELS[model]
+
+
+def c_sources(fmi_version: int, model: str = DEFAULT_MODEL) -> tuple:
+    """The C files of ``model``'s binary (and headers) for ``fmi_version``."""
+    return (*GLUE_C_SOURCES_BY_VERSION[fmi_version], *COMMON_C_SOURCES, *native_model(model).c_sources)
 FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                           3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 EXPORTS_MAP_BY_VERSION = {v: f"{{\n  global: fmi{v}*;\n  local: *;\n}};\n" for v in FMI_VERSIONS}   # ELF platforms
@@ -69,44 +117,41 @@ def check_fmi_version(fmi_version) -> int:
     return int(fmi_version)
 
 
-def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION) -> list[Path]:
-    return [*(FMU_SOURCE_DIR / name for name in C_SOURCES_BY_VERSION[check_fmi_version(fmi_version)]),
-            *(PACKAGE_DIR / name for name in KERNEL_MODULES)]
+def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL) -> list[Path]:
+    spec = native_model(model)
+    return [*(FMU_SOURCE_DIR / name for name in c_sources(check_fmi_version(fmi_version), model)),
+            *(PACKAGE_DIR / name for name in (*BUILD_MODULES, *spec.modules))]
 
 
-def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION) -> str:
-    """Identifies the model a native build implements (its GUID): wearjoint version, n_points, FMI
-    version, numba version, hash of the sources."""
+def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL) -> str:
+    """Identifies the model a native build implements (its GUID): wearjoint version, the model (the
+    joint: n_points), FMI version, numba version, hash of the sources."""
     import numba
 
-    digest = source_digest(shipped_sources(fmi_version), PACKAGE_DIR.parent)
-    return f"{__version__}-n{n_points}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}"
+    spec = native_model(model)
+    digest = source_digest(shipped_sources(fmi_version, model), PACKAGE_DIR.parent)
+    size = spec.name if spec.fixed_size else f"n{n_points}"
+    return f"{__version__}-{size}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}"
 
 
-def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, platform_names=("linux64",)) -> str:
+def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, platform_names=("linux64",),
+              model: str = DEFAULT_MODEL) -> str:
     """Identifies a native build: the model and the platforms it carries binaries for."""
-    return f"{model_key(n_points, fmi_version)}-{'+'.join(platform_names)}"
+    return f"{model_key(n_points, fmi_version, model)}-{'+'.join(platform_names)}"
 
 
 def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION,
-                     platform_names=None) -> Path:
+                     platform_names=None, model: str = DEFAULT_MODEL) -> Path:
     """Cache location of the build for ``platform_names`` (default: what :func:`platforms.select` picks)."""
     if platform_names is None:
         platform_names = [p.name for p in platforms.select()[0]]
-    return user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names) / FMU_FILE_NAME
+    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model)
+            / native_model(model).file_name)
 
 
 def model_guid(key: str) -> str:
     """A GUID fixed by the build key: the same sources give the same GUID."""
     return "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, f"wearjoint:{key}")) + "}"
-
-
-def _c_string(text: str) -> str:
-    return json.dumps(text)   # a valid C string literal for the ASCII texts used here
-
-
-def _c_double(value: float) -> str:
-    return repr(float(value))
 
 
 def model_variables_header(n_points: int, guid: str) -> str:
@@ -116,14 +161,10 @@ def model_variables_header(n_points: int, guid: str) -> str:
     parameter_index = {p.variable.name: i for i, p in enumerate(fv.PARAMETERS)}
     slot_of = {(source if isinstance(source, tuple) else (source, None)): slot
                for slot, source in PARAMETER_SLOTS.items()}
-    rows = []
-    for p in fv.PARAMETERS:
-        a = p.allowed
-        rows.append("    {%s, %d, %s, %d, %d, %d, %s, %d, %d, %s, %d, %s}," % (
-            _c_string(p.variable.name), slot_of[(p.field, p.component)], _c_double(p.variable.start),
-            len(p.choices or ()), a.low is not None, a.low_open, _c_double(a.low or 0.0), a.high is not None,
-            a.high_open, _c_double(a.high or 0.0), parameter_index[a.above] if a.above else -1,
-            _c_string(p.allowed_text())))
+    rows = parameter_rows([(p.variable.name, slot_of[(p.field, p.component)], p.variable.start,
+                            len(p.choices or ()), p.allowed,
+                            parameter_index[p.allowed.above] if p.allowed.above else -1, p.allowed_text())
+                           for p in fv.PARAMETERS])
     outputs = []
     for v in fv.SCALAR_OUTPUTS:
         if v.name in fv.RESULT_SLOTS:
@@ -149,7 +190,10 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #ifndef WEARJOINT_MODEL_VARIABLES_H
 #define WEARJOINT_MODEL_VARIABLES_H
 
+#include "fmu_model.h"
+
 #define MODEL_GUID {_c_string(guid)}
+#define N_CONTINUOUS_STATES 0
 #define N_POINTS {n_points}
 #define BLOCK_SIZE {layout.BLOCK_SIZE}
 #define N_JOINT_PARAMETERS {layout.N_JOINT_PARAMETERS}
@@ -165,10 +209,8 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define VR_FIRST_OUTPUT {first_output}
 #define VR_FIRST_WEAR_DEPTH {first_wear}
 
-/* FMI 3.0 (fmi3Functions.c): the scalars keep their FMI 2.0 value references; the wear profile is
- * one Float64 array sized by the structural parameter n_points (UInt64), then the independent time. */
-#define FMI3_INSTANTIATION_TOKEN MODEL_GUID
-#define FMI3_VR_FIRST_INPUT 0
+/* FMI 3.0: the scalars keep their FMI 2.0 value references; the wear profile is one Float64 array
+ * sized by the structural parameter n_points (UInt64), then the independent time. */
 #define FMI3_VR_FIRST_PARAMETER {vr3[fv.PARAMETERS[0].variable.name]}
 #define FMI3_VR_N_POINTS {vr3[fv.N_POINTS_NAME]}
 #define FMI3_VR_FIRST_OUTPUT {vr3[fv.SCALAR_OUTPUTS[0].name]}
@@ -178,19 +220,6 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define FMI3_N_POINTS_START {n_points}
 #define FMI3_N_POINTS_MIN {N_POINTS_MIN}
 #define FMI3_N_POINTS_MAX {N_POINTS_MAX}
-
-typedef struct {{
-    const char *name;
-    int slot;            /* index in the kernels' joint parameter vector (layout.P_*) */
-    double start;
-    int n_choices;       /* > 0: an Integer enumeration 0 .. n_choices - 1 */
-    int has_low, low_open;
-    double low;
-    int has_high, high_open;
-    double high;
-    int above;           /* index of a parameter this one must exceed, or -1 */
-    const char *allowed; /* the rule as the error message states it */
-}} ParameterInfo;
 
 enum {{ OUTPUT_FROM_RESULT, OUTPUT_MAX_WEAR_DEPTH, OUTPUT_WORN_VOLUME }};
 
@@ -202,6 +231,7 @@ typedef struct {{
 
 static const char *const INPUT_NAMES[N_INPUTS] = {{{inputs}}};
 
+/* slot: index in the kernels' joint parameter vector (layout.P_*) */
 static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
 {chr(10).join(rows)}
 }};
@@ -214,30 +244,32 @@ static const OutputInfo OUTPUTS[N_SCALAR_OUTPUTS] = {{
 """
 
 
-def kernel_key() -> str:
-    """What the kernels' IR depends on: numba and llvmlite versions, the kernels' sources, model.h."""
+def kernel_key(model: str = DEFAULT_MODEL) -> str:
+    """What ``model``'s kernel IR depends on: numba and llvmlite versions, the kernels' sources, its
+    kernel header."""
     import llvmlite
     import numba
 
-    digest = source_digest([*(PACKAGE_DIR / name for name in KERNEL_IR_SOURCES), FMU_SOURCE_DIR / "model.h"],
-                           PACKAGE_DIR.parent)
-    return f"numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
+    spec = native_model(model)
+    digest = source_digest([*(PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)),
+                            FMU_SOURCE_DIR / spec.kernel_header], PACKAGE_DIR.parent)
+    return f"{spec.name}-numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
 
 
-def _compile_ir_fresh(out_dir: Path) -> dict:
+def _compile_ir_fresh(out_dir: Path, model: str) -> dict:
     with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache:
         env = {**os.environ, **AOT_ENVIRONMENT, "NUMBA_CACHE_DIR": cache}
-        done = subprocess.run([sys.executable, "-m", "wearjoint.fmu.aot", str(out_dir)], capture_output=True,
+        done = subprocess.run([sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir)], capture_output=True,
                               text=True, env=env, cwd=PACKAGE_DIR.parent)
     if done.returncode != 0:
         raise RuntimeError(f"compiling the kernels ahead of time failed:\n{done.stderr.strip()[-3000:]}")
     return json.loads((out_dir / "entry_points.json").read_text())
 
 
-def compile_kernel_ir(out_dir: Path, reuse: bool = True) -> dict:
-    """The kernels' IR in ``out_dir`` ({symbol: IR file}): compiled in a fresh process with an empty
-    numba cache, or (``reuse``) copied from the user cache where an earlier build left it."""
-    cached = user_cache_dir() / "kernels" / kernel_key()
+def compile_kernel_ir(out_dir: Path, reuse: bool = True, model: str = DEFAULT_MODEL) -> dict:
+    """``model``'s kernel IR in ``out_dir`` ({symbol: IR file}): compiled in a fresh process with an
+    empty numba cache, or (``reuse``) copied from the user cache where an earlier build left it."""
+    cached = user_cache_dir() / "kernels" / kernel_key(model)
     if reuse:
         try:
             modules = json.loads((cached / "entry_points.json").read_text())
@@ -246,7 +278,7 @@ def compile_kernel_ir(out_dir: Path, reuse: bool = True) -> dict:
                 return modules
         except (OSError, ValueError):
             pass
-    modules = _compile_ir_fresh(out_dir)
+    modules = _compile_ir_fresh(out_dir, model)
     try:   # keep it for the next build (another process may be writing the same: first one wins)
         cached.parent.mkdir(parents=True, exist_ok=True)
         partial = Path(tempfile.mkdtemp(prefix=cached.name + ".", dir=cached.parent))
@@ -274,20 +306,20 @@ def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform) 
     return objects
 
 
-def link_arguments(target: platforms.Platform, fmi_version: int, objects) -> list[str]:
-    """The C compiler's arguments that link ``target``'s binary in the sources folder."""
-    c_files = [name for name in C_SOURCES_BY_VERSION[fmi_version] if name.endswith(".c")]
+def link_arguments(target: platforms.Platform, fmi_version: int, objects, model: str = DEFAULT_MODEL) -> list[str]:
+    """The C compiler's arguments that link ``target``'s binary of ``model`` in the sources folder."""
+    c_files = [name for name in c_sources(fmi_version, model) if name.endswith(".c")]
     return [*platforms.COMMON_C_FLAGS, *target.link_flags, *target.exports_flag(fmi_version), "-I.", *c_files,
-            *objects, "-lm", "-o", f"{fv.MODEL_NAME}{target.extension}"]
+            *objects, "-lm", "-o", f"{native_model(model).identifier}{target.extension}"]
 
 
-def _build_script(targets, fmi_version: int, objects_by_platform: dict) -> str:
+def _build_script(targets, fmi_version: int, objects_by_platform: dict, model: str) -> str:
     """``build.sh PLATFORM``: relinks one platform's binary into the sources folder (``$CC`` overrides
     its compiler)."""
     names = " ".join(t.name for t in targets)
     cases = "".join(
         f"  {t.name}) cc=${{CC:-{'gcc' if t.name == 'linux64' else t.cross_compiler or 'cc'}}}; "
-        f"args='{' '.join(link_arguments(t, fmi_version, objects_by_platform[t.name]))}' ;;\n" for t in targets)
+        f"args='{' '.join(link_arguments(t, fmi_version, objects_by_platform[t.name], model))}' ;;\n" for t in targets)
     return ("#!/bin/sh\n# Relink this FMU's binary for one platform from these sources: sh build.sh PLATFORM\n"
             f"# (one of: {names}; default {targets[0].name}).  The kernels' objects are kernels/PLATFORM/*.o, all\n"
             "# compiled from the IR kernels/*.ll.  CC overrides the C compiler.\n"
@@ -306,80 +338,74 @@ def fmi_headers(fmi_version: int) -> Path:
     return headers
 
 
-def _model_description(fmi_version: int, n_points: int, token: str) -> bytes:
+def _model_description(fmi_version: int, n_points: int, token: str, model: str) -> bytes:
     tool = f"wearjoint {__version__} (native)"
-    common = {"modelIdentifier": fv.MODEL_NAME, "needsExecutionTool": "false",
-              "canBeInstantiatedOnlyOncePerProcess": "false"}
+    if model == "slider-crank":
+        return sc.model_description(fmi_version, token, tool)
+    cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
     if fmi_version == 2:
-        common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
-                       "canSerializeFMUstate": "true"})
-        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
-        model_exchange = {**common, "completedIntegratorStepNotNeeded": "false"}
         return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS)
-    common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
-                   "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
-                   "providesPerElementDependencies": "false"})
-    model_exchange = {**common, "needsCompletedIntegratorStep": "true", "providesEvaluateDiscreteStates": "false"}
-    cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "maxOutputDerivativeOrder": "0",
-                    "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false",
-                    "canReturnEarlyAfterIntermediateUpdate": "false", "hasEventMode": "false",
-                    "providesEvaluateDiscreteStates": "false"}
     return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
-              fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None) -> Path:
-    """Build ``out_dir/ClearanceWearJoint.fmu`` (native backend, FMI ``fmi_version`` 2 or 3); return its path.
+              fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None, model: str = DEFAULT_MODEL) -> Path:
+    """Build ``model``'s native FMU (:data:`MODELS`: ``joint`` -> ``out_dir/ClearanceWearJoint.fmu``,
+    ``slider-crank`` -> ``out_dir/SliderCrank.fmu``), FMI ``fmi_version`` 2 or 3; return its path.
 
     ``platform_names``: the platforms to carry binaries for (:func:`platforms.parse_platforms`);
-    None builds this machine's plus every cross platform whose compiler is installed.  FMI 2.0:
-    ``n_points`` is fixed in the FMU; FMI 3.0: it is the start value of the structural parameter
-    ``n_points`` (a host may set another in Configuration Mode).  An FMU there built from the same
-    sources, n_points, FMI version and platforms is kept unless ``force`` (which also recompiles the
-    kernels).  Raises ParameterError for a bad argument, RuntimeError when the build cannot run
-    (naming what to install).
+    None builds this machine's plus every cross platform whose compiler is installed.  The joint's
+    ``n_points``: FMI 2.0 fixes it in the FMU; FMI 3.0 makes it the start value of the structural
+    parameter ``n_points`` (a host may set another in Configuration Mode); the slider-crank has no
+    bushing and ignores it.  An FMU there built from the same sources, model, n_points, FMI version
+    and platforms is kept unless ``force`` (which also recompiles the kernels).  Raises
+    ParameterError for a bad argument, RuntimeError when the build cannot run (naming what to
+    install).
     """
     fmi_version = check_fmi_version(fmi_version)
+    spec = native_model(model)
     JointParameters(n_points=n_points)  # validates n_points, names it in the error
-    if fmi_version == 3 and not N_POINTS_MIN <= n_points <= N_POINTS_MAX:
+    if not spec.fixed_size and fmi_version == 3 and not N_POINTS_MIN <= n_points <= N_POINTS_MAX:
         raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
                              f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
     targets, _ = platforms.select(platform_names)
-    key = build_key(n_points, fmi_version, [t.name for t in targets])
-    target_path, current = current_build(out_dir, key, force)
+    key = build_key(n_points, fmi_version, [t.name for t in targets], model)
+    target_path, current = current_build(out_dir, key, force, spec.file_name)
     if current:
         return target_path
     out_dir = Path(out_dir)
     headers = fmi_headers(fmi_version)
-    guid = model_guid(model_key(n_points, fmi_version))
+    guid = model_guid(model_key(n_points, fmi_version, model))
+    header = sc.model_variables_header(guid) if spec.fixed_size else model_variables_header(n_points, guid)
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
-        modules = compile_kernel_ir(sources / "kernels", reuse=not force)
-        for name in C_SOURCES_BY_VERSION[fmi_version]:
+        modules = compile_kernel_ir(sources / "kernels", reuse=not force, model=model)
+        for name in c_sources(fmi_version, model):
             (sources / name).write_bytes((FMU_SOURCE_DIR / name).read_bytes())
         for name in FMI_HEADERS_BY_VERSION[fmi_version]:
             (sources / name).write_bytes((headers / name).read_bytes())
-        (sources / "model_variables.h").write_text(model_variables_header(n_points, guid))
+        (sources / "model_variables.h").write_text(header)
         (sources / "exports.map").write_text(EXPORTS_MAP_BY_VERSION[fmi_version])
         objects = {t.name: kernel_objects(sources / "kernels", modules, t) for t in targets}
-        (sources / "build.sh").write_text(_build_script(targets, fmi_version, objects))
+        (sources / "build.sh").write_text(_build_script(targets, fmi_version, objects, model))
         binaries = {}
         for t in targets:
-            done = subprocess.run([platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name])],
+            done = subprocess.run([platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model)],
                                   capture_output=True, text=True, cwd=sources)
             if done.returncode != 0:
                 raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{done.stderr.strip()[-3000:]}")
-            binary = sources / f"{fv.MODEL_NAME}{t.extension}"
-            binaries[t.binary_arcname(fmi_version)] = binary.read_bytes()
+            binary = sources / f"{spec.identifier}{t.extension}"
+            binaries[t.binary_arcname(fmi_version, spec.identifier)] = binary.read_bytes()
             binary.unlink()
         out_dir.mkdir(parents=True, exist_ok=True)
         partial = target_path.with_name(target_path.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
-            fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid))
+            fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid, model))
             for arcname, data in binaries.items():
                 fmu.writestr(arcname, data)
+            configuration = {"model": model} if spec.fixed_size else {"n_points": n_points}
             fmu.writestr(f"resources/{fv.BUILD_CONFIG_FILE}",
-                         json.dumps({"n_points": n_points, "build_key": key, "backend": "native",
+                         json.dumps({**configuration, "build_key": key, "backend": "native",
                                      "fmi_version": fmi_version, "platforms": [t.name for t in targets]}))
             for path in sorted(sources.rglob("*")):
                 if path.is_file():

@@ -29,12 +29,37 @@ def _number(value) -> str:
     return repr(float(value)) if isinstance(value, float) else str(value)
 
 
-def _root_with_interfaces_and_units(attributes: dict, cosimulation: dict, model_exchange: dict | None,
-                                    units: dict) -> ET.Element:
+def interfaces(fmi_version: int, model_identifier: str, completed_integrator_step: bool) -> tuple[dict, dict]:
+    """The ``<CoSimulation>`` and ``<ModelExchange>`` attributes of a native FMU (FMI ``fmi_version``):
+    FMU state get/set/serialise, variable communication steps, no early return or intermediate
+    update; ``completed_integrator_step``: Model Exchange needs completedIntegratorStep."""
+    common = {"modelIdentifier": model_identifier, "needsExecutionTool": "false",
+              "canBeInstantiatedOnlyOncePerProcess": "false"}
+    if fmi_version == 2:
+        common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
+                       "canSerializeFMUstate": "true"})
+        cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
+        model_exchange = {**common, "completedIntegratorStepNotNeeded": str(not completed_integrator_step).lower()}
+        return cosimulation, model_exchange
+    common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
+                   "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
+                   "providesPerElementDependencies": "false"})
+    model_exchange = {**common, "needsCompletedIntegratorStep": str(completed_integrator_step).lower(),
+                      "providesEvaluateDiscreteStates": "false"}
+    cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "maxOutputDerivativeOrder": "0",
+                    "providesIntermediateUpdate": "false", "mightReturnEarlyFromDoStep": "false",
+                    "canReturnEarlyAfterIntermediateUpdate": "false", "hasEventMode": "false",
+                    "providesEvaluateDiscreteStates": "false"}
+    return cosimulation, model_exchange
+
+
+def root_with_interfaces_and_units(attributes: dict, cosimulation: dict, model_exchange: dict | None,
+                                   units: dict, model_name: str = fv.MODEL_NAME,
+                                   description: str = DESCRIPTION) -> ET.Element:
     """<fmiModelDescription> with the common attributes, <ModelExchange> (if given), <CoSimulation>
-    and <UnitDefinitions> (unit name -> SI base-unit exponents)."""
+    and <UnitDefinitions> (unit name -> SI base-unit exponents, and ``factor`` where given)."""
     root = ET.Element("fmiModelDescription", {
-        "modelName": fv.MODEL_NAME, "description": DESCRIPTION, "author": "wearjoint", "version": __version__,
+        "modelName": model_name, "description": description, "author": "wearjoint", "version": __version__,
         "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "variableNamingConvention": "structured", **attributes})
     if model_exchange is not None:
@@ -54,7 +79,7 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
     ``<CoSimulation>`` / ``<ModelExchange>`` attributes (``modelIdentifier`` and the capability
     flags; no ``<ModelExchange>`` if None); ``event_indicators``: Model Exchange's number of
     event indicators."""
-    root = _root_with_interfaces_and_units(
+    root = root_with_interfaces_and_units(
         {"fmiVersion": "2.0", "guid": guid, "generationTool": generation_tool,
          "numberOfEventIndicators": str(event_indicators)}, cosimulation, model_exchange, fv.UNIT_DEFINITIONS)
     categories = ET.SubElement(root, "LogCategories")
@@ -126,7 +151,7 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
     :func:`fmi3_value_references`; ``event_indicators`` names the outputs that are Model
     Exchange's event indicators."""
     vr = fmi3_value_references()
-    root = _root_with_interfaces_and_units(
+    root = root_with_interfaces_and_units(
         {"fmiVersion": "3.0", "instantiationToken": instantiation_token, "generationTool": generation_tool},
         cosimulation, model_exchange, {**fv.UNIT_DEFINITIONS, "s": {"s": 1}})   # FMI 3's time needs "s"
     types = ET.SubElement(root, "TypeDefinitions")

@@ -1,0 +1,105 @@
+/* What every model of the native FMUs shares: the host (logger, memory), number formatting and
+ * the parameter checks against a generated table (see fmu_model.h). */
+#include "fmu_model.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void *fmu_new_instance(size_t size, const char *name, int logging_on, FmuLogFunction *log,
+                       FmuAllocateFunction *allocate, FmuReleaseFunction *release, void *environment)
+{
+    FmuHost *host = allocate(environment, 1, size);
+    char *copy = allocate(environment, strlen(name) + 1, 1);
+    if (host == NULL || copy == NULL) {
+        log(environment, name, FMU_ERROR, "logStatusError", "fmiInstantiate: out of memory");
+        if (host != NULL)
+            release(environment, host);
+        if (copy != NULL)
+            release(environment, copy);
+        return NULL;
+    }
+    memset(host, 0, size);
+    strcpy(copy, name);
+    host->name = copy;
+    host->log = log;
+    host->allocate = allocate;
+    host->release = release;
+    host->environment = environment;
+    host->logging_on = logging_on;
+    return host;
+}
+
+void fmu_free_instance(void *instance)
+{
+    FmuHost host = *(FmuHost *)instance;
+    host.release(host.environment, host.name);
+    host.release(host.environment, instance);
+}
+
+void fmu_log(const FmuHost *host, int status, const char *format, ...)
+{
+    if (status < FMU_ERROR && !host->logging_on)
+        return;
+    char text[1024];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    const char *category = status >= FMU_ERROR ? "logStatusError" : status == FMU_WARNING ? "logStatusWarning"
+                                                                                           : "logAll";
+    host->log(host->environment, host->name, status, category, text);
+}
+
+const char *fmu_shortest(double x, char *out, size_t size)
+{
+    for (int precision = 1; precision <= 17; precision++) {
+        snprintf(out, size, "%.*g", precision, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    if (isfinite(x) && strpbrk(out, ".e") == NULL && strlen(out) + 3 <= size)
+        strcat(out, ".0");
+    return out;
+}
+
+int fmu_parameters_valid(const FmuHost *host, const ParameterInfo *table, int n, const double *values,
+                         const char *when)
+{
+    for (int i = 0; i < n; i++) {
+        const ParameterInfo *p = &table[i];
+        double x = values[i];
+        int ok;
+        if (p->n_choices > 0) {
+            ok = x == floor(x) && x >= 0.0 && x < p->n_choices;
+        } else {
+            ok = isfinite(x);
+            if (ok && p->has_low)
+                ok = p->low_open ? x > p->low : x >= p->low;
+            if (ok && p->has_high)
+                ok = p->high_open ? x < p->high : x <= p->high;
+            if (ok && p->above >= 0)
+                ok = x > values[p->above];
+        }
+        if (ok)
+            continue;
+        char text[32], other[32];
+        if (p->n_choices > 0)   /* an Integer: its value as an integer */
+            snprintf(text, sizeof text, "%.0f", x);
+        else
+            fmu_shortest(x, text, sizeof text);
+        /* a rule with bounds says "> 0"; for a non-finite value say that it must be finite, too */
+        const char *finite =
+            p->n_choices == 0 && !isfinite(x) && (p->has_low || p->has_high || p->above >= 0) ? "a finite value " : "";
+        if (p->above >= 0)
+            fmu_log(host, FMU_ERROR, "%s: parameter %s=%s is invalid: allowed %s%s (%s = %s)", when, p->name, text,
+                    finite, p->allowed, table[p->above].name, fmu_shortest(values[p->above], other, sizeof other));
+        else
+            fmu_log(host, FMU_ERROR, "%s: parameter %s=%s is invalid: allowed %s%s", when, p->name, text, finite,
+                    p->allowed);
+        return 0;
+    }
+    return 1;
+}

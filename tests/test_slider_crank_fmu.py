@@ -1,0 +1,343 @@
+"""The native SliderCrank FMU: the paper's slider-crank with the crank-rod joint open (Eqs. 38-44),
+built from the mechanism kernels of the monolithic engine (docs/model.md §5.x).
+
+References are independent of the FMU: the ideal slider-crank's closed form (slider
+x3 = l1 cos th1 + sqrt(l2^2 - l1^2 sin^2 th1), its derivatives) and the ideal mechanism of
+:mod:`wearjoint.core.mechanism` (the crank-rod revolute as a constraint, whose Lagrange
+multipliers give the joint's reaction loads fed to the FMU).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy import extract, read_model_description, simulate_fmu  # noqa: E402
+from fmpy.fmi2 import POINTER, FMU2Model, FMU2Slave, fmi2Real  # noqa: E402
+from fmpy.validation import validate_fmu  # noqa: E402
+from fmi_host import (  # noqa: E402
+    assert_valgrind_clean, build_c_host, platform_or_skip, run_c_host, trace_rows,
+    valgrind_or_skip, write_trace_file,
+)
+
+from wearjoint.core import layout as L  # noqa: E402
+from wearjoint.core.mechanism import accelerations  # noqa: E402
+from wearjoint.fmu import slider_crank as sc  # noqa: E402
+from wearjoint.fmu import variables as fv  # noqa: E402
+from wearjoint.fmu.build import build_fmu  # noqa: E402
+from wearjoint.mechanism import SliderCrank  # noqa: E402
+from wearjoint.parameters import ParameterError, SliderCrankParameters  # noqa: E402
+
+MECHANISM = SliderCrank()
+INPUT_VRS = [sc.VALUE_REFERENCES[v.name] for v in sc.INPUTS]
+STATE_VRS = [sc.VALUE_REFERENCES[v.name] for v in sc.STATES]
+OUTPUTS = [v.name for v in sc.VARIABLES if v.causality == fv.OUTPUT]
+OUTPUT_VRS = [sc.VALUE_REFERENCES[name] for name in OUTPUTS]
+WIN64_TOLERANCE = 1e-9   # of each output's range (MinGW's sin/cos differ from glibc's in the last bit)
+
+
+# ------------------------------------------------------------------ fixtures and helpers
+@pytest.fixture(scope="module")
+def fmus(tmp_path_factory):
+    """SliderCrank.fmu, FMI 2.0 and 3.0, as built by default (every installed platform), unzipped."""
+    built = {}
+    for version in (2, 3):
+        path = build_fmu(tmp_path_factory.mktemp(f"sc{version}"), fmi_version=version, model="slider-crank")
+        md = read_model_description(str(path))
+        built[version] = {"path": path, "md": md, "token": md.guid,
+                          "dir": Path(extract(str(path), unzipdir=str(tmp_path_factory.mktemp(f"sc{version}_x"))))}
+    return built
+
+
+def _slave(fmu, parameters=None, name="sc"):
+    slave = FMU2Slave(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
+                      instanceName=name)
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    for key, value in (parameters or {}).items():
+        slave.setReal([sc.VALUE_REFERENCES[key]], [value])
+    slave.exitInitializationMode()
+    return slave
+
+
+def ideal_loads(t, y, mechanism=MECHANISM):
+    """The ideal crank-rod revolute's loads on the crank and the rod at (t, y): -C^T lambda of its two
+    rows (Eq. 44 with the joint as a constraint), and the ideal mechanism's accelerations."""
+    qdd = np.empty(L.N_COORDINATES)
+    ws = mechanism.workspace
+    accelerations(t, y[:L.N_COORDINATES], y[L.N_COORDINATES:], mechanism.parameter_vector, True, np.zeros(6), ws, qdd)
+    jac, lam = ws[0], ws[4]
+    loads = np.array([-(jac[7, c] * lam[7] + jac[8, c] * lam[8])
+                      for c in (*range(L.CRANK, L.CRANK + 3), *range(L.ROD, L.ROD + 3))])
+    return loads, qdd
+
+
+def _fed_the_ideal_joint(fmu, h, stop):
+    """The CS FMU over [0, stop] in steps h, fed at each step the ideal joint's loads at its own
+    state (held over the step); the largest slider errors against the closed form."""
+    slave = _slave(fmu)
+    errors = np.zeros(3)
+    t = 0.0
+    for i in range(int(round(stop / h))):
+        y = np.array(slave.getReal(STATE_VRS))
+        slave.setReal(INPUT_VRS, list(ideal_loads(t, y)[0]))
+        slave.doStep(t, h)
+        t = (i + 1) * h
+        got = slave.getReal([sc.VALUE_REFERENCES[n] for n in ("slider_x", "slider_v", "slider_a")])
+        exact = MECHANISM.closed_form(t)
+        errors = np.maximum(errors, np.abs(np.array(got) - [exact["slider_x_m"], exact["slider_v_m_s"],
+                                                            exact["slider_a_m_s2"]]))
+    slave.terminate()
+    slave.freeInstance()
+    return errors
+
+
+def _smooth_loads(t):
+    """Loads of the order of the ideal joint's (N, N m), smooth in t: the inputs of the traces."""
+    return np.array([40 * math.sin(31 * t), -25 + 10 * math.cos(17 * t), 0.3 * math.sin(13 * t),
+                     -40 * math.sin(31 * t), 25 - 10 * math.cos(17 * t), -0.2 * math.cos(11 * t)])
+
+
+# ------------------------------------------------------------------ the model
+def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
+    """Both versions validate; the inputs are the joint FMU's force outputs, the outputs include its
+    12 kinematic inputs, every SliderCrankParameters field is a parameter with its default."""
+    for version, fmu in fmus.items():
+        assert validate_fmu(str(fmu["path"])) == [], version
+        md = fmu["md"]
+        variables = {v.name: v for v in md.modelVariables}
+        assert [v.name for v in md.modelVariables if v.causality == "input"] == \
+            [v.name for v in fv.SCALAR_OUTPUTS[:6]]
+        assert {v.name for v in fv.INPUTS} <= {v.name for v in md.modelVariables if v.causality == "output"}
+        defaults = SliderCrankParameters()
+        for field in dataclasses.fields(SliderCrankParameters):
+            name = re.sub(r"_(m|kg|kg_m2|rpm|deg|m_s2)$", "", field.name)
+            assert float(variables[name].start) == getattr(defaults, field.name), name
+        assert md.coSimulation is not None and md.modelExchange is not None
+        assert len(md.derivatives) == 2 * L.N_COORDINATES
+
+
+def test_fed_the_ideal_joint_reaction_the_derivatives_are_the_ideal_mechanisms(fmus):
+    """Model Exchange at states near the ideal motion (off its constraints, where Baumgarte acts), the
+    inputs the ideal joint's reaction there: the FMU's derivatives are the velocities and the ideal
+    mechanism's accelerations."""
+    fmu = fmus[2]
+    model = FMU2Model(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
+                      instanceName="me")
+    model.instantiate()
+    model.setupExperiment(startTime=0.0)
+    model.enterInitializationMode()
+    model.exitInitializationMode()
+    model.newDiscreteStates()
+    model.enterContinuousTimeMode()
+    rng = np.random.default_rng(3)
+    y0 = MECHANISM.initial_state()
+    for t in np.linspace(0.0, 0.4, 9):
+        y = y0.copy()
+        y[:L.N_COORDINATES] += 1e-4 * rng.normal(size=L.N_COORDINATES)
+        y[L.N_COORDINATES:] += 1e-2 * rng.normal(size=L.N_COORDINATES)
+        loads, qdd = ideal_loads(t, y)
+        model.setTime(t)
+        model.setContinuousStates(y.ctypes.data_as(POINTER(fmi2Real)), y.size)
+        model.setReal(INPUT_VRS, list(loads))
+        dx = np.zeros(y.size)
+        model.getDerivatives(dx.ctypes.data_as(POINTER(fmi2Real)), dx.size)
+        assert np.array_equal(dx[:L.N_COORDINATES], y[L.N_COORDINATES:])
+        np.testing.assert_allclose(dx[L.N_COORDINATES:], qdd, rtol=1e-9, atol=1e-9 * np.abs(qdd).max())
+    model.terminate()
+    model.freeInstance()
+
+
+def test_fed_the_ideal_joint_reaction_it_follows_the_ideal_slider_crank_closed_form(fmus):
+    """Co-Simulation, fed at each communication step the ideal joint's reaction at its own state
+    (held over the step): the slider follows x3 = l1 cos th1 + sqrt(l2^2 - l1^2 sin^2 th1), its
+    velocity and acceleration, to an error first order in the step (zero-order hold)."""
+    errors = {h: _fed_the_ideal_joint(fmus[2], h, 0.2) for h in (2e-4, 1e-4, 5e-5)}
+    for coarse, fine in ((2e-4, 1e-4), (1e-4, 5e-5)):
+        ratio = errors[coarse] / errors[fine]
+        assert np.all((ratio > 1.8) & (ratio < 2.2)), (coarse, ratio)
+    stroke = 2 * MECHANISM.params.crank_length_m
+    assert errors[5e-5][0] < 1e-3 * stroke                     # metres
+    assert errors[5e-5][1] < 1e-3 * stroke * MECHANISM.params.omega_rad_s
+    assert errors[5e-5][2] < 1e-2 * stroke * MECHANISM.params.omega_rad_s ** 2
+
+
+def test_co_simulation_converges_with_its_internal_rk4_step(fmus):
+    """One communication step of 0.02 s with constant loads: the internal RK4 steps' error falls
+    with the fourth power of max_internal_step (against 1e-6 s)."""
+    def state_after(step):
+        slave = _slave(fmus[2], {sc.MAX_INTERNAL_STEP_NAME: step})
+        slave.setReal(INPUT_VRS, list(_smooth_loads(0.01)))
+        slave.doStep(0.0, 0.02)
+        y = np.array(slave.getReal(STATE_VRS))
+        slave.terminate()
+        slave.freeInstance()
+        return y
+
+    reference = state_after(1e-6)
+    errors = [np.abs(state_after(step) - reference).max() for step in (4e-3, 2e-3, 1e-3)]
+    assert errors[0] > errors[1] > errors[2] > 0
+    assert 10 < errors[0] / errors[1] < 24 and 10 < errors[1] / errors[2] < 24, errors
+
+
+def test_model_exchange_under_fmpys_cvode_equals_co_simulation(fmus):
+    """fmpy.simulate_fmu with its own solver (CVode, rtol 1e-10) through Model Exchange equals the
+    Co-Simulation interface (RK4, 1e-5 s) under the same constant loads, to the solver's
+    tolerance, over 0.1 s."""
+    loads = _smooth_loads(0.02)
+    signals = np.array([(0.0, *loads), (1.0, *loads)],
+                       dtype=[("time", float), *((v.name, float) for v in sc.INPUTS)])
+    common = dict(stop_time=0.1, output_interval=1e-3, input=signals, output=OUTPUTS)
+    for version, fmu in fmus.items():
+        cs = simulate_fmu(str(fmu["path"]), fmi_type="CoSimulation", **common)
+        me = simulate_fmu(str(fmu["path"]), fmi_type="ModelExchange", solver="CVode", relative_tolerance=1e-10,
+                          **common)
+        assert np.array_equal(cs["time"], me["time"])
+        for name in OUTPUTS:
+            scale = max(np.ptp(cs[name]), 1e-12)
+            assert np.abs(me[name] - cs[name]).max() < 1e-6 * scale, (version, name)
+
+
+def _start(version: int, parameters: dict, interface: str = "instantiate") -> str:
+    """A C host script that instantiates and initialises the FMU with ``parameters``."""
+    setter = "set_real" if version == 2 else "set_float64"
+    values = " ".join(f"{sc.VALUE_REFERENCES[k]}={v!r}" for k, v in parameters.items())
+    return (f"{interface} sc\n{'setup 0' + chr(10) if version == 2 else ''}enter_init\n"
+            + (f"{setter} {values}\n" if values else "") + "exit_init\n")
+
+
+@pytest.mark.parametrize("name, value, allowed", [
+    ("crank_length", 0.0, "> 0"),
+    ("rod_length", 0.04, "> 0 and > crank_length (crank_length = 0.05)"),
+    ("slider_mass", -1.0, "> 0"),
+    ("crank_speed", math.inf, "a finite value > 0"),
+    ("initial_crank_angle", math.nan, "a finite real number"),
+    ("baumgarte_beta", -0.5, ">= 0"),
+    (sc.MAX_INTERNAL_STEP_NAME, 0.0, "> 0"),
+])
+def test_bad_parameter_fails_initialisation_naming_the_variable(fmus, c_host, fmi3_host, name, value, allowed):
+    """The FMU refuses what SliderCrankParameters refuses, at exitInitializationMode (FMI 2.0 and
+    3.0), with one message naming the variable, its value and the allowed range; nothing on stdout
+    but the host's own lines."""
+    field = dict(zip((p.name for p in sc.PARAMETERS), sc.FIELDS)).get(name)
+    if field is not None:
+        with pytest.raises(ParameterError, match=f"parameter {field}="):
+            SliderCrankParameters(**{field: value})
+    for version, host in ((2, c_host), (3, fmi3_host)):
+        fmu = fmus[version]
+        script = _start(version, {name: value}) + "expect error\nfree\n"
+        code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script)
+        assert code == 0, err
+        text = f"fmi{version}ExitInitializationMode: parameter {name}={value!r} is invalid: allowed {allowed}"
+        assert text in err, (text, err)
+        assert "exit_init error" in out and all(line.split()[0] in ("instantiate", "setup", "enter_init",
+                                                                     "set_real", "set_float64", "exit_init", "free")
+                                                for line in out.splitlines())
+
+
+def test_c_hosts_run_it_without_python_and_equal_fmpy(fmus, c_host, fmi3_host, tmp_path):
+    """The C hosts (FMI 2.0 and 3.0, no Python) step the FMU through a trace of loads: FMI 3.0 gives
+    FMI 2.0's bits, and both are fmpy's run of the same calls."""
+    h, n = 1e-3, 200
+    rows = [[i * h, h, *_smooth_loads(i * h)] for i in range(n)]
+    path = write_trace_file(tmp_path / "loads.txt", rows)
+    command = f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    results = {}
+    for version, host in ((2, c_host), (3, fmi3_host)):
+        fmu = fmus[version]
+        code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"],
+                                    _start(version, {}) + command + "terminate\nfree\n")
+        assert code == 0, err
+        assert f"trace ok rows={n}" in out
+        results[version] = np.array(trace_rows(out), dtype=float)
+    assert np.array_equal(results[2], results[3])
+    slave = _slave(fmus[2])
+    fmpy_rows = []
+    for t, step, *loads in rows:
+        slave.setReal(INPUT_VRS, loads)
+        fmpy_rows.append([t, *slave.getReal(OUTPUT_VRS)])
+        slave.doStep(t, step)
+    slave.terminate()
+    slave.freeInstance()
+    assert np.array_equal(results[2], np.array(fmpy_rows))
+
+
+def test_state_round_trip_is_exact_and_a_foreign_state_is_refused(fmus):
+    """getFMUstate / serialise / deserialise / setFMUstate, then the same steps again: the same
+    bits; the joint FMU's state bytes are refused."""
+    slave = _slave(fmus[2])
+    t, h = 0.0, 1e-3
+    for i in range(20):
+        slave.setReal(INPUT_VRS, list(_smooth_loads(t)))
+        slave.doStep(t, h)
+        t += h
+    state = slave.serializeFMUstate(slave.getFMUstate())
+
+    def continue_run(t):
+        rows = []
+        for _ in range(30):
+            slave.setReal(INPUT_VRS, list(_smooth_loads(t)))
+            slave.doStep(t, h)
+            t += h
+            rows.append(slave.getReal(OUTPUT_VRS))
+        return np.array(rows)
+
+    first = continue_run(t)
+    slave.setFMUstate(slave.deSerializeFMUstate(state))
+    assert np.array_equal(continue_run(t), first)
+    with pytest.raises(Exception):
+        slave.deSerializeFMUstate(b"WJFMU002" + state[8:])
+    slave.terminate()
+    slave.freeInstance()
+
+
+# ------------------------------------------------------------------ platforms and valgrind
+@pytest.mark.parametrize("platform", ["win64", "aarch64-linux"])
+def test_cross_binaries_run_the_trace_as_linux64(fmus, tmp_path, platform):
+    """The FMI 2.0 trace (Co-Simulation) and FMI 3.0 Model Exchange derivatives through the C host
+    built for the platform (win64 under wine, aarch64 under qemu): aarch64 gives linux64's bits,
+    win64 agrees to 1e-9 of each output's range."""
+    platform_or_skip(platform)
+    if not (fmus[2]["dir"] / "binaries" / platform).is_dir():
+        pytest.skip(f"the FMU carries no {platform} binary (its cross toolchain is not installed)")
+    h, n = 1e-3, 100
+    path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *_smooth_loads(i * h)] for i in range(n)])
+    command = f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    results = {}
+    for where in ("linux64", platform):
+        host = build_c_host(tmp_path / f"host_{where}", extra_flags=["-Werror"], platform=where)
+        code, out, err = run_c_host(host, fmus[2]["dir"], sc.MODEL_IDENTIFIER, fmus[2]["token"],
+                                    _start(2, {}) + command + "terminate\nfree\n", platform=where)
+        assert code == 0, err
+        results[where] = np.array(trace_rows(out), dtype=float)
+    if platform == "aarch64-linux":
+        assert np.array_equal(results[platform], results["linux64"])
+    else:
+        scale = np.maximum(np.ptp(results["linux64"], axis=0), 1e-300)
+        assert (np.abs(results[platform] - results["linux64"]) / scale).max() < WIN64_TOLERANCE
+
+
+@pytest.mark.slow
+def test_c_hosts_run_it_under_valgrind_clean(fmus, c_host, fmi3_host, tmp_path):
+    """Co-Simulation trace, FMU states (get, serialise, deserialise, set), a refused parameter and
+    Model Exchange calls under valgrind: no error, no leak (FMI 2.0 and 3.0)."""
+    valgrind_or_skip()
+    h, n = 1e-3, 20
+    path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *_smooth_loads(i * h)] for i in range(n)])
+    command = f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    for version, host in ((2, c_host), (3, fmi3_host)):
+        fmu = fmus[version]
+        state = tmp_path / f"state{version}.bin"
+        script = (_start(version, {sc.MAX_INTERNAL_STEP_NAME: 1e-4}) + command
+                  + f"get_state 0\nserialize 0 {state}\ndeserialize 1 {state}\nset_state 1\n" + command
+                  + "terminate\nfree\n" + _start(version, {"rod_length": 0.0}) + "expect error\nfree\n"
+                  + _start(version, {}, "instantiate_me") + f"get_derivatives {2 * L.N_COORDINATES}\nfree\n")
+        code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script, valgrind=True)
+        assert code == 0, err[-3000:]
+        assert_valgrind_clean(err)

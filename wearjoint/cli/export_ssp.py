@@ -1,0 +1,34 @@
+"""`wearjoint export-ssp`: write SliderCrankWithClearance.ssp, the paper's slider-crank as two FMUs
+(SliderCrank and ClearanceWearJoint, native FMI 2.0) with their connections and parameter sets,
+for any SSP master (OSP libcosim, ecos, fmpy's SSP simulator, OMSimulator)."""
+from __future__ import annotations
+
+import sys
+
+from ..fmu import platforms
+
+
+def add_arguments(parser) -> None:
+    """Options of ``wearjoint export-ssp``."""
+    parser.add_argument("--out", metavar="DIR", required=True, help="directory for SliderCrankWithClearance.ssp")
+    parser.add_argument("--stop-time", type=float, default=None, metavar="S",
+                        help="stop time of the default experiment [s] (default: one crank revolution)")
+    parser.add_argument("--platforms", default="auto", metavar="LIST",
+                        help="platforms the FMUs carry binaries for, of "
+                             f"{', '.join(platforms.CROSS_PLATFORMS)}, or auto (default %(default)s)")
+
+
+def run(args) -> int:
+    """Write the package and print its path; 0 on success, 2 with a message on stderr otherwise."""
+    from ..fmu.ssp import export_ssp
+
+    try:
+        path = export_ssp(args.out, stop_time=args.stop_time, platforms=args.platforms)
+    except (OSError, RuntimeError) as exc:
+        print(f"wearjoint export-ssp: error: {exc}", file=sys.stderr)
+        return 2
+    print(path)
+    return 0
+
+
+__all__ = ["add_arguments", "run"]

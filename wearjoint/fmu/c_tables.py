@@ -1,0 +1,25 @@
+"""C text of the generated model tables (``model_variables.h`` of each native FMU model)."""
+from __future__ import annotations
+
+import json
+
+
+def c_string(text: str) -> str:
+    """A valid C string literal for the ASCII texts used here."""
+    return json.dumps(text)
+
+
+def c_double(value: float) -> str:
+    return repr(float(value))
+
+
+def parameter_rows(parameters) -> list[str]:
+    """The rows of a ``ParameterInfo`` table (fmu_src/fmu_model.h) for ``parameters`` =
+    (name, slot, start, number of choices, :class:`~wearjoint.fmu.variables.Allowed`, index of the
+    parameter it must exceed or -1, the allowed values as the error message states them)."""
+    rows = []
+    for name, slot, start, n_choices, a, above, text in parameters:
+        rows.append("    {%s, %d, %s, %d, %d, %d, %s, %d, %d, %s, %d, %s}," % (
+            c_string(name), slot, c_double(start), n_choices, a.low is not None, a.low_open, c_double(a.low or 0.0),
+            a.high is not None, a.high_open, c_double(a.high or 0.0), above, c_string(text)))
+    return rows

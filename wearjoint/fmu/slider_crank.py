@@ -1,0 +1,297 @@
+"""The variables of the ``SliderCrank`` FMU: the paper's rigid slider-crank with the crank-rod joint
+open (Sec. 6.1, Eqs. 38-44), the system around a ``ClearanceWearJoint`` FMU.
+
+Inputs are the joint's loads on the crank (pin body) and on the rod (bushing body), named like
+the joint FMU's outputs; outputs are the 12 kinematic quantities the joint FMU takes (named like
+its inputs: reference points at the centres of mass, global frame), the crank angle and the
+slider's position, velocity and acceleration.  Parameters: every :class:`SliderCrankParameters`
+field (without its unit suffix; rpm and degrees as there) and ``max_internal_step``, the longest
+RK4 step of a Co-Simulation step.  Model Exchange: the 18 continuous states are the coordinates
+and velocities q, q_dot (Eq. 38), declared on the variables that hold them; their derivatives are
+the velocities and the accelerations (Eq. 44).
+
+One value reference per variable, the same in FMI 2.0 and 3.0 (position in :data:`VARIABLES`);
+FMI 3.0 adds the independent ``time`` after them.  This module generates the C model's table
+(``model_variables.h``) and both model descriptions.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from xml.etree import ElementTree as ET
+
+from ..core import layout
+from ..parameters import SliderCrankParameters
+from . import variables as fv
+from .c_tables import c_string, parameter_rows
+from .model_description import LOG_CATEGORIES, interfaces, root_with_interfaces_and_units
+
+MODEL_IDENTIFIER = "SliderCrank"
+DESCRIPTION = ("The rigid slider-crank of Sec. 6.1 (Eqs. 38-44, Baumgarte stabilisation), crank driven "
+               "clockwise, with the crank-rod revolute joint open: inputs are that joint's loads on the crank and "
+               "the rod, outputs their kinematics (the inputs of a ClearanceWearJoint FMU) and the slider's motion.")
+MAX_INTERNAL_STEP_NAME = "max_internal_step"
+MAX_INTERNAL_STEP_START = 1e-5
+TIME_NAME = "time"
+# kind of a variable's value in the C model: an input, a parameter, y[index] or dy[index]
+INPUT, PARAMETER, STATE, DERIVATIVE = "SOURCE_INPUT", "SOURCE_PARAMETER", "SOURCE_STATE", "SOURCE_DERIVATIVE"
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One variable: its FMI description and where the C model finds its value."""
+
+    name: str
+    causality: str
+    unit: str
+    description: str
+    source: str
+    index: int
+    start: float | None = None
+    allowed: fv.Allowed | None = None   # parameters
+
+
+_FIELD_UNITS = {"_m": "m", "_kg": "kg", "_kg_m2": "kg.m2", "_rpm": "rpm", "_deg": "deg", "_m_s2": "m/s2"}
+_FIELD_TEXT = {
+    "crank_length_m": "crank length l1 (Table 1)", "crank_mass_kg": "crank mass m1",
+    "crank_inertia_kg_m2": "crank moment of inertia I1 about its centre of mass",
+    "rod_length_m": "connecting rod length l2 (> crank_length)", "rod_mass_kg": "rod mass m2",
+    "rod_inertia_kg_m2": "rod moment of inertia I2 about its centre of mass", "slider_mass_kg": "slider mass m3",
+    "slider_inertia_kg_m2": "slider moment of inertia I3", "crank_speed_rpm": "crank speed (clockwise)",
+    "initial_crank_angle_deg": "crank angle theta0 at t = 0 (theta1 = theta0 - omega t, Eq. 39)",
+    "gravity_m_s2": "gravity, acting in -Y", "baumgarte_alpha": "Baumgarte alpha (Eq. 44 stabilisation)",
+    "baumgarte_beta": "Baumgarte beta (Eq. 44 stabilisation)",
+}
+# the rules of SliderCrankParameters.__post_init__
+_FIELD_ALLOWED = {"initial_crank_angle_deg": fv.ANY, "gravity_m_s2": fv.ANY, "baumgarte_alpha": fv.NON_NEGATIVE,
+                  "baumgarte_beta": fv.NON_NEGATIVE, "rod_length_m": fv.Allowed(0.0, True, above="crank_length")}
+
+
+def _parameter_name(field: str) -> str:
+    for suffix in sorted(_FIELD_UNITS, key=len, reverse=True):
+        if field.endswith(suffix):
+            return field[:-len(suffix)]
+    return field
+
+
+def _unit(field: str) -> str:
+    for suffix in sorted(_FIELD_UNITS, key=len, reverse=True):
+        if field.endswith(suffix):
+            return _FIELD_UNITS[suffix]
+    return "1/s"   # Baumgarte alpha, beta
+
+
+FIELDS = tuple(f.name for f in dataclasses.fields(SliderCrankParameters))
+if len(FIELDS) != layout.N_MECHANISM_FIELDS:
+    raise RuntimeError("SliderCrankParameters and layout.N_MECHANISM_FIELDS disagree")
+
+_BODIES = (("pin", "crank (pin body)"), ("bushing", "rod (bushing body)"))
+INPUTS = tuple(Variable(f"{body}_{name}", fv.INPUT, unit, f"load of the clearance joint on the {text}: {what}",
+                        INPUT, 3 * b + k, 0.0)
+               for b, (body, text) in enumerate(_BODIES)
+               for k, (name, unit, what) in enumerate((("force_x", "N", "force x, global frame"),
+                                                       ("force_y", "N", "force y, global frame"),
+                                                       ("torque", "N.m", "torque about its centre of mass"))))
+PARAMETERS = tuple(
+    Variable(_parameter_name(field), fv.PARAMETER, _unit(field), _FIELD_TEXT[field], PARAMETER, i,
+             float(getattr(SliderCrankParameters, field)), _FIELD_ALLOWED.get(field, fv.POSITIVE))
+    for i, field in enumerate(FIELDS)) + (
+    Variable(MAX_INTERNAL_STEP_NAME, fv.PARAMETER, "s",
+             "Co-Simulation: longest internal RK4 step; a communication step h is taken in ceil(h / max_internal_step) "
+             "equal steps with the inputs held", PARAMETER, len(FIELDS), MAX_INTERNAL_STEP_START, fv.POSITIVE),)
+
+# y = [q, q_dot] (Eq. 38): the variable holding each, its unit and what it is
+_BODY_OF = (("pin", "crank"), ("bushing", "rod"), ("slider", "slider"))
+_POSITION = (("x", "m", "x of the centre of mass"), ("y", "m", "y of the centre of mass"),
+             ("angle", "rad", "rotation angle, counter-clockwise"))
+_VELOCITY = (("vx", "m/s", "x velocity of the centre of mass"), ("vy", "m/s", "y velocity of the centre of mass"),
+             ("omega", "rad/s", "angular velocity, counter-clockwise"))
+_ACCELERATION = (("ax", "m/s2", "x acceleration of the centre of mass"),
+                 ("ay", "m/s2", "y acceleration of the centre of mass"),
+                 ("alpha", "rad/s2", "angular acceleration, counter-clockwise"))
+# the slider's names: its x quantities are the outputs slider_x, slider_v, slider_a
+_SLIDER_NAMES = {"x": "slider_x", "vx": "slider_v", "ax": "slider_a", "y": "slider_y", "angle": "slider_angle",
+                 "vy": "slider_vy", "omega": "slider_omega", "ay": "slider_ay", "alpha": "slider_alpha"}
+_OUTPUT_SLIDER = frozenset({"slider_x", "slider_v", "slider_a"})
+
+
+def _motion(rows, source: str, offset: int) -> tuple[Variable, ...]:
+    out = []
+    for b, (prefix, body) in enumerate(_BODY_OF):
+        for k, (suffix, unit, text) in enumerate(rows):
+            name = _SLIDER_NAMES[suffix] if prefix == "slider" else f"{prefix}_{suffix}"
+            causality = fv.OUTPUT if prefix != "slider" or name in _OUTPUT_SLIDER else fv.LOCAL
+            out.append(Variable(name, causality, unit, f"{body}: {text}, global frame", source, offset + 3 * b + k))
+    return tuple(out)
+
+
+N = layout.N_COORDINATES
+POSITIONS = _motion(_POSITION, STATE, 0)
+VELOCITIES = _motion(_VELOCITY, STATE, N)
+ACCELERATIONS = tuple(dataclasses.replace(v, causality=fv.OUTPUT if v.name in _OUTPUT_SLIDER else fv.LOCAL)
+                      for v in _motion(_ACCELERATION, DERIVATIVE, N))
+CRANK_ANGLE = Variable("crank_angle", fv.OUTPUT, "rad", "crank angle theta1 = theta0 - omega t (driven, Eq. 39)",
+                       STATE, layout.CRANK + 2)
+VARIABLES: tuple[Variable, ...] = (*INPUTS, *PARAMETERS, *POSITIONS, *VELOCITIES, CRANK_ANGLE, *ACCELERATIONS)
+STATES = (*POSITIONS, *VELOCITIES)                 # y[0..17], in order
+STATE_DERIVATIVES = (*VELOCITIES, *ACCELERATIONS)   # dy[0..17], in order
+VALUE_REFERENCES = {v.name: i for i, v in enumerate(VARIABLES)}
+FMI3_TIME_VALUE_REFERENCE = len(VARIABLES)
+# the 12 outputs a ClearanceWearJoint FMU takes as inputs, in its input order
+KINEMATIC_OUTPUTS = tuple(v.name for v in fv.INPUTS)
+if set(KINEMATIC_OUTPUTS) - {v.name for v in VARIABLES if v.causality == fv.OUTPUT}:
+    raise RuntimeError("SliderCrank lacks an output for a ClearanceWearJoint input")
+
+UNIT_DEFINITIONS: dict[str, dict] = {
+    "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "rad": {"rad": 1},
+    "rad/s": {"rad": 1, "s": -1}, "rad/s2": {"rad": 1, "s": -2}, "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "kg.m2": {"kg": 1, "m": 2}, "s": {"s": 1},
+    "1/s": {"s": -1}, "rpm": {"rad": 1, "s": -1, "factor": repr(2.0 * math.pi / 60.0)},
+    "deg": {"rad": 1, "factor": repr(math.pi / 180.0)},
+}
+
+
+def parameter_values(params: SliderCrankParameters) -> dict[str, float]:
+    """FMU parameter values (keyed by FMU name) reproducing ``params``."""
+    return {PARAMETERS[i].name: float(getattr(params, field)) for i, field in enumerate(FIELDS)}
+
+
+def model_variables_header(guid: str) -> str:
+    """``model_variables.h`` of the C model (slider_crank_model.c): generated, not edited."""
+    names = [p.name for p in PARAMETERS]
+    rows = parameter_rows([(p.name, p.index, p.start, 0, p.allowed, names.index(p.allowed.above)
+                            if p.allowed.above else -1, p.allowed.text()) for p in PARAMETERS])
+    variables = "\n".join(f"    {{{c_string(v.name)}, {v.source}, {v.index}}}," for v in VARIABLES)
+    return f"""/* Generated by wearjoint/fmu/build_native.py from wearjoint/fmu/slider_crank.py: do not edit. */
+#ifndef WEARJOINT_MODEL_VARIABLES_H
+#define WEARJOINT_MODEL_VARIABLES_H
+
+#include "fmu_model.h"
+
+#define MODEL_GUID {c_string(guid)}
+#define N_CONTINUOUS_STATES {len(STATES)}
+#define N_EVENT_INDICATORS 0
+#define N_COORDINATES {N}
+#define N_MECHANISM_PARAMETERS {layout.N_MECHANISM_PARAMETERS}
+#define N_INPUTS {len(INPUTS)}
+#define N_PARAMETERS {len(PARAMETERS)}
+#define P_MAX_INTERNAL_STEP {names.index(MAX_INTERNAL_STEP_NAME)}
+#define N_VARIABLES {len(VARIABLES)}
+#define FMI3_VR_TIME {FMI3_TIME_VALUE_REFERENCE}
+
+enum {{ {INPUT}, {PARAMETER}, {STATE}, {DERIVATIVE} }};
+
+typedef struct {{
+    const char *name;
+    int source;   /* SOURCE_*: where the value is */
+    int index;    /* in inputs, parameters, y = [q, q_dot] or dy */
+}} VariableInfo;
+
+/* value reference = position (FMI 2.0 and 3.0) */
+static const VariableInfo VARIABLES[N_VARIABLES] = {{
+{variables}
+}};
+
+/* the variable holding y[k] = [q, q_dot][k] (Eq. 38) */
+static const char *const STATE_NAMES[N_CONTINUOUS_STATES] = {{{", ".join(c_string(v.name) for v in STATES)}}};
+
+/* slot: index in the SliderCrankParameters fields (max_internal_step: the C model's own) */
+static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
+{chr(10).join(rows)}
+}};
+
+#endif
+"""
+
+
+def _log_categories(root: ET.Element) -> None:
+    categories = ET.SubElement(root, "LogCategories")
+    for name, text in LOG_CATEGORIES.items():
+        ET.SubElement(categories, "Category", name=name, description=text)
+
+
+def _fmi2_variables(root: ET.Element) -> None:
+    model_variables = ET.SubElement(root, "ModelVariables")
+    index = {v.name: i + 1 for i, v in enumerate(VARIABLES)}   # 1-based
+    derivative_of = {d.name: index[s.name] for s, d in zip(STATES, STATE_DERIVATIVES)}
+    for vr, v in enumerate(VARIABLES):
+        attributes = {"name": v.name, "valueReference": str(vr), "description": v.description, "causality": v.causality}
+        typed = {"unit": v.unit}
+        if v.causality == fv.PARAMETER:
+            attributes.update(variability="fixed", initial="exact")
+            typed["start"] = repr(v.start)
+        elif v.causality == fv.INPUT:
+            attributes["variability"] = "continuous"
+            typed["start"] = repr(v.start)
+        else:
+            attributes.update(variability="continuous", initial="calculated")
+        if v.name in derivative_of:
+            typed["derivative"] = str(derivative_of[v.name])
+        ET.SubElement(ET.SubElement(model_variables, "ScalarVariable", attributes), "Real", typed)
+    structure = ET.SubElement(root, "ModelStructure")
+    outputs = ET.SubElement(structure, "Outputs")
+    for v in VARIABLES:
+        if v.causality == fv.OUTPUT:
+            ET.SubElement(outputs, "Unknown", index=str(index[v.name]))
+    derivatives = ET.SubElement(structure, "Derivatives")
+    for d in STATE_DERIVATIVES:
+        ET.SubElement(derivatives, "Unknown", index=str(index[d.name]))
+    initial = ET.SubElement(structure, "InitialUnknowns")
+    calculated = {v.name for v in (*STATES, *STATE_DERIVATIVES)} | {v.name for v in VARIABLES
+                                                                     if v.causality == fv.OUTPUT}
+    for v in VARIABLES:
+        if v.name in calculated:
+            ET.SubElement(initial, "Unknown", index=str(index[v.name]))
+
+
+def _fmi3_variables(root: ET.Element) -> None:
+    model_variables = ET.SubElement(root, "ModelVariables")
+    ET.SubElement(model_variables, "Float64", name=TIME_NAME, valueReference=str(FMI3_TIME_VALUE_REFERENCE),
+                  description="simulation time", causality="independent", variability="continuous", unit="s")
+    derivative_of = {d.name: VALUE_REFERENCES[s.name] for s, d in zip(STATES, STATE_DERIVATIVES)}
+    for vr, v in enumerate(VARIABLES):
+        attributes = {"name": v.name, "valueReference": str(vr), "description": v.description,
+                      "causality": v.causality}
+        if v.causality == fv.PARAMETER:
+            attributes.update(variability="fixed", initial="exact")
+        else:
+            attributes["variability"] = "continuous"
+            if v.causality != fv.INPUT:
+                attributes["initial"] = "calculated"
+        if v.name in derivative_of:
+            attributes["derivative"] = str(derivative_of[v.name])
+        attributes["unit"] = v.unit
+        if v.start is not None:
+            attributes["start"] = repr(v.start)
+        ET.SubElement(model_variables, "Float64", attributes)
+    structure = ET.SubElement(root, "ModelStructure")
+    for v in VARIABLES:
+        if v.causality == fv.OUTPUT:
+            ET.SubElement(structure, "Output", valueReference=str(VALUE_REFERENCES[v.name]))
+    for d in STATE_DERIVATIVES:
+        ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(VALUE_REFERENCES[d.name]))
+    calculated = {v.name for v in (*STATES, *STATE_DERIVATIVES)} | {v.name for v in VARIABLES
+                                                                     if v.causality == fv.OUTPUT}
+    for v in VARIABLES:
+        if v.name in calculated:
+            ET.SubElement(structure, "InitialUnknown", valueReference=str(VALUE_REFERENCES[v.name]))
+
+
+def model_description(fmi_version: int, guid: str, tool: str) -> bytes:
+    """modelDescription.xml of the SliderCrank FMU (FMI ``fmi_version``), Co-Simulation and Model Exchange."""
+    cosimulation, model_exchange = interfaces(fmi_version, MODEL_IDENTIFIER, completed_integrator_step=False)
+    if fmi_version == 2:
+        root = root_with_interfaces_and_units(
+            {"fmiVersion": "2.0", "guid": guid, "generationTool": tool, "numberOfEventIndicators": "0"},
+            cosimulation, model_exchange, UNIT_DEFINITIONS, MODEL_IDENTIFIER, DESCRIPTION)
+        _log_categories(root)
+        _fmi2_variables(root)
+    else:
+        root = root_with_interfaces_and_units(
+            {"fmiVersion": "3.0", "instantiationToken": guid, "generationTool": tool},
+            cosimulation, model_exchange, UNIT_DEFINITIONS, MODEL_IDENTIFIER, DESCRIPTION)
+        _log_categories(root)
+        _fmi3_variables(root)
+    ET.indent(root)
+    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)

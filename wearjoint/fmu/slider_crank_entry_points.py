@@ -1,0 +1,72 @@
+"""C entry points of the slider-crank's kernels for the native ``SliderCrank`` FMU.
+
+The numba ``cfunc``s the AOT build compiles for the mechanism FMU (:mod:`wearjoint.fmu.aot`,
+model ``slider-crank``): the very kernels the monolithic engine and the co-simulation master run
+(:mod:`wearjoint.core.mechanism`, Eqs. 38-44 with Baumgarte stabilisation, the crank-rod joint
+open: ``MODE_EXTERNAL``), on arrays the C model owns and passes as raw pointers.  Nothing here
+allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``forces`` =
+the joint's (Fx, Fy, T) on the crank then on the rod (global frame, torques about the centres of
+mass).  The workspace of :func:`wearjoint.core.mechanism.make_workspace` comes as seven arrays:
+``jac`` and ``schur`` (9 x 9), ``phi``, ``phi_dot``, ``gamma``, ``minv`` (M^-1), ``force`` (9 each).
+"""
+from numba import carray, cfunc, types
+
+from ..core.integrators import rk4_hold
+from ..core.jit import kernel
+from ..core.layout import MODE_EXTERNAL, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
+from ..core.mechanism import JointArrays, derivative, initial_state, inverse_mass_diagonal, mechanism_parameter_vector
+
+_F64 = types.CPointer(types.float64)
+_N = N_COORDINATES
+_WORKSPACE = (_F64,) * 7
+
+
+@kernel(inline='always')
+def _workspace(jac, schur, phi, phi_dot, gamma, minv, force):
+    return (carray(jac, (_N, _N)), carray(schur, (_N, _N)), carray(phi, _N), carray(phi_dot, _N), carray(gamma, _N),
+            carray(minv, _N), carray(force, _N))
+
+
+@kernel(inline='always')
+def _no_joint(mp):
+    """The joint argument of the mechanism's right-hand side, which MODE_EXTERNAL never reads."""
+    return JointArrays(mp, mp, mp, mp, mp, mp, mp, mp, mp)
+
+
+@cfunc(types.int32(_F64, _F64, _F64), cache=True, error_model="numpy")
+def parameters_native(fields, mp, minv):
+    """The kernels' parameter vector (layout.MP_*) from the SliderCrankParameters fields (rpm,
+    degrees) and M^-1 (Eq. 42); returns 0."""
+    p = carray(mp, N_MECHANISM_PARAMETERS)
+    mechanism_parameter_vector(carray(fields, N_MECHANISM_FIELDS), p)
+    inverse_mass_diagonal(p, carray(minv, _N))
+    return 0
+
+
+@cfunc(types.int32(types.float64, _F64, *_WORKSPACE, _F64), cache=True, error_model="numpy")
+def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y):
+    """The ideal mechanism's consistent state at time t [s] into y (crank at th0 - omega t); returns 0."""
+    initial_state(t, carray(mp, N_MECHANISM_PARAMETERS), _workspace(jac, schur, phi, phi_dot, gamma, minv, force),
+                  carray(y, 2 * _N))
+    return 0
+
+
+@cfunc(types.int32(types.float64, _F64, _F64, _F64, *_WORKSPACE, _F64), cache=True, error_model="numpy")
+def derivative_native(t, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy):
+    """dy = dy/dt of y = [q, q_dot] under the joint's loads ``forces`` (Eq. 44); returns 0."""
+    p = carray(mp, N_MECHANISM_PARAMETERS)
+    derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, _no_joint(p), carray(forces, 6),
+               _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N))
+    return 0
+
+
+@cfunc(types.int32(types.float64, types.float64, types.int64, _F64, _F64, _F64, *_WORKSPACE, _F64, _F64),
+       cache=True, error_model="numpy")
+def step_native(t, h, n_steps, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy, stages):
+    """y advanced over [t, t + h] in n_steps RK4 steps with ``forces`` held, dy = f at the end
+    (``stages``: 4 x 18 scratch); returns 0."""
+    p = carray(mp, N_MECHANISM_PARAMETERS)
+    rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, _no_joint(p), carray(forces, 6),
+             _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N),
+             carray(stages, (4, 2 * _N)))
+    return 0
