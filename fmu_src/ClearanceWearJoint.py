@@ -35,7 +35,6 @@ import ctypes
 import functools
 import json
 import math
-import struct
 import sys
 import typing
 from pathlib import Path
@@ -65,19 +64,17 @@ def _scipy_hidden():
 with _scipy_hidden():
     import numpy as np
 
-    from wearjoint import ClearanceJoint, JointParameters, ParameterError, __version__
+    from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, __version__
     from wearjoint.fmu import variables as fv
-    from wearjoint.core import layout
-    from wearjoint.core.contact import block_minimum_depth
+    from wearjoint.core import state_format
+    from wearjoint.joint import check_state_values, read_state_bytes, state_bytes
     from wearjoint.fmu import entry_points as native
 
 _RESULT_INDEX = fv.RESULT_SLOTS
 
-# FMU state: magic, time [s], 1.0 if initialised, then float64 values: the inputs,
-# the parameters (fv.PARAMETERS order), the joint's contact memory and wear depths.
-# Native byte order, which is little-endian: the FMU's binaries are linux64 (x86_64) only.
-_STATE_MAGIC = b"WJFMU002"
-_STATE_HEAD = struct.Struct("<8sdd")
+# FMU state: the state format of ClearanceJoint (docs/model.md), contents "FMU instance": its head is
+# the time [s], 1.0 if initialised, the inputs and the parameters (fv.PARAMETERS order)
+_STATE_N_HEAD = 2 + len(fv.INPUTS) + len(fv.PARAMETERS)
 _N_INPUTS = len(fv.INPUTS)
 _ALL_INPUT_VRS = list(range(_N_INPUTS))   # value references of the inputs, in order
 
@@ -137,7 +134,7 @@ def _compile_kernels(params) -> None:
     scratch.evaluate_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12])
     scratch.advance_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12], 0.0)
     scratch.worn_volume_m3  # noqa: B018 - compiles worn_area
-    block_minimum_depth(scratch.wear_depth, scratch.block_min)   # setFMUstate
+    scratch.state_from_bytes(scratch.state_to_bytes())   # getFMUstate, setFMUstate
 
 
 class _ReadPlan(typing.NamedTuple):
@@ -167,10 +164,6 @@ class _SharedFlag:
 
     def __set__(self, slave, value: bool) -> None:
         slave._flags[self.index] = 1.0 if value else 0.0
-
-
-class _DeserialisedState(bytes):
-    """An FMU state read back by deSerializeFMUstate: setFMUstate validates it in full."""
 
 
 class FmuCallFailed(Exception):
@@ -240,14 +233,6 @@ class ClearanceWearJoint(Fmi2Slave):
         self._native_attached = False
         # the source arrays, indexed by _FROM_*; the joint's arrays once it is built
         self._sources = (self._reals, None, None)
-        # FMU state layout: bytes of the parameters; float64 positions after the head
-        n_parameters = len(self._parameter_vrs)
-        self._state_parameters = slice(_STATE_HEAD.size + 8 * _N_INPUTS,
-                                       _STATE_HEAD.size + 8 * (_N_INPUTS + n_parameters))
-        memory_start = _N_INPUTS + n_parameters
-        self._state_memory = slice(memory_start, memory_start + layout.N_MEMORY)
-        self._state_wear = slice(self._state_memory.stop, self._state_memory.stop + n_points)
-        self._state_size = _STATE_HEAD.size + 8 * self._state_wear.stop
         self._parameter_block = None   # the parameters of the joint as state bytes
         self._non_finite_input_vrs = set()
         self._initialised = False
@@ -527,26 +512,31 @@ class ClearanceWearJoint(Fmi2Slave):
         self._abort_call(f"setString: this FMU has no String variables (asked for {list(vrs)})")
 
     # ------------------------------------------------------------- FMU state
-    # The state object is the serialised bytes themselves: exact, immutable, and
-    # getFMUstate / serializeFMUstate share one code path.  A state made here is
-    # trusted; one read back by deSerializeFMUstate is validated at setFMUstate.
+    # The state object is the serialised bytes themselves (ClearanceJoint's state format): exact,
+    # immutable, and getFMUstate / serializeFMUstate share one code path; setFMUstate checks it.
     @_guarded
     def _get_fmu_state(self):
         self._ensure_joint()
         joint = self._joint
-        return b"".join((_STATE_HEAD.pack(_STATE_MAGIC, self._time, 1.0 if self._initialised else 0.0),
-                         self._inputs.tobytes(), self._parameter_block,
-                         joint.memory.tobytes(), joint.wear_depth.tobytes()))
+        head = np.concatenate(([self._time, 1.0 if self._initialised else 0.0], self._inputs,
+                               np.frombuffer(self._parameter_block)))
+        return state_bytes(state_format.CONTENTS_FMU, head, joint.memory, joint.wear_depth)
 
     @_guarded
     def _set_fmu_state(self, state):
-        if not isinstance(state, bytes) or len(state) != self._state_size or not state.startswith(_STATE_MAGIC):
-            self._abort_call(f"setFMUstate: not a ClearanceWearJoint state for n_points={self.n_points}")
-        _, time, initialised = _STATE_HEAD.unpack_from(state)
-        parameters = state[self._state_parameters]
-        if parameters != self._parameter_block or self._parameters_changed:
-            values = np.frombuffer(parameters, dtype=float)
-            for vr, value in zip(self._parameter_vrs, values.tolist()):
+        try:
+            head, memory, wear_depth = read_state_bytes(state, state_format.CONTENTS_FMU, _STATE_N_HEAD,
+                                                        self.n_points)
+            parameters = head[2 + _N_INPUTS:]
+            values = {name: int(v) if vr in self._integers and v.is_integer() else v
+                      for (vr, name), v in zip(self._parameter_vrs.items(), parameters.tolist())}
+            radius = fv.joint_parameters_from_fmi(values, self.n_points).bushing_radius_m
+            check_state_values(head, memory, wear_depth, radius)
+        except ParameterError as exc:
+            self._abort_call(f"setFMUstate: {exc}")
+        time, initialised = head[:2]
+        if parameters.tobytes() != self._parameter_block or self._parameters_changed:
+            for vr, value in zip(self._parameter_vrs, parameters.tolist()):
                 if vr in self._integers:
                     self._integers[vr] = int(value)
                 else:
@@ -554,18 +544,12 @@ class ClearanceWearJoint(Fmi2Slave):
             self._parameters_changed = True
             self._ensure_joint()
         joint = self._joint
-        values = np.frombuffer(state, dtype=float, offset=_STATE_HEAD.size)
-        wear_depth = values[self._state_wear]
-        if type(state) is _DeserialisedState and not (np.all(np.isfinite(wear_depth)) and wear_depth.min() >= 0.0):
-            self._abort_call("setFMUstate: the state's wear depths must be finite and >= 0")
-        inputs = values[:_N_INPUTS].tolist()
+        inputs = head[2:2 + _N_INPUTS].tolist()
         self._inputs[:] = inputs
         self._non_finite_input_vrs.clear()
         if not math.isfinite(sum(inputs)):
             self._note_input_finiteness(_ALL_INPUT_VRS, inputs)
-        joint.memory[:] = values[self._state_memory]
-        joint.wear_depth[:] = wear_depth
-        block_minimum_depth(joint.wear_depth, joint.block_min)
+        joint.set_state(JointState(wear_depth, memory))
         self._time = time
         self._initialised = initialised == 1.0
         self._forces_stale = self._wear_summary_stale = True
@@ -577,4 +561,4 @@ class ClearanceWearJoint(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(data):
-        return _DeserialisedState(data)
+        return bytes(data)

@@ -41,7 +41,7 @@ def test_state_bytes_reject_a_joint_of_another_size():
     blob = ClearanceJoint(JointParameters()).state_to_bytes()
     with pytest.raises(ParameterError, match="n_points"):
         ClearanceJoint(JointParameters(n_points=100)).state_from_bytes(blob)
-    with pytest.raises(ParameterError, match="header"):
+    with pytest.raises(ParameterError, match="magic bytes"):
         ClearanceJoint(JointParameters()).state_from_bytes(b"garbage")
 
 
@@ -80,7 +80,7 @@ def test_bad_kinematics_and_profiles_are_rejected():
         joint.evaluate([0, 0, 0], [0] * 6)
     with pytest.raises(ParameterError, match="dt"):
         joint.advance([0] * 6, [0] * 6, -1e-5)
-    with pytest.raises(ParameterError, match=">= 0"):
+    with pytest.raises(ParameterError, match=r"is negative: allowed a depth in \[0, "):
         joint.set_wear_profile(-np.ones(1257))
 
 
@@ -105,10 +105,10 @@ def test_negative_wear_depths_are_refused_on_every_way_in():
     joint = ClearanceJoint(JointParameters())
     profile = np.zeros(joint.wear_depth.size)
     profile[7] = -1e-9
-    with pytest.raises(ParameterError, match=">= 0"):
+    with pytest.raises(ParameterError, match=r"is negative: allowed a depth in \[0, "):
         joint.set_wear_profile(profile)
     donor = ClearanceJoint(JointParameters())
     donor.wear_depth[7] = -1e-9               # bypasses the API on purpose
-    with pytest.raises(ParameterError, match=">= 0"):
+    with pytest.raises(ParameterError, match=r"is negative: allowed a depth in \[0, "):
         joint.state_from_bytes(donor.state_to_bytes())
     assert np.all(joint.wear_depth == 0.0)

@@ -32,7 +32,7 @@ import zipfile
 from pathlib import Path
 
 from .. import __version__
-from ..core import layout
+from ..core import layout, state_format
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
@@ -49,12 +49,12 @@ COMMON_C_SOURCES = ("joint_instance.c", "joint_instance.h", "model.h")
 C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c", *COMMON_C_SOURCES), 3: ("fmi3Functions.c", *COMMON_C_SOURCES)}
 N_EVENT_INDICATORS = 1   # Model Exchange: the signed penetration
 # the wearjoint modules whose content decides the compiled FMU
-KERNEL_MODULES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "joint.py", "parameters.py",
-                  "fmu/variables.py", "fmu/entry_points.py", "fmu/aot.py", "fmu/model_description.py",
+KERNEL_MODULES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/state_format.py", "joint.py",
+                  "parameters.py", "fmu/variables.py", "fmu/entry_points.py", "fmu/aot.py", "fmu/model_description.py",
                   "fmu/build_native.py", "fmu/platforms.py")
 # what the kernels' IR depends on (with the numba and llvmlite versions): the key of its cache
-KERNEL_IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/mechanism.py",
-                         "core/integrators.py", "joint.py", "parameters.py", "fmu/entry_points.py", "fmu/aot.py")
+KERNEL_IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/state_format.py",
+                     "core/mechanism.py", "core/integrators.py", "joint.py", "parameters.py", "fmu/entry_points.py", "fmu/aot.py")
 FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                           3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 EXPORTS_MAP_BY_VERSION = {v: f"{{\n  global: fmi{v}*;\n  local: *;\n}};\n" for v in FMI_VERSIONS}   # ELF platforms
@@ -141,6 +141,8 @@ def model_variables_header(n_points: int, guid: str) -> str:
         raise RuntimeError("the FMU variable table is not in the order the C layer expects "
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
     inputs = ", ".join(_c_string(v.name) for v in fv.INPUTS)
+    problems = state_format.printf_problems()
+    bushing_radius = next(i for i, p in enumerate(fv.PARAMETERS) if slot_of[(p.field, p.component)] == layout.P_BUSHING_RADIUS)
     vr3 = fmi3_value_references()
     if any(vr3[name] != vr[name] for name in (*(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS),
                                               fv.N_POINTS_NAME, *(v.name for v in fv.SCALAR_OUTPUTS))):
@@ -164,6 +166,18 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define VR_N_POINTS {vr[fv.N_POINTS_NAME]}
 #define VR_FIRST_OUTPUT {first_output}
 #define VR_FIRST_WEAR_DEPTH {first_wear}
+
+/* The state format (wearjoint/core/state_format.py): an FMU state's contents kind, its head (time,
+ * initialised flag, inputs, parameters), the parameter that bounds the wear depths, and the message
+ * of each problem a check reports (printf formats of the values as text, of the kinds d, g, x). */
+#define STATE_CONTENTS_FMU {state_format.CONTENTS_FMU}
+#define STATE_N_HEAD (2 + N_INPUTS + N_PARAMETERS)
+#define STATE_PARAMETER_BUSHING_RADIUS {bushing_radius}
+#define STATE_N_PROBLEMS {len(problems)}
+static const char *const STATE_PROBLEMS[STATE_N_PROBLEMS] = {{
+{chr(10).join(f"    {_c_string(text)}," for text, _ in problems)}
+}};
+static const char *const STATE_PROBLEM_KINDS[STATE_N_PROBLEMS] = {{{", ".join(_c_string(kinds) for _, kinds in problems)}}};
 
 /* FMI 3.0 (fmi3Functions.c): the scalars keep their FMI 2.0 value references; the wear profile is
  * one Float64 array sized by the structural parameter n_points (UInt64), then the independent time. */
