@@ -74,7 +74,6 @@ _RESULT_INDEX = fv.RESULT_SLOTS
 
 # FMU state: the state format of ClearanceJoint (docs/model.md), contents "FMU instance": its head is
 # the time [s], 1.0 if initialised, the inputs and the parameters (fv.PARAMETERS order)
-_STATE_N_HEAD = 2 + len(fv.INPUTS) + len(fv.PARAMETERS)
 _N_INPUTS = len(fv.INPUTS)
 _ALL_INPUT_VRS = list(range(_N_INPUTS))   # value references of the inputs, in order
 
@@ -525,13 +524,12 @@ class ClearanceWearJoint(Fmi2Slave):
     @_guarded
     def _set_fmu_state(self, state):
         try:
-            head, memory, wear_depth = read_state_bytes(state, state_format.CONTENTS_FMU, _STATE_N_HEAD,
+            head, memory, wear_depth = read_state_bytes(state, state_format.CONTENTS_FMU, fv.STATE_HEAD_SIZE,
                                                         self.n_points)
             parameters = head[2 + _N_INPUTS:]
             values = {name: int(v) if vr in self._integers and v.is_integer() else v
                       for (vr, name), v in zip(self._parameter_vrs.items(), parameters.tolist())}
-            radius = fv.joint_parameters_from_fmi(values, self.n_points).bushing_radius_m
-            check_state_values(head, memory, wear_depth, radius)
+            check_state_values(head, memory, wear_depth, fv.joint_parameters_from_fmi(values, self.n_points))
         except ParameterError as exc:
             self._abort_call(f"setFMUstate: {exc}")
         time, initialised = head[:2]

@@ -256,6 +256,17 @@ int joint_evaluate(JointInstance *joint, const char *function, const char *outpu
                                       joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
                                       joint->result, joint->mask, joint->n_points, joint->n_blocks)))
         return 0;
+    for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
+        double value = joint->result[OUTPUTS[i].index];
+        if (OUTPUTS[i].source == OUTPUT_FROM_RESULT && !isfinite(value)) {
+            double largest = 0.0;
+            for (int k = 0; k < N_INPUTS; k++)
+                largest = fabs(joint->inputs[k]) > largest ? fabs(joint->inputs[k]) : largest;
+            joint_log(joint, JOINT_ERROR, "%s of %s: output %s=%g is not finite for inputs up to |%g|: allowed "
+                      "inputs whose contact geometry stays finite", function, output, OUTPUTS[i].name, value, largest);
+            return 0;
+        }
+    }
     joint->forces_stale = 0;
     return 1;
 }
@@ -409,7 +420,8 @@ int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size
         if (!parameters_valid(joint, head + HEAD_PARAMETERS, function))
             return 0;
         wearjoint_check_values(&problem, NULL, head, STATE_N_HEAD, memory, joint->work, joint->n_points,
-                               head[HEAD_PARAMETERS + STATE_PARAMETER_BUSHING_RADIUS], values);
+                               head[HEAD_PARAMETERS + STATE_PARAMETER_BUSHING_RADIUS],
+                               head[HEAD_PARAMETERS + STATE_PARAMETER_VELOCITY_FLOOR], values);
     }
     if (problem != 0)
         log_state_problem(joint, function, problem, values);

@@ -72,10 +72,11 @@ int32_t wearjoint_check_header(int32_t *problem, void *excinfo, const uint8_t *d
 int32_t wearjoint_read_state(int32_t *status, void *excinfo, const uint8_t *data, int64_t size, double *head,
                              int64_t n_head, double *memory, double *wear_depth, int64_t n_points);
 
-/* *problem = 0 if the values are in range (the head's time and initialised flag, the contact memory, the
- * wear depths in [0, bushing_radius]), else the first problem; values[4]: what it compared. */
+/* *problem = 0 if the values are in range (the head's time and initialised flag, the contact memory with an
+ * onset velocity >= velocity_floor, the wear depths in [0, bushing_radius]), else the first problem;
+ * values[4]: what it compared. */
 int32_t wearjoint_check_values(int32_t *problem, void *excinfo, const double *head, int64_t n_head,
                                const double *memory, const double *wear_depth, int64_t n_points,
-                               double bushing_radius, double *values);
+                               double bushing_radius, double velocity_floor, double *values);
 
 #endif

@@ -393,8 +393,7 @@ def test_a_bad_deserialised_state_fails_with_fmi2_error(slave, fmu):
     good = slave.fmu.serializeFMUstate(slave.fmu.getFMUstate())
     flipped = bytearray(good)
     flipped[-12] ^= 0x10
-    n_head = 2 + len(fv.INPUTS) + len(fv.PARAMETERS)
-    head, memory, wear = read_state_bytes(good, state_format.CONTENTS_FMU, n_head, P.n_points)
+    head, memory, wear = read_state_bytes(good, state_format.CONTENTS_FMU, fv.STATE_HEAD_SIZE, P.n_points)
     wear[-1] = -1e-6
     cases = [(bytes(flipped), ("FMUstate", "CRC-32C", "corrupted")),
              (good[:-8], ("FMUstate", f"has {len(good) - 8} bytes, its header declares {len(good)}")),

@@ -56,12 +56,14 @@ def read_state_bytes(data, contents: int, n_head: int, n_points: int) -> tuple[n
     return head, memory, depth
 
 
-def check_state_values(head, memory, wear_depth_m, bushing_radius_m: float, where: str = "") -> None:
-    """StateError naming the first value out of range: an FMU head's time or flag, the contact memory,
-    a wear depth (finite, in [0, bushing_radius_m])."""
+def check_state_values(head, memory, wear_depth_m, params: JointParameters, where: str = "") -> None:
+    """StateError naming the first value out of range for a joint of ``params``: an FMU head's time or
+    flag, the contact memory (an active contact's onset velocity >= the impact velocity floor), a wear
+    depth (finite, in [0, bushing radius])."""
     values = np.zeros(4)
     _refuse(SF.check_values(np.asarray(head, dtype=float), np.asarray(memory, dtype=float),
-                            np.asarray(wear_depth_m, dtype=float), bushing_radius_m, values), values, where)
+                            np.asarray(wear_depth_m, dtype=float), params.bushing_radius_m,
+                            params.impact_velocity_floor_m_s, values), values, where)
 
 
 # JointParameters field (or (field, component) of a pair) given to each slot of the parameter vector
@@ -274,7 +276,7 @@ class ClearanceJoint:
         memory = np.zeros(L.N_MEMORY) if memory is None else np.asarray(memory, dtype=float)
         if memory.shape != (L.N_MEMORY,):
             raise StateError(f"{where}contact memory of {memory.size} values given, the joint keeps {L.N_MEMORY}")
-        check_state_values((), memory, h, self.params.bushing_radius_m, where)
+        check_state_values((), memory, h, self.params, where)
 
     def save_profile(self, path) -> Path:
         """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (rod frame)."""

@@ -47,7 +47,7 @@ PROBLEMS = {
     DEPTH_TOO_DEEP: "wear_depth[{0:d}]={1:g} m is deeper than the bushing radius: allowed a depth in [0, {2:g}] m",
     ACTIVE_FLAG: "the contact memory's active flag={0:g} is invalid: allowed 0 or 1",
     ONSET_VELOCITY: "the contact memory's onset velocity={0:g} m/s with active flag={1:g} is invalid: allowed a "
-                    "finite value >= 0 while a contact is active, 0 otherwise",
+                    "finite value >= impact_velocity_floor={2:g} m/s while a contact is active, 0 otherwise",
 }
 
 
@@ -239,26 +239,27 @@ def check_wear_depth(wear_depth, bushing_radius, values):
 
 
 @kernel
-def check_memory(memory, values):
+def check_memory(memory, velocity_floor, values):
     """0 if the contact memory is one the kernels write: active flag 0 or 1, the onset velocity finite
-    and >= 0 while active, 0 otherwise."""
+    and >= ``velocity_floor`` while active, 0 otherwise."""
     active, velocity = memory[M_ACTIVE], memory[M_IMPACT_VELOCITY]
     if active != 0.0 and active != 1.0:
         values[0] = active
         return ACTIVE_FLAG
-    if not (np.isfinite(velocity) and velocity >= 0.0) or (active == 0.0 and velocity != 0.0):
-        values[0], values[1] = velocity, active
+    if not (np.isfinite(velocity) and velocity >= velocity_floor) if active == 1.0 else velocity != 0.0:
+        values[0], values[1], values[2] = velocity, active, velocity_floor
         return ONSET_VELOCITY
     return OK
 
 
 @kernel
-def check_values(head, memory, wear_depth, bushing_radius, values):
+def check_values(head, memory, wear_depth, bushing_radius, velocity_floor, values):
     """0 if a state's values are in range: an FMU head's time and flag (if ``head`` has any), the
-    contact memory, the wear depths up to ``bushing_radius``; else the first problem."""
+    contact memory (onset velocity >= ``velocity_floor``), the wear depths up to ``bushing_radius``;
+    else the first problem."""
     problem = check_fmu_head(head, values) if head.size > 0 else OK
     if problem == OK:
-        problem = check_memory(memory, values)
+        problem = check_memory(memory, velocity_floor, values)
     if problem == OK:
         problem = check_wear_depth(wear_depth, bushing_radius, values)
     return problem

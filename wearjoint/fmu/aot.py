@@ -49,7 +49,7 @@ ENTRY_POINTS = {
     "wearjoint_write_state": ("write_state_native", 8),
     "wearjoint_check_header": ("check_header_native", 6),
     "wearjoint_read_state": ("read_state_native", 7),
-    "wearjoint_check_values": ("check_values_native", 7),
+    "wearjoint_check_values": ("check_values_native", 8),
 }
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)
 ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",

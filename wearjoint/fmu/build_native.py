@@ -142,7 +142,7 @@ def model_variables_header(n_points: int, guid: str) -> str:
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
     inputs = ", ".join(_c_string(v.name) for v in fv.INPUTS)
     problems = state_format.printf_problems()
-    bushing_radius = next(i for i, p in enumerate(fv.PARAMETERS) if slot_of[(p.field, p.component)] == layout.P_BUSHING_RADIUS)
+    parameter_of_slot = {slot_of[(p.field, p.component)]: i for i, p in enumerate(fv.PARAMETERS)}
     vr3 = fmi3_value_references()
     if any(vr3[name] != vr[name] for name in (*(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS),
                                               fv.N_POINTS_NAME, *(v.name for v in fv.SCALAR_OUTPUTS))):
@@ -168,11 +168,12 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define VR_FIRST_WEAR_DEPTH {first_wear}
 
 /* The state format (wearjoint/core/state_format.py): an FMU state's contents kind, its head (time,
- * initialised flag, inputs, parameters), the parameter that bounds the wear depths, and the message
+ * initialised flag, inputs, parameters), the parameters that bound its values, and the message
  * of each problem a check reports (printf formats of the values as text, of the kinds d, g, x). */
 #define STATE_CONTENTS_FMU {state_format.CONTENTS_FMU}
-#define STATE_N_HEAD (2 + N_INPUTS + N_PARAMETERS)
-#define STATE_PARAMETER_BUSHING_RADIUS {bushing_radius}
+#define STATE_N_HEAD {fv.STATE_HEAD_SIZE}
+#define STATE_PARAMETER_BUSHING_RADIUS {parameter_of_slot[layout.P_BUSHING_RADIUS]}
+#define STATE_PARAMETER_VELOCITY_FLOOR {parameter_of_slot[layout.P_VELOCITY_FLOOR]}
 #define STATE_N_PROBLEMS {len(problems)}
 static const char *const STATE_PROBLEMS[STATE_N_PROBLEMS] = {{
 {chr(10).join(f"    {_c_string(text)}," for text, _ in problems)}

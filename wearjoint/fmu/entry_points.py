@@ -133,9 +133,10 @@ def read_state_native(data, size, head, n_head, memory, wear_depth, n_points):
     return 0
 
 
-@cfunc(types.int32(_F64, types.int64, _F64, _F64, types.int64, types.float64, _F64), cache=True, error_model="numpy")
-def check_values_native(head, n_head, memory, wear_depth, n_points, bushing_radius, values):
+@cfunc(types.int32(_F64, types.int64, _F64, _F64, types.int64, types.float64, types.float64, _F64), cache=True,
+       error_model="numpy")
+def check_values_native(head, n_head, memory, wear_depth, n_points, bushing_radius, velocity_floor, values):
     """0 if a state's values are in range (an FMU head's time and flag, the contact memory, the wear
     depths up to ``bushing_radius``), else the problem (values: what it compared)."""
     return state_format.check_values(carray(head, n_head), carray(memory, N_MEMORY), carray(wear_depth, n_points),
-                                     bushing_radius, carray(values, 4))
+                                     bushing_radius, velocity_floor, carray(values, 4))

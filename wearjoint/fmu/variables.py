@@ -175,6 +175,8 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
     _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),
 )
+# an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
+STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
 
 N_POINTS_NAME = "n_points"
 
