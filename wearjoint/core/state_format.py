@@ -58,7 +58,7 @@ def problem_message(problem: int, values) -> str:
     """The message of ``problem`` with the values it compared."""
     def text(match):
         value = values[int(match[1])]
-        return {"d": str(int(value)), "g": repr(float(value)), "x": f"{int(value):08x}"}[match[2]]
+        return repr(float(value)) if match[2] == "g" else f"{int(value):{'08x' if match[2] == 'x' else 'd'}}"
     return _PLACEHOLDER.sub(text, PROBLEMS[problem])
 
 
