@@ -894,9 +894,13 @@ fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state)
     if (inst == NULL || !mode_is(inst, "fmi3SetFMUState", ~M(MODE_CONFIGURATION)))
         return fmi3Error;
     const FmuState *s = state;
-    if (s == NULL || s->size != joint_state_size(inst->joint)) {
-        joint_log(inst->joint, fmi3Error, "fmi3SetFMUState: NULL or not a state of this FMU (n_points=%lld)",
-                  (long long)inst->joint->n_points);
+    if (s == NULL) {
+        joint_log(inst->joint, fmi3Error, "fmi3SetFMUState: NULL state");
+        return fmi3Error;
+    }
+    if (s->size != joint_state_size(inst->joint)) {
+        joint_log(inst->joint, fmi3Error, "fmi3SetFMUState: a state of %zu bytes, this instance's (n_points=%lld) "
+                  "have %zu", s->size, (long long)inst->joint->n_points, joint_state_size(inst->joint));
         return fmi3Error;
     }
     int initialised = 0;
