@@ -21,7 +21,6 @@ import ctypes
 import functools
 import json
 import math
-import struct
 import sys
 from pathlib import Path
 
@@ -51,14 +50,12 @@ with _scipy_hidden():
     import numpy as np
 
     from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, __version__
-    from wearjoint.core import layout
+    from wearjoint.core import state_format
     from wearjoint.fmu import variables as fv
+    from wearjoint.joint import check_state_values, read_state_bytes, state_bytes
 
-# FMU state: magic, time [s], 1.0 if initialised, then float64 values: the inputs,
-# the parameters (fv.PARAMETERS order), the joint's contact memory and wear depths.
-# Native byte order, which is little-endian: the FMU's binaries are linux64 (x86_64) only.
-_STATE_MAGIC = b"WJFMU002"
-_STATE_HEAD = struct.Struct("<8sdd")
+# FMU state: the state format of ClearanceJoint (docs/model.md), contents "FMU instance": its head is
+# the time [s], 1.0 if initialised, the inputs and the parameters (fv.PARAMETERS order)
 _N_INPUTS = len(fv.INPUTS)
 _INPUT_NAMES = [v.name for v in fv.INPUTS]
 # what a getReal of a value reference needs brought up to date first
@@ -94,7 +91,7 @@ def _compile_kernels(params) -> None:
     scratch.evaluate_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12])
     scratch.advance_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12], 0.0)
     scratch.worn_volume_m3  # noqa: B018 - compiles worn_area
-    scratch.set_state(scratch.get_state())   # setFMUstate: the block minima
+    scratch.state_from_bytes(scratch.state_to_bytes())   # getFMUstate, setFMUstate
 
 
 class FmuCallFailed(Exception):
@@ -163,12 +160,6 @@ class ClearanceWearJoint(Fmi2Slave):
         self._needs[self._depth_vrs] = _WEAR
         self._needs[self._summary_vrs] = _WEAR
         self._needs = self._needs.tolist()
-        # FMU state layout: float64 positions after the head
-        parameters_end = _N_INPUTS + len(fv.PARAMETERS)
-        self._state_parameters = slice(_N_INPUTS, parameters_end)
-        self._state_memory = slice(parameters_end, parameters_end + layout.N_MEMORY)
-        self._state_wear = slice(self._state_memory.stop, self._state_memory.stop + n_points)
-        self._state_size = _STATE_HEAD.size + 8 * self._state_wear.stop
         self._parameter_block = None   # the joint's parameter values as bytes (the state's)
         self._joint = None
         self._initialised = False
@@ -318,31 +309,33 @@ class ClearanceWearJoint(Fmi2Slave):
     get_string, set_string = _refused("getString", "String"), _refused("setString", "String")
 
     # ------------------------------------------------------------- FMU state
-    # The state object is the serialised bytes themselves: exact, immutable, and
-    # getFMUstate / serializeFMUstate share one code path; setFMUstate checks it.
+    # The state object is the serialised bytes themselves (ClearanceJoint's state format): exact,
+    # immutable, and getFMUstate / serializeFMUstate share one code path; setFMUstate checks it.
     @_guarded
     def _get_fmu_state(self):
         self._ensure_joint()
         joint = self._joint
-        return b"".join((_STATE_HEAD.pack(_STATE_MAGIC, self._time, 1.0 if self._initialised else 0.0),
-                         self._inputs.tobytes(), self._parameter_block,
-                         joint.memory.tobytes(), joint.wear_depth.tobytes()))
+        head = np.concatenate(([self._time, 1.0 if self._initialised else 0.0], self._inputs,
+                               np.frombuffer(self._parameter_block)))
+        return state_bytes(state_format.CONTENTS_FMU, head, joint.memory, joint.wear_depth)
 
     @_guarded
     def _set_fmu_state(self, state):
-        if not isinstance(state, bytes) or len(state) != self._state_size or not state.startswith(_STATE_MAGIC):
-            self._abort_call(f"setFMUstate: not a ClearanceWearJoint state for n_points={self.n_points}")
-        _, time, initialised = _STATE_HEAD.unpack_from(state)
-        values = np.frombuffer(state, dtype=float, offset=_STATE_HEAD.size)
-        self._values[self._parameter_vrs] = values[self._state_parameters]
-        self._ensure_joint()
         try:
-            self._joint.set_state(JointState(values[self._state_wear], values[self._state_memory]))
+            head, memory, wear_depth = read_state_bytes(state, state_format.CONTENTS_FMU, fv.STATE_HEAD_SIZE,
+                                                        self.n_points)
+            parameters = head[2 + _N_INPUTS:]
+            values = {p.variable.name: int(v) if p.variable.type == fv.INTEGER and v.is_integer() else v
+                      for p, v in zip(fv.PARAMETERS, parameters.tolist())}
+            check_state_values(head, memory, wear_depth, fv.joint_parameters_from_fmi(values, self.n_points))
         except ParameterError as exc:
-            self._abort_call(f"setFMUstate: the state's wear depths are invalid: {exc}")
-        self._inputs[:] = values[:_N_INPUTS]
-        self._time = time
-        self._initialised = initialised == 1.0
+            self._abort_call(f"setFMUstate: {exc}")
+        self._values[self._parameter_vrs] = parameters
+        self._ensure_joint()
+        self._joint.set_state(JointState(wear_depth, memory))
+        self._inputs[:] = head[2:2 + _N_INPUTS]
+        self._time = float(head[0])
+        self._initialised = head[1] == 1.0
         self._forces_stale = self._wear_stale = True
 
     @staticmethod

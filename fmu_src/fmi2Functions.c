@@ -580,8 +580,13 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state)
     if (inst == NULL)
         return fmi2Error;
     const FmuState *s = state;
-    if (s == NULL || s->size != model_state_size(inst->model)) {
-        LOG(inst, fmi2Error, "fmi2SetFMUstate: NULL or not a state of this FMU");
+    if (s == NULL) {
+        LOG(inst, fmi2Error, "fmi2SetFMUstate: NULL state");
+        return fmi2Error;
+    }
+    if (s->size != model_state_size(inst->model)) {
+        LOG(inst, fmi2Error, "fmi2SetFMUstate: a state of %zu bytes, this instance's have %zu", s->size,
+            model_state_size(inst->model));
         return fmi2Error;
     }
     int initialised = 0;

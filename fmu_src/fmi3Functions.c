@@ -817,8 +817,13 @@ fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state)
     if (inst == NULL || !mode_is(inst, "fmi3SetFMUState", ~M(MODE_CONFIGURATION)))
         return fmi3Error;
     const FmuState *s = state;
-    if (s == NULL || s->size != model_state_size(inst->model)) {
-        LOG(inst, fmi3Error, "fmi3SetFMUState: NULL or not a state of this FMU");
+    if (s == NULL) {
+        LOG(inst, fmi3Error, "fmi3SetFMUState: NULL state");
+        return fmi3Error;
+    }
+    if (s->size != model_state_size(inst->model)) {
+        LOG(inst, fmi3Error, "fmi3SetFMUState: a state of %zu bytes, this instance's have %zu", s->size,
+            model_state_size(inst->model));
         return fmi3Error;
     }
     int initialised = 0;

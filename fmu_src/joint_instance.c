@@ -9,8 +9,9 @@
 
 #include "model.h"
 
-#define STATE_MAGIC "WJFMU002"
-#define STATE_HEAD_DOUBLES 3 /* magic (8 bytes), time, initialised */
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "the kernels write the state's float64 values in the machine's byte order: little-endian only"
+#endif
 
 static int kernel_ok(const JointInstance *joint, const char *kernel, int32_t status)
 {
@@ -176,6 +177,17 @@ int joint_evaluate(JointInstance *joint, const char *function, const char *outpu
                                       joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
                                       joint->result, joint->mask, joint->n_points, joint->n_blocks)))
         return 0;
+    for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
+        double value = joint->result[OUTPUTS[i].index];
+        if (OUTPUTS[i].source == OUTPUT_FROM_RESULT && !isfinite(value)) {
+            double largest = 0.0;
+            for (int k = 0; k < N_INPUTS; k++)
+                largest = fabs(joint->inputs[k]) > largest ? fabs(joint->inputs[k]) : largest;
+            joint_log(joint, JOINT_ERROR, "%s of %s: output %s=%g is not finite for inputs up to |%g|: allowed "
+                      "inputs whose contact geometry stays finite", function, output, OUTPUTS[i].name, value, largest);
+            return 0;
+        }
+    }
     joint->forces_stale = 0;
     return 1;
 }
@@ -277,64 +289,80 @@ int joint_update_contact_memory(JointInstance *joint, const char *function)
 }
 
 /* ------------------------------------------------------------------ FMU state */
+/* The state's head: time, initialised flag, inputs, parameters (core/state_format.py FMU_HEAD_*). */
+enum { HEAD_TIME, HEAD_INITIALISED, HEAD_INPUTS, HEAD_PARAMETERS = HEAD_INPUTS + N_INPUTS };
+
 size_t joint_state_size(const JointInstance *joint)
 {
-    return (STATE_HEAD_DOUBLES + N_INPUTS + N_PARAMETERS + N_MEMORY + (size_t)joint->n_points) * sizeof(double);
+    int64_t size = 0;
+    wearjoint_state_size(&size, NULL, STATE_N_HEAD, joint->n_points);
+    return (size_t)size;
 }
 
 void joint_write_state(const JointInstance *joint, void *bytes, int initialised)
 {
-    double *d = bytes;
-    memcpy(d, STATE_MAGIC, 8);
-    d[1] = joint->time;
-    d[2] = initialised ? 1.0 : 0.0;
-    d += STATE_HEAD_DOUBLES;
-    memcpy(d, joint->inputs, sizeof joint->inputs);
-    memcpy(d + N_INPUTS, joint->parameters, sizeof joint->parameters);
-    memcpy(d + N_INPUTS + N_PARAMETERS, joint->memory, sizeof joint->memory);
-    memcpy(d + N_INPUTS + N_PARAMETERS + N_MEMORY, joint->wear_depth, (size_t)joint->n_points * sizeof(double));
+    double head[STATE_N_HEAD];
+    head[HEAD_TIME] = joint->time;
+    head[HEAD_INITIALISED] = initialised ? 1.0 : 0.0;
+    memcpy(head + HEAD_INPUTS, joint->inputs, sizeof joint->inputs);
+    memcpy(head + HEAD_PARAMETERS, joint->parameters, sizeof joint->parameters);
+    int32_t status = 0;
+    wearjoint_write_state(&status, NULL, bytes, (int64_t)joint_state_size(joint), STATE_CONTENTS_FMU, head,
+                          STATE_N_HEAD, joint->memory, joint->wear_depth, joint->n_points);
+}
+
+/* Log a problem a state check found (its message from the generated table, with the values compared). */
+static void log_state_problem(const JointInstance *joint, const char *function, int32_t problem, const double *values)
+{
+    char text[3][40] = {"", "", ""};
+    const char *kinds = STATE_PROBLEM_KINDS[problem];
+    for (int i = 0; i < 3 && kinds[i] != '\0'; i++) {
+        if (kinds[i] == 'g')
+            fmu_shortest(values[i], text[i], sizeof text[i]);
+        else
+            snprintf(text[i], sizeof text[i], kinds[i] == 'x' ? "%08llx" : "%lld",
+                     (long long)values[i]);
+    }
+    char message[512];
+    snprintf(message, sizeof message, STATE_PROBLEMS[problem], text[0], text[1], text[2]);
+    joint_log(joint, JOINT_ERROR, "%s: %s", function, message);
 }
 
 int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function)
 {
-    if (size != joint_state_size(joint) || memcmp(bytes, STATE_MAGIC, 8) != 0) {
-        joint_log(joint, JOINT_ERROR, "%s: not a ClearanceWearJoint state for n_points=%lld (%zu bytes)", function,
-                  (long long)joint->n_points, size);
-        return 0;
-    }
-    const double *d = bytes;
-    if (!isfinite(d[1]) || (d[2] != 0.0 && d[2] != 1.0)) {
-        joint_log(joint, JOINT_ERROR, "%s: the state's time or initialised flag is invalid", function);
-        return 0;
-    }
-    d += STATE_HEAD_DOUBLES;
-    if (!parameters_valid(joint, d + N_INPUTS, function))
-        return 0;
-    const double *wear = d + N_INPUTS + N_PARAMETERS + N_MEMORY;
-    for (int64_t k = 0; k < joint->n_points; k++)
-        if (!(wear[k] >= 0.0 && isfinite(wear[k]))) {
-            joint_log(joint, JOINT_ERROR, "%s: the state's wear depths must be finite and >= 0 (wear_depth[%lld]=%g)",
-                      function, (long long)k + 1, wear[k]);
+    double values[4] = {0.0, 0.0, 0.0, 0.0}, head[STATE_N_HEAD], memory[N_MEMORY];
+    int32_t problem = 0, status = 0;
+    wearjoint_check_header(&problem, NULL, bytes, (int64_t)size, STATE_CONTENTS_FMU, STATE_N_HEAD, joint->n_points,
+                           values);
+    if (problem == 0) {
+        /* the wear depths go to the scratch array work (2 n_points): nothing of the joint changes */
+        wearjoint_read_state(&status, NULL, bytes, (int64_t)size, head, STATE_N_HEAD, memory, joint->work,
+                             joint->n_points);
+        if (!parameters_valid(joint, head + HEAD_PARAMETERS, function))
             return 0;
-        }
-    return 1;
+        wearjoint_check_values(&problem, NULL, head, STATE_N_HEAD, memory, joint->work, joint->n_points,
+                               head[HEAD_PARAMETERS + STATE_PARAMETER_BUSHING_RADIUS],
+                               head[HEAD_PARAMETERS + STATE_PARAMETER_VELOCITY_FLOOR], values);
+    }
+    if (problem != 0)
+        log_state_problem(joint, function, problem, values);
+    return problem == 0;
 }
 
 int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, const char *function)
 {
-    const double *d = bytes;
-    joint->time = joint->last_accepted_time = d[1];
-    *initialised = d[2] == 1.0;
-    d += STATE_HEAD_DOUBLES;
+    double head[STATE_N_HEAD];
+    int32_t status = 0;
+    wearjoint_read_state(&status, NULL, bytes, (int64_t)joint_state_size(joint), head, STATE_N_HEAD, joint->memory,
+                         joint->wear_depth, joint->n_points);
+    joint->time = joint->last_accepted_time = head[HEAD_TIME];
+    *initialised = head[HEAD_INITIALISED] == 1.0;
     for (int i = 0; i < N_INPUTS; i++)
-        joint_set_input(joint, i, d[i]);
-    if (memcmp(joint->parameters, d + N_INPUTS, sizeof joint->parameters) != 0) {
-        memcpy(joint->parameters, d + N_INPUTS, sizeof joint->parameters);
+        joint_set_input(joint, i, head[HEAD_INPUTS + i]);
+    if (memcmp(joint->parameters, head + HEAD_PARAMETERS, sizeof joint->parameters) != 0) {
+        memcpy(joint->parameters, head + HEAD_PARAMETERS, sizeof joint->parameters);
         joint->parameters_changed = 1;
     }
-    memcpy(joint->memory, d + N_INPUTS + N_PARAMETERS, sizeof joint->memory);
-    memcpy(joint->wear_depth, d + N_INPUTS + N_PARAMETERS + N_MEMORY, (size_t)joint->n_points * sizeof(double));
-    int32_t status = 0;
     wearjoint_block_minima(&status, NULL, joint->wear_depth, joint->block_min, joint->n_points, joint->n_blocks);
     joint->forces_stale = joint->wear_summary_stale = 1;
     joint->onsets_accepted = 0;

@@ -69,10 +69,12 @@ int joint_event_indicator(JointInstance *joint, const char *function, double *va
  * step at these inputs did it (from the contact before that step's wear, as in process). */
 int joint_update_contact_memory(JointInstance *joint, const char *function);
 
-/* FMU state: magic, time, initialised flag, inputs, parameters, contact memory, wear depths (float64). */
+/* FMU state: the state format of wearjoint/core/state_format.py (header, CRC-32C), contents "FMU instance":
+ * time, initialised flag, inputs, parameters, contact memory, wear depths; written and checked by kernels. */
 size_t joint_state_size(const JointInstance *joint);
 void joint_write_state(const JointInstance *joint, void *bytes, int initialised);
-/* 1 if ``bytes`` is a valid state of this joint (logged otherwise). */
+/* 1 if ``bytes`` is a valid state of this joint: header, checksum, parameters, value ranges (the first
+ * problem logged otherwise); the joint is unchanged either way. */
 int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function);
 /* Restore a valid state; *initialised is its flag.  0 (logged) on failure. */
 int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, const char *function);

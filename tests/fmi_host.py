@@ -253,3 +253,39 @@ def profile_values(stdout: str, fmi_version: int, vr: dict, n_points: int):
     line = [line for line in stdout.splitlines() if line.startswith(f"float64 {vr['wear_depth']} ")][-1].split()[2:]
     assert len(line) == n_points
     return np.array(line, dtype=float)
+
+
+# ------------------------------------------------------------------ sanitizer builds
+SANITIZER_FLAGS = ("-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer", "-g")
+SANITIZER_REPORTS = ("ERROR: AddressSanitizer", "runtime error:", "ERROR: LeakSanitizer")
+
+
+def sanitized_fmu(fmu_path: Path, out_dir: Path, fmi_version: int) -> Path:
+    """The native FMU unzipped into ``out_dir`` with its linux64 binary relinked from the FMU's own
+    sources (C layer and kernel objects, the build's arguments) plus :data:`SANITIZER_FLAGS`."""
+    import zipfile
+
+    from wearjoint.fmu import build_native, platforms
+    from wearjoint.fmu import variables as fv
+
+    with zipfile.ZipFile(fmu_path) as z:
+        z.extractall(out_dir)
+    sources = Path(out_dir) / "sources"
+    target = platforms.PLATFORMS["linux64"]
+    objects = [f"kernels/linux64/{p.name}" for p in sorted((sources / "kernels" / "linux64").glob("*.o"))]
+    cmd = ["gcc", *SANITIZER_FLAGS, *build_native.link_arguments(target, fmi_version, objects)]
+    done = subprocess.run(cmd, capture_output=True, text=True, cwd=sources)
+    if done.returncode != 0:
+        raise RuntimeError(f"linking the sanitized FMU failed:\n{' '.join(cmd)}\n{done.stderr}")
+    binary = f"{fv.MODEL_NAME}{target.extension}"
+    shutil.move(sources / binary, Path(out_dir) / target.binary_arcname(fmi_version))
+    return Path(out_dir)
+
+
+def sanitizer_runtime_environment() -> dict:
+    """For a Python child process that loads a sanitized FMU: the runtimes preloaded, leaks not
+    reported (the interpreter's own), the first report fatal."""
+    libraries = [subprocess.run(["gcc", f"-print-file-name={name}"], capture_output=True, text=True).stdout.strip()
+                 for name in ("libasan.so", "libubsan.so")]
+    return {**os.environ, "LD_PRELOAD": ":".join(libraries), "ASAN_OPTIONS": "detect_leaks=0:abort_on_error=1",
+            "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1"}

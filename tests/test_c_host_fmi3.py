@@ -33,7 +33,8 @@ JOINT = paper_joint(wear_factor=10.0)
 N_POINTS = JOINT.n_points
 ROWS, STEP = 1000, 1e-4          # 0.1 s of the slider-crank: contact onsets, separations, wear
 OUTPUTS = [v.name for v in fv.SCALAR_OUTPUTS]
-STATE_DOUBLES = 3 + len(fv.INPUTS) + len(fv.PARAMETERS) + L.N_MEMORY   # an FMU state without the wear depths
+STATE_DOUBLES = fv.STATE_HEAD_SIZE + L.N_MEMORY   # float64 values of an FMU state besides the wear depths
+STATE_FRAME = 24 + 4                             # its header and CRC-32C (docs/model.md, the state format)
 
 
 # ------------------------------------------------------------------ fixtures
@@ -147,7 +148,7 @@ def test_n_points_set_at_instantiation_sizes_the_worn_profile(fmi3, fmi3_host, t
         assert relative(np.array(trace_rows(out), float)[:, 1:], outputs) <= 1e-12
         assert out.count("get_float64 error") == 2
         assert f"wear_depth has n_points={n_points}" in err
-        assert f"serialize 0 ok bytes={8 * (STATE_DOUBLES + n_points)}" in out
+        assert f"serialize 0 ok bytes={STATE_FRAME + 8 * (STATE_DOUBLES + n_points)}" in out
 
 
 def test_invalid_n_points_gives_fmi3error_naming_it(fmi3, fmi3_host):
@@ -188,7 +189,8 @@ def test_fmu_state_round_trips_are_bit_identical(fmi3, fmi2, fmi3_host, c_host, 
         assert a == b and a.count("\nout ") >= 299 and profile3(a).max() > 0.0, me
         if me:
             assert "event " in a
-        assert f1.read_bytes() == f2.read_bytes() and len(f1.read_bytes()) == 8 * (STATE_DOUBLES + N_POINTS)
+        assert f1.read_bytes() == f2.read_bytes()
+        assert len(f1.read_bytes()) == STATE_FRAME + 8 * (STATE_DOUBLES + N_POINTS)
         assert "free_state 1 ok pointer_null=1" in out
         run3(c_host, fmi2, start2(fmi2, interface) + trace_command(fmi2["vr"], first, me)
              + f"get_state 0\nserialize 0 {f_fmi2}\n")

@@ -27,7 +27,8 @@ from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.fmu.build import build_fmu  # noqa: E402
 from wearjoint.fmu.model_description import enumeration_type_name, fmi3_value_references  # noqa: E402
-from wearjoint.joint import JointState  # noqa: E402
+from wearjoint.core.state_format import CONTENTS_FMU  # noqa: E402
+from wearjoint.joint import JointState, read_state_bytes  # noqa: E402
 from wearjoint.parameters import ParameterError  # noqa: E402
 
 SCALAR_NAMES = [v.name for v in fv.SCALAR_OUTPUTS]
@@ -39,7 +40,6 @@ TRACE_STEP = 1e-4     # [s]
 TRACE_ROWS = 4000     # one crank revolution (0.4 s)
 WEAR_FACTOR = 10.0    # tens of um of wear in one revolution
 TRACE_JOINT = paper_joint(wear_factor=WEAR_FACTOR)
-STATE_HEAD = 3        # doubles before the inputs in an FMU state (joint_instance.c)
 
 
 # ------------------------------------------------------------- FMUs and a kinematic trace
@@ -246,10 +246,11 @@ def test_n_points_set_in_configuration_mode_sizes_the_profile(fmi3, trace, n_poi
         # the array holds exactly n_points values: asking for one more is an error
         with pytest.raises(FMICallException):
             fmu3.getFloat64([VR3["wear_depth"]], nValues=n_points + 1)
-        # the state holds n_points depths (the FMI 2.0 bytes)
+        # the state holds n_points depths (the FMI 2.0 format): 24-byte header, float64 values, CRC-32C
         state = fmu3.getFMUState()
-        assert len(fmu3.serializeFMUState(state)) == 8 * (STATE_HEAD + len(fv.INPUTS) + len(fv.PARAMETERS) +
-                                                          L.N_MEMORY + n_points)
+        data = fmu3.serializeFMUState(state)
+        assert len(data) == 24 + 8 * (fv.STATE_HEAD_SIZE + L.N_MEMORY + n_points) + 4
+        assert np.array_equal(read_state_bytes(data, CONTENTS_FMU, fv.STATE_HEAD_SIZE, n_points)[2], profile3)
         fmu3.freeFMUState(state)
     finally:
         for fmu in (fmu3, fmu2):
@@ -437,7 +438,6 @@ def test_model_exchange_in_fmpy_equals_the_joint_at_the_output_points(fmi3, fmi2
                     instanceName="me")
     fmu.instantiate()
     states = {}
-    state_offset = 8 * (STATE_HEAD + len(fv.INPUTS) + len(fv.PARAMETERS))
 
     def capture(time, recorder):
         state = fmu.getFMUState()
@@ -461,13 +461,11 @@ def test_model_exchange_in_fmpy_equals_the_joint_at_the_output_points(fmi3, fmi2
         data = states.get(row["time"])
         if data is None or last_at[row["time"]] != i:
             continue
-        values = np.frombuffer(data, dtype="<f8")
-        inputs = values[STATE_HEAD:STATE_HEAD + len(fv.INPUTS)]
+        head, memory, wear = read_state_bytes(data, CONTENTS_FMU, fv.STATE_HEAD_SIZE, TRACE_JOINT.n_points)
+        inputs = head[2:2 + len(fv.INPUTS)]
         assert np.array_equal(inputs, [row[name] for name in INPUT_NAMES])
-        memory = np.frombuffer(data, dtype="<f8", count=L.N_MEMORY, offset=state_offset)
-        wear = np.frombuffer(data, dtype="<f8", offset=state_offset + 8 * L.N_MEMORY)
         assert np.array_equal(wear, row["wear_depth"])
-        joint.set_state(JointState(wear.copy(), memory.copy()))
+        joint.set_state(JointState(wear, memory))
         expected = joint.evaluate_array(inputs[0:3], inputs[3:6], inputs[6:9], inputs[9:12])
         assert [row[name] for name in FORCE_NAMES] == [expected[fv.RESULT_SLOTS[name]] for name in FORCE_NAMES]
         onsets += previous_contact < 0.5 <= row["contact"]

@@ -28,6 +28,8 @@ from fmpy.validation import validate_fmu  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
+from wearjoint.core import state_format  # noqa: E402
+from wearjoint.joint import read_state_bytes, state_bytes  # noqa: E402
 from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
 from wearjoint.fmu.build_pythonfmu import build_fmu, build_key, default_fmu_path  # noqa: E402
 
@@ -372,17 +374,25 @@ def test_fmu_state_carries_the_parameters(fmu):
 
 
 def test_a_bad_deserialised_state_fails_with_fmi2_error(slave, fmu):
-    """Refused at deSerializeFMUstate (native) or at setFMUstate (pythonfmu), with fmi2Error."""
+    """Refused at deSerializeFMUstate (native) or at setFMUstate (pythonfmu), with fmi2Error naming the
+    failed check: the checksum of a changed byte, the size of a truncated state, the range of a value
+    in a state sealed with a valid checksum."""
     _run(slave, fmu, 3, 0.0)
     good = slave.fmu.serializeFMUstate(slave.fmu.getFMUstate())
-    negative_wear = bytearray(good)
-    negative_wear[-8:] = np.array([-1e-6]).tobytes()
-    with pytest.raises(FMICallException) as failure:
-        slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(bytes(negative_wear)))
-    slave.assert_failed_with_error(failure, "FMUstate", "wear depths")
-    with pytest.raises(FMICallException) as failure:
-        slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good[:-8]))
-    slave.assert_failed_with_error(failure, "FMUstate", f"n_points={P.n_points}")
+    flipped = bytearray(good)
+    flipped[-12] ^= 0x10
+    head, memory, wear = read_state_bytes(good, state_format.CONTENTS_FMU, fv.STATE_HEAD_SIZE, P.n_points)
+    # the FMU (native: the kernels compiled into it) and the in-process writer give the same bytes
+    assert state_bytes(state_format.CONTENTS_FMU, head, memory, wear) == good and wear.max() > 0.0
+    wear[-1] = -1e-6
+    cases = [(bytes(flipped), ("FMUstate", "CRC-32C", "corrupted")),
+             (good[:-8], ("FMUstate", f"has {len(good) - 8} bytes, its header declares {len(good)}")),
+             (state_bytes(state_format.CONTENTS_FMU, head, memory, wear),
+              ("FMUstate", f"wear_depth[{P.n_points}]=-1e-06 m is negative: allowed a depth in [0, 0.0101] m"))]
+    for data, words in cases:
+        with pytest.raises(FMICallException) as failure:
+            slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(data))
+        slave.assert_failed_with_error(failure, *words)
     slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good))
     assert slave.get(["max_wear_depth"])[0] > 0.0
     gc.collect()

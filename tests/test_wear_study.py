@@ -171,3 +171,25 @@ def test_cycle_jumping_and_wear_acceleration_match_brute_force(tmp_path, placeme
         summary = run_wear_study(runs[way], tmp_path / way, progress=False, plots=False)
         assert summary["simulated_revolutions"] == pytest.approx(1.0)
         assert summary["worn_volume_m3"] == pytest.approx(brute["worn_volume_m3"], rel=0.2), way
+
+
+def test_resume_refuses_a_corrupted_checkpoint_and_a_bad_profile(tmp_path):
+    import pickle
+
+    from wearjoint.validation.wear_study import _crc32c
+
+    config = small_config()
+    run_wear_study(config, tmp_path, progress=False, plots=False, stop_after_checkpoints=1)
+    path = tmp_path / CHECKPOINT_NAME
+    good = path.read_bytes()
+    flipped = bytearray(good)
+    flipped[len(good) // 2] ^= 0x20
+    path.write_bytes(bytes(flipped))
+    with pytest.raises(ParameterError, match="CRC-32C is 0x[0-9a-f]{8}, its .* bytes give 0x[0-9a-f]{8}: the file is"):
+        run_wear_study(config, tmp_path, resume=True, progress=False, plots=False)
+    state = pickle.loads(good[:-4])
+    state["block_start_depth_m"][3] = -1e-9
+    data = pickle.dumps(state)
+    path.write_bytes(data + _crc32c(data).to_bytes(4, "little"))
+    with pytest.raises(ParameterError, match=r"block_start_depth_m: wear profile: wear_depth\[4\]=-1e-09 m is negative"):
+        run_wear_study(config, tmp_path, resume=True, progress=False, plots=False)

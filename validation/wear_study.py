@@ -40,9 +40,11 @@ from wearjoint.analysis import (
     growth_exponent, impact_events, profile_features, sample_statistics,
 )
 from wearjoint.core import layout as L
+from wearjoint.core import state_format
 from wearjoint.core.contact import bushing_point_angles
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.mechanism import SliderCrank
+from wearjoint.joint import ClearanceJoint, StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
@@ -58,7 +60,7 @@ EXPERIMENT_REVOLUTIONS = (200_000, 400_000)
 EXPERIMENT_MAX_DEPTH_M = (0.19e-3, 0.55e-3)
 CONVERGENCE_TOLERANCE = 0.15            # max-depth and RMS profile difference, relative to the reference max depth
 CHECKPOINT_NAME = "wear_study_checkpoint.pkl"
-CHECKPOINT_FORMAT = 1
+CHECKPOINT_FORMAT = 2                   # the pickle, then its CRC-32C (uint32, little-endian)
 ARRAY_KEYS = ("wear_depth_m", "time_s", "slider_a_m_s2", "samples")   # snapshot arrays (not in summary.json)
 
 
@@ -190,28 +192,52 @@ def _stops(config: WearStudyConfig) -> list[tuple[float, int | None, bool]]:
     return stops
 
 
+def _crc32c(data: bytes) -> int:
+    return int(state_format.crc32c(np.frombuffer(data, dtype=np.uint8), len(data)))
+
+
 def _write_checkpoint_atomic(path: Path, state: dict) -> None:
+    """The study's state pickled, then the CRC-32C of the pickle (the state format's checksum)."""
+    data = pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
     tmp = path.with_suffix(path.suffix + ".tmp")
     with open(tmp, "wb") as f:
-        pickle.dump(state, f, protocol=pickle.HIGHEST_PROTOCOL)
+        f.write(data + _crc32c(data).to_bytes(4, "little"))
         f.flush()
         os.fsync(f.fileno())
     os.replace(tmp, path)
 
 
 def _load_checkpoint(path: Path, config: WearStudyConfig) -> dict:
+    """The checkpoint at ``path``; ParameterError naming the failed check (checksum, format, settings,
+    a wear profile out of range).  The engine's state is checked when the engine restores it."""
     try:
-        with open(path, "rb") as f:
-            state = pickle.load(f)
-    except (OSError, pickle.UnpicklingError, EOFError) as exc:
+        data = path.read_bytes()
+    except OSError as exc:
         raise ParameterError(f"cannot read checkpoint {path}: {exc}") from None
-    if state.get("format") != CHECKPOINT_FORMAT:
-        raise ParameterError(f"checkpoint {path} has an unknown format")
+    stored, computed = int.from_bytes(data[-4:], "little"), _crc32c(data[:-4])
+    if len(data) < 4 or stored != computed:
+        raise StateError(f"checkpoint {path}: its CRC-32C is 0x{stored:08x}, its {max(len(data) - 4, 0)} bytes "
+                         f"give 0x{computed:08x}: the file is corrupted or not a wear-study checkpoint")
+    try:
+        state = pickle.loads(data[:-4])
+    except (pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError) as exc:
+        raise ParameterError(f"cannot read checkpoint {path}: {exc}") from None
+    found = state.get("format") if isinstance(state, dict) else None
+    if found != CHECKPOINT_FORMAT:
+        raise ParameterError(f"checkpoint {path} has format {found!r}, this version reads {CHECKPOINT_FORMAT}")
     if state["config"] != config.to_dict():
         old, new = state["config"], config.to_dict()
         diff = sorted(k for k in new if old.get(k) != new[k])
         raise ParameterError(f"checkpoint {path} belongs to a study with other settings ({', '.join(diff)}); "
                              "use the same options or another --out")
+    probe = ClearanceJoint(config.joint)
+    profiles = [("block_start_depth_m", state["block_start_depth_m"])]
+    profiles += [(f"snapshot {s['revolution']} wear_depth_m", s["wear_depth_m"]) for s in state["snapshots"]]
+    for name, depth in profiles:
+        try:
+            probe.set_wear_profile(depth)
+        except StateError as exc:
+            raise StateError(f"checkpoint {path}: {name}: {exc}") from None
     return state
 
 

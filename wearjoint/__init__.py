@@ -8,7 +8,7 @@ from ._numba_cache import drop_stale_numba_cache
 drop_stale_numba_cache()
 
 # kernels load only after the cache check
-from .joint import ClearanceJoint, ContactResult, JointState  # noqa: E402
+from .joint import ClearanceJoint, ContactResult, JointState, StateError  # noqa: E402
 from .parameters import (  # noqa: E402
     JointParameters, ParameterError, SliderCrankParameters, contact_stiffness, effective_modulus,
     paper_joint,
@@ -17,4 +17,4 @@ from .parameters import (  # noqa: E402
 __version__ = "0.1.0"
 
 __all__ = ["ClearanceJoint", "ContactResult", "JointState", "JointParameters", "ParameterError",
-           "SliderCrankParameters", "contact_stiffness", "effective_modulus", "paper_joint"]
+           "SliderCrankParameters", "StateError", "contact_stiffness", "effective_modulus", "paper_joint"]

@@ -8,9 +8,7 @@ state (wear profile + contact memory) can be copied, restored and serialised.
 """
 from __future__ import annotations
 
-import io
 import math
-import struct
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,13 +16,54 @@ from pathlib import Path
 import numpy as np
 
 from .core import layout as L
+from .core import state_format as SF
 from .core.contact import block_minimum_depth, bushing_points, evaluate_contact
 from .core.wear import (
     advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
 )
 from .parameters import OPTION_CHOICES, RHO_MODES, JointParameters, ParameterError
 
-_STATE_MAGIC = b"WJSTATE1"
+
+
+class StateError(ParameterError):
+    """A serialised state or a profile that fails a check; the message names the check."""
+
+
+def _refuse(problem: int, values, where: str = "") -> None:
+    if problem != SF.OK:
+        raise StateError(f"{where}{SF.problem_message(problem, values)}")
+
+
+def state_bytes(contents: int, head, memory, wear_depth_m) -> bytes:
+    """A serialised state (docs/model.md, "The state format"): ``contents`` (SF.CONTENTS_*), its
+    ``head`` values (none for a joint; an FMU instance's time, initialised flag, inputs, parameters),
+    the contact memory and the wear depths."""
+    head = np.ascontiguousarray(head, dtype=float)
+    data = np.empty(SF.state_size(head.size, len(wear_depth_m)), dtype=np.uint8)
+    SF.write_state(data, contents, head, np.ascontiguousarray(memory, dtype=float),
+                   np.ascontiguousarray(wear_depth_m, dtype=float))
+    return data.tobytes()
+
+
+def read_state_bytes(data, contents: int, n_head: int, n_points: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(head, memory, wear depths) of a serialised state; StateError naming the first failed check of
+    its header, size, checksum, contents and n_points.  The values' ranges are not checked here."""
+    raw = np.frombuffer(bytes(data), dtype=np.uint8)
+    values = np.zeros(4)
+    _refuse(SF.check_header(raw, contents, n_head, n_points, values), values)
+    head, memory, depth = np.empty(n_head), np.empty(L.N_MEMORY), np.empty(n_points)
+    SF.read_state(raw, head, memory, depth)
+    return head, memory, depth
+
+
+def check_state_values(head, memory, wear_depth_m, params: JointParameters, where: str = "") -> None:
+    """StateError naming the first value out of range for a joint of ``params``: an FMU head's time or
+    flag, the contact memory (an active contact's onset velocity >= the impact velocity floor), a wear
+    depth (finite, in [0, bushing radius])."""
+    values = np.zeros(4)
+    _refuse(SF.check_values(np.asarray(head, dtype=float), np.asarray(memory, dtype=float),
+                            np.asarray(wear_depth_m, dtype=float), params.bushing_radius_m,
+                            params.impact_velocity_floor_m_s, values), values, where)
 
 
 # JointParameters field (or (field, component) of a pair) given to each slot of the parameter vector
@@ -224,14 +263,20 @@ class ClearanceJoint:
         return float(worn_volume(self.parameter_vector, self.wear_depth))
 
     def set_wear_profile(self, wear_depth_m) -> None:
-        """Replace the wear depth of every bushing point [m] (finite, >= 0)."""
+        """Replace the wear depth of every bushing point [m] (finite, in [0, bushing radius])."""
+        self._check_profile(wear_depth_m, "wear profile: ")
+        self.wear_depth[:] = wear_depth_m
+        block_minimum_depth(self.wear_depth, self.block_min)
+
+    def _check_profile(self, wear_depth_m, where: str, memory=None) -> None:
+        """StateError unless ``wear_depth_m`` (and ``memory``) fit this joint: n_points, the ranges."""
         h = np.asarray(wear_depth_m, dtype=float)
         if h.shape != self.wear_depth.shape:
-            raise ParameterError(f"wear profile has {h.size} points, the joint has n_points={self.wear_depth.size}")
-        if not np.all(np.isfinite(h)) or np.any(h < 0.0):
-            raise ParameterError("wear profile depths must be finite and >= 0")
-        self.wear_depth[:] = h
-        block_minimum_depth(self.wear_depth, self.block_min)
+            raise StateError(f"{where}{h.size} bushing points given, this joint has n_points={self.wear_depth.size}")
+        memory = np.zeros(L.N_MEMORY) if memory is None else np.asarray(memory, dtype=float)
+        if memory.shape != (L.N_MEMORY,):
+            raise StateError(f"{where}contact memory of {memory.size} values given, the joint keeps {L.N_MEMORY}")
+        check_state_values((), memory, h, self.params, where)
 
     def save_profile(self, path) -> Path:
         """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (rod frame)."""
@@ -247,9 +292,14 @@ class ClearanceJoint:
         except (OSError, ValueError) as exc:
             raise ParameterError(f"cannot read wear profile {path}: {exc}") from None
         if data.shape[1] != 2:
-            raise ParameterError(f"wear profile {path} must have the columns phi_deg,wear_depth_m")
-        if data.shape[0] == self.wear_depth.size and not np.allclose(data[:, 0], self.phi_deg, atol=1e-9):
-            raise ParameterError(f"wear profile {path}: angles do not match n_points={self.wear_depth.size}")
+            raise StateError(f"wear profile {path} has {data.shape[1]} columns, expected 2: phi_deg,wear_depth_m")
+        if data.shape[0] != self.wear_depth.size:
+            raise StateError(f"wear profile {path} has {data.shape[0]} rows (bushing points), this joint has "
+                             f"n_points={self.wear_depth.size}")
+        worst = int(np.argmax(np.abs(data[:, 0] - self.phi_deg)))
+        if not abs(data[worst, 0] - self.phi_deg[worst]) <= 1e-9:
+            raise StateError(f"wear profile {path}: row {worst + 1} has phi_deg={data[worst, 0]!r}, bushing point "
+                             f"{worst + 1} of n_points={self.wear_depth.size} is at {self.phi_deg[worst]!r}")
         self.set_wear_profile(data[:, 1])
 
     # ------------------------------------------------------------- state
@@ -257,25 +307,17 @@ class ClearanceJoint:
         return JointState(self.wear_depth.copy(), self.memory.copy())
 
     def set_state(self, state: JointState) -> None:
-        self.set_wear_profile(state.wear_depth_m)
+        """Restore a copy; StateError (the joint unchanged) if it does not fit (n_points, ranges)."""
+        self._check_profile(state.wear_depth_m, "state: ", state.memory)
         self.memory[:] = state.memory
+        self.wear_depth[:] = state.wear_depth_m
+        block_minimum_depth(self.wear_depth, self.block_min)
 
     def state_to_bytes(self) -> bytes:
-        """Exact serialisation: magic, point count, contact memory, wear depths (float64, little endian)."""
-        buf = io.BytesIO()
-        buf.write(_STATE_MAGIC)
-        buf.write(struct.pack("<II", self.wear_depth.size, self.memory.size))
-        buf.write(self.memory.astype("<f8").tobytes())
-        buf.write(self.wear_depth.astype("<f8").tobytes())
-        return buf.getvalue()
+        """Exact serialisation in the state format (docs/model.md): contact memory, wear depths."""
+        return state_bytes(SF.CONTENTS_JOINT, (), self.memory, self.wear_depth)
 
     def state_from_bytes(self, data: bytes) -> None:
-        head = len(_STATE_MAGIC) + 8
-        if len(data) < head or data[:len(_STATE_MAGIC)] != _STATE_MAGIC:
-            raise ParameterError("not a ClearanceJoint state (bad header)")
-        n, m = struct.unpack("<II", data[len(_STATE_MAGIC):head])
-        if n != self.wear_depth.size or m != self.memory.size or len(data) != head + 8 * (n + m):
-            raise ParameterError(f"state holds {n} bushing points, this joint has n_points={self.wear_depth.size}")
-        memory = np.frombuffer(data, dtype="<f8", count=m, offset=head)
-        depth = np.frombuffer(data, dtype="<f8", count=n, offset=head + 8 * m)
-        self.set_state(JointState(depth.astype(float), memory.astype(float)))
+        """Restore :meth:`state_to_bytes`; StateError naming the failed check (the joint unchanged)."""
+        _, memory, depth = read_state_bytes(data, SF.CONTENTS_JOINT, 0, self.wear_depth.size)
+        self.set_state(JointState(depth, memory))

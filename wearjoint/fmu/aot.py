@@ -50,6 +50,11 @@ ENTRY_POINTS = {
         "wearjoint_block_minima": ("block_minima_native", 4),
         "wearjoint_worn_volume": ("worn_volume_native", 3),
         "wearjoint_complete_parameters": ("complete_parameters_native", 1),
+        "wearjoint_state_size": ("state_size_native", 2),
+        "wearjoint_write_state": ("write_state_native", 8),
+        "wearjoint_check_header": ("check_header_native", 6),
+        "wearjoint_read_state": ("read_state_native", 7),
+        "wearjoint_check_values": ("check_values_native", 8),
     }),
     "slider-crank": ("wearjoint.fmu.slider_crank_entry_points", {
         "slider_crank_parameters": ("parameters_native", 3),

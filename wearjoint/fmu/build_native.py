@@ -36,7 +36,7 @@ from pathlib import Path
 from dataclasses import dataclass
 
 from .. import __version__
-from ..core import layout
+from ..core import layout, state_format
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
@@ -59,8 +59,9 @@ N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
                  "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/platforms.py")
 # what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
-IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/joint_access.py",
-              "core/mechanism.py", "core/integrators.py", "joint.py", "parameters.py", "fmu/aot.py")
+IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/state_format.py",
+              "core/joint_access.py", "core/mechanism.py", "core/integrators.py", "joint.py", "parameters.py",
+              "fmu/aot.py")
 
 
 @dataclass(frozen=True)
@@ -83,7 +84,8 @@ class NativeModel:
 
 MODELS = {m.name: m for m in (
     NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h"), "model.h",
-                ("core/contact.py", "core/wear.py", "joint.py", "fmu/entry_points.py"), ("fmu/entry_points.py",),
+                ("core/contact.py", "core/wear.py", "core/state_format.py", "joint.py", "fmu/entry_points.py"),
+                ("fmu/entry_points.py",),
                 False),
     NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h"),
                 "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "fmu/slider_crank.py",
@@ -182,6 +184,8 @@ def model_variables_header(n_points: int, guid: str) -> str:
         raise RuntimeError("the FMU variable table is not in the order the C layer expects "
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
     inputs = ", ".join(_c_string(v.name) for v in fv.INPUTS)
+    problems = state_format.printf_problems()
+    parameter_of_slot = {slot_of[(p.field, p.component)]: i for i, p in enumerate(fv.PARAMETERS)}
     vr3 = fmi3_value_references()
     if any(vr3[name] != vr[name] for name in (*(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS),
                                               fv.N_POINTS_NAME, *(v.name for v in fv.SCALAR_OUTPUTS))):
@@ -208,6 +212,19 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define VR_N_POINTS {vr[fv.N_POINTS_NAME]}
 #define VR_FIRST_OUTPUT {first_output}
 #define VR_FIRST_WEAR_DEPTH {first_wear}
+
+/* The state format (wearjoint/core/state_format.py): an FMU state's contents kind, its head (time,
+ * initialised flag, inputs, parameters), the parameters that bound its values, and the message
+ * of each problem a check reports (printf formats of the values as text, of the kinds d, g, x). */
+#define STATE_CONTENTS_FMU {state_format.CONTENTS_FMU}
+#define STATE_N_HEAD {fv.STATE_HEAD_SIZE}
+#define STATE_PARAMETER_BUSHING_RADIUS {parameter_of_slot[layout.P_BUSHING_RADIUS]}
+#define STATE_PARAMETER_VELOCITY_FLOOR {parameter_of_slot[layout.P_VELOCITY_FLOOR]}
+#define STATE_N_PROBLEMS {len(problems)}
+static const char *const STATE_PROBLEMS[STATE_N_PROBLEMS] = {{
+{chr(10).join(f"    {_c_string(text)}," for text, _ in problems)}
+}};
+static const char *const STATE_PROBLEM_KINDS[STATE_N_PROBLEMS] = {{{", ".join(_c_string(kinds) for _, kinds in problems)}}};
 
 /* FMI 3.0: the scalars keep their FMI 2.0 value references; the wear profile is one Float64 array
  * sized by the structural parameter n_points (UInt64), then the independent time. */

@@ -179,6 +179,8 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _choice("contact_point", "contact_point", CONTACT_POINTS,
             "contact point and normal: nearest point of the fitted profile, or the deepest bushing point"),
 )
+# an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
+STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
 
 N_POINTS_NAME = "n_points"
 
