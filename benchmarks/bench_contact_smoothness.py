@@ -15,14 +15,23 @@ For ``contact_point`` = ``deepest`` (the paper's, before) and ``fitted`` (the de
    after a failed Newton iteration, the shortest step, Newton iterations, the largest |omega| over
    the last half (rocking) and the wear.
 
-fmusim's CVODE on the ME FMU is not part of this run (not built here).  2 shared cores: the load
-average is printed; wall times above a load of 1 are pessimistic.
+3. fmusim (the Reference-FMUs' importer, ``--fmusim PATH`` or ``$FMUSIM``; /work/shared/tools/fmusim
+   builds it), CVODE on the joint FMU's Model Exchange interface driven by 0.1 s of the slider-crank's
+   kinematics from a CSV (linearly interpolated): integrator steps (fmi2CompletedIntegratorStep),
+   events (fmi2EnterEventMode, located contact onsets and separations) and event-indicator
+   evaluations, from fmusim's log of FMI calls.  Skipped, saying so, without fmusim.
+
+2 shared cores: the load average is printed; wall times above a load of 1 are pessimistic.
 """
 from __future__ import annotations
 
 import argparse
 import os
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -60,11 +69,54 @@ def dopri_run(kind: str, joint, revolutions: float) -> dict:
     return {"wall_s": wall, "accepted": accepted, "rejected": rejected, "t_end": t_end}
 
 
+def fmusim_run(fmusim: str, fmu: Path, inputs: Path, joint, folder: Path) -> dict:
+    """fmusim's CVODE on the ME FMU with ``joint``'s parameters over the inputs in ``inputs``."""
+    from wearjoint.fmu import variables as fv
+
+    reals, integers = fv.fmi_parameter_values_by_type(joint)
+    starts = [arg for name, value in {**reals, **integers}.items() for arg in ("--start-value", name, repr(value))]
+    log = folder / f"calls_{joint.contact_point}.log"
+    cmd = [fmusim, "--interface-type", "me", "--solver", "cvode", "--stop-time", "0.0999", "--output-interval", "1e-4",
+           "--input-file", str(inputs), "--log-fmi-calls", "--fmi-log-file", str(log), *starts,
+           "--output-variable", "normal_force", "--output-file", str(folder / "out.csv"), str(fmu)]
+    start = time.perf_counter()
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    calls = log.read_text()
+    return {"exit": done.returncode, "wall_s": wall, "steps": calls.count("fmi2CompletedIntegratorStep"),
+            "events": calls.count("fmi2EnterEventMode"), "indicators": calls.count("fmi2GetEventIndicators")}
+
+
+def fmusim_section(fmusim: str | None) -> None:
+    print("\n3. fmusim CVODE on the joint FMU's Model Exchange interface, 0.1 s of slider-crank kinematics, no wear")
+    if not fmusim or not Path(fmusim).is_file():
+        print("   skipped: no fmusim (--fmusim PATH or $FMUSIM; /work/shared/tools/fmusim builds it)")
+        return
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from kinematic_trace import slider_crank_trace
+
+    from wearjoint.fmu import variables as fv
+    from wearjoint.fmu.build import build_fmu
+
+    with tempfile.TemporaryDirectory(prefix="bench_fmusim_") as tmp:
+        folder = Path(tmp)
+        rows = slider_crank_trace(paper_joint(wear_factor=0.0), 10000, 1e-5)
+        inputs = folder / "inputs.csv"
+        inputs.write_text("time," + ",".join(v.name for v in fv.INPUTS) + "\n" + "".join(
+            ",".join(repr(float(x)) for x in (r[0], *r[2:])) + "\n" for r in rows))
+        fmu = build_fmu(folder / "fmu", platforms="linux64")
+        print(f"{'contact':8s} {'exit':>4s} {'steps':>7s} {'events':>7s} {'indicator calls':>16s} {'wall s':>7s}")
+        for cp in ORDER:
+            r = fmusim_run(fmusim, fmu, inputs, paper_joint(contact_point=cp, wear_factor=0.0), folder)
+            print(f"{cp:8s} {r['exit']:4d} {r['steps']:7d} {r['events']:7d} {r['indicators']:16d} {r['wall_s']:7.2f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--revolutions", type=float, default=2.0)
     parser.add_argument("--rest-s", type=float, default=0.05, help="simulated time of the pendulum at rest [s]")
     parser.add_argument("--swing-s", type=float, default=0.5, help="simulated time of the swinging pendulum [s]")
+    parser.add_argument("--fmusim", default=os.environ.get("FMUSIM"), help="fmusim binary (default $FMUSIM)")
     args = parser.parse_args()
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     print(f"\n1. slider-crank, DOPRI, {args.revolutions:g} revolutions")
@@ -88,6 +140,7 @@ def main() -> None:
             print(f"{cp:8s} {label:16s} {str(r['completed']):>5s} {r['time_reached_s']:9.4f} {r['reduced_steps']:7d} "
                   f"{r['min_step_s']:9.2e} {r['newton_iterations']:9d} {r['late_max_abs_omega_rad_s']:9.1e} "
                   f"{r['max_wear_depth_m']:9.1e} {r['wall_time_s']:7.2f}", flush=True)
+    fmusim_section(args.fmusim)
     print(f"\nload average after: {os.getloadavg()[0]:.2f}")
 
 
