@@ -253,8 +253,12 @@ class ClearanceWearJoint(Fmi2Slave):
             self._log_error(f"doStep rejected: step size {step_size!r} s is not a finite value >= 0")
             return False
         self._ensure_joint()
-        if self._joint.advance_array(self._pin_position, self._pin_velocity,
-                                     self._bushing_position, self._bushing_velocity, step_size):
+        changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
+                                            self._bushing_position, self._bushing_velocity, step_size)
+        if changed < 0:
+            self._log_error(f"doStep rejected: a step of {step_size!r} s wears the bushing by more than its radius")
+            return False
+        if changed:
             self._wear_stale = True
         self._time = current_time + step_size
         self._forces_stale = True

@@ -239,6 +239,11 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function)
                                             joint->n_blocks, dt);
     if (!kernel_ok(joint, "wearjoint_advance failed", status))
         return JOINT_ERROR;
+    if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */
+        joint_log(joint, JOINT_ERROR, "%s: step rejected: a step of %g s wears the bushing by more than its radius "
+                  "%g m (or by a non-finite depth)", function, dt, joint->parameters[STATE_PARAMETER_BUSHING_RADIUS]);
+        return JOINT_DISCARD;
+    }
     if (changed)
         joint->wear_summary_stale = 1;
     joint->forces_stale = 1;

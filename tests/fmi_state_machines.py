@@ -348,7 +348,9 @@ class Corruption(RuleBasedStateMachine):
         super().__init__()
         self.i = Instance(self.FMU_DIR, self.VERSION, "cs")
         self.i.setup()
-        self.i.set_reals([self.i.vr["wear_factor"]], [1e4])
+        # wear visible within a few steps (tens of um per 10 us step in contact): a larger factor wears
+        # millimetres per step, and a step that would wear past the bushing radius is refused (Discard)
+        self.i.set_reals([self.i.vr["wear_factor"]], [100.0])
         self.i.fmu.enterInitializationMode()
         self.i.fmu.exitInitializationMode()
         self.time = 0.0

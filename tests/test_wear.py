@@ -1,10 +1,11 @@
 """Hertz patch (Eqs. 29-32), the elastic-foundation placement and the Archard update (Eqs. 28, 33)."""
 import math
+import re
 
 import numpy as np
 import pytest
 
-from wearjoint import ClearanceJoint, JointParameters
+from wearjoint import ClearanceJoint, JointParameters, ParameterError
 from wearjoint.core.wear import equivalent_radius, hertz_half_width
 
 C = JointParameters().clearance_m
@@ -143,3 +144,18 @@ def test_wear_factor_scales_the_increment():
     for j in (base, fast):
         j.advance(*contact_state(j.params), 1e-5)
     assert fast.worn_volume_m3 == pytest.approx(10 * base.worn_volume_m3, rel=1e-9)
+
+
+@pytest.mark.parametrize("placement", ["foundation", "patch", "penetration"])
+def test_a_step_whose_wear_exceeds_the_bushing_radius_is_refused(placement):
+    """Archard's increment over h = 1e300 s in contact (~1e297 m) is no wear a bushing can take:
+    advance refuses it naming dt, and nothing changes (profile, onset memory); 10 us then wears."""
+    joint = ClearanceJoint(JointParameters(wear_placement=placement))
+    pin, bushing = [0.0, 0.0, 0.0, 0.0, 0.0, -15.7], [-0.00011, 0.0, 0.0, 0.0, 0.0, 0.0]
+    before = joint.state_to_bytes()
+    for dt in (1e300, 1e200):
+        with pytest.raises(ParameterError, match=re.escape(f"dt={dt!r} is invalid here: the step would wear the bushing")):
+            joint.advance(pin, bushing, dt)
+        assert joint.state_to_bytes() == before
+    joint.advance(pin, bushing, 1e-5)
+    assert 0.0 < joint.max_wear_depth_m < 1e-6

@@ -216,8 +216,9 @@ class ClearanceJoint:
                                         mean_pressure_Pa=float(r[L.R_NORMAL_FORCE] / (2.0 * b * p.contact_length_m)),
                                         contact_arc_rad=arc)
 
-    def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float) -> bool:
-        """Hot path of :meth:`advance`; returns True if the state changed."""
+    def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float) -> int:
+        """Hot path of :meth:`advance`: 1 if the state changed, 0 if not, -1 if the step was refused
+        (its wear would exceed the bushing radius or not be finite; nothing changed)."""
         return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, self.parameter_vector, self.cos_phi,
                              self.sin_phi, self.wear_depth, self.block_min, self.memory,
                              self._mask, self.work, self.result)
@@ -228,13 +229,16 @@ class ClearanceJoint:
         bookkeeping are taken from that one evaluation.  The joint does not care which end of
         the step the kinematics belong to: the monolithic integrators pass the step's end
         (the accepted state), a co-simulation slave the step's start (inputs held over the
-        step).  Returns the contact evaluated there, before the wear update."""
+        step).  Returns the contact evaluated there, before the wear update.  A step whose wear
+        would exceed the bushing radius is refused (ParameterError, the joint unchanged)."""
         if not (math.isfinite(dt) and dt >= 0.0):
             raise ParameterError(f"dt={dt!r} is invalid: allowed a finite step >= 0 s")
         pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
         pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
         depth_before = self.wear_depth.copy()      # the contact's extent as evaluated, before the update
-        self.advance_array(pos_i, vel_i, pos_j, vel_j, dt)
+        if self.advance_array(pos_i, vel_i, pos_j, vel_j, dt) < 0:
+            raise ParameterError(f"dt={dt!r} is invalid here: the step would wear the bushing by more than its radius "
+                                 f"{self.params.bushing_radius_m!r} m (or by a non-finite depth); the joint is unchanged")
         return self._contact_result(self.result.copy(), depth_before)
 
     # ------------------------------------------------------------- wear profile

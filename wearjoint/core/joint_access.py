@@ -85,10 +85,10 @@ def _arrays_accept(joint, t, y, h, evaluated):
     vel_j = y[n + ROD:n + ROD + 3]
     if evaluated:
         return accept_contact(joint.result, vel_i, vel_j, h, joint.parameters, joint.cos_phi, joint.sin_phi,
-                              joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work)
+                              joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work) > 0
     return advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, joint.parameters, joint.cos_phi,
                          joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work,
-                         joint.result)
+                         joint.result) > 0
 
 
 # ------------------------------------------------------------------ through the FMU

@@ -32,6 +32,10 @@ from .layout import (
 )
 
 
+WEAR_REFUSED = -1.0                    # apply_wear: the step's wear is absurd; nothing changed
+STEP_REFUSED, STEP_UNCHANGED, STEP_CHANGED = -1, 0, 1   # accept_contact / advance_joint
+
+
 @kernel
 def effective_modulus(pin_youngs_modulus, pin_poisson_ratio, bushing_youngs_modulus, bushing_poisson_ratio):
     """Composite modulus E* of Eq. (32) [Pa]: 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j (standard Hertz
@@ -360,7 +364,8 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     removed volume is k_w F_N Delta s (to first order in the increment).  Scratch: ``mask`` (bool,
     N_d), whose first nb entries flag the blocks of points that may overlap, and ``work``
     (float64, 2 N_d), which holds the points' overlaps (work[:N_d]; each point's distance to the
-    pin is computed once) and their weights (work[N_d:]).  Returns the largest increment [m]."""
+    pin is computed once) and their weights (work[N_d:]).  Returns the largest increment [m], or
+    WEAR_REFUSED (nothing changed) if it would exceed the bushing radius or is not finite."""
     skipped = _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, work)
     total, peak = _foundation_pass(0.0, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
                                    sin_phi, wear_depth, block_min, mask, skipped, work)
@@ -368,13 +373,18 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
         n = wear_depth.shape[0]
         rho = bushing_radius + wear_depth[k]
         dh = k_w * f_n / (contact_length * rho * 2.0 * math.pi / n) * (rho * relative_dt if rotation else slide)
+        if not dh <= bushing_radius:
+            return WEAR_REFUSED
         wear_depth[k] += dh
         _refresh_blocks(wear_depth, block_min, k, k)
         return dh
     scale = k_w * f_n / (contact_length * total)
+    largest = scale * peak * (relative_dt if rotation else slide)
+    if not largest <= bushing_radius:        # absurd or not finite: refused, nothing changes
+        return WEAR_REFUSED
     _foundation_pass(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
                      wear_depth, block_min, mask, skipped, work)
-    return scale * peak * (relative_dt if rotation else slide)
+    return largest
 
 
 @kernel(inline='always')
@@ -391,7 +401,9 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     ``result`` is the contact evaluation at the accepted state.  Sliding
     distance: ``rotation`` (R_j + h_z)|d alpha| with alpha the relative angle
     of the two bodies, Eq. (33), taken as |omega_i - omega_j| dt; or
-    ``tangential`` |v_T| dt at the contact.  Returns the largest depth increment [m].
+    ``tangential`` |v_T| dt at the contact.  Returns the largest depth increment [m], or
+    WEAR_REFUSED with nothing changed where a step would wear a point by more than the bushing radius
+    or by a non-finite depth (a step no physical host takes: h = 1e300 s, say).
     """
     if not wears(result, jp, dt):
         return 0.0
@@ -411,6 +423,10 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
     largest = 0.0
     placement = int(jp[P_WEAR_PLACEMENT])
+    if placement != 2:   # a bound on the increments below (patch weights <= 4/pi, depths <= R_j): refuse absurd steps
+        slide_bound = 2.0 * worn_radius * relative_rate * dt if rotation else tangential_slide
+        if not k_w * pressure * (4.0 / math.pi) * slide_bound <= bushing_radius:
+            return WEAR_REFUSED
     if placement == 2:
         return foundation_wear(k_w, f_n, jp[P_CONTACT_LENGTH], relative_rate * dt, tangential_slide, rotation,
                                result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius, bushing_radius,
@@ -446,19 +462,21 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
 @kernel
 def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work):
     """Archard update over dt and the contact-onset bookkeeping for ``result``, the contact
-    evaluated at the accepted state.  Returns True if the joint's state changed."""
-    worn = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask,
-                      work) > 0.0
+    evaluated at the accepted state.  Returns STEP_CHANGED if the joint's state changed,
+    STEP_UNCHANGED, or STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`)."""
+    largest = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work)
+    if largest < 0.0:
+        return STEP_REFUSED
     changed = update_contact_memory(result, jp, memory)
-    return worn or changed
+    return STEP_CHANGED if largest > 0.0 or changed else STEP_UNCHANGED
 
 
 @kernel
 def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
                   memory, mask, work, result):
     """Accept the state (pos, vel) as the end of a step of length dt: evaluate the contact
-    there (into ``result``), then :func:`accept_contact`.  Returns True if the joint's state
-    changed (forces at the same kinematics would differ)."""
+    there (into ``result``), then :func:`accept_contact`; returns its STEP_* code (STEP_CHANGED:
+    forces at the same kinematics would differ)."""
     evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, result)
     return accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,

@@ -39,14 +39,14 @@ def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
 def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work,
                    n_points, n_blocks, dt):
     """Accept a step of dt [s] at the kinematics (wear, contact memory); returns 1 if the
-    joint's state changed, else 0."""
+    joint's state changed, 0 if not, -1 if the step was refused (its wear absurd; nothing changed)."""
     k = carray(kinematics, 12)
     changed = advance_joint(k[0:3], k[3:6], k[6:9], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
                             carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points),
                             carray(result, N_RESULT))
-    return 1 if changed else 0
+    return changed
 
 
 @cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
@@ -54,13 +54,13 @@ def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memor
                   n_blocks, dt):
     """:func:`advance_native` when ``result`` already holds the evaluation at these kinematics and
     this state (the forces were read since the inputs last changed): the wear and onset update
-    only, without evaluating the contact again; returns 1 if the joint's state changed, else 0."""
+    only, without evaluating the contact again; returns as :func:`advance_native`."""
     k = carray(kinematics, 12)
     changed = accept_contact(carray(result, N_RESULT), k[3:6], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
                              carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                              carray(block_min, n_blocks), carray(memory, N_MEMORY),
                              carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points))
-    return 1 if changed else 0
+    return changed
 
 
 @cfunc(types.int32(_F64, _F64, _F64, types.int64), cache=True, error_model="numpy")
