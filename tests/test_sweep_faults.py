@@ -13,7 +13,9 @@ import pytest
 
 from test_sweep import _free_port, read_csv
 
-CASES = ("--revolutions", "0.05", "--no-plots", "--vary", "restitution=0.5,0.6,0.7,0.8", "--seeds", "2")
+# cases of ~0.5 s each (RK4 at 1 us, 0.4 s simulated): the sweep is still running when the first is done
+CASES = ("--revolutions", "1", "--integrator", "rk4", "--step", "1e-6", "--no-plots",
+         "--vary", "restitution=0.5,0.6,0.7,0.8", "--seeds", "2")
 
 
 def _finished(out) -> list:
@@ -69,6 +71,8 @@ def test_a_worker_killed_during_the_sweep_leaves_its_case_to_another(tmp_path):
         before = _fingerprints(_finished(out))
         assert 1 <= len(before) and len(_finished(out)) < 8, "the sweep finished before the kill"
         os.kill(workers[0].pid, signal.SIGKILL)           # w0 is in the middle of its next case
+        time.sleep(2)                                     # a result w0 sent just before still lands
+        done_at_kill = {path.parent.name for path in _finished(out) if path.name == "case.json"}
         _, stderr = client.communicate(timeout=1200)
         assert client.returncode == 0, stderr
         rows = read_csv(out / "sweep.csv")
@@ -76,8 +80,7 @@ def test_a_worker_killed_during_the_sweep_leaves_its_case_to_another(tmp_path):
         after = _fingerprints(_finished(out))
         assert {f: after[f] for f in before} == before    # nothing finished was run or written again
         assert json.loads((out / "sweep_summary.json").read_text())["cases_run"] == 8
-        done_before = {path.parent.name for path in before if path.name == "case.json"}
-        later = [r for r in rows if r["case_id"] not in done_before]
+        later = [r for r in rows if r["case_id"] not in done_at_kill]
         assert later and all(r["worker"].endswith(f":{workers[1].pid}") for r in later)   # the survivor ran them
     finally:
         _stop(procs)
