@@ -53,8 +53,14 @@ def gcc_or_skip(fmi_version: int = 2) -> str:
 
 
 # how each platform's host is compiled on this (Linux x86-64) machine, and run
-HOST_COMPILERS = {"linux64": ("gcc", ()), "win64": ("x86_64-w64-mingw32-gcc", ("-D__USE_MINGW_ANSI_STDIO=1", "-static-libgcc")),
-                  "aarch64-linux": ("aarch64-linux-gnu-gcc", ())}
+def _host_compilers() -> dict:
+    from wearjoint.fmu.platforms import MINGW_FLAGS, PLATFORMS
+
+    return {"linux64": ("gcc", ()), "win64": (PLATFORMS["win64"].cross_compiler, MINGW_FLAGS),
+            "aarch64-linux": (PLATFORMS["aarch64-linux"].cross_compiler, ())}
+
+
+HOST_COMPILERS = _host_compilers()
 
 
 def wine_environment() -> dict:

@@ -20,7 +20,7 @@ bookkeeping advance once per accepted step, before this model's recorder runs.
 classical formulation for a circular bushing (delta = |e| - c along n = e/|e|,
 contact points on the line of centres), an independent check of the geometry.
 
-Only this module, and wearjoint.exudyn, import exudyn.
+Only validation/ (this model, the pendulum, the four-bar) and wearjoint.exudyn import exudyn.
 """
 from __future__ import annotations
 

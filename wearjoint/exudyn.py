@@ -93,7 +93,6 @@ class _Body:
                                  "(allowed: ObjectRigidBody2D or ObjectGround)")
         self.position = self.reference.copy()
         self.velocity = np.zeros(3)
-        self.indices = None          # its node's ODE2 coordinates in the system (after Assemble)
 
 
 class ClearanceJointHandle:
@@ -110,6 +109,8 @@ class ClearanceJointHandle:
         self._force = np.zeros(3 * len(self._nodes))
         self._pin_slot = 0 if pin.node is not None else -1
         self._bushing_slot = -1 if bushing.node is None else 3 * self._nodes.index(bushing)
+        self._local_indices = [np.arange(3 * k, 3 * k + 3) for k in range(len(self._nodes))]   # in the GenericODE2
+        self._system_indices = None   # the nodes' ODE2 coordinates in the system (after Assemble)
         self._history = np.zeros((1024, len(HISTORY_COLUMNS)))
         self._rows = 0
         self.t = 0.0
@@ -119,47 +120,41 @@ class ClearanceJointHandle:
             forceUserFunction=self.generalized_force))
 
     def _evaluate(self) -> np.ndarray:
+        """The cross-check's ``contact`` at the bodies' current kinematics."""
         pin, bushing = self.pin, self.bushing
-        if self._contact is None:
-            return self.joint.evaluate_array(pin.position, pin.velocity, bushing.position, bushing.velocity)
         return self._contact(self.joint, pin.position, pin.velocity, bushing.position, bushing.velocity)
 
     def generalized_force(self, mbs, t, item, q, q_t):
-        """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied."""
-        if self._contact is None:                  # one compiled call (exudyn calls this per Newton iteration)
-            j = self.joint
+        """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
+        call (exudyn calls it per Newton iteration)."""
+        q, q_t = np.asarray(q, dtype=np.float64), np.asarray(q_t, dtype=np.float64)
+        j, pin, bushing = self.joint, self.pin, self.bushing
+        if self._contact is None:
             return generalized_contact_forces(
-                np.asarray(q, dtype=np.float64), np.asarray(q_t, dtype=np.float64), self._pin_slot, self._bushing_slot, self.pin.reference, self.bushing.reference,
-                self.pin.position, self.pin.velocity, self.bushing.position, self.bushing.velocity,
-                j.parameter_vector, j.cos_phi, j.sin_phi, j.wear_depth, j.block_min, j.memory, j.result, self._force)
-        for k, body in enumerate(self._nodes):
-            for c in range(3):
-                body.position[c] = body.reference[c] + q[3 * k + c]
-                body.velocity[c] = q_t[3 * k + c]
+                q, q_t, self._pin_slot, self._bushing_slot, pin.reference, bushing.reference, pin.position,
+                pin.velocity, bushing.position, bushing.velocity, j.parameter_vector, j.cos_phi, j.sin_phi,
+                j.wear_depth, j.block_min, j.memory, j.result, self._force)
+        self._read_state(q, q_t, self._local_indices)
         r = self._evaluate()
-        force = self._force
-        k = 0
-        if self.pin.node is not None:
-            force[0:3] = r[L.R_PIN_FX:L.R_PIN_TORQUE + 1]
-            k = 3
-        if self.bushing.node is not None:
-            force[k:k + 3] = r[L.R_BUSHING_FX:L.R_BUSHING_TORQUE + 1]
-        return force
+        for slot, first in ((self._pin_slot, L.R_PIN_FX), (self._bushing_slot, L.R_BUSHING_FX)):
+            if slot >= 0:
+                self._force[slot:slot + 3] = r[first:first + 3]
+        return self._force
 
-    def _read_state(self, q, q_t) -> None:
-        """The bodies' kinematics from the system's coordinates (the accepted step's end)."""
-        for body in self._nodes:
-            if body.indices is None:
-                body.indices = np.array(self.mbs.systemData.GetNodeLTGODE2(body.node))
-            body.position[:] = body.reference + q[body.indices]
-            body.velocity[:] = q_t[body.indices]
+    def _read_state(self, q, q_t, indices) -> None:
+        """The bodies' kinematics from coordinates ``q``, ``q_t`` at each node's ``indices``."""
+        for body, index in zip(self._nodes, indices):
+            body.position[:] = body.reference + q[index]
+            body.velocity[:] = q_t[index]
 
     def _accept(self, t: float, q, q_t) -> None:
         """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row."""
         dt = t - self.t
         if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
             return
-        self._read_state(q, q_t)
+        if self._system_indices is None:
+            self._system_indices = [np.array(self.mbs.systemData.GetNodeLTGODE2(body.node)) for body in self._nodes]
+        self._read_state(q, q_t, self._system_indices)
         pin, bushing = self.pin, self.bushing
         if self._contact is None:
             self.joint.advance_array(pin.position, pin.velocity, bushing.position, bushing.velocity, dt)
@@ -281,5 +276,5 @@ def check_step(step_s: float, handles) -> None:
                              "(set wear_factor=0 for a longer step)")
 
 
-__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "ClearanceJointHandle", "HISTORY_COLUMNS",
-           "MAX_WEAR_STEP_S"]
+__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "ClearanceJointHandle",
+           "HISTORY_COLUMNS", "MAX_WEAR_STEP_S"]

@@ -423,14 +423,14 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
     largest = 0.0
     placement = int(jp[P_WEAR_PLACEMENT])
-    if placement != 2:   # a bound on the increments below (patch weights <= 4/pi, depths <= R_j): refuse absurd steps
-        slide_bound = 2.0 * worn_radius * relative_rate * dt if rotation else tangential_slide
-        if not k_w * pressure * (4.0 / math.pi) * slide_bound <= bushing_radius:
-            return WEAR_REFUSED
     if placement == 2:
         return foundation_wear(k_w, f_n, jp[P_CONTACT_LENGTH], relative_rate * dt, tangential_slide, rotation,
                                result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius, bushing_radius,
                                cos_phi, sin_phi, wear_depth, block_min, mask, work, k)
+    # a bound on the increments below (patch weights <= 4/pi, depths <= R_j): refuse an absurd step
+    slide_bound = 2.0 * worn_radius * relative_rate * dt if rotation else tangential_slide
+    if not k_w * pressure * (4.0 / math.pi) * slide_bound <= bushing_radius:
+        return WEAR_REFUSED
     if placement == 0:
         half_angle = min(half_width / worn_radius, math.pi)
         centre = subgrid_contact_offset(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], bushing_radius,

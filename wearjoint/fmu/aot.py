@@ -30,6 +30,7 @@ numba cache (a cached function has no IR) and ``NUMBA_CPU_NAME=generic``;
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import json
 import re
@@ -96,6 +97,7 @@ def _undefined_symbols(module) -> set[str]:
     return names
 
 
+@functools.lru_cache(maxsize=None)   # one per platform per process (every object of a build reuses it)
 def _target_machine(triple: str, cpu: str):
     import llvmlite.binding as llvm
 

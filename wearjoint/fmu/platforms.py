@@ -32,7 +32,8 @@ COMMON_C_FLAGS = ("-O2", "-std=c11", "-ffp-contract=off", "-Wall", "-Wextra", "-
 ELF_LINK_FLAGS = ("-shared", "-fPIC", "-Wl,-z,defs", "-Wl,--version-script=exports.map")
 # MinGW: C99 printf (%zu) from libmingwex instead of msvcrt's; the FMI headers export the fmi2*/fmi3*
 # functions (__declspec(dllexport)), so nothing else is exported
-WINDOWS_LINK_FLAGS = ("-shared", "-static-libgcc", "-D__USE_MINGW_ANSI_STDIO=1", "-Wl,--no-undefined")
+MINGW_FLAGS = ("-static-libgcc", "-D__USE_MINGW_ANSI_STDIO=1")   # also the test hosts' (tests/fmi_host.py)
+WINDOWS_LINK_FLAGS = ("-shared", *MINGW_FLAGS, "-Wl,--no-undefined")
 
 
 @dataclass(frozen=True)
@@ -47,7 +48,6 @@ class Platform:
     extension: str            # of the shared library
     link_flags: tuple
     emulator: tuple = ()      # how a Linux x86-64 machine runs its programs (tests), () = natively
-    emulator_package: str = ""
 
     def folder(self, fmi_version: int) -> str:
         """binaries/<folder> of this platform in an FMU of ``fmi_version``."""
@@ -67,10 +67,10 @@ PLATFORMS = {p.name: p for p in (
     Platform("linux64", "x86_64-linux", "x86_64-unknown-linux-gnu", "x86-64", "x86_64-linux-gnu-gcc",
              ("gcc-x86-64-linux-gnu",), ".so", ELF_LINK_FLAGS),
     Platform("win64", "x86_64-windows", "x86_64-w64-windows-gnu", "x86-64", "x86_64-w64-mingw32-gcc",
-             ("gcc-mingw-w64-x86-64",), ".dll", WINDOWS_LINK_FLAGS, ("wine",), "wine"),
+             ("gcc-mingw-w64-x86-64",), ".dll", WINDOWS_LINK_FLAGS, ("wine",)),
     Platform("aarch64-linux", "aarch64-linux", "aarch64-unknown-linux-gnu", "generic", "aarch64-linux-gnu-gcc",
              ("gcc-aarch64-linux-gnu", "libc6-dev-arm64-cross"), ".so", ELF_LINK_FLAGS,
-             ("qemu-aarch64", "-L", "/usr/aarch64-linux-gnu"), "qemu-user"),
+             ("qemu-aarch64", "-L", "/usr/aarch64-linux-gnu")),
     # built only on a Mac, for that Mac (not tested here: no macOS machine)
     Platform("darwin64", "x86_64-darwin", "x86_64-apple-macosx10.15.0", "x86-64", "", (), ".dylib",
              ("-dynamiclib", "-fPIC")),
@@ -113,7 +113,8 @@ def missing_reason(target: Platform) -> str | None:
         return f"{target.name} is built only on a machine of that platform (this one is {host.name})"
     if compiler(target) is None:
         if target == host:
-            return f"{target.name} needs a C compiler: {os.environ.get('CC') or 'gcc'!r} not found (install gcc or set CC)"
+            name = os.environ.get("CC") or "gcc"
+            return f"{target.name} needs a C compiler: {name!r} not found (install gcc or set CC)"
         return (f"{target.name} needs the cross compiler {target.cross_compiler} "
                 f"(apt-get install {' '.join(target.apt_packages)}; or run .ci/install-cross-toolchains)")
     return None
