@@ -151,6 +151,24 @@ def test_two_joints_keep_their_own_profiles_and_states():
     assert not np.array_equal(light.joint.wear_depth, heavy.joint.wear_depth)
 
 
+def test_a_finished_system_is_freed_with_its_joints():
+    """The joint's handle holds no reference to the system (exudyn's C++ side keeps the handle's
+    functions, a cycle Python's collector cannot see): once the user drops the system container,
+    the joint and its arrays go with it instead of living until the interpreter exits."""
+    import gc
+    import weakref
+
+    system_container, mbs = new_system()
+    _, handle = hung_bar(mbs, angle=math.radians(3.0), wear_factor=1e3)
+    mbs.Assemble()
+    solve(mbs, 1e-3, 1e-5)
+    assert handle.accepted_steps == 100
+    handle_alive, joint_alive = weakref.ref(handle), weakref.ref(handle.joint)
+    del system_container, mbs, handle
+    gc.collect()
+    assert handle_alive() is None and joint_alive() is None
+
+
 # ------------------------------------------------------------------ errors
 def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
     _, mbs = new_system()

@@ -97,6 +97,26 @@ def test_force_direction_is_continuous_across_a_bushing_point():
     assert np.abs(np.diff(deepest_contact)).max() > 0.99 * dphi
 
 
+def test_heavy_wear_keeps_the_default_adaptive_step_below_the_wear_limit():
+    """Half a crank revolution at wear factor 2000: with a 0.1 ms step each accepted step cuts a
+    groove deeper than the penetration and the fitted contact ran away (437 kN, 8 mm of wear;
+    docs/performance.md).  The default adaptive step with wear is 1e-5 s (docs/model.md §7): the
+    contact force stays that of the mechanism's load (the deepest-point contact and RK4 at 10 us
+    give 40 N), and an explicit larger step is refused naming it."""
+    from wearjoint import paper_joint
+    from wearjoint.parameters import ParameterError
+    from wearjoint.simulate import MAX_WEAR_STEP_S, SimulationOptions, run_simulation
+
+    joint = paper_joint(wear_factor=2000.0, wear_coefficient_m2_N=5.614e-11)
+    record = run_simulation(joint, options=SimulationOptions(revolutions=0.5), progress=False)
+    summary = record.summary()
+    assert summary["parameters"]["simulation"]["max_step_s"] == MAX_WEAR_STEP_S
+    assert summary["max_contact_force_N"] < 100.0
+    assert 1e-4 < summary["max_wear_depth_m"] < 3e-4
+    with pytest.raises(ParameterError, match=r"max_step_s=0\.0001 is invalid with wear"):
+        run_simulation(joint, options=SimulationOptions(revolutions=0.5, max_step_s=1e-4), progress=False)
+
+
 exudyn_pendulum = pytest.importorskip("wearjoint.validation.exudyn_pendulum")
 
 

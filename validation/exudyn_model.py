@@ -251,6 +251,11 @@ class ExudynSliderCrank:
             if list(mbs.systemData.GetNodeLTGODE2(node)) != [3 * k, 3 * k + 1, 3 * k + 2]:
                 raise RuntimeError("exudyn ordered the ODE2 coordinates unexpectedly; q must be crank, rod, slider")
 
+    def close(self) -> None:
+        """Release the exudyn system: its user functions refer to this model, a reference cycle
+        through exudyn's C++ side that Python's collector cannot break."""
+        self.system_container.Reset()
+
     # ------------------------------------------------------------------ stepping
     def post_step(self, mbs, t):
         """Once per accepted step, after the clearance joint's own bookkeeping (wear, contact
@@ -341,7 +346,10 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
     _require("ideal", ideal, isinstance(ideal, bool), "True or False")
     model = ExudynSliderCrank(joint, mechanism, contact=contact, ideal=ideal)
     period = model.mechanism.params.period_s
-    model.simulate(revolutions * period, step_s, sample_dt_s, progress=progress)
+    try:
+        model.simulate(revolutions * period, step_s, sample_dt_s, progress=progress)
+    finally:
+        model.close()
     j = model.joint
     return RunRecord(
         samples=model.samples, revolution_stats=model.revolution_stats,

@@ -162,6 +162,11 @@ class FourBarModel:
             self._progress.update(t)
         return True
 
+    def close(self) -> None:
+        """Release the exudyn system: its user functions refer to this model, a reference cycle
+        through exudyn's C++ side that Python's collector cannot break."""
+        self.system_container.Reset()
+
     def simulate(self, end_time_s: float, step_s: float = 1e-5, progress: bool = False) -> dict:
         """exudyn's generalized-alpha (its explicit solvers take no revolute joints) at the fixed step
         ``step_s`` [s] to ``end_time_s`` [s]; returns the rocker angle and Freudenstein's at every
@@ -241,6 +246,7 @@ def main(argv=None) -> int:
     np.savez_compressed(out / "timeseries.npz", **{k: v for k, v in run.items() if k != "wall_time_s"})
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
     _figures(out, run, model)
+    model.close()
     print(json.dumps({k: v for k, v in summary.items() if k != "linkage"}, indent=1))
     return 0
 

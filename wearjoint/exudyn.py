@@ -101,7 +101,6 @@ class ClearanceJointHandle:
     its ``ObjectGenericODE2``."""
 
     def __init__(self, mbs, pin: _Body, bushing: _Body, parameters: JointParameters, contact=None):
-        self.mbs = mbs
         self.joint = ClearanceJoint(parameters)
         self.pin, self.bushing = pin, bushing
         self._contact = contact
@@ -147,13 +146,15 @@ class ClearanceJointHandle:
             body.position[:] = body.reference + q[index]
             body.velocity[:] = q_t[index]
 
-    def _accept(self, t: float, q, q_t) -> None:
-        """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row."""
+    def _accept(self, mbs, t: float, q, q_t) -> None:
+        """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row.
+        (``mbs`` comes with each call: a handle holding it would make a reference cycle through exudyn's
+        C++ side, which Python's collector cannot see, and keep the whole system alive.)"""
         dt = t - self.t
         if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
             return
         if self._system_indices is None:
-            self._system_indices = [np.array(self.mbs.systemData.GetNodeLTGODE2(body.node)) for body in self._nodes]
+            self._system_indices = [np.array(mbs.systemData.GetNodeLTGODE2(body.node)) for body in self._nodes]
         self._read_state(q, q_t, self._system_indices)
         pin, bushing = self.pin, self.bushing
         if self._contact is None:
@@ -192,7 +193,7 @@ class _PostStep:
         data = mbs.systemData
         q, q_t = data.GetODE2Coordinates(), data.GetODE2Coordinates_t()
         for handle in self.handles:
-            handle._accept(t, q, q_t)
+            handle._accept(mbs, t, q, q_t)
         return True if self.user_function is None else self.user_function(mbs, t)
 
 

@@ -22,12 +22,17 @@ from .runner import record_run, run_in_chunks
 INTEGRATORS = ("rk4", "dopri", "gear")
 
 
+MAX_WEAR_STEP_S = 1e-5      # largest adaptive step with wear [s] (docs/model.md §7)
+NO_WEAR_MAX_STEP_S = 1e-4   # largest adaptive step without wear [s]
+
+
 @dataclass(frozen=True)
 class SimulationOptions:
     """How to integrate.  ``rk4``: fixed ``step_s``.  ``dopri``: adaptive
     Dormand-Prince 5(4) with ``rtol``/``atol_*`` and ``max_step_s``.  ``gear``:
     scipy's BDF (the paper's Gear method; slow, for comparison) with the same
-    tolerances and ``max_step_s``.  ``onset_penetration_m``: how deep past a
+    tolerances and ``max_step_s`` (None: 1e-4 s, or :data:`MAX_WEAR_STEP_S` when the joint wears;
+    an adaptive run with wear refuses a larger one).  ``onset_penetration_m``: how deep past a
     contact onset an adaptive step may end (event location, see
     ``core.integrators.integrate``).  ``sample_dt_s``: spacing of the time series."""
 
@@ -37,7 +42,7 @@ class SimulationOptions:
     rtol: float = 1e-6
     atol_position_m: float = 1e-9
     atol_velocity_m_s: float = 1e-5
-    max_step_s: float = 1e-4
+    max_step_s: float | None = None
     min_step_s: float = 1e-10
     onset_penetration_m: float = 1e-8
     sample_dt_s: float = 1e-5
@@ -48,9 +53,23 @@ class SimulationOptions:
         _require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
         for name in ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "max_step_s",
                      "min_step_s", "sample_dt_s", "onset_penetration_m"):
-            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
-        _require("min_step_s", self.min_step_s, self.min_step_s <= self.max_step_s,
-                 f"<= max_step_s = {self.max_step_s!r}")
+            if getattr(self, name) is not None or name != "max_step_s":
+                _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
+        _require("min_step_s", self.min_step_s, self.min_step_s <= (self.max_step_s or MAX_WEAR_STEP_S),
+                 f"<= max_step_s = {self.max_step_s or MAX_WEAR_STEP_S!r}")
+
+    def for_joint(self, joint: JointParameters) -> "SimulationOptions":
+        """These options for a run of ``joint``: the default ``max_step_s`` resolved (docs/model.md §7:
+        with wear a step must stay well below the penetration depth), an explicit adaptive
+        ``max_step_s`` above :data:`MAX_WEAR_STEP_S` refused when the joint wears."""
+        wears = joint.wear_coefficient_m2_N * joint.wear_factor > 0.0 and not self.ideal
+        if self.max_step_s is None:
+            return dataclasses.replace(self, max_step_s=MAX_WEAR_STEP_S if wears else NO_WEAR_MAX_STEP_S)
+        if wears and self.integrator != "rk4" and self.max_step_s > MAX_WEAR_STEP_S:
+            raise ParameterError(f"max_step_s={self.max_step_s!r} is invalid with wear (wear_coefficient_m2_N * "
+                                 f"wear_factor > 0): allowed at most {MAX_WEAR_STEP_S!r} s, a wear step must stay "
+                                 "well below the penetration depth (docs/model.md §7)")
+        return self
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -61,9 +80,9 @@ class Simulation:
 
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                  options: SimulationOptions | None = None):
-        self.options = options or SimulationOptions()
         self.mechanism = SliderCrank(mechanism)
         joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
+        self.options = (options or SimulationOptions()).for_joint(joint)
         check_joint_fits_mechanism(joint, self.mechanism.params)
         self.joint = ClearanceJoint(joint)
         self.mode = L.MODE_IDEAL if self.options.ideal else L.MODE_CLEARANCE
@@ -199,7 +218,7 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
     sim = run.engine
     return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
                       parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
-                                  "simulation": o.to_dict(), "engine": "monolithic"},
+                                  "simulation": sim.options.to_dict(), "engine": "monolithic"},
                       extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected})
 
 

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..results import write_results
-from ..simulate import INTEGRATORS, SimulationOptions, run_simulation
+from ..simulate import INTEGRATORS, MAX_WEAR_STEP_S, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
 from .options import add_model_arguments, add_output_arguments, model_from_args, print_summary
 
 _DEFAULTS = SimulationOptions()
@@ -18,16 +18,16 @@ def add_integration_arguments(parser) -> None:
     g.add_argument("--atol-position", type=float, default=_DEFAULTS.atol_position_m, help="absolute tolerance on positions [m, rad]")
     g.add_argument("--atol-velocity", type=float, default=_DEFAULTS.atol_velocity_m_s, help="absolute tolerance on velocities [m/s, rad/s]")
     g.add_argument("--max-step", type=float, default=None,
-                   help=f"largest step [s] (default {_DEFAULTS.max_step_s:g}; 1e-5 when wear is on, docs/model.md §7)")
+                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; {MAX_WEAR_STEP_S:g} when wear is on, "
+                        "the most allowed then, docs/model.md §7)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
 
 
-def options_from_args(args, wear_on: bool) -> SimulationOptions:
-    max_step = args.max_step if args.max_step is not None else (1e-5 if wear_on else _DEFAULTS.max_step_s)
+def options_from_args(args) -> SimulationOptions:
     return SimulationOptions(revolutions=args.revolutions, integrator=args.integrator, step_s=args.step,
                              rtol=args.rtol, atol_position_m=args.atol_position,
-                             atol_velocity_m_s=args.atol_velocity, max_step_s=max_step,
+                             atol_velocity_m_s=args.atol_velocity, max_step_s=args.max_step,
                              sample_dt_s=args.sample_dt, ideal=args.ideal)
 
 
@@ -39,8 +39,7 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     joint, mechanism = model_from_args(args)
-    wear_on = joint.wear_coefficient_m2_N * joint.wear_factor > 0.0 and not args.ideal
-    options = options_from_args(args, wear_on)
+    options = options_from_args(args)
     record = run_simulation(joint, mechanism, options, progress=not args.quiet)
     summary = write_results(record, args.out, plots=not args.no_plots)
     print_summary(summary, args.out, ("integrator_accepted_steps", "integrator_rejected_steps"))

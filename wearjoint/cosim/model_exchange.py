@@ -132,7 +132,7 @@ def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCr
     try:
         return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
                           parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
-                                      "simulation": o.to_dict(), "engine": "cosim", "fmu_interface": "model-exchange",
+                                      "simulation": sim.options.to_dict(), "engine": "cosim", "fmu_interface": "model-exchange",
                                       "fmu": str(sim.fmu_path), "fmu_backend": fmu_backend},
                           extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected})
     finally:
