@@ -177,7 +177,7 @@ def container_variable(component: str, name: str) -> str:
 
 def container_fmu(ssp_path, out_path, step_s: float = CONTAINER_STEP_S) -> Path:
     """Write ``out_path``: the package's system as one FMI 2.0 Co-Simulation FMU, an fmpy container
-    (:mod:`fmpy.container_fmu`: fmpy's own container library runs the nested FMUs; it ships
+    (``fmpy.container_fmu``: fmpy's own container library runs the nested FMUs; it ships
     x86_64-linux, x86_64-windows and x86_64/aarch64-darwin binaries, so the container runs where
     both it and the nested FMUs have a binary).  The container steps both FMUs at the fixed step
     ``step_s`` [s] (a communication step must be a multiple of it), then moves the connections in
