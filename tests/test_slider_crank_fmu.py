@@ -373,16 +373,19 @@ def test_cross_binaries_run_the_trace_as_linux64(fmus, tmp_path, platform):
 
 @pytest.mark.slow
 def test_c_hosts_run_it_under_valgrind_clean(fmus, c_host, fmi3_host, tmp_path):
-    """Co-Simulation trace, FMU states (get, serialise, deserialise, set), a refused parameter and
-    Model Exchange calls under valgrind: no error, no leak (FMI 2.0 and 3.0)."""
+    """Co-Simulation trace, FMU states (get, serialise, deserialise, set; a foreign state refused), a
+    refused parameter and Model Exchange calls under valgrind: no error, no leak (FMI 2.0 and 3.0)."""
     valgrind_or_skip()
     n = 20
     command = _trace_command(tmp_path, n)
+    foreign = tmp_path / "joint_state.bin"
+    foreign.write_bytes(state_bytes(CONTENTS_FMU, np.zeros(fv.STATE_HEAD_SIZE), np.zeros(2), np.zeros(3)))
     for version, host in ((2, c_host), (3, fmi3_host)):
         fmu = fmus[version]
         state = tmp_path / f"state{version}.bin"
         script = (_start(version, {sc.MAX_INTERNAL_STEP_NAME: 1e-4}) + command
-                  + f"get_state 0\nserialize 0 {state}\ndeserialize 1 {state}\nset_state 1\n" + command
+                  + f"get_state 0\nserialize 0 {state}\ndeserialize 2 {foreign}\nexpect error\n"
+                  + f"deserialize 1 {state}\nset_state 1\n" + command
                   + "terminate\nfree\n" + _start(version, {"rod_length": 0.0}) + "expect error\nfree\n"
                   + _start(version, {}, "instantiate_me") + f"get_derivatives {2 * L.N_COORDINATES}\nfree\n")
         code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script, valgrind=True)
