@@ -61,7 +61,10 @@ def add_arguments(parser) -> None:
 def _third_party(args, joint, mechanism):
     """The run record of the third-party ``args.master`` (checked: installed, step > 0)."""
     missing = master_available(args.master)
-    _require("--master", args.master, missing is None, f"a master whose package is installed here ({missing})")
+    if missing is not None:
+        installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
+        _require("--master", args.master, False,
+                 f"one of the masters installed here, {', '.join(installed)} ({missing})")
     step = DEFAULT_STEP_S if args.step is None else args.step
     _require("--step", step, _finite("--step", step) > 0.0, "a communication step > 0 [s]")
     return run_master(args.master, joint, mechanism, args.revolutions, step, args.sample_dt, fmusim=args.fmusim)
