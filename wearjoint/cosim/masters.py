@@ -13,7 +13,8 @@ writes, the per-revolution statistics accounted by the engines' own recorder
   preloaded here): ``EcosSimulation(ssp_path=...)``, the package's parameter set applied by name.
 * ``fmpy-ssp`` -- fmpy's SSP simulator ``fmpy.ssp.simulation.simulate_ssp``; fmpy 0.3.32 does not
   apply the SSD's parameter bindings itself, so the package's parameter sets (as fmpy reads them)
-  are passed as its ``parameter_set``.  It returns connector values only: no worn profile.
+  are passed as its ``parameter_set``.  It returns connector values only (no worn profile) and keeps
+  every connector of every step in memory, about 3 kB a step.
 * ``container`` -- the system as one fmpy container FMU (:func:`wearjoint.fmu.ssp.container_fmu`,
   fixed internal step = the communication step), run by fmpy's ``FMU2Slave`` or, given its path,
   by fmusim (the Reference-FMUs' importer; no worn profile from its CSV).
