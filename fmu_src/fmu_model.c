@@ -65,6 +65,19 @@ const char *fmu_shortest(double x, char *out, size_t size)
     return out;
 }
 
+const char *fmu_state_problem(const char *format, const char *kinds, const double *values, char *out, size_t size)
+{
+    char text[3][40] = {"", "", ""};
+    for (int i = 0; i < 3 && kinds[i] != '\0'; i++) {
+        if (kinds[i] == 'g')
+            fmu_shortest(values[i], text[i], sizeof text[i]);
+        else
+            snprintf(text[i], sizeof text[i], kinds[i] == 'x' ? "%08llx" : "%lld", (long long)values[i]);
+    }
+    snprintf(out, size, format, text[0], text[1], text[2]);
+    return out;
+}
+
 int fmu_parameters_valid(const FmuHost *host, const ParameterInfo *table, int n, const double *values,
                          const char *when)
 {

@@ -59,6 +59,9 @@ void fmu_free_instance(void *instance);
 void fmu_log(const FmuHost *host, int status, const char *format, ...) __attribute__((format(FMU_PRINTF_FORMAT, 3, 4)));
 /* The shortest text that reads back as exactly x, written as Python's repr writes floats. */
 const char *fmu_shortest(double x, char *out, size_t size);
+/* The message of a problem a state check found (core/state_format.py): ``format``, one of the
+ * generated STATE_PROBLEMS, with values[i] as text of kinds[i] (d: integer, g: shortest float, x: hex). */
+const char *fmu_state_problem(const char *format, const char *kinds, const double *values, char *out, size_t size);
 
 /* A parameter's allowed values, as the generated tables (model_variables.h) give them. */
 typedef struct {

@@ -319,18 +319,9 @@ void joint_write_state(const JointInstance *joint, void *bytes, int initialised)
 /* Log a problem a state check found (its message from the generated table, with the values compared). */
 static void log_state_problem(const JointInstance *joint, const char *function, int32_t problem, const double *values)
 {
-    char text[3][40] = {"", "", ""};
-    const char *kinds = STATE_PROBLEM_KINDS[problem];
-    for (int i = 0; i < 3 && kinds[i] != '\0'; i++) {
-        if (kinds[i] == 'g')
-            fmu_shortest(values[i], text[i], sizeof text[i]);
-        else
-            snprintf(text[i], sizeof text[i], kinds[i] == 'x' ? "%08llx" : "%lld",
-                     (long long)values[i]);
-    }
     char message[512];
-    snprintf(message, sizeof message, STATE_PROBLEMS[problem], text[0], text[1], text[2]);
-    joint_log(joint, JOINT_ERROR, "%s: %s", function, message);
+    joint_log(joint, JOINT_ERROR, "%s: %s", function, fmu_state_problem(STATE_PROBLEMS[problem],
+              STATE_PROBLEM_KINDS[problem], values, message, sizeof message));
 }
 
 int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function)

@@ -11,6 +11,8 @@
 
 #include <stdint.h>
 
+#include "state_format.h"
+
 /* The kernels' parameter vector mp from the 13 SliderCrankParameters fields (rpm, degrees), and
  * minv = M^-1 (Eq. 42). */
 int32_t slider_crank_parameters(int32_t *status, void *excinfo, const double *fields, double *mp, double *minv);

@@ -17,8 +17,6 @@
 #include "slider_crank_kernels.h"
 
 #define N_Y (2 * N_COORDINATES)
-#define STATE_MAGIC "WJSCK001"
-#define STATE_HEAD_DOUBLES 3 /* magic (8 bytes), time, initialised */
 
 struct FmuModel {
     FmuHost host;                      /* first (fmu_new_instance) */
@@ -351,44 +349,57 @@ int model_completed_integrator_step(FmuModel *model, const char *function)
 }
 
 /* ------------------------------------------------------------------ FMU state */
-/* magic, time, initialised flag, inputs, parameters, y (float64, little-endian on every platform here) */
+/* The project's one state format (wearjoint/core/state_format.py, its kernels compiled into this
+ * binary): little-endian, versioned header, CRC-32C; a SliderCrank state's head is the time, the
+ * initialised flag, the inputs, the parameters and y; it has no contact memory (written as zeros)
+ * and no bushing points. */
+enum { HEAD_TIME, HEAD_INITIALISED, HEAD_INPUTS, HEAD_PARAMETERS = HEAD_INPUTS + N_INPUTS,
+       HEAD_Y = HEAD_PARAMETERS + N_PARAMETERS, HEAD_END = HEAD_Y + N_Y };
+_Static_assert(HEAD_END == STATE_N_HEAD, "the state head's layout and STATE_N_HEAD (fmu/slider_crank.py) disagree");
+static const double NO_MEMORY[STATE_N_MEMORY] = {0.0};
+
 size_t model_state_size(const FmuModel *model)
 {
     (void)model;
-    return (STATE_HEAD_DOUBLES + N_INPUTS + N_PARAMETERS + N_Y) * sizeof(double);
+    int64_t size = 0;
+    wearjoint_state_size(&size, NULL, STATE_N_HEAD, 0);
+    return (size_t)size;
 }
 
 void model_write_state(const FmuModel *model, void *bytes, int initialised)
 {
-    double *d = bytes;
-    memcpy(d, STATE_MAGIC, 8);
-    d[1] = model->time;
-    d[2] = initialised ? 1.0 : 0.0;
-    d += STATE_HEAD_DOUBLES;
-    memcpy(d, model->inputs, sizeof model->inputs);
-    memcpy(d + N_INPUTS, model->parameters, sizeof model->parameters);
-    memcpy(d + N_INPUTS + N_PARAMETERS, model->y, sizeof model->y);
+    double head[STATE_N_HEAD];
+    head[HEAD_TIME] = model->time;
+    head[HEAD_INITIALISED] = initialised ? 1.0 : 0.0;
+    memcpy(head + HEAD_INPUTS, model->inputs, sizeof model->inputs);
+    memcpy(head + HEAD_PARAMETERS, model->parameters, sizeof model->parameters);
+    memcpy(head + HEAD_Y, model->y, sizeof model->y);
+    int32_t status = 0;
+    wearjoint_write_state(&status, NULL, bytes, (int64_t)model_state_size(model), STATE_CONTENTS_MECHANISM, head,
+                          STATE_N_HEAD, NO_MEMORY, NO_MEMORY, 0);
 }
 
 int model_state_valid(const FmuModel *model, const void *bytes, size_t size, const char *function)
 {
-    if (size != model_state_size(model) || memcmp(bytes, STATE_MAGIC, 8) != 0) {
-        fmu_log(&model->host, FMU_ERROR, "%s: not a SliderCrank state (%zu bytes)", function, size);
+    double values[4] = {0.0, 0.0, 0.0, 0.0}, head[STATE_N_HEAD], memory[STATE_N_MEMORY];
+    int32_t problem = 0, status = 0;
+    wearjoint_check_header(&problem, NULL, bytes, (int64_t)size, STATE_CONTENTS_MECHANISM, STATE_N_HEAD, 0, values);
+    if (problem == 0) {
+        wearjoint_read_state(&status, NULL, bytes, (int64_t)size, head, STATE_N_HEAD, memory, memory, 0);
+        wearjoint_check_values(&problem, NULL, head, STATE_N_HEAD, memory, memory, 0, 0.0, 0.0, values);
+    }
+    if (problem != 0) {
+        char message[512];
+        fmu_log(&model->host, FMU_ERROR, "%s: %s", function, fmu_state_problem(STATE_PROBLEMS[problem],
+                STATE_PROBLEM_KINDS[problem], values, message, sizeof message));
         return 0;
     }
-    const double *d = bytes;
-    if (!isfinite(d[1]) || (d[2] != 0.0 && d[2] != 1.0)) {
-        fmu_log(&model->host, FMU_ERROR, "%s: the state's time or initialised flag is invalid", function);
+    if (!fmu_parameters_valid(&model->host, PARAMETERS, N_PARAMETERS, head + HEAD_PARAMETERS, function))
         return 0;
-    }
-    d += STATE_HEAD_DOUBLES;
-    if (!fmu_parameters_valid(&model->host, PARAMETERS, N_PARAMETERS, d + N_INPUTS, function))
-        return 0;
-    const double *y = d + N_INPUTS + N_PARAMETERS;
     for (int k = 0; k < N_Y; k++)
-        if (!isfinite(y[k])) {
+        if (!isfinite(head[HEAD_Y + k])) {
             fmu_log(&model->host, FMU_ERROR, "%s: the state's coordinates and velocities must be finite (%s=%g)",
-                    function, STATE_NAMES[k], y[k]);
+                    function, STATE_NAMES[k], head[HEAD_Y + k]);
             return 0;
         }
     return 1;
@@ -396,13 +407,15 @@ int model_state_valid(const FmuModel *model, const void *bytes, size_t size, con
 
 int model_read_state(FmuModel *model, const void *bytes, int *initialised, const char *function)
 {
-    const double *d = bytes;
-    model->time = d[1];
-    *initialised = d[2] == 1.0;
-    d += STATE_HEAD_DOUBLES;
-    memcpy(model->inputs, d, sizeof model->inputs);
-    memcpy(model->parameters, d + N_INPUTS, sizeof model->parameters);
-    memcpy(model->y, d + N_INPUTS + N_PARAMETERS, sizeof model->y);
+    double head[STATE_N_HEAD], memory[STATE_N_MEMORY];
+    int32_t status = 0;
+    wearjoint_read_state(&status, NULL, bytes, (int64_t)model_state_size(model), head, STATE_N_HEAD, memory, memory,
+                         0);
+    model->time = head[HEAD_TIME];
+    *initialised = head[HEAD_INITIALISED] == 1.0;
+    memcpy(model->inputs, head + HEAD_INPUTS, sizeof model->inputs);
+    memcpy(model->parameters, head + HEAD_PARAMETERS, sizeof model->parameters);
+    memcpy(model->y, head + HEAD_Y, sizeof model->y);
     model->parameters_changed = model->derivatives_stale = 1;
     model->state_stale = !*initialised;
     return prepare(model, function);

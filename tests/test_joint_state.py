@@ -177,7 +177,7 @@ def test_each_refusal_names_the_check_and_the_two_things_compared():
         f"the state holds {n} bushing points, this joint has n_points=100")
     fmu_state = state_bytes(CONTENTS_FMU, [0.0, 1.0], joint.memory, joint.wear_depth)
     assert _restore_refused(fmu_state) == ("the state's contents are kind 2, expected kind 1 (1: a joint's, "
-                                           "2: an FMU instance's)")
+                                           "2: a joint FMU instance's, 3: a SliderCrank FMU instance's)")
     for k, depth, words in [(5, float("nan"), "is not finite"), (6, -1e-9, "is negative"),
                             (7, 0.0102, "is deeper than the bushing radius")]:
         bad = joint.wear_depth.copy()

@@ -26,10 +26,12 @@ from fmi_host import (  # noqa: E402
 )
 
 from wearjoint.core import layout as L  # noqa: E402
+from wearjoint.core.state_format import CONTENTS_FMU, CONTENTS_MECHANISM  # noqa: E402
 from wearjoint.core.mechanism import accelerations  # noqa: E402
 from wearjoint.fmu import slider_crank as sc  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.fmu.build import build_fmu  # noqa: E402
+from wearjoint.joint import read_state_bytes, state_bytes  # noqa: E402
 from wearjoint.mechanism import SliderCrank  # noqa: E402
 from wearjoint.parameters import ParameterError, SliderCrankParameters  # noqa: E402
 
@@ -102,6 +104,12 @@ def _smooth_loads(t):
     """Loads of the order of the ideal joint's (N, N m), smooth in t: the inputs of the traces."""
     return np.array([40 * math.sin(31 * t), -25 + 10 * math.cos(17 * t), 0.3 * math.sin(13 * t),
                      -40 * math.sin(31 * t), 25 - 10 * math.cos(17 * t), -0.2 * math.cos(11 * t)])
+
+
+def _trace_command(tmp_path, n: int, h: float = 1e-3) -> str:
+    """The C hosts' ``trace`` command over ``n`` steps of ``h`` [s] under the smooth loads (file in tmp_path)."""
+    path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *_smooth_loads(i * h)] for i in range(n)])
+    return f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
 
 
 # ------------------------------------------------------------------ the model
@@ -268,13 +276,16 @@ def test_c_hosts_run_it_without_python_and_equal_fmpy(fmus, c_host, fmi3_host, t
     assert np.array_equal(results[2], np.array(fmpy_rows))
 
 
-def test_state_round_trip_is_exact_and_a_foreign_state_is_refused(fmus):
+def test_state_round_trip_is_exact_in_the_projects_state_format(fmus):
     """getFMUstate / serialise / deserialise / setFMUstate, then the same steps again: the same
-    bits; the joint FMU's state bytes are refused."""
+    bits; the bytes are the project's one state format (core/state_format.py: a SliderCrank
+    state whose head holds the time, the inputs, the parameters and the coordinates and
+    velocities); a state with another magic is refused."""
     slave = _slave(fmus[2])
     t, h = 0.0, 1e-3
     for i in range(20):
-        slave.setReal(INPUT_VRS, list(_smooth_loads(t)))
+        loads = _smooth_loads(t)
+        slave.setReal(INPUT_VRS, list(loads))
         slave.doStep(t, h)
         t += h
     state = slave.serializeFMUstate(slave.getFMUstate())
@@ -288,13 +299,52 @@ def test_state_round_trip_is_exact_and_a_foreign_state_is_refused(fmus):
             rows.append(slave.getReal(OUTPUT_VRS))
         return np.array(rows)
 
+    y = np.array(slave.getReal(STATE_VRS))
     first = continue_run(t)
     slave.setFMUstate(slave.deSerializeFMUstate(state))
     assert np.array_equal(continue_run(t), first)
+    head, memory, points = read_state_bytes(state, CONTENTS_MECHANISM, sc.STATE_HEAD_SIZE, 0)
+    assert head[0] == t and head[1] == 1.0 and np.array_equal(head[-len(y):], y)
+    assert np.array_equal(head[2:2 + len(INPUT_VRS)], loads) and points.size == 0
     with pytest.raises(Exception):
         slave.deSerializeFMUstate(b"WJFMU002" + state[8:])
     slave.terminate()
     slave.freeInstance()
+
+
+def test_a_corrupted_state_is_refused_with_an_error_naming_the_check(fmus, c_host, fmi3_host, tmp_path):
+    """Through the C hosts (FMI 2.0 and 3.0): a flipped bit in the payload (the CRC-32C), a flipped
+    bit in the magic, a truncated state and a joint FMU's state are refused at deserialisation
+    with fmi2Error / fmi3Error and one message naming the failed check; the host lives on and
+    the instance, its intact state restored, steps on."""
+    n = 20
+    command = _trace_command(tmp_path, n)
+    for version, host in ((2, c_host), (3, fmi3_host)):
+        fmu = fmus[version]
+        good = tmp_path / f"good{version}.bin"
+        code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], _start(version, {})
+                                    + command + f"get_state 0\nserialize 0 {good}\nterminate\nfree\n")
+        assert code == 0, err
+        data = good.read_bytes()
+        assert data.startswith(b"WJSTATE\0")
+        payload_bit, magic_bit = bytearray(data), bytearray(data)
+        payload_bit[len(data) // 2] ^= 0x04
+        magic_bit[0] ^= 0x01
+        cases = {"payload_bit": (bytes(payload_bit), "the bytes are corrupted"),
+                 "magic_bit": (bytes(magic_bit), "does not begin with the magic bytes WJSTATE"),
+                 "truncated": (data[:-5], f"the state has {len(data) - 5} bytes, its header declares {len(data)}"),
+                 "joint_state": (state_bytes(CONTENTS_FMU, np.zeros(fv.STATE_HEAD_SIZE), np.zeros(2), np.zeros(3)),
+                                 "contents are kind 2, expected kind 3")}
+        script = _start(version, {}) + command
+        for name, (bad, _) in cases.items():
+            (tmp_path / f"{name}{version}.bin").write_bytes(bad)
+            script += f"deserialize 1 {tmp_path / f'{name}{version}.bin'}\nexpect error\n"
+        script += f"deserialize 1 {good}\nset_state 1\n" + command + "terminate\nfree\n"
+        code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script)
+        assert code == 0, err
+        for _, words in cases.values():
+            assert words in err, (version, words, err)
+        assert out.count(f"trace ok rows={n}") == 2
 
 
 # ------------------------------------------------------------------ platforms and valgrind
@@ -306,9 +356,7 @@ def test_cross_binaries_run_the_trace_as_linux64(fmus, tmp_path, platform):
     platform_or_skip(platform)
     if not (fmus[2]["dir"] / "binaries" / platform).is_dir():
         pytest.skip(f"the FMU carries no {platform} binary (its cross toolchain is not installed)")
-    h, n = 1e-3, 100
-    path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *_smooth_loads(i * h)] for i in range(n)])
-    command = f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    command = _trace_command(tmp_path, 100)
     results = {}
     for where in ("linux64", platform):
         host = build_c_host(tmp_path / f"host_{where}", extra_flags=["-Werror"], platform=where)
@@ -325,17 +373,19 @@ def test_cross_binaries_run_the_trace_as_linux64(fmus, tmp_path, platform):
 
 @pytest.mark.slow
 def test_c_hosts_run_it_under_valgrind_clean(fmus, c_host, fmi3_host, tmp_path):
-    """Co-Simulation trace, FMU states (get, serialise, deserialise, set), a refused parameter and
-    Model Exchange calls under valgrind: no error, no leak (FMI 2.0 and 3.0)."""
+    """Co-Simulation trace, FMU states (get, serialise, deserialise, set; a foreign state refused), a
+    refused parameter and Model Exchange calls under valgrind: no error, no leak (FMI 2.0 and 3.0)."""
     valgrind_or_skip()
-    h, n = 1e-3, 20
-    path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *_smooth_loads(i * h)] for i in range(n)])
-    command = f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    n = 20
+    command = _trace_command(tmp_path, n)
+    foreign = tmp_path / "joint_state.bin"
+    foreign.write_bytes(state_bytes(CONTENTS_FMU, np.zeros(fv.STATE_HEAD_SIZE), np.zeros(2), np.zeros(3)))
     for version, host in ((2, c_host), (3, fmi3_host)):
         fmu = fmus[version]
         state = tmp_path / f"state{version}.bin"
         script = (_start(version, {sc.MAX_INTERNAL_STEP_NAME: 1e-4}) + command
-                  + f"get_state 0\nserialize 0 {state}\ndeserialize 1 {state}\nset_state 1\n" + command
+                  + f"get_state 0\nserialize 0 {state}\ndeserialize 2 {foreign}\nexpect error\n"
+                  + f"deserialize 1 {state}\nset_state 1\n" + command
                   + "terminate\nfree\n" + _start(version, {"rod_length": 0.0}) + "expect error\nfree\n"
                   + _start(version, {}, "instantiate_me") + f"get_derivatives {2 * L.N_COORDINATES}\nfree\n")
         code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script, valgrind=True)

@@ -1,38 +1,29 @@
 """SliderCrankWithClearance.ssp (wearjoint export-ssp): valid SSP 1.0, wired and parameterised as the
-monolithic slider-crank, and run closed-loop by a third-party master, OSP libcosim, whose slider
-converges to the monolithic engine's over the first impacts as its step shrinks (first order:
-libcosim holds each FMU's inputs over a step)."""
+monolithic slider-crank; its container FMU valid and carrying fmpy's container binaries.  The
+closed-loop runs in third-party masters: tests/test_masters.py."""
 from __future__ import annotations
 
 import zipfile
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 fmpy = pytest.importorskip("fmpy")
-pytest.importorskip("libcosimpy")
 from fmpy import read_model_description  # noqa: E402
 from fmpy.ssp.ssd import read_ssd  # noqa: E402
-from libcosimpy.CosimExecution import CosimExecution  # noqa: E402
 from lxml import etree  # noqa: E402
-from libcosimpy.CosimLogging import CosimLogLevel, log_output_level  # noqa: E402
-from libcosimpy.CosimObserver import CosimObserver  # noqa: E402
 
 from wearjoint.cli import main  # noqa: E402
-from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint  # noqa: E402
-from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
-
-WINDOW_S, SAMPLE_S = 6e-3, 1e-4      # free flight, then the first impacts (the first near 2-3 ms)
 
 
 @pytest.fixture(scope="module")
 def package(tmp_path_factory):
-    """The SSP as `wearjoint export-ssp` writes it (linux64 binaries: libcosim runs here), unzipped."""
+    """The SSP and its container FMU as `wearjoint export-ssp --container-fmu` writes them (linux64
+    binaries), the SSP unzipped."""
     out = tmp_path_factory.mktemp("ssp")
-    assert main(["export-ssp", "--out", str(out), "--platforms", "linux64"]) == 0
+    assert main(["export-ssp", "--out", str(out), "--platforms", "linux64", "--container-fmu"]) == 0
     path = out / ssp.SSP_FILE_NAME
     unzipped = tmp_path_factory.mktemp("ssp_x")
     with zipfile.ZipFile(path) as zf:
@@ -90,42 +81,26 @@ def test_a_joint_that_does_not_fit_the_mechanism_is_refused(tmp_path):
         ssp.export_ssp(tmp_path, stop_time=0.0, platforms="linux64")
 
 
-def _libcosim(ssd: Path, step: float):
-    """Slider x every SAMPLE_S over WINDOW_S through libcosim at ``step``; whether the joint was in contact."""
-    log_output_level(CosimLogLevel.ERROR)
-    execution = CosimExecution.from_ssp_file(str(ssd), step_size=round(step * 1e9))
-    observer = CosimObserver.create_last_value()
-    execution.add_observer(observer)
-    index = {s.name.decode(): s.index for s in execution.slave_infos()}
-    slider = {v.name.decode(): v.reference for v in execution.slave_variables(index[ssp.MECHANISM])}["slider_x"]
-    contact = {v.name.decode(): v.reference for v in execution.slave_variables(index[ssp.JOINT])}["contact"]
-    xs, touched = [], False
-    for _ in range(round(WINDOW_S / SAMPLE_S)):
-        for _ in range(round(SAMPLE_S / step)):
-            assert execution.step(1)
-            touched |= observer.last_real_values(index[ssp.JOINT], [contact])[0] > 0.5
-        xs.append(observer.last_real_values(index[ssp.MECHANISM], [slider])[0])
-    return np.array(xs), touched
+def test_the_container_fmu_validates_and_exposes_the_system(package):
+    """The container FMU validates; it carries fmpy's container library for the platforms fmpy ships
+    it for (not aarch64-linux, which the joint and mechanism FMUs also carry); every output of both
+    FMUs is one of its outputs, every parameter one of its parameters with the package's value."""
+    from fmpy.validation import validate_fmu
 
-
-def test_libcosim_runs_the_ssp_closed_loop_and_converges_to_the_monolithic_engine(package):
-    """OSP libcosim runs the package (SystemStructure.ssd, its parameter sets applied) at 2, 1 and
-    0.5 us; over the first impacts its slider approaches the monolithic engine's (DOPRI, tight
-    tolerances) at first order in the step."""
-    _, unzipped = package
-    options = SimulationOptions(rtol=1e-9, atol_position_m=1e-12, atol_velocity_m_s=1e-8, max_step_s=1e-6)
-    simulation = Simulation(options=options)
-    samples = np.zeros((round(SAMPLE_S / options.sample_dt_s) + 10, L.N_SAMPLE_COLUMNS))
-    reference = []
-    for k in range(round(WINDOW_S / SAMPLE_S)):
-        simulation.advance_to((k + 1) * SAMPLE_S, samples)
-        reference.append(simulation.y[L.SLIDER])
-    assert simulation.revolution_stats[0, L.S_IMPACTS] >= 1
-    errors = {}
-    for step in (2e-6, 1e-6, 5e-7):
-        xs, touched = _libcosim(unzipped / "SystemStructure.ssd", step)
-        assert touched
-        errors[step] = np.abs(xs - reference).max()
-    assert errors[2e-6] > errors[1e-6] > errors[5e-7]
-    assert errors[2e-6] / errors[1e-6] > 1.6 and errors[1e-6] / errors[5e-7] > 1.6, errors
-    assert errors[5e-7] < 1e-6    # m, of a 100 mm stroke
+    path, unzipped = package
+    container = path.with_name(ssp.CONTAINER_FILE_NAME)
+    assert validate_fmu(str(container)) == []
+    with zipfile.ZipFile(container) as zf:
+        platforms = {name.split("/")[1] for name in zf.namelist()
+                     if name.startswith("binaries/") and name.count("/") > 1}
+    assert platforms == {"linux64", "win64", "darwin64"}
+    md = read_model_description(str(container))
+    variables = {v.name: v for v in md.modelVariables}
+    for component in (ssp.MECHANISM, ssp.JOINT):
+        inner = read_model_description(str(next((unzipped / "resources").glob(
+            "SliderCrank.fmu" if component == ssp.MECHANISM else "ClearanceWearJoint.fmu"))))
+        for v in inner.modelVariables:
+            if v.causality in ("output", "parameter"):
+                assert variables[ssp.container_variable(component, v.name)].causality == v.causality
+    assert float(variables[ssp.container_variable(ssp.JOINT, "pin_offset_x")].start) == \
+        0.5 * SliderCrankParameters().crank_length_m

@@ -4,7 +4,9 @@ from __future__ import annotations
 import sys
 
 from ..cosim import SCHEMES, CoSimulationError, CoSimulationOptions, run_cosimulation
+from ..cosim.masters import DEFAULT_STEP_S, MASTERS, master_available, run_master
 from ..cosim.model_exchange import INTERFACES, run_model_exchange
+from ..parameters import _finite, _require
 from ..results import write_results
 from ..simulate import SimulationOptions
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, print_summary
@@ -25,13 +27,21 @@ def add_arguments(parser) -> None:
                              "the same adaptive Dormand-Prince as `simulate` (its tolerances: --rtol, --atol-*, "
                              "--max-step) (default %(default)s)")
     g = parser.add_argument_group("co-simulation")
+    g.add_argument("--master", default="wearjoint", metavar="MASTER",
+                   help=f"who runs the co-simulation, one of {', '.join(MASTERS)}: wearjoint is this package's master "
+                        "(the options below); the others run SliderCrankWithClearance.ssp (export-ssp) at the fixed "
+                        "step --step: OSP libcosim, ecos, fmpy's SSP simulator, or the system as one fmpy container "
+                        "FMU in fmpy (or in fmusim with --fmusim) (default %(default)s)")
+    g.add_argument("--fmusim", metavar="PATH", default=None,
+                   help="with --master container: run the container FMU in this fmusim binary instead of fmpy")
     g.add_argument("--revolutions", type=float, default=_DEFAULTS.revolutions, help="crank revolutions to simulate")
     g.add_argument("--scheme", choices=SCHEMES, default=_DEFAULTS.scheme,
                    help="zoh: fixed communication step, forces held; extrapolation: fixed step, forces "
                         "extrapolated in contact; adaptive: extrapolation, large steps in free flight, "
                         "rollback to contact onsets (default %(default)s)")
-    g.add_argument("--step", type=float, default=_DEFAULTS.step_s,
-                   help="communication step [s] (adaptive: in contact) (default %(default)g)")
+    g.add_argument("--step", type=float, default=None,
+                   help=f"communication step [s] (adaptive: in contact) (default {_DEFAULTS.step_s:g}; with a "
+                        f"third-party master {DEFAULT_STEP_S:g}, a fixed step)")
     g.add_argument("--max-step", type=float, default=_DEFAULTS.max_step_s,
                    help="largest adaptive communication step [s] (default %(default)g)")
     g.add_argument("--min-step", type=float, default=_DEFAULTS.min_step_s,
@@ -48,11 +58,29 @@ def add_arguments(parser) -> None:
     add_model_arguments(parser)
 
 
+def _third_party(args, joint, mechanism):
+    """The run record of the third-party ``args.master`` (checked: installed, step > 0)."""
+    missing = master_available(args.master)
+    if missing is not None:
+        installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
+        _require("--master", args.master, False,
+                 f"one of the masters installed here, {', '.join(installed)} ({missing})")
+    step = DEFAULT_STEP_S if args.step is None else args.step
+    _require("--step", step, _finite("--step", step) > 0.0, "a communication step > 0 [s]")
+    return run_master(args.master, joint, mechanism, args.revolutions, step, args.sample_dt, fmusim=args.fmusim)
+
+
 def run(args) -> int:
-    """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error."""
+    """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error,
+    2 on a bad option (one line naming it)."""
+    _require("--master", args.master, args.master in MASTERS, "one of " + ", ".join(MASTERS))
+    _require("--fmusim", args.fmusim, args.fmusim is None or args.master == "container", "only with --master container")
     joint, mechanism = model_from_args(args)
     try:
-        if args.fmu_interface == "model-exchange":
+        if args.master != "wearjoint":
+            record = _third_party(args, joint, mechanism)
+            keys = ("master", "communication_steps")
+        elif args.fmu_interface == "model-exchange":
             max_step = args.max_step if args.max_step != _DEFAULTS.max_step_s else (
                 1e-5 if joint.wear_coefficient_m2_N * joint.wear_factor > 0 else _MONOLITHIC.max_step_s)
             options = SimulationOptions(revolutions=args.revolutions, integrator="dopri", rtol=args.rtol,
@@ -63,13 +91,14 @@ def run(args) -> int:
                                         fmu_backend=args.fmu_backend)
             keys = INTEGRATOR_KEYS
         else:
-            options = CoSimulationOptions(revolutions=args.revolutions, scheme=args.scheme, step_s=args.step,
+            options = CoSimulationOptions(revolutions=args.revolutions, scheme=args.scheme,
+                                          step_s=_DEFAULTS.step_s if args.step is None else args.step,
                                           max_step_s=args.max_step, min_step_s=args.min_step,
                                           onset_penetration_m=args.onset_penetration, sample_dt_s=args.sample_dt)
             record = run_cosimulation(joint, mechanism, options, fmu_path=args.fmu, progress=not args.quiet,
                                       fmu_backend=args.fmu_backend)
             keys = COMMUNICATION_KEYS
-    except CoSimulationError as exc:
+    except (CoSimulationError, RuntimeError) as exc:
         print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
         return 1
     summary = write_results(record, args.out, plots=not args.no_plots)

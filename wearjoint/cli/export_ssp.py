@@ -1,6 +1,7 @@
 """`wearjoint export-ssp`: write SliderCrankWithClearance.ssp, the paper's slider-crank as two FMUs
 (SliderCrank and ClearanceWearJoint, native FMI 2.0) with their connections and parameter sets,
-for any SSP master (OSP libcosim, ecos, fmpy's SSP simulator, OMSimulator)."""
+for any SSP master (OSP libcosim, ecos, fmpy's SSP simulator, OMSimulator); with
+``--container-fmu`` also the same system as one fmpy container FMU, for any FMU importer."""
 from __future__ import annotations
 
 import sys
@@ -13,6 +14,12 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", metavar="DIR", required=True, help="directory for SliderCrankWithClearance.ssp")
     parser.add_argument("--stop-time", type=float, default=None, metavar="S",
                         help="stop time of the default experiment [s] (default: one crank revolution)")
+    parser.add_argument("--container-fmu", action="store_true",
+                        help="also write SliderCrankWithClearance.fmu: the same system as one fmpy container FMU "
+                             "(FMI 2.0 Co-Simulation; fmpy's container library: linux64, win64, darwin64)")
+    parser.add_argument("--container-step", type=float, default=None, metavar="S",
+                        help="the container's fixed internal step [s], the communication step of its two FMUs "
+                             "(default 1e-06)")
     parser.add_argument("--platforms", default="auto", metavar="LIST",
                         help="platforms the FMUs carry binaries for, of "
                              f"{', '.join(platforms.CROSS_PLATFORMS)}, or auto (default %(default)s)")
@@ -20,14 +27,17 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     """Write the package and print its path; 0 on success, 2 with a message on stderr otherwise."""
-    from ..fmu.ssp import export_ssp
+    from ..fmu.ssp import CONTAINER_FILE_NAME, CONTAINER_STEP_S, container_fmu, export_ssp
 
     try:
         path = export_ssp(args.out, stop_time=args.stop_time, platforms=args.platforms)
+        print(path)
+        if args.container_fmu or args.container_step is not None:
+            step = CONTAINER_STEP_S if args.container_step is None else args.container_step
+            print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))
     except (OSError, RuntimeError) as exc:
         print(f"wearjoint export-ssp: error: {exc}", file=sys.stderr)
         return 2
-    print(path)
     return 0
 
 

@@ -121,6 +121,17 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
 
 
 @kernel
+def record_points(t_previous, times, ys, dys, results, mp, rev_stats, samples, track):
+    """:func:`record_step` for each point of a recorded run (a third-party master's communication
+    points): ``times`` (n,) [s], the point before them at ``t_previous`` [s]; ``ys`` and ``dys``
+    (n, 18) the state and its derivative (only what :func:`record_step` reads need be filled),
+    ``results`` (n, N_RESULT) the joint's outputs."""
+    for i in range(times.shape[0]):
+        record_step(times[i], times[i] - (times[i - 1] if i > 0 else t_previous), ys[i], dys[i], results[i], mp,
+                    rev_stats, samples, track)
+
+
+@kernel
 def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) on entry,
     ``stages`` is (4, len(y)) scratch.  Four derivative evaluations, no bookkeeping."""

@@ -4,9 +4,10 @@ these kernels only: Python calls them, the native FMU runs the same code compile
 
 Little-endian: a 24-byte header (magic ``WJSTATE\\0``, then uint32 format version, contents,
 n_points, payload bytes), the payload (float64: the contents' head values, the contact memory, the
-wear depths), then the CRC-32C (Castagnoli) of header and payload as uint32.  Every platform the
-joint runs on is little-endian; the kernels still read and write byte by byte, so a buffer
-needs no alignment.
+wear depths), then the CRC-32C (Castagnoli) of header and payload as uint32.  A SliderCrank
+FMU's state (``CONTENTS_MECHANISM``) has no bushing points and writes its contact memory as zeros.
+Every platform the joint runs on is little-endian; the kernels still read and write byte by byte,
+so a buffer needs no alignment.
 
 A check returns 0 or a problem code (``PROBLEMS``) and fills ``values`` with what it compared.
 """
@@ -22,6 +23,7 @@ MAGIC_WORD = int.from_bytes(MAGIC, "little")
 FORMAT_VERSION = 1
 CONTENTS_JOINT = 1   # contact memory and wear depths (ClearanceJoint)
 CONTENTS_FMU = 2     # time, initialised flag, inputs, parameters, then a joint's (an FMU instance)
+CONTENTS_MECHANISM = 3   # time, initialised flag, inputs, parameters, y = [q, q_dot] (a SliderCrank FMU instance)
 HEADER_BYTES = 24
 CHECKSUM_BYTES = 4
 FMU_HEAD_TIME, FMU_HEAD_INITIALISED, FMU_HEAD_INPUTS = 0, 1, 2   # the FMU head: time, flag, inputs, parameters
@@ -37,7 +39,8 @@ PROBLEMS = {
     VERSION: "the state has format version {0:d}, this build reads version {1:d}",
     SIZE: "the state has {0:d} bytes, its header declares {1:d} (a payload of {2:d} bytes)",
     CHECKSUM: "the state's CRC-32C is 0x{0:x}, its header and payload give 0x{1:x}: the bytes are corrupted",
-    CONTENTS: "the state's contents are kind {0:d}, expected kind {1:d} (1: a joint's, 2: an FMU instance's)",
+    CONTENTS: "the state's contents are kind {0:d}, expected kind {1:d} (1: a joint's, 2: a joint FMU instance's, "
+              "3: a SliderCrank FMU instance's)",
     N_POINTS: "the state holds {0:d} bushing points, this joint has n_points={1:d}",
     PAYLOAD: "the state's payload has {0:d} bytes, its contents and n_points={1:d} take {2:d}",
     TIME: "the state's time={0:g} s is invalid: allowed a finite value",

@@ -38,7 +38,8 @@ import sys
 from pathlib import Path
 
 # model -> (module of its cfuncs, {stable C symbol: (cfunc, its number of arguments)}); the C
-# prototypes (the model's kernel header: fmu_src/model.h, fmu_src/slider_crank_kernels.h) take two
+# prototypes (the model's kernel header: fmu_src/model.h, fmu_src/slider_crank_kernels.h; the state
+# format's, wearjoint_*_state*, in fmu_src/state_format.h for both) take two
 # more (return value, exception info).  A cfunc whose argument count differs from its
 # prototype's fails the build.
 ENTRY_POINTS = {
@@ -62,6 +63,11 @@ ENTRY_POINTS = {
         "slider_crank_initial_state": ("initial_state_native", 10),
         "slider_crank_derivative": ("derivative_native", 12),
         "slider_crank_step": ("step_native", 15),
+        "wearjoint_state_size": ("state_size_native", 2),
+        "wearjoint_write_state": ("write_state_native", 8),
+        "wearjoint_check_header": ("check_header_native", 6),
+        "wearjoint_read_state": ("read_state_native", 7),
+        "wearjoint_check_values": ("check_values_native", 8),
     }),
 }
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)

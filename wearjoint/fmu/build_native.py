@@ -44,7 +44,7 @@ from . import variables as fv
 from . import aot, platforms
 from .build import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
 from .c_tables import c_string as _c_string
-from .c_tables import parameter_rows
+from .c_tables import parameter_rows, state_problem_tables
 from .model_description import (
     N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, interfaces,
     model_description_fmi3_xml, model_description_xml,
@@ -83,14 +83,18 @@ class NativeModel:
 
 
 MODELS = {m.name: m for m in (
-    NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h"), "model.h",
-                ("core/contact.py", "core/wear.py", "core/state_format.py", "joint.py", "fmu/entry_points.py"),
-                ("fmu/entry_points.py",),
+    NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h",
+                                          "state_format.h"), "model.h",
+                ("core/contact.py", "core/wear.py", "core/state_format.py", "joint.py", "fmu/entry_points.py",
+                 "fmu/state_entry_points.py"),
+                ("fmu/entry_points.py", "fmu/state_entry_points.py"),
                 False),
-    NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h"),
-                "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "fmu/slider_crank.py",
-                                           "fmu/slider_crank_entry_points.py"),
-                ("fmu/slider_crank_entry_points.py",), True),
+    NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h",
+                                                      "state_format.h"),
+                "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "core/state_format.py",
+                                           "fmu/slider_crank.py", "fmu/slider_crank_entry_points.py",
+                                           "fmu/state_entry_points.py"),
+                ("fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py"), True),
 )}
 DEFAULT_MODEL = "joint"
 
@@ -184,7 +188,6 @@ def model_variables_header(n_points: int, guid: str) -> str:
         raise RuntimeError("the FMU variable table is not in the order the C layer expects "
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
     inputs = ", ".join(_c_string(v.name) for v in fv.INPUTS)
-    problems = state_format.printf_problems()
     parameter_of_slot = {slot_of[(p.field, p.component)]: i for i, p in enumerate(fv.PARAMETERS)}
     vr3 = fmi3_value_references()
     if any(vr3[name] != vr[name] for name in (*(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS),
@@ -220,11 +223,7 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define STATE_N_HEAD {fv.STATE_HEAD_SIZE}
 #define STATE_PARAMETER_BUSHING_RADIUS {parameter_of_slot[layout.P_BUSHING_RADIUS]}
 #define STATE_PARAMETER_VELOCITY_FLOOR {parameter_of_slot[layout.P_VELOCITY_FLOOR]}
-#define STATE_N_PROBLEMS {len(problems)}
-static const char *const STATE_PROBLEMS[STATE_N_PROBLEMS] = {{
-{chr(10).join(f"    {_c_string(text)}," for text, _ in problems)}
-}};
-static const char *const STATE_PROBLEM_KINDS[STATE_N_PROBLEMS] = {{{", ".join(_c_string(kinds) for _, kinds in problems)}}};
+{state_problem_tables()}
 
 /* FMI 3.0: the scalars keep their FMI 2.0 value references; the wear profile is one Float64 array
  * sized by the structural parameter n_points (UInt64), then the independent time. */

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import json
 
+from ..core import state_format
+
 
 def c_string(text: str) -> str:
     """A valid C string literal for the ASCII texts used here."""
@@ -23,3 +25,14 @@ def parameter_rows(parameters) -> list[str]:
             c_string(name), slot, c_double(start), n_choices, a.low is not None, a.low_open, c_double(a.low or 0.0),
             a.high is not None, a.high_open, c_double(a.high or 0.0), above, c_string(text)))
     return rows
+
+
+def state_problem_tables() -> str:
+    """The message of each problem a state check reports (core/state_format.py), as printf formats of
+    the values as text, and the kinds (d, g, x) of those values: ``STATE_PROBLEMS``, ``STATE_PROBLEM_KINDS``."""
+    problems = state_format.printf_problems()
+    return (f"#define STATE_N_PROBLEMS {len(problems)}\n"
+            "static const char *const STATE_PROBLEMS[STATE_N_PROBLEMS] = {\n"
+            + "".join(f"    {c_string(text)},\n" for text, _ in problems) + "};\n"
+            "static const char *const STATE_PROBLEM_KINDS[STATE_N_PROBLEMS] = {"
+            + ", ".join(c_string(kinds) for _, kinds in problems) + "};")

@@ -24,7 +24,8 @@ from xml.etree import ElementTree as ET
 from ..core import layout
 from ..parameters import SliderCrankParameters
 from . import variables as fv
-from .c_tables import c_string, parameter_rows
+from ..core import state_format
+from .c_tables import c_string, parameter_rows, state_problem_tables
 from .model_description import LOG_CATEGORIES, interfaces, root_with_interfaces_and_units
 
 MODEL_IDENTIFIER = "SliderCrank"
@@ -137,6 +138,8 @@ VARIABLES: tuple[Variable, ...] = (*INPUTS, *PARAMETERS, *POSITIONS, *VELOCITIES
 STATES = (*POSITIONS, *VELOCITIES)                 # y[0..17], in order
 STATE_DERIVATIVES = (*VELOCITIES, *ACCELERATIONS)   # dy[0..17], in order
 VALUE_REFERENCES = {v.name: i for i, v in enumerate(VARIABLES)}
+# the FMU state's head (core/state_format.py, CONTENTS_MECHANISM): time, initialised flag, inputs, parameters, y
+STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS) + len(STATES)
 FMI3_TIME_VALUE_REFERENCE = len(VARIABLES)
 # the 12 outputs a ClearanceWearJoint FMU takes as inputs, in its input order
 KINEMATIC_OUTPUTS = tuple(v.name for v in fv.INPUTS)
@@ -179,6 +182,14 @@ def model_variables_header(guid: str) -> str:
 #define P_MAX_INTERNAL_STEP {names.index(MAX_INTERNAL_STEP_NAME)}
 #define N_VARIABLES {len(VARIABLES)}
 #define FMI3_VR_TIME {FMI3_TIME_VALUE_REFERENCE}
+
+/* The state format (wearjoint/core/state_format.py): a SliderCrank state's contents kind and head
+ * (time, initialised flag, inputs, parameters, y), the contact memory it writes as zeros, and the
+ * message of each problem a check reports. */
+#define STATE_CONTENTS_MECHANISM {state_format.CONTENTS_MECHANISM}
+#define STATE_N_HEAD {STATE_HEAD_SIZE}
+#define STATE_N_MEMORY {layout.N_MEMORY}
+{state_problem_tables()}
 
 enum {{ {INPUT}, {PARAMETER}, {STATE}, {DERIVATIVE} }};
 

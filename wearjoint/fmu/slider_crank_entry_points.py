@@ -8,6 +8,8 @@ allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle)
 the joint's (Fx, Fy, T) on the crank then on the rod (global frame, torques about the centres of
 mass).  The workspace of :func:`wearjoint.core.mechanism.make_workspace` comes as seven arrays:
 ``jac`` and ``schur`` (9 x 9), ``phi``, ``phi_dot``, ``gamma``, ``minv`` (M^-1), ``force`` (9 each).
+The FMU state is written, checked and read by the state format's entry points
+(:mod:`wearjoint.fmu.state_entry_points`), as the joint FMU's.
 """
 from numba import carray, cfunc, types
 
@@ -15,6 +17,9 @@ from ..core.integrators import rk4_hold
 from ..core.jit import kernel
 from ..core.layout import MODE_EXTERNAL, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
 from ..core.mechanism import JointArrays, derivative, initial_state, inverse_mass_diagonal, mechanism_parameter_vector
+from .state_entry_points import (  # noqa: F401  (the FMU state's entry points, aot.ENTRY_POINTS)
+    check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
+)
 
 _F64 = types.CPointer(types.float64)
 _N = N_COORDINATES

@@ -13,6 +13,7 @@ checked against the SSP 1.0 schemas fmpy ships before the package is written.
 from __future__ import annotations
 
 import tempfile
+import uuid
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
@@ -30,6 +31,7 @@ SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 FMU_TYPE = "application/x-fmu-sharedlibrary"
 MECHANISM, JOINT = "mechanism", "joint"
+PARAMETER_SET = "parameters"
 # connections (start element, start connector, end element, end connector)
 CONNECTIONS = ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
                + [(JOINT, v.name, MECHANISM, v.name) for v in sc.INPUTS])
@@ -43,14 +45,22 @@ def _q(namespace: str, tag: str) -> str:
     return f"{{{namespace}}}{tag}"
 
 
+def _is_profile(name: str) -> bool:
+    """Whether ``name`` is one of the joint's ``wear_depth[k]`` outputs."""
+    return name.startswith(fv.wear_depth_name(1).removesuffix("1]"))
+
+
 def _connectors(component: ET.Element, fmu_path: Path) -> set[str]:
-    """A connector per input, output and parameter of the FMU (its unit where it has one); the units used."""
+    """A connector per input, output and parameter of the FMU (its unit where it has one), but the
+    joint's N_d ``wear_depth[k]`` outputs: nothing connects to them, every master still reads them
+    from the FMU, and a master that moves every connector at every step (fmpy's SSP simulator) runs
+    ten times faster without them.  Returns the units used."""
     from fmpy import read_model_description
 
     connectors = ET.SubElement(component, _q(SSD, "Connectors"))
     units = set()
     for v in read_model_description(str(fmu_path)).modelVariables:
-        if v.causality not in ("input", "output", "parameter"):
+        if v.causality not in ("input", "output", "parameter") or _is_profile(v.name):
             continue
         connector = ET.SubElement(connectors, _q(SSD, "Connector"), name=v.name, kind=v.causality)
         if v.type == "Real":
@@ -66,9 +76,10 @@ def _connectors(component: ET.Element, fmu_path: Path) -> set[str]:
 _UNITS = {**{k: v for k, v in fv.UNIT_DEFINITIONS.items() if k != "N/m1.5"}, **sc.UNIT_DEFINITIONS}
 
 
-def _parameter_set(name: str, values: dict) -> bytes:
-    """An SSV parameter set: Reals and Integers (the joint's options) in the FMU's units."""
-    root = ET.Element(_q(SSV, "ParameterSet"), version="1.0", name=name)
+def _parameter_set(values: dict) -> bytes:
+    """An SSV parameter set: Reals and Integers (the joint's options) in the FMU's units.  Both
+    components' sets have one name, :data:`PARAMETER_SET` (ecos applies sets by name)."""
+    root = ET.Element(_q(SSV, "ParameterSet"), version="1.0", name=PARAMETER_SET)
     parameters = ET.SubElement(root, _q(SSV, "Parameters"))
     for key, value in values.items():
         parameter = ET.SubElement(parameters, _q(SSV, "Parameter"), name=key)
@@ -139,8 +150,8 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
                 JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms)}
         ssd = system_structure(fmus, stop_time)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
-        parameter_sets = {MECHANISM: _parameter_set(MECHANISM, sc.parameter_values(mechanism)),
-                          JOINT: _parameter_set(JOINT, fv.fmi_parameter_values(joint))}
+        parameter_sets = {MECHANISM: _parameter_set(sc.parameter_values(mechanism)),
+                          JOINT: _parameter_set(fv.fmi_parameter_values(joint))}
         for name, xml in parameter_sets.items():
             _validate(xml, "SystemStructureParameterValues.xsd", f"resources/{name}.ssv")
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -153,3 +164,85 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
                 ssp.writestr(f"resources/{name}.ssv", parameter_sets[name])
         partial.replace(target)
     return target
+
+
+CONTAINER_FILE_NAME = f"{SSP_NAME}.fmu"
+CONTAINER_STEP_S = 1e-6     # s: a step at which a zero-order hold is stable here (docs/cosim_study.md)
+
+
+def container_variable(component: str, name: str) -> str:
+    """The container FMU's name of ``component``'s variable ``name``."""
+    return f"{component}.{name}"
+
+
+def container_fmu(ssp_path, out_path, step_s: float = CONTAINER_STEP_S) -> Path:
+    """Write ``out_path``: the package's system as one FMI 2.0 Co-Simulation FMU, an fmpy container
+    (``fmpy.container_fmu``: fmpy's own container library runs the nested FMUs; it ships
+    x86_64-linux, x86_64-windows and x86_64/aarch64-darwin binaries, so the container runs where
+    both it and the nested FMUs have a binary).  The container steps both FMUs at the fixed step
+    ``step_s`` [s] (a communication step must be a multiple of it), then moves the connections in
+    the SSD's order (the kinematics to the joint, then the joint's loads, evaluated at them); it
+    exposes every output of both FMUs and, with the package's values as start values, every
+    parameter, as ``<component>.<name>``.  Returns ``out_path``."""
+    import attrs
+    from fmpy import read_model_description
+    from fmpy.container_fmu import Configuration
+    from fmpy.container_fmu.cli import create_container_fmu
+    from fmpy.container_fmu.config import Component, Connection
+    from fmpy.model_description import CoSimulation, DefaultExperiment, ModelDescription, ModelVariable, Unknown
+    from fmpy.ssp.ssd import read_ssd
+
+    _require("step_s", step_s, _finite("step_s", step_s) > 0.0, "> 0")
+    ssd = read_ssd(str(ssp_path))
+    out_path = Path(out_path)
+    with tempfile.TemporaryDirectory(prefix="wearjoint_container_") as tmp:
+        with zipfile.ZipFile(ssp_path) as package:
+            package.extractall(Path(tmp) / "ssp")
+        components, variables = {}, {}
+        for element in ssd.system.elements:
+            path = Path(tmp) / "ssp" / element.source
+            md = read_model_description(str(path))
+            components[element.name] = Component(name=element.name, filename=path, modelDescription=md)
+            variables[element.name] = {v.name: v for v in md.modelVariables}
+        token = str(uuid.uuid5(uuid.NAMESPACE_URL, f"{ssp_path}:{step_s!r}:{ssd.system.name}"))
+        md = ModelDescription(fmiVersion="2.0", modelName=SSP_NAME, instantiationToken=token,
+                              description=f"{SSP_NAME}.ssp as one FMU (fmpy container, fixed step {step_s:g} s)",
+                              generationTool="wearjoint export-ssp --container-fmu")
+        md.coSimulation = CoSimulation(modelIdentifier="container_fmu", fixedInternalStepSize=step_s)
+        experiment = ET.parse(Path(tmp) / "ssp" / "SystemStructure.ssd").getroot().find(_q(SSD, "DefaultExperiment"))
+        md.defaultExperiment = DefaultExperiment(startTime="0.0", stopTime=experiment.get("stopTime"),
+                                                 stepSize=repr(step_s))
+        md.modelVariables.append(ModelVariable(name="time", causality="independent", variability="continuous",
+                                               type="Real"))
+        mappings = {}
+        starts = {(element.name, p.name): p.value for element in ssd.system.elements
+                  for binding in element.parameterBindings for s in binding.parameterValues for p in s.parameters}
+        for name, component in components.items():
+            for v in component.modelDescription.modelVariables:
+                if v.causality not in ("output", "parameter"):
+                    continue
+                exposed = ModelVariable(name=container_variable(name, v.name), causality=v.causality, type=v.type,
+                                        variability=v.variability, initial=v.initial, description=v.description)
+                exposed.start = starts.get((name, v.name), v.start) if v.causality == "parameter" else None
+                md.modelVariables.append(exposed)
+                mappings[exposed] = [(component, v)]
+                if v.causality == "output":
+                    md.outputs.append(Unknown(variable=exposed))
+                    md.initialUnknowns.append(Unknown(variable=exposed))
+
+        def float64(component, name):   # fmpy 0.3.32 writes an FMI 2.0 connection's type as "Real",
+            return [attrs.evolve(variables[component][name], type="Float64")]   # its container reads Float64
+
+        connections = [Connection(startElement=components[c.startElement],
+                                  startConnectors=float64(c.startElement, c.startConnector),
+                                  endElement=components[c.endElement],
+                                  endConnectors=float64(c.endElement, c.endConnector))
+                       for c in ssd.system.connections]
+        configuration = Configuration(parallelDoStep=False, modelDescription=md, components=list(components.values()),
+                                      connections=connections, variableMappings=mappings)
+        (Path(tmp) / "container").mkdir()
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+        partial = out_path.with_name(out_path.name + ".partial")
+        create_container_fmu(configuration, Path(tmp) / "container", partial)
+        partial.replace(out_path)
+    return out_path

@@ -1,0 +1,338 @@
+"""Third-party co-simulation masters running ``SliderCrankWithClearance.ssp`` (``wearjoint cosim --master``).
+
+Each adapter runs the package (or its fmpy container FMU) at a fixed communication step for the
+requested time and returns a :class:`MasterTrace`: the traced outputs (:data:`TRACED`) at every
+communication point and, where the master lets one read it, the final worn profile.
+:func:`record_from_trace` turns a trace into the :class:`wearjoint.results.RunRecord` every engine
+writes, the per-revolution statistics accounted by the engines' own recorder
+(:func:`wearjoint.core.integrators.record_points`).
+
+* ``libcosim`` -- OSP libcosim (``libcosimpy``): ``CosimExecution.from_ssp_file``, stepped one
+  communication step at a time, a last-value observer read after each.
+* ``ecos`` -- ecos (``ecospy``; its library needs ``libtbb.so.12`` from the pip package ``tbb``,
+  preloaded here): ``EcosSimulation(ssp_path=...)``, the package's parameter set applied by name.
+* ``fmpy-ssp`` -- fmpy's SSP simulator ``fmpy.ssp.simulation.simulate_ssp``; fmpy 0.3.32 does not
+  apply the SSD's parameter bindings itself, so the package's parameter sets (as fmpy reads them)
+  are passed as its ``parameter_set``.  It returns connector values only (no worn profile) and keeps
+  every connector of every step in memory, about 3 kB a step.
+* ``container`` -- the system as one fmpy container FMU (:func:`wearjoint.fmu.ssp.container_fmu`,
+  fixed internal step = the communication step), run by fmpy's ``FMU2Slave`` or, given its path,
+  by fmusim (the Reference-FMUs' importer; no worn profile from its CSV).
+
+Every master holds each FMU's inputs over a step (zero-order hold): first order in the step and
+unstable from a few microseconds on this stiff contact.  libcosim, ecos and fmpy's simulator read
+the joint's loads before they set its new inputs, so the mechanism gets them one step late; the
+container sets the kinematics first and reads the loads evaluated at them (docs/cosim_study.md).
+"""
+from __future__ import annotations
+
+import ctypes
+import subprocess
+import tempfile
+import time
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..core import layout as L
+from ..core.contact import bushing_point_angles
+from ..core.integrators import record_points
+from ..fmu import ssp
+from ..fmu import variables as fv
+from ..mechanism import pack_mechanism_parameters
+from ..results import RunRecord, new_revolution_stats, new_track
+
+MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "container")
+THIRD_PARTY = MASTERS[1:]
+DEFAULT_STEP_S = 1e-6     # a third-party master's default communication step (stable, docs/cosim_study.md)
+# what every adapter records at each communication point: (component, variable)
+MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a")
+JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
+                "eccentricity_x", "eccentricity_y", "max_wear_depth", "worn_volume")
+TRACED = tuple((ssp.MECHANISM, n) for n in MECHANISM_TRACED) + tuple((ssp.JOINT, n) for n in JOINT_TRACED)
+_COLUMN = {key: k for k, key in enumerate(TRACED)}
+# where record_step finds each traced quantity: the state y, its derivative dy, the joint's result
+_Y = {"crank_angle": L.CRANK + 2, "slider_x": L.Y_SLIDER_X, "slider_v": L.Y_SLIDER_V}
+_DY = {"slider_a": L.N_COORDINATES + L.SLIDER}
+_RESULT = {"pin_force_x": L.R_PIN_FX, "pin_force_y": L.R_PIN_FY, "normal_force": L.R_NORMAL_FORCE,
+           "friction_force": L.R_FRICTION_FORCE, "penetration": L.R_PENETRATION, "contact": L.R_CONTACT,
+           "eccentricity_x": L.R_ECCENTRICITY_X, "eccentricity_y": L.R_ECCENTRICITY_Y}
+_PACKAGES = {"libcosim": "libcosimpy", "ecos": "ecospy and tbb", "fmpy-ssp": "fmpy", "container": "fmpy"}
+
+
+class MasterUnavailable(ImportError):
+    """The master's package is not installed."""
+
+
+@dataclass
+class MasterTrace:
+    """A third-party master's run: ``values[i, k]`` is ``TRACED[k]`` at ``time_s[i]`` [s] (the
+    communication points from 0); ``wear_depth_m`` the final profile, None where unreadable;
+    ``wall_time_s`` the stepping loop, ``load_time_s`` loading and initialising the FMUs."""
+
+    master: str
+    step_s: float
+    time_s: np.ndarray
+    values: np.ndarray
+    wear_depth_m: np.ndarray | None
+    wall_time_s: float
+    load_time_s: float
+
+
+def _steps(stop_time_s: float, step_s: float) -> int:
+    return max(1, int(round(stop_time_s / step_s)))
+
+
+def _stepwise(master, step_s, n, do_step, read, load_time_s) -> MasterTrace:
+    """``n`` calls of ``do_step()``, ``read()`` (the traced values, in TRACED order) before the first and after each."""
+    values = np.empty((n + 1, len(TRACED)))
+    values[0] = read()
+    start = time.perf_counter()
+    for i in range(1, n + 1):
+        do_step()
+        values[i] = read()
+    wall = time.perf_counter() - start
+    return MasterTrace(master, step_s, np.arange(n + 1) * step_s, values, None, wall, load_time_s)
+
+
+_JOINT_COLUMNS = [k for (component, _), k in _COLUMN.items() if component == ssp.JOINT]
+
+
+def _align_joint(trace: MasterTrace) -> MasterTrace:
+    """A master that reads the joint's outputs right after its doStep, before it moves the step's
+    connections, sees them one step behind the mechanism's (forces at the kinematics the step began
+    with; fmpy's simulator moreover starts every connector at 0, so its first joint row is of zero
+    kinematics): each joint row moved to the point it belongs to, the last point dropped."""
+    trace.values[:-1, _JOINT_COLUMNS] = trace.values[1:, _JOINT_COLUMNS]
+    trace.values, trace.time_s = trace.values[:-1], trace.time_s[:-1]
+    return trace
+
+
+def _profile_names(n_points: int) -> list[str]:
+    return [fv.wear_depth_name(z) for z in range(1, n_points + 1)]
+
+
+def _unzipped(ssp_path, folder: Path) -> Path:
+    with zipfile.ZipFile(ssp_path) as package:
+        package.extractall(folder)
+    return folder / "SystemStructure.ssd"
+
+
+def run_libcosim(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> MasterTrace:
+    """The package in OSP libcosim at ``step_s`` [s] up to ``stop_time_s`` [s]."""
+    try:
+        from libcosimpy.CosimExecution import CosimExecution
+        from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+        from libcosimpy.CosimObserver import CosimObserver
+    except ImportError as exc:
+        raise MasterUnavailable(str(exc)) from exc
+    log_output_level(CosimLogLevel.ERROR)
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="wearjoint_libcosim_") as tmp:
+        execution = CosimExecution.from_ssp_file(str(_unzipped(ssp_path, Path(tmp))), step_size=round(step_s * 1e9))
+        observer = CosimObserver.create_last_value()
+        execution.add_observer(observer)
+        slaves = {s.name.decode(): s.index for s in execution.slave_infos()}
+        refs = {name: {v.name.decode(): v.reference for v in execution.slave_variables(index)}
+                for name, index in slaves.items()}
+        groups = [(slaves[c], [refs[c][n] for n in names]) for c, names in
+                  ((ssp.MECHANISM, MECHANISM_TRACED), (ssp.JOINT, JOINT_TRACED))]
+        execution.step(1)      # libcosim initialises the FMUs in its first step: t = 0 is not observable
+        trace = _stepwise("libcosim", step_s, _steps(stop_time_s, step_s), lambda: execution.step(1),
+                          lambda: [x for index, r in groups for x in observer.last_real_values(index, r)],
+                          time.perf_counter() - start)
+        trace = _align_joint(trace)
+        trace.time_s += step_s
+        profile = [refs[ssp.JOINT][n] for n in _profile_names(n_points)]
+        trace.wear_depth_m = np.array(observer.last_real_values(slaves[ssp.JOINT], profile))
+    return trace
+
+
+def _load_ecos():
+    """ecospy, its library's libtbb.so.12 (pip package ``tbb``, in the environment's lib) loaded first."""
+    import sys
+
+    for lib in Path(sys.prefix, "lib").glob("libtbb.so.12*"):
+        ctypes.CDLL(str(lib), mode=ctypes.RTLD_GLOBAL)
+        break
+    try:
+        import ecospy
+    except (ImportError, OSError) as exc:
+        raise MasterUnavailable(str(exc)) from exc
+    return ecospy
+
+
+def run_ecos(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> MasterTrace:
+    """The package in ecos at ``step_s`` [s] up to ``stop_time_s`` [s], its parameter set applied."""
+    ecospy = _load_ecos()
+    ecospy.EcosLib.set_log_level("warn")
+    start = time.perf_counter()
+    simulation = ecospy.EcosSimulation(ssp_path=str(ssp_path), step_size=step_s)
+    try:
+        if not simulation.init(parameter_set=ssp.PARAMETER_SET):
+            raise RuntimeError(f"ecos could not initialise {ssp_path}: {ecospy.EcosLib.get_last_error()}")
+        names = [f"{component}::{name}" for component, name in TRACED]
+        trace = _stepwise("ecos", step_s, _steps(stop_time_s, step_s), simulation.step,
+                          lambda: [simulation.get_real(name) for name in names], time.perf_counter() - start)
+        trace.wear_depth_m = np.array([simulation.get_real(f"{ssp.JOINT}::{n}") for n in _profile_names(n_points)])
+        simulation.terminate()
+    finally:
+        simulation.free()
+    return trace
+
+
+def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> MasterTrace:
+    """The package in fmpy's SSP simulator at ``step_s`` [s] up to ``stop_time_s`` [s]."""
+    from types import SimpleNamespace
+
+    from fmpy.ssp.simulation import simulate_ssp
+    from fmpy.ssp.ssd import find_components, read_ssd
+
+    start = time.perf_counter()
+    components = find_components(read_ssd(str(ssp_path)).system)
+    parameters = [SimpleNamespace(name=f"{c.name}.{p.name}", value=p.value) for c in components
+                  for binding in c.parameterBindings for s in binding.parameterValues for p in s.parameters]
+    n = _steps(stop_time_s, step_s)
+    load = time.perf_counter() - start
+    start = time.perf_counter()
+    # its loop runs while time < stop_time, time += step: (n + 1/2) steps make n + 1; row i is the end of step i
+    rows = simulate_ssp(str(ssp_path), stop_time=(n + 0.5) * step_s, step_size=step_s,
+                        parameter_set=SimpleNamespace(parameters=parameters))
+    wall = time.perf_counter() - start
+    values = np.column_stack([rows[f"{component}.{name}"] for component, name in TRACED])
+    return _align_joint(MasterTrace("fmpy-ssp", step_s, (np.arange(len(rows)) + 1) * step_s, values, None, wall, load))
+
+
+def run_container(ssp_path, step_s: float, stop_time_s: float, n_points: int, fmusim: str | None = None) -> MasterTrace:
+    """The package as an fmpy container FMU (fixed step ``step_s`` [s]) up to ``stop_time_s`` [s],
+    run by fmpy's ``FMU2Slave``, or by the fmusim binary ``fmusim`` when given."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    n = _steps(stop_time_s, step_s)
+    names = [ssp.container_variable(component, name) for component, name in TRACED]
+    with tempfile.TemporaryDirectory(prefix="wearjoint_container_") as tmp:
+        start = time.perf_counter()
+        fmu = ssp.container_fmu(ssp_path, Path(tmp) / ssp.CONTAINER_FILE_NAME, step_s)
+        if fmusim is not None:
+            return _fmusim(fmusim, fmu, names, step_s, n, time.perf_counter() - start)
+        md = read_model_description(str(fmu))
+        vrs = {v.name: v.valueReference for v in md.modelVariables}
+        slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(fmu), unzipdir=Path(tmp) / "unzipped"),
+                          modelIdentifier=md.coSimulation.modelIdentifier, instanceName="container")
+        slave.instantiate()
+        try:
+            slave.setupExperiment(startTime=0.0)
+            slave.enterInitializationMode()
+            slave.exitInitializationMode()
+            traced = [vrs[name] for name in names]
+            clock = iter(range(1, n + 1))
+            trace = _stepwise("container", step_s, n, lambda: slave.doStep((next(clock) - 1) * step_s, step_s),
+                              lambda: slave.getReal(traced), time.perf_counter() - start)
+            profile = [vrs[ssp.container_variable(ssp.JOINT, name)] for name in _profile_names(n_points)]
+            trace.wear_depth_m = np.array(slave.getReal(profile))
+            slave.terminate()
+        finally:
+            slave.freeInstance()
+    return trace
+
+
+def _fmusim(fmusim: str, fmu: Path, names, step_s: float, n: int, load_time_s: float) -> MasterTrace:
+    """The container in fmusim, every communication point written to its CSV."""
+    out = fmu.with_suffix(".csv")
+    # fmusim stops a few steps short of --stop-time (its time accumulates): ask for more, keep n steps
+    command = [fmusim, "--interface-type", "cs", "--stop-time", repr((n + 20) * step_s), "--output-interval",
+               repr(step_s), *(a for name in names for a in ("--output-variable", name)), "--output-file", str(out),
+               str(fmu)]
+    start = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if done.returncode != 0:
+        message = (done.stderr or done.stdout).strip()[-500:]
+        raise RuntimeError(f"fmusim exited with status {done.returncode}: {message}")
+    rows = np.genfromtxt(out, delimiter=",", names=True, deletechars="")
+    rows = rows[:n + 1]
+    values = np.column_stack([rows[name] for name in names])
+    return MasterTrace("container-fmusim", step_s, np.asarray(rows["time"]), values, None, wall, load_time_s)
+
+
+RUNNERS = {"libcosim": run_libcosim, "ecos": run_ecos, "fmpy-ssp": run_fmpy_ssp, "container": run_container}
+
+
+def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, parameters: dict,
+                      chunk: int = 100_000) -> RunRecord:
+    """The run record of a trace: per-revolution statistics and samples from the engines' recorder
+    (every communication point is an accepted point; ``chunk`` points at a time), the worn profile
+    where the master gave one (else NaN, the max wear depth from the joint's scalar output)."""
+    mp = pack_mechanism_parameters(mechanism)
+    period = mechanism.period_s
+    n = trace.time_s.size
+    revolutions = trace.time_s[-1] / period
+    stats = new_revolution_stats(int(np.ceil(revolutions * (1.0 - 1e-12))))
+    samples = np.zeros((int(trace.time_s[-1] / sample_dt_s) + 2, L.N_SAMPLE_COLUMNS))
+    track = new_track(sample_dt_s)
+    ys, dys, results = np.zeros((chunk, 2 * L.N_COORDINATES)), np.zeros((chunk, 2 * L.N_COORDINATES)), \
+        np.zeros((chunk, L.N_RESULT))
+    where = [(k, array, table[name]) for (_, name), k in _COLUMN.items()
+             for array, table in ((ys, _Y), (dys, _DY), (results, _RESULT)) if name in table]
+    for first in range(0, n, chunk):
+        rows = slice(first, min(n, first + chunk))
+        m = rows.stop - rows.start
+        for k, array, index in where:
+            array[:m, index] = trace.values[rows, k]
+        # the step ending at a chunk's first point began at the previous chunk's last (the first: none)
+        record_points(trace.time_s[max(0, first - 1)], trace.time_s[rows], ys[:m], dys[:m], results[:m], mp, stats,
+                      samples, track)
+    max_depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
+    ends = np.searchsorted(trace.time_s, (np.arange(stats.shape[0]) + 1) * period * (1.0 + 1e-12), side="right") - 1
+    profile = trace.wear_depth_m if trace.wear_depth_m is not None else np.full(joint.n_points, np.nan)
+    extra = {"master": trace.master, "communication_steps": n - 1, "step_s": trace.step_s}
+    if trace.wear_depth_m is None:
+        extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
+                     wear_profile=f"not readable through {trace.master}: profile.csv holds NaN")
+    return RunRecord(samples=samples[:int(track[L.K_N_SAMPLES])], revolution_stats=stats, wear_growth_m=max_depth[ends],
+                     phi_deg=np.degrees(bushing_point_angles(joint.n_points)), wear_depth_m=profile,
+                     worn_volume_m3=float(trace.values[-1, _COLUMN[(ssp.JOINT, "worn_volume")]]),
+                     simulated_time_s=float(trace.time_s[-1]), wall_time_s=trace.wall_time_s,
+                     compile_time_s=trace.load_time_s, revolutions=float(revolutions), period_s=period,
+                     clearance_m=joint.clearance_m, parameters=parameters, extra=extra)
+
+
+def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,
+                fmusim: str | None = None) -> RunRecord:
+    """``revolutions`` crank revolutions of the package ``ssp_path`` (exported with ``joint`` and
+    ``mechanism``) through the third-party ``master`` at the communication step ``step_s`` [s]."""
+    if master not in RUNNERS:
+        raise ValueError(f"master={master!r}: allowed one of {', '.join(THIRD_PARTY)}")
+    stop_time = revolutions * mechanism.period_s
+    extra = {"fmusim": fmusim} if master == "container" and fmusim else {}
+    trace = RUNNERS[master](ssp_path, step_s, stop_time, joint.n_points, **extra)
+    parameters = {"joint": joint.to_dict(), "mechanism": mechanism.to_dict(), "engine": "cosim", "master": master,
+                  "communication_step_s": step_s, "fmusim": fmusim}
+    return record_from_trace(trace, joint, mechanism, sample_dt_s, parameters)
+
+
+def run_master(master: str, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,
+               fmusim: str | None = None) -> RunRecord:
+    """:func:`run_package` on the package exported with these parameters (linux64 binaries) into a
+    temporary folder."""
+    with tempfile.TemporaryDirectory(prefix="wearjoint_master_") as tmp:
+        path = ssp.export_ssp(tmp, mechanism=mechanism, joint=joint, stop_time=revolutions * mechanism.period_s,
+                              platforms="linux64")
+        return run_package(master, path, joint, mechanism, revolutions, step_s, sample_dt_s, fmusim)
+
+
+def master_available(master: str) -> str | None:
+    """None if ``master`` can run here, else what is missing."""
+    try:
+        if master == "libcosim":
+            import libcosimpy  # noqa: F401
+        elif master == "ecos":
+            _load_ecos()
+        elif master in ("fmpy-ssp", "container"):
+            import fmpy  # noqa: F401
+    except (ImportError, OSError) as exc:
+        return f"{master} needs {_PACKAGES[master]} ({type(exc).__name__}: {exc})"
+    return None
