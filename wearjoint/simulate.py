@@ -51,12 +51,12 @@ class SimulationOptions:
     def __post_init__(self):
         _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
         _require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
-        for name in ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "max_step_s",
-                     "min_step_s", "sample_dt_s", "onset_penetration_m"):
-            if getattr(self, name) is not None or name != "max_step_s":
-                _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
-        _require("min_step_s", self.min_step_s, self.min_step_s <= (self.max_step_s or MAX_WEAR_STEP_S),
-                 f"<= max_step_s = {self.max_step_s or MAX_WEAR_STEP_S!r}")
+        positive = ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s", "sample_dt_s",
+                    "onset_penetration_m") + (() if self.max_step_s is None else ("max_step_s",))
+        for name in positive:
+            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
+        largest = MAX_WEAR_STEP_S if self.max_step_s is None else self.max_step_s   # None: at least this
+        _require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
 
     def for_joint(self, joint: JointParameters) -> "SimulationOptions":
         """These options for a run of ``joint``: the default ``max_step_s`` resolved (docs/model.md §7:
