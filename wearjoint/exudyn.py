@@ -12,9 +12,10 @@ node); for ground, relative to the ground's reference position (the global origi
 Each joint is one zero-mass ``ObjectGenericODE2`` on the bodies' nodes whose force user function
 returns the contact forces and torques of :meth:`wearjoint.ClearanceJoint.evaluate_array` (the
 same kernels as the monolithic engine and the FMU: Eqs. 1-23), so exudyn's implicit
-(generalized-alpha) and explicit solvers see them on the right-hand side.  Wear and the
-contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function that
-serves every joint of the system and then calls the user's own post-step function, if one was
+(generalized-alpha) and explicit solvers see them on the right-hand side; its Jacobian user function
+differentiates the same kernel numerically in one compiled call.  Wear and the contact-onset memory
+advance once per accepted step (Eqs. 24-35), in a post-step function that serves every joint of the
+system (one compiled call per joint) and then calls the user's own post-step function, if one was
 set before the first joint was added (one set later replaces it: use :func:`set_post_step`).
 
 This module and ``validation/`` are the only ones that import exudyn.
@@ -190,9 +191,10 @@ class ClearanceJointHandle:
             nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((n, n)), **functions))
 
     def _indices(self, node_indices) -> tuple[np.ndarray, np.ndarray]:
-        """(pin, bushing) coordinate indices from one index triple per node; ground: empty."""
-        by_body = dict(zip(map(id, self._nodes), node_indices))
-        return tuple(np.asarray(by_body.get(id(body), ()), dtype=np.int64) for body in (self.pin, self.bushing))
+        """(pin, bushing) coordinate indices from one index triple per node of :attr:`_nodes`; ground: empty."""
+        triples = iter(node_indices)
+        return tuple(np.asarray(() if body.node is None else next(triples), dtype=np.int64)
+                     for body in (self.pin, self.bushing))
 
     def _evaluate(self) -> np.ndarray:
         """The cross-check's ``contact`` at the bodies' current kinematics."""
@@ -232,13 +234,12 @@ class ClearanceJointHandle:
         dt = t - self.t
         if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
             return
+        j = self.joint
         if self._system_indices is None:
             self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
-            j = self.joint
             self._accept_arguments = (*self._system_indices, *self._shared, j._mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
-        j = self.joint
         if self._contact is None:
             accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
         else:
@@ -334,10 +335,13 @@ def _initial_eccentricity(pin: _Body, bushing: _Body, p: JointParameters) -> flo
 
 def simulation_settings(end_time_s: float, step_s: float) -> "exu.SimulationSettings":
     """exudyn settings for ``end_time_s`` [s] in fixed steps of about ``step_s`` [s] (whole steps),
-    quiet: no solution file, no sensors, no console output."""
+    quiet: no solution file, no sensors, no console output.  Newton's tolerances are exudyn's; its
+    modified Newton updates the Jacobian after 2 iterations without convergence instead of 8: on the
+    stiff contact fewer iterations per step for the same tolerance (docs/model.md §8)."""
     settings = exu.SimulationSettings()
     settings.timeIntegration.endTime = end_time_s
     settings.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
+    settings.timeIntegration.newton.maxModifiedNewtonIterations = 2      # exudyn's default: 8
     settings.timeIntegration.verboseMode = 0
     settings.solution.file.write = False
     settings.solution.sensors.active = False
