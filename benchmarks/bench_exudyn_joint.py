@@ -82,9 +82,9 @@ def calls_per_step(n_bars: int, end_time: float) -> tuple[float, float]:
             return function(*args)
         return counted
     for handle in handles:      # exudyn keeps the functions it was given: give it counting ones
-        mbs.ModifyObject(handle.object_number, {"forceUserFunction": counting("forceUserFunction", handle.generalized_force),
-                                                "jacobianUserFunction": counting("jacobianUserFunction",
-                                                                                 handle.generalized_jacobian)})
+        mbs.ModifyObject(handle.object_number, {
+            "forceUserFunction": counting("forceUserFunction", handle.generalized_force),
+            "jacobianUserFunction": counting("jacobianUserFunction", handle.generalized_jacobian)})
     mbs.Assemble()
     settings = simulation_settings(end_time, STEP)
     exu.SolveDynamic(mbs, settings)
