@@ -4,10 +4,11 @@
 
 Bars hung from ground and swinging from 3 degrees, generalized-alpha at 10 us with wear: one bar
 through one clearance joint, two bars through two, and one bar on an ideal revolute joint (the
-same system without the joint's Python callbacks).  Prints steps per second, the joint's cost per
-step (against the ideal joint) and per force evaluation exudyn asks for, and the kernels' own cost
-per evaluation (``ClearanceJoint.evaluate_array`` from a numba loop) for comparison: what is left is
-exudyn calling Python.  Medians of ``--repeats`` runs, with the load average.
+same system without the joint's Python callbacks).  Prints steps per second and microseconds per
+step, the joint's cost per step (against the ideal joint), how often exudyn calls the joint's force
+and Jacobian user functions per step (counted in one more run: the counting is not timed), and the
+kernel's own cost per evaluation (``evaluate_contact`` from a numba loop) for comparison: what is left
+is exudyn calling Python.  Medians of ``--repeats`` runs, with the load average.
 """
 from __future__ import annotations
 
@@ -37,10 +38,10 @@ STEP = 1e-5
 
 
 def swinging_bars(n_bars: int, ideal: bool):
-    """``n_bars`` bars hung side by side from 3 degrees; returns (system container, mbs, handles, calls)."""
+    """``n_bars`` bars hung side by side from 3 degrees; returns (system container, mbs, handles)."""
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    handles, calls = [], [0]
+    handles = []
     angle = math.radians(3.0)
     for k in range(n_bars):
         pivot = np.array([0.5 * k, 0.0])
@@ -55,28 +56,40 @@ def swinging_bars(n_bars: int, ideal: bool):
                 mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=[0.0, 0.0, 0.0])),
                 mbs.AddMarker(MarkerBodyPosition(bodyNumber=bar, localPosition=[0.0, 0.5 * LENGTH, 0.0]))]))
             continue
-        handle = add_clearance_joint(mbs, ground, bar, JointParameters(bushing_offset_m=(0.0, 0.5 * LENGTH),
-                                                                       wear_factor=100.0))
-        force = handle.generalized_force
-
-        def counted(*args, _force=force):
-            calls[0] += 1
-            return _force(*args)
-        handle.generalized_force = counted
-        handles.append(handle)
-    return sc, mbs, handles, calls
+        handles.append(add_clearance_joint(mbs, ground, bar, JointParameters(bushing_offset_m=(0.0, 0.5 * LENGTH),
+                                                                             wear_factor=100.0)))
+    return sc, mbs, handles
 
 
-def run(n_bars: int, ideal: bool, end_time: float) -> tuple[float, int, int]:
-    """(wall time [s], accepted steps, force evaluations) of one simulation."""
-    sc, mbs, handles, calls = swinging_bars(n_bars, ideal)
-    for handle in handles:       # exudyn keeps the function it was given: give it the counting one
-        mbs.ModifyObject(handle.object_number, {"forceUserFunction": handle.generalized_force})
+def run(n_bars: int, ideal: bool, end_time: float) -> tuple[float, int]:
+    """(wall time [s], steps) of one simulation."""
+    sc, mbs, handles = swinging_bars(n_bars, ideal)
     mbs.Assemble()
     settings = simulation_settings(end_time, STEP)
     wall = time.perf_counter()
     exu.SolveDynamic(mbs, settings)
-    return time.perf_counter() - wall, settings.timeIntegration.numberOfSteps, calls[0]
+    return time.perf_counter() - wall, settings.timeIntegration.numberOfSteps
+
+
+def calls_per_step(n_bars: int, end_time: float) -> tuple[float, float]:
+    """(force, Jacobian) user-function calls per step exudyn makes, all joints together."""
+    sc, mbs, handles = swinging_bars(n_bars, False)
+    calls = {"forceUserFunction": 0, "jacobianUserFunction": 0}
+
+    def counting(name, function):
+        def counted(*args):
+            calls[name] += 1
+            return function(*args)
+        return counted
+    for handle in handles:      # exudyn keeps the functions it was given: give it counting ones
+        mbs.ModifyObject(handle.object_number, {
+            "forceUserFunction": counting("forceUserFunction", handle.generalized_force),
+            "jacobianUserFunction": counting("jacobianUserFunction", handle.generalized_jacobian)})
+    mbs.Assemble()
+    settings = simulation_settings(end_time, STEP)
+    exu.SolveDynamic(mbs, settings)
+    steps = settings.timeIntegration.numberOfSteps
+    return calls["forceUserFunction"] / steps, calls["jacobianUserFunction"] / steps
 
 
 def kernel_seconds_per_evaluation(n: int = 200_000) -> float:
@@ -114,18 +127,17 @@ def main(argv=None) -> int:
     for label, n_bars, ideal in (("ideal revolute", 1, True), ("1 clearance joint", 1, False),
                                  ("2 clearance joints", 2, False)):
         runs = [run(n_bars, ideal, args.end_time) for _ in range(args.repeats)]
-        wall = statistics.median([r[0] for r in runs])
-        steps, calls = runs[0][1], runs[0][2]
-        figures[label] = (wall, steps, calls)
-        print(f"{label:<20} {steps / wall:>9.0f} steps/s   {1e6 * wall / steps:7.1f} us/step   "
-              f"{calls / steps:5.1f} force evaluations/step")
+        wall, steps = statistics.median([r[0] for r in runs]), runs[0][1]
+        figures[label] = (wall, steps, n_bars)
+        print(f"{label:<20} {steps / wall:>9.0f} steps/s   {1e6 * wall / steps:7.1f} us/step")
     ideal = figures["ideal revolute"][0] / figures["ideal revolute"][1]
     kernel = kernel_seconds_per_evaluation()
     for label in ("1 clearance joint", "2 clearance joints"):
-        wall, steps, calls = figures[label]
-        extra = wall / steps - ideal
-        print(f"{label}: {1e6 * extra:.1f} us per step over the ideal joint, {1e6 * extra * steps / calls:.1f} us per "
-              f"force evaluation; the kernel itself {1e6 * kernel:.2f} us per evaluation")
+        wall, steps, n_bars = figures[label]
+        forces, jacobians = calls_per_step(n_bars, args.end_time)
+        print(f"{label}: {1e6 * (wall / steps - ideal):.1f} us per step over the ideal joint; exudyn calls the force "
+              f"user functions {forces:.2f} and the Jacobian ones {jacobians:.2f} times per step; the kernel itself "
+              f"takes {1e6 * kernel:.2f} us per evaluation")
     print(f"medians of {args.repeats} runs of {args.end_time} s; {load.stop()}")
     return 0
 

@@ -89,6 +89,36 @@ def test_the_forces_exudyn_applies_are_the_joints_bit_for_bit():
     assert 20 < contacts < 180          # both sides of the contact were exercised
 
 
+def test_the_jacobian_exudyn_is_given_is_the_derivative_of_those_forces():
+    """The GenericODE2 Jacobian user function returns exudyn's left-hand-side Jacobian,
+    -(a dF/dq + b dF/dq_t), of the forces F = ClearanceJoint.evaluate: against central differences
+    of ClearanceJoint.evaluate, in contact (the pin 20 um into the bushing, sliding) and in the gap
+    (zero); it leaves the joint's state as it was."""
+    _, mbs = new_system()
+    bar, handle = hung_bar(mbs)
+    reference = ClearanceJoint(handle.joint.params)
+    centre = np.array([0.0, -0.5 * BAR_LENGTH, 0.0])
+
+    def forces(q, q_t):
+        return np.array(reference.evaluate(np.zeros(6), np.r_[centre + q, q_t]).bushing_force)
+    a, b = 3e-11, 6e-6                      # exudyn's factors at a 10 us generalized-alpha step
+    state = handle.joint.state_to_bytes()
+    for depth, in_contact in ((1.2e-4, True), (0.5e-4, False)):
+        q, q_t = np.array([2e-5, -depth, 1e-3]), np.array([0.05, -0.02, 0.3])
+        jacobian = np.array(handle.generalized_jacobian(mbs, 0.0, handle.object_number, q, q_t, a, b))
+        expected = np.zeros((3, 3))
+        for k in range(3):
+            step = np.eye(3)[k]
+            expected[:, k] = -(a * (forces(q + 1e-10 * step, q_t) - forces(q - 1e-10 * step, q_t)) / 2e-10
+                               + b * (forces(q, q_t + 1e-7 * step) - forces(q, q_t - 1e-7 * step)) / 2e-7)
+        if in_contact:
+            assert np.abs(expected).max() > 0.0
+            np.testing.assert_allclose(jacobian, expected, rtol=0.0, atol=1e-3 * np.abs(expected).max())
+        else:
+            assert not np.any(jacobian) and not np.any(expected)
+    assert handle.joint.state_to_bytes() == state
+
+
 def _offset_placing_bushing_on_pin(pin_ref, bushing_ref, params):
     c, s = math.cos(pin_ref[2]), math.sin(pin_ref[2])
     px = pin_ref[0] + c * params.pin_offset_m[0] - s * params.pin_offset_m[1]

@@ -43,6 +43,7 @@ def test_the_rocker_angle_converges_to_the_ideal_linkage_as_the_clearance_shrink
 def test_the_example_writes_its_results(tmp_path, capsys):
     assert four_bar.main(["--out", str(tmp_path), "--revolutions", "0.1", "--wear-factor", "100"]) == 0
     summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["completed"] is True
     for name in ("B", "C"):
         assert summary[f"joint_{name}"]["max_wear_depth_m"] > 0.0
         assert (tmp_path / f"profile_{name}.csv").is_file()
@@ -50,3 +51,21 @@ def test_the_example_writes_its_results(tmp_path, capsys):
     assert (tmp_path / "four_bar.png").stat().st_size > 10_000 and (tmp_path / "timeseries.npz").is_file()
     assert four_bar.main(["--out", str(tmp_path), "--clearance-m", "0.01"]) == 2
     assert "clearance_m=0.01 is invalid" in capsys.readouterr().err
+
+
+def test_the_example_writes_what_it_has_when_exudyn_stops(tmp_path, monkeypatch, capsys):
+    """exudyn's Newton may stop on worn bushings (docs/four_bar.md): the example then writes the run up
+    to there, says so in summary.json and on stderr, and exits 1."""
+    solve = four_bar.exu.SolveDynamic
+
+    def stopping_early(mbs, settings, **kwargs):
+        settings.timeIntegration.endTime *= 0.5
+        settings.timeIntegration.numberOfSteps //= 2
+        solve(mbs, settings, **kwargs)
+        raise four_bar.exu.SolverError("SolveDynamic terminated")
+    monkeypatch.setattr(four_bar.exu, "SolveDynamic", stopping_early)
+    assert four_bar.main(["--out", str(tmp_path), "--revolutions", "0.05"]) == 1
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["completed"] is False and summary["simulated_time_s"] == pytest.approx(0.01)
+    assert (tmp_path / "four_bar.png").is_file() and (tmp_path / "profile_B.csv").is_file()
+    assert "exudyn's Newton stopped at t = 0.01 s, before 0.05 revolutions" in capsys.readouterr().err

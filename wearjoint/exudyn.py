@@ -12,9 +12,10 @@ node); for ground, relative to the ground's reference position (the global origi
 Each joint is one zero-mass ``ObjectGenericODE2`` on the bodies' nodes whose force user function
 returns the contact forces and torques of :meth:`wearjoint.ClearanceJoint.evaluate_array` (the
 same kernels as the monolithic engine and the FMU: Eqs. 1-23), so exudyn's implicit
-(generalized-alpha) and explicit solvers see them on the right-hand side.  Wear and the
-contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function that
-serves every joint of the system and then calls the user's own post-step function, if one was
+(generalized-alpha) and explicit solvers see them on the right-hand side; its Jacobian user function
+differentiates the same kernel numerically in one compiled call.  Wear and the contact-onset memory
+advance once per accepted step (Eqs. 24-35), in a post-step function that serves every joint of the
+system (one compiled call per joint) and then calls the user's own post-step function, if one was
 set before the first joint was added (one set later replaces it: use :func:`set_post_step`).
 
 This module and ``validation/`` are the only ones that import exudyn.
@@ -31,6 +32,7 @@ from exudyn.itemInterface import ObjectGenericODE2
 from .core import layout as L
 from .core.contact import evaluate_contact, update_contact_memory
 from .core.jit import kernel
+from .core.wear import advance_joint
 from .joint import ClearanceJoint, ContactResult
 from .parameters import JointParameters, ParameterError
 
@@ -44,28 +46,90 @@ _HISTORY_SLOTS = np.array([L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION
 MAX_WEAR_STEP_S = 1e-5   # a wear step must stay well below the penetration depth (docs/model.md §7)
 
 
+# exudyn's numerical differentiation (newton.numericalDifferentiation defaults): step = 1e-7 max(|x|, 0.01)
+_RELATIVE_EPSILON, _MINIMUM_COORDINATE = 1e-7, 0.01
+
+
 @kernel
-def generalized_contact_forces(q, q_t, pin_slot, bushing_slot, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
+def body_kinematics(q, q_t, index, reference, position, velocity):
+    """A body's position (x [m], y [m], angle [rad]) and velocity from the coordinates ``q``, ``q_t``
+    (displacements from ``reference``) at its node's three ``index`` entries; an empty ``index``
+    (ground) leaves them unchanged."""
+    for c in range(index.shape[0]):
+        position[c] = reference[c] + q[index[c]]
+        velocity[c] = q_t[index[c]]
+
+
+@kernel
+def generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
                                jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force):
-    """The GenericODE2's force vector at its nodes' coordinates ``q``, ``q_t`` (displacements from
-    the references): the bodies' kinematics, the contact (Eqs. 1-23, the joint's state read, not
-    changed, into ``result``), then (Fx, Fy, T) on the pin body's node at ``pin_slot`` and on the
-    bushing body's at ``bushing_slot`` (-1: that side is ground and keeps its kinematics)."""
-    if pin_slot >= 0:
-        for c in range(3):
-            pos_i[c] = reference_i[c] + q[pin_slot + c]
-            vel_i[c] = q_t[pin_slot + c]
-    if bushing_slot >= 0:
-        for c in range(3):
-            pos_j[c] = reference_j[c] + q[bushing_slot + c]
-            vel_j[c] = q_t[bushing_slot + c]
+    """The GenericODE2's force vector at its nodes' coordinates ``q``, ``q_t``, into ``force``: the
+    bodies' kinematics, the contact (Eqs. 1-23, the joint's state read, not changed, into ``result``),
+    then (Fx [N], Fy [N], T [N m]) on the pin body at ``pin_index`` and on the bushing body at
+    ``bushing_index`` (empty: that side is ground)."""
+    body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
+    body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
     evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
-    for c in range(3):
-        if pin_slot >= 0:
-            force[pin_slot + c] = result[L.R_PIN_FX + c]
-        if bushing_slot >= 0:
-            force[bushing_slot + c] = result[L.R_BUSHING_FX + c]
-    return force
+    for c in range(pin_index.shape[0]):
+        force[pin_index[c]] = result[L.R_PIN_FX + c]
+    for c in range(bushing_index.shape[0]):
+        force[bushing_index[c]] = result[L.R_BUSHING_FX + c]
+
+
+@kernel
+def generalized_force_jacobian(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
+                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force, base, jacobian,
+                               factor_q, factor_q_t):
+    """The GenericODE2's Jacobian as exudyn's ``jacobianUserFunction`` wants it, into ``jacobian``:
+    -(factor_q dF/dq + factor_q_t dF/dq_t) of the force F of :func:`generalized_contact_forces`, by
+    forward differences of that same function with exudyn's own numerical step (what exudyn would
+    compute from 2n + 1 Python calls, in one compiled call).  ``q``, ``q_t`` are perturbed and
+    restored; ``force`` and ``base`` are scratch of their size."""
+    n = q.shape[0]
+    generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
+                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, base)
+    for row in range(n):
+        for col in range(n):
+            jacobian[row, col] = 0.0
+    for k in range(2 * n):
+        x = q if k < n else q_t
+        factor = factor_q if k < n else factor_q_t
+        col = k % n
+        x0 = x[col]
+        epsilon = _RELATIVE_EPSILON * max(abs(x0), _MINIMUM_COORDINATE)
+        x[col] = x0 + epsilon
+        generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j,
+                                   vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force)
+        x[col] = x0
+        for row in range(n):
+            jacobian[row, col] -= factor * (force[row] - base[row]) / epsilon
+
+
+@kernel
+def history_row(t, result, wear_depth, slots, history, row):
+    """Row ``row`` of the history (HISTORY_COLUMNS): t [s], the ``slots`` of ``result``, max wear depth [m]."""
+    history[row, 0] = t
+    for k in range(slots.shape[0]):
+        history[row, 1 + k] = result[slots[k]]
+    deepest = 0.0
+    for z in range(wear_depth.shape[0]):
+        deepest = max(deepest, wear_depth[z])
+    history[row, 1 + slots.shape[0]] = deepest
+
+
+@kernel
+def accept_step(pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi,
+                wear_depth, block_min, memory, mask, work, result, slots, q, q_t, t, dt, history, row):
+    """The post-step work of one joint in one compiled call: the bodies' kinematics at the system's
+    coordinates ``q``, ``q_t``, the wear and contact-onset update over the accepted step ``dt`` [s]
+    ending at ``t`` [s] (Eqs. 24-35, :func:`advance_joint`), then history row ``row``; returns
+    advance_joint's code."""
+    body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
+    body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
+    code = advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
+                         work, result)
+    history_row(t, result, wear_depth, slots, history, row)
+    return code
 
 
 class _Body:
@@ -105,18 +169,32 @@ class ClearanceJointHandle:
         self.pin, self.bushing = pin, bushing
         self._contact = contact
         self._nodes = [body for body in (pin, bushing) if body.node is not None]
-        self._force = np.zeros(3 * len(self._nodes))
-        self._pin_slot = 0 if pin.node is not None else -1
-        self._bushing_slot = -1 if bushing.node is None else 3 * self._nodes.index(bushing)
-        self._local_indices = [np.arange(3 * k, 3 * k + 3) for k in range(len(self._nodes))]   # in the GenericODE2
+        n = 3 * len(self._nodes)
+        self._q, self._q_t, self._force = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._local_indices = self._indices([np.arange(3 * k, 3 * k + 3) for k in range(len(self._nodes))])
         self._system_indices = None   # the nodes' ODE2 coordinates in the system (after Assemble)
         self._history = np.zeros((1024, len(HISTORY_COLUMNS)))
         self._rows = 0
         self.t = 0.0
         self.accepted_steps = 0
+        j = self.joint
+        # the kernels' arguments, built once (every array lives as long as the joint and is updated in place)
+        self._shared = (pin.reference, bushing.reference, pin.position, pin.velocity, bushing.position,
+                        bushing.velocity, j.parameter_vector, j.cos_phi, j.sin_phi, j.wear_depth, j.block_min, j.memory)
+        self._force_arguments = (self._q, self._q_t, *self._local_indices, *self._shared, j.result, self._force)
+        self._accept_arguments = None   # after Assemble
+        functions = {"forceUserFunction": self.generalized_force}
+        if contact is None:
+            self._jacobian_arguments = (*self._force_arguments, np.zeros(n), np.zeros((n, n)))
+            functions["jacobianUserFunction"] = self.generalized_jacobian
         self.object_number = mbs.AddObject(ObjectGenericODE2(
-            nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((3 * len(self._nodes),) * 2),
-            forceUserFunction=self.generalized_force))
+            nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((n, n)), **functions))
+
+    def _indices(self, node_indices) -> tuple[np.ndarray, np.ndarray]:
+        """(pin, bushing) coordinate indices from one index triple per node of :attr:`_nodes`; ground: empty."""
+        triples = iter(node_indices)
+        return tuple(np.asarray(() if body.node is None else next(triples), dtype=np.int64)
+                     for body in (self.pin, self.bushing))
 
     def _evaluate(self) -> np.ndarray:
         """The cross-check's ``contact`` at the bodies' current kinematics."""
@@ -126,25 +204,28 @@ class ClearanceJointHandle:
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
         call (exudyn calls it per Newton iteration)."""
-        q, q_t = np.asarray(q, dtype=np.float64), np.asarray(q_t, dtype=np.float64)
-        j, pin, bushing = self.joint, self.pin, self.bushing
+        self._q[:], self._q_t[:] = q, q_t
         if self._contact is None:
-            return generalized_contact_forces(
-                q, q_t, self._pin_slot, self._bushing_slot, pin.reference, bushing.reference, pin.position,
-                pin.velocity, bushing.position, bushing.velocity, j.parameter_vector, j.cos_phi, j.sin_phi,
-                j.wear_depth, j.block_min, j.memory, j.result, self._force)
-        self._read_state(q, q_t, self._local_indices)
+            generalized_contact_forces(*self._force_arguments)
+            return self._force
+        self._read_state(self._q, self._q_t, self._local_indices)
         r = self._evaluate()
-        for slot, first in ((self._pin_slot, L.R_PIN_FX), (self._bushing_slot, L.R_BUSHING_FX)):
-            if slot >= 0:
-                self._force[slot:slot + 3] = r[first:first + 3]
+        for index, first in zip(self._local_indices, (L.R_PIN_FX, L.R_BUSHING_FX)):
+            self._force[index] = r[first:first + index.size]
         return self._force
 
+    def generalized_jacobian(self, mbs, t, item, q, q_t, factor_q, factor_q_t):
+        """GenericODE2 Jacobian user function: -(factor_q dF/dq + factor_q_t dF/dq_t) of the force above,
+        by forward differences in one compiled call (instead of exudyn's 2n + 1 calls of the force)."""
+        self._q[:], self._q_t[:] = q, q_t
+        arguments = self._jacobian_arguments
+        generalized_force_jacobian(*arguments, factor_q, factor_q_t)
+        return arguments[-1]
+
     def _read_state(self, q, q_t, indices) -> None:
-        """The bodies' kinematics from coordinates ``q``, ``q_t`` at each node's ``indices``."""
-        for body, index in zip(self._nodes, indices):
-            body.position[:] = body.reference + q[index]
-            body.velocity[:] = q_t[index]
+        """The bodies' kinematics from coordinates ``q``, ``q_t`` at the (pin, bushing) ``indices``."""
+        for body, index in zip((self.pin, self.bushing), indices):
+            body_kinematics(q, q_t, index, body.reference, body.position, body.velocity)
 
     def _accept(self, mbs, t: float, q, q_t) -> None:
         """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row.
@@ -153,20 +234,18 @@ class ClearanceJointHandle:
         dt = t - self.t
         if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
             return
+        j = self.joint
         if self._system_indices is None:
-            self._system_indices = [np.array(mbs.systemData.GetNodeLTGODE2(body.node)) for body in self._nodes]
-        self._read_state(q, q_t, self._system_indices)
-        pin, bushing = self.pin, self.bushing
-        if self._contact is None:
-            self.joint.advance_array(pin.position, pin.velocity, bushing.position, bushing.velocity, dt)
-        else:
-            update_contact_memory(self._evaluate(), self.joint.parameter_vector, self.joint.memory)
+            self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
+            self._accept_arguments = (*self._system_indices, *self._shared, j._mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
-        row = self._history[self._rows]
-        row[0] = t
-        row[1:1 + len(_HISTORY_SLOTS)] = self.joint.result[_HISTORY_SLOTS]
-        row[-1] = self.joint.max_wear_depth_m
+        if self._contact is None:
+            accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
+        else:
+            self._read_state(q, q_t, self._system_indices)
+            update_contact_memory(self._evaluate(), j.parameter_vector, j.memory)
+            history_row(t, j.result, j.wear_depth, _HISTORY_SLOTS, self._history, self._rows)
         self._rows += 1
         self.t = t
         self.accepted_steps += 1
@@ -256,10 +335,13 @@ def _initial_eccentricity(pin: _Body, bushing: _Body, p: JointParameters) -> flo
 
 def simulation_settings(end_time_s: float, step_s: float) -> "exu.SimulationSettings":
     """exudyn settings for ``end_time_s`` [s] in fixed steps of about ``step_s`` [s] (whole steps),
-    quiet: no solution file, no sensors, no console output."""
+    quiet: no solution file, no sensors, no console output.  Newton's tolerances are exudyn's; its
+    modified Newton updates the Jacobian after 2 iterations without convergence instead of 8: on the
+    stiff contact fewer iterations per step for the same tolerance (docs/model.md §8)."""
     settings = exu.SimulationSettings()
     settings.timeIntegration.endTime = end_time_s
     settings.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
+    settings.timeIntegration.newton.maxModifiedNewtonIterations = 2      # exudyn's default: 8
     settings.timeIntegration.verboseMode = 0
     settings.solution.file.write = False
     settings.solution.sensors.active = False
