@@ -81,8 +81,8 @@ def run(args) -> int:
             record = _third_party(args, joint, mechanism)
             keys = ("master", "communication_steps")
         elif args.fmu_interface == "model-exchange":
-            max_step = args.max_step if args.max_step != _DEFAULTS.max_step_s else (
-                1e-5 if joint.wear_coefficient_m2_N * joint.wear_factor > 0 else _MONOLITHIC.max_step_s)
+            # --max-step left at the master's default: SimulationOptions' own (1e-5 s with wear, else 1e-4 s)
+            max_step = None if args.max_step == _DEFAULTS.max_step_s else args.max_step
             options = SimulationOptions(revolutions=args.revolutions, integrator="dopri", rtol=args.rtol,
                                         atol_position_m=args.atol_position, atol_velocity_m_s=args.atol_velocity,
                                         max_step_s=max_step, onset_penetration_m=args.onset_penetration,

@@ -188,12 +188,11 @@ def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
     from types import SimpleNamespace
 
     from fmpy.ssp.simulation import simulate_ssp
-    from fmpy.ssp.ssd import find_components, read_ssd
+    from fmpy.ssp.ssd import read_ssd
 
     start = time.perf_counter()
-    components = find_components(read_ssd(str(ssp_path)).system)
-    parameters = [SimpleNamespace(name=f"{c.name}.{p.name}", value=p.value) for c in components
-                  for binding in c.parameterBindings for s in binding.parameterValues for p in s.parameters]
+    parameters = [SimpleNamespace(name=f"{component}.{name}", value=value)
+                  for (component, name), value in ssp.bound_parameters(read_ssd(str(ssp_path))).items()]
     n = _steps(stop_time_s, step_s)
     load = time.perf_counter() - start
     start = time.perf_counter()
@@ -228,8 +227,8 @@ def run_container(ssp_path, step_s: float, stop_time_s: float, n_points: int, fm
             slave.enterInitializationMode()
             slave.exitInitializationMode()
             traced = [vrs[name] for name in names]
-            clock = iter(range(1, n + 1))
-            trace = _stepwise("container", step_s, n, lambda: slave.doStep((next(clock) - 1) * step_s, step_s),
+            clock = iter(range(n))
+            trace = _stepwise("container", step_s, n, lambda: slave.doStep(next(clock) * step_s, step_s),
                               lambda: slave.getReal(traced), time.perf_counter() - start)
             profile = [vrs[ssp.container_variable(ssp.JOINT, name)] for name in _profile_names(n_points)]
             trace.wear_depth_m = np.array(slave.getReal(profile))

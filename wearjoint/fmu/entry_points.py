@@ -12,10 +12,10 @@ from numba import carray, cfunc, types
 
 from ..core.contact import block_minimum_depth, bushing_points, evaluate_contact, update_contact_memory
 from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
+from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
 from .state_entry_points import (  # noqa: F401  (the joint FMU's state entry points, aot.ENTRY_POINTS)
     check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
 )
-from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
 
 _F64 = types.CPointer(types.float64)
 # evaluate: (kinematics, joint parameters, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,

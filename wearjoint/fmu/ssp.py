@@ -170,6 +170,13 @@ CONTAINER_FILE_NAME = f"{SSP_NAME}.fmu"
 CONTAINER_STEP_S = 1e-6     # s: a step at which a zero-order hold is stable here (docs/cosim_study.md)
 
 
+def bound_parameters(ssd) -> dict:
+    """The parameter values the package's SSD binds, as fmpy reads it (``fmpy.ssp.ssd.read_ssd``):
+    {(component, parameter name): value}."""
+    return {(element.name, p.name): p.value for element in ssd.system.elements
+            for binding in element.parameterBindings for s in binding.parameterValues for p in s.parameters}
+
+
 def container_variable(component: str, name: str) -> str:
     """The container FMU's name of ``component``'s variable ``name``."""
     return f"{component}.{name}"
@@ -215,8 +222,7 @@ def container_fmu(ssp_path, out_path, step_s: float = CONTAINER_STEP_S) -> Path:
         md.modelVariables.append(ModelVariable(name="time", causality="independent", variability="continuous",
                                                type="Real"))
         mappings = {}
-        starts = {(element.name, p.name): p.value for element in ssd.system.elements
-                  for binding in element.parameterBindings for s in binding.parameterValues for p in s.parameters}
+        starts = bound_parameters(ssd)
         for name, component in components.items():
             for v in component.modelDescription.modelVariables:
                 if v.causality not in ("output", "parameter"):
