@@ -1,8 +1,8 @@
-"""The deepest-point contact against the fitted-profile contact (issue 25), measured in one run.
+"""The deepest-point contact against the elastic-foundation contact (issue 28), measured in one run.
 
     python benchmarks/bench_contact_smoothness.py [--revolutions 2] [--rest-s 0.05] [--swing-s 0.5]
 
-For ``contact_point`` = ``deepest`` (the paper's, before) and ``fitted`` (the default, after):
+For ``contact_model`` = ``deepest`` (the paper's) and ``foundation`` (the default):
 
 1. Paper slider-crank (``paper_joint()``, no wear and with the default wear factor), adaptive
    Dormand-Prince (``SimulationOptions(integrator="dopri")``): accepted and rejected steps and
@@ -37,12 +37,12 @@ import numpy as np
 
 from wearjoint.core import layout as L
 from wearjoint.cosim.model_exchange import ModelExchangeSimulation
-from wearjoint.parameters import CONTACT_POINTS, SliderCrankParameters, paper_joint
+from wearjoint.parameters import CONTACT_MODELS, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
 from wearjoint.validation.exudyn_pendulum import pendulum_joint, run_pendulum
 
-ORDER = ("deepest", "fitted")          # before, after
-assert set(ORDER) == set(CONTACT_POINTS)
+ORDER = ("deepest", "foundation")      # the paper's, the default
+assert set(ORDER) == set(CONTACT_MODELS)
 
 
 def _engine(kind, joint, options):
@@ -75,7 +75,7 @@ def fmusim_run(fmusim: str, fmu: Path, inputs: Path, joint, folder: Path) -> dic
 
     reals, integers = fv.fmi_parameter_values_by_type(joint)
     starts = [arg for name, value in {**reals, **integers}.items() for arg in ("--start-value", name, repr(value))]
-    log = folder / f"calls_{joint.contact_point}.log"
+    log = folder / f"calls_{joint.contact_model}.log"
     cmd = [fmusim, "--interface-type", "me", "--solver", "cvode", "--stop-time", "0.0999", "--output-interval", "1e-4",
            "--input-file", str(inputs), "--log-fmi-calls", "--fmi-log-file", str(log), *starts,
            "--output-variable", "normal_force", "--output-file", str(folder / "out.csv"), str(fmu)]
@@ -107,7 +107,7 @@ def fmusim_section(fmusim: str | None) -> None:
         fmu = build_fmu(folder / "fmu", platforms="linux64")
         print(f"{'contact':8s} {'exit':>4s} {'steps':>7s} {'events':>7s} {'indicator calls':>16s} {'wall s':>7s}")
         for cp in ORDER:
-            r = fmusim_run(fmusim, fmu, inputs, paper_joint(contact_point=cp, wear_factor=0.0), folder)
+            r = fmusim_run(fmusim, fmu, inputs, paper_joint(contact_model=cp, wear_factor=0.0), folder)
             print(f"{cp:8s} {r['exit']:4d} {r['steps']:7d} {r['events']:7d} {r['indicators']:16d} {r['wall_s']:7.2f}")
 
 
@@ -123,7 +123,7 @@ def main() -> None:
     print(f"{'contact':8s} {'wear':5s} {'engine':11s} {'accepted':>9s} {'rejected':>9s} {'rejected %':>10s} {'wall s':>8s}")
     for wear in (0.0, 1.0):
         for cp in ORDER:
-            joint = paper_joint(contact_point=cp, wear_factor=wear)
+            joint = paper_joint(contact_model=cp, wear_factor=wear)
             for kind in ("monolithic", "ME FMU"):
                 r = dopri_run(kind, joint, args.revolutions)
                 share = 100.0 * r["rejected"] / (r["accepted"] + r["rejected"])
@@ -136,7 +136,7 @@ def main() -> None:
              ("swing 6deg, wear", 6.0, args.swing_s, 1.0))
     for label, angle, end, wear in cases:
         for cp in ORDER:
-            r = run_pendulum(pendulum_joint(contact_point=cp, wear_factor=wear), angle, end)
+            r = run_pendulum(pendulum_joint(contact_model=cp, wear_factor=wear), angle, end)
             print(f"{cp:8s} {label:16s} {str(r['completed']):>5s} {r['time_reached_s']:9.4f} {r['reduced_steps']:7d} "
                   f"{r['min_step_s']:9.2e} {r['newton_iterations']:9d} {r['late_max_abs_omega_rad_s']:9.1e} "
                   f"{r['max_wear_depth_m']:9.1e} {r['wall_time_s']:7.2f}", flush=True)

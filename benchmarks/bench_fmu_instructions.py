@@ -38,8 +38,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rows", type=int, default=20000, help="trace rows (steps of 10 us)")
     parser.add_argument("--wear-factor", type=float, default=500.0,
-                        help="wear acceleration of the trace (default %(default)s; at 2000 the fitted contact runs away "
-                             "under DOPRI, see docs/performance.md)")
+                        help="wear acceleration of the trace (default %(default)s)")
     parser.add_argument("--fmu", action="append", default=None, help="FMU file (repeatable; default: this tree's)")
     add_repeats_argument(parser)
     args = parser.parse_args()

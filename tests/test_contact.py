@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from wearjoint import ClearanceJoint, JointParameters, paper_joint
-from wearjoint.core.contact import find_deepest_point, find_deepest_point_full
+from wearjoint.core.geometry import find_deepest_point, find_deepest_point_full
 
 # N_d divisible by 4 puts bushing points exactly at 0, 90, 180 and 270 deg
 P = paper_joint(n_points=1256)   # the slider-crank offsets: the torques below are by hand for them
@@ -27,8 +27,10 @@ def test_no_contact_inside_the_clearance():
 
 
 def test_pin_pressed_outward_is_pushed_back_with_hertz_force_and_hand_torques():
+    """The paper's deepest-point contact: K delta^1.5 exactly (the foundation's force is checked
+    against its own quadrature in tests/test_foundation_contact.py)."""
     delta = 4e-6
-    joint = ClearanceJoint(P)
+    joint = ClearanceJoint(P.replace(contact_model="deepest"))
     r = joint.evaluate(*bodies_with_eccentricity(0.0, C + delta))
     f_expected = P.contact_stiffness_N_m1_5 * delta ** 1.5      # Eq. 15 without approach velocity
     assert r.in_contact and r.penetration_m == pytest.approx(delta, rel=1e-9)
@@ -45,19 +47,21 @@ def test_pin_pressed_outward_is_pushed_back_with_hertz_force_and_hand_torques():
     assert r.bushing_force[2] == pytest.approx(-0.110 * f_expected, rel=1e-8)
 
 
-def test_approach_velocity_adds_lankarani_nikravesh_hysteresis():
+@pytest.mark.parametrize("model", ["foundation", "deepest"])
+def test_approach_velocity_adds_lankarani_nikravesh_hysteresis(model):
     delta, v = 4e-6, 0.05
-    joint = ClearanceJoint(P)
+    joint = ClearanceJoint(P.replace(contact_model=model))
+    elastic = joint.evaluate(*bodies_with_eccentricity(0.0, C + delta)).normal_force_N
     # pin moving outward (+y) into the wall: at onset delta_dot = delta_dot^- so the factor is 1 + 3(1-e^2)/4
     r = joint.evaluate(*bodies_with_eccentricity(0.0, C + delta, pin_velocity=(0.0, v, 0.0)))
     assert r.penetration_rate_m_s == pytest.approx(v, rel=1e-12)
-    expected = P.contact_stiffness_N_m1_5 * delta ** 1.5 * (1 + 0.75 * (1 - P.restitution ** 2))
-    assert r.normal_force_N == pytest.approx(expected, rel=1e-8)
+    assert r.normal_force_N == pytest.approx(elastic * (1 + 0.75 * (1 - P.restitution ** 2)), rel=1e-12)
 
 
-def test_friction_opposes_sliding_and_saturates_above_v1():
+@pytest.mark.parametrize("model", ["foundation", "deepest"])
+def test_friction_opposes_sliding_and_saturates_above_v1(model):
     delta = 4e-6
-    joint = ClearanceJoint(P)
+    joint = ClearanceJoint(P.replace(contact_model=model))
     # pin body translating +x at 0.1 m/s: the pin surface slides +x over the bushing
     r = joint.evaluate(*bodies_with_eccentricity(0.0, C + delta, pin_velocity=(0.1, 0.0, 0.0)))
     fn = r.normal_force_N

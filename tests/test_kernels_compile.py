@@ -15,7 +15,7 @@ from wearjoint.core.jit import kernel
 PROBE = textwrap.dedent('''
     import numpy as np
     from numba import njit
-    from wearjoint.core.contact import block_minimum_depth
+    from wearjoint.core.geometry import block_minimum_depth
     from wearjoint.core.jit import kernel
 
     def views(a, out):

@@ -4,10 +4,10 @@ Setup.  The bushing body sits at the origin, unrotated and at rest; the pin body
 point is the pin centre (joint offsets zero, the joint's defaults), at (D, 0) in the bushing
 frame, turning about its centre at omega = 150 rpm; no friction.  The pin's translational
 velocity is zero, so the material contact points move tangentially (delta_dot = 0) and the
-normal force is the Hertz law K delta^1.5 (Eq. 15 without damping).  Each step D is chosen so
-that the joint's penetration is delta_F = (F/K)^(2/3), i.e. its normal force is F = 500 N (a few
-Newton iterations on D with slope 1, on ``ClearanceJoint.evaluate``); then ``advance`` wears the
-bushing over dt with the contact at that position.
+normal force is the elastic one (Eq. 15 without damping).  Each step D is chosen so that the
+joint's normal force is F = 500 N (secant iterations on D, on ``ClearanceJoint.evaluate``); then
+``advance`` wears the bushing over dt with the contact at that position.  The elastic approach
+delta_F = (F/K)^(2/3) of the unworn bushing sets the scale of the sink.
 
 Closed form.  A rigid pin worn into the bushing by the *sink* s (the pin centre at distance
 c + s from the bushing centre, c = R_j - R_i, the elastic delta_F not counted) leaves as worn
@@ -72,11 +72,15 @@ def run_journal(n_points, sliding="tangential", placement="foundation"):
     forces = []
     for step in range(STEPS):
         pin = [d, 0.0, OMEGA * step * dt, 0.0, 0.0, OMEGA]
-        for _ in range(10):
-            miss = delta_f - joint.evaluate(pin, bushing).penetration_m
-            if abs(miss) <= 1e-7 * delta_f:
+        d_before, miss_before = None, None
+        for _ in range(40):
+            miss = joint.evaluate(pin, bushing).normal_force_N - LOAD_N
+            if abs(miss) <= 1e-7 * LOAD_N:
                 break
-            d += miss
+            # secant on D (the first step assumes the unworn Hertz slope 1.5 F / delta_F)
+            slope = 1.5 * LOAD_N / delta_f if d_before is None else (miss - miss_before) / (d - d_before)
+            d_before, miss_before = d, miss
+            d -= miss / slope
             pin[0] = d
         forces.append(joint.advance(pin, bushing, dt).normal_force_N)
     archard = k_w * LOAD_N * v * STEPS * dt

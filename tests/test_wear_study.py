@@ -162,7 +162,7 @@ def test_cycle_jumping_and_wear_acceleration_match_brute_force(tmp_path, placeme
     against the deepest point's runs; 2026-11-24, not yet understood).  The wear factor: -4 %
     (foundation), +1 % (patch)."""
     joint = paper_joint(wear_factor=1.0, wear_placement=placement,
-                        contact_point="deepest" if "jump" in ways else "fitted")
+                        contact_model="deepest" if "jump" in ways else "foundation")
     brute = run_wear_study(small_config(joint=joint, snapshots=(10,)), tmp_path / "brute", progress=False, plots=False)
     runs = {"jump": small_config(joint=joint, snapshots=(10,), jump_revolutions=1, jump_factor=10.0),
             "factor": small_config(joint=joint.replace(wear_factor=10.0), snapshots=(10,))}

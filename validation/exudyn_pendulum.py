@@ -9,7 +9,7 @@ default Newton settings and adaptive step (a step whose Newton iteration fails i
 the nominal step ``step_s``; the joint goes in through :func:`wearjoint.exudyn.add_clearance_joint`
 (ground = pin body, bar = bushing body).
 
-Used by tests/test_fitted_contact.py and benchmarks/bench_contact_smoothness.py.
+Used by benchmarks/bench_contact_smoothness.py.
 """
 from __future__ import annotations
 

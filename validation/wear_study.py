@@ -41,7 +41,7 @@ from wearjoint.analysis import (
 )
 from wearjoint.core import layout as L
 from wearjoint.core import state_format
-from wearjoint.core.contact import bushing_point_angles
+from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.mechanism import SliderCrank
 from wearjoint.joint import ClearanceJoint, StateError

@@ -17,7 +17,8 @@ import numpy as np
 
 from .core import layout as L
 from .core import state_format as SF
-from .core.contact import block_minimum_depth, bushing_points, evaluate_contact
+from .core.contact import evaluate_contact
+from .core.geometry import block_minimum_depth, bushing_points
 from .core.wear import (
     advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
 )
@@ -78,7 +79,7 @@ PARAMETER_SLOTS = {
     L.P_PIN_YOUNGS_MODULUS: "pin_youngs_modulus_Pa", L.P_PIN_POISSON_RATIO: "pin_poisson_ratio",
     L.P_BUSHING_YOUNGS_MODULUS: "bushing_youngs_modulus_Pa", L.P_BUSHING_POISSON_RATIO: "bushing_poisson_ratio",
     L.P_ARCHARD_COEFFICIENT: "wear_coefficient_m2_N", L.P_WEAR_FACTOR: "wear_factor",
-    L.P_CONTACT_POINT: "contact_point",
+    L.P_CONTACT_MODEL: "contact_model",
 }
 
 

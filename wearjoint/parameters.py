@@ -14,10 +14,11 @@ from dataclasses import dataclass
 RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
-CONTACT_POINTS = ("fitted", "deepest")
+CONTACT_MODELS = ("foundation", "deepest")
+WEAR_STEP_SHARE = 0.3   # the largest share of a conforming contact's penetration one accepted step may wear
 # the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
 OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
-                  "contact_point": CONTACT_POINTS}
+                  "contact_model": CONTACT_MODELS}
 
 
 class ParameterError(ValueError):
@@ -119,7 +120,7 @@ class JointParameters:
     wear_placement: str = "foundation"
     sliding_distance: str = "rotation"
     impact_velocity_floor_m_s: float = 1e-3
-    contact_point: str = "fitted"
+    contact_model: str = "foundation"
 
     def __post_init__(self):
         for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
@@ -150,12 +151,29 @@ class JointParameters:
         _choice("rho_mode", self.rho_mode, RHO_MODES)
         _choice("wear_placement", self.wear_placement, WEAR_PLACEMENTS)
         _choice("sliding_distance", self.sliding_distance, SLIDING_DISTANCES)
-        _choice("contact_point", self.contact_point, CONTACT_POINTS)
+        _choice("contact_model", self.contact_model, CONTACT_MODELS)
+        _require("contact_exponent", self.contact_exponent,
+                 self.contact_model != "foundation" or self.contact_exponent == 1.5,
+                 "1.5 with contact_model='foundation' (a linear foundation on a circle gives delta^1.5; "
+                 "other exponents need contact_model='deepest')")
 
     @property
     def clearance_m(self) -> float:
         """Radial clearance c = R_j - R_i [m]."""
         return self.bushing_radius_m - self.pin_radius_m
+
+    @property
+    def foundation_modulus_N_m3(self) -> float:
+        """k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3] of the foundation contact (docs/model.md §3.10)."""
+        return (3.0 * self.contact_stiffness_N_m1_5 * math.sqrt(self.clearance_m)
+                / (4.0 * math.sqrt(2.0) * self.contact_length_m * math.sqrt(self.pin_radius_m * self.bushing_radius_m)))
+
+    def max_wear_step_s(self, sliding_speed_m_s: float) -> float:
+        """Longest accepted step [s] whose wear removes at most WEAR_STEP_SHARE of the penetration of a
+        conforming contact sliding at ``sliding_speed_m_s``: there the mean overlap is p / k_f and one
+        step wears k_w F p v dt, so the share is k_f k_w F v dt (docs/model.md §7); inf without wear."""
+        rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * sliding_speed_m_s
+        return WEAR_STEP_SHARE / rate if rate > 0.0 else math.inf
 
     @property
     def effective_modulus_Pa(self) -> float:
@@ -252,6 +270,6 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
 
 __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
-           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_POINTS",
+           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS",
            "OPTION_CHOICES"]
 

@@ -18,7 +18,7 @@ _HELP = {
     "rho_mode": "equivalent radius of the Hertz patch (docs/model.md §3.2)",
     "wear_placement": "where the Archard increment goes (docs/model.md §3.7)",
     "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
-    "contact_point": "contact point and normal: fitted profile or deepest bushing point (docs/model.md §3.10)",
+    "contact_model": "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing point (docs/model.md §3.10)",
     "wear_factor": "wear acceleration factor on k_w",
     "n_points": "bushing discrete points N_d",
 }

@@ -33,7 +33,7 @@ P_BUSHING_YOUNGS_MODULUS = 21  # E_j [Pa]
 P_BUSHING_POISSON_RATIO = 22  # nu_j [-]
 P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
-P_CONTACT_POINT = 25          # 0 fitted profile, 1 deepest bushing point (docs/model.md 3.10)
+P_CONTACT_MODEL = 25          # 0 elastic foundation, 1 deepest bushing point (docs/model.md 3.10)
 N_JOINT_PARAMETERS = 26
 
 # --- contact memory (the joint's scalar state besides the wear profile)
@@ -59,8 +59,9 @@ R_TANGENTIAL_VELOCITY = 13  # pin relative to bushing along t [m/s]
 R_PENETRATION_RATE = 14   # delta_dot [m/s]
 R_CONTACT_ANGLE = 15      # bushing-frame angle of the contact point [rad], or of e without contact
 N_RESULT = 16
+N_KINEMATIC_INPUTS = 12   # x, y, theta, vx, vy, omega of the pin body, then of the bushing body
 
-# --- contact search blocks (see contact.find_deepest_point)
+# --- contact search blocks (see geometry.find_deepest_point)
 BLOCK_SIZE = 32
 
 # --- slider-crank parameter vector (SliderCrankParameters packed by wearjoint.mechanism)

@@ -19,11 +19,13 @@ import math
 
 import numpy as np
 
-from .contact import (
-    _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, block_minimum,
-    block_minimum_depth, distance_sq, evaluate_contact, penetrating_points, update_contact_memory, wrap_index,
+from .contact import evaluate_contact, update_contact_memory
+from .geometry import (
+    _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, block_minimum, block_minimum_depth,
+    distance_sq, penetrating_points, wrap_index,
 )
 from .jit import kernel
+from .pressure import cell_overlap, overlap
 from .layout import (
     BLOCK_SIZE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO, P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS,
     P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE,
@@ -120,45 +122,11 @@ def _refresh_blocks(wear_depth, block_min, first, last):
         b = wrap_index(b + 1, nb)
 
 
-@kernel(inline='always')
-def overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth):
-    """Local overlap of bushing point z with the pin [m], (R_i^2 - |d_z|^2) / (2 R_i): R_i - |d_z|
-    (> 0 inside the pin; the elastic foundation's compression along the pin's normal) to within a
-    factor 1 - o/(2 R_i), without a square root."""
-    return (pin_radius * pin_radius - distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)) / (
-        2.0 * pin_radius)
-
-
-@kernel(inline='always')
-def _positive_mean(u, v):
-    """Mean over an interval of max(0, f) for f linear from u to v."""
-    if u >= 0.0 and v >= 0.0:
-        return 0.5 * (u + v)
-    if u <= 0.0 and v <= 0.0:
-        return 0.0
-    p = max(u, v)
-    return 0.5 * p * p / (p - min(u, v))
-
-
-@kernel(inline='always')
-def cell_overlap(before, at, after):
-    """Mean positive overlap over a point's arc cell [phi_z - dphi/2, phi_z + dphi/2], the overlap
-    taken linear in phi between the point (``at``) and its neighbours (``before``, ``after``).
-    Summed over the cells times dphi it is the integral of the positive part of that piecewise
-    linear overlap: the same function of the worn surface whatever the point spacing.  On the
-    arc in contact (all three >= 0) it is (before + 6 at + after) / 8, outside it (all <= 0) 0."""
-    if min(before, min(at, after)) >= 0.0:
-        return 0.125 * (before + 6.0 * at + after)
-    if max(before, max(at, after)) <= 0.0:
-        return 0.0
-    return 0.5 * (_positive_mean(0.5 * (before + at), at) + _positive_mean(at, 0.5 * (at + after)))
-
-
 @kernel
 def _fill_overlaps(lo, hi, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
     """work[z] = :func:`overlap` of point z for z = lo..hi-1 (0 <= lo <= hi <= N_d, no wrapping).
     Returns how many of them are inside or on the pin (overlap >= 0, i.e. |d_z|^2 <= R_i^2: the
-    count of :func:`contact._count_candidates`).  Branch-free on unsigned indices: vectorised."""
+    count of :func:`geometry._count_candidates`).  Branch-free on unsigned indices: vectorised."""
     count = 0
     for z in range(np.uint64(lo), np.uint64(hi)):
         o = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
@@ -171,7 +139,7 @@ def _fill_overlaps(lo, hi, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
 def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, kept, work):
     """kept[b] for every block b (``kept``: the first nb entries of the joint's point mask): False
     only if block b holds no point inside the pin, by the block's lower bound
-    (:func:`contact._block_lower_bound_sq`), else by the overlaps of its points, which are left in
+    (:func:`geometry._block_lower_bound_sq`), else by the overlaps of its points, which are left in
     ``work`` (:func:`_fill_overlaps`).  Blocks of fewer than 4 points are always kept, so the runs
     of kept blocks are at least 4 points apart.  Returns a block that is not kept, or -1 if all are."""
     n = wear_depth.shape[0]

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import layout as L
-from ..core.contact import bushing_point_angles
+from ..core.geometry import bushing_point_angles
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
 from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
 from ..mechanism import SliderCrank

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core import layout as L
-from ..core.contact import bushing_point_angles
+from ..core.geometry import bushing_point_angles
 from ..core.integrators import record_points
 from ..fmu import ssp
 from ..fmu import variables as fv

@@ -59,7 +59,7 @@ N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
                  "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/platforms.py")
 # what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
-IR_SOURCES = ("core/layout.py", "core/jit.py", "core/contact.py", "core/wear.py", "core/state_format.py",
+IR_SOURCES = ("core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py", "core/wear.py", "core/state_format.py",
               "core/joint_access.py", "core/mechanism.py", "core/integrators.py", "joint.py", "parameters.py",
               "fmu/aot.py")
 
@@ -85,7 +85,7 @@ class NativeModel:
 MODELS = {m.name: m for m in (
     NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h",
                                           "state_format.h"), "model.h",
-                ("core/contact.py", "core/wear.py", "core/state_format.py", "joint.py", "fmu/entry_points.py",
+                ("core/geometry.py", "core/pressure.py", "core/contact.py", "core/wear.py", "core/state_format.py", "joint.py", "fmu/entry_points.py",
                  "fmu/state_entry_points.py"),
                 ("fmu/entry_points.py", "fmu/state_entry_points.py"),
                 False),

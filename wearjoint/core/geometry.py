@@ -1,0 +1,260 @@
+"""Geometry of the bushing and the contact search (paper Secs. 2-3, Eqs. 2-8).
+
+Pure numba functions on arrays.  The search works in the bushing frame: the pin centre
+relative to the bushing centre is the eccentricity e, and bushing point z sits at
+rho_z (cos phi_z, sin phi_z), rho_z = R_j + h_z (Eqs. 3, 35).  Points are grouped in
+blocks of BLOCK_SIZE whose smallest wear depth bounds the distance of all their points
+from the pin centre, so a search or a sum skips the blocks that cannot matter.
+"""
+import math
+
+import numpy as np
+
+from .jit import kernel
+from .layout import BLOCK_SIZE
+
+TWO_PI = 2.0 * math.pi
+OUTWARD_SCAN_POINTS = 16  # points scanned each side of the direction of e before the block search
+
+
+@kernel
+def bushing_points(phi, cos_phi, sin_phi):
+    """Body-frame angles phi_z = z 2 pi / N_d, z = 1..N_d (Eq. 3) [rad], index k = z - 1, and
+    their cosines and sines, for N_d = len(phi)."""
+    n = phi.shape[0]
+    for k in range(n):
+        phi[k] = (k + 1) * TWO_PI / n
+        cos_phi[k] = math.cos(phi[k])
+        sin_phi[k] = math.sin(phi[k])
+
+
+def bushing_point_angles(n_points: int) -> np.ndarray:
+    """phi_z of :func:`bushing_points` [rad] as a new array."""
+    phi, cos_phi, sin_phi = np.empty(n_points), np.empty(n_points), np.empty(n_points)
+    bushing_points(phi, cos_phi, sin_phi)
+    return phi
+
+
+@kernel(inline='always')
+def wrap_index(k, n):
+    """k mod n for k in [-n, 2n) without an integer division (a hot-path modulo costs
+    tens of cycles)."""
+    if k < 0:
+        return k + n
+    if k >= n:
+        return k - n
+    return k
+
+
+@kernel
+def block_minimum(wear_depth, b):
+    """Smallest wear depth of block b (points b*BLOCK_SIZE .. b*BLOCK_SIZE + BLOCK_SIZE - 1): four
+    interleaved minima, four points a round (a minimum does not depend on the order), so each
+    comparison waits for the one four points back instead of the one before."""
+    lo = np.uint64(b * BLOCK_SIZE)
+    hi = np.uint64(min(b * BLOCK_SIZE + BLOCK_SIZE, wear_depth.shape[0]))
+    m0 = m1 = m2 = m3 = wear_depth[lo]
+    k = lo + np.uint64(1)
+    while k + np.uint64(4) <= hi:
+        m0 = min(m0, wear_depth[k])
+        m1 = min(m1, wear_depth[k + np.uint64(1)])
+        m2 = min(m2, wear_depth[k + np.uint64(2)])
+        m3 = min(m3, wear_depth[k + np.uint64(3)])
+        k += np.uint64(4)
+    while k < hi:
+        m0 = min(m0, wear_depth[k])
+        k += np.uint64(1)
+    return min(min(m0, m1), min(m2, m3))
+
+
+@kernel
+def block_minimum_depth(wear_depth, block_min):
+    """Fill ``block_min[b]`` with the smallest wear depth of every block b."""
+    for b in range(block_min.shape[0]):
+        block_min[b] = block_minimum(wear_depth, b)
+
+
+@kernel(inline='always')
+def distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """|d_z|^2 [m^2]: squared distance from the pin centre (eccentricity e) to bushing point z
+    at radius R_j + h_z (Eqs. 3-5).  Hot loops pass an unsigned z: numba then skips its
+    negative-index wrap (a select per load, which turns a vectorised loop into gathers)."""
+    rho = bushing_radius + wear_depth[z]
+    dx = rho * cos_phi[z] - ex
+    dy = rho * sin_phi[z] - ey
+    return dx * dx + dy * dy
+
+
+@kernel
+def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k):
+    """Smallest (|d_z|^2, z) over points lo..hi-1, ties to the lower index (Eqs. 4-5)."""
+    for k in range(lo, hi):
+        d2 = distance_sq(np.uint64(k), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+        if d2 <= best_d2:                       # rarely true: one well-predicted branch per point
+            if d2 < best_d2 or k < best_k:
+                best_d2 = d2
+                best_k = k
+    return best_d2, best_k
+
+
+@kernel
+def _count_candidates(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2):
+    """How many of points lo..hi-1 have |d_z|^2 <= best_d2.  Branch-free, so the compiler
+    vectorises it (a min/argmin loop it does not: ~9x faster per point than :func:`_scan`);
+    the same :func:`distance_sq` as :func:`_scan`, so the comparison is exact."""
+    count = 0
+    for k in range(np.uint64(lo), np.uint64(hi)):
+        count += distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth) <= best_d2
+    return count
+
+
+@kernel
+def _scan_block(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k):
+    """:func:`_scan` of points lo..hi-1, skipped when none of them can replace or tie the best."""
+    if _count_candidates(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2) == 0:
+        return best_d2, best_k
+    return _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k)
+
+
+@kernel
+def find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """Full scan of all bushing points: (index, |d|^2) of the point nearest the pin centre."""
+    return _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, 0, wear_depth.shape[0],
+                 np.inf, -1)[::-1]
+
+
+@kernel
+def _angular_lower_bound_sq(e, c, rho_min):
+    """Lower bound of |d|^2 = rho^2 + e^2 - 2 rho e cos(Delta') over rho >= rho_min and
+    Delta' in [Delta, pi], with c = cos(Delta): reached at Delta' = Delta,
+    rho = max(rho_min, e c)."""
+    ec = e * c
+    r = max(rho_min, ec) - ec
+    return r * r + e * e * max(0.0, 1.0 - c * c)
+
+
+@kernel
+def _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n):
+    """Lower bound of |d_z|^2 over block b (its span must not contain the direction of e):
+    cos Delta is the larger dot product of u_e with the block's end points."""
+    lo = np.uint64(b * BLOCK_SIZE)              # unsigned indices: no negative-index wrap
+    hi = np.uint64(min(b * BLOCK_SIZE + BLOCK_SIZE, n) - 1)
+    c = max(cos_phi[lo] * ux + sin_phi[lo] * uy, cos_phi[hi] * ux + sin_phi[hi] * uy)
+    return _angular_lower_bound_sq(e, c, bushing_radius + block_min[np.uint64(b)])
+
+
+@kernel
+def _direction_point(ex, ey, n):
+    """|e|, the unit vector of e ((1, 0) for e = 0) and the point nearest its direction."""
+    e = math.sqrt(ex * ex + ey * ey)
+    if e > 0.0:
+        ux = ex / e
+        uy = ey / e
+    else:
+        ux = 1.0
+        uy = 0.0
+    return e, ux, uy, wrap_index(int(round(math.atan2(uy, ux) / (TWO_PI / n))) - 1, n)
+
+
+@kernel
+def _is_direction_block(b, b0, nb):
+    """True for the block holding the direction of e and its two neighbours."""
+    off = wrap_index(b - b0, nb)
+    return off <= 1 or off == nb - 1
+
+
+@kernel
+def _tie_margin(best_d2):
+    """Candidates whose bound is within rounding of the best are still scanned."""
+    return best_d2 * (1.0 + 1e-12) + 1e-30
+
+
+@kernel(inline='always')
+def _outward_cos(k0, o, n, ux, uy, cos_phi, sin_phi):
+    """cos of the smaller angle between the direction (ux, uy) and points k0 +- o."""
+    kp = wrap_index(k0 + o, n)
+    km = wrap_index(k0 - o, n)
+    return max(cos_phi[kp] * ux + sin_phi[kp] * uy, cos_phi[km] * ux + sin_phi[km] * uy)
+
+
+@kernel(inline='always')
+def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, hint):
+    """Exact search with pruning, identical to :func:`find_deepest_point_full`.
+
+    ``hint``: a point to try first, e.g. the deepest point of the previous
+    evaluation (-1 or out of range: none).  A good hint makes the best distance
+    tight early, so fewer blocks need scanning; it never changes the result.
+
+    1. Scan outward from the point nearest the direction of e; after offset o,
+       every unscanned point is at least as far in angle as k0 +- (o + 1), so
+       with radius >= R_j (wear depths are >= 0) it cannot be nearer than
+       :func:`_angular_lower_bound_sq`: stop once that bound exceeds the best.
+       On a circular or mildly worn bushing this decides after a few points.
+    2. Otherwise (deep local wear), scan the three blocks around the direction
+       of e and every other block whose own lower bound could still beat or
+       tie the best.
+    Ties go to the lower index, as in the full scan.
+    """
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    if nb <= 3:
+        return find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    e, ux, uy, k0 = _direction_point(ex, ey, n)
+    rho_min = bushing_radius                    # every wear depth is >= 0
+    best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf, -1)
+    if 0 <= hint < n:
+        best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, hint, hint + 1, best_d2,
+                                best_k)
+    # the outward scan can only decide if the bound at its last offset beats the point at k0
+    # (on a deep, conforming lobe it cannot: go straight to the blocks)
+    if _angular_lower_bound_sq(e, _outward_cos(k0, OUTWARD_SCAN_POINTS, n, ux, uy, cos_phi, sin_phi),
+                               rho_min) > _tie_margin(best_d2):
+        for o in range(1, OUTWARD_SCAN_POINTS + 1):
+            if _angular_lower_bound_sq(e, _outward_cos(k0, o, n, ux, uy, cos_phi, sin_phi),
+                                       rho_min) > _tie_margin(best_d2):
+                return best_k, best_d2
+            kp = wrap_index(k0 + o, n)
+            km = wrap_index(k0 - o, n)
+            best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, kp, kp + 1, best_d2,
+                                    best_k)
+            best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, km, km + 1, best_d2,
+                                    best_k)
+    b0 = k0 // BLOCK_SIZE
+    for db in (-1, 0, 1):
+        lo = wrap_index(b0 + db, nb) * BLOCK_SIZE
+        best_d2, best_k = _scan_block(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                      lo, min(lo + BLOCK_SIZE, n), best_d2, best_k)
+    for b in range(nb):
+        if _is_direction_block(b, b0, nb):
+            continue
+        if _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) <= _tie_margin(best_d2):
+            lo = b * BLOCK_SIZE
+            best_d2, best_k = _scan_block(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                          lo, min(lo + BLOCK_SIZE, n), best_d2, best_k)
+    return best_k, best_d2
+
+
+@kernel
+def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                       block_min, mask):
+    """Mark in ``mask`` every bushing point with |d_z| <= R_i (Eq. 5); return their count.
+
+    Blocks whose lower bound on |d|^2 exceeds R_i^2 hold no such point and are skipped.
+    """
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    e, ux, uy, k0 = _direction_point(ex, ey, n)
+    b0 = k0 // BLOCK_SIZE
+    r2 = pin_radius * pin_radius
+    count = 0
+    mask[:] = False
+    for b in range(nb):
+        if nb > 3 and not _is_direction_block(b, b0, nb) and _block_lower_bound_sq(
+                e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) > _tie_margin(r2):
+            continue
+        lo = b * BLOCK_SIZE
+        for k in range(lo, min(lo + BLOCK_SIZE, n)):
+            if distance_sq(k, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth) <= r2:
+                mask[k] = True
+                count += 1
+    return count

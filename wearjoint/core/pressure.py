@@ -1,0 +1,191 @@
+"""The elastic-foundation pressure on the bushing: one field for the contact force and the wear
+(docs/model.md §3.7, §3.10).
+
+Bushing point z (angle phi_z, radius rho_z = R_j + h_z, Eq. 35) overlaps the pin by
+o_z = (R_i^2 - |d_z|^2) / (2 R_i), d_z = rho_z u_z - e (Eq. 4): R_i - |d_z| to within a factor
+1 - o/(2 R_i), positive inside the pin, and affine in e but for the common -|e|^2/(2 R_i), with
+do_z/de = d_z / R_i.  The overlap is taken linear in phi between neighbouring points; a point's
+weight w_z is the mean of its positive part over the point's arc cell (:func:`cell_overlap`), so
+sum_z w_z rho_z dphi is the integral of o+ rho dphi for that interpolant, whatever N_d.
+
+A linear (Winkler) foundation of modulus k_f [N/m^3] puts the pressure p = k_f o+ on the bushing,
+along each point's d_z, through the pin centre.  Its resultant on the pin, in the bushing frame,
+
+    F = -kappa sum_z w_z rho_z d_z,    kappa = k_f L dphi / R_i,
+
+has the magnitude k_f L int o+ rho dphi (|d_z| ~ R_i): on the unworn bushing, where
+R_i - |d| = delta - (R_j |e| / (R_j - |e|)) (phi - phi_e)^2 / 2 near the contact, to leading order
+k_f L R_j (4 sqrt 2 / 3) delta^1.5 sqrt(R_i / (R_j |e|)), the paper's Hertz exponent.  k_f is set so
+that this is K delta^1.5 as delta -> 0 (|e| -> c; :func:`foundation_modulus_factor`).  Any number of arcs in
+contact, on any worn profile, sums the same way; F is continuous and has continuous first
+derivatives in e (the positive part of a linear function has a continuous mean).
+"""
+import math
+
+from .geometry import _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, wrap_index
+from .jit import kernel
+from .layout import BLOCK_SIZE
+
+
+@kernel(inline='always')
+def overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """Local overlap of bushing point z with the pin [m], (R_i^2 - |d_z|^2) / (2 R_i)."""
+    rho = bushing_radius + wear_depth[z]
+    dx = rho * cos_phi[z] - ex
+    dy = rho * sin_phi[z] - ey
+    return (pin_radius * pin_radius - (dx * dx + dy * dy)) / (2.0 * pin_radius)
+
+
+@kernel(inline='always')
+def _positive_mean(u, v):
+    """Mean over an interval of max(0, f) for f linear from u to v."""
+    if u >= 0.0 and v >= 0.0:
+        return 0.5 * (u + v)
+    if u <= 0.0 and v <= 0.0:
+        return 0.0
+    p = max(u, v)
+    return 0.5 * p * p / (p - min(u, v))
+
+
+@kernel(inline='always')
+def _positive_mean_gradient(u, v):
+    """(d/du, d/dv) of :func:`_positive_mean`: continuous where u or v crosses 0."""
+    if u >= 0.0 and v >= 0.0:
+        return 0.5, 0.5
+    if u <= 0.0 and v <= 0.0:
+        return 0.0, 0.0
+    if u > 0.0:                                  # u > 0 > v: u^2 / (2 (u - v))
+        s = 0.5 / ((u - v) * (u - v))
+        return u * (u - 2.0 * v) * s, u * u * s
+    s = 0.5 / ((v - u) * (v - u))                # v > 0 > u
+    return v * v * s, v * (v - 2.0 * u) * s
+
+
+@kernel(inline='always')
+def cell_overlap(before, at, after):
+    """Mean positive overlap over a point's arc cell [phi_z - dphi/2, phi_z + dphi/2], the overlap
+    linear in phi between the point (``at``) and its neighbours (``before``, ``after``).  On the arc
+    in contact (all three >= 0) it is (before + 6 at + after) / 8, outside it (all <= 0) 0."""
+    if min(before, min(at, after)) >= 0.0:
+        return 0.125 * (before + 6.0 * at + after)
+    if max(before, max(at, after)) <= 0.0:
+        return 0.0
+    return 0.5 * (_positive_mean(0.5 * (before + at), at) + _positive_mean(at, 0.5 * (at + after)))
+
+
+@kernel(inline='always')
+def cell_overlap_gradient(before, at, after):
+    """(d/d before, d/d at, d/d after) of :func:`cell_overlap`."""
+    if min(before, min(at, after)) >= 0.0:
+        return 0.125, 0.75, 0.125
+    if max(before, max(at, after)) <= 0.0:
+        return 0.0, 0.0, 0.0
+    gu1, gv1 = _positive_mean_gradient(0.5 * (before + at), at)
+    gu2, gv2 = _positive_mean_gradient(at, 0.5 * (at + after))
+    return 0.25 * gu1, 0.25 * gu1 + 0.5 * gv1 + 0.5 * gu2 + 0.25 * gv2, 0.25 * gv2
+
+
+@kernel
+def foundation_modulus_factor(stiffness, pin_radius, bushing_radius):
+    """kappa of the resultant (module docstring) per radian of cell, k_f L / R_i [N/m^2], with
+    k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3], c = R_j - R_i: the foundation whose force on
+    the unworn bushing tends to K delta^1.5 as delta -> 0 (docs/model.md §3.10)."""
+    clearance = bushing_radius - pin_radius
+    return 3.0 * stiffness * math.sqrt(clearance) / (4.0 * math.sqrt(2.0) * pin_radius
+                                                     * math.sqrt(pin_radius * bushing_radius))
+
+
+@kernel(inline='always')
+def _point(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """(rho_z, d_z x, d_z y, o_z) of bushing point z."""
+    rho = bushing_radius + wear_depth[z]
+    dx = rho * cos_phi[z] - ex
+    dy = rho * sin_phi[z] - ey
+    return rho, dx, dy, (pin_radius * pin_radius - (dx * dx + dy * dy)) / (2.0 * pin_radius)
+
+
+@kernel
+def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian,
+                   sums):
+    """Add to ``sums`` the terms of points first..last (indices wrap; first >= -1, last < 2 N_d):
+    (s0, sx, sy) = sum w_z rho_z (1, d_z), and with_jacobian M = sum rho_z d_z (x) g_z with
+    g_z = R_i dw_z/de (4 entries, row-major).  Streams the overlaps: each point's once."""
+    n = wear_depth.shape[0]
+    s0, sx, sy, m11, m12, m21, m22 = sums
+    _, pdx, pdy, po = _point(wrap_index(first - 1, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                             wear_depth)
+    rho, dx, dy, o = _point(wrap_index(first, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+    for i in range(first, last + 1):
+        nrho, ndx, ndy, no = _point(wrap_index(i + 1, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                                    wear_depth)
+        w = cell_overlap(po, o, no)
+        if w > 0.0:
+            rw = rho * w
+            s0 += rw
+            sx += rw * dx
+            sy += rw * dy
+            if with_jacobian:
+                gb, ga, gc = cell_overlap_gradient(po, o, no)
+                gx = gb * pdx + ga * dx + gc * ndx
+                gy = gb * pdy + ga * dy + gc * ndy
+                m11 += rho * dx * gx
+                m12 += rho * dx * gy
+                m21 += rho * dy * gx
+                m22 += rho * dy * gy
+        pdx, pdy, po = dx, dy, o
+        rho, dx, dy, o = nrho, ndx, ndy, no
+    return s0, sx, sy, m11, m12, m21, m22
+
+
+@kernel
+def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, with_jacobian):
+    """Elastic-foundation force on the pin per unit kappa, in the bushing frame, and its Jacobian
+    (module docstring): returns (f_x, f_y, df_x/de_x, df_x/de_y, df_y/de_x, df_y/de_y, s0) with
+    F = kappa f, f = -sum_z w_z rho_z d_z [m^3] and s0 = sum_z w_z rho_z [m^2] (the overlap
+    integral divided by dphi).  The Jacobian is 0 unless ``with_jacobian``.
+
+    Only the blocks of points that a geometric bound cannot exclude are summed
+    (:func:`geometry._block_lower_bound_sq`), each with the point just outside it when the
+    neighbouring block is skipped (its cell reaches into the contact); the sum is the sum over
+    every point, in index order."""
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    if nb <= 3:
+        sums = _resultant_run(0, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                              with_jacobian, sums)
+    else:
+        e, ux, uy, k0 = _direction_point(ex, ey, n)
+        b0 = k0 // BLOCK_SIZE
+        margin = _tie_margin(pin_radius * pin_radius)
+        first_kept = _kept_block(0, nb, n, b0, e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, margin)
+        previous_kept = _kept_block(nb - 1, nb, n, b0, e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min,
+                                    margin)
+        kept = first_kept
+        for b in range(nb):
+            next_kept = first_kept if b == nb - 1 else _kept_block(b + 1, nb, n, b0, e, ux, uy, bushing_radius,
+                                                                   cos_phi, sin_phi, block_min, margin)
+            if kept:
+                lo = b * BLOCK_SIZE
+                hi = min(lo + BLOCK_SIZE, n)
+                sums = _resultant_run(lo - (0 if previous_kept else 1), hi - (1 if next_kept else 0), ex, ey,
+                                      pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian, sums)
+            previous_kept = kept
+            kept = next_kept
+    s0, sx, sy, m11, m12, m21, m22 = sums
+    fx = -sx
+    fy = -sy
+    if not with_jacobian:
+        return fx, fy, 0.0, 0.0, 0.0, 0.0, s0
+    # df/de = -(M / R_i - s0 I): d(w rho d)/de = rho d (x) dw/de - w rho I
+    return fx, fy, s0 - m11 / pin_radius, -m12 / pin_radius, -m21 / pin_radius, s0 - m22 / pin_radius, s0
+
+
+@kernel(inline='always')
+def _kept_block(b, nb, n, b0, e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, margin):
+    """False only if block b holds no point inside the pin by its lower bound on |d|^2; blocks of
+    fewer than 4 points and those around the direction of e are always kept."""
+    lo = b * BLOCK_SIZE
+    if min(lo + BLOCK_SIZE, n) - lo < 4 or _is_direction_block(b, b0, nb):
+        return True
+    return _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) <= margin
