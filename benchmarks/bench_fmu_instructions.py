@@ -27,6 +27,7 @@ from kinematic_trace import slider_crank_trace  # noqa: E402
 from repeats import Load, add_repeats_argument, median_text  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
+from wearjoint.parameters import PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.fmu.instance import ensure_fmu  # noqa: E402
 
@@ -45,7 +46,7 @@ def main() -> int:
     if shutil.which("valgrind") is None:
         print("bench_fmu_instructions: error: valgrind is not installed", file=sys.stderr)
         return 2
-    joint = paper_joint(wear_factor=args.wear_factor, wear_coefficient_m2_N=5.614e-11)
+    joint = paper_joint(wear_factor=args.wear_factor, wear_coefficient_m2_N=PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N)
     fmus = [Path(f) for f in args.fmu] if args.fmu else [ensure_fmu(joint.n_points, None, backend="native")]
     work = Path(tempfile.mkdtemp(prefix="bench_instructions_"))
     try:

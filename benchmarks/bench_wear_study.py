@@ -20,7 +20,7 @@ import tempfile
 import time
 
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
-from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
+from wearjoint.parameters import PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.validation.wear_study import (
     DEFAULT_STUDY_INTEGRATOR, DEFAULT_WEAR_FACTOR, ENGINES, STUDY_INTEGRATORS, WearStudyConfig, run_wear_study,
 )
@@ -28,7 +28,6 @@ from wearjoint.validation.wear_study import (
 from repeats import Load, add_repeats_argument, median_text
 
 TARGET_S = {"monolithic": 20.0, "cosim": 120.0}
-CALIBRATED_K_W = 5.614e-11      # the effective k_w reproducing the paper's 0.58 mm (docs/wear_study.md)
 
 
 def main() -> int:
@@ -37,7 +36,7 @@ def main() -> int:
     parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND)
     parser.add_argument("--revolutions", type=int, default=4000)
     parser.add_argument("--wear-factor", type=float, default=DEFAULT_WEAR_FACTOR)
-    parser.add_argument("--wear-coefficient-m2-N", dest="k_w", type=float, default=CALIBRATED_K_W,
+    parser.add_argument("--wear-coefficient-m2-N", dest="k_w", type=float, default=PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N,
                         help="k_w [m^2/N] (default %(default)s: the calibrated effective k_w of the paper's study, "
                              "README; the printed 5.05e-10 wears the bushing far past its clearance in 4000 "
                              "revolutions, where the model no longer holds)")

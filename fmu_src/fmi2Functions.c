@@ -404,10 +404,24 @@ NOT_PROVIDED(fmi2GetRealOutputDerivatives,
              (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer order[],
               fmi2Real value[]),
              "maxOutputDerivativeOrder is 0 for this FMU")
-NOT_PROVIDED(fmi2GetDirectionalDerivative,
-             (fmi2Component c, const fmi2ValueReference unknown[], size_t n_unknown, const fmi2ValueReference known[],
-              size_t n_known, const fmi2Real dv_known[], fmi2Real dv_unknown[]),
-             "providesDirectionalDerivative is false for this FMU")
+
+/* dv_unknown = J dv_known, J the partial derivatives of the unknowns (outputs) with respect to the knowns (inputs). */
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference unknown[], size_t n_unknown,
+                                        const fmi2ValueReference known[], size_t n_known, const fmi2Real dv_known[],
+                                        fmi2Real dv_unknown[])
+{
+    Instance *inst = c;
+    const char *function = "fmi2GetDirectionalDerivative";
+    if (!arrays_given(inst, function, n_unknown, unknown, dv_unknown) ||
+        !arrays_given(inst, function, n_known, known, dv_known) ||
+        !mode_is(inst, function, M(MODE_INITIALIZATION) | INITIALISED))
+        return fmi2Error;
+    int done = model_directional_derivative(inst->model, 2, unknown, n_unknown, known, n_known, dv_known, dv_unknown,
+                                            function);
+    if (done == -1)
+        LOG(inst, fmi2Error, "%s: providesDirectionalDerivative is false for this FMU", function);
+    return done == 1 ? fmi2OK : fmi2Error;
+}
 
 /* ------------------------------------------------------------------ Model Exchange */
 fmi2Status fmi2EnterEventMode(fmi2Component c)

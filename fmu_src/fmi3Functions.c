@@ -102,9 +102,9 @@ static void variable_name(const Instance *inst, fmi3ValueReference vr, char *out
 }
 
 /* The number of values nvr Float64 value references stand for (an array counts its size);
- * 0 (logged) if one is not a Float64 variable or the count is not n_values. */
+ * 0 (logged) if one is not a Float64 variable or the count is not n_values (the argument ``count``). */
 static int float64_values(const Instance *inst, const char *function, const fmi3ValueReference vr[], size_t nvr,
-                          size_t n_values)
+                          size_t n_values, const char *count)
 {
     size_t needed = 0;
     for (size_t i = 0; i < nvr; i++) {
@@ -119,7 +119,7 @@ static int float64_values(const Instance *inst, const char *function, const fmi3
     }
     if (needed != n_values) {
         char sizes[128];
-        LOG(inst, fmi3Error, "%s: nValues=%zu, but the %zu value references stand for %zu values%s", function,
+        LOG(inst, fmi3Error, "%s: %s=%zu, but the %zu value references stand for %zu values%s", function, count,
             n_values, nvr, needed, model_array_sizes(inst->model, sizes, sizeof sizes));
         return 0;
     }
@@ -349,7 +349,7 @@ fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
 {
     Instance *inst = instance;
     if (!arrays_given(inst, "fmi3GetFloat64", nvr, vr, value) || !mode_is(inst, "fmi3GetFloat64", READABLE) ||
-        !float64_values(inst, "fmi3GetFloat64", vr, nvr, n_values))
+        !float64_values(inst, "fmi3GetFloat64", vr, nvr, n_values, "nValues"))
         return fmi3Error;
     size_t k = 0;
     for (size_t i = 0; i < nvr; i++) {
@@ -566,11 +566,6 @@ NOT_PROVIDED(fmi3GetVariableDependencies,
               fmi3ValueReference independents[], size_t element_indices_of_independents[],
               fmi3DependencyKind dependency_kinds[], size_t n_dependencies),
              "providesPerElementDependencies is false for this FMU (see the ModelStructure)")
-NOT_PROVIDED(fmi3GetDirectionalDerivative,
-             (fmi3Instance instance, const fmi3ValueReference unknowns[], size_t n_unknowns,
-              const fmi3ValueReference knowns[], size_t n_knowns, const fmi3Float64 seed[], size_t n_seed,
-              fmi3Float64 sensitivity[], size_t n_sensitivity),
-             "providesDirectionalDerivatives is false for this FMU")
 NOT_PROVIDED(fmi3GetAdjointDerivative,
              (fmi3Instance instance, const fmi3ValueReference unknowns[], size_t n_unknowns,
               const fmi3ValueReference knowns[], size_t n_knowns, const fmi3Float64 seed[], size_t n_seed,
@@ -580,6 +575,28 @@ NOT_PROVIDED(fmi3GetOutputDerivatives,
              (fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 orders[],
               fmi3Float64 values[], size_t n_values),
              "maxOutputDerivativeOrder is 0 for this FMU")
+
+/* sensitivity = J seed, J the partial derivatives of the unknowns (outputs; an array counts its size) with respect
+ * to the knowns (inputs). */
+fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t n_unknowns,
+                                        const fmi3ValueReference knowns[], size_t n_knowns, const fmi3Float64 seed[],
+                                        size_t n_seed, fmi3Float64 sensitivity[], size_t n_sensitivity)
+{
+    Instance *inst = instance;
+    const char *function = "fmi3GetDirectionalDerivative";
+    if (!arrays_given(inst, function, n_unknowns, unknowns, sensitivity) ||
+        !arrays_given(inst, function, n_knowns, knowns, seed) || !mode_is(inst, function, READABLE) ||
+        !float64_values(inst, function, unknowns, n_unknowns, n_sensitivity, "nSensitivity") ||
+        !float64_values(inst, function, knowns, n_knowns, n_seed, "nSeed"))
+        return fmi3Error;
+    int done = model_directional_derivative(inst->model, 3, unknowns, n_unknowns, knowns, n_knowns, seed, sensitivity,
+                                            function);
+    if (done == -1) {
+        LOG(inst, fmi3Error, "%s: providesDirectionalDerivatives is false for this FMU", function);
+        return fmi3Error;
+    }
+    return done == 1 ? fmi3OK : fmi3Error;
+}
 
 /* ------------------------------------------------------------------ Co-Simulation */
 fmi3Status fmi3EnterStepMode(fmi3Instance instance)

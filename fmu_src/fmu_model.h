@@ -74,6 +74,8 @@ typedef struct {
     int has_high, high_open;
     double high;
     int above;           /* index of a parameter this one must exceed, or -1 */
+    int when;            /* index of a parameter whose value when_value requires this one to be equal, or -1 */
+    double when_value, equal;
     const char *allowed; /* the rule as the error message states it */
 } ParameterInfo;
 
@@ -122,6 +124,14 @@ int model_set_structural(FmuModel *model, unsigned vr, uint64_t value, int confi
 void model_enter_configuration(FmuModel *model);
 /* Apply the structural parameters set in Configuration Mode; 0 (logged) on failure. */
 int model_exit_configuration(FmuModel *model);
+
+/* Directional derivatives (fmi2GetDirectionalDerivative, fmi3GetDirectionalDerivative): sensitivity = J seed, J
+ * the partial derivatives of the ``unknowns`` (their values in order, an FMI 3.0 array counting its size) with
+ * respect to the ``knowns`` (one value each).  1, 0 on a failure it logged (a value reference that is not an
+ * output, or not an input, is named), -1 if the model provides no directional derivatives (the FMI layer says so). */
+int model_directional_derivative(FmuModel *model, int fmi_version, const unsigned *unknowns, size_t n_unknowns,
+                                 const unsigned *knowns, size_t n_knowns, const double *seed, double *sensitivity,
+                                 const char *function);
 
 /* Co-Simulation: advance from t over h with the inputs held; an FMU_* status (the model's
  * state and time unchanged unless FMU_OK, time t + h then). */

@@ -107,7 +107,7 @@ void joint_reset(JointInstance *joint)
     for (int i = 0; i < N_PARAMETERS; i++)
         joint->parameters[i] = PARAMETERS[i].start;
     joint->parameters_changed = 1;
-    joint->forces_stale = joint->wear_summary_stale = 1;
+    joint->forces_stale = joint->wear_summary_stale = joint->jacobian_stale = 1;
     joint->onsets_accepted = 0;
     memset(joint->memory, 0, sizeof joint->memory);
     memset(joint->result, 0, sizeof joint->result);
@@ -159,6 +159,28 @@ int joint_pack_parameters(JointInstance *joint, const char *when)
 }
 
 /* ------------------------------------------------------------------ the kernels */
+/* 1 if the n values per result slot of ``values`` (the result: 1, the jacobian: N_INPUTS) are finite for every
+ * output read from the result; else logs the first that is not. */
+static int outputs_finite(const JointInstance *joint, const double *values, int n, const char *what,
+                          const char *function, const char *output)
+{
+    for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
+        for (int m = 0; m < n && OUTPUTS[i].source == OUTPUT_FROM_RESULT; m++) {
+            double value = values[OUTPUTS[i].index * n + m];
+            if (isfinite(value))
+                continue;
+            double largest = 0.0;
+            for (int k = 0; k < N_INPUTS; k++)
+                largest = fabs(joint->inputs[k]) > largest ? fabs(joint->inputs[k]) : largest;
+            joint_log(joint, JOINT_ERROR, "%s of %s: %s %s=%g is not finite for inputs up to |%g|: allowed "
+                      "inputs whose contact geometry stays finite", function, output, what, OUTPUTS[i].name, value,
+                      largest);
+            return 0;
+        }
+    }
+    return 1;
+}
+
 int joint_evaluate(JointInstance *joint, const char *function, const char *output)
 {
     if (!joint_pack_parameters(joint, function))
@@ -177,18 +199,31 @@ int joint_evaluate(JointInstance *joint, const char *function, const char *outpu
                                       joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
                                       joint->result, joint->mask, joint->n_points, joint->n_blocks)))
         return 0;
-    for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
-        double value = joint->result[OUTPUTS[i].index];
-        if (OUTPUTS[i].source == OUTPUT_FROM_RESULT && !isfinite(value)) {
-            double largest = 0.0;
-            for (int k = 0; k < N_INPUTS; k++)
-                largest = fabs(joint->inputs[k]) > largest ? fabs(joint->inputs[k]) : largest;
-            joint_log(joint, JOINT_ERROR, "%s of %s: output %s=%g is not finite for inputs up to |%g|: allowed "
-                      "inputs whose contact geometry stays finite", function, output, OUTPUTS[i].name, value, largest);
-            return 0;
-        }
-    }
+    if (!outputs_finite(joint, joint->result, 1, "output", function, output))
+        return 0;
     joint->forces_stale = 0;
+    joint->jacobian_stale = 1;
+    return 1;
+}
+
+/* The derivatives at the evaluation in result (the same kernels, the same evaluation written to scratch). */
+int joint_jacobian(JointInstance *joint, const char *function, const char *output)
+{
+    if (!joint_evaluate(joint, function, output))
+        return 0;
+    if (!joint->jacobian_stale)
+        return 1;
+    double result[N_RESULT];
+    memcpy(result, joint->result, sizeof result);   /* its deepest point seeds the search */
+    int32_t status = 0;
+    if (!kernel_ok(joint, "wearjoint_jacobian failed",
+                   wearjoint_jacobian(&status, NULL, joint->inputs, joint->joint_parameters, joint->cos_phi,
+                                      joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory, result,
+                                      joint->jacobian, joint->n_points, joint->n_blocks)))
+        return 0;
+    if (!outputs_finite(joint, joint->jacobian, N_INPUTS, "the derivative of output", function, output))
+        return 0;
+    joint->jacobian_stale = 0;
     return 1;
 }
 

@@ -26,6 +26,7 @@ typedef struct {
     double parameters[N_PARAMETERS];   /* FMU parameter values (choices as their index) */
     int parameters_changed;            /* since the joint parameter vector was packed */
     int forces_stale;                  /* result does not belong to the current inputs */
+    int jacobian_stale;                /* jacobian does not belong to result */
     int onsets_accepted;               /* an accepted step did the onset bookkeeping at these inputs */
     int wear_summary_stale;
     double max_wear_depth, worn_volume;
@@ -33,6 +34,7 @@ typedef struct {
     double joint_parameters[N_JOINT_PARAMETERS];
     double memory[N_MEMORY];
     double result[N_RESULT];
+    double jacobian[N_RESULT * N_INPUTS];   /* d result[r] / d inputs[m] at [N_INPUTS r + m] */
     double *phi, *cos_phi, *sin_phi, *wear_depth, *work, *block_min; /* one allocation */
     unsigned char *mask;               /* scratch of the wear update, like work */
 } JointInstance;
@@ -54,6 +56,8 @@ void joint_set_parameter(JointInstance *joint, int index, double value);
 int joint_pack_parameters(JointInstance *joint, const char *when);
 /* The joint's outputs (result) for the current inputs; ``output`` names what was asked for. */
 int joint_evaluate(JointInstance *joint, const char *function, const char *output);
+/* joint_evaluate and the exact derivatives of result with respect to the inputs (jacobian). */
+int joint_jacobian(JointInstance *joint, const char *function, const char *output);
 int joint_wear_summary(JointInstance *joint, const char *function);
 /* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping.
  * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt. */

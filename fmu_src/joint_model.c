@@ -259,6 +259,70 @@ int model_exit_configuration(FmuModel *model)
     return 1;
 }
 
+/* ------------------------------------------------------------------ directional derivatives */
+/* The number of values of output ``vr`` (an FMI 3.0 array: its size) and, in *row, its derivatives with respect
+ * to the inputs (NULL: none, the wear); 0 if ``vr`` is no output. */
+static size_t output_derivatives(const FmuModel *model, int fmi_version, unsigned vr, const double **row)
+{
+    *row = NULL;
+    if (is_scalar_output(vr)) {
+        const OutputInfo *o = &OUTPUTS[vr - VR_FIRST_OUTPUT];
+        if (o->source == OUTPUT_FROM_RESULT)
+            *row = model->joint->jacobian + (size_t)o->index * N_INPUTS;
+        return 1;
+    }
+    if (fmi_version == 2)
+        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + (unsigned)model->joint->n_points;
+    return vr == FMI3_VR_WEAR_DEPTH ? (size_t)model->joint->n_points : 0;
+}
+
+/* 1 if ``accepted``; else logs that the ``what`` ``vr`` (named) is invalid and what is allowed. */
+static int derivative_variable(const FmuModel *model, int fmi_version, unsigned vr, int accepted, const char *what,
+                               const char *allowed, const char *function)
+{
+    if (accepted)
+        return 1;
+    char name[96];
+    model_variable_name(model, fmi_version, vr, name, sizeof name);
+    joint_log(model->joint, FMU_ERROR, "%s: %s %s (valueReference %u) is invalid: allowed %s", function, what, name,
+              vr, allowed);
+    return 0;
+}
+
+/* sensitivity = J seed: J the derivatives of the unknowns (outputs) with respect to the knowns (inputs); the
+ * forces, torques and contact geometry are the kernels' exact derivatives, the wear outputs do not depend on the
+ * inputs (0). */
+int model_directional_derivative(FmuModel *model, int fmi_version, const unsigned *unknowns, size_t n_unknowns,
+                                 const unsigned *knowns, size_t n_knowns, const double *seed, double *sensitivity,
+                                 const char *function)
+{
+    const double *row;
+    const char *needs_jacobian = NULL;   /* the first unknown that depends on the inputs */
+    for (size_t j = 0; j < n_knowns; j++)
+        if (!derivative_variable(model, fmi_version, knowns[j], knowns[j] < N_INPUTS, "known",
+                                 "an input (the 12 kinematic inputs)", function))
+            return 0;
+    for (size_t i = 0; i < n_unknowns; i++) {
+        int output = output_derivatives(model, fmi_version, unknowns[i], &row) > 0;
+        if (!derivative_variable(model, fmi_version, unknowns[i], output, "unknown", "an output", function))
+            return 0;
+        if (row != NULL && needs_jacobian == NULL)
+            needs_jacobian = OUTPUTS[unknowns[i] - VR_FIRST_OUTPUT].name;
+    }
+    if (needs_jacobian != NULL && !joint_jacobian(model->joint, function, needs_jacobian))
+        return 0;
+    size_t k = 0;
+    for (size_t i = 0; i < n_unknowns; i++) {
+        size_t count = output_derivatives(model, fmi_version, unknowns[i], &row);
+        double sum = 0.0;
+        for (size_t j = 0; row != NULL && j < n_knowns; j++)
+            sum += row[knowns[j]] * seed[j];
+        for (size_t z = 0; z < count; z++)
+            sensitivity[k++] = sum;
+    }
+    return 1;
+}
+
 /* ------------------------------------------------------------------ Co-Simulation */
 /* Accept the step with the inputs held at t: wear and contact-onset bookkeeping. */
 int model_do_step(FmuModel *model, double t, double h, const char *function)

@@ -21,6 +21,14 @@ int32_t wearjoint_evaluate(int32_t *status, void *excinfo, const double *kinemat
                            const double *block_min, const double *memory, double *result, void *mask,
                            int64_t n_points, int64_t n_blocks);
 
+/* wearjoint_evaluate, and the exact derivatives of the result with respect to the 12 kinematic
+ * inputs: jacobian[12 r + m] = d result[r] / d kinematics[m] (0 for the discrete contact flag and
+ * deepest point); the joint's state is unchanged. */
+int32_t wearjoint_jacobian(int32_t *status, void *excinfo, const double *kinematics, const double *joint_parameters,
+                           const double *cos_phi, const double *sin_phi, const double *wear_depth,
+                           const double *block_min, const double *memory, double *result, double *jacobian,
+                           int64_t n_points, int64_t n_blocks);
+
 /* Accept a step of dt [s] at the kinematics: Archard wear and contact-onset bookkeeping;
  * *changed = 1 if the joint's state changed.  mask (n_points bytes) and work (2 n_points doubles)
  * are scratch. */

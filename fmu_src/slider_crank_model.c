@@ -251,6 +251,14 @@ int model_exit_configuration(FmuModel *model)
     return 1;
 }
 
+/* No directional derivatives (providesDirectionalDerivative false). */
+int model_directional_derivative(FmuModel *model, int fmi_version, const unsigned *unknowns, size_t n_unknowns,
+                                 const unsigned *knowns, size_t n_knowns, const double *seed, double *sensitivity,
+                                 const char *function)
+{
+    return -1;
+}
+
 /* ------------------------------------------------------------------ Co-Simulation */
 /* y over [t, t + h] in ceil(h / max_internal_step) RK4 steps, the inputs held at their values. */
 int model_do_step(FmuModel *model, double t, double h, const char *function)

@@ -190,8 +190,8 @@ def test_variables_enumerations_array_and_structure(fmi3):
     assert variables["time"].get("causality") == "independent"
     structure = root.find("ModelStructure")
     outputs = {int(u.get("valueReference")): u.get("dependencies") for u in structure.findall("Output")}
-    inputs = " ".join(str(VR3[n]) for n in INPUT_NAMES)
-    assert outputs == {VR3[n]: inputs if n in fv.FEED_THROUGH_OUTPUTS else "" for n in [*SCALAR_NAMES, "wear_depth"]}
+    assert outputs == {VR3[n]: " ".join(str(VR3[i]) for i in fv.OUTPUT_DEPENDENCIES.get(n, ()))
+                       for n in [*SCALAR_NAMES, "wear_depth"]}
     assert [u.get("valueReference") for u in structure.findall("EventIndicator")] == [str(VR3["penetration"])]
     md = fmi3["md"]
     assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate

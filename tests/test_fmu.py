@@ -150,6 +150,7 @@ def test_model_description_matches_the_variable_table(fmu):
     n_points = next(v for v in md.modelVariables if v.name == "n_points")
     assert (n_points.variability, int(n_points.start)) == ("constant", P.n_points)
     assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
+    assert md.coSimulation.providesDirectionalDerivative == (fmu["backend"] == "native")   # pythonfmu: none
 
 
 def test_parameter_defaults_are_the_papers(fmu):
@@ -174,8 +175,8 @@ def test_model_structure_declares_direct_feed_through(fmu):
     inputs = {v.name for v in md.modelVariables if v.causality == "input"}
     for unknown in md.outputs:
         depends_on = {v.name for v in unknown.dependencies}
-        if unknown.variable.name in fv.FEED_THROUGH_OUTPUTS:
-            assert depends_on == inputs, unknown.variable.name
+        if unknown.variable.name in fv.FEED_THROUGH_OUTPUTS:   # the geometry: positions; the forces: all inputs
+            assert depends_on == set(fv.OUTPUT_DEPENDENCIES[unknown.variable.name]) <= inputs, unknown.variable.name
         else:
             assert depends_on == set(), unknown.variable.name
 
@@ -192,7 +193,9 @@ def test_forces_are_the_joints_and_point_back_to_the_bushing_centre(slave):
     np.testing.assert_allclose(got, [*expected.pin_force, *expected.bushing_force], rtol=1e-12, atol=0)
     assert out["contact"] == 1.0
     assert out["penetration"] == pytest.approx(5e-6, rel=1e-3)
-    assert out["normal_force"] == pytest.approx(P.contact_stiffness_N_m1_5 * 5e-6 ** 1.5, rel=1e-2)
+    assert out["normal_force"] == pytest.approx(expected.normal_force_N, rel=1e-12)
+    # the foundation's K delta^1.5 (3 % under it at 5 um: docs/model.md §3.10)
+    assert out["normal_force"] == pytest.approx(P.contact_stiffness_N_m1_5 * 5e-6 ** 1.5, rel=4e-2)
 
     pin_force = np.array([out["pin_force_x"], out["pin_force_y"]])
     outward = np.array([math.cos(direction), math.sin(direction)])
@@ -210,7 +213,7 @@ def test_outputs_follow_inputs_without_a_step(slave):
     shallow = slave.get(["normal_force"])[0]
     slave.set_inputs(contact_inputs(depth=4e-6))
     deep = slave.get(["normal_force"])[0]
-    assert deep / shallow == pytest.approx(2.0 ** 1.5, rel=1e-2)
+    assert deep / shallow == pytest.approx(2.0 ** 1.5, rel=2e-2)
     slave.set_inputs(contact_inputs(depth=-5e-5))
     assert list(slave.get(["contact", "normal_force", "pin_force_x"])) == [0.0, 0.0, 0.0]
 
@@ -400,14 +403,16 @@ def test_a_bad_deserialised_state_fails_with_fmi2_error(slave, fmu):
 
 # ------------------------------------------------------------- errors
 # The FMU's status shim turns the slave's errors into fmi2Error (pythonfmu alone: fmi2Fatal).
-@pytest.mark.parametrize("name, value", [("bushing_radius", 0.0099), ("restitution", 1.5),
-                                         ("friction_v1", 1e-4), ("rho_mode", 2)])
-def test_bad_parameter_fails_initialisation_with_fmi2_error_naming_it(fmu, name, value):
+@pytest.mark.parametrize("name, value, allowed", [
+    ("bushing_radius", 0.0099, "pin_radius"), ("restitution", 1.5, "(0, 1]"), ("friction_v1", 1e-4, "friction_v0"),
+    ("rho_mode", 2, "paper"), ("contact_exponent", 2.0, "1.5 with contact_model"),   # the default foundation
+])
+def test_bad_parameter_fails_initialisation_with_fmi2_error_naming_it(fmu, name, value, allowed):
     kind = "integers" if isinstance(value, int) else "parameters"
     s = Slave(fmu, f"bad_{name}", **{kind: {name: value}})
     with pytest.raises(FMICallException) as failure:
         s.initialise()
-    s.assert_failed_with_error(failure, name, repr(value))
+    s.assert_failed_with_error(failure, name, repr(value), allowed)
     s.fmu.terminate()
     s.free()
     gc.collect()  # the host survives pythonfmu's reference release after the failure

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from wearjoint.core import layout as L
-from wearjoint.parameters import paper_joint
+from wearjoint.parameters import ParameterError, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions, run_simulation
 
 NO_WEAR = paper_joint(wear_factor=0.0)
@@ -110,13 +110,42 @@ def test_worn_profile_has_two_lobes_along_the_rod_axis():
     assert min(abs((deepest - c + 180.0) % 360.0 - 180.0) for c in (0.0, 180.0)) < 40.0
 
 
-def test_gear_bdf_runs_and_stays_in_the_regime():
-    rec = run_simulation(NO_WEAR, options=SimulationOptions(revolutions=0.02, integrator="gear", max_step_s=1e-4),
+@pytest.mark.parametrize("solver", ["cvode", "scipy"])
+@pytest.mark.parametrize("jacobian", ["exact", "numerical"])
+def test_gear_bdf_runs_and_stays_in_the_regime(solver, jacobian):
+    rec = run_simulation(NO_WEAR, options=SimulationOptions(revolutions=0.02, integrator="gear", max_step_s=1e-4,
+                                                            gear_solver=solver, gear_jacobian=jacobian),
                          progress=False)
     times = rec.samples[:, L.T_TIME]
     assert times[-1] == pytest.approx(0.02 * 0.4, rel=1e-6)
     ecc = np.hypot(rec.samples[:, L.T_ECC_X], rec.samples[:, L.T_ECC_Y])
     assert ecc.max() < CLEARANCE + 2e-5
+    summary = rec.summary()
+    assert summary["integrator_accepted_steps"] > 0
+    assert summary["integrator_rhs_evaluations"] > summary["integrator_jacobian_evaluations"] > 0
+    assert ("integrator_lu_decompositions" in summary) == (solver == "scipy")
+
+
+@pytest.fixture(scope="module")
+def rk4_first_15_ms():
+    times = np.arange(1, 61) * 2.5e-4
+    return times, positions_at(times, integrator="rk4", step_s=1e-6)
+
+
+@pytest.mark.parametrize("solver", ["cvode", "scipy"])
+def test_gear_with_the_exact_jacobian_agrees_with_rk4_pointwise_over_the_first_15_ms(solver, rk4_first_15_ms):
+    """BDF at the default tolerances (a new solver at each of the 60 output times) through the first
+    impacts: within 0.05 clearance of RK4 at 1 us (measured: CVODE 0.022, scipy 0.038)."""
+    times, rk4 = rk4_first_15_ms
+    gear = positions_at(times, integrator="gear", gear_solver=solver)
+    assert np.abs(gear - rk4).max() < 0.05 * CLEARANCE
+
+
+def test_gear_options_are_checked():
+    with pytest.raises(ParameterError, match="gear_solver"):
+        SimulationOptions(integrator="gear", gear_solver="lsoda")
+    with pytest.raises(ParameterError, match="gear_jacobian"):
+        SimulationOptions(integrator="gear", gear_jacobian="broyden")
 
 
 @pytest.mark.parametrize("start,end,share", [(-2e-6, -1e-6, 0.0), (1e-6, 3e-6, 1.0), (-3e-6, 1e-6, 0.25),

@@ -32,6 +32,10 @@ from fmi_host import (  # noqa: E402
     run_c_host, start_script, trace_command, trace_rows, value_lines, write_trace_file,
 )
 from kinematic_trace import slider_crank_trace  # noqa: E402
+from test_directional_derivatives import (  # noqa: E402
+    INPUT_NAMES, OUTPUT_NAMES, STATES, TOLERANCE, normalised_error,
+)
+from test_directional_derivatives import STEP as DIFFERENCE_STEP  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
 from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
@@ -252,6 +256,42 @@ def test_sources_relink_the_platforms_binary(fmus, hosts, platform, tmp_path):
     assert after == before and any(float(line.split()[2]) > 100.0 for line in before)   # a normal force
     done = subprocess.run(["sh", str(sources / "build.sh"), "sparc"], capture_output=True, text=True, env=CLEAN_ENV)
     assert done.returncode == 2 and "unknown platform 'sparc'" in done.stderr
+
+
+@pytest.mark.parametrize("case", list(CASES))
+@pytest.mark.parametrize("platform", ["linux64", *CROSS])
+def test_directional_derivatives_equal_central_differences_on_each_platform(fmus, hosts, case, platform, tmp_path):
+    """fmi*GetDirectionalDerivative through the platform's C host, unit seeds at the contact states of
+    test_directional_derivatives.py (worn and unworn, set as FMU states), against the central differences of
+    the same binary's outputs."""
+    if platform != "linux64":
+        carries(fmus, platform)
+    version, me = CASES[case]
+    vr = fmus[version]["vr"]
+    set_real, get_real = ("set_real", "get_real") if version == 2 else ("set_float64", "get_float64")
+    inputs, outputs = [vr[n] for n in INPUT_NAMES], ",".join(str(vr[n]) for n in OUTPUT_NAMES)
+    script = start_script(version, vr, STATES[0].params, "instantiate_me" if me else "instantiate")
+    for k, state in enumerate(STATES):
+        (tmp_path / f"{k}.state").write_bytes(state.fmu_state())
+        x = [float(value) for value in state.inputs()]
+        script += f"deserialize {k} {tmp_path / f'{k}.state'}\nset_state {k}\n"
+        script += f"{set_real} " + " ".join(f"{v}={value!r}" for v, value in zip(inputs, x)) + "\n"
+        script += "".join(f"directional_derivative {outputs} {','.join(map(str, inputs))} "
+                          f"{','.join(str(float(value)) for value in seed)}\n" for seed in np.eye(12))
+        for m in range(12):
+            for sign in (1.0, -1.0):
+                script += (f"{set_real} {inputs[m]}={x[m] + sign * float(DIFFERENCE_STEP[m])!r}\n"
+                           f"{get_real} {outputs.replace(',', ' ')}\n")
+            script += f"{set_real} {inputs[m]}={x[m]!r}\n"
+    out = run_on(hosts, fmus[version], version, platform, script + "free\n").splitlines()
+    sensitivities = np.array([float(line.split()[2]) for line in out if line.startswith("sensitivity ")])
+    values = np.array([float(line.split()[2]) for line in out if line.startswith(("real ", "float64 "))])
+    n = len(OUTPUT_NAMES)
+    for k in range(len(STATES)):
+        derivatives = sensitivities[k * 12 * n:(k + 1) * 12 * n].reshape(12, n).T
+        plus_minus = values[k * 24 * n:(k + 1) * 24 * n].reshape(12, 2, n)
+        differences = ((plus_minus[:, 0] - plus_minus[:, 1]) / (2.0 * DIFFERENCE_STEP[:, None])).T
+        assert normalised_error(derivatives, differences) <= TOLERANCE, (platform, STATES[k].name)
 
 
 # ------------------------------------------------------------------ choosing the platforms

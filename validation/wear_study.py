@@ -48,11 +48,11 @@ from wearjoint.joint import ClearanceJoint, StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
-from wearjoint.simulate import Simulation, SimulationOptions
+from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
 ENGINES = ("monolithic", "cosim")
 STUDY_INTEGRATORS = ("rk4", "dopri")
-DEFAULT_STUDY_INTEGRATOR = "rk4"       # fixed 1e-5 s steps with located contact onsets (README "Reproducing the paper")
+DEFAULT_STUDY_INTEGRATOR = "rk4"       # fixed steps (the wear-step limit) with located contact onsets
 DEFAULT_WEAR_FACTOR = 100.0             # chosen from the convergence study (README "Reproducing the paper")
 PRINTED_WEAR_COEFFICIENT_M2_N = JointParameters().wear_coefficient_m2_N
 PAPER_MAX_DEPTH_M = 0.58e-3             # Fig. 7, after 4000 revolutions
@@ -77,7 +77,7 @@ class WearStudyConfig:
     jump_factor: float = 1.0                # J: the block's wear increment is scaled by J
     engine: str = "monolithic"
     integrator: str = DEFAULT_STUDY_INTEGRATOR
-    max_step_s: float = 1e-5                # docs/model.md §7: wear runs need <= 1e-5 s
+    max_step_s: float | None = None         # None: the wear-step limit (docs/model.md §7), RK4's step
     chunks_per_revolution: int = 8
     checkpoint_every_revolutions: float = 1.0   # simulated revolutions between checkpoints
     impact_threshold_m_s2: float = 100.0
@@ -115,6 +115,9 @@ class WearStudyConfig:
         if self.integrator not in STUDY_INTEGRATORS:
             raise ParameterError(f"integrator {self.integrator!r} is invalid: allowed one of "
                                  f"{', '.join(STUDY_INTEGRATORS)}")
+        if self.max_step_s is None:     # the wear-step limit of the wear actually applied (J scales it)
+            object.__setattr__(self, "max_step_s", wear_step_limit_s(
+                self.joint.replace(wear_factor=self.joint.wear_factor * self.jump_factor), self.mechanism))
         for name in ("max_step_s", "checkpoint_every_revolutions", "impact_threshold_m_s2", "impact_merge_deg"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):

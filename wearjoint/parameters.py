@@ -15,7 +15,11 @@ RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
 CONTACT_MODELS = ("foundation", "deepest")
+# the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
+# (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
+PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.449e-11
 WEAR_STEP_SHARE = 0.3   # the largest share of a conforming contact's penetration one accepted step may wear
+MAX_WEAR_STEP_S = 1e-5  # and never a longer accepted step with wear [s] (docs/model.md §7)
 # the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
 OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
                   "contact_model": CONTACT_MODELS}
@@ -169,11 +173,12 @@ class JointParameters:
                 / (4.0 * math.sqrt(2.0) * self.contact_length_m * math.sqrt(self.pin_radius_m * self.bushing_radius_m)))
 
     def max_wear_step_s(self, sliding_speed_m_s: float) -> float:
-        """Longest accepted step [s] whose wear removes at most WEAR_STEP_SHARE of the penetration of a
-        conforming contact sliding at ``sliding_speed_m_s``: there the mean overlap is p / k_f and one
-        step wears k_w F p v dt, so the share is k_f k_w F v dt (docs/model.md §7); inf without wear."""
+        """Longest accepted step [s] with wear: MAX_WEAR_STEP_S, or shorter where one step would wear more
+        than WEAR_STEP_SHARE of the penetration of a conforming contact sliding at ``sliding_speed_m_s``
+        (the mean overlap is p / k_f and one step wears k_w F p v dt: the share is k_f k_w F v dt,
+        docs/model.md §7); inf without wear."""
         rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * sliding_speed_m_s
-        return WEAR_STEP_SHARE / rate if rate > 0.0 else math.inf
+        return min(MAX_WEAR_STEP_S, WEAR_STEP_SHARE / rate) if rate > 0.0 else math.inf
 
     @property
     def effective_modulus_Pa(self) -> float:
@@ -236,6 +241,12 @@ class SliderCrankParameters:
         """Crank speed magnitude [rad/s]; the crank turns clockwise."""
         return self.crank_speed_rpm * 2.0 * math.pi / 60.0
 
+    def sliding_speed_bound_m_s(self, joint: "JointParameters") -> float:
+        """Bound on the sliding speed in the crank-rod joint [m/s]: R_j |omega_crank - omega_rod| with the
+        rod's rate at most omega l1 / (l2 - l1)."""
+        return joint.bushing_radius_m * self.omega_rad_s * (1.0 + self.crank_length_m / (self.rod_length_m
+                                                                                           - self.crank_length_m))
+
     @property
     def period_s(self) -> float:
         """Duration of one crank revolution [s]."""
@@ -271,5 +282,5 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
 __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS",
-           "OPTION_CHOICES"]
+           "OPTION_CHOICES", "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "MAX_WEAR_STEP_S"]
 

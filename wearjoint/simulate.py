@@ -10,29 +10,42 @@ import numpy as np
 from .core import layout as L
 from .core.integrators import DOPRI5, RK4, accept_point, integrate, record_step
 from .core.mechanism import JointArrays, derivative
+from .core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
 from .joint import ClearanceJoint
 from .mechanism import SliderCrank
 from .parameters import (
-    JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
+    WEAR_STEP_SHARE, JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
     check_joint_fits_mechanism,
 )
 from .results import RunRecord, new_revolution_stats, new_track
 from .runner import record_run, run_in_chunks
 
 INTEGRATORS = ("rk4", "dopri", "gear")
+GEAR_SOLVERS = ("cvode", "scipy")
+GEAR_JACOBIANS = ("exact", "numerical")
 
 
-MAX_WEAR_STEP_S = 1e-5      # largest adaptive step with wear [s] (docs/model.md §7)
 NO_WEAR_MAX_STEP_S = 1e-4   # largest adaptive step without wear [s]
+
+
+def wear_step_limit_s(joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> float:
+    """Longest step [s] of a run of ``joint`` in ``mechanism`` (default: the paper's) with wear:
+    :meth:`JointParameters.max_wear_step_s` at the mechanism's bound on the sliding speed; inf
+    without wear."""
+    return joint.max_wear_step_s((mechanism or SliderCrankParameters()).sliding_speed_bound_m_s(joint))
 
 
 @dataclass(frozen=True)
 class SimulationOptions:
     """How to integrate.  ``rk4``: fixed ``step_s``.  ``dopri``: adaptive
-    Dormand-Prince 5(4) with ``rtol``/``atol_*`` and ``max_step_s``.  ``gear``:
-    scipy's BDF (the paper's Gear method; slow, for comparison) with the same
-    tolerances and ``max_step_s`` (None: 1e-4 s, or :data:`MAX_WEAR_STEP_S` when the joint wears;
-    an adaptive run with wear refuses a larger one).  ``onset_penetration_m``: how deep past a
+    Dormand-Prince 5(4) with ``rtol``/``atol_*`` and ``max_step_s``.  ``gear``: BDF (the
+    paper's Gear method, for comparison) with the same tolerances and ``max_step_s`` (None: 1e-4 s, or
+    when the joint wears the wear-step limit :func:`wear_step_limit_s`, which an explicit step with wear
+    may not exceed, ``step_s`` of RK4 included),
+    by ``gear_solver`` (``cvode``: SUNDIALS CVODE through scikit-sundae; ``scipy``: scipy's BDF) with
+    ``gear_jacobian`` (``exact``: the mechanism's Jacobian with the contact's,
+    :mod:`wearjoint.core.mechanism_jacobian`; ``numerical``: the solver's finite differences, which
+    the ideal mechanism always uses).  ``onset_penetration_m``: how deep past a
     contact onset an adaptive step may end (event location, see
     ``core.integrators.integrate``).  ``sample_dt_s``: spacing of the time series."""
 
@@ -47,28 +60,34 @@ class SimulationOptions:
     onset_penetration_m: float = 1e-8
     sample_dt_s: float = 1e-5
     ideal: bool = False
+    gear_solver: str = "cvode"
+    gear_jacobian: str = "exact"
 
     def __post_init__(self):
         _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
         _require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
+        _require("gear_solver", self.gear_solver, self.gear_solver in GEAR_SOLVERS, "one of " + ", ".join(GEAR_SOLVERS))
+        _require("gear_jacobian", self.gear_jacobian, self.gear_jacobian in GEAR_JACOBIANS,
+                 "one of " + ", ".join(GEAR_JACOBIANS))
         positive = ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s", "sample_dt_s",
                     "onset_penetration_m") + (() if self.max_step_s is None else ("max_step_s",))
         for name in positive:
             _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
-        largest = MAX_WEAR_STEP_S if self.max_step_s is None else self.max_step_s   # None: at least this
+        largest = self.max_step_s or 1e-7                   # None: the wear-step limit, at least this
         _require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
 
-    def for_joint(self, joint: JointParameters) -> "SimulationOptions":
-        """These options for a run of ``joint``: the default ``max_step_s`` resolved (docs/model.md §7:
-        with wear a step must stay well below the penetration depth), an explicit adaptive
-        ``max_step_s`` above :data:`MAX_WEAR_STEP_S` refused when the joint wears."""
-        wears = joint.wear_coefficient_m2_N * joint.wear_factor > 0.0 and not self.ideal
+    def for_joint(self, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> "SimulationOptions":
+        """These options for a run of ``joint`` in ``mechanism``: the default ``max_step_s`` resolved, an
+        explicit step above the wear-step limit (:func:`wear_step_limit_s`) refused when the joint wears."""
+        limit = wear_step_limit_s(joint, mechanism) if not self.ideal else math.inf
         if self.max_step_s is None:
-            return dataclasses.replace(self, max_step_s=MAX_WEAR_STEP_S if wears else NO_WEAR_MAX_STEP_S)
-        if wears and self.integrator != "rk4" and self.max_step_s > MAX_WEAR_STEP_S:
-            raise ParameterError(f"max_step_s={self.max_step_s!r} is invalid with wear (wear_coefficient_m2_N * "
-                                 f"wear_factor > 0): allowed at most {MAX_WEAR_STEP_S!r} s, a wear step must stay "
-                                 "well below the penetration depth (docs/model.md §7)")
+            return dataclasses.replace(self, max_step_s=min(limit, NO_WEAR_MAX_STEP_S))
+        name, step = ("step_s", self.step_s) if self.integrator == "rk4" else ("max_step_s", self.max_step_s)
+        if step > limit:
+            raise ParameterError(f"{name}={step!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
+                                 f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
+                                 f"{limit:.3g} s, one step may wear at most {WEAR_STEP_SHARE} of the penetration "
+                                 "and at most 1e-5 s (docs/model.md §7)")
         return self
 
     def to_dict(self) -> dict:
@@ -82,7 +101,7 @@ class Simulation:
                  options: SimulationOptions | None = None):
         self.mechanism = SliderCrank(mechanism)
         joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
-        self.options = (options or SimulationOptions()).for_joint(joint)
+        self.options = (options or SimulationOptions()).for_joint(joint, self.mechanism.params)
         check_joint_fits_mechanism(joint, self.mechanism.params)
         self.joint = ClearanceJoint(joint)
         self.mode = L.MODE_IDEAL if self.options.ideal else L.MODE_CLEARANCE
@@ -99,6 +118,9 @@ class Simulation:
         self.track = new_track(self.options.sample_dt_s)
         self.accepted = 0
         self.rejected = 0
+        # gear: the BDF solvers' counts (right-hand sides outside finite-difference Jacobians, Jacobians,
+        # LU decompositions (scipy only)), summed over the solvers (one per advance_to)
+        self.solver_counts = {}
         self._derivative()
 
     @property
@@ -113,7 +135,8 @@ class Simulation:
         """Everything needed to continue bit-identically (arrays and bytes; picklable)."""
         return {"t": self.t, "y": self.y.copy(), "control": self.control.copy(),
                 "joint_state": self.joint.state_to_bytes(), "revolution_stats": self.revolution_stats.copy(),
-                "track": self.track.copy(), "accepted": self.accepted, "rejected": self.rejected}
+                "track": self.track.copy(), "accepted": self.accepted, "rejected": self.rejected,
+                "solver_counts": dict(self.solver_counts)}
 
     def restore(self, checkpoint: dict) -> None:
         """Continue from :meth:`checkpoint` (same parameters and options)."""
@@ -125,6 +148,7 @@ class Simulation:
         self.track[:] = checkpoint["track"]
         self.accepted = int(checkpoint["accepted"])
         self.rejected = int(checkpoint["rejected"])
+        self.solver_counts.update(checkpoint.get("solver_counts", {}))
         self._derivative()
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
@@ -152,8 +176,13 @@ class Simulation:
         samples = np.zeros((0, L.N_SAMPLE_COLUMNS))
         mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
         if self.options.integrator == "gear":
+            if self.options.gear_solver == "cvode":
+                import sksundae.cvode  # noqa: F401  (imported here: its import is not part of the run's time)
             accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False)
             record_step(self.t, 0.0, y, dy, joint.result, mp, stats, samples, track)
+            for function in self._gear_functions(joint):
+                if function is not None:
+                    function(self.t, y)
         else:
             integrate(RK4, self.t, self.t, y, self.control.copy(), self.mode, mp, joint, forces, ws, dy,
                       stats, samples, track)
@@ -174,33 +203,92 @@ class Simulation:
         return int(self.track[L.K_N_SAMPLES])
 
     def _gear_to(self, t_end: float, samples: np.ndarray) -> None:
-        """scipy BDF (variable order 1-5, the Gear family); joint bookkeeping per accepted step."""
-        from scipy.integrate import BDF
-
+        """BDF of variable order 1-5 (the paper's Gear method): SUNDIALS CVODE (``gear_solver="cvode"``)
+        or scipy's, one solver per call, started at order 1; the joint's bookkeeping (wear, contact
+        onsets, statistics, samples) at each accepted step, as the other integrators."""
         mp = self.mechanism.parameter_vector
         joint = self._joint_arrays
-        dy = np.empty_like(self.y)
+        rhs, jacobian = self._gear_functions(joint)
+        solve = _cvode_steps if self.options.gear_solver == "cvode" else _scipy_bdf_steps
+        for t, y in solve(rhs, jacobian, self.t, self.y, t_end, self.options, self.solver_counts):
+            h = t - self.t
+            self.t = t
+            self.y[:] = y
+            accept_point(self.t, self.y, h, self.dy, self.mode, mp, joint, self.body_forces,
+                         self.mechanism.workspace, self.dy, False)
+            record_step(self.t, h, self.y, self.dy, self.joint.result, mp, self.revolution_stats, samples,
+                        self.track)
+            self.accepted += 1
+
+    def _gear_functions(self, joint: JointArrays):
+        """(f, J) for the BDF solvers: f(t, y) = y_dot and J(t, y) = d y_dot / dy (Eqs. 38-44 with the
+        joint; J exact, :mod:`wearjoint.core.mechanism_jacobian`, or None: the solver's finite
+        differences, ``gear_jacobian="numerical"`` and the ideal mechanism), each a new array, evaluated
+        on a contiguous copy of y (the solvers pass strided or read-only arrays: numba would compile
+        each layout apart)."""
+        mp, ws, mode = self.mechanism.parameter_vector, self.mechanism.workspace, self.mode
+        y_copy = np.empty_like(self.y)
 
         def rhs(t, y):
-            derivative(t, y, self.mode, mp, joint, self.body_forces, self.mechanism.workspace, dy)
-            return dy.copy()
+            y_copy[:] = y
+            out = np.empty_like(y_copy)
+            derivative(t, y_copy, mode, mp, joint, self.body_forces, ws, out)
+            return out
 
-        o = self.options
-        atol = np.r_[np.full(L.N_COORDINATES, o.atol_position_m), np.full(L.N_COORDINATES, o.atol_velocity_m_s)]
-        solver = BDF(rhs, self.t, self.y.copy(), t_end, max_step=o.max_step_s, rtol=o.rtol, atol=atol,
-                     first_step=min(o.max_step_s, 1e-7))
-        while solver.status == "running":
-            t_prev = solver.t
-            solver.step()
-            if solver.status == "failed":
-                raise RuntimeError(f"BDF failed at t={solver.t:.6g} s: {solver.message}")
-            self.y[:] = solver.y
-            self.t = solver.t
-            accept_point(self.t, self.y, self.t - t_prev, self.dy, self.mode, mp, joint, self.body_forces,
-                    self.mechanism.workspace, self.dy, False)
-            record_step(self.t, self.t - t_prev, self.y, self.dy, self.joint.result, mp,
-                        self.revolution_stats, samples, self.track)
-            self.accepted += 1
+        if self.options.gear_jacobian != "exact" or mode != L.MODE_CLEARANCE:
+            return rhs, None
+        jacobian_ws = make_jacobian_workspace()
+
+        def jacobian(t, y):
+            y_copy[:] = y
+            out = np.empty((y_copy.shape[0], y_copy.shape[0]))
+            state_jacobian(t, y_copy, mp, joint, jacobian_ws, out)
+            return out
+        return rhs, jacobian
+
+
+def _tolerances(o: SimulationOptions) -> np.ndarray:
+    return np.r_[np.full(L.N_COORDINATES, o.atol_position_m), np.full(L.N_COORDINATES, o.atol_velocity_m_s)]
+
+
+def _scipy_bdf_steps(rhs, jacobian, t, y, t_end, o: SimulationOptions, counts: dict):
+    """Yield (t, y) after each accepted step of scipy's BDF from (t, y) to t_end; adds its counts."""
+    from scipy.integrate import BDF
+
+    solver = BDF(rhs, t, y.copy(), t_end, max_step=o.max_step_s, rtol=o.rtol, atol=_tolerances(o),
+                 first_step=min(o.max_step_s, 1e-7), jac=jacobian)
+    while solver.status == "running":
+        solver.step()
+        if solver.status == "failed":
+            raise RuntimeError(f"BDF failed at t={solver.t:.6g} s: {solver.message}")
+        yield solver.t, solver.y
+    for key, value in (("rhs_evaluations", solver.nfev), ("jacobian_evaluations", solver.njev),
+                       ("lu_decompositions", solver.nlu)):
+        counts[key] = counts.get(key, 0) + value
+
+
+def _cvode_steps(rhs, jacobian, t, y, t_end, o: SimulationOptions, counts: dict):
+    """Yield (t, y) after each internal step of SUNDIALS CVODE (BDF, dense Newton) from (t, y) to
+    t_end (stopping there exactly); adds its counts."""
+    from sksundae.cvode import CVODE
+
+    def cvode_rhs(t, y, y_dot):
+        y_dot[:] = rhs(t, y)
+
+    def cvode_jacobian(t, y, y_dot, out):
+        out[:] = jacobian(t, y)
+
+    solver = CVODE(cvode_rhs, method="BDF", rtol=o.rtol, atol=_tolerances(o), max_step=o.max_step_s,
+                   first_step=min(o.max_step_s, 1e-7), jacfn=None if jacobian is None else cvode_jacobian)
+    result = solver.init_step(t, y.copy())
+    while t < t_end:
+        result = solver.step(t_end, method="onestep", tstop=t_end)
+        if not result.success:
+            raise RuntimeError(f"CVODE failed after t={t:.6g} s: {result.message}")
+        t = result.t
+        yield t, result.y
+    for key, value in (("rhs_evaluations", result.nfev), ("jacobian_evaluations", result.njev)):
+        counts[key] = counts.get(key, 0) + value
 
 
 def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
@@ -219,7 +307,8 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
     return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
                       parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
                                   "simulation": sim.options.to_dict(), "engine": "monolithic"},
-                      extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected})
+                      extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected,
+                             **{"integrator_" + key: value for key, value in sim.solver_counts.items()}})
 
 
 def joint_arrays(joint: ClearanceJoint) -> JointArrays:
@@ -228,4 +317,5 @@ def joint_arrays(joint: ClearanceJoint) -> JointArrays:
                        joint.memory, joint._mask, joint.work, joint.result)
 
 
-__all__ = ["SimulationOptions", "Simulation", "run_simulation", "joint_arrays", "INTEGRATORS", "ParameterError"]
+__all__ = ["SimulationOptions", "Simulation", "run_simulation", "joint_arrays", "INTEGRATORS", "GEAR_SOLVERS",
+           "GEAR_JACOBIANS", "ParameterError"]

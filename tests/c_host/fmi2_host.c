@@ -209,6 +209,7 @@ static const char *const NAMES[N_CALLS] = {
     [CALL_GET_STATE] = "fmi2GetFMUstate", [CALL_SET_STATE] = "fmi2SetFMUstate",
     [CALL_FREE_STATE] = "fmi2FreeFMUstate", [CALL_SERIALIZED_SIZE] = "fmi2SerializedFMUstateSize",
     [CALL_SERIALIZE] = "fmi2SerializeFMUstate", [CALL_DESERIALIZE] = "fmi2DeSerializeFMUstate",
+    [CALL_GET_DIRECTIONAL_DERIVATIVE] = "fmi2GetDirectionalDerivative",
 };
 
 static void *op_instantiate(const char *name, const char *guid, int model_exchange)
@@ -241,6 +242,13 @@ static int op_set_reals(const unsigned vr[], size_t n, const double v[])
 static int op_get_reals(const unsigned vr[], size_t n, double v[])
 {
     return FN(CALL_GET_REALS, fmi2GetRealTYPE)(H.instance, vr, n, v);
+}
+
+static int op_directional_derivative(const unsigned unknowns[], size_t n_unknowns, const unsigned knowns[],
+                                     size_t n_knowns, const double seed[], double sensitivity[])
+{
+    return FN(CALL_GET_DIRECTIONAL_DERIVATIVE, fmi2GetDirectionalDerivativeTYPE)(H.instance, unknowns, n_unknowns,
+                                                                              knowns, n_knowns, seed, sensitivity);
 }
 
 static int op_do_step(double t, double h, int no_set_prior, char *report, size_t size)
@@ -649,7 +657,7 @@ static const HostOps OPS = {
     .new_discrete_states = op_new_discrete_states, .completed_integrator_step = op_completed_integrator_step,
     .get_state = op_get_state, .set_state = op_set_state, .free_state = op_free_state,
     .serialized_size = op_serialized_size, .serialize = op_serialize, .deserialize = op_deserialize,
-    .execute = execute,
+    .directional_derivative = op_directional_derivative, .execute = execute,
 };
 
 int main(int argc, char **argv)

@@ -100,6 +100,7 @@ static const char *const NAMES[N_CALLS] = {
     [CALL_GET_STATE] = "fmi3GetFMUState", [CALL_SET_STATE] = "fmi3SetFMUState", [CALL_FREE_STATE] = "fmi3FreeFMUState",
     [CALL_SERIALIZED_SIZE] = "fmi3SerializedFMUStateSize", [CALL_SERIALIZE] = "fmi3SerializeFMUState",
     [CALL_DESERIALIZE] = "fmi3DeserializeFMUState",
+    [CALL_GET_DIRECTIONAL_DERIVATIVE] = "fmi3GetDirectionalDerivative",
 };
 
 static void *op_instantiate(const char *name, const char *token, int model_exchange)
@@ -134,6 +135,14 @@ static int op_set_reals(const unsigned vr[], size_t n, const double v[])
 static int op_get_reals(const unsigned vr[], size_t n, double v[])
 {
     return FN(CALL_GET_REALS, fmi3GetFloat64TYPE)(H.instance, vr, n, v, n);
+}
+
+/* scalar knowns and unknowns: nSeed = nKnowns, nSensitivity = nUnknowns */
+static int op_directional_derivative(const unsigned unknowns[], size_t n_unknowns, const unsigned knowns[],
+                                     size_t n_knowns, const double seed[], double sensitivity[])
+{
+    return FN(CALL_GET_DIRECTIONAL_DERIVATIVE, fmi3GetDirectionalDerivativeTYPE)(
+        H.instance, unknowns, n_unknowns, knowns, n_knowns, seed, n_knowns, sensitivity, n_unknowns);
 }
 
 static int op_do_step(double t, double h, int no_set_prior, char *report, size_t size)
@@ -390,7 +399,7 @@ static const HostOps OPS = {
     .new_discrete_states = op_update_discrete_states, .completed_integrator_step = op_completed_integrator_step,
     .get_state = op_get_state, .set_state = op_set_state, .free_state = op_free_state,
     .serialized_size = op_serialized_size, .serialize = op_serialize, .deserialize = op_deserialize,
-    .execute = execute,
+    .directional_derivative = op_directional_derivative, .execute = execute,
 };
 
 int main(int argc, char **argv)

@@ -987,6 +987,32 @@ static void cmd_completed_integrator_step(size_t ntok)
     printf("\n");
 }
 
+/* directional_derivative <unknown_vrs> <known_vrs> <seed,..> */
+static void cmd_directional_derivative(void)
+{
+    unsigned *unknowns, *knowns;
+    size_t n_unknowns = parse_vr_list(H.tok[1], &unknowns), n_knowns = parse_vr_list(H.tok[2], &knowns), k = 0;
+    double *seed = host_scratch((n_knowns + 1) * sizeof *seed);
+    double *sensitivity = host_scratch((n_unknowns + 1) * sizeof *sensitivity);
+    char *cursor = strcmp(H.tok[3], "-") == 0 ? "" : H.tok[3];
+    int s;
+    for (char *p = next_token(&cursor, ","); p != NULL; p = next_token(&cursor, ",")) {
+        if (k == n_knowns)
+            host_die2("directional_derivative: more seed values than the %zu knowns", n_knowns);
+        seed[k++] = host_parse_double(p, "seed");
+    }
+    if (k != n_knowns)
+        host_die2("directional_derivative: %zu seed values for %zu knowns", k, n_knowns);
+    host_need_instance();
+    host_fn(CALL_GET_DIRECTIONAL_DERIVATIVE);
+    s = host_check(H.ops->directional_derivative(unknowns, n_unknowns, knowns, n_knowns, seed, sensitivity),
+                   H.ops->names[CALL_GET_DIRECTIONAL_DERIVATIVE]);
+    printf("directional_derivative %s\n", host_status_name(s));
+    if (s <= HOST_WARNING)
+        for (size_t i = 0; i < n_unknowns; i++)
+            printf("sensitivity %u %.17g\n", unknowns[i], sensitivity[i]);
+}
+
 /* ------------------------------------------------------------------------- */
 /* Dispatch                                                                  */
 
@@ -1077,6 +1103,9 @@ static int execute_common(size_t ntok)
     } else if (strcmp(cmd, "deserialize") == 0) {
         host_need_args(ntok, 2, 2, "deserialize <slot> <file>");
         cmd_deserialize(parse_slot(H.tok[1]), H.tok[2]);
+    } else if (strcmp(cmd, "directional_derivative") == 0) {
+        host_need_args(ntok, 3, 3, "directional_derivative <unknown_vrs> <known_vrs> <seed,..>");
+        cmd_directional_derivative();
     } else if (strcmp(cmd, "cycle") == 0) {
         host_need_args(ntok, 1, 2, "cycle <n> [<name>]");
         cmd_cycle(host_parse_long(H.tok[1], 0, 100000000, "cycle n"), ntok > 2 ? H.tok[2] : "cycle");

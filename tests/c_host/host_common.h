@@ -60,6 +60,10 @@
  *                                    "pointer_null=<0|1>"); an occupied slot is reused by get_state
  *   serialize <slot> <file>          prints "serialize <slot> <status> bytes=<n>"
  *   deserialize <slot> <file>        frees an occupied slot first; "deserialize <slot> <status> bytes=<n>"
+ *   directional_derivative <unknown_vrs> <known_vrs> <seed,..>
+ *                                    fmi*GetDirectionalDerivative (comma-separated lists; one seed a
+ *                                    known, one value an unknown); prints "<command> <status>", then
+ *                                    if ok/warning one line an unknown: "sensitivity <vr> <v>"
  *   cycle <n> [<name>]               n times instantiate, initialize, free (a separate instance);
  *                                    stderr rss_kb_before/rss_kb_after; "cycle <status> iterations=<k>"
  *   time_load [<name>]               instantiate + initialize (the instance stays); stderr
@@ -122,6 +126,7 @@ enum {
     CALL_ENTER_CONTINUOUS_TIME_MODE, CALL_COMPLETED_INTEGRATOR_STEP, CALL_GET_CONTINUOUS_STATES,
     CALL_GET_DERIVATIVES,
     CALL_GET_STATE, CALL_SET_STATE, CALL_FREE_STATE, CALL_SERIALIZED_SIZE, CALL_SERIALIZE, CALL_DESERIALIZE,
+    CALL_GET_DIRECTIONAL_DERIVATIVE,
     N_CALLS
 };
 
@@ -160,6 +165,8 @@ typedef struct {
     int (*serialized_size)(void *state, size_t *size);
     int (*serialize)(void *state, void *bytes, size_t size);
     int (*deserialize)(const void *bytes, size_t size, void **state);
+    int (*directional_derivative)(const unsigned unknowns[], size_t n_unknowns, const unsigned knowns[],
+                                  size_t n_knowns, const double seed[], double sensitivity[]);
     int (*execute)(size_t ntok);                     /* the host's own commands; 0: unknown */
 } HostOps;
 

@@ -2,7 +2,8 @@
 from __future__ import annotations
 
 from ..results import write_results
-from ..simulate import INTEGRATORS, MAX_WEAR_STEP_S, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
+from ..parameters import MAX_WEAR_STEP_S
+from ..simulate import GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
 from .options import add_model_arguments, add_output_arguments, model_from_args, print_summary
 
 _DEFAULTS = SimulationOptions()
@@ -12,14 +13,20 @@ def add_integration_arguments(parser) -> None:
     g = parser.add_argument_group("integration")
     g.add_argument("--revolutions", type=float, default=_DEFAULTS.revolutions, help="crank revolutions to simulate")
     g.add_argument("--integrator", choices=INTEGRATORS, default=_DEFAULTS.integrator,
-                   help="rk4 (fixed step), dopri (adaptive Dormand-Prince 5(4)), gear (scipy BDF, slow)")
+                   help="rk4 (fixed step), dopri (adaptive Dormand-Prince 5(4)), gear (BDF, the paper's method)")
+    g.add_argument("--gear-solver", choices=GEAR_SOLVERS, default=_DEFAULTS.gear_solver,
+                   help="BDF of --integrator gear: SUNDIALS CVODE (scikit-sundae) or scipy's")
+    g.add_argument("--gear-jacobian", choices=GEAR_JACOBIANS, default=_DEFAULTS.gear_jacobian,
+                   help="Jacobian of --integrator gear: exact (the contact's with the mechanism's) or the solver's "
+                        "finite differences")
     g.add_argument("--step", type=float, default=_DEFAULTS.step_s, help="RK4 step [s]")
     g.add_argument("--rtol", type=float, default=_DEFAULTS.rtol, help="relative tolerance (dopri, gear)")
     g.add_argument("--atol-position", type=float, default=_DEFAULTS.atol_position_m, help="absolute tolerance on positions [m, rad]")
     g.add_argument("--atol-velocity", type=float, default=_DEFAULTS.atol_velocity_m_s, help="absolute tolerance on velocities [m/s, rad/s]")
     g.add_argument("--max-step", type=float, default=None,
-                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; {MAX_WEAR_STEP_S:g} when wear is on, "
-                        "the most allowed then, docs/model.md §7)")
+                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear at most {MAX_WEAR_STEP_S:g}, less "
+                        "where one step would wear 0.3 of the penetration: the default and the most allowed then, "
+                        "docs/model.md §7)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
 
@@ -28,7 +35,8 @@ def options_from_args(args) -> SimulationOptions:
     return SimulationOptions(revolutions=args.revolutions, integrator=args.integrator, step_s=args.step,
                              rtol=args.rtol, atol_position_m=args.atol_position,
                              atol_velocity_m_s=args.atol_velocity, max_step_s=args.max_step,
-                             sample_dt_s=args.sample_dt, ideal=args.ideal)
+                             sample_dt_s=args.sample_dt, ideal=args.ideal, gear_solver=args.gear_solver,
+                             gear_jacobian=args.gear_jacobian)
 
 
 def add_arguments(parser) -> None:

@@ -2,16 +2,17 @@
 factor-convergence study and the calibration of k_w from the command line."""
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 
-from ..parameters import ParameterError
+from ..parameters import MAX_WEAR_STEP_S, ParameterError
 from ..validation.wear_calibration import calibrate_wear_coefficient, run_convergence
 from ..validation.wear_study import (
     DEFAULT_STUDY_INTEGRATOR, DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
     WearStudyConfig, run_wear_study,
 )
-from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args
+from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
 from .sweep import add_ensemble_arguments
 
 
@@ -37,23 +38,33 @@ def parse_float_list(name: str, text: str) -> tuple:
     return tuple(values)
 
 
+# WearStudyConfig's defaults: the one source of the options' defaults
+_STUDY = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
+_MAX_STEP_DEFAULT = ("(default %(default)g)" if _STUDY["max_step_s"] is not None else
+                     f"(default: the wear-step limit of the run's wear, at most {MAX_WEAR_STEP_S:g}; docs/model.md §7)")
+
+
 def add_arguments(parser) -> None:
     add_output_arguments(parser)
-    parser.add_argument("--revolutions", default="4000", help="crank revolutions to reach (integer)")
+    parser.add_argument("--revolutions", default=str(_STUDY["revolutions"]),
+                        help="crank revolutions to reach (integer) (default %(default)s)")
     parser.add_argument("--snapshots", default=None,
                         help="revolutions at which to keep the profile, comma separated (default: quarters)")
-    parser.add_argument("--engine", choices=ENGINES, default="monolithic", help="simulation engine")
+    parser.add_argument("--engine", choices=ENGINES, default=_STUDY["engine"],
+                        help="simulation engine (default %(default)s)")
     add_fmu_arguments(parser, fmu_file=False, when="with --engine cosim")
     parser.add_argument("--cycle-jump", default=None, metavar="M,J",
                         help="after every M simulated revolutions scale their wear increment by J "
                              "(wear factor 1 unless --wear-factor is given)")
-    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default=DEFAULT_STUDY_INTEGRATOR,
-                        help="rk4: fixed steps of --max-step (default); dopri: adaptive, at most --max-step")
-    parser.add_argument("--max-step", type=float, default=1e-5, help="largest integration step [s] (RK4: the step)")
-    parser.add_argument("--checkpoint-every", type=float, default=1.0,
-                        help="simulated revolutions between checkpoints")
-    parser.add_argument("--impact-threshold-m-s2", type=float, default=100.0,
-                        help="impact event: |a - a_ideal| above this [m/s^2]")
+    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default=_STUDY["integrator"],
+                        help="rk4: fixed steps of --max-step; dopri: adaptive, at most --max-step "
+                             "(default %(default)s)")
+    parser.add_argument("--max-step", type=float, default=_STUDY["max_step_s"],
+                        help="largest integration step [s] (RK4: the step) " + _MAX_STEP_DEFAULT)
+    parser.add_argument("--checkpoint-every", type=float, default=_STUDY["checkpoint_every_revolutions"],
+                        help="simulated revolutions between checkpoints (default %(default)g)")
+    parser.add_argument("--impact-threshold-m-s2", type=float, default=_STUDY["impact_threshold_m_s2"],
+                        help="impact event: |a - a_ideal| above this [m/s^2] (default %(default)g)")
     parser.add_argument("--resume", action="store_true", help="continue the study checkpointed in --out")
     task = parser.add_argument_group("other tasks")
     task.add_argument("--convergence", default=None, metavar="F1,F2,...",
@@ -61,6 +72,7 @@ def add_arguments(parser) -> None:
     task.add_argument("--calibrate-max-depth-m", type=float, default=None,
                       help="find the effective k_w whose study ends at this max depth (e.g. 0.58e-3)")
     add_model_arguments(parser)
+    restate_default(parser, "wear_factor", f"{DEFAULT_WEAR_FACTOR:g}; 1 with --cycle-jump")
     add_ensemble_arguments(parser)   # --seeds N: N seeds as Dask tasks (wearjoint.sweep), Fig. 7 with bands
 
 

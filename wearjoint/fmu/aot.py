@@ -45,6 +45,7 @@ from pathlib import Path
 ENTRY_POINTS = {
     "joint": ("wearjoint.fmu.entry_points", {
         "wearjoint_evaluate": ("evaluate_native", 11),
+        "wearjoint_jacobian": ("jacobian_native", 11),
         "wearjoint_advance": ("advance_native", 13),
         "wearjoint_accept": ("accept_native", 13),
         "wearjoint_update_contact_memory": ("update_contact_memory_native", 3),

@@ -3,14 +3,16 @@
 The native FMU (wearjoint/fmu/build_native.py) compiles these numba ``cfunc``s ahead of
 time (:mod:`wearjoint.fmu.aot`) and its C layer (fmu_src/joint_instance.c) calls them:
 they run the same kernels as :meth:`wearjoint.ClearanceJoint.evaluate_array` and
-``advance_array`` on the joint's arrays, passed as raw pointers (``kinematics`` = the 12
-FMU inputs: pin x, y, angle, vx, vy, omega, then the bushing's).  Nothing here allocates
-or touches Python objects, so a call costs about as much as the kernel.
+``advance_array`` (and the contact's exact derivatives, for FMI directional derivatives) on
+the joint's arrays, passed as raw pointers (``kinematics`` = the 12 FMU inputs: pin x, y,
+angle, vx, vy, omega, then the bushing's).  Nothing here allocates or touches Python
+objects, so a call costs about as much as the kernel.
 """
 import numpy as np
 from numba import carray, cfunc, types
 
-from ..core.contact import block_minimum_depth, bushing_points, evaluate_contact, update_contact_memory
+from ..core.contact import contact_jacobian, evaluate_contact, update_contact_memory
+from ..core.geometry import block_minimum_depth, bushing_points
 from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
 from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
 from .state_entry_points import (  # noqa: F401  (the joint FMU's state entry points, aot.ENTRY_POINTS)
@@ -24,6 +26,8 @@ _ARRAYS = (_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, types.voidptr)
 _SIZES = (types.int64, types.int64)
 EVALUATE_SIGNATURE = types.int32(*_ARRAYS, *_SIZES)
 ADVANCE_SIGNATURE = types.int32(*_ARRAYS, _F64, *_SIZES, types.float64)
+# jacobian: evaluate's arrays with ``jacobian`` (N_RESULT x 12 doubles, row-major) in place of ``mask``
+JACOBIAN_SIGNATURE = types.int32(*_ARRAYS[:-1], _F64, *_SIZES)
 
 
 @cfunc(EVALUATE_SIGNATURE, cache=True, error_model="numpy")
@@ -34,6 +38,17 @@ def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
     evaluate_contact(k[0:3], k[3:6], k[6:9], k[9:12], carray(jp, N_JOINT_PARAMETERS), carray(cos_phi, n_points),
                      carray(sin_phi, n_points), carray(wear_depth, n_points), carray(block_min, n_blocks),
                      carray(memory, N_MEMORY), carray(result, N_RESULT))
+    return 0
+
+
+@cfunc(JACOBIAN_SIGNATURE, cache=True, error_model="numpy")
+def jacobian_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, jacobian, n_points,
+                    n_blocks):
+    """:func:`evaluate_native` and d result[r] / d kinematics[m] into ``jacobian[12 r + m]``; returns 0."""
+    k = carray(kinematics, 12)
+    contact_jacobian(k[0:3], k[3:6], k[6:9], k[9:12], carray(jp, N_JOINT_PARAMETERS), carray(cos_phi, n_points),
+                     carray(sin_phi, n_points), carray(wear_depth, n_points), carray(block_min, n_blocks),
+                     carray(memory, N_MEMORY), carray(result, N_RESULT), carray(jacobian, (N_RESULT, 12)))
     return 0
 
 

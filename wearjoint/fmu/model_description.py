@@ -2,10 +2,10 @@
 variable table :mod:`wearjoint.fmu.variables` for every backend.
 
 The backends differ only in the GUID, the generation tool and a few
-``<CoSimulation>`` capability flags; variables, value references (= position in
-:func:`~wearjoint.fmu.variables.fmu_variables`), units, descriptions, start
-values and the ModelStructure (direct feed-through of the joint outputs on the
-12 inputs) are the same.
+``<CoSimulation>`` capability flags (the native FMU provides directional derivatives);
+variables, value references (= position in :func:`~wearjoint.fmu.variables.fmu_variables`),
+units, descriptions, start values and the ModelStructure (direct feed-through of the joint
+outputs on the inputs each depends on) are the same.
 """
 from __future__ import annotations
 
@@ -29,20 +29,26 @@ def _number(value) -> str:
     return repr(float(value)) if isinstance(value, float) else str(value)
 
 
+# the native FMUs whose C model computes directional derivatives (fmu_model.h model_directional_derivative)
+DIRECTIONAL_DERIVATIVES = frozenset({fv.MODEL_NAME})
+
+
 def interfaces(fmi_version: int, model_identifier: str, completed_integrator_step: bool) -> tuple[dict, dict]:
     """The ``<CoSimulation>`` and ``<ModelExchange>`` attributes of a native FMU (FMI ``fmi_version``):
     FMU state get/set/serialise, variable communication steps, no early return or intermediate
-    update; ``completed_integrator_step``: Model Exchange needs completedIntegratorStep."""
+    update, directional derivatives if the model is one of :data:`DIRECTIONAL_DERIVATIVES`;
+    ``completed_integrator_step``: Model Exchange needs completedIntegratorStep."""
+    derivatives = str(model_identifier in DIRECTIONAL_DERIVATIVES).lower()
     common = {"modelIdentifier": model_identifier, "needsExecutionTool": "false",
               "canBeInstantiatedOnlyOncePerProcess": "false"}
     if fmi_version == 2:
         common.update({"canNotUseMemoryManagementFunctions": "false", "canGetAndSetFMUstate": "true",
-                       "canSerializeFMUstate": "true"})
+                       "canSerializeFMUstate": "true", "providesDirectionalDerivative": derivatives})
         cosimulation = {**common, "canHandleVariableCommunicationStepSize": "true", "canInterpolateInputs": "false"}
         model_exchange = {**common, "completedIntegratorStepNotNeeded": str(not completed_integrator_step).lower()}
         return cosimulation, model_exchange
     common.update({"canGetAndSetFMUState": "true", "canSerializeFMUState": "true",
-                   "providesDirectionalDerivatives": "false", "providesAdjointDerivatives": "false",
+                   "providesDirectionalDerivatives": derivatives, "providesAdjointDerivatives": "false",
                    "providesPerElementDependencies": "false"})
     model_exchange = {**common, "needsCompletedIntegratorStep": str(completed_integrator_step).lower(),
                       "providesEvaluateDiscreteStates": "false"}
@@ -73,6 +79,15 @@ def root_with_interfaces_and_units(attributes: dict, cosimulation: dict, model_e
     return root
 
 
+def _dependencies(output: str, reference: dict[str, int], parameters: tuple[str, ...] = ()) -> str:
+    """The ``dependencies`` of ``output`` (ModelStructure, indices or value references from ``reference``): the
+    inputs it depends on (:data:`~wearjoint.fmu.variables.OUTPUT_DEPENDENCIES`) and, for a feed-through output's
+    initial value, ``parameters``; none for the wear, which the inputs change only over a step."""
+    if output not in fv.OUTPUT_DEPENDENCIES:
+        return ""
+    return " ".join(str(reference[name]) for name in (*fv.OUTPUT_DEPENDENCIES[output], *parameters))
+
+
 def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str],
                           model_exchange: dict[str, str] | None = None, event_indicators: int = 0) -> bytes:
     """The complete modelDescription.xml; ``cosimulation`` / ``model_exchange`` are the
@@ -99,18 +114,16 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
             typed["start"] = _number(v.start)
         ET.SubElement(sv, v.type, typed)
     index = {v.name: i + 1 for i, v in enumerate(variables)}   # ModelStructure indices are 1-based
-    inputs = " ".join(str(index[v.name]) for v in fv.INPUTS)
-    inputs_and_parameters = " ".join(str(index[v.name]) for v in (*fv.INPUTS, *(p.variable for p in fv.PARAMETERS)))
+    parameters = tuple(p.variable.name for p in fv.PARAMETERS)
     structure = ET.SubElement(root, "ModelStructure")
     outputs = ET.SubElement(structure, "Outputs")   # no continuous states: no <Derivatives>
     initial_unknowns = ET.SubElement(structure, "InitialUnknowns")
     for v in variables:
         if v.causality != fv.OUTPUT:
             continue
-        feed_through = v.name in fv.FEED_THROUGH_OUTPUTS
-        ET.SubElement(outputs, "Unknown", index=str(index[v.name]), dependencies=inputs if feed_through else "")
+        ET.SubElement(outputs, "Unknown", index=str(index[v.name]), dependencies=_dependencies(v.name, index))
         ET.SubElement(initial_unknowns, "Unknown", index=str(index[v.name]),
-                      dependencies=inputs_and_parameters if feed_through else "")
+                      dependencies=_dependencies(v.name, index, parameters))
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
@@ -201,19 +214,17 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
                     fv.OUTPUT, "continuous", "calculated", unit="m")
     ET.SubElement(wear, "Dimension", valueReference=str(vr[fv.N_POINTS_NAME]))
 
-    inputs = " ".join(str(vr[v.name]) for v in fv.INPUTS)
-    inputs_and_parameters = " ".join(str(vr[name]) for name in (
-        *(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS), fv.N_POINTS_NAME))
+    parameters = (*(p.variable.name for p in fv.PARAMETERS), fv.N_POINTS_NAME)
     structure = ET.SubElement(root, "ModelStructure")   # no continuous states
     outputs = [*(v.name for v in fv.SCALAR_OUTPUTS), WEAR_DEPTH_NAME]
     for name in outputs:
-        ET.SubElement(structure, "Output", valueReference=str(vr[name]),
-                      dependencies=inputs if name in fv.FEED_THROUGH_OUTPUTS else "")
+        ET.SubElement(structure, "Output", valueReference=str(vr[name]), dependencies=_dependencies(name, vr))
     for name in outputs:
         ET.SubElement(structure, "InitialUnknown", valueReference=str(vr[name]),
-                      dependencies=inputs_and_parameters if name in fv.FEED_THROUGH_OUTPUTS else "")
+                      dependencies=_dependencies(name, vr, parameters))
     if model_exchange is not None:
         for name in event_indicators:
-            ET.SubElement(structure, "EventIndicator", valueReference=str(vr[name]), dependencies=inputs)
+            ET.SubElement(structure, "EventIndicator", valueReference=str(vr[name]),
+                          dependencies=_dependencies(name, vr))
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from ..core import layout
 from ..parameters import (
-    CONTACT_POINTS, RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError,
+    CONTACT_MODELS, RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError,
 )
 
 MODEL_NAME = "ClearanceWearJoint"
@@ -84,19 +84,28 @@ WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
 
 # Names of the outputs that depend directly on the inputs (the rest change only in doStep).
 FEED_THROUGH_OUTPUTS = frozenset(RESULT_SLOTS)
+# The inputs each feed-through output depends on (ModelStructure): the contact geometry on the positions and
+# angles alone, the forces on the velocities too (damping, friction).
+POSITION_INPUTS = tuple(v.name for v in INPUTS if v.unit in ("m", "rad"))
+GEOMETRY_OUTPUTS = frozenset({"penetration", "contact", "contact_angle", "eccentricity_x", "eccentricity_y"})
+OUTPUT_DEPENDENCIES: dict[str, tuple[str, ...]] = {
+    name: POSITION_INPUTS if name in GEOMETRY_OUTPUTS else tuple(v.name for v in INPUTS) for name in RESULT_SLOTS}
 
 
 @dataclass(frozen=True)
 class Allowed:
     """The allowed values of a Real parameter: finite, within (or on) ``low`` / ``high`` where
-    given, and greater than the parameter named ``above`` (the same rules as
-    :class:`JointParameters`; the native FMU checks them from this table)."""
+    given, greater than the parameter named ``above``, and ``equal`` where the option ``when`` =
+    (its name, value, label) has that value (the same rules as :class:`JointParameters`; the
+    native FMU checks them from this table)."""
 
     low: float | None = None
     low_open: bool = False
     high: float | None = None
     high_open: bool = False
     above: str | None = None
+    equal: float | None = None
+    when: tuple[str, int, str] | None = None
 
     def text(self) -> str:
         """The rule as :class:`ParameterError` messages state it, e.g. ``> 0`` or ``in (0, 1]``."""
@@ -106,6 +115,8 @@ class Allowed:
             rule = f"{'>' if self.low_open else '>='} {self.low:g}"
         else:
             rule = "a finite real number"
+        if self.when:
+            rule += f", and {self.equal!r} with {self.when[0]}={self.when[1]} ({self.when[2]})"
         return rule + (f" and > {self.above}" if self.above else "")
 
 
@@ -159,7 +170,10 @@ PARAMETERS: tuple[ParameterField, ...] = (
           allowed=Allowed(0.0, True, 0.5, True)),
     _real("contact_stiffness", "N/m1.5", "contact_stiffness_N_m1_5",
           "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent)", allowed=POSITIVE),
-    _real("contact_exponent", "1", "contact_exponent", "exponent n of the contact law", allowed=POSITIVE),
+    _real("contact_exponent", "1", "contact_exponent",
+          "exponent n of the contact law (1.5 with the foundation contact: a linear foundation on a circle)",
+          allowed=Allowed(0.0, True, equal=1.5, when=("contact_model", CONTACT_MODELS.index("foundation"),
+                                                      "foundation"))),
     _real("restitution", "1", "restitution", "coefficient of restitution e_r in (0, 1]",
           allowed=Allowed(0.0, True, 1.0)),
     _real("friction_coefficient", "1", "friction_coefficient", "Coulomb friction coefficient mu",
@@ -176,8 +190,8 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _choice("rho_mode", "rho_mode", RHO_MODES, "equivalent radius of the Hertz half-width"),
     _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
     _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),
-    _choice("contact_point", "contact_point", CONTACT_POINTS,
-            "contact point and normal: nearest point of the fitted profile, or the deepest bushing point"),
+    _choice("contact_model", "contact_model", CONTACT_MODELS,
+            "contact force: elastic-foundation pressure over the worn bushing, or the deepest bushing point"),
 )
 # an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
 STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
