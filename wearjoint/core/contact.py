@@ -324,7 +324,7 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
         return False, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), True, bushing_point, fallback, dkx, dky, d
     if int(jp[P_CONTACT_MODEL]) == CONTACT_FOUNDATION:
         fx, fy, j11, j12, j21, j22, _ = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                                                            wear_depth, block_min, with_jacobian)
+                                                            wear_depth, with_jacobian)
         scale = foundation_modulus_factor(jp[P_STIFFNESS], pin_radius, bushing_radius) * (TWO_PI / n)
         elastic = (scale * fx, scale * fy, scale * j11, scale * j12, scale * j21, scale * j22)
         common_point = True

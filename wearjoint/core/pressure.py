@@ -22,9 +22,8 @@ derivatives in e (the positive part of a linear function has a continuous mean).
 """
 import math
 
-from .geometry import _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, wrap_index
+from .geometry import wrap_index
 from .jit import kernel
-from .layout import BLOCK_SIZE
 
 
 @kernel(inline='always')
@@ -138,54 +137,39 @@ def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin
 
 
 @kernel
-def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, with_jacobian):
+def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian):
     """Elastic-foundation force on the pin per unit kappa, in the bushing frame, and its Jacobian
     (module docstring): returns (f_x, f_y, df_x/de_x, df_x/de_y, df_y/de_x, df_y/de_y, s0) with
     F = kappa f, f = -sum_z w_z rho_z d_z [m^3] and s0 = sum_z w_z rho_z [m^2] (the overlap
     integral divided by dphi).  The Jacobian is 0 unless ``with_jacobian``.
 
-    Only the blocks of points that a geometric bound cannot exclude are summed
-    (:func:`geometry._block_lower_bound_sq`), each with the point just outside it when the
-    neighbouring block is skipped (its cell reaches into the contact); the sum is the sum over
-    every point, in index order."""
+    Only the points within the angle Delta_max of e's direction can overlap the pin, whatever the
+    wear: |d|^2 = rho^2 + |e|^2 - 2 rho |e| cos(Delta) grows with rho >= R_j (rho > |e|), so o > 0
+    needs cos(Delta) > (R_j^2 + |e|^2 - R_i^2) / (2 R_j |e|).  The sum runs over that window and
+    one point past each end (their cells reach into the contact)."""
     n = wear_depth.shape[0]
-    nb = block_min.shape[0]
     sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    if nb <= 3:
+    e = math.sqrt(ex * ex + ey * ey)
+    if e <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    cos_max = (bushing_radius * bushing_radius + e * e - pin_radius * pin_radius) / (2.0 * bushing_radius * e)
+    if cos_max >= 1.0:                           # no point can reach the pin
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    dphi = 2.0 * math.pi / n
+    reach = 2.0 * math.asin(math.sqrt(0.5 * (1.0 - max(-1.0, cos_max))))   # acos(cos_max), by libm's asin
+    half = int(reach / dphi) + 3                   # + rounding of the centre, + the cells reaching in
+    if 2 * half + 1 >= n:
         sums = _resultant_run(0, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                               with_jacobian, sums)
     else:
-        e, ux, uy, k0 = _direction_point(ex, ey, n)
-        b0 = k0 // BLOCK_SIZE
-        margin = _tie_margin(pin_radius * pin_radius)
-        first_kept = _kept_block(0, nb, n, b0, e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, margin)
-        previous_kept = _kept_block(nb - 1, nb, n, b0, e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min,
-                                    margin)
-        kept = first_kept
-        for b in range(nb):
-            next_kept = first_kept if b == nb - 1 else _kept_block(b + 1, nb, n, b0, e, ux, uy, bushing_radius,
-                                                                   cos_phi, sin_phi, block_min, margin)
-            if kept:
-                lo = b * BLOCK_SIZE
-                hi = min(lo + BLOCK_SIZE, n)
-                sums = _resultant_run(lo - (0 if previous_kept else 1), hi - (1 if next_kept else 0), ex, ey,
-                                      pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian, sums)
-            previous_kept = kept
-            kept = next_kept
+        centre = int(round(math.atan2(ey, ex) / dphi)) - 1      # the point nearest e's direction
+        first = centre - half
+        if first < -1:
+            first += n
+        sums = _resultant_run(first, first + 2 * half, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                              wear_depth, with_jacobian, sums)
     s0, sx, sy, m11, m12, m21, m22 = sums
-    fx = -sx
-    fy = -sy
     if not with_jacobian:
-        return fx, fy, 0.0, 0.0, 0.0, 0.0, s0
+        return -sx, -sy, 0.0, 0.0, 0.0, 0.0, s0
     # df/de = -(M / R_i - s0 I): d(w rho d)/de = rho d (x) dw/de - w rho I
-    return fx, fy, s0 - m11 / pin_radius, -m12 / pin_radius, -m21 / pin_radius, s0 - m22 / pin_radius, s0
-
-
-@kernel(inline='always')
-def _kept_block(b, nb, n, b0, e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, margin):
-    """False only if block b holds no point inside the pin by its lower bound on |d|^2; blocks of
-    fewer than 4 points and those around the direction of e are always kept."""
-    lo = b * BLOCK_SIZE
-    if min(lo + BLOCK_SIZE, n) - lo < 4 or _is_direction_block(b, b0, nb):
-        return True
-    return _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) <= margin
+    return -sx, -sy, s0 - m11 / pin_radius, -m12 / pin_radius, -m21 / pin_radius, s0 - m22 / pin_radius, s0
