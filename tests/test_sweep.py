@@ -12,7 +12,9 @@ import time
 import numpy as np
 import pytest
 
-from wearjoint.sweep.design import SEED_ANGLE_STEP_DEG, build_cases, command_parser, read_design
+from wearjoint.parameters import ParameterError
+from wearjoint.sweep.bias import WEAR_FACTOR_BIAS, wear_factor_bias
+from wearjoint.sweep.design import SEED_ANGLE_STEP_DEG, build_cases, command_parser, parse_vary, read_design
 
 TINY = ("--revolutions", "0.02", "--no-plots")
 
@@ -72,6 +74,8 @@ def test_ensemble_holds_mean_std_min_max_per_grid_point(sweep):
     assert np.allclose(band[:, 1], profiles.mean(axis=0), rtol=1e-9, atol=0)
     for png in ("vs_restitution.png", "profile_bands_1.png"):
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert float(ensemble[0]["max_wear_depth_m_bias_rel"]) == 0.0     # F = 1 is the brute-force reference
+    assert "point 0 (restitution=0.6)" in sweep[1].stdout and "point 1 (restitution=1.5)" in sweep[1].stdout
 
 
 def test_case_in_the_sweep_equals_the_same_case_run_alone(sweep, tmp_path):
@@ -207,3 +211,112 @@ def test_wear_study_seeds_reports_fig7_with_bands(tmp_path):
         assert (out / "bands" / f"point0_rev{revolution}.csv").is_file()
     assert (out / "fig7_bands_point0.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "rev10_max_wear_depth_m" in done.stdout
+    assert ensemble["max_wear_depth_m_bias_rel"] == ensemble["rev5_max_wear_depth_m_bias_rel"] == "unknown"
+    assert "F = 20" in ensemble["wear_factor_bias_note"] and "(bias unknown)" in done.stdout   # never measured
+
+
+# ------------------------------------------------------------------ names, the wear factor's bias, figures
+def test_vary_and_design_take_the_api_name_and_the_option_name(tmp_path):
+    base = {k: v for k, v in vars(command_parser("simulate").parse_args(["--out", "x"])).items()
+            if k not in ("out", "quiet", "no_plots")}
+    api, option = parse_vary("simulate", ["friction_coefficient=0.05,0.2"]), parse_vary("simulate",
+                                                                                        ["friction-coefficient=0.05,0.2"])
+    assert api == option == {"friction-coefficient": [0.05, 0.2]}
+    design = tmp_path / "design.toml"
+    design.write_text("[vary]\nfriction_coefficient = [0.05, 0.2]\n[[case]]\ncrank_speed_rpm = 100\n")
+    d = read_design("simulate", design)
+    assert d["vary"] == option and d["points"] == [{"crank-speed-rpm": 100.0}]
+    ids = [c.case_id for c in build_cases("simulate", base, option)]
+    assert ids == [c.case_id for c in build_cases("simulate", base, {"friction_coefficient": [0.05, 0.2]})]
+    with pytest.raises(ParameterError, match="already varied"):
+        parse_vary("simulate", ["friction_coefficient=0.1", "friction-coefficient=0.2"])
+
+
+def test_unknown_vary_name_names_the_option_the_value_and_the_allowed_names(tmp_path):
+    done = wearjoint("sweep", "simulate", *TINY, "--vary", "friction_coeficient=0.1,0.2", "--out", str(tmp_path / "x"))
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    line = done.stderr.strip()
+    assert "--vary 'friction_coeficient=0.1,0.2'" in line and "did you mean friction_coefficient" in line
+    allowed = line.rsplit(": ", 1)[1].split(", ")
+    parser = command_parser("simulate")
+    one_value = [a.option_strings[-1][2:] for a in parser._actions if a.option_strings and a.nargs is None
+                 and type(a).__name__ == "_StoreAction" and a.dest not in ("out", "fmu")]
+    assert set(allowed) == set(one_value)
+
+
+def test_a_friction_sweep_shows_the_wear_factor_bias_next_to_the_answer(tmp_path):
+    """The issue's sweep, tiny: F = 100 at 50 and 100 revolutions, where the convergence study measured the bias."""
+    out = tmp_path / "friction"
+    done = wearjoint("sweep", "wear-study", "--revolutions", "100", "--snapshots", "50,100", "--wear-factor", "100",
+                     "--vary", "friction_coefficient=0.05,0.2", "--seeds", "2", "--workers", "2", "--no-plots",
+                     "--out", str(out), "--quiet")
+    assert done.returncode == 0, done.stderr
+    with open(out / "ensemble.csv", newline="") as f:
+        columns = next(csv.reader(f))
+    for key in ("max_wear_depth_m", "rev50_max_wear_depth_m", "rev100_max_wear_depth_m"):   # beside the answer
+        assert columns.index(f"{key}_bias_rel") == columns.index(f"{key}_max") + 1
+    for k, row in enumerate(read_csv(out / "ensemble.csv")):
+        assert float(row["max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][100]
+        assert float(row["rev50_max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][50]
+        assert "docs/wear_study.md" in row["wear_factor_bias_note"]
+        line = next(x for x in done.stdout.splitlines() if x.strip().startswith(f"point {k} "))
+        assert f"friction_coefficient={row['friction_coefficient']}" in line
+        assert f"(bias {WEAR_FACTOR_BIAS[100.0][100] * 100:+.1f} %)" in line
+    assert "docs/wear_study.md" in done.stdout
+
+
+def test_wear_factor_bias_is_stated_only_where_measured():
+    assert wear_factor_bias(100.0, 1000).rel == WEAR_FACTOR_BIAS[100.0][1000]
+    assert wear_factor_bias(1.0, 1234).rel == 0.0 and wear_factor_bias(0.0, 10).rel == 0.0   # no factor, no wear
+    assert wear_factor_bias(100.0, 4000).rel is None and wear_factor_bias(20.0, 1000).rel is None
+    assert wear_factor_bias(100.0, 1000, cycle_jump=True).rel is None
+    assert wear_factor_bias(20.0, 1000).text == "unknown"
+
+
+def _points(values_by_x: dict, bias_rel):
+    """Grid points of one swept parameter 'mu' whose ok seeds have these max wear depths."""
+    from wearjoint.sweep.bias import Bias
+    from wearjoint.sweep.report import GridPoint
+
+    points = []
+    for x, depths in values_by_x.items():
+        point = GridPoint([{"mu": x, "status": "ok", "max_wear_depth_m": d} for d in depths], ["mu"])
+        point.bias = {"max_wear_depth_m": Bias(bias_rel, "test")}
+        points.append(point)
+    return points
+
+
+def _captured_figures(monkeypatch) -> list:
+    import wearjoint.plots
+
+    figures = []
+    monkeypatch.setattr(wearjoint.plots, "save_figure", lambda fig, path: figures.append(fig))
+    return figures
+
+
+def test_figure_shows_the_relative_change_against_the_bias_band(monkeypatch, tmp_path):
+    from wearjoint.sweep.report import plot_against_parameters
+
+    figures = _captured_figures(monkeypatch)
+    depths = {0.05: [100e-6, 101e-6], 0.1: [101e-6, 102e-6], 0.2: [102e-6, 103e-6]}   # a 2 % change
+    plot_against_parameters(tmp_path, _points(depths, -0.084))
+    ax = figures[0].axes[0]
+    mean_line = next(line for line in ax.get_lines() if len(line.get_xdata()) == 3)
+    ref = np.mean(depths[0.05])
+    assert np.allclose(mean_line.get_ydata(), [(np.mean(d) / ref - 1) * 100 for d in depths.values()])
+    low, high = ax.get_ylim()
+    assert low <= -8.4 and high >= 8.4 and "%" in ax.get_ylabel()          # the bias band is on the axis
+
+
+def test_profile_bands_are_overlaid_in_one_panel_with_a_legend(monkeypatch, tmp_path):
+    from wearjoint.sweep.report import plot_profile_bands
+
+    figures = _captured_figures(monkeypatch)
+    points = _points({0.05: [1e-6], 0.1: [1e-6], 0.2: [1e-6]}, None)
+    phi = np.linspace(1, 360, 16)
+    bands = {k: {"final": (phi, np.vstack([np.sin(np.radians(phi)) ** 2 * (k + 1)] * 2))} for k in range(3)}
+    assert plot_profile_bands(tmp_path, points, bands) == ["profile_bands_1.png"]
+    (ax,) = [a for a in figures[0].axes if a.get_visible()]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert len(labels) == 3 and all("bias unknown" in t for t in labels)
+    assert [label.split(" ")[0] for label in labels] == ["mu=0.05", "mu=0.1", "mu=0.2"]

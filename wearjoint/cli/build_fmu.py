@@ -1,6 +1,6 @@
-"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend (FMI 2.0, or 3.0 native),
-the native one for linux64, win64 and aarch64-linux (whichever toolchains are installed), or
-(``--model slider-crank``, native) the mechanism FMU SliderCrank.fmu."""
+"""`wearjoint build-fmu`: build ClearanceWearJoint.fmu with either backend (native: FMI 2.0 or 3.0, Co-Simulation
+and Model Exchange; pythonfmu: FMI 2.0 Co-Simulation), the native one for linux64, win64 and aarch64-linux
+(whichever toolchains are installed), or (``--model slider-crank``, native) the mechanism FMU SliderCrank.fmu."""
 from __future__ import annotations
 
 import sys
@@ -12,8 +12,14 @@ from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..parameters import JointParameters, ParameterError
 
 
+DESCRIPTION = (f"build the ClearanceWearJoint FMU (FMI {' or '.join(f'{v}.0' for v in FMI_VERSIONS)}; native backend: "
+               "Co-Simulation and Model Exchange in one FMU, pythonfmu: FMI 2.0 Co-Simulation) or, with --model "
+               "slider-crank, the mechanism FMU SliderCrank.fmu")
+
+
 def add_arguments(parser) -> None:
-    """Options of ``wearjoint build-fmu``."""
+    """Options of ``wearjoint build-fmu`` (and its description, :data:`DESCRIPTION`)."""
+    parser.description = DESCRIPTION
     parser.add_argument("--out", metavar="DIR", default=None,
                         help="directory for the FMU (default: the user cache, keyed by the sources and the backend)")
     parser.add_argument("--model", choices=tuple(MODELS), default=DEFAULT_MODEL,

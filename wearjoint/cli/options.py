@@ -20,6 +20,8 @@ _HELP = {
     "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
     "contact_model": "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing point (docs/model.md §3.10)",
     "wear_factor": "wear acceleration factor on k_w",
+    "pin_offset_m": "pin centre in the crank's frame, x y [m]",
+    "bushing_offset_m": "bushing centre in the rod's frame, x y [m]",
     "n_points": "bushing discrete points N_d",
 }
 
@@ -28,12 +30,23 @@ def _option(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
+def _default_text(value) -> str:
+    """A default as the command line writes it: ``0.025 0`` for a pair."""
+    return " ".join(f"{v:g}" for v in value) if isinstance(value, tuple) else str(value)
+
+
+# the joint's centres in a slider-crank command: the mechanism's crank tip and rod end
+_OFFSETS = {name: f"(default {_default_text(value)}; follows {source})" for (name, value), source in
+            zip(SliderCrankParameters().joint_offsets().items(), ("--crank-length-m", "--rod-length-m"))}
+
+
 def _add_dataclass_options(group, cls, skip=()) -> None:
     for f in dataclasses.fields(cls):
         if f.name in skip:
             continue
         default = f.default
-        help_text = _HELP.get(f.name, "") + f" (default {default})"
+        remark = _OFFSETS.get(f.name, f"(default {_default_text(default)})")
+        help_text = " ".join(filter(None, (_HELP.get(f.name), remark)))
         if f.name in OPTION_CHOICES:
             group.add_argument(_option(f.name), dest=f.name, choices=OPTION_CHOICES[f.name], default=None, help=help_text)
         elif isinstance(default, tuple):
@@ -51,6 +64,13 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
     joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
     joint.add_argument("--stiffness-from-materials", action="store_true",
                        help="compute K from radii and materials (Eq. 16, internal-contact form)")
+
+
+def restate_default(parser: argparse.ArgumentParser, dest: str, default_text: str) -> None:
+    """Give model option ``dest``'s help the default this command uses instead of the parameter set's
+    (e.g. wear-study's wear factor): ``default_text`` replaces the ``(default ...)`` remark."""
+    action = next(a for a in parser._actions if a.dest == dest)
+    action.help = " ".join(filter(None, (_HELP.get(dest), f"(default {default_text})")))
 
 
 def _given(args, cls) -> dict:

@@ -10,8 +10,11 @@ import os
 import sys
 
 from ..parameters import ParameterError
-from ..sweep.design import TARGETS, check_seeds, command_options, parse_vary, read_design
+from ..sweep.bias import Bias
+from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, parse_vary, read_design
 from . import COMMANDS
+
+DEFAULT_SEEDS = 1   # runs per grid point when neither --seeds nor the design file says
 
 
 def add_arguments(parser) -> None:
@@ -25,7 +28,8 @@ def add_ensemble_arguments(parser) -> None:
     """--seeds, --workers, --scheduler (each only if ``parser`` lacks it)."""
     g = parser.add_argument_group("ensemble (Dask)")
     _add(parser, g, "--seeds", type=int, default=None,
-         help="runs per grid point; seed s starts the crank s*1e-6 deg further (default 1)")
+         help=f"runs per grid point; seed s starts the crank s*{SEED_ANGLE_STEP_DEG:g} deg further "
+              f"(default {DEFAULT_SEEDS})")
     _add(parser, g, "--workers", type=int, default=None,
          help="worker processes of the local Dask cluster (default: one per core)")
     _add(parser, g, "--scheduler", default=None, metavar="ADDRESS",
@@ -70,7 +74,7 @@ def run_from_args(command: str, args) -> int:
         design = read_design(command, args.design)
         vary, points = {**design["vary"], **vary}, design["points"]
         seeds = seeds if seeds is not None else design["seeds"]
-    seeds = check_seeds(1 if seeds is None else seeds)
+    seeds = check_seeds(DEFAULT_SEEDS if seeds is None else seeds)
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
     if isinstance(workers, bool) or workers < 1:
         raise ParameterError(f"--workers={workers!r} is invalid: allowed an integer >= 1")
@@ -90,28 +94,43 @@ def run_from_args(command: str, args) -> int:
 
 
 def print_outcome(summary: dict, out) -> None:
-    """Counts, each grid point's key figures (mean +- std), the failed cases."""
+    """Counts, each grid point's values and key figures (mean +- std over seeds, and the wear
+    factor's bias beside them), the notes on that bias, the failed cases."""
     import csv
+
+    from ..sweep.report import BIAS_NOTE
 
     print(f"  {summary['cases']} cases ({summary['grid_points']} grid points x {summary['seeds']} seeds): "
           f"{summary['ok']} ok, {summary['failed']} failed, {summary['skipped_as_done']} already done; "
           f"{summary['wall_time_s']:.1f} s")
+    notes = {}
     with open(os.path.join(out, "ensemble.csv"), newline="") as f:
-        for row in csv.DictReader(f):
+        reader = csv.DictReader(f)
+        names = reader.fieldnames[1:reader.fieldnames.index("n_ok")]
+        for row in reader:
             snapshots = sorted((int(k[3:].split("_")[0]), k[:-5]) for k in row
                                if k.startswith("rev") and k.endswith("_max_wear_depth_m_mean"))
             keys = ["max_wear_depth_m"] + [key for _, key in snapshots]
-            print(f"  point {row['point']}: {row['n_ok']} ok  " + "  ".join(filter(None, (_mean_std(row, k) for k in keys))))
+            values = ", ".join(f"{name}={row[name]}" for name in names) or "base case"
+            print(f"  point {row['point']} ({values}): {row['n_ok']} ok  "
+                  + "  ".join(filter(None, (_mean_std(row, k) for k in keys))))
+            notes.update(dict.fromkeys(filter(None, (row.get(BIAS_NOTE) or "").split(" | "))))
+    for note in notes:
+        print(f"  wear-factor bias of the max depth: {note}")
     for failure in summary["failures"][:10]:
         print(f"  failed {failure['case_id']} (seed {failure['seed']}): {failure['error']}")
     print(f"results in {out}")
 
 
 def _mean_std(row: dict, key: str) -> str:
-    mean, std = row.get(f"{key}_mean"), row.get(f"{key}_std")
+    """``KEY mean ± std (bias B)``: the seeds' scatter and, where the run states it, the wear factor's bias."""
+    mean, std, bias = row.get(f"{key}_mean"), row.get(f"{key}_std"), row.get(f"{key}_bias_rel")
     if not mean:
         return ""
-    return f"{key} {float(mean):.4g}" + (f" ± {float(std):.2g}" if std else "")
+    text = f"{key} {float(mean):.4g}" + (f" ± {float(std):.2g}" if std else "")
+    if bias:
+        text += f" (bias {Bias.from_csv(bias).text})"
+    return text
 
 
-__all__ = ["add_arguments", "run", "run_from_args", "add_ensemble_arguments", "target_parser"]
+__all__ = ["add_arguments", "run", "run_from_args", "add_ensemble_arguments", "target_parser", "DEFAULT_SEEDS"]

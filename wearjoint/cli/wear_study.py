@@ -9,7 +9,7 @@ import sys
 from ..parameters import MAX_WEAR_STEP_S, ParameterError
 from ..validation.wear_calibration import calibrate_wear_coefficient, run_convergence
 from ..validation.wear_study import (
-    DEFAULT_STUDY_INTEGRATOR, DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
+    DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
     WearStudyConfig, run_wear_study,
 )
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default

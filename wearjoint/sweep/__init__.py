@@ -1,7 +1,8 @@
 """Parameter sweeps and seed ensembles of ``simulate``, ``cosim`` and ``wear-study`` on Dask.
 
 :func:`run_sweep` builds the cases (:mod:`.design`), runs each as a Dask task (:mod:`.runner`,
-:mod:`.worker`) and writes the ensemble statistics and figures (:mod:`.report`).  Dask is
+:mod:`.worker`) and writes the ensemble statistics and figures (:mod:`.report`) with the
+systematic uncertainty the run can state beside them (the wear factor's bias, :mod:`.bias`).  Dask is
 imported only when cases run, never by ``import wearjoint`` (docs/sweeps.md).
 """
 from __future__ import annotations
@@ -39,6 +40,7 @@ def run_sweep(command: str, base: dict, out, vary: dict | None = None, points=()
         "ok": sum(r["status"] == "ok" for r in table), "failed": sum(r["status"] == "failed" for r in table),
         "not_run": len(cases) - len(table), "skipped_as_done": skipped, **timing,
         "wall_time_s": time.perf_counter() - start, "seed_angle_step_deg": SEED_ANGLE_STEP_DEG,
+        "wear_factor_bias": report["wear_factor_bias"],
         "failures": [{"case_id": r["case_id"], "seed": r["seed"], "error": r["error"]}
                      for r in table if r["status"] == "failed"],
         "files": ["sweep.csv", "ensemble.csv", "sweep.json", "bands/", "cases/", *report["figures"]],

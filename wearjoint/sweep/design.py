@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import difflib
 import functools
 import hashlib
 import importlib
@@ -126,7 +127,8 @@ def parse_value(name: str, text, action, where: str):
 
 
 def parse_vary(command: str, items) -> dict:
-    """``["restitution=0.6,0.9", ...]`` -> {"restitution": [0.6, 0.9], ...} (values typed)."""
+    """``["restitution=0.6,0.9", ...]`` -> {"restitution": [0.6, 0.9], ...} (values typed; a name may be the
+    option's (``friction-coefficient``) or the API's (``friction_coefficient``), keyed by the option's)."""
     variables = variable_actions(command)
     grid = {}
     for item in items or ():
@@ -134,16 +136,30 @@ def parse_vary(command: str, items) -> dict:
         name = name.strip().lstrip("-")
         if not sep or not values.strip():
             raise ParameterError(f"--vary {item!r} is invalid: allowed NAME=V1,V2,... (e.g. restitution=0.6,0.9)")
-        action = _variable(command, variables, name, "--vary")
-        grid[name] = [parse_value(name, v, action, f"--vary {item}") for v in values.split(",")]
+        name = canonical_name(command, variables, name, f"--vary {item!r}")
+        if name in grid:
+            raise ParameterError(f"--vary {item!r} is invalid: {name} is already varied (give its values once)")
+        grid[name] = [parse_value(name, v, variables[name], f"--vary {item}") for v in values.split(",")]
     return grid
 
 
-def _variable(command: str, variables: dict, name: str, where: str):
-    if name not in variables:
-        raise ParameterError(f"{where}: {name!r} is invalid: allowed an option of wearjoint {command} that takes "
-                             f"one value, written without its dashes (e.g. restitution, crank-speed-rpm)")
-    return variables[name]
+def canonical_name(command: str, variables: dict, name: str, where: str) -> str:
+    """The option name (without dashes) that ``name`` spells: the option's own name, its API name (the
+    option's dest: the JointParameters / SliderCrankParameters field, the CSV column) or either in
+    another letter case; else a one-line ParameterError naming ``where``, the name and the allowed names."""
+    aliases = {}
+    for option, action in variables.items():
+        aliases.update({option: option, action.dest: option})
+    if name in aliases:
+        return aliases[name]
+    folded = {alias.casefold(): option for alias, option in aliases.items()}
+    if name.casefold() in folded:
+        return folded[name.casefold()]
+    close = difflib.get_close_matches(name, list(aliases), n=1)
+    hint = f" (did you mean {close[0]}?)" if close else ""
+    raise ParameterError(f"{where} is invalid: {name!r} is not an option of wearjoint {command} that takes one "
+                         f"value{hint}; allowed, as the option's name or its API name with underscores: "
+                         + ", ".join(variables))
 
 
 def read_design(command: str, path) -> dict:
@@ -168,14 +184,20 @@ def read_design(command: str, path) -> dict:
     variables = variable_actions(command)
     vary = {}
     for name, values in dict(data.get("vary", {})).items():
-        action = _variable(command, variables, name, f"--design {path} [vary]")
+        where = f"--design {path} [vary] {name}"
+        name = canonical_name(command, variables, name, where)
+        if name in vary:
+            raise ParameterError(f"{where} is invalid: {name} is already in [vary] (give its values once)")
         values = values if isinstance(values, list) else [values]
-        vary[name] = [parse_value(name, v, action, f"--design {path} [vary]") for v in values]
+        vary[name] = [parse_value(name, v, variables[name], where) for v in values]
     points = []
     for k, table in enumerate(data.get("case", [])):
         where = f"--design {path} [[case]] {k + 1}"
-        points.append({name: parse_value(name, v, _variable(command, variables, name, where), where)
-                       for name, v in table.items()})
+        point = {}
+        for name, v in table.items():
+            name = canonical_name(command, variables, name, f"{where} {name}")
+            point[name] = parse_value(name, v, variables[name], where)
+        points.append(point)
     seeds = data.get("seeds")
     return {"seeds": seeds, "vary": vary, "points": points}
 
@@ -186,14 +208,30 @@ def check_seeds(seeds, where: str = "--seeds") -> int:
     return seeds
 
 
-def effective_value(dest: str, value):
-    """A model option left unset (None) stands for its parameter's default."""
-    if value is None:
-        for cls in (SliderCrankParameters, JointParameters):
-            fields = {f.name: f.default for f in dataclasses.fields(cls)}
-            if dest in fields:
-                return fields[dest]
-    return value
+def effective_values(command: str, options: dict) -> dict:
+    """dest -> value of every model option as the command's run resolves it (an option left unset, None,
+    stands for what the run uses: e.g. wear-study's wear factor, the slider-crank's joint offsets);
+    the parameter sets' defaults where the options are invalid (the case then reports the error)."""
+    from argparse import Namespace
+
+    try:
+        if command == "wear-study":
+            from ..cli.wear_study import config_from_args
+
+            config = config_from_args(Namespace(**options))
+            joint, mechanism = config.joint, config.mechanism
+        else:
+            from ..cli.options import model_from_args
+
+            joint, mechanism = model_from_args(Namespace(**options))
+    except (ParameterError, AttributeError, TypeError, ValueError):
+        joint, mechanism = JointParameters(), SliderCrankParameters()
+    return {**dataclasses.asdict(mechanism), **dataclasses.asdict(joint)}
+
+
+def _value(options: dict, resolved: dict, dest: str):
+    value = options[dest]
+    return resolved.get(dest, value) if value is None else value
 
 
 def build_cases(command: str, base: dict, vary: dict | None = None, points=(), seeds: int = 1) -> list[Case]:
@@ -205,11 +243,11 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
     for dest in NOT_IN_A_SWEEP:
         if base.get(dest) is not None:
             raise ParameterError(f"--{dest.replace('_', '-')} is not available in a sweep (it is another task)")
-    vary = dict(vary or {})
-    grid = [dict(zip(vary, values)) for values in itertools.product(*vary.values())] if vary else []
-    grid += [dict(p) for p in points]
-    grid = grid or [{}]
     variables = variable_actions(command)
+    vary = {canonical_name(command, variables, name, f"vary {name}"): values for name, values in (vary or {}).items()}
+    grid = [dict(zip(vary, values)) for values in itertools.product(*vary.values())] if vary else []
+    grid += [{canonical_name(command, variables, name, f"point {name}"): v for name, v in p.items()} for p in points]
+    grid = grid or [{}]
     names = list(dict.fromkeys(name for point in grid for name in point))
     cases, seen = [], set()
     for point in grid:
@@ -217,7 +255,8 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
         for name in names:                        # a point lacking a name keeps the base value
             if name in point:
                 options[variables[name].dest] = point[name]
-        full_point = tuple((name, effective_value(variables[name].dest, options[variables[name].dest])) for name in names)
+        resolved = effective_values(command, options) if any(options[variables[n].dest] is None for n in names) else {}
+        full_point = tuple((name, _value(options, resolved, variables[name].dest)) for name in names)
         for seed in range(seeds):
             opts = dict(options)
             if seed > 0:
@@ -235,4 +274,5 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
 
 
 __all__ = ["Case", "TARGETS", "SEED_ANGLE_STEP_DEG", "build_cases", "parse_vary", "read_design", "case_id",
-           "command_parser", "command_options", "options_to_argv", "variable_actions", "check_seeds"]
+           "command_parser", "command_options", "options_to_argv", "variable_actions", "canonical_name",
+           "check_seeds"]

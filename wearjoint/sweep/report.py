@@ -2,25 +2,32 @@
 
 ``ensemble.csv``: one row per grid point -- its swept values, ``n_ok``/``n_failed``/``n_pending``
 and, for every summary figure, ``_mean``, ``_std`` (sample standard deviation, n - 1; empty
-with one seed), ``_min``, ``_max`` over the point's ``ok`` seeds.  ``bands/pointK_LABEL.csv``:
-the worn profile's mean, std, min and max per bushing point (LABEL ``final``, and ``revR`` per
-wear-study snapshot).  Figures: ``vs_PARAMETER.png`` (each figure of merit against each swept
-parameter, mean with the +-std band and every seed), ``profile_bands_N.png`` (the final worn
-profile per grid point), and for wear studies ``fig7_bands_pointK.png`` (paper Fig. 7 with bands).
+with one seed), ``_min``, ``_max`` over the point's ``ok`` seeds; the systematic uncertainty the
+run can state beside them (:mod:`.bias`): ``max_wear_depth_m_bias_rel`` (and ``revR_..._bias_rel``
+per wear-study snapshot), the wear factor's relative bias or ``unknown``, and
+``wear_factor_bias_note``.  ``bands/pointK_LABEL.csv``: the worn profile's mean, std, min and max
+per bushing point (LABEL ``final``, and ``revR`` per wear-study snapshot).  Figures:
+``vs_PARAMETER.png`` (each figure of merit against each swept parameter as the change from the
+first grid point in %, mean with the +-std band, every seed, and the wear factor's bias band),
+``profile_bands_N.png`` (the final worn profiles of up to PROFILES_PER_PANEL grid points overlaid),
+and for wear studies ``fig7_bands_pointK.png`` (paper Fig. 7 with bands).
 """
 from __future__ import annotations
 
+import json
 import math
 import re
 from pathlib import Path
 
 import numpy as np
 
+from .bias import Bias, summary_biases
 from .runner import LEAD_COLUMNS, PENDING, TAIL_COLUMNS, write_csv_atomic
 
 FIGURES_OF_MERIT = ("max_wear_depth_m", "worn_volume_m3", "max_contact_force_N", "contact_fraction",
                     "impacts_per_revolution", "slider_acc_min_m_s2", "slider_acc_max_m_s2", "max_eccentricity_m")
-PANELS_PER_PAGE = 16
+PROFILES_PER_PANEL = 10
+BIAS_NOTE = "wear_factor_bias_note"
 _PROFILE = re.compile(r"^profile(?:_rev(\d+))?\.csv$")
 
 
@@ -31,11 +38,31 @@ class GridPoint:
         self.rows = rows
         self.values = {name: rows[0][name] for name in names}
         self.ok = [r for r in rows if r["status"] == "ok"]
+        self.bias: dict[str, Bias] = {}      # figure column -> the wear factor's bias (:func:`read_biases`)
 
     @property
     def label(self) -> str:
-        return ", ".join(f"{name}={value:g}" if isinstance(value, float) else f"{name}={value}"
-                         for name, value in self.values.items()) or "base case"
+        return values_label(self.values.items()) or "base case"
+
+
+def values_label(pairs) -> str:
+    """``name=value, ...`` (floats in %g) of (name, value) pairs."""
+    return ", ".join(f"{name}={value:g}" if isinstance(value, float) else f"{name}={value}" for name, value in pairs)
+
+
+def read_biases(out: Path, point: GridPoint) -> dict:
+    """{figure column: Bias} of the point's runs, from its first ok case's summary.json (the seeds share it)."""
+    for row in point.ok:
+        path = out / row["folder"] / "summary.json"
+        if path.is_file():
+            return summary_biases(json.loads(path.read_text()))
+    return {}
+
+
+def bias_label(point: GridPoint, column: str = "max_wear_depth_m") -> str:
+    """E.g. ``bias -8.4 %`` (the wear factor's, of ``column``); empty when the point has none."""
+    bias = point.bias.get(column)
+    return "" if bias is None else f"bias {bias.text}"
 
 
 def grid_points(rows: list[dict], names: list[str]) -> list[GridPoint]:
@@ -69,6 +96,11 @@ def ensemble_rows(points: list[GridPoint]) -> list[dict]:
             row[f"{column}_std"] = float(values.std(ddof=1)) if values.size > 1 else ""
             row[f"{column}_min"] = float(values.min())
             row[f"{column}_max"] = float(values.max())
+            if column in point.bias:                  # the systematic uncertainty next to the answer
+                row[f"{column}_bias_rel"] = point.bias[column].csv
+        for column, bias in point.bias.items():
+            row.setdefault(f"{column}_bias_rel", bias.csv)
+        row[BIAS_NOTE] = " | ".join(dict.fromkeys(b.note for b in point.bias.values()))
         out.append(row)
     return out
 
@@ -112,40 +144,34 @@ def _band(ax, x, values: np.ndarray, scale: float, label=None, color=None):
 
 
 def plot_profile_bands(out: Path, points, bands: dict) -> list[str]:
-    """profile_bands_N.png: the final worn profile (mean +- std over seeds, min-max shaded light)
-    of each grid point, up to PANELS_PER_PAGE panels a page."""
+    """profile_bands_N.png: the final worn profiles (mean +- std over seeds) of up to
+    PROFILES_PER_PANEL grid points overlaid in one panel, the legend naming each point, its seeds
+    and the wear factor's bias of its max depth."""
     from ..plots import plt, save_figure
 
     keys = [k for k in range(len(points)) if "final" in bands.get(k, {})]
     names = []
-    for page, start in enumerate(range(0, len(keys), PANELS_PER_PAGE), start=1):
-        chunk = keys[start:start + PANELS_PER_PAGE]
-        ncols = min(4, len(chunk))
-        nrows = math.ceil(len(chunk) / ncols)
-        fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols + 0.8, 2.8 * nrows + 0.6), squeeze=False,
-                                 sharex=True)
-        for ax, k in zip(axes.ravel(), chunk):
+    for page, start in enumerate(range(0, len(keys), PROFILES_PER_PANEL), start=1):
+        fig, ax = plt.subplots(figsize=(9, 5))
+        for k in keys[start:start + PROFILES_PER_PANEL]:
             phi, depth = bands[k]["final"]
-            ax.fill_between(phi, depth.min(axis=0) * 1e6, depth.max(axis=0) * 1e6, color="0.85", lw=0)
-            _band(ax, phi, depth, 1e6)
-            ax.set_title(f"{points[k].label} ({len(depth)} seeds)", fontsize=8)
-            ax.set_xlim(0, 360)
-            ax.set_xticks(range(0, 361, 90))
-            ax.grid(alpha=0.3)
-        for ax in axes.ravel()[len(chunk):]:
-            ax.set_visible(False)
-        for ax in axes[:, 0]:
-            ax.set_ylabel("wear depth [µm]")
-        for ax in axes[-1]:
-            ax.set_xlabel("rod-frame angle [deg]")
-        fig.suptitle("worn profile: mean ± std over seeds (grey: min-max)", fontsize=10)
+            details = ", ".join(filter(None, (f"{len(depth)} seeds", bias_label(points[k]))))
+            _band(ax, phi, depth, 1e6, label=f"{points[k].label} ({details})")
+        ax.set_xlim(0, 360)
+        ax.set_xticks(range(0, 361, 45))
+        ax.set_xlabel("angle in the rod frame [deg] (0 = towards the slider)")
+        ax.set_ylabel("wear depth [µm]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+        ax.set_title("worn profile: mean ± std over seeds (bias: the wear factor's, of the max depth)", fontsize=10)
         names.append(f"profile_bands_{page}.png")
         save_figure(fig, out / names[-1])
     return names
 
 
 def plot_fig7_bands(out: Path, points, bands: dict) -> list[str]:
-    """fig7_bands_pointK.png: the wear-study snapshots' profiles, mean +- std over seeds."""
+    """fig7_bands_pointK.png: the wear-study snapshots' profiles, mean +- std over seeds, each
+    labelled with the wear factor's bias of its max depth."""
     from ..plots import plt, save_figure
 
     names = []
@@ -156,13 +182,14 @@ def plot_fig7_bands(out: Path, points, bands: dict) -> list[str]:
         fig, ax = plt.subplots(figsize=(8, 4.5))
         for revolution, label in snaps:
             phi, depth = by_label[label]
-            _band(ax, phi, depth, 1e6, label=f"{revolution} rev")
+            bias = bias_label(points[k], f"{label}_max_wear_depth_m")
+            _band(ax, phi, depth, 1e6, label=f"{revolution} rev" + (f" ({bias})" if bias else ""))
         ax.set_xlabel("angle in the rod frame [deg] (0 = towards the slider)")
         ax.set_ylabel("wear depth [µm]")
         ax.set_xlim(0, 360)
         ax.set_xticks(range(0, 361, 45))
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, title="bias: the wear factor's, of the max depth", title_fontsize=7)
         n = len(by_label[snaps[0][1]][1])
         ax.set_title(f"Fig. 7 with bands: mean ± std over {n} seeds ({points[k].label})", fontsize=10)
         names.append(f"fig7_bands_point{k}.png")
@@ -170,9 +197,54 @@ def plot_fig7_bands(out: Path, points, bands: dict) -> list[str]:
     return names
 
 
+def _seeds(point: GridPoint, merit: str) -> np.ndarray:
+    return np.array([r[merit] for r in point.ok if _number(r.get(merit))], dtype=float)
+
+
+def _change_panel(ax, merit: str, lines: dict) -> list[float]:
+    """One figure of merit: per line (x, point) its seeds, mean and +-std band as the change from the
+    line's first point in % (absolute where that point's mean is 0), and the wear factor's bias band
+    +-|bias| around no change; returns the lines' reference means (empty when absolute)."""
+    relative = True
+    series = {}
+    for others, members_at in lines.items():
+        pts = [(x, point, _seeds(point, merit)) for x, point in sorted(members_at, key=lambda item: item[0])]
+        pts = [p for p in pts if p[2].size]
+        if pts:
+            series[others] = pts
+            relative &= bool(math.isfinite(pts[0][2].mean()) and pts[0][2].mean() != 0.0)
+    unknown, refs = False, []
+    for others, pts in series.items():
+        ref = pts[0][2].mean() if relative else 0.0
+        refs += [ref] if relative else []
+        scale = 100.0 / abs(ref) if relative else 1.0
+        xs = np.array([x for x, _, _ in pts], dtype=float)
+        biases = [point.bias.get(merit) for _, point, _ in pts]
+        unknown |= any(b is not None and b.rel is None for b in biases)
+        half = np.array([abs(b.rel) if b is not None and b.rel is not None else np.nan for b in biases])
+        if relative and np.any(half > 0):
+            band_x = xs if xs.size > 1 else np.array([xs[0] - 0.5, xs[0] + 0.5])
+            band = half * 100.0 if xs.size > 1 else np.repeat(half * 100.0, 2)
+            ax.fill_between(band_x, -band, band, color="0.85", lw=0, zorder=0,
+                            label="wear-factor bias" if others == next(iter(series)) else None)
+        means = np.array([(ys.mean() - ref) * scale for _, _, ys in pts])
+        stds = np.array([ys.std(ddof=1) * scale if ys.size > 1 else 0.0 for _, _, ys in pts])
+        line, = ax.plot(xs, means, "-", lw=1.2, label=values_label(others) or None)
+        for x, _, ys in pts:
+            ax.plot(np.full(ys.size, x), (ys - ref) * scale, ".", ms=3, alpha=0.5, color=line.get_color())
+        ax.fill_between(xs, means - stds, means + stds, color=line.get_color(), alpha=0.2, lw=0)
+    if relative:
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.set_ylabel("change from the first point [%]", fontsize=7)
+    if unknown:
+        ax.text(0.02, 0.96, "wear-factor bias unknown", transform=ax.transAxes, fontsize=6, va="top")
+    return refs
+
+
 def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
-    """vs_PARAMETER.png: each figure of merit against each swept parameter; one line per
-    combination of the other swept parameters (mean, +-std band, every seed as a dot)."""
+    """vs_PARAMETER.png: each figure of merit against each swept parameter, as the change from the
+    first grid point in % against the wear factor's bias band (:func:`_change_panel`); one line per
+    combination of the other swept parameters."""
     from ..plots import plt, save_figure
 
     if not points or not points[0].values:
@@ -192,33 +264,18 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
         nrows = max(1, math.ceil(len(merits) / ncols))
         fig, axes = plt.subplots(nrows, ncols, figsize=(3.8 * ncols + 0.5, 3.0 * nrows + 0.8), squeeze=False)
         for ax, merit in zip(axes.ravel(), merits):
-            for others, members_at in lines.items():
-                xs, means, stds = [], [], []
-                label = ", ".join(f"{p}={v:g}" if isinstance(v, float) else f"{p}={v}" for p, v in others) or None
-                color = None
-                for x, point in sorted(members_at, key=lambda item: item[0]):
-                    ys = np.array([r[merit] for r in point.ok if _number(r.get(merit))], dtype=float)
-                    if ys.size == 0:
-                        continue
-                    dots = ax.plot(np.full(ys.size, x), ys, ".", ms=3, alpha=0.5, color=color)
-                    color = dots[0].get_color()
-                    xs.append(x)
-                    means.append(ys.mean())
-                    stds.append(ys.std(ddof=1) if ys.size > 1 else 0.0)
-                if xs:
-                    xs, means, stds = map(np.asarray, (xs, means, stds))
-                    ax.plot(xs, means, "-", color=color, lw=1.2, label=label)
-                    ax.fill_between(xs, means - stds, means + stds, color=color, alpha=0.2, lw=0)
-            ax.set_title(merit, fontsize=9)
+            refs = _change_panel(ax, merit, lines)
+            ax.set_title(merit + (f" (0 % = {refs[0]:.4g})" if len(refs) == 1 else ""), fontsize=9)
             ax.set_xlabel(param, fontsize=8)
             if not numeric:
                 ax.set_xticks(range(len(values)), [str(v) for v in values])
             ax.grid(alpha=0.3)
         for ax in axes.ravel()[len(merits):]:
             ax.set_visible(False)
-        if any(label for label in lines) and len(lines) > 1:
+        if axes[0, 0].get_legend_handles_labels()[0]:
             axes[0, 0].legend(fontsize=6)
-        fig.suptitle(f"figures of merit against {param}: mean ± std over seeds (dots: seeds)", fontsize=10)
+        fig.suptitle(f"figures of merit against {param}: change from the first point, mean ± std over seeds "
+                     "(dots: seeds; grey: the wear factor's bias)", fontsize=10)
         names.append(f"vs_{param}.png")
         save_figure(fig, out / names[-1])
     return names
@@ -226,9 +283,12 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
 
 def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = True) -> dict:
     """ensemble.csv, the profile bands and (``plots``) the figures from ``rows`` (every case's, in
-    design order; ``names``: the swept values' columns); returns their file names."""
+    design order; ``names``: the swept values' columns); returns the ensemble rows, the figures'
+    file names and the notes on the wear factor's bias."""
     out = Path(out)
     points = grid_points(rows, names)
+    for point in points:
+        point.bias = read_biases(out, point)
     ensemble = ensemble_rows(points)
     write_csv_atomic(out / "ensemble.csv", ensemble, lead=("point", *names, "n_ok", "n_failed", "n_pending"))
     bands = profile_bands(out, points)
@@ -236,7 +296,9 @@ def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = T
     if plots and any(point.ok for point in points):
         figures = (plot_against_parameters(out, points) + plot_profile_bands(out, points, bands)
                    + plot_fig7_bands(out, points, bands))
-    return {"ensemble": ensemble, "figures": figures}
+    notes = list(dict.fromkeys(b.note for point in points for b in point.bias.values()))
+    return {"ensemble": ensemble, "figures": figures, "wear_factor_bias": notes}
 
 
-__all__ = ["write_reports", "ensemble_rows", "grid_points", "profile_bands", "GridPoint", "FIGURES_OF_MERIT"]
+__all__ = ["write_reports", "ensemble_rows", "grid_points", "profile_bands", "read_biases", "GridPoint",
+           "FIGURES_OF_MERIT", "BIAS_NOTE"]

@@ -1,0 +1,83 @@
+"""The systematic uncertainty a sweep can state: the wear factor's bias on the max wear depth.
+
+A wear factor F > 1 lets one simulated revolution stand for F crank revolutions; its answer differs
+from the brute-force run (F = 1) by a bias that the scatter over seeds does not show.
+:data:`WEAR_FACTOR_BIAS` holds that bias as measured by ``wearjoint wear-study --convergence``
+(:data:`SOURCE`); a run's bias is taken from it where its factor and revolution count match, and is
+unknown otherwise.  Without wear, or at F = 1, there is no wear-factor bias (0).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (wear-study --convergence 1,10,50,100 "
+          "over 1000 and over 100 revolutions; patch placement, k_w 4.23e-11 m^2/N, RK4 at 1e-5 s, an earlier "
+          "contact: not repeated with the foundation contact)")
+# F -> {crank revolutions R: max depth at F / max depth at F = 1 - 1}, from SOURCE's two tables
+WEAR_FACTOR_BIAS = {
+    10.0: {50: 0.005, 100: 0.096, 250: 0.001, 500: -0.054, 750: -0.049, 1000: -0.045},
+    50.0: {50: 0.17, 100: 0.21, 250: 0.062, 500: -0.011, 750: -0.055, 1000: -0.088},
+    100.0: {50: 0.043, 100: 0.18, 250: 0.003, 500: -0.056, 750: -0.085, 1000: -0.084},
+}
+UNKNOWN = "unknown"
+
+
+@dataclass(frozen=True)
+class Bias:
+    """The max depth's relative bias ``rel`` (None: unknown) and where it comes from."""
+
+    rel: float | None
+    note: str
+
+    @property
+    def text(self) -> str:
+        """E.g. ``-8.4 %``, ``0 %`` or ``unknown``."""
+        return UNKNOWN if self.rel is None else "0 %" if self.rel == 0.0 else f"{self.rel * 100:+.1f} %"
+
+    @property
+    def csv(self):
+        """The value for a CSV cell: the relative bias, or ``unknown``."""
+        return UNKNOWN if self.rel is None else self.rel
+
+    @classmethod
+    def from_csv(cls, cell: str, note: str = "") -> "Bias":
+        """The bias a CSV cell (:attr:`csv`) holds."""
+        return cls(None if cell == UNKNOWN else float(cell), note)
+
+
+def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = False) -> Bias:
+    """The bias of the max depth after ``revolutions`` crank revolutions at wear factor ``wear_factor``
+    (0: no wear); ``cycle_jump``: the run scaled blocks of revolutions (never measured)."""
+    if not wear_factor > 0.0:
+        return Bias(0.0, "none: no wear")
+    if wear_factor == 1.0 and not cycle_jump:
+        return Bias(0.0, "none: F = 1 (brute force)")
+    if cycle_jump:
+        return Bias(None, "unknown: cycle jumping was never measured")
+    for factor, by_revolution in WEAR_FACTOR_BIAS.items():
+        for revolution, rel in by_revolution.items():
+            if math.isclose(wear_factor, factor, rel_tol=1e-9) and math.isclose(revolutions, revolution, rel_tol=1e-9):
+                return Bias(rel, f"measured: {SOURCE}")
+    revs = ", ".join(str(r) for r in sorted({r for table in WEAR_FACTOR_BIAS.values() for r in table}))
+    return Bias(None, f"unknown: not measured at F = {wear_factor:g} and these revolutions (measured: F = "
+                      f"{', '.join(f'{f:g}' for f in WEAR_FACTOR_BIAS)} at {revs} rev)")
+
+
+def summary_biases(summary: dict) -> dict:
+    """{figure column: Bias} for a case's summary.json: ``max_wear_depth_m`` and, for a wear study,
+    ``revR_max_wear_depth_m`` per snapshot R (the revolutions the run stands for: R, or F x the
+    simulated revolutions of simulate and cosim)."""
+    joint = summary.get("parameters", {}).get("joint", {})
+    factor = joint.get("wear_factor", 1.0) if joint.get("wear_coefficient_m2_N", 1.0) > 0.0 else 0.0
+    study = summary.get("parameters", {}).get("study")
+    if study is None:
+        return {"max_wear_depth_m": wear_factor_bias(factor, factor * summary.get("revolutions", math.nan))}
+    jump = study.get("jump_revolutions", 0) > 0
+    out = {f"rev{s['revolution']}_max_wear_depth_m": wear_factor_bias(factor, s["revolution"], jump)
+           for s in summary.get("snapshots", [])}
+    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump)
+    return out
+
+
+__all__ = ["Bias", "WEAR_FACTOR_BIAS", "SOURCE", "UNKNOWN", "wear_factor_bias", "summary_biases"]
