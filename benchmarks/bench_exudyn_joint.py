@@ -2,13 +2,15 @@
 
     python benchmarks/bench_exudyn_joint.py [--end-time 0.2] [--repeats 3]
 
-Bars hung from ground and swinging from 3 degrees, generalized-alpha at 10 us with wear: one bar
-through one clearance joint, two bars through two, and one bar on an ideal revolute joint (the
-same system without the joint's Python callbacks).  Prints steps per second and microseconds per
-step, the joint's cost per step (against the ideal joint), how often exudyn calls the joint's force
-and Jacobian user functions per step (counted in one more run: the counting is not timed), and the
-kernel's own cost per evaluation (``evaluate_contact`` from a numba loop) for comparison: what is left
-is exudyn calling Python.  Medians of ``--repeats`` runs, with the load average.
+Bars hung from ground and swinging from 3 degrees, generalized-alpha at 10 us with wear, at
+``simulation_settings()``: one bar through one clearance joint, two bars through two, and one bar
+on an ideal revolute joint (the same system without the joint's Python callbacks).  Each clearance
+case runs with the helper's exact Jacobian and, for comparison, with the forward differences the
+helper used before (:class:`ForwardDifferences`, kept here only), and each of them at exudyn's
+absolute Newton tolerance (1e-10 N) instead of the helper's: the helper before issue 28 is forward
+differences at exudyn's tolerance.  Prints microseconds per step, Newton iterations and Jacobian
+updates per step (exudyn's counters), the joint's cost per step over the ideal joint, and the
+kernels' own cost per evaluation (from a numba loop): what is left is exudyn calling Python.  Medians of ``--repeats`` runs, with the load average.
 """
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from repeats import Load, add_repeats_argument  # noqa: E402
@@ -31,7 +34,8 @@ from exudyn.itemInterface import (  # noqa: E402
 )
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
-from wearjoint.exudyn import add_clearance_joint, simulation_settings  # noqa: E402
+from wearjoint.core import layout as L  # noqa: E402
+from wearjoint.exudyn import add_clearance_joint, generalized_contact_forces, simulation_settings  # noqa: E402
 
 LENGTH, MASS = 0.22, 0.19          # the paper's rod [m], [kg]
 STEP = 1e-5
@@ -61,59 +65,92 @@ def swinging_bars(n_bars: int, ideal: bool):
     return sc, mbs, handles
 
 
-def run(n_bars: int, ideal: bool, end_time: float) -> tuple[float, int]:
-    """(wall time [s], steps) of one simulation."""
+@njit
+def forward_difference_jacobian(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
+                                jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force, base, jacobian,
+                                factor_q, factor_q_t):
+    """-(factor_q dF/dq + factor_q_t dF/dq_t) of the helper's force by forward differences with
+    exudyn's step, 1e-7 max(|x|, 0.01): the helper's Jacobian before the exact one (benchmark only)."""
+    n = q.shape[0]
+    generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
+                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, base)
+    jacobian[:, :] = 0.0
+    for k in range(2 * n):
+        x = q if k < n else q_t
+        factor = factor_q if k < n else factor_q_t
+        col = k % n
+        x0 = x[col]
+        epsilon = 1e-7 * max(abs(x0), 0.01)
+        x[col] = x0 + epsilon
+        generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j,
+                                   vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force)
+        x[col] = x0
+        for row in range(n):
+            jacobian[row, col] -= factor * (force[row] - base[row]) / epsilon
+
+
+class ForwardDifferences:
+    """A joint's Jacobian user function by :func:`forward_difference_jacobian` (reads the handle's
+    private kernel arguments: a benchmark, not an interface)."""
+
+    def __init__(self, handle):
+        n = handle._q.size
+        self.handle = handle
+        self.arguments = (*handle._force_arguments, np.zeros(n), np.zeros((n, n)))
+
+    def __call__(self, mbs, t, item, q, q_t, factor_q, factor_q_t):
+        self.handle._q[:], self.handle._q_t[:] = q, q_t
+        forward_difference_jacobian(*self.arguments, factor_q, factor_q_t)
+        return self.arguments[-1]
+
+
+def run(n_bars: int, ideal: bool, end_time: float, differences: bool = False,
+        exudyn_tolerance: bool = False) -> tuple[float, int, float, float]:
+    """(wall time [s], steps, Newton iterations per step, Jacobian updates per step) of one simulation;
+    ``differences``: the joints' Jacobian by forward differences; ``exudyn_tolerance``: Newton's
+    absolute tolerance exudyn's 1e-10 N instead of the helper's."""
     sc, mbs, handles = swinging_bars(n_bars, ideal)
+    if differences:         # exudyn keeps the functions it was given: give it the old ones
+        for handle in handles:
+            mbs.ModifyObject(handle.object_number, {"jacobianUserFunction": ForwardDifferences(handle)})
     mbs.Assemble()
-    settings = simulation_settings(end_time, STEP)
+    settings = simulation_settings(end_time, STEP, handles)
+    if exudyn_tolerance:
+        settings.timeIntegration.newton.absoluteTolerance = 1e-10
     wall = time.perf_counter()
     exu.SolveDynamic(mbs, settings)
-    return time.perf_counter() - wall, settings.timeIntegration.numberOfSteps
+    wall = time.perf_counter() - wall
+    steps, counters = settings.timeIntegration.numberOfSteps, mbs.sys["dynamicSolver"].it
+    return wall, steps, counters.newtonStepsCount / steps, counters.newtonJacobiCount / steps
 
 
-def calls_per_step(n_bars: int, end_time: float) -> tuple[float, float]:
-    """(force, Jacobian) user-function calls per step exudyn makes, all joints together."""
-    sc, mbs, handles = swinging_bars(n_bars, False)
-    calls = {"forceUserFunction": 0, "jacobianUserFunction": 0}
-
-    def counting(name, function):
-        def counted(*args):
-            calls[name] += 1
-            return function(*args)
-        return counted
-    for handle in handles:      # exudyn keeps the functions it was given: give it counting ones
-        mbs.ModifyObject(handle.object_number, {
-            "forceUserFunction": counting("forceUserFunction", handle.generalized_force),
-            "jacobianUserFunction": counting("jacobianUserFunction", handle.generalized_jacobian)})
-    mbs.Assemble()
-    settings = simulation_settings(end_time, STEP)
-    exu.SolveDynamic(mbs, settings)
-    steps = settings.timeIntegration.numberOfSteps
-    return calls["forceUserFunction"] / steps, calls["jacobianUserFunction"] / steps
-
-
-def kernel_seconds_per_evaluation(n: int = 200_000) -> float:
-    from numba import njit
-
-    from wearjoint.core.contact import evaluate_contact
+def kernel_seconds_per_evaluation(n: int = 200_000) -> tuple[float, float]:
+    """(evaluate_contact, contact_jacobian) seconds per evaluation from a numba loop, the pin 5 um deep."""
+    from wearjoint.core.contact import contact_jacobian, evaluate_contact
 
     joint = ClearanceJoint(JointParameters())
 
     @njit
-    def loop(n, pos_i, vel_i, pos_j, vel_j, jp, c, s, h, b, m, out):
+    def loop(n, with_jacobian, pos_i, vel_i, pos_j, vel_j, jp, c, s, h, b, m, out, jacobian):
         total = 0.0
         for k in range(n):
             pos_j[0] = -1.05e-4 + 1e-12 * (k % 7)
-            evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, c, s, h, b, m, out)
+            if with_jacobian:
+                contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, c, s, h, b, m, out, jacobian)
+            else:
+                evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, c, s, h, b, m, out)
             total += out[0]
         return total
     args = (np.zeros(3), np.array([0.0, 0.0, -1.0]), np.array([-1.05e-4, 0.0, 0.0]), np.array([0.0, 0.2, 0.0]),
             joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory,
-            joint.result)
-    loop(10, *args)
-    wall = time.perf_counter()
-    loop(n, *args)
-    return (time.perf_counter() - wall) / n
+            joint.result, np.zeros((L.N_RESULT, L.N_KINEMATIC_INPUTS)))
+    seconds = []
+    for with_jacobian in (False, True):
+        loop(10, with_jacobian, *args)
+        wall = time.perf_counter()
+        loop(n, with_jacobian, *args)
+        seconds.append((time.perf_counter() - wall) / n)
+    return seconds[0], seconds[1]
 
 
 def main(argv=None) -> int:
@@ -123,21 +160,24 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     load = Load()
     run(1, False, 0.01)                                   # compile the kernels and warm up exudyn
-    figures = {}
-    for label, n_bars, ideal in (("ideal revolute", 1, True), ("1 clearance joint", 1, False),
-                                 ("2 clearance joints", 2, False)):
-        runs = [run(n_bars, ideal, args.end_time) for _ in range(args.repeats)]
-        wall, steps = statistics.median([r[0] for r in runs]), runs[0][1]
-        figures[label] = (wall, steps, n_bars)
-        print(f"{label:<20} {steps / wall:>9.0f} steps/s   {1e6 * wall / steps:7.1f} us/step")
-    ideal = figures["ideal revolute"][0] / figures["ideal revolute"][1]
-    kernel = kernel_seconds_per_evaluation()
-    for label in ("1 clearance joint", "2 clearance joints"):
-        wall, steps, n_bars = figures[label]
-        forces, jacobians = calls_per_step(n_bars, args.end_time)
-        print(f"{label}: {1e6 * (wall / steps - ideal):.1f} us per step over the ideal joint; exudyn calls the force "
-              f"user functions {forces:.2f} and the Jacobian ones {jacobians:.2f} times per step; the kernel itself "
-              f"takes {1e6 * kernel:.2f} us per evaluation")
+    run(1, False, 0.01, differences=True)
+    cases = [("ideal revolute", 1, True, False, False)]
+    for joints in (1, 2):
+        cases += [(f"{joints} joint{'s' if joints > 1 else ''}, {name}", joints, False, differences, tolerance)
+                  for name, differences, tolerance in (("exact Jacobian", False, False),
+                                                       ("forward differences", True, False),
+                                                       ("exact, exudyn's tolerance", False, True),
+                                                       ("differences, exudyn's tol. (before)", True, True))]
+    ideal = None
+    print(f"{'':<45} {'us/step':>8} {'over ideal':>10} {'Newton it/step':>15} {'Jacobians/step':>15}")
+    for label, n_bars, is_ideal, differences, tolerance in cases:
+        runs = [run(n_bars, is_ideal, args.end_time, differences, tolerance) for _ in range(args.repeats)]
+        per_step = statistics.median(r[0] / r[1] for r in runs)
+        ideal = per_step if is_ideal else ideal
+        print(f"{label:<45} {1e6 * per_step:8.1f} {1e6 * (per_step - ideal):10.1f} {runs[0][2]:15.3f} "
+              f"{runs[0][3]:15.4f}")
+    force, jacobian = kernel_seconds_per_evaluation()
+    print(f"kernels per evaluation: evaluate_contact {1e6 * force:.2f} us, contact_jacobian {1e6 * jacobian:.2f} us")
     print(f"medians of {args.repeats} runs of {args.end_time} s; {load.stop()}")
     return 0
 

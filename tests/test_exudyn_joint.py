@@ -19,7 +19,7 @@ from exudyn.itemInterface import (  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.exudyn import (  # noqa: E402
-    HISTORY_COLUMNS, add_clearance_joint, check_step, set_post_step, simulation_settings,
+    HISTORY_COLUMNS, add_clearance_joint, check_step, contact_stiffness_bound, set_post_step, simulation_settings,
 )
 from wearjoint.parameters import ParameterError  # noqa: E402
 
@@ -42,11 +42,12 @@ def rigid_body(mbs, position, velocity=(0.0, 0.0, 0.0), mass=BAR_MASS, inertia=B
     return body
 
 
-def hung_bar(mbs, pivot=(0.0, 0.0), angle=0.0, mass=BAR_MASS, **joint):
+def hung_bar(mbs, pivot=(0.0, 0.0), angle=0.0, mass=BAR_MASS, sag=0.0, **joint):
     """A bar of BAR_LENGTH and ``mass`` whose upper end's bushing hangs on a ground pin at ``pivot``,
-    the bar at ``angle`` from the vertical, pin centred in the bushing; returns (bar, handle)."""
+    the bar at ``angle`` from the vertical, the bushing centre ``sag`` [m] below the pin's (0:
+    centred); returns (bar, handle)."""
     s, c = math.sin(angle), math.cos(angle)
-    centre = (pivot[0] + 0.5 * BAR_LENGTH * s, pivot[1] - 0.5 * BAR_LENGTH * c, angle)
+    centre = (pivot[0] + (0.5 * BAR_LENGTH + sag) * s, pivot[1] - (0.5 * BAR_LENGTH + sag) * c, angle)
     bar = rigid_body(mbs, centre, mass=mass, inertia=mass * BAR_LENGTH ** 2 / 12.0)
     ground = mbs.AddObject(ObjectGround(referencePosition=[pivot[0], pivot[1], 0.0]))
     params = JointParameters(bushing_offset_m=(0.0, 0.5 * BAR_LENGTH), **joint)
@@ -89,34 +90,113 @@ def test_the_forces_exudyn_applies_are_the_joints_bit_for_bit():
     assert 20 < contacts < 180          # both sides of the contact were exercised
 
 
+def central_jacobian(forces, x, v, a, b, step_x=1e-9, step_v=1e-7):
+    """-(a dF/dx + b dF/dv) of ``forces(x, v)`` by central differences, each divided by the step the
+    floats actually took ((x + h) - (x - h), not 2h: at |x| ~ 0.1 m the rounding of x +- h would
+    otherwise be a 1e-7 error).  Truncation (h/delta)^2 and round-off eps delta/h leave ~1e-8 of
+    the largest entry at h = 1 nm for penetrations delta of microns."""
+    n = x.size
+    jacobian = np.zeros((n, n))
+    for k in range(n):
+        for which, step, factor in ((0, step_x, a), (1, step_v, b)):
+            plus, minus = [x.copy(), v.copy()], [x.copy(), v.copy()]
+            plus[which][k] += step
+            minus[which][k] -= step
+            jacobian[:, k] -= factor * (forces(*plus) - forces(*minus)) / (plus[which][k] - minus[which][k])
+    return jacobian
+
+
+A, B = 3e-11, 6e-6                 # exudyn's factors a, b at a 10 us generalized-alpha step
+EXACT = 1e-6                       # the Jacobian is exact: 100x the differences' own error (above)
+
+
 def test_the_jacobian_exudyn_is_given_is_the_derivative_of_those_forces():
     """The GenericODE2 Jacobian user function returns exudyn's left-hand-side Jacobian,
     -(a dF/dq + b dF/dq_t), of the forces F = ClearanceJoint.evaluate: against central differences
     of ClearanceJoint.evaluate, in contact (the pin 20 um into the bushing, sliding) and in the gap
-    (zero); it leaves the joint's state as it was."""
+    (zero), for a body hung from ground; it leaves the joint's state as it was."""
     _, mbs = new_system()
     bar, handle = hung_bar(mbs)
     reference = ClearanceJoint(handle.joint.params)
     centre = np.array([0.0, -0.5 * BAR_LENGTH, 0.0])
 
-    def forces(q, q_t):
-        return np.array(reference.evaluate(np.zeros(6), np.r_[centre + q, q_t]).bushing_force)
-    a, b = 3e-11, 6e-6                      # exudyn's factors at a 10 us generalized-alpha step
+    def forces(x, v):
+        return np.array(reference.evaluate(np.zeros(6), np.r_[x, v]).bushing_force)
     state = handle.joint.state_to_bytes()
     for depth, in_contact in ((1.2e-4, True), (0.5e-4, False)):
         q, q_t = np.array([2e-5, -depth, 1e-3]), np.array([0.05, -0.02, 0.3])
-        jacobian = np.array(handle.generalized_jacobian(mbs, 0.0, handle.object_number, q, q_t, a, b))
-        expected = np.zeros((3, 3))
-        for k in range(3):
-            step = np.eye(3)[k]
-            expected[:, k] = -(a * (forces(q + 1e-10 * step, q_t) - forces(q - 1e-10 * step, q_t)) / 2e-10
-                               + b * (forces(q, q_t + 1e-7 * step) - forces(q, q_t - 1e-7 * step)) / 2e-7)
+        jacobian = np.array(handle.generalized_jacobian(mbs, 0.0, handle.object_number, q, q_t, A, B))
+        expected = central_jacobian(forces, centre + q, q_t, A, B)
         if in_contact:
             assert np.abs(expected).max() > 0.0
-            np.testing.assert_allclose(jacobian, expected, rtol=0.0, atol=1e-3 * np.abs(expected).max())
+            np.testing.assert_allclose(jacobian, expected, rtol=0.0, atol=EXACT * np.abs(expected).max())
         else:
             assert not np.any(jacobian) and not np.any(expected)
     assert handle.joint.state_to_bytes() == state
+
+
+@pytest.mark.parametrize("worn", [False, True], ids=["unworn", "two-arc-groove"])
+def test_the_jacobian_between_two_bodies_is_the_derivative_of_the_forces_on_both(worn):
+    """Both sides rigid bodies, turned (so the chain runs through both angles) and moving (the pin
+    approaching at 0.19 m/s, sliding at 0.036 m/s): the 6 x 6 Jacobian equals central differences
+    of ClearanceJoint.evaluate's forces on both bodies, on the unworn bushing and on one with a 30 um
+    groove under the pin, which then touches the bushing in two separate arcs."""
+    _, mbs = new_system()
+    params = JointParameters(pin_offset_m=(0.03, 0.01), bushing_offset_m=(-0.05, 0.002))
+    pin_ref, bushing_ref = np.array([0.1, 0.2, 0.3]), np.array([0.18, 0.19, 0.25])
+    pin, bushing = rigid_body(mbs, pin_ref, gravity=False), rigid_body(mbs, bushing_ref, gravity=False)
+    handle = add_clearance_joint(mbs, pin, bushing, params.replace(
+        bushing_offset_m=_offset_placing_bushing_on_pin(pin_ref, bushing_ref, params)))
+    reference = ClearanceJoint(handle.joint.params)
+    p, phi = reference.params, np.radians(reference.phi_deg)
+    toward = math.radians(250.0)                  # the pin pressed 5 um into the bushing at 250 deg
+    if worn:
+        off = np.angle(np.exp(1j * (phi - toward)))
+        groove = np.where(np.abs(off) < math.radians(4.0), 30e-6 * np.cos(off * 90.0 / 4.0) ** 2, 0.0)
+        handle.joint.set_wear_profile(groove)
+        reference.set_wear_profile(groove)
+    e = (p.clearance_m + 5e-6) * np.array([math.cos(toward), math.sin(toward)])     # bushing frame
+    c, s = math.cos(bushing_ref[2]), math.sin(bushing_ref[2])
+    q = np.array([0.0, 0.0, 0.0, -(c * e[0] - s * e[1]), -(s * e[0] + c * e[1]), 0.0])
+    q_t = np.array([0.01, -0.02, 0.5, 0.005, 0.01, -3.0])
+    rho = p.bushing_radius_m + reference.wear_depth
+    overlapping = p.pin_radius_m > np.hypot(rho * np.cos(phi) - e[0], rho * np.sin(phi) - e[1])
+    assert np.count_nonzero(overlapping & ~np.roll(overlapping, 1)) == (2 if worn else 1)   # arcs in contact
+
+    def forces(x, v):
+        r = reference.evaluate(np.r_[x[:3], v[:3]], np.r_[x[3:], v[3:]])
+        return np.r_[r.pin_force, r.bushing_force]
+    jacobian = np.array(handle.generalized_jacobian(mbs, 0.0, handle.object_number, q, q_t, A, B))
+    expected = central_jacobian(forces, np.r_[pin_ref, bushing_ref] + q, q_t, A, B)
+    assert reference.evaluate(np.r_[pin_ref, q_t[:3]], np.r_[bushing_ref + q[3:], q_t[3:]]).normal_force_N > 100.0
+    np.testing.assert_allclose(jacobian, expected, rtol=0.0, atol=EXACT * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("model", ["foundation", "deepest"])
+def test_the_stiffness_bound_holds_on_worn_conforming_bushings(model):
+    """contact_stiffness_bound (Newton's round-off floor, simulation_settings) bounds the force's
+    derivative in the pin's position, central differences of ClearanceJoint.evaluate, with the pin
+    pressed 1 um into the unworn bushing and into bushings worn to fit it over an arc (the pin's own
+    circle cut 50-200 um into the bushing), where the foundation is several times stiffer than
+    unworn and approaches the bound."""
+    p = JointParameters(contact_model=model)
+    bound = contact_stiffness_bound(p)
+    phi = np.radians(ClearanceJoint(p).phi_deg)
+    stiffness = []
+    for cut in (0.0, 50e-6, 100e-6, 200e-6):
+        joint = ClearanceJoint(p)
+        centre = p.clearance_m + cut                                  # the pin centre, straight down
+        reach = -centre * np.sin(phi) + np.sqrt(p.pin_radius_m ** 2 - (centre * np.cos(phi)) ** 2)
+        joint.set_wear_profile(np.maximum(reach - p.bushing_radius_m, 0.0))
+        e = centre + 1e-6
+
+        def forces(x, v):
+            return np.array(joint.evaluate(np.r_[x, 0.0, v, 0.0], np.zeros(6)).pin_force[:2])
+        derivative = central_jacobian(forces, np.array([0.0, -e]), np.zeros(2), 1.0, 0.0)
+        stiffness.append(np.abs(derivative).max())
+    assert max(stiffness) < bound
+    if model == "foundation":
+        assert stiffness[-1] > 4.0 * stiffness[0] and stiffness[-1] > 0.3 * bound
 
 
 def _offset_placing_bushing_on_pin(pin_ref, bushing_ref, params):
@@ -160,6 +240,33 @@ def test_a_hung_bar_comes_to_rest_on_its_normal_force(explicit):
     assert np.mean(np.hypot(h["eccentricity_x_m"], h["eccentricity_y_m"])[late]) == pytest.approx(
         p.clearance_m + delta, rel=1e-3)
     assert handle.result().in_contact and handle.joint.max_wear_depth_m == 0.0
+
+
+@pytest.mark.parametrize("wear_factor", [0.0, 100.0], ids=["no-wear", "wear"])
+@pytest.mark.parametrize("mass", [0.1, 1.0, 10.0])
+def test_a_body_resting_in_the_joint_converges_and_carries_its_weight(mass, wear_factor):
+    """A bar hung from ground, started at rest at its static sag c + delta (Hertz, K delta^1.5 = m g),
+    runs 0.5 s at the helper's settings without exudyn cutting a single step (every Newton iteration
+    converged: with exudyn's absolute tolerance, 1e-10 N, a resting 1 kg bar stalled at a residual
+    of 8e-10 N, one rounding step of its position times the contact stiffness, in 1 step of ~500),
+    and the normal force carries the weight m g: on average over the run (momentum: the mean of
+    F_N - m g is m v(T)/T) and at every step of the last 0.1 s, to 1e-5 of m g: Newton's absolute
+    tolerance, 3.3e-6 N with these settings, is 3.4e-6 of the lightest weight, 0.98 N."""
+    _, mbs = new_system()
+    p = JointParameters()
+    weight = mass * GRAVITY
+    delta = (weight / p.contact_stiffness_N_m1_5) ** (1.0 / p.contact_exponent)
+    bar, handle = hung_bar(mbs, mass=mass, sag=p.clearance_m + delta, wear_factor=wear_factor)
+    mbs.Assemble()
+    end_time, step = 0.5, 1e-5
+    solve(mbs, end_time, step)
+    assert handle.accepted_steps == round(end_time / step)          # no step was cut
+    h = handle.history()
+    assert h["time_s"][-1] == pytest.approx(end_time)
+    velocity = mbs.GetNodeOutput(mbs.GetObject(bar)["nodeNumber"], exu.OutputVariableType.Velocity)[1]
+    assert np.mean(h["normal_force_N"]) == pytest.approx(weight + mass * velocity / end_time, rel=1e-5)
+    late = h["time_s"] > end_time - 0.1
+    np.testing.assert_allclose(h["normal_force_N"][late], weight, rtol=1e-5)
 
 
 def test_two_joints_keep_their_own_profiles_and_states():
@@ -219,3 +326,5 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
     with pytest.raises(ParameterError, match=r"step_s=2e-05 is invalid with wear: allowed at most 1e-05 s"):
         check_step(2e-5, [handle])
     check_step(1e-5, [handle])
+    with pytest.raises(ParameterError, match=r"coordinate_scale_m=0.0 is invalid: allowed a finite length > 0 m"):
+        simulation_settings(0.1, 1e-5, [handle], coordinate_scale_m=0.0)

@@ -1,7 +1,7 @@
 """A four-bar linkage with two wearing clearance joints, built in exudyn with
 :func:`wearjoint.exudyn.add_clearance_joint` (docs/four_bar.md).
 
-    python -m wearjoint.validation.four_bar --out results/four_bar [--revolutions 3] [--wear-factor 1]
+    python -m wearjoint.validation.four_bar --out results/four_bar [--revolutions 3] [--wear-factor 100]
 
 Links (docs/four_bar.md says where the values come from): ground A-D of length d along X,
 crank A-B (a), coupler B-C (b), rocker D-C (c); a Grashof crank-rocker (a + b <= c + d).  The crank
@@ -170,11 +170,16 @@ class FourBarModel:
     def simulate(self, end_time_s: float, step_s: float = 1e-5, progress: bool = False) -> dict:
         """exudyn's generalized-alpha (its explicit solvers take no revolute joints) at the fixed step
         ``step_s`` [s] to ``end_time_s`` [s]; returns the rocker angle and Freudenstein's at every
-        accepted step, the wall time and ``completed``: False if exudyn's Newton stopped earlier (worn
-        bushings, docs/four_bar.md), the run then ending there."""
+        accepted step, the wall time, exudyn's steps and Newton iterations, and ``completed``: False
+        if exudyn's Newton stopped earlier (docs/four_bar.md), the run then ending there."""
         _require("end_time_s", end_time_s, math.isfinite(end_time_s) and end_time_s > 0.0, "> 0 s")
         check_step(step_s, self.joints.values())
-        settings = simulation_settings(end_time_s, step_s)
+        linkage = self.linkage
+        # the coordinates' size for Newton's round-off floor: the linkage's extent, and the crank's
+        # angle (which grows without bound) times the pin's offset from the crank's centre
+        crank_turned = math.radians(linkage.initial_crank_angle_deg) + linkage.omega_rad_s * end_time_s
+        scale = max(linkage.ground_m + linkage.rocker_m, 0.5 * linkage.crank_m * crank_turned)
+        settings = simulation_settings(end_time_s, step_s, self.joints.values(), coordinate_scale_m=scale)
         self._progress = Progress(end_time_s, "four-bar", enabled=progress)
         wall = time.perf_counter()
         completed = True
@@ -185,11 +190,13 @@ class FourBarModel:
         finally:
             wall = time.perf_counter() - wall
             self._progress.close()
+        iterations = self.mbs.sys["dynamicSolver"].it
         t = np.array(self.time)
         crank, rocker = np.array(self.crank_angle), np.array(self.rocker_angle)
         return {"time_s": t[1:], "crank_angle_rad": crank[1:], "rocker_angle_rad": rocker[1:],
-                "ideal_rocker_angle_rad": freudenstein_rocker_angle(crank[1:], self.linkage), "wall_time_s": wall,
-                "completed": completed}
+                "ideal_rocker_angle_rad": freudenstein_rocker_angle(crank[1:], linkage), "wall_time_s": wall,
+                "completed": completed, "solver_steps": len(t) - 1,
+                "newton_iterations_per_step": iterations.newtonStepsCount / max(1, len(t) - 1)}
 
 
 def _figures(out: Path, run: dict, model: FourBarModel) -> None:
@@ -222,9 +229,8 @@ def main(argv=None) -> int:
     parser.add_argument("--revolutions", type=float, default=3.0,
                         help="crank revolutions (default %(default)s)")
     parser.add_argument("--clearance-m", type=float, default=1e-4)
-    parser.add_argument("--wear-factor", type=float, default=1.0,
-                        help="wear acceleration factor (default %(default)s; from about 10 exudyn's Newton stops "
-                             "within a few revolutions: docs/four_bar.md)")
+    parser.add_argument("--wear-factor", type=float, default=100.0,
+                        help="wear acceleration factor (default %(default)s)")
     parser.add_argument("--step", type=float, default=1e-5, help="solver step [s] (default %(default)s)")
     args = parser.parse_args(argv)
     try:
@@ -240,6 +246,7 @@ def main(argv=None) -> int:
     summary = {"revolutions": args.revolutions, "completed": run["completed"],
                "simulated_time_s": float(run["time_s"][-1]),
                "wall_time_s": run["wall_time_s"], "solver": "exudyn GeneralizedAlpha", "step_s": args.step,
+               "solver_steps": run["solver_steps"], "newton_iterations_per_step": run["newton_iterations_per_step"],
                "clearance_m": args.clearance_m, "wear_factor": args.wear_factor,
                "max_rocker_angle_error_rad": float(np.abs(error).max()), "linkage": asdict(model.linkage)}
     for name, handle in model.joints.items():
@@ -249,7 +256,7 @@ def main(argv=None) -> int:
                                     "max_wear_angle_deg": handle.joint.max_wear_angle_deg,
                                     "worn_volume_m3": handle.joint.worn_volume_m3}
         handle.joint.save_profile(out / f"profile_{name}.csv")
-    np.savez_compressed(out / "timeseries.npz", **{k: v for k, v in run.items() if k != "wall_time_s"})
+    np.savez_compressed(out / "timeseries.npz", **{k: v for k, v in run.items() if isinstance(v, np.ndarray)})
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
     _figures(out, run, model)
     model.close()

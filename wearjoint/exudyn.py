@@ -13,10 +13,12 @@ Each joint is one zero-mass ``ObjectGenericODE2`` on the bodies' nodes whose for
 returns the contact forces and torques of :meth:`wearjoint.ClearanceJoint.evaluate_array` (the
 same kernels as the monolithic engine and the FMU: Eqs. 1-23), so exudyn's implicit
 (generalized-alpha) and explicit solvers see them on the right-hand side; its Jacobian user function
-differentiates the same kernel numerically in one compiled call.  Wear and the contact-onset memory
-advance once per accepted step (Eqs. 24-35), in a post-step function that serves every joint of the
-system (one compiled call per joint) and then calls the user's own post-step function, if one was
-set before the first joint was added (one set later replaces it: use :func:`set_post_step`).
+returns the same kernel's exact derivatives (:func:`contact_jacobian`) in one compiled call.  Wear
+and the contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function
+that serves every joint of the system (one compiled call per joint) and then calls the user's own
+post-step function, if one was set before the first joint was added (one set later replaces it: use
+:func:`set_post_step`).  :func:`simulation_settings` gives exudyn's settings with Newton's absolute
+tolerance above the contact's round-off floor.
 
 This module and ``validation/`` are the only ones that import exudyn.
 """
@@ -30,11 +32,12 @@ import numpy as np
 from exudyn.itemInterface import ObjectGenericODE2
 
 from .core import layout as L
-from .core.contact import evaluate_contact, update_contact_memory
+from .core.contact import contact_jacobian, evaluate_contact, update_contact_memory
 from .core.jit import kernel
+from .core.pressure import foundation_modulus_factor
 from .core.wear import advance_joint
 from .joint import ClearanceJoint, ContactResult
-from .parameters import JointParameters, ParameterError
+from .parameters import JointParameters, ParameterError, _require
 
 # the columns of ClearanceJointHandle.history(), one row per accepted step
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
@@ -44,10 +47,8 @@ _HISTORY_SLOTS = np.array([L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION
                            L.R_ECCENTRICITY_Y, L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
                            L.R_BUSHING_TORQUE])
 MAX_WEAR_STEP_S = 1e-5   # a wear step must stay well below the penetration depth (docs/model.md §7)
-
-
-# exudyn's numerical differentiation (newton.numericalDifferentiation defaults): step = 1e-7 max(|x|, 0.01)
-_RELATIVE_EPSILON, _MINIMUM_COORDINATE = 1e-7, 0.01
+NEWTON_SAFETY = 10.0     # Newton's absolute tolerance over the residual's round-off floor (simulation_settings)
+_EPSILON = float(np.finfo(float).eps)
 
 
 @kernel
@@ -77,32 +78,35 @@ def generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, re
 
 
 @kernel
+def _jacobian_block(jacobian, rows, first_row, columns, first_input, derivative, factor_q, factor_q_t):
+    """Add -(factor_q d/dq + factor_q_t d/dq_t) of one body's (Fx, Fy, T), the ``derivative`` rows
+    from ``first_row``, in one body's coordinates (x, y, angle), whose positions and velocities are
+    the kernel's inputs ``first_input`` .. + 2 and + 3 .. + 5, at ``jacobian[rows, columns]``."""
+    for r in range(rows.shape[0]):
+        for c in range(columns.shape[0]):
+            jacobian[rows[r], columns[c]] -= (factor_q * derivative[first_row + r, first_input + c]
+                                              + factor_q_t * derivative[first_row + r, first_input + 3 + c])
+
+
+@kernel
 def generalized_force_jacobian(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
-                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force, base, jacobian,
+                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, derivative, jacobian,
                                factor_q, factor_q_t):
     """The GenericODE2's Jacobian as exudyn's ``jacobianUserFunction`` wants it, into ``jacobian``:
-    -(factor_q dF/dq + factor_q_t dF/dq_t) of the force F of :func:`generalized_contact_forces`, by
-    forward differences of that same function with exudyn's own numerical step (what exudyn would
-    compute from 2n + 1 Python calls, in one compiled call).  ``q``, ``q_t`` are perturbed and
-    restored; ``force`` and ``base`` are scratch of their size."""
-    n = q.shape[0]
-    generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
-                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, base)
-    for row in range(n):
-        for col in range(n):
+    -(factor_q dF/dq + factor_q_t dF/dq_t) of the force F of :func:`generalized_contact_forces`, from
+    the contact's exact derivatives (:func:`contact_jacobian` into ``derivative``, N_RESULT x 12).
+    A node's coordinates are its body's position less a constant reference and its velocities, so
+    d(position)/dq and d(velocity)/dq_t are identities and the chain rule only picks blocks."""
+    body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
+    body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
+    contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result,
+                     derivative)
+    for row in range(jacobian.shape[0]):
+        for col in range(jacobian.shape[1]):
             jacobian[row, col] = 0.0
-    for k in range(2 * n):
-        x = q if k < n else q_t
-        factor = factor_q if k < n else factor_q_t
-        col = k % n
-        x0 = x[col]
-        epsilon = _RELATIVE_EPSILON * max(abs(x0), _MINIMUM_COORDINATE)
-        x[col] = x0 + epsilon
-        generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j,
-                                   vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force)
-        x[col] = x0
-        for row in range(n):
-            jacobian[row, col] -= factor * (force[row] - base[row]) / epsilon
+    for rows, first_row in ((pin_index, L.R_PIN_FX), (bushing_index, L.R_BUSHING_FX)):
+        _jacobian_block(jacobian, rows, first_row, pin_index, 0, derivative, factor_q, factor_q_t)
+        _jacobian_block(jacobian, rows, first_row, bushing_index, 6, derivative, factor_q, factor_q_t)
 
 
 @kernel
@@ -185,7 +189,8 @@ class ClearanceJointHandle:
         self._accept_arguments = None   # after Assemble
         functions = {"forceUserFunction": self.generalized_force}
         if contact is None:
-            self._jacobian_arguments = (*self._force_arguments, np.zeros(n), np.zeros((n, n)))
+            self._jacobian_arguments = (*self._force_arguments[:-1], np.zeros((L.N_RESULT, L.N_KINEMATIC_INPUTS)),
+                                        np.zeros((n, n)))
             functions["jacobianUserFunction"] = self.generalized_jacobian
         self.object_number = mbs.AddObject(ObjectGenericODE2(
             nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((n, n)), **functions))
@@ -216,7 +221,8 @@ class ClearanceJointHandle:
 
     def generalized_jacobian(self, mbs, t, item, q, q_t, factor_q, factor_q_t):
         """GenericODE2 Jacobian user function: -(factor_q dF/dq + factor_q_t dF/dq_t) of the force above,
-        by forward differences in one compiled call (instead of exudyn's 2n + 1 calls of the force)."""
+        exact (the contact's derivatives), in one compiled call (instead of exudyn's 2n + 1 calls of the
+        force)."""
         self._q[:], self._q_t[:] = q, q_t
         arguments = self._jacobian_arguments
         generalized_force_jacobian(*arguments, factor_q, factor_q_t)
@@ -333,15 +339,44 @@ def _initial_eccentricity(pin: _Body, bushing: _Body, p: JointParameters) -> flo
     return math.hypot(xi - xj, yi - yj)
 
 
-def simulation_settings(end_time_s: float, step_s: float) -> "exu.SimulationSettings":
+def contact_stiffness_bound(parameters: JointParameters) -> float:
+    """An upper bound [N/m] of the joint's force derivative in the eccentricity, friction included:
+    (1 + mu) times, with the foundation, its stiffness in full conformity, pi k_f L R_j (the
+    resultant's Jacobian is k_f L R_j/R_i int d d^T dphi over the arcs in contact, |d| = R_i, at
+    most pi k_f L R_j ~ 1.67 K sqrt(c)); with the deepest point, n K c^(n-1), K delta^n's at a
+    penetration of the clearance c."""
+    p = parameters
+    if p.contact_model == "foundation":
+        kappa = foundation_modulus_factor(p.contact_stiffness_N_m1_5, p.pin_radius_m, p.bushing_radius_m)
+        stiffness = math.pi * kappa * p.pin_radius_m * p.bushing_radius_m
+    else:
+        stiffness = p.contact_exponent * p.contact_stiffness_N_m1_5 * p.clearance_m ** (p.contact_exponent - 1.0)
+    return (1.0 + p.friction_coefficient) * stiffness
+
+
+def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate_scale_m: float = 1.0
+                        ) -> "exu.SimulationSettings":
     """exudyn settings for ``end_time_s`` [s] in fixed steps of about ``step_s`` [s] (whole steps),
-    quiet: no solution file, no sensors, no console output.  Newton's tolerances are exudyn's; its
-    modified Newton updates the Jacobian after 2 iterations without convergence instead of 8: on the
-    stiff contact fewer iterations per step for the same tolerance (docs/model.md §8)."""
+    quiet: no solution file, no sensors, no console output, with Newton's absolute tolerance above
+    the contact's round-off floor (docs/model.md §8): exudyn's residual M a - f [N, N m] cannot fall
+    below the jump of the contact force when a position crosses one rounding step, k eps X (k the
+    contact's stiffness, at most :func:`contact_stiffness_bound` of the ``handles``' joints, or of
+    the paper's joint without handles; X = ``coordinate_scale_m`` [m], the largest |coordinate| of a
+    pin or bushing centre, or |angle| x offset of a turning body), and a body at rest starts each
+    step already at that floor, so only the absolute tolerance can end Newton there: it is
+    :data:`NEWTON_SAFETY` k eps X (3e-6 N for the paper's joint at X = 1 m), a joint load F then
+    resolved to that over F.  The relative tolerance stays exudyn's; modified Newton updates the
+    Jacobian after 2 iterations without convergence instead of 8 (fewer iterations per step)."""
+    _require("coordinate_scale_m", coordinate_scale_m, math.isfinite(coordinate_scale_m) and coordinate_scale_m > 0.0,
+             "a finite length > 0 m")
+    stiffness = max((contact_stiffness_bound(h.joint.params) for h in handles),
+                    default=contact_stiffness_bound(JointParameters()))
     settings = exu.SimulationSettings()
     settings.timeIntegration.endTime = end_time_s
     settings.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
-    settings.timeIntegration.newton.maxModifiedNewtonIterations = 2      # exudyn's default: 8
+    newton = settings.timeIntegration.newton
+    newton.absoluteTolerance = NEWTON_SAFETY * _EPSILON * coordinate_scale_m * stiffness
+    newton.maxModifiedNewtonIterations = 2      # exudyn's default: 8
     settings.timeIntegration.verboseMode = 0
     settings.solution.file.write = False
     settings.solution.sensors.active = False
@@ -359,5 +394,5 @@ def check_step(step_s: float, handles) -> None:
                              "(set wear_factor=0 for a longer step)")
 
 
-__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "ClearanceJointHandle",
-           "HISTORY_COLUMNS", "MAX_WEAR_STEP_S"]
+__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "contact_stiffness_bound",
+           "ClearanceJointHandle", "HISTORY_COLUMNS", "MAX_WEAR_STEP_S", "NEWTON_SAFETY"]
