@@ -328,3 +328,56 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
     check_step(1e-5, [handle])
     with pytest.raises(ParameterError, match=r"coordinate_scale_m=0.0 is invalid: allowed a finite length > 0 m"):
         simulation_settings(0.1, 1e-5, [handle], coordinate_scale_m=0.0)
+
+
+def _hung_bar(wear_factor):
+    """A 1 kg bar hung from ground through the joint (the helper's own test system, small)."""
+    import exudyn as exu
+    from exudyn.itemInterface import MarkerBodyMass, NodeRigidBody2D, ObjectGround, ObjectRigidBody2D, LoadMassProportional
+
+    from wearjoint import JointParameters
+    from wearjoint.exudyn import add_clearance_joint
+
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    ground = mbs.AddObject(ObjectGround())
+    p = JointParameters(pin_offset_m=(0.0, 0.0), bushing_offset_m=(0.0, 0.1), wear_factor=wear_factor)
+    node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.0, -0.1 - p.clearance_m, 0.0]))
+    bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=1.0, inertia=1e-3))
+    mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=bar)),
+                                     loadVector=[0.0, -9.81, 0.0]))
+    handle = add_clearance_joint(mbs, ground, bar, p)
+    mbs.Assemble()
+    return sc, mbs, handle
+
+
+def test_solving_with_a_step_too_long_for_wear_stops_naming_the_step():
+    """exudyn's default step (0.1 ms here) with a wearing joint: the joints' post-step function refuses
+    the step when the system is solved, with no call by the user; without wear the same run completes."""
+    import exudyn as exu
+
+    sc, mbs, handle = _hung_bar(wear_factor=1.0)
+    settings = exu.SimulationSettings()
+    settings.timeIntegration.endTime = 0.01
+    settings.timeIntegration.verboseMode = 0
+    settings.solution.file.write = False
+    with pytest.raises(Exception, match=r"solver's step 0\.0001 s .* invalid with wear: allowed at most 1e-05 s"):
+        exu.SolveDynamic(mbs, settings)
+    sc, mbs, handle = _hung_bar(wear_factor=0.0)
+    assert exu.SolveDynamic(mbs, settings)
+    assert handle.accepted_steps > 0
+
+
+def test_sensors_keep_working_with_the_helpers_settings():
+    import exudyn as exu
+    from exudyn.itemInterface import SensorNode
+
+    from wearjoint.exudyn import simulation_settings
+
+    sc, mbs, handle = _hung_bar(wear_factor=0.0)
+    mbs.AddSensor(SensorNode(nodeNumber=0, storeInternal=True, outputVariableType=exu.OutputVariableType.Position,
+                             writeToFile=False))
+    mbs.Assemble()
+    exu.SolveDynamic(mbs, simulation_settings(0.002, 1e-5, (handle,)))
+    data = mbs.GetSensorStoredData(0)
+    assert data.shape[0] >= 2 and data.shape[1] == 4 and np.all(np.isfinite(data))   # was (0, 0): sensors off

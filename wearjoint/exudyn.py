@@ -18,13 +18,21 @@ and the contact-onset memory advance once per accepted step (Eqs. 24-35), in a p
 that serves every joint of the system (one compiled call per joint) and then calls the user's own
 post-step function, if one was set before the first joint was added (one set later replaces it: use
 :func:`set_post_step`).  :func:`simulation_settings` gives exudyn's settings with Newton's absolute
-tolerance above the contact's round-off floor.
+tolerance above the contact's round-off floor.  The post-step function also refuses a solver step
+longer than :data:`MAX_WEAR_STEP_S` while a joint wears (SolveDynamic then raises, naming the step) and
+warns once if a step wore more than :data:`WEAR_STEP_SHARE` of the contact's penetration.
+
+exudyn prints "detected large amount of memory allocations ... this may be due to user functions" for
+every system with a clearance joint: its force and Jacobian user functions hand exudyn a new numpy
+array per call, which exudyn counts.  It is harmless: that conversion is part of the measured cost
+per step (docs/performance.md).
 
 This module and ``validation/`` are the only ones that import exudyn.
 """
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Callable
 
 import exudyn as exu
@@ -37,7 +45,7 @@ from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
 from .core.wear import advance_joint
 from .joint import ClearanceJoint, ContactResult
-from .parameters import JointParameters, ParameterError, _require
+from .parameters import MAX_WEAR_STEP_S, WEAR_STEP_SHARE, JointParameters, ParameterError, _require
 
 # the columns of ClearanceJointHandle.history(), one row per accepted step
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
@@ -46,7 +54,6 @@ HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_
 _HISTORY_SLOTS = np.array([L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION, L.R_ECCENTRICITY_X,
                            L.R_ECCENTRICITY_Y, L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
                            L.R_BUSHING_TORQUE])
-MAX_WEAR_STEP_S = 1e-5   # a wear step must stay well below the penetration depth (docs/model.md §7)
 NEWTON_SAFETY = 10.0     # Newton's absolute tolerance over the residual's round-off floor (simulation_settings)
 _EPSILON = float(np.finfo(float).eps)
 
@@ -181,6 +188,7 @@ class ClearanceJointHandle:
         self._rows = 0
         self.t = 0.0
         self.accepted_steps = 0
+        self._wear_share_warned = False
         j = self.joint
         # the kernels' arguments, built once (every array lives as long as the joint and is updated in place)
         self._shared = (pin.reference, bushing.reference, pin.position, pin.velocity, bushing.position,
@@ -241,6 +249,12 @@ class ClearanceJointHandle:
         if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
             return
         j = self.joint
+        wear_rate = j.parameter_vector[L.P_WEAR_COEFFICIENT]
+        if wear_rate > 0.0 and dt > MAX_WEAR_STEP_S * (1.0 + 1e-9):
+            raise ParameterError(f"the solver's step {dt:.6g} s (t = {t:.6g} s) is invalid with wear: allowed at most "
+                                 f"{MAX_WEAR_STEP_S:g} s; set timeIntegration.numberOfSteps to at least endTime / "
+                                 f"{MAX_WEAR_STEP_S:g}, e.g. settings = wearjoint.exudyn.simulation_settings(end_time_s, "
+                                 "1e-5), or wear_factor=0 (docs/model.md §7)")
         if self._system_indices is None:
             self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
             self._accept_arguments = (*self._system_indices, *self._shared, j._mask, j.work, j.result, _HISTORY_SLOTS)
@@ -255,6 +269,15 @@ class ClearanceJointHandle:
         self._rows += 1
         self.t = t
         self.accepted_steps += 1
+        if wear_rate > 0.0 and not self._wear_share_warned:
+            # the share of a conforming contact's penetration this step wore (docs/model.md §7)
+            share = j.params.foundation_modulus_N_m3 * wear_rate * abs(j.result[L.R_TANGENTIAL_VELOCITY]) * dt
+            if share > WEAR_STEP_SHARE:
+                self._wear_share_warned = True
+                warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s wore {share:.2f} of the contact's penetration "
+                              f"(more than {WEAR_STEP_SHARE}): the wear overshoots, take steps of at most "
+                              f"{dt * WEAR_STEP_SHARE / share:.3g} s or a smaller wear_factor (docs/model.md §7)",
+                              RuntimeWarning, stacklevel=2)
 
     def result(self) -> ContactResult:
         """The contact at the end of the last accepted step (before that step's wear)."""
@@ -357,7 +380,8 @@ def contact_stiffness_bound(parameters: JointParameters) -> float:
 def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate_scale_m: float = 1.0
                         ) -> "exu.SimulationSettings":
     """exudyn settings for ``end_time_s`` [s] in fixed steps of about ``step_s`` [s] (whole steps),
-    quiet: no solution file, no sensors, no console output, with Newton's absolute tolerance above
+    quiet: no solution file, no console output (sensors work as exudyn's defaults say: add them with
+    ``storeInternal=True`` to read them back), with Newton's absolute tolerance above
     the contact's round-off floor (docs/model.md §8): exudyn's residual M a - f [N, N m] cannot fall
     below the jump of the contact force when a position crosses one rounding step, k eps X (k the
     contact's stiffness, at most :func:`contact_stiffness_bound` of the ``handles``' joints, or of
@@ -379,13 +403,12 @@ def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate
     newton.maxModifiedNewtonIterations = 2      # exudyn's default: 8
     settings.timeIntegration.verboseMode = 0
     settings.solution.file.write = False
-    settings.solution.sensors.active = False
     return settings
 
 
 def check_step(step_s: float, handles) -> None:
-    """A fixed solver step ``step_s`` [s] the joints can work with: with wear, at most
-    :data:`MAX_WEAR_STEP_S` (the wear of one step must stay well below the penetration)."""
+    """Refuse, before a run, a fixed solver step ``step_s`` [s] the joints cannot work with: with wear, at
+    most :data:`MAX_WEAR_STEP_S`.  (The joints' post-step function checks every accepted step anyway.)"""
     if not (math.isfinite(step_s) and step_s > 0.0):
         raise ParameterError(f"step_s={step_s!r} is invalid: allowed a finite step > 0 s")
     wearing = [h for h in handles if h.joint.parameter_vector[L.P_WEAR_COEFFICIENT] > 0.0]
