@@ -77,8 +77,9 @@ def count(host: Path, fmu: Path, joint, trace: Path, rows: int, work: Path):
     md = read_model_description(str(fmu))
     vr = fv.value_references(md)
     real_values, integer_values = fv.fmi_parameter_values_by_type(joint)
-    reals = " ".join(f"{vr[k]}={v!r}" for k, v in real_values.items())
-    ints = " ".join(f"{vr[k]}={v}" for k, v in integer_values.items())
+    # an older build may lack a parameter (or name it otherwise): it runs at that FMU's own default
+    reals = " ".join(f"{vr[k]}={v!r}" for k, v in real_values.items() if k in vr)
+    ints = " ".join(f"{vr[k]}={v}" for k, v in integer_values.items() if k in vr)
     script = work / "script.txt"
     script.write_text(f"instantiate joint\nsetup 0\nenter_init\nset_real {reals}\nset_integer {ints}\nexit_init\n"
                       f"trace {trace} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "
