@@ -1,5 +1,7 @@
 """`wearjoint validate` (validation/compare.py): the quick cross-check passes and writes its
-files; a genuinely different model in one engine makes it fail; the comparison rules."""
+files, exudyn's own contact judged without wear; a genuinely different model in one engine makes
+it fail; the comparison rules (ensemble means against the valid configurations' and the standard
+error)."""
 import json
 import subprocess
 import sys
@@ -62,6 +64,14 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     assert {m["engine"] for m in by_group[cmp.GROUP_POINTWISE]} == others
     assert {m["name"] for m in by_group[cmp.GROUP_POINTWISE]} == set(cmp.POINTWISE)
     assert {m["engine"] for m in by_group[cmp.GROUP_PROFILE]} == others & set(cmp.WEAR_ENGINES)
+    assert "exudyn-native" in others and "exudyn-native" not in cmp.WEAR_ENGINES
+    assert summary["unworn_engines"] == ["exudyn-native"]
+    for m in by_group[cmp.GROUP_STATISTICS]:                             # every valid configuration, and the SE
+        assert set(m["scatter_values"]) == set(summary["scatter_run_statistics"]) | {cmp.STANDARD_ERROR}
+    assert set(summary["ensemble_std"]) == {cmp.REFERENCE, *summary["scatter_run_statistics"], *others}
+    law = summary["law_differences"]["exudyn-native"]                    # traces against its own law's reference
+    assert summary["law_references"] == {"exudyn-native": {"contact_model": "deepest"}}
+    assert law["engine"]["eccentricity_max_difference_m"] > 0.0 and law["law"]["eccentricity_max_difference_m"] > 0.0
     assert {"max_wear_depth_m", "worn_volume_m3", "profile_decorrelation"} <= {
         m["name"] for m in by_group[cmp.GROUP_PROFILE]}
     for m in by_group[cmp.GROUP_POINTWISE]:
@@ -70,11 +80,16 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     assert summary["reference_profile"]["max_wear_depth_m"] > 0.0
     rows = {r["run"]: r for r in summary["runs"]}
     n_monolithic = 1 + len(cmp.RK4_STEP_FACTORS) + len(cmp.DOPRI_RTOLS)
-    assert len(rows) == 2 * n_monolithic + 3 * len(others) + len(others & set(cmp.WEAR_ENGINES))
+    ensemble = summary["plan"]["ensemble"]
+    assert ensemble == cmp.QUICK.ensemble >= 2
+    assert len(rows) == (ensemble * (n_monolithic + len(others)) + 2 * len(others) + 2 * len(cmp.LAW_REFERENCES)
+                         + n_monolithic + len(others & set(cmp.WEAR_ENGINES)))
     assert all(r["wall_time_s"] > 0 and r["realtime_factor"] > 0 for r in rows.values())
     report = (out / "report.md").read_text()
     assert "**PASS**" in report and report.count("| pass |") == len(summary["metrics"])
-    for name in ("slider_acceleration.png", "pin_orbits.png", "first_impacts.png", "worn_profiles.png"):
+    assert "exudyn-native: no wear run" in report and "contact_model=deepest" in report
+    for name in ("slider_acceleration.png", "pin_orbits.png", "first_impacts.png", "statistics.png",
+                 "worn_profiles.png"):
         assert name in summary["figures"] and (out / name).read_bytes()[:8] == PNG
 
 
@@ -97,6 +112,7 @@ def test_validation_fails_when_one_engine_has_a_different_restitution(tmp_path):
     (["--perturb", "exudyn-discrete", "stiffness=1"], "perturb"),
     (["--perturb", "monolithic", "restitution=0.5"], "perturbed engine"),
     (["--revolutions", "0.01"], "window_s"),
+    (["--ensemble", "1"], "ensemble"),
 ])
 def test_bad_options_exit_2_with_a_message(tmp_path, args, name):
     done = wearjoint("validate", "--quick", "--out", str(tmp_path / "v"), "--quiet", *args)
@@ -134,6 +150,23 @@ def test_revolution_statistics_average_over_revolutions():
     assert stats["max_contact_force_N"] == pytest.approx(1000.0)
     assert stats["max_eccentricity_m"] == pytest.approx(1.06e-4)
     assert stats["mean_eccentricity_in_contact_m"] == pytest.approx((5e-5 + 1e-4 + 5e-5) / 3)
+
+
+def test_statistics_are_judged_by_ensemble_means():
+    """Means of the starts: the engine's difference from the reference's mean against the largest
+    difference of a valid configuration's mean, or the standard error of the difference if larger."""
+    def ensemble(*impacts):
+        return [_record([{L.S_IMPACTS: i, L.S_TIME: 0.4}]) for i in impacts]
+
+    plan = cmp.ValidationPlan(ensemble=2)
+    runs = cmp.Runs(ensemble(100, 110), {"RK4 2 us": ensemble(104, 108)},
+                    {"close": ensemble(108, 112), "far": ensemble(120, 130)}, {})
+    metrics = {m.engine: m for m in cmp.compare(runs, plan) if m.name == "impacts_per_revolution"}
+    standard_error = np.sqrt(50.0 / 2 + 50.0 / 2)        # sample variances 50 (1/rev)^2, two starts each
+    assert metrics["far"].value == 125.0 and metrics["far"].reference == 105.0 and metrics["far"].difference == 20.0
+    assert metrics["far"].scatter_values == pytest.approx({"RK4 2 us": 1.0, cmp.STANDARD_ERROR: standard_error})
+    assert metrics["far"].tolerance == pytest.approx(2.0 * standard_error) and not metrics["far"].passed
+    assert metrics["close"].scatter == pytest.approx(np.sqrt(8.0 / 2 + 50.0 / 2)) and metrics["close"].passed
 
 
 def test_tolerance_is_k_times_scatter_or_the_floor():

@@ -1,18 +1,25 @@
 """`wearjoint validate`: one slider-crank, several engines, compared on robust quantities (issue 4).
 
 Engines: the monolithic simulation (:mod:`wearjoint.simulate`; the reference is RK4 at
-1 µs), the FMU co-simulation (:mod:`wearjoint.cosim`) and exudyn
-(:mod:`wearjoint.validation.exudyn_model`) with the discrete-point and with the
-eccentricity contact.  The clearance dynamics are chaotic (docs/model.md §7): trajectories
-are compared point by point only over the first impacts (``window_s``); beyond that,
-per-revolution statistics and the worn profile of a short wear run.
+1 µs), the FMU co-simulation (:mod:`wearjoint.cosim`, Co-Simulation and Model Exchange) and
+exudyn (:mod:`wearjoint.validation.exudyn_model`) with our contact through the helper
+(``exudyn-discrete``) and with exudyn's own contact law (``exudyn-native``, unworn).  The
+clearance dynamics are chaotic (docs/model.md §7): trajectories are compared point by point
+only over the first impacts (``window_s``); beyond that, per-revolution statistics as the
+means of an ensemble of perturbed starts, and the worn profile of a short wear run.
 
 Every tolerance is ``max(k * scatter, floor)`` (see :class:`Rule`) with the scatter
 measured in the same validation run between equally valid runs of one simulator: for
-statistics and the profile, the largest difference between the reference and the other
-valid monolithic runs (RK4 at 1/2, 2, 5 and 10 times the step, DOPRI at five tolerances); for the point-wise
-traces, the monolithic step refinement (RK4 h vs h/2) plus the engine's own (the same
-engine at its window step and at twice that step).
+statistics, the largest difference between the reference ensemble's mean and the mean of
+another valid monolithic configuration's ensemble (RK4 at 1/2, 2, 5 and 10 times the step, DOPRI
+at five tolerances), or the standard error of the engine-minus-reference difference if larger;
+for the profile, the largest difference between the reference and the other valid monolithic
+runs; for the point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
+engine's own (the same engine at its window step and at twice that step).  An engine whose
+contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
+K delta^n along the line of centres, our ``deepest`` law) has its traces compared with the
+monolithic reference run with that law; its difference from the default reference is reported
+beside (not judged).
 
 Writes ``report.md``, ``summary.json`` and PNG overlays (:mod:`wearjoint.validation.report`);
 the exit status is 0 when every metric passes, 1 when one fails (or an engine raised), 3 when
@@ -32,10 +39,13 @@ from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, _finite, _require
 from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.simulate import SimulationOptions, run_simulation
+from wearjoint.sweep.design import SEED_ANGLE_STEP_DEG
 
 REFERENCE = "monolithic"
-ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete", "exudyn-eccentricity")
-WEAR_ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete")     # the eccentricity form has no wear
+ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete", "exudyn-native")
+WEAR_ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete")     # exudyn's own contact cannot wear
+# engine -> the joint change that gives the monolithic reference its contact law (point-wise traces)
+LAW_REFERENCES = {"exudyn-native": {"contact_model": "deepest"}}
 # The valid monolithic runs besides the reference, whose differences from it are the scatter.
 # Over one revolution the worn volume of eleven valid runs has a 16 % standard deviation
 # (max depth 12 %): four samples underestimated it (README "Validation").  h/2 comes first: it
@@ -45,6 +55,7 @@ DOPRI_RTOLS = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8)
 GROUP_STATISTICS = "per-revolution statistics (no wear)"
 GROUP_POINTWISE = "first impacts, point-wise"
 GROUP_PROFILE = "worn profile"
+STANDARD_ERROR = "standard error of the difference"   # a statistics metric's scatter entry
 
 
 @dataclass(frozen=True)
@@ -52,7 +63,8 @@ class ValidationPlan:
     """What ``wearjoint validate`` runs.  Times in s; ``wear_factor`` multiplies k_w in
     the wear run (reduced so that the worn profile stays well inside the clearance)."""
 
-    revolutions: float = 3.0                 # no-wear runs (statistics)
+    revolutions: float = 5.0                 # no-wear runs (statistics)
+    ensemble: int = 8                        # perturbed starts per engine and valid configuration (statistics)
     window_s: float = 0.015                  # point-wise comparison over [0, window_s]
     wear_revolutions: float = 1.0
     wear_factor: float = 0.5
@@ -69,6 +81,8 @@ class ValidationPlan:
         for name in ("revolutions", "window_s", "wear_revolutions", "wear_factor", "reference_step_s",
                      "exudyn_step_s", "cosim_step_s", "window_step_s", "sample_dt_s"):
             _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
+        _require("ensemble", self.ensemble, not isinstance(self.ensemble, bool) and isinstance(self.ensemble, int)
+                 and self.ensemble >= 2, "an integer >= 2 (a spread needs two starts)")
         for name in self.engines:
             _require("engines", name, name in ENGINES, "names from " + ", ".join(ENGINES))
         _require("engines", ",".join(self.engines), REFERENCE in self.engines,
@@ -84,7 +98,7 @@ FULL = ValidationPlan()
 # the quick wear run stays inside the point-wise window (before chaos the runs agree, so a
 # few impacts' worn volume is comparable; after it, 0.1 revolution holds too few impacts to
 # estimate their scatter from four runs)
-QUICK = ValidationPlan(revolutions=0.1, wear_revolutions=0.0375, wear_factor=20.0)
+QUICK = ValidationPlan(revolutions=0.1, ensemble=2, wear_revolutions=0.0375, wear_factor=20.0)
 
 
 @dataclass(frozen=True)
@@ -101,8 +115,10 @@ class Rule:
 
 
 # name -> (unit, rule).  Statistics: chaos makes every valid run a sample of the same
-# distribution, so k = 2 on the largest of the reference-vs-valid-run differences; the
-# floors guard against a chance agreement of the valid runs.
+# distribution, so each configuration is an ensemble of perturbed starts judged by its mean;
+# k = 2 on the largest difference between the reference's mean and another valid
+# configuration's (or the difference's standard error); the floors guard against a chance
+# agreement of the valid configurations.
 STATISTICS = {
     "impacts_per_revolution": ("1/rev", Rule(2.0, 0.0, 0.05, "5 % of the reference, below the 10-20 % "
                                                              "run-to-run scatter (docs/model.md §7)")),
@@ -149,20 +165,29 @@ class Metric:
 
 @dataclass
 class Runs:
-    """Every record of one validation.  ``scatter`` / ``wear_scatter``: equally valid
-    monolithic runs by label; ``window``: engine -> (run at the window step, run at
-    twice that step); ``log``: (label, engine, record) of every run in order."""
+    """Every record of one validation.  ``reference_ensemble`` / ``scatter`` / ``engines``:
+    the no-wear ensembles (one record per perturbed start, the unperturbed first) of the
+    reference, of the other valid monolithic configurations by label and of each engine;
+    ``reference``: the reference ensemble's unperturbed run; ``window``: engine -> (run at the
+    window step, run at twice that step); ``law_window``: engine of ``LAW_REFERENCES`` -> the
+    monolithic reference with its law (RK4 at h, at h/2); ``wear_scatter``: equally valid
+    monolithic wear runs by label; ``log``: (label, engine, record) of every run in order."""
 
-    reference: RunRecord
+    reference_ensemble: list
     scatter: dict
     engines: dict
     window: dict
+    law_window: dict = field(default_factory=dict)
     wear_reference: RunRecord | None = None
     wear_scatter: dict = field(default_factory=dict)
     wear_engines: dict = field(default_factory=dict)
     gaps: list = field(default_factory=list)       # engines not available (module missing)
     errors: list = field(default_factory=list)     # engines that raised during a run
     log: list = field(default_factory=list)
+
+    @property
+    def reference(self) -> RunRecord:
+        return self.reference_ensemble[0]
 
 
 # ---------------------------------------------------------------- running the engines
@@ -211,6 +236,13 @@ def _us(step_s: float) -> str:
     return f"{step_s * 1e6:g} us"
 
 
+def perturbed_start(mechanism: SliderCrankParameters, start: int) -> SliderCrankParameters:
+    """The mechanism of perturbed start number ``start`` (0: unperturbed): the initial crank angle
+    moved by ``start`` times the sweep's seed step (1e-6 deg; two starts part by 10 um after ~80 ms)."""
+    return mechanism.replace(initial_crank_angle_deg=mechanism.initial_crank_angle_deg
+                             + start * SEED_ANGLE_STEP_DEG)
+
+
 def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderCrankParameters,
                 engine_joint_changes: dict | None = None, progress: bool = True) -> Runs:
     """Run every simulation of ``plan`` (one progress line per run on stderr);
@@ -241,7 +273,9 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
             failed(engine, exc)
     wear_engines = [e for e in available if e in WEAR_ENGINES] if plan.run_wear else []
     n_monolithic = 1 + len(RK4_STEP_FACTORS) + len(DOPRI_RTOLS)
-    total = n_monolithic + 3 * len(available) + (n_monolithic + len(wear_engines) if plan.run_wear else 0)
+    law_engines = [e for e in available if e in LAW_REFERENCES]
+    total = (plan.ensemble * (n_monolithic + len(available)) + 2 * len(available) + 2 * len(law_engines)
+             + (n_monolithic + len(wear_engines) if plan.run_wear else 0))
     log = []
 
     def run(label, engine, make) -> RunRecord:
@@ -252,45 +286,65 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
                        f"{record.wall_time_s:.1f} s wall")
         return record
 
+    def ensemble(label, engine, make) -> list:
+        """One run per perturbed start: ``make(mechanism)``."""
+        return [run(f"{label}, start {k + 1}/{plan.ensemble}", engine,
+                    lambda m=perturbed_start(mechanism, k): make(m)) for k in range(plan.ensemble)]
+
     def monolithic(label, j, revolutions, **options):
-        return run(f"monolithic {label}, {revolutions:g} rev" + (", no wear" if j is no_wear else
-                                                                 f", wear factor {plan.wear_factor:g}"),
-                   REFERENCE, lambda: run_monolithic(j, mechanism, revolutions, dt, progress, **options))
+        """(run label, make(mechanism) -> RunRecord) of a monolithic run."""
+        name = f"monolithic {label}, {revolutions:g} rev" + (", no wear" if j is no_wear else
+                                                              f", wear factor {plan.wear_factor:g}")
+        return name, lambda m: run_monolithic(j, m, revolutions, dt, progress, **options)
 
     h = plan.reference_step_s
     rev = plan.revolutions
-    reference = monolithic(f"RK4 {_us(h)}", no_wear, rev, integrator="rk4", step_s=h)
-    scatter = {f"RK4 {_us(h * f)}": monolithic(f"RK4 {_us(h * f)}", no_wear, rev, integrator="rk4", step_s=h * f)
-               for f in RK4_STEP_FACTORS}
-    for rtol in DOPRI_RTOLS:
-        scatter[f"DOPRI rtol {rtol:g}"] = monolithic(f"DOPRI rtol {rtol:g}", no_wear, rev, integrator="dopri",
-                                                     rtol=rtol)
-    engines, window = {}, {}
+    configurations = {f"RK4 {_us(h)}": {"integrator": "rk4", "step_s": h},
+                      **{f"RK4 {_us(h * f)}": {"integrator": "rk4", "step_s": h * f} for f in RK4_STEP_FACTORS},
+                      **{f"DOPRI rtol {rtol:g}": {"integrator": "dopri", "rtol": rtol} for rtol in DOPRI_RTOLS}}
+    ensembles = {}
+    for label, options in configurations.items():
+        name, make = monolithic(label, no_wear, rev, **options)
+        ensembles[label] = ensemble(name, REFERENCE, make)
+    reference_ensemble = ensembles.pop(f"RK4 {_us(h)}")
+    engines, window, law_window = {}, {}, {}
     window_rev = plan.window_s * 1.02 / mechanism.period_s
     for engine, runner in list(available.items()):
         j = no_wear.replace(**changes.get(engine, {}))
         step = plan.engine_step_s(engine)
         try:
-            statistics_run = run(f"{engine} step {_us(step)}, {rev:g} rev, no wear", engine,
-                                 lambda: runner(j, mechanism, rev, step, dt, progress))
+            members = ensemble(f"{engine} step {_us(step)}, {rev:g} rev, no wear", engine,
+                               lambda m: runner(j, m, rev, step, dt, progress))
             window[engine] = tuple(
                 run(f"{engine} step {_us(s)}, first {plan.window_s * 1e3:g} ms, no wear", engine,
                     lambda s=s: runner(j, mechanism, window_rev, s, dt, progress))
                 for s in (plan.window_step_s, 2.0 * plan.window_step_s))
-            engines[engine] = statistics_run
+            if engine in LAW_REFERENCES:
+                law = no_wear.replace(**LAW_REFERENCES[engine])
+                law_text = ", ".join(f"{k}={v}" for k, v in LAW_REFERENCES[engine].items())
+                law_window[engine] = tuple(
+                    run(f"monolithic RK4 {_us(s)}, {law_text}, first {plan.window_s * 1e3:g} ms, no wear", REFERENCE,
+                        lambda s=s: run_monolithic(law, mechanism, window_rev, dt, progress, integrator="rk4",
+                                                   step_s=s))
+                    for s in (h, 0.5 * h))
+            engines[engine] = members
         except Exception as exc:       # one broken engine must not hide the others' comparison
             failed(engine, exc)
             del available[engine]
-    runs = Runs(reference, scatter, engines, window, gaps=gaps, errors=errors, log=log)
+    runs = Runs(reference_ensemble, ensembles, engines, window, law_window, gaps=gaps, errors=errors, log=log)
     if plan.run_wear:
         wrev = plan.wear_revolutions
-        runs.wear_reference = monolithic(f"RK4 {_us(h)}", wear, wrev, integrator="rk4", step_s=h)
-        runs.wear_scatter = {f"RK4 {_us(h * f)}": monolithic(f"RK4 {_us(h * f)}", wear, wrev, integrator="rk4",
-                                                             step_s=h * f)
+
+        def wear_run(label, **options):
+            name, make = monolithic(label, wear, wrev, **options)
+            return run(name, REFERENCE, lambda: make(mechanism))
+
+        runs.wear_reference = wear_run(f"RK4 {_us(h)}", integrator="rk4", step_s=h)
+        runs.wear_scatter = {f"RK4 {_us(h * f)}": wear_run(f"RK4 {_us(h * f)}", integrator="rk4", step_s=h * f)
                              for f in RK4_STEP_FACTORS}
         for rtol in DOPRI_RTOLS:       # the wear step must stay <= 10 us (docs/model.md §7)
             label = f"DOPRI rtol {rtol:g} max step 10 us"
-            runs.wear_scatter[label] = monolithic(label, wear, wrev, integrator="dopri", rtol=rtol, max_step_s=1e-5)
+            runs.wear_scatter[label] = wear_run(label, integrator="dopri", rtol=rtol, max_step_s=1e-5)
         for engine in [e for e in wear_engines if e in available]:
             j = wear.replace(**changes.get(engine, {}))
             step = plan.engine_step_s(engine)
@@ -309,6 +363,16 @@ def revolution_statistics(record: RunRecord) -> dict:
     """:func:`wearjoint.analysis.mean_revolution_statistics` of a run (with the mean
     eccentricity in contact)."""
     return analysis.mean_revolution_statistics(record.revolution_stats, record.period_s, record.samples)
+
+
+def ensemble_statistics(records) -> tuple[dict, dict]:
+    """(mean, sample standard deviation) over an ensemble's runs of each
+    :func:`revolution_statistics` quantity."""
+    rows = [revolution_statistics(r) for r in records]
+    values = {name: np.array([row[name] for row in rows]) for name in rows[0]}
+    with np.errstate(invalid="ignore"):        # a run without contact has no mean eccentricity in contact (nan)
+        return ({name: float(v.mean()) for name, v in values.items()},
+                {name: float(v.std(ddof=1)) if v.size > 1 else 0.0 for name, v in values.items()})
 
 
 def pointwise_differences(record: RunRecord, reference: RunRecord, window_s: float) -> dict:
@@ -350,20 +414,23 @@ def _judge(group, name, unit, rule, engine, value, reference, difference, scatte
 def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
     """Every metric of every engine against the monolithic reference (see module docstring)."""
     metrics = []
-    ref_stats = revolution_statistics(runs.reference)
-    scatter_stats = {label: revolution_statistics(r) for label, r in runs.scatter.items()}
-    for engine, record in runs.engines.items():
-        stats = revolution_statistics(record)
+    ref_mean, ref_std = ensemble_statistics(runs.reference_ensemble)
+    n_ref = len(runs.reference_ensemble)
+    scatter_means = {label: ensemble_statistics(members)[0] for label, members in runs.scatter.items()}
+    for engine, members in runs.engines.items():
+        mean, std = ensemble_statistics(members)
         for name, (unit, rule) in STATISTICS.items():
-            metrics.append(_judge(GROUP_STATISTICS, name, unit, rule, engine, stats[name], ref_stats[name],
-                                  stats[name] - ref_stats[name],
-                                  {label: abs(s[name] - ref_stats[name]) for label, s in scatter_stats.items()}))
+            scatter = {label: abs(m[name] - ref_mean[name]) for label, m in scatter_means.items()}
+            scatter[STANDARD_ERROR] = float(np.hypot(std[name] / np.sqrt(len(members)), ref_std[name] / np.sqrt(n_ref)))
+            metrics.append(_judge(GROUP_STATISTICS, name, unit, rule, engine, mean[name], ref_mean[name],
+                                  mean[name] - ref_mean[name], scatter))
     # point-wise, the valid monolithic pair is the step refinement (RK4 h vs h/2): DOPRI at
     # rtol 1e-6..1e-7 is already micrometres off over the window (measured), not equally accurate
     refined_label = next(iter(runs.scatter))
-    mono = pointwise_differences(runs.scatter[refined_label], runs.reference, plan.window_s)
     for engine, (fine, coarse) in runs.window.items():
-        diff = pointwise_differences(fine, runs.reference, plan.window_s)
+        reference, refined = runs.law_window.get(engine, (runs.reference, runs.scatter[refined_label][0]))
+        mono = pointwise_differences(refined, reference, plan.window_s)
+        diff = pointwise_differences(fine, reference, plan.window_s)
         own = pointwise_differences(coarse, fine, plan.window_s)
         for name, (unit, rule) in POINTWISE.items():
             metrics.append(_judge(GROUP_POINTWISE, name, unit, rule, engine, None, None, diff[name],
@@ -420,5 +487,6 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
 
 
 __all__ = ["ValidationPlan", "FULL", "QUICK", "Rule", "Metric", "Runs", "run_engines", "compare", "run_validation",
-           "revolution_statistics", "pointwise_differences", "profile_quantities", "profile_decorrelation",
-           "engine_runner", "run_monolithic", "ENGINES", "WEAR_ENGINES", "REFERENCE"]
+           "revolution_statistics", "ensemble_statistics", "pointwise_differences",
+           "profile_quantities", "profile_decorrelation", "perturbed_start", "engine_runner", "run_monolithic",
+           "ENGINES", "WEAR_ENGINES", "LAW_REFERENCES", "REFERENCE"]

@@ -16,9 +16,10 @@ a zero-mass ``ObjectGenericODE2`` on the crank and rod nodes applies the clearan
 force pair (Eqs. 20-23) on exudyn's right-hand side, and wear and the contact-onset
 bookkeeping advance once per accepted step, before this model's recorder runs.
 
-``contact="eccentricity"`` replaces the discrete-point search (Eqs. 1-14) by the
-classical formulation for a circular bushing (delta = |e| - c along n = e/|e|,
-contact points on the line of centres), an independent check of the geometry.
+``contact="native"`` replaces the helper by exudyn's own contact
+(``ObjectContactSphereSphere``, a pin in a hollow sphere: :mod:`.exudyn_native`), an
+independent contact law in exudyn's C++ code, unworn; the joint's result is read from it
+after every accepted step.
 
 Only validation/ (this model, the pendulum, the four-bar) and wearjoint.exudyn import exudyn.
 """
@@ -34,10 +35,8 @@ from exudyn.itemInterface import (
     NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGround, ObjectJointPrismatic2D,
     ObjectJointRevolute2D, ObjectRigidBody2D,
 )
-from numba import njit
 
 from wearjoint.core import layout as L
-from wearjoint.core.contact import ambrosio_friction_factor, lankarani_nikravesh
 from wearjoint.core.integrators import record_step
 from wearjoint.exudyn import add_clearance_joint, set_post_step
 from wearjoint.joint import ClearanceJoint
@@ -47,81 +46,13 @@ from wearjoint.parameters import (
 )
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, new_revolution_stats, new_track
+from wearjoint.validation.exudyn_native import NativeContact, native_contact_forces, native_contact_parameters
 
-CONTACT_FORMULATIONS = ("discrete", "eccentricity")
+CONTACT_FORMULATIONS = ("discrete", "native")
 DISCRETE = 0
-ECCENTRICITY = 1
+NATIVE = 1
 SAMPLE_BLOCK_ROWS = 4096     # samples are collected in blocks of this many rows
 SPECTRAL_RADIUS = 0.9        # generalized-alpha rho_inf (exudyn's default; 1 = no numerical damping)
-
-
-@njit(cache=True)
-def eccentricity_contact(pos_i, vel_i, pos_j, vel_j, jp, memory, out):
-    """Contact of a pin in an unworn circular bushing, classical eccentricity form.
-
-    e = pin centre - bushing centre (global), delta = |e| - (R_j - R_i) along
-    n = e/|e|; contact points on the line of centres: pin centre + R_i n and
-    bushing centre + R_j n.  Normal force (Lankarani-Nikravesh, Eq. 15), friction
-    (Ambrosio, Eqs. 18-19), forces and torques about the reference points
-    (Eqs. 20-23) and diagnostics as :func:`wearjoint.core.contact.evaluate_contact`
-    writes them (layout.R_*; R_CONTACT_INDEX stays -1: there is no bushing point;
-    R_PENETRATION = |e| - c is negative, minus the gap, without contact).
-    ``memory`` holds delta_dot^- as in the discrete form; it is not changed.
-    """
-    ci = math.cos(pos_i[2])
-    si = math.sin(pos_i[2])
-    cj = math.cos(pos_j[2])
-    sj = math.sin(pos_j[2])
-    pin_x = pos_i[0] + ci * jp[L.P_PIN_OFFSET_X] - si * jp[L.P_PIN_OFFSET_Y]
-    pin_y = pos_i[1] + si * jp[L.P_PIN_OFFSET_X] + ci * jp[L.P_PIN_OFFSET_Y]
-    bushing_x = pos_j[0] + cj * jp[L.P_BUSHING_OFFSET_X] - sj * jp[L.P_BUSHING_OFFSET_Y]
-    bushing_y = pos_j[1] + sj * jp[L.P_BUSHING_OFFSET_X] + cj * jp[L.P_BUSHING_OFFSET_Y]
-    gx = pin_x - bushing_x
-    gy = pin_y - bushing_y
-    for r in range(L.N_RESULT):
-        out[r] = 0.0
-    out[L.R_ECCENTRICITY_X] = cj * gx + sj * gy
-    out[L.R_ECCENTRICITY_Y] = -sj * gx + cj * gy
-    out[L.R_CONTACT_INDEX] = -1.0
-    out[L.R_CONTACT_ANGLE] = math.atan2(out[L.R_ECCENTRICITY_Y], out[L.R_ECCENTRICITY_X]) % (2.0 * math.pi)
-    e = math.sqrt(gx * gx + gy * gy)
-    penetration = e - (jp[L.P_BUSHING_RADIUS] - jp[L.P_PIN_RADIUS])
-    out[L.R_PENETRATION] = penetration                         # negative: the gap
-    if penetration < 0.0 or e == 0.0:
-        return
-    nx = gx / e
-    ny = gy / e
-    tx = -ny
-    ty = nx
-    lix = pin_x + jp[L.P_PIN_RADIUS] * nx - pos_i[0]          # pin contact point - pin reference
-    liy = pin_y + jp[L.P_PIN_RADIUS] * ny - pos_i[1]
-    ljx = bushing_x + jp[L.P_BUSHING_RADIUS] * nx - pos_j[0]  # bushing contact point - bushing reference
-    ljy = bushing_y + jp[L.P_BUSHING_RADIUS] * ny - pos_j[1]
-    rvx = (vel_i[0] - vel_i[2] * liy) - (vel_j[0] - vel_j[2] * ljy)
-    rvy = (vel_i[1] + vel_i[2] * lix) - (vel_j[1] + vel_j[2] * ljx)
-    penetration_rate = rvx * nx + rvy * ny                     # Eq. (13)
-    v_t = rvx * tx + rvy * ty                                  # Eq. (14)
-    if memory[L.M_ACTIVE] > 0.5:
-        impact_velocity = memory[L.M_IMPACT_VELOCITY]
-    else:
-        impact_velocity = max(penetration_rate, jp[L.P_VELOCITY_FLOOR])
-    f_n = lankarani_nikravesh(penetration, penetration_rate, impact_velocity,
-                              jp[L.P_STIFFNESS], jp[L.P_EXPONENT], jp[L.P_RESTITUTION])
-    c_d = ambrosio_friction_factor(abs(v_t), jp[L.P_V0], jp[L.P_V1])
-    f_t = -jp[L.P_FRICTION] * c_d * f_n * (1.0 if v_t > 0.0 else -1.0)
-    fx = -f_n * nx + f_t * tx
-    fy = -f_n * ny + f_t * ty
-    out[L.R_PIN_FX] = fx
-    out[L.R_PIN_FY] = fy
-    out[L.R_PIN_TORQUE] = lix * fy - liy * fx
-    out[L.R_BUSHING_FX] = -fx
-    out[L.R_BUSHING_FY] = -fy
-    out[L.R_BUSHING_TORQUE] = -(ljx * fy - ljy * fx)
-    out[L.R_NORMAL_FORCE] = f_n
-    out[L.R_FRICTION_FORCE] = f_t
-    out[L.R_CONTACT] = 1.0
-    out[L.R_TANGENTIAL_VELOCITY] = v_t
-    out[L.R_PENETRATION_RATE] = penetration_rate
 
 
 def _contact_formulation(contact: str) -> int:
@@ -139,23 +70,18 @@ def _kinematics(name: str, values) -> tuple[np.ndarray, np.ndarray]:
 def contact_forces(joint: ClearanceJoint, pin_kinematics, bushing_kinematics,
                    contact: str = "discrete") -> np.ndarray:
     """The joint's result array (layout.R_*) for the given kinematics, computed by the
-    discrete-point search (``ClearanceJoint.evaluate_array``) or by the eccentricity
-    form; kinematics = (x [m], y [m], angle [rad], vx, vy, omega) of each body's
-    reference point, global frame.  The joint's state is read, not changed."""
+    wearjoint kernels (``ClearanceJoint.evaluate_array``) or by exudyn's own contact
+    (:func:`.exudyn_native.native_contact_forces`, given the joint's stored delta_dot^- while a
+    contact is active); kinematics = (x [m], y [m], angle [rad], vx, vy, omega) of each
+    body's reference point, global frame.  The joint's state is read, not changed."""
     formulation = _contact_formulation(contact)
     pos_i, vel_i = _kinematics("pin_kinematics", pin_kinematics)
     pos_j, vel_j = _kinematics("bushing_kinematics", bushing_kinematics)
     if formulation == DISCRETE:
         return joint.evaluate_array(pos_i, vel_i, pos_j, vel_j).copy()
-    out = np.zeros(L.N_RESULT)
-    eccentricity_contact(pos_i, vel_i, pos_j, vel_j, joint.parameter_vector, joint.memory, out)
-    return out
-
-
-def _eccentricity_evaluator(joint: ClearanceJoint, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
-    """The eccentricity form as the helper's ``contact`` (the joint's memory is read, not changed)."""
-    eccentricity_contact(pos_i, vel_i, pos_j, vel_j, joint.parameter_vector, joint.memory, joint.result)
-    return joint.result
+    memory = joint.memory
+    impact_velocity = memory[L.M_IMPACT_VELOCITY] if memory[L.M_ACTIVE] > 0.5 else 0.0
+    return native_contact_forces(joint.params, pos_i, vel_i, pos_j, vel_j, impact_velocity)
 
 
 class ExudynSliderCrank:
@@ -174,8 +100,8 @@ class ExudynSliderCrank:
         joint = joint or JointParameters(**mp.joint_offsets())
         check_joint_fits_mechanism(joint, mp)
         self.formulation = _contact_formulation(contact)
-        if self.formulation == ECCENTRICITY and not ideal and joint.wear_coefficient_m2_N * joint.wear_factor > 0.0:
-            raise ParameterError("contact='eccentricity' models the unworn circular bushing: set "
+        if self.formulation == NATIVE and not ideal and joint.wear_coefficient_m2_N * joint.wear_factor > 0.0:
+            raise ParameterError("contact='native' (exudyn's own contact) cannot wear: set "
                                  "wear_factor=0 (or wear_coefficient_m2_N=0) or use contact='discrete'")
         self.joint_parameters = joint
         self.ideal = bool(ideal)
@@ -239,12 +165,15 @@ class ExudynSliderCrank:
             markerNumbers=[mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground_node, coordinate=0)),
                            mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=self.nodes[0], coordinate=2))],
             offsetUserFunction=lambda mbs_, t, item, offset: -omega * t))
-        if self.ideal:
-            revolute(crank, (0.5 * l1, 0.0), rod, (-0.5 * l2, 0.0))
-            self.joint = ClearanceJoint(self.joint_parameters)        # no forces: its result stays zero
+        self.native = None
+        if self.ideal or self.formulation == NATIVE:
+            self.joint = ClearanceJoint(self.joint_parameters)        # unworn; its result: zero, or read from exudyn
+            if self.ideal:
+                revolute(crank, (0.5 * l1, 0.0), rod, (-0.5 * l2, 0.0))
+            else:
+                self.native = NativeContact(mbs, crank, rod, self.joint_parameters)
         else:
-            self.joint = add_clearance_joint(mbs, crank, rod, self.joint_parameters, contact=(
-                _eccentricity_evaluator if self.formulation == ECCENTRICITY else None)).joint
+            self.joint = add_clearance_joint(mbs, crank, rod, self.joint_parameters).joint
         set_post_step(mbs, self.post_step)
         mbs.Assemble()
         for k, node in enumerate(self.nodes):
@@ -273,6 +202,8 @@ class ExudynSliderCrank:
         dy[:n] = q_t
         dy[n:] = sd.GetODE2Coordinates_tt()
         joint = self.joint
+        if self.native is not None:
+            self.native.read(mbs, joint.result)
         record_step(t, dt, y, dy, joint.result, self.mechanism.parameter_vector, self.revolution_stats,
                     self._sample_block, self.track)
         if self.track[L.K_N_SAMPLES] >= self._sample_block.shape[0]:
@@ -314,6 +245,13 @@ class ExudynSliderCrank:
         ti.numberOfSteps = max(1, int(math.ceil(end_time_s / step_s - 1e-9)))
         ti.verboseMode = 0
         ti.generalizedAlpha.spectralRadius = spectral_radius
+        if self.native is not None:
+            # exudyn's contact recommends a step that ends at a contact onset, |gap / gap rate|: below its
+            # minimum step (1e-8 s) the solver stops (at the first impact at 1 us steps); with a smaller
+            # minimum, generalized-alpha's accelerations spike to 3e5 m/s^2 over such sliver steps and Newton
+            # can stall at a relative residual of 2-3e-8 (stopped at 0.35 s with 1e-12 s).  So fixed steps: its
+            # discontinuous iteration switches the contact state within a step (docs/validation.md).
+            ti.discontinuous.useRecommendedStepSize = False
         settings.solution.file.write = False
         settings.solution.sensors.active = False
         settings.show.computationTime = False
@@ -364,4 +302,50 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
         extra={"integrator_accepted_steps": model.accepted_steps, "exudyn_version": exu.config.Version()})
 
 
-__all__ = ["run_exudyn", "CONTACT_FORMULATIONS", "ExudynSliderCrank", "contact_forces", "eccentricity_contact"]
+# docs/validation.md, "exudyn's own contact": which law makes it differ.  label -> (contact, joint change).
+# Our friction with v0 = 0, v1 = v_reg is exudyn's proportional zone (and maps to the same exudyn contact).
+_ZONE = {"friction_v0_m_s": 0.0, "friction_v1_m_s": native_contact_parameters(JointParameters())["frictionProportionalZone"]}
+LAW_STUDY = {
+    "ours (foundation)": ("discrete", {}),
+    "ours, deepest": ("discrete", {"contact_model": "deepest"}),
+    "ours, deepest, N_d = 5028": ("discrete", {"contact_model": "deepest", "n_points": 5028}),
+    "ours, deepest, exudyn's friction zone": ("discrete", {"contact_model": "deepest", **_ZONE}),
+    "native": ("native", {}),
+    "ours, deepest, mu = 0": ("discrete", {"contact_model": "deepest", "friction_coefficient": 0.0}),
+    "native, mu = 0": ("native", {"friction_coefficient": 0.0}),
+    "ours, deepest, e_r = 1": ("discrete", {"contact_model": "deepest", "restitution": 1.0}),
+    "native, e_r = 1": ("native", {"restitution": 1.0}),
+    "ours, deepest, floor 0.1 m/s": ("discrete", {"contact_model": "deepest", "impact_velocity_floor_m_s": 0.1}),
+    "native, floor 0.1 m/s": ("native", {"impact_velocity_floor_m_s": 0.1}),
+}
+
+
+def law_study(configurations: dict = LAW_STUDY, ensemble: int = 8, revolutions: float = 5.0, step_s: float = 1e-5,
+              progress: bool = False) -> dict:
+    """Both exudyn contacts in the same exudyn model (generalized-alpha, fixed ``step_s`` [s]): for each
+    label -> (contact, joint change) an ensemble of ``ensemble`` perturbed starts of ``revolutions``
+    revolutions, no wear; returns label -> {"mean", "std"} of the validation's statistics."""
+    from wearjoint.validation.compare import ensemble_statistics, perturbed_start
+
+    base = SliderCrankParameters()
+    joint = JointParameters(**base.joint_offsets(), wear_factor=0.0)
+    out = {}
+    for label, (contact, change) in configurations.items():
+        records = [run_exudyn(joint.replace(**change), perturbed_start(base, k), revolutions, step_s, contact,
+                              progress=progress) for k in range(ensemble)]
+        mean, std = ensemble_statistics(records)
+        out[label] = {"mean": mean, "std": std, "n": ensemble}
+    return out
+
+
+__all__ = ["run_exudyn", "CONTACT_FORMULATIONS", "ExudynSliderCrank", "contact_forces", "law_study", "LAW_STUDY"]
+
+
+if __name__ == "__main__":      # python -m wearjoint.validation.exudyn_model OUT.json [ENSEMBLE] [REVOLUTIONS]
+    import json
+    import sys
+
+    result = law_study(ensemble=int(sys.argv[2]) if len(sys.argv) > 2 else 8,
+                       revolutions=float(sys.argv[3]) if len(sys.argv) > 3 else 5.0)
+    with open(sys.argv[1], "w") as f:
+        json.dump(result, f, indent=1)

@@ -12,20 +12,22 @@ from wearjoint.core import layout as L
 from wearjoint.parameters import JointParameters, SliderCrankParameters
 from wearjoint.results import RunRecord
 from wearjoint.validation.compare import (
-    GROUP_POINTWISE, GROUP_PROFILE, GROUP_STATISTICS, POINTWISE, PROFILE, REFERENCE, STATISTICS, Metric, Runs,
-    ValidationPlan, _us, profile_quantities, revolution_statistics,
+    GROUP_POINTWISE, GROUP_PROFILE, GROUP_STATISTICS, LAW_REFERENCES, POINTWISE, PROFILE, REFERENCE,
+    STATISTICS, WEAR_ENGINES, Metric, Runs, ValidationPlan, _us, ensemble_statistics, pointwise_differences,
+    profile_quantities, revolution_statistics,
 )
 
 
 # ---------------------------------------------------------------- figures
 def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
-    """Overlays: slider acceleration vs crank angle, pin orbits, first-impact traces, worn profiles."""
+    """Overlays: slider acceleration vs crank angle, pin orbits, first-impact traces, the ensembles'
+    statistics, worn profiles."""
     from wearjoint.mechanism import SliderCrank
     from wearjoint.plots import crank_rotation_deg, plot_wear_profiles, plt
 
     ref = runs.reference
     period = ref.period_s
-    no_wear = {f"{REFERENCE} (reference)": ref, **runs.engines}
+    no_wear = {f"{REFERENCE} (reference)": ref, **{engine: members[0] for engine, members in runs.engines.items()}}
     names = []
 
     last = int(math.floor(ref.revolutions + 1e-9)) - 1      # last complete revolution (or the first, partial)
@@ -60,14 +62,17 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
     names.append(_save(fig, out, "pin_orbits.png"))
 
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
-    traces = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": ref,
-              **{f"{e} step {_us(plan.window_step_s)}": pair[0] for e, pair in runs.window.items()}}
-    for label, record in traces.items():
+    traces = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": (ref, "-"),
+              **{f"{REFERENCE} RK4 {_us(plan.reference_step_s)}, "
+                 + ", ".join(f"{k}={v}" for k, v in LAW_REFERENCES[e].items()) + f" ({e}'s law)": (pair[0], "--")
+                 for e, pair in runs.law_window.items()},
+              **{f"{e} step {_us(plan.window_step_s)}": (pair[0], "-") for e, pair in runs.window.items()}}
+    for label, (record, style) in traces.items():
         s = record.samples[record.samples[:, L.T_TIME] <= plan.window_s]
         t_ms = s[:, L.T_TIME] * 1e3
-        axes[0].plot(t_ms, np.hypot(s[:, L.T_ECC_X], s[:, L.T_ECC_Y]) * 1e6, lw=0.8, label=label)
-        axes[1].plot(t_ms, s[:, L.T_NORMAL_FORCE], lw=0.8)
-        axes[2].plot(t_ms, s[:, L.T_SLIDER_A], lw=0.8)
+        axes[0].plot(t_ms, np.hypot(s[:, L.T_ECC_X], s[:, L.T_ECC_Y]) * 1e6, style, lw=0.8, label=label)
+        axes[1].plot(t_ms, s[:, L.T_NORMAL_FORCE], style, lw=0.8)
+        axes[2].plot(t_ms, s[:, L.T_SLIDER_A], style, lw=0.8)
     axes[0].axhline(c_um, color="k", lw=0.6, ls="--")
     for ax, ylabel in zip(axes, ("|eccentricity| [µm]", "normal force $F_N$ [N]", "slider acceleration [m/s$^2$]")):
         ax.set_ylabel(ylabel)
@@ -76,6 +81,7 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
     axes[2].set_xlabel("time [ms]")
     names.append(_save(fig, out, "first_impacts.png"))
 
+    names.append(_statistics_figure(runs, plan, out, plt))
     if runs.wear_reference is not None:
         profiles = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": runs.wear_reference.wear_depth_m,
                     **{f"{REFERENCE} {label}": r.wear_depth_m for label, r in runs.wear_scatter.items()},
@@ -84,6 +90,32 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
                            title=f"worn profile after {plan.wear_revolutions:g} rev, wear factor {plan.wear_factor:g}")
         names.append("worn_profiles.png")
     return names
+
+
+def _statistics_figure(runs: Runs, plan: ValidationPlan, out: Path, plt) -> str:
+    """statistics.png: every start of every ensemble (dots) and its mean (bar), one panel per statistic;
+    grey band: the reference's mean ± twice the largest valid configuration's mean difference."""
+    groups = {f"{REFERENCE} (ref.)": runs.reference_ensemble, "valid monolithic": None, **runs.engines}
+    per_run = {label: [revolution_statistics(r) for r in members]
+               for label, members in {REFERENCE: runs.reference_ensemble, **runs.scatter, **runs.engines}.items()}
+    ref_mean = ensemble_statistics(runs.reference_ensemble)[0]
+    fig, axes = plt.subplots(1, len(STATISTICS), figsize=(2.3 * len(STATISTICS), 4.2))
+    for ax, (name, (unit, _)) in zip(axes, STATISTICS.items()):
+        scale = _DISPLAY.get(unit, (1.0, unit))[0]
+        band = 2.0 * max(abs(np.mean([r[name] for r in per_run[label]]) - ref_mean[name]) for label in runs.scatter)
+        ax.axhspan((ref_mean[name] - band) * scale, (ref_mean[name] + band) * scale, color="0.88")
+        for x, (label, members) in enumerate(groups.items()):
+            labels = list(runs.scatter) if members is None else [REFERENCE if x == 0 else label]
+            values = np.array([r[name] for lb in labels for r in per_run[lb]]) * scale
+            ax.plot(np.full(values.size, x) + np.linspace(-0.2, 0.2, values.size), values, ".", ms=3, color=f"C{x}")
+            ax.plot([x - 0.3, x + 0.3], [values.mean()] * 2, "k-", lw=1.5)
+        ax.set_xticks(range(len(groups)), list(groups), rotation=70, fontsize=7)
+        ax.set_title(f"{name}\n[{_shown_unit(unit)}]", fontsize=7)
+        ax.tick_params(axis="y", labelsize=7)
+        ax.grid(alpha=0.3, axis="y")
+    fig.suptitle(f"per-revolution statistics, {plan.ensemble} perturbed starts × {plan.revolutions:g} rev per "
+                 "configuration (bars: means)", fontsize=9)
+    return _save(fig, out, "statistics.png")
 
 
 def _mechanism_of(record: RunRecord) -> SliderCrankParameters:
@@ -135,7 +167,8 @@ MACHINE_NOTE = ("wall times measured on a 2-core machine shared with other jobs 
 
 def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint: JointParameters,
                   mechanism: SliderCrankParameters, changes: dict, figures: list[str]) -> dict:
-    """summary.json: every metric with its scatter, tolerance and verdict; run times."""
+    """summary.json: every metric with its scatter, tolerance and verdict; the ensembles' means and
+    standard deviations; the contact-law differences; run times."""
     def clean(x):
         return None if isinstance(x, float) and not math.isfinite(x) else x
 
@@ -152,8 +185,13 @@ def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint
         "tolerance_rule": "tolerance = max(k * scatter, floor, floor_relative * |reference|)",
         "rules": {name: {"unit": unit, **asdict(rule)}
                   for table in (STATISTICS, POINTWISE, PROFILE) for name, (unit, rule) in table.items()},
-        "reference_statistics": revolution_statistics(runs.reference),
-        "scatter_run_statistics": {label: revolution_statistics(r) for label, r in runs.scatter.items()},
+        "reference_statistics": ensemble_statistics(runs.reference_ensemble)[0],
+        "scatter_run_statistics": {label: ensemble_statistics(m)[0] for label, m in runs.scatter.items()},
+        "ensemble_std": {label: ensemble_statistics(m)[1] for label, m in
+                         {REFERENCE: runs.reference_ensemble, **runs.scatter, **runs.engines}.items()},
+        "law_references": {e: LAW_REFERENCES[e] for e in runs.law_window},
+        "law_differences": law_differences(runs, plan.window_s),
+        "unworn_engines": [e for e in plan.engines if e not in WEAR_ENGINES],
         "reference_profile": profile_quantities(runs.wear_reference) if runs.wear_reference else None,
         "scatter_run_profiles": {label: profile_quantities(r) for label, r in runs.wear_scatter.items()},
         "metrics": [{k: clean(v) for k, v in asdict(m).items()} for m in metrics],
@@ -163,6 +201,32 @@ def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint
         "parameters": {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()},
         "figures": figures,
     }
+
+
+def law_differences(runs: Runs, window_s: float) -> dict:
+    """engine of ``LAW_REFERENCES`` -> {"engine": its trace's, "law": its law's monolithic reference's}
+    largest point-wise differences from the default reference: what the contact law alone changes."""
+    return {engine: {"engine": pointwise_differences(runs.window[engine][0], runs.reference, window_s),
+                     "law": pointwise_differences(law_reference, runs.reference, window_s)}
+            for engine, (law_reference, _) in runs.law_window.items() if engine in runs.window}
+
+
+def _law_lines(summary: dict) -> list[str]:
+    """The point-wise notes on engines compared with a monolithic reference of their own contact law."""
+    lines = []
+    for engine, change in summary["law_references"].items():
+        law = ", ".join(f"`{k}={v}`" for k, v in change.items())
+        d = summary["law_differences"][engine]
+        lines += ["", f"{engine} is compared with the monolithic reference run with its contact law ({law}). Against "
+                  "the default reference (not judged): eccentricity "
+                  f"{_shown(d['engine']['eccentricity_max_difference_m'], 'm')} µm, normal force "
+                  f"{_shown(d['engine']['normal_force_max_difference_N'], 'N')} N, slider acceleration "
+                  f"{_shown(d['engine']['slider_acc_max_difference_m_s2'], 'm/s²')} m/s²; the monolithic run with "
+                  f"{law} "
+                  f"alone differs from it by {_shown(d['law']['eccentricity_max_difference_m'], 'm')} µm, "
+                  f"{_shown(d['law']['normal_force_max_difference_N'], 'N')} N, "
+                  f"{_shown(d['law']['slider_acc_max_difference_m_s2'], 'm/s²')} m/s² (what the law alone changes)."]
+    return lines
 
 
 def build_report(summary: dict, metrics: list[Metric]) -> str:
@@ -175,7 +239,9 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         f"**{verdict}**: {len(metrics) - len(failed)} of {len(metrics)} metrics within tolerance"
         + ("" if summary["complete"] else "; **incomplete**: engines missing or failed (see Gaps and errors)")
         + ".", "",
-        f"No-wear runs: {plan['revolutions']:g} revolutions; point-wise window: first {plan['window_s'] * 1e3:g} ms; "
+        f"No-wear runs: {plan['revolutions']:g} revolutions, {plan['ensemble']} perturbed starts per engine and "
+        "configuration (initial crank angle + k × 1e-6°); point-wise window: first "
+        f"{plan['window_s'] * 1e3:g} ms; "
         f"wear run: {plan['wear_revolutions']:g} revolutions at wear factor {plan['wear_factor']:g}"
         + ("" if plan["run_wear"] else " (skipped)") + ". Reference: monolithic RK4 at "
         f"{_us(plan['reference_step_s'])}. exudyn (generalized-alpha) at {_us(plan['exudyn_step_s'])}, "
@@ -189,10 +255,13 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         "## Tolerances", "",
         "tolerance = max(k × scatter, floor, floor_rel × |reference|). The scatter is measured in this run "
         "between equally valid runs of one simulator:", "",
-        "- per-revolution statistics and the worn profile: the largest difference between the reference and "
-        "the other valid monolithic runs (RK4 at 1/2, 2, 5 and 10 times the step; DOPRI at rtol 1e-6 to "
-        "1e-8). The motion is chaotic, so each valid run is a sample of the same statistics; k = 2 on the "
-        "largest of nine differences;",
+        "- per-revolution statistics: each engine and each valid monolithic configuration (RK4 at 1/2, 2, 5 "
+        "and 10 times the step; DOPRI at rtol 1e-6 to 1e-8) runs an ensemble of perturbed starts, judged by its "
+        "mean. The motion is chaotic, so each run is a sample of the same statistics; the scatter is the largest "
+        "difference between the reference's mean and a valid configuration's, or the standard error of the "
+        "engine-minus-reference difference if larger; k = 2;",
+        "- the worn profile: the largest difference between the reference and the other valid monolithic wear "
+        "runs (same nine configurations, one start each); k = 2;",
         "- point-wise traces: the monolithic step refinement (RK4 h vs h/2) plus the engine's own (its window "
         "step vs twice it), an estimate of the two engines' discretisation errors (both first order at "
         "contact onsets). DOPRI is not used here: over the window it is already micrometres off.", "",
@@ -208,15 +277,19 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         lines += ["", f"## {group[0].upper()}{group[1:]}", ""]
         if group == GROUP_STATISTICS:
             labels = list(summary["scatter_run_statistics"])
-            lines += [f"Reference and valid monolithic runs ({plan['revolutions']:g} rev; extremes are means of the "
-                      "per-revolution extremes):", "",
+            spread = summary["ensemble_std"]
+            lines += [f"Means of the reference's and the valid monolithic configurations' ensembles "
+                      f"({plan['ensemble']} starts × {plan['revolutions']:g} rev; extremes are means of the "
+                      "per-revolution extremes), the reference's ± one standard deviation of its starts:", "",
                       "| metric | unit | reference | " + " | ".join(labels) + " |",
                       "|---|---|---|" + "---|" * len(labels)]
             for name, (unit, _) in STATISTICS.items():
-                lines.append(f"| {name} | {_shown_unit(unit)} | {_shown(summary['reference_statistics'][name], unit)} | "
+                lines.append(f"| {name} | {_shown_unit(unit)} | {_shown(summary['reference_statistics'][name], unit)} "
+                             f"± {_shown(spread[REFERENCE][name], unit)} | "
                              + " | ".join(_shown(summary["scatter_run_statistics"][lb][name], unit) for lb in labels)
                              + " |")
-            lines.append("")
+            lines += ["", "Engines: value = the mean of the engine's ensemble (± its standard deviation in "
+                      "summary.json `ensemble_std`).", ""]
         if group == GROUP_PROFILE and summary["reference_profile"]:
             labels = list(summary["scatter_run_profiles"])
             lines += ["Reference and valid monolithic wear runs:", "",
@@ -236,6 +309,7 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
                 lines.append(f"| {m.name} | {_shown_unit(m.unit)} | {m.engine} | {_shown(m.difference, m.unit)} | "
                              f"{_shown(parts[0], m.unit)} | {_shown(parts[1], m.unit)} | {_shown(m.scatter, m.unit)} | "
                              f"{_shown(m.tolerance, m.unit)} | {'pass' if m.passed else '**FAIL**'} |")
+            lines += _law_lines(summary)
         else:
             lines += ["| metric | unit | engine | value | reference | difference | scatter | tolerance | result |",
                       "|---|---|---|---|---|---|---|---|---|"]
@@ -253,7 +327,11 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         lines.append(f"| {row['run']} | {row['simulated_time_s']:.4g} | {row['wall_time_s']:.1f} | "
                      + (f"{rate:.3g}" if rate else "—") + " |")
     lines += ["", "## Figures", ""] + [f"![{name}]({name})" for name in summary["figures"]]
-    lines += ["", "## Gaps and errors", ""] + ([f"- {g}" for g in summary["gaps"] + summary["errors"]] or ["none"])
+    unworn = [e for e in summary["unworn_engines"] if e in {m.engine for m in metrics}]
+    notes = [f"- {e}: no wear run (exudyn's own contact cannot wear); judged on statistics and traces only"
+             for e in unworn]
+    lines += ["", "## Gaps and errors", ""] + ([f"- {g}" for g in summary["gaps"] + summary["errors"]] + notes
+                                               or ["none"])
     return "\n".join(lines) + "\n"
 
 

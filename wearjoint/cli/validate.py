@@ -38,6 +38,9 @@ def add_arguments(parser) -> None:
                              f"rev of wear at factor {QUICK.wear_factor:g}")
     parser.add_argument("--revolutions", type=float, default=None,
                         help=f"revolutions of the no-wear runs (default {FULL.revolutions:g}, --quick {QUICK.revolutions:g})")
+    parser.add_argument("--ensemble", type=int, default=None,
+                        help=f"perturbed starts per engine and valid configuration in the no-wear runs (default "
+                             f"{FULL.ensemble}, --quick {QUICK.ensemble}; at least 2)")
     parser.add_argument("--wear-revolutions", type=float, default=None,
                         help=f"revolutions of the wear run (default {FULL.wear_revolutions:g}, "
                              f"--quick {QUICK.wear_revolutions:g}); --wear-factor sets its factor "
@@ -62,6 +65,7 @@ def run(args) -> int:
         engine, change = _joint_change(engine, assignment)
         changes.setdefault(engine, {}).update(change)
     plan = replace(base, revolutions=args.revolutions or base.revolutions,
+                   ensemble=args.ensemble if args.ensemble is not None else base.ensemble,
                    wear_revolutions=args.wear_revolutions or base.wear_revolutions,
                    wear_factor=args.wear_factor if args.wear_factor is not None else base.wear_factor,
                    window_s=args.window, engines=_engine_list(args.engines), run_wear=not args.no_wear,
