@@ -3,8 +3,8 @@
     python benchmarks/bench_engines.py [--revolutions 0.5] [--json FILE]
 
 Paper case, no wear, the same interval for each engine: monolithic RK4 at 1 us and
-DOPRI (default tolerances), exudyn (generalized-alpha, discrete-point and
-eccentricity contact) at 10 us, the FMU co-simulation (adaptive, 2 us in contact)
+DOPRI (default tolerances), exudyn (generalized-alpha, our joint and exudyn's own
+contact) at 10 us, the FMU co-simulation (adaptive, 2 us in contact)
 when ``wearjoint.cosim`` is importable.  Each engine first runs 5 ms untimed
 (numba compilation, imports, FMU extraction).  Prints a table; ``--json`` also
 writes it.  The machine's other load is not controlled: compare within one run.
@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
-from wearjoint.parameters import JointParameters, SliderCrankParameters
+from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.validation.compare import run_monolithic, engine_runner
 
 WARM_UP_S = 0.005
@@ -27,14 +27,14 @@ SAMPLE_DT_S = 1e-5
 
 def engines(fmu_backend: str = DEFAULT_BACKEND):
     """(label, run(revolutions) -> RunRecord) of every engine available here."""
-    joint = JointParameters(wear_factor=0.0)
+    joint = paper_joint(wear_factor=0.0)
     table = [
         ("monolithic RK4 1 us", lambda rev: run_monolithic(joint, None, rev, SAMPLE_DT_S, False, integrator="rk4",
                                                         step_s=1e-6)),
         ("monolithic DOPRI (rtol 1e-6, max step 100 us)",
          lambda rev: run_monolithic(joint, None, rev, SAMPLE_DT_S, False, integrator="dopri")),
     ]
-    for engine, step in (("exudyn-discrete", 1e-5), ("exudyn-eccentricity", 1e-5), ("cosim", 2e-6)):
+    for engine, step in (("exudyn-discrete", 1e-5), ("exudyn-native", 1e-5), ("cosim", 2e-6)):
         try:
             runner = engine_runner(engine, joint, fmu_backend)
         except ImportError as exc:

@@ -40,7 +40,7 @@ import numpy as np
 from exudyn.itemInterface import ObjectGenericODE2
 
 from .core import layout as L
-from .core.contact import contact_jacobian, evaluate_contact, update_contact_memory
+from .core.contact import contact_jacobian, evaluate_contact
 from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
 from .core.wear import advance_joint
@@ -175,10 +175,9 @@ class ClearanceJointHandle:
     profile, state, save/load), :meth:`result` and :meth:`history`; :attr:`object_number` is
     its ``ObjectGenericODE2``."""
 
-    def __init__(self, mbs, pin: _Body, bushing: _Body, parameters: JointParameters, contact=None):
+    def __init__(self, mbs, pin: _Body, bushing: _Body, parameters: JointParameters):
         self.joint = ClearanceJoint(parameters)
         self.pin, self.bushing = pin, bushing
-        self._contact = contact
         self._nodes = [body for body in (pin, bushing) if body.node is not None]
         n = 3 * len(self._nodes)
         self._q, self._q_t, self._force = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -195,13 +194,11 @@ class ClearanceJointHandle:
                         bushing.velocity, j.parameter_vector, j.cos_phi, j.sin_phi, j.wear_depth, j.block_min, j.memory)
         self._force_arguments = (self._q, self._q_t, *self._local_indices, *self._shared, j.result, self._force)
         self._accept_arguments = None   # after Assemble
-        functions = {"forceUserFunction": self.generalized_force}
-        if contact is None:
-            self._jacobian_arguments = (*self._force_arguments[:-1], np.zeros((L.N_RESULT, L.N_KINEMATIC_INPUTS)),
-                                        np.zeros((n, n)))
-            functions["jacobianUserFunction"] = self.generalized_jacobian
+        self._jacobian_arguments = (*self._force_arguments[:-1], np.zeros((L.N_RESULT, L.N_KINEMATIC_INPUTS)),
+                                    np.zeros((n, n)))
         self.object_number = mbs.AddObject(ObjectGenericODE2(
-            nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((n, n)), **functions))
+            nodeNumbers=[body.node for body in self._nodes], massMatrix=np.zeros((n, n)),
+            forceUserFunction=self.generalized_force, jacobianUserFunction=self.generalized_jacobian))
 
     def _indices(self, node_indices) -> tuple[np.ndarray, np.ndarray]:
         """(pin, bushing) coordinate indices from one index triple per node of :attr:`_nodes`; ground: empty."""
@@ -209,22 +206,11 @@ class ClearanceJointHandle:
         return tuple(np.asarray(() if body.node is None else next(triples), dtype=np.int64)
                      for body in (self.pin, self.bushing))
 
-    def _evaluate(self) -> np.ndarray:
-        """The cross-check's ``contact`` at the bodies' current kinematics."""
-        pin, bushing = self.pin, self.bushing
-        return self._contact(self.joint, pin.position, pin.velocity, bushing.position, bushing.velocity)
-
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
         call (exudyn calls it per Newton iteration)."""
         self._q[:], self._q_t[:] = q, q_t
-        if self._contact is None:
-            generalized_contact_forces(*self._force_arguments)
-            return self._force
-        self._read_state(self._q, self._q_t, self._local_indices)
-        r = self._evaluate()
-        for index, first in zip(self._local_indices, (L.R_PIN_FX, L.R_BUSHING_FX)):
-            self._force[index] = r[first:first + index.size]
+        generalized_contact_forces(*self._force_arguments)
         return self._force
 
     def generalized_jacobian(self, mbs, t, item, q, q_t, factor_q, factor_q_t):
@@ -235,11 +221,6 @@ class ClearanceJointHandle:
         arguments = self._jacobian_arguments
         generalized_force_jacobian(*arguments, factor_q, factor_q_t)
         return arguments[-1]
-
-    def _read_state(self, q, q_t, indices) -> None:
-        """The bodies' kinematics from coordinates ``q``, ``q_t`` at the (pin, bushing) ``indices``."""
-        for body, index in zip((self.pin, self.bushing), indices):
-            body_kinematics(q, q_t, index, body.reference, body.position, body.velocity)
 
     def _accept(self, mbs, t: float, q, q_t) -> None:
         """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row.
@@ -260,12 +241,7 @@ class ClearanceJointHandle:
             self._accept_arguments = (*self._system_indices, *self._shared, j._mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
-        if self._contact is None:
-            accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
-        else:
-            self._read_state(q, q_t, self._system_indices)
-            update_contact_memory(self._evaluate(), j.parameter_vector, j.memory)
-            history_row(t, j.result, j.wear_depth, _HISTORY_SLOTS, self._history, self._rows)
+        accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
         self._rows += 1
         self.t = t
         self.accepted_steps += 1
@@ -323,17 +299,12 @@ def set_post_step(mbs, user_function: Callable | None) -> None:
     _post_step(mbs).user_function = user_function
 
 
-def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters, *,
-                        contact=None) -> ClearanceJointHandle:
+def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters) -> ClearanceJointHandle:
     """Add a wearing clearance joint between ``pin_body`` and ``bushing_body`` (object numbers of
     ``ObjectRigidBody2D`` or ``ObjectGround``) of the exudyn system ``mbs``, before
     ``mbs.Assemble()``; any number per system.  The pin centre must lie inside the bushing at the
     initial configuration (usually within the radial clearance; a small overlap is a preload).
-
-    ``contact`` (for cross-checks, e.g. validation's eccentricity form): a function
-    ``(joint, pos_i, vel_i, pos_j, vel_j) -> result array`` (layout.R_*) used instead of the
-    discrete-point contact; the bushing then does not wear.  Raises ParameterError naming the
-    argument."""
+    Raises ParameterError naming the argument."""
     if not isinstance(parameters, JointParameters):
         raise ParameterError(f"parameters={parameters!r} is invalid: allowed a wearjoint.JointParameters")
     pin, bushing = _Body(mbs, "pin_body", pin_body), _Body(mbs, "bushing_body", bushing_body)
@@ -348,7 +319,7 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
             f"parameters pin_offset_m={parameters.pin_offset_m} and bushing_offset_m={parameters.bushing_offset_m} "
             f"are invalid for these bodies: they put the pin centre {e:.6g} m from the bushing centre at the "
             f"initial configuration, outside the bushing: allowed at most its radius {radius:.6g} m")
-    handle = ClearanceJointHandle(mbs, pin, bushing, parameters, contact)
+    handle = ClearanceJointHandle(mbs, pin, bushing, parameters)
     _post_step(mbs).handles.append(handle)
     return handle
 
