@@ -31,6 +31,9 @@ from exudyn.itemInterface import (
 from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step, simulation_settings
 from wearjoint.parameters import JointParameters, ParameterError, _require, contact_stiffness
 from wearjoint.progress import Progress
+from wearjoint.validation.exudyn_native import NativeContact
+
+CONTACTS = ("wearjoint", "native")     # our joint; exudyn's own contact (unworn)
 
 
 @dataclass(frozen=True)
@@ -102,7 +105,12 @@ def clearance_joint(linkage_clearance_m: float, **changes) -> JointParameters:
 class FourBarModel:
     """The linkage in exudyn with clearance joints at B and C (module docstring)."""
 
-    def __init__(self, linkage: FourBar | None = None, clearance_m: float = 1e-4, wear_factor: float = 0.0):
+    def __init__(self, linkage: FourBar | None = None, clearance_m: float = 1e-4, wear_factor: float = 0.0,
+                 contact: str = "wearjoint"):
+        """``contact``: ``wearjoint`` (our joint, :func:`add_clearance_joint`) or ``native`` (exudyn's own
+        hollow-sphere contact, unworn: :class:`~wearjoint.validation.exudyn_native.NativeContact`)."""
+        _require("contact", contact, contact in CONTACTS, "one of " + ", ".join(CONTACTS))
+        self.contact = contact
         self.linkage = linkage = linkage or FourBar()
         _require("clearance_m", clearance_m, 0.0 < clearance_m < 1e-3, "in (0, 1 mm)")
         a, b, c = linkage.crank_m, linkage.coupler_m, linkage.rocker_m
@@ -141,10 +149,11 @@ class FourBarModel:
             markerNumbers=[mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0)),
                            mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=self.nodes["crank"], coordinate=2))],
             offsetUserFunction=lambda mbs_, t, item, offset: omega * t))
+        add = add_clearance_joint if contact == "wearjoint" else NativeContact
         self.joints = {
-            "B": add_clearance_joint(mbs, self.bodies["crank"], self.bodies["coupler"], clearance_joint(
+            "B": add(mbs, self.bodies["crank"], self.bodies["coupler"], clearance_joint(
                 clearance_m, pin_offset_m=(0.5 * a, 0.0), bushing_offset_m=(-0.5 * b, 0.0), wear_factor=wear_factor)),
-            "C": add_clearance_joint(mbs, self.bodies["rocker"], self.bodies["coupler"], clearance_joint(
+            "C": add(mbs, self.bodies["rocker"], self.bodies["coupler"], clearance_joint(
                 clearance_m, pin_offset_m=(0.5 * c, 0.0), bushing_offset_m=(0.5 * b, 0.0), wear_factor=wear_factor)),
         }
         self.reference = {name: np.array(frame[0] + (frame[1],)) for name, frame in frames.items()}
@@ -173,13 +182,16 @@ class FourBarModel:
         accepted step, the wall time, exudyn's steps and Newton iterations, and ``completed``: False
         if exudyn's Newton stopped earlier (docs/four_bar.md), the run then ending there."""
         _require("end_time_s", end_time_s, math.isfinite(end_time_s) and end_time_s > 0.0, "> 0 s")
-        check_step(step_s, self.joints.values())
+        handles = self.joints.values() if self.contact == "wearjoint" else ()
+        check_step(step_s, handles)
         linkage = self.linkage
         # the coordinates' size for Newton's round-off floor: the linkage's extent, and the crank's
         # angle (which grows without bound) times the pin's offset from the crank's centre
         crank_turned = math.radians(linkage.initial_crank_angle_deg) + linkage.omega_rad_s * end_time_s
         scale = max(linkage.ground_m + linkage.rocker_m, 0.5 * linkage.crank_m * crank_turned)
-        settings = simulation_settings(end_time_s, step_s, self.joints.values(), coordinate_scale_m=scale)
+        settings = simulation_settings(end_time_s, step_s, handles, coordinate_scale_m=scale)
+        if self.contact == "native":    # fixed steps: its recommended step sizes stop the solver (exudyn_model)
+            settings.timeIntegration.discontinuous.useRecommendedStepSize = False
         self._progress = Progress(end_time_s, "four-bar", enabled=progress)
         wall = time.perf_counter()
         completed = True
