@@ -24,6 +24,7 @@ COMMANDS = {
     "wear-study": ("wearjoint.cli.wear_study", "thousands of revolutions of wear (paper Figs. 7-8)"),
     "cosim-study": ("wearjoint.cli.cosim_study", "co-simulation error versus communication step and scheme"),
     "sweep": ("wearjoint.cli.sweep", "a grid of parameter values x seeds of simulate, cosim or wear-study on Dask"),
+    "sensitivity": ("wearjoint.cli.sensitivity", "which parameters drive the outputs: Morris or Sobol' on Dask (SALib)"),
 }
 DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, "
                "FMU co-simulation, validation and the paper's wear study.")

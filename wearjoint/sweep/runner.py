@@ -170,8 +170,10 @@ def _prepare_fmus(cases: list[Case]) -> None:
 
 
 def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None = None, scheduler: str | None = None,
-              progress: bool = True) -> dict:
-    """Run the cases not yet done; returns timings and whether Ctrl-C stopped the sweep."""
+              progress: bool = True, client=None) -> dict:
+    """Run the cases not yet done; returns timings and whether Ctrl-C stopped the sweep.  ``client``: a
+    running Dask client to use (and leave open; e.g. across the rounds of a sensitivity study), else one
+    is started from ``workers`` / ``scheduler`` and closed."""
     from .worker import run_case
 
     todo = folder.todo()
@@ -182,13 +184,14 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
     if scheduler is None:
         _prepare_fmus(todo)
     start = time.perf_counter()
-    client, cluster = start_client(workers, scheduler)
+    own = client is None
+    client, cluster = start_client(workers, scheduler) if own else (client, None)
     bar = None
     try:
         from distributed import as_completed
 
         timing["cluster_start_s"] = time.perf_counter() - start
-        timing["workers"] = len(client.nthreads()) if scheduler else workers
+        timing["workers"] = len(client.nthreads()) if scheduler or not own else workers
         run_start = time.perf_counter()
         futures = {client.submit(run_case, case.command, case.argv(), no_plots, key=f"wearjoint-case-{case.case_id}",
                                  pure=False): case for case in todo}
@@ -213,7 +216,8 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
     finally:
         if bar is not None:
             bar.close()
-        client.close()
+        if own:
+            client.close()
         if cluster is not None:
             cluster.close()
     return timing

@@ -1,0 +1,309 @@
+"""`wearjoint sensitivity`: the analysis path against closed forms (Ishigami's Sobol' indices, Morris on a
+linear function), the designs' prefix property that --resume and --target-interval rely on, bad input, and
+tiny studies of the model on a LocalCluster: a parameter with no physical effect (the driven crank's
+inertia) gets intervals holding 0, Morris and Sobol' put k_w first for the wear depth, stopped studies
+resume.  Slow: a running scheduler with two workers; the doc's study ranks alike in both methods."""
+import json
+import math
+import re
+import shutil
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from test_sweep import read_csv, wearjoint
+from test_sweep_faults import _finished, _stop, _wait_for
+from wearjoint.cli import main
+from wearjoint.sensitivity.analyse import analyse, until_target, widest_interval
+from wearjoint.sensitivity.problem import Parameter, Problem, parse_params
+from wearjoint.sensitivity.report import invalid_reason, output_value
+from wearjoint.sensitivity.sample import group_size, sample
+
+A, B = 7.0, 0.1                                        # Ishigami's constants (Ishigami & Homma 1990)
+PI = math.pi
+TINY = ("--revolutions", "0.05", "--no-plots")
+# k_w over two decades (Archard: depth proportional to it), restitution, and the driven crank's inertia (no effect)
+PARAMS = ("--param", "wear-coefficient-m2-N=1e-11,1e-9,log", "--param", "restitution=0.6,0.95",
+          "--param", "crank_inertia_kg_m2=0.004,0.015")
+DUMMY = "crank-inertia-kg-m2"
+
+
+def ishigami(x):
+    return np.sin(x[:, 0]) + A * np.sin(x[:, 1]) ** 2 + B * x[:, 2] ** 4 * np.sin(x[:, 0])
+
+
+def ishigami_indices():
+    """Closed-form S1 and ST of the Ishigami function on [-pi, pi]^3."""
+    v1 = 0.5 * (1.0 + B * PI ** 4 / 5.0) ** 2
+    v2 = A ** 2 / 8.0
+    v13 = B ** 2 * PI ** 8 * (1.0 / 18.0 - 1.0 / 50.0)
+    v = v1 + v2 + v13
+    return [v1 / v, v2 / v, 0.0], [(v1 + v13) / v, v2 / v, v13 / v]
+
+
+ISHIGAMI = Problem("simulate", tuple(Parameter(f"x{i}", f"x{i}", -PI, PI) for i in range(3)))
+
+
+def contains(value, centre, half):
+    return centre - half <= value <= centre + half
+
+
+def covered(result):
+    """(intervals holding the closed form, intervals) of an Ishigami analysis."""
+    s1, st = ishigami_indices()
+    hits = [contains(s1[k], r["S1"], r["S1_conf"]) for k, r in enumerate(result["indices"])]
+    hits += [contains(st[k], r["ST"], r["ST_conf"]) for k, r in enumerate(result["indices"])]
+    return sum(hits), len(hits)
+
+
+def test_ishigami_indices_lie_within_their_own_intervals():
+    x = sample(ISHIGAMI, "sobol", 1024, seed=0)
+    assert covered(analyse(ISHIGAMI, "sobol", x, ishigami(x), seed=0)) == (6, 6)
+
+
+def test_ishigami_intervals_cover_the_closed_form_at_their_level():
+    hits = total = 0
+    for seed in range(20):
+        x = sample(ISHIGAMI, "sobol", 256, seed=seed)
+        h, n = covered(analyse(ISHIGAMI, "sobol", x, ishigami(x), seed=seed))
+        hits, total = hits + h, total + n
+    assert hits / total >= 0.9                         # 95 % intervals; 0.9 leaves room for 120 draws
+
+
+def test_morris_of_a_linear_function_is_the_slope_times_the_range():
+    problem = Problem("simulate", (Parameter("a", "a", 2.0, 5.0), Parameter("b", "b", 1e-3, 1e1, log=True),
+                                   Parameter("c", "c", 0.0, 1.0)))
+    x = sample(problem, "morris", 6, seed=3)
+    values = np.array([[p["a"], p["b"], p["c"]] for p in problem.points(x)])
+    y = 3.0 * values[:, 0] - 2.0 * np.log10(values[:, 1])            # c has no effect
+    rows = analyse(problem, "morris", x, y, seed=3)["indices"]
+    assert [r["mu_star"] for r in rows] == pytest.approx([3.0 * 3.0, 2.0 * 4.0, 0.0], rel=1e-9, abs=1e-12)
+    assert [r["mu"] for r in rows] == pytest.approx([9.0, -8.0, 0.0], rel=1e-9, abs=1e-12)
+    assert [r["sigma"] for r in rows] == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
+    assert rows[2]["mu_star_conf"] == 0.0
+    assert all(1e-3 <= p["b"] <= 1e1 and 2.0 <= p["a"] <= 5.0 for p in problem.points(x))
+
+
+@pytest.mark.parametrize("method,n", [("morris", 3), ("sobol", 8)])
+def test_designs_are_prefixes_of_larger_designs(method, n):
+    small, large = sample(ISHIGAMI, method, n, seed=5), sample(ISHIGAMI, method, 4 * n, seed=5)
+    assert len(small) == n * group_size(method, 3) and len(large) == 4 * len(small)
+    assert np.array_equal(small, large[:len(small)])
+
+
+def evaluate_ishigami(x):
+    return {"y": ishigami(x)}, {}, False
+
+
+def test_target_interval_doubles_the_samples_until_it_is_met():
+    study = until_target(ISHIGAMI, "sobol", 8, 0, evaluate_ishigami, target=0.15, max_samples=4096)
+    sizes = [r["samples"] for r in study["rounds"]]
+    widest = [r["widest_interval"]["y"] for r in study["rounds"]]
+    assert sizes == [8 * 2 ** k for k in range(len(sizes))] and study["met"] is True
+    assert widest[-1] <= 0.15 < min(widest[:-1])
+    assert widest_interval("sobol", study["results"]["y"]) == widest[-1]
+
+
+def test_target_interval_stops_at_max_samples():
+    study = until_target(ISHIGAMI, "sobol", 8, 0, evaluate_ishigami, target=1e-6, max_samples=40)
+    assert [r["samples"] for r in study["rounds"]] == [8, 16, 32] and study["met"] is False
+
+
+def test_groups_with_a_failed_run_are_left_out():
+    x = sample(ISHIGAMI, "sobol", 64, seed=1)
+    y = ishigami(x)
+    size = group_size("sobol", 3)
+    y[[5, 3 * size + 1, 40 * size + 4]] = np.nan       # runs of groups 1, 3 and 40
+    keep = np.setdiff1d(np.arange(64), [1, 3, 40])
+    rows = (keep[:, None] * size + np.arange(size)).ravel()
+    result = analyse(ISHIGAMI, "sobol", x, y, seed=1)
+    assert (result["groups"], result["dropped"]) == (61, 3)
+    assert result["indices"] == analyse(ISHIGAMI, "sobol", x[rows], y[rows], seed=1)["indices"]
+
+
+def test_a_run_whose_pin_left_the_bushing_is_not_analysed():
+    groove = {"status": "ok", "clearance_m": 1e-4, "max_wear_depth_m": 5e-4, "max_eccentricity_m": 6.05e-4}
+    apart = {**groove, "max_eccentricity_m": 1.46e4}
+    assert invalid_reason(groove) == "" and output_value(groove, "max_wear_depth_m") == 5e-4
+    assert "left the bushing" in invalid_reason(apart) and math.isnan(output_value(apart, "max_wear_depth_m"))
+    assert math.isnan(output_value({**groove, "status": "failed"}, "max_wear_depth_m"))
+
+
+def test_a_parameter_takes_either_spelling():
+    a = parse_params("wear-study", ["crank-speed-rpm=100,200", "wear_coefficient_m2_N=1e-11,1e-10,log"])
+    b = parse_params("wear-study", ["crank_speed_rpm=100,200", "wear-coefficient-m2-N=1e-11,1e-10,log"])
+    assert a == b and a.names == ["crank-speed-rpm", "wear-coefficient-m2-N"]
+    assert a.salib()["bounds"] == [[100.0, 200.0], [-11.0, -10.0]]
+
+
+@pytest.mark.parametrize("args,named", [
+    (("--param", "frobnication=1,2"), "--param 'frobnication=1,2'"),
+    (("--param", "restitution=0.9,0.6"), "--param 'restitution=0.9,0.6'"),
+    (("--param", "restitution=0.7,0.7"), "LOW=0.7 >= HIGH=0.7"),
+    (("--param", "wear-coefficient-m2-N=-1e-10,1e-10,log"), "--param 'wear-coefficient-m2-N=-1e-10,1e-10,log'"),
+    (("--param", "wear-coefficient-m2-N=0,1e-10,log"), "LOW=0.0"),
+    (("--param", "restitution=0.5,1.5"), "restitution=1.5"),
+    (("--param", "restitution=0.6,0.9", "--samples", "1"), "--samples=1"),
+    (("--param", "restitution=0.6,0.9", "--method", "sobol", "--samples", "4"), "--samples=4"),
+    (("--param", "restitution=0.6,0.9", "--method", "sobol", "--samples", "24"), "--samples=24"),
+    (("--param", "restitution=0.6,0.9", "--outputs", "max_wear_depth_m,depth"), "--outputs 'depth'"),
+    (("--param", "restitution=0.6,0.9", "--target-interval", "0"), "--target-interval=0.0"),
+    (("--param", "restitution=0.6,0.9", "--workers", "0"), "--workers=0"),
+    ((), "--param is missing"),
+])
+def test_bad_input_gives_one_line_naming_the_option_and_the_value(tmp_path, capsys, args, named):
+    code = main(["sensitivity", "simulate", *TINY, *args, "--out", str(tmp_path / "x")])
+    err = capsys.readouterr().err
+    assert code == 2 and named in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "x").exists()
+
+
+def test_importing_the_command_imports_neither_salib_nor_dask():
+    code = ("import sys, wearjoint.sensitivity, wearjoint.cli.sensitivity; "
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'SALib', 'dask', 'distributed'}))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.strip() == "[]", done.stderr
+
+
+# ------------------------------------------------------------------ the model, tiny runs on a LocalCluster
+@pytest.fixture(scope="module")
+def studies(tmp_path_factory):
+    """Sobol' N = 8 and Morris N = 4 of a 0.05-revolution simulate over k_w, restitution and the crank's inertia."""
+    root = tmp_path_factory.mktemp("sensitivity")
+    done = {}
+    for method, n in (("sobol", "8"), ("morris", "4")):
+        done[method] = wearjoint("sensitivity", "simulate", *TINY, *PARAMS, "--method", method, "--samples", n,
+                                 "--seed", "7", "--workers", "2", "--out", str(root / method), "--quiet")
+    return root, done
+
+
+def indices(out):
+    table = {}
+    for r in read_csv(out / "indices.csv"):
+        table.setdefault(r["output"], []).append(r)
+    return table
+
+
+def test_study_writes_its_results(studies):
+    root, done = studies
+    for method, n, d_rows in (("sobol", 8, 5), ("morris", 4, 4)):
+        out = root / method
+        assert done[method].returncode == 0, done[method].stderr
+        summary = json.loads((out / "summary.json").read_text())
+        assert (summary["method"], summary["samples"], summary["seed"], summary["runs"]) == (method, n, 7, n * d_rows)
+        assert summary["wear_factor_bias"]["max_wear_depth_m"]["text"] == "0 %"        # F = 1: no factor
+        assert summary["command_line"].startswith("wearjoint sensitivity simulate --revolutions 0.05")
+        samples = read_csv(out / "samples.csv")
+        assert len(samples) == n * d_rows and all(r["status"] == "ok" for r in samples)
+        for r in samples[:3]:                          # each row holds its run's outputs
+            run = json.loads((out / "cases" / r["case_id"] / "summary.json").read_text())
+            assert float(r["max_wear_depth_m"]) == run["max_wear_depth_m"]
+            assert float(r["slider_acc_peak_m_s2"]) == max(abs(run["slider_acc_max_m_s2"]),
+                                                           abs(run["slider_acc_min_m_s2"]))
+            assert run["parameters"]["joint"]["restitution"] == float(r["restitution"])
+        for output in summary["outputs"]:
+            assert (out / f"sensitivity_{output}.png").is_file()
+        assert "Traceback" not in done[method].stderr
+
+
+def test_a_parameter_without_physical_effect_gets_intervals_holding_zero(studies):
+    root, _ = studies
+    for output, rows in indices(root / "sobol").items():
+        dummy = next(r for r in rows if r["parameter"] == DUMMY)
+        for key in ("S1", "ST"):
+            assert float(dummy[f"{key}_low"]) <= 0.0 <= float(dummy[f"{key}_high"]), (output, key)
+    for output, rows in indices(root / "morris").items():
+        dummy = next(r for r in rows if r["parameter"] == DUMMY)
+        assert float(dummy["mu_star_low"]) <= 0.0 <= float(dummy["mu_star_high"]), output
+
+
+def test_morris_and_sobol_put_k_w_first_for_the_wear_depth(studies):
+    root, _ = studies
+    for method in ("sobol", "morris"):
+        rows = indices(root / method)["max_wear_depth_m"]
+        assert [r["rank"] for r in rows] == ["1", "2", "3"]
+        assert rows[0]["parameter"] == "wear-coefficient-m2-N", method
+
+
+def test_more_samples_resume_reuses_every_finished_run(studies, tmp_path):
+    root, _ = studies
+    out = tmp_path / "sobol"
+    shutil.copytree(root / "sobol", out)
+    first = json.loads((out / "summary.json").read_text())
+    refused = wearjoint("sensitivity", "simulate", *TINY, *PARAMS, "--method", "sobol", "--samples", "16",
+                        "--seed", "7", "--out", str(out), "--quiet")
+    assert refused.returncode == 2 and "--resume" in refused.stderr
+    done = wearjoint("sensitivity", "simulate", *TINY, *PARAMS, "--method", "sobol", "--samples", "16",
+                     "--seed", "7", "--workers", "2", "--out", str(out), "--quiet", "--resume")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["skipped_as_done"] == first["cases"] and summary["rounds"][0]["cases_run"] == summary["cases"] - first["cases"]
+    assert [r["case_id"] for r in read_csv(out / "samples.csv")][:first["runs"]] == \
+        [r["case_id"] for r in read_csv(root / "sobol" / "samples.csv")]
+
+
+def test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them(tmp_path):
+    out = tmp_path / "out"
+    # 12 runs of ~0.3-1 s (RK4 at 1 us over half a revolution): the study is still running when 2 are done
+    args = ["sensitivity", "simulate", "--revolutions", "0.5", "--integrator", "rk4", "--step", "1e-6", "--no-plots",
+            "--param", "restitution=0.6,0.95", "--param", "friction-coefficient=0.05,0.2", "--samples", "4",
+            "--outputs", "max_wear_depth_m", "--workers", "2", "--out", str(out), "--quiet"]
+    client = subprocess.Popen([sys.executable, "-m", "wearjoint.cli", *args], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE, text=True)
+    try:
+        _wait_for(lambda: len(_finished(out)) >= 2 or client.poll() is not None, 900, "two finished runs")
+        client.send_signal(signal.SIGINT)
+        assert client.wait(timeout=120) == 130, client.stderr.read()
+    finally:
+        _stop([client])
+    kept = {p.parent.name for p in _finished(out)}
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["interrupted"] and 2 <= len(kept) < summary["cases"], "the study finished before the stop"
+    done = wearjoint(*args, "--resume")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["skipped_as_done"] == len(kept) and summary["ok"] == summary["cases"]
+
+
+# ------------------------------------------------------------------ slow
+@pytest.mark.slow
+def test_study_on_a_running_scheduler_with_two_workers(tmp_path):
+    """--scheduler: the runs go to a cluster the study did not start (here one started by this test)."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        out = tmp_path / "out"
+        done = wearjoint("sensitivity", "simulate", *TINY, *PARAMS, "--samples", "3", "--scheduler",
+                         cluster.scheduler_address, "--out", str(out), "--quiet")
+        assert done.returncode == 0, done.stderr
+        workers = {r["worker"] for r in read_csv(out / "sweep.csv")}
+        assert len(workers) == 2 and json.loads((out / "summary.json").read_text())["workers"] == 2
+
+
+DOC = Path(__file__).resolve().parents[1] / "docs" / "sensitivity.md"
+
+
+@pytest.mark.slow
+def test_the_docs_study_ranks_the_dominant_parameters_alike_in_morris_and_sobol(tmp_path):
+    """The doc's two commands, as printed (~20 min on 2 cores): the two parameters with the largest effect on
+    the wear depth agree, and the control (the driven crank's inertia) comes last with no effect in both."""
+    text = DOC.read_text().replace("\\\n", " ")          # shell continuation lines joined
+    commands = re.findall(r"^(wearjoint sensitivity wear-study .*?--method (morris|sobol).*?)$", text, flags=re.M)
+    assert sorted(m for _, m in commands) == ["morris", "sobol"]
+    tables = {}
+    for line, method in commands:
+        argv = line.split()[1:]
+        argv[argv.index("--out") + 1] = str(tmp_path / method)
+        done = wearjoint(*argv, "--quiet", timeout=3600)
+        assert done.returncode in (0, 1), done.stderr        # 1: some runs' pin left the bushing (the doc says)
+        assert json.loads((tmp_path / method / "summary.json").read_text())["failed"] == 0
+        tables[method] = indices(tmp_path / method)
+    top = {m: {r["parameter"] for r in t["max_wear_depth_m"][:2]} for m, t in tables.items()}
+    assert top["morris"] == top["sobol"]
+    for method, table in tables.items():
+        for rows in table.values():
+            assert rows[-1]["parameter"] == DUMMY and float(rows[-1]["ST" if method == "sobol" else "mu_star"]) == 0.0

@@ -1,0 +1,159 @@
+"""A sensitivity study's outputs, its systematic uncertainty and its files.
+
+Outputs are numbers of the runs' summary.json (docs/model.md §6; a wear study's ``revR_...`` per
+snapshot and ``growth_exponent``) plus ``slider_acc_peak_m_s2``, max(|slider_acc_max_m_s2|,
+|slider_acc_min_m_s2|): the peak slider acceleration of the last revolution.  Files: ``samples.csv``
+(one row per design row: its group, parameter values, case and outputs), ``indices.csv`` (per output
+and parameter, ranked by effect: the method's indices, their 95 % intervals, the output's wear-factor
+bias) and ``sensitivity_OUTPUT.png`` (bars with interval whiskers, parameters sorted by effect).
+"""
+from __future__ import annotations
+
+import json
+import math
+from argparse import Namespace
+from pathlib import Path
+
+import numpy as np
+
+from ..parameters import ParameterError
+from ..sweep.bias import Bias, summary_biases
+from ..sweep.report import FIGURES_OF_MERIT
+from ..sweep.runner import SNAPSHOT_FIGURES, write_csv_atomic
+from .analyse import COLUMNS, EFFECT
+
+PEAK = "slider_acc_peak_m_s2"
+DEFAULT_OUTPUTS = ("max_wear_depth_m", "worn_volume_m3", "max_contact_force_N", "impacts_per_revolution", PEAK)
+OTHER_OUTPUTS = ("max_wear_angle_deg", "wall_time_s", "realtime_factor", PEAK)
+BIAS_EFFECT = ("a relative bias b shared by every run scales each run's output by 1 + b: the Sobol' indices and the "
+               "ranking are unchanged, Morris mu*, sigma and mu scale by 1 + b; a bias that varies across the ranges "
+               "changes them by an amount nobody measured")
+
+
+def allowed_outputs(command: str, base: dict) -> list:
+    """The outputs a study of ``command`` with options ``base`` can analyse."""
+    names = [*FIGURES_OF_MERIT, *OTHER_OUTPUTS]
+    if command == "wear-study":
+        from ..cli.wear_study import config_from_args
+
+        snapshots = config_from_args(Namespace(**base)).snapshots
+        names += [f"rev{r}_{key}" for r in snapshots for key in SNAPSHOT_FIGURES] + ["growth_exponent"]
+    return names
+
+
+def parse_outputs(command: str, base: dict, text) -> list:
+    """``--outputs A,B,...`` (or a list; None: the defaults) -> names; a one-line ParameterError naming the unknown one."""
+    items = text.split(",") if isinstance(text, str) else (text or ())
+    names = [n.strip() for n in items if n.strip()] or list(DEFAULT_OUTPUTS)
+    allowed = allowed_outputs(command, base)
+    for name in names:
+        if name not in allowed:
+            raise ParameterError(f"--outputs {name!r} is invalid: allowed (comma separated) " + ", ".join(allowed))
+    return list(dict.fromkeys(names))
+
+
+def invalid_reason(row: dict | None) -> str:
+    """Why an ok run's numbers are not physical, '' when they may be: the pin left the bushing (max eccentricity
+    above 2 x (clearance + max wear depth); a pin in its groove sits at clearance + depth + penetration)."""
+    if row is None or row.get("status") != "ok":
+        return ""
+    e, c, h = (row.get(k) for k in ("max_eccentricity_m", "clearance_m", "max_wear_depth_m"))
+    if all(isinstance(v, (int, float)) for v in (e, c, h)) and not e <= 2.0 * (c + h):
+        return (f"the pin left the bushing: max eccentricity {e:.3g} m > 2 x (clearance + max wear depth) = "
+                f"{2.0 * (c + h):.3g} m")
+    return ""
+
+
+def output_value(row: dict | None, name: str) -> float:
+    """Output ``name`` of a case's row (sweep.csv's columns); NaN when the case has none (failed, pending) or
+    its numbers are not physical (:func:`invalid_reason`)."""
+    if row is None or row.get("status") != "ok" or invalid_reason(row):
+        return math.nan
+    if name == PEAK:
+        values = [row.get("slider_acc_max_m_s2"), row.get("slider_acc_min_m_s2")]
+        return max(abs(float(v)) for v in values) if all(isinstance(v, (int, float)) for v in values) else math.nan
+    value = row.get(name)
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else math.nan
+
+
+def output_biases(out: Path, rows: list, outputs: list) -> dict:
+    """{output: Bias}: the wear factor's bias of each output, the same for every ok run or unknown.  The bias
+    is measured for the max depth only; the others carry 0 where the runs have no wear-factor bias."""
+    found = {name: set() for name in outputs}
+    for row in rows:
+        path = Path(out) / row["folder"] / "summary.json"
+        if row["status"] != "ok" or not path.is_file():
+            continue
+        biases = summary_biases(json.loads(path.read_text()))
+        depth = biases["max_wear_depth_m"]
+        for name in outputs:
+            bias = biases.get(name) or (depth if depth.rel == 0.0 else
+                                        Bias(None, "unknown: the wear factor's bias is measured for the max depth only"))
+            found[name].add(bias)
+    return {name: (next(iter(b)) if len(b) == 1 else
+                   Bias(None, "unknown: the runs differ in wear factor or revolutions") if b else
+                   Bias(None, "unknown: no run finished")) for name, b in found.items()}
+
+
+def write_samples(out: Path, problem, x_rows: list, group: int, ids: list, rows: dict, outputs: list) -> None:
+    """samples.csv: one row per design row (rows of one Morris grid point share a case); status ``invalid`` and
+    the reason in ``error`` for an ok run whose numbers are not physical."""
+    table = []
+    for i, (point, cid) in enumerate(zip(x_rows, ids)):
+        row, invalid = rows.get(cid), invalid_reason(rows.get(cid))
+        status = "invalid" if invalid else row["status"] if row else "pending"
+        table.append({"sample": i, "group": i // group, **{p.dest: point[p.name] for p in problem.parameters},
+                      "case_id": cid, "status": status, "error": invalid or (row["error"] if row else ""),
+                      **{name: output_value(row, name) for name in outputs}})
+    write_csv_atomic(Path(out) / "samples.csv", table)
+
+
+def ranked(method: str, result: dict) -> list:
+    """The output's index rows, largest effect first."""
+    return sorted(result["indices"], key=lambda r: -r[EFFECT[method]])
+
+
+def write_indices(out: Path, method: str, results: dict, biases: dict) -> None:
+    """indices.csv: per output and parameter (ranked by effect): the indices, each interval's low and high ends,
+    the complete groups used and the output's wear-factor bias."""
+    table = []
+    for output, result in results.items():
+        for rank, r in enumerate(ranked(method, result), start=1):
+            ends = {}
+            for c in (c for c in COLUMNS[method] if f"{c}_conf" in r):
+                ends[f"{c}_low"], ends[f"{c}_high"] = r[c] - r[f"{c}_conf"], r[c] + r[f"{c}_conf"]
+            table.append({"output": output, "rank": rank, **r, **ends, "groups": result["groups"],
+                          "bias_rel": biases[output].csv})
+    write_csv_atomic(Path(out) / "indices.csv", table, lead=("output", "rank", "parameter", "api_name"))
+
+
+def plot_indices(out: Path, method: str, output: str, result: dict, title: str) -> str:
+    """sensitivity_OUTPUT.png: horizontal bars, largest effect on top, 95 % interval whiskers."""
+    from ..plots import plt, save_figure
+
+    rows = ranked(method, result)[::-1]
+    y = np.arange(len(rows))
+    fig, ax = plt.subplots(figsize=(7.5, 1.2 + 0.45 * len(rows)))
+    if method == "sobol":
+        for key, shift, color in (("ST", 0.2, "tab:orange"), ("S1", -0.2, "tab:blue")):
+            ax.barh(y + shift, [r[key] for r in rows], height=0.38, xerr=[r[f"{key}_conf"] for r in rows],
+                    color=color, capsize=3, label=f"{key} ± 95 % interval")
+        ax.axvline(0.0, color="k", lw=0.6)
+        ax.set_xlabel("Sobol' index (share of the output's variance)")
+    else:
+        top = max([r["mu_star"] for r in rows] + [r["sigma"] for r in rows])
+        scale = 10.0 ** math.floor(math.log10(top)) if top > 0.0 else 1.0
+        ax.barh(y, [r["mu_star"] / scale for r in rows], height=0.6, xerr=[r["mu_star_conf"] / scale for r in rows],
+                capsize=3, color="tab:blue", label="μ* ± 95 % interval")
+        ax.plot([r["sigma"] / scale for r in rows], y, "kx", label="σ")
+        ax.set_xlabel(f"Morris μ* / {scale:.0e}: mean |change of {output}| over a parameter's range")
+    ax.set_yticks(y, [r["parameter"] for r in rows])
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8, loc="lower right")
+    name = f"sensitivity_{output}.png"
+    save_figure(fig, Path(out) / name)
+    return name
+
+
+__all__ = ["DEFAULT_OUTPUTS", "PEAK", "BIAS_EFFECT", "allowed_outputs", "parse_outputs", "output_value", "invalid_reason",
+           "output_biases", "write_samples", "write_indices", "plot_indices", "ranked"]
