@@ -1,7 +1,7 @@
 """Where the co-simulation master spends its time: the median of ``--repeats`` runs in one invocation.
 
     python benchmarks/bench_cosim.py [--duration 0.2] [--scheme adaptive] [--step 5e-6] [--repeats 3]
-                                     [--fmu-backend native|pythonfmu] [--fmu PATH]
+                                     [--fmu-backend native|pythonfmu] [--fmu PATH] [--callgrind]
 
 Each run, on a fresh co-simulation:
 
@@ -15,12 +15,23 @@ Each run, on a fresh co-simulation:
 
 Master bookkeeping per step = (master time of 1. - mechanism time of 2.) / steps.
 Prints microseconds per communication step and the real-time factor, each the median
-of the runs, with the machine's load.
+of the runs, with the machine's load, and how the steps split: started in free flight,
+in contact at ``--step``, in contact shorter (the force missed its extrapolation).
+
+``--callgrind``: instead, one run under ``valgrind --tool=callgrind`` counting the instructions
+inside the FMU's fmi2* functions (the native FMU's: they have symbols): per call of each, and per
+communication step (warm-up included) -- figures the machine's load does not change.
 """
 from __future__ import annotations
 
 import argparse
+import re
+import subprocess
+import sys
+import tempfile
 import time
+from collections import Counter
+from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -53,11 +64,14 @@ def measure(args) -> dict:
     with CoSimulation(paper_joint(wear_factor=0.0), None, options, fmu_path=args.fmu,
                       fmu_backend=args.fmu_backend) as sim:
         sim.advance_to(WARM_UP_S, samples)
-        before = (sim.communication_steps, sim.rollbacks, sim.fmi_time_s, sim.master_time_s)
+        before = (sim.communication_steps, sim.rollbacks, sim.fmi_time_s, sim.master_time_s, sim.free_steps,
+                  sim.shrunk_steps)
         buffer_at_start = sim.buf.copy()
         wall0 = time.perf_counter()
         sim.advance_to(t_end, samples)
         wall = time.perf_counter() - wall0
+        free = sim.free_steps - before[4]
+        shrunk = sim.shrunk_steps - before[5]
         steps = sim.communication_steps - before[0]
         rollbacks = sim.rollbacks - before[1]
         fmi = sim.fmi_time_s - before[2]
@@ -75,9 +89,52 @@ def measure(args) -> dict:
         _mechanism_steps(buf, steps + rollbacks, mean_step, ws, scratch)
         replays.append(time.perf_counter() - t0)
     mechanism = min(replays)
-    return {"steps": steps, "rollbacks": rollbacks, "fmi": fmi / steps, "mechanism": mechanism / steps,
-            "bookkeeping": (master - mechanism) / steps, "replay_spread": (max(replays) - mechanism) / steps,
+    return {"steps": steps, "rollbacks": rollbacks, "free": free, "shrunk": shrunk, "fmi": fmi / steps,
+            "mechanism": mechanism / steps, "bookkeeping": (master - mechanism) / steps,
+            "replay_spread": (max(replays) - mechanism) / steps,
             "wall": wall / steps, "rtf": args.duration / wall}
+
+
+def callgrind(argv) -> int:
+    """One run under callgrind, collecting inside the fmi2* functions: instructions per call and per step."""
+    with tempfile.TemporaryDirectory(prefix="bench_cosim_") as tmp:
+        out = Path(tmp) / "callgrind.out"
+        argv = [a for a in argv if a != "--callgrind"]
+        load = Load()
+        done = subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", "--toggle-collect=fmi2*",
+                               sys.executable, __file__, "--measure-once", "--repeats", "1", *argv],
+                              capture_output=True, text=True)
+        if done.returncode != 0:
+            print(done.stderr[-3000:], file=sys.stderr)
+            return 1
+        calls, inclusive = fmi_calls(out.read_text())
+    steps = calls["fmi2DoStep"]
+    print(f"instructions inside the FMI calls (callgrind), {steps} doStep calls with the warm-up and rollbacks; "
+          f"{load.stop()} (the counts do not depend on it)")
+    for prefix in ("fmi2", "wearjoint_"):   # the FMI calls, then the compiled kernels they ran
+        for function in sorted((f for f in calls if f.startswith(prefix)), key=lambda f: -inclusive[f]):
+            print(f"  {function:30s} {calls[function]:7d} calls {inclusive[function] / calls[function]:9,.0f} per call "
+                  f"{inclusive[function] / steps:8,.0f} per doStep")
+    total = sum(inclusive[f] for f in calls if f.startswith("fmi2"))
+    print(f"  {'all FMI calls':30s} {total / steps:44,.0f} per doStep")
+    return 0
+
+
+def fmi_calls(text: str) -> tuple[Counter, Counter]:
+    """Calls and inclusive instructions of each function a callgrind file names as called (cfn=)."""
+    names, calls, inclusive, callee = {}, Counter(), Counter(), None
+    for line in text.splitlines():
+        named = re.match(r"(c?fn)=\((\d+)\)(?: (.*))?", line)
+        if named:
+            if named[3]:
+                names[named[2]] = named[3]
+            callee = names[named[2]] if named[1] == "cfn" else None
+        elif callee and line.startswith("calls="):
+            calls[callee] += int(line.split("=")[1].split()[0])
+        elif callee and re.match(r"[+-]?\d+ \d+", line):
+            inclusive[callee] += int(line.split()[1])
+            callee = None
+    return calls, inclusive
 
 
 def main(argv=None) -> int:
@@ -88,8 +145,16 @@ def main(argv=None) -> int:
     parser.add_argument("--step", type=float, default=defaults.step_s, help="communication step [s]")
     parser.add_argument("--fmu", default=None, help="FMU to use (default: the cached build of --fmu-backend)")
     parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND, help="FMU backend")
+    parser.add_argument("--callgrind", action="store_true", help="count the instructions in the FMI calls instead")
+    parser.add_argument("--measure-once", action="store_true", help=argparse.SUPPRESS)   # the run under valgrind
     add_repeats_argument(parser)
     args = parser.parse_args(argv)
+    if args.measure_once:
+        run = measure(args)
+        print(f"communication steps {run['steps']} (after the warm-up)")
+        return 0
+    if args.callgrind:
+        return callgrind(argv or sys.argv[1:])
 
     load = Load()
     runs = [measure(args) for _ in range(args.repeats)]
@@ -100,7 +165,9 @@ def main(argv=None) -> int:
 
     print(f"scheme {args.scheme}, step {args.step:g} s, {args.duration:g} s simulated after {WARM_UP_S:g} s warm-up, "
           f"FMU {args.fmu or args.fmu_backend + ' (cached build)'}; {load}")
-    print(f"communication steps {median('steps', 1, '.0f')}, rollbacks {median('rollbacks', 1, '.0f')}")
+    print(f"communication steps {median('steps', 1, '.0f')}, rollbacks {median('rollbacks', 1, '.0f')}; "
+          f"started in free flight {median('free', 1, '.0f')}, in contact shorter than the step "
+          f"{median('shrunk', 1, '.0f')}")
     print("per communication step [us]:")
     print(f"  FMI calls (doStep, setReal, getReal, FMU states)  {median('fmi')}")
     print(f"  mechanism integration (record + RK4, numba)       {median('mechanism')}")

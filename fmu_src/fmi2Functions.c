@@ -1,7 +1,7 @@
 /* FMI 2.0 layer of the native FMUs: Co-Simulation and Model Exchange, for every model.
  *
  * Shaped like the Modelica Reference-FMUs' fmi2Functions.c: this file owns the FMI 2.0 call
- * sequence and the FMU-state objects, and calls the model through the interface of fmu_model.h
+ * sequence, and calls the model through the interface of fmu_model.h
  * (joint_model.c: ClearanceWearJoint; slider_crank_model.c: SliderCrank), whose physics is its
  * numba kernels compiled ahead of time.  Each model's variable table is generated into
  * model_variables.h by wearjoint/fmu/build_native.py.
@@ -10,7 +10,8 @@
  *   a message naming the variable and its allowed range);
  * - a value the model cannot compute (e.g. from non-finite inputs) gives fmi2Error, a step it
  *   cannot take fmi2Discard (state unchanged);
- * - the FMU state is the model's serialised form.
+ * - FMU states (fmu_state.c): in memory the model's values copied as they are; serialised the state
+ *   format (checksum), every check on deserialisation.
  * Nothing is printed; every message goes to the host's logger.
  */
 #include <math.h>
@@ -36,11 +37,6 @@ typedef struct {
     fmi2Type type;
     Mode mode;
 } Instance;
-
-typedef struct {
-    size_t size;
-    unsigned char bytes[];
-} FmuState;
 
 /* ------------------------------------------------------------------ host callbacks */
 /* The host's memory functions (FMI 2.0 callbacks; calloc/free if it gives none). */
@@ -238,9 +234,8 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     if (!arrays_given(inst, "fmi2GetReal", nvr, vr, value) ||
         !mode_is(inst, "fmi2GetReal", M(MODE_INITIALIZATION) | INITIALISED))
         return fmi2Error;
-    for (size_t i = 0; i < nvr; i++) {
-        int done = model_float64_count(inst->model, 2, vr[i]) == 1
-                       ? model_get_float64(inst->model, 2, vr[i], &value[i], "fmi2GetReal") : -1;
+    for (size_t i = 0; i < nvr; i++) {   /* FMI 2.0 has no arrays: every Real the model gets is one value */
+        int done = model_get_float64(inst->model, 2, vr[i], &value[i], "fmi2GetReal");
         if (done == -1)
             not_a_variable(inst, "fmi2GetReal", vr[i], " is not a Real variable");
         if (done != 1)
@@ -554,38 +549,13 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real indicators[], size_t
     return model_get_event_indicators(inst->model, indicators, "fmi2GetEventIndicators") ? fmi2OK : fmi2Error;
 }
 
-/* ------------------------------------------------------------------ FMU state */
-static FmuState *new_state(const Instance *inst)
-{
-    size_t size = model_state_size(inst->model);
-    FmuState *s = allocate((void *)&inst->callbacks, 1, sizeof *s + size);
-    if (s == NULL)
-        LOG(inst, fmi2Error, "FMU state: out of memory");
-    else
-        s->size = size;
-    return s;
-}
-
+/* ------------------------------------------------------------------ FMU state (fmu_state.c) */
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state)
 {
     Instance *inst = c;
     if (inst == NULL)
         return fmi2Error;
-    if (state == NULL) {
-        LOG(inst, fmi2Error, "fmi2GetFMUstate: NULL state pointer");
-        return fmi2Error;
-    }
-    FmuState *s = *state;
-    if (s == NULL) {
-        if ((s = new_state(inst)) == NULL)
-            return fmi2Error;
-        *state = s;
-    } else if (s->size != model_state_size(inst->model)) {
-        LOG(inst, fmi2Error, "fmi2GetFMUstate: the state given to overwrite is not of this FMU");
-        return fmi2Error;
-    }
-    model_write_state(inst->model, s->bytes, (M(inst->mode) & INITIALISED) != 0);
-    return fmi2OK;
+    return (fmi2Status)fmu_get_state(inst->model, state, (M(inst->mode) & INITIALISED) != 0, "fmi2GetFMUstate");
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state)
@@ -593,88 +563,40 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state)
     Instance *inst = c;
     if (inst == NULL)
         return fmi2Error;
-    const FmuState *s = state;
-    if (s == NULL) {
-        LOG(inst, fmi2Error, "fmi2SetFMUstate: NULL state");
-        return fmi2Error;
-    }
-    if (s->size != model_state_size(inst->model)) {
-        LOG(inst, fmi2Error, "fmi2SetFMUstate: a state of %zu bytes, this instance's have %zu", s->size,
-            model_state_size(inst->model));
-        return fmi2Error;
-    }
-    int initialised = 0;
-    int ok = model_read_state(inst->model, s->bytes, &initialised, "fmi2SetFMUstate");
-    if (initialised && !(M(inst->mode) & (M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
+    int initialised = -1;
+    fmi2Status status = (fmi2Status)fmu_set_state(inst->model, state, &initialised, "fmi2SetFMUstate");
+    if (initialised == 1 && !(M(inst->mode) & (M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
         inst->mode = inst->type == fmi2CoSimulation ? MODE_STEP_COMPLETE : MODE_EVENT;
-    else if (!initialised && (M(inst->mode) & INITIALISED))
+    else if (initialised == 0 && (M(inst->mode) & INITIALISED))
         inst->mode = MODE_INITIALIZATION;
-    return ok ? fmi2OK : fmi2Error;
+    return status;
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state)
 {
     Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    if (state == NULL) {
-        LOG(inst, fmi2Error, "fmi2FreeFMUstate: NULL state pointer");
-        return fmi2Error;
-    }
-    release(&inst->callbacks, *state);
-    *state = NULL;
-    return fmi2OK;
+    return inst == NULL ? fmi2Error : (fmi2Status)fmu_free_state(inst->model, state, "fmi2FreeFMUstate");
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_t *size)
 {
     Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    const FmuState *s = state;
-    if (s == NULL || size == NULL) {
-        LOG(inst, fmi2Error, "fmi2SerializedFMUstateSize: NULL state or size pointer");
-        return fmi2Error;
-    }
-    *size = s->size;
-    return fmi2OK;
+    return inst == NULL ? fmi2Error
+                        : (fmi2Status)fmu_serialized_state_size(inst->model, state, size, "fmi2SerializedFMUstateSize");
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte bytes[], size_t size)
 {
     Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    const FmuState *s = state;
-    if (s == NULL || bytes == NULL || size < s->size) {
-        LOG(inst, fmi2Error,
-                  "fmi2SerializeFMUstate: NULL state or buffer, or a buffer of %zu bytes for a state of %zu", size,
-                  s != NULL ? s->size : (size_t)0);
-        return fmi2Error;
-    }
-    memcpy(bytes, s->bytes, s->size);
-    return fmi2OK;
+    return inst == NULL ? fmi2Error
+                        : (fmi2Status)fmu_serialize_state(inst->model, state, (unsigned char *)bytes, size,
+                                                          "fmi2SerializeFMUstate");
 }
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size, fmi2FMUstate *state)
 {
     Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    if (bytes == NULL || state == NULL) {
-        LOG(inst, fmi2Error, "fmi2DeSerializeFMUstate: NULL bytes or state pointer");
-        return fmi2Error;
-    }
-    if (!model_state_valid(inst->model, bytes, size, "fmi2DeSerializeFMUstate"))
-        return fmi2Error;
-    FmuState *s = *state;
-    if (s != NULL && s->size != size) {
-        LOG(inst, fmi2Error, "fmi2DeSerializeFMUstate: the state given to overwrite is not of this FMU");
-        return fmi2Error;
-    }
-    if (s == NULL && (s = new_state(inst)) == NULL)
-        return fmi2Error;
-    memcpy(s->bytes, bytes, size);
-    *state = s;
-    return fmi2OK;
+    return inst == NULL ? fmi2Error
+                        : (fmi2Status)fmu_deserialize_state(inst->model, (const unsigned char *)bytes, size, state,
+                                                            "fmi2DeSerializeFMUstate");
 }

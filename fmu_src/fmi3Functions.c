@@ -11,7 +11,7 @@
  *   array variable (ClearanceWearJoint's wear_depth) counts its size in nValues;
  * - a step the model cannot take gives fmi3Discard (state unchanged, the instance stays in Step
  *   Mode);
- * - the FMU state is the FMI 2.0 layer's (the same bytes).
+ * - the FMU states are the FMI 2.0 layer's (fmu_state.c; the same serialised bytes).
  * FMI 3.0 has no memory callbacks: calloc/free.  Nothing is printed; every message goes to the
  * host's fmi3LogMessageCallback (none if it gave NULL).
  */
@@ -43,11 +43,6 @@ typedef struct {
     int co_simulation;             /* 1: Co-Simulation, 0: Model Exchange */
     Mode mode;
 } Instance;
-
-typedef struct {
-    size_t size;
-    unsigned char bytes[];
-} FmuState;
 
 /* ------------------------------------------------------------------ host callbacks */
 /* FMI 3.0 has no memory callbacks: the C library's (FmuAllocateFunction / FmuReleaseFunction). */
@@ -794,38 +789,13 @@ fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *n)
     return fmi3OK;
 }
 
-/* ------------------------------------------------------------------ FMU state (the FMI 2.0 layer's bytes) */
-static FmuState *new_state(const Instance *inst)
-{
-    size_t size = model_state_size(inst->model);
-    FmuState *s = calloc(1, sizeof *s + size);
-    if (s == NULL)
-        LOG(inst, fmi3Error, "FMU state: out of memory");
-    else
-        s->size = size;
-    return s;
-}
-
+/* ------------------------------------------------------------------ FMU state (fmu_state.c, as FMI 2.0's) */
 fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *state)
 {
     Instance *inst = instance;
     if (inst == NULL)
         return fmi3Error;
-    if (state == NULL) {
-        LOG(inst, fmi3Error, "fmi3GetFMUState: NULL state pointer");
-        return fmi3Error;
-    }
-    FmuState *s = *state;
-    if (s == NULL) {
-        if ((s = new_state(inst)) == NULL)
-            return fmi3Error;
-        *state = s;
-    } else if (s->size != model_state_size(inst->model)) {
-        LOG(inst, fmi3Error, "fmi3GetFMUState: the state given to overwrite is not of this FMU");
-        return fmi3Error;
-    }
-    model_write_state(inst->model, s->bytes, (M(inst->mode) & INITIALISED) != 0);
-    return fmi3OK;
+    return (fmi3Status)fmu_get_state(inst->model, state, (M(inst->mode) & INITIALISED) != 0, "fmi3GetFMUState");
 }
 
 fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state)
@@ -833,88 +803,38 @@ fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state)
     Instance *inst = instance;
     if (inst == NULL || !mode_is(inst, "fmi3SetFMUState", ~M(MODE_CONFIGURATION)))
         return fmi3Error;
-    const FmuState *s = state;
-    if (s == NULL) {
-        LOG(inst, fmi3Error, "fmi3SetFMUState: NULL state");
-        return fmi3Error;
-    }
-    if (s->size != model_state_size(inst->model)) {
-        LOG(inst, fmi3Error, "fmi3SetFMUState: a state of %zu bytes, this instance's have %zu", s->size,
-            model_state_size(inst->model));
-        return fmi3Error;
-    }
-    int initialised = 0;
-    int ok = model_read_state(inst->model, s->bytes, &initialised, "fmi3SetFMUState");
-    if (initialised && !(M(inst->mode) & (M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
+    int initialised = -1;
+    fmi3Status status = (fmi3Status)fmu_set_state(inst->model, state, &initialised, "fmi3SetFMUState");
+    if (initialised == 1 && !(M(inst->mode) & (M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
         inst->mode = inst->co_simulation ? MODE_STEP : MODE_EVENT;
-    else if (!initialised && (M(inst->mode) & INITIALISED))
+    else if (initialised == 0 && (M(inst->mode) & INITIALISED))
         inst->mode = MODE_INITIALIZATION;
-    return ok ? fmi3OK : fmi3Error;
+    return status;
 }
 
 fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *state)
 {
     Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    if (state == NULL) {
-        LOG(inst, fmi3Error, "fmi3FreeFMUState: NULL state pointer");
-        return fmi3Error;
-    }
-    free(*state);
-    *state = NULL;
-    return fmi3OK;
+    return inst == NULL ? fmi3Error : (fmi3Status)fmu_free_state(inst->model, state, "fmi3FreeFMUState");
 }
 
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState state, size_t *size)
 {
     Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    const FmuState *s = state;
-    if (s == NULL || size == NULL) {
-        LOG(inst, fmi3Error, "fmi3SerializedFMUStateSize: NULL state or size pointer");
-        return fmi3Error;
-    }
-    *size = s->size;
-    return fmi3OK;
+    return inst == NULL ? fmi3Error
+                        : (fmi3Status)fmu_serialized_state_size(inst->model, state, size, "fmi3SerializedFMUStateSize");
 }
 
 fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState state, fmi3Byte bytes[], size_t size)
 {
     Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    const FmuState *s = state;
-    if (s == NULL || bytes == NULL || size < s->size) {
-        LOG(inst, fmi3Error,
-                  "fmi3SerializeFMUState: NULL state or buffer, or a buffer of %zu bytes for a state of %zu", size,
-                  s != NULL ? s->size : (size_t)0);
-        return fmi3Error;
-    }
-    memcpy(bytes, s->bytes, s->size);
-    return fmi3OK;
+    return inst == NULL ? fmi3Error
+                        : (fmi3Status)fmu_serialize_state(inst->model, state, bytes, size, "fmi3SerializeFMUState");
 }
 
 fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte bytes[], size_t size, fmi3FMUState *state)
 {
     Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    if (bytes == NULL || state == NULL) {
-        LOG(inst, fmi3Error, "fmi3DeserializeFMUState: NULL bytes or state pointer");
-        return fmi3Error;
-    }
-    if (!model_state_valid(inst->model, bytes, size, "fmi3DeserializeFMUState"))
-        return fmi3Error;
-    FmuState *s = *state;
-    if (s != NULL && s->size != size) {
-        LOG(inst, fmi3Error, "fmi3DeserializeFMUState: the state given to overwrite is not of this FMU");
-        return fmi3Error;
-    }
-    if (s == NULL && (s = new_state(inst)) == NULL)
-        return fmi3Error;
-    memcpy(s->bytes, bytes, size);
-    *state = s;
-    return fmi3OK;
+    return inst == NULL ? fmi3Error
+                        : (fmi3Status)fmu_deserialize_state(inst->model, bytes, size, state, "fmi3DeserializeFMUState");
 }

@@ -148,12 +148,31 @@ int model_event_update(FmuModel *model, const char *function);
 /* An FMU_* status. */
 int model_completed_integrator_step(FmuModel *model, const char *function);
 
-/* FMU state: the model's serialised form. */
+/* FMU state.  In memory: model_state_size bytes of doubles that the model fills and reads back as they
+ * are (no checks: a host gives back what it got).  Serialised: the state format (core/state_format.py:
+ * header, CRC-32C), written from an in-memory state; model_deserialize_state runs every check of the
+ * format and of the values (the first problem logged, 0 returned) and writes the in-memory state,
+ * which it may have filled in part on failure. */
 size_t model_state_size(const FmuModel *model);
-void model_write_state(const FmuModel *model, void *bytes, int initialised);
-/* 1 if ``bytes`` is a valid state of this model (logged otherwise). */
-int model_state_valid(const FmuModel *model, const void *bytes, size_t size, const char *function);
-/* Restore a valid state; *initialised is its flag.  0 (logged) on failure. */
-int model_read_state(FmuModel *model, const void *bytes, int *initialised, const char *function);
+void model_get_state(const FmuModel *model, double *state, int initialised);
+/* Restore an in-memory state; *initialised is its flag.  0 (logged) on failure. */
+int model_set_state(FmuModel *model, const double *state, int *initialised, const char *function);
+size_t model_serialized_state_size(const FmuModel *model, const double *state);
+void model_serialize_state(const FmuModel *model, const double *state, unsigned char *bytes);
+int model_deserialize_state(FmuModel *model, const unsigned char *bytes, size_t size, double *state,
+                            const char *function);
+
+/* ------------------------------------------------------------------ FMU states (fmu_state.c, both FMI layers)
+ * The fmi2/fmi3 FMU-state functions on the model's in-memory and serialised forms: FMU_OK or FMU_ERROR
+ * (logged, naming ``function``).  get overwrites *state if given (it must be of this model's size),
+ * else allocates one with the host's memory functions; deserialize changes a given *state only if the
+ * bytes pass every check. */
+int fmu_get_state(FmuModel *model, void **state, int initialised, const char *function);
+int fmu_set_state(FmuModel *model, const void *state, int *initialised, const char *function);
+int fmu_free_state(FmuModel *model, void **state, const char *function);
+int fmu_serialized_state_size(FmuModel *model, const void *state, size_t *size, const char *function);
+int fmu_serialize_state(FmuModel *model, const void *state, unsigned char *bytes, size_t size, const char *function);
+int fmu_deserialize_state(FmuModel *model, const unsigned char *bytes, size_t size, void **state,
+                          const char *function);
 
 #endif

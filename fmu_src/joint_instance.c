@@ -164,6 +164,11 @@ int joint_pack_parameters(JointInstance *joint, const char *when)
 static int outputs_finite(const JointInstance *joint, const double *values, int n, const char *what,
                           const char *function, const char *output)
 {
+    double probe = 0.0;   /* 0 unless a value is infinite or NaN: then look for the output that is */
+    for (int i = 0; i < N_RESULT * n; i++)
+        probe += values[i] * 0.0;
+    if (probe == 0.0)
+        return 1;
     for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
         for (int m = 0; m < n && OUTPUTS[i].source == OUTPUT_FROM_RESULT; m++) {
             double value = values[OUTPUTS[i].index * n + m];
@@ -183,6 +188,8 @@ static int outputs_finite(const JointInstance *joint, const double *values, int 
 
 int joint_evaluate(JointInstance *joint, const char *function, const char *output)
 {
+    if (!joint->forces_stale && !joint->parameters_changed)
+        return 1;
     if (!joint_pack_parameters(joint, function))
         return 0;
     if (!joint->forces_stale)
@@ -329,26 +336,61 @@ int joint_update_contact_memory(JointInstance *joint, const char *function)
 }
 
 /* ------------------------------------------------------------------ FMU state */
-/* The state's head: time, initialised flag, inputs, parameters (core/state_format.py FMU_HEAD_*). */
+/* The head: time, initialised flag, inputs, parameters (core/state_format.py FMU_HEAD_*).  In memory a state
+ * is n_points, the head, the contact memory, the wear depths and their block minima. */
 enum { HEAD_TIME, HEAD_INITIALISED, HEAD_INPUTS, HEAD_PARAMETERS = HEAD_INPUTS + N_INPUTS };
+enum { AT_N_POINTS, AT_HEAD, AT_MEMORY = AT_HEAD + STATE_N_HEAD, AT_WEAR = AT_MEMORY + N_MEMORY };
 
 size_t joint_state_size(const JointInstance *joint)
 {
-    int64_t size = 0;
-    wearjoint_state_size(&size, NULL, STATE_N_HEAD, joint->n_points);
-    return (size_t)size;
+    return (size_t)(AT_WEAR + joint->n_points + joint->n_blocks) * sizeof(double);
 }
 
-void joint_write_state(const JointInstance *joint, void *bytes, int initialised)
+void joint_get_state(const JointInstance *joint, double *state, int initialised)
 {
-    double head[STATE_N_HEAD];
+    double *head = state + AT_HEAD;
+    state[AT_N_POINTS] = (double)joint->n_points;
     head[HEAD_TIME] = joint->time;
     head[HEAD_INITIALISED] = initialised ? 1.0 : 0.0;
     memcpy(head + HEAD_INPUTS, joint->inputs, sizeof joint->inputs);
     memcpy(head + HEAD_PARAMETERS, joint->parameters, sizeof joint->parameters);
+    memcpy(state + AT_MEMORY, joint->memory, sizeof joint->memory);
+    memcpy(state + AT_WEAR, joint->wear_depth, (size_t)joint->n_points * sizeof(double));
+    memcpy(state + AT_WEAR + joint->n_points, joint->block_min, (size_t)joint->n_blocks * sizeof(double));
+}
+
+int joint_set_state(JointInstance *joint, const double *state, int *initialised, const char *function)
+{
+    const double *head = state + AT_HEAD;
+    joint->time = joint->last_accepted_time = head[HEAD_TIME];
+    *initialised = head[HEAD_INITIALISED] == 1.0;
+    for (int i = 0; i < N_INPUTS; i++)
+        joint_set_input(joint, i, head[HEAD_INPUTS + i]);
+    if (memcmp(joint->parameters, head + HEAD_PARAMETERS, sizeof joint->parameters) != 0) {
+        memcpy(joint->parameters, head + HEAD_PARAMETERS, sizeof joint->parameters);
+        joint->parameters_changed = 1;
+    }
+    memcpy(joint->memory, state + AT_MEMORY, sizeof joint->memory);
+    memcpy(joint->wear_depth, state + AT_WEAR, (size_t)joint->n_points * sizeof(double));
+    memcpy(joint->block_min, state + AT_WEAR + joint->n_points, (size_t)joint->n_blocks * sizeof(double));
+    joint->forces_stale = joint->wear_summary_stale = 1;
+    joint->onsets_accepted = 0;
+    return joint_pack_parameters(joint, function);
+}
+
+size_t joint_serialized_state_size(const double *state)
+{
+    int64_t size = 0;
+    wearjoint_state_size(&size, NULL, STATE_N_HEAD, (int64_t)state[AT_N_POINTS]);
+    return (size_t)size;
+}
+
+void joint_serialize_state(const double *state, void *bytes)
+{
     int32_t status = 0;
-    wearjoint_write_state(&status, NULL, bytes, (int64_t)joint_state_size(joint), STATE_CONTENTS_FMU, head,
-                          STATE_N_HEAD, joint->memory, joint->wear_depth, joint->n_points);
+    wearjoint_write_state(&status, NULL, bytes, (int64_t)joint_serialized_state_size(state), STATE_CONTENTS_FMU,
+                          state + AT_HEAD, STATE_N_HEAD, state + AT_MEMORY, state + AT_WEAR,
+                          (int64_t)state[AT_N_POINTS]);
 }
 
 /* Log a problem a state check found (its message from the generated table, with the values compared). */
@@ -359,43 +401,27 @@ static void log_state_problem(const JointInstance *joint, const char *function, 
               STATE_PROBLEM_KINDS[problem], values, message, sizeof message));
 }
 
-int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function)
+int joint_deserialize_state(const JointInstance *joint, const void *bytes, size_t size, double *state,
+                            const char *function)
 {
-    double values[4] = {0.0, 0.0, 0.0, 0.0}, head[STATE_N_HEAD], memory[N_MEMORY];
+    double values[4] = {0.0, 0.0, 0.0, 0.0}, *head = state + AT_HEAD, *wear = state + AT_WEAR;
     int32_t problem = 0, status = 0;
     wearjoint_check_header(&problem, NULL, bytes, (int64_t)size, STATE_CONTENTS_FMU, STATE_N_HEAD, joint->n_points,
                            values);
     if (problem == 0) {
-        /* the wear depths go to the scratch array work (2 n_points): nothing of the joint changes */
-        wearjoint_read_state(&status, NULL, bytes, (int64_t)size, head, STATE_N_HEAD, memory, joint->work,
+        wearjoint_read_state(&status, NULL, bytes, (int64_t)size, head, STATE_N_HEAD, state + AT_MEMORY, wear,
                              joint->n_points);
         if (!parameters_valid(joint, head + HEAD_PARAMETERS, function))
             return 0;
-        wearjoint_check_values(&problem, NULL, head, STATE_N_HEAD, memory, joint->work, joint->n_points,
+        wearjoint_check_values(&problem, NULL, head, STATE_N_HEAD, state + AT_MEMORY, wear, joint->n_points,
                                head[HEAD_PARAMETERS + STATE_PARAMETER_BUSHING_RADIUS],
                                head[HEAD_PARAMETERS + STATE_PARAMETER_VELOCITY_FLOOR], values);
     }
-    if (problem != 0)
+    if (problem != 0) {
         log_state_problem(joint, function, problem, values);
-    return problem == 0;
-}
-
-int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, const char *function)
-{
-    double head[STATE_N_HEAD];
-    int32_t status = 0;
-    wearjoint_read_state(&status, NULL, bytes, (int64_t)joint_state_size(joint), head, STATE_N_HEAD, joint->memory,
-                         joint->wear_depth, joint->n_points);
-    joint->time = joint->last_accepted_time = head[HEAD_TIME];
-    *initialised = head[HEAD_INITIALISED] == 1.0;
-    for (int i = 0; i < N_INPUTS; i++)
-        joint_set_input(joint, i, head[HEAD_INPUTS + i]);
-    if (memcmp(joint->parameters, head + HEAD_PARAMETERS, sizeof joint->parameters) != 0) {
-        memcpy(joint->parameters, head + HEAD_PARAMETERS, sizeof joint->parameters);
-        joint->parameters_changed = 1;
+        return 0;
     }
-    wearjoint_block_minima(&status, NULL, joint->wear_depth, joint->block_min, joint->n_points, joint->n_blocks);
-    joint->forces_stale = joint->wear_summary_stale = 1;
-    joint->onsets_accepted = 0;
-    return joint_pack_parameters(joint, function);
+    state[AT_N_POINTS] = (double)joint->n_points;
+    wearjoint_block_minima(&status, NULL, wear, wear + joint->n_points, joint->n_points, joint->n_blocks);
+    return 1;
 }

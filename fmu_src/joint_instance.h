@@ -73,14 +73,18 @@ int joint_event_indicator(JointInstance *joint, const char *function, double *va
  * step at these inputs did it (from the contact before that step's wear, as in process). */
 int joint_update_contact_memory(JointInstance *joint, const char *function);
 
-/* FMU state: the state format of wearjoint/core/state_format.py (header, CRC-32C), contents "FMU instance":
- * time, initialised flag, inputs, parameters, contact memory, wear depths; written and checked by kernels. */
+/* FMU state (fmu_model.h): in memory the joint's values copied as they are (n_points, time, initialised flag,
+ * inputs, parameters, contact memory, wear depths, block minima); serialised the state format of
+ * wearjoint/core/state_format.py (header, CRC-32C), contents "FMU instance", written and checked by kernels. */
 size_t joint_state_size(const JointInstance *joint);
-void joint_write_state(const JointInstance *joint, void *bytes, int initialised);
-/* 1 if ``bytes`` is a valid state of this joint: header, checksum, parameters, value ranges (the first
- * problem logged otherwise); the joint is unchanged either way. */
-int joint_state_valid(const JointInstance *joint, const void *bytes, size_t size, const char *function);
-/* Restore a valid state; *initialised is its flag.  0 (logged) on failure. */
-int joint_read_state(JointInstance *joint, const void *bytes, int *initialised, const char *function);
+void joint_get_state(const JointInstance *joint, double *state, int initialised);
+/* Restore a state of joint_get_state; *initialised is its flag.  0 (logged) on failure. */
+int joint_set_state(JointInstance *joint, const double *state, int *initialised, const char *function);
+size_t joint_serialized_state_size(const double *state);
+void joint_serialize_state(const double *state, void *bytes);
+/* 1 if ``bytes`` is a valid serialised state of this joint (header, checksum, parameters, value ranges; the
+ * first problem logged otherwise), written into ``state``; the joint is unchanged either way. */
+int joint_deserialize_state(const JointInstance *joint, const void *bytes, size_t size, double *state,
+                            const char *function);
 
 #endif

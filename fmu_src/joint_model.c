@@ -384,17 +384,30 @@ int model_completed_integrator_step(FmuModel *model, const char *function)
 /* ------------------------------------------------------------------ FMU state */
 size_t model_state_size(const FmuModel *model) { return joint_state_size(model->joint); }
 
-void model_write_state(const FmuModel *model, void *bytes, int initialised)
+void model_get_state(const FmuModel *model, double *state, int initialised)
 {
-    joint_write_state(model->joint, bytes, initialised);
+    joint_get_state(model->joint, state, initialised);
 }
 
-int model_state_valid(const FmuModel *model, const void *bytes, size_t size, const char *function)
+int model_set_state(FmuModel *model, const double *state, int *initialised, const char *function)
 {
-    return joint_state_valid(model->joint, bytes, size, function);
+    return joint_set_state(model->joint, state, initialised, function);
 }
 
-int model_read_state(FmuModel *model, const void *bytes, int *initialised, const char *function)
+size_t model_serialized_state_size(const FmuModel *model, const double *state)
 {
-    return joint_read_state(model->joint, bytes, initialised, function);
+    (void)model;
+    return joint_serialized_state_size(state);
+}
+
+void model_serialize_state(const FmuModel *model, const double *state, unsigned char *bytes)
+{
+    (void)model;
+    joint_serialize_state(state, bytes);
+}
+
+int model_deserialize_state(FmuModel *model, const unsigned char *bytes, size_t size, double *state,
+                            const char *function)
+{
+    return joint_deserialize_state(model->joint, bytes, size, state, function);
 }

@@ -360,7 +360,7 @@ int model_completed_integrator_step(FmuModel *model, const char *function)
 /* The project's one state format (wearjoint/core/state_format.py, its kernels compiled into this
  * binary): little-endian, versioned header, CRC-32C; a SliderCrank state's head is the time, the
  * initialised flag, the inputs, the parameters and y; it has no contact memory (written as zeros)
- * and no bushing points. */
+ * and no bushing points.  In memory a state is its head. */
 enum { HEAD_TIME, HEAD_INITIALISED, HEAD_INPUTS, HEAD_PARAMETERS = HEAD_INPUTS + N_INPUTS,
        HEAD_Y = HEAD_PARAMETERS + N_PARAMETERS, HEAD_END = HEAD_Y + N_Y };
 _Static_assert(HEAD_END == STATE_N_HEAD, "the state head's layout and STATE_N_HEAD (fmu/slider_crank.py) disagree");
@@ -369,27 +369,49 @@ static const double NO_MEMORY[STATE_N_MEMORY] = {0.0};
 size_t model_state_size(const FmuModel *model)
 {
     (void)model;
-    int64_t size = 0;
-    wearjoint_state_size(&size, NULL, STATE_N_HEAD, 0);
-    return (size_t)size;
+    return STATE_N_HEAD * sizeof(double);
 }
 
-void model_write_state(const FmuModel *model, void *bytes, int initialised)
+void model_get_state(const FmuModel *model, double *head, int initialised)
 {
-    double head[STATE_N_HEAD];
     head[HEAD_TIME] = model->time;
     head[HEAD_INITIALISED] = initialised ? 1.0 : 0.0;
     memcpy(head + HEAD_INPUTS, model->inputs, sizeof model->inputs);
     memcpy(head + HEAD_PARAMETERS, model->parameters, sizeof model->parameters);
     memcpy(head + HEAD_Y, model->y, sizeof model->y);
-    int32_t status = 0;
-    wearjoint_write_state(&status, NULL, bytes, (int64_t)model_state_size(model), STATE_CONTENTS_MECHANISM, head,
-                          STATE_N_HEAD, NO_MEMORY, NO_MEMORY, 0);
 }
 
-int model_state_valid(const FmuModel *model, const void *bytes, size_t size, const char *function)
+int model_set_state(FmuModel *model, const double *head, int *initialised, const char *function)
 {
-    double values[4] = {0.0, 0.0, 0.0, 0.0}, head[STATE_N_HEAD], memory[STATE_N_MEMORY];
+    model->time = head[HEAD_TIME];
+    *initialised = head[HEAD_INITIALISED] == 1.0;
+    memcpy(model->inputs, head + HEAD_INPUTS, sizeof model->inputs);
+    memcpy(model->parameters, head + HEAD_PARAMETERS, sizeof model->parameters);
+    memcpy(model->y, head + HEAD_Y, sizeof model->y);
+    model->parameters_changed = model->derivatives_stale = 1;
+    model->state_stale = !*initialised;
+    return prepare(model, function);
+}
+
+size_t model_serialized_state_size(const FmuModel *model, const double *head)
+{
+    (void)model, (void)head;
+    int64_t size = 0;
+    wearjoint_state_size(&size, NULL, STATE_N_HEAD, 0);
+    return (size_t)size;
+}
+
+void model_serialize_state(const FmuModel *model, const double *head, unsigned char *bytes)
+{
+    int32_t status = 0;
+    wearjoint_write_state(&status, NULL, bytes, (int64_t)model_serialized_state_size(model, head),
+                          STATE_CONTENTS_MECHANISM, head, STATE_N_HEAD, NO_MEMORY, NO_MEMORY, 0);
+}
+
+int model_deserialize_state(FmuModel *model, const unsigned char *bytes, size_t size, double *head,
+                            const char *function)
+{
+    double values[4] = {0.0, 0.0, 0.0, 0.0}, memory[STATE_N_MEMORY];
     int32_t problem = 0, status = 0;
     wearjoint_check_header(&problem, NULL, bytes, (int64_t)size, STATE_CONTENTS_MECHANISM, STATE_N_HEAD, 0, values);
     if (problem == 0) {
@@ -411,20 +433,4 @@ int model_state_valid(const FmuModel *model, const void *bytes, size_t size, con
             return 0;
         }
     return 1;
-}
-
-int model_read_state(FmuModel *model, const void *bytes, int *initialised, const char *function)
-{
-    double head[STATE_N_HEAD], memory[STATE_N_MEMORY];
-    int32_t status = 0;
-    wearjoint_read_state(&status, NULL, bytes, (int64_t)model_state_size(model), head, STATE_N_HEAD, memory, memory,
-                         0);
-    model->time = head[HEAD_TIME];
-    *initialised = head[HEAD_INITIALISED] == 1.0;
-    memcpy(model->inputs, head + HEAD_INPUTS, sizeof model->inputs);
-    memcpy(model->parameters, head + HEAD_PARAMETERS, sizeof model->parameters);
-    memcpy(model->y, head + HEAD_Y, sizeof model->y);
-    model->parameters_changed = model->derivatives_stale = 1;
-    model->state_stale = !*initialised;
-    return prepare(model, function);
 }

@@ -1,7 +1,8 @@
 /* The state format's kernels (wearjoint/core/state_format.py, entry points of
  * wearjoint/fmu/state_entry_points.py), compiled ahead of time into every native FMU with numba's
  * calling convention (int32 status; a pointer for the return value; one for exception information,
- * never written).  Every model's FMU state is one of these: little-endian, versioned header, CRC-32C. */
+ * never written).  Every model's serialised FMU state is one of these: little-endian, versioned header,
+ * CRC-32C (in memory a state is the model's values as they are: fmu_model.h). */
 #ifndef WEARJOINT_STATE_FORMAT_H
 #define WEARJOINT_STATE_FORMAT_H
 

@@ -30,7 +30,11 @@ class Progress:
                              dynamic_ncols=True, file=sys.stderr, leave=False)
 
     def compiled(self) -> None:
-        """Compilation is over: the description becomes the plain label."""
+        """Compilation is over: the description becomes the plain label (and the bar of the
+        compilations, :mod:`wearjoint.compile_notice`, closes)."""
+        notice = sys.modules.get("wearjoint.compile_notice")   # loaded by the CLI
+        if notice is not None:
+            notice.compiled()
         if self._bar is not None:
             self._bar.set_description_str(self.label, refresh=False)
 

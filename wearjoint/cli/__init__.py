@@ -4,7 +4,8 @@ Each command module provides ``add_arguments(parser)`` and ``run(args) -> int``
 (its one-line help is in :data:`COMMANDS`); only the invoked command's module is imported.  Options
 shared by several commands (the model, the results folder, the FMU) are defined
 once in :mod:`wearjoint.cli.options`.  Parameter errors print one line and exit
-with status 2, never a traceback.
+with status 2, never a traceback.  A command whose kernels compile first says so
+(:mod:`wearjoint.compile_notice`).
 """
 from __future__ import annotations
 
@@ -51,9 +52,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
-    module = importlib.import_module(COMMANDS[args.command][0])
+    from ..compile_notice import watch_command
+
     try:
-        return int(module.run(args) or 0)
+        with watch_command(args.command):   # the first line of a run that compiles says so
+            module = importlib.import_module(COMMANDS[args.command][0])
+            return int(module.run(args) or 0)
     except ParameterError as exc:
         print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
         return 2

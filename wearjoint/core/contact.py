@@ -292,7 +292,7 @@ def contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
         jacobian[R_CONTACT_ANGLE, m] = nlx * dnly - nly * dnlx
 
 
-@kernel(inline='always')
+@kernel
 def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos_phi, sin_phi, wear_depth, block_min,
              memory, out, with_jacobian):
     """The contact of :func:`evaluate_contact_scalars` into ``out``; returns what

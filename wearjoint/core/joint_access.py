@@ -14,7 +14,7 @@ from collections import namedtuple
 
 import math
 
-from numba import njit, types
+from numba import types
 from numba.extending import overload
 
 from .contact import evaluate_contact_scalars, update_contact_memory
@@ -22,10 +22,9 @@ from .jit import kernel
 from .layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, ROD
 from .wear import accept_contact, advance_joint, wears
 
-# The integrators' right-hand side inlines the contact evaluation (a call with a dozen
-# array arguments costs about as much as the mechanism itself); everywhere else, e.g. in
-# the FMU, it stays an ordinary compiled function (faster to compile).
-_evaluate_contact_inlined = njit(inline='always')(evaluate_contact_scalars.py_func)
+# The integrators' right-hand side calls the compiled contact evaluation: inlining it there
+# (numba's inline='always') took 16 of a cold run's 41 s of compiling and ran no faster
+# (docs/performance.md, "Compile time").
 
 # The FMU's C functions (ctypes function pointers) and the buffers they read and write:
 # ``io`` = the 12 inputs (pin body = crank, bushing body = rod) then the outputs, whose
@@ -72,7 +71,7 @@ def joint_failed(joint):
 @kernel(inline='always')
 def _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
     n = N_COORDINATES
-    _evaluate_contact_inlined(y[CRANK], y[CRANK + 1], cos1, sin1, y[n + CRANK], y[n + CRANK + 1], y[n + CRANK + 2],
+    evaluate_contact_scalars(y[CRANK], y[CRANK + 1], cos1, sin1, y[n + CRANK], y[n + CRANK + 1], y[n + CRANK + 2],
                              y[ROD], y[ROD + 1], cos2, sin2, y[n + ROD], y[n + ROD + 1], y[n + ROD + 2],
                              joint.parameters, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
                              joint.memory, joint.result)

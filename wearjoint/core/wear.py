@@ -163,7 +163,7 @@ def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_dept
     return skipped
 
 
-@kernel(inline='always')
+@kernel
 def _summand(z, before, after, rotation, bushing_radius, wear_depth, work):
     """Point z's weight w_z = :func:`cell_overlap` of the overlaps in work[:N_d] of points
     ``before``, z, ``after``, stored in work[N_d + z]; returns (w_z (R_j + h_z), the peak

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import subprocess
+import sys
 import time
 from dataclasses import dataclass
 
@@ -12,7 +15,7 @@ import numpy as np
 
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
-from ..fmu.build import BACKENDS, DEFAULT_BACKEND
+from ..fmu.build import BACKENDS, DEFAULT_BACKEND, default_fmu_path
 from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
 from ..mechanism import SliderCrank
 from ..parameters import (
@@ -22,9 +25,9 @@ from ..results import RunRecord, new_revolution_stats, new_track
 from ..runner import record_run, run_in_chunks
 from .master_loop import (
     _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
-    C_MIN_STEP, C_ONSET, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_STATUS, G_FAILED_TIME, G_FMI_TIME,
-    G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_STEPS, G_T, N_INPUTS, N_OUTPUTS, N_REGISTER, OUTPUT_NAMES, SCHEMES,
-    _monotonic_clock, communication_step, master_loop,
+    C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_STATUS, G_FAILED_TIME,
+    G_FMI_TIME, G_FREE_STEPS, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, N_INPUTS,
+    N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, communication_step, master_loop,
 )
 
 CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
@@ -57,6 +60,19 @@ class CoSimulationOptions:
         return dataclasses.asdict(self)
 
 
+def _start_fmu_build(n_points: int, fmu_path, backend: str):
+    """A process building the cached FMU (:func:`ensure_fmu`) if it is missing, else None: its kernels then
+    compile ahead of time while the master's compile in this process (two cores: at the same time).  It
+    says what it compiles; its progress bar is off (this process shows its own), and if it fails,
+    :func:`ensure_fmu` builds again here and says why."""
+    if fmu_path is not None or default_fmu_path(n_points, backend).is_file():
+        return None
+    code = (f"from wearjoint.fmu.instance import ensure_fmu\ntry:\n    ensure_fmu({int(n_points)}, None, "
+            f"backend={backend!r})\nexcept Exception:\n    pass")
+    return subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
+                            env={**os.environ, "TQDM_DISABLE": "1"})
+
+
 # ------------------------------------------------------------------ the master
 class CoSimulation:
     """The slider-crank (crank-rod joint open) and one joint FMU instance, with the
@@ -76,7 +92,8 @@ class CoSimulation:
         check_joint_fits_mechanism(self.joint, self.mechanism.params)
         _require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
-        self.fmu_path = ensure_fmu(self.joint.n_points, fmu_path, backend=fmu_backend)
+        self._slave = None
+        build = _start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
         n_rev = int(math.ceil(self.options.revolutions)) + 1
         self.buf = np.zeros(B_STATS + n_rev * L.N_STATS)
         b = self.buf
@@ -91,21 +108,29 @@ class CoSimulation:
         self.t = 0.0
         self.communication_steps = 0
         self.rollbacks = 0
+        self.free_steps = 0      # communication steps that started in free flight
+        self.shrunk_steps = 0    # steps in contact shorter than step_s (adaptive)
         self.fmi_time_s = 0.0
         self.master_time_s = 0.0
         self._saved = np.empty(B_ROLLBACK_END)   # y and outputs at the start of a step (rollback)
         self._register = np.zeros(N_REGISTER)
         self._register[G_PREVIOUS_PENETRATION] = -math.inf   # none yet
         o = self.options
-        self._settings = np.zeros(5)
-        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET]] = (
-            1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m)
+        self._settings = np.zeros(N_SETTINGS)
+        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE]] = (
+            1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m,
+            1.0 if fmu_backend == "native" else 0.0)
         self._clock = _monotonic_clock()
         self._timespec = np.zeros(2, dtype=np.int64)
+        try:   # the mechanism's kernels compile while a missing FMU builds
+            communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
+        finally:
+            if build is not None:
+                build.wait()
+        self.fmu_path = ensure_fmu(self.joint.n_points, fmu_path, backend=fmu_backend)
         self._slave = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
                                   b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
         try:
-            communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
             self._slave.exchange(0.0)
         except BaseException:
             self.close()
@@ -148,7 +173,7 @@ class CoSimulation:
         slave = self._live_slave()
         register = self._register
         register[G_T] = self.t
-        register[G_STEPS:G_CONTACT_STEP] = 0.0
+        register[G_STEPS:] = 0.0
         self.buf[B_TRACK + L.K_N_SAMPLES] = 0
         wall0 = time.perf_counter()
         try:
@@ -158,6 +183,8 @@ class CoSimulation:
             self.t = float(register[G_T])
             self.communication_steps += int(register[G_STEPS])
             self.rollbacks += int(register[G_ROLLBACKS])
+            self.free_steps += int(register[G_FREE_STEPS])
+            self.shrunk_steps += int(register[G_SHRUNK_STEPS])
             self.fmi_time_s += register[G_FMI_TIME]
             self.master_time_s += time.perf_counter() - wall0 - register[G_FMI_TIME]
         if failed:
@@ -174,7 +201,8 @@ class CoSimulation:
                 "previous_penetration": float(self._register[G_PREVIOUS_PENETRATION]),
                 "contact_step": float(self._register[G_CONTACT_STEP]),
                 "communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
-                "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
+                "free_steps": self.free_steps, "shrunk_steps": self.shrunk_steps, "fmi_time_s": self.fmi_time_s,
+                "master_time_s": self.master_time_s}
 
     def restore(self, checkpoint: dict) -> None:
         """Continue from :meth:`checkpoint` (same parameters and options)."""
@@ -190,6 +218,8 @@ class CoSimulation:
         self._register[G_CONTACT_STEP] = float(checkpoint["contact_step"])
         self.communication_steps = int(checkpoint["communication_steps"])
         self.rollbacks = int(checkpoint["rollbacks"])
+        self.free_steps = int(checkpoint.get("free_steps", 0))
+        self.shrunk_steps = int(checkpoint.get("shrunk_steps", 0))
         self.fmi_time_s = float(checkpoint["fmi_time_s"])
         self.master_time_s = float(checkpoint["master_time_s"])
 
@@ -231,6 +261,7 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
                                       "cosimulation": o.to_dict(), "fmu": str(sim.fmu_path),
                                       "fmu_backend": sim.fmu_backend, "engine": "cosim"},
                           extra={"communication_steps": sim.communication_steps, "rollbacks": sim.rollbacks,
+                                 "free_steps": sim.free_steps, "shrunk_steps": sim.shrunk_steps,
                                  "fmi_time_s": sim.fmi_time_s, "master_time_s": sim.master_time_s})
     finally:
         sim.close()

@@ -56,17 +56,20 @@ B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces 
 B_STATS = B_EXTRAPOLATE + 1               # per-revolution statistics (rows of layout.N_STATS)
 
 
-# --- master_loop's register: the loop's state between calls, its counters and its failure
+# --- master_loop's register: the loop's state between calls, then its counters (this call, from G_STEPS
+# on: reset by the caller) and its failure
 G_T = 0                  # time reached [s]
 G_PREVIOUS_PENETRATION = 1   # FMU penetration at the accepted point before t [m]
-G_STEPS = 2              # communication steps accepted (this call)
-G_ROLLBACKS = 3          # rollbacks (this call)
-G_FMI_TIME = 4           # wall time in FMI calls (this call) [s]
-G_FAILED_CALL = 5        # index into FMI_CALLS of the call that failed, 0 if none
-G_FAILED_STATUS = 6      # its fmi2Status
-G_FAILED_TIME = 7        # the communication point it was made for [s]
-G_CONTACT_STEP = 8       # adaptive: the communication step in contact now [s] (0: step_s)
-N_REGISTER = 9
+G_CONTACT_STEP = 2       # adaptive: the communication step in contact now [s] (0: step_s)
+G_STEPS = 3              # communication steps accepted
+G_ROLLBACKS = 4          # rollbacks
+G_FMI_TIME = 5           # wall time in FMI calls [s]
+G_FREE_STEPS = 6         # accepted steps that started in free flight
+G_SHRUNK_STEPS = 7       # accepted steps in contact shorter than step_s (the force missed its extrapolation)
+G_FAILED_CALL = 8        # index into FMI_CALLS of the call that failed, 0 if none
+G_FAILED_STATUS = 9      # its fmi2Status
+G_FAILED_TIME = 10       # the communication point it was made for [s]
+N_REGISTER = 11
 # adaptive contact step: the relative miss of the extrapolated contact force that halves it (else
 # it grows back to step_s), and its floor as a share of step_s (force jumps, e.g. friction reversing
 # or the deepest bushing point moving on, miss at any step and must not drive it to nothing)
@@ -76,8 +79,10 @@ _MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching)
 FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
              "fmi2FreeFMUstate")
 F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
-# --- master_loop's settings
-C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET = range(5)
+# --- master_loop's settings; C_REUSE_STATE: 1.0 if getFMUstate overwrites the state it is given (FMI's "typically";
+# the pythonfmu slave returns a new one and loses the old), else each state is freed before the next
+C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE = range(6)
+N_SETTINGS = 6
 
 
 @njit(cache=True)
@@ -174,6 +179,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     h_max = settings[C_MAX_STEP]
     h_min = settings[C_MIN_STEP]
     onset = settings[C_ONSET]
+    reuse_state = settings[C_REUSE_STATE] > 0.5
     inputs = buf.ctypes.data + B_INPUT * 8
     outputs = buf.ctypes.data + B_OUTPUT * 8
     t = register[G_T]
@@ -182,6 +188,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     retry_step = 0.0
     steps = 0
     rollbacks = 0
+    free_steps = 0
+    shrunk_steps = 0
     fmi_time = 0.0
     failed = 0
     t_stop = t_end * (1.0 - 1e-15)
@@ -206,7 +214,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
                 h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
             saved[:] = buf[:B_ROLLBACK_END]
             c1 = _seconds(clock, timespec)
-            if state_slot[0] != 0:
+            if state_slot[0] != 0 and not reuse_state:
                 status = free_state(component, state_slot.ctypes.data)
                 state_slot[0] = 0
                 if status > FMI_WARNING:
@@ -272,12 +280,18 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         t = t_new
         record = True
         steps += 1
+        if free:
+            free_steps += 1
+        elif h < h_contact and t < t_stop:
+            shrunk_steps += 1
     register[G_CONTACT_STEP] = h_touching
     if record and failed == 0:
         communication_step(t, 0.0, True, buf, ws, samples)
     register[G_T] = t
     register[G_PREVIOUS_PENETRATION] = pen_before
     register[G_STEPS] = steps
+    register[G_FREE_STEPS] = free_steps
+    register[G_SHRUNK_STEPS] = shrunk_steps
     register[G_ROLLBACKS] = rollbacks
     register[G_FMI_TIME] = fmi_time
     return failed

@@ -23,10 +23,11 @@ Python.  :func:`compile_ir` proves it: the only symbols an object may
 leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
 build fails.
 
-Run as ``python -m wearjoint.fmu.aot MODEL OUT_DIR`` in a fresh process with an empty
-numba cache (a cached function has no IR) and ``NUMBA_CPU_NAME=generic``;
-:func:`wearjoint.fmu.build_native.build_fmu` does that.  Writes per entry point
-``<symbol>.ll`` and ``entry_points.json`` ({symbol: IR file}).
+Run as ``python -m wearjoint.fmu.aot MODEL OUT_DIR`` in a fresh process with ``NUMBA_CPU_NAME=generic``;
+:func:`wearjoint.fmu.build_native.build_fmu` does that.  The entry points are compiled there, never taken from numba's cache (a cached function has
+no IR); the kernels they call may be: numba caches each with the bitcode that links it into a caller.  Writes per entry point
+``<symbol>.ll`` and ``entry_points.json`` ({symbol: IR file}); prints the number of numba's
+compilations so far after each (the builder's progress bar).
 """
 from __future__ import annotations
 
@@ -171,4 +172,10 @@ def emit_object(ir_path: Path, triple: str, cpu: str) -> bytes:
 
 
 if __name__ == "__main__":
-    compile_ir(sys.argv[1], Path(sys.argv[2]))
+    from numba.core.ccallback import CFunc
+
+    from ..compile_notice import watching   # each compilation's count on stdout: the builder's progress bar
+
+    CFunc.enable_caching = lambda self: None   # the entry points compile here (a cached cfunc has no IR) ...
+    with watching("fmu", on_compile=lambda count: print(count, flush=True), quiet=True):
+        compile_ir(sys.argv[1], Path(sys.argv[2]))   # ... on the kernels numba's cache holds

@@ -5,13 +5,13 @@ Co-Simulation and Model Exchange, for linux64, win64 and aarch64-linux
 (:mod:`wearjoint.fmu.platforms`).  The models (:data:`MODELS`): ``joint`` builds
 ``ClearanceWearJoint.fmu``, ``slider-crank`` ``SliderCrank.fmu`` (:mod:`wearjoint.fmu.slider_crank`).
 
-Steps: (1) a fresh Python process with an empty numba cache compiles the model's kernels once to
-LLVM IR (kept in the user cache, keyed by the kernels' sources and the numba version, so further
-builds only relink); (2) llvmlite turns that IR into objects for each platform (only the target
+Steps: (1) a fresh Python process compiles the model's kernels once for a generic CPU to LLVM IR,
+taking those an earlier build left in numba's cache, and the IR is kept in the user cache, keyed by
+the kernels' sources and the numba version, so further builds only relink; (2) llvmlite turns that IR into objects for each platform (only the target
 triple and data layout change); (3) the model's variable table becomes ``model_variables.h``
 (value references, start values, allowed ranges, where each value comes from), and each
 platform's C compiler links the FMI layer (``fmi2Functions.c`` or ``fmi3Functions.c``, the same
-for every model), ``fmu_model.c``, the model's C files (``joint_model.c`` on
+for every model), ``fmu_model.c``, ``fmu_state.c``, the model's C files (``joint_model.c`` on
 ``joint_instance.c``; ``slider_crank_model.c``) and the objects, exporting only the ``fmi2*``
 (``fmi3*``) functions and refusing any undefined symbol outside the C runtime; (4) the FMU gets
 the generated ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR,
@@ -36,6 +36,7 @@ from pathlib import Path
 from dataclasses import dataclass
 
 from .. import __version__
+from ..compile_notice import announced_progress
 from ..core import layout, state_format
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
@@ -53,7 +54,7 @@ from .model_description import (
 FMI_VERSIONS = (2, 3)
 DEFAULT_FMI_VERSION = 2
 GLUE_C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c",), 3: ("fmi3Functions.c",)}   # the FMI layer, every model's
-COMMON_C_SOURCES = ("fmu_model.c", "fmu_model.h")
+COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h")
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
@@ -112,7 +113,8 @@ def c_sources(fmi_version: int, model: str = DEFAULT_MODEL) -> tuple:
 FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                           3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 EXPORTS_MAP_BY_VERSION = {v: f"{{\n  global: fmi{v}*;\n  local: *;\n}};\n" for v in FMI_VERSIONS}   # ELF platforms
-# the process that compiles the kernels: no cached code (it has no IR), a generic x86-64 CPU
+# the process that compiles the kernels: a generic CPU (numba's cache keeps these apart from the
+# in-process kernels, which are compiled for this machine's CPU)
 AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}
 
 
@@ -272,19 +274,29 @@ def kernel_key(model: str = DEFAULT_MODEL) -> str:
     return f"{spec.name}-numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
 
 
-def _compile_ir_fresh(out_dir: Path, model: str) -> dict:
-    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache:
-        env = {**os.environ, **AOT_ENVIRONMENT, "NUMBA_CACHE_DIR": cache}
-        done = subprocess.run([sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir)], capture_output=True,
-                              text=True, env=env, cwd=PACKAGE_DIR.parent)
-    if done.returncode != 0:
-        raise RuntimeError(f"compiling the kernels ahead of time failed:\n{done.stderr.strip()[-3000:]}")
+def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
+    """:mod:`.aot` in a fresh process, said on stderr with a progress bar of its compilations.  It takes the
+    kernels numba's cache holds (an in-process run's: the same CPU) unless ``fresh`` (an empty cache)."""
+    bar = announced_progress("fmu")
+    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryFile("w+") as errors:
+        env = {**os.environ, **AOT_ENVIRONMENT, **({"NUMBA_CACHE_DIR": cache} if fresh else {})}
+        process = subprocess.Popen([sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir)],
+                                   stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent)
+        for line in process.stdout:
+            if line.strip().isdigit():
+                bar.update(int(line))
+        failed = process.wait() != 0
+        bar.close()
+        errors.seek(0)
+        if failed:
+            raise RuntimeError(f"compiling the kernels ahead of time failed:\n{errors.read().strip()[-3000:]}")
     return json.loads((out_dir / "entry_points.json").read_text())
 
 
 def compile_kernel_ir(out_dir: Path, reuse: bool = True, model: str = DEFAULT_MODEL) -> dict:
-    """``model``'s kernel IR in ``out_dir`` ({symbol: IR file}): compiled in a fresh process with an
-    empty numba cache, or (``reuse``) copied from the user cache where an earlier build left it."""
+    """``model``'s kernel IR in ``out_dir`` ({symbol: IR file}): compiled in a fresh process (from the
+    kernels in numba's cache; with an empty one unless ``reuse``), or (``reuse``) copied from the user
+    cache where an earlier build left it."""
     cached = user_cache_dir() / "kernels" / kernel_key(model)
     if reuse:
         try:
@@ -294,7 +306,7 @@ def compile_kernel_ir(out_dir: Path, reuse: bool = True, model: str = DEFAULT_MO
                 return modules
         except (OSError, ValueError):
             pass
-    modules = _compile_ir_fresh(out_dir, model)
+    modules = _compile_ir_fresh(out_dir, model, fresh=not reuse)
     try:   # keep it for the next build (another process may be writing the same: first one wins)
         cached.parent.mkdir(parents=True, exist_ok=True)
         partial = Path(tempfile.mkdtemp(prefix=cached.name + ".", dir=cached.parent))

@@ -1,0 +1,180 @@
+"""The README's headline speed figures of a base revision and of the working tree, run alternately.
+
+    python benchmarks/compare.py --base REV [--repeats 3] [--probes cosim,monolithic[,cold]] [--keep DIR]
+
+Run it by hand before figures are published (it takes minutes; not in CI).  REV's tree
+(``git archive``: the repository itself is left alone) goes into a temporary folder with a venv
+that sees this interpreter's packages (``--system-site-packages``) and ``pip install --no-deps -e``
+of that tree: the dependencies are the same, the package is REV's; the working tree gets a venv of
+its own the same way (whichever tree this interpreter has installed).  Each probe runs in a fresh
+process of either interpreter, base and working tree alternately (``--repeats`` pairs, after one
+untimed run of each that builds the FMU and fills the numba caches), through API both trees have:
+
+* ``cosim`` -- ``benchmarks/bench_cosim.py``'s run: adaptive 5 us, 0.2 s after 0.01 s, native FMU:
+  real-time factor, communication steps, FMI time per step;
+* ``monolithic`` -- ``wearjoint simulate``'s engine, DOPRI default, 5 revolutions without wear:
+  real-time factor, accepted steps;
+* ``cold`` -- ``wearjoint simulate --revolutions 0.05``, ``wearjoint build-fmu`` and ``wearjoint cosim
+  --revolutions 0.02`` (the FMU and the master), each from empty numba and FMU caches: wall seconds
+  (several minutes per pair; not run by default).
+
+Prints each figure's median per tree, working / base, and the 1-minute load before and after
+each pair (2 shared cores: compare ratios taken at similar loads).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+PROBES = ("cosim", "monolithic", "cold")
+DEFAULT_PROBES = ("cosim", "monolithic")
+
+
+# ------------------------------------------------------------------ probes (run by either interpreter)
+def probe_cosim() -> dict:
+    import numpy as np
+
+    from wearjoint.core import layout as L
+    from wearjoint.cosim import CoSimulation, CoSimulationOptions
+    from wearjoint.parameters import paper_joint
+
+    warm_up, duration = 0.01, 0.2
+    options = CoSimulationOptions(revolutions=(warm_up + duration) / 0.4 + 0.1)
+    samples = np.zeros((int((warm_up + duration) / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
+    with CoSimulation(paper_joint(wear_factor=0.0), None, options) as sim:
+        sim.advance_to(warm_up, samples)
+        steps, fmi = sim.communication_steps, sim.fmi_time_s
+        t0 = time.perf_counter()
+        sim.advance_to(warm_up + duration, samples)
+        wall = time.perf_counter() - t0
+        steps = sim.communication_steps - steps
+        return {"real-time factor": duration / wall, "communication steps": steps,
+                "FMI us per step": 1e6 * (sim.fmi_time_s - fmi) / steps}
+
+
+def probe_monolithic() -> dict:
+    from wearjoint.parameters import paper_joint
+    from wearjoint.simulate import SimulationOptions, run_simulation
+
+    summary = run_simulation(paper_joint(wear_factor=0.0), options=SimulationOptions(revolutions=5.0),
+                             progress=False).summary()
+    return {"real-time factor": summary["realtime_factor"], "accepted steps": summary["integrator_accepted_steps"]}
+
+
+def probe_cold() -> dict:
+    """Wall seconds of the two commands, each in a fresh process with empty numba and FMU caches."""
+    figures = {}
+    commands = {"cold simulate s": ["simulate", "--revolutions", "0.05", "--no-plots", "--quiet"],
+                "cold build-fmu s": ["build-fmu"],
+                "cold cosim s": ["cosim", "--revolutions", "0.02", "--no-plots", "--quiet"]}
+    for name, command in commands.items():
+        with tempfile.TemporaryDirectory(prefix="compare_cold_") as tmp:
+            env = {**os.environ, "NUMBA_CACHE_DIR": f"{tmp}/numba", "XDG_CACHE_HOME": f"{tmp}/cache"}
+            out = ["--out", f"{tmp}/out"]
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "wearjoint", *command, *out], env=env, check=True,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            figures[name] = time.perf_counter() - t0
+    return figures
+
+
+# ------------------------------------------------------------------ the driver
+def tree_interpreter(tree: Path, venv: Path) -> Path:
+    """A venv whose ``wearjoint`` is ``tree``'s (whatever this interpreter has installed)."""
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)], check=True)
+    python = venv / "bin" / "python"
+    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--no-deps", "-e", str(tree)], check=True)
+    found = subprocess.run([str(python), "-c", "import wearjoint; print(wearjoint.__file__)"], check=True,
+                           capture_output=True, text=True, cwd=tempfile.gettempdir()).stdout.strip()
+    if not Path(found).is_relative_to(tree):
+        raise RuntimeError(f"the venv {venv} imports wearjoint from {found}, not from {tree}")
+    return python
+
+
+def base_tree(rev: str, tree: Path) -> Path:
+    """REV's files in ``tree``."""
+    tree.mkdir(parents=True)
+    archive = subprocess.run(["git", "-C", str(REPO), "archive", rev], check=True, capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
+    return tree
+
+
+def run_probe(python, probe: str) -> dict:
+    """One probe in a fresh process of ``python``: its figures."""
+    done = subprocess.run([str(python), __file__, "--probe", probe], capture_output=True, text=True,
+                          cwd=tempfile.gettempdir())
+    if done.returncode != 0:
+        raise RuntimeError(f"probe {probe} with {python} failed:\n{done.stderr[-3000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def compare(base_python, work_python, probes, repeats: int) -> None:
+    trees = {"base": base_python, "work": work_python}
+    for probe in probes:
+        if probe != "cold":
+            for python in trees.values():     # builds the FMU, fills the numba caches
+                run_probe(python, probe)
+        runs = {name: [] for name in trees}
+        loads = []
+        for _ in range(repeats):
+            load = os.getloadavg()[0]
+            for name, python in trees.items():
+                runs[name].append(run_probe(python, probe))
+            loads.append(f"{load:.2f}->{os.getloadavg()[0]:.2f}")
+        print(f"{probe}: {repeats} alternating pairs, load per pair {', '.join(loads)} ({os.cpu_count()} CPUs)")
+        print(f"  {'figure':24s} {'base':>12s} {'work':>12s} {'work/base':>10s}   work runs")
+        for figure in runs["work"][0]:
+            base = statistics.median(r[figure] for r in runs["base"])
+            work = statistics.median(r[figure] for r in runs["work"])
+            each = " ".join(f"{r[figure]:.4g}" for r in runs["work"])
+            print(f"  {figure:24s} {base:12.4g} {work:12.4g} {work / base:10.3f}   {each}", flush=True)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--base", help="revision to compare with (a commit, tag or branch)")
+    parser.add_argument("--repeats", type=int, default=3, help="alternating pairs per probe (default 3)")
+    parser.add_argument("--probes", default=",".join(DEFAULT_PROBES),
+                        help=f"comma-separated, of {', '.join(PROBES)} (default %(default)s)")
+    parser.add_argument("--keep", type=Path, default=None, help="build the base in DIR and keep it (default: a "
+                                                                 "temporary folder, removed)")
+    parser.add_argument("--probe", choices=PROBES, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.probe:
+        print(json.dumps(globals()[f"probe_{args.probe}"]()))
+        return 0
+    probes = [p.strip() for p in args.probes.split(",") if p.strip()]
+    if args.base is None or args.repeats < 1 or not set(probes) <= set(PROBES):
+        parser.error(f"--base REV is required, --repeats >= 1, --probes of {', '.join(PROBES)}")
+    commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--verify", f"{args.base}^{{commit}}"],
+                            check=True, capture_output=True, text=True).stdout.strip()
+    folder = args.keep or Path(tempfile.mkdtemp(prefix="compare_base_"))
+    try:
+        base, work = folder / "venv" / "bin" / "python", folder / "work-venv" / "bin" / "python"
+        kept = (folder / "commit").read_text() if (folder / "commit").is_file() else None
+        if kept not in (None, commit):
+            parser.error(f"--keep {folder} holds {kept}, not {args.base} ({commit})")
+        if kept is None:
+            base = tree_interpreter(base_tree(commit, folder / "tree"), folder / "venv")
+            (folder / "commit").write_text(commit)
+        if not work.exists():
+            work = tree_interpreter(REPO, folder / "work-venv")
+        print(f"base {args.base} ({folder / 'tree'}) against the working tree {REPO}", flush=True)
+        compare(base, work, probes, args.repeats)
+    finally:
+        if args.keep is None:
+            shutil.rmtree(folder, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

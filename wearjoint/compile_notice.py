@@ -1,0 +1,113 @@
+"""Say what compiles before it does: a command never sits silent for a minute.
+
+numba compiles the kernels on a command's first run (an empty cache, changed sources) and a native
+FMU's kernels are compiled ahead of time on its first build.  The first time either starts, one line
+on stderr names what compiles and roughly how long it takes here; on a terminal a progress bar
+(:mod:`wearjoint.progress`) then counts the compilations against the number a cold run makes.
+The figures (:data:`ESTIMATES`) are measured on the project's machine: docs/performance.md,
+"Compile time", which also says how to measure them (:data:`PROFILE_ENV`).
+"""
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import sys
+import time
+
+from numba.core import event
+
+# key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core)
+ESTIMATES = {
+    "simulate": ("the monolithic engine's numba kernels", 40, 83),
+    "cosim": ("the co-simulation master's numba kernels", 25, 99),
+    "fmu": ("the FMU's kernels, ahead of time (once per source version)", 25, 86),
+    "kernels": ("the numba kernels", 40, 90),
+}
+COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
+# a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
+PROFILE_ENV = "WEARJOINT_COMPILE_PROFILE"
+
+
+def announce(what: str, stream=None) -> None:
+    """The one line: what compiles and about how long it takes (``what`` a key of :data:`ESTIMATES`)."""
+    text, seconds, _ = ESTIMATES[what]
+    print(f"wearjoint: compiling {text}: about {seconds} s on first use, cached for later runs",
+          file=stream or sys.stderr, flush=True)
+
+
+class CompileWatch(event.Listener):
+    """numba's "numba:compile" events: at the first, :func:`announce` and a progress bar (a terminal
+    only) of the compilations (unless ``quiet``); with :data:`PROFILE_ENV` set, each compilation's own
+    time appended there.  ``on_compile`` (optional) is called with the count after each compilation."""
+
+    def __init__(self, what: str, on_compile=None, quiet: bool = False):
+        self.what = what
+        self.quiet = quiet
+        self.count = 0
+        self._bar = None
+        self._on_compile = on_compile
+        self._stack = []
+        self._profile = os.environ.get(PROFILE_ENV)
+
+    def on_start(self, event) -> None:
+        if self.count == 0 and not self._stack and not self.quiet:
+            self._bar = announced_progress(self.what)
+        self._stack.append([time.perf_counter(), 0.0])
+
+    def on_end(self, event) -> None:
+        start, nested = self._stack.pop()
+        seconds = time.perf_counter() - start
+        if self._stack:
+            self._stack[-1][1] += seconds
+        self.count += 1
+        if self._bar is not None:
+            self._bar.update(self.count)
+        if self._on_compile is not None:
+            self._on_compile(self.count)
+        if self._profile:
+            function = getattr(event.data["dispatcher"], "py_func", None)
+            name = f"{function.__module__}.{function.__qualname__}" if function else str(event.data["dispatcher"])
+            with open(self._profile, "a") as out:
+                out.write(json.dumps([name, str(event.data["args"]), seconds - nested]) + "\n")
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+
+_ACTIVE: list[CompileWatch] = []
+
+
+@contextlib.contextmanager
+def watching(what: str, on_compile=None, quiet: bool = False):
+    """Announce and count numba's compilations inside the block (``what``: a key of :data:`ESTIMATES`)."""
+    watch = CompileWatch(what, on_compile, quiet)
+    event.register("numba:compile", watch)
+    _ACTIVE.append(watch)
+    try:
+        yield watch
+    finally:
+        _ACTIVE.remove(watch)
+        event.unregister("numba:compile", watch)
+        watch.close()
+
+
+def watch_command(command: str):
+    """:func:`watching` for a command of the CLI (its kernels' estimate, or the generic one)."""
+    return watching(COMMAND_KERNELS.get(command, "kernels"))
+
+
+def announced_progress(what: str):
+    """:func:`announce` and a progress bar of ``what``'s compilations, counted by the caller."""
+    from .progress import Progress
+
+    announce(what)
+    return Progress(ESTIMATES[what][2], "compiling", unit="functions", delay_s=0.0)
+
+
+def compiled() -> None:
+    """Compilation is over (the run starts): close the progress bars of :func:`watching`."""
+    for watch in _ACTIVE:
+        watch.close()
