@@ -134,7 +134,7 @@ int model_directional_derivative(FmuModel *model, int fmi_version, const unsigne
                                  const char *function);
 
 /* Co-Simulation: advance from t over h with the inputs held; an FMU_* status (the model's
- * state and time unchanged unless FMU_OK, time t + h then). */
+ * state and time unchanged unless FMU_OK or FMU_WARNING, time t + h then). */
 int model_do_step(FmuModel *model, double t, double h, const char *function);
 
 /* Model Exchange (N_CONTINUOUS_STATES states, N_EVENT_INDICATORS indicators); 1, or 0 logged. */

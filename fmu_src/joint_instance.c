@@ -108,7 +108,7 @@ void joint_reset(JointInstance *joint)
         joint->parameters[i] = PARAMETERS[i].start;
     joint->parameters_changed = 1;
     joint->forces_stale = joint->wear_summary_stale = joint->jacobian_stale = 1;
-    joint->onsets_accepted = 0;
+    joint->onsets_accepted = joint->warned_wear_step = joint->started = 0;
     memset(joint->memory, 0, sizeof joint->memory);
     memset(joint->result, 0, sizeof joint->result);
     memset(joint->wear_depth, 0, (size_t)joint->n_points * sizeof(double));
@@ -253,6 +253,36 @@ int joint_wear_summary(JointInstance *joint, const char *function)
     return 1;
 }
 
+/* The warnings of an accepted step (joint_instance.h), from the kernels' result at its start. */
+static int step_warnings(JointInstance *joint, double dt, int32_t changed, const char *function)
+{
+    int status = JOINT_OK;
+    const double *p = joint->joint_parameters;
+    if (!joint->started) {
+        joint->started = 1;
+        double e = hypot(joint->result[R_ECCENTRICITY_X], joint->result[R_ECCENTRICITY_Y]);
+        double radius = p[P_BUSHING_RADIUS];
+        if (e > radius) {
+            joint_log(joint, JOINT_WARNING, "%s: at t=%.17g s the inputs put the pin centre %g m from the bushing "
+                      "centre, outside the bushing (radius %g m): the contact force is meaningless.  The inputs are "
+                      "the bodies' reference points; are the offsets set (pin_offset_x=%g, pin_offset_y=%g, "
+                      "bushing_offset_x=%g, bushing_offset_y=%g m, each in its body's frame)?", function, joint->time,
+                      e, radius, p[P_PIN_OFFSET_X], p[P_PIN_OFFSET_Y], p[P_BUSHING_OFFSET_X],
+                      p[P_BUSHING_OFFSET_Y]);
+            status = JOINT_WARNING;
+        }
+    }
+    if (changed == STEP_OVERSHOT && !joint->warned_wear_step) {
+        joint->warned_wear_step = 1;
+        joint_log(joint, JOINT_WARNING, "%s: at t=%.17g s a wearing step of %g s is over the wear-step limit (at most "
+                  "%g s, and at most %g of a conforming contact's penetration worn per step): the wear overshoots and "
+                  "the pin sinks as the force collapses; take shorter steps or a smaller wear_factor (docs/model.md "
+                  "§7; said once)", function, joint->time, dt, MAX_WEAR_STEP_S, WEAR_STEP_SHARE);
+        status = JOINT_WARNING;
+    }
+    return status;
+}
+
 int joint_accept_step(JointInstance *joint, double dt, const char *function)
 {
     if (joint->non_finite_inputs) {
@@ -290,13 +320,13 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function)
         joint->wear_summary_stale = 1;
     joint->forces_stale = 1;
     joint->onsets_accepted = 1;
-    return JOINT_OK;
+    return step_warnings(joint, dt, changed, function);
 }
 
 int joint_completed_integrator_step(JointInstance *joint, const char *function)
 {
     int status = joint_accept_step(joint, joint->time - joint->last_accepted_time, function);
-    if (status == JOINT_OK)
+    if (status <= JOINT_WARNING)
         joint->last_accepted_time = joint->time;
     return status;
 }

@@ -29,6 +29,8 @@ typedef struct {
     int jacobian_stale;                /* jacobian does not belong to result */
     int onsets_accepted;               /* an accepted step did the onset bookkeeping at these inputs */
     int wear_summary_stale;
+    int warned_wear_step;              /* the wear-step warning was logged (once per instance) */
+    int started;                       /* a step was accepted: the first one's pin position was checked */
     double max_wear_depth, worn_volume;
     int64_t n_points, n_blocks;
     double joint_parameters[N_JOINT_PARAMETERS];
@@ -60,7 +62,9 @@ int joint_evaluate(JointInstance *joint, const char *function, const char *outpu
 int joint_jacobian(JointInstance *joint, const char *function, const char *output);
 int joint_wear_summary(JointInstance *joint, const char *function);
 /* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping.
- * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt. */
+ * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt.  JOINT_WARNING (logged, the
+ * step accepted), once per instance each: the first step's pin centre lies outside the bushing (the
+ * inputs likely lack the offsets), or a wearing step is over the wear-step limit (docs/model.md §7). */
 int joint_accept_step(JointInstance *joint, double dt, const char *function);
 /* Model Exchange: accept the step since the last completed one (wear, onsets); a JOINT_* status. */
 int joint_completed_integrator_step(JointInstance *joint, const char *function);

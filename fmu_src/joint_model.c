@@ -331,12 +331,12 @@ int model_do_step(FmuModel *model, double t, double h, const char *function)
     double previous = joint->time;
     joint->time = t;
     int status = joint_accept_step(joint, h, function);
-    if (status != JOINT_OK) {
+    if (status > JOINT_WARNING) {
         joint->time = previous;
         return status;
     }
     joint->time = joint->last_accepted_time = t + h;
-    return FMU_OK;
+    return status;   /* a warning: the step is accepted */
 }
 
 /* ------------------------------------------------------------------ Model Exchange: no continuous states */

@@ -64,3 +64,21 @@ def pytest_unconfigure(config):
 
 
 _EXIT_STATUS = pytest.StashKey[int]()
+
+
+@pytest.fixture(scope="module")
+def fmus(native_fmu, tmp_path_factory):
+    """The native FMI 2.0 (session build) and FMI 3.0 (linux64) FMUs, unzipped, with their value references
+    (for tests/fmpy_instance.py's Joint)."""
+    from fmpy import extract, read_model_description
+
+    from wearjoint.fmu import variables as fv
+    from wearjoint.fmu.build import build_fmu
+    from wearjoint.fmu.model_description import fmi3_value_references
+
+    built = {2: native_fmu, 3: build_fmu(tmp_path_factory.mktemp("dd3"), backend="native", fmi_version=3,
+                                         platforms="linux64")}
+    return {version: {"path": path, "md": read_model_description(str(path)),
+                      "dir": extract(str(path), unzipdir=str(tmp_path_factory.mktemp(f"dd{version}_x"))),
+                      "vr": fv.value_references(read_model_description(str(path))) if version == 2
+                      else fmi3_value_references()} for version, path in built.items()}

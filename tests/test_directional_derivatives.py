@@ -18,18 +18,16 @@ fmpy = pytest.importorskip("fmpy")
 from fmpy import extract, read_model_description  # noqa: E402
 from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy.fmi2 import (  # noqa: E402
-    FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
+    FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
 )
-from fmpy.fmi3 import FMU3Model, FMU3Slave  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
-from fmpy_instance import enter_initialisation  # noqa: E402
+from fmpy_instance import Joint  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
 from wearjoint.core.state_format import CONTENTS_FMU  # noqa: E402
 from wearjoint.fmu import slider_crank as sc  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.fmu.build import build_fmu  # noqa: E402
-from wearjoint.fmu.model_description import fmi3_value_references  # noqa: E402
 from wearjoint.joint import state_bytes  # noqa: E402
 
 JOINT = paper_joint()
@@ -123,76 +121,6 @@ def normalised_error(derivatives: np.ndarray, differences: np.ndarray) -> float:
     assert np.all(derivatives[constant] == 0.0), np.argwhere(derivatives[constant] != 0.0)
     error = np.abs(derivatives - differences)[~constant] * SCALE / scale[~constant, None]
     return float(error.max(initial=0.0))
-
-
-# ------------------------------------------------------------- fmpy instances of each FMI version and interface
-@pytest.fixture(scope="module")
-def fmus(native_fmu, tmp_path_factory):
-    """The native FMI 2.0 (session build) and FMI 3.0 (linux64) FMUs, unzipped, with their value references."""
-    built = {2: native_fmu, 3: build_fmu(tmp_path_factory.mktemp("dd3"), backend="native", fmi_version=3,
-                                         platforms="linux64")}
-    return {version: {"path": path, "md": read_model_description(str(path)),
-                      "dir": extract(str(path), unzipdir=str(tmp_path_factory.mktemp(f"dd{version}_x"))),
-                      "vr": fv.value_references(read_model_description(str(path))) if version == 2
-                      else fmi3_value_references()} for version, path in built.items()}
-
-
-class Joint:
-    """One fmpy instance of the joint FMU (FMI ``version``, ``kind`` 'cs' or 'me') with uniform calls and
-    its log messages; ``start`` initialises it (Model Exchange: on to Continuous-Time Mode)."""
-
-    def __init__(self, fmu: dict, version: int, kind: str):
-        self.version, self.kind, self.vr, self.log = version, kind, fmu["vr"], []
-        cls = {(2, "cs"): FMU2Slave, (2, "me"): FMU2Model, (3, "cs"): FMU3Slave, (3, "me"): FMU3Model}[version, kind]
-        self.fmu = cls(guid=fmu["md"].guid, unzipDirectory=fmu["dir"], modelIdentifier=fv.MODEL_NAME,
-                       instanceName=f"dd{version}{kind}")
-        if version == 2:
-            self._logger = fmi2CallbackLoggerTYPE(lambda env, name, status, category, text: self._keep(status, text))
-            self._callbacks = fmi2CallbackFunctions(logger=self._logger, allocateMemory=defaultCallbacks.allocateMemory,
-                                                    freeMemory=defaultCallbacks.freeMemory)
-            self.fmu.instantiate(callbacks=self._callbacks)
-        else:
-            self.fmu.instantiate(logMessage=lambda env, status, category, text: self._keep(status, text))
-
-    def _keep(self, status, text):
-        self.log.append((status, text.decode()))
-
-    def start(self, params=JOINT) -> "Joint":
-        if self.version == 2:
-            enter_initialisation(self.fmu, self.vr, params)
-        else:
-            self.fmu.enterInitializationMode()
-            reals, enumerations = fv.fmi_parameter_values_by_type(params)
-            self.fmu.setFloat64([self.vr[k] for k in reals], list(reals.values()))
-            self.fmu.setInt64([self.vr[k] for k in enumerations], list(enumerations.values()))
-        self.fmu.exitInitializationMode()
-        if self.kind == "me":
-            self.fmu.enterContinuousTimeMode()
-        return self
-
-    def restore(self, data: bytes) -> None:
-        f = self.fmu
-        state = f.deSerializeFMUstate(data) if self.version == 2 else f.deserializeFMUState(data)
-        (f.setFMUstate if self.version == 2 else f.setFMUState)(state)
-        (f.freeFMUstate if self.version == 2 else f.freeFMUState)(state)
-
-    def set(self, names, values) -> None:
-        (self.fmu.setReal if self.version == 2 else self.fmu.setFloat64)([self.vr[n] for n in names], list(values))
-
-    def get(self, names, n_values=None) -> np.ndarray:
-        vrs = [self.vr[n] for n in names]
-        return np.array(self.fmu.getReal(vrs) if self.version == 2 else self.fmu.getFloat64(vrs, nValues=n_values))
-
-    def derivative(self, unknowns, knowns, seed, n_values=None) -> np.ndarray:
-        args = [self.vr[n] for n in unknowns], [self.vr[n] for n in knowns], list(seed)
-        return np.array(self.fmu.getDirectionalDerivative(*args) if self.version == 2
-                        else self.fmu.getDirectionalDerivative(*args, nSensitivity=n_values))
-
-    def errors(self) -> str:
-        return "\n".join(text for status, text in self.log if status >= 3)
-
-    def free(self) -> None:
-        self.fmu.freeInstance()
 
 
 def started(fmus, version, kind, state: ContactState) -> Joint:

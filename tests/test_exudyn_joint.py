@@ -381,3 +381,20 @@ def test_sensors_keep_working_with_the_helpers_settings():
     exu.SolveDynamic(mbs, simulation_settings(0.002, 1e-5, (handle,)))
     data = mbs.GetSensorStoredData(0)
     assert data.shape[0] >= 2 and data.shape[1] == 4 and np.all(np.isfinite(data))   # was (0, 0): sensors off
+
+
+@pytest.mark.parametrize("wear_factor, warned", [(10.0, False), (1e4, True)])
+def test_a_step_wearing_too_much_of_the_penetration_is_a_warning_once(wear_factor, warned):
+    """A swinging bar's bushing slides ~0.03 m/s on the pin: at 1e-5 s a step wears ~1e-3 of the
+    penetration at wear factor 10 and ~1 at 1e4 (k_f k_w F v dt, docs/model.md §7)."""
+    import warnings
+
+    sc, mbs = new_system()
+    _, handle = hung_bar(mbs, angle=0.4, sag=JointParameters().clearance_m, wear_factor=wear_factor)
+    mbs.Assemble()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        solve(mbs, 0.02, 1e-5)
+    said = [w for w in caught if "of the contact's penetration" in str(w.message)]
+    assert len(said) == (1 if warned else 0)
+    assert handle.accepted_steps >= 2000

@@ -43,7 +43,7 @@ from .core import layout as L
 from .core.contact import contact_jacobian, evaluate_contact
 from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
-from .core.wear import advance_joint
+from .core.wear import STEP_OVERSHOT, advance_joint
 from .joint import ClearanceJoint, ContactResult
 from .parameters import MAX_WEAR_STEP_S, WEAR_STEP_SHARE, JointParameters, ParameterError, _require
 
@@ -241,19 +241,15 @@ class ClearanceJointHandle:
             self._accept_arguments = (*self._system_indices, *self._shared, j._mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
-        accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
+        code = accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
         self._rows += 1
         self.t = t
         self.accepted_steps += 1
-        if wear_rate > 0.0 and not self._wear_share_warned:
-            # the share of a conforming contact's penetration this step wore (docs/model.md §7)
-            share = j.params.foundation_modulus_N_m3 * wear_rate * abs(j.result[L.R_TANGENTIAL_VELOCITY]) * dt
-            if share > WEAR_STEP_SHARE:
-                self._wear_share_warned = True
-                warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s wore {share:.2f} of the contact's penetration "
-                              f"(more than {WEAR_STEP_SHARE}): the wear overshoots, take steps of at most "
-                              f"{dt * WEAR_STEP_SHARE / share:.3g} s or a smaller wear_factor (docs/model.md §7)",
-                              RuntimeWarning, stacklevel=2)
+        if code == STEP_OVERSHOT and not self._wear_share_warned:   # (docs/model.md §7)
+            self._wear_share_warned = True
+            warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s wore the bushing by more than {WEAR_STEP_SHARE} of "
+                          "the contact's penetration: the wear overshoots; take shorter steps or a smaller "
+                          "wear_factor (docs/model.md §7)", RuntimeWarning, stacklevel=2)
 
     def result(self) -> ContactResult:
         """The contact at the end of the last accepted step (before that step's wear)."""

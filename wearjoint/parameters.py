@@ -11,6 +11,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from .core.layout import MAX_WEAR_STEP_S, WEAR_STEP_SHARE   # the wear-step limit (docs/model.md §7)
+
 RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
@@ -18,8 +20,6 @@ CONTACT_MODELS = ("foundation", "deepest")
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
 # (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
 PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.449e-11
-WEAR_STEP_SHARE = 0.3   # the largest share of a conforming contact's penetration one accepted step may wear
-MAX_WEAR_STEP_S = 1e-5  # and never a longer accepted step with wear [s] (docs/model.md §7)
 # the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
 OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
                   "contact_model": CONTACT_MODELS}

@@ -5,6 +5,12 @@ module-level integers as constants); these names are the only place the
 positions are defined.
 """
 
+# --- the wear-step limit (docs/model.md §7): in a conforming contact one accepted step wears
+# k_f k_w |v_t| dt of the penetration (k_f the foundation modulus, k_w with the wear factor); above
+# about 1 the pin sinks while the force collapses
+WEAR_STEP_SHARE = 0.3   # the largest share of a conforming contact's penetration one accepted step may wear
+MAX_WEAR_STEP_S = 1e-5  # and never a longer accepted step with wear [s]
+
 # --- joint parameter vector.  Slots up to P_VELOCITY_FLOOR and from P_PIN_YOUNGS_MODULUS on
 # are given (JointParameters, or the FMU's parameters: wearjoint.fmu.variables maps each to
 # its slot); the derived slots are filled by core.wear.complete_joint_parameters.

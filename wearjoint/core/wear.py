@@ -27,15 +27,16 @@ from .geometry import (
 from .jit import kernel
 from .pressure import cell_overlap, overlap
 from .layout import (
-    BLOCK_SIZE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO, P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS,
+    BLOCK_SIZE, MAX_WEAR_STEP_S, WEAR_STEP_SHARE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO, P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS,
     P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE,
     P_SLIDING, P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
-    R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_TANGENTIAL_VELOCITY,
+    R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_PENETRATION, R_TANGENTIAL_VELOCITY,
 )
 
 
 WEAR_REFUSED = -1.0                    # apply_wear: the step's wear is absurd; nothing changed
-STEP_REFUSED, STEP_UNCHANGED, STEP_CHANGED = -1, 0, 1   # accept_contact / advance_joint
+# accept_contact / advance_joint; STEP_OVERSHOT: changed, by a wearing step over the wear-step limit
+STEP_REFUSED, STEP_UNCHANGED, STEP_CHANGED, STEP_OVERSHOT = -1, 0, 1, 2
 
 
 @kernel
@@ -431,11 +432,16 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
 def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work):
     """Archard update over dt and the contact-onset bookkeeping for ``result``, the contact
     evaluated at the accepted state.  Returns STEP_CHANGED if the joint's state changed,
+    STEP_OVERSHOT if it did by a step over the wear-step limit (longer than MAX_WEAR_STEP_S, or
+    wearing a point by more than WEAR_STEP_SHARE of the penetration: the wear overshoots,
+    docs/model.md §7),
     STEP_UNCHANGED, or STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`)."""
     largest = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work)
     if largest < 0.0:
         return STEP_REFUSED
     changed = update_contact_memory(result, jp, memory)
+    if largest > 0.0 and (dt > MAX_WEAR_STEP_S * (1.0 + 1e-9) or largest > WEAR_STEP_SHARE * result[R_PENETRATION]):
+        return STEP_OVERSHOT
     return STEP_CHANGED if largest > 0.0 or changed else STEP_UNCHANGED
 
 

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from .. import __version__
 from ..compile_notice import announced_progress
 from ..core import layout, state_format
+from ..core.wear import STEP_OVERSHOT
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
@@ -209,6 +210,16 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define N_MEMORY {layout.N_MEMORY}
 #define N_RESULT {layout.N_RESULT}
 #define R_PENETRATION {layout.R_PENETRATION}
+#define R_ECCENTRICITY_X {layout.R_ECCENTRICITY_X}
+#define R_ECCENTRICITY_Y {layout.R_ECCENTRICITY_Y}
+#define P_BUSHING_RADIUS {layout.P_BUSHING_RADIUS}
+#define P_PIN_OFFSET_X {layout.P_PIN_OFFSET_X}
+#define P_PIN_OFFSET_Y {layout.P_PIN_OFFSET_Y}
+#define P_BUSHING_OFFSET_X {layout.P_BUSHING_OFFSET_X}
+#define P_BUSHING_OFFSET_Y {layout.P_BUSHING_OFFSET_Y}
+#define STEP_OVERSHOT {STEP_OVERSHOT}
+#define MAX_WEAR_STEP_S {layout.MAX_WEAR_STEP_S!r}
+#define WEAR_STEP_SHARE {layout.WEAR_STEP_SHARE!r}
 #define N_EVENT_INDICATORS {N_EVENT_INDICATORS}
 #define N_INPUTS {len(fv.INPUTS)}
 #define N_PARAMETERS {len(fv.PARAMETERS)}

@@ -1,0 +1,102 @@
+"""The joint FMU warns, once per instance, where the other engines refuse or a user has likely erred
+(docs/model.md §5): a wearing step over the wear-step limit (longer than 1e-5 s, or wearing more than
+0.3 of a conforming contact's penetration in one step, docs/model.md §7), and a first step whose
+inputs put the pin centre outside the bushing (offsets forgotten).  Seen through fmpy's logger with
+the status fmi2Warning / fmi3Warning; the step is accepted."""
+import math
+
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy_instance import Joint  # noqa: E402
+
+from wearjoint import paper_joint  # noqa: E402
+
+WARNING = 1
+PENETRATION_M = 5e-6
+INPUTS = ("pin_x", "pin_y", "pin_angle", "pin_vx", "pin_vy", "pin_omega",
+          "bushing_x", "bushing_y", "bushing_angle", "bushing_vx", "bushing_vy", "bushing_omega")
+
+
+def joint_parameters(wear_factor):
+    return paper_joint(wear_factor=wear_factor).replace(pin_offset_m=(0.0, 0.0), bushing_offset_m=(0.0, 0.0))
+
+
+def step_share(params, sliding_speed_m_s, step_s):
+    """The share of the penetration one step wears, k_f k_w F v dt: a foundation pressure k_f delta at the
+    deepest point, k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) (docs/model.md §3.10, §7)."""
+    c = params.bushing_radius_m - params.pin_radius_m
+    k_f = (3.0 * params.contact_stiffness_N_m1_5 * math.sqrt(c)
+           / (4.0 * math.sqrt(2.0) * params.contact_length_m * math.sqrt(params.pin_radius_m * params.bushing_radius_m)))
+    return k_f * params.wear_coefficient_m2_N * params.wear_factor * sliding_speed_m_s * step_s
+
+
+def sliding_in_contact(params, speed_m_s):
+    """The pin pressed PENETRATION_M into the unworn bushing along x and turning in it, so that the
+    bushing slides ``speed_m_s`` under it (the paper's sliding distance, (R_j + h) |omega_i - omega_j| dt,
+    Eq. 33); the bushing body at rest at the origin, both centres at their bodies' reference points."""
+    c = params.bushing_radius_m - params.pin_radius_m
+    return (c + PENETRATION_M, 0.0, 0.0, 0.0, 0.0, speed_m_s / params.bushing_radius_m, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def started(fmus, version, params):
+    return Joint(fmus[version], version, "cs", logging_on=True).start(params)
+
+
+def warnings_of(joint):
+    return [text for status, text in joint.log if status == WARNING]
+
+
+@pytest.mark.parametrize("version", [2, 3])
+@pytest.mark.parametrize("wear_factor, speed, step_s, over", [
+    (100.0, 0.1, 4e-6, False),     # share 0.14 at 4 us: inside the limit
+    (100.0, 1.0, 4e-6, True),      # share 1.4 at 4 us: wears too much per step
+    (1.0, 1.0, 2e-5, True),        # share 0.07, but longer than 1e-5 s with wear
+    (0.0, 4.0, 1e-3, False),       # no wear: any step
+])
+def test_a_wearing_step_over_the_limit_is_a_warning_once(fmus, version, wear_factor, speed, step_s, over):
+    params = joint_parameters(wear_factor)
+    share = step_share(params, speed, step_s)
+    assert over == (wear_factor > 0.0 and (share > 0.3 or step_s > 1e-5))    # the cases are what they say
+    joint = started(fmus, version, params)
+    try:
+        joint.set(INPUTS, sliding_in_contact(params, speed))
+        assert joint.get(["normal_force"])[0] > 0.0
+        statuses = [joint.do_step(k * step_s, step_s) for k in range(3)]
+        assert joint.errors() == ""
+        said = warnings_of(joint)
+        if over:
+            assert statuses == [WARNING, 0, 0] and len(said) == 1
+            assert "wear-step limit" in said[0] and f"{step_s:g} s" in said[0] and "wear_factor" in said[0]
+            assert joint.get(["max_wear_depth"])[0] > 0.0                  # the steps were taken
+        else:
+            assert statuses == [0, 0, 0] and said == []
+    finally:
+        joint.free()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_first_step_with_the_pin_outside_the_bushing_names_the_offsets(fmus, version):
+    params = paper_joint(wear_factor=0.0)          # offsets set, as the slider-crank's
+    joint = started(fmus, version, params)
+    try:
+        inputs = list(sliding_in_contact(params, 0.0))
+        inputs[0] = 0.1                             # the crank pin's body reference 0.1 m from the rod's
+        joint.set(INPUTS, inputs)
+        assert joint.do_step(0.0, 1e-6) == WARNING
+        (said,) = warnings_of(joint)
+        assert "outside the bushing" in said and "pin_offset_x" in said and "bushing_offset_x" in said
+        assert joint.do_step(1e-6, 1e-6) == 0 and len(warnings_of(joint)) == 1      # once
+    finally:
+        joint.free()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_first_step_inside_the_bushing_says_nothing(fmus, version):
+    params = joint_parameters(0.0)
+    joint = started(fmus, version, params)
+    try:
+        joint.set(INPUTS, sliding_in_contact(params, 1.0))
+        assert joint.do_step(0.0, 1e-6) == 0 and warnings_of(joint) == [] and joint.errors() == ""
+    finally:
+        joint.free()
