@@ -48,6 +48,7 @@ from wearjoint.joint import ClearanceJoint, StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
+from wearjoint.runner import RunDiverged, divergence
 from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
 ENGINES = ("monolithic", "cosim")
@@ -294,6 +295,10 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
         sim_rev, snapshot, block_end = stops[i]
         t_stop = sim_rev * period
         n = engine.advance_to(t_stop, buffer)
+        failure = divergence(engine, buffer[:n], config.joint.clearance_m)
+        if failure:
+            bar.close()
+            raise RunDiverged(failure)
         _keep_window_samples(state["pending_samples"], config, buffer[:n], period)
         _, depth, volume = engine.wear_profile()
         if block_end:

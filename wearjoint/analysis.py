@@ -24,6 +24,27 @@ LOBE_CENTRES_DEG = (0, 180)
 
 
 # ---------------------------------------------------------------- per-revolution statistics
+def pin_left_bushing(max_eccentricity_m: float, clearance_m: float, max_wear_depth_m: float) -> str:
+    """Why a run's numbers are not physical, '' when they may be: the pin centre went further than
+    2 (c + h_max) from the bushing centre (a pin in its groove sits at c + h + its penetration, so the
+    penetration passed the clearance plus the wear), or a value is not finite."""
+    if not (math.isfinite(max_eccentricity_m) and math.isfinite(max_wear_depth_m)):
+        return "the state is not finite"
+    limit = 2.0 * (clearance_m + max_wear_depth_m)
+    if max_eccentricity_m > limit:
+        return (f"the pin left the bushing: eccentricity {max_eccentricity_m:.3g} m > 2 x (clearance + max wear "
+                f"depth) = {limit:.3g} m")
+    return ""
+
+
+def sample_eccentricity_max(samples: np.ndarray) -> float:
+    """Largest |eccentricity| [m] of time-series samples (NaN if one is not finite, 0 without samples)."""
+    if samples.shape[0] == 0:
+        return 0.0
+    e = np.hypot(samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y])
+    return float(e.max()) if np.all(np.isfinite(samples)) else math.nan
+
+
 def covered(stats: np.ndarray) -> np.ndarray:
     """Rows (revolutions) the run reached (some time accounted)."""
     return stats[:, L.S_TIME] > 0.0

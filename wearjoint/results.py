@@ -54,6 +54,7 @@ class RunRecord:
     extra: dict = field(default_factory=dict)
     completed: bool = True
     compile_time_s: float = 0.0             # building the engine (FMU load, instantiation) and JIT compilation
+    failure: str = ""                       # why the run stopped early when it diverged
 
     def last_revolution(self) -> int:
         """Index of the last revolution that was simulated (complete or partial)."""
@@ -72,6 +73,7 @@ class RunRecord:
             "worn_volume_m3": self.worn_volume_m3,
             "clearance_m": self.clearance_m,
             "completed": self.completed,
+            "failure": self.failure or None,
             "parameters": self.parameters,
         }
         out.update(self.extra)

@@ -14,6 +14,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from . import analysis
 from .core import layout as L
 from .progress import Progress
 from .results import RunRecord
@@ -26,11 +27,13 @@ class ChunkedRun:
     wear_growth_m: np.ndarray    # max wear depth after each complete revolution
     wall_time_s: float           # the simulation itself, compilation excluded
     compile_time_s: float        # building the engine (FMU load and instantiation) and JIT compilation
-    completed: bool              # False if Ctrl-C stopped the run
+    completed: bool              # False if Ctrl-C stopped the run, or it diverged
+    failure: str = ""            # why the run stopped early when it diverged ('' otherwise)
 
 
 def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: float, sample_dt_s: float,
-                  label: str, progress: bool = True, chunks_per_revolution: int = 8) -> ChunkedRun:
+                  label: str, progress: bool = True, chunks_per_revolution: int = 8,
+                  clearance_m: float = math.inf) -> ChunkedRun:
     """Build the engine (``make_engine()``), compile it (``engine.warm_up()``), then advance
     it by ``revolutions`` crank revolutions in chunks of 1/chunks_per_revolution revolution,
     collecting samples and the wear growth.
@@ -38,7 +41,8 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
     Building and compiling are timed apart (``compile_time_s``) from the simulation
     (``wall_time_s``), so that the real-time factor measures the simulation alone.  A
     progress bar on stderr (its description says "compiling" until the first chunk);
-    Ctrl-C during the chunks stops after the current one and keeps what was finished.
+    Ctrl-C during the chunks stops after the current one and keeps what was finished, and so
+    does a chunk after which the run has diverged (:func:`divergence`; ``failure`` says why).
     If anything raises, the engine is closed before the error propagates.
     """
     t_final = revolutions * period_s
@@ -53,7 +57,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
         bar.compiled()
         buffer = np.zeros((int(chunk / sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
         samples, growth = [], []
-        completed = True
+        completed, failure = True, ""
         wall0 = time.perf_counter()
         try:
             for i in range(int(math.ceil(revolutions * chunks_per_revolution - 1e-9))):
@@ -62,6 +66,10 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
                 if (i + 1) % chunks_per_revolution == 0:
                     growth.append(engine.max_wear_depth_m())
                 bar.update(engine.t)
+                failure = divergence(engine, buffer[:n], clearance_m)
+                if failure:
+                    completed, failure = False, failure + "; the results up to there are written"
+                    break
         except KeyboardInterrupt:
             completed = False
         wall = time.perf_counter() - wall0
@@ -72,7 +80,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
     finally:
         bar.close()
     return ChunkedRun(engine, np.concatenate(samples) if samples else np.zeros((0, L.N_SAMPLE_COLUMNS)),
-                      np.asarray(growth), wall, compile_time, completed)
+                      np.asarray(growth), wall, compile_time, completed, failure)
 
 
 def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float, period_s: float, joint_params,
@@ -86,4 +94,18 @@ def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float
         wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth, worn_volume_m3=worn_volume,
         simulated_time_s=t, wall_time_s=run.wall_time_s, compile_time_s=run.compile_time_s,
         revolutions=t / period_s, period_s=period_s, clearance_m=joint_params.clearance_m,
-        parameters=parameters, extra=extra, completed=run.completed)
+        parameters=parameters, extra=extra, completed=run.completed, failure=run.failure)
+
+
+def divergence(engine, samples: np.ndarray, clearance_m: float) -> str:
+    """'' while the run is physical, else why not, at the engine's time: its latest ``samples`` leave the pin
+    outside the bushing or are not finite (:func:`wearjoint.analysis.pin_left_bushing`)."""
+    reason = analysis.pin_left_bushing(analysis.sample_eccentricity_max(samples), clearance_m, engine.max_wear_depth_m())
+    if not reason:
+        return ""
+    return (f"the run diverged by t = {engine.t:.6g} s: {reason}; nothing after this is physical (take a shorter step "
+            "or a smaller wear factor)")
+
+
+class RunDiverged(RuntimeError):
+    """A run that cannot go on: its message is :func:`divergence`'s."""

@@ -302,7 +302,7 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
     o = options or SimulationOptions()
     period = (mechanism or SliderCrankParameters()).period_s
     run = run_in_chunks(lambda: Simulation(joint, mechanism, o), o.revolutions, period, o.sample_dt_s, "simulate",
-                        progress, chunks_per_revolution)
+                        progress, chunks_per_revolution, clearance_m=(joint or JointParameters()).clearance_m)
     sim = run.engine
     return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
                       parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),

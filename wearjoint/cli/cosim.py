@@ -9,7 +9,9 @@ from ..cosim.model_exchange import INTERFACES, run_model_exchange
 from ..parameters import _finite, _require
 from ..results import write_results
 from ..simulate import SimulationOptions
-from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, print_summary
+from .options import (
+    add_fmu_arguments, add_model_arguments, add_output_arguments, exit_status, model_from_args, print_summary,
+)
 
 _DEFAULTS = CoSimulationOptions()
 COMMUNICATION_KEYS = ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s")
@@ -103,7 +105,7 @@ def run(args) -> int:
         return 1
     summary = write_results(record, args.out, plots=not args.no_plots)
     print_summary(summary, args.out, keys)
-    return 0 if record.completed else 130
+    return exit_status(record, "cosim")
 
 
 __all__ = ["add_arguments", "run"]

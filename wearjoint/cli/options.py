@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import sys
 from pathlib import Path
 
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
@@ -122,3 +123,11 @@ def print_summary(summary: dict, out: Path, extra_keys=()) -> None:
         v = summary.get(k)
         print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
     print(f"results in {out}")
+
+
+def exit_status(record, command: str) -> int:
+    """A run's exit status: 0; 1 (its failure said in one line on stderr) if it diverged; 130 if Ctrl-C stopped it."""
+    if record.failure:
+        print(f"wearjoint {command}: error: {record.failure}", file=sys.stderr)
+        return 1
+    return 0 if record.completed else 130

@@ -4,7 +4,7 @@ from __future__ import annotations
 from ..results import write_results
 from ..parameters import MAX_WEAR_STEP_S
 from ..simulate import GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
-from .options import add_model_arguments, add_output_arguments, model_from_args, print_summary
+from .options import add_model_arguments, add_output_arguments, exit_status, model_from_args, print_summary
 
 _DEFAULTS = SimulationOptions()
 
@@ -51,7 +51,7 @@ def run(args) -> int:
     record = run_simulation(joint, mechanism, options, progress=not args.quiet)
     summary = write_results(record, args.out, plots=not args.no_plots)
     print_summary(summary, args.out, ("integrator_accepted_steps", "integrator_rejected_steps"))
-    return 0 if record.completed else 130
+    return exit_status(record, "simulate")
 
 
 __all__ = ["add_arguments", "run", "add_integration_arguments", "options_from_args"]

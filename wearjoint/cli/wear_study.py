@@ -106,6 +106,7 @@ def config_from_args(args) -> WearStudyConfig:
 
 def run(args) -> int:
     from ..cosim import CoSimulationError
+    from ..runner import RunDiverged
 
     if args.seeds is not None and args.seeds > 1:
         from .sweep import run_from_args
@@ -142,8 +143,8 @@ def run(args) -> int:
         print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out} "
               "(continue with --resume)", file=sys.stderr)
         return 130
-    except CoSimulationError as exc:
-        print(f"wearjoint wear-study: error: {exc}\nfinished work is checkpointed in {args.out}", file=sys.stderr)
+    except (CoSimulationError, RunDiverged) as exc:
+        print(f"wearjoint wear-study: error: {exc}; finished work is checkpointed in {args.out}", file=sys.stderr)
         return 1
     print(f"results in {args.out}")
     return 0

@@ -127,7 +127,8 @@ def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCr
     o = options or SimulationOptions()
     period = (mechanism or SliderCrankParameters()).period_s
     run = run_in_chunks(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend), o.revolutions,
-                        period, o.sample_dt_s, "cosim (model exchange)", progress, chunks_per_revolution)
+                        period, o.sample_dt_s, "cosim (model exchange)", progress, chunks_per_revolution,
+                        clearance_m=(joint or JointParameters()).clearance_m)
     sim = run.engine
     try:
         return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,

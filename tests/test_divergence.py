@@ -1,0 +1,82 @@
+"""A run whose pin leaves the bushing stops there, says why, and keeps what came before
+(wearjoint.runner.divergence, analysis.pin_left_bushing): never `completed: true` with a pin
+kilometres away."""
+import math
+
+import numpy as np
+import pytest
+
+from wearjoint import analysis
+from wearjoint.cli.options import exit_status
+from wearjoint.core import layout as L
+from wearjoint.runner import divergence, run_in_chunks
+
+CLEARANCE_M = 1e-4
+PERIOD_S = 0.4
+
+
+class EngineLeavingTheBushing:
+    """A stand-in engine whose pin circles at the clearance plus 1 um, until ``diverge_at_s``, after which
+    its eccentricity doubles every sample (a numerical blow-up); the bushing has worn ``wear_m``."""
+
+    def __init__(self, diverge_at_s, wear_m=0.0):
+        self.t, self.diverge_at_s, self.wear_m = 0.0, diverge_at_s, wear_m
+
+    def warm_up(self):
+        pass
+
+    def advance_to(self, t_end, samples):
+        times = self.t + 1e-3 * np.arange(1, round((t_end - self.t) / 1e-3) + 1)
+        e = (CLEARANCE_M + self.wear_m + 1e-6) * np.where(times > self.diverge_at_s,
+                                                           2.0 ** np.minimum(60, (times - self.diverge_at_s) / 1e-3),
+                                                           1.0)
+        n = len(times)
+        samples[:n] = 0.0
+        samples[:n, L.T_TIME] = times
+        samples[:n, L.T_ECC_X] = e * np.cos(times)
+        samples[:n, L.T_ECC_Y] = e * np.sin(times)
+        self.t = t_end
+        return n
+
+    def max_wear_depth_m(self):
+        return self.wear_m
+
+    def close(self):
+        pass
+
+
+@pytest.mark.parametrize("wear_m", [0.0, 3e-4])
+def test_the_pin_may_sit_in_its_groove_but_not_past_twice_clearance_and_wear(wear_m):
+    limit = 2.0 * (CLEARANCE_M + wear_m)
+    assert analysis.pin_left_bushing(limit * (1 - 1e-9), CLEARANCE_M, wear_m) == ""
+    assert "left the bushing" in analysis.pin_left_bushing(limit * (1 + 1e-9), CLEARANCE_M, wear_m)
+    assert "not finite" in analysis.pin_left_bushing(math.nan, CLEARANCE_M, wear_m)
+
+
+def test_a_diverging_run_stops_after_the_chunk_keeping_the_chunks_before():
+    run = run_in_chunks(lambda: EngineLeavingTheBushing(diverge_at_s=0.12), revolutions=1.0, period_s=PERIOD_S,
+                        sample_dt_s=1e-3, label="test", progress=False, clearance_m=CLEARANCE_M)
+    assert not run.completed and "diverged by t = 0.15 s" in run.failure and "left the bushing" in run.failure
+    assert run.engine.t == pytest.approx(0.15)                   # the third chunk of 0.05 s, not the eighth
+    times = run.samples[:, L.T_TIME]                              # the chunks before are kept
+    assert times[-1] == pytest.approx(0.15) and times[0] <= 1e-3 and np.all(np.diff(times) > 0)
+
+
+def test_a_physical_run_completes_and_a_worn_groove_is_no_divergence():
+    run = run_in_chunks(lambda: EngineLeavingTheBushing(diverge_at_s=math.inf, wear_m=5e-4), revolutions=1.0,
+                        period_s=PERIOD_S, sample_dt_s=1e-3, label="test", progress=False, clearance_m=CLEARANCE_M)
+    assert run.completed and run.failure == "" and run.engine.t == pytest.approx(PERIOD_S)
+
+
+def test_non_finite_samples_are_a_divergence():
+    engine = EngineLeavingTheBushing(diverge_at_s=math.inf)
+    samples = np.zeros((4, L.N_SAMPLE_COLUMNS))
+    samples[2, L.T_NORMAL_FORCE] = math.nan
+    assert "not finite" in divergence(engine, samples, CLEARANCE_M)
+
+
+def test_the_command_exits_1_naming_the_failure(capsys):
+    class Record:
+        failure, completed = "the run diverged by t = 0.15 s: the pin left the bushing", False
+    assert exit_status(Record(), "simulate") == 1
+    assert capsys.readouterr().err == "wearjoint simulate: error: the run diverged by t = 0.15 s: the pin left the bushing\n"
