@@ -95,28 +95,29 @@ def foundation_modulus_factor(stiffness, pin_radius, bushing_radius):
 
 
 @kernel(inline='always')
-def _point(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth):
-    """(rho_z, d_z x, d_z y, o_z) of bushing point z."""
+def _point(z, ex, ey, pin_radius_sq, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """(rho_z, d_z x, d_z y, 2 R_i o_z) of bushing point z (the overlap without its constant divisor)."""
     rho = bushing_radius + wear_depth[z]
     dx = rho * cos_phi[z] - ex
     dy = rho * sin_phi[z] - ey
-    return rho, dx, dy, (pin_radius * pin_radius - (dx * dx + dy * dy)) / (2.0 * pin_radius)
+    return rho, dx, dy, pin_radius_sq - (dx * dx + dy * dy)
 
 
 @kernel
 def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian,
                    sums):
     """Add to ``sums`` the terms of points first..last (indices wrap; first >= -1, last < 2 N_d):
-    (s0, sx, sy) = sum w_z rho_z (1, d_z), and with_jacobian M = sum rho_z d_z (x) g_z with
-    g_z = R_i dw_z/de (4 entries, row-major).  Streams the overlaps: each point's once."""
+    (s0, sx, sy) = 2 R_i sum w_z rho_z (1, d_z), and with_jacobian M = sum rho_z d_z (x) g_z with
+    g_z = R_i dw_z/de (4 entries, row-major).  Streams the overlaps: each point's once.  The overlaps
+    are taken times 2 R_i (no division per point): w is homogeneous of degree 1 in them, its
+    gradient of degree 0."""
     n = wear_depth.shape[0]
+    r2 = pin_radius * pin_radius
     s0, sx, sy, m11, m12, m21, m22 = sums
-    _, pdx, pdy, po = _point(wrap_index(first - 1, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                             wear_depth)
-    rho, dx, dy, o = _point(wrap_index(first, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+    _, pdx, pdy, po = _point(wrap_index(first - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    rho, dx, dy, o = _point(wrap_index(first, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
     for i in range(first, last + 1):
-        nrho, ndx, ndy, no = _point(wrap_index(i + 1, n), ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                                    wear_depth)
+        nrho, ndx, ndy, no = _point(wrap_index(i + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
         w = cell_overlap(po, o, no)
         if w > 0.0:
             rw = rho * w
@@ -169,6 +170,8 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
         sums = _resultant_run(first, first + 2 * half, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
                               wear_depth, with_jacobian, sums)
     s0, sx, sy, m11, m12, m21, m22 = sums
+    scale = 0.5 / pin_radius                     # the runs' overlaps are 2 R_i o
+    s0, sx, sy = s0 * scale, sx * scale, sy * scale
     if not with_jacobian:
         return -sx, -sy, 0.0, 0.0, 0.0, 0.0, s0
     # df/de = -(M / R_i - s0 I): d(w rho d)/de = rho d (x) dw/de - w rho I
