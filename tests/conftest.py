@@ -25,6 +25,33 @@ def any_fmu(request):
 
 
 @pytest.fixture(scope="session")
+def fmu(any_fmu, tmp_path_factory):
+    """The FMU of each backend in turn (``any_fmu``) unzipped: its model description, folder, value
+    references, wear-depth names, backend and path (for tests/fmpy_instance.py's Slave)."""
+    from fmpy import extract, read_model_description
+    from fmpy_instance import P
+
+    from wearjoint.fmu import variables as fv
+
+    backend, path = any_fmu
+    md = read_model_description(str(path))
+    directory = extract(str(path), unzipdir=str(tmp_path_factory.mktemp("fmu_extracted")))
+    wear = [fv.wear_depth_name(z) for z in range(1, P.n_points + 1)]
+    return {"md": md, "dir": directory, "vr": fv.value_references(md), "wear": wear, "backend": backend,
+            "path": path}
+
+
+@pytest.fixture
+def slave(fmu):
+    """An initialised fmpy_instance.Slave of ``fmu``, freed after the test."""
+    from fmpy_instance import Slave
+
+    s = Slave(fmu, "joint").initialise()
+    yield s
+    s.free()
+
+
+@pytest.fixture(scope="session")
 def c_host(tmp_path_factory):
     """The C FMI 2.0 host of tests/c_host, compiled once per session (skips without gcc or headers)."""
     from fmi_host import build_c_host, gcc_or_skip

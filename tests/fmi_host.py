@@ -1,5 +1,6 @@
 """Helpers to build and run the C FMI hosts ``tests/c_host/fmi2_host.c`` (FMI 2.0) and
-``tests/c_host/fmi3_host.c`` (FMI 3.0), both on ``host_common.c`` (see the README there): the proof
+``tests/c_host/fmi3_host.c`` (FMI 3.0), both on ``host_common.c`` and the rest of the script machinery
+they share (:data:`COMMON_SOURCES`; see the README there): the proof
 that an FMU works from C with no Python on the host.  The hosts are portable C (dlopen or
 LoadLibrary): built for linux64 here, or cross-built for win64 (run under wine) and aarch64-linux
 (run under qemu-aarch64), they load the FMU binary of their own platform."""
@@ -16,9 +17,11 @@ from typing import Sequence, Union
 import pytest
 
 C_HOST_DIR = Path(__file__).resolve().parent / "c_host"
-HOST_SOURCE = C_HOST_DIR / "fmi2_host.c"
-FMI3_HOST_SOURCE = C_HOST_DIR / "fmi3_host.c"
-COMMON_SOURCE = C_HOST_DIR / "host_common.c"     # the script machinery both hosts share
+HOST_SOURCES = tuple(C_HOST_DIR / name for name in ("fmi2_host.c", "fmi2_host_commands.c"))
+FMI3_HOST_SOURCES = (C_HOST_DIR / "fmi3_host.c",)
+# the script machinery both hosts share
+COMMON_SOURCES = tuple(C_HOST_DIR / name for name in ("host_common.c", "host_os.c", "host_parse.c", "host_commands.c",
+                                                      "host_trace.c"))
 
 CLEAN_ENV = {"PATH": "/usr/bin:/bin"}
 VALGRIND_ARGS = ("valgrind", "--leak-check=full", "--error-exitcode=3")
@@ -98,14 +101,15 @@ def platform_or_skip(platform: str) -> None:
         pytest.skip(missing)
 
 
-def _build_host(source: Path, headers: Path | None, out_dir: Path, extra_flags: Sequence[str],
+def _build_host(sources: Sequence[Path], headers: Path | None, out_dir: Path, extra_flags: Sequence[str],
                 platform: str = "linux64") -> Path:
+    """Compile a host from its own ``sources`` (the first names the program) and :data:`COMMON_SOURCES`."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     compiler, platform_flags = HOST_COMPILERS[platform]
-    exe = out_dir / (source.stem + (".exe" if platform == "win64" else ""))
-    cmd = [compiler, "-O2", "-g", "-Wall", "-Wextra", *platform_flags, *extra_flags, f"-I{headers}", str(source),
-           str(COMMON_SOURCE), "-o", str(exe), *(() if platform == "win64" else ("-ldl",))]
+    exe = out_dir / (sources[0].stem + (".exe" if platform == "win64" else ""))
+    cmd = [compiler, "-O2", "-g", "-Wall", "-Wextra", *platform_flags, *extra_flags, f"-I{headers}",
+           *map(str, (*sources, *COMMON_SOURCES)), "-o", str(exe), *(() if platform == "win64" else ("-ldl",))]
     proc = subprocess.run(cmd, capture_output=True, text=True, env=CLEAN_ENV)
     if proc.returncode != 0:
         raise RuntimeError(f"building the C host failed:\n{' '.join(cmd)}\n{proc.stderr}")
@@ -115,18 +119,18 @@ def _build_host(source: Path, headers: Path | None, out_dir: Path, extra_flags: 
 def build_c_host(out_dir: Path, extra_flags: Sequence[str] = (), platform: str = "linux64") -> Path:
     """Compile the FMI 2.0 host into ``out_dir/fmi2_host`` and return its path.
 
-    ``gcc -O2 -g -Wall -Wextra -I<fmi2 headers> fmi2_host.c host_common.c -o fmi2_host -ldl``
+    ``gcc -O2 -g -Wall -Wextra -I<fmi2 headers> <HOST_SOURCES> <COMMON_SOURCES> -o fmi2_host -ldl``
     (one process, one core); for ``platform`` win64 or aarch64-linux with its cross compiler
     (:data:`HOST_COMPILERS`).  Raises ``RuntimeError`` with the compiler's output if it fails.
     """
-    return _build_host(HOST_SOURCE, fmi2_headers_dir(), out_dir, extra_flags, platform)
+    return _build_host(HOST_SOURCES, fmi2_headers_dir(), out_dir, extra_flags, platform)
 
 
 def build_fmi3_host(out_dir: Path, extra_flags: Sequence[str] = (), platform: str = "linux64") -> Path:
     """Compile the FMI 3.0 host into ``out_dir/fmi3_host`` and return its path (as
     :func:`build_c_host`, with ``fmi3_host.c``).  Run it with :func:`run_c_host`, the
     instantiationToken in place of the GUID."""
-    return _build_host(FMI3_HOST_SOURCE, fmi3_headers_dir(), out_dir, extra_flags, platform)
+    return _build_host(FMI3_HOST_SOURCES, fmi3_headers_dir(), out_dir, extra_flags, platform)
 
 
 def run_c_host(host: Path, fmu_dir: Path, model_identifier: str, guid: str, script: Script, *,

@@ -124,7 +124,8 @@ def test_cosimulation_and_model_exchange_from_c_equal_fmi2(fmi3, fmi2, fmi3_host
         assert times == [float(trace[-1, 0] if me else trace[-1, 0] + STEP)]     # %.17g round-trips exactly
         assert stderr_value(err3, "trace_seconds") > 0.0
         if me:
-            assert len(event_lines(out3)) >= 10 and re.search(r"trace_me ok rows=1000 events=\d+", out3)
+            # warning: the 0.1 ms steps wear over the wear-step limit (1e-5 s), said once
+            assert len(event_lines(out3)) >= 10 and re.search(r"trace_me warning rows=1000 events=\d+", out3)
         else:
             assert relative(rows3[:, 1:], joint_outputs) <= 1e-12
             assert relative(profile3(out3), joint_wear) <= 1e-12

@@ -165,9 +165,11 @@ def test_trace_me_from_c_equals_fmpy_making_the_same_calls(fmu, c_host, trace, t
     # one event iteration at every change of the contact output, counted in the summary line
     assert events == _contact_changes(rows[:, 1 + CONTACT], rows[:, 0])
     onsets = sum(kind == "onset" for _, kind in events)
-    assert onsets >= 5 and f"trace_me ok rows={ROWS} events={len(events)} onsets={onsets} " \
+    # the worst status: warning, once, as the trace's 0.1 ms steps wear over the wear-step limit (1e-5 s)
+    assert onsets >= 5 and f"trace_me warning rows={ROWS} events={len(events)} onsets={onsets} " \
                             f"separations={len(events) - onsets}" in out
-    assert "LOG" not in err
+    logged = [line for line in err.splitlines() if line.startswith("LOG")]
+    assert len(logged) == 1 and logged[0].startswith("LOG warning") and "wear-step limit" in logged[0]
 
 
 def test_trace_me_events_first_equals_the_in_process_joint_bit_for_bit(fmu, c_host, trace, trace_file,
@@ -268,10 +270,11 @@ free
                      "get_event_indicators error", "set_time error", "do_step error", "completed_integrator_step error",
                      "new_discrete_states ok needed=0 terminate=0 nominals_changed=0 values_changed=0 "
                      "next_event_time_defined=0 next_event_time=0",
-                     "completed_integrator_step ok enter_event_mode=0 terminate=0", "set_state 3 ok",
+                     "completed_integrator_step warning enter_event_mode=0 terminate=0", "set_state 3 ok",
                      "trace_me error row=0 call=fmi2SetTime events=0 onsets=0 separations=0"):
         assert expected in lines, expected
     assert "this FMU has no continuous states (nx=1 given)" in err and "(ni=2 given)" in err
+    assert "inputs put the pin centre 0.135 m from the bushing centre, outside the bushing" in err   # the offsets
     assert "fmi2CompletedIntegratorStep: not allowed in state event mode" in err
     assert "fmi2SetTime: not allowed in state step complete" in err
     code, out, err = run_c_host(c_host, fmu["dir"], fv.MODEL_NAME, fmu["guid"],

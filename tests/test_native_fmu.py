@@ -2,7 +2,7 @@
 only, the same numbers as the in-process joint, usable from C without Python.
 
 The behaviour both backends share (variables, forces, wear, FMU state, errors) is tested on both
-in test_fmu.py; this file holds what is particular to the native binary.
+in the test_fmu*.py files; this file holds what is particular to the native binary.
 """
 import ctypes
 import math

@@ -63,7 +63,7 @@ def run_study(revolutions: float, steps, names, fmusim: str | None, log=print, s
                     log(f"{name} {step * 1e6:g} us: failed ({rows[-1]['failed']})")
                     continue
                 label = f"{name} {step * 1e6:g} us"
-                runs.engines = {label: record}
+                runs.engines = {label: [record]}      # an ensemble of one run
                 metrics = [m for m in compare(runs, plan) if m.group == GROUP_STATISTICS]
                 rows.append({"master": name, "step_s": step, "wall_time_s": record.wall_time_s,
                              "realtime_factor": record.simulated_time_s / record.wall_time_s,

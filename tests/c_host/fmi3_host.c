@@ -4,7 +4,7 @@
  * The FMI 3.0 twin of fmi2_host.c: the same script conventions, exit codes and shared commands
  * (host_common.c, documented at the top of host_common.h).  It needs only libc and libdl:
  *
- *     gcc -O2 -Wall -Wextra -I<fmi3 headers> fmi3_host.c host_common.c -o fmi3_host -ldl
+ *     gcc -O2 -Wall -Wextra -I<fmi3 headers> fmi3_host.c host_*.c -o fmi3_host -ldl
  *
  * (fmpy ships the FMI 3.0 headers in <site-packages>/fmpy/c-code/.)
  *

@@ -18,7 +18,8 @@ from ..parameters import ParameterError
 # command -> (module, one-line help); kept here so that `wearjoint --help` imports no command
 COMMANDS = {
     "simulate": ("wearjoint.cli.simulate", "monolithic slider-crank simulation (no FMI)"),
-    "build-fmu": ("wearjoint.cli.build_fmu", "build the ClearanceWearJoint FMU (FMI 2.0 co-simulation)"),
+    "build-fmu": ("wearjoint.cli.build_fmu", "build the ClearanceWearJoint FMU (FMI 2.0 or 3.0, Co-Simulation and "
+                                             "Model Exchange) or the SliderCrank FMU"),
     "export-ssp": ("wearjoint.cli.export_ssp", "write SliderCrankWithClearance.ssp: slider-crank and joint FMUs wired"),
     "cosim": ("wearjoint.cli.cosim", "co-simulate the slider-crank with the joint FMU through fmpy"),
     "validate": ("wearjoint.cli.validate", "cross-check monolithic, FMU and exudyn runs"),

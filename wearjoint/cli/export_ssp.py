@@ -7,19 +7,22 @@ from __future__ import annotations
 import sys
 
 from ..fmu import platforms
+from ..fmu.ssp import CONTAINER_STEP_S
+from ..parameters import SliderCrankParameters
 
 
 def add_arguments(parser) -> None:
     """Options of ``wearjoint export-ssp``."""
     parser.add_argument("--out", metavar="DIR", required=True, help="directory for SliderCrankWithClearance.ssp")
     parser.add_argument("--stop-time", type=float, default=None, metavar="S",
-                        help="stop time of the default experiment [s] (default: one crank revolution)")
+                        help="stop time of the default experiment [s] (default: one crank revolution, "
+                             f"{SliderCrankParameters().period_s:g} s)")
     parser.add_argument("--container-fmu", action="store_true",
                         help="also write SliderCrankWithClearance.fmu: the same system as one fmpy container FMU "
                              "(FMI 2.0 Co-Simulation; fmpy's container library: linux64, win64, darwin64)")
     parser.add_argument("--container-step", type=float, default=None, metavar="S",
                         help="the container's fixed internal step [s], the communication step of its two FMUs "
-                             "(default 1e-06)")
+                             f"(default {CONTAINER_STEP_S:g})")
     parser.add_argument("--platforms", default="auto", metavar="LIST",
                         help="platforms the FMUs carry binaries for, of "
                              f"{', '.join(platforms.CROSS_PLATFORMS)}, or auto (default %(default)s)")
@@ -27,7 +30,7 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     """Write the package and print its path; 0 on success, 2 with a message on stderr otherwise."""
-    from ..fmu.ssp import CONTAINER_FILE_NAME, CONTAINER_STEP_S, container_fmu, export_ssp
+    from ..fmu.ssp import CONTAINER_FILE_NAME, container_fmu, export_ssp
 
     try:
         path = export_ssp(args.out, stop_time=args.stop_time, platforms=args.platforms)

@@ -5,7 +5,7 @@ from dataclasses import replace
 
 from ..parameters import JointParameters, ParameterError
 from ..validation.compare import ENGINES, FULL, QUICK, run_validation
-from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args
+from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
 
 
 def _engine_list(text: str) -> tuple:
@@ -53,6 +53,8 @@ def add_arguments(parser) -> None:
                         help="self-check: give ENGINE a different joint parameter; the validation must then fail")
     add_fmu_arguments(parser, fmu_file=False, when="the cosim engine")
     add_model_arguments(parser)
+    restate_default(parser, "wear_factor", f"{FULL.wear_factor:g}, --quick {QUICK.wear_factor:g}; the wear run's, "
+                                           "the no-wear runs use 0")
 
 
 def run(args) -> int:

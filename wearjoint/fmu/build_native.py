@@ -10,8 +10,8 @@ taking those an earlier build left in numba's cache, and the IR is kept in the u
 the kernels' sources and the numba version, so further builds only relink; (2) llvmlite turns that IR into objects for each platform (only the target
 triple and data layout change); (3) the model's variable table becomes ``model_variables.h``
 (value references, start values, allowed ranges, where each value comes from), and each
-platform's C compiler links the FMI layer (``fmi2Functions.c`` or ``fmi3Functions.c``, the same
-for every model), ``fmu_model.c``, ``fmu_state.c``, the model's C files (``joint_model.c`` on
+platform's C compiler links the FMI layer (``fmi2Functions.c`` or ``fmi3Functions.c`` and their
+``fmi2_*``/``fmi3_*`` parts, :data:`GLUE_C_SOURCES_BY_VERSION`, the same for every model), ``fmu_model.c``, ``fmu_state.c``, the model's C files (``joint_model.c`` on
 ``joint_instance.c``; ``slider_crank_model.c``) and the objects, exporting only the ``fmi2*``
 (``fmi3*``) functions and refusing any undefined symbol outside the C runtime; (4) the FMU gets
 the generated ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR,
@@ -44,7 +44,7 @@ from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
 from . import variables as fv
 from . import aot, platforms
-from .build import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
+from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
 from .model_description import (
@@ -54,7 +54,12 @@ from .model_description import (
 
 FMI_VERSIONS = (2, 3)
 DEFAULT_FMI_VERSION = 2
-GLUE_C_SOURCES_BY_VERSION = {2: ("fmi2Functions.c",), 3: ("fmi3Functions.c",)}   # the FMI layer, every model's
+# the FMI layer, every model's: its files and the header they share
+GLUE_C_SOURCES_BY_VERSION = {
+    2: ("fmi2Functions.c", "fmi2_values.c", "fmi2_cosimulation.c", "fmi2_model_exchange.c", "fmi2_instance.h"),
+    3: ("fmi3Functions.c", "fmi3_values.c", "fmi3_not_provided.c", "fmi3_cosimulation.c", "fmi3_model_exchange.c",
+        "fmi3_instance.h"),
+}
 COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h")
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build

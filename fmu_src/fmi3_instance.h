@@ -1,0 +1,58 @@
+/* The FMI 3.0 layer's instance, shared by the files of the layer (fmi3Functions.c, fmi3_values.c,
+ * fmi3_not_provided.c, fmi3_cosimulation.c, fmi3_model_exchange.c): its modes (the FMI 3.0 states),
+ * the model it drives (fmu_model.h), the log macro and the checks every call makes.  Internal to the
+ * layer: the checks are static inline, so the binary exports the fmi3* functions only.
+ */
+#ifndef WEARJOINT_FMI3_INSTANCE_H
+#define WEARJOINT_FMI3_INSTANCE_H
+
+#include <stddef.h>
+
+#include "fmi3Functions.h"
+#include "fmu_model.h"
+
+typedef enum {
+    MODE_INSTANTIATED, MODE_CONFIGURATION, MODE_INITIALIZATION, MODE_STEP, MODE_EVENT, MODE_CONTINUOUS,
+    MODE_TERMINATED
+} Mode;
+static const char *const MODE_NAMES[] = {"Instantiated", "Configuration Mode", "Initialization Mode", "Step Mode",
+                                         "Event Mode", "Continuous-Time Mode", "Terminated"};
+#define M(mode) (1u << (mode))
+#define INITIALISED (M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS) | M(MODE_TERMINATED))
+#define READABLE (M(MODE_INITIALIZATION) | INITIALISED)
+#define SETTABLE (M(MODE_INSTANTIATED) | M(MODE_INITIALIZATION) | M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS))
+
+typedef struct {
+    FmuModel *model;
+    fmi3InstanceEnvironment environment;
+    fmi3LogMessageCallback log_message;
+    int co_simulation;             /* 1: Co-Simulation, 0: Model Exchange */
+    Mode mode;
+} Instance;
+
+#define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)
+
+/* ------------------------------------------------------------------ checks shared by the calls */
+static inline int mode_is(const Instance *inst, const char *function, unsigned modes)
+{
+    if (modes & M(inst->mode))
+        return 1;
+    LOG(inst, fmi3Error, "%s: not allowed in state %s (FMI 3.0 call sequence)", function,
+              MODE_NAMES[inst->mode]);
+    return 0;
+}
+
+/* A valid instance and, for nvr > 0, non-NULL arrays; 0 (and a log where possible) otherwise. */
+static inline int arrays_given(const Instance *inst, const char *function, size_t nvr, const void *vr,
+                               const void *value)
+{
+    if (inst == NULL)
+        return 0;
+    if (nvr > 0 && (vr == NULL || value == NULL)) {
+        LOG(inst, fmi3Error, "%s: NULL value reference or value array for %zu variables", function, nvr);
+        return 0;
+    }
+    return 1;
+}
+
+#endif

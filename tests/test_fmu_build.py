@@ -1,0 +1,172 @@
+"""Building the ClearanceWearJoint FMU: what the pythonfmu FMU imports at run time and ships (exactly
+its slave's import closure), its build key, and the build command (``wearjoint build-fmu``) of both
+backends."""
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy import read_model_description  # noqa: E402
+from fmpy.validation import validate_fmu  # noqa: E402
+from fmpy_instance import P  # noqa: E402
+
+from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
+from wearjoint.fmu.build_pythonfmu import build_fmu, build_key, default_fmu_path  # noqa: E402
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+# ------------------------------------------------------------- run-time imports
+HOST_SCRIPT = textwrap.dedent("""
+    import json, sys
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    fmu = sys.argv[1]
+    md = read_model_description(fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    before = set(sys.modules)
+    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu), modelIdentifier="ClearanceWearJoint",
+                  instanceName="imports")
+    s.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    s.setReal([vr["pin_x"]], [-0.135])
+    s.doStep(0.0, 1e-5)
+    force = s.getReal([vr["pin_force_x"], vr["worn_volume"]])
+    s.terminate()
+    s.freeInstance()
+    loaded = sorted(set(sys.modules) - before)
+    wearjoint_file = sys.modules["wearjoint"].__file__
+    try:
+        import scipy  # the host may still import it itself
+        host_scipy = True
+    except ImportError:
+        host_scipy = False
+    print(json.dumps({"loaded": loaded, "wearjoint": wearjoint_file, "host_scipy": host_scipy}))
+""")
+
+
+def test_fmu_runtime_imports_only_numpy_numba_and_wearjoint(built_fmu, tmp_path):
+    done = subprocess.run([sys.executable, "-c", HOST_SCRIPT, str(built_fmu)], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=120)
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout.strip().splitlines()[-1])
+    heavy = [m for m in report["loaded"] if m.split(".")[0] in ("scipy", "matplotlib", "exudyn", "fmpy_gui")]
+    assert heavy == []
+    assert "numba" in report["loaded"] and "wearjoint.joint" in report["loaded"]
+    assert "resources" in report["wearjoint"]  # the FMU's own copy of the package
+    try:
+        import scipy  # noqa: F401
+    except ImportError:
+        return
+    assert report["host_scipy"], "the FMU left scipy blocked in sys.modules"
+
+
+def test_library_modules_stay_light(tmp_path):
+    code = ("import sys, wearjoint.fmu.variables, wearjoint.fmu.build_pythonfmu; "
+            "print(sorted(m for m in ('pythonfmu', 'fmpy', 'exudyn', 'matplotlib') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                          cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(REPO_ROOT)})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
+CLOSURE_SCRIPT = textwrap.dedent("""
+    import json, sys
+    resources = sys.argv[1]
+    sys.path.insert(0, resources)
+    import ClearanceWearJoint  # noqa: F401
+    print(json.dumps({name: module.__file__ for name, module in sys.modules.items()
+                      if name == "wearjoint" or name.startswith("wearjoint.")}))
+""")
+
+
+def test_fmu_ships_exactly_the_slaves_import_closure(fmu, tmp_path):
+    if fmu["backend"] != "pythonfmu":
+        pytest.skip("the native FMU ships no Python")
+    resources = Path(fmu["dir"]) / "resources"
+    done = subprocess.run([sys.executable, "-c", CLOSURE_SCRIPT, str(resources)], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=120)
+    assert done.returncode == 0, done.stderr
+    loaded = {Path(f).resolve() for f in json.loads(done.stdout.strip().splitlines()[-1]).values()}
+    package = (resources / "wearjoint").resolve()
+    assert all(package in f.parents for f in loaded), loaded   # nothing from the source tree
+    assert loaded == {f.resolve() for f in package.rglob("*.py")}
+
+
+def test_build_key_follows_the_shipped_files_only(tmp_path, monkeypatch):
+    from wearjoint.fmu import build_pythonfmu as fmu_build
+
+    tree = tmp_path / "tree"
+    for source in (*fmu_build.shipped_sources(), fmu_build.PACKAGE_DIR / "runner.py"):
+        copy = tree / source.relative_to(fmu_build.PACKAGE_DIR.parent)
+        copy.parent.mkdir(parents=True, exist_ok=True)
+        copy.write_bytes(source.read_bytes())
+    monkeypatch.setattr(fmu_build, "PACKAGE_DIR", tree / "wearjoint")
+    monkeypatch.setattr(fmu_build, "SLAVE_SOURCE", tree / fmu_build.SLAVE_SOURCE.relative_to(REPO_ROOT))
+    monkeypatch.setattr(fmu_build, "SHIM_SOURCE", tree / fmu_build.SHIM_SOURCE.relative_to(REPO_ROOT))
+    key = fmu_build.build_key(P.n_points)
+    assert key == build_key(P.n_points)
+
+    def edited(relative):
+        path = tree / relative
+        original = path.read_bytes()
+        path.write_bytes(original + b"\n# edited\n")
+        try:
+            return fmu_build.build_key(P.n_points)
+        finally:
+            path.write_bytes(original)
+
+    assert edited("wearjoint/runner.py") == key
+    for shipped in ("wearjoint/joint.py", "wearjoint/core/contact.py", "fmu_src/status_shim.c",
+                    "fmu_src/ClearanceWearJoint.py"):
+        assert edited(shipped) != key, shipped
+
+
+# ------------------------------------------------------------- build command
+def test_build_is_skipped_when_identical_and_n_points_is_built_in(tmp_path):
+    small = build_fmu(tmp_path, n_points=64)
+    stamp = small.stat().st_mtime_ns
+    assert build_fmu(tmp_path, n_points=64) == small
+    assert small.stat().st_mtime_ns == stamp
+    build_fmu(tmp_path, n_points=64, force=True)
+    assert small.stat().st_mtime_ns != stamp
+
+    md = read_model_description(str(small))
+    assert sum(v.name.startswith("wear_depth[") for v in md.modelVariables) == 64
+    assert next(int(v.start) for v in md.modelVariables if v.name == "n_points") == 64
+    assert validate_fmu(str(small)) == []
+    assert default_fmu_path(64) != default_fmu_path(P.n_points)
+
+
+@pytest.mark.parametrize("backend", ["native", "pythonfmu"])
+def test_build_fails_clearly_without_a_c_compiler(tmp_path, monkeypatch, capsys, backend):
+    import argparse
+
+    from wearjoint.fmu.build import build_fmu as build_with
+
+    monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
+    with pytest.raises(RuntimeError, match="C compiler"):
+        build_with(tmp_path, n_points=64, force=True, backend=backend)
+    parser = argparse.ArgumentParser()
+    add_arguments(parser)
+    assert run(parser.parse_args(["--out", str(tmp_path / "out"), "--n-points", "64", "--backend", backend])) == 2
+    assert "no-such-cc" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("backend", ["native", "pythonfmu"])
+def test_cli_reports_a_bad_n_points(capsys, tmp_path, backend):
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    add_arguments(parser)
+    assert run(parser.parse_args(["--out", str(tmp_path), "--n-points", "3", "--backend", backend])) == 2
+    assert "n_points" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())

@@ -1,0 +1,89 @@
+"""The errors of the ClearanceWearJoint FMU of both backends through fmpy: bad parameters, fixed values
+and non-finite inputs fail with fmi2Error (a step fmi2Discard) naming the variable, logged with logging
+off too, and the instance goes on (conftest.py's fixtures ``fmu`` and ``slave``)."""
+import gc
+import math
+
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy.fmi1 import FMICallException  # noqa: E402
+from fmpy_instance import FMI_DISCARD, FORCE_NAMES, P, Slave, contact_inputs  # noqa: E402
+
+from wearjoint import ClearanceJoint  # noqa: E402
+
+
+# ------------------------------------------------------------- errors
+# The FMU's status shim turns the slave's errors into fmi2Error (pythonfmu alone: fmi2Fatal).
+@pytest.mark.parametrize("name, value, allowed", [
+    ("bushing_radius", 0.0099, "pin_radius"), ("restitution", 1.5, "(0, 1]"), ("friction_v1", 1e-4, "friction_v0"),
+    ("rho_mode", 2, "paper"), ("contact_exponent", 2.0, "1.5 with contact_model"),   # the default foundation
+])
+def test_bad_parameter_fails_initialisation_with_fmi2_error_naming_it(fmu, name, value, allowed):
+    kind = "integers" if isinstance(value, int) else "parameters"
+    s = Slave(fmu, f"bad_{name}", **{kind: {name: value}})
+    with pytest.raises(FMICallException) as failure:
+        s.initialise()
+    s.assert_failed_with_error(failure, name, repr(value), allowed)
+    s.fmu.terminate()
+    s.free()
+    gc.collect()  # the host survives pythonfmu's reference release after the failure
+    fresh = Slave(fmu, "after_failure").initialise()
+    fresh.set_inputs(contact_inputs())
+    assert fresh.get(["contact"])[0] == 1.0
+    fresh.free()
+
+
+def test_instance_is_reset_after_a_failed_initialisation(fmu):
+    s = Slave(fmu, "reset", parameters={"restitution": 1.5})
+    with pytest.raises(FMICallException):
+        s.initialise()
+    s.fmu.reset()
+    gc.collect()
+    s.start(parameters={"restitution": 0.8}).initialise()
+    x = contact_inputs()
+    s.set_inputs(x)
+    expected = ClearanceJoint(P.replace(restitution=0.8)).evaluate(x[:6], x[6:])
+    np.testing.assert_allclose(s.get(FORCE_NAMES[:3]), expected.pin_force, rtol=1e-12, atol=0)
+    s.free()
+
+
+def test_errors_are_logged_with_logging_off(fmu):
+    s = Slave(fmu, "quiet", parameters={"restitution": 1.5}, logging_on=False)
+    with pytest.raises(FMICallException) as failure:
+        s.initialise()
+    s.assert_failed_with_error(failure, "restitution")
+    s.free()
+    gc.collect()
+
+
+def test_n_points_and_fixed_parameters_cannot_change(fmu, slave):
+    s = Slave(fmu, "n_points")
+    s.fmu.setInteger([s.vr["n_points"]], [P.n_points])  # the built value is accepted
+    with pytest.raises(FMICallException) as failure:
+        s.fmu.setInteger([s.vr["n_points"]], [100])
+    s.assert_failed_with_error(failure, "n_points", "100")
+    s.free()
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.setReal([slave.vr["restitution"]], [0.5])
+    slave.assert_failed_with_error(failure, "restitution", "fixed")
+    gc.collect()
+
+
+def test_non_finite_input_fails_get_real_and_discards_do_step(slave, fmu):
+    x = contact_inputs()
+    x[0] = math.nan
+    slave.set_inputs(x)
+    with pytest.raises(FMICallException) as failure:
+        slave.get(["normal_force", "worn_volume"])
+    slave.assert_failed_with_error(failure, "normal_force", "pin_x=nan")
+    assert slave.get(["worn_volume", "max_wear_depth"]).tolist() == [0.0, 0.0]  # not input-dependent
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.doStep(0.0, 1e-5)
+    assert failure.value.status == FMI_DISCARD
+    assert sum("dostep" in text.lower() and "pin_x" in text for text in slave.errors()) == 1
+    slave.set_inputs(contact_inputs())
+    slave.fmu.doStep(0.0, 1e-5)
+    assert slave.get(["contact"])[0] == 1.0
+    gc.collect()

@@ -1,0 +1,74 @@
+"""What both FMU backends' builds share (:mod:`wearjoint.fmu.build_native`,
+:mod:`wearjoint.fmu.build_pythonfmu`; :mod:`wearjoint.fmu.build` dispatches between them): where the
+sources are, the user cache where built FMUs live, the build keys that say whether an FMU there is
+current, the C compiler and the FMI 2.0 headers.  It imports neither backend nor the dispatcher."""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import os
+import platform
+import shutil
+import sys
+import zipfile
+from pathlib import Path
+
+from . import variables as fv
+
+FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
+PACKAGE_DIR = Path(__file__).resolve().parent.parent   # wearjoint/
+# fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
+FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
+
+
+def user_cache_dir() -> Path:
+    """wearjoint's folder in the user's cache (built FMUs live below it, keyed by their sources)."""
+    if sys.platform == "win32":
+        return Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local")) / "wearjoint" / "Cache"
+    if sys.platform == "darwin":
+        return Path.home() / "Library" / "Caches" / "wearjoint"
+    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "wearjoint"
+
+
+def source_digest(paths, root: Path) -> str:
+    """Hash of the files (their paths relative to ``root`` and contents): part of a build key."""
+    digest = hashlib.sha256()
+    for path in paths:
+        digest.update(Path(path).relative_to(root).as_posix().encode() + b"\0" + Path(path).read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def current_build(out_dir, key: str, force: bool, file_name: str = FMU_FILE_NAME) -> tuple[Path, bool]:
+    """``out_dir``'s FMU file ``file_name``, and whether it already is the build ``key`` (and no ``force``)."""
+    target = Path(out_dir) / file_name
+    return target, not force and existing_build_key(target) == key
+
+
+def existing_build_key(fmu_path: Path) -> str | None:
+    """The build key an FMU was built with (resources/wearjoint_fmu.json), None if unreadable."""
+    try:
+        with zipfile.ZipFile(fmu_path) as zf:
+            return json.loads(zf.read(f"resources/{fv.BUILD_CONFIG_FILE}"))["build_key"]
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile):
+        return None
+
+
+def c_compiler(purpose: str) -> str:
+    """The C compiler (``$CC``, default gcc) on Linux x86_64; RuntimeError naming ``purpose`` otherwise."""
+    if not sys.platform.startswith("linux") or platform.machine() != "x86_64":
+        raise RuntimeError(f"{purpose} is built for binaries/linux64 only; this is {sys.platform} "
+                           f"{platform.machine()} (build the FMU on Linux x86_64)")
+    compiler = os.environ.get("CC") or "gcc"
+    if shutil.which(compiler) is None:
+        raise RuntimeError(f"{purpose} needs a C compiler: {compiler!r} not found (install gcc or set CC)")
+    return compiler
+
+
+def fmi2_headers() -> Path:
+    """The FMI 2.0 headers shipped with fmpy (fmpy/c-code); RuntimeError if missing."""
+    fmpy = importlib.util.find_spec("fmpy")
+    headers = Path(next(iter(fmpy.submodule_search_locations))) / "c-code" if fmpy else None
+    if headers is None or not (headers / "fmi2Functions.h").is_file():
+        raise RuntimeError("building the FMU needs the FMI 2.0 headers shipped with fmpy (fmpy/c-code/fmi2Functions.h)")
+    return headers
