@@ -109,3 +109,22 @@ def fmus(native_fmu, tmp_path_factory):
                       "dir": extract(str(path), unzipdir=str(tmp_path_factory.mktemp(f"dd{version}_x"))),
                       "vr": fv.value_references(read_model_description(str(path))) if version == 2
                       else fmi3_value_references()} for version, path in built.items()}
+
+
+@pytest.fixture(scope="session")
+def dahlquist_fmu(tmp_path_factory):
+    """The unzipped test FMU folder (once per session)."""
+    from fmi_host import build_dahlquist_fmu, gcc_or_skip
+
+    gcc_or_skip()
+    return build_dahlquist_fmu(tmp_path_factory.mktemp("dahlquist_fmu"))
+
+
+@pytest.fixture
+def run(c_host, dahlquist_fmu):
+    """run(script, **kw) -> (rc, stdout, stderr) of the host on the test FMU."""
+    from fmi_host import DAHLQUIST_GUID, DAHLQUIST_ID, run_c_host
+
+    def _run(script, **kw):
+        return run_c_host(c_host, dahlquist_fmu, DAHLQUIST_ID, DAHLQUIST_GUID, script, **kw)
+    return _run

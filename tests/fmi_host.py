@@ -299,3 +299,40 @@ def sanitizer_runtime_environment() -> dict:
                  for name in ("libasan.so", "libubsan.so")]
     return {**os.environ, "LD_PRELOAD": ":".join(libraries), "ASAN_OPTIONS": "detect_leaks=0:abort_on_error=1",
             "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1"}
+
+
+# ------------------------------------------------------------------ the C host's own test FMU
+DAHLQUIST_SOURCES = tuple(C_HOST_DIR / "test_fmu" / name for name in ("dahlquist.c", "dahlquist_states.c"))
+DAHLQUIST_MODEL_DESCRIPTION = C_HOST_DIR / "test_fmu" / "modelDescription.xml"
+DAHLQUIST_ID = "dahlquist"
+DAHLQUIST_GUID = "{a3f0e8de-5c1b-4d7e-9a61-0d5a41c15701}"
+# value references of the test FMU
+VR_X, VR_K, VR_X0, VR_U, VR_NSTEPS, VR_RESOURCE = range(6)
+
+
+def build_dahlquist_fmu(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
+    """Build the test FMU as an unzipped FMU folder ``out_dir/dahlquist`` and return its path."""
+    fmu_dir = Path(out_dir) / DAHLQUIST_ID
+    (fmu_dir / "binaries" / "linux64").mkdir(parents=True, exist_ok=True)
+    (fmu_dir / "resources").mkdir(exist_ok=True)
+    shutil.copyfile(DAHLQUIST_MODEL_DESCRIPTION, fmu_dir / "modelDescription.xml")
+    so = fmu_dir / "binaries" / "linux64" / f"{DAHLQUIST_ID}.so"
+    cmd = ["gcc", "-O2", "-g", "-Wall", "-Wextra", *extra_flags, "-shared", "-fPIC",
+           f"-I{fmi2_headers_dir()}", *map(str, DAHLQUIST_SOURCES), "-o", str(so), "-lm"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=CLEAN_ENV)
+    if proc.returncode != 0:
+        raise RuntimeError(f"building the test FMU failed:\n{' '.join(cmd)}\n{proc.stderr}")
+    return fmu_dir
+
+
+INIT = """\
+instantiate dq
+set_real 1={k!r} 2={x0!r}
+setup 0
+enter_init
+exit_init
+"""
+
+
+def init(k=2.0, x0=1.5) -> str:
+    return INIT.format(k=float(k), x0=float(x0))

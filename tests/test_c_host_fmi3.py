@@ -267,7 +267,9 @@ def test_fmi3_host_runs_the_fmu_under_valgrind(fmi3, fmi3_host, trace, tmp_path)
               + "enter_event_mode\nupdate_discrete_states\nenter_continuous_time_mode\nget_derivatives 0\n"
               + "terminate\nfree\ncycle 20\n")
     out, err = run3(fmi3_host, fmi3, script, valgrind=True, timeout=1200)
-    assert out.count("trace ok") == 2 and out.count("trace_me ok") == 2 and "cycle ok iterations=20" in out
+    # each instance's first trace wears over the wear-step limit (0.1 ms steps): warned once per instance
+    assert out.count("trace warning") == 1 and out.count("trace ok") == 1 and "cycle ok iterations=20" in out
+    assert out.count("trace_me warning") == 1 and out.count("trace_me ok") == 1
     assert_valgrind_clean(err)
 
 

@@ -304,5 +304,6 @@ def test_model_exchange_from_c_under_valgrind(fmu, c_host, trace, tmp_path):
               + "get_continuous_states 0\nget_derivatives 0\nenter_event_mode\nnew_discrete_states\nexpect error\n"
               + "get_state 2\nterminate\nfree\ncycle 5\n")
     out, err = _run(fmu, c_host, script, host_args=["--model-exchange"], valgrind=True, timeout=1200)
-    assert out.count("trace_me ok") == 3 and "cycle ok iterations=5" in out
+    # the first trace wears over the wear-step limit (0.1 ms steps): warned once per instance
+    assert out.count("trace_me warning") == 1 and out.count("trace_me ok") == 2 and "cycle ok iterations=5" in out
     assert_valgrind_clean(err)

@@ -6,7 +6,8 @@ with a clean environment (PATH only).  Here it drives a tiny hand-written FMU,
 results have closed forms.  The command interface is documented at the top of ``fmi2_host.c`` and
 in ``tests/c_host/README.md``.
 
-The helpers are in ``tests/fmi_host.py``, the ``c_host`` fixture in ``tests/conftest.py``.
+The helpers (the test FMU's build and its start script among them) are in ``tests/fmi_host.py``, the
+``c_host``, ``dahlquist_fmu`` and ``run`` fixtures in ``tests/conftest.py``; valgrind: test_c_host_valgrind.py.
 """
 from __future__ import annotations
 
@@ -14,68 +15,13 @@ import math
 import re
 import shutil
 import subprocess
-from pathlib import Path
-from typing import Sequence
 
 import pytest
 from fmi_host import (
-    C_HOST_DIR, CLEAN_ENV, Script, assert_valgrind_clean, build_c_host, fmi2_headers_dir, gcc_or_skip,
-    needed_libraries, run_c_host, stderr_value, trace_rows, write_trace_file,
+    CLEAN_ENV, DAHLQUIST_GUID, DAHLQUIST_ID, VR_K, VR_NSTEPS, VR_U, VR_X, build_c_host,
+    build_dahlquist_fmu, gcc_or_skip, init, needed_libraries, run_c_host, stderr_value, trace_rows,
+    write_trace_file,
 )
-
-DAHLQUIST_SOURCE = C_HOST_DIR / "test_fmu" / "dahlquist.c"
-DAHLQUIST_MODEL_DESCRIPTION = C_HOST_DIR / "test_fmu" / "modelDescription.xml"
-DAHLQUIST_ID = "dahlquist"
-DAHLQUIST_GUID = "{a3f0e8de-5c1b-4d7e-9a61-0d5a41c15701}"
-# value references of the test FMU
-VR_X, VR_K, VR_X0, VR_U, VR_NSTEPS, VR_RESOURCE = range(6)
-
-
-def build_dahlquist_fmu(out_dir: Path, extra_flags: Sequence[str] = ()) -> Path:
-    """Build the test FMU as an unzipped FMU folder ``out_dir/dahlquist`` and return its path."""
-    fmu_dir = Path(out_dir) / DAHLQUIST_ID
-    (fmu_dir / "binaries" / "linux64").mkdir(parents=True, exist_ok=True)
-    (fmu_dir / "resources").mkdir(exist_ok=True)
-    shutil.copyfile(DAHLQUIST_MODEL_DESCRIPTION, fmu_dir / "modelDescription.xml")
-    so = fmu_dir / "binaries" / "linux64" / f"{DAHLQUIST_ID}.so"
-    cmd = ["gcc", "-O2", "-g", "-Wall", "-Wextra", *extra_flags, "-shared", "-fPIC",
-           f"-I{fmi2_headers_dir()}", str(DAHLQUIST_SOURCE), "-o", str(so), "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=CLEAN_ENV)
-    if proc.returncode != 0:
-        raise RuntimeError(f"building the test FMU failed:\n{' '.join(cmd)}\n{proc.stderr}")
-    return fmu_dir
-
-
-# --------------------------------------------------------------------------------------------
-# fixtures
-
-@pytest.fixture(scope="session")
-def dahlquist_fmu(tmp_path_factory) -> Path:
-    """The unzipped test FMU folder (once per session)."""
-    gcc_or_skip()
-    return build_dahlquist_fmu(tmp_path_factory.mktemp("dahlquist_fmu"))
-
-
-@pytest.fixture
-def run(c_host, dahlquist_fmu):
-    """run(script, **kw) -> (rc, stdout, stderr) of the host on the test FMU."""
-    def _run(script: Script, **kw):
-        return run_c_host(c_host, dahlquist_fmu, DAHLQUIST_ID, DAHLQUIST_GUID, script, **kw)
-    return _run
-
-
-INIT = """\
-instantiate dq
-set_real 1={k!r} 2={x0!r}
-setup 0
-enter_init
-exit_init
-"""
-
-
-def init(k=2.0, x0=1.5) -> str:
-    return INIT.format(k=float(k), x0=float(x0))
-
 
 # --------------------------------------------------------------------------------------------
 # building
@@ -496,107 +442,3 @@ def test_missing_script_file(c_host, dahlquist_fmu, tmp_path):
                               tmp_path / "no_script.txt")
     assert rc == 2
     assert "cannot open the script" in err
-
-
-# --------------------------------------------------------------------------------------------
-# valgrind
-
-def _valgrind_or_skip():
-    if shutil.which("valgrind", path=CLEAN_ENV["PATH"]) is None:
-        pytest.skip("valgrind is not installed")
-
-
-FULL_SCRIPT = """\
-version
-call_null fmi2FreeInstance
-call_null fmi2GetReal
-call_null fmi2Instantiate guid
-call_null fmi2Instantiate logger
-instantiate {long_name}
-set_real 1=2 2=1.5
-setup 0 10 1e-6
-enter_init
-get_real 0 1 2 3
-exit_init
-set_debug_logging 1 logAll
-get_string 5
-trace {trace} 1 3 0,3
-get_integer 4
-get_state 0
-serialize 0 {state}
-do_step 5 0.5
-do_step 5.5 11
-expect discard
-do_step 99 0.1
-expect error
-set_state 0
-deserialize 1 {state}
-deserialize 1 {state}
-set_state 1
-get_real 0
-call_null fmi2GetReal values
-call_null fmi2SerializeFMUstate state
-call_null fmi2GetFMUstate values
-get_state 2
-free_state 0
-cycle 1
-cycle 20
-terminate
-reset
-get_state 3
-free
-time_load
-get_real 0
-get_state 4
-"""
-
-
-@pytest.mark.slow
-def test_valgrind_full_script(c_host, dahlquist_fmu, tmp_path):
-    _valgrind_or_skip()
-    trace = write_trace_file(tmp_path / "t.txt", [(i * 0.01, 0.01, 0.1 * (i % 7)) for i in range(500)])
-    script = FULL_SCRIPT.format(long_name="v" * 2000, trace=trace, state=tmp_path / "state.bin")
-    rc, out, err = run_c_host(c_host, dahlquist_fmu, DAHLQUIST_ID, DAHLQUIST_GUID, script,
-                              valgrind=True)
-    assert rc == 0, err[-3000:]
-    assert "trace ok rows=500" in out and "cycle ok iterations=20" in out
-    assert_valgrind_clean(err)
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("case, expected_rc", [
-    ("expect_mismatch", 1), ("unacknowledged", 1), ("syntax_error", 2), ("bad_trace_row", 2),
-    ("missing_binary", 2),
-])
-def test_valgrind_error_exits_are_clean(c_host, dahlquist_fmu, tmp_path, case, expected_rc):
-    """Every exit path frees the host's memory, the FMU states held in slots and the instance."""
-    _valgrind_or_skip()
-    trace = tmp_path / "t.txt"
-    trace.write_text("0 0.1\n0.1 0.1\n0.2 oops\n")
-    held = init() + "get_state 0\nget_state 1\n"
-    scripts = {
-        "expect_mismatch": held + "do_step 0 0.1\nexpect error\n",
-        "unacknowledged": held + "do_step 3 0.1\nget_real 0\n",
-        "syntax_error": held + "get_real 0 x\n",
-        "bad_trace_row": held + f"trace {trace} 0 - 0\n",
-        "missing_binary": "instantiate a\n",
-    }
-    fmu = tmp_path if case == "missing_binary" else dahlquist_fmu
-    rc, out, err = run_c_host(c_host, fmu, DAHLQUIST_ID, DAHLQUIST_GUID, scripts[case],
-                              valgrind=True)
-    assert rc == expected_rc, err[-3000:]
-    assert_valgrind_clean(err)
-
-
-@pytest.mark.slow
-def test_valgrind_check_detects_a_leaking_fmu(c_host, tmp_path):
-    """The assertion is not vacuous: an FMU built to leak its instance name fails it."""
-    _valgrind_or_skip()
-    gcc_or_skip()
-    leaky = build_dahlquist_fmu(tmp_path, extra_flags=["-DDAHLQUIST_LEAK"])
-    rc, out, err = run_c_host(c_host, leaky, DAHLQUIST_ID, DAHLQUIST_GUID,
-                              "instantiate leaky\nfree\n", valgrind=True)
-    assert rc == 3, err[-3000:]                       # --error-exitcode=3
-    assert "definitely lost: 6 bytes in 1 blocks" in err   # "leaky" and its NUL
-    with pytest.raises(AssertionError):
-        assert_valgrind_clean(err)
