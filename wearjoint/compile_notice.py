@@ -19,10 +19,10 @@ from numba.core import event
 
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core)
 ESTIMATES = {
-    "simulate": ("the monolithic engine's numba kernels", 40, 83),
-    "cosim": ("the co-simulation master's numba kernels", 25, 99),
-    "fmu": ("the FMU's kernels, ahead of time (once per source version)", 25, 86),
-    "kernels": ("the numba kernels", 40, 90),
+    "simulate": ("the monolithic engine's numba kernels", 20, 83),
+    "cosim": ("the co-simulation master's numba kernels", 15, 96),
+    "fmu": ("the FMU's kernels, ahead of time (once per source version)", 20, 90),
+    "kernels": ("the numba kernels", 20, 90),
 }
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
