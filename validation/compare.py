@@ -29,17 +29,17 @@ from __future__ import annotations
 
 import sys
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from wearjoint import analysis
+from wearjoint.analysis import ensemble_statistics, revolution_statistics
 from wearjoint.core import layout as L
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, _finite, _require
-from wearjoint.results import RunRecord, write_json_atomic
+from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
-from wearjoint.sweep.design import SEED_ANGLE_STEP_DEG
+from wearjoint.sweep.design import perturbed_start
 
 REFERENCE = "monolithic"
 ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete", "exudyn-native")
@@ -236,13 +236,6 @@ def _us(step_s: float) -> str:
     return f"{step_s * 1e6:g} us"
 
 
-def perturbed_start(mechanism: SliderCrankParameters, start: int) -> SliderCrankParameters:
-    """The mechanism of perturbed start number ``start`` (0: unperturbed): the initial crank angle
-    moved by ``start`` times the sweep's seed step (1e-6 deg; two starts part by 10 um after ~80 ms)."""
-    return mechanism.replace(initial_crank_angle_deg=mechanism.initial_crank_angle_deg
-                             + start * SEED_ANGLE_STEP_DEG)
-
-
 def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderCrankParameters,
                 engine_joint_changes: dict | None = None, progress: bool = True) -> Runs:
     """Run every simulation of ``plan`` (one progress line per run on stderr);
@@ -358,23 +351,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
 
 
 # ---------------------------------------------------------------- quantities compared
-# (the definitions are wearjoint.analysis's; these read them off the run records)
-def revolution_statistics(record: RunRecord) -> dict:
-    """:func:`wearjoint.analysis.mean_revolution_statistics` of a run (with the mean
-    eccentricity in contact)."""
-    return analysis.mean_revolution_statistics(record.revolution_stats, record.period_s, record.samples)
-
-
-def ensemble_statistics(records) -> tuple[dict, dict]:
-    """(mean, sample standard deviation) over an ensemble's runs of each
-    :func:`revolution_statistics` quantity."""
-    rows = [revolution_statistics(r) for r in records]
-    values = {name: np.array([row[name] for row in rows]) for name in rows[0]}
-    with np.errstate(invalid="ignore"):        # a run without contact has no mean eccentricity in contact (nan)
-        return ({name: float(v.mean()) for name, v in values.items()},
-                {name: float(v.std(ddof=1)) if v.size > 1 else 0.0 for name, v in values.items()})
-
-
+# (the definitions are wearjoint.analysis's)
 def pointwise_differences(record: RunRecord, reference: RunRecord, window_s: float) -> dict:
     """Largest differences to ``reference`` at its sample times in [0, window_s]: the
     eccentricity vector (bushing frame), the normal force and the slider acceleration."""
@@ -463,30 +440,6 @@ def _profile_difference(name: str, value: float, reference: float) -> float:
     return float(analysis.wrap_deg(value - reference)) if name.startswith("lobe") else value - reference
 
 
-def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None = None,
-                   mechanism: SliderCrankParameters | None = None, engine_joint_changes: dict | None = None,
-                   progress: bool = True) -> dict:
-    """Run, compare, and write ``report.md``, ``summary.json`` and the PNG overlays into
-    ``out_dir``; returns the summary (``exit_status``: 0 pass, 1 a metric failed or an
-    engine raised, 3 an engine is not available)."""
-    mechanism = mechanism or SliderCrankParameters()
-    joint = joint or JointParameters(**mechanism.joint_offsets())
-    _require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
-             f"<= the no-wear run ({plan.revolutions:g} rev = {plan.revolutions * mechanism.period_s:g} s)")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    from wearjoint.validation.report import build_report, build_summary, write_figures
-
-    runs = run_engines(plan, joint, mechanism, engine_joint_changes, progress)
-    metrics = compare(runs, plan)
-    figures = write_figures(runs, plan, out)
-    summary = build_summary(runs, plan, metrics, joint, mechanism, engine_joint_changes or {}, figures)
-    (out / "report.md").write_text(build_report(summary, metrics))
-    write_json_atomic(out / "summary.json", summary)
-    return summary
-
-
-__all__ = ["ValidationPlan", "FULL", "QUICK", "Rule", "Metric", "Runs", "run_engines", "compare", "run_validation",
-           "revolution_statistics", "ensemble_statistics", "pointwise_differences",
+__all__ = ["ValidationPlan", "FULL", "QUICK", "Rule", "Metric", "Runs", "run_engines", "compare",            "revolution_statistics", "ensemble_statistics", "pointwise_differences",
            "profile_quantities", "profile_decorrelation", "perturbed_start", "engine_runner", "run_monolithic",
            "ENGINES", "WEAR_ENGINES", "LAW_REFERENCES", "REFERENCE"]

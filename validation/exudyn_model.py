@@ -325,7 +325,8 @@ def law_study(configurations: dict = LAW_STUDY, ensemble: int = 8, revolutions: 
     """Both exudyn contacts in the same exudyn model (generalized-alpha, fixed ``step_s`` [s]): for each
     label -> (contact, joint change) an ensemble of ``ensemble`` perturbed starts of ``revolutions``
     revolutions, no wear; returns label -> {"mean", "std"} of the validation's statistics."""
-    from wearjoint.validation.compare import ensemble_statistics, perturbed_start
+    from wearjoint.analysis import ensemble_statistics
+    from wearjoint.sweep.design import perturbed_start
 
     base = SliderCrankParameters()
     joint = JointParameters(**base.joint_offsets(), wear_factor=0.0)

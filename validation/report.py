@@ -9,9 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from wearjoint.core import layout as L
-from wearjoint.parameters import JointParameters, SliderCrankParameters
-from wearjoint.results import RunRecord
+from wearjoint.parameters import JointParameters, SliderCrankParameters, _require
+from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.validation.compare import (
+    compare, run_engines,
     GROUP_POINTWISE, GROUP_PROFILE, GROUP_STATISTICS, LAW_REFERENCES, POINTWISE, PROFILE, REFERENCE,
     STATISTICS, WEAR_ENGINES, Metric, Runs, ValidationPlan, _us, ensemble_statistics, pointwise_differences,
     profile_quantities, revolution_statistics,
@@ -336,3 +337,24 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
 
 
 __all__ = ["write_figures", "build_summary", "build_report"]
+
+
+def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None = None,
+                   mechanism: SliderCrankParameters | None = None, engine_joint_changes: dict | None = None,
+                   progress: bool = True) -> dict:
+    """Run, compare, and write ``report.md``, ``summary.json`` and the PNG overlays into
+    ``out_dir``; returns the summary (``exit_status``: 0 pass, 1 a metric failed or an
+    engine raised, 3 an engine is not available)."""
+    mechanism = mechanism or SliderCrankParameters()
+    joint = joint or JointParameters(**mechanism.joint_offsets())
+    _require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
+             f"<= the no-wear run ({plan.revolutions:g} rev = {plan.revolutions * mechanism.period_s:g} s)")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    runs = run_engines(plan, joint, mechanism, engine_joint_changes, progress)
+    metrics = compare(runs, plan)
+    figures = write_figures(runs, plan, out)
+    summary = build_summary(runs, plan, metrics, joint, mechanism, engine_joint_changes or {}, figures)
+    (out / "report.md").write_text(build_report(summary, metrics))
+    write_json_atomic(out / "summary.json", summary)
+    return summary

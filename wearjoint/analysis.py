@@ -263,3 +263,18 @@ def impact_events(time_s, slider_a_m_s2, mechanism, threshold_m_s2: float, merge
                        "peak_crank_rotation_deg": float((t[peak] / mechanism.period_s * 360.0) % 360.0),
                        "peak_deviation_m_s2": float(deviation[peak])})
     return events
+
+
+def revolution_statistics(record) -> dict:
+    """:func:`mean_revolution_statistics` of a run record (with the mean eccentricity in contact)."""
+    return mean_revolution_statistics(record.revolution_stats, record.period_s, record.samples)
+
+
+def ensemble_statistics(records) -> tuple[dict, dict]:
+    """(mean, sample standard deviation) over an ensemble's run records of each
+    :func:`revolution_statistics` quantity."""
+    rows = [revolution_statistics(r) for r in records]
+    values = {name: np.array([row[name] for row in rows]) for name in rows[0]}
+    with np.errstate(invalid="ignore"):        # a run without contact has no mean eccentricity in contact (nan)
+        return ({name: float(v.mean()) for name, v in values.items()},
+                {name: float(v.std(ddof=1)) if v.size > 1 else 0.0 for name, v in values.items()})

@@ -4,7 +4,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..parameters import JointParameters, ParameterError
-from ..validation.compare import ENGINES, FULL, QUICK, run_validation
+from ..validation.compare import ENGINES, FULL, QUICK
+from ..validation.report import run_validation
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
 
 

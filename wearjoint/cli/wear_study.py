@@ -12,30 +12,9 @@ from ..validation.wear_study import (
     DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
     WearStudyConfig, run_wear_study,
 )
-from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
+from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, restate_default
+from .study_options import config_from_args, parse_float_list
 from .sweep import add_ensemble_arguments
-
-
-def parse_int_list(name: str, text: str) -> tuple:
-    """'1000,2000' -> (1000, 2000); a clear ParameterError for anything else."""
-    values = []
-    for item in str(text).split(","):
-        item = item.strip()
-        try:
-            values.append(int(item))
-        except ValueError:
-            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. 1000,2000)") from None
-    return tuple(values)
-
-
-def parse_float_list(name: str, text: str) -> tuple:
-    values = []
-    for item in str(text).split(","):
-        try:
-            values.append(float(item))
-        except ValueError:
-            raise ParameterError(f"{name}: {item.strip()!r} is not a number (expected e.g. 1,10,50)") from None
-    return tuple(values)
 
 
 # WearStudyConfig's defaults: the one source of the options' defaults
@@ -74,34 +53,6 @@ def add_arguments(parser) -> None:
     add_model_arguments(parser)
     restate_default(parser, "wear_factor", f"{DEFAULT_WEAR_FACTOR:g}; 1 with --cycle-jump")
     add_ensemble_arguments(parser)   # --seeds N: N seeds as Dask tasks (wearjoint.sweep), Fig. 7 with bands
-
-
-def config_from_args(args) -> WearStudyConfig:
-    joint, mechanism = model_from_args(args)
-    revolutions = parse_int_list("--revolutions", args.revolutions)
-    if len(revolutions) != 1:
-        raise ParameterError("--revolutions takes one integer")
-    revolutions = revolutions[0]
-    if args.snapshots is not None:
-        snapshots = parse_int_list("--snapshots", args.snapshots)
-    else:
-        snapshots = tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
-    jump_m, jump_j = 0, 1.0
-    if args.cycle_jump is not None:
-        parts = args.cycle_jump.split(",")
-        if len(parts) != 2:
-            raise ParameterError(f"--cycle-jump {args.cycle_jump!r}: expected M,J (e.g. 2,10)")
-        jump_m = parse_int_list("--cycle-jump M", parts[0])[0]
-        jump_j = parse_float_list("--cycle-jump J", parts[1])[0]
-        if jump_m < 1:
-            raise ParameterError(f"--cycle-jump M={jump_m} is invalid: allowed an integer >= 1")
-    if args.wear_factor is None and not args.no_wear:
-        joint = joint.replace(wear_factor=1.0 if args.cycle_jump is not None else DEFAULT_WEAR_FACTOR)
-    return WearStudyConfig(joint=joint, mechanism=mechanism, revolutions=revolutions, snapshots=snapshots,
-                           jump_revolutions=jump_m, jump_factor=jump_j, engine=args.engine,
-                           integrator=args.integrator, max_step_s=args.max_step,
-                           checkpoint_every_revolutions=args.checkpoint_every,
-                           impact_threshold_m_s2=args.impact_threshold_m_s2, fmu_backend=args.fmu_backend)
 
 
 def run(args) -> int:
@@ -154,4 +105,4 @@ def _angle(value) -> str:
     return "-" if value is None else f"{value:.1f}"
 
 
-__all__ = ["add_arguments", "run", "config_from_args", "parse_int_list", "parse_float_list"]
+__all__ = ["add_arguments", "run"]

@@ -35,7 +35,7 @@ def allowed_outputs(command: str, base: dict) -> list:
     """The outputs a study of ``command`` with options ``base`` can analyse."""
     names = [*FIGURES_OF_MERIT, *OTHER_OUTPUTS]
     if command == "wear-study":
-        from ..cli.wear_study import config_from_args
+        from ..cli.study_options import config_from_args
 
         snapshots = config_from_args(Namespace(**base)).snapshots
         names += [f"rev{r}_{key}" for r in snapshots for key in SNAPSHOT_FIGURES] + ["growth_exponent"]

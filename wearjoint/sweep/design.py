@@ -216,7 +216,7 @@ def effective_values(command: str, options: dict) -> dict:
 
     try:
         if command == "wear-study":
-            from ..cli.wear_study import config_from_args
+            from ..cli.study_options import config_from_args
 
             config = config_from_args(Namespace(**options))
             joint, mechanism = config.joint, config.mechanism
@@ -276,3 +276,10 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
 __all__ = ["Case", "TARGETS", "SEED_ANGLE_STEP_DEG", "build_cases", "parse_vary", "read_design", "case_id",
            "command_parser", "command_options", "options_to_argv", "variable_actions", "canonical_name",
            "check_seeds"]
+
+
+def perturbed_start(mechanism: SliderCrankParameters, start: int) -> SliderCrankParameters:
+    """The mechanism of perturbed start number ``start`` (0: unperturbed): the initial crank angle
+    moved by ``start`` times the sweep's seed step (1e-6 deg; two starts part by 10 um after ~80 ms)."""
+    return mechanism.replace(initial_crank_angle_deg=mechanism.initial_crank_angle_deg
+                             + start * SEED_ANGLE_STEP_DEG)

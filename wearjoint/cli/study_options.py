@@ -1,0 +1,58 @@
+"""The wear study's configuration from `wearjoint wear-study`'s options (also read by the sweeps and the
+sensitivity study, which run wear studies as cases: here, apart from the command, so that they do not
+import the command that imports them)."""
+from __future__ import annotations
+
+from ..parameters import ParameterError
+from ..validation.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
+from .options import model_from_args
+
+
+def parse_int_list(name: str, text: str) -> tuple:
+    """'1000,2000' -> (1000, 2000); a clear ParameterError for anything else."""
+    values = []
+    for item in str(text).split(","):
+        item = item.strip()
+        try:
+            values.append(int(item))
+        except ValueError:
+            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. 1000,2000)") from None
+    return tuple(values)
+
+
+def parse_float_list(name: str, text: str) -> tuple:
+    values = []
+    for item in str(text).split(","):
+        try:
+            values.append(float(item))
+        except ValueError:
+            raise ParameterError(f"{name}: {item.strip()!r} is not a number (expected e.g. 1,10,50)") from None
+    return tuple(values)
+
+
+def config_from_args(args) -> WearStudyConfig:
+    joint, mechanism = model_from_args(args)
+    revolutions = parse_int_list("--revolutions", args.revolutions)
+    if len(revolutions) != 1:
+        raise ParameterError("--revolutions takes one integer")
+    revolutions = revolutions[0]
+    if args.snapshots is not None:
+        snapshots = parse_int_list("--snapshots", args.snapshots)
+    else:
+        snapshots = tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
+    jump_m, jump_j = 0, 1.0
+    if args.cycle_jump is not None:
+        parts = args.cycle_jump.split(",")
+        if len(parts) != 2:
+            raise ParameterError(f"--cycle-jump {args.cycle_jump!r}: expected M,J (e.g. 2,10)")
+        jump_m = parse_int_list("--cycle-jump M", parts[0])[0]
+        jump_j = parse_float_list("--cycle-jump J", parts[1])[0]
+        if jump_m < 1:
+            raise ParameterError(f"--cycle-jump M={jump_m} is invalid: allowed an integer >= 1")
+    if args.wear_factor is None and not args.no_wear:
+        joint = joint.replace(wear_factor=1.0 if args.cycle_jump is not None else DEFAULT_WEAR_FACTOR)
+    return WearStudyConfig(joint=joint, mechanism=mechanism, revolutions=revolutions, snapshots=snapshots,
+                           jump_revolutions=jump_m, jump_factor=jump_j, engine=args.engine,
+                           integrator=args.integrator, max_step_s=args.max_step,
+                           checkpoint_every_revolutions=args.checkpoint_every,
+                           impact_threshold_m_s2=args.impact_threshold_m_s2, fmu_backend=args.fmu_backend)
