@@ -28,27 +28,7 @@ typedef struct {
 
 #define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)
 
-/* ------------------------------------------------------------------ checks shared by the calls */
-static inline int mode_is(const Instance *inst, const char *function, unsigned modes)
-{
-    if (modes & M(inst->mode))
-        return 1;
-    LOG(inst, fmi2Error, "%s: not allowed in state %s (FMI 2.0 call sequence)", function,
-              MODE_NAMES[inst->mode]);
-    return 0;
-}
-
-/* A valid instance and, for nvr > 0, non-NULL arrays; 0 (and a log where possible) otherwise. */
-static inline int arrays_given(const Instance *inst, const char *function, size_t nvr, const void *vr,
-                               const void *value)
-{
-    if (inst == NULL)
-        return 0;
-    if (nvr > 0 && (vr == NULL || value == NULL)) {
-        LOG(inst, fmi2Error, "%s: NULL value reference or value array for %zu variables", function, nvr);
-        return 0;
-    }
-    return 1;
-}
+#define FMI_CALL_SEQUENCE "FMI 2.0 call sequence"
+#include "fmi_checks.h"
 
 #endif

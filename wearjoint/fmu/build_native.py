@@ -60,7 +60,7 @@ GLUE_C_SOURCES_BY_VERSION = {
     3: ("fmi3Functions.c", "fmi3_values.c", "fmi3_not_provided.c", "fmi3_cosimulation.c", "fmi3_model_exchange.c",
         "fmi3_instance.h"),
 }
-COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h")
+COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h", "fmi_checks.h")
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
