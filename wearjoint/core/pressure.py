@@ -137,6 +137,106 @@ def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin
     return s0, sx, sy, m11, m12, m21, m22
 
 
+@kernel(inline='always')
+def _unit(j, cos_phi, sin_phi):
+    """(cos, sin) of j dphi for any integer j, from the points' table (phi_k = (k + 1) dphi)."""
+    k = (j - 1) % cos_phi.shape[0]
+    return cos_phi[k], sin_phi[k]
+
+
+@kernel(inline='always')
+def _half_unit(m, cos_phi, sin_phi, cos_half, sin_half):
+    """(cos, sin) of m dphi / 2 for any integer m (cos_half, sin_half: of dphi / 2)."""
+    c, s = _unit(m // 2, cos_phi, sin_phi)
+    if m % 2 == 0:
+        return c, s
+    return c * cos_half - s * sin_half, s * cos_half + c * sin_half
+
+
+@kernel
+def _unworn_interior_sums(a, b, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, with_jacobian):
+    """The sums of :func:`_resultant_run` over points a..b (any integers, b - a + 1 <= N_d) of an unworn
+    stretch whose cells are all in contact, in closed form.  There rho = R_j, 2 R_i o_z = C + 2 R_j e.u_z
+    with C = R_i^2 - R_j^2 - |e|^2, and u_(z-1) + u_(z+1) = 2 cos(dphi) u_z, so the cell weight is
+    w_z = C + 2 R_j g e.u_z with g = (3 + cos dphi) / 4 and the gradient average (d_(z-1) + 6 d_z + d_(z+1)) / 8
+    is R_j g u_z - e: every sum is one of n, S1 = sum u_z and S2 = sum u_z u_z^T, whose closed forms on the
+    uniform grid are the Dirichlet kernels sin(n dphi/2)/sin(dphi/2) and sin(n dphi)/sin(dphi)."""
+    count = b - a + 1
+    cos_d, sin_d = cos_phi[0], sin_phi[0]                 # phi_0 = dphi
+    cos_half = math.sqrt(0.5 * (1.0 + cos_d))
+    sin_half = 0.5 * sin_d / cos_half
+    d1 = _half_unit(count, cos_phi, sin_phi, cos_half, sin_half)[1] / sin_half
+    d2 = _unit(count, cos_phi, sin_phi)[1] / sin_d
+    ct, st = _half_unit(a + b + 2, cos_phi, sin_phi, cos_half, sin_half)   # the stretch's mid angle
+    c2, s2 = ct * ct - st * st, 2.0 * ct * st
+    s1x, s1y = d1 * ct, d1 * st
+    s2xx, s2xy, s2yy = 0.5 * (count + d2 * c2), 0.5 * d2 * s2, 0.5 * (count - d2 * c2)
+    rj = bushing_radius
+    g = 0.25 * (3.0 + cos_d)
+    c = pin_radius * pin_radius - rj * rj - (ex * ex + ey * ey)
+    beta = 2.0 * rj * g
+    e_s1 = ex * s1x + ey * s1y
+    s0 = rj * (c * count + beta * e_s1)
+    sx = rj * (c * (rj * s1x - count * ex) + beta * (rj * (s2xx * ex + s2xy * ey) - ex * e_s1))
+    sy = rj * (c * (rj * s1y - count * ey) + beta * (rj * (s2xy * ex + s2yy * ey) - ey * e_s1))
+    if not with_jacobian:
+        return s0, sx, sy, 0.0, 0.0, 0.0, 0.0
+    q = rj * rj * g
+    m11 = rj * (q * s2xx - rj * (1.0 + g) * s1x * ex + count * ex * ex)
+    m12 = rj * (q * s2xy - rj * (s1x * ey + g * ex * s1y) + count * ex * ey)
+    m21 = rj * (q * s2xy - rj * (s1y * ex + g * ey * s1x) + count * ey * ex)
+    m22 = rj * (q * s2yy - rj * (1.0 + g) * s1y * ey + count * ey * ey)
+    return s0, sx, sy, m11, m12, m21, m22
+
+
+@kernel(inline='always')
+def _worn_points(first, last, wear_depth):
+    """How many of points first..last (indices wrap; first >= -n, last < 2n) are worn: a count over
+    at most two contiguous stretches, without a branch per point."""
+    n = wear_depth.shape[0]
+    count = 0
+    for start, stop in ((max(first, 0), min(last, n - 1) + 1), (first + n, n) if first < 0 else (0, 0),
+                        (0, last - n + 1) if last >= n else (0, 0)):
+        for z in range(start, stop):
+            count += wear_depth[z] != 0.0
+    return count
+
+
+@kernel
+def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                        wear_depth, with_jacobian):
+    """(done, sums) of :func:`_resultant_run` over first..last when every point the window touches is unworn:
+    the stretch in contact (2 R_i o >= 0: |phi - phi_e| <= ``reach`` about the real index ``direction`` of
+    e, the edges found again point by point) in closed form, its two edge cells point by point.  Not done
+    (use the run) if a point is worn or the stretch has no interior."""
+    n = wear_depth.shape[0]
+    zeros = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    if wear_depth[wrap_index((first + last) // 2, n)] != 0.0 or _worn_points(first - 1, last + 1, wear_depth) > 0:
+        return False, zeros                   # (a worn contact is mostly worn at its centre: no count then)
+    dphi = 2.0 * math.pi / n
+    r2 = pin_radius * pin_radius
+    lo = max(first + 1, int(math.ceil(direction - reach / dphi)))
+    hi = min(last - 1, int(math.floor(direction + reach / dphi)))
+    while lo <= hi and _point(wrap_index(lo, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+        lo += 1
+    while lo - 1 > first and _point(wrap_index(lo - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
+                                    wear_depth)[3] >= 0.0:
+        lo -= 1
+    while hi >= lo and _point(wrap_index(hi, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+        hi -= 1
+    while hi + 1 < last and _point(wrap_index(hi + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
+                                   wear_depth)[3] >= 0.0:
+        hi += 1
+    if hi - lo < 2:
+        return False, zeros
+    sums = _unworn_interior_sums(lo + 1, hi - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, with_jacobian)
+    sums = _resultant_run(lo - 1, lo, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                          with_jacobian, sums)
+    sums = _resultant_run(hi, hi + 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                          with_jacobian, sums)
+    return True, sums
+
+
 @kernel
 def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian):
     """Elastic-foundation force on the pin per unit kappa, in the bushing frame, and its Jacobian
@@ -163,12 +263,17 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
         sums = _resultant_run(0, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                               with_jacobian, sums)
     else:
-        centre = int(round(math.atan2(ey, ex) / dphi)) - 1      # the point nearest e's direction
+        direction = math.atan2(ey, ex) / dphi - 1.0             # e's direction as a real point index
+        centre = int(round(direction + 1.0)) - 1                # the point nearest it
         first = centre - half
         if first < -1:
             first += n
-        sums = _resultant_run(first, first + 2 * half, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                              wear_depth, with_jacobian, sums)
+            direction += n
+        done, sums = _unworn_window_sums(first, first + 2 * half, direction, reach, ex, ey, pin_radius,
+                                         bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian)
+        if not done:
+            sums = _resultant_run(first, first + 2 * half, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                                  wear_depth, with_jacobian, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     s0, sx, sy, m11, m12, m21, m22 = sums
     scale = 0.5 / pin_radius                     # the runs' overlaps are 2 R_i o
     s0, sx, sy = s0 * scale, sx * scale, sy * scale
