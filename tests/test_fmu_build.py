@@ -52,6 +52,7 @@ HOST_SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow   # 12 s (a fresh interpreter imports the pythonfmu slave); the default suite stays under 5 min
 def test_fmu_runtime_imports_only_numpy_numba_and_wearjoint(built_fmu, tmp_path):
     done = subprocess.run([sys.executable, "-c", HOST_SCRIPT, str(built_fmu)], capture_output=True, text=True,
                           cwd=tmp_path, timeout=120)
