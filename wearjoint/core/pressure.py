@@ -191,8 +191,8 @@ def _unworn_interior_sums(a, b, ex, ey, pin_radius, bushing_radius, cos_phi, sin
 
 @kernel(inline='always')
 def _worn_points(first, last, wear_depth):
-    """How many of points first..last (indices wrap; first >= -n, last < 2n) are worn: a count over
-    at most two contiguous stretches, without a branch per point."""
+    """How many of points first..last (indices wrap; -n <= first, last < 2n, last - first < n) are worn:
+    a count over at most two contiguous stretches, without a branch per point."""
     n = wear_depth.shape[0]
     count = 0
     for start, stop in ((max(first, 0), min(last, n - 1) + 1), (first + n, n) if first < 0 else (0, 0),
@@ -247,7 +247,8 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     Only the points within the angle Delta_max of e's direction can overlap the pin, whatever the
     wear: |d|^2 = rho^2 + |e|^2 - 2 rho |e| cos(Delta) grows with rho >= R_j (rho > |e|), so o > 0
     needs cos(Delta) > (R_j^2 + |e|^2 - R_i^2) / (2 R_j |e|).  The sum runs over that window and
-    one point past each end (their cells reach into the contact)."""
+    one point past each end (their cells reach into the contact): in closed form where every point
+    of it is unworn (:func:`_unworn_window_sums`), else point by point."""
     n = wear_depth.shape[0]
     sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     e = math.sqrt(ex * ex + ey * ey)
