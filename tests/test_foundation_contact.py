@@ -288,7 +288,7 @@ def test_the_closed_form_over_unworn_points_is_the_point_by_point_sum(worn):
             scale = 0.5 / r_i
             s0, sx, sy = s0 * scale, sx * scale, sy * scale
             expected = np.array([-sx, -sy, s0 - m11 / r_i, -m12 / r_i, -m21 / r_i, s0 - m22 / r_i, s0])
-            got = np.array(pressure.foundation_resultant(ex, ey, r_i, r_j, cos_phi, sin_phi, wear, True))
+            got = np.array(pressure.foundation_resultant(ex, ey, r_i, r_j, cos_phi, sin_phi, wear, True, -1))
             force = np.abs(expected[:2]).max()
             assert np.abs(got[:2] - expected[:2]).max() <= 1e-9 * force, (angle, delta)
             assert abs(got[6] - expected[6]) <= 1e-9 * expected[6]

@@ -6,15 +6,13 @@ failed or gave numbers that are not physical (the pin left the bushing), 2 for b
 from __future__ import annotations
 
 import argparse
-import importlib
 import shlex
 import sys
 
 from ..parameters import ParameterError
 from ..sensitivity.sample import DEFAULT_SAMPLES, METHODS, MIN_SAMPLES
 from ..sweep.design import TARGETS, command_options
-from . import COMMANDS
-from .sweep import add_ensemble_arguments
+from .sweep import study_parser
 
 
 def add_arguments(parser) -> None:
@@ -26,11 +24,8 @@ def add_arguments(parser) -> None:
 
 def target_parser(target: str) -> argparse.ArgumentParser:
     """The parser of ``wearjoint sensitivity TARGET``: TARGET's own options plus the study's."""
-    parser = argparse.ArgumentParser(prog=f"wearjoint sensitivity {target}", allow_abbrev=False,
-                                     description=f"global sensitivity of wearjoint {target}'s outputs to its "
+    parser = study_parser("sensitivity", target, f"global sensitivity of wearjoint {target}'s outputs to its "
                                                  "parameters (SALib), every run a Dask task")
-    importlib.import_module(COMMANDS[target][0]).add_arguments(parser)
-    add_ensemble_arguments(parser)
     g = parser.add_argument_group("sensitivity (SALib)")
     g.add_argument("--param", action="append", default=[], metavar="NAME=LOW,HIGH[,log]",
                    help="a sampled parameter: any real option of COMMAND, as the option's name without dashes or "

@@ -41,13 +41,19 @@ def _add(parser, group, flag, **kwargs) -> None:
         group.add_argument(flag, **kwargs)
 
 
-def target_parser(target: str) -> argparse.ArgumentParser:
-    """The parser of ``wearjoint sweep TARGET``: TARGET's own options plus the sweep's."""
-    parser = argparse.ArgumentParser(prog=f"wearjoint sweep {target}", allow_abbrev=False,
-                                     description=f"run wearjoint {target} over a grid of parameter values and seeds "
-                                                 "as Dask tasks")
+def study_parser(study: str, target: str, description: str) -> argparse.ArgumentParser:
+    """The head of the parser of ``wearjoint STUDY TARGET`` (sweep, sensitivity): TARGET's own options
+    and the ensemble's; the study adds its group."""
+    parser = argparse.ArgumentParser(prog=f"wearjoint {study} {target}", allow_abbrev=False, description=description)
     importlib.import_module(COMMANDS[target][0]).add_arguments(parser)
     add_ensemble_arguments(parser)
+    return parser
+
+
+def target_parser(target: str) -> argparse.ArgumentParser:
+    """The parser of ``wearjoint sweep TARGET``: TARGET's own options plus the sweep's."""
+    parser = study_parser("sweep", target, f"run wearjoint {target} over a grid of parameter values and seeds "
+                                           "as Dask tasks")
     g = parser.add_argument_group("sweep")
     g.add_argument("--vary", action="append", default=[], metavar="NAME=V1,V2,...",
                    help="values of one option (written without its dashes, e.g. restitution=0.6,0.9); "

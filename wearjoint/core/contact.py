@@ -27,12 +27,12 @@ from .geometry import find_deepest_point
 from .jit import kernel
 from .layout import (
     M_ACTIVE, M_IMPACT_VELOCITY, N_KINEMATIC_INPUTS, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS,
-    P_CONTACT_MODEL, P_EXPONENT, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, P_RESTITUTION,
+    P_CONTACT_MODEL, P_EXPONENT, P_FOUNDATION_MODULUS, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, P_RESTITUTION,
     P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR, R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT,
     R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE, R_NORMAL_FORCE,
     R_PENETRATION, R_PENETRATION_RATE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, R_TANGENTIAL_VELOCITY,
 )
-from .pressure import foundation_modulus_factor, foundation_resultant
+from .pressure import foundation_resultant
 
 TWO_PI = 2.0 * math.pi
 CONTACT_FOUNDATION, CONTACT_DEEPEST = 0, 1
@@ -324,8 +324,8 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
         return False, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), True, bushing_point, fallback, dkx, dky, d
     if int(jp[P_CONTACT_MODEL]) == CONTACT_FOUNDATION:
         fx, fy, j11, j12, j21, j22, _ = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                                                            wear_depth, with_jacobian)
-        scale = foundation_modulus_factor(jp[P_STIFFNESS], pin_radius, bushing_radius) * (TWO_PI / n)
+                                                            wear_depth, with_jacobian, k)
+        scale = jp[P_FOUNDATION_MODULUS] * (TWO_PI / n)
         elastic = (scale * fx, scale * fy, scale * j11, scale * j12, scale * j21, scale * j22)
         common_point = True
     else:

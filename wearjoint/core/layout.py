@@ -40,7 +40,8 @@ P_BUSHING_POISSON_RATIO = 22  # nu_j [-]
 P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
 P_CONTACT_MODEL = 25          # 0 elastic foundation, 1 deepest bushing point (docs/model.md 3.10)
-N_JOINT_PARAMETERS = 26
+P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/model.md 3.10)
+N_JOINT_PARAMETERS = 27
 
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts

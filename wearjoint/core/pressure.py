@@ -22,6 +22,8 @@ derivatives in e (the positive part of a linear function has a continuous mean).
 """
 import math
 
+import numpy as np
+
 from .geometry import wrap_index
 from .jit import kernel
 
@@ -96,11 +98,35 @@ def foundation_modulus_factor(stiffness, pin_radius, bushing_radius):
 
 @kernel(inline='always')
 def _point(z, ex, ey, pin_radius_sq, bushing_radius, cos_phi, sin_phi, wear_depth):
-    """(rho_z, d_z x, d_z y, 2 R_i o_z) of bushing point z (the overlap without its constant divisor)."""
-    rho = bushing_radius + wear_depth[z]
-    dx = rho * cos_phi[z] - ex
-    dy = rho * sin_phi[z] - ey
+    """(rho_z, d_z x, d_z y, 2 R_i o_z) of bushing point z, 0 <= z < N_d (the overlap without its constant
+    divisor).  Indexed unsigned: numba then adds no negative-index wrap."""
+    u = np.uint64(z)
+    rho = bushing_radius + wear_depth[u]
+    dx = rho * cos_phi[u] - ex
+    dy = rho * sin_phi[u] - ey
     return rho, dx, dy, pin_radius_sq - (dx * dx + dy * dy)
+
+
+@kernel(inline='always')
+def _add_cell(sums, rho, dx, dy, before, at, after, pdx, pdy, ndx, ndy, with_jacobian):
+    """``sums`` plus the terms of one point (module docstring, :func:`_resultant_run`): its rho, d and
+    overlap ``at`` (times 2 R_i), with its neighbours' overlaps and d."""
+    s0, sx, sy, m11, m12, m21, m22 = sums
+    w = cell_overlap(before, at, after)
+    if w > 0.0:
+        rw = rho * w
+        s0 += rw
+        sx += rw * dx
+        sy += rw * dy
+        if with_jacobian:
+            gb, ga, gc = cell_overlap_gradient(before, at, after)
+            gx = gb * pdx + ga * dx + gc * ndx
+            gy = gb * pdy + ga * dy + gc * ndy
+            m11 += rho * dx * gx
+            m12 += rho * dx * gy
+            m21 += rho * dy * gx
+            m22 += rho * dy * gy
+    return s0, sx, sy, m11, m12, m21, m22
 
 
 @kernel
@@ -113,28 +139,14 @@ def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin
     gradient of degree 0."""
     n = wear_depth.shape[0]
     r2 = pin_radius * pin_radius
-    s0, sx, sy, m11, m12, m21, m22 = sums
     _, pdx, pdy, po = _point(wrap_index(first - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
     rho, dx, dy, o = _point(wrap_index(first, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
     for i in range(first, last + 1):
         nrho, ndx, ndy, no = _point(wrap_index(i + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-        w = cell_overlap(po, o, no)
-        if w > 0.0:
-            rw = rho * w
-            s0 += rw
-            sx += rw * dx
-            sy += rw * dy
-            if with_jacobian:
-                gb, ga, gc = cell_overlap_gradient(po, o, no)
-                gx = gb * pdx + ga * dx + gc * ndx
-                gy = gb * pdy + ga * dy + gc * ndy
-                m11 += rho * dx * gx
-                m12 += rho * dx * gy
-                m21 += rho * dy * gx
-                m22 += rho * dy * gy
+        sums = _add_cell(sums, rho, dx, dy, po, o, no, pdx, pdy, ndx, ndy, with_jacobian)
         pdx, pdy, po = dx, dy, o
         rho, dx, dy, o = nrho, ndx, ndy, no
-    return s0, sx, sy, m11, m12, m21, m22
+    return sums
 
 
 @kernel(inline='always')
@@ -190,16 +202,45 @@ def _unworn_interior_sums(a, b, ex, ey, pin_radius, bushing_radius, cos_phi, sin
 
 
 @kernel(inline='always')
-def _worn_points(first, last, wear_depth):
-    """How many of points first..last (indices wrap; -n <= first, last < 2n, last - first < n) are worn:
-    a count over at most two contiguous stretches, without a branch per point."""
+def _any_worn(first, last, wear_depth):
+    """True if a point of first..last is worn (indices wrap; -n <= first, last < 2n, last - first < n): at
+    most two contiguous stretches, counted without a branch per point."""
     n = wear_depth.shape[0]
-    count = 0
-    for start, stop in ((max(first, 0), min(last, n - 1) + 1), (first + n, n) if first < 0 else (0, 0),
-                        (0, last - n + 1) if last >= n else (0, 0)):
-        for z in range(start, stop):
-            count += wear_depth[z] != 0.0
-    return count
+    if first < 0:
+        return (_worn_count(first + n, n, wear_depth) | _worn_count(0, last + 1, wear_depth)) != 0
+    if last >= n:
+        return (_worn_count(first, n, wear_depth) | _worn_count(0, last - n + 1, wear_depth)) != 0
+    return _worn_count(first, last + 1, wear_depth) != 0
+
+
+@kernel(inline='always')
+def _worn_count(start, stop, wear_depth):
+    """Nonzero if a point of start..stop - 1 is worn: the OR of their bit patterns (a reduction the
+    compiler vectorises; -0.0 counts as worn, which only sends the window to the point-by-point sum)."""
+    bits = wear_depth.view(np.int64)
+    acc = np.int64(0)
+    for z in range(np.uint64(start), np.uint64(stop)):     # unsigned: no negative-index wrap per point
+        acc |= bits[z]
+    return acc
+
+
+@kernel(inline='always')
+def _arc_end(k, outward, first, last, ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """From the guess k, the last point in contact (overlap >= 0) of the arc on an unworn stretch going
+    ``outward`` (-1: down, +1: up), kept within first < k < last: (k, point k, point k + outward) as
+    :func:`_point` gives them."""
+    n = wear_depth.shape[0]
+    at = _point(wrap_index(k, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    out = _point(wrap_index(k + outward, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    while at[3] < 0.0 and first < k - outward < last:
+        k -= outward
+        out = at
+        at = _point(wrap_index(k, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    while out[3] >= 0.0 and first < k + 2 * outward < last:
+        k += outward
+        at = out
+        out = _point(wrap_index(k + outward, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    return k, at, out
 
 
 @kernel
@@ -211,34 +252,61 @@ def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushi
     (use the run) if a point is worn or the stretch has no interior."""
     n = wear_depth.shape[0]
     zeros = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    if wear_depth[wrap_index((first + last) // 2, n)] != 0.0 or _worn_points(first - 1, last + 1, wear_depth) > 0:
-        return False, zeros                   # (a worn contact is mostly worn at its centre: no count then)
-    dphi = 2.0 * math.pi / n
+    if _any_worn(first - 1, last + 1, wear_depth):
+        return False, zeros
+    steps = reach * n / (2.0 * math.pi)       # reach in points
     r2 = pin_radius * pin_radius
-    lo = max(first + 1, int(math.ceil(direction - reach / dphi)))
-    hi = min(last - 1, int(math.floor(direction + reach / dphi)))
-    while lo <= hi and _point(wrap_index(lo, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
-        lo += 1
-    while lo - 1 > first and _point(wrap_index(lo - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
-                                    wear_depth)[3] >= 0.0:
-        lo -= 1
-    while hi >= lo and _point(wrap_index(hi, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
-        hi -= 1
-    while hi + 1 < last and _point(wrap_index(hi + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
-                                   wear_depth)[3] >= 0.0:
-        hi += 1
-    if hi - lo < 2:
+    lo, at_lo, below = _arc_end(max(first + 1, int(math.ceil(direction - steps))), -1, first, last, ex, ey, r2,
+                                bushing_radius, cos_phi, sin_phi, wear_depth)
+    hi, at_hi, above = _arc_end(min(last - 1, int(math.floor(direction + steps))), 1, first, last, ex, ey, r2,
+                                bushing_radius, cos_phi, sin_phi, wear_depth)
+    if hi - lo < 2 or at_lo[3] < 0.0:
         return False, zeros
     sums = _unworn_interior_sums(lo + 1, hi - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, with_jacobian)
-    sums = _resultant_run(lo - 1, lo, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                          with_jacobian, sums)
-    sums = _resultant_run(hi, hi + 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                          with_jacobian, sums)
+    # the edge cells: points lo - 1 and hi + 1 are out of contact, and so are their outer neighbours (the
+    # overlap of a circle falls away from e's direction), whose values then do not enter cell_overlap
+    inner = _point(wrap_index(lo + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    sums = _add_cell(sums, below[0], below[1], below[2], below[3], below[3], at_lo[3], below[1], below[2], at_lo[1],
+                     at_lo[2], with_jacobian)
+    sums = _add_cell(sums, at_lo[0], at_lo[1], at_lo[2], below[3], at_lo[3], inner[3], below[1], below[2], inner[1],
+                     inner[2], with_jacobian)
+    inner = _point(wrap_index(hi - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    sums = _add_cell(sums, at_hi[0], at_hi[1], at_hi[2], inner[3], at_hi[3], above[3], inner[1], inner[2], above[1],
+                     above[2], with_jacobian)
+    sums = _add_cell(sums, above[0], above[1], above[2], at_hi[3], above[3], above[3], at_hi[1], at_hi[2], above[1],
+                     above[2], with_jacobian)
     return True, sums
 
 
+@kernel(inline='always')
+def _arc_cosine_bound(x):
+    """acos(x) or a little more [rad], x < 1: near 1 (t = 1 - x <= 0.1) sqrt(2t) (1 + t/6), above
+    acos(1 - t) = sqrt(2t) (1 + t/12 + 3t^2/160 + ...) by under 1 % of it (no libm call: the contact's
+    small overlaps); else acos(x) by libm's asin."""
+    t = 1.0 - x
+    if t <= 0.1:
+        return math.sqrt(2.0 * t) * (1.0 + t / 6.0)
+    return 2.0 * math.asin(math.sqrt(0.5 * min(t, 2.0)))
+
+
+@kernel(inline='always')
+def _nearest_point(ex, ey, n):
+    """The bushing point nearest e's direction (point k at angle (k + 1) dphi)."""
+    return int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1
+
+
+@kernel(inline='always')
+def _window(centre, half, n):
+    """(first, last, centre as a real index) of the window of points centre - half .. centre + half, shifted
+    by n where it would start before -1 (the runs wrap indices from -1 up)."""
+    first = centre - half
+    if first < -1:
+        return first + n, first + n + 2 * half, float(centre + n)
+    return first, first + 2 * half, float(centre)
+
+
 @kernel
-def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian):
+def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian, deepest):
     """Elastic-foundation force on the pin per unit kappa, in the bushing frame, and its Jacobian
     (module docstring): returns (f_x, f_y, df_x/de_x, df_x/de_y, df_y/de_x, df_y/de_y, s0) with
     F = kappa f, f = -sum_z w_z rho_z d_z [m^3] and s0 = sum_z w_z rho_z [m^2] (the overlap
@@ -248,7 +316,9 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     wear: |d|^2 = rho^2 + |e|^2 - 2 rho |e| cos(Delta) grows with rho >= R_j (rho > |e|), so o > 0
     needs cos(Delta) > (R_j^2 + |e|^2 - R_i^2) / (2 R_j |e|).  The sum runs over that window and
     one point past each end (their cells reach into the contact): in closed form where every point
-    of it is unworn (:func:`_unworn_window_sums`), else point by point."""
+    of it is unworn (:func:`_unworn_window_sums`), else point by point.  ``deepest``: the deepest
+    bushing point if known (else -1); where it is unworn and so is the window about it, it is the point
+    nearest e's direction, which is then not computed (an arctangent per evaluation)."""
     n = wear_depth.shape[0]
     sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     e = math.sqrt(ex * ex + ey * ey)
@@ -258,23 +328,21 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     if cos_max >= 1.0:                           # no point can reach the pin
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     dphi = 2.0 * math.pi / n
-    reach = 2.0 * math.asin(math.sqrt(0.5 * (1.0 - max(-1.0, cos_max))))   # acos(cos_max), by libm's asin
+    reach = _arc_cosine_bound(cos_max)
     half = int(reach / dphi) + 3                   # + rounding of the centre, + the cells reaching in
     if 2 * half + 1 >= n:
         sums = _resultant_run(0, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                               with_jacobian, sums)
     else:
-        direction = math.atan2(ey, ex) / dphi - 1.0             # e's direction as a real point index
-        centre = int(round(direction + 1.0)) - 1                # the point nearest it
-        first = centre - half
-        if first < -1:
-            first += n
-            direction += n
-        done, sums = _unworn_window_sums(first, first + 2 * half, direction, reach, ex, ey, pin_radius,
-                                         bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian)
+        hinted = 0 <= deepest < n and wear_depth[deepest] == 0.0
+        first, last, direction = _window(deepest if hinted else _nearest_point(ex, ey, n), half, n)
+        done, sums = _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                         sin_phi, wear_depth, with_jacobian)
         if not done:
-            sums = _resultant_run(first, first + 2 * half, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                                  wear_depth, with_jacobian, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+            if hinted:                               # the window must be about e's direction
+                first, last, direction = _window(_nearest_point(ex, ey, n), half, n)
+            sums = _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                  with_jacobian, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     s0, sx, sy, m11, m12, m21, m22 = sums
     scale = 0.5 / pin_radius                     # the runs' overlaps are 2 R_i o
     s0, sx, sy = s0 * scale, sx * scale, sy * scale

@@ -25,11 +25,11 @@ from .geometry import (
     distance_sq, penetrating_points, wrap_index,
 )
 from .jit import kernel
-from .pressure import cell_overlap, overlap
+from .pressure import cell_overlap, foundation_modulus_factor, overlap
 from .layout import (
     BLOCK_SIZE, MAX_WEAR_STEP_S, WEAR_STEP_SHARE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO, P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS,
-    P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE,
-    P_SLIDING, P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
+    P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_FOUNDATION_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE,
+    P_SLIDING, P_STIFFNESS, P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
     R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_PENETRATION, R_TANGENTIAL_VELOCITY,
 )
 
@@ -49,11 +49,14 @@ def effective_modulus(pin_youngs_modulus, pin_poisson_ratio, bushing_youngs_modu
 
 @kernel
 def complete_joint_parameters(jp):
-    """Fill the derived slots of the joint parameter vector from the given ones: E* (Eq. 32) and
-    the wear coefficient the updates use, k_w times the wear acceleration factor."""
+    """Fill the derived slots of the joint parameter vector from the given ones: E* (Eq. 32),
+    the wear coefficient the updates use (k_w times the wear acceleration factor) and the elastic
+    foundation's k_f L / R_i (:func:`core.pressure.foundation_modulus_factor`: three square roots the
+    contact would otherwise take at every evaluation)."""
     jp[P_EFFECTIVE_MODULUS] = effective_modulus(jp[P_PIN_YOUNGS_MODULUS], jp[P_PIN_POISSON_RATIO],
                                                 jp[P_BUSHING_YOUNGS_MODULUS], jp[P_BUSHING_POISSON_RATIO])
     jp[P_WEAR_COEFFICIENT] = jp[P_ARCHARD_COEFFICIENT] * jp[P_WEAR_FACTOR]
+    jp[P_FOUNDATION_MODULUS] = foundation_modulus_factor(jp[P_STIFFNESS], jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS])
 
 
 @kernel
