@@ -269,7 +269,7 @@ def test_the_closed_form_over_unworn_points_is_the_point_by_point_sum(worn):
     """On unworn stretches the foundation's window sum is taken in closed form (Dirichlet kernels of the
     uniform grid); it equals the sum point by point over every bushing point (the definition), with its
     Jacobian, in any direction (across point 0 too) from 30 nm to 80 um; a window touching a worn point
-    sums point by point."""
+    sums point by point.  The same with the deepest point given (the window then placed about it)."""
     from wearjoint.core import pressure
     from wearjoint.core.geometry import bushing_point_angles
 
@@ -288,8 +288,11 @@ def test_the_closed_form_over_unworn_points_is_the_point_by_point_sum(worn):
             scale = 0.5 / r_i
             s0, sx, sy = s0 * scale, sx * scale, sy * scale
             expected = np.array([-sx, -sy, s0 - m11 / r_i, -m12 / r_i, -m21 / r_i, s0 - m22 / r_i, s0])
-            got = np.array(pressure.foundation_resultant(ex, ey, r_i, r_j, cos_phi, sin_phi, wear, True, -1))
-            force = np.abs(expected[:2]).max()
-            assert np.abs(got[:2] - expected[:2]).max() <= 1e-9 * force, (angle, delta)
-            assert abs(got[6] - expected[6]) <= 1e-9 * expected[6]
-            assert np.abs(got[2:6] - expected[2:6]).max() <= 1e-12 * np.abs(expected[2:6]).max()
+            rho = r_j + wear
+            deepest = int(np.argmin((rho * cos_phi - ex) ** 2 + (rho * sin_phi - ey) ** 2))
+            for hint in (-1, deepest):
+                got = np.array(pressure.foundation_resultant(ex, ey, r_i, r_j, cos_phi, sin_phi, wear, True, hint))
+                force = np.abs(expected[:2]).max()
+                assert np.abs(got[:2] - expected[:2]).max() <= 1e-9 * force, (angle, delta, hint)
+                assert abs(got[6] - expected[6]) <= 1e-9 * expected[6]
+                assert np.abs(got[2:6] - expected[2:6]).max() <= 1e-12 * np.abs(expected[2:6]).max()

@@ -107,28 +107,6 @@ def _point(z, ex, ey, pin_radius_sq, bushing_radius, cos_phi, sin_phi, wear_dept
     return rho, dx, dy, pin_radius_sq - (dx * dx + dy * dy)
 
 
-@kernel(inline='always')
-def _add_cell(sums, rho, dx, dy, before, at, after, pdx, pdy, ndx, ndy, with_jacobian):
-    """``sums`` plus the terms of one point (module docstring, :func:`_resultant_run`): its rho, d and
-    overlap ``at`` (times 2 R_i), with its neighbours' overlaps and d."""
-    s0, sx, sy, m11, m12, m21, m22 = sums
-    w = cell_overlap(before, at, after)
-    if w > 0.0:
-        rw = rho * w
-        s0 += rw
-        sx += rw * dx
-        sy += rw * dy
-        if with_jacobian:
-            gb, ga, gc = cell_overlap_gradient(before, at, after)
-            gx = gb * pdx + ga * dx + gc * ndx
-            gy = gb * pdy + ga * dy + gc * ndy
-            m11 += rho * dx * gx
-            m12 += rho * dx * gy
-            m21 += rho * dy * gx
-            m22 += rho * dy * gy
-    return s0, sx, sy, m11, m12, m21, m22
-
-
 @kernel
 def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian,
                    sums):
@@ -139,14 +117,28 @@ def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin
     gradient of degree 0."""
     n = wear_depth.shape[0]
     r2 = pin_radius * pin_radius
+    s0, sx, sy, m11, m12, m21, m22 = sums
     _, pdx, pdy, po = _point(wrap_index(first - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
     rho, dx, dy, o = _point(wrap_index(first, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
     for i in range(first, last + 1):
         nrho, ndx, ndy, no = _point(wrap_index(i + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-        sums = _add_cell(sums, rho, dx, dy, po, o, no, pdx, pdy, ndx, ndy, with_jacobian)
+        w = cell_overlap(po, o, no)
+        if w > 0.0:
+            rw = rho * w
+            s0 += rw
+            sx += rw * dx
+            sy += rw * dy
+            if with_jacobian:
+                gb, ga, gc = cell_overlap_gradient(po, o, no)
+                gx = gb * pdx + ga * dx + gc * ndx
+                gy = gb * pdy + ga * dy + gc * ndy
+                m11 += rho * dx * gx
+                m12 += rho * dx * gy
+                m21 += rho * dy * gx
+                m22 += rho * dy * gy
         pdx, pdy, po = dx, dy, o
         rho, dx, dy, o = nrho, ndx, ndy, no
-    return sums
+    return s0, sx, sy, m11, m12, m21, m22
 
 
 @kernel(inline='always')
@@ -224,25 +216,6 @@ def _worn_count(start, stop, wear_depth):
     return acc
 
 
-@kernel(inline='always')
-def _arc_end(k, outward, first, last, ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth):
-    """From the guess k, the last point in contact (overlap >= 0) of the arc on an unworn stretch going
-    ``outward`` (-1: down, +1: up), kept within first < k < last: (k, point k, point k + outward) as
-    :func:`_point` gives them."""
-    n = wear_depth.shape[0]
-    at = _point(wrap_index(k, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    out = _point(wrap_index(k + outward, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    while at[3] < 0.0 and first < k - outward < last:
-        k -= outward
-        out = at
-        at = _point(wrap_index(k, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    while out[3] >= 0.0 and first < k + 2 * outward < last:
-        k += outward
-        at = out
-        out = _point(wrap_index(k + outward, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    return k, at, out
-
-
 @kernel
 def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
                         wear_depth, with_jacobian):
@@ -256,26 +229,25 @@ def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushi
         return False, zeros
     steps = reach * n / (2.0 * math.pi)       # reach in points
     r2 = pin_radius * pin_radius
-    lo, at_lo, below = _arc_end(max(first + 1, int(math.ceil(direction - steps))), -1, first, last, ex, ey, r2,
-                                bushing_radius, cos_phi, sin_phi, wear_depth)
-    hi, at_hi, above = _arc_end(min(last - 1, int(math.floor(direction + steps))), 1, first, last, ex, ey, r2,
-                                bushing_radius, cos_phi, sin_phi, wear_depth)
-    if hi - lo < 2 or at_lo[3] < 0.0:
+    lo = max(first + 1, int(math.ceil(direction - steps)))
+    hi = min(last - 1, int(math.floor(direction + steps)))
+    while lo <= hi and _point(wrap_index(lo, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+        lo += 1
+    while lo - 1 > first and _point(wrap_index(lo - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
+                                    wear_depth)[3] >= 0.0:
+        lo -= 1
+    while hi >= lo and _point(wrap_index(hi, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+        hi -= 1
+    while hi + 1 < last and _point(wrap_index(hi + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
+                                   wear_depth)[3] >= 0.0:
+        hi += 1
+    if hi - lo < 2:
         return False, zeros
     sums = _unworn_interior_sums(lo + 1, hi - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, with_jacobian)
-    # the edge cells: points lo - 1 and hi + 1 are out of contact, and so are their outer neighbours (the
-    # overlap of a circle falls away from e's direction), whose values then do not enter cell_overlap
-    inner = _point(wrap_index(lo + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    sums = _add_cell(sums, below[0], below[1], below[2], below[3], below[3], at_lo[3], below[1], below[2], at_lo[1],
-                     at_lo[2], with_jacobian)
-    sums = _add_cell(sums, at_lo[0], at_lo[1], at_lo[2], below[3], at_lo[3], inner[3], below[1], below[2], inner[1],
-                     inner[2], with_jacobian)
-    inner = _point(wrap_index(hi - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    sums = _add_cell(sums, at_hi[0], at_hi[1], at_hi[2], inner[3], at_hi[3], above[3], inner[1], inner[2], above[1],
-                     above[2], with_jacobian)
-    sums = _add_cell(sums, above[0], above[1], above[2], at_hi[3], above[3], above[3], at_hi[1], at_hi[2], above[1],
-                     above[2], with_jacobian)
-    return True, sums
+    sums = _resultant_run(lo - 1, lo, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                          with_jacobian, sums)
+    return True, _resultant_run(hi, hi + 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                with_jacobian, sums)
 
 
 @kernel(inline='always')
