@@ -21,7 +21,7 @@ from numba.core import event
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 20, 83),
     "cosim": ("the co-simulation master's numba kernels", 15, 96),
-    "fmu": ("the FMU's kernels, ahead of time (once per source version)", 20, 90),
+    "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100),
     "kernels": ("the numba kernels", 20, 90),
 }
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}

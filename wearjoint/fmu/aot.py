@@ -23,17 +23,17 @@ Python.  :func:`compile_ir` proves it: the only symbols an object may
 leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
 build fails.
 
-Run as ``python -m wearjoint.fmu.aot MODEL OUT_DIR`` in a fresh process with ``NUMBA_CPU_NAME=generic``;
-:func:`wearjoint.fmu.build_native.build_fmu` does that.  The entry points are compiled there, never taken from numba's cache (a cached function has
+Run as ``python -m wearjoint.fmu.aot MODEL OUT_DIR [SYMBOL,...]`` in a fresh process with
+``NUMBA_CPU_NAME=generic``; :func:`wearjoint.fmu.build_native.build_fmu` does that, in two processes on
+two cores (:data:`PARTS`), which share numba's cache.  The entry points are compiled there, never taken from numba's cache (a cached function has
 no IR); the kernels they call may be: numba caches each with the bitcode that links it into a caller.  Writes per entry point
-``<symbol>.ll`` and ``entry_points.json`` ({symbol: IR file}); prints the number of numba's
-compilations so far after each (the builder's progress bar).
+``<symbol>.ll``; prints the number of numba's compilations so far after each (the builder's progress
+bar).
 """
 from __future__ import annotations
 
 import functools
 import importlib
-import json
 import re
 import sys
 from pathlib import Path
@@ -72,9 +72,41 @@ ENTRY_POINTS = {
         "wearjoint_check_values": ("check_values_native", 8),
     }),
 }
+# model -> the entry points of the second of two AOT processes, in order (the first takes the rest).  The
+# first starts with the contact's evaluation, which the second's last entry point calls again: by then it
+# is in the numba cache the two share, and the second loads it instead of compiling it a second time.
+PARTS = {
+    "joint": ("wearjoint_accept", "wearjoint_update_contact_memory", "wearjoint_state_size", "wearjoint_write_state",
+              "wearjoint_check_header", "wearjoint_read_state", "wearjoint_check_values", "wearjoint_bushing_points",
+              "wearjoint_block_minima", "wearjoint_worn_volume", "wearjoint_complete_parameters", "wearjoint_advance"),
+    "slider-crank": ("wearjoint_state_size", "wearjoint_write_state", "wearjoint_check_header", "wearjoint_read_state",
+                     "wearjoint_check_values"),
+}
+
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)
 ALLOWED_UNDEFINED = frozenset({"sqrt", "cos", "sin", "sincos", "atan2", "asin", "pow", "ceil", "floor", "rint", "round",
                                "fabs", "exp", "log", "fmin", "fmax", "memset", "memcpy", "memmove"})
+
+
+class EntryPoint:
+    """A native FMU's C entry point: a function of kernels and its C signature (numba types), compiled
+    into a numba ``cfunc`` only by :meth:`compile` (a ``cfunc`` compiles where it is defined: each AOT
+    process compiles its own entry points, nothing else does)."""
+
+    def __init__(self, function, signature):
+        self.function = function
+        self.signature = signature
+
+    def compile(self):
+        """The ``cfunc`` (not cached: a cached ``cfunc`` has no IR; the kernels it calls may be)."""
+        from numba import cfunc
+
+        return cfunc(self.signature, error_model="numpy")(self.function)
+
+
+def entry_point(signature):
+    """Decorator: the function as an :class:`EntryPoint` of C signature ``signature``."""
+    return lambda function: EntryPoint(function, signature)
 
 
 def _drop_function(ir: str, name: str) -> str:
@@ -115,12 +147,14 @@ def _target_machine(triple: str, cpu: str):
                                                                    codemodel="default")
 
 
-def compile_ir(model: str, out_dir: Path) -> dict:
-    """Every entry point of ``model``'s IR, internalised and stripped to what it needs, into
-    ``out_dir``; returns {symbol: IR file name}."""
+def compile_ir(model: str, out_dir: Path, only=None) -> dict:
+    """Every entry point of ``model`` (or those named in ``only``, in that order), its IR internalised
+    and stripped to what it needs, into ``out_dir``; returns {symbol: IR file name}."""
     import llvmlite.binding as llvm
 
     module_name, symbols = ENTRY_POINTS[model]
+    if only is not None:
+        symbols = {symbol: symbols[symbol] for symbol in only}
     entry_points = importlib.import_module(module_name)
 
     triple = llvm.get_process_triple()   # numba wrote the IR for this machine (generic CPU)
@@ -128,7 +162,7 @@ def compile_ir(model: str, out_dir: Path) -> dict:
     out_dir.mkdir(parents=True, exist_ok=True)
     modules = {}
     for symbol, (name, n_arguments) in symbols.items():
-        cfunc = getattr(entry_points, name)
+        cfunc = getattr(entry_points, name).compile()
         if len(cfunc._sig.args) != n_arguments:
             raise RuntimeError(f"AOT: {name} takes {len(cfunc._sig.args)} arguments, the C prototype of {symbol} "
                                f"{n_arguments}: update both together")
@@ -154,7 +188,6 @@ def compile_ir(model: str, out_dir: Path) -> dict:
                                "Python path survived in the kernels; the native FMU must need libc/libm only)")
         (out_dir / f"{symbol}.ll").write_text(str(module))
         modules[symbol] = f"{symbol}.ll"
-    (out_dir / "entry_points.json").write_text(json.dumps(modules, indent=1))
     return modules
 
 
@@ -172,10 +205,7 @@ def emit_object(ir_path: Path, triple: str, cpu: str) -> bytes:
 
 
 if __name__ == "__main__":
-    from numba.core.ccallback import CFunc
-
     from ..compile_notice import watching   # each compilation's count on stdout: the builder's progress bar
 
-    CFunc.enable_caching = lambda self: None   # the entry points compile here (a cached cfunc has no IR) ...
     with watching("fmu", on_compile=lambda count: print(count, flush=True), quiet=True):
-        compile_ir(sys.argv[1], Path(sys.argv[2]))   # ... on the kernels numba's cache holds
+        compile_ir(sys.argv[1], Path(sys.argv[2]), sys.argv[3].split(",") if len(sys.argv) > 3 else None)

@@ -29,6 +29,8 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 import uuid
 import zipfile
 from pathlib import Path
@@ -290,23 +292,49 @@ def kernel_key(model: str = DEFAULT_MODEL) -> str:
     return f"{spec.name}-numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
 
 
+def _aot_parts(model: str) -> list:
+    """The entry points of each AOT process: two (:data:`aot.PARTS`) where there are two cores or more."""
+    symbols = list(aot.ENTRY_POINTS[model][1])
+    second = list(aot.PARTS[model]) if (os.cpu_count() or 1) > 1 else []
+    return [[symbol for symbol in symbols if symbol not in second], *([second] if second else [])]
+
+
 def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
-    """:mod:`.aot` in a fresh process, said on stderr with a progress bar of its compilations.  It takes the
-    kernels numba's cache holds (an in-process run's: the same CPU) unless ``fresh`` (an empty cache)."""
+    """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
+    progress bar of their compilations.  They take the kernels numba's cache holds (an in-process run's:
+    the same CPU) unless ``fresh`` (an empty cache)."""
+    parts = _aot_parts(model)
     bar = announced_progress("fmu")
-    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryFile("w+") as errors:
-        env = {**os.environ, **AOT_ENVIRONMENT, **({"NUMBA_CACHE_DIR": cache} if fresh else {})}
-        process = subprocess.Popen([sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir)],
-                                   stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent)
-        for line in process.stdout:
+    counts = [0] * len(parts)
+
+    def follow(k, stream):
+        for line in stream:
             if line.strip().isdigit():
-                bar.update(int(line))
-        failed = process.wait() != 0
+                counts[k] = int(line)
+
+    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryDirectory() as logs:
+        env = {**os.environ, **AOT_ENVIRONMENT, **({"NUMBA_CACHE_DIR": cache} if fresh else {})}
+        processes, readers = [], []
+        for k, part in enumerate(parts):
+            with open(Path(logs) / f"{k}.err", "w") as errors:
+                processes.append(subprocess.Popen(
+                    [sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir), ",".join(part)],
+                    stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent))
+            readers.append(threading.Thread(target=follow, args=(k, processes[-1].stdout), daemon=True))
+            readers[-1].start()
+        while any(process.poll() is None for process in processes):
+            bar.update(sum(counts))
+            time.sleep(0.1)
+        for reader in readers:
+            reader.join()
         bar.close()
-        errors.seek(0)
-        if failed:
-            raise RuntimeError(f"compiling the kernels ahead of time failed:\n{errors.read().strip()[-3000:]}")
-    return json.loads((out_dir / "entry_points.json").read_text())
+        for k, process in enumerate(processes):
+            if process.returncode != 0:
+                raise RuntimeError("compiling the kernels ahead of time failed:\n"
+                                   + (Path(logs) / f"{k}.err").read_text().strip()[-3000:])
+    modules = {symbol: f"{symbol}.ll" for symbol in aot.ENTRY_POINTS[model][1]}
+    (out_dir / "entry_points.json").write_text(json.dumps(modules, indent=1))
+    return modules
 
 
 def compile_kernel_ir(out_dir: Path, reuse: bool = True, model: str = DEFAULT_MODEL) -> dict:
@@ -350,11 +378,13 @@ def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform) 
     return objects
 
 
-def link_arguments(target: platforms.Platform, fmi_version: int, objects, model: str = DEFAULT_MODEL) -> list[str]:
-    """The C compiler's arguments that link ``target``'s binary of ``model`` in the sources folder."""
+def link_arguments(target: platforms.Platform, fmi_version: int, objects, model: str = DEFAULT_MODEL,
+                   output: str | None = None) -> list[str]:
+    """The C compiler's arguments that link ``target``'s binary of ``model`` in the sources folder (into
+    ``output``, by default the model identifier with the platform's extension)."""
     c_files = [name for name in c_sources(fmi_version, model) if name.endswith(".c")]
     return [*platforms.COMMON_C_FLAGS, *target.link_flags, *target.exports_flag(fmi_version), "-I.", *c_files,
-            *objects, "-lm", "-o", f"{native_model(model).identifier}{target.extension}"]
+            *objects, "-lm", "-o", output or f"{native_model(model).identifier}{target.extension}"]
 
 
 def _build_script(targets, fmi_version: int, objects_by_platform: dict, model: str) -> str:
@@ -433,12 +463,15 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         objects = {t.name: kernel_objects(sources / "kernels", modules, t) for t in targets}
         (sources / "build.sh").write_text(_build_script(targets, fmi_version, objects, model))
         binaries = {}
+        links = {t.name: subprocess.Popen(   # the platforms' compilers at once, each binary in its own folder
+            [platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model,
+                                                    f"kernels/{t.name}/{spec.identifier}{t.extension}")],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=sources) for t in targets}
         for t in targets:
-            done = subprocess.run([platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model)],
-                                  capture_output=True, text=True, cwd=sources)
-            if done.returncode != 0:
-                raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{done.stderr.strip()[-3000:]}")
-            binary = sources / f"{spec.identifier}{t.extension}"
+            output = links[t.name].communicate()[0]
+            if links[t.name].returncode != 0:
+                raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{output.strip()[-3000:]}")
+            binary = sources / "kernels" / t.name / f"{spec.identifier}{t.extension}"
             binaries[t.binary_arcname(fmi_version, spec.identifier)] = binary.read_bytes()
             binary.unlink()
         out_dir.mkdir(parents=True, exist_ok=True)

@@ -9,12 +9,13 @@ angle, vx, vy, omega, then the bushing's).  Nothing here allocates or touches Py
 objects, so a call costs about as much as the kernel.
 """
 import numpy as np
-from numba import carray, cfunc, types
+from numba import carray, types
 
 from ..core.contact import contact_jacobian, evaluate_contact, update_contact_memory
 from ..core.geometry import block_minimum_depth, bushing_points
 from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
 from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
+from .aot import entry_point
 from .state_entry_points import (  # noqa: F401  (the joint FMU's state entry points, aot.ENTRY_POINTS)
     check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
 )
@@ -30,7 +31,7 @@ ADVANCE_SIGNATURE = types.int32(*_ARRAYS, _F64, *_SIZES, types.float64)
 JACOBIAN_SIGNATURE = types.int32(*_ARRAYS[:-1], _F64, *_SIZES)
 
 
-@cfunc(EVALUATE_SIGNATURE, cache=True, error_model="numpy")
+@entry_point(EVALUATE_SIGNATURE)
 def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask,
                     n_points, n_blocks):
     """Forces for the kinematics into ``result`` (layout.R_*), Eqs. 1-23; returns 0."""
@@ -41,7 +42,7 @@ def evaluate_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
     return 0
 
 
-@cfunc(JACOBIAN_SIGNATURE, cache=True, error_model="numpy")
+@entry_point(JACOBIAN_SIGNATURE)
 def jacobian_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, jacobian, n_points,
                     n_blocks):
     """:func:`evaluate_native` and d result[r] / d kinematics[m] into ``jacobian[12 r + m]``; returns 0."""
@@ -52,7 +53,7 @@ def jacobian_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
     return 0
 
 
-@cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
+@entry_point(ADVANCE_SIGNATURE)
 def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work,
                    n_points, n_blocks, dt):
     """Accept a step of dt [s] at the kinematics (wear, contact memory); returns 1 if the
@@ -66,7 +67,7 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
     return changed
 
 
-@cfunc(ADVANCE_SIGNATURE, cache=True, error_model="numpy")
+@entry_point(ADVANCE_SIGNATURE)
 def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work, n_points,
                   n_blocks, dt):
     """:func:`advance_native` when ``result`` already holds the evaluation at these kinematics and
@@ -80,34 +81,34 @@ def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memor
     return changed
 
 
-@cfunc(types.int32(_F64, _F64, _F64, types.int64), cache=True, error_model="numpy")
+@entry_point(types.int32(_F64, _F64, _F64, types.int64))
 def bushing_points_native(phi, cos_phi, sin_phi, n_points):
     """phi_z, cos phi_z, sin phi_z of the bushing points (Eq. 3); returns 0."""
     bushing_points(carray(phi, n_points), carray(cos_phi, n_points), carray(sin_phi, n_points))
     return 0
 
 
-@cfunc(types.int32(_F64, _F64, types.int64, types.int64), cache=True, error_model="numpy")
+@entry_point(types.int32(_F64, _F64, types.int64, types.int64))
 def block_minima_native(wear_depth, block_min, n_points, n_blocks):
     """Refresh the contact search's block minima after the wear profile was replaced; returns 0."""
     block_minimum_depth(carray(wear_depth, n_points), carray(block_min, n_blocks))
     return 0
 
 
-@cfunc(types.float64(_F64, _F64, types.int64), cache=True, error_model="numpy")
+@entry_point(types.float64(_F64, _F64, types.int64))
 def worn_volume_native(jp, wear_depth, n_points):
     """Volume removed from the bushing [m^3]."""
     return worn_volume(carray(jp, N_JOINT_PARAMETERS), carray(wear_depth, n_points))
 
 
-@cfunc(types.int32(_F64), cache=True, error_model="numpy")
+@entry_point(types.int32(_F64))
 def complete_parameters_native(jp):
     """Fill the derived slots of the joint parameter vector (E*, effective k_w); returns 0."""
     complete_joint_parameters(carray(jp, N_JOINT_PARAMETERS))
     return 0
 
 
-@cfunc(types.int32(_F64, _F64, _F64), cache=True, error_model="numpy")
+@entry_point(types.int32(_F64, _F64, _F64))
 def update_contact_memory_native(result, jp, memory):
     """Contact-onset bookkeeping for the evaluation in ``result`` (a Model Exchange event);
     returns 1 if the contact memory changed, else 0."""

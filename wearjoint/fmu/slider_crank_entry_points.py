@@ -11,12 +11,13 @@ mass).  The workspace of :func:`wearjoint.core.mechanism.make_workspace` comes a
 The FMU state is written, checked and read by the state format's entry points
 (:mod:`wearjoint.fmu.state_entry_points`), as the joint FMU's.
 """
-from numba import carray, cfunc, types
+from numba import carray, types
 
 from ..core.integrators import rk4_hold
 from ..core.jit import kernel
 from ..core.layout import MODE_EXTERNAL, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
 from ..core.mechanism import JointArrays, derivative, initial_state, inverse_mass_diagonal, mechanism_parameter_vector
+from .aot import entry_point
 from .state_entry_points import (  # noqa: F401  (the FMU state's entry points, aot.ENTRY_POINTS)
     check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
 )
@@ -38,7 +39,7 @@ def _no_joint(mp):
     return JointArrays(mp, mp, mp, mp, mp, mp, mp, mp, mp)
 
 
-@cfunc(types.int32(_F64, _F64, _F64), cache=True, error_model="numpy")
+@entry_point(types.int32(_F64, _F64, _F64))
 def parameters_native(fields, mp, minv):
     """The kernels' parameter vector (layout.MP_*) from the SliderCrankParameters fields (rpm,
     degrees) and M^-1 (Eq. 42); returns 0."""
@@ -48,7 +49,7 @@ def parameters_native(fields, mp, minv):
     return 0
 
 
-@cfunc(types.int32(types.float64, _F64, *_WORKSPACE, _F64), cache=True, error_model="numpy")
+@entry_point(types.int32(types.float64, _F64, *_WORKSPACE, _F64))
 def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y):
     """The ideal mechanism's consistent state at time t [s] into y (crank at th0 - omega t); returns 0."""
     initial_state(t, carray(mp, N_MECHANISM_PARAMETERS), _workspace(jac, schur, phi, phi_dot, gamma, minv, force),
@@ -56,7 +57,7 @@ def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y)
     return 0
 
 
-@cfunc(types.int32(types.float64, _F64, _F64, _F64, *_WORKSPACE, _F64), cache=True, error_model="numpy")
+@entry_point(types.int32(types.float64, _F64, _F64, _F64, *_WORKSPACE, _F64))
 def derivative_native(t, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy):
     """dy = dy/dt of y = [q, q_dot] under the joint's loads ``forces`` (Eq. 44); returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
@@ -65,8 +66,7 @@ def derivative_native(t, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, f
     return 0
 
 
-@cfunc(types.int32(types.float64, types.float64, types.int64, _F64, _F64, _F64, *_WORKSPACE, _F64, _F64),
-       cache=True, error_model="numpy")
+@entry_point(types.int32(types.float64, types.float64, types.int64, _F64, _F64, _F64, *_WORKSPACE, _F64, _F64))
 def step_native(t, h, n_steps, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy, stages):
     """y advanced over [t, t + h] in n_steps RK4 steps with ``forces`` held, dy = f at the end
     (``stages``: 4 x 18 scratch); returns 0."""

@@ -4,23 +4,23 @@ The joint FMU and the SliderCrank FMU write, check and read their FMU states wit
 ``cfunc``s, compiled ahead of time into each binary (:mod:`wearjoint.fmu.aot`): the same kernels
 as the in-process joint, so one layout, one checksum and one set of checks for every state.
 """
-from numba import carray, cfunc, types
+from numba import carray, types
 
 from ..core import state_format
 from ..core.layout import N_MEMORY
+from .aot import entry_point
 
 _F64 = types.CPointer(types.float64)
 _U8 = types.CPointer(types.uint8)
 
 
-@cfunc(types.int64(types.int64, types.int64), cache=True, error_model="numpy")
+@entry_point(types.int64(types.int64, types.int64))
 def state_size_native(n_head, n_points):
     """Bytes of a state with ``n_head`` head values and ``n_points`` wear depths."""
     return state_format.state_size(n_head, n_points)
 
 
-@cfunc(types.int32(_U8, types.int64, types.int64, _F64, types.int64, _F64, _F64, types.int64), cache=True,
-       error_model="numpy")
+@entry_point(types.int32(_U8, types.int64, types.int64, _F64, types.int64, _F64, _F64, types.int64))
 def write_state_native(data, size, contents, head, n_head, memory, wear_depth, n_points):
     """Write a state of ``contents`` into ``data`` (``size`` bytes, checksum included); returns 0."""
     state_format.write_state(carray(data, size), contents, carray(head, n_head), carray(memory, N_MEMORY),
@@ -28,13 +28,13 @@ def write_state_native(data, size, contents, head, n_head, memory, wear_depth, n
     return 0
 
 
-@cfunc(types.int32(_U8, types.int64, types.int64, types.int64, types.int64, _F64), cache=True, error_model="numpy")
+@entry_point(types.int32(_U8, types.int64, types.int64, types.int64, types.int64, _F64))
 def check_header_native(data, size, contents, n_head, n_points, values):
     """0 if ``data`` is an intact state of this kind and size, else the problem (values: what it compared)."""
     return state_format.check_header(carray(data, size), contents, n_head, n_points, carray(values, 4))
 
 
-@cfunc(types.int32(_U8, types.int64, _F64, types.int64, _F64, _F64, types.int64), cache=True, error_model="numpy")
+@entry_point(types.int32(_U8, types.int64, _F64, types.int64, _F64, _F64, types.int64))
 def read_state_native(data, size, head, n_head, memory, wear_depth, n_points):
     """Copy a checked state's values out; returns 0."""
     state_format.read_state(carray(data, size), carray(head, n_head), carray(memory, N_MEMORY),
@@ -42,8 +42,7 @@ def read_state_native(data, size, head, n_head, memory, wear_depth, n_points):
     return 0
 
 
-@cfunc(types.int32(_F64, types.int64, _F64, _F64, types.int64, types.float64, types.float64, _F64), cache=True,
-       error_model="numpy")
+@entry_point(types.int32(_F64, types.int64, _F64, _F64, types.int64, types.float64, types.float64, _F64))
 def check_values_native(head, n_head, memory, wear_depth, n_points, bushing_radius, velocity_floor, values):
     """0 if a state's values are in range (an FMU head's time and flag, the contact memory, the wear
     depths up to ``bushing_radius``), else the problem (values: what it compared)."""
