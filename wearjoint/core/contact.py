@@ -46,14 +46,6 @@ def hysteresis_factor(penetration_rate, impact_velocity, restitution):
 
 
 @kernel
-def lankarani_nikravesh(penetration, penetration_rate, impact_velocity, stiffness, exponent,
-                        restitution):
-    """Normal force F_N = K delta^n (1 + 3(1 - e_r^2)/4 delta_dot/delta_dot^-) >= 0, Eq. (15) [N]."""
-    power = penetration * math.sqrt(penetration) if exponent == 1.5 else penetration ** exponent
-    return max(0.0, stiffness * power * hysteresis_factor(penetration_rate, impact_velocity, restitution))
-
-
-@kernel
 def ambrosio_friction_factor(sliding_speed, v0, v1):
     """Dynamic correction coefficient c_d of Eq. (19) on |v_T|; 0 below v0, 1 above v1."""
     if sliding_speed <= v0:
