@@ -103,8 +103,8 @@ def divergence(engine, samples: np.ndarray, clearance_m: float) -> str:
     reason = analysis.pin_left_bushing(analysis.sample_eccentricity_max(samples), clearance_m, engine.max_wear_depth_m())
     if not reason:
         return ""
-    return (f"the run diverged by t = {engine.t:.6g} s: {reason}; nothing after this is physical (take a shorter step "
-            "or a smaller wear factor)")
+    return (f"the run diverged by t = {engine.t:.6g} s: {reason}; nothing after this is physical (take a shorter step, "
+            "an adaptive integrator or a smaller wear factor; docs/model.md §7)")
 
 
 class RunDiverged(RuntimeError):
