@@ -144,7 +144,8 @@ SLOW_STEP_S = {"libcosim": 0.5e-6, "ecos": 0.5e-6, "fmpy-ssp": 0.5e-6, "containe
 
 @pytest.fixture(scope="module")
 def study():
-    """Every installed master at its SLOW_STEP_S over 2 revolutions, judged against the monolithic scatter."""
+    """Every installed master at its SLOW_STEP_S over 2 revolutions from two starts, judged against the
+    monolithic scatter."""
     from wearjoint.validation.masters_study import run_study
 
     rows = run_study(2.0, sorted(set(SLOW_STEP_S.values())), CASES, FMUSIM, log=lambda m: None,
@@ -155,10 +156,11 @@ def study():
 @pytest.mark.slow
 @pytest.mark.parametrize("case", CASES)
 def test_two_revolutions_of_each_master_stay_inside_the_monolithic_scatter(case, study):
-    """At its step the per-revolution statistics of the master's 2 revolutions are within validate's
-    tolerance of the monolithic reference: all but at most one, which (a sample near its tolerance:
-    equally valid runs fall on either side, docs/cosim_study.md) stays within twice it; an unstable
-    coupling is off by orders of magnitude."""
+    """At its step the per-revolution statistics of the master's 2 revolutions, the mean of two perturbed
+    starts (masters_study.ENSEMBLE), are within validate's tolerance of the monolithic reference built from
+    ensembles of the same size: all but at most one, which (a sample near its tolerance: equally valid runs
+    fall on either side, docs/cosim_study.md) stays within twice it; an unstable coupling is off by orders
+    of magnitude."""
     _master_or_skip(case)
     row = study[case]
     assert "metrics" in row, row
