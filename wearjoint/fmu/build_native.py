@@ -467,10 +467,10 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
             [platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model,
                                                     f"kernels/{t.name}/{spec.identifier}{t.extension}")],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=sources) for t in targets}
+        outputs = {name: link.communicate()[0] for name, link in links.items()}   # all done before any error
         for t in targets:
-            output = links[t.name].communicate()[0]
             if links[t.name].returncode != 0:
-                raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{output.strip()[-3000:]}")
+                raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{outputs[t.name].strip()[-3000:]}")
             binary = sources / "kernels" / t.name / f"{spec.identifier}{t.extension}"
             binaries[t.binary_arcname(fmi_version, spec.identifier)] = binary.read_bytes()
             binary.unlink()
