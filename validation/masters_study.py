@@ -48,9 +48,10 @@ def run_study(revolutions: float, steps, names, fmusim: str | None, log=print, s
         f"{time.perf_counter() - start:.0f} s")
     rows = []
     with tempfile.TemporaryDirectory(prefix="masters_study_") as tmp:
-        packages = [ssp.export_ssp(Path(tmp) / str(k), mechanism=perturbed_start(mechanism, k), joint=joint,
+        starts = [perturbed_start(mechanism, k) for k in range(ensemble)]
+        packages = [ssp.export_ssp(Path(tmp) / str(k), mechanism=perturbed, joint=joint,
                                    stop_time=revolutions * mechanism.period_s, platforms="linux64")
-                    for k in range(ensemble)]
+                    for k, perturbed in enumerate(starts)]
         for name in names:
             master, host = ("container", fmusim) if name == "container-fmusim" else (name, None)
             missing = masters.master_available(master) or (
@@ -63,8 +64,8 @@ def run_study(revolutions: float, steps, names, fmusim: str | None, log=print, s
                     log(f"{name} {step * 1e6:g} us: skipped ({reason})")
                     continue
                 try:
-                    records = [masters.run_package(master, package, joint, perturbed_start(mechanism, k), revolutions,
-                                                   step, SAMPLE_DT_S, fmusim=host) for k, package in enumerate(packages)]
+                    records = [masters.run_package(master, package, joint, perturbed, revolutions, step, SAMPLE_DT_S,
+                                                   fmusim=host) for perturbed, package in zip(starts, packages)]
                 except Exception as exc:      # an unstable step ends in a non-finite state or an FMU error
                     rows.append({"master": name, "step_s": step, "failed": f"{type(exc).__name__}: {exc}"[:200]})
                     log(f"{name} {step * 1e6:g} us: failed ({rows[-1]['failed']})")

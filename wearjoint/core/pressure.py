@@ -196,17 +196,17 @@ def _unworn_interior_sums(a, b, ex, ey, pin_radius, bushing_radius, cos_phi, sin
 @kernel(inline='always')
 def _any_worn(first, last, wear_depth):
     """True if a point of first..last is worn (indices wrap; -n <= first, last < 2n, last - first < n): at
-    most two contiguous stretches, counted without a branch per point."""
+    most two contiguous stretches, each without a branch per point."""
     n = wear_depth.shape[0]
     if first < 0:
-        return (_worn_count(first + n, n, wear_depth) | _worn_count(0, last + 1, wear_depth)) != 0
+        return (_worn_bits(first + n, n, wear_depth) | _worn_bits(0, last + 1, wear_depth)) != 0
     if last >= n:
-        return (_worn_count(first, n, wear_depth) | _worn_count(0, last - n + 1, wear_depth)) != 0
-    return _worn_count(first, last + 1, wear_depth) != 0
+        return (_worn_bits(first, n, wear_depth) | _worn_bits(0, last - n + 1, wear_depth)) != 0
+    return _worn_bits(first, last + 1, wear_depth) != 0
 
 
 @kernel(inline='always')
-def _worn_count(start, stop, wear_depth):
+def _worn_bits(start, stop, wear_depth):
     """Nonzero if a point of start..stop - 1 is worn: the OR of their bit patterns (a reduction the
     compiler vectorises; -0.0 counts as worn, which only sends the window to the point-by-point sum)."""
     bits = wear_depth.view(np.int64)
@@ -220,8 +220,9 @@ def _worn_count(start, stop, wear_depth):
 def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
                         wear_depth, with_jacobian):
     """(done, sums) of :func:`_resultant_run` over first..last when every point the window touches is unworn:
-    the stretch in contact (2 R_i o >= 0: |phi - phi_e| <= ``reach`` about the real index ``direction`` of
-    e, the edges found again point by point) in closed form, its two edge cells point by point.  Not done
+    the stretch in contact (2 R_i o >= 0: within ``reach`` of e's direction, about the point index
+    ``direction`` nearest it; the edges found again point by point) in closed form, its two edge cells
+    point by point.  Not done
     (use the run) if a point is worn or the stretch has no interior."""
     n = wear_depth.shape[0]
     zeros = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
