@@ -368,6 +368,24 @@ def test_solving_with_a_step_too_long_for_wear_stops_naming_the_step():
     assert handle.accepted_steps > 0
 
 
+@pytest.mark.parametrize("end_time", [0.05, 1e-5 * 12345.4, 1.4e-5, 2.5e-6])
+def test_the_helpers_steps_never_exceed_the_step_asked_for(end_time):
+    """simulation_settings takes the fewest whole steps of at most step_s: an end time that is no multiple
+    of the wear-step limit used to round to a step just over it, which the joints' check then refused;
+    a multiple keeps its count (0.05 s: 5000 steps)."""
+    import exudyn as exu
+
+    settings = simulation_settings(end_time, 1e-5)
+    n = settings.timeIntegration.numberOfSteps
+    assert end_time / n <= 1e-5 and (n == 1 or end_time / (n - 1) > 1e-5)
+    if end_time == 0.05:
+        assert n == 5000
+    if end_time < 1e-3:                            # a whole run only where it is short
+        sc, mbs, handle = _hung_bar(wear_factor=1.0)
+        settings = simulation_settings(end_time, 1e-5, [handle])
+        assert exu.SolveDynamic(mbs, settings)
+
+
 def test_sensors_keep_working_with_the_helpers_settings():
     import exudyn as exu
     from exudyn.itemInterface import SensorNode

@@ -346,7 +346,7 @@ def contact_stiffness_bound(parameters: JointParameters) -> float:
 
 def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate_scale_m: float = 1.0
                         ) -> "exu.SimulationSettings":
-    """exudyn settings for ``end_time_s`` [s] in fixed steps of about ``step_s`` [s] (whole steps),
+    """exudyn settings for ``end_time_s`` [s] in whole fixed steps of at most ``step_s`` [s] (the fewest such),
     quiet: no solution file, no console output (sensors work as exudyn's defaults say: add them with
     ``storeInternal=True`` to read them back), with Newton's absolute tolerance above
     the contact's round-off floor (docs/model.md §8): exudyn's residual M a - f [N, N m] cannot fall
@@ -364,7 +364,8 @@ def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate
                     default=contact_stiffness_bound(JointParameters()))
     settings = exu.SimulationSettings()
     settings.timeIntegration.endTime = end_time_s
-    settings.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
+    # at most step_s: rounding to the nearest count could give a step over it, which the wear-step check refuses
+    settings.timeIntegration.numberOfSteps = max(1, math.ceil(end_time_s / step_s * (1.0 - 1e-12)))
     newton = settings.timeIntegration.newton
     newton.absoluteTolerance = NEWTON_SAFETY * _EPSILON * coordinate_scale_m * stiffness
     newton.maxModifiedNewtonIterations = 2      # exudyn's default: 8
