@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from wearjoint import ClearanceJoint, JointParameters, paper_joint
-from wearjoint.core.geometry import find_deepest_point, find_deepest_point_full
+from wearjoint.core.geometry import angle_near_point, find_deepest_point, find_deepest_point_full, point_nearest_angle
 
 # N_d divisible by 4 puts bushing points exactly at 0, 90, 180 and 270 deg
 P = paper_joint(n_points=1256)   # the slider-crank offsets: the torques below are by hand for them
@@ -134,8 +134,9 @@ def test_pruned_search_is_identical_to_the_full_scan_on_random_worn_profiles():
             e = rng.normal(0.0, 3e-4, 2) if rng.random() < 0.9 else np.zeros(2)
             full = find_deepest_point_full(e[0], e[1], 0.0101, joint.cos_phi, joint.sin_phi, joint.wear_depth)
             # the hint (previous deepest point) changes the work, never the answer: none, out of range,
-            # the answer itself, a random point
-            for hint in (-1, h.size, full[0], int(rng.integers(h.size))):
+            # the answer itself, points the walk to e's direction starts from, a random point
+            near = [(full[0] + o) % h.size for o in (-9, -8, -3, -1, 1, 2, 8, 9)]
+            for hint in (-1, h.size, full[0], *near, int(rng.integers(h.size))):
                 fast = find_deepest_point(e[0], e[1], 0.0101, joint.cos_phi, joint.sin_phi, joint.wear_depth,
                                           joint.block_min, hint)
                 assert (fast[0], fast[1]) == (full[0], full[1])
@@ -151,3 +152,34 @@ def test_full_scan_finds_the_point_nearest_the_pin_centre():
     pts = (0.0101 + h)[:, None] * np.c_[joint.cos_phi, joint.sin_phi]
     k, d2 = find_deepest_point_full(e[0], e[1], 0.0101, joint.cos_phi, joint.sin_phi, h)
     assert k == int(np.argmin(np.sum((pts - e) ** 2, axis=1)))
+
+
+def test_the_contact_angle_about_a_point_is_atan2s_to_rounding():
+    """The angle of a vector computed about bushing point k's direction (the arctangent's series within
+    |tan| <= 1/16 of it, atan2 beyond) equals atan2's in [0, 2 pi), across the 0/2 pi seam too."""
+    joint = ClearanceJoint(JointParameters(n_points=360))
+    n = joint.phi_rad.size
+    rng = np.random.default_rng(5)
+    series = 0
+    for _ in range(20000):
+        k = int(rng.integers(n)) if rng.random() < 0.8 else int(rng.choice([0, n - 1]))
+        offset = rng.normal(0.0, 0.04) if rng.random() < 0.9 else rng.uniform(-math.pi, math.pi)
+        angle = joint.phi_rad[k] + offset
+        v = rng.uniform(1e-7, 1.0) * np.array([math.cos(angle), math.sin(angle)])
+        expected = math.atan2(v[1], v[0]) % (2 * math.pi)
+        got = angle_near_point(v[0], v[1], k, joint.cos_phi, joint.sin_phi)
+        assert 0.0 <= got < 2 * math.pi
+        assert abs(math.remainder(got - expected, 2 * math.pi)) <= 2e-15
+        series += abs(math.tan(offset)) < 0.06
+    assert series > 10000
+
+
+def test_the_point_nearest_an_angle():
+    joint = ClearanceJoint(JointParameters(n_points=90))
+    n = joint.phi_rad.size
+    for angle in np.linspace(0.0, 2 * math.pi, 1001)[:-1]:
+        k = point_nearest_angle(angle, n)
+        gap = np.abs(np.remainder(joint.phi_rad - angle + math.pi, 2 * math.pi) - math.pi)
+        assert gap[k] <= gap.min() + 1e-12
+    for outside in (-1e-9, 2 * math.pi, 7.0, math.nan, math.inf):
+        assert point_nearest_angle(outside, n) == -1

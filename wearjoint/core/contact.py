@@ -23,7 +23,7 @@ omega of body i, then of body j); :func:`contact_jacobian` runs it for the 12 un
 """
 import math
 
-from .geometry import find_deepest_point
+from .geometry import angle_near_point, find_deepest_point, point_nearest_angle
 from .jit import kernel
 from .layout import (
     M_ACTIVE, M_IMPACT_VELOCITY, N_KINEMATIC_INPUTS, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS,
@@ -291,8 +291,11 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
     :func:`contact_jacobian` needs to differentiate it: (in contact, the elastic force and its
     Jacobian in e (with_jacobian, else 0), common point, bushing point, fallback normal (see
     :func:`_forces`), d_k x, d_k y, |d_k|)."""
-    previous = out[R_CONTACT_INDEX]             # the last evaluation's deepest point: a search hint only
-    hint = int(previous) if 0.0 <= previous < wear_depth.shape[0] else -1
+    previous = out[R_CONTACT_INDEX]             # search hints only: the last evaluation's deepest point,
+    if 0.0 <= previous < wear_depth.shape[0]:   # else the point nearest its contact angle
+        hint = int(previous)
+    else:
+        hint = point_nearest_angle(out[R_CONTACT_ANGLE], wear_depth.shape[0])
     (_, _, _, _, ex, ey), _ = _kinematics(xi, yi, ci, si, xj, yj, cj, sj, NO_DIRECTION, jp)
     for r in range(out.shape[0]):
         out[r] = 0.0
@@ -311,8 +314,7 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
     bushing_point = (rho * cos_phi[k], rho * sin_phi[k])
     fallback = (dkx / d, dky / d) if d > 0.0 else (cos_phi[k], sin_phi[k])
     if d > pin_radius:
-        angle = math.atan2(ey, ex)
-        out[R_CONTACT_ANGLE] = angle + TWO_PI if angle < 0.0 else angle
+        out[R_CONTACT_ANGLE] = angle_near_point(ex, ey, k, cos_phi, sin_phi)
         return False, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), True, bushing_point, fallback, dkx, dky, d
     if int(jp[P_CONTACT_MODEL]) == CONTACT_FOUNDATION:
         fx, fy, j11, j12, j21, j22, _ = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
@@ -338,8 +340,7 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
     out[R_CONTACT_INDEX] = k
     out[R_TANGENTIAL_VELOCITY] = v_t
     out[R_PENETRATION_RATE] = rate
-    angle = math.atan2(nly, nlx)
-    out[R_CONTACT_ANGLE] = angle + TWO_PI if angle < 0.0 else angle
+    out[R_CONTACT_ANGLE] = angle_near_point(nlx, nly, k, cos_phi, sin_phi)
     return True, elastic, common_point, bushing_point, fallback, dkx, dky, d
 
 

@@ -15,6 +15,7 @@ from .layout import BLOCK_SIZE
 
 TWO_PI = 2.0 * math.pi
 OUTWARD_SCAN_POINTS = 16  # points scanned each side of the direction of e before the block search
+DIRECTION_WALK_STEPS = 8  # points walked from the last deepest point towards e's direction
 
 
 @kernel
@@ -156,6 +157,69 @@ def _direction_point(ex, ey, n):
     return e, ux, uy, wrap_index(int(round(math.atan2(uy, ux) / (TWO_PI / n))) - 1, n)
 
 
+@kernel(inline='always')
+def _dot(k, ux, uy, cos_phi, sin_phi):
+    """cos of the angle between the unit vector (ux, uy) and point k's direction."""
+    return cos_phi[k] * ux + sin_phi[k] * uy
+
+
+@kernel
+def _direction_point_from(ex, ey, cos_phi, sin_phi, start):
+    """:func:`_direction_point` by walking from point ``start`` (e.g. the last deepest point) to the
+    point whose direction has the largest cosine with e, which is the point nearest e's direction
+    (equally spaced points: a local maximum is the maximum), without the arctangent.  Ties: either
+    of the two points that bracket e's direction, which is all the search needs.  Falls back to
+    :func:`_direction_point` after DIRECTION_WALK_STEPS points or without a start."""
+    n = cos_phi.shape[0]
+    if not 0 <= start < n:
+        return _direction_point(ex, ey, n)
+    e = math.sqrt(ex * ex + ey * ey)
+    if e == 0.0:
+        return _direction_point(ex, ey, n)
+    ux = ex / e
+    uy = ey / e
+    k = start
+    best = _dot(np.uint64(k), ux, uy, cos_phi, sin_phi)
+    step = 1 if _dot(np.uint64(wrap_index(k + 1, n)), ux, uy, cos_phi, sin_phi) > best else -1
+    for _ in range(DIRECTION_WALK_STEPS):
+        nxt = wrap_index(k + step, n)
+        c = _dot(np.uint64(nxt), ux, uy, cos_phi, sin_phi)
+        if c <= best:
+            return e, ux, uy, k
+        k = nxt
+        best = c
+    return _direction_point(ex, ey, n)
+
+
+@kernel(inline='always')
+def point_nearest_angle(angle, n):
+    """The bushing point (of n) nearest the bushing-frame angle ``angle`` in [0, 2 pi) [rad]; -1 for any
+    other value (point k at (k + 1) 2 pi / n, Eq. 3)."""
+    if not 0.0 <= angle < TWO_PI:
+        return -1
+    return wrap_index(int(angle * (n / TWO_PI) + 0.5) - 1, n)
+
+
+@kernel(inline='always')
+def angle_near_point(vx, vy, k, cos_phi, sin_phi):
+    """Bushing-frame angle of the vector (vx, vy) in [0, 2 pi) [rad], atan2's to rounding: phi_k plus
+    the angle from point k's direction, by the arctangent's series where that angle is small (|tan|
+    <= 1/16: the series to x^13 leaves < 1e-19 rad), else atan2 (a library call costs more)."""
+    c = cos_phi[k] * vx + sin_phi[k] * vy
+    s = cos_phi[k] * vy - sin_phi[k] * vx
+    if c > 0.0 and abs(s) <= 0.0625 * c:
+        x = s / c
+        x2 = x * x
+        atan = x * (1.0 + x2 * (-1.0 / 3.0 + x2 * (1.0 / 5.0 + x2 * (-1.0 / 7.0 + x2 * (
+            1.0 / 9.0 + x2 * (-1.0 / 11.0 + x2 * (1.0 / 13.0)))))))
+        angle = (k + 1) * TWO_PI / cos_phi.shape[0] + atan       # phi_k of bushing_points, Eq. (3)
+        if angle >= TWO_PI:
+            return angle - TWO_PI
+        return angle + TWO_PI if angle < 0.0 else angle
+    angle = math.atan2(vy, vx)
+    return angle + TWO_PI if angle < 0.0 else angle
+
+
 @kernel
 def _is_direction_block(b, b0, nb):
     """True for the block holding the direction of e and its two neighbours."""
@@ -199,10 +263,10 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
     nb = block_min.shape[0]
     if nb <= 3:
         return find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
-    e, ux, uy, k0 = _direction_point(ex, ey, n)
+    e, ux, uy, k0 = _direction_point_from(ex, ey, cos_phi, sin_phi, hint)
     rho_min = bushing_radius                    # every wear depth is >= 0
     best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf, -1)
-    if 0 <= hint < n:
+    if 0 <= hint < n and hint != k0:
         best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, hint, hint + 1, best_d2,
                                 best_k)
     # the outward scan can only decide if the bound at its last offset beats the point at k0
