@@ -86,7 +86,7 @@ def distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     return dx * dx + dy * dy
 
 
-@kernel
+@kernel(inline='always')
 def _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, best_d2, best_k):
     """Smallest (|d_z|^2, z) over points lo..hi-1, ties to the lower index (Eqs. 4-5)."""
     for k in range(lo, hi):
@@ -158,34 +158,30 @@ def _direction_point(ex, ey, n):
 
 
 @kernel(inline='always')
-def _dot(k, ux, uy, cos_phi, sin_phi):
-    """cos of the angle between the unit vector (ux, uy) and point k's direction."""
-    return cos_phi[k] * ux + sin_phi[k] * uy
+def _dot(k, vx, vy, cos_phi, sin_phi):
+    """v . u_k: the vector (vx, vy) on point k's direction."""
+    return cos_phi[k] * vx + sin_phi[k] * vy
 
 
-@kernel
+@kernel(inline='always')
 def _direction_point_from(ex, ey, cos_phi, sin_phi, start):
     """:func:`_direction_point` by walking from point ``start`` (e.g. the last deepest point) to the
-    point whose direction has the largest cosine with e, which is the point nearest e's direction
+    point whose direction has the largest dot product with e, which is the point nearest e's direction
     (equally spaced points: a local maximum is the maximum), without the arctangent.  Ties: either
     of the two points that bracket e's direction, which is all the search needs.  Falls back to
     :func:`_direction_point` after DIRECTION_WALK_STEPS points or without a start."""
     n = cos_phi.shape[0]
-    if not 0 <= start < n:
+    if not 0 <= start < n or (ex == 0.0 and ey == 0.0):
         return _direction_point(ex, ey, n)
-    e = math.sqrt(ex * ex + ey * ey)
-    if e == 0.0:
-        return _direction_point(ex, ey, n)
-    ux = ex / e
-    uy = ey / e
+    e = math.sqrt(ex * ex + ey * ey)            # |e| and u_e: off the walk's path (it compares e.u_k)
     k = start
-    best = _dot(np.uint64(k), ux, uy, cos_phi, sin_phi)
-    step = 1 if _dot(np.uint64(wrap_index(k + 1, n)), ux, uy, cos_phi, sin_phi) > best else -1
+    best = _dot(np.uint64(k), ex, ey, cos_phi, sin_phi)
+    step = 1 if _dot(np.uint64(wrap_index(k + 1, n)), ex, ey, cos_phi, sin_phi) > best else -1
     for _ in range(DIRECTION_WALK_STEPS):
         nxt = wrap_index(k + step, n)
-        c = _dot(np.uint64(nxt), ux, uy, cos_phi, sin_phi)
+        c = _dot(np.uint64(nxt), ex, ey, cos_phi, sin_phi)
         if c <= best:
-            return e, ux, uy, k
+            return e, ex / e, ey / e, k
         k = nxt
         best = c
     return _direction_point(ex, ey, n)
