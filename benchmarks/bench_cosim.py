@@ -48,7 +48,7 @@ WARM_UP_S = 0.01   # past the first impacts; compiles everything
 REPLAYS = 5        # the mechanism replay is timed this often; the fastest counts
 
 
-@njit(cache=True)
+@njit  # not cached: numba's cache would keep an old copy of communication_step (it checks this file only)
 def _mechanism_steps(buf, n_steps, h, ws, samples):
     t = 0.0
     for _ in range(n_steps):

@@ -15,10 +15,10 @@ import ctypes
 import math
 
 import numpy as np
-from numba import njit
 
 from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
+from ..core.jit import kernel
 from ..core.mechanism import JointArrays, derivative
 from ..fmu.instance import N_INPUTS, c_function
 
@@ -85,7 +85,7 @@ C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE = range(6)
 N_SETTINGS = 6
 
 
-@njit(cache=True)
+@kernel(inline='always')
 def _extrapolates(buf):
     """True if the next step holds extrapolated forces: the scheme extrapolates and the pin
     touched the bushing at t and at the accepted point before."""
@@ -93,7 +93,7 @@ def _extrapolates(buf):
             and buf[B_LAST_STEP] > 0.0)
 
 
-@njit(cache=True)
+@kernel
 def communication_step(t, h, record, buf, ws, samples):
     """One communication step of the master; returns the time reached [s].
 
@@ -116,8 +116,9 @@ def communication_step(t, h, record, buf, ws, samples):
         result[OUTPUT_RESULT_INDEX[k]] = outputs[k]
     for k in range(6):
         forces[k] = outputs[k]
-    # derivative takes the in-process joint's arrays; MODE_EXTERNAL reads none of them
-    joint = JointArrays(mp, mp, mp, mp, mp, mp, np.zeros(0, dtype=np.bool_), mp, result)
+    # derivative takes the in-process joint's arrays; MODE_EXTERNAL reads none of them (the mask: a
+    # view, as a kernel cannot allocate)
+    joint = JointArrays(mp, mp, mp, mp, mp, mp, mp.view(np.bool_), mp, result)
     derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
         stats = buf[B_STATS:].reshape((-1, L.N_STATS))
@@ -147,21 +148,21 @@ def communication_step(t, h, record, buf, ws, samples):
     return t
 
 
-@njit(cache=True)
+@kernel
 def _seconds(clock, timespec):
     """Monotonic clock [s] through libc's clock_gettime (CLOCK_MONOTONIC)."""
     clock(1, timespec.ctypes.data)
     return timespec[0] + 1e-9 * timespec[1]
 
 
-@njit(cache=True)
+@kernel
 def _failed(register, call, status, t):
     register[G_FAILED_CALL] = call
     register[G_FAILED_STATUS] = status
     register[G_FAILED_TIME] = t
 
 
-@njit(cache=True)
+@kernel
 def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, timespec):
     """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
     call that returned worse than fmi2Warning (details in ``register``).
@@ -212,7 +213,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
             if rate > 0.0:                       # approaching the wall: aim just past the onset
                 h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
-            saved[:] = buf[:B_ROLLBACK_END]
+            for i in range(B_ROLLBACK_END):      # element by element: a slice copy needs numba's NRT
+                saved[i] = buf[i]
             c1 = _seconds(clock, timespec)
             if state_slot[0] != 0 and not reuse_state:
                 status = free_state(component, state_slot.ctypes.data)
@@ -252,7 +254,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         retry = onset_retry_step(adaptive and free, pen, buf[B_OUTPUT + O_PENETRATION], onset, h, h_min)
         if retry > 0.0:
             # the step crossed a contact onset too deep: back to t, retry to end just past it
-            buf[:B_ROLLBACK_END] = saved
+            for i in range(B_ROLLBACK_END):
+                buf[i] = saved[i]
             c1 = _seconds(clock, timespec)
             status = set_state(component, state_slot[0])
             fmi_time += _seconds(clock, timespec) - c1
