@@ -272,9 +272,11 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             # the step's end misses its extrapolation, grow it back to step_s once it agrees
             fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
             fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
-            scale = max(math.hypot(buf[B_OUTPUT], buf[B_OUTPUT + 1]), math.hypot(fx_t, fy_t), _MISS_FORCE_FLOOR)
-            miss = math.hypot(fx_miss, fy_miss) / scale
-            if miss > _MISS_SHRINK:
+            # |miss| > _MISS_SHRINK * scale, scale = max(|F(t + h)|, |F(t)|, floor), in squares (no libm call)
+            fx_new = buf[B_OUTPUT]
+            fy_new = buf[B_OUTPUT + 1]
+            scale_sq = max(fx_new * fx_new + fy_new * fy_new, fx_t * fx_t + fy_t * fy_t, _MISS_FORCE_FLOOR ** 2)
+            if fx_miss * fx_miss + fy_miss * fy_miss > _MISS_SHRINK ** 2 * scale_sq:
                 h_touching = max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h)
             else:
                 h_touching = min(h_contact, 1.25 * h_touching)
