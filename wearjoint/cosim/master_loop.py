@@ -12,7 +12,6 @@ Python work per step.  The schemes are described in :mod:`wearjoint.cosim`.
 from __future__ import annotations
 
 import ctypes
-import math
 
 import numpy as np
 
