@@ -303,8 +303,8 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     dphi = 2.0 * math.pi / n
     reach = _arc_cosine_bound(cos_max)
     half = int(reach / dphi) + 3                   # + rounding of the centre, + the cells reaching in
-    if 2 * half + 1 >= n:
-        sums = _resultant_run(0, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+    if 2 * half + 1 >= n:           # every point; n - n: an int64 (a literal 0 is one more compilation)
+        sums = _resultant_run(n - n, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
                               with_jacobian, sums)
     else:
         hinted = 0 <= deepest < n and wear_depth[deepest] == 0.0
