@@ -1,11 +1,15 @@
 """A command that compiles says so first (wearjoint.compile_notice): one line on stderr naming what
 compiles and about how long it takes, before anything else; nothing when nothing compiles."""
 import json
+import os
+import subprocess
+import sys
 
 import numpy as np
+import pytest
 from numba import njit
 
-from wearjoint import compile_notice
+from wearjoint import compile_helper, compile_notice
 from wearjoint.cosim import cosimulation
 
 
@@ -48,3 +52,46 @@ def test_the_profile_lists_each_compilation_with_its_own_time(tmp_path, monkeypa
 def test_a_cached_or_given_fmu_starts_no_build(tmp_path):
     given = tmp_path / "given.fmu"
     assert cosimulation._start_fmu_build(1257, given, "native") is None
+
+
+def test_a_cold_engine_command_starts_the_second_compiling_process_at_its_first_compilation(monkeypatch, capsys):
+    started = []
+    monkeypatch.setattr(compile_helper, "usable_cores", lambda: 2)
+    monkeypatch.setattr(compile_helper, "start", lambda: started.append(True))
+    kernel = _fresh_kernel()
+    with compile_notice.watch_command("simulate"):
+        assert started == []                        # nothing compiled yet: nothing started
+        kernel(4.0)
+        kernel(2)
+    assert started == [True]
+    text = compile_notice.ESTIMATES["simulate-helped"][0]
+    assert f"wearjoint: compiling {text}" in capsys.readouterr().err
+    with compile_notice.watch_command("simulate"):  # a warm run starts nothing
+        kernel(3.0)
+    assert started == [True]
+
+
+def test_one_core_compiles_alone(monkeypatch):
+    monkeypatch.setattr(compile_helper, "usable_cores", lambda: 1)
+    assert compile_helper.start() is None
+    with compile_notice.watch_command("simulate") as watch:
+        assert watch.what == "simulate"
+
+
+@pytest.mark.slow
+def test_a_cold_engine_compiles_none_of_what_the_second_process_cached(tmp_path):
+    """Cold, in fresh processes sharing an empty numba cache: the second process first, then a short
+    simulate: the engine compiles none of the second process's kernels."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba"), "XDG_CACHE_HOME": str(tmp_path / "cache"),
+           compile_notice.PROFILE_ENV: str(tmp_path / "engine.jsonl")}
+    helper_env = {k: v for k, v in env.items() if k != compile_notice.PROFILE_ENV}
+    subprocess.run([sys.executable, "-m", "wearjoint.compile_helper"], env=helper_env, check=True)
+    subprocess.run([sys.executable, "-c", "from wearjoint.simulate import SimulationOptions, run_simulation; "
+                    "from wearjoint.compile_notice import watching\n"
+                    "with watching('kernels', quiet=True): "
+                    "run_simulation(options=SimulationOptions(revolutions=0.002), progress=False)"],
+                   env=env, check=True)
+    compiled = {json.loads(line)[0].rsplit(".", 1)[-1] for line in (tmp_path / "engine.jsonl").read_text().splitlines()}
+    assert "_integrate_steps" in compiled                       # the engine did compile (a cold cache)
+    assert not compiled & {"accept_contact", "apply_wear", "foundation_wear", "record_step", "worn_volume",
+                           "advance_joint"}, compiled

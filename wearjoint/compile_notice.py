@@ -20,11 +20,14 @@ from numba.core import event
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core)
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 20, 83),
+    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 17, 50),
     "cosim": ("the co-simulation master's numba kernels", 15, 96),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100),
     "kernels": ("the numba kernels", 20, 90),
 }
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
+# commands of the monolithic engine: on two cores a second process compiles its wear kernels (compile_helper)
+HELPED_COMMANDS = ("simulate", "wear-study")
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
 PROFILE_ENV = "WEARJOINT_COMPILE_PROFILE"
 
@@ -37,22 +40,28 @@ def announce(what: str, stream=None) -> None:
 
 
 class CompileWatch(event.Listener):
-    """numba's "numba:compile" events: at the first, :func:`announce` and a progress bar (a terminal
-    only) of the compilations (unless ``quiet``); with :data:`PROFILE_ENV` set, each compilation's own
-    time appended there.  ``on_compile`` (optional) is called with the count after each compilation."""
+    """numba's "numba:compile" events: at the first, ``on_first()`` (optional), :func:`announce` and a
+    progress bar (a terminal only) of the compilations (unless ``quiet``); with :data:`PROFILE_ENV` set,
+    each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after
+    each compilation."""
 
-    def __init__(self, what: str, on_compile=None, quiet: bool = False):
+    def __init__(self, what: str, on_compile=None, quiet: bool = False, on_first=None):
         self.what = what
         self.quiet = quiet
         self.count = 0
         self._bar = None
         self._on_compile = on_compile
+        self._on_first = on_first
         self._stack = []
         self._profile = os.environ.get(PROFILE_ENV)
 
     def on_start(self, event) -> None:
-        if self.count == 0 and not self._stack and not self.quiet:
-            self._bar = announced_progress(self.what)
+        if self.count == 0 and not self._stack:
+            if self._on_first is not None:
+                self._on_first()
+                self._on_first = None
+            if not self.quiet:
+                self._bar = announced_progress(self.what)
         self._stack.append([time.perf_counter(), 0.0])
 
     def on_end(self, event) -> None:
@@ -81,9 +90,10 @@ _ACTIVE: list[CompileWatch] = []
 
 
 @contextlib.contextmanager
-def watching(what: str, on_compile=None, quiet: bool = False):
-    """Announce and count numba's compilations inside the block (``what``: a key of :data:`ESTIMATES`)."""
-    watch = CompileWatch(what, on_compile, quiet)
+def watching(what: str, on_compile=None, quiet: bool = False, on_first=None):
+    """Announce and count numba's compilations inside the block (``what``: a key of :data:`ESTIMATES`;
+    ``on_first``: called as the first compilation starts)."""
+    watch = CompileWatch(what, on_compile, quiet, on_first)
     event.register("numba:compile", watch)
     _ACTIVE.append(watch)
     try:
@@ -95,7 +105,12 @@ def watching(what: str, on_compile=None, quiet: bool = False):
 
 
 def watch_command(command: str):
-    """:func:`watching` for a command of the CLI (its kernels' estimate, or the generic one)."""
+    """:func:`watching` for a command of the CLI (its kernels' estimate, or the generic one); a command
+    of :data:`HELPED_COMMANDS` on two cores or more starts :mod:`.compile_helper` as it starts compiling."""
+    from . import compile_helper
+
+    if command in HELPED_COMMANDS and compile_helper.usable_cores() > 1:
+        return watching("simulate-helped", on_first=compile_helper.start)
     return watching(COMMAND_KERNELS.get(command, "kernels"))
 
 
