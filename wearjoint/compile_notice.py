@@ -17,7 +17,8 @@ import time
 
 from numba.core import event
 
-# key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core)
+# key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core; the
+# "-helped" one: the first of two processes, compile_helper)
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 20, 83),
     "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 17, 50),
