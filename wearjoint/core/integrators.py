@@ -131,7 +131,7 @@ def record_points(t_previous, times, ys, dys, results, mp, rev_stats, samples, t
                     rev_stats, samples, track)
 
 
-@kernel
+@kernel(inline='always')
 def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) on entry,
     ``stages`` is (4, len(y)) scratch.  Four derivative evaluations, no bookkeeping."""
