@@ -30,6 +30,14 @@ from .layout import (
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
                                          "memory", "mask", "work", "result"))
 
+
+@kernel(inline='always')
+def no_joint(mp):
+    """The joint argument of :func:`derivative` where it reads none of it (MODE_EXTERNAL, MODE_IDEAL): every
+    field ``mp``, so nothing is allocated."""
+    return JointArrays(mp, mp, mp, mp, mp, mp, mp, mp, mp)
+
+
 GROUND = -1
 NO_BODY = -1
 N_CONSTRAINTS_CLEARANCE = 7

@@ -18,7 +18,7 @@ import numpy as np
 from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
-from ..core.mechanism import JointArrays, derivative
+from ..core.mechanism import derivative, no_joint
 from ..fmu.instance import N_INPUTS, c_function
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
@@ -115,9 +115,7 @@ def communication_step(t, h, record, buf, ws, samples):
         result[OUTPUT_RESULT_INDEX[k]] = outputs[k]
     for k in range(6):
         forces[k] = outputs[k]
-    # derivative takes the in-process joint's arrays; MODE_EXTERNAL reads none of them (the mask: a
-    # view, as a kernel cannot allocate)
-    joint = JointArrays(mp, mp, mp, mp, mp, mp, mp.view(np.bool_), mp, result)
+    joint = no_joint(mp)                        # MODE_EXTERNAL reads none of the joint's arrays
     derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
         stats = buf[B_STATS:].reshape((-1, L.N_STATS))

@@ -16,7 +16,7 @@ from numba import carray, types
 from ..core.integrators import rk4_hold
 from ..core.jit import kernel
 from ..core.layout import MODE_EXTERNAL, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
-from ..core.mechanism import JointArrays, derivative, initial_state, inverse_mass_diagonal, mechanism_parameter_vector
+from ..core.mechanism import derivative, initial_state, inverse_mass_diagonal, mechanism_parameter_vector, no_joint
 from .aot import entry_point
 from .state_entry_points import (  # noqa: F401  (the FMU state's entry points, aot.ENTRY_POINTS)
     check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
@@ -31,12 +31,6 @@ _WORKSPACE = (_F64,) * 7
 def _workspace(jac, schur, phi, phi_dot, gamma, minv, force):
     return (carray(jac, (_N, _N)), carray(schur, (_N, _N)), carray(phi, _N), carray(phi_dot, _N), carray(gamma, _N),
             carray(minv, _N), carray(force, _N))
-
-
-@kernel(inline='always')
-def _no_joint(mp):
-    """The joint argument of the mechanism's right-hand side, which MODE_EXTERNAL never reads."""
-    return JointArrays(mp, mp, mp, mp, mp, mp, mp, mp, mp)
 
 
 @entry_point(types.int32(_F64, _F64, _F64))
@@ -61,7 +55,7 @@ def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y)
 def derivative_native(t, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy):
     """dy = dy/dt of y = [q, q_dot] under the joint's loads ``forces`` (Eq. 44); returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, _no_joint(p), carray(forces, 6),
+    derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, no_joint(p), carray(forces, 6),
                _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N))
     return 0
 
@@ -71,7 +65,7 @@ def step_native(t, h, n_steps, y, mp, forces, jac, schur, phi, phi_dot, gamma, m
     """y advanced over [t, t + h] in n_steps RK4 steps with ``forces`` held, dy = f at the end
     (``stages``: 4 x 18 scratch); returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, _no_joint(p), carray(forces, 6),
+    rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, no_joint(p), carray(forces, 6),
              _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N),
              carray(stages, (4, 2 * _N)))
     return 0
