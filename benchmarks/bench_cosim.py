@@ -38,7 +38,7 @@ from numba import njit
 
 from wearjoint.core import layout as L
 from wearjoint.cosim import SCHEMES, CoSimulation, CoSimulationOptions, communication_step
-from wearjoint.cosim.master_loop import B_TRACK
+from wearjoint.cosim.master_loop import B_TRACK, buffer_views
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import paper_joint
 
@@ -51,8 +51,9 @@ REPLAYS = 5        # the mechanism replay is timed this often; the fastest count
 @njit  # not cached: numba's cache would keep an old copy of communication_step (it checks this file only)
 def _mechanism_steps(buf, n_steps, h, ws, samples):
     t = 0.0
+    stats, stages = buffer_views(buf)
     for _ in range(n_steps):
-        t = communication_step(t, h, True, buf, ws, samples)
+        t = communication_step(t, h, True, buf, stats, stages, ws, samples)
     return t
 
 

@@ -23,7 +23,7 @@ from .layout import (
 )
 from .jit import kernel
 from .joint_access import accept_joint, contact_at, joint_failed
-from .mechanism import derivative
+from .mechanism import angle_trig, derivative, derivative_rotated, stage_trig
 
 RK4 = 0
 DOPRI5 = 1
@@ -132,9 +132,10 @@ def record_points(t_previous, times, ys, dys, results, mp, rev_stats, samples, t
 
 
 @kernel(inline='always')
-def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
-    """One classical RK4 step of length h, y updated in place; k1 = f(t, y) on entry,
-    ``stages`` is (4, len(y)) scratch.  Four derivative evaluations, no bookkeeping."""
+def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
+    """One classical RK4 step of length h, y updated in place; k1 = f(t, y) and trig =
+    ``angle_trig(y)`` on entry, ``stages`` is (4, len(y)) scratch.  Four derivative
+    evaluations (the stages' trigonometry rotated from trig), no bookkeeping."""
     n2 = y.shape[0]
     ys = stages[3]
     previous = k1
@@ -142,7 +143,7 @@ def rk4_step(t, y, h, mode, mp, joint, body_forces, ws, k1, stages):
         c = _RK4_C[s]
         for i in range(n2):
             ys[i] = y[i] + c * h * previous[i]
-        derivative(t + c * h, ys, mode, mp, joint, body_forces, ws, stages[s])
+        derivative_rotated(t + c * h, ys, stage_trig(trig, y, ys), mode, mp, joint, body_forces, ws, stages[s])
         previous = stages[s]
     k2 = stages[0]
     k3 = stages[1]
@@ -158,8 +159,9 @@ def rk4_hold(t, h, n_steps, y, mp, joint, body_forces, ws, dy, stages):
     dy = f(t + h, y) on return.  ``stages``: (4, len(y)) scratch."""
     step = h / n_steps
     for i in range(n_steps):
-        derivative(t + i * step, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
-        rk4_step(t + i * step, y, step, MODE_EXTERNAL, mp, joint, body_forces, ws, dy, stages)
+        trig = angle_trig(y)
+        derivative_rotated(t + i * step, y, trig, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
+        rk4_step(t + i * step, y, step, trig, MODE_EXTERNAL, mp, joint, body_forces, ws, dy, stages)
     derivative(t + h, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
 
 
@@ -234,7 +236,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             step = min(step, onset_step)
             for i in range(n2):
                 y_new[i] = y[i]
-            rk4_step(t, y_new, step, mode, mp, joint, body_forces, ws, dy, stages)
+            rk4_step(t, y_new, step, angle_trig(y_new), mode, mp, joint, body_forces, ws, dy, stages)
             if locate_onsets:
                 contact_at(joint, t + step, y_new)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
@@ -256,13 +258,15 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
         # Dormand-Prince 5(4)
         for i in range(n2):
             k[0, i] = dy[i]
+        trig = angle_trig(y)
         for stage in range(1, 7):
             for i in range(n2):
                 acc = 0.0
                 for j in range(stage):
                     acc += _DOPRI_A[stage, j] * k[j, i]
                 y_new[i] = y[i] + step * acc
-            derivative(t + _DOPRI_C[stage] * step, y_new, mode, mp, joint, body_forces, ws, k_stage)
+            derivative_rotated(t + _DOPRI_C[stage] * step, y_new, stage_trig(trig, y, y_new), mode, mp, joint,
+                               body_forces, ws, k_stage)
             for i in range(n2):
                 k[stage, i] = k_stage[i]
         retry = onset_retry_step(locate_onsets and memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION],

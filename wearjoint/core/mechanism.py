@@ -21,6 +21,7 @@ from .layout import (
     MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_MECHANISM_FIELDS, R_BUSHING_FX, R_BUSHING_FY,
     R_BUSHING_TORQUE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
 )
+from .trig import rotated_trig
 
 # The clearance joint's arrays as the kernels take them (numba compiles the attribute
 # access to the same code as tuple indexing): the joint parameter vector (layout.P_*), the
@@ -298,16 +299,33 @@ def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, si
 
 
 @kernel(inline='always')
+def angle_trig(y):
+    """(cos, sin) of the crank's angle, then of the rod's, in state y: the pin's and the bushing's bodies."""
+    return math.cos(y[CRANK + 2]), math.sin(y[CRANK + 2]), math.cos(y[ROD + 2]), math.sin(y[ROD + 2])
+
+
+@kernel(inline='always')
+def stage_trig(trig, y, y_stage):
+    """:func:`angle_trig` of y_stage from trig = angle_trig(y), y_stage a Runge-Kutta stage of a step from y."""
+    cos1, sin1 = rotated_trig(trig[0], trig[1], y[CRANK + 2], y_stage[CRANK + 2])
+    cos2, sin2 = rotated_trig(trig[2], trig[3], y[ROD + 2], y_stage[ROD + 2])
+    return cos1, sin1, cos2, sin2
+
+
+@kernel(inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
     :data:`JointArrays`, or a :data:`~wearjoint.core.joint_access.FmuJoint`; writes its result
     array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
+    derivative_rotated(t, y, angle_trig(y), mode, mp, joint, body_forces, ws, dy)
+
+
+@kernel(inline='always')
+def derivative_rotated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
+    """:func:`derivative` with trig = :func:`angle_trig` (y) given (one set of trigonometric
+    values for the pin's and the bushing's bodies, the joint and the mechanism)."""
     n = N_COORDINATES
-    # the crank and the rod carry the pin and the bushing: one set of trigonometric calls for both
-    cos1 = math.cos(y[CRANK + 2])
-    sin1 = math.sin(y[CRANK + 2])
-    cos2 = math.cos(y[ROD + 2])
-    sin2 = math.sin(y[ROD + 2])
+    cos1, sin1, cos2, sin2 = trig
     if mode == MODE_CLEARANCE:
         result = joint.result
         contact_forces(joint, t, y, cos1, sin1, cos2, sin2)

@@ -27,7 +27,8 @@ from .master_loop import (
     _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
     C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_STATUS, G_FAILED_TIME,
     G_FMI_TIME, G_FREE_STEPS, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, N_INPUTS,
-    N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, communication_step, master_loop,
+    N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views, communication_step,
+    master_loop,
 )
 
 CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
@@ -123,7 +124,8 @@ class CoSimulation:
         self._clock = _monotonic_clock()
         self._timespec = np.zeros(2, dtype=np.int64)
         try:   # the mechanism's kernels compile while a missing FMU builds
-            communication_step(0.0, 0.0, False, b, self.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
+            communication_step(0.0, 0.0, False, b, *buffer_views.py_func(b), self.mechanism.workspace,
+                               np.zeros((0, L.N_SAMPLE_COLUMNS)))
         finally:
             if build is not None:
                 build.wait()

@@ -18,7 +18,7 @@ import numpy as np
 from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
-from ..core.mechanism import derivative, no_joint
+from ..core.mechanism import angle_trig, derivative_rotated, no_joint
 from ..fmu.instance import N_INPUTS, c_function
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
@@ -62,13 +62,14 @@ G_PREVIOUS_PENETRATION = 1   # FMU penetration at the accepted point before t [m
 G_CONTACT_STEP = 2       # adaptive: the communication step in contact now [s] (0: step_s)
 G_STEPS = 3              # communication steps accepted
 G_ROLLBACKS = 4          # rollbacks
-G_FMI_TIME = 5           # wall time in FMI calls [s]
+G_FMI_TIME = 5           # wall time in FMI calls [s], estimated from every FMI_TIMING_EVERY-th iteration's
 G_FREE_STEPS = 6         # accepted steps that started in free flight
 G_SHRUNK_STEPS = 7       # accepted steps in contact shorter than step_s (the force missed its extrapolation)
 G_FAILED_CALL = 8        # index into FMI_CALLS of the call that failed, 0 if none
 G_FAILED_STATUS = 9      # its fmi2Status
 G_FAILED_TIME = 10       # the communication point it was made for [s]
 N_REGISTER = 11
+FMI_TIMING_EVERY = 16    # the loop times the FMI calls of one iteration in this many (and counts them this often)
 # adaptive contact step: the relative miss of the extrapolated contact force that halves it (else
 # it grows back to step_s), and its floor as a share of step_s (force jumps, e.g. friction reversing
 # or the deepest bushing point moving on, miss at any step and must not drive it to nothing)
@@ -92,9 +93,18 @@ def _extrapolates(buf):
             and buf[B_LAST_STEP] > 0.0)
 
 
+@kernel(inline='always')
+def buffer_views(buf):
+    """The 2-D views of ``buf`` that :func:`communication_step` takes: the per-revolution statistics
+    (rows of layout.N_STATS) and the RK4 stage scratch (4 rows of the state size)."""
+    return (buf[B_STATS:].reshape((-1, L.N_STATS)),
+            buf[B_STAGES:B_STAGES + 4 * _N_Y].reshape((4, _N_Y)))
+
+
 @kernel
-def communication_step(t, h, record, buf, ws, samples):
-    """One communication step of the master; returns the time reached [s].
+def communication_step(t, h, record, buf, stats, stages, ws, samples):
+    """One communication step of the master; returns the time reached [s].  ``stats``, ``stages``:
+    :func:`buffer_views` (buf), made once by the caller (a reshape per step costs a call).
 
     From the FMU outputs at t (``buf[B_OUTPUT:]``) sets the forces and f(t, y);
     if ``record``, accounts the point t (``record_step``, the step that ended
@@ -116,9 +126,9 @@ def communication_step(t, h, record, buf, ws, samples):
     for k in range(6):
         forces[k] = outputs[k]
     joint = no_joint(mp)                        # MODE_EXTERNAL reads none of the joint's arrays
-    derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+    trig = angle_trig(y)
+    derivative_rotated(t, y, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
-        stats = buf[B_STATS:].reshape((-1, L.N_STATS))
         record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
     previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
     if h > 0.0:
@@ -128,9 +138,8 @@ def communication_step(t, h, record, buf, ws, samples):
             slope = 0.5 * h / buf[B_LAST_STEP]
             for k in range(6):
                 forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
-            derivative(t, y, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
-        rk4_step(t, y, h, L.MODE_EXTERNAL, mp, joint, forces, ws, dy,
-                 buf[B_STAGES:B_STAGES + 4 * 2 * n].reshape((4, 2 * n)))
+            derivative_rotated(t, y, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+        rk4_step(t, y, h, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy, stages)
         for k in range(6):
             previous[k] = outputs[k]
         buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
@@ -180,6 +189,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     reuse_state = settings[C_REUSE_STATE] > 0.5
     inputs = buf.ctypes.data + B_INPUT * 8
     outputs = buf.ctypes.data + B_OUTPUT * 8
+    stats, stages = buffer_views(buf)
     t = register[G_T]
     pen_before = register[G_PREVIOUS_PENETRATION]
     record = False                    # the point t was accounted when it was accepted
@@ -189,10 +199,13 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     free_steps = 0
     shrunk_steps = 0
     fmi_time = 0.0
+    iteration = 0
     failed = 0
     t_stop = t_end * (1.0 - 1e-15)
     h_touching = register[G_CONTACT_STEP] if register[G_CONTACT_STEP] > 0.0 else h_contact
     while t < t_stop:
+        timed = iteration % FMI_TIMING_EVERY == 0   # clock_gettime costs ~20 ns: time a sample of the calls
+        iteration += 1
         pen = buf[B_OUTPUT + O_PENETRATION]
         free = buf[B_OUTPUT + O_CONTACT] < 0.5
         # forces predicted for the step's end where the contact persists (extrapolation)
@@ -212,7 +225,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
                 h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
             for i in range(B_ROLLBACK_END):      # element by element: a slice copy needs numba's NRT
                 saved[i] = buf[i]
-            c1 = _seconds(clock, timespec)
+            c1 = _seconds(clock, timespec) if timed else 0.0
             if state_slot[0] != 0 and not reuse_state:
                 status = free_state(component, state_slot.ctypes.data)
                 state_slot[0] = 0
@@ -221,7 +234,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
                     _failed(register, failed, status, t)
                     break
             status = get_state(component, state_slot.ctypes.data)
-            fmi_time += _seconds(clock, timespec) - c1
+            if timed:
+                fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1)
             if status > FMI_WARNING:
                 failed = F_GET_STATE
                 _failed(register, failed, status, t)
@@ -229,9 +243,9 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         else:
             h = h_touching if adaptive else h_contact
         h = min(h, t_end - t)
-        t_new = communication_step(t, h, record, buf, ws, samples)
+        t_new = communication_step(t, h, record, buf, stats, stages, ws, samples)
         record = False
-        c2 = _seconds(clock, timespec)
+        c2 = _seconds(clock, timespec) if timed else 0.0
         status = do_step(component, t, t_new - t, 1)
         if status > FMI_WARNING:
             failed = F_DO_STEP
@@ -243,7 +257,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             _failed(register, failed, status, t_new)
             break
         status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
-        fmi_time += _seconds(clock, timespec) - c2
+        if timed:
+            fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c2)
         if status > FMI_WARNING:
             failed = F_GET_REAL
             _failed(register, failed, status, t_new)
@@ -253,9 +268,10 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             # the step crossed a contact onset too deep: back to t, retry to end just past it
             for i in range(B_ROLLBACK_END):
                 buf[i] = saved[i]
-            c1 = _seconds(clock, timespec)
+            c1 = _seconds(clock, timespec) if timed else 0.0
             status = set_state(component, state_slot[0])
-            fmi_time += _seconds(clock, timespec) - c1
+            if timed:
+                fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1)
             if status > FMI_WARNING:
                 failed = F_SET_STATE
                 _failed(register, failed, status, t)
@@ -288,7 +304,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             shrunk_steps += 1
     register[G_CONTACT_STEP] = h_touching
     if record and failed == 0:
-        communication_step(t, 0.0, True, buf, ws, samples)
+        communication_step(t, 0.0, True, buf, stats, stages, ws, samples)
     register[G_T] = t
     register[G_PREVIOUS_PENETRATION] = pen_before
     register[G_STEPS] = steps
