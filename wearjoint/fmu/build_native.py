@@ -69,8 +69,8 @@ BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py",
                  "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/platforms.py")
 # what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
 IR_SOURCES = ("core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py", "core/wear.py", "core/state_format.py",
-              "core/joint_access.py", "core/mechanism.py", "core/integrators.py", "joint.py", "parameters.py",
-              "fmu/aot.py")
+              "core/joint_access.py", "core/mechanism.py", "core/integrators.py", "core/trig.py", "joint.py",
+              "parameters.py", "fmu/aot.py")
 
 
 @dataclass(frozen=True)
@@ -100,7 +100,7 @@ MODELS = {m.name: m for m in (
                 False),
     NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h",
                                                       "state_format.h"),
-                "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "core/state_format.py",
+                "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "core/trig.py", "core/state_format.py",
                                            "fmu/slider_crank.py", "fmu/slider_crank_entry_points.py",
                                            "fmu/state_entry_points.py"),
                 ("fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py"), True),
