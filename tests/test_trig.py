@@ -32,3 +32,23 @@ def test_no_turn_returns_the_values_given():
     out = np.empty((2, 1))
     _rotated(np.array([0.7]), np.array([0.7]), out)
     assert out[0, 0] == math.cos(0.7) and out[1, 0] == math.sin(0.7)
+
+
+def test_the_masters_chained_rotations_stay_within_64_ulp_of_libm():
+    """The co-simulation master rotates each step's cos/sin from the last step's, 31 times between libm
+    calls: over 20 000 steps of up to 3 mrad, every value stays within 64 ulp of 1 of libm's."""
+    from wearjoint.core import layout as L
+    from wearjoint.cosim.master_loop import B_TRIG, _step_trig
+
+    rng = np.random.default_rng(3)
+    buf = np.zeros(B_TRIG + 7)
+    y = np.zeros(2 * L.N_COORDINATES)
+    y[L.CRANK + 2], y[L.ROD + 2] = 2.0e4, -1.3
+    worst = 0.0
+    for _ in range(20_000):
+        y[L.CRANK + 2] += rng.uniform(0.0, 3e-3)
+        y[L.ROD + 2] += rng.uniform(-3e-3, 3e-3)
+        cos1, sin1, cos2, sin2 = _step_trig(buf, y)
+        worst = max(worst, abs(cos1 - math.cos(y[L.CRANK + 2])), abs(sin1 - math.sin(y[L.CRANK + 2])),
+                    abs(cos2 - math.cos(y[L.ROD + 2])), abs(sin2 - math.sin(y[L.ROD + 2])))
+    assert 0.0 < worst <= 64 * np.spacing(1.0)

@@ -19,6 +19,7 @@ from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
 from ..core.mechanism import angle_trig, derivative_rotated, no_joint
+from ..core.trig import rotated_trig
 from ..fmu.instance import N_INPUTS, c_function
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
@@ -43,7 +44,8 @@ B_OUTPUT = B_Y + _N_Y                     # FMU outputs at t (OUTPUT_NAMES), ali
 B_PREVIOUS_FORCES = B_OUTPUT + N_OUTPUTS  # FMU forces at the accepted point before t (extrapolation)
 B_PREVIOUS_CONTACT = B_PREVIOUS_FORCES + 6   # 1.0 if the pin touched there
 B_LAST_STEP = B_PREVIOUS_CONTACT + 1      # length of the step that ended at t [s]
-B_ROLLBACK_END = B_LAST_STEP + 1
+B_TRIG = B_LAST_STEP + 1                  # crank angle, its cos, sin, rod angle, cos, sin at t; rotations left
+B_ROLLBACK_END = B_TRIG + 7
 B_DY = B_ROLLBACK_END                     # f(t, y) with the held forces
 B_INPUT = B_DY + _N_Y                     # FMU inputs at the end of the step, aliased by a ctypes array
 B_RESULT = B_INPUT + N_INPUTS             # outputs in the layout.R_* result layout (for record_step)
@@ -93,6 +95,29 @@ def _extrapolates(buf):
             and buf[B_LAST_STEP] > 0.0)
 
 
+# the cos/sin of the step's angles are rotated from the last step's (core/trig.py) this many
+# times after each libm call: 2 ulp at most per rotation, so under 1e-14 of drift
+_TRIG_ROTATIONS = 31
+
+
+@kernel(inline='always')
+def _step_trig(buf, y):
+    """``angle_trig(y)``, rotated from the last call's (``buf[B_TRIG:]``) but every
+    _TRIG_ROTATIONS + 1-th call, which calls libm; stores it for the next call."""
+    trig = buf[B_TRIG:B_TRIG + 7]
+    crank = y[L.CRANK + 2]
+    rod = y[L.ROD + 2]
+    if trig[6] > 0.5:
+        cos1, sin1 = rotated_trig(trig[1], trig[2], trig[0], crank)
+        cos2, sin2 = rotated_trig(trig[4], trig[5], trig[3], rod)
+        trig[6] -= 1.0
+    else:
+        cos1, sin1, cos2, sin2 = angle_trig(y)
+        trig[6] = _TRIG_ROTATIONS
+    trig[0], trig[1], trig[2], trig[3], trig[4], trig[5] = crank, cos1, sin1, rod, cos2, sin2
+    return cos1, sin1, cos2, sin2
+
+
 @kernel(inline='always')
 def buffer_views(buf):
     """The 2-D views of ``buf`` that :func:`communication_step` takes: the per-revolution statistics
@@ -126,7 +151,7 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
     for k in range(6):
         forces[k] = outputs[k]
     joint = no_joint(mp)                        # MODE_EXTERNAL reads none of the joint's arrays
-    trig = angle_trig(y)
+    trig = _step_trig(buf, y)
     derivative_rotated(t, y, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
         record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
