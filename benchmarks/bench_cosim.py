@@ -7,7 +7,8 @@ Each run, on a fresh co-simulation:
 
 1. As shipped: wall time, communication steps, rollbacks, and the master loop's
    own split (``CoSimulation.fmi_time_s``: wall time inside the FMI calls, read
-   with clock_gettime around them in the numba loop; the rest is the master).
+   with clock_gettime around them in one iteration of 16 of the numba loop and
+   scaled; the rest is the master).
 2. The mechanism integration alone: ``communication_step`` (record + RK4 over
    the step with held forces) run from numba as many times as there were steps,
    at the mean step, on a copy of the master's buffer (no FMI calls); the

@@ -135,7 +135,9 @@ def record_points(t_previous, times, ys, dys, results, mp, rev_stats, samples, t
 def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) and trig =
     ``angle_trig(y)`` on entry, ``stages`` is (4, len(y)) scratch.  Four derivative
-    evaluations (the stages' trigonometry rotated from trig), no bookkeeping."""
+    evaluations, no bookkeeping.  MODE_EXTERNAL (a co-simulation master's step) rotates the
+    stages' trigonometry from trig; the other modes call libm as the FMU's joint does, so that
+    a monolithic run and the FMU's Model Exchange run stay bit-identical."""
     n2 = y.shape[0]
     ys = stages[3]
     previous = k1
@@ -143,7 +145,8 @@ def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
         c = _RK4_C[s]
         for i in range(n2):
             ys[i] = y[i] + c * h * previous[i]
-        derivative_rotated(t + c * h, ys, stage_trig(trig, y, ys), mode, mp, joint, body_forces, ws, stages[s])
+        stage = stage_trig(trig, y, ys) if mode == MODE_EXTERNAL else angle_trig(ys)
+        derivative_rotated(t + c * h, ys, stage, mode, mp, joint, body_forces, ws, stages[s])
         previous = stages[s]
     k2 = stages[0]
     k3 = stages[1]
@@ -258,15 +261,13 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
         # Dormand-Prince 5(4)
         for i in range(n2):
             k[0, i] = dy[i]
-        trig = angle_trig(y)
         for stage in range(1, 7):
             for i in range(n2):
                 acc = 0.0
                 for j in range(stage):
                     acc += _DOPRI_A[stage, j] * k[j, i]
                 y_new[i] = y[i] + step * acc
-            derivative_rotated(t + _DOPRI_C[stage] * step, y_new, stage_trig(trig, y, y_new), mode, mp, joint,
-                               body_forces, ws, k_stage)
+            derivative(t + _DOPRI_C[stage] * step, y_new, mode, mp, joint, body_forces, ws, k_stage)
             for i in range(n2):
                 k[stage, i] = k_stage[i]
         retry = onset_retry_step(locate_onsets and memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION],
