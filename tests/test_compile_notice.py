@@ -95,3 +95,15 @@ def test_a_cold_engine_compiles_none_of_what_the_second_process_cached(tmp_path)
     assert "_integrate_steps" in compiled                       # the engine did compile (a cold cache)
     assert not compiled & {"accept_contact", "apply_wear", "foundation_wear", "record_step", "worn_volume",
                            "advance_joint"}, compiled
+
+
+@pytest.mark.parametrize("cores", [1, 2])
+def test_the_fmu_build_splits_its_kernels_by_the_cores_it_may_use(monkeypatch, cores):
+    """Every entry point is compiled by exactly one ahead-of-time process; a second only where this
+    process may run on two cores (its CPU affinity, as `taskset` sets it, not the machine's count)."""
+    from wearjoint.fmu import aot, build_native
+
+    monkeypatch.setattr(build_native, "usable_cores", lambda: cores)
+    parts = build_native._aot_parts("joint")
+    assert len(parts) == cores
+    assert sorted(s for part in parts for s in part) == sorted(aot.ENTRY_POINTS["joint"][1])

@@ -9,6 +9,7 @@ import importlib
 import os
 import sys
 
+from ..compile_helper import usable_cores
 from ..parameters import ParameterError
 from ..sweep.bias import Bias
 from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, parse_vary, read_design
@@ -81,7 +82,7 @@ def run_from_args(command: str, args) -> int:
         vary, points = {**design["vary"], **vary}, design["points"]
         seeds = seeds if seeds is not None else design["seeds"]
     seeds = check_seeds(DEFAULT_SEEDS if seeds is None else seeds)
-    workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
+    workers = args.workers if args.workers is not None else usable_cores()
     if isinstance(workers, bool) or workers < 1:
         raise ParameterError(f"--workers={workers!r} is invalid: allowed an integer >= 1")
     try:

@@ -38,6 +38,7 @@ from pathlib import Path
 from dataclasses import dataclass
 
 from .. import __version__
+from ..compile_helper import usable_cores
 from ..compile_notice import announced_progress
 from ..core import layout, state_format
 from ..core.wear import STEP_OVERSHOT
@@ -293,9 +294,9 @@ def kernel_key(model: str = DEFAULT_MODEL) -> str:
 
 
 def _aot_parts(model: str) -> list:
-    """The entry points of each AOT process: two (:data:`aot.PARTS`) where there are two cores or more."""
+    """The entry points of each AOT process: two (:data:`aot.PARTS`) where this process may use two cores or more."""
     symbols = list(aot.ENTRY_POINTS[model][1])
-    second = list(aot.PARTS[model]) if (os.cpu_count() or 1) > 1 else []
+    second = list(aot.PARTS[model]) if usable_cores() > 1 else []
     return [[symbol for symbol in symbols if symbol not in second], *([second] if second else [])]
 
 
