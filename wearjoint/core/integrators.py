@@ -46,6 +46,7 @@ _DOPRI_A = np.array([
 _DOPRI_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0,
                      22.0 / 525.0, -1.0 / 40.0])
 _RK4_C = np.array([0.5, 0.5, 1.0])
+_UNUSED_TRIG = (0.0, 0.0, 0.0, 0.0)    # rk4_step's trig where the mode calls libm per stage
 
 
 @kernel
@@ -239,7 +240,8 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             step = min(step, onset_step)
             for i in range(n2):
                 y_new[i] = y[i]
-            rk4_step(t, y_new, step, angle_trig(y_new), mode, mp, joint, body_forces, ws, dy, stages)
+            trig = angle_trig(y_new) if mode == MODE_EXTERNAL else _UNUSED_TRIG   # only MODE_EXTERNAL rotates
+            rk4_step(t, y_new, step, trig, mode, mp, joint, body_forces, ws, dy, stages)
             if locate_onsets:
                 contact_at(joint, t + step, y_new)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
