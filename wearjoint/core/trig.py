@@ -1,8 +1,9 @@
 """Cosine and sine of a Runge-Kutta stage's angle from those of the step's start (:func:`rotated_trig`).
 
 The mechanism's equations of motion need cos and sin of the crank's and the rod's angles at every
-stage; libm's sincos costs ~10-15 ns a call there, the rotation by the stage's small angle a third
-of it (benchmarks/bench_cosim.py: the co-simulation master's mechanism step 0.18 -> 0.14 us).
+stage; libm's cos and sin cost ~10 ns a pair in a loop (more inside the stages: the call spills the
+caller's registers), the rotation by the stage's small angle ~4 ns (benchmarks/bench_cosim.py: the
+co-simulation master's mechanism step 0.18 -> 0.14 us).
 """
 import math
 
