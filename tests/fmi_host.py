@@ -71,6 +71,7 @@ def wine_environment() -> dict:
     Mono/Gecko installer dialogs."""
     from wearjoint.fmu.build import user_cache_dir
 
+    user_cache_dir().mkdir(parents=True, exist_ok=True)   # wine makes the prefix, not its parent
     return {**CLEAN_ENV, "HOME": str(Path.home()), "WINEPREFIX": str(user_cache_dir() / "wine"), "WINEDEBUG": "-all",
             "WINEDLLOVERRIDES": "mscoree,mshtml="}
 

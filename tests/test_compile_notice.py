@@ -101,9 +101,9 @@ def test_a_cold_engine_compiles_none_of_what_the_second_process_cached(tmp_path)
 def test_the_fmu_build_splits_its_kernels_by_the_cores_it_may_use(monkeypatch, cores):
     """Every entry point is compiled by exactly one ahead-of-time process; a second only where this
     process may run on two cores (its CPU affinity, as `taskset` sets it, not the machine's count)."""
-    from wearjoint.fmu import aot, build_native
+    from wearjoint.fmu import aot, kernel_ir
 
-    monkeypatch.setattr(build_native, "usable_cores", lambda: cores)
-    parts = build_native._aot_parts("joint")
+    monkeypatch.setattr(kernel_ir, "usable_cores", lambda: cores)
+    parts = kernel_ir._aot_parts("joint")
     assert len(parts) == cores
     assert sorted(s for part in parts for s in part) == sorted(aot.ENTRY_POINTS["joint"][1])

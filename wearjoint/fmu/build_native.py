@@ -5,9 +5,9 @@ Co-Simulation and Model Exchange, for linux64, win64 and aarch64-linux
 (:mod:`wearjoint.fmu.platforms`).  The models (:data:`MODELS`): ``joint`` builds
 ``ClearanceWearJoint.fmu``, ``slider-crank`` ``SliderCrank.fmu`` (:mod:`wearjoint.fmu.slider_crank`).
 
-Steps: (1) a fresh Python process compiles the model's kernels once for a generic CPU to LLVM IR,
-taking those an earlier build left in numba's cache, and the IR is kept in the user cache, keyed by
-the kernels' sources and the numba version, so further builds only relink; (2) llvmlite turns that IR into objects for each platform (only the target
+Steps: (1) the model's kernels as LLVM IR for a generic CPU (:mod:`wearjoint.fmu.kernel_ir`): the
+IR an earlier build left in the user cache, else the IR the package ships for these kernels and this
+numba, else compiled by numba in fresh processes and kept in the user cache; (2) llvmlite turns that IR into objects for each platform (only the target
 triple and data layout change); (3) the model's variable table becomes ``model_variables.h``
 (value references, start values, allowed ranges, where each value comes from), and each
 platform's C compiler links the FMI layer (``fmi2Functions.c`` or ``fmi3Functions.c`` and their
@@ -24,13 +24,8 @@ one ``Float64`` array ``wear_depth`` of that size.
 from __future__ import annotations
 
 import json
-import os
-import shutil
 import subprocess
-import sys
 import tempfile
-import threading
-import time
 import uuid
 import zipfile
 from pathlib import Path
@@ -38,15 +33,14 @@ from pathlib import Path
 from dataclasses import dataclass
 
 from .. import __version__
-from ..compile_helper import usable_cores
-from ..compile_notice import announced_progress
 from ..core import layout, state_format
 from ..core.wear import STEP_OVERSHOT
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
 from . import variables as fv
-from . import aot, platforms
+from . import platforms
+from .kernel_ir import compile_kernel_ir, kernel_objects
 from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
@@ -67,11 +61,7 @@ COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h", "fmi_checks.h")
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
-                 "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/platforms.py")
-# what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
-IR_SOURCES = ("core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py", "core/wear.py", "core/state_format.py",
-              "core/joint_access.py", "core/mechanism.py", "core/integrators.py", "core/trig.py", "joint.py",
-              "parameters.py", "fmu/aot.py")
+                 "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/kernel_ir.py", "fmu/platforms.py")
 
 
 @dataclass(frozen=True)
@@ -84,7 +74,7 @@ class NativeModel:
     c_sources: tuple
     kernel_header: str
     modules: tuple             # the wearjoint modules whose content decides this model's FMU (with BUILD_MODULES)
-    ir_modules: tuple          # what its kernels' IR depends on (with IR_SOURCES)
+    ir_modules: tuple          # what its kernels' IR depends on (with kernel_ir.IR_SOURCES)
     fixed_size: bool           # n_points does not apply (no bushing)
 
     @property
@@ -122,9 +112,6 @@ def c_sources(fmi_version: int, model: str = DEFAULT_MODEL) -> tuple:
 FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                           3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 EXPORTS_MAP_BY_VERSION = {v: f"{{\n  global: fmi{v}*;\n  local: *;\n}};\n" for v in FMI_VERSIONS}   # ELF platforms
-# the process that compiles the kernels: a generic CPU (numba's cache keeps these apart from the
-# in-process kernels, which are compiled for this machine's CPU)
-AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}
 
 
 def check_fmi_version(fmi_version) -> int:
@@ -281,104 +268,6 @@ static const OutputInfo OUTPUTS[N_SCALAR_OUTPUTS] = {{
 """
 
 
-def kernel_key(model: str = DEFAULT_MODEL) -> str:
-    """What ``model``'s kernel IR depends on: numba and llvmlite versions, the kernels' sources, its
-    kernel header."""
-    import llvmlite
-    import numba
-
-    spec = native_model(model)
-    digest = source_digest([*(PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)),
-                            FMU_SOURCE_DIR / spec.kernel_header], PACKAGE_DIR.parent)
-    return f"{spec.name}-numba{numba.__version__}-llvmlite{llvmlite.__version__}-{digest}"
-
-
-def _aot_parts(model: str) -> list:
-    """The entry points of each AOT process: two (:data:`aot.PARTS`) where this process may use two cores or more."""
-    symbols = list(aot.ENTRY_POINTS[model][1])
-    second = list(aot.PARTS[model]) if usable_cores() > 1 else []
-    return [[symbol for symbol in symbols if symbol not in second], *([second] if second else [])]
-
-
-def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
-    """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
-    progress bar of their compilations.  They take the kernels numba's cache holds (an in-process run's:
-    the same CPU) unless ``fresh`` (an empty cache)."""
-    parts = _aot_parts(model)
-    bar = announced_progress("fmu")
-    counts = [0] * len(parts)
-
-    def follow(k, stream):
-        for line in stream:
-            if line.strip().isdigit():
-                counts[k] = int(line)
-
-    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryDirectory() as logs:
-        env = {**os.environ, **AOT_ENVIRONMENT, **({"NUMBA_CACHE_DIR": cache} if fresh else {})}
-        processes, readers = [], []
-        for k, part in enumerate(parts):
-            with open(Path(logs) / f"{k}.err", "w") as errors:
-                processes.append(subprocess.Popen(
-                    [sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir), ",".join(part)],
-                    stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent))
-            readers.append(threading.Thread(target=follow, args=(k, processes[-1].stdout), daemon=True))
-            readers[-1].start()
-        while any(process.poll() is None for process in processes):
-            bar.update(sum(counts))
-            time.sleep(0.1)
-        for reader in readers:
-            reader.join()
-        bar.close()
-        for k, process in enumerate(processes):
-            if process.returncode != 0:
-                raise RuntimeError("compiling the kernels ahead of time failed:\n"
-                                   + (Path(logs) / f"{k}.err").read_text().strip()[-3000:])
-    modules = {symbol: f"{symbol}.ll" for symbol in aot.ENTRY_POINTS[model][1]}
-    (out_dir / "entry_points.json").write_text(json.dumps(modules, indent=1))
-    return modules
-
-
-def compile_kernel_ir(out_dir: Path, reuse: bool = True, model: str = DEFAULT_MODEL) -> dict:
-    """``model``'s kernel IR in ``out_dir`` ({symbol: IR file}): compiled in a fresh process (from the
-    kernels in numba's cache; with an empty one unless ``reuse``), or (``reuse``) copied from the user
-    cache where an earlier build left it."""
-    cached = user_cache_dir() / "kernels" / kernel_key(model)
-    if reuse:
-        try:
-            modules = json.loads((cached / "entry_points.json").read_text())
-            if all((cached / name).is_file() for name in modules.values()):
-                shutil.copytree(cached, out_dir, dirs_exist_ok=True)
-                return modules
-        except (OSError, ValueError):
-            pass
-    modules = _compile_ir_fresh(out_dir, model, fresh=not reuse)
-    try:   # keep it for the next build (another process may be writing the same: first one wins)
-        cached.parent.mkdir(parents=True, exist_ok=True)
-        partial = Path(tempfile.mkdtemp(prefix=cached.name + ".", dir=cached.parent))
-        shutil.copytree(out_dir, partial, dirs_exist_ok=True)
-        if cached.exists():
-            shutil.rmtree(cached, ignore_errors=True)
-        try:
-            partial.rename(cached)
-        except OSError:
-            shutil.rmtree(partial, ignore_errors=True)
-    except OSError:
-        pass
-    return modules
-
-
-def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform) -> list[str]:
-    """Objects of the kernels' IR for ``target`` in ``kernel_dir/<platform>/``; their paths relative
-    to ``kernel_dir``'s parent."""
-    folder = kernel_dir / target.name
-    folder.mkdir(parents=True, exist_ok=True)
-    objects = []
-    for symbol, ir_name in modules.items():
-        (folder / f"{symbol}.o").write_bytes(aot.emit_object(kernel_dir / ir_name, target.triple, target.cpu))
-        objects.append(f"{kernel_dir.name}/{target.name}/{symbol}.o")
-    return objects
-
-
 def link_arguments(target: platforms.Platform, fmi_version: int, objects, model: str = DEFAULT_MODEL,
                    output: str | None = None) -> list[str]:
     """The C compiler's arguments that link ``target``'s binary of ``model`` in the sources folder (into
@@ -454,7 +343,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     header = sc.model_variables_header(guid) if spec.fixed_size else model_variables_header(n_points, guid)
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
-        modules = compile_kernel_ir(sources / "kernels", reuse=not force, model=model)
+        modules = compile_kernel_ir(sources / "kernels", spec, reuse=not force)
         for name in c_sources(fmi_version, model):
             (sources / name).write_bytes((FMU_SOURCE_DIR / name).read_bytes())
         for name in FMI_HEADERS_BY_VERSION[fmi_version]:

@@ -1,0 +1,59 @@
+"""The kernel IR the package ships (wearjoint/fmu/shipped_ir/): compiled from these kernels, taken by a
+build with empty caches instead of compiling, never taken once the kernels or numba changed."""
+import re
+
+import pytest
+
+from wearjoint.fmu import aot, kernel_ir
+from wearjoint.fmu.build_native import MODELS
+
+
+@pytest.mark.parametrize("model", list(MODELS))
+def test_the_shipped_ir_is_compiled_from_these_kernels(model):
+    spec = MODELS[model]
+    assert kernel_ir.shipped_key(spec).get("digest") == kernel_ir.kernel_digest(spec), (
+        f"wearjoint/fmu/shipped_ir/{model}.tar.xz was compiled from other kernels: run "
+        f"python -m wearjoint.fmu.ship_ir {model}")
+
+
+def _no_compiling(*args, **kwargs):
+    raise AssertionError("compiled the kernels although the package ships their IR")
+
+
+@pytest.mark.parametrize("model", list(MODELS))
+def test_a_build_with_empty_caches_takes_the_shipped_ir(model, tmp_path, monkeypatch):
+    spec = MODELS[model]
+    shipped = kernel_ir.shipped_key(spec).get("kernel_key")
+    if shipped != kernel_ir.kernel_key(spec):
+        pytest.skip(f"the shipped IR is {shipped}, this tree needs {kernel_ir.kernel_key(spec)}")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(kernel_ir, "_compile_ir_fresh", _no_compiling)
+    out = tmp_path / "kernels"
+    modules = kernel_ir.compile_kernel_ir(out, spec)
+    assert set(modules) == set(aot.ENTRY_POINTS[model][1])
+    for symbol, name in modules.items():
+        # the entry point, exported under its C name
+        assert re.search(rf"^define .* @{symbol}\(", (out / name).read_text(), re.MULTILINE), symbol
+
+
+def test_a_changed_kernel_or_numba_is_compiled_not_taken_from_the_package(tmp_path, monkeypatch):
+    spec = MODELS["joint"]
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(kernel_ir, "kernel_key", lambda spec: f"{spec.name}-numba0.0-llvmlite0.0-0000")
+    assert kernel_ir.shipped_kernel_ir(tmp_path / "shipped", spec) is None
+    compiled = []
+    monkeypatch.setattr(kernel_ir, "_compile_ir_fresh", lambda out, model, fresh: compiled.append((model, fresh)) or {})
+    kernel_ir.compile_kernel_ir(tmp_path / "kernels", spec)
+    assert compiled == [("joint", False)]
+
+
+def test_ship_ir_check_names_a_stale_archive(monkeypatch, capsys):
+    from wearjoint.fmu import ship_ir
+
+    monkeypatch.setattr(ship_ir, "kernel_digest", lambda spec: "changed" if spec.name == "joint" else
+                        kernel_ir.kernel_digest(spec))
+    assert ship_ir.main(["--check"]) == 1
+    assert capsys.readouterr().out.splitlines()[0] == "joint: stale"
+    with pytest.raises(SystemExit):
+        ship_ir.main(["no-such-model"])
+    assert "MODEL='no-such-model' is invalid: allowed one of joint, slider-crank" in capsys.readouterr().err

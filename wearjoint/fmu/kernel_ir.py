@@ -1,0 +1,196 @@
+"""A native FMU's kernels as LLVM IR: compiled ahead of time, kept, shipped, turned into objects.
+
+:func:`compile_kernel_ir` gives a model's IR (one ``<symbol>.ll`` per entry point of
+:data:`aot.ENTRY_POINTS`) from the first of:
+
+1. the user cache, where an earlier build left it (``reuse``);
+2. the package (``reuse``): ``wearjoint/fmu/shipped_ir/<model>.tar.xz`` holds the IR of each model,
+   compiled from this tree's kernels with the numba and llvmlite it names, as a Cython package
+   ships its generated C.  Taken only where :func:`kernel_key` (those versions and a hash of the
+   kernels' sources) is the archive's, so it is never stale; ``python -m wearjoint.fmu.ship_ir``
+   writes it anew after a change to the kernels (``tests/test_shipped_ir.py`` fails until then);
+3. numba, in fresh processes for a generic CPU (:mod:`wearjoint.fmu.aot`; ``build-fmu --force``
+   always does this).
+
+:func:`kernel_objects` turns the IR into one platform's objects.
+"""
+from __future__ import annotations
+
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tarfile
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+from ..compile_helper import usable_cores
+from ..compile_notice import announced_progress
+from . import aot, platforms
+from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir
+
+# what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
+IR_SOURCES = ("core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py", "core/wear.py",
+              "core/state_format.py", "core/joint_access.py", "core/mechanism.py", "core/integrators.py",
+              "core/trig.py", "joint.py", "parameters.py", "fmu/aot.py")
+# the process that compiles the kernels: a generic CPU (numba's cache keeps these apart from the
+# in-process kernels, which are compiled for this machine's CPU)
+AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}
+SHIPPED_DIR = Path(__file__).parent / "shipped_ir"
+_KEY_MEMBER = "kernel_key.json"   # the archive's member naming what its IR was compiled from
+
+
+def kernel_digest(spec) -> str:
+    """Hash of what the IR of ``spec`` (a :class:`build_native.NativeModel`) is compiled from: the
+    kernels' sources and its kernel header."""
+    return source_digest([*(PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)),
+                          FMU_SOURCE_DIR / spec.kernel_header], PACKAGE_DIR.parent)
+
+
+def kernel_key(spec) -> str:
+    """What the kernel IR of ``spec`` depends on: numba and llvmlite versions, :func:`kernel_digest`."""
+    import llvmlite
+    import numba
+
+    return f"{spec.name}-numba{numba.__version__}-llvmlite{llvmlite.__version__}-{kernel_digest(spec)}"
+
+
+def _aot_parts(model: str) -> list:
+    """The entry points of each AOT process: two (:data:`aot.PARTS`) where this process may use two cores or more."""
+    symbols = list(aot.ENTRY_POINTS[model][1])
+    second = list(aot.PARTS[model]) if usable_cores() > 1 else []
+    return [[symbol for symbol in symbols if symbol not in second], *([second] if second else [])]
+def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
+    """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
+    progress bar of their compilations.  They take the kernels numba's cache holds (an in-process run's:
+    the same CPU) unless ``fresh`` (an empty cache)."""
+    parts = _aot_parts(model)
+    bar = announced_progress("fmu")
+    counts = [0] * len(parts)
+
+    def follow(k, stream):
+        for line in stream:
+            if line.strip().isdigit():
+                counts[k] = int(line)
+
+    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryDirectory() as logs:
+        env = {**os.environ, **AOT_ENVIRONMENT, **({"NUMBA_CACHE_DIR": cache} if fresh else {})}
+        processes, readers = [], []
+        for k, part in enumerate(parts):
+            with open(Path(logs) / f"{k}.err", "w") as errors:
+                processes.append(subprocess.Popen(
+                    [sys.executable, "-m", "wearjoint.fmu.aot", model, str(out_dir), ",".join(part)],
+                    stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent))
+            readers.append(threading.Thread(target=follow, args=(k, processes[-1].stdout), daemon=True))
+            readers[-1].start()
+        while any(process.poll() is None for process in processes):
+            bar.update(sum(counts))
+            time.sleep(0.1)
+        for reader in readers:
+            reader.join()
+        bar.close()
+        for k, process in enumerate(processes):
+            if process.returncode != 0:
+                raise RuntimeError("compiling the kernels ahead of time failed:\n"
+                                   + (Path(logs) / f"{k}.err").read_text().strip()[-3000:])
+    modules = {symbol: f"{symbol}.ll" for symbol in aot.ENTRY_POINTS[model][1]}
+    (out_dir / "entry_points.json").write_text(json.dumps(modules, indent=1))
+    return modules
+
+
+def _archive(spec) -> Path:
+    return SHIPPED_DIR / f"{spec.name}.tar.xz"
+
+
+def shipped_kernel_ir(out_dir: Path, spec) -> dict | None:
+    """The IR the package ships for ``spec``, unpacked into ``out_dir`` ({symbol: IR file}), if it was
+    compiled from these kernels by this numba and llvmlite (:func:`kernel_key`); None otherwise."""
+    if shipped_key(spec).get("kernel_key") != kernel_key(spec):
+        return None
+    try:
+        with tarfile.open(_archive(spec), "r:xz") as archive:
+            modules = json.load(archive.extractfile("entry_points.json"))
+            out_dir.mkdir(parents=True, exist_ok=True)
+            for name in ("entry_points.json", *modules.values()):
+                (out_dir / Path(name).name).write_bytes(archive.extractfile(name).read())
+            return modules
+    except (OSError, KeyError, ValueError, AttributeError, tarfile.TarError):
+        return None
+
+
+def shipped_key(spec) -> dict:
+    """What the package's IR of ``spec`` was compiled from: {"kernel_key": :func:`kernel_key`,
+    "digest": :func:`kernel_digest`} ({} without an archive)."""
+    try:
+        with tarfile.open(_archive(spec), "r:xz") as archive:
+            return json.load(archive.extractfile(_KEY_MEMBER))
+    except (OSError, KeyError, ValueError, AttributeError, tarfile.TarError):
+        return {}
+
+
+def write_shipped_ir(spec) -> Path:
+    """Compile the IR of ``spec`` afresh (an empty numba cache) and write the package's archive of it."""
+    with tempfile.TemporaryDirectory(prefix="wearjoint_ship_") as tmp:
+        modules = _compile_ir_fresh(Path(tmp), spec.name, fresh=True)
+        key = json.dumps({"kernel_key": kernel_key(spec), "digest": kernel_digest(spec)}, indent=1)
+        members = {_KEY_MEMBER: key.encode(), "entry_points.json": (Path(tmp) / "entry_points.json").read_bytes(),
+                   **{name: (Path(tmp) / name).read_bytes() for name in modules.values()}}
+    buffer = io.BytesIO()
+    with tarfile.open(fileobj=buffer, mode="w:xz", preset=9) as archive:
+        for name, data in members.items():
+            info = tarfile.TarInfo(name)   # no dates or owners: the same IR gives the same archive
+            info.size, info.mode = len(data), 0o644
+            archive.addfile(info, io.BytesIO(data))
+    SHIPPED_DIR.mkdir(exist_ok=True)
+    _archive(spec).write_bytes(buffer.getvalue())
+    return _archive(spec)
+
+
+def compile_kernel_ir(out_dir: Path, spec, reuse: bool = True) -> dict:
+    """The kernel IR of ``spec`` (a :class:`build_native.NativeModel`) in ``out_dir`` ({symbol: IR
+    file}): with ``reuse``, the user cache's where an earlier build left it, else the package's
+    (:func:`shipped_kernel_ir`); otherwise compiled in fresh processes (from the kernels in numba's
+    cache; with an empty one unless ``reuse``) and kept in the user cache."""
+    cached = user_cache_dir() / "kernels" / kernel_key(spec)
+    if reuse:
+        try:
+            modules = json.loads((cached / "entry_points.json").read_text())
+            if all((cached / name).is_file() for name in modules.values()):
+                shutil.copytree(cached, out_dir, dirs_exist_ok=True)
+                return modules
+        except (OSError, ValueError):
+            pass
+        modules = shipped_kernel_ir(out_dir, spec)
+        if modules is not None:
+            return modules
+    modules = _compile_ir_fresh(out_dir, spec.name, fresh=not reuse)
+    try:   # keep it for the next build (another process may be writing the same: first one wins)
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        partial = Path(tempfile.mkdtemp(prefix=cached.name + ".", dir=cached.parent))
+        shutil.copytree(out_dir, partial, dirs_exist_ok=True)
+        if cached.exists():
+            shutil.rmtree(cached, ignore_errors=True)
+        try:
+            partial.rename(cached)
+        except OSError:
+            shutil.rmtree(partial, ignore_errors=True)
+    except OSError:
+        pass
+    return modules
+
+
+def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform) -> list[str]:
+    """Objects of the kernels' IR for ``target`` in ``kernel_dir/<platform>/``; their paths relative
+    to ``kernel_dir``'s parent."""
+    folder = kernel_dir / target.name
+    folder.mkdir(parents=True, exist_ok=True)
+    objects = []
+    for symbol, ir_name in modules.items():
+        (folder / f"{symbol}.o").write_bytes(aot.emit_object(kernel_dir / ir_name, target.triple, target.cpu))
+        objects.append(f"{kernel_dir.name}/{target.name}/{symbol}.o")
+    return objects
+
