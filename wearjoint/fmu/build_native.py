@@ -40,7 +40,7 @@ from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
 from . import variables as fv
 from . import platforms
-from .kernel_ir import compile_kernel_ir, kernel_objects
+from .kernel_ir import compile_kernel_ir, emit_objects
 from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_headers, source_digest, user_cache_dir
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
@@ -350,14 +350,17 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
             (sources / name).write_bytes((headers / name).read_bytes())
         (sources / "model_variables.h").write_text(header)
         (sources / "exports.map").write_text(EXPORTS_MAP_BY_VERSION[fmi_version])
-        objects = {t.name: kernel_objects(sources / "kernels", modules, t) for t in targets}
+        objects, links = {}, {}
+        # each platform's compiler starts once its objects are written, each binary in its own folder
+        for t, paths in emit_objects(sources / "kernels", modules, targets):
+            objects[t.name] = paths
+            links[t.name] = subprocess.Popen(
+                [platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model,
+                                                        f"kernels/{t.name}/{spec.identifier}{t.extension}")],
+                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=sources)
+        outputs = {name: link.communicate()[0] for name, link in links.items()}   # all done before any error
         (sources / "build.sh").write_text(_build_script(targets, fmi_version, objects, model))
         binaries = {}
-        links = {t.name: subprocess.Popen(   # the platforms' compilers at once, each binary in its own folder
-            [platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model,
-                                                    f"kernels/{t.name}/{spec.identifier}{t.extension}")],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=sources) for t in targets}
-        outputs = {name: link.communicate()[0] for name, link in links.items()}   # all done before any error
         for t in targets:
             if links[t.name].returncode != 0:
                 raise RuntimeError(f"linking the native FMU for {t.name} failed:\n{outputs[t.name].strip()[-3000:]}")

@@ -8,11 +8,12 @@
    compiled from this tree's kernels with the numba and llvmlite it names, as a Cython package
    ships its generated C.  Taken only where :func:`kernel_key` (those versions and a hash of the
    kernels' sources) is the archive's, so it is never stale; ``python -m wearjoint.fmu.ship_ir``
-   writes it anew after a change to the kernels (``tests/test_shipped_ir.py`` fails until then);
+   writes it anew after a change to the kernels (``tests/test_kernel_ir.py`` fails until then);
 3. numba, in fresh processes for a generic CPU (:mod:`wearjoint.fmu.aot`; ``build-fmu --force``
    always does this).
 
-:func:`kernel_objects` turns the IR into one platform's objects.
+:func:`kernel_objects` turns the IR into one platform's objects, :func:`emit_objects` into several
+platforms' on two cores.
 """
 from __future__ import annotations
 
@@ -183,14 +184,43 @@ def compile_kernel_ir(out_dir: Path, spec, reuse: bool = True) -> dict:
     return modules
 
 
+def _object_paths(kernel_dir: Path, modules: dict, target: platforms.Platform) -> list[str]:
+    return [f"{kernel_dir.name}/{target.name}/{symbol}.o" for symbol in modules]
+
+
 def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform) -> list[str]:
     """Objects of the kernels' IR for ``target`` in ``kernel_dir/<platform>/``; their paths relative
     to ``kernel_dir``'s parent."""
     folder = kernel_dir / target.name
     folder.mkdir(parents=True, exist_ok=True)
-    objects = []
     for symbol, ir_name in modules.items():
         (folder / f"{symbol}.o").write_bytes(aot.emit_object(kernel_dir / ir_name, target.triple, target.cpu))
-        objects.append(f"{kernel_dir.name}/{target.name}/{symbol}.o")
-    return objects
+    return _object_paths(kernel_dir, modules, target)
 
+
+def emit_objects(kernel_dir: Path, modules: dict, targets):
+    """Yield (platform, :func:`kernel_objects`) for each of ``targets`` as its objects are written: where
+    two cores are usable, the last platform's in a second process (``python -m wearjoint.fmu.kernel_ir``)
+    while this one writes the others (LLVM's code generation takes ~0.5 s a platform)."""
+    *own, last = targets
+    second = None
+    if own and usable_cores() > 1:
+        second = subprocess.Popen([sys.executable, "-m", __name__, str(kernel_dir), last.name],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=PACKAGE_DIR.parent)
+        targets = own
+    try:
+        for target in targets:
+            yield target, kernel_objects(kernel_dir, modules, target)
+    finally:
+        if second is not None:
+            errors = second.communicate()[1]
+    if second is not None:
+        if second.returncode != 0:
+            raise RuntimeError(f"the kernels' objects for {last.name} failed:\n{errors.strip()[-3000:]}")
+        yield last, _object_paths(kernel_dir, modules, last)
+
+
+if __name__ == "__main__":   # KERNEL_DIR PLATFORM: that platform's objects of the IR in KERNEL_DIR
+    kernel_dir = Path(sys.argv[1])
+    kernel_objects(kernel_dir, json.loads((kernel_dir / "entry_points.json").read_text()),
+                   platforms.PLATFORMS[sys.argv[2]])

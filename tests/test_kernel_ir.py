@@ -1,10 +1,12 @@
-"""The kernel IR the package ships (wearjoint/fmu/shipped_ir/): compiled from these kernels, taken by a
-build with empty caches instead of compiling, never taken once the kernels or numba changed."""
+"""The kernels' IR (wearjoint/fmu/kernel_ir.py): the IR the package ships (wearjoint/fmu/shipped_ir/) is
+compiled from these kernels, a build with empty caches takes it instead of compiling, never once the
+kernels or numba changed; its objects for several platforms, two cores at once."""
+import dataclasses
 import re
 
 import pytest
 
-from wearjoint.fmu import aot, kernel_ir
+from wearjoint.fmu import aot, kernel_ir, platforms
 from wearjoint.fmu.build_native import MODELS
 
 
@@ -57,3 +59,35 @@ def test_ship_ir_check_names_a_stale_archive(monkeypatch, capsys):
     with pytest.raises(SystemExit):
         ship_ir.main(["no-such-model"])
     assert "MODEL='no-such-model' is invalid: allowed one of joint, slider-crank" in capsys.readouterr().err
+
+
+def _shipped_kernels(tmp_path):
+    spec = MODELS["joint"]
+    if kernel_ir.shipped_key(spec).get("kernel_key") != kernel_ir.kernel_key(spec):
+        pytest.skip("the shipped IR is for another numba or llvmlite")
+    return tmp_path / "kernels", kernel_ir.shipped_kernel_ir(tmp_path / "kernels", spec)
+
+
+# what an object file starts with: ELF, or the COFF header of an x86-64 object (machine 0x8664)
+OBJECT_MAGIC = {"linux64": b"\x7fELF", "aarch64-linux": b"\x7fELF", "win64": b"\x64\x86"}
+
+
+@pytest.mark.parametrize("cores", [1, 2])
+def test_every_platforms_objects_are_written_on_one_or_two_cores(tmp_path, monkeypatch, cores):
+    monkeypatch.setattr(kernel_ir, "usable_cores", lambda: cores)
+    kernel_dir, modules = _shipped_kernels(tmp_path)
+    targets = [platforms.PLATFORMS[name] for name in OBJECT_MAGIC]
+    emitted = {target.name: paths for target, paths in kernel_ir.emit_objects(kernel_dir, modules, targets)}
+    assert sorted(emitted) == sorted(OBJECT_MAGIC)
+    for name, paths in emitted.items():
+        assert len(paths) == len(modules)
+        for path in paths:
+            assert (tmp_path / path).read_bytes().startswith(OBJECT_MAGIC[name]), path
+
+
+def test_a_platform_that_fails_in_the_second_process_is_named(tmp_path, monkeypatch):
+    monkeypatch.setattr(kernel_ir, "usable_cores", lambda: 2)
+    kernel_dir, modules = _shipped_kernels(tmp_path)
+    unknown = dataclasses.replace(platforms.PLATFORMS["linux64"], name="no-such-platform")
+    with pytest.raises(RuntimeError, match="objects for no-such-platform failed"):
+        list(kernel_ir.emit_objects(kernel_dir, modules, [platforms.PLATFORMS["linux64"], unknown]))
