@@ -10,7 +10,6 @@ the co-simulation master uses it too.
 import math
 
 import numpy as np
-from numba import njit
 
 from .layout import (
     CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, M_ACTIVE,
@@ -169,7 +168,7 @@ def rk4_hold(t, h, n_steps, y, mp, joint, body_forces, ws, dy, stages):
     derivative(t + h, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
 
 
-@kernel
+@kernel(inline='always')   # one call site in the integrators' loop: inlined, a cold run compiles 0.5 s less
 def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
     """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint.
 
@@ -186,7 +185,6 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
         derivative(t, y, mode, mp, joint, body_forces, ws, dy)
 
 
-@njit(cache=True)
 def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
               rev_stats, samples, track):
     """Integrate y from t to t_end; ``dy`` must hold f(t, y) on entry and holds f at the end.
@@ -205,6 +203,8 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     returns to its fixed step h after it.
     """
     n2 = y.shape[0]
+    # a Python function: a compiled one allocating the scratch cost a cold run 1.6 s of compiling
+    # (numba links and emits the whole integrator again; docs/performance.md, "Compile time")
     stages = np.empty((4, n2))                  # RK4 scratch
     k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
     k_stage = np.empty(n2)                      # f of the current stage (no views of k in the loop)
