@@ -187,7 +187,8 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
 
 def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
               rev_stats, samples, track):
-    """Integrate y from t to t_end; ``dy`` must hold f(t, y) on entry and holds f at the end.
+    """Integrate y from t to t_end; ``dy`` is set to f(t, y) first and holds f at the end (t == t_end:
+    only f(t, y)).
     ``joint`` is a :data:`core.mechanism.JointArrays` (the joint in process) or a
     :data:`core.joint_access.FmuJoint` (an FMU's Model Exchange interface): the same steps.
 
@@ -229,11 +230,12 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     onset_tol = control[6]
     locate_onsets = mode == MODE_CLEARANCE
     memory = joint.memory
-    pen_start = result[R_PENETRATION]
     err_previous = 1e-4
     accepted = 0
     rejected = 0
     onset_step = np.inf                         # RK4: a shortened step that ends just past a contact onset
+    derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+    pen_start = result[R_PENETRATION]
     while t < t_end * (1.0 - 1e-15) - 1e-300 and not joint_failed(joint):
         step = min(h, t_end - t)
         if method == RK4:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import layout as L
-from ..core.integrators import DOPRI5, RK4, integrate
+from ..core.integrators import integrate
 from ..core.joint_access import FMU_CALLS, FmuJoint
 from ..fmu.build import DEFAULT_BACKEND
 from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
@@ -76,14 +76,13 @@ class ModelExchangeSimulation(Simulation):
             self._fmu.check(int(failure[1]), FMU_CALLS[int(failure[0])], float(failure[2]))
 
     def _derivative(self):
-        super()._derivative()
-        if self._fmu_joint is not None:
+        if self._fmu_joint is not None:   # none before the FMU is connected: nothing to evaluate yet
+            super()._derivative()
             self._check()
 
     def warm_up(self) -> None:
         """Compile the integrator for the FMU joint without advancing (an empty interval)."""
-        method = RK4 if self.options.integrator == "rk4" else DOPRI5
-        integrate(method, self.t, self.t, self.y.copy(), self.control.copy(), self.mode,
+        integrate(self._method, self.t, self.t, self.y.copy(), self.control.copy(), self.mode,
                   self.mechanism.parameter_vector, self._fmu_joint, self.body_forces.copy(), self.mechanism.workspace,
                   self.dy.copy(), self.revolution_stats.copy(), np.zeros((0, L.N_SAMPLE_COLUMNS)), self.track.copy())
 
