@@ -18,6 +18,19 @@ def test_the_shipped_ir_is_compiled_from_these_kernels(model):
         f"python -m wearjoint.fmu.ship_ir {model}")
 
 
+def test_the_digest_is_the_same_where_the_package_is_installed(tmp_path, monkeypatch):
+    """In the source tree fmu_src/ sits beside the package; a wheel installs it inside the package."""
+    spec = MODELS["joint"]
+    in_tree = kernel_ir.kernel_digest(spec)
+    installed = tmp_path / "site-packages" / "wearjoint" / "fmu_src"
+    installed.mkdir(parents=True)
+    (installed / spec.kernel_header).write_bytes((kernel_ir.FMU_SOURCE_DIR / spec.kernel_header).read_bytes())
+    monkeypatch.setattr(kernel_ir, "FMU_SOURCE_DIR", installed)
+    assert kernel_ir.kernel_digest(spec) == in_tree
+    (installed / spec.kernel_header).write_bytes(b"/* another header */\n")
+    assert kernel_ir.kernel_digest(spec) != in_tree
+
+
 def _no_compiling(*args, **kwargs):
     raise AssertionError("compiled the kernels although the package ships their IR")
 

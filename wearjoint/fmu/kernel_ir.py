@@ -17,6 +17,7 @@ platforms' on two cores.
 """
 from __future__ import annotations
 
+import hashlib
 import io
 import json
 import os
@@ -47,9 +48,11 @@ _KEY_MEMBER = "kernel_key.json"   # the archive's member naming what its IR was 
 
 def kernel_digest(spec) -> str:
     """Hash of what the IR of ``spec`` (a :class:`build_native.NativeModel`) is compiled from: the
-    kernels' sources and its kernel header."""
-    return source_digest([*(PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)),
-                          FMU_SOURCE_DIR / spec.kernel_header], PACKAGE_DIR.parent)
+    kernels' sources and its kernel header, named as in the source tree (``wearjoint/...``,
+    ``fmu_src/...``) wherever the package is installed."""
+    python = source_digest([PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)], PACKAGE_DIR.parent)
+    header = source_digest([FMU_SOURCE_DIR / spec.kernel_header], FMU_SOURCE_DIR.parent)
+    return hashlib.sha256(f"{python}{header}".encode()).hexdigest()[:16]
 
 
 def kernel_key(spec) -> str:
