@@ -129,7 +129,7 @@ class Simulation:
 
     def _derivative(self):
         """dy = f(t, y).  RK4 and DOPRI: by their integrator over no time (it evaluates f where it starts), so a
-        cold run compiles the right-hand side inside the integrator only, not on its own too (1.2 s)."""
+        cold run compiles the right-hand side inside the integrator only, not on its own too (0.4 s)."""
         mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
         if self.options.integrator == "gear":
             derivative(self.t, self.y, self.mode, mp, self._joint_arrays, self.body_forces, ws, self.dy)

@@ -68,6 +68,8 @@ def _aot_parts(model: str) -> list:
     symbols = list(aot.ENTRY_POINTS[model][1])
     second = list(aot.PARTS[model]) if usable_cores() > 1 else []
     return [[symbol for symbol in symbols if symbol not in second], *([second] if second else [])]
+
+
 def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
     """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
     progress bar of their compilations.  They take the kernels numba's cache holds (an in-process run's:
