@@ -180,24 +180,23 @@ class Simulation:
         """Nothing to free (the co-simulation engine frees its FMU instance here)."""
 
     def warm_up(self) -> None:
-        """Compile the kernels :meth:`advance_to` calls (numba) without advancing: the
-        integrator runs over zero time, on copies of the state."""
+        """Compile the kernels :meth:`advance_to` calls (numba) without advancing.  RK4 and DOPRI:
+        compiled when the engine was built (:meth:`_derivative` runs their integrator over no time);
+        gear: its kernels, on copies of the state."""
+        if self.options.integrator != "gear":
+            return
         joint = JointArrays(*(a.copy() for a in self._joint_arrays))
         y, dy, forces = self.y.copy(), self.dy.copy(), self.body_forces.copy()
         stats, track = self.revolution_stats.copy(), self.track.copy()
         samples = np.zeros((0, L.N_SAMPLE_COLUMNS))
         mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
-        if self.options.integrator == "gear":
-            if self.options.gear_solver == "cvode":
-                import sksundae.cvode  # noqa: F401  (imported here: its import is not part of the run's time)
-            accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False)
-            record_step(self.t, 0.0, y, dy, joint.result, mp, stats, samples, track)
-            for function in self._gear_functions(joint):
-                if function is not None:
-                    function(self.t, y)
-        else:
-            integrate(RK4, self.t, self.t, y, self.control.copy(), self.mode, mp, joint, forces, ws, dy,
-                      stats, samples, track)
+        if self.options.gear_solver == "cvode":
+            import sksundae.cvode  # noqa: F401  (imported here: its import is not part of the run's time)
+        accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False)
+        record_step(self.t, 0.0, y, dy, joint.result, mp, stats, samples, track)
+        for function in self._gear_functions(joint):
+            if function is not None:
+                function(self.t, y)
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         """Integrate to t_end, writing samples into ``samples``; returns how many."""

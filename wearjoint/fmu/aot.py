@@ -24,8 +24,8 @@ leave undefined are C math functions (:data:`ALLOWED_UNDEFINED`), otherwise the
 build fails.
 
 Run as ``python -m wearjoint.fmu.aot MODEL OUT_DIR [SYMBOL,...]`` in a fresh process with
-``NUMBA_CPU_NAME=generic``; :func:`wearjoint.fmu.build_native.build_fmu` does that, in two processes on
-two cores (:data:`PARTS`), which share numba's cache.  The entry points are compiled there, never taken from numba's cache (a cached function has
+``NUMBA_CPU_NAME=generic``; :func:`wearjoint.fmu.kernel_ir.compile_kernel_ir` does that (where the package
+ships no IR for these kernels), in two processes on two cores (:data:`PARTS`), which share numba's cache.  The entry points are compiled there, never taken from numba's cache (a cached function has
 no IR); the kernels they call may be: numba caches each with the bitcode that links it into a caller.  Writes per entry point
 ``<symbol>.ll``; prints the number of numba's compilations so far after each (the builder's progress
 bar).
