@@ -40,3 +40,22 @@ def run_joint_on_trace(params, rows, model_exchange: bool = False):
         joint.advance_array(k[0:3], k[3:6], k[6:9], k[9:12], row[0] - previous_t if model_exchange else row[1])
         previous_t = row[0]
     return outputs, joint.wear_depth.copy()
+
+
+def orbiting_pin_trace(joint, n_rows: int, step_s: float, sweeps_per_s: float = 1000.0, bounces_per_s: float = 1000.0,
+                       amplitude_m: float = 4e-6, spin_rad_s: float = 15.7) -> np.ndarray:
+    """A pin body driven round inside a fixed bushing body (both centres at the reference points): the
+    eccentricity's direction sweeps ``sweeps_per_s`` times a second, its length is c + 3/4 ``amplitude_m``
+    + ``amplitude_m`` sin(2 pi ``bounces_per_s`` t), so the pin enters and leaves contact gently (onset
+    speeds of mm/s to cm/s) and, while the bushing wears, ever more gently; the pin body spins at
+    ``spin_rad_s`` (the sliding of the wear).  Rows (t, h, the 12 FMU inputs)."""
+    t = np.arange(n_rows) * step_s
+    sweep, bounce = 2.0 * np.pi * sweeps_per_s, 2.0 * np.pi * bounces_per_s
+    e = joint.clearance_m + 0.75 * amplitude_m + amplitude_m * np.sin(bounce * t)
+    e_dot = amplitude_m * bounce * np.cos(bounce * t)
+    c, s = np.cos(sweep * t), np.sin(sweep * t)
+    rows = np.zeros((n_rows, 14))
+    rows[:, 0], rows[:, 1] = t, step_s
+    rows[:, 2], rows[:, 3], rows[:, 4] = e * c, e * s, spin_rad_s * t
+    rows[:, 5], rows[:, 6], rows[:, 7] = e_dot * c - e * sweep * s, e_dot * s + e * sweep * c, spin_rad_s
+    return rows

@@ -224,9 +224,11 @@ def test_a_ground_side_gets_no_force_and_the_body_gets_the_bushings():
 @pytest.mark.parametrize("explicit", [True, False], ids=["explicit-RK4", "generalized-alpha"])
 def test_a_hung_bar_comes_to_rest_on_its_normal_force(explicit):
     """The bar drops through the clearance, bounces and settles: the normal force carries its
-    weight, m g, and the pin sits c + delta below the bushing centre (delta: Hertz, Eq. 16)."""
+    weight, m g, and the pin sits c + delta below the bushing centre (delta: Hertz, Eq. 16).  With
+    the Lankarani-Nikravesh damping, whose 1 mm/s floor damps the bounces: Hunt-Crossley's restitution
+    tends to 1 as the bounces slow (docs/model.md §3.5), so the bar still bounces at 0.12 s."""
     _, mbs = new_system()
-    bar, handle = hung_bar(mbs, wear_factor=0.0)
+    bar, handle = hung_bar(mbs, wear_factor=0.0, contact_damping="lankarani-nikravesh")
     mbs.Assemble()
     solve(mbs, 0.12, 1e-5, explicit)
     h = handle.history()
@@ -251,12 +253,15 @@ def test_a_body_resting_in_the_joint_converges_and_carries_its_weight(mass, wear
     of 8e-10 N, one rounding step of its position times the contact stiffness, in 1 step of ~500),
     and the normal force carries the weight m g: on average over the run (momentum: the mean of
     F_N - m g is m v(T)/T) and at every step of the last 0.1 s, to 1e-5 of m g: Newton's absolute
-    tolerance, 3.3e-6 N with these settings, is 3.4e-6 of the lightest weight, 0.98 N."""
+    tolerance, 3.3e-6 N with these settings, is 3.4e-6 of the lightest weight, 0.98 N.  With the
+    Lankarani-Nikravesh damping: Hunt-Crossley's leaves the contact's micro-oscillation (2e-5 of m g from
+    the start's rounding) a damping ratio of ~0.002 (docs/model.md §3.5)."""
     _, mbs = new_system()
-    p = JointParameters()
+    p = JointParameters(contact_damping="lankarani-nikravesh")
     weight = mass * GRAVITY
     delta = (weight / p.contact_stiffness_N_m1_5) ** (1.0 / p.contact_exponent)
-    bar, handle = hung_bar(mbs, mass=mass, sag=p.clearance_m + delta, wear_factor=wear_factor)
+    bar, handle = hung_bar(mbs, mass=mass, sag=p.clearance_m + delta, wear_factor=wear_factor,
+                           contact_damping=p.contact_damping)
     mbs.Assemble()
     end_time, step = 0.5, 1e-5
     solve(mbs, end_time, step)

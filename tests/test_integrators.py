@@ -75,7 +75,7 @@ def test_rk4_and_dopri_agree_statistically_over_several_revolutions():
     assert dopri["acc_min"] == pytest.approx(rk4["acc_min"], rel=0.3)
     assert dopri["ecc_max"] == pytest.approx(rk4["ecc_max"], abs=5e-6)
     for stats in (rk4, dopri):   # the regime of docs/model.md §7, far from the ideal joint's 15 m/s^2
-        assert 0.3 < stats["contact_fraction"] < 0.85
+        assert 0.1 < stats["contact_fraction"] < 0.5
         assert stats["acc_min"] < -300.0 and stats["force_max"] > 300.0
         assert CLEARANCE < stats["ecc_max"] < CLEARANCE + 2e-5
 

@@ -70,7 +70,8 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
         assert set(m["scatter_values"]) == set(summary["scatter_run_statistics"]) | {cmp.STANDARD_ERROR}
     assert set(summary["ensemble_std"]) == {cmp.REFERENCE, *summary["scatter_run_statistics"], *others}
     law = summary["law_differences"]["exudyn-native"]                    # traces against its own law's reference
-    assert summary["law_references"] == {"exudyn-native": {"contact_model": "deepest"}}
+    assert summary["law_references"] == {"exudyn-native": {"contact_model": "deepest", "contact_damping":
+                                                           "lankarani-nikravesh", "impact_velocity_floor_m_s": 0.05}}
     assert law["engine"]["eccentricity_max_difference_m"] > 0.0 and law["law"]["eccentricity_max_difference_m"] > 0.0
     assert {"max_wear_depth_m", "worn_volume_m3", "profile_decorrelation"} <= {
         m["name"] for m in by_group[cmp.GROUP_PROFILE]}

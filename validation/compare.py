@@ -17,7 +17,8 @@ for the profile, the largest difference between the reference and the other vali
 runs; for the point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
 engine's own (the same engine at its window step and at twice that step).  An engine whose
 contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
-K delta^n along the line of centres, our ``deepest`` law) has its traces compared with the
+K delta^n along the line of centres with a stored, floored impact velocity, our ``deepest`` law with
+Lankarani-Nikravesh damping, :func:`.exudyn_native.native_law`) has its traces compared with the
 monolithic reference run with that law; its difference from the default reference is reported
 beside (not judged).
 
@@ -44,8 +45,16 @@ from wearjoint.sweep.design import perturbed_start
 REFERENCE = "monolithic"
 ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete", "exudyn-native")
 WEAR_ENGINES = ("monolithic", "cosim", "cosim-me", "exudyn-discrete")     # exudyn's own contact cannot wear
-# engine -> the joint change that gives the monolithic reference its contact law (point-wise traces)
-LAW_REFERENCES = {"exudyn-native": {"contact_model": "deepest"}}
+
+
+def _exudyn_native_law(joint: JointParameters) -> dict:
+    from .exudyn_native import native_law      # imports exudyn
+
+    return native_law(joint)
+
+
+# engine -> the joint changes that give the monolithic reference the engine's contact law (point-wise traces)
+LAW_REFERENCES = {"exudyn-native": _exudyn_native_law}
 # The valid monolithic runs besides the reference, whose differences from it are the scatter.
 # Over one revolution the worn volume of eleven valid runs has a 16 % standard deviation
 # (max depth 12 %): four samples underestimated it (README "Validation").  h/2 comes first: it
@@ -178,6 +187,7 @@ class Runs:
     engines: dict
     window: dict
     law_window: dict = field(default_factory=dict)
+    law_changes: dict = field(default_factory=dict)   # engine of law_window -> the joint changes of its law
     wear_reference: RunRecord | None = None
     wear_scatter: dict = field(default_factory=dict)
     wear_engines: dict = field(default_factory=dict)
@@ -300,7 +310,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         name, make = monolithic(label, no_wear, rev, **options)
         ensembles[label] = ensemble(name, REFERENCE, make)
     reference_ensemble = ensembles.pop(f"RK4 {_us(h)}")
-    engines, window, law_window = {}, {}, {}
+    engines, window, law_window, law_changes = {}, {}, {}, {}
     window_rev = plan.window_s * 1.02 / mechanism.period_s
     for engine, runner in list(available.items()):
         j = no_wear.replace(**changes.get(engine, {}))
@@ -313,8 +323,9 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
                     lambda s=s: runner(j, mechanism, window_rev, s, dt, progress))
                 for s in (plan.window_step_s, 2.0 * plan.window_step_s))
             if engine in LAW_REFERENCES:
-                law = no_wear.replace(**LAW_REFERENCES[engine])
-                law_text = ", ".join(f"{k}={v}" for k, v in LAW_REFERENCES[engine].items())
+                law_changes[engine] = LAW_REFERENCES[engine](no_wear)
+                law = no_wear.replace(**law_changes[engine])
+                law_text = ", ".join(f"{k}={v}" for k, v in law_changes[engine].items())
                 law_window[engine] = tuple(
                     run(f"monolithic RK4 {_us(s)}, {law_text}, first {plan.window_s * 1e3:g} ms, no wear", REFERENCE,
                         lambda s=s: run_monolithic(law, mechanism, window_rev, dt, progress, integrator="rk4",
@@ -324,7 +335,8 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         except Exception as exc:       # one broken engine must not hide the others' comparison
             failed(engine, exc)
             del available[engine]
-    runs = Runs(reference_ensemble, ensembles, engines, window, law_window, gaps=gaps, errors=errors, log=log)
+    runs = Runs(reference_ensemble, ensembles, engines, window, law_window, law_changes, gaps=gaps, errors=errors,
+                log=log)
     if plan.run_wear:
         wrev = plan.wear_revolutions
 

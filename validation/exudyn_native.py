@@ -11,8 +11,13 @@ docs/validation.md "exudyn's own contact"):
   ``spheresRadii`` = (R_i, R_j);
 - ``contactStiffness`` = K [N/m^n], ``contactStiffnessExponent`` = n: F_e = K delta^n, delta = |e| - c;
 - ``impactModel`` 1 (Hunt-Crossley): F_N = K delta^n (1 + 3/2 (1 - e_x) delta_dot / delta_dot^-),
-  the Lankarani-Nikravesh form; e_x = (1 + e_r^2)/2 makes 3/2 (1 - e_x) = 3/4 (1 - e_r^2), the same
-  coefficient; ``minimumImpactVelocity`` = our floor of delta_dot^-; ``contactDamping`` 0;
+  the Lankarani-Nikravesh form with delta_dot^- stored at the impact and floored at
+  ``minimumImpactVelocity``; e_x = (1 + e_r^2)/2 makes 3/2 (1 - e_x) = 3/4 (1 - e_r^2), the same
+  coefficient.  exudyn has no damping without a stored impact velocity (its models 0-2 all store
+  one; model 0 is a linear dashpot), so for our default Hunt-Crossley damping
+  ``minimumImpactVelocity`` = the restitution speed v_r: every impact slower than v_r (about 95 % of
+  the paper case's) then gets exactly our law, faster ones less damping; for Lankarani-Nikravesh it is
+  our floor of delta_dot^-; ``contactDamping`` 0;
 - ``dynamicFriction`` = mu; ``frictionProportionalZone`` v_reg = v0 + v1: exudyn's friction
   mu F_N min(1, |v_T|/v_reg) then has Ambrosio's mean deficit (the integral of 1 - c_d over |v_T|,
   (v0 + v1)/2) and the smallest largest difference from his ramp (v0/(v0 + v1) of mu F_N).
@@ -50,13 +55,22 @@ def native_restitution(restitution: float) -> float:
     return 0.5 * (1.0 + restitution * restitution)
 
 
+def native_law(p: JointParameters) -> dict:
+    """The changes to ``p`` whose wearjoint kernels compute exudyn's law (up to exudyn's exact circle and the
+    differences of docs/validation.md): the deepest point's K delta^n with Lankarani-Nikravesh damping,
+    floored at exudyn's ``minimumImpactVelocity`` (our restitution speed v_r where ``p`` has our default
+    Hunt-Crossley damping)."""
+    floor = p.restitution_speed_m_s if p.contact_damping == "hunt-crossley" else p.impact_velocity_floor_m_s
+    return {"contact_model": "deepest", "contact_damping": "lankarani-nikravesh", "impact_velocity_floor_m_s": floor}
+
+
 def native_contact_parameters(p: JointParameters) -> dict:
     """``ObjectContactSphereSphere`` arguments for the joint ``p`` (see the module docstring)."""
     return {"spheresRadii": [p.pin_radius_m, p.bushing_radius_m], "isHollowSphere1": True,
             "contactStiffness": p.contact_stiffness_N_m1_5, "contactStiffnessExponent": p.contact_exponent,
             "contactDamping": 0.0, "impactModel": HUNT_CROSSLEY,
             "restitutionCoefficient": native_restitution(p.restitution),
-            "minimumImpactVelocity": p.impact_velocity_floor_m_s,
+            "minimumImpactVelocity": native_law(p)["impact_velocity_floor_m_s"],
             "dynamicFriction": p.friction_coefficient,
             "frictionProportionalZone": p.friction_v0_m_s + p.friction_v1_m_s}
 
@@ -156,5 +170,5 @@ def native_contact_forces(parameters: JointParameters, pos_i, vel_i, pos_j, vel_
     return out
 
 
-__all__ = ["NativeContact", "native_contact_parameters", "native_contact_forces", "native_restitution",
+__all__ = ["NativeContact", "native_law", "native_contact_parameters", "native_contact_forces", "native_restitution",
            "HUNT_CROSSLEY"]

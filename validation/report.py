@@ -13,7 +13,7 @@ from wearjoint.parameters import JointParameters, SliderCrankParameters, _requir
 from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.validation.compare import (
     compare, run_engines,
-    GROUP_POINTWISE, GROUP_PROFILE, GROUP_STATISTICS, LAW_REFERENCES, POINTWISE, PROFILE, REFERENCE,
+    GROUP_POINTWISE, GROUP_PROFILE, GROUP_STATISTICS, POINTWISE, PROFILE, REFERENCE,
     STATISTICS, WEAR_ENGINES, Metric, Runs, ValidationPlan, _us, ensemble_statistics, pointwise_differences,
     profile_quantities, revolution_statistics,
 )
@@ -65,7 +65,7 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
     traces = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": (ref, "-"),
               **{f"{REFERENCE} RK4 {_us(plan.reference_step_s)}, "
-                 + ", ".join(f"{k}={v}" for k, v in LAW_REFERENCES[e].items()) + f" ({e}'s law)": (pair[0], "--")
+                 + ", ".join(f"{k}={v}" for k, v in runs.law_changes[e].items()) + f" ({e}'s law)": (pair[0], "--")
                  for e, pair in runs.law_window.items()},
               **{f"{e} step {_us(plan.window_step_s)}": (pair[0], "-") for e, pair in runs.window.items()}}
     for label, (record, style) in traces.items():
@@ -190,7 +190,7 @@ def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint
         "scatter_run_statistics": {label: ensemble_statistics(m)[0] for label, m in runs.scatter.items()},
         "ensemble_std": {label: ensemble_statistics(m)[1] for label, m in
                          {REFERENCE: runs.reference_ensemble, **runs.scatter, **runs.engines}.items()},
-        "law_references": {e: LAW_REFERENCES[e] for e in runs.law_window},
+        "law_references": {e: runs.law_changes[e] for e in runs.law_window},
         "law_differences": law_differences(runs, plan.window_s),
         "unworn_engines": [e for e in plan.engines if e not in WEAR_ENGINES],
         "reference_profile": profile_quantities(runs.wear_reference) if runs.wear_reference else None,

@@ -17,12 +17,16 @@ RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
 CONTACT_MODELS = ("foundation", "deepest")
+CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh")
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
 # (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
 PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.449e-11
+# the impact speed [m/s] at which the default (Hunt-Crossley) damping restitutes `restitution`: the
+# energy-weighted mean onset speed of the paper's slider-crank (docs/model.md §3.5)
+RESTITUTION_SPEED_M_S = 0.05
 # the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
 OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
-                  "contact_model": CONTACT_MODELS}
+                  "contact_model": CONTACT_MODELS, "contact_damping": CONTACT_DAMPINGS}
 
 
 class ParameterError(ValueError):
@@ -88,6 +92,29 @@ def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
     return float(kernel(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa, bushing_poisson_ratio))
 
 
+def hysteresis_restitution(damping: float, exponent: float = 1.5, steps: int = 4000) -> float:
+    """Restitution of a mass striking F = K delta^n max(0, 1 + alpha delta_dot) at speed v, as a function of
+    ``damping`` = alpha v alone [-] (docs/model.md §3.5): the impact in units of the elastic maximum
+    penetration and v, x'' = -(n + 1)/2 x^n max(0, 1 + a x'), x(0) = 0, x'(0) = 1, integrated by RK4 until x
+    returns to 0; e = -x' there.  For small a, e = 1 - (2/3) a (Hunt and Crossley 1975)."""
+    a, half = float(damping), 0.5 * (exponent + 1.0)
+
+    def accel(x, u):
+        return -half * max(x, 0.0) ** exponent * max(0.0, 1.0 + a * u)
+
+    x, u, dt = 0.0, 1.0, 4.0 / steps        # the elastic impact lasts 2.94 units at n = 1.5
+    while True:
+        k1x, k1u = u, accel(x, u)
+        k2x, k2u = u + 0.5 * dt * k1u, accel(x + 0.5 * dt * k1x, u + 0.5 * dt * k1u)
+        k3x, k3u = u + 0.5 * dt * k2u, accel(x + 0.5 * dt * k2x, u + 0.5 * dt * k2u)
+        k4x, k4u = u + dt * k3u, accel(x + dt * k3x, u + dt * k3u)
+        x_next = x + dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
+        u_next = u + dt / 6.0 * (k1u + 2.0 * k2u + 2.0 * k3u + k4u)
+        if x_next <= 0.0 and u_next < 0.0:
+            return -u_next
+        x, u = x_next, u_next
+
+
 @dataclass(frozen=True)
 class JointParameters:
     """The clearance revolute joint with a wearing bushing (paper Secs. 2-5).
@@ -125,12 +152,14 @@ class JointParameters:
     sliding_distance: str = "rotation"
     impact_velocity_floor_m_s: float = 1e-3
     contact_model: str = "foundation"
+    contact_damping: str = "hunt-crossley"
+    restitution_speed_m_s: float = RESTITUTION_SPEED_M_S
 
     def __post_init__(self):
         for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
                      "pin_youngs_modulus_Pa", "bushing_youngs_modulus_Pa",
                      "contact_stiffness_N_m1_5", "contact_exponent",
-                     "friction_v1_m_s", "impact_velocity_floor_m_s"):
+                     "friction_v1_m_s", "impact_velocity_floor_m_s", "restitution_speed_m_s"):
             _positive(name, getattr(self, name))
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
@@ -156,10 +185,22 @@ class JointParameters:
         _choice("wear_placement", self.wear_placement, WEAR_PLACEMENTS)
         _choice("sliding_distance", self.sliding_distance, SLIDING_DISTANCES)
         _choice("contact_model", self.contact_model, CONTACT_MODELS)
+        _choice("contact_damping", self.contact_damping, CONTACT_DAMPINGS)
         _require("contact_exponent", self.contact_exponent,
                  self.contact_model != "foundation" or self.contact_exponent == 1.5,
                  "1.5 with contact_model='foundation' (a linear foundation on a circle gives delta^1.5; "
                  "other exponents need contact_model='deepest')")
+
+    def restitution_at(self, impact_speed_m_s: float) -> float:
+        """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under this joint's
+        damping, F = F_e max(0, 1 + chi delta_dot / v), chi = 3(1 - e_r^2)/4 (docs/model.md §3.5): v is
+        ``restitution_speed_m_s`` (Hunt-Crossley) or the impact speed itself, floored (Lankarani-Nikravesh)."""
+        speed = _finite("impact_speed_m_s", impact_speed_m_s)
+        _require("impact_speed_m_s", impact_speed_m_s, speed > 0.0, "> 0")
+        chi = 0.75 * (1.0 - self.restitution ** 2)
+        reference = (self.restitution_speed_m_s if self.contact_damping == "hunt-crossley"
+                     else max(speed, self.impact_velocity_floor_m_s))
+        return hysteresis_restitution(chi * speed / reference, self.contact_exponent)
 
     @property
     def clearance_m(self) -> float:
@@ -281,6 +322,6 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
 
 __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
-           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS",
-           "OPTION_CHOICES", "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "MAX_WEAR_STEP_S"]
+           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
+           "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S", "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "MAX_WEAR_STEP_S"]
 

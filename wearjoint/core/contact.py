@@ -11,8 +11,11 @@ Pure numba functions on arrays.  Bodies: i carries the pin, j the bushing.  The 
 * 1, ``deepest``: the paper's, K delta^n at the deepest bushing point k (Eqs. 5-8), applied at
   the pin-surface point Q_i (Eq. 9) and the bushing point Q_j (Eq. 10).
 
-On either, Lankarani-Nikravesh hysteresis (Eq. 15) scales the elastic force and Ambrosio's
-friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions (docs/model.md §3): delta =
+On either, a hysteresis damping scales the elastic force (``jp[P_CONTACT_DAMPING]``, docs/model.md
+§3.5): 0, Hunt-Crossley (default), F_e max(0, 1 + alpha delta_dot) with the constant
+alpha = 3(1 - e_r^2)/(4 v_r) from the restitution e_r at the impact speed v_r; 1, the paper's
+Lankarani-Nikravesh (Eq. 15), the same form with the approach velocity stored at the contact's onset
+in place of v_r.  Ambrosio's friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions (docs/model.md §3): delta =
 R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into the bushing; the
 normal force on the pin is -F_N n; friction on the pin opposes its sliding relative to the
 bushing; torques are planar cross products l_x F_y - l_y F_x.
@@ -27,15 +30,17 @@ from .geometry import angle_near_point, find_deepest_point, point_nearest_angle
 from .jit import kernel
 from .layout import (
     M_ACTIVE, M_IMPACT_VELOCITY, N_KINEMATIC_INPUTS, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS,
-    P_CONTACT_MODEL, P_EXPONENT, P_FOUNDATION_MODULUS, P_FRICTION, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, P_RESTITUTION,
-    P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR, R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT,
-    R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE, R_NORMAL_FORCE,
-    R_PENETRATION, R_PENETRATION_RATE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, R_TANGENTIAL_VELOCITY,
+    P_CONTACT_DAMPING, P_CONTACT_MODEL, P_EXPONENT, P_FOUNDATION_MODULUS, P_FRICTION, P_PIN_OFFSET_X,
+    P_PIN_OFFSET_Y, P_PIN_RADIUS, P_RESTITUTION, P_RESTITUTION_SPEED, P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR,
+    R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X,
+    R_ECCENTRICITY_Y, R_FRICTION_FORCE, R_NORMAL_FORCE, R_PENETRATION, R_PENETRATION_RATE, R_PIN_FX, R_PIN_FY,
+    R_PIN_TORQUE, R_TANGENTIAL_VELOCITY,
 )
 from .pressure import foundation_resultant
 
 TWO_PI = 2.0 * math.pi
 CONTACT_FOUNDATION, CONTACT_DEEPEST = 0, 1
+DAMPING_HUNT_CROSSLEY, DAMPING_LANKARANI_NIKRAVESH = 0, 1
 NO_DIRECTION = (0.0,) * N_KINEMATIC_INPUTS
 
 
@@ -173,9 +178,13 @@ def _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, 
     drate = drvx * nx + drvy * ny + rvx * dnx + rvy * dny
     v_t = rvx * tx + rvy * ty                       # Eq. (14)
     dv_t = drvx * tx + drvy * ty + rvx * dtx + rvy * dty
-    # Lankarani-Nikravesh hysteresis on the elastic force, Eq. (15)
+    # hysteresis damping on the elastic force: Hunt-Crossley with delta_dot^- fixed at the restitution speed
+    # (docs/model.md 3.5), or Lankarani-Nikravesh with the stored onset velocity, Eq. (15)
     restitution = jp[P_RESTITUTION]
-    if memory[M_ACTIVE] > 0.5:
+    if jp[P_CONTACT_DAMPING] == DAMPING_HUNT_CROSSLEY:
+        impact_velocity = jp[P_RESTITUTION_SPEED]
+        dh = 0.75 * (1.0 - restitution * restitution) * drate / impact_velocity
+    elif memory[M_ACTIVE] > 0.5:
         impact_velocity = memory[M_IMPACT_VELOCITY]
         dh = 0.75 * (1.0 - restitution * restitution) * drate / impact_velocity
     elif rate > jp[P_VELOCITY_FLOOR]:               # the approach velocity stands in: h = 1 + 3(1 - e_r^2)/4

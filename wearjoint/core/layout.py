@@ -11,9 +11,9 @@ positions are defined.
 WEAR_STEP_SHARE = 0.3   # the largest share of a conforming contact's penetration one accepted step may wear
 MAX_WEAR_STEP_S = 1e-5  # and never a longer accepted step with wear [s]
 
-# --- joint parameter vector.  Slots up to P_VELOCITY_FLOOR and from P_PIN_YOUNGS_MODULUS on
-# are given (JointParameters, or the FMU's parameters: wearjoint.fmu.variables maps each to
-# its slot); the derived slots are filled by core.wear.complete_joint_parameters.
+# --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
+# P_FOUNDATION_MODULUS) is given (JointParameters, or the FMU's parameters: wearjoint.fmu.variables
+# maps each to its slot); the derived slots are filled by core.wear.complete_joint_parameters.
 P_PIN_RADIUS = 0          # R_i [m]
 P_BUSHING_RADIUS = 1      # R_j [m]
 P_PIN_OFFSET_X = 2        # s_i^P in the pin body frame [m]
@@ -32,7 +32,7 @@ P_EFFECTIVE_MODULUS = 14  # derived: E* of Eq. 32 [Pa]
 P_RHO_MODE = 15           # 0 conformal, 1 paper (docs/model.md 3.2)
 P_WEAR_PLACEMENT = 16     # 0 patch, 1 penetration, 2 foundation (docs/model.md 3.7)
 P_SLIDING = 17            # 0 rotation, 1 tangential (docs/model.md 3.8)
-P_VELOCITY_FLOOR = 18     # floor on the stored impact velocity [m/s] (docs/model.md 3.5)
+P_VELOCITY_FLOOR = 18     # Lankarani-Nikravesh: floor on the stored impact velocity [m/s] (docs/model.md 3.5)
 P_PIN_YOUNGS_MODULUS = 19     # E_i [Pa]
 P_PIN_POISSON_RATIO = 20      # nu_i [-]
 P_BUSHING_YOUNGS_MODULUS = 21  # E_j [Pa]
@@ -41,7 +41,9 @@ P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
 P_CONTACT_MODEL = 25          # 0 elastic foundation, 1 deepest bushing point (docs/model.md 3.10)
 P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/model.md 3.10)
-N_JOINT_PARAMETERS = 27
+P_CONTACT_DAMPING = 27        # 0 Hunt-Crossley, 1 Lankarani-Nikravesh (docs/model.md 3.5)
+P_RESTITUTION_SPEED = 28      # impact speed at which the Hunt-Crossley damping restitutes e_r [m/s]
+N_JOINT_PARAMETERS = 29
 
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts

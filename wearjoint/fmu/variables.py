@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from ..core import layout
 from ..parameters import (
-    CONTACT_MODELS, RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError,
+    CONTACT_DAMPINGS, CONTACT_MODELS, RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError,
 )
 
 MODEL_NAME = "ClearanceWearJoint"
@@ -186,12 +186,17 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _real("wear_factor", "1", "wear_factor", "wear acceleration factor multiplying k_w",
           allowed=NON_NEGATIVE),
     _real("impact_velocity_floor", "m/s", "impact_velocity_floor_m_s",
-          "floor on the stored impact velocity of the contact damping", allowed=POSITIVE),
+          "Lankarani-Nikravesh damping: floor on the stored impact velocity", allowed=POSITIVE),
     _choice("rho_mode", "rho_mode", RHO_MODES, "equivalent radius of the Hertz half-width"),
     _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
     _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),
     _choice("contact_model", "contact_model", CONTACT_MODELS,
             "contact force: elastic-foundation pressure over the worn bushing, or the deepest bushing point"),
+    _choice("contact_damping", "contact_damping", CONTACT_DAMPINGS,
+            "contact damping: Hunt-Crossley (restitution at restitution_speed), or the paper's Lankarani-Nikravesh "
+            "(restitution at every stored impact velocity)"),
+    _real("restitution_speed", "m/s", "restitution_speed_m_s",
+          "impact speed at which the Hunt-Crossley damping gives the restitution e_r", allowed=POSITIVE),
 )
 # an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
 STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
