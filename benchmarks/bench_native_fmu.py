@@ -82,7 +82,8 @@ def _kernel_steps(rows, h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, 
         evaluate_contact(r[0:3], r[3:6], r[6:9], r[9:12], jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                          result)
         total += result[0]
-        accept_contact(result, r[3:6], r[9:12], h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work)
+        accept_contact(result, r[0:3], r[3:6], r[6:9], r[9:12], h, True, jp, cos_phi, sin_phi, wear_depth, block_min,
+                       memory, mask, work)
     return total
 
 

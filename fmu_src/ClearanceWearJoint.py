@@ -89,7 +89,7 @@ def _compile_kernels(params) -> None:
     scratch = ClearanceJoint(params)
     kinematics = np.zeros(12)
     scratch.evaluate_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12])
-    scratch.advance_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12], 0.0)
+    scratch.advance_array(kinematics[0:3], kinematics[3:6], kinematics[6:9], kinematics[9:12], 0.0, True)
     scratch.worn_volume_m3  # noqa: B018 - compiles worn_area
     scratch.state_from_bytes(scratch.state_to_bytes())   # getFMUstate, setFMUstate
 
@@ -254,7 +254,7 @@ class ClearanceWearJoint(Fmi2Slave):
             return False
         self._ensure_joint()
         changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
-                                            self._bushing_position, self._bushing_velocity, step_size)
+                                            self._bushing_position, self._bushing_velocity, step_size, True)
         if changed < 0:
             self._log_error(f"doStep rejected: a step of {step_size!r} s wears the bushing by more than its radius")
             return False

@@ -110,6 +110,7 @@ void joint_reset(JointInstance *joint)
     joint->forces_stale = joint->wear_summary_stale = joint->jacobian_stale = 1;
     joint->onsets_accepted = joint->warned_wear_step = joint->started = 0;
     memset(joint->memory, 0, sizeof joint->memory);
+    joint->memory[M_START_FORCE] = NO_START_FORCE;
     memset(joint->result, 0, sizeof joint->result);
     memset(joint->wear_depth, 0, (size_t)joint->n_points * sizeof(double));
     memset(joint->block_min, 0, (size_t)joint->n_blocks * sizeof(double));
@@ -275,15 +276,16 @@ static int step_warnings(JointInstance *joint, double dt, int32_t changed, const
     if (changed == STEP_OVERSHOT && !joint->warned_wear_step) {
         joint->warned_wear_step = 1;
         joint_log(joint, JOINT_WARNING, "%s: at t=%.17g s a wearing step of %g s is over the wear-step limit (at most "
-                  "%g s, and at most %g of a conforming contact's penetration worn per step): the wear overshoots and "
-                  "the pin sinks as the force collapses; take shorter steps or a smaller wear_factor (docs/model.md "
-                  "§7; said once)", function, joint->time, dt, MAX_WEAR_STEP_S, WEAR_STEP_SHARE);
+                  "%g s, and a share k_f k_w v dt of at most %g of a conforming contact's penetration, %g with the "
+                  "explicit wear placements): the step no longer resolves the wear; take shorter steps or a smaller "
+                  "wear_factor (docs/model.md §7; said once)", function, joint->time, dt, MAX_WEAR_STEP_S,
+                  WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT);
         status = JOINT_WARNING;
     }
     return status;
 }
 
-int joint_accept_step(JointInstance *joint, double dt, const char *function)
+int joint_accept_step(JointInstance *joint, double dt, int held, const char *function)
 {
     if (joint->non_finite_inputs) {
         char inputs[512];
@@ -304,11 +306,11 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function)
                          ? wearjoint_advance(&changed, NULL, joint->inputs, joint->joint_parameters, joint->cos_phi,
                                              joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
                                              joint->result, joint->mask, joint->work, joint->n_points,
-                                             joint->n_blocks, dt)
+                                             joint->n_blocks, dt, held)
                          : wearjoint_accept(&changed, NULL, joint->inputs, joint->joint_parameters, joint->cos_phi,
                                             joint->sin_phi, joint->wear_depth, joint->block_min, joint->memory,
                                             joint->result, joint->mask, joint->work, joint->n_points,
-                                            joint->n_blocks, dt);
+                                            joint->n_blocks, dt, held);
     if (!kernel_ok(joint, "wearjoint_advance failed", status))
         return JOINT_ERROR;
     if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */
@@ -325,7 +327,7 @@ int joint_accept_step(JointInstance *joint, double dt, const char *function)
 
 int joint_completed_integrator_step(JointInstance *joint, const char *function)
 {
-    int status = joint_accept_step(joint, joint->time - joint->last_accepted_time, function);
+    int status = joint_accept_step(joint, joint->time - joint->last_accepted_time, 0, function);
     if (status <= JOINT_WARNING)
         joint->last_accepted_time = joint->time;
     return status;

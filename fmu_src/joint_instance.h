@@ -61,11 +61,13 @@ int joint_evaluate(JointInstance *joint, const char *function, const char *outpu
 /* joint_evaluate and the exact derivatives of result with respect to the inputs (jacobian). */
 int joint_jacobian(JointInstance *joint, const char *function, const char *output);
 int joint_wear_summary(JointInstance *joint, const char *function);
-/* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping.
+/* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs
+ * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
+ * the step's mean force, docs/model.md §3.11).
  * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt.  JOINT_WARNING (logged, the
  * step accepted), once per instance each: the first step's pin centre lies outside the bushing (the
  * inputs likely lack the offsets), or a wearing step is over the wear-step limit (docs/model.md §7). */
-int joint_accept_step(JointInstance *joint, double dt, const char *function);
+int joint_accept_step(JointInstance *joint, double dt, int held, const char *function);
 /* Model Exchange: accept the step since the last completed one (wear, onsets); a JOINT_* status. */
 int joint_completed_integrator_step(JointInstance *joint, const char *function);
 /* Model Exchange: set the time (finite; 0, logged, otherwise). */

@@ -330,7 +330,7 @@ int model_do_step(FmuModel *model, double t, double h, const char *function)
     JointInstance *joint = model->joint;
     double previous = joint->time;
     joint->time = t;
-    int status = joint_accept_step(joint, h, function);
+    int status = joint_accept_step(joint, h, 1, function);
     if (status > JOINT_WARNING) {
         joint->time = previous;
         return status;

@@ -29,20 +29,20 @@ int32_t wearjoint_jacobian(int32_t *status, void *excinfo, const double *kinemat
                            const double *block_min, const double *memory, double *result, double *jacobian,
                            int64_t n_points, int64_t n_blocks);
 
-/* Accept a step of dt [s] at the kinematics: Archard wear and contact-onset bookkeeping;
- * *changed = 1 if the joint's state changed.  mask (n_points bytes) and work (2 n_points doubles)
- * are scratch. */
+/* Accept a step of dt [s] ending at the kinematics (held != 0: held over the step, a Co-Simulation step):
+ * Archard wear with the step's mean normal force and contact-onset bookkeeping; *changed = 1 if the
+ * joint's state changed.  mask (n_points bytes) and work (2 n_points doubles) are scratch. */
 int32_t wearjoint_advance(int32_t *changed, void *excinfo, const double *kinematics, const double *joint_parameters,
                           const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
                           double *memory, double *result, void *mask, double *work, int64_t n_points,
-                          int64_t n_blocks, double dt);
+                          int64_t n_blocks, double dt, int64_t held);
 
 /* wearjoint_advance when result already holds the evaluation at these kinematics and this state:
  * the wear and onset update only. */
 int32_t wearjoint_accept(int32_t *changed, void *excinfo, const double *kinematics, const double *joint_parameters,
                          const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
                          double *memory, double *result, void *mask, double *work, int64_t n_points,
-                         int64_t n_blocks, double dt);
+                         int64_t n_blocks, double dt, int64_t held);
 
 /* Contact-onset bookkeeping for the evaluation in result (a Model Exchange event): a new contact
  * stores its approach velocity, leaving contact clears it; *changed = 1 if the memory changed. */

@@ -23,8 +23,8 @@ def slider_crank_trace(joint, n_rows: int, step_s: float) -> np.ndarray:
 
 def run_joint_on_trace(params, rows, model_exchange: bool = False):
     """The in-process ClearanceJoint with ``params`` driven through ``rows``: the FMU's scalar outputs
-    evaluated at every row before its step is accepted (over h, or in Model Exchange over
-    t_i - t_(i-1) from the start time 0), and the final wear profile."""
+    evaluated at every row before its step is accepted (over h with the inputs held, or in Model Exchange
+    over t_i - t_(i-1) from the start time 0, ending there), and the final wear profile."""
     from wearjoint import ClearanceJoint
     from wearjoint.fmu import variables as fv
 
@@ -37,7 +37,8 @@ def run_joint_on_trace(params, rows, model_exchange: bool = False):
         result = joint.evaluate_array(k[0:3], k[3:6], k[6:9], k[9:12])
         outputs[i] = [result[fv.RESULT_SLOTS[n]] if n in fv.RESULT_SLOTS
                       else joint.max_wear_depth_m if n == "max_wear_depth" else joint.worn_volume_m3 for n in names]
-        joint.advance_array(k[0:3], k[3:6], k[6:9], k[9:12], row[0] - previous_t if model_exchange else row[1])
+        joint.advance_array(k[0:3], k[3:6], k[6:9], k[9:12], row[0] - previous_t if model_exchange else row[1],
+                            not model_exchange)
         previous_t = row[0]
     return outputs, joint.wear_depth.copy()
 

@@ -55,7 +55,7 @@ def groove_depth(phi):
 class ContactState:
     """The pin ``overlap`` [m] into the (worn) bushing along the bushing-frame angle ``direction``, the
     contact point moving at ``v_normal`` (> 0 approaching) and ``v_tangential`` [m/s] relative to the
-    bushing; both bodies spinning; ``memory`` = (contact active, stored onset velocity [m/s])."""
+    bushing; both bodies spinning; ``memory`` = (contact active, stored onset velocity [m/s], start force [N])."""
 
     name: str
     direction: float
@@ -63,7 +63,7 @@ class ContactState:
     v_normal: float
     v_tangential: float
     worn: bool = False
-    memory: tuple = (0.0, 0.0)
+    memory: tuple = (0.0, 0.0, -1.0)
     params: object = JOINT
 
     def wear(self) -> np.ndarray:
@@ -101,10 +101,10 @@ def _cross(omega, lever) -> np.ndarray:
     return np.array([-omega * lever[1], omega * lever[0]])
 
 
-ONSET = (1.0, 0.05)   # a contact that began at 0.05 m/s: the damping depends on the velocities
+ONSET = (1.0, 0.05, 0.0)   # a contact that began at 0.05 m/s: the damping depends on the velocities
 STATES = (
     ContactState("unworn-approaching", 1.0, 3e-6, 0.05, 0.2),
-    ContactState("unworn-friction-ramp", 2.5, 5e-6, -0.01, 0.004, memory=(1.0, 0.08)),
+    ContactState("unworn-friction-ramp", 2.5, 5e-6, -0.01, 0.004, memory=(1.0, 0.08, 0.0)),
     ContactState("worn-groove", 4.05, 3e-6, 0.02, -0.006, worn=True, memory=ONSET),
     ContactState("worn-deepest-exponent-2", 3.9, 4e-6, 0.03, 0.3, worn=True, memory=ONSET,
                  params=paper_joint(contact_model="deepest", contact_exponent=2.0)),

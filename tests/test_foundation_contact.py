@@ -173,7 +173,7 @@ def test_exact_derivatives_equal_central_differences_on_a_worn_bushing(model):
     params = P.replace(contact_model=model, pin_offset_m=(0.02, 0.01), bushing_offset_m=(-0.03, 0.005))
     joint = ClearanceJoint(params)
     joint.set_wear_profile(two_arc_groove(joint))
-    joint.memory[:] = (1.0, 0.3)
+    joint.memory[:2] = (1.0, 0.3)
     rng = np.random.default_rng(7)
     rows = [L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY, L.R_BUSHING_TORQUE,
             L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y,
@@ -211,7 +211,7 @@ def test_action_and_reaction_act_at_one_point_so_moments_balance():
     c, s = math.cos(pos_j[2]), math.sin(pos_j[2])
     pin = pos_j[:2] + np.array([[c, -s], [s, c]]) @ (np.array(params.bushing_offset_m) + e)
     pos_i = np.r_[pin - np.array([0.025, 0.0]), 0.0]
-    joint.memory[:] = (1.0, 1.0)            # a contact that began at 1 m/s: the force stays positive
+    joint.memory[:2] = (1.0, 1.0)           # a contact that began at 1 m/s: the force stays positive
     r = evaluate(joint, pos_i, np.array([0.2, 0.1, -15.7]), pos_j, np.array([0.0, 0.1, 3.6]))
     assert r[L.R_FRICTION_FORCE] != 0.0
     moment = (r[L.R_PIN_TORQUE] + pos_i[0] * r[L.R_PIN_FY] - pos_i[1] * r[L.R_PIN_FX]
@@ -240,28 +240,30 @@ def test_the_foundation_takes_only_the_hertz_exponent():
     assert JointParameters(contact_exponent=1.2, contact_model="deepest").contact_exponent == 1.2
 
 
-def test_heavy_wear_under_dopri_stays_at_the_mechanisms_load():
+def test_heavy_wear_at_the_default_step_wears_what_a_short_step_does():
     """Half a crank revolution of the slider-crank at wear factor 2000 under adaptive DOPRI.  In a
-    conforming contact one step wears the share k_f k_w F v dt of the penetration (docs/model.md §7):
-    at 10 us that is above 1 here and the pin sinks through the bushing at a few newtons.  The default
-    step with wear keeps the share at 0.3 (1.9 us here): the contact force is the mechanism's load (the
-    deepest point and RK4 at 1 us give 40-60 N and 0.17-0.18 mm), and a longer explicit step is refused
-    naming it."""
+    conforming contact an explicit step wears the share lambda = k_f k_w F v dt of the penetration
+    (docs/model.md §7): 1.56 at 10 us here, where the explicit update with the end-of-step force let the
+    pin sink through the bushing at a few newtons (0.344 mm against 0.168 mm at 1 us).  The relaxed update
+    with the step's mean force (§3.11) at the default step (1e-5 s) wears within 1 % of a 1 us run; a
+    step past the limit (lambda 4) is refused naming it."""
     from wearjoint import paper_joint
     from wearjoint.parameters import PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, SliderCrankParameters
     from wearjoint.simulate import SimulationOptions, run_simulation, wear_step_limit_s
 
     joint = paper_joint(wear_factor=2000.0, wear_coefficient_m2_N=PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N)
-    limit = wear_step_limit_s(joint)
     speed = SliderCrankParameters().sliding_speed_bound_m_s(joint)
-    assert limit * joint.foundation_modulus_N_m3 * joint.wear_coefficient_m2_N * joint.wear_factor * speed == \
-        pytest.approx(0.3)
-    summary = run_simulation(joint, options=SimulationOptions(revolutions=0.5), progress=False).summary()
-    assert summary["parameters"]["simulation"]["max_step_s"] == limit
-    assert 20.0 < summary["max_contact_force_N"] < 100.0
-    assert 1.4e-4 < summary["max_wear_depth_m"] < 2.2e-4
-    with pytest.raises(ParameterError, match=r"max_step_s=1e-05 is invalid with wear.*allowed at most 1\.9"):
-        run_simulation(joint, options=SimulationOptions(revolutions=0.5, max_step_s=1e-5), progress=False)
+    share = joint.foundation_modulus_N_m3 * joint.wear_coefficient_m2_N * joint.wear_factor * speed
+    assert wear_step_limit_s(joint) == 1e-5 and 1.0 < share * 1e-5 < 4.0
+    default = run_simulation(joint, options=SimulationOptions(revolutions=0.5), progress=False).summary()
+    short = run_simulation(joint, options=SimulationOptions(revolutions=0.5, max_step_s=1e-6), progress=False).summary()
+    assert default["parameters"]["simulation"]["max_step_s"] == 1e-5
+    assert default["max_wear_depth_m"] == pytest.approx(short["max_wear_depth_m"], rel=0.01)
+    assert default["worn_volume_m3"] == pytest.approx(short["worn_volume_m3"], rel=0.01)
+    assert 1.4e-4 < short["max_wear_depth_m"] < 2.2e-4 and 20.0 < short["max_contact_force_N"] < 100.0
+    heavier = joint.replace(wear_factor=10000.0)
+    with pytest.raises(ParameterError, match=r"max_step_s=1e-05 is invalid with wear.*allowed at most 5\.1"):
+        run_simulation(heavier, options=SimulationOptions(revolutions=0.5, max_step_s=1e-5), progress=False)
 
 
 @pytest.mark.parametrize("worn", [False, True])

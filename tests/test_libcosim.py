@@ -64,7 +64,7 @@ def test_libcosim_forces_match_the_joint(any_fmu):
         assert override.slave_real_values(index, inputs, x)
         assert execution.step(1)
         got.append(observer.last_real_values(index, outputs))
-        joint.advance(x[:6], x[6:], STEP_S)          # doStep: left endpoint = these inputs
+        joint.advance(x[:6], x[6:], STEP_S, held=True)   # doStep: left endpoint = these inputs, held
         r = joint.evaluate(x[:6], x[6:])               # outputs read after the step
         expected.append([*r.pin_force, *r.bushing_force, r.normal_force_N, r.friction_force_N,
                          float(r.in_contact), joint.max_wear_depth_m, joint.worn_volume_m3])

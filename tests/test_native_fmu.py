@@ -127,7 +127,7 @@ def joint_on_trace(slider_crank_trace):
                       for name in SCALAR_NAMES]
         if i % 1000 == 0:
             profiles[i] = joint.wear_depth.copy()
-        joint.advance_array(k[0:3], k[3:6], k[6:9], k[9:12], row[1])
+        joint.advance_array(k[0:3], k[3:6], k[6:9], k[9:12], row[1], True)   # doStep: the inputs held
     return outputs, profiles, joint
 
 

@@ -78,7 +78,8 @@ class ValidationPlan:
     wear_revolutions: float = 1.0
     wear_factor: float = 0.5
     reference_step_s: float = 1e-6           # monolithic RK4 reference
-    exudyn_step_s: float = 1e-5              # exudyn statistics and wear runs (fixed step)
+    exudyn_step_s: float = 1e-5              # exudyn statistics runs (fixed step)
+    exudyn_wear_step_s: float = 2e-6         # exudyn wear runs: the first impacts' wear needs it (docs/validation.md)
     cosim_step_s: float = 2e-6               # co-simulation statistics and wear runs (step in contact)
     window_step_s: float = 1e-6              # exudyn and co-simulation window runs (and twice that)
     sample_dt_s: float = 1e-5
@@ -88,7 +89,7 @@ class ValidationPlan:
 
     def __post_init__(self):
         for name in ("revolutions", "window_s", "wear_revolutions", "wear_factor", "reference_step_s",
-                     "exudyn_step_s", "cosim_step_s", "window_step_s", "sample_dt_s"):
+                     "exudyn_step_s", "exudyn_wear_step_s", "cosim_step_s", "window_step_s", "sample_dt_s"):
             _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
         _require("ensemble", self.ensemble, not isinstance(self.ensemble, bool) and isinstance(self.ensemble, int)
                  and self.ensemble >= 2, "an integer >= 2 (a spread needs two starts)")
@@ -98,9 +99,11 @@ class ValidationPlan:
                  f"a list that includes the reference {REFERENCE!r}")
         _require("fmu_backend", self.fmu_backend, self.fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
 
-    def engine_step_s(self, engine: str) -> float:
-        """The step of an engine's statistics and wear runs [s]."""
-        return self.cosim_step_s if engine == "cosim" else self.exudyn_step_s
+    def engine_step_s(self, engine: str, wear: bool = False) -> float:
+        """The step of an engine's statistics (or ``wear``) runs [s]."""
+        if engine == "cosim":
+            return self.cosim_step_s
+        return self.exudyn_wear_step_s if wear else self.exudyn_step_s
 
 
 FULL = ValidationPlan()
@@ -352,7 +355,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
             runs.wear_scatter[label] = wear_run(label, integrator="dopri", rtol=rtol, max_step_s=1e-5)
         for engine in [e for e in wear_engines if e in available]:
             j = wear.replace(**changes.get(engine, {}))
-            step = plan.engine_step_s(engine)
+            step = plan.engine_step_s(engine, wear=True)
             try:
                 runs.wear_engines[engine] = run(
                     f"{engine} step {_us(step)}, {wrev:g} rev, wear factor {plan.wear_factor:g}", engine,

@@ -20,7 +20,8 @@ post-step function, if one was set before the first joint was added (one set lat
 :func:`set_post_step`).  :func:`simulation_settings` gives exudyn's settings with Newton's absolute
 tolerance above the contact's round-off floor.  The post-step function also refuses a solver step
 longer than :data:`MAX_WEAR_STEP_S` while a joint wears (SolveDynamic then raises, naming the step) and
-warns once if a step wore more than :data:`WEAR_STEP_SHARE` of the contact's penetration.
+warns once if a step's share k_f k_w F v dt of the contact's penetration passed its limit
+(:attr:`JointParameters.wear_step_share`, docs/model.md §7).
 
 exudyn prints "detected large amount of memory allocations ... this may be due to user functions" for
 every system with a clearance joint: its force and Jacobian user functions hand exudyn a new numpy
@@ -45,7 +46,7 @@ from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
 from .core.wear import STEP_OVERSHOT, advance_joint
 from .joint import ClearanceJoint, ContactResult
-from .parameters import MAX_WEAR_STEP_S, WEAR_STEP_SHARE, JointParameters, ParameterError, _require
+from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, _require
 
 # the columns of ClearanceJointHandle.history(), one row per accepted step
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
@@ -137,8 +138,8 @@ def accept_step(pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i
     advance_joint's code."""
     body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
     body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
-    code = advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
-                         work, result)
+    code = advance_joint(pos_i, vel_i, pos_j, vel_j, dt, False, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                         mask, work, result)
     history_row(t, result, wear_depth, slots, history, row)
     return code
 
@@ -247,9 +248,10 @@ class ClearanceJointHandle:
         self.accepted_steps += 1
         if code == STEP_OVERSHOT and not self._wear_share_warned:   # (docs/model.md §7)
             self._wear_share_warned = True
-            warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s wore the bushing by more than {WEAR_STEP_SHARE} of "
-                          "the contact's penetration: the wear overshoots; take shorter steps or a smaller "
-                          "wear_factor (docs/model.md §7)", RuntimeWarning, stacklevel=2)
+            warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s took a share k_f k_w F v dt of the contact's "
+                          f"penetration above {self.joint.params.wear_step_share:g}: the step no longer resolves the "
+                          "wear; take shorter steps or a smaller wear_factor (docs/model.md §7)", RuntimeWarning,
+                          stacklevel=2)
 
     def result(self) -> ContactResult:
         """The contact at the end of the last accepted step (before that step's wear)."""

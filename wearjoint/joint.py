@@ -169,6 +169,7 @@ class ClearanceJoint:
         self.wear_depth = np.zeros(n)
         self.block_min = np.zeros((n + L.BLOCK_SIZE - 1) // L.BLOCK_SIZE)
         self.memory = np.zeros(L.N_MEMORY)
+        self.memory[L.M_START_FORCE] = L.NO_START_FORCE
         self.result = np.zeros(L.N_RESULT)
         self._mask = np.zeros(n, dtype=np.bool_)
         self.work = np.zeros(2 * n)                 # scratch of the wear kernels (not state)
@@ -218,27 +219,27 @@ class ClearanceJoint:
                                         mean_pressure_Pa=float(r[L.R_NORMAL_FORCE] / (2.0 * b * p.contact_length_m)),
                                         contact_arc_rad=arc)
 
-    def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float) -> int:
+    def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float, held: bool = False) -> int:
         """Hot path of :meth:`advance`: 1 if the state changed, 0 if not, -1 if the step was refused
         (its wear would exceed the bushing radius or not be finite; nothing changed)."""
-        return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, self.parameter_vector, self.cos_phi,
+        return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, held, self.parameter_vector, self.cos_phi,
                              self.sin_phi, self.wear_depth, self.block_min, self.memory,
                              self._mask, self.work, self.result)
 
-    def advance(self, pin_kinematics, bushing_kinematics, dt: float) -> ContactResult:
-        """Accept a step of length dt [s]: the contact is evaluated at these kinematics and
-        the wear of the whole step (Archard, docs/model.md 3.7 and 3.11) and the contact-onset
-        bookkeeping are taken from that one evaluation.  The joint does not care which end of
-        the step the kinematics belong to: the monolithic integrators pass the step's end
-        (the accepted state), a co-simulation slave the step's start (inputs held over the
-        step).  Returns the contact evaluated there, before the wear update.  A step whose wear
-        would exceed the bushing radius is refused (ParameterError, the joint unchanged)."""
+    def advance(self, pin_kinematics, bushing_kinematics, dt: float, held: bool = False) -> ContactResult:
+        """Accept a step of length dt [s] ending at these kinematics: the Archard wear of the whole step
+        (docs/model.md 3.7 and 3.11) with the step's mean normal force, the trapezoid of its start (the last
+        accepted point, on the profile its wear left) and the contact evaluated here; ``held``: the
+        kinematics were held over the step (a co-simulation slave's inputs), the force evaluated here
+        throughout.  Then the contact-onset bookkeeping.  Returns the contact evaluated here, before the
+        wear update.  A step whose wear would exceed the bushing radius is refused (ParameterError, the
+        joint unchanged)."""
         if not (math.isfinite(dt) and dt >= 0.0):
             raise ParameterError(f"dt={dt!r} is invalid: allowed a finite step >= 0 s")
         pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
         pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
         depth_before = self.wear_depth.copy()      # the contact's extent as evaluated, before the update
-        if self.advance_array(pos_i, vel_i, pos_j, vel_j, dt) < 0:
+        if self.advance_array(pos_i, vel_i, pos_j, vel_j, dt, held) < 0:
             raise ParameterError(f"dt={dt!r} is invalid here: the step would wear the bushing by more than its radius "
                                  f"{self.params.bushing_radius_m!r} m (or by a non-finite depth); the joint is unchanged")
         return self._contact_result(self.result.copy(), depth_before)

@@ -11,7 +11,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from .core.layout import MAX_WEAR_STEP_S, WEAR_STEP_SHARE   # the wear-step limit (docs/model.md §7)
+from .core.layout import MAX_WEAR_STEP_S, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT   # the wear-step limit (§7)
 
 RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
@@ -213,13 +213,19 @@ class JointParameters:
         return (3.0 * self.contact_stiffness_N_m1_5 * math.sqrt(self.clearance_m)
                 / (4.0 * math.sqrt(2.0) * self.contact_length_m * math.sqrt(self.pin_radius_m * self.bushing_radius_m)))
 
+    @property
+    def wear_step_share(self) -> float:
+        """The largest share k_f k_w F v dt of a step: WEAR_STEP_SHARE for the relaxed ``foundation`` update,
+        WEAR_STEP_SHARE_EXPLICIT for the explicit placements (docs/model.md §7)."""
+        return WEAR_STEP_SHARE if self.wear_placement == "foundation" else WEAR_STEP_SHARE_EXPLICIT
+
     def max_wear_step_s(self, sliding_speed_m_s: float) -> float:
-        """Longest accepted step [s] with wear: MAX_WEAR_STEP_S, or shorter where one step would wear more
-        than WEAR_STEP_SHARE of the penetration of a conforming contact sliding at ``sliding_speed_m_s``
-        (the mean overlap is p / k_f and one step wears k_w F p v dt: the share is k_f k_w F v dt,
-        docs/model.md §7); inf without wear."""
+        """Longest accepted step [s] with wear: MAX_WEAR_STEP_S, or shorter where the step's share
+        k_f k_w F v dt of a conforming contact sliding at ``sliding_speed_m_s`` (the share of its penetration
+        an explicit step would wear: the mean overlap is p / k_f and such a step wears k_w F p v dt) passes
+        :attr:`wear_step_share` (docs/model.md §7); inf without wear."""
         rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * sliding_speed_m_s
-        return min(MAX_WEAR_STEP_S, WEAR_STEP_SHARE / rate) if rate > 0.0 else math.inf
+        return min(MAX_WEAR_STEP_S, self.wear_step_share / rate) if rate > 0.0 else math.inf
 
     @property
     def effective_modulus_Pa(self) -> float:
@@ -323,5 +329,5 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
 __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
-           "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S", "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "MAX_WEAR_STEP_S"]
-
+           "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S", "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N",
+           "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S"]

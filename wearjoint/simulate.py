@@ -14,7 +14,7 @@ from .core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
 from .joint import ClearanceJoint
 from .mechanism import SliderCrank
 from .parameters import (
-    WEAR_STEP_SHARE, JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
+    JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
     check_joint_fits_mechanism,
 )
 from .results import RunRecord, new_revolution_stats, new_track
@@ -86,8 +86,8 @@ class SimulationOptions:
         if step > limit:
             raise ParameterError(f"{name}={step!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
                                  f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
-                                 f"{limit:.3g} s, one step may wear at most {WEAR_STEP_SHARE} of the penetration "
-                                 "and at most 1e-5 s (docs/model.md §7)")
+                                 f"{limit:.3g} s, a step's share k_f k_w F v dt of the penetration at most "
+                                 f"{joint.wear_step_share:g} and at most 1e-5 s (docs/model.md §7)")
         return self
 
     def to_dict(self) -> dict:

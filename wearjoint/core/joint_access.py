@@ -19,7 +19,7 @@ from numba.extending import overload
 
 from .contact import evaluate_contact_scalars, update_contact_memory
 from .jit import kernel
-from .layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, ROD
+from .layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, R_NORMAL_FORCE, ROD
 from .wear import accept_contact, advance_joint, wears
 
 # The integrators' right-hand side calls the compiled contact evaluation: inlining it there
@@ -82,12 +82,14 @@ def _arrays_accept(joint, t, y, h, evaluated):
     n = N_COORDINATES
     vel_i = y[n + CRANK:n + CRANK + 3]
     vel_j = y[n + ROD:n + ROD + 3]
+    pos_i = y[CRANK:CRANK + 3]
+    pos_j = y[ROD:ROD + 3]
     if evaluated:
-        return accept_contact(joint.result, vel_i, vel_j, h, joint.parameters, joint.cos_phi, joint.sin_phi,
-                              joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work) > 0
-    return advance_joint(y[CRANK:CRANK + 3], vel_i, y[ROD:ROD + 3], vel_j, h, joint.parameters, joint.cos_phi,
-                         joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work,
-                         joint.result) > 0
+        return accept_contact(joint.result, pos_i, vel_i, pos_j, vel_j, h, False, joint.parameters, joint.cos_phi,
+                              joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory, joint.mask,
+                              joint.work) > 0
+    return advance_joint(pos_i, vel_i, pos_j, vel_j, h, False, joint.parameters, joint.cos_phi, joint.sin_phi,
+                         joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work, joint.result) > 0
 
 
 # ------------------------------------------------------------------ through the FMU
@@ -150,7 +152,7 @@ def _fmu_accept(joint, t, y, h, evaluated):
         if _fmu_call_failed(joint, 7, joint.enter_continuous_time_mode(c), t):
             return True
     onset_changed = update_contact_memory(joint.result, joint.parameters, joint.memory)
-    return onset_changed or wears(joint.result, joint.parameters, h)
+    return onset_changed or wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)
 
 
 @overload(contact_forces)

@@ -5,11 +5,13 @@ module-level integers as constants); these names are the only place the
 positions are defined.
 """
 
-# --- the wear-step limit (docs/model.md §7): in a conforming contact one accepted step wears
-# k_f k_w |v_t| dt of the penetration (k_f the foundation modulus, k_w with the wear factor); above
-# about 1 the pin sinks while the force collapses
-WEAR_STEP_SHARE = 0.3   # the largest share of a conforming contact's penetration one accepted step may wear
-MAX_WEAR_STEP_S = 1e-5  # and never a longer accepted step with wear [s]
+# --- the wear-step limit (docs/model.md §7): in a conforming contact an explicit step wears
+# lambda = k_f k_w |v_t| dt of the penetration (k_f the foundation modulus, k_w with the wear factor).
+# The foundation's update relaxes each point's pressure exactly over the step (core.wear.foundation_wear);
+# the explicit placements (patch, penetration) overshoot past about 1
+WEAR_STEP_SHARE = 4.0            # the largest lambda of one accepted step of the foundation's update
+WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one explicit (patch, penetration) step wears
+MAX_WEAR_STEP_S = 1e-5           # and never a longer accepted step with wear [s]
 
 # --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
 # P_FOUNDATION_MODULUS) is given (JointParameters, or the FMU's parameters: wearjoint.fmu.variables
@@ -48,7 +50,9 @@ N_JOINT_PARAMETERS = 29
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts
 M_IMPACT_VELOCITY = 1     # delta_dot^(-) stored at that contact's onset [m/s]
-N_MEMORY = 2
+M_START_FORCE = 2         # F_N at the last accepted point on its worn profile: the next step's start [N]
+N_MEMORY = 3
+NO_START_FORCE = -1.0     # M_START_FORCE before the first accepted point
 
 # --- result of one joint evaluation
 R_PIN_FX = 0              # force on the pin body, global frame [N]

@@ -16,11 +16,11 @@ import re
 import numpy as np
 
 from .jit import kernel
-from .layout import M_ACTIVE, M_IMPACT_VELOCITY
+from .layout import M_ACTIVE, M_IMPACT_VELOCITY, M_START_FORCE, N_MEMORY, NO_START_FORCE
 
 MAGIC = b"WJSTATE\0"
 MAGIC_WORD = int.from_bytes(MAGIC, "little")
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2    # 2: the contact memory holds the start force of the next step
 CONTENTS_JOINT = 1   # contact memory and wear depths (ClearanceJoint)
 CONTENTS_FMU = 2     # time, initialised flag, inputs, parameters, then a joint's (an FMU instance)
 CONTENTS_MECHANISM = 3   # time, initialised flag, inputs, parameters, y = [q, q_dot] (a SliderCrank FMU instance)
@@ -31,7 +31,7 @@ FMU_HEAD_TIME, FMU_HEAD_INITIALISED, FMU_HEAD_INPUTS = 0, 1, 2   # the FMU head:
 # problem code -> message; {i:k} is values[i] as an integer (d), a float (g, shortest repr) or hex (x),
 # numbered in the order they appear (the C layer formats them with printf)
 (OK, SHORT, BAD_MAGIC, VERSION, SIZE, CHECKSUM, CONTENTS, N_POINTS, PAYLOAD, TIME, INITIALISED,
- DEPTH_NON_FINITE, DEPTH_NEGATIVE, DEPTH_TOO_DEEP, ACTIVE_FLAG, ONSET_VELOCITY) = range(16)
+ DEPTH_NON_FINITE, DEPTH_NEGATIVE, DEPTH_TOO_DEEP, ACTIVE_FLAG, ONSET_VELOCITY, START_FORCE) = range(17)
 PROBLEMS = {
     OK: "",
     SHORT: "the state has {0:d} bytes, fewer than the {1:d} of its header and checksum",
@@ -51,6 +51,8 @@ PROBLEMS = {
     ACTIVE_FLAG: "the contact memory's active flag={0:g} is invalid: allowed 0 or 1",
     ONSET_VELOCITY: "the contact memory's onset velocity={0:g} m/s with active flag={1:g} is invalid: allowed a "
                     "finite value >= impact_velocity_floor={2:g} m/s while a contact is active, 0 otherwise",
+    START_FORCE: "the contact memory's start force={0:g} N is invalid: allowed a finite force >= 0, or -1 before the "
+                 "first accepted step",
 }
 
 
@@ -117,7 +119,7 @@ def crc32c(data, n):
 @kernel
 def state_size(n_head, n_points):
     """Bytes of a state with ``n_head`` head values and ``n_points`` wear depths."""
-    return HEADER_BYTES + 8 * (n_head + 2 + n_points) + CHECKSUM_BYTES
+    return HEADER_BYTES + 8 * (n_head + N_MEMORY + n_points) + CHECKSUM_BYTES
 
 
 @kernel
@@ -200,8 +202,8 @@ def check_header(data, contents, n_head, n_points, values):
     if found != n_points:
         values[0], values[1] = found, n_points
         return N_POINTS
-    if payload != 8 * (n_head + 2 + n_points):
-        values[0], values[1], values[2] = payload, n_points, 8 * (n_head + 2 + n_points)
+    if payload != 8 * (n_head + N_MEMORY + n_points):
+        values[0], values[1], values[2] = payload, n_points, 8 * (n_head + N_MEMORY + n_points)
         return PAYLOAD
     return OK
 
@@ -244,7 +246,7 @@ def check_wear_depth(wear_depth, bushing_radius, values):
 @kernel
 def check_memory(memory, velocity_floor, values):
     """0 if the contact memory is one the kernels write: active flag 0 or 1, the onset velocity finite
-    and >= ``velocity_floor`` while active, 0 otherwise."""
+    and >= ``velocity_floor`` while active, 0 otherwise, the start force finite and >= 0 or NO_START_FORCE."""
     active, velocity = memory[M_ACTIVE], memory[M_IMPACT_VELOCITY]
     if active != 0.0 and active != 1.0:
         values[0] = active
@@ -252,6 +254,10 @@ def check_memory(memory, velocity_floor, values):
     if not (np.isfinite(velocity) and velocity >= velocity_floor) if active == 1.0 else velocity != 0.0:
         values[0], values[1], values[2] = velocity, active, velocity_floor
         return ONSET_VELOCITY
+    start = memory[M_START_FORCE]
+    if not (np.isfinite(start) and (start >= 0.0 or start == NO_START_FORCE)):
+        values[0] = start
+        return START_FORCE
     return OK
 
 

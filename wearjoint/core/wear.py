@@ -25,12 +25,13 @@ from .geometry import (
     distance_sq, penetrating_points, wrap_index,
 )
 from .jit import kernel
-from .pressure import cell_overlap, foundation_modulus_factor, overlap
+from .pressure import cell_overlap, cell_overlap_gradient, foundation_modulus_factor, overlap
 from .layout import (
-    BLOCK_SIZE, MAX_WEAR_STEP_S, WEAR_STEP_SHARE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO, P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS,
-    P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_FOUNDATION_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE,
-    P_SLIDING, P_STIFFNESS, P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX,
-    R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_PENETRATION, R_TANGENTIAL_VELOCITY,
+    BLOCK_SIZE, M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
+    P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS, P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_FOUNDATION_MODULUS,
+    P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE, P_SLIDING, P_STIFFNESS, P_WEAR_COEFFICIENT,
+    P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE,
+    R_PENETRATION, R_TANGENTIAL_VELOCITY, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
 )
 
 
@@ -239,41 +240,49 @@ def _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_rad
     return total, max(max(peaks[0], peaks[1]), max(peaks[2], peaks[3]))
 
 
-@kernel
-def _wear_cells(lo, hi, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights):
-    """h_z += scale * w_z * Delta s_z for the points z = lo..hi-1 (0 <= lo <= hi <= N_d) with a
-    positive weight w_z: Delta s_z = (R_j + h_z) relative_dt (``rotation``) or ``slide``.
-    Branch-free on unsigned indices: vectorised."""
-    if rotation:
-        for z in range(np.uint64(lo), np.uint64(hi)):
-            w = weights[z]
-            rho = bushing_radius + wear_depth[z]
-            dh = scale * w * (rho * relative_dt)
-            wear_depth[z] = rho + dh - bushing_radius if w > 0.0 else wear_depth[z]
-    else:
-        for z in range(np.uint64(lo), np.uint64(hi)):
-            w = weights[z]
-            rho = bushing_radius + wear_depth[z]
-            dh = scale * w * slide
-            wear_depth[z] = rho + dh - bushing_radius if w > 0.0 else wear_depth[z]
+@kernel(inline='always')
+def relaxation_factor(lam):
+    """phi(lambda) = (1 - exp(-lambda)) / lambda [-]: the share of the explicit increment that wearing a
+    point whose pressure relaxes as exp(-lambda s / Delta s) removes over the step (docs/model.md §3.11)."""
+    if lam < 1e-3:                            # the series: 1 - exp(-lambda) would cancel (libm has no expm1 here)
+        return 1.0 - lam * (0.5 - lam * (1.0 / 6.0 - lam / 24.0))
+    return (1.0 - math.exp(-lam)) / lam
+
+
+PASS_WEIGHTS, PASS_SHIFT, PASS_APPLY = 0, 1, 2
 
 
 @kernel
-def _apply_run(first, last, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min, work):
-    """:func:`_wear_cells` with the weights in work[N_d:] over points first..last (first >= -1,
-    last < 2 N_d, at most N_d points), split where they wrap; then the block minima of those
-    points."""
+def _relaxed_run(mode, first, last, shift, scale, relative_dt, slide, rotation, bushing_radius, wear_depth,
+                 work):
+    """Over points first..last (first >= -1, last < 2 N_d, at most N_d points, wrapping) with their overlaps
+    in work[:N_d] and weights in work[N_d:], each point's pressure p_z = cell mean of (o + shift)+ times
+    k_eff, relaxed over the step: lambda_z = scale Delta s_z (scale = k_w k_eff [1/m]), increment
+    scale Delta s_z phi(lambda_z) cell_overlap(o + shift).  PASS_SHIFT: returns (the volume sum
+    sum rho_z Delta s_z phi_z cell_overlap(o + shift), its derivative in shift, the explicit update's
+    sum rho_z Delta s_z w_z); PASS_APPLY: applies the increments, returns (the largest increment, 0, 0)."""
     n = wear_depth.shape[0]
-    weights = work[n:]
-    if first < 0:
-        _wear_cells(n + first, n, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
-        _wear_cells(0, last + 1, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
-    elif last >= n:
-        _wear_cells(first, n, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
-        _wear_cells(0, last + 1 - n, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
-    else:
-        _wear_cells(first, last + 1, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, weights)
-    _refresh_blocks(wear_depth, block_min, first, last)
+    volume = slope = explicit = 0.0
+    for i in range(first, last + 1):
+        z = wrap_index(i, n)
+        before = work[wrap_index(i - 1, n)] + shift
+        at = work[z] + shift
+        after = work[wrap_index(i + 1, n)] + shift
+        rho = bushing_radius + wear_depth[z]
+        ds = rho * relative_dt if rotation else slide
+        lam = scale * ds
+        phi = relaxation_factor(lam)
+        mean = cell_overlap(before, at, after)
+        if mode == PASS_SHIFT:
+            g_before, g_at, g_after = cell_overlap_gradient(before, at, after)
+            volume += rho * ds * phi * mean
+            slope += rho * ds * phi * (g_before + g_at + g_after)
+            explicit += rho * ds * work[n + z]
+        elif mean > 0.0:
+            dh = scale * ds * phi * mean
+            wear_depth[z] = rho + dh - bushing_radius
+            volume = max(volume, dh)
+    return volume, slope, explicit
 
 
 @kernel(inline='always')
@@ -283,22 +292,42 @@ def _block_start(b, nb, n):
 
 
 @kernel
-def _foundation_pass(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                     wear_depth, block_min, kept, skipped, work):
-    """Over every run of kept blocks (:func:`_mark_blocks`; the whole circle if ``skipped`` < 0),
-    each run widened by one point on both sides (a cell just outside can still overlap over part
-    of its arc).  scale <= 0: :func:`_cell_weights`, returns (the summed overlap integral, the
-    largest peak); scale > 0: :func:`_apply_run` with those weights, returns (0, 0)."""
+def _run_pass(mode, first, last, cyclic, shift, scale, relative_dt, slide, rotation, ex, ey, pin_radius,
+              bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work):
+    """One run of :func:`_foundation_pass`: PASS_WEIGHTS, :func:`_cell_weights` -> (integral, peak, 0, -inf);
+    otherwise :func:`_relaxed_run`'s three numbers and the largest overlap at the run's two ends (each end
+    point and its outer neighbour; -inf for the whole circle), whose cells a shift above minus that would
+    bring into contact."""
+    if mode == PASS_WEIGHTS:
+        total, peak = _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                    sin_phi, wear_depth, work)
+        return total, peak, 0.0, -math.inf
+    a, b, c = _relaxed_run(mode, first, last, shift, scale, relative_dt, slide, rotation, bushing_radius,
+                           wear_depth, work)
+    if mode == PASS_APPLY:
+        _refresh_blocks(wear_depth, block_min, first, last)
+    if cyclic:
+        return a, b, c, -math.inf
+    n = wear_depth.shape[0]
+    edge = max(max(work[wrap_index(first - 1, n)], work[wrap_index(first, n)]),
+               max(work[wrap_index(last, n)], work[wrap_index(last + 1, n)]))
+    return a, b, c, edge
+
+
+@kernel
+def _foundation_pass(mode, shift, scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
+                     cos_phi, sin_phi, wear_depth, block_min, kept, skipped, work):
+    """:func:`_run_pass` over every run of kept blocks (:func:`_mark_blocks`; the whole circle if
+    ``skipped`` < 0), each run widened by one point on both sides (a cell just outside can still overlap
+    over part of its arc); returns the sums of the runs' first and third numbers, the largest of their
+    second (PASS_WEIGHTS, PASS_APPLY) or its sum (PASS_SHIFT), and the largest end overlap."""
     n = wear_depth.shape[0]
     nb = block_min.shape[0]
     if skipped < 0:
-        if scale > 0.0:
-            _apply_run(0, n - 1, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min, work)
-            return 0.0, 0.0
-        return _cell_weights(0, n - 1, True, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                             wear_depth, work)
-    total = 0.0
-    peak = 0.0
+        return _run_pass(mode, 0, n - 1, True, shift, scale, relative_dt, slide, rotation, ex, ey, pin_radius,
+                         bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work)
+    first_sum = second = third_sum = 0.0
+    edge = -math.inf
     start = -1
     for j in range(1, nb + 1):
         b = skipped + j
@@ -312,35 +341,61 @@ def _foundation_pass(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bu
             if first >= n:
                 first -= n
                 last -= n
-            if scale > 0.0:
-                _apply_run(first, last, scale, relative_dt, slide, rotation, bushing_radius, wear_depth, block_min,
-                           work)
-            else:
-                part, top = _cell_weights(first, last, False, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
-                                          sin_phi, wear_depth, work)
-                total += part
-                peak = max(peak, top)
+            x, y, z, e = _run_pass(mode, first, last, False, shift, scale, relative_dt, slide, rotation, ex,
+                                   ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work)
+            first_sum += x
+            second = second + y if mode == PASS_SHIFT else max(second, y)
+            third_sum += z
+            edge = max(edge, e)
             start = -1
-    return total, peak
+    return first_sum, second, third_sum, edge
+
+
+@kernel
+def _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                 wear_depth, block_min, kept, skipped, work):
+    """The uniform overlap shift a >= 0 [m] (the pin's advance into the groove it wears) at which the relaxed
+    increments remove the explicit update's volume, sum rho Delta s phi cell(o + a) = sum rho Delta s w
+    (Newton on a convex, increasing function of a, from a = 0 where it is below), and the largest end
+    overlap of the runs it was solved on."""
+    shift = 0.0
+    edge = -math.inf
+    for _ in range(60):
+        volume, slope, explicit, edge = _foundation_pass(PASS_SHIFT, shift, scale, relative_dt, slide,
+                                                         rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                                         sin_phi, wear_depth, block_min, kept, skipped, work)
+        missing = explicit - volume
+        if not slope > 0.0 or abs(missing) <= 1e-13 * explicit:
+            break
+        step = missing / slope
+        shift = max(0.0, shift + step)
+        if abs(step) <= 1e-15 * (shift + 1e-30):
+            break
+    return shift, edge
 
 
 @kernel
 def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                     cos_phi, sin_phi, wear_depth, block_min, mask, work, k):
-    """Elastic-foundation (Winkler) placement of the Archard increment (docs/model.md 3.7).
+    """Elastic-foundation (Winkler) placement of the Archard increment, relaxed exactly over the step
+    (docs/model.md §3.7, §3.11).
 
-    The pressure on the bushing is proportional to the local overlap of the worn surface with
-    the pin, p(phi) = F_N o+(phi) / (L int o+(phi') rho dphi'), so it integrates to the normal
-    force over the arc in contact; point z gets h_z += k_w p_z Delta s_z with p_z the pressure
-    averaged over its cell (:func:`cell_overlap`), all from the depths before the update.  The
-    removed volume is k_w F_N Delta s (to first order in the increment).  Scratch: ``mask`` (bool,
-    N_d), whose first nb entries flag the blocks of points that may overlap, and ``work``
-    (float64, 2 N_d), which holds the points' overlaps (work[:N_d]; each point's distance to the
-    pin is computed once) and their weights (work[N_d:]).  Returns the largest increment [m], or
-    WEAR_REFUSED (nothing changed) if it would exceed the bushing radius or is not finite."""
+    The pressure on the bushing is proportional to the local overlap of the worn surface with the pin,
+    p(phi) = k_eff o+(phi), k_eff = F_N / (L int o+ rho dphi), so it integrates to the normal force over
+    the arc in contact.  Wearing a point lowers its pressure at the rate k_eff k_w per unit of sliding, so
+    over the step point z's pressure relaxes by exp(-lambda_z), lambda_z = k_eff k_w Delta s_z, while the
+    load the pin carries pushes it uniformly deeper by the overlap a: h_z += k_w Delta s_z phi(lambda_z)
+    k_eff cell(o + a)+, with a set so that the removed volume stays Archard's, k_w F_N Delta s (for small
+    lambda the explicit update h_z += k_w p_z Delta s_z).  Any lambda is stable: a point never wears more
+    than its shifted overlap.  Pressures are cell means (:func:`cell_overlap`) of the depths before the
+    update.  Scratch: ``mask`` (bool, N_d), whose first nb entries flag the blocks of points that may
+    overlap, and ``work`` (float64, 2 N_d), which holds the points' overlaps (work[:N_d]) and weights
+    (work[N_d:]).  Returns the largest increment [m], or WEAR_REFUSED with nothing changed if an increment
+    would exceed the bushing radius or is not finite."""
     skipped = _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, work)
-    total, peak = _foundation_pass(0.0, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
-                                   sin_phi, wear_depth, block_min, mask, skipped, work)
+    total, peak, _, _ = _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey,
+                                         pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask,
+                                         skipped, work)
     if total <= 0.0:                          # cannot happen with F_N > 0 (the deepest point overlaps)
         n = wear_depth.shape[0]
         rho = bushing_radius + wear_depth[k]
@@ -351,36 +406,64 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
         _refresh_blocks(wear_depth, block_min, k, k)
         return dh
     scale = k_w * f_n / (contact_length * total)
-    largest = scale * peak * (relative_dt if rotation else slide)
-    if not largest <= bushing_radius:        # absurd or not finite: refused, nothing changes
+    if not scale * peak * (relative_dt if rotation else slide) <= bushing_radius:   # absurd or not finite
         return WEAR_REFUSED
-    _foundation_pass(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                     wear_depth, block_min, mask, skipped, work)
+    shift, edge = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
+                               cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
+    if edge + shift > 0.0:                    # the shifted contact reaches past a run: the whole circle
+        skipped = -1
+        _fill_overlaps(0, wear_depth.shape[0], ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                       work)
+        _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey, pin_radius,
+                         bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
+        shift, _ = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
+                                cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
+    largest, _, _, _ = _foundation_pass(PASS_APPLY, shift, scale, relative_dt, slide, rotation, ex, ey,
+                                        pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask,
+                                        skipped, work)
     return largest
 
 
 @kernel(inline='always')
-def wears(result, jp, dt):
-    """True if an accepted step of dt [s] ending at the contact ``result`` wears the bushing (the
-    increments of :func:`apply_wear` may still round to 0): in contact, F_N > 0, k_w > 0, dt > 0."""
-    return not (result[R_CONTACT] < 0.5 or jp[P_WEAR_COEFFICIENT] <= 0.0 or dt <= 0.0 or result[R_NORMAL_FORCE] <= 0.0)
+def wears(result, f_n, jp, dt):
+    """True if an accepted step of dt [s] ending at the contact ``result`` with the mean normal force f_n
+    [N] wears the bushing (the increments of :func:`apply_wear` may still round to 0): in contact,
+    f_n > 0, k_w > 0, dt > 0."""
+    return not (result[R_CONTACT] < 0.5 or jp[P_WEAR_COEFFICIENT] <= 0.0 or dt <= 0.0 or f_n <= 0.0)
+
+
+@kernel(inline='always')
+def step_mean_normal_force(result, memory, held):
+    """The normal force [N] the wear of an accepted step ending at the contact ``result`` takes: the
+    contact's own if the kinematics were ``held`` over the step (a co-simulation step) or before the first
+    accepted point, else the trapezoid of the step's start (memory[M_START_FORCE], the last accepted point
+    on its worn profile) and its end, the mean force the host's integrator applied over a step that began
+    just after a wear update (docs/model.md §3.11)."""
+    start = memory[M_START_FORCE]
+    if held or start < 0.0:
+        return result[R_NORMAL_FORCE]
+    return 0.5 * (start + result[R_NORMAL_FORCE])
 
 
 @kernel
-def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work):
+def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work):
     """Archard update of the wear profile over an accepted step of length dt, Eqs. (28)-(33).
 
-    ``result`` is the contact evaluation at the accepted state.  Sliding
+    ``result`` is the contact evaluation at the accepted state, ``f_n`` the step's mean normal force
+    [N] (:func:`step_mean_normal_force`).  Sliding
     distance: ``rotation`` (R_j + h_z)|d alpha| with alpha the relative angle
     of the two bodies, Eq. (33), taken as |omega_i - omega_j| dt; or
-    ``tangential`` |v_T| dt at the contact.  Returns the largest depth increment [m], or
-    WEAR_REFUSED with nothing changed where a step would wear a point by more than the bushing radius
-    or by a non-finite depth (a step no physical host takes: h = 1e300 s, say).
+    ``tangential`` |v_T| dt at the contact.  Returns (the largest depth increment [m], the step's share
+    of the wear-step limit: the largest lambda over WEAR_STEP_SHARE for the relaxed ``foundation``
+    update (lambda = k_f k_w Delta s at the contact, docs/model.md §7), the largest increment over
+    WEAR_STEP_SHARE_EXPLICIT times the penetration for the explicit
+    ``patch`` and ``penetration``), or (WEAR_REFUSED, 0) with nothing changed where a step would wear a
+    point by more than the bushing radius or by a non-finite depth (a step no physical host takes:
+    h = 1e300 s, say).
     """
-    if not wears(result, jp, dt):
-        return 0.0
+    if not wears(result, f_n, jp, dt):
+        return 0.0, 0.0
     k_w = jp[P_WEAR_COEFFICIENT]
-    f_n = result[R_NORMAL_FORCE]
     n = wear_depth.shape[0]
     dphi = 2.0 * math.pi / n
     k = int(result[R_CONTACT_INDEX])
@@ -396,13 +479,16 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
     largest = 0.0
     placement = int(jp[P_WEAR_PLACEMENT])
     if placement == 2:
-        return foundation_wear(k_w, f_n, jp[P_CONTACT_LENGTH], relative_rate * dt, tangential_slide, rotation,
-                               result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius, bushing_radius,
-                               cos_phi, sin_phi, wear_depth, block_min, mask, work, k)
+        largest = foundation_wear(k_w, f_n, jp[P_CONTACT_LENGTH], relative_rate * dt, tangential_slide, rotation,
+                                  result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius, bushing_radius,
+                                  cos_phi, sin_phi, wear_depth, block_min, mask, work, k)
+        k_f = jp[P_FOUNDATION_MODULUS] * pin_radius / jp[P_CONTACT_LENGTH]     # the slot holds k_f L / R_i
+        share = k_f * k_w * (worn_radius * relative_rate * dt if rotation else tangential_slide)   # lambda, §7
+        return largest, share / WEAR_STEP_SHARE
     # a bound on the increments below (patch weights <= 4/pi, depths <= R_j): refuse an absurd step
     slide_bound = 2.0 * worn_radius * relative_rate * dt if rotation else tangential_slide
     if not k_w * pressure * (4.0 / math.pi) * slide_bound <= bushing_radius:
-        return WEAR_REFUSED
+        return WEAR_REFUSED, 0.0
     if placement == 0:
         half_angle = min(half_width / worn_radius, math.pi)
         centre = subgrid_contact_offset(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], bushing_radius,
@@ -428,36 +514,48 @@ def apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block
                 wear_depth[z] += dh
                 largest = max(largest, dh)
         block_minimum_depth(wear_depth, block_min)
-    return largest
+    return largest, largest / (WEAR_STEP_SHARE_EXPLICIT * result[R_PENETRATION])
 
 
 @kernel
-def accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work):
-    """Archard update over dt and the contact-onset bookkeeping for ``result``, the contact
-    evaluated at the accepted state.  Returns STEP_CHANGED if the joint's state changed,
-    STEP_OVERSHOT if it did by a step over the wear-step limit (longer than MAX_WEAR_STEP_S, or
-    wearing a point by more than WEAR_STEP_SHARE of the penetration: the wear overshoots,
-    docs/model.md §7),
-    STEP_UNCHANGED, or STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`)."""
-    largest = apply_wear(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work)
+def accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                   mask, work):
+    """Archard update over dt with the step's mean normal force (:func:`step_mean_normal_force`) and the
+    contact-onset bookkeeping for ``result``, the contact evaluated at the accepted state (pos, vel) on the
+    profile the step began with (left as it is).  memory[M_START_FORCE] becomes the normal force there on
+    the new profile, evaluated in ``work`` after the wear.  Returns STEP_CHANGED if the joint's forces changed,
+    STEP_OVERSHOT if they did by a step over the wear-step limit (longer than MAX_WEAR_STEP_S, or past its
+    share of the wear, :func:`apply_wear`; docs/model.md §7), STEP_UNCHANGED, or STEP_REFUSED (nothing
+    changed: the wear would be absurd, :func:`apply_wear`)."""
+    f_n = step_mean_normal_force(result, memory, held)
+    largest, share = apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask,
+                                work)
     if largest < 0.0:
         return STEP_REFUSED
     changed = update_contact_memory(result, jp, memory)
-    if largest > 0.0 and (dt > MAX_WEAR_STEP_S * (1.0 + 1e-9) or largest > WEAR_STEP_SHARE * result[R_PENETRATION]):
+    if largest > 0.0:
+        after = work[:N_RESULT]
+        for r in range(N_RESULT):                # the search starts from the contact before the wear
+            after[r] = result[r]
+        evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, after)
+        memory[M_START_FORCE] = after[R_NORMAL_FORCE]
+    else:
+        memory[M_START_FORCE] = result[R_NORMAL_FORCE]
+    if largest > 0.0 and (dt > MAX_WEAR_STEP_S * (1.0 + 1e-9) or share > 1.0):
         return STEP_OVERSHOT
     return STEP_CHANGED if largest > 0.0 or changed else STEP_UNCHANGED
 
 
 @kernel
-def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
-                  memory, mask, work, result):
-    """Accept the state (pos, vel) as the end of a step of length dt: evaluate the contact
-    there (into ``result``), then :func:`accept_contact`; returns its STEP_* code (STEP_CHANGED:
-    forces at the same kinematics would differ)."""
+def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
+                  work, result):
+    """Accept the state (pos, vel) as the end of a step of length dt (``held``: the kinematics held over
+    the step): evaluate the contact there (into ``result``), then :func:`accept_contact`; returns its
+    STEP_* code (STEP_CHANGED: forces at the same kinematics would differ)."""
     evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, result)
-    return accept_contact(result, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
-                          work)
+    return accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min,
+                          memory, mask, work)
 
 
 @kernel

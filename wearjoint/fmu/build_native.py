@@ -203,6 +203,8 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define BLOCK_SIZE {layout.BLOCK_SIZE}
 #define N_JOINT_PARAMETERS {layout.N_JOINT_PARAMETERS}
 #define N_MEMORY {layout.N_MEMORY}
+#define M_START_FORCE {layout.M_START_FORCE}
+#define NO_START_FORCE {layout.NO_START_FORCE!r}
 #define N_RESULT {layout.N_RESULT}
 #define R_PENETRATION {layout.R_PENETRATION}
 #define R_ECCENTRICITY_X {layout.R_ECCENTRICITY_X}
@@ -215,6 +217,7 @@ def model_variables_header(n_points: int, guid: str) -> str:
 #define STEP_OVERSHOT {STEP_OVERSHOT}
 #define MAX_WEAR_STEP_S {layout.MAX_WEAR_STEP_S!r}
 #define WEAR_STEP_SHARE {layout.WEAR_STEP_SHARE!r}
+#define WEAR_STEP_SHARE_EXPLICIT {layout.WEAR_STEP_SHARE_EXPLICIT!r}
 #define N_EVENT_INDICATORS {N_EVENT_INDICATORS}
 #define N_INPUTS {len(fv.INPUTS)}
 #define N_PARAMETERS {len(fv.PARAMETERS)}

@@ -26,7 +26,7 @@ _F64 = types.CPointer(types.float64)
 _ARRAYS = (_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, types.voidptr)
 _SIZES = (types.int64, types.int64)
 EVALUATE_SIGNATURE = types.int32(*_ARRAYS, *_SIZES)
-ADVANCE_SIGNATURE = types.int32(*_ARRAYS, _F64, *_SIZES, types.float64)
+ADVANCE_SIGNATURE = types.int32(*_ARRAYS, _F64, *_SIZES, types.float64, types.int64)
 # jacobian: evaluate's arrays with ``jacobian`` (N_RESULT x 12 doubles, row-major) in place of ``mask``
 JACOBIAN_SIGNATURE = types.int32(*_ARRAYS[:-1], _F64, *_SIZES)
 
@@ -55,11 +55,12 @@ def jacobian_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, mem
 
 @entry_point(ADVANCE_SIGNATURE)
 def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work,
-                   n_points, n_blocks, dt):
-    """Accept a step of dt [s] at the kinematics (wear, contact memory); returns 1 if the
-    joint's state changed, 0 if not, -1 if the step was refused (its wear absurd; nothing changed)."""
+                   n_points, n_blocks, dt, held):
+    """Accept a step of dt [s] ending at the kinematics (``held`` != 0: held over the step, a Co-Simulation
+    step) (wear, contact memory); returns 1 if the joint's state changed, 0 if not, -1 if the step was
+    refused (its wear absurd; nothing changed)."""
     k = carray(kinematics, 12)
-    changed = advance_joint(k[0:3], k[3:6], k[6:9], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
+    changed = advance_joint(k[0:3], k[3:6], k[6:9], k[9:12], dt, held != 0, carray(jp, N_JOINT_PARAMETERS),
                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
                             carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points),
@@ -69,12 +70,13 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
 
 @entry_point(ADVANCE_SIGNATURE)
 def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work, n_points,
-                  n_blocks, dt):
+                  n_blocks, dt, held):
     """:func:`advance_native` when ``result`` already holds the evaluation at these kinematics and
     this state (the forces were read since the inputs last changed): the wear and onset update
     only, without evaluating the contact again; returns as :func:`advance_native`."""
     k = carray(kinematics, 12)
-    changed = accept_contact(carray(result, N_RESULT), k[3:6], k[9:12], dt, carray(jp, N_JOINT_PARAMETERS),
+    changed = accept_contact(carray(result, N_RESULT), k[0:3], k[3:6], k[6:9], k[9:12], dt, held != 0,
+                             carray(jp, N_JOINT_PARAMETERS),
                              carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
                              carray(block_min, n_blocks), carray(memory, N_MEMORY),
                              carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points))
