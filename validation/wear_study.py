@@ -363,6 +363,7 @@ def _growth_assessment(growth: np.ndarray) -> dict:
     ratio = float(d[-1] / half) if half > 0 else float("nan")
     return {"depth_ratio_full_to_half": ratio,
             "growth_exponent": growth_exponent(r, d),
+            "late_rate_m_per_1000_rev": float((d[-1] - half) / (r[-1] / 2.0) * 1000.0) if r[-1] > 0 else None,
             "experiment_depth_ratio_full_to_half": exp_ratio,
             "experiment_growth_exponent": math.log(exp_ratio) / math.log(2.0),
             "accelerates": bool(ratio > 2.0),

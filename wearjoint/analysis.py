@@ -232,10 +232,14 @@ def profile_ripple(phi_deg: np.ndarray, depth_m: np.ndarray, window_deg: float =
 
 
 def growth_exponent(revolutions, depth_m) -> float:
-    """p of depth ~ revolutions**p, least squares in log-log over the points with depth > 0."""
+    """p of depth ~ revolutions**p over the run's second half, log2(d(R) / d(R/2)) with d(R/2) interpolated:
+    the measure two points of an experiment at R/2 and R give (p > 1: the growth accelerates).  A fit over
+    the whole run would weigh the running-in of the first revolutions (docs/wear_study.md)."""
     r, d = np.asarray(revolutions, float), np.asarray(depth_m, float)
-    ok = (r > 0) & (d > 0)
-    return float(np.polyfit(np.log(r[ok]), np.log(d[ok]), 1)[0]) if ok.sum() >= 2 else float("nan")
+    if r.size < 2 or not r[-1] > 0:
+        return float("nan")
+    half = float(np.interp(0.5 * r[-1], np.r_[0.0, r], np.r_[0.0, d]))
+    return float(math.log(d[-1] / half) / math.log(2.0)) if half > 0 and d[-1] > 0 else float("nan")
 
 
 # ---------------------------------------------------------------- impact events

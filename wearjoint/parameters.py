@@ -20,7 +20,7 @@ CONTACT_MODELS = ("foundation", "deepest")
 CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh")
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
 # (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
-PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.449e-11
+PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.576e-11
 # the impact speed [m/s] at which the default (Hunt-Crossley) damping restitutes `restitution`: the
 # energy-weighted mean onset speed of the paper's slider-crank (docs/model.md §3.5)
 RESTITUTION_SPEED_M_S = 0.05

@@ -318,3 +318,21 @@ def penetrating_points(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wea
                 mask[k] = True
                 count += 1
     return count
+
+
+@kernel
+def refresh_blocks(wear_depth, block_min, first, last):
+    """Recompute block minima of the blocks holding points first..last (wrapping)."""
+    n = wear_depth.shape[0]
+    nb = block_min.shape[0]
+    span = last - first
+    if span + BLOCK_SIZE >= n:                  # the ends may share a block after wrapping
+        block_minimum_depth(wear_depth, block_min)
+        return
+    b = (first % n) // BLOCK_SIZE
+    b_last = (last % n) // BLOCK_SIZE
+    while True:
+        block_min[b] = block_minimum(wear_depth, b)
+        if b == b_last:
+            return
+        b = wrap_index(b + 1, nb)

@@ -85,7 +85,8 @@ class NativeModel:
 MODELS = {m.name: m for m in (
     NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h",
                                           "state_format.h"), "model.h",
-                ("core/geometry.py", "core/pressure.py", "core/contact.py", "core/wear.py", "core/state_format.py", "joint.py", "fmu/entry_points.py",
+                ("core/geometry.py", "core/pressure.py", "core/contact.py", "core/foundation_wear.py", "core/wear.py",
+                 "core/state_format.py", "joint.py", "fmu/entry_points.py",
                  "fmu/state_entry_points.py"),
                 ("fmu/entry_points.py", "fmu/state_entry_points.py"),
                 False),
