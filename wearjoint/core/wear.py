@@ -5,7 +5,8 @@ Eq. (28) is h_z += k_w p Delta s_z.  Where the increment goes (docs/model.md §3
 
 * ``foundation`` (default): the pressure follows the local overlap of the worn
   surface with the pin (an elastic, Winkler foundation), integrated over each
-  point's arc cell, normalised to the normal force (:func:`foundation_wear`).
+  point's arc cell, normalised to the step's mean normal force and relaxed
+  exactly over the step (:mod:`.foundation_wear`, docs/model.md §3.11).
 * ``patch``: the paper's Hertz patch, p = F_N / (2 b L) (Eqs. 29-32); bushing
   point z stands for the arc cell [phi_z - dphi/2, phi_z + dphi/2] and receives
   the increment times the share of its cell inside the patch [-b, b] around
