@@ -329,5 +329,5 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
 __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
-           "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S", "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N",
-           "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S"]
+           "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S",
+           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S"]

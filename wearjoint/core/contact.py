@@ -15,10 +15,10 @@ On either, a hysteresis damping scales the elastic force (``jp[P_CONTACT_DAMPING
 §3.5): 0, Hunt-Crossley (default), F_e max(0, 1 + alpha delta_dot) with the constant
 alpha = 3(1 - e_r^2)/(4 v_r) from the restitution e_r at the impact speed v_r; 1, the paper's
 Lankarani-Nikravesh (Eq. 15), the same form with the approach velocity stored at the contact's onset
-in place of v_r.  Ambrosio's friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions (docs/model.md §3): delta =
-R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into the bushing; the
-normal force on the pin is -F_N n; friction on the pin opposes its sliding relative to the
-bushing; torques are planar cross products l_x F_y - l_y F_x.
+in place of v_r.  Ambrosio's friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions
+(docs/model.md §3): delta = R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into
+the bushing; the normal force on the pin is -F_N n; friction on the pin opposes its sliding relative
+to the bushing; torques are planar cross products l_x F_y - l_y F_x.
 
 Derivatives are forward mode through the same code: :func:`_forces` carries, beside every
 value, its derivative along one direction of the 12 kinematic inputs (x, y, theta, vx, vy,
