@@ -95,7 +95,7 @@ def printed_wear_rate(config: WearStudyConfig, simulated_revolutions: int = 3) -
     """Max depth after each of the first revolutions with the printed k_w and no acceleration (F = 1)."""
     joint = config.joint.replace(wear_coefficient_m2_N=PRINTED_WEAR_COEFFICIENT_M2_N, wear_factor=1.0)
     cfg = config.replace(joint=joint, revolutions=simulated_revolutions, snapshots=(simulated_revolutions,),
-                         jump_revolutions=0, jump_factor=1.0)
+                         jump_tolerance=None)
     engine = make_engine(cfg)
     period = config.mechanism.period_s
     buffer = np.zeros((int(period / 1e-5) + 64, L.N_SAMPLE_COLUMNS))

@@ -6,9 +6,10 @@ the default RK4, ~1 s with DOPRI):
 * **wear acceleration** -- the joint's ``wear_factor`` F multiplies k_w, so one
   simulated revolution stands for F crank revolutions; the snapshot at
   revolution R is taken after R/F simulated revolutions;
-* **cycle jumping** (``--cycle-jump M,J``) -- after every block of M simulated
-  revolutions the block's wear increment is scaled by J (profile set through
-  the engine), so a block stands for M*F*J revolutions.
+* **cycle jumping** (the default; :mod:`wearjoint.validation.cycle_jump`) -- blocks of
+  simulated revolutions at the real wear rate, each followed by a jump that replays the
+  block's loading through the relaxed wear update, its length chosen from an error
+  estimate (``--cycle-jump-tolerance``).
 
 The final revolution count is always a snapshot.  At each snapshot the study
 keeps the worn profile and the slider acceleration of the simulated revolution
@@ -51,10 +52,12 @@ from wearjoint.results import RunRecord, write_json_atomic, write_results
 from wearjoint.runner import RunDiverged, divergence
 from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
+from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state
+
 ENGINES = ("monolithic", "cosim")
 STUDY_INTEGRATORS = ("rk4", "dopri")
 DEFAULT_STUDY_INTEGRATOR = "rk4"       # fixed steps (the wear-step limit) with located contact onsets
-DEFAULT_WEAR_FACTOR = 100.0             # chosen from the convergence study (README "Reproducing the paper")
+DEFAULT_WEAR_FACTOR = 1.0               # cycle jumping's blocks run at the real wear rate
 PRINTED_WEAR_COEFFICIENT_M2_N = JointParameters().wear_coefficient_m2_N
 PAPER_MAX_DEPTH_M = 0.58e-3             # Fig. 7, after 4000 revolutions
 EXPERIMENT_REVOLUTIONS = (200_000, 400_000)
@@ -62,6 +65,7 @@ EXPERIMENT_MAX_DEPTH_M = (0.19e-3, 0.55e-3)
 CONVERGENCE_TOLERANCE = 0.15            # max-depth and RMS profile difference, relative to the reference max depth
 CHECKPOINT_NAME = "wear_study_checkpoint.pkl"
 CHECKPOINT_FORMAT = 2                   # the pickle, then its CRC-32C (uint32, little-endian)
+MAX_JUMP_ROUTE_STATISTICS = 5000      # simulated revolutions of a cycle-jumping study with per-revolution statistics
 ARRAY_KEYS = ("wear_depth_m", "time_s", "slider_a_m_s2", "samples")   # snapshot arrays (not in summary.json)
 
 
@@ -74,8 +78,8 @@ class WearStudyConfig:
     mechanism: SliderCrankParameters
     revolutions: int = 4000
     snapshots: tuple = (1000, 2000, 3000, 4000)
-    jump_revolutions: int = 0               # M: simulated revolutions per cycle-jump block (0: no jumping)
-    jump_factor: float = 1.0                # J: the block's wear increment is scaled by J
+    jump_tolerance: float | None = DEFAULT_JUMP_TOLERANCE   # cycle jumping's local error; None: the wear factor only
+    jump_block_revolutions: int = 2         # simulated revolutions of a cycle-jump block
     engine: str = "monolithic"
     integrator: str = DEFAULT_STUDY_INTEGRATOR
     max_step_s: float | None = None         # None: the wear-step limit (docs/model.md §7), RK4's step
@@ -97,18 +101,17 @@ class WearStudyConfig:
         if not self.joint.wear_factor > 0.0 or not self.joint.wear_coefficient_m2_N > 0.0:
             raise ParameterError(f"a wear study needs wear on: wear_factor={self.joint.wear_factor!r} and "
                                  f"wear_coefficient_m2_N={self.joint.wear_coefficient_m2_N!r} must be > 0")
-        _check_int("jump_revolutions", self.jump_revolutions, 0)
-        if not (math.isfinite(self.jump_factor) and self.jump_factor >= 1.0):
-            raise ParameterError(f"cycle-jump factor J={self.jump_factor!r} is invalid: allowed a finite J >= 1")
-        if self.jump_revolutions > 0:
-            block = self.jump_revolutions * self.revolutions_per_simulated_revolution
-            for s in snaps:
-                if abs(s / block - round(s / block)) > 1e-9:
-                    raise ParameterError(f"snapshot {s} is not at the end of a cycle-jump block "
-                                         f"({block:g} revolutions each: M*F*J)")
+        _check_int("jump_block_revolutions", self.jump_block_revolutions, 1)
+        if self.jump_tolerance is not None:
+            if not (isinstance(self.jump_tolerance, (int, float)) and 0.0 < self.jump_tolerance < 1.0):
+                raise ParameterError(f"cycle-jump tolerance={self.jump_tolerance!r} is invalid: allowed a value "
+                                     "in (0, 1)")
+            if self.joint.wear_factor != 1.0:
+                raise ParameterError(f"wear_factor={self.joint.wear_factor!r} is invalid with cycle jumping: allowed 1 "
+                                     "(its blocks run at the real wear rate); the wear factor is a route of its own")
         if self.engine not in ENGINES:
             raise ParameterError(f"engine {self.engine!r} is invalid: allowed one of {', '.join(ENGINES)}")
-        if self.engine == "cosim" and self.jump_revolutions > 0:
+        if self.engine == "cosim" and self.jump_tolerance is not None:
             raise ParameterError("cycle jumping is not available with --engine cosim (the FMU's wear profile "
                                  "cannot be set); use --wear-factor")
         if self.fmu_backend not in BACKENDS:
@@ -116,9 +119,8 @@ class WearStudyConfig:
         if self.integrator not in STUDY_INTEGRATORS:
             raise ParameterError(f"integrator {self.integrator!r} is invalid: allowed one of "
                                  f"{', '.join(STUDY_INTEGRATORS)}")
-        if self.max_step_s is None:     # the wear-step limit of the wear actually applied (J scales it)
-            object.__setattr__(self, "max_step_s", wear_step_limit_s(
-                self.joint.replace(wear_factor=self.joint.wear_factor * self.jump_factor), self.mechanism))
+        if self.max_step_s is None:     # the wear-step limit of the wear actually applied
+            object.__setattr__(self, "max_step_s", wear_step_limit_s(self.joint, self.mechanism))
         for name in ("max_step_s", "checkpoint_every_revolutions", "impact_threshold_m_s2", "impact_merge_deg"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
@@ -127,9 +129,8 @@ class WearStudyConfig:
 
     @property
     def revolutions_per_simulated_revolution(self) -> float:
-        """F*J with cycle jumping, else F."""
-        jump = self.jump_factor if self.jump_revolutions > 0 else 1.0
-        return self.joint.wear_factor * jump
+        """The wear factor F (1 with cycle jumping, whose simulated revolutions the jumps decide)."""
+        return self.joint.wear_factor
 
     @property
     def simulated_revolutions(self) -> float:
@@ -157,6 +158,8 @@ def make_engine(config: WearStudyConfig):
     """The simulation engine of ``config.engine``: ``Simulation`` or ``CoSimulation``
     (``advance_to``, ``checkpoint``/``restore``, ``wear_profile``, ``set_wear_profile``, ``close``)."""
     revolutions = math.ceil(config.simulated_revolutions - 1e-9)
+    if config.jump_tolerance is not None:     # the jumps decide how many are simulated: statistics of the first
+        revolutions = min(revolutions, MAX_JUMP_ROUTE_STATISTICS)
     if config.engine == "monolithic":
         return Simulation(config.joint, config.mechanism,
                           SimulationOptions(revolutions=revolutions, integrator=config.integrator,
@@ -178,8 +181,8 @@ def profile_angles_deg(n_points: int) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- the study
-def _stops(config: WearStudyConfig) -> list[tuple[float, int | None, bool]]:
-    """(simulated revolution, snapshot revolution or None, cycle-jump block end) for every stop, in order."""
+def _stops(config: WearStudyConfig) -> list[tuple[float, int | None]]:
+    """(simulated revolution, snapshot revolution or None) for every stop of the wear-factor route, in order."""
     n_sim = config.simulated_revolutions
     per = config.revolutions_per_simulated_revolution
     marks = {}
@@ -189,11 +192,7 @@ def _stops(config: WearStudyConfig) -> list[tuple[float, int | None, bool]]:
         x = s / per
         near = [m for m in marks if abs(m - x) <= 1e-9 * max(1.0, x)]
         marks[near[0] if near else x] = s
-    stops = []
-    for x in sorted(marks):
-        block_end = config.jump_revolutions > 0 and abs(x / config.jump_revolutions - round(x / config.jump_revolutions)) < 1e-9
-        stops.append((x, marks[x], block_end))
-    return stops
+    return [(x, marks[x]) for x in sorted(marks)]
 
 
 def _crc32c(data: bytes) -> int:
@@ -235,8 +234,7 @@ def _load_checkpoint(path: Path, config: WearStudyConfig) -> dict:
         raise ParameterError(f"checkpoint {path} belongs to a study with other settings ({', '.join(diff)}); "
                              "use the same options or another --out")
     probe = ClearanceJoint(config.joint)
-    profiles = [("block_start_depth_m", state["block_start_depth_m"])]
-    profiles += [(f"snapshot {s['revolution']} wear_depth_m", s["wear_depth_m"]) for s in state["snapshots"]]
+    profiles = [(f"snapshot {s['revolution']} wear_depth_m", s["wear_depth_m"]) for s in state["snapshots"]]
     for name, depth in profiles:
         try:
             probe.set_wear_profile(depth)
@@ -266,20 +264,22 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
         engine.warm_up()                       # JIT compilation, timed apart from the simulation
         compile_time_s = time.perf_counter() - start
         if state is None:
-            state = {"format": CHECKPOINT_FORMAT, "config": config.to_dict(), "next_stop": 0,
-                     "block_start_depth_m": engine.wear_profile()[1], "snapshots": [], "pending_samples": {},
-                     "growth": [], "wall_time_s": 0.0, "last_checkpoint_revolution": 0.0, "finished": False}
+            state = {"format": CHECKPOINT_FORMAT, "config": config.to_dict(), "next_stop": 0, "snapshots": [],
+                     "pending_samples": {}, "growth": [], "wall_time_s": 0.0, "last_checkpoint_revolution": 0.0,
+                     "finished": False}
+            if config.jump_tolerance is not None:
+                state["jump"] = new_jump_state(config)
         else:
             engine.restore(state["engine"])
-        return _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
-                              compile_time_s)
+        advance = _advance_jump_route if config.jump_tolerance is not None else _advance_study
+        return advance(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints, compile_time_s)
     finally:
         engine.close()
 
 
 def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
                    compile_time_s) -> dict:
-    """The study's loop over its stops (see :func:`run_wear_study`)."""
+    """The wear-factor route's loop over its stops (see :func:`run_wear_study`)."""
     period = config.mechanism.period_s
     stops = _stops(config)
     phi_deg = profile_angles_deg(config.joint.n_points)
@@ -292,7 +292,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
     wall0 = time.perf_counter()
     wall_before = state["wall_time_s"]
     for i in range(state["next_stop"], len(stops)):
-        sim_rev, snapshot, block_end = stops[i]
+        sim_rev, snapshot = stops[i]
         t_stop = sim_rev * period
         n = engine.advance_to(t_stop, buffer)
         failure = divergence(engine, buffer[:n], config.joint.clearance_m)
@@ -301,13 +301,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
             raise RunDiverged(failure)
         _keep_window_samples(state["pending_samples"], config, buffer[:n], period)
         _, depth, volume = engine.wear_profile()
-        if block_end:
-            start = state["block_start_depth_m"]
-            engine.set_wear_profile(start + config.jump_factor * (depth - start))
-            _, depth, volume = engine.wear_profile()
-            state["block_start_depth_m"] = depth
-        if config.jump_revolutions == 0 or block_end:
-            state["growth"].append((sim_rev * per, float(depth.max()), volume))
+        state["growth"].append((sim_rev * per, float(depth.max()), volume))
         if snapshot is not None:
             samples = np.concatenate(state["pending_samples"].pop(snapshot, [np.zeros((0, L.N_SAMPLE_COLUMNS))]))
             state["snapshots"].append(_snapshot(config, snapshot, sim_rev, phi_deg, depth, volume, samples,
@@ -326,6 +320,32 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
                 return {"finished": False, "checkpoint": str(ckpt_path)}
         bar.update(sim_rev * per - done_at_start)
     bar.close()
+    return write_study_outputs(config, state, engine, out, plots, compile_time_s)
+
+
+def _advance_jump_route(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
+                        compile_time_s) -> dict:
+    """The cycle-jumping route (:func:`wearjoint.validation.cycle_jump.advance_jump_study`), checkpointed after
+    every block and its jump."""
+    phi_deg = profile_angles_deg(config.joint.n_points)
+    wall0, wall_before = time.perf_counter(), state["wall_time_s"]
+    written = []
+
+    def keep_snapshot(revolution, simulated, samples):
+        _, depth, volume = engine.wear_profile()
+        state["snapshots"].append(_snapshot(config, revolution, simulated, phi_deg, depth, volume, samples,
+                                            wall_before + time.perf_counter() - wall0))
+
+    def checkpoint() -> bool:
+        state["finished"] = state["jump"]["revolution"] >= config.revolutions
+        state["wall_time_s"] = wall_before + time.perf_counter() - wall0
+        state["engine"] = engine.checkpoint()
+        _write_checkpoint_atomic(ckpt_path, state)
+        written.append(1)
+        return state["finished"] or stop_after_checkpoints is None or len(written) < stop_after_checkpoints
+
+    if not advance_jump_study(config, state, engine, keep_snapshot, checkpoint, progress):
+        return {"finished": False, "checkpoint": str(ckpt_path)}
     return write_study_outputs(config, state, engine, out, plots, compile_time_s)
 
 
@@ -382,14 +402,16 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
     growth = np.asarray(state["growth"])
     np.savetxt(out / "wear_growth.csv", growth, delimiter=",", header="revolutions,max_wear_depth_m,worn_volume_m3",
                comments="", fmt="%.10g")
-    n_complete = max(1, int(config.simulated_revolutions + 1e-9))
+    jumping = "jump" in state
+    simulated = state["jump"]["simulated_revolutions"] if jumping else config.simulated_revolutions
+    n_complete = max(1, int(simulated + 1e-9))
     final = snaps[-1]
-    per = config.revolutions_per_simulated_revolution
-    at_sim_rev_ends = [g[1] for g in state["growth"] if abs(g[0] / per - round(g[0] / per)) < 1e-9]
+    per = config.revolutions / simulated
+    at_sim_rev_ends = [g[1] for g in state["growth"] if jumping or abs(g[0] / per - round(g[0] / per)) < 1e-9]
     record = RunRecord(
         samples=final["samples"], revolution_stats=engine.revolution_stats[:n_complete],
         wear_growth_m=np.asarray(at_sim_rev_ends), phi_deg=phi_deg, wear_depth_m=final["wear_depth_m"],
-        worn_volume_m3=final["worn_volume_m3"], simulated_time_s=config.simulated_revolutions * period,
+        worn_volume_m3=final["worn_volume_m3"], simulated_time_s=simulated * period,
         wall_time_s=state["wall_time_s"], compile_time_s=compile_time_s, revolutions=float(config.revolutions),
         period_s=period,
         clearance_m=config.joint.clearance_m,
@@ -398,7 +420,7 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
                     "engine": config.engine})
     summary = write_results(record, out, plots=plots)
     summary.update({
-        "simulated_revolutions": config.simulated_revolutions,
+        "simulated_revolutions": simulated,
         "revolutions_per_simulated_revolution": per,
         "wear_factor": config.joint.wear_factor,
         "effective_wear_coefficient_m2_N": config.joint.wear_coefficient_m2_N,
@@ -413,6 +435,8 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS), "max_wear_depth_m": list(EXPERIMENT_MAX_DEPTH_M)},
         "finished": True,
     })
+    if jumping:
+        summary["cycle_jumping"] = jump_summary(config, state)
     if plots:
         figures = {"fig7": "fig7_wear_profiles.png", "fig8": "fig8_slider_acceleration.png",
                    "growth": "wear_growth.png"}

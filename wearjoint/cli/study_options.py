@@ -4,6 +4,7 @@ import the command that imports them)."""
 from __future__ import annotations
 
 from ..parameters import ParameterError
+from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from ..validation.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
 from .options import model_from_args
 
@@ -40,19 +41,16 @@ def config_from_args(args) -> WearStudyConfig:
         snapshots = parse_int_list("--snapshots", args.snapshots)
     else:
         snapshots = tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
-    jump_m, jump_j = 0, 1.0
-    if args.cycle_jump is not None:
-        parts = args.cycle_jump.split(",")
-        if len(parts) != 2:
-            raise ParameterError(f"--cycle-jump {args.cycle_jump!r}: expected M,J (e.g. 2,10)")
-        jump_m = parse_int_list("--cycle-jump M", parts[0])[0]
-        jump_j = parse_float_list("--cycle-jump J", parts[1])[0]
-        if jump_m < 1:
-            raise ParameterError(f"--cycle-jump M={jump_m} is invalid: allowed an integer >= 1")
-    if args.wear_factor is None and not args.no_wear:
-        joint = joint.replace(wear_factor=1.0 if args.cycle_jump is not None else DEFAULT_WEAR_FACTOR)
+    jump_tolerance = args.cycle_jump_tolerance
+    if jump_tolerance is None and args.wear_factor is None and not args.no_cycle_jump:
+        jump_tolerance = DEFAULT_JUMP_TOLERANCE
+    if jump_tolerance is not None and args.no_cycle_jump:
+        raise ParameterError("--cycle-jump-tolerance and --no-cycle-jump exclude each other")
+    if args.wear_factor is None:
+        joint = joint.replace(wear_factor=DEFAULT_WEAR_FACTOR)
     return WearStudyConfig(joint=joint, mechanism=mechanism, revolutions=revolutions, snapshots=snapshots,
-                           jump_revolutions=jump_m, jump_factor=jump_j, engine=args.engine,
+                           jump_tolerance=jump_tolerance, jump_block_revolutions=args.cycle_jump_block,
+                           engine=args.engine,
                            integrator=args.integrator, max_step_s=args.max_step,
                            checkpoint_every_revolutions=args.checkpoint_every,
                            impact_threshold_m_s2=args.impact_threshold_m_s2, fmu_backend=args.fmu_backend)

@@ -7,6 +7,7 @@ import math
 import sys
 
 from ..parameters import MAX_WEAR_STEP_S, ParameterError
+from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from ..validation.wear_calibration import calibrate_wear_coefficient, run_convergence
 from ..validation.wear_study import (
     DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
@@ -32,9 +33,14 @@ def add_arguments(parser) -> None:
     parser.add_argument("--engine", choices=ENGINES, default=_STUDY["engine"],
                         help="simulation engine (default %(default)s)")
     add_fmu_arguments(parser, fmu_file=False, when="with --engine cosim")
-    parser.add_argument("--cycle-jump", default=None, metavar="M,J",
-                        help="after every M simulated revolutions scale their wear increment by J "
-                             "(wear factor 1 unless --wear-factor is given)")
+    jump = parser.add_mutually_exclusive_group()
+    jump.add_argument("--cycle-jump-tolerance", type=float, default=None, metavar="TOL",
+                      help="cycle jumping (the default without --wear-factor): a jump's error estimate relative to "
+                           f"the max depth (default {DEFAULT_JUMP_TOLERANCE:g})")
+    jump.add_argument("--no-cycle-jump", action="store_true",
+                      help="simulate every revolution (with --wear-factor F: every F-th)")
+    parser.add_argument("--cycle-jump-block", type=int, default=_STUDY["jump_block_revolutions"], metavar="M",
+                        help="simulated revolutions of a cycle-jump block (default %(default)s)")
     parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default=_STUDY["integrator"],
                         help="rk4: fixed steps of --max-step; dopri: adaptive, at most --max-step "
                              "(default %(default)s)")
@@ -51,7 +57,7 @@ def add_arguments(parser) -> None:
     task.add_argument("--calibrate-max-depth-m", type=float, default=None,
                       help="find the effective k_w whose study ends at this max depth (e.g. 0.58e-3)")
     add_model_arguments(parser)
-    restate_default(parser, "wear_factor", f"{DEFAULT_WEAR_FACTOR:g}; 1 with --cycle-jump")
+    restate_default(parser, "wear_factor", f"{DEFAULT_WEAR_FACTOR:g}; another value turns cycle jumping off")
     add_ensemble_arguments(parser)   # --seeds N: N seeds as Dask tasks (wearjoint.sweep), Fig. 7 with bands
 
 

@@ -60,50 +60,43 @@ def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_dept
 
 
 @kernel
-def _summand(z, before, after, rotation, bushing_radius, wear_depth, work):
+def _summand(z, before, after, bushing_radius, wear_depth, work):
     """Point z's weight w_z = :func:`cell_overlap` of the overlaps in work[:N_d] of points
-    ``before``, z, ``after``, stored in work[N_d + z]; returns (w_z (R_j + h_z), the peak
-    candidate: that (``rotation``) or w_z)."""
+    ``before``, z, ``after``, stored in work[N_d + z]; returns w_z (R_j + h_z)."""
     n = wear_depth.shape[0]
     w = cell_overlap(work[before], work[z], work[after])
     work[n + z] = w
-    rho_w = (bushing_radius + wear_depth[z]) * w
-    return rho_w, (rho_w if rotation else w)
+    return (bushing_radius + wear_depth[z]) * w
 
 
 @kernel(inline='always')
-def _segment_sums(lo, hi, rotation, bushing_radius, wear_depth, work, sums, peaks):
+def _segment_sums(lo, hi, bushing_radius, wear_depth, work, sums):
     """:func:`_cell_weights` over points lo..hi-1 (1 <= lo, hi <= N_d - 1: no wrapping), carrying its
-    four partial sums and maxima: each new term goes to the chain the sums' rotation brings up,
+    four partial sums: each new term goes to the chain the sums' rotation brings up,
     (s1, s2, s3, s0 + x), so four terms in a row add to s0..s3 in place (the unrolled loop: no
     moves, and each addition waits for the one four terms back)."""
     z = np.uint64(lo)
     end = np.uint64(hi)
     one = np.uint64(1)
     while z + np.uint64(4) <= end:
-        x0, q0 = _summand(z, z - one, z + one, rotation, bushing_radius, wear_depth, work)
-        x1, q1 = _summand(z + one, z, z + np.uint64(2), rotation, bushing_radius, wear_depth, work)
-        x2, q2 = _summand(z + np.uint64(2), z + one, z + np.uint64(3), rotation, bushing_radius, wear_depth, work)
-        x3, q3 = _summand(z + np.uint64(3), z + np.uint64(2), z + np.uint64(4), rotation, bushing_radius,
-                          wear_depth, work)
+        x0 = _summand(z, z - one, z + one, bushing_radius, wear_depth, work)
+        x1 = _summand(z + one, z, z + np.uint64(2), bushing_radius, wear_depth, work)
+        x2 = _summand(z + np.uint64(2), z + one, z + np.uint64(3), bushing_radius, wear_depth, work)
+        x3 = _summand(z + np.uint64(3), z + np.uint64(2), z + np.uint64(4), bushing_radius, wear_depth, work)
         sums = (sums[0] + x0, sums[1] + x1, sums[2] + x2, sums[3] + x3)
-        peaks = (max(peaks[0], q0), max(peaks[1], q1), max(peaks[2], q2), max(peaks[3], q3))
         z += np.uint64(4)
     while z < end:
-        x, q = _summand(z, z - one, z + one, rotation, bushing_radius, wear_depth, work)
+        x = _summand(z, z - one, z + one, bushing_radius, wear_depth, work)
         sums = (sums[1], sums[2], sums[3], sums[0] + x)
-        peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], q))
         z += one
-    return sums, peaks
+    return sums
 
 
 @kernel
-def _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                  work):
+def _cell_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
     """The :func:`cell_overlap` weights of points first..last (first >= -1, last < 2 N_d, at most
     N_d points, wrapping; ``cyclic``: the whole circle) into work[N_d:] from their overlaps in
-    work[:N_d], and (the run's overlap integral, sum of w_z (R_j + h_z) dphi; the largest
-    w_z (R_j + h_z) (``rotation``) or w_z).  A run that is not cyclic first gets the overlaps of
+    work[:N_d], and the run's overlap integral, sum of w_z (R_j + h_z) dphi.  A run that is not cyclic first gets the overlaps of
     the two points on either side computed (their blocks may have been skipped).  Four partial
     sums in a fixed order, which does not depend on the CPU (the native FMU gives the same
     numbers)."""
@@ -113,22 +106,18 @@ def _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_rad
             z = wrap_index(i, n)
             work[z] = overlap(z, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
     sums = (0.0, 0.0, 0.0, 0.0)
-    peaks = (0.0, 0.0, 0.0, 0.0)
     i = first
     while i <= last:
         z = wrap_index(i, n)
         if z == 0 or z == n - 1:                     # the points whose neighbours wrap
-            x, q = _summand(z, wrap_index(z - 1, n), wrap_index(z + 1, n), rotation, bushing_radius, wear_depth,
-                            work)
+            x = _summand(z, wrap_index(z - 1, n), wrap_index(z + 1, n), bushing_radius, wear_depth, work)
             sums = (sums[1], sums[2], sums[3], sums[0] + x)
-            peaks = (peaks[1], peaks[2], peaks[3], max(peaks[0], q))
             i += 1
         else:
             end = min(last + 1, i + n - 1 - z)          # up to point n - 2
-            sums, peaks = _segment_sums(z, z + end - i, rotation, bushing_radius, wear_depth, work, sums, peaks)
+            sums = _segment_sums(z, z + end - i, bushing_radius, wear_depth, work, sums)
             i = end
-    total = ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n)
-    return total, max(max(peaks[0], peaks[1]), max(peaks[2], peaks[3]))
+    return ((sums[0] + sums[1]) + (sums[2] + sums[3])) * (2.0 * math.pi / n)
 
 
 @kernel(inline='always')
@@ -185,14 +174,14 @@ def _block_start(b, nb, n):
 @kernel
 def _run_pass(mode, first, last, cyclic, shift, scale, relative_dt, slide, rotation, ex, ey, pin_radius,
               bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work):
-    """One run of :func:`_foundation_pass`: PASS_WEIGHTS, :func:`_cell_weights` -> (integral, peak, 0, -inf);
+    """One run of :func:`_foundation_pass`: PASS_WEIGHTS, :func:`_cell_weights` -> (integral, 0, 0, -inf);
     otherwise :func:`_relaxed_run`'s three numbers and the largest overlap at the run's two ends (each end
     point and its outer neighbour; -inf for the whole circle), whose cells a shift above minus that would
     bring into contact."""
     if mode == PASS_WEIGHTS:
-        total, peak = _cell_weights(first, last, cyclic, rotation, ex, ey, pin_radius, bushing_radius, cos_phi,
-                                    sin_phi, wear_depth, work)
-        return total, peak, 0.0, -math.inf
+        total = _cell_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                              work)
+        return total, 0.0, 0.0, -math.inf
     a, b, c = _relaxed_run(mode, first, last, shift, scale, relative_dt, slide, rotation, bushing_radius,
                            wear_depth, work)
     if mode == PASS_APPLY:
@@ -211,7 +200,7 @@ def _foundation_pass(mode, shift, scale, relative_dt, slide, rotation, ex, ey, p
     """:func:`_run_pass` over every run of kept blocks (:func:`_mark_blocks`; the whole circle if
     ``skipped`` < 0), each run widened by one point on both sides (a cell just outside can still overlap
     over part of its arc); returns the sums of the runs' first and third numbers, the largest of their
-    second (PASS_WEIGHTS, PASS_APPLY) or its sum (PASS_SHIFT), and the largest end overlap."""
+    second (PASS_APPLY; 0 for PASS_WEIGHTS) or its sum (PASS_SHIFT), and the largest end overlap."""
     n = wear_depth.shape[0]
     nb = block_min.shape[0]
     if skipped < 0:
@@ -281,10 +270,11 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     than its shifted overlap.  Pressures are cell means (:func:`cell_overlap`) of the depths before the
     update.  Scratch: ``mask`` (bool, N_d), whose first nb entries flag the blocks of points that may
     overlap, and ``work`` (float64, 2 N_d), which holds the points' overlaps (work[:N_d]) and weights
-    (work[N_d:]).  Returns the largest increment [m], or WEAR_REFUSED with nothing changed if an increment
-    would exceed the bushing radius or is not finite."""
+    (work[N_d:]).  Returns the largest increment [m], or WEAR_REFUSED with nothing changed if the step's
+    Archard volume exceeds the whole bushing's (pi R_j^2 L) or the pin's advance its radius, or either is
+    not finite."""
     skipped = _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, work)
-    total, peak, _, _ = _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey,
+    total, _, _, _ = _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey,
                                          pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask,
                                          skipped, work)
     if total <= 0.0:                          # cannot happen with F_N > 0 (the deepest point overlaps)
@@ -297,8 +287,9 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
         refresh_blocks(wear_depth, block_min, k, k)
         return dh
     scale = k_w * f_n / (contact_length * total)
-    if not scale * peak * (relative_dt if rotation else slide) <= bushing_radius:   # absurd or not finite
-        return WEAR_REFUSED
+    slide_bound = 2.0 * bushing_radius * relative_dt if rotation else slide       # points slide at radii <= 2 R_j
+    if not k_w * f_n * slide_bound <= math.pi * bushing_radius * bushing_radius * contact_length:
+        return WEAR_REFUSED                   # more than the whole bushing's volume, or not finite
     shift, edge = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                                cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
     if edge + shift > 0.0:                    # the shifted contact reaches past a run: the whole circle
@@ -309,6 +300,8 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
                          bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
         shift, _ = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                                 cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
+    if not shift <= bushing_radius:           # increments are at most the overlap + the shift
+        return WEAR_REFUSED
     largest, _, _, _ = _foundation_pass(PASS_APPLY, shift, scale, relative_dt, slide, rotation, ex, ey,
                                         pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask,
                                         skipped, work)

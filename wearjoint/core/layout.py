@@ -132,10 +132,13 @@ T_ECC_X = 9               # eccentricity in the bushing (rod) frame [m]
 T_ECC_Y = 10
 T_PENETRATION = 11        # signed: negative is the gap
 T_CONTACT = 12
-N_SAMPLE_COLUMNS = 13
+T_RELATIVE_OMEGA = 13     # omega_crank - omega_rod [rad/s] (the rotation sliding rate, Eq. 33)
+T_TANGENTIAL_VELOCITY = 14  # pin relative to bushing along t at the contact [m/s]
+N_SAMPLE_COLUMNS = 15
 SAMPLE_NAMES = ("time_s", "crank_angle_rad", "slider_x_m", "slider_v_m_s", "slider_a_m_s2",
                 "pin_force_x_N", "pin_force_y_N", "normal_force_N", "friction_force_N",
-                "eccentricity_x_m", "eccentricity_y_m", "penetration_m", "contact")
+                "eccentricity_x_m", "eccentricity_y_m", "penetration_m", "contact", "relative_omega_rad_s",
+                "tangential_velocity_m_s")
 
 # --- recorder bookkeeping
 K_PREVIOUS_CONTACT = 0

@@ -48,13 +48,14 @@ class Bias:
 
 def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = False) -> Bias:
     """The bias of the max depth after ``revolutions`` crank revolutions at wear factor ``wear_factor``
-    (0: no wear); ``cycle_jump``: the run scaled blocks of revolutions (never measured)."""
+    (0: no wear); ``cycle_jump``: the run jumped over revolutions (its own error estimate is in its
+    summary.json, ``cycle_jumping``)."""
     if not wear_factor > 0.0:
         return Bias(0.0, "none: no wear")
     if wear_factor == 1.0 and not cycle_jump:
         return Bias(0.0, "none: F = 1 (brute force)")
     if cycle_jump:
-        return Bias(None, "unknown: cycle jumping was never measured")
+        return Bias(None, "unknown here: cycle jumping states its error estimate in summary.json's cycle_jumping")
     for factor, by_revolution in WEAR_FACTOR_BIAS.items():
         for revolution, rel in by_revolution.items():
             if math.isclose(wear_factor, factor, rel_tol=1e-9) and math.isclose(revolutions, revolution, rel_tol=1e-9):
@@ -73,7 +74,7 @@ def summary_biases(summary: dict) -> dict:
     study = summary.get("parameters", {}).get("study")
     if study is None:
         return {"max_wear_depth_m": wear_factor_bias(factor, factor * summary.get("revolutions", math.nan))}
-    jump = study.get("jump_revolutions", 0) > 0
+    jump = study.get("jump_tolerance") is not None
     out = {f"rev{s['revolution']}_max_wear_depth_m": wear_factor_bias(factor, s["revolution"], jump)
            for s in summary.get("snapshots", [])}
     out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump)

@@ -1,0 +1,187 @@
+"""Error-controlled cycle jumping, the wear study's default route to long horizons (docs/wear_study.md,
+docs/model.md §3.12).
+
+The study alternates **blocks** and **jumps**.  A block simulates ``jump_block_revolutions`` crank
+revolutions at the real wear rate (wear factor 1) and measures their wear rate w(phi) [m per revolution]
+and their loading (the contact of every sample: :func:`loading_from_samples`).  A jump of N revolutions
+then replays that loading N times over through the relaxed wear update
+(:meth:`wearjoint.joint.ClearanceJoint.replay_wear`), which is stable for any N, in passes that each wear
+at most PASS_INCREMENT_SHARE of the max depth (the replay's order error, docs/wear_study.md).
+
+Error estimate of a jump: the jump held the rate it started with; the next block measures the rate it
+ended with, so the jump's error is about half its length times the change of the rate (the difference of
+Euler's and Heun's steps), which also contains the rate's sampling noise of the chaotic dynamics:
+e = N/2 RMS(w_after - w_before), relative to the max depth.  The next jump is N * 0.9 (tol / e)^(1/2),
+between 0.2 and 2 times N (a first-order method's local error grows with N^2).  Every jump's length,
+passes and estimate go to summary.json.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from wearjoint.core import layout as L
+from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
+from wearjoint.joint import ClearanceJoint
+from wearjoint.progress import Progress
+from wearjoint.runner import RunDiverged, divergence
+
+DEFAULT_JUMP_TOLERANCE = 0.01           # local error of a jump, relative to the max depth
+PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this share of the max depth (explicit bound)
+FIRST_JUMP_BLOCKS = 1                   # the first jump is as long as a block
+JUMP_GROWTH = (0.2, 2.0)                # limits of the next jump's factor
+SAFETY = 0.9
+
+
+def loading_from_samples(samples: np.ndarray, sample_dt_s: float) -> np.ndarray:
+    """The loading rows (core.cycle_jump LOAD_* columns) of the samples in contact: eccentricity, penetration,
+    normal force, relative angular velocity, tangential velocity and the time since the previous sample."""
+    if samples.shape[0] == 0:
+        return np.zeros((0, N_LOAD_COLUMNS))
+    t = samples[:, L.T_TIME]
+    duration = np.diff(t, prepend=t[0] - sample_dt_s)
+    rows = np.column_stack([samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y], samples[:, L.T_PENETRATION],
+                            samples[:, L.T_NORMAL_FORCE], samples[:, L.T_RELATIVE_OMEGA],
+                            samples[:, L.T_TANGENTIAL_VELOCITY], duration])
+    return rows[samples[:, L.T_CONTACT] > 0.5]
+
+
+def jump_error(jump: float, rate_before: np.ndarray, rate_after: np.ndarray, max_depth_m: float) -> float:
+    """N/2 RMS(w_after - w_before) / max depth [-]: a jump's error estimate."""
+    if jump <= 0 or max_depth_m <= 0.0:
+        return 0.0
+    return 0.5 * jump * float(np.sqrt(np.mean((rate_after - rate_before) ** 2))) / max_depth_m
+
+
+def next_jump(jump: int, error: float, tolerance: float) -> int:
+    """The next jump's length [revolutions] after a jump of ``jump`` with estimate ``error``."""
+    lo, hi = JUMP_GROWTH
+    factor = hi if error <= 0.0 else min(hi, max(lo, SAFETY * math.sqrt(tolerance / error)))
+    return max(1, int(jump * factor))
+
+
+def replay_passes(jump: int, rate: np.ndarray, max_depth_m: float) -> int:
+    """Passes of the replay: each wears at most PASS_INCREMENT_SHARE of the max depth by the explicit bound."""
+    if max_depth_m <= 0.0:
+        return 1
+    return max(1, math.ceil(jump * float(rate.max()) / (PASS_INCREMENT_SHARE * max_depth_m)))
+
+
+def _next_snapshot(config, revolution: int) -> int:
+    return next(s for s in config.snapshots if s > revolution)
+
+
+def new_jump_state(config) -> dict:
+    """The jump route's part of the study's checkpointed state."""
+    return {"revolution": 0, "simulated_revolutions": 0, "proposed_jump": FIRST_JUMP_BLOCKS * config.jump_block_revolutions,
+            "rate": None, "pending_jump": None, "jumps": [], "loading": None, "block_length": 0}
+
+
+def advance_jump_study(config, state: dict, engine, keep_snapshot, checkpoint, progress: bool) -> bool:
+    """Blocks and jumps until ``config.revolutions`` (``state`` from :func:`new_jump_state` inside the study's
+    state); ``keep_snapshot(revolution, simulated_revolutions, samples)`` at each snapshot, ``checkpoint()``
+    after every block and its jump, which returns False to stop (tests).  Returns True when finished."""
+    jump_state = state["jump"]
+    period = config.mechanism.period_s
+    sample_dt = engine.options.sample_dt_s
+    buffer = np.zeros((int(period / sample_dt) + 64, L.N_SAMPLE_COLUMNS))
+    replayer = ClearanceJoint(config.joint)
+    bar = Progress(config.revolutions - jump_state["revolution"], "wear-study (cycle jumping)", enabled=progress,
+                   unit="rev")
+    done_at_start = jump_state["revolution"]
+    try:
+        while jump_state["revolution"] < config.revolutions:
+            _block(config, state, engine, buffer, period, sample_dt, keep_snapshot)
+            _jump(config, state, engine, replayer)
+            bar.update(jump_state["revolution"] - done_at_start)
+            if not checkpoint():
+                return False
+    finally:
+        bar.close()
+    return True
+
+
+def _block(config, state, engine, buffer, period, sample_dt, keep_snapshot) -> None:
+    """Simulate the next block (cut short at the next snapshot), measure its rate and loading, account the
+    previous jump's error and propose the next jump."""
+    js = state["jump"]
+    revolution = js["revolution"]
+    length = min(config.jump_block_revolutions, _next_snapshot(config, revolution) - revolution)
+    start_depth = engine.wear_profile()[1]
+    loads, last = [], None
+    for _ in range(length):
+        js["simulated_revolutions"] += 1
+        n = engine.advance_to(js["simulated_revolutions"] * period, buffer)
+        failure = divergence(engine, buffer[:n], config.joint.clearance_m)
+        if failure:
+            raise RunDiverged(failure)
+        loads.append(loading_from_samples(buffer[:n], sample_dt))
+        last = buffer[:n].copy()
+    _, depth, volume = engine.wear_profile()
+    rate = (depth - start_depth) / length
+    js["revolution"] = revolution + length
+    js["loading"] = np.concatenate(loads)
+    js["block_length"] = length
+    state["growth"].append((js["revolution"], float(depth.max()), volume))
+    if js["pending_jump"] is not None and js["rate"] is not None:
+        record = js["jumps"][js["pending_jump"]]
+        record["error_estimate_rel"] = jump_error(record["revolutions"], js["rate"], rate, float(depth.max()))
+        record["error_estimate_m"] = record["error_estimate_rel"] * float(depth.max())
+        js["proposed_jump"] = next_jump(record["revolutions"], record["error_estimate_rel"], config.jump_tolerance)
+        js["pending_jump"] = None
+    js["rate"] = rate
+    if js["revolution"] in config.snapshots:
+        keep_snapshot(js["revolution"], js["simulated_revolutions"], last)
+
+
+def _jump(config, state, engine, replayer) -> None:
+    """Jump by the proposed length, cut so that a whole block ends at the next snapshot."""
+    js = state["jump"]
+    revolution = js["revolution"]
+    if revolution >= config.revolutions:
+        return
+    gap = _next_snapshot(config, revolution) - revolution
+    jump = 0 if gap <= config.jump_block_revolutions else min(js["proposed_jump"],
+                                                               gap - config.jump_block_revolutions)
+    if jump <= 0:
+        return
+    _, depth, _ = engine.wear_profile()
+    passes = replay_passes(jump, js["rate"], float(depth.max()))
+    start = time.perf_counter()
+    replayer.set_wear_profile(depth)
+    for _ in range(passes):
+        replayer.replay_wear(js["loading"], jump / js["block_length"] / passes)
+    radius = config.joint.bushing_radius_m
+    if not replayer.wear_depth.max() < radius:
+        raise RunDiverged(f"the bushing wore through in the jump from revolution {revolution} by {jump} revolutions: "
+                          f"max depth {replayer.wear_depth.max():.6g} m, its radius {radius:g} m (lower "
+                          "--wear-coefficient-m2-N or --revolutions)")
+    engine.set_wear_profile(replayer.wear_depth)
+    _, depth, volume = engine.wear_profile()
+    js["jumps"].append({"start_revolution": revolution, "revolutions": int(jump), "passes": passes,
+                        "replay_wall_time_s": time.perf_counter() - start, "error_estimate_rel": None,
+                        "error_estimate_m": None})
+    js["pending_jump"] = len(js["jumps"]) - 1
+    js["revolution"] = revolution + jump
+    state["growth"].append((js["revolution"], float(depth.max()), volume))
+
+
+def jump_summary(config, state: dict) -> dict:
+    """summary.json's "cycle_jumping": the settings, every jump, and the estimates."""
+    js = state["jump"]
+    estimates = [j["error_estimate_rel"] for j in js["jumps"] if j["error_estimate_rel"] is not None]
+    depth = state["growth"][-1][1] if state["growth"] else 0.0
+    summed = sum(j["error_estimate_m"] for j in js["jumps"] if j["error_estimate_rel"] is not None)
+    return {"tolerance_rel": config.jump_tolerance, "block_revolutions": config.jump_block_revolutions,
+            "simulated_revolutions": js["simulated_revolutions"], "jumps": len(js["jumps"]),
+            "jumped_revolutions": int(sum(j["revolutions"] for j in js["jumps"])),
+            "largest_jump_revolutions": max((j["revolutions"] for j in js["jumps"]), default=0),
+            "largest_error_estimate_rel": max(estimates, default=0.0),
+            "error_estimate_summed_rel_to_final_depth": float(summed / depth) if depth > 0.0 else 0.0,
+            "jump_history": js["jumps"]}
+
+
+__all__ = ["DEFAULT_JUMP_TOLERANCE", "loading_from_samples", "jump_error", "next_jump", "replay_passes",
+           "new_jump_state", "advance_jump_study", "jump_summary"]
