@@ -244,11 +244,11 @@ class ClearanceJoint:
                                  f"{self.params.bushing_radius_m!r} m (or by a non-finite depth); the joint is unchanged")
         return self._contact_result(self.result.copy(), depth_before)
 
-    def replay_wear(self, loading, scale: float) -> float:
-        """Cycle jumping's wear (docs/model.md §3.12): wear the profile by the loading rows
-        (:func:`wearjoint.core.cycle_jump.replay_wear`, columns LOAD_*), each over ``scale`` times its
-        duration; returns the largest increment of one row [m].  ParameterError if the wear would exceed
-        the bushing radius (the joint then unchanged)."""
+    def replay_wear(self, loading, scale: float, passes: int = 1) -> float:
+        """Cycle jumping's wear (docs/model.md §3.11): wear the profile by the loading rows
+        (:func:`wearjoint.core.cycle_jump.replay_wear`, columns LOAD_*) in ``passes`` passes, each row over
+        ``scale`` times its duration in all; returns the largest increment of one row [m].  ParameterError
+        if the wear would exceed the bushing radius (the joint then unchanged)."""
         from .core.cycle_jump import N_LOAD_COLUMNS, replay_wear
         loading = np.ascontiguousarray(loading, dtype=np.float64)
         if loading.ndim != 2 or loading.shape[1] != N_LOAD_COLUMNS or not np.all(np.isfinite(loading)):
@@ -256,9 +256,11 @@ class ClearanceJoint:
                                  "array")
         if not (math.isfinite(scale) and scale >= 0.0):
             raise ParameterError(f"scale={scale!r} is invalid: allowed a finite value >= 0")
+        if isinstance(passes, bool) or not isinstance(passes, (int, np.integer)) or passes < 1:
+            raise ParameterError(f"passes={passes!r} is invalid: allowed an integer >= 1")
         before = self.wear_depth.copy()
         kinematics = [np.zeros(3) for _ in range(4)]
-        largest = replay_wear(loading, float(scale), self.parameter_vector, self.cos_phi, self.sin_phi,
+        largest = replay_wear(loading, float(scale), int(passes), self.parameter_vector, self.cos_phi, self.sin_phi,
                               self.wear_depth, self.block_min, self.memory.copy(), self._mask, self.work,
                               np.zeros(L.N_RESULT), *kinematics)
         if largest < 0.0:

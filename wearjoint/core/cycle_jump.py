@@ -1,11 +1,12 @@
-"""Cycle jumping's wear (docs/model.md §3.12): the loading of a sampled revolution, replayed over the
+"""Cycle jumping's wear (docs/model.md §3.11): the loading of a sampled revolution, replayed over the
 revolutions a jump stands for through the relaxed wear update, sample by sample.
 
 A sample of the loading is the contact of one accepted point (layout.T_* columns of the time series):
 the pin's eccentricity in the bushing frame, its penetration, the normal force, the relative angular
 velocity and the tangential velocity, and the time it stands for.  Replaying it on the profile the jump
 has worn so far places the pin along the recorded direction where its penetration of that profile is the
-recorded one (so it still carries the recorded force), then wears the profile by
+recorded one (placing it where it carries the recorded force instead wore 11 % less deep after 1000
+revolutions than the reference, docs/wear_study.md), then wears the profile by
 :func:`wearjoint.core.wear.apply_wear` over ``scale`` times the sample's time.  The relaxed update is
 stable for any scale: a point never wears more than its overlap with the advancing pin, and Archard's
 volume k_w F_N Delta s is kept exactly."""
@@ -42,35 +43,54 @@ def _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_ph
 
 
 @kernel
-def replay_wear(loading, scale, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work, result, pos_i,
-                vel_i, pos_j, vel_j):
-    """Wear ``wear_depth`` by the loading rows (columns LOAD_*) replayed in order, each over ``scale`` times
-    its duration [s].  Scratch: ``memory`` (N_MEMORY), ``mask``/``work`` (as :func:`apply_wear`), ``result``
-    (N_RESULT), the four kinematics (3 each).  Returns the largest increment of one row [m], or
-    WEAR_REFUSED (the profile then holds the rows before the refused one)."""
+def _place_at_penetration(distance, target, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth,
+                          block_min, memory, result):
+    """The pin along (ux, uy), from ``distance`` [m], where its penetration of the profile is ``target`` [m]
+    (slope 1 in the distance); ``result`` the contact there."""
+    for _ in range(PLACEMENT_ITERATIONS):
+        _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                   result)
+        miss = target - result[R_PENETRATION]
+        if abs(miss) <= PLACEMENT_TOLERANCE * target:
+            break
+        distance += miss
+
+
+@kernel
+def _row_direction(row, jp, vel_i, vel_j):
+    """(ux, uy, |e|) of a loading row, the rotation-only kinematics set; |e| = 0 for a row that does not wear."""
+    e = math.hypot(row[LOAD_ECC_X], row[LOAD_ECC_Y])
+    if not (row[LOAD_PENETRATION] > 0.0 and row[LOAD_NORMAL_FORCE] > 0.0 and e > 0.0 and row[LOAD_DURATION] > 0.0):
+        return 0.0, 0.0, 0.0
+    omega = row[LOAD_RELATIVE_OMEGA]
+    vel_i[0] = omega * jp[P_PIN_OFFSET_Y]           # the pin body turns about the pin centre (at angle 0): the
+    vel_i[1] = -omega * jp[P_PIN_OFFSET_X]          # centre at rest, no penetration rate, the force elastic
+    vel_i[2] = omega
+    vel_j[0] = vel_j[1] = vel_j[2] = 0.0
+    return row[LOAD_ECC_X] / e, row[LOAD_ECC_Y] / e, e
+
+
+@kernel
+def replay_wear(loading, scale, passes, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask, work, result,
+                pos_i, vel_i, pos_j, vel_j):
+    """Wear ``wear_depth`` by the loading rows (columns LOAD_*) replayed in order ``passes`` times, each row
+    over ``scale`` / ``passes`` times its duration [s], its pin at its recorded penetration of the profile
+    worn so far, its wear with its recorded normal force.  Scratch: ``memory`` (N_MEMORY), ``mask``/``work``
+    (as :func:`apply_wear`), ``result`` (N_RESULT), the four kinematics (3 each).  Returns the largest
+    increment of one row [m], or WEAR_REFUSED (the profile then holds the rows before the refused one)."""
     largest = 0.0
-    for r in range(loading.shape[0]):
-        row = loading[r]
-        target = row[LOAD_PENETRATION]
-        f_n = row[LOAD_NORMAL_FORCE]
-        e = math.hypot(row[LOAD_ECC_X], row[LOAD_ECC_Y])
-        if not (target > 0.0 and f_n > 0.0 and e > 0.0 and row[LOAD_DURATION] > 0.0):
-            continue
-        ux, uy = row[LOAD_ECC_X] / e, row[LOAD_ECC_Y] / e
-        vel_i[0] = vel_i[1] = vel_j[0] = vel_j[1] = vel_j[2] = 0.0
-        vel_i[2] = row[LOAD_RELATIVE_OMEGA]
-        distance = e
-        for _ in range(PLACEMENT_ITERATIONS):       # penetration ~ distance - the local clearance: slope 1
-            _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth, block_min,
-                       memory, result)
-            miss = target - result[R_PENETRATION]
-            if abs(miss) <= PLACEMENT_TOLERANCE * target:
-                break
-            distance += miss
-        result[R_TANGENTIAL_VELOCITY] = row[LOAD_TANGENTIAL_VELOCITY]
-        dh, _ = apply_wear(result, f_n, vel_i, vel_j, row[LOAD_DURATION] * scale, jp, cos_phi, sin_phi, wear_depth,
-                           block_min, mask, work)
-        if dh < 0.0:
-            return WEAR_REFUSED
-        largest = max(largest, dh)
+    for _ in range(passes):
+        for r in range(loading.shape[0]):
+            row = loading[r]
+            ux, uy, e = _row_direction(row, jp, vel_i, vel_j)
+            if e == 0.0:
+                continue
+            _place_at_penetration(e, row[LOAD_PENETRATION], ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi,
+                                  wear_depth, block_min, memory, result)
+            result[R_TANGENTIAL_VELOCITY] = row[LOAD_TANGENTIAL_VELOCITY]
+            dh, _ = apply_wear(result, row[LOAD_NORMAL_FORCE], vel_i, vel_j, row[LOAD_DURATION] * scale / passes, jp,
+                               cos_phi, sin_phi, wear_depth, block_min, mask, work)
+            if dh < 0.0:
+                return WEAR_REFUSED
+            largest = max(largest, dh)
     return largest
