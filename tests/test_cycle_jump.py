@@ -107,8 +107,8 @@ def test_next_jump_follows_a_first_order_error_within_its_limits(error):
 
 
 def jump_config(**changes) -> WearStudyConfig:
-    values = dict(joint=paper_joint(wear_factor=1.0), mechanism=SliderCrankParameters(), revolutions=16,
-                  snapshots=(8, 16))
+    values = dict(joint=paper_joint(wear_factor=1.0), mechanism=SliderCrankParameters(), revolutions=10,
+                  snapshots=(5, 10))
     values.update(changes)
     return WearStudyConfig(**values)
 
@@ -119,20 +119,20 @@ def test_killed_jump_study_resumes_to_the_same_profile_and_reports_its_jumps(tmp
     stopped = run_wear_study(config, tmp_path / "killed", progress=False, plots=False, stop_after_checkpoints=3)
     assert stopped["finished"] is False
     resumed = run_wear_study(config, tmp_path / "killed", resume=True, progress=False, plots=False)
-    for name in ("profile_rev8.csv", "profile_rev16.csv", "wear_growth.csv"):
+    for name in ("profile_rev5.csv", "profile_rev10.csv", "wear_growth.csv"):
         assert (tmp_path / "killed" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
     jumps = whole["cycle_jumping"]
     same = ("start_revolution", "revolutions", "passes", "error_estimate_rel")
     assert [[j[k] for k in same] for j in resumed["cycle_jumping"]["jump_history"]] == \
         [[j[k] for k in same] for j in jumps["jump_history"]]
     history = jumps["jump_history"]
-    assert jumps["simulated_revolutions"] + jumps["jumped_revolutions"] == 16
-    assert whole["simulated_revolutions"] == jumps["simulated_revolutions"] < 16
+    assert jumps["simulated_revolutions"] + jumps["jumped_revolutions"] == 10
+    assert whole["simulated_revolutions"] == jumps["simulated_revolutions"] < 10
     for earlier, later in zip(history, history[1:]):
         assert earlier["start_revolution"] + earlier["revolutions"] < later["start_revolution"]   # a block between
     growth = np.loadtxt(tmp_path / "whole" / "wear_growth.csv", delimiter=",", skiprows=1)
     assert np.all(np.diff(growth[:, 0]) > 0) and np.all(np.diff(growth[:, 1]) >= 0.0)
-    assert whole["snapshots"][-1]["revolution"] == 16 and whole["snapshots"][0]["revolution"] == 8
+    assert whole["snapshots"][-1]["revolution"] == 10 and whole["snapshots"][0]["revolution"] == 5
 
 
 @pytest.mark.parametrize("changes, message", [

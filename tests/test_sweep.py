@@ -245,30 +245,30 @@ def test_unknown_vary_name_names_the_option_the_value_and_the_allowed_names(tmp_
 
 
 def test_a_friction_sweep_shows_the_wear_factor_bias_next_to_the_answer(tmp_path):
-    """The issue's sweep, tiny: F = 100 at 50 and 100 revolutions, where the convergence study measured the bias."""
+    """The issue's sweep, small: F = 100 at 500 and 1000 revolutions, where the convergence study measured the bias."""
     out = tmp_path / "friction"
-    done = wearjoint("sweep", "wear-study", "--revolutions", "100", "--snapshots", "50,100", "--wear-factor", "100",
+    done = wearjoint("sweep", "wear-study", "--revolutions", "1000", "--snapshots", "500,1000", "--wear-factor", "100",
                      "--vary", "friction_coefficient=0.05,0.2", "--seeds", "2", "--workers", "2", "--no-plots",
                      "--out", str(out), "--quiet")
     assert done.returncode == 0, done.stderr
     with open(out / "ensemble.csv", newline="") as f:
         columns = next(csv.reader(f))
-    for key in ("max_wear_depth_m", "rev50_max_wear_depth_m", "rev100_max_wear_depth_m"):   # beside the answer
+    for key in ("max_wear_depth_m", "rev500_max_wear_depth_m", "rev1000_max_wear_depth_m"):   # beside the answer
         assert columns.index(f"{key}_bias_rel") == columns.index(f"{key}_max") + 1
     for k, row in enumerate(read_csv(out / "ensemble.csv")):
-        assert float(row["max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][100]
-        assert float(row["rev50_max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][50]
+        assert float(row["max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][1000]
+        assert float(row["rev500_max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][500]
         assert "docs/wear_study.md" in row["wear_factor_bias_note"]
         line = next(x for x in done.stdout.splitlines() if x.strip().startswith(f"point {k} "))
         assert f"friction_coefficient={row['friction_coefficient']}" in line
-        assert f"(bias {WEAR_FACTOR_BIAS[100.0][100] * 100:+.1f} %)" in line
+        assert f"(bias {WEAR_FACTOR_BIAS[100.0][1000] * 100:+.1f} %)" in line
     assert "docs/wear_study.md" in done.stdout
 
 
 def test_wear_factor_bias_is_stated_only_where_measured():
     assert wear_factor_bias(100.0, 1000).rel == WEAR_FACTOR_BIAS[100.0][1000]
     assert wear_factor_bias(1.0, 1234).rel == 0.0 and wear_factor_bias(0.0, 10).rel == 0.0   # no factor, no wear
-    assert wear_factor_bias(100.0, 4000).rel is None and wear_factor_bias(20.0, 1000).rel is None
+    assert wear_factor_bias(100.0, 5000).rel is None and wear_factor_bias(20.0, 1000).rel is None
     assert wear_factor_bias(100.0, 1000, cycle_jump=True).rel is None
     assert wear_factor_bias(20.0, 1000).text == "unknown"
 

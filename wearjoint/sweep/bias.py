@@ -11,14 +11,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (wear-study --convergence 1,10,50,100 "
-          "over 1000 and over 100 revolutions; patch placement, k_w 4.23e-11 m^2/N, RK4 at 1e-5 s, an earlier "
-          "contact: not repeated with the foundation contact)")
-# F -> {crank revolutions R: max depth at F / max depth at F = 1 - 1}, from SOURCE's two tables
+SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (F = 10, 50, 100 against 4000 "
+          "brute-force revolutions at F = 1; the paper case, k_w 5.576e-11 m^2/N, foundation contact and placement, "
+          "Hunt-Crossley damping, the relaxed wear update, RK4 at 1e-5 s; 2026-11-26)")
+# F -> {crank revolutions R: max depth at F / max depth at F = 1 - 1}, from SOURCE's table
 WEAR_FACTOR_BIAS = {
-    10.0: {50: 0.005, 100: 0.096, 250: 0.001, 500: -0.054, 750: -0.049, 1000: -0.045},
-    50.0: {50: 0.17, 100: 0.21, 250: 0.062, 500: -0.011, 750: -0.055, 1000: -0.088},
-    100.0: {50: 0.043, 100: 0.18, 250: 0.003, 500: -0.056, 750: -0.085, 1000: -0.084},
+    10.0: {500: -0.039, 1000: -0.011, 2000: -0.007, 3000: -0.009, 4000: -0.012},
+    50.0: {500: -0.033, 1000: -0.070, 2000: -0.086, 3000: -0.090, 4000: -0.091},
+    100.0: {500: -0.044, 1000: -0.082, 2000: -0.099, 3000: -0.104, 4000: -0.106},
 }
 UNKNOWN = "unknown"
 
