@@ -29,7 +29,7 @@ def run_convergence(config: WearStudyConfig, factors, out_dir, resume: bool = Fa
     out.mkdir(parents=True, exist_ok=True)
     factors = [float(f) for f in factors]
     other = "rk4" if config.integrator == "dopri" else "dopri"
-    runs = {f"F={f:g}": config.replace(joint=config.joint.replace(wear_factor=f)) for f in factors}
+    runs = {f"F={f:g}": config.replace(joint=config.joint.replace(wear_factor=f), jump_tolerance=None) for f in factors}
     runs[f"F={factors[0]:g} {other}"] = runs[f"F={factors[0]:g}"].replace(integrator=other)
     folders = {label: out / label.replace("=", "").replace(" ", "_") for label in runs}
     results = {label: run_wear_study(cfg, folders[label], resume=resume or (folders[label] / CHECKPOINT_NAME).exists(),
