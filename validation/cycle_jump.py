@@ -69,6 +69,11 @@ def replay_passes(jump: int, rate: np.ndarray, max_depth_m: float) -> int:
     return max(1, math.ceil(jump * float(rate.max()) / (PASS_INCREMENT_SHARE * max_depth_m)))
 
 
+def warm_up_replay(joint) -> None:
+    """Compile the replay's kernel (numba) before the study's clock starts: an empty loading replayed."""
+    ClearanceJoint(joint).replay_wear(np.zeros((0, N_LOAD_COLUMNS)), 0.0)
+
+
 def _next_snapshot(config, revolution: int) -> int:
     return next(s for s in config.snapshots if s > revolution)
 
@@ -182,5 +187,5 @@ def jump_summary(config, state: dict) -> dict:
             "jump_history": js["jumps"]}
 
 
-__all__ = ["DEFAULT_JUMP_TOLERANCE", "loading_from_samples", "jump_error", "next_jump", "replay_passes",
+__all__ = ["DEFAULT_JUMP_TOLERANCE", "warm_up_replay", "loading_from_samples", "jump_error", "next_jump", "replay_passes",
            "new_jump_state", "advance_jump_study", "jump_summary"]

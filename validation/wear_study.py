@@ -51,7 +51,7 @@ from wearjoint.results import RunRecord, write_json_atomic, write_results
 from wearjoint.runner import RunDiverged, divergence
 from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
-from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state
+from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
 from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 
 ENGINES = ("monolithic", "cosim")
@@ -260,6 +260,8 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
     engine = make_engine(config)
     try:
         engine.warm_up()                       # JIT compilation, timed apart from the simulation
+        if config.jump_tolerance is not None:
+            warm_up_replay(config.joint)
         compile_time_s = time.perf_counter() - start
         if state is None:
             state = {"format": CHECKPOINT_FORMAT, "config": config.to_dict(), "next_stop": 0, "snapshots": [],
