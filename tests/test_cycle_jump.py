@@ -35,7 +35,8 @@ def constant_load(joint: ClearanceJoint, force_n: float, angle_rad: float, relat
 def test_replay_removes_archards_volume_at_any_scale_without_ripple(scale):
     """A load F in a fixed direction, sliding at R_j |omega| for t * scale: the worn volume is Archard's
     k_w F R_j |omega| t scale (Eq. 24), up to the worn radius R_j + h at which the points slide and whose
-    area they remove (a factor between 1 and 1 + 2 h_max / R_j), the increment is a single smooth groove centred on the load's direction, for scales that remove from
+    area they remove (a factor between 1 and 1 + 2 h_max / R_j), the increment is a single smooth groove
+    centred on the load's direction, for scales that remove from
     a fraction of the penetration (1) to 30 times the clearance's worth of wear (1e5)."""
     p = paper_joint(wear_factor=1.0)
     joint = ClearanceJoint(p)

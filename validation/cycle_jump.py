@@ -80,8 +80,9 @@ def _next_snapshot(config, revolution: int) -> int:
 
 def new_jump_state(config) -> dict:
     """The jump route's part of the study's checkpointed state."""
-    return {"revolution": 0, "simulated_revolutions": 0, "proposed_jump": FIRST_JUMP_BLOCKS * config.jump_block_revolutions,
-            "rate": None, "pending_jump": None, "jumps": [], "loading": None, "block_length": 0}
+    return {"revolution": 0, "simulated_revolutions": 0,
+            "proposed_jump": FIRST_JUMP_BLOCKS * config.jump_block_revolutions, "rate": None,
+            "pending_jump": None, "jumps": [], "loading": None, "block_length": 0}
 
 
 def advance_jump_study(config, state: dict, engine, keep_snapshot, checkpoint, progress: bool) -> bool:
@@ -187,5 +188,6 @@ def jump_summary(config, state: dict) -> dict:
             "jump_history": js["jumps"]}
 
 
-__all__ = ["DEFAULT_JUMP_TOLERANCE", "warm_up_replay", "loading_from_samples", "jump_error", "next_jump", "replay_passes",
+__all__ = ["DEFAULT_JUMP_TOLERANCE", "warm_up_replay", "loading_from_samples", "jump_error", "next_jump",
+           "replay_passes",
            "new_jump_state", "advance_jump_study", "jump_summary"]

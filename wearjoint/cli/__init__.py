@@ -24,7 +24,7 @@ COMMANDS = {
     "cosim": ("wearjoint.cli.cosim", "co-simulate the slider-crank with the joint FMU through fmpy"),
     "validate": ("wearjoint.cli.validate", "cross-check monolithic, FMU and exudyn runs"),
     "wear-study": ("wearjoint.cli.wear_study", "thousands of revolutions of wear (paper Figs. 7-8)"),
-    "calibrate": ("wearjoint.cli.calibrate", "fit k_w (or a mild-to-severe law) to measured max depths on a wear study"),
+    "calibrate": ("wearjoint.cli.calibrate", "fit k_w (or a mild-to-severe law) to measured max depths on a study"),
     "cosim-study": ("wearjoint.cli.cosim_study", "co-simulation error versus communication step and scheme"),
     "sweep": ("wearjoint.cli.sweep", "a grid of parameter values x seeds of simulate, cosim or wear-study on Dask"),
     "sensitivity": ("wearjoint.cli.sensitivity", "which parameters drive the outputs: Morris or Sobol' on Dask (SALib)"),

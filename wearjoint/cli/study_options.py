@@ -44,9 +44,7 @@ def config_from_args(args) -> WearStudyConfig:
     jump_tolerance = args.cycle_jump_tolerance
     if jump_tolerance is None and args.wear_factor is None and not args.no_cycle_jump:
         jump_tolerance = DEFAULT_JUMP_TOLERANCE
-    if jump_tolerance is not None and args.no_cycle_jump:
-        raise ParameterError("--cycle-jump-tolerance and --no-cycle-jump exclude each other")
-    if args.wear_factor is None:
+    if args.wear_factor is None and not args.no_wear:
         joint = joint.replace(wear_factor=DEFAULT_WEAR_FACTOR)
     return WearStudyConfig(joint=joint, mechanism=mechanism, revolutions=revolutions, snapshots=snapshots,
                            jump_tolerance=jump_tolerance, jump_block_revolutions=args.cycle_jump_block,

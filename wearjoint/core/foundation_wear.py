@@ -96,9 +96,9 @@ def _segment_sums(lo, hi, bushing_radius, wear_depth, work, sums):
 def _cell_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work):
     """The :func:`cell_overlap` weights of points first..last (first >= -1, last < 2 N_d, at most
     N_d points, wrapping; ``cyclic``: the whole circle) into work[N_d:] from their overlaps in
-    work[:N_d], and the run's overlap integral, sum of w_z (R_j + h_z) dphi.  A run that is not cyclic first gets the overlaps of
-    the two points on either side computed (their blocks may have been skipped).  Four partial
-    sums in a fixed order, which does not depend on the CPU (the native FMU gives the same
+    work[:N_d], and the run's overlap integral, sum of w_z (R_j + h_z) dphi.  A run that is not cyclic
+    first gets the overlaps of the two points on either side computed (their blocks may have been
+    skipped).  Four partial sums in a fixed order, which does not depend on the CPU (the native FMU gives the same
     numbers)."""
     n = wear_depth.shape[0]
     if not cyclic:
