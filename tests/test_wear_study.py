@@ -10,6 +10,7 @@ from wearjoint.analysis import impact_events
 from wearjoint.cli import main as cli_main
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
+from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from wearjoint.validation.wear_calibration import run_convergence
 from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study
 
@@ -33,8 +34,10 @@ def small_config(**changes) -> WearStudyConfig:
     return WearStudyConfig(**values)
 
 
-def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path):
-    config = small_config()
+@pytest.mark.parametrize("route", ["wear factor", "cycle jumping"])
+def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path, route):
+    config = small_config() if route == "wear factor" else \
+        small_config(joint=paper_joint(wear_factor=1.0), jump_tolerance=DEFAULT_JUMP_TOLERANCE)
     whole = run_wear_study(config, tmp_path / "whole", progress=False, plots=False)
     stopped = run_wear_study(config, tmp_path / "killed", progress=False, plots=False, stop_after_checkpoints=2)
     assert stopped["finished"] is False
@@ -47,6 +50,9 @@ def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path):
     assert resumed["max_wear_depth_m"] > 0
     for a, b in zip(resumed["snapshots"], whole["snapshots"]):
         assert a["impact_event_list"] == b["impact_event_list"]
+    same = ("start_revolution", "revolutions", "passes", "error_estimate_rel")    # the jumps, but for wall times
+    assert [[j[k] for k in same] for j in resumed.get("cycle_jumping", {}).get("jump_history", [])] == \
+        [[j[k] for k in same] for j in whole.get("cycle_jumping", {}).get("jump_history", [])]
 
 
 def test_resume_refuses_a_checkpoint_of_other_settings(tmp_path):
