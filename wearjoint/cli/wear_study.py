@@ -21,7 +21,8 @@ from .sweep import add_ensemble_arguments
 # WearStudyConfig's defaults: the one source of the options' defaults
 _STUDY = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
 _MAX_STEP_DEFAULT = ("(default %(default)g)" if _STUDY["max_step_s"] is not None else
-                     f"(default: the wear-step limit of the run's wear, at most {MAX_WEAR_STEP_S:g}; docs/model.md §7)")
+                     f"(default: the wear-step limit of the run's wear, at most {MAX_WEAR_STEP_S:g}, through the FMU "
+                     "5e-06; docs/model.md §7)")
 
 
 def add_arguments(parser) -> None:
