@@ -82,4 +82,8 @@ def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_witho
     assert "not a finished wear study" in err and err.count("\n") == 1
     assert cli_main(["calibrate", "--study", str(study), "--points", "1000-1e-4"]) == 2
     assert "REVOLUTIONS:MAX_DEPTH_M" in capsys.readouterr().err
+    (study / "summary.json").write_text(json.dumps({"parameters": {}}))        # a summary without the joint
+    assert cli_main(["calibrate", "--study", str(study), "--points", "1000:1e-4"]) == 2
+    err = capsys.readouterr().err
+    assert "not a finished wear study" in err and err.count("\n") == 1
     assert math.isfinite(result["study_wear_coefficient_m2_N"])

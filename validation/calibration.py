@@ -130,7 +130,11 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
         return curve(x)
 
     guess = np.log(inverse(d) / n)
-    fit = optimize.least_squares(lambda p: np.log(predicted(p)) - np.log(d), x0=[guess.min(), guess.max()])
+    try:
+        fit = optimize.least_squares(lambda p: np.log(predicted(p)) - np.log(d), x0=[guess.min(), guess.max()])
+    except ValueError:                               # a trial law ran past the study's curve: nan residuals
+        raise ParameterError(f"points: the mild-to-severe fit needs the study's curve beyond its {growth[-1, 0]:g} "
+                             "revolutions: run the study further or with a larger k_w") from None
     k_mild, k_severe = np.exp(fit.x)
     res = np.log(predicted(fit.x)) - np.log(d)
     return {"law": "mild-severe", "transition_depth_m": transition_depth_m,

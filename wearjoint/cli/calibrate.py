@@ -51,10 +51,10 @@ def run(args) -> int:
     try:
         summary = json.loads((study / "summary.json").read_text())
         growth = np.loadtxt(study / "wear_growth.csv", delimiter=",", skiprows=1, ndmin=2)
-    except (OSError, ValueError) as exc:
-        raise ParameterError(f"study={args.study!r} is invalid: not a finished wear study ({exc})") from None
-    joint = summary["parameters"]["joint"]
-    k0 = joint["wear_coefficient_m2_N"] * joint["wear_factor"]
+        joint = summary["parameters"]["joint"]
+        k0 = float(joint["wear_coefficient_m2_N"]) * float(joint["wear_factor"])
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ParameterError(f"study={args.study!r} is invalid: not a finished wear study ({exc!r})") from None
     points = _points(args.points)
     if args.law == "archard":
         result = fit_archard(growth, k0, points, tolerance=args.tolerance)
