@@ -73,6 +73,9 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     assert summary["law_references"] == {"exudyn-native": {"contact_model": "deepest", "contact_damping":
                                                            "lankarani-nikravesh", "impact_velocity_floor_m_s": 0.05}}
     assert law["engine"]["eccentricity_max_difference_m"] > 0.0 and law["law"]["eccentricity_max_difference_m"] > 0.0
+    native = {m["name"]: m for m in by_group[cmp.GROUP_STATISTICS] if m["engine"] == "exudyn-native"}
+    for name, value in summary["law_statistics"]["exudyn-native"].items():   # statistics against its law's ensemble
+        assert native[name]["reference"] == pytest.approx(value, nan_ok=True)
     assert {"max_wear_depth_m", "worn_volume_m3", "profile_decorrelation"} <= {
         m["name"] for m in by_group[cmp.GROUP_PROFILE]}
     for m in by_group[cmp.GROUP_POINTWISE]:
@@ -83,8 +86,9 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     n_monolithic = 1 + len(cmp.RK4_STEP_FACTORS) + len(cmp.DOPRI_RTOLS)
     ensemble = summary["plan"]["ensemble"]
     assert ensemble == cmp.QUICK.ensemble >= 2
-    assert len(rows) == (ensemble * (n_monolithic + len(others)) + 2 * len(others) + 2 * len(cmp.LAW_REFERENCES)
-                         + n_monolithic + len(others & set(cmp.WEAR_ENGINES)))
+    assert len(rows) == (ensemble * (n_monolithic + len(others) + len(cmp.LAW_REFERENCES)) + 2 * len(others)
+                         + 2 * len(cmp.LAW_REFERENCES)          # statistics ensembles, windows, the law's ensemble
+                         + ensemble * (1 + len(cmp.WEAR_CONFIGURATIONS) + len(others & set(cmp.WEAR_ENGINES))))
     assert all(r["wall_time_s"] > 0 and r["realtime_factor"] > 0 for r in rows.values())
     report = (out / "report.md").read_text()
     assert "**PASS**" in report and report.count("| pass |") == len(summary["metrics"])
@@ -203,7 +207,10 @@ def test_pointwise_differences_and_profile_quantities():
     assert q["lobe_angle_near_180_deg"] == pytest.approx(185.0)
     record.wear_depth_m[[350, 10]] = 0.0
     assert cmp.profile_quantities(record)["lobe_angle_near_0_deg"] is None      # no wear in that half
-    shifted = _record([{}])
-    shifted.wear_depth_m = np.roll(record.wear_depth_m, 90)
-    assert cmp.profile_decorrelation(record, record) == pytest.approx(0.0, abs=1e-12)
-    assert cmp.profile_decorrelation(shifted, record) > 0.9
+    deeper = _record([{}])
+    deeper.phi_deg, deeper.wear_depth_m = record.phi_deg, 3.0 * record.wear_depth_m      # 9 um at 185 deg
+    mean, std, h = cmp.ensemble_profile([record, deeper])                  # a wear ensemble: per-run means, mean h
+    assert mean["max_wear_depth_m"] == pytest.approx(6e-6) and std["max_wear_depth_m"] == pytest.approx(np.sqrt(18) * 1e-6)
+    assert mean["lobe_angle_near_180_deg"] == pytest.approx(185.0) and std["lobe_angle_near_180_deg"] == 0.0
+    assert mean["lobe_angle_near_0_deg"] is None and std["lobe_angle_near_0_deg"] is None   # a run without that lobe
+    assert h[185] == pytest.approx(6e-6) and h[0] == 0.0

@@ -6,21 +6,21 @@ exudyn (:mod:`wearjoint.validation.exudyn_model`) with our contact through the h
 (``exudyn-discrete``) and with exudyn's own contact law (``exudyn-native``, unworn).  The
 clearance dynamics are chaotic (docs/model.md §7): trajectories are compared point by point
 only over the first impacts (``window_s``); beyond that, per-revolution statistics as the
-means of an ensemble of perturbed starts, and the worn profile of a short wear run.
+means of an ensemble of perturbed starts, and the worn profile of a short wear run (also an
+ensemble: one revolution's worn profile scatters by 10 % between starts).
 
 Every tolerance is ``max(k * scatter, floor)`` (see :class:`Rule`) with the scatter
 measured in the same validation run between equally valid runs of one simulator: for
 statistics, the largest difference between the reference ensemble's mean and the mean of
 another valid monolithic configuration's ensemble (RK4 at 1/2, 2, 5 and 10 times the step, DOPRI
 at five tolerances), or the standard error of the engine-minus-reference difference if larger;
-for the profile, the largest difference between the reference and the other valid monolithic
-runs; for the point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
+for the profile, the same over the wear ensembles of fewer valid configurations; for the point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
 engine's own (the same engine at its window step and at twice that step).  An engine whose
 contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
 K delta^n along the line of centres with a stored, floored impact velocity, our ``deepest`` law with
 Lankarani-Nikravesh damping, :func:`.exudyn_native.native_law`) has its traces compared with the
-monolithic reference run with that law; its difference from the default reference is reported
-beside (not judged).
+monolithic reference run with that law, and its statistics with an ensemble of that law; its
+differences from the default reference are reported beside (not judged).
 
 Writes ``report.md``, ``summary.json`` and PNG overlays (:mod:`wearjoint.validation.report`);
 the exit status is 0 when every metric passes, 1 when one fails (or an engine raised), 3 when
@@ -61,6 +61,10 @@ LAW_REFERENCES = {"exudyn-native": _exudyn_native_law}
 # is also the point-wise refinement.
 RK4_STEP_FACTORS = (0.5, 2.0, 5.0, 10.0)
 DOPRI_RTOLS = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8)
+# the wear ensembles' valid configurations (a one-revolution wear run at 1 us costs ~25 s a start)
+WEAR_CONFIGURATIONS = {"RK4 5 us": {"integrator": "rk4", "step_s": 5e-6},
+                       "RK4 10 us": {"integrator": "rk4", "step_s": 1e-5},
+                       "DOPRI rtol 1e-06 max step 10 us": {"integrator": "dopri", "rtol": 1e-6, "max_step_s": 1e-5}}
 GROUP_STATISTICS = "per-revolution statistics (no wear)"
 GROUP_POINTWISE = "first impacts, point-wise"
 GROUP_PROFILE = "worn profile"
@@ -182,8 +186,10 @@ class Runs:
     reference, of the other valid monolithic configurations by label and of each engine;
     ``reference``: the reference ensemble's unperturbed run; ``window``: engine -> (run at the
     window step, run at twice that step); ``law_window``: engine of ``LAW_REFERENCES`` -> the
-    monolithic reference with its law (RK4 at h, at h/2); ``wear_scatter``: equally valid
-    monolithic wear runs by label; ``log``: (label, engine, record) of every run in order."""
+    monolithic reference with its law (RK4 at h, at h/2); ``law_ensembles``: engine -> the reference's
+    ensemble run with its law; ``wear_reference`` / ``wear_scatter`` / ``wear_engines``: the wear
+    ensembles of the reference, of the valid configurations by label and of each engine; ``log``:
+    (label, engine, record) of every run in order."""
 
     reference_ensemble: list
     scatter: dict
@@ -191,7 +197,8 @@ class Runs:
     window: dict
     law_window: dict = field(default_factory=dict)
     law_changes: dict = field(default_factory=dict)   # engine of law_window -> the joint changes of its law
-    wear_reference: RunRecord | None = None
+    law_ensembles: dict = field(default_factory=dict)
+    wear_reference: list = field(default_factory=list)
     wear_scatter: dict = field(default_factory=dict)
     wear_engines: dict = field(default_factory=dict)
     gaps: list = field(default_factory=list)       # engines not available (module missing)
@@ -280,8 +287,9 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
     wear_engines = [e for e in available if e in WEAR_ENGINES] if plan.run_wear else []
     n_monolithic = 1 + len(RK4_STEP_FACTORS) + len(DOPRI_RTOLS)
     law_engines = [e for e in available if e in LAW_REFERENCES]
-    total = (plan.ensemble * (n_monolithic + len(available)) + 2 * len(available) + 2 * len(law_engines)
-             + (n_monolithic + len(wear_engines) if plan.run_wear else 0))
+    total = (plan.ensemble * (n_monolithic + len(available) + len(law_engines)) + 2 * len(available)
+             + 2 * len(law_engines)
+             + (plan.ensemble * (1 + len(WEAR_CONFIGURATIONS) + len(wear_engines)) if plan.run_wear else 0))
     log = []
 
     def run(label, engine, make) -> RunRecord:
@@ -313,7 +321,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         name, make = monolithic(label, no_wear, rev, **options)
         ensembles[label] = ensemble(name, REFERENCE, make)
     reference_ensemble = ensembles.pop(f"RK4 {_us(h)}")
-    engines, window, law_window, law_changes = {}, {}, {}, {}
+    engines, window, law_window, law_changes, law_ensembles = {}, {}, {}, {}, {}
     window_rev = plan.window_s * 1.02 / mechanism.period_s
     for engine, runner in list(available.items()):
         j = no_wear.replace(**changes.get(engine, {}))
@@ -334,32 +342,30 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
                         lambda s=s: run_monolithic(law, mechanism, window_rev, dt, progress, integrator="rk4",
                                                    step_s=s))
                     for s in (h, 0.5 * h))
+                name, make = monolithic(f"RK4 {_us(h)}, {law_text}", law, rev, integrator="rk4", step_s=h)
+                law_ensembles[engine] = ensemble(name, REFERENCE, make)
             engines[engine] = members
         except Exception as exc:       # one broken engine must not hide the others' comparison
             failed(engine, exc)
             del available[engine]
-    runs = Runs(reference_ensemble, ensembles, engines, window, law_window, law_changes, gaps=gaps, errors=errors,
-                log=log)
+    runs = Runs(reference_ensemble, ensembles, engines, window, law_window, law_changes, law_ensembles, gaps=gaps,
+                errors=errors, log=log)
     if plan.run_wear:
         wrev = plan.wear_revolutions
 
-        def wear_run(label, **options):
+        def wear_ensemble(label, **options):
             name, make = monolithic(label, wear, wrev, **options)
-            return run(name, REFERENCE, lambda: make(mechanism))
+            return ensemble(name, REFERENCE, make)
 
-        runs.wear_reference = wear_run(f"RK4 {_us(h)}", integrator="rk4", step_s=h)
-        runs.wear_scatter = {f"RK4 {_us(h * f)}": wear_run(f"RK4 {_us(h * f)}", integrator="rk4", step_s=h * f)
-                             for f in RK4_STEP_FACTORS}
-        for rtol in DOPRI_RTOLS:       # the wear step must stay <= 10 us (docs/model.md §7)
-            label = f"DOPRI rtol {rtol:g} max step 10 us"
-            runs.wear_scatter[label] = wear_run(label, integrator="dopri", rtol=rtol, max_step_s=1e-5)
+        runs.wear_reference = wear_ensemble(f"RK4 {_us(h)}", integrator="rk4", step_s=h)
+        runs.wear_scatter = {label: wear_ensemble(label, **options) for label, options in WEAR_CONFIGURATIONS.items()}
         for engine in [e for e in wear_engines if e in available]:
             j = wear.replace(**changes.get(engine, {}))
             step = plan.engine_step_s(engine, wear=True)
             try:
-                runs.wear_engines[engine] = run(
+                runs.wear_engines[engine] = ensemble(
                     f"{engine} step {_us(step)}, {wrev:g} rev, wear factor {plan.wear_factor:g}", engine,
-                    lambda: available[engine](j, mechanism, wrev, step, dt, progress))
+                    lambda m, j=j, step=step, engine=engine: available[engine](j, m, wrev, step, dt, progress))
             except Exception as exc:
                 failed(engine, exc)
     return runs
@@ -388,9 +394,17 @@ def profile_quantities(record: RunRecord) -> dict:
             **{f"lobe_angle_near_{centre}_deg": lobe[centre]["angle_deg"] for centre in analysis.LOBE_CENTRES_DEG}}
 
 
-def profile_decorrelation(record: RunRecord, reference: RunRecord) -> float:
-    """1 - Pearson correlation of the two wear profiles h(phi) (0 for identical shapes)."""
-    return analysis.profile_decorrelation(record.wear_depth_m, reference.wear_depth_m)
+def ensemble_profile(records: list) -> tuple[dict, dict, np.ndarray]:
+    """(mean, sample standard deviation) over an ensemble's wear runs of each :func:`profile_quantities`
+    quantity (None where a run has no lobe), and the mean profile h(phi) [m]."""
+    rows = [profile_quantities(r) for r in records]
+    mean, std = {}, {}
+    for name in rows[0]:
+        values = [row[name] for row in rows]
+        known = None not in values
+        mean[name] = float(np.mean(values)) if known else None
+        std[name] = float(np.std(values, ddof=1)) if known and len(values) > 1 else (0.0 if known else None)
+    return mean, std, np.mean([r.wear_depth_m for r in records], axis=0)
 
 
 # ---------------------------------------------------------------- comparison
@@ -407,15 +421,19 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
     """Every metric of every engine against the monolithic reference (see module docstring)."""
     metrics = []
     ref_mean, ref_std = ensemble_statistics(runs.reference_ensemble)
-    n_ref = len(runs.reference_ensemble)
     scatter_means = {label: ensemble_statistics(members)[0] for label, members in runs.scatter.items()}
     for engine, members in runs.engines.items():
         mean, std = ensemble_statistics(members)
+        # an engine with a law of its own is judged against that law's ensemble (the valid configurations'
+        # differences from the default reference stay its numerical scatter)
+        law = runs.law_ensembles.get(engine)
+        reference, reference_std = ensemble_statistics(law) if law else (ref_mean, ref_std)
         for name, (unit, rule) in STATISTICS.items():
             scatter = {label: abs(m[name] - ref_mean[name]) for label, m in scatter_means.items()}
-            scatter[STANDARD_ERROR] = float(np.hypot(std[name] / np.sqrt(len(members)), ref_std[name] / np.sqrt(n_ref)))
-            metrics.append(_judge(GROUP_STATISTICS, name, unit, rule, engine, mean[name], ref_mean[name],
-                                  mean[name] - ref_mean[name], scatter))
+            scatter[STANDARD_ERROR] = float(np.hypot(std[name] / np.sqrt(len(members)),
+                                                     reference_std[name] / np.sqrt(len(law or runs.reference_ensemble))))
+            metrics.append(_judge(GROUP_STATISTICS, name, unit, rule, engine, mean[name], reference[name],
+                                  mean[name] - reference[name], scatter))
     # point-wise, the valid monolithic pair is the step refinement (RK4 h vs h/2): DOPRI at
     # rtol 1e-6..1e-7 is already micrometres off over the window (measured), not equally accurate
     refined_label = next(iter(runs.scatter))
@@ -429,25 +447,27 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
                                   {f"monolithic RK4 h vs h/2 + {engine} at 2x step": mono[name] + own[name]},
                                   scatter_parts={f"monolithic RK4 {refined_label}": mono[name],
                                                  f"{engine} step x2": own[name]}))
-    if runs.wear_reference is not None:
-        ref_profile = profile_quantities(runs.wear_reference)
-        scatter_profiles = {label: profile_quantities(r) for label, r in runs.wear_scatter.items()}
-        for engine, record in runs.wear_engines.items():
-            prof = profile_quantities(record)
+    if runs.wear_reference:
+        ref_profile, ref_profile_std, ref_h = ensemble_profile(runs.wear_reference)
+        scatter_profiles = {label: ensemble_profile(members) for label, members in runs.wear_scatter.items()}
+        for engine, members in runs.wear_engines.items():
+            prof, prof_std, h = ensemble_profile(members)
             for name in ("max_wear_depth_m", "worn_volume_m3", "lobe_angle_near_0_deg", "lobe_angle_near_180_deg"):
                 unit, rule = PROFILE[name]
                 if prof[name] is None or ref_profile[name] is None or any(
-                        p[name] is None for p in scatter_profiles.values()):
+                        p[name] is None for p, _, _ in scatter_profiles.values()):
                     continue            # a half without wear in some run: no lobe to compare
-                difference = _profile_difference(name, prof[name], ref_profile[name])
+                scatter = {label: abs(_profile_difference(name, p[name], ref_profile[name]))
+                           for label, (p, _, _) in scatter_profiles.items()}
+                scatter[STANDARD_ERROR] = float(np.hypot(prof_std[name] / np.sqrt(len(members)),
+                                                         ref_profile_std[name] / np.sqrt(len(runs.wear_reference))))
                 metrics.append(_judge(GROUP_PROFILE, name, unit, rule, engine, prof[name], ref_profile[name],
-                                      difference, {label: abs(_profile_difference(name, p[name], ref_profile[name]))
-                                                   for label, p in scatter_profiles.items()}))
+                                      _profile_difference(name, prof[name], ref_profile[name]), scatter))
             unit, rule = PROFILE["profile_decorrelation"]
-            d = profile_decorrelation(record, runs.wear_reference)
+            d = analysis.profile_decorrelation(h, ref_h)
             metrics.append(_judge(GROUP_PROFILE, "profile_decorrelation", unit, rule, engine, d, 0.0, d,
-                                  {label: profile_decorrelation(r, runs.wear_reference)
-                                   for label, r in runs.wear_scatter.items()}))
+                                  {label: analysis.profile_decorrelation(mean_h, ref_h)
+                                   for label, (_, _, mean_h) in scatter_profiles.items()}))
     return metrics
 
 
@@ -456,5 +476,5 @@ def _profile_difference(name: str, value: float, reference: float) -> float:
 
 
 __all__ = ["ValidationPlan", "FULL", "QUICK", "Rule", "Metric", "Runs", "run_engines", "compare",            "revolution_statistics", "ensemble_statistics", "pointwise_differences",
-           "profile_quantities", "profile_decorrelation", "perturbed_start", "engine_runner", "run_monolithic",
+           "profile_quantities", "ensemble_profile", "perturbed_start", "engine_runner", "run_monolithic",
            "ENGINES", "WEAR_ENGINES", "LAW_REFERENCES", "REFERENCE"]
