@@ -1,6 +1,6 @@
 """The README's headline speed figures of a base revision and of the working tree, run alternately.
 
-    python benchmarks/compare.py --base REV [--repeats 3] [--probes cosim,monolithic[,cold]] [--keep DIR]
+    python benchmarks/compare.py --base REV [--repeats 3] [--probes cosim-wear,monolithic-wear,cosim,...] [--keep DIR]
 
 Run it by hand before figures are published (it takes minutes; not in CI).  REV's tree
 (``git archive``: the repository itself is left alone) goes into a temporary folder with a venv
@@ -10,11 +10,12 @@ its own the same way (whichever tree this interpreter has installed).  Each prob
 process of either interpreter, base and working tree alternately (``--repeats`` pairs, after one
 untimed run of each that builds the FMU and fills the numba caches), through API both trees have:
 
-* ``cosim`` -- ``benchmarks/bench_cosim.py``'s run: adaptive 5 us, 0.2 s after 0.01 s, native FMU:
-  real-time factor, communication steps (they follow the chaotic trajectory: a last-digit change in the
-  mechanism moves them by several per cent), wall and FMI time per step;
-* ``monolithic`` -- ``wearjoint simulate``'s engine, DOPRI default, 5 revolutions without wear:
-  real-time factor, accepted steps;
+* ``cosim-wear`` -- the README's first command's engine (``wearjoint cosim``: the paper's joint, which
+  wears): adaptive, 0.2 s after 0.01 s, native FMU: real-time factor, communication steps (they follow the
+  chaotic trajectory: a last-digit change in the mechanism moves them by several per cent), wall and FMI
+  time per step; ``cosim``: the same without wear (``benchmarks/bench_cosim.py``'s run);
+* ``monolithic-wear`` -- ``wearjoint simulate --revolutions 2``'s engine (DOPRI default, with wear):
+  real-time factor, accepted steps; ``monolithic``: 5 revolutions without wear;
 * ``cold`` -- ``wearjoint simulate --revolutions 0.05``, ``wearjoint build-fmu`` and ``wearjoint cosim
   --revolutions 0.02`` (the FMU and the master), each from empty numba and FMU caches: wall seconds
   (several minutes per pair; not run by default).
@@ -36,12 +37,12 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PROBES = ("cosim", "monolithic", "cold")
-DEFAULT_PROBES = ("cosim", "monolithic")
+PROBES = ("cosim-wear", "monolithic-wear", "cosim", "monolithic", "cold")
+DEFAULT_PROBES = ("cosim-wear", "monolithic-wear", "cosim", "monolithic")
 
 
 # ------------------------------------------------------------------ probes (run by either interpreter)
-def probe_cosim() -> dict:
+def probe_cosim(wear: bool = False) -> dict:
     import numpy as np
 
     from wearjoint.core import layout as L
@@ -51,7 +52,7 @@ def probe_cosim() -> dict:
     warm_up, duration = 0.01, 0.2
     options = CoSimulationOptions(revolutions=(warm_up + duration) / 0.4 + 0.1)
     samples = np.zeros((int((warm_up + duration) / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-    with CoSimulation(paper_joint(wear_factor=0.0), None, options) as sim:
+    with CoSimulation(paper_joint() if wear else paper_joint(wear_factor=0.0), None, options) as sim:
         sim.advance_to(warm_up, samples)
         steps, fmi = sim.communication_steps, sim.fmi_time_s
         t0 = time.perf_counter()
@@ -62,13 +63,21 @@ def probe_cosim() -> dict:
                 "wall us per step": 1e6 * wall / steps, "FMI us per step": 1e6 * (sim.fmi_time_s - fmi) / steps}
 
 
-def probe_monolithic() -> dict:
+def probe_monolithic(wear: bool = False) -> dict:
     from wearjoint.parameters import paper_joint
     from wearjoint.simulate import SimulationOptions, run_simulation
 
-    summary = run_simulation(paper_joint(wear_factor=0.0), options=SimulationOptions(revolutions=5.0),
-                             progress=False).summary()
+    joint, revolutions = (paper_joint(), 2.0) if wear else (paper_joint(wear_factor=0.0), 5.0)
+    summary = run_simulation(joint, options=SimulationOptions(revolutions=revolutions), progress=False).summary()
     return {"real-time factor": summary["realtime_factor"], "accepted steps": summary["integrator_accepted_steps"]}
+
+
+def probe_cosim_wear() -> dict:
+    return probe_cosim(wear=True)
+
+
+def probe_monolithic_wear() -> dict:
+    return probe_monolithic(wear=True)
 
 
 def probe_cold() -> dict:
@@ -151,7 +160,7 @@ def main(argv=None) -> int:
     parser.add_argument("--probe", choices=PROBES, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.probe:
-        print(json.dumps(globals()[f"probe_{args.probe}"]()))
+        print(json.dumps(globals()[f"probe_{args.probe.replace('-', '_')}"]()))
         return 0
     probes = [p.strip() for p in args.probes.split(",") if p.strip()]
     if args.base is None or args.repeats < 1 or not set(probes) <= set(PROBES):

@@ -137,8 +137,8 @@ def test_cosim_master_that_is_not_installed_is_refused_in_one_line(tmp_path, cap
                    "(ImportError: no ecospy))")
 
 
-# the slow test's step per master (docs/cosim_study.md): the masters that pass the loads one step late at
-# 0.5 us, their largest step inside the scatter (1 us is unstable); the container at half its 2 us
+# the slow test's step per master (docs/cosim_study.md, Hunt-Crossley damping): the largest step inside the
+# scatter, 0.5 us for the masters that pass the loads one step late, 1 us for the container (on time)
 SLOW_STEP_S = {"libcosim": 0.5e-6, "ecos": 0.5e-6, "fmpy-ssp": 0.5e-6, "container": 1e-6, "container-fmusim": 1e-6}
 
 
