@@ -14,7 +14,8 @@ measured in the same validation run between equally valid runs of one simulator:
 statistics, the largest difference between the reference ensemble's mean and the mean of
 another valid monolithic configuration's ensemble (RK4 at 1/2, 2, 5 and 10 times the step, DOPRI
 at five tolerances), or the standard error of the engine-minus-reference difference if larger;
-for the profile, the same over the wear ensembles of fewer valid configurations; for the point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
+for the profile, the same over the wear ensembles of fewer valid configurations; for the
+point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
 engine's own (the same engine at its window step and at twice that step).  An engine whose
 contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
 K delta^n along the line of centres with a stored, floored impact velocity, our ``deepest`` law with
@@ -430,8 +431,9 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
         reference, reference_std = ensemble_statistics(law) if law else (ref_mean, ref_std)
         for name, (unit, rule) in STATISTICS.items():
             scatter = {label: abs(m[name] - ref_mean[name]) for label, m in scatter_means.items()}
+            n_reference = len(law or runs.reference_ensemble)
             scatter[STANDARD_ERROR] = float(np.hypot(std[name] / np.sqrt(len(members)),
-                                                     reference_std[name] / np.sqrt(len(law or runs.reference_ensemble))))
+                                                     reference_std[name] / np.sqrt(n_reference)))
             metrics.append(_judge(GROUP_STATISTICS, name, unit, rule, engine, mean[name], reference[name],
                                   mean[name] - reference[name], scatter))
     # point-wise, the valid monolithic pair is the step refinement (RK4 h vs h/2): DOPRI at

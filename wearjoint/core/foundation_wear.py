@@ -245,7 +245,8 @@ def _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushin
     """The uniform overlap shift a >= 0 [m] (the pin's advance into the groove it wears) at which the relaxed
     increments remove the explicit update's volume, sum rho Delta s phi cell(o + a) = sum rho Delta s w
     (Newton on a convex, increasing function of a, from a = 0 where it is below, to 1e-13 of the volume), and
-    the largest end overlap of the runs it was solved on.  Leaves the relaxed coefficients in work[N_d:] (PASS_COEFFICIENTS)."""
+    the largest end overlap of the runs it was solved on.  Leaves the relaxed coefficients in work[N_d:]
+    (PASS_COEFFICIENTS)."""
     _, _, explicit, edge = _foundation_pass(PASS_COEFFICIENTS, 0.0, scale, relative_dt, slide, rotation, ex, ey,
                                             pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min,
                                             kept, skipped, work)
