@@ -62,7 +62,8 @@ LAW_REFERENCES = {"exudyn-native": _exudyn_native_law}
 # is also the point-wise refinement.
 RK4_STEP_FACTORS = (0.5, 2.0, 5.0, 10.0)
 DOPRI_RTOLS = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8)
-# the wear ensembles' valid configurations (a one-revolution wear run at 1 us costs ~25 s a start)
+# the wear ensembles' valid configurations: fewer than the statistics' nine (chosen, not forced by cost: a
+# monolithic one-revolution wear run took 0.4-3.4 s a start in the 2026-11-26 full run, exudyn-discrete's 35 s)
 WEAR_CONFIGURATIONS = {"RK4 5 us": {"integrator": "rk4", "step_s": 5e-6},
                        "RK4 10 us": {"integrator": "rk4", "step_s": 1e-5},
                        "DOPRI rtol 1e-06 max step 10 us": {"integrator": "dopri", "rtol": 1e-6, "max_step_s": 1e-5}}
@@ -308,8 +309,8 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
 
     def monolithic(label, j, revolutions, **options):
         """(run label, make(mechanism) -> RunRecord) of a monolithic run."""
-        name = f"monolithic {label}, {revolutions:g} rev" + (", no wear" if j is no_wear else
-                                                              f", wear factor {plan.wear_factor:g}")
+        name = f"monolithic {label}, {revolutions:g} rev" + (", no wear" if j.wear_factor == 0.0 else
+                                                              f", wear factor {j.wear_factor:g}")
         return name, lambda m: run_monolithic(j, m, revolutions, dt, progress, **options)
 
     h = plan.reference_step_s
@@ -398,13 +399,7 @@ def profile_quantities(record: RunRecord) -> dict:
 def ensemble_profile(records: list) -> tuple[dict, dict, np.ndarray]:
     """(mean, sample standard deviation) over an ensemble's wear runs of each :func:`profile_quantities`
     quantity (None where a run has no lobe), and the mean profile h(phi) [m]."""
-    rows = [profile_quantities(r) for r in records]
-    mean, std = {}, {}
-    for name in rows[0]:
-        values = [row[name] for row in rows]
-        known = None not in values
-        mean[name] = float(np.mean(values)) if known else None
-        std[name] = float(np.std(values, ddof=1)) if known and len(values) > 1 else (0.0 if known else None)
+    mean, std = analysis.ensemble_mean_std([profile_quantities(r) for r in records])
     return mean, std, np.mean([r.wear_depth_m for r in records], axis=0)
 
 

@@ -274,11 +274,22 @@ def revolution_statistics(record) -> dict:
     return mean_revolution_statistics(record.revolution_stats, record.period_s, record.samples)
 
 
+def ensemble_mean_std(rows: list) -> tuple[dict, dict]:
+    """(mean, sample standard deviation; 0 for one row) over rows of {name: value} of each name; None for a
+    name that some row lacks (None), nan where a value is nan."""
+    mean, std = {}, {}
+    for name in rows[0]:
+        values = [row[name] for row in rows]
+        if None in values:
+            mean[name] = std[name] = None
+            continue
+        v = np.array(values, dtype=float)
+        with np.errstate(invalid="ignore"):    # a run without contact has no mean eccentricity in contact (nan)
+            mean[name], std[name] = float(v.mean()), float(v.std(ddof=1)) if v.size > 1 else 0.0
+    return mean, std
+
+
 def ensemble_statistics(records) -> tuple[dict, dict]:
     """(mean, sample standard deviation) over an ensemble's run records of each
     :func:`revolution_statistics` quantity."""
-    rows = [revolution_statistics(r) for r in records]
-    values = {name: np.array([row[name] for row in rows]) for name in rows[0]}
-    with np.errstate(invalid="ignore"):        # a run without contact has no mean eccentricity in contact (nan)
-        return ({name: float(v.mean()) for name, v in values.items()},
-                {name: float(v.std(ddof=1)) if v.size > 1 else 0.0 for name, v in values.items()})
+    return ensemble_mean_std([revolution_statistics(r) for r in records])

@@ -6,6 +6,7 @@ import dataclasses
 import math
 import sys
 
+from ..cosim import CoSimulationOptions
 from ..parameters import MAX_WEAR_STEP_S, ParameterError
 from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from ..validation.wear_calibration import calibrate_wear_coefficient, run_convergence
@@ -22,7 +23,7 @@ from .sweep import add_ensemble_arguments
 _STUDY = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
 _MAX_STEP_DEFAULT = ("(default %(default)g)" if _STUDY["max_step_s"] is not None else
                      f"(default: the wear-step limit of the run's wear, at most {MAX_WEAR_STEP_S:g}, through the FMU "
-                     "5e-06; docs/model.md §7)")
+                     f"{CoSimulationOptions().step_s:g}; docs/model.md §7)")
 
 
 def add_arguments(parser) -> None:
