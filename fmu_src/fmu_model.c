@@ -95,8 +95,9 @@ int fmu_parameters_valid(const FmuHost *host, const ParameterInfo *table, int n,
                 ok = p->high_open ? x < p->high : x <= p->high;
             if (ok && p->above >= 0)
                 ok = x > values[p->above];
-            if (ok && p->when >= 0 && values[p->when] == p->when_value)
-                ok = x == p->equal;
+            for (int k = 0; ok && k < 2; k++)
+                if (p->when[k] >= 0 && values[p->when[k]] == p->when_value[k])
+                    ok = x == p->equal;
         }
         if (ok)
             continue;

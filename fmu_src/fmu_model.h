@@ -74,8 +74,8 @@ typedef struct {
     int has_high, high_open;
     double high;
     int above;           /* index of a parameter this one must exceed, or -1 */
-    int when;            /* index of a parameter whose value when_value requires this one to be equal, or -1 */
-    double when_value, equal;
+    int when[2];         /* indices of parameters whose value when_value requires this one to be equal, or -1 */
+    double when_value[2], equal;
     const char *allowed; /* the rule as the error message states it */
 } ParameterInfo;
 

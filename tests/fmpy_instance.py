@@ -111,15 +111,16 @@ def rotate(angle, x, y):
     return c * x - s * y, s * x + c * y
 
 
-def contact_inputs(depth=5e-6, direction=1.0, pin_omega=10.0, bushing_x=0.2):
+def contact_inputs(depth=5e-6, direction=1.0, pin_omega=10.0, bushing_x=0.2, params=P):
     """Inputs with the pin centre at clearance + ``depth`` from the bushing centre along
-    the global angle ``direction``; both bodies rotated, the pin spinning about its resting centre."""
+    the global angle ``direction`` (for the joint ``params``); both bodies rotated, the pin spinning
+    about its resting centre."""
     bushing_angle, pin_angle = 0.3, 0.7
-    bx, by = rotate(bushing_angle, *P.bushing_offset_m)
+    bx, by = rotate(bushing_angle, *params.bushing_offset_m)
     centre = (bushing_x + bx, 0.05 + by)
-    e = P.clearance_m + depth
+    e = params.clearance_m + depth
     pin_centre = (centre[0] + e * math.cos(direction), centre[1] + e * math.sin(direction))
-    px, py = rotate(pin_angle, *P.pin_offset_m)
+    px, py = rotate(pin_angle, *params.pin_offset_m)
     return [pin_centre[0] - px, pin_centre[1] - py, pin_angle, pin_omega * py, -pin_omega * px, pin_omega,
             bushing_x, 0.05, bushing_angle, 0.0, 0.0, 0.0]
 

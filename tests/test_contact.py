@@ -32,7 +32,7 @@ def test_pin_pressed_outward_is_pushed_back_with_hertz_force_and_hand_torques():
     delta = 4e-6
     joint = ClearanceJoint(P.replace(contact_model="deepest"))
     r = joint.evaluate(*bodies_with_eccentricity(0.0, C + delta))
-    f_expected = P.contact_stiffness_N_m1_5 * delta ** 1.5      # Eq. 15 without approach velocity
+    f_expected = P.stiffness_N_m1_5 * delta ** 1.5      # Eq. 15 without approach velocity
     assert r.in_contact and r.penetration_m == pytest.approx(delta, rel=1e-9)
     assert r.contact_angle_rad == pytest.approx(math.pi / 2, abs=1e-12)
     assert r.normal_force_N == pytest.approx(f_expected, rel=1e-8)

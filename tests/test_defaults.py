@@ -209,6 +209,8 @@ def _fmu_starts(fmi_version: int) -> dict:
 
 def _joint_value(p, joint: JointParameters):
     value = getattr(joint, p.field)
+    if value is None:                  # the unset contact stiffness: the FMU's 0, "from the radii and materials"
+        return 0.0
     return p.choices.index(value) if p.choices else value if p.component is None else value[p.component]
 
 

@@ -107,7 +107,8 @@ STATES = (
     ContactState("unworn-friction-ramp", 2.5, 5e-6, -0.01, 0.004, memory=(1.0, 0.08, 0.0)),
     ContactState("worn-groove", 4.05, 3e-6, 0.02, -0.006, worn=True, memory=ONSET),
     ContactState("worn-deepest-exponent-2", 3.9, 4e-6, 0.03, 0.3, worn=True, memory=ONSET,
-                 params=paper_joint(contact_model="deepest", contact_exponent=2.0)),
+                 params=paper_joint(contact_model="deepest", contact_exponent=2.0,
+                                    contact_stiffness_N_m1_5=7.95e10)),
     ContactState("worn-gap", 1.0, -20e-6, 0.05, 0.1, worn=True),
 )
 

@@ -104,7 +104,7 @@ def _discretisation_bounds(p: JointParameters, r, pin_kin, bushing_kin, impact_v
     rel_speed = math.hypot(r[L.R_PENETRATION_RATE], r[L.R_TANGENTIAL_VELOCITY])
     half_overlap = 0.5 * max(r[L.R_PENETRATION], 0.0) + d_depth
     d_velocity = rel_speed * beta + w_i * ri * beta + w_j * rj * dphi + (w_i + w_j) * half_overlap   # rate, v_t
-    k, n, a = p.contact_stiffness_N_m1_5, p.contact_exponent, 0.75 * (1.0 - p.restitution ** 2)
+    k, n, a = p.stiffness_N_m1_5, p.contact_exponent, 0.75 * (1.0 - p.restitution ** 2)
     delta = r[L.R_PENETRATION] + d_depth
     hysteresis = 1.0 + a * (abs(r[L.R_PENETRATION_RATE]) + d_velocity) / impact_velocity
     d_normal = n * k * delta ** (n - 1.0) * d_depth * hysteresis + k * delta ** n * a * d_velocity / impact_velocity
@@ -149,7 +149,7 @@ def test_discrete_and_native_contact_agree_to_the_discretisation_error():
         assert discrete[L.R_CONTACT] == classical[L.R_CONTACT] == 1.0
         tol_force, tol_torque_i, tol_torque_j = _discretisation_bounds(p, discrete, pin_kin, bushing_kin,
                                                                        impact_velocity)
-        elastic = p.contact_stiffness_N_m1_5 * discrete[L.R_PENETRATION] ** p.contact_exponent
+        elastic = p.stiffness_N_m1_5 * discrete[L.R_PENETRATION] ** p.contact_exponent
         relative_bounds.append(tol_force / elastic)
         d_force = np.hypot(discrete[L.R_PIN_FX] - classical[L.R_PIN_FX], discrete[L.R_PIN_FY] - classical[L.R_PIN_FY])
         assert d_force <= tol_force
@@ -182,7 +182,7 @@ def test_contact_forms_coincide_when_e_points_at_a_bushing_point():
     for slot in (L.R_PENETRATION_RATE, L.R_TANGENTIAL_VELOCITY):
         assert classical[slot] == pytest.approx(discrete[slot], abs=1e-12 + d_velocity)
     hysteresis = 0.75 * (1.0 - p.restitution ** 2) / 0.2                         # dF_N / d(delta_dot) / (K delta^n)
-    d_normal = p.contact_stiffness_N_m1_5 * discrete[L.R_PENETRATION] ** 1.5 * hysteresis * d_velocity
+    d_normal = p.stiffness_N_m1_5 * discrete[L.R_PENETRATION] ** 1.5 * hysteresis * d_velocity
     forces = [L.R_PIN_FX, L.R_PIN_FY, L.R_BUSHING_FX, L.R_BUSHING_FY, L.R_NORMAL_FORCE, L.R_FRICTION_FORCE]
     np.testing.assert_allclose(classical[forces], discrete[forces], rtol=1e-9, atol=1.2 * d_normal)
     np.testing.assert_allclose(classical[[L.R_PENETRATION, L.R_CONTACT, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y]],

@@ -237,7 +237,7 @@ def test_a_hung_bar_comes_to_rest_on_its_normal_force(explicit):
     weight = BAR_MASS * GRAVITY
     assert np.mean(h["normal_force_N"][late]) == pytest.approx(weight, rel=2e-3)
     p = handle.joint.params
-    delta = (weight / p.contact_stiffness_N_m1_5) ** (1.0 / p.contact_exponent)     # Eq. (16) at rest
+    delta = (weight / p.stiffness_N_m1_5) ** (1.0 / p.contact_exponent)     # Eq. (16) at rest
     assert np.mean(h["penetration_m"][late]) == pytest.approx(delta, rel=0.05)
     assert np.mean(np.hypot(h["eccentricity_x_m"], h["eccentricity_y_m"])[late]) == pytest.approx(
         p.clearance_m + delta, rel=1e-3)
@@ -259,7 +259,7 @@ def test_a_body_resting_in_the_joint_converges_and_carries_its_weight(mass, wear
     _, mbs = new_system()
     p = JointParameters(contact_damping="lankarani-nikravesh")
     weight = mass * GRAVITY
-    delta = (weight / p.contact_stiffness_N_m1_5) ** (1.0 / p.contact_exponent)
+    delta = (weight / p.stiffness_N_m1_5) ** (1.0 / p.contact_exponent)
     bar, handle = hung_bar(mbs, mass=mass, sag=p.clearance_m + delta, wear_factor=wear_factor,
                            contact_damping=p.contact_damping)
     mbs.Assemble()

@@ -106,7 +106,7 @@ def test_resting_pin_carries_its_weight_at_the_hertz_penetration():
     assert r[L.R_CONTACT] == 1.0 and r[L.R_NORMAL_FORCE] == pytest.approx(weight, rel=1e-6)
     np.testing.assert_allclose(r[[L.R_PIN_FX, L.R_PIN_FY]], [0.0, weight], atol=1e-6 * weight)
     np.testing.assert_allclose(r[[L.R_BUSHING_FX, L.R_BUSHING_FY]], [0.0, -weight], atol=1e-6 * weight)
-    static = (weight / PIN.contact_stiffness_N_m1_5) ** (1.0 / PIN.contact_exponent)
+    static = (weight / PIN.stiffness_N_m1_5) ** (1.0 / PIN.contact_exponent)
     assert r[L.R_PENETRATION] == pytest.approx(static, rel=1e-5)
     np.testing.assert_allclose(r[[L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y]], [0.0, -(PIN.clearance_m + static)],
                                atol=1e-3 * static)
@@ -120,7 +120,7 @@ def _impact_peak_force(p, v0, mass):
     undamped (chi -> 0): delta_max = ((n+1) m v0^2 / (2K))^(1/(n+1)) = (5 m v0^2/(4K))^(2/5), F_max = K delta_max^n.
     LN's damping lowers delta_max by [2 (chi - ln(1 + chi))/chi^2]^(1/(n+1)) (0.965 at e_r = 0.9) and moves the
     peak before delta_max, to the largest K delta(u)^n (1 + chi u/v0) over 0 <= u <= v0 (taken on a fine grid)."""
-    k, n = p.contact_stiffness_N_m1_5, p.contact_exponent
+    k, n = p.stiffness_N_m1_5, p.contact_exponent
     chi = 0.75 * (1.0 - p.restitution ** 2)
     if chi == 0.0:
         return k * ((n + 1.0) * mass * v0 ** 2 / (2.0 * k)) ** (n / (n + 1.0))
@@ -163,7 +163,7 @@ def test_spinning_pin_rests_at_its_friction_angle(slip_per_zone):
     slip = slip_per_zone * v_reg
     ratio = mu * min(1.0, slip / v_reg)
     phi = math.atan(ratio)
-    delta = (MASS * g * math.cos(phi) / PIN.contact_stiffness_N_m1_5) ** (1.0 / PIN.contact_exponent)
+    delta = (MASS * g * math.cos(phi) / PIN.stiffness_N_m1_5) ** (1.0 / PIN.contact_exponent)
     e = PIN.clearance_m + delta
     omega = slip / PIN.pin_radius_m                   # counter-clockwise: the contact slides to +x, friction to -x
     position = (-e * math.sin(phi), -e * math.cos(phi), 0.0)

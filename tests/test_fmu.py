@@ -83,7 +83,7 @@ def test_forces_are_the_joints_and_point_back_to_the_bushing_centre(slave):
     assert out["penetration"] == pytest.approx(5e-6, rel=1e-3)
     assert out["normal_force"] == pytest.approx(expected.normal_force_N, rel=1e-12)
     # the foundation's K delta^1.5 (3 % under it at 5 um: docs/model.md §3.10)
-    assert out["normal_force"] == pytest.approx(P.contact_stiffness_N_m1_5 * 5e-6 ** 1.5, rel=4e-2)
+    assert out["normal_force"] == pytest.approx(P.stiffness_N_m1_5 * 5e-6 ** 1.5, rel=4e-2)
 
     pin_force = np.array([out["pin_force_x"], out["pin_force_y"]])
     outward = np.array([math.cos(direction), math.sin(direction)])
@@ -94,6 +94,30 @@ def test_forces_are_the_joints_and_point_back_to_the_bushing_centre(slave):
     assert out["contact_angle"] == pytest.approx(direction - 0.3, abs=2 * math.pi / P.n_points)
     np.testing.assert_allclose([out["eccentricity_x"], out["eccentricity_y"]],
                                (P.clearance_m + 5e-6) * np.array([math.cos(0.7), math.sin(0.7)]), rtol=1e-6)
+
+
+def test_the_materials_set_the_stiffness_unless_it_is_given(fmu):
+    """contact_stiffness = 0 (the start value): K of the FMU's own radii and materials, so a bushing
+    10x softer carries the force of 4 E* sqrt(R)/3 (by hand here); a given K overrides them."""
+    x = contact_inputs(depth=4e-6)
+    forces = {}
+    for label, parameters in (("paper", {}), ("soft", {"bushing_youngs_modulus": 7.17e9}),
+                              ("given", {"bushing_youngs_modulus": 7.17e9, "contact_stiffness": 2e10})):
+        s = Slave(fmu, label, parameters=parameters).initialise()
+        s.set_inputs(x)
+        forces[label] = s.get(["normal_force"])[0]
+        s.free()
+    def k_by_hand(e_bushing):
+        e_star = 1.0 / ((1 - 0.29 ** 2) / 207e9 + (1 - 0.33 ** 2) / e_bushing)
+        return 4.0 / 3.0 * e_star * math.sqrt(0.01 * 0.0101 / 0.0001)
+    # the foundation's force at a fixed overlap is proportional to K (k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)))
+    assert forces["soft"] / forces["paper"] == pytest.approx(k_by_hand(7.17e9) / k_by_hand(71.7e9), rel=1e-9)
+    assert forces["given"] / forces["paper"] == pytest.approx(2e10 / k_by_hand(71.7e9), rel=1e-9)
+    s = Slave(fmu, "exponent", parameters={"contact_exponent": 2.0}, integers={"contact_model": 1})
+    with pytest.raises(FMICallException) as failure:
+        s.initialise()
+    s.assert_failed_with_error(failure, "contact_exponent")
+    s.free()
 
 
 def test_outputs_follow_inputs_without_a_step(slave):

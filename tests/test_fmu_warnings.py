@@ -27,7 +27,7 @@ def step_share(params, sliding_speed_m_s, step_s):
     """The share of the penetration one step wears, k_f k_w F v dt: a foundation pressure k_f delta at the
     deepest point, k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) (docs/model.md §3.10, §7)."""
     c = params.bushing_radius_m - params.pin_radius_m
-    k_f = (3.0 * params.contact_stiffness_N_m1_5 * math.sqrt(c)
+    k_f = (3.0 * params.stiffness_N_m1_5 * math.sqrt(c)
            / (4.0 * math.sqrt(2.0) * params.contact_length_m * math.sqrt(params.pin_radius_m * params.bushing_radius_m)))
     return k_f * params.wear_coefficient_m2_N * params.wear_factor * sliding_speed_m_s * step_s
 

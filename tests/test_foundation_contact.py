@@ -13,7 +13,7 @@ from wearjoint.core.contact import contact_jacobian, evaluate_contact
 
 P = JointParameters()
 C = P.clearance_m
-K = P.contact_stiffness_N_m1_5
+K = P.stiffness_N_m1_5
 
 
 def foundation_force_by_quadrature(e, params=P):
@@ -23,7 +23,7 @@ def foundation_force_by_quadrature(e, params=P):
     (scipy's adaptive quadrature; k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)), docs/model.md §3.10)."""
     ri, rj = params.pin_radius_m, params.bushing_radius_m
     c = rj - ri
-    k_f = 3.0 * params.contact_stiffness_N_m1_5 * math.sqrt(c) / (4.0 * math.sqrt(2.0) * params.contact_length_m
+    k_f = 3.0 * params.stiffness_N_m1_5 * math.sqrt(c) / (4.0 * math.sqrt(2.0) * params.contact_length_m
                                                                 * math.sqrt(ri * rj))
 
     def integrand(phi):
@@ -237,7 +237,8 @@ def test_a_mirrored_profile_and_pin_give_the_mirrored_force():
 def test_the_foundation_takes_only_the_hertz_exponent():
     with pytest.raises(ParameterError, match=r"contact_exponent=1\.2.*1\.5"):
         JointParameters(contact_exponent=1.2)
-    assert JointParameters(contact_exponent=1.2, contact_model="deepest").contact_exponent == 1.2
+    assert JointParameters(contact_exponent=1.2, contact_model="deepest",
+                           contact_stiffness_N_m1_5=7.95e10).contact_exponent == 1.2
 
 
 def test_heavy_wear_at_the_default_step_wears_what_a_short_step_does():

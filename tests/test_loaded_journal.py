@@ -68,7 +68,7 @@ def run_journal(n_points, sliding="tangential", placement="foundation", share=No
     params = JointParameters(n_points=n_points, friction_coefficient=0.0, wear_placement=placement,
                              sliding_distance=sliding)
     joint = ClearanceJoint(params)
-    delta_f = (LOAD_N / params.contact_stiffness_N_m1_5) ** (1.0 / params.contact_exponent)
+    delta_f = (LOAD_N / params.stiffness_N_m1_5) ** (1.0 / params.contact_exponent)
     k_w = params.wear_coefficient_m2_N * params.wear_factor
     v = params.pin_radius_m * OMEGA
     target_sink = SINK_OVER_ELASTIC * delta_f

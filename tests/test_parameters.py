@@ -9,7 +9,29 @@ from wearjoint.parameters import effective_modulus
 
 def test_stiffness_internal_form_reproduces_table_2():
     k = JointParameters().stiffness_from_materials("internal")
-    assert k == pytest.approx(7.95e10, rel=5e-3)
+    assert k == pytest.approx(7.95e10, rel=5e-4)
+
+
+def test_the_default_stiffness_follows_the_radii_and_materials():
+    """Without a given K the joint uses Eqs. 16-17 of its own radii and materials (K ~ E* sqrt(R)); a
+    given K overrides them; a K the materials cannot give (exponent != 1.5) must be given."""
+    paper = JointParameters()
+    assert paper.contact_stiffness_N_m1_5 is None
+    assert paper.stiffness_N_m1_5 == paper.stiffness_from_materials()
+    # the bushing 10x softer: E* = 1/((1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j), K = 4 E* sqrt(R)/3 by hand
+    soft = paper.replace(bushing_youngs_modulus_Pa=7.17e9)
+    e_star = 1.0 / ((1 - 0.29 ** 2) / 207e9 + (1 - 0.33 ** 2) / 7.17e9)
+    assert soft.stiffness_N_m1_5 == pytest.approx(4 / 3 * e_star * math.sqrt(0.01 * 0.0101 / 0.0001), rel=1e-12)
+    assert soft.stiffness_N_m1_5 < 0.15 * paper.stiffness_N_m1_5
+    looser = paper.replace(bushing_radius_m=0.0104)        # 4x the clearance: R = R_i R_j / c about 4x smaller
+    assert looser.stiffness_N_m1_5 / paper.stiffness_N_m1_5 == pytest.approx(math.sqrt(0.0104 / 0.0101 / 4), rel=1e-12)
+    given = paper.replace(contact_stiffness_N_m1_5=1e10, bushing_youngs_modulus_Pa=7.17e9)
+    assert given.stiffness_N_m1_5 == 1e10
+    assert given.foundation_modulus_N_m3 == pytest.approx(paper.foundation_modulus_N_m3 * 1e10 / paper.stiffness_N_m1_5)
+    with pytest.raises(ParameterError, match=r"contact_exponent=2.0 is invalid: allowed 1.5 without a given "
+                                             r"contact_stiffness_N_m1_5"):
+        JointParameters(contact_model="deepest", contact_exponent=2.0)
+    assert JointParameters(contact_model="deepest", contact_exponent=2.0, contact_stiffness_N_m1_5=1e12).stiffness_N_m1_5 == 1e12
 
 
 def test_stiffness_external_form_is_the_printed_sum_form():

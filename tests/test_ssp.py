@@ -69,7 +69,7 @@ def test_the_ssp_validates_and_wires_every_joint_variable(package):
     assert sets[ssp.MECHANISM]["crank_speed"] == mechanism.crank_speed_rpm
     assert sets[ssp.JOINT]["pin_offset_x"] == 0.5 * mechanism.crank_length_m == joint.pin_offset_m[0]
     assert sets[ssp.JOINT]["bushing_offset_x"] == -0.5 * mechanism.rod_length_m
-    assert sets[ssp.JOINT]["contact_stiffness"] == JointParameters().contact_stiffness_N_m1_5
+    assert sets[ssp.JOINT]["contact_stiffness"] == 0.0      # from the radii and materials
     experiment = root.find("{%s}DefaultExperiment" % ssp.SSD)
     assert float(experiment.get("stopTime")) == mechanism.period_s
 

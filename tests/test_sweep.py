@@ -198,20 +198,20 @@ def test_sweep_on_a_scheduler_and_two_workers_started_by_hand(tmp_path):
 
 def test_wear_study_seeds_reports_fig7_with_bands(tmp_path):
     out = tmp_path / "ensemble"
-    done = wearjoint("wear-study", "--revolutions", "10", "--wear-factor", "20", "--snapshots", "5,10", "--seeds", "2",
+    done = wearjoint("wear-study", "--revolutions", "20", "--wear-factor", "20", "--snapshots", "10,20", "--seeds", "2",
                      "--workers", "2", "--no-plots", "--out", str(out), "--quiet")
     assert done.returncode == 0, done.stderr
     rows = read_csv(out / "sweep.csv")
     assert [(r["seed"], r["status"]) for r in rows] == [("0", "ok"), ("1", "ok")]
     ensemble = read_csv(out / "ensemble.csv")[0]
-    for revolution in (5, 10):
-        depths = [json.loads((out / r["folder"] / "summary.json").read_text())["snapshots"][revolution // 5 - 1]
+    for revolution in (10, 20):
+        depths = [json.loads((out / r["folder"] / "summary.json").read_text())["snapshots"][revolution // 10 - 1]
                   ["max_wear_depth_m"] for r in rows]
         assert float(ensemble[f"rev{revolution}_max_wear_depth_m_mean"]) == pytest.approx(np.mean(depths), rel=1e-12)
         assert (out / "bands" / f"point0_rev{revolution}.csv").is_file()
     assert (out / "fig7_bands_point0.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert "rev10_max_wear_depth_m" in done.stdout
-    assert ensemble["max_wear_depth_m_bias_rel"] == ensemble["rev5_max_wear_depth_m_bias_rel"] == "unknown"
+    assert "rev20_max_wear_depth_m" in done.stdout
+    assert ensemble["max_wear_depth_m_bias_rel"] == ensemble["rev10_max_wear_depth_m_bias_rel"] == "unknown"
     assert "F = 20" in ensemble["wear_factor_bias_note"] and "(bias unknown)" in done.stdout   # never measured
 
 

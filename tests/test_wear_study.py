@@ -11,7 +11,7 @@ from wearjoint.cli import main as cli_main
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from wearjoint.validation.wear_calibration import run_convergence
+from wearjoint.validation.wear_convergence import run_convergence
 from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study
 
 MODEL_SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
@@ -27,8 +27,8 @@ def wearjoint(*args, timeout=600):
 
 
 def small_config(**changes) -> WearStudyConfig:
-    """10 revolutions at wear factor 20: half a simulated revolution."""
-    values = dict(joint=paper_joint(wear_factor=20.0), mechanism=SliderCrankParameters(), revolutions=10,
+    """10 revolutions at wear factor 10: one simulated revolution (the least a study may simulate)."""
+    values = dict(joint=paper_joint(wear_factor=10.0), mechanism=SliderCrankParameters(), revolutions=10,
                   snapshots=(5, 10), checkpoint_every_revolutions=0.125, jump_tolerance=None)
     values.update(changes)
     return WearStudyConfig(**values)
@@ -39,9 +39,16 @@ def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path, route):
     config = small_config() if route == "wear factor" else \
         small_config(joint=paper_joint(wear_factor=1.0), jump_tolerance=DEFAULT_JUMP_TOLERANCE)
     whole = run_wear_study(config, tmp_path / "whole", progress=False, plots=False)
-    stopped = run_wear_study(config, tmp_path / "killed", progress=False, plots=False, stop_after_checkpoints=2)
+    stopped = run_wear_study(config, tmp_path / "killed", progress=False, plots=False,
+                             stop_after_checkpoints=5 if route == "wear factor" else 2)
     assert stopped["finished"] is False
     assert not (tmp_path / "killed" / "summary.json").exists()
+    # the snapshot passed before the kill is on disk already, as the finished study writes it
+    rev5 = (tmp_path / "whole" / "profile_rev5.csv").read_bytes()
+    assert (tmp_path / "killed" / "profile_rev5.csv").read_bytes() == rev5
+    assert not (tmp_path / "killed" / "profile_rev10.csv").exists()
+    index = json.loads((tmp_path / "killed" / "snapshots.json").read_text())
+    assert index["status"] == "running" and [s["revolution"] for s in index["snapshots"]] == [5]
     with pytest.raises(ParameterError, match="--resume"):
         run_wear_study(config, tmp_path / "killed", progress=False, plots=False)
     resumed = run_wear_study(config, tmp_path / "killed", resume=True, progress=False, plots=False)
@@ -58,8 +65,9 @@ def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path, route):
 def test_resume_refuses_a_checkpoint_of_other_settings(tmp_path):
     run_wear_study(small_config(), tmp_path, progress=False, plots=False, stop_after_checkpoints=1)
     assert (tmp_path / CHECKPOINT_NAME).exists()
-    with pytest.raises(ParameterError, match="other settings"):
-        run_wear_study(small_config(joint=paper_joint(wear_factor=10.0)), tmp_path, resume=True,
+    with pytest.raises(ParameterError, match=r"parameter --wear-factor \(joint.wear_factor\) is 10.0 in its "
+                                             r"checkpoint, 5.0 given"):
+        run_wear_study(small_config(joint=paper_joint(wear_factor=5.0)), tmp_path, resume=True,
                        progress=False, plots=False)
 
 
@@ -128,6 +136,10 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100", "--snapshots", "50.5,100"), "not an integer"),
     (("--revolutions", "100.5"), "not an integer"),
     (("--revolutions", "100", "--wear-factor=-5"), "wear_factor"),
+    (("--revolutions", "1000", "--wear-factor", "1e6"),
+     "parameter --wear-factor (wear_factor)=1000000.0 is invalid with --revolutions 1000: allowed 0 < wear factor "
+     "<= 1000"),
+    (("--revolutions", "100", "--convergence", "1,200"), "--convergence: factor 200: parameter --wear-factor"),
     (("--revolutions", "100", "--cycle-jump-tolerance", "2"), "tolerance=2.0"),
     (("--revolutions", "100", "--cycle-jump-tolerance", "0.01", "--wear-factor", "10"), "wear_factor=10.0"),
     (("--revolutions", "100", "--cycle-jump-block", "0"), "jump_block_revolutions=0"),
@@ -170,10 +182,10 @@ def test_wear_acceleration_matches_brute_force(tmp_path, placement):
 def test_resume_refuses_a_corrupted_checkpoint_and_a_bad_profile(tmp_path):
     import pickle
 
-    from wearjoint.validation.wear_study import _crc32c
+    from wearjoint.validation.wear_study_recovery import crc32c
 
     config = small_config()
-    run_wear_study(config, tmp_path, progress=False, plots=False, stop_after_checkpoints=3)   # past snapshot 5
+    run_wear_study(config, tmp_path, progress=False, plots=False, stop_after_checkpoints=5)   # past snapshot 5
     path = tmp_path / CHECKPOINT_NAME
     good = path.read_bytes()
     flipped = bytearray(good)
@@ -184,6 +196,6 @@ def test_resume_refuses_a_corrupted_checkpoint_and_a_bad_profile(tmp_path):
     state = pickle.loads(good[:-4])
     state["snapshots"][0]["wear_depth_m"][3] = -1e-9
     data = pickle.dumps(state)
-    path.write_bytes(data + _crc32c(data).to_bytes(4, "little"))
+    path.write_bytes(data + crc32c(data).to_bytes(4, "little"))
     with pytest.raises(ParameterError, match=r"snapshot 5 wear_depth_m: wear profile: wear_depth\[4\]=-1e-09 m is negative"):
         run_wear_study(config, tmp_path, resume=True, progress=False, plots=False)

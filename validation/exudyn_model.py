@@ -294,6 +294,7 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
         wear_growth_m=np.asarray(model.wear_growth), phi_deg=j.phi_deg, wear_depth_m=j.wear_depth.copy(),
         worn_volume_m3=j.worn_volume_m3, simulated_time_s=model.t, wall_time_s=model.wall_time_s,
         revolutions=model.t / period, period_s=period, clearance_m=j.params.clearance_m,
+        contact_stiffness_N_m1_5=j.params.stiffness_N_m1_5,
         parameters={"joint": j.params.to_dict(), "mechanism": model.mechanism.params.to_dict(),
                     "simulation": {"revolutions": revolutions, "integrator": "exudyn GeneralizedAlpha",
                                    "step_s": model.step_s, "spectral_radius": SPECTRAL_RADIUS,

@@ -67,7 +67,7 @@ def native_law(p: JointParameters) -> dict:
 def native_contact_parameters(p: JointParameters) -> dict:
     """``ObjectContactSphereSphere`` arguments for the joint ``p`` (see the module docstring)."""
     return {"spheresRadii": [p.pin_radius_m, p.bushing_radius_m], "isHollowSphere1": True,
-            "contactStiffness": p.contact_stiffness_N_m1_5, "contactStiffnessExponent": p.contact_exponent,
+            "contactStiffness": p.stiffness_N_m1_5, "contactStiffnessExponent": p.contact_exponent,
             "contactDamping": 0.0, "impactModel": HUNT_CROSSLEY,
             "restitutionCoefficient": native_restitution(p.restitution),
             "minimumImpactVelocity": native_law(p)["impact_velocity_floor_m_s"],

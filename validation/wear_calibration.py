@@ -1,93 +1,20 @@
-"""Studies built on the wear study (:mod:`wearjoint.validation.wear_study`): the
-convergence of the wear acceleration factor (``wearjoint wear-study --convergence``)
-and the calibration of an effective k_w to a target depth (``--calibrate-max-depth-m``)."""
+"""The calibration of an effective k_w to a target depth on the wear study
+(:mod:`wearjoint.validation.wear_study`, ``wearjoint wear-study --calibrate-max-depth-m``); the
+convergence of the wear acceleration factor is :mod:`wearjoint.validation.wear_convergence`."""
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 
 import numpy as np
 
-from wearjoint.analysis import profile_convergence
 from wearjoint.core import layout as L
 from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
 from wearjoint.validation.wear_study import (
-    CHECKPOINT_NAME, CONVERGENCE_TOLERANCE, PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, make_engine,
-    profile_angles_deg, run_wear_study,
+    CHECKPOINT_NAME, PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, make_engine,
+    run_wear_study,
 )
-
-
-# ----------------------------------------------------------------------------- convergence
-def run_convergence(config: WearStudyConfig, factors, out_dir, resume: bool = False, progress: bool = True,
-                    tolerance: float = CONVERGENCE_TOLERANCE) -> dict:
-    """Run the study once per acceleration factor (the first is the reference, normally 1) and a
-    repeat of the reference with the other integrator (the chaotic scatter between valid runs);
-    compare the profiles at the matched snapshots.  Writes convergence.csv/json/png into out_dir."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    factors = [float(f) for f in factors]
-    other = "rk4" if config.integrator == "dopri" else "dopri"
-    runs = {f"F={f:g}": config.replace(joint=config.joint.replace(wear_factor=f), jump_tolerance=None) for f in factors}
-    runs[f"F={factors[0]:g} {other}"] = runs[f"F={factors[0]:g}"].replace(integrator=other)
-    folders = {label: out / label.replace("=", "").replace(" ", "_") for label in runs}
-    results = {label: run_wear_study(cfg, folders[label], resume=resume or (folders[label] / CHECKPOINT_NAME).exists(),
-                                     progress=progress, plots=False)
-               for label, cfg in runs.items()}
-    phi_deg = profile_angles_deg(config.joint.n_points)
-    profiles = {label: {s: _read_profile(folders[label] / f"profile_rev{s}.csv") for s in config.snapshots}
-                for label in runs}
-    reference = f"F={factors[0]:g}"
-    rows = []
-    for label in runs:
-        for s in config.snapshots:
-            ref, h = profiles[reference][s], profiles[label][s]
-            rows.append({"run": label, "revolution": s, "max_wear_depth_m": float(h.max()),
-                         "reference_max_wear_depth_m": float(ref.max()), **profile_convergence(h, ref),
-                         "wall_time_s": results[label]["wall_time_s"]})
-    verdict = {}
-    for label in runs:
-        mine = [r for r in rows if r["run"] == label]
-        verdict[label] = bool(all(abs(r["max_depth_rel_diff"]) <= tolerance and r["rms_profile_diff_rel"] <= tolerance
-                                  for r in mine))
-    passing = [f for f in factors if verdict[f"F={f:g}"]]
-    with open(out / "convergence.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    summary = {"reference": reference, "scatter_run": f"{reference} {other}", "tolerance_rel": tolerance,
-               "criterion": "at every matched revolution count: |max depth / reference - 1| <= tol and "
-                            "RMS(profile - reference) / reference max depth <= tol",
-               "within_tolerance": verdict, "largest_factor_within_tolerance": max(passing) if passing else None,
-               "rows": rows, "parameters": config.to_dict()}
-    from wearjoint.plots import plot_wear_profiles
-    last = config.snapshots[-1]
-    plot_wear_profiles(phi_deg, {label: profiles[label][last] for label in runs}, out / "convergence_profiles.png",
-                       title=f"acceleration factors at matched revolutions ({last} rev)")
-    _plot_convergence_growth(out, folders)
-    summary["figures"] = ["convergence_profiles.png", "convergence_growth.png"]
-    write_json_atomic(out / "convergence.json", summary)
-    return summary
-
-
-def _read_profile(path: Path) -> np.ndarray:
-    return np.loadtxt(path, delimiter=",", skiprows=1)[:, 1]
-
-
-def _plot_convergence_growth(out: Path, folders: dict) -> None:
-    from wearjoint.plots import plt, save_figure
-
-    fig, ax = plt.subplots(figsize=(7, 4.2))
-    for label, folder in folders.items():
-        g = np.loadtxt(folder / "wear_growth.csv", delimiter=",", skiprows=1, ndmin=2)
-        ax.plot(g[:, 0], g[:, 1] * 1e6, ".-" if len(g) < 40 else "-", ms=3, label=label)
-    ax.set_xlabel("crank revolutions")
-    ax.set_ylabel("max wear depth [µm]")
-    ax.set_title("max depth vs revolutions for each acceleration factor", fontsize=10)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    save_figure(fig, out / "convergence_growth.png")
 
 
 # ----------------------------------------------------------------------------- calibration
@@ -153,4 +80,4 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
     return result
 
 
-__all__ = ["run_convergence", "printed_wear_rate", "calibrate_wear_coefficient"]
+__all__ = ["printed_wear_rate", "calibrate_wear_coefficient"]

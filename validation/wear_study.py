@@ -1,50 +1,44 @@
 """`wearjoint wear-study`: thousands of crank revolutions of bushing wear (paper Figs. 7-8).
 
-Reaching thousands of revolutions (a simulated revolution of a worn bushing costs ~0.3 s with
-the default RK4, ~1 s with DOPRI):
+Reaching thousands of revolutions (a simulated revolution of a worn bushing costs ~0.3 s with the default
+RK4, ~1 s with DOPRI):
 
-* **wear acceleration** -- the joint's ``wear_factor`` F multiplies k_w, so one
-  simulated revolution stands for F crank revolutions; the snapshot at
-  revolution R is taken after R/F simulated revolutions;
-* **cycle jumping** (the default; :mod:`wearjoint.validation.cycle_jump`) -- blocks of
-  simulated revolutions at the real wear rate, each followed by a jump that replays the
-  block's loading through the relaxed wear update, its length chosen from an error
-  estimate (``--cycle-jump-tolerance``).
+* **wear acceleration** -- the joint's ``wear_factor`` F multiplies k_w, so one simulated revolution stands
+  for F crank revolutions; the snapshot at revolution R is taken after R/F simulated revolutions (at least
+  one revolution is simulated: F <= the revolutions);
+* **cycle jumping** (the default; :mod:`wearjoint.validation.cycle_jump`) -- blocks of simulated revolutions
+  at the real wear rate, each followed by a jump that replays the block's loading through the relaxed wear
+  update, its length chosen from an error estimate (``--cycle-jump-tolerance``).
 
-The final revolution count is always a snapshot.  At each snapshot the study
-keeps the worn profile and the slider acceleration of the simulated revolution
-ending there (Fig. 8).  An **impact event** is a cluster of samples with
-|a - a_ideal| > ``impact_threshold_m_s2`` (a_ideal: closed-form ideal
-slider-crank); clusters closer than ``impact_merge_deg`` of crank rotation are
-one event; its size is the cluster's peak |a - a_ideal|.
+The final revolution count is always a snapshot.  At each snapshot the study keeps the worn profile and the
+slider acceleration of the simulated revolution ending there (Fig. 8).  An **impact event** is a cluster of
+samples with |a - a_ideal| > ``impact_threshold_m_s2`` (a_ideal: closed-form ideal slider-crank); clusters
+closer than ``impact_merge_deg`` of crank rotation are one event; its size is the cluster's peak |a - a_ideal|.
 
-Nothing is lost: every ``checkpoint_every_revolutions`` simulated revolutions
-the engine state (``checkpoint()``), the study's progress and the snapshots so
-far go atomically to ``DIR/wear_study_checkpoint.pkl``; ``--resume`` continues
-bit-identically.  The factor-convergence study (``--convergence``) and the
-calibration of an effective k_w to a target depth (``--calibrate-max-depth-m``)
-are in :mod:`wearjoint.validation.wear_calibration`.
+Nothing is lost: every ``checkpoint_every_revolutions`` simulated revolutions the engine state
+(``checkpoint()``), the study's progress and the snapshots so far go atomically to
+``DIR/wear_study_checkpoint.pkl``; ``--resume`` continues bit-identically, or with other numerical settings
+(integrator, max step, ...) but the same physical ones.  Each snapshot's files are written as it is reached;
+a study that diverges writes what finished and says where to continue from
+(:mod:`wearjoint.validation.wear_study_recovery`).  The factor-convergence study (``--convergence``) is in
+:mod:`wearjoint.validation.wear_convergence`, the calibration of an effective k_w to a target depth
+(``--calibrate-max-depth-m``) in :mod:`wearjoint.validation.wear_calibration`.
 """
 from __future__ import annotations
 
 import dataclasses
 import math
-import os
-import pickle
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from wearjoint.analysis import (
-    growth_exponent, impact_events, profile_features, sample_statistics,
-)
+from wearjoint.analysis import impact_events, profile_features, sample_statistics
 from wearjoint.core import layout as L
-from wearjoint.core import state_format
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
-from wearjoint.joint import ClearanceJoint, StateError
+from wearjoint.joint import StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
@@ -52,7 +46,12 @@ from wearjoint.runner import RunDiverged, divergence
 from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
-from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
+from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
+from .wear_study_recovery import (
+    ARRAY_KEYS, CHECKPOINT_FORMAT, CHECKPOINT_NAME, StudyDiverged, checkpoint_revolution, continue_segments,
+    divergence_reason, diverged_message, extend_segment, load_checkpoint, read_checkpoint, snapshot_entry,
+    write_checkpoint_atomic, write_profile_csv, write_snapshot, write_snapshot_index,
+)
 
 ENGINES = ("monolithic", "cosim")
 STUDY_INTEGRATORS = ("rk4", "dopri")
@@ -61,10 +60,7 @@ DEFAULT_WEAR_FACTOR = 1.0               # cycle jumping's blocks run at the real
 PRINTED_WEAR_COEFFICIENT_M2_N = JointParameters().wear_coefficient_m2_N
 PAPER_MAX_DEPTH_M = 0.58e-3             # Fig. 7, after 4000 revolutions
 CONVERGENCE_TOLERANCE = 0.15            # max-depth and RMS profile difference, relative to the reference max depth
-CHECKPOINT_NAME = "wear_study_checkpoint.pkl"
-CHECKPOINT_FORMAT = 2                   # the pickle, then its CRC-32C (uint32, little-endian)
 MAX_JUMP_ROUTE_STATISTICS = 5000      # simulated revolutions of a cycle-jumping study with per-revolution statistics
-ARRAY_KEYS = ("wear_depth_m", "time_s", "slider_a_m_s2", "samples")   # snapshot arrays (not in summary.json)
 
 
 # ----------------------------------------------------------------------------- configuration
@@ -81,6 +77,7 @@ class WearStudyConfig:
     engine: str = "monolithic"
     integrator: str = DEFAULT_STUDY_INTEGRATOR
     max_step_s: float | None = None         # None: the wear-step limit (docs/model.md §7), RK4's step
+    rtol: float = SimulationOptions.rtol    # DOPRI's relative tolerance (monolithic engine)
     chunks_per_revolution: int = 8
     checkpoint_every_revolutions: float = 1.0   # simulated revolutions between checkpoints
     impact_threshold_m_s2: float = 100.0
@@ -99,6 +96,11 @@ class WearStudyConfig:
         if not self.joint.wear_factor > 0.0 or not self.joint.wear_coefficient_m2_N > 0.0:
             raise ParameterError(f"a wear study needs wear on: wear_factor={self.joint.wear_factor!r} and "
                                  f"wear_coefficient_m2_N={self.joint.wear_coefficient_m2_N!r} must be > 0")
+        if self.revolutions / self.joint.wear_factor < 1.0 - 1e-9:     # less than one revolution simulated
+            raise ParameterError(f"parameter --wear-factor (wear_factor)={self.joint.wear_factor!r} is invalid with "
+                                 f"--revolutions {self.revolutions}: allowed 0 < wear factor <= {self.revolutions} "
+                                 f"(revolutions / wear factor = {self.revolutions / self.joint.wear_factor:.3g} "
+                                 "simulated revolutions; at least one must be simulated)")
         _check_int("jump_block_revolutions", self.jump_block_revolutions, 1)
         if self.jump_tolerance is not None:
             if not (isinstance(self.jump_tolerance, (int, float)) and 0.0 < self.jump_tolerance < 1.0):
@@ -123,7 +125,8 @@ class WearStudyConfig:
                 from wearjoint.cosim import CoSimulationOptions
                 limit = min(limit, CoSimulationOptions().step_s)
             object.__setattr__(self, "max_step_s", limit)
-        for name in ("max_step_s", "checkpoint_every_revolutions", "impact_threshold_m_s2", "impact_merge_deg"):
+        for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2",
+                     "impact_merge_deg"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ParameterError(f"{name}={value!r} is invalid: allowed a finite value > 0")
@@ -164,7 +167,7 @@ def make_engine(config: WearStudyConfig):
         revolutions = min(revolutions, MAX_JUMP_ROUTE_STATISTICS)
     if config.engine == "monolithic":
         return Simulation(config.joint, config.mechanism,
-                          SimulationOptions(revolutions=revolutions, integrator=config.integrator,
+                          SimulationOptions(revolutions=revolutions, integrator=config.integrator, rtol=config.rtol,
                                             step_s=config.max_step_s, max_step_s=config.max_step_s,
                                             sample_dt_s=1e-5))
     from wearjoint.cosim import CoSimulation, CoSimulationOptions
@@ -197,58 +200,13 @@ def _stops(config: WearStudyConfig) -> list[tuple[float, int | None]]:
     return [(x, marks[x]) for x in sorted(marks)]
 
 
-def _crc32c(data: bytes) -> int:
-    return int(state_format.crc32c(np.frombuffer(data, dtype=np.uint8), len(data)))
-
-
-def _write_checkpoint_atomic(path: Path, state: dict) -> None:
-    """The study's state pickled, then the CRC-32C of the pickle (the state format's checksum)."""
-    data = pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    with open(tmp, "wb") as f:
-        f.write(data + _crc32c(data).to_bytes(4, "little"))
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
-
-
-def _load_checkpoint(path: Path, config: WearStudyConfig) -> dict:
-    """The checkpoint at ``path``; ParameterError naming the failed check (checksum, format, settings,
-    a wear profile out of range).  The engine's state is checked when the engine restores it."""
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise ParameterError(f"cannot read checkpoint {path}: {exc}") from None
-    stored, computed = int.from_bytes(data[-4:], "little"), _crc32c(data[:-4])
-    if len(data) < 4 or stored != computed:
-        raise StateError(f"checkpoint {path}: its CRC-32C is 0x{stored:08x}, its {max(len(data) - 4, 0)} bytes "
-                         f"give 0x{computed:08x}: the file is corrupted or not a wear-study checkpoint")
-    try:
-        state = pickle.loads(data[:-4])
-    except (pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError) as exc:
-        raise ParameterError(f"cannot read checkpoint {path}: {exc}") from None
-    found = state.get("format") if isinstance(state, dict) else None
-    if found != CHECKPOINT_FORMAT:
-        raise ParameterError(f"checkpoint {path} has format {found!r}, this version reads {CHECKPOINT_FORMAT}")
-    if state["config"] != config.to_dict():
-        old, new = state["config"], config.to_dict()
-        diff = sorted(k for k in new if old.get(k) != new[k])
-        raise ParameterError(f"checkpoint {path} belongs to a study with other settings ({', '.join(diff)}); "
-                             "use the same options or another --out")
-    probe = ClearanceJoint(config.joint)
-    profiles = [(f"snapshot {s['revolution']} wear_depth_m", s["wear_depth_m"]) for s in state["snapshots"]]
-    for name, depth in profiles:
-        try:
-            probe.set_wear_profile(depth)
-        except StateError as exc:
-            raise StateError(f"checkpoint {path}: {name}: {exc}") from None
-    return state
-
-
 def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progress: bool = True,
                    plots: bool = True, stop_after_checkpoints: int | None = None) -> dict:
     """Run (or with ``resume`` continue) the study into ``out_dir``; returns summary.json's content.
 
+    ``resume`` may change the numerical settings (:data:`wear_study_recovery.NUMERICAL`), not the physical
+    ones.  A study that diverges writes its outputs for what finished (``"status": "diverged"``) and raises
+    :class:`StudyDiverged` (a :class:`RunDiverged`) saying where to continue from.
     ``stop_after_checkpoints`` stops right after that many checkpoints were written
     in this call, as if the process were killed (tests); the result then is
     ``{"finished": False, ...}``.
@@ -259,7 +217,9 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
     if ckpt_path.exists() and not resume:
         raise ParameterError(f"{out} already holds a wear study ({CHECKPOINT_NAME}); pass --resume to continue "
                              "it or choose another --out")
-    state = _load_checkpoint(ckpt_path, config) if resume and ckpt_path.exists() else None
+    state, changed = load_checkpoint(ckpt_path, config) if resume and ckpt_path.exists() else (None, [])
+    if state is not None and state["finished"] and changed:     # nothing left to compute with other settings
+        config, changed = config.replace(**{k: state["config"][k] for k in changed}), []
     start = time.perf_counter()
     engine = make_engine(config)
     try:
@@ -274,11 +234,32 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
             if config.jump_tolerance is not None:
                 state["jump"] = new_jump_state(config)
         else:
-            engine.restore(state["engine"])
+            _restore(engine, state["engine"], keep_numerics=bool({"integrator", "max_step_s", "rtol"} & {*changed}))
+        if not state["finished"]:
+            state["config"] = config.to_dict()     # the settings it continues with (the segments keep the history)
+            continue_segments(state, state["config"])
+            write_snapshot_index(out, config, state, "running")
         advance = _advance_jump_route if config.jump_tolerance is not None else _advance_study
-        return advance(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints, compile_time_s)
+        try:
+            return advance(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
+                           compile_time_s)
+        except (RunDiverged, StateError) as exc:     # StateError: a profile out of range (set by a jump)
+            failure = str(exc) if isinstance(exc, RunDiverged) else (
+                f"the bushing wore through ({exc})" if "deeper than the bushing radius" in str(exc) else
+                f"the state left its range ({exc})")
+            raise _diverged(config, state, engine, out, ckpt_path, plots, compile_time_s, failure) from None
     finally:
         engine.close()
+
+
+def _restore(engine, checkpoint: dict, keep_numerics: bool) -> None:
+    """Restore the engine's state; with other numerical settings, keep the step control of this engine's
+    (the checkpoint's holds the other integrator's step)."""
+    control = getattr(engine, "control", None)
+    fresh = control.copy() if control is not None else None
+    engine.restore(checkpoint)
+    if keep_numerics and fresh is not None:
+        engine.control[:] = fresh
 
 
 def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
@@ -295,35 +276,38 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
     written = 0
     wall0 = time.perf_counter()
     wall_before = state["wall_time_s"]
-    for i in range(state["next_stop"], len(stops)):
-        sim_rev, snapshot = stops[i]
-        t_stop = sim_rev * period
-        n = engine.advance_to(t_stop, buffer)
-        failure = divergence(engine, buffer[:n], config.joint.clearance_m)
-        if failure:
-            bar.close()
-            raise RunDiverged(failure)
-        _keep_window_samples(state["pending_samples"], config, buffer[:n], period)
-        _, depth, volume = engine.wear_profile()
-        state["growth"].append((sim_rev * per, float(depth.max()), volume))
-        if snapshot is not None:
-            samples = np.concatenate(state["pending_samples"].pop(snapshot, [np.zeros((0, L.N_SAMPLE_COLUMNS))]))
-            state["snapshots"].append(_snapshot(config, snapshot, sim_rev, phi_deg, depth, volume, samples,
-                                                wall_before + time.perf_counter() - wall0))
-        state["next_stop"] = i + 1
-        final = i + 1 == len(stops)
-        if final or sim_rev - state["last_checkpoint_revolution"] >= config.checkpoint_every_revolutions - 1e-9:
-            state["finished"] = final
-            state["last_checkpoint_revolution"] = sim_rev
-            state["wall_time_s"] = wall_before + time.perf_counter() - wall0
-            state["engine"] = engine.checkpoint()
-            _write_checkpoint_atomic(ckpt_path, state)
-            written += 1
-            if stop_after_checkpoints is not None and written >= stop_after_checkpoints and not final:
-                bar.close()
-                return {"finished": False, "checkpoint": str(ckpt_path)}
-        bar.update(sim_rev * per - done_at_start)
-    bar.close()
+    try:
+        for i in range(state["next_stop"], len(stops)):
+            sim_rev, snapshot = stops[i]
+            t_stop = sim_rev * period
+            n = engine.advance_to(t_stop, buffer)
+            failure = divergence(engine, buffer[:n], config.joint.clearance_m)
+            if failure:
+                raise RunDiverged(failure)
+            _keep_window_samples(state["pending_samples"], config, buffer[:n], period)
+            _, depth, volume = engine.wear_profile()
+            _check_not_worn_through(config, float(depth.max()), sim_rev * per)
+            state["growth"].append((sim_rev * per, float(depth.max()), volume))
+            if snapshot is not None:
+                samples = np.concatenate(state["pending_samples"].pop(snapshot, [np.zeros((0, L.N_SAMPLE_COLUMNS))]))
+                _keep_snapshot(config, state, out, phi_deg, _snapshot(
+                    config, snapshot, sim_rev, phi_deg, depth, volume, samples,
+                    wall_before + time.perf_counter() - wall0), sim_rev * per)
+            state["next_stop"] = i + 1
+            final = i + 1 == len(stops)
+            if final or sim_rev - state["last_checkpoint_revolution"] >= config.checkpoint_every_revolutions - 1e-9:
+                state["finished"] = final
+                state["last_checkpoint_revolution"] = sim_rev
+                state["wall_time_s"] = wall_before + time.perf_counter() - wall0
+                state["engine"] = engine.checkpoint()
+                extend_segment(state, sim_rev * per)
+                write_checkpoint_atomic(ckpt_path, state)
+                written += 1
+                if stop_after_checkpoints is not None and written >= stop_after_checkpoints and not final:
+                    return {"finished": False, "checkpoint": str(ckpt_path)}
+            bar.update(sim_rev * per - done_at_start)
+    finally:
+        bar.close()
     return write_study_outputs(config, state, engine, out, plots, compile_time_s)
 
 
@@ -337,20 +321,69 @@ def _advance_jump_route(config, state, engine, out, ckpt_path, progress, plots, 
 
     def keep_snapshot(revolution, simulated, samples):
         _, depth, volume = engine.wear_profile()
-        state["snapshots"].append(_snapshot(config, revolution, simulated, phi_deg, depth, volume, samples,
-                                            wall_before + time.perf_counter() - wall0))
+        _keep_snapshot(config, state, out, phi_deg, _snapshot(config, revolution, simulated, phi_deg, depth, volume,
+                                                              samples, wall_before + time.perf_counter() - wall0),
+                       revolution)
 
     def checkpoint() -> bool:
+        _check_not_worn_through(config, engine.max_wear_depth_m(), state["jump"]["revolution"])
         state["finished"] = state["jump"]["revolution"] >= config.revolutions
         state["wall_time_s"] = wall_before + time.perf_counter() - wall0
         state["engine"] = engine.checkpoint()
-        _write_checkpoint_atomic(ckpt_path, state)
+        extend_segment(state, state["jump"]["revolution"])
+        write_checkpoint_atomic(ckpt_path, state)
         written.append(1)
         return state["finished"] or stop_after_checkpoints is None or len(written) < stop_after_checkpoints
 
     if not advance_jump_study(config, state, engine, keep_snapshot, checkpoint, progress):
         return {"finished": False, "checkpoint": str(ckpt_path)}
     return write_study_outputs(config, state, engine, out, plots, compile_time_s)
+
+
+def _keep_snapshot(config, state, out, phi_deg, snapshot: dict, revolution: float) -> None:
+    """A snapshot into the state, and its files and entry on disk now (a study killed later keeps them)."""
+    state["snapshots"].append(snapshot)
+    extend_segment(state, revolution)
+    write_snapshot(out, phi_deg, snapshot)
+    write_snapshot_index(out, config, state, "running")
+
+
+def _check_not_worn_through(config, max_depth_m: float, revolution: float) -> None:
+    """A profile deeper than the bushing's radius is no state to go on from (nor to checkpoint)."""
+    if not max_depth_m < config.joint.bushing_radius_m:
+        raise RunDiverged(f"the bushing wore through by revolution {revolution:.6g}: max depth {max_depth_m:.6g} m, "
+                          f"its radius {config.joint.bushing_radius_m:g} m")
+
+
+def _diverged(config, state, engine, out, ckpt_path, plots, compile_time_s, failure: str) -> StudyDiverged:
+    """Write the outputs of what finished: the snapshots and growth reached, the final-state files at the last
+    good checkpoint (the engine restored to it); the error to raise, one line."""
+    period = config.mechanism.period_s
+    reached_time = float(engine.t)
+    good = read_checkpoint(ckpt_path) if ckpt_path.exists() else None
+    try:
+        if good is not None:
+            engine.restore(good["engine"])
+    except StateError:          # a checkpoint of an earlier version, worn through: none to continue from
+        good = None
+    final = engine if good is not None else make_engine(config)   # no checkpoint: the final state is the start
+    last_good = checkpoint_revolution(good) if good is not None else None
+    if config.jump_tolerance is None:
+        reached = reached_time / period * config.revolutions_per_simulated_revolution
+    else:   # checkpoints follow every block and its jump: the failing block started at the last one
+        base = good["jump"] if good is not None else new_jump_state(config)
+        reached = base["revolution"] + reached_time / period - base["simulated_revolutions"]
+    reached = round(reached, 9)
+    message = diverged_message(config, out, reached, reached_time, divergence_reason(failure), last_good)
+    ending = {"status": "worn through" if "wore through" in message else "diverged", "failure": message,
+              "reached_revolution": reached, "reached_simulated_time_s": reached_time,
+              "last_good_checkpoint_revolution": last_good, "final_state_revolution": last_good or 0.0}
+    try:
+        summary = write_study_outputs(config, state, final, out, plots, compile_time_s, ending)
+    finally:
+        if final is not engine:
+            final.close()
+    return StudyDiverged(message, summary)
 
 
 def _keep_window_samples(pending: dict, config: WearStudyConfig, samples: np.ndarray, period: float) -> None:
@@ -379,51 +412,47 @@ def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall
             "samples": samples if revolution == config.revolutions else None}
 
 
-def _growth_assessment(growth: np.ndarray) -> dict:
-    """Does the growth accelerate?  Compared with the experiment (0.19 mm at 200k, 0.55 mm at 400k)."""
-    r, d = growth[:, 0], growth[:, 1]
-    half = float(np.interp(r[-1] / 2.0, r, d))
-    exp_ratio = EXPERIMENT_MAX_DEPTH_M[1] / EXPERIMENT_MAX_DEPTH_M[0]
-    ratio = float(d[-1] / half) if half > 0 else float("nan")
-    return {"depth_ratio_full_to_half": ratio,
-            "growth_exponent": growth_exponent(r, d),
-            "late_rate_m_per_1000_rev": float((d[-1] - half) / (r[-1] / 2.0) * 1000.0) if r[-1] > 0 else None,
-            "experiment_depth_ratio_full_to_half": exp_ratio,
-            "experiment_growth_exponent": math.log(exp_ratio) / math.log(2.0),
-            "accelerates": bool(ratio > 2.0),
-            "note": "depth ~ revolutions**p; p > 1 (ratio > 2) means the growth accelerates, as in the experiment"}
-
-
 def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path, plots: bool = True,
-                        compile_time_s: float = 0.0) -> dict:
-    """Profiles, growth curve, figures and summary.json (docs/model.md §6 keys for the final state + the study)."""
+                        compile_time_s: float = 0.0, ending: dict | None = None) -> dict:
+    """Profiles, growth curve, figures and summary.json (docs/model.md §6 keys for the final state + the study).
+
+    ``ending`` (a diverged study, :func:`_diverged`): its status and where it stopped; the final state is then
+    the engine's (restored to the last good checkpoint), the snapshots and growth those reached."""
     period = config.mechanism.period_s
     phi_deg = profile_angles_deg(config.joint.n_points)
     snaps = state["snapshots"]
     for s in snaps:
-        np.savetxt(out / f"profile_rev{s['revolution']}.csv", np.column_stack([phi_deg, s["wear_depth_m"]]),
-                   delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")
-    growth = np.asarray(state["growth"])
+        write_profile_csv(out / f"profile_rev{s['revolution']}.csv", phi_deg, s["wear_depth_m"])
+    growth = np.asarray(state["growth"], dtype=float).reshape(-1, 3)
     np.savetxt(out / "wear_growth.csv", growth, delimiter=",", header="revolutions,max_wear_depth_m,worn_volume_m3",
                comments="", fmt="%.10g")
     jumping = "jump" in state
-    simulated = state["jump"]["simulated_revolutions"] if jumping else config.simulated_revolutions
+    if ending is None:
+        simulated = state["jump"]["simulated_revolutions"] if jumping else config.simulated_revolutions
+        revolutions, samples = float(config.revolutions), snaps[-1]["samples"]
+        depth, volume = snaps[-1]["wear_depth_m"], snaps[-1]["worn_volume_m3"]
+    else:
+        simulated = engine.t / period
+        revolutions, samples = ending["final_state_revolution"], np.zeros((0, L.N_SAMPLE_COLUMNS))
+        _, depth, volume = engine.wear_profile()
     n_complete = max(1, int(simulated + 1e-9))
-    final = snaps[-1]
-    per = config.revolutions / simulated
+    per = config.revolutions_per_simulated_revolution if not jumping else revolutions / max(simulated, 1e-300)
     at_sim_rev_ends = [g[1] for g in state["growth"] if jumping or abs(g[0] / per - round(g[0] / per)) < 1e-9]
     record = RunRecord(
-        samples=final["samples"], revolution_stats=engine.revolution_stats[:n_complete],
-        wear_growth_m=np.asarray(at_sim_rev_ends), phi_deg=phi_deg, wear_depth_m=final["wear_depth_m"],
-        worn_volume_m3=final["worn_volume_m3"], simulated_time_s=simulated * period,
-        wall_time_s=state["wall_time_s"], compile_time_s=compile_time_s, revolutions=float(config.revolutions),
+        samples=samples, revolution_stats=engine.revolution_stats[:n_complete],
+        wear_growth_m=np.asarray(at_sim_rev_ends), phi_deg=phi_deg, wear_depth_m=depth,
+        worn_volume_m3=volume, simulated_time_s=simulated * period,
+        wall_time_s=state["wall_time_s"], compile_time_s=compile_time_s, revolutions=revolutions,
         period_s=period,
-        clearance_m=config.joint.clearance_m,
+        clearance_m=config.joint.clearance_m, contact_stiffness_N_m1_5=config.joint.stiffness_N_m1_5,
         parameters={"joint": config.joint.to_dict(), "mechanism": config.mechanism.to_dict(),
                     "study": {k: v for k, v in config.to_dict().items() if k not in ("joint", "mechanism")},
-                    "engine": config.engine})
-    summary = write_results(record, out, plots=plots)
+                    "engine": config.engine},
+        completed=ending is None, failure=ending["failure"] if ending else "")
+    summary = write_results(record, out, plots=plots and ending is None)
+    status = ending["status"] if ending else "finished"
     summary.update({
+        "status": status,
         "simulated_revolutions": simulated,
         "revolutions_per_simulated_revolution": per,
         "wear_factor": config.joint.wear_factor,
@@ -433,27 +462,23 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         "impact_event_definition": (f"cluster of samples with |a - a_ideal| > {config.impact_threshold_m_s2:g} m/s^2; "
                                     f"clusters closer than {config.impact_merge_deg:g} deg of crank rotation merge; "
                                     "size = the cluster's peak |a - a_ideal|"),
-        "snapshots": [{k: v for k, v in s.items() if k not in ARRAY_KEYS} for s in snaps],
-        "growth": _growth_assessment(growth),
+        "snapshots": [snapshot_entry(s) for s in snaps],
+        "growth": growth_assessment(growth) if len(growth) > 1 else None,
+        "numerical_settings": state["numerical_settings"],
         "paper_max_depth_at_4000_rev_m": PAPER_MAX_DEPTH_M,
         "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS), "max_wear_depth_m": list(EXPERIMENT_MAX_DEPTH_M)},
-        "finished": True,
+        "finished": ending is None,
+        **({k: v for k, v in ending.items() if k not in ("status", "failure")} if ending else {}),
     })
     if jumping:
         summary["cycle_jumping"] = jump_summary(config, state)
     if plots:
-        figures = {"fig7": "fig7_wear_profiles.png", "fig8": "fig8_slider_acceleration.png",
-                   "growth": "wear_growth.png"}
-        from wearjoint.plots import plot_wear_profiles
-
-        from .wear_study_plots import plot_fig8, plot_growth
-        plot_wear_profiles(phi_deg, {f"{s['revolution']} rev": s["wear_depth_m"] for s in snaps},
-                           out / figures["fig7"], title="Fig. 7: worn bushing profile (rod frame)")
-        plot_fig8(snaps, config, out / figures["fig8"])
-        plot_growth(growth, out / figures["growth"])
-        summary["figures"] = summary.get("figures", []) + list(figures.values())
+        from .wear_study_plots import plot_study
+        summary["figures"] = summary.get("figures", []) + plot_study(phi_deg, snaps, growth, config, out)
     write_json_atomic(out / "summary.json", summary)
+    write_snapshot_index(out, config, state, status)
     return summary
 
 
-__all__ = ["WearStudyConfig", "run_wear_study", "make_engine", "profile_angles_deg", "write_study_outputs"]
+__all__ = ["WearStudyConfig", "run_wear_study", "make_engine", "profile_angles_deg", "write_study_outputs",
+           "StudyDiverged", "CHECKPOINT_NAME", "CHECKPOINT_FORMAT", "ARRAY_KEYS"]

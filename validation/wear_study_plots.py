@@ -1,15 +1,50 @@
 """The wear study's figures beyond the profiles: Fig. 8 (slider acceleration at each snapshot) and the
-growth curve against the experiment's shape (:mod:`wearjoint.validation.wear_study`)."""
+growth curve against the experiment's shape, and that shape in numbers
+(:mod:`wearjoint.validation.wear_study`)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 
+from wearjoint.analysis import growth_exponent
 from wearjoint.mechanism import SliderCrank
 
 EXPERIMENT_REVOLUTIONS = (200_000, 400_000)
 EXPERIMENT_MAX_DEPTH_M = (0.19e-3, 0.55e-3)
+
+
+def growth_assessment(growth: np.ndarray) -> dict:
+    """Does the growth accelerate?  Compared with the experiment (0.19 mm at 200k, 0.55 mm at 400k)."""
+    r, d = growth[:, 0], growth[:, 1]
+    half = float(np.interp(r[-1] / 2.0, r, d))
+    exp_ratio = EXPERIMENT_MAX_DEPTH_M[1] / EXPERIMENT_MAX_DEPTH_M[0]
+    ratio = float(d[-1] / half) if half > 0 else float("nan")
+    return {"depth_ratio_full_to_half": ratio,
+            "growth_exponent": growth_exponent(r, d),
+            "late_rate_m_per_1000_rev": float((d[-1] - half) / (r[-1] / 2.0) * 1000.0) if r[-1] > 0 else None,
+            "experiment_depth_ratio_full_to_half": exp_ratio,
+            "experiment_growth_exponent": math.log(exp_ratio) / math.log(2.0),
+            "accelerates": bool(ratio > 2.0),
+            "note": "depth ~ revolutions**p; p > 1 (ratio > 2) means the growth accelerates, as in the experiment"}
+
+
+def plot_study(phi_deg: np.ndarray, snaps: list, growth: np.ndarray, config, out: Path) -> list:
+    """The study's figures (those its snapshots and growth allow: a diverged study may have neither);
+    returns their file names."""
+    from wearjoint.plots import plot_wear_profiles
+
+    figures = []
+    if snaps:
+        plot_wear_profiles(phi_deg, {f"{s['revolution']} rev": s["wear_depth_m"] for s in snaps},
+                           out / "fig7_wear_profiles.png", title="Fig. 7: worn bushing profile (rod frame)")
+        plot_fig8(snaps, config, out / "fig8_slider_acceleration.png")
+        figures += ["fig7_wear_profiles.png", "fig8_slider_acceleration.png"]
+    if len(growth) > 1:
+        plot_growth(growth, out / "wear_growth.png")
+        figures.append("wear_growth.png")
+    return figures
 
 
 def plot_fig8(snaps: list, config, path: Path) -> None:
@@ -61,4 +96,5 @@ def plot_growth(growth: np.ndarray, path: Path) -> None:
     save_figure(fig, path)
 
 
-__all__ = ["plot_fig8", "plot_growth", "EXPERIMENT_REVOLUTIONS", "EXPERIMENT_MAX_DEPTH_M"]
+__all__ = ["growth_assessment", "plot_study", "plot_fig8", "plot_growth", "EXPERIMENT_REVOLUTIONS",
+           "EXPERIMENT_MAX_DEPTH_M"]

@@ -339,10 +339,10 @@ def contact_stiffness_bound(parameters: JointParameters) -> float:
     penetration of the clearance c."""
     p = parameters
     if p.contact_model == "foundation":
-        kappa = foundation_modulus_factor(p.contact_stiffness_N_m1_5, p.pin_radius_m, p.bushing_radius_m)
+        kappa = foundation_modulus_factor(p.stiffness_N_m1_5, p.pin_radius_m, p.bushing_radius_m)
         stiffness = math.pi * kappa * p.pin_radius_m * p.bushing_radius_m
     else:
-        stiffness = p.contact_exponent * p.contact_stiffness_N_m1_5 * p.clearance_m ** (p.contact_exponent - 1.0)
+        stiffness = p.contact_exponent * p.stiffness_N_m1_5 * p.clearance_m ** (p.contact_exponent - 1.0)
     return (1.0 + p.friction_coefficient) * stiffness
 
 

@@ -92,7 +92,8 @@ def pack_joint_parameters(p: JointParameters) -> np.ndarray:
         field, component = source if isinstance(source, tuple) else (source, None)
         value = getattr(p, field)
         jp[slot] = (OPTION_CHOICES[field].index(value) if field in OPTION_CHOICES
-                    else value[component] if component is not None else value)
+                    else value[component] if component is not None
+                    else 0.0 if value is None else value)     # K not given: 0, derived from the materials
     complete_joint_parameters(jp)
     return jp
 

@@ -66,22 +66,23 @@ def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
                       pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
                       bushing_youngs_modulus_Pa: float, bushing_poisson_ratio: float,
                       form: str = "internal") -> float:
-    """Contact stiffness K [N/m^1.5], paper Eqs. (16)-(17).
+    """Contact stiffness K [N/m^1.5], paper Eqs. (16)-(17): 4 E* sqrt(R) / 3.
 
-    ``form="internal"`` (default, pin inside a bushing) uses the radius term
-    R_i R_j / (R_j - R_i); it reproduces Table 2's 7.95e10.  ``form="external"``
-    is the sum form printed in Eq. (16), R_i R_j / (R_i + R_j) (~5.6e9 for the
-    paper's values; docs/model.md §3.1).
+    ``form="internal"`` (default, pin inside a bushing; the joint's default K,
+    :func:`wearjoint.core.wear.materials_contact_stiffness`) uses the radius term
+    R_i R_j / (R_j - R_i); it gives 7.951e10 for Table 2's values (printed 7.95e10).
+    ``form="external"`` is the sum form printed in Eq. (16), R_i R_j / (R_i + R_j)
+    (~5.6e9 for the paper's values; docs/model.md §3.1).
     """
-    h_pin = (1.0 - pin_poisson_ratio ** 2) / (math.pi * pin_youngs_modulus_Pa)
-    h_bushing = (1.0 - bushing_poisson_ratio ** 2) / (math.pi * bushing_youngs_modulus_Pa)
+    from .core.wear import materials_contact_stiffness
+
+    modulus = effective_modulus(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa,
+                                bushing_poisson_ratio)
     if form == "internal":
-        radius = pin_radius_m * bushing_radius_m / (bushing_radius_m - pin_radius_m)
-    elif form == "external":
-        radius = pin_radius_m * bushing_radius_m / (bushing_radius_m + pin_radius_m)
-    else:
-        raise ParameterError(f"parameter form={form!r} is invalid: allowed one of internal, external")
-    return 4.0 / (3.0 * math.pi * (h_pin + h_bushing)) * math.sqrt(radius)
+        return float(materials_contact_stiffness(pin_radius_m, bushing_radius_m, modulus))
+    if form == "external":
+        return 4.0 / 3.0 * modulus * math.sqrt(pin_radius_m * bushing_radius_m / (bushing_radius_m + pin_radius_m))
+    raise ParameterError(f"parameter form={form!r} is invalid: allowed one of internal, external")
 
 
 def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
@@ -126,7 +127,9 @@ class JointParameters:
 
     The defaults are the joint's own: the paper's Table 2 values with the pin and bushing
     centres at the two bodies' reference points (offsets zero).  The slider-crank's offsets
-    (crank tip, rod end) belong to the mechanism: :func:`paper_joint`.
+    (crank tip, rod end) belong to the mechanism: :func:`paper_joint`.  The contact stiffness
+    follows the radii and materials (Eqs. 16-17: 7.951e10 N/m^1.5 for Table 2) unless
+    ``contact_stiffness_N_m1_5`` gives it (:attr:`stiffness_N_m1_5` is the one used).
     """
 
     pin_radius_m: float = 0.0100
@@ -138,7 +141,7 @@ class JointParameters:
     pin_poisson_ratio: float = 0.29
     bushing_youngs_modulus_Pa: float = 71.7e9
     bushing_poisson_ratio: float = 0.33
-    contact_stiffness_N_m1_5: float = 7.95e10
+    contact_stiffness_N_m1_5: float | None = None
     contact_exponent: float = 1.5
     restitution: float = 0.9
     friction_coefficient: float = 0.1
@@ -158,9 +161,10 @@ class JointParameters:
     def __post_init__(self):
         for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
                      "pin_youngs_modulus_Pa", "bushing_youngs_modulus_Pa",
-                     "contact_stiffness_N_m1_5", "contact_exponent",
-                     "friction_v1_m_s", "impact_velocity_floor_m_s", "restitution_speed_m_s"):
+                     "contact_exponent", "friction_v1_m_s", "impact_velocity_floor_m_s", "restitution_speed_m_s"):
             _positive(name, getattr(self, name))
+        if self.contact_stiffness_N_m1_5 is not None:
+            _positive("contact_stiffness_N_m1_5", self.contact_stiffness_N_m1_5)
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
             _require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
@@ -190,6 +194,9 @@ class JointParameters:
                  self.contact_model != "foundation" or self.contact_exponent == 1.5,
                  "1.5 with contact_model='foundation' (a linear foundation on a circle gives delta^1.5; "
                  "other exponents need contact_model='deepest')")
+        _require("contact_exponent", self.contact_exponent,
+                 self.contact_stiffness_N_m1_5 is not None or self.contact_exponent == 1.5,
+                 "1.5 without a given contact_stiffness_N_m1_5 (the radii and materials give K of the exponent 1.5)")
 
     def restitution_at(self, impact_speed_m_s: float) -> float:
         """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under this joint's
@@ -210,7 +217,7 @@ class JointParameters:
     @property
     def foundation_modulus_N_m3(self) -> float:
         """k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3] of the foundation contact (docs/model.md §3.10)."""
-        return (3.0 * self.contact_stiffness_N_m1_5 * math.sqrt(self.clearance_m)
+        return (3.0 * self.stiffness_N_m1_5 * math.sqrt(self.clearance_m)
                 / (4.0 * math.sqrt(2.0) * self.contact_length_m * math.sqrt(self.pin_radius_m * self.bushing_radius_m)))
 
     @property
@@ -231,6 +238,13 @@ class JointParameters:
     def effective_modulus_Pa(self) -> float:
         return effective_modulus(self.pin_youngs_modulus_Pa, self.pin_poisson_ratio,
                                  self.bushing_youngs_modulus_Pa, self.bushing_poisson_ratio)
+
+    @property
+    def stiffness_N_m1_5(self) -> float:
+        """The contact stiffness K [N/m^n] the joint uses: ``contact_stiffness_N_m1_5`` where given, else
+        :meth:`stiffness_from_materials` (Eqs. 16-17, docs/model.md §3.1)."""
+        given = self.contact_stiffness_N_m1_5
+        return float(given) if given is not None else self.stiffness_from_materials()
 
     def stiffness_from_materials(self, form: str = "internal") -> float:
         """K [N/m^1.5] from this joint's radii and materials (Eqs. 16-17)."""

@@ -55,6 +55,7 @@ class RunRecord:
     completed: bool = True
     compile_time_s: float = 0.0             # building the engine (FMU load, instantiation) and JIT compilation
     failure: str = ""                       # why the run stopped early when it diverged
+    contact_stiffness_N_m1_5: float | None = None   # the K the joint used (given, or from its materials)
 
     def last_revolution(self) -> int:
         """Index of the last revolution that was simulated (complete or partial)."""
@@ -72,6 +73,7 @@ class RunRecord:
             **analysis.deepest_point(self.phi_deg, self.wear_depth_m),
             "worn_volume_m3": self.worn_volume_m3,
             "clearance_m": self.clearance_m,
+            **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),
             "completed": self.completed,
             "failure": self.failure or None,
             "parameters": self.parameters,

@@ -94,7 +94,7 @@ def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float
         wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth, worn_volume_m3=worn_volume,
         simulated_time_s=t, wall_time_s=run.wall_time_s, compile_time_s=run.compile_time_s,
         revolutions=t / period_s, period_s=period_s, clearance_m=joint_params.clearance_m,
-        parameters=parameters, extra=extra, completed=run.completed, failure=run.failure)
+        contact_stiffness_N_m1_5=joint_params.stiffness_N_m1_5, parameters=parameters, extra=extra, completed=run.completed, failure=run.failure)
 
 
 def divergence(engine, samples: np.ndarray, clearance_m: float) -> str:

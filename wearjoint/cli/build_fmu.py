@@ -7,9 +7,13 @@ import sys
 from pathlib import Path
 
 from ..fmu import platforms
+from ..fmu import slider_crank as sc
+from ..fmu import variables as fv
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND, DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
+from ..cosim.step_rule import communication_step_rule
 from ..fmu.build_native import DEFAULT_MODEL, MODELS
-from ..parameters import JointParameters, ParameterError
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters
+from .options import _option, add_model_arguments, given_options, model_from_args
 
 
 DESCRIPTION = (f"build the ClearanceWearJoint FMU (FMI {' or '.join(f'{v}.0' for v in FMI_VERSIONS)}; native backend: "
@@ -42,6 +46,26 @@ def add_arguments(parser) -> None:
                              "plus every one whose cross toolchain is installed (.ci/install-cross-toolchains "
                              "installs them) (default %(default)s)")
     parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
+    add_model_arguments(parser, skip=("n_points",))
+    parser.epilog = ("The model options become the FMU's parameter start values (native backend): the joint's with "
+                     "--model joint (the slider-crank's lengths, if given, place its pin and bushing centres at the "
+                     "crank tip and rod end), the slider-crank's with --model slider-crank.")
+
+
+def model_parameters(args) -> tuple[JointParameters | None, SliderCrankParameters]:
+    """The parameter sets the model options give: (the joint, or None with --model slider-crank; the
+    slider-crank); ParameterError for an option of the other model."""
+    mechanism_given = given_options(args, SliderCrankParameters)
+    joint_given = {k: v for k, v in given_options(args, JointParameters).items() if k != "n_points"}
+    if args.model == "slider-crank":
+        if joint_given or args.no_wear:
+            option = _option(next(iter(joint_given))) if joint_given else "--no-wear"
+            raise ParameterError(f"{option} is a joint parameter: it applies to --model joint, not SliderCrank.fmu")
+        return None, SliderCrankParameters(**mechanism_given)
+    if mechanism_given:           # the joint of this slider-crank: its centres at the crank tip and the rod end
+        return model_from_args(args)
+    joint = JointParameters(**joint_given, **({"wear_factor": 0.0} if args.no_wear else {}))
+    return joint, SliderCrankParameters()
 
 
 def run(args) -> int:
@@ -49,11 +73,17 @@ def run(args) -> int:
     try:
         version = args.fmi_version
         requested = args.platforms
+        joint, mechanism = model_parameters(args)
+        starts = sc.parameter_starts(mechanism) if joint is None else fv.parameter_starts(joint)
         out = Path(args.out) if args.out is not None else \
             default_fmu_path(args.n_points, args.backend, fmi_version=version, platforms=requested,
-                             model=args.model).parent
+                             model=args.model, starts=starts).parent
         path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version,
-                         platforms=requested, model=args.model)
+                         platforms=requested, model=args.model, starts=starts)
+        if starts:
+            print("start values: " + ", ".join(f"{k}={v:g}" for k, v in starts.items()), file=sys.stderr)
+        if joint is not None:
+            print(communication_step_rule(joint, mechanism).text(), file=sys.stderr)
         if args.backend == "native":
             built, skipped = platforms.select(requested)
             print(f"built: {', '.join(t.folder(version) for t in built)}", file=sys.stderr)

@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import sys
 
+from ..cosim.step_rule import communication_step_rule
 from ..fmu import platforms
 from ..fmu.ssp import CONTAINER_STEP_S
-from ..parameters import SliderCrankParameters
+from ..parameters import ParameterError, SliderCrankParameters
+from .options import add_model_arguments, model_from_args
 
 
 def add_arguments(parser) -> None:
@@ -16,7 +18,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", metavar="DIR", required=True, help="directory for SliderCrankWithClearance.ssp")
     parser.add_argument("--stop-time", type=float, default=None, metavar="S",
                         help="stop time of the default experiment [s] (default: one crank revolution, "
-                             f"{SliderCrankParameters().period_s:g} s)")
+                             f"{SliderCrankParameters().period_s:g} s for the paper's)")
     parser.add_argument("--container-fmu", action="store_true",
                         help="also write SliderCrankWithClearance.fmu: the same system as one fmpy container FMU "
                              "(FMI 2.0 Co-Simulation; fmpy's container library: linux64, win64, darwin64)")
@@ -26,6 +28,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--platforms", default="auto", metavar="LIST",
                         help="platforms the FMUs carry binaries for, of "
                              f"{', '.join(platforms.CROSS_PLATFORMS)}, or auto (default %(default)s)")
+    add_model_arguments(parser)
+    parser.epilog = ("The model options become the parameter sets and the FMUs' start values; the joint's centres "
+                     "follow the crank tip and the rod end.")
 
 
 def run(args) -> int:
@@ -33,12 +38,14 @@ def run(args) -> int:
     from ..fmu.ssp import CONTAINER_FILE_NAME, container_fmu, export_ssp
 
     try:
-        path = export_ssp(args.out, stop_time=args.stop_time, platforms=args.platforms)
+        joint, mechanism = model_from_args(args)
+        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms)
         print(path)
+        print(communication_step_rule(joint, mechanism).text(), file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
             step = CONTAINER_STEP_S if args.container_step is None else args.container_step
             print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))
-    except (OSError, RuntimeError) as exc:
+    except (ParameterError, OSError, RuntimeError) as exc:
         print(f"wearjoint export-ssp: error: {exc}", file=sys.stderr)
         return 2
     return 0

@@ -28,6 +28,9 @@ _HELP = {
     "bushing_offset_m": "bushing centre in the rod's frame, x y [m]",
     "n_points": "bushing discrete points N_d",
 }
+# model options whose default is not a value: what the parameter set does without them
+_UNSET = {"contact_stiffness_N_m1_5": "(default: from the radii and materials, 4 E* sqrt(R_i R_j/(R_j - R_i))/3, "
+                                      "Eqs. 16-17; 7.951e10 for the paper's joint)"}
 
 
 def _option(name: str) -> str:
@@ -49,7 +52,7 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
         if f.name in skip:
             continue
         default = f.default
-        remark = _OFFSETS.get(f.name, f"(default {_default_text(default)})")
+        remark = _OFFSETS.get(f.name) or _UNSET.get(f.name) or f"(default {_default_text(default)})"
         help_text = " ".join(filter(None, (_HELP.get(f.name), remark)))
         if f.name in OPTION_CHOICES:
             group.add_argument(_option(f.name), dest=f.name, choices=OPTION_CHOICES[f.name], default=None, help=help_text)
@@ -57,17 +60,16 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
             group.add_argument(_option(f.name), dest=f.name, type=float, nargs=2, default=None,
                                metavar=("X", "Y"), help=help_text)
         else:
-            group.add_argument(_option(f.name), dest=f.name, type=type(default), default=None, help=help_text)
+            group.add_argument(_option(f.name), dest=f.name, type=float if default is None else type(default),
+                               default=None, help=help_text)
 
 
-def add_model_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options for every mechanism and joint parameter, plus --no-wear and --stiffness-from-materials."""
+def add_model_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
+    """Options for every mechanism and joint parameter but those of ``skip`` (the command's own), plus --no-wear."""
     _add_dataclass_options(parser.add_argument_group("slider-crank (paper Table 1)"), SliderCrankParameters)
     joint = parser.add_argument_group("clearance joint (paper Table 2, docs/model.md §3)")
-    _add_dataclass_options(joint, JointParameters)
+    _add_dataclass_options(joint, JointParameters, skip)
     joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
-    joint.add_argument("--stiffness-from-materials", action="store_true",
-                       help="compute K from radii and materials (Eq. 16, internal-contact form)")
 
 
 def restate_default(parser: argparse.ArgumentParser, dest: str, default_text: str) -> None:
@@ -77,20 +79,23 @@ def restate_default(parser: argparse.ArgumentParser, dest: str, default_text: st
     action.help = " ".join(filter(None, (_HELP.get(dest), f"(default {default_text})")))
 
 
-def _given(args, cls) -> dict:
+def given_options(args, cls) -> dict:
+    """The fields of ``cls`` (a parameter set) given on the command line, by field name."""
     return {f.name: (tuple(getattr(args, f.name)) if isinstance(getattr(args, f.name), list) else getattr(args, f.name))
             for f in dataclasses.fields(cls) if getattr(args, f.name, None) is not None}
 
 
 def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options."""
-    mechanism = SliderCrankParameters(**_given(args, SliderCrankParameters))
-    joint_values = {**mechanism.joint_offsets(), **_given(args, JointParameters)}
+    mechanism = SliderCrankParameters(**given_options(args, SliderCrankParameters))
+    joint_values = {**mechanism.joint_offsets(), **given_options(args, JointParameters)}
     if args.no_wear:
         joint_values["wear_factor"] = 0.0
     joint = JointParameters(**joint_values)
-    if args.stiffness_from_materials:
-        joint = joint.replace(contact_stiffness_N_m1_5=joint.stiffness_from_materials("internal"))
+    if joint.contact_stiffness_N_m1_5 is not None and not getattr(args, "quiet", False):
+        print(f"note: --contact-stiffness-N-m1-5 {joint.contact_stiffness_N_m1_5:g} overrides the "
+              f"{joint.stiffness_from_materials():.4g} N/m^1.5 the radii and materials give (Eqs. 16-17)",
+              file=sys.stderr)
     return joint, mechanism
 
 

@@ -50,5 +50,6 @@ def config_from_args(args) -> WearStudyConfig:
                            jump_tolerance=jump_tolerance, jump_block_revolutions=args.cycle_jump_block,
                            engine=args.engine,
                            integrator=args.integrator, max_step_s=args.max_step,
+                           **({"rtol": args.rtol} if getattr(args, "rtol", None) is not None else {}),
                            checkpoint_every_revolutions=args.checkpoint_every,
                            impact_threshold_m_s2=args.impact_threshold_m_s2, fmu_backend=args.fmu_backend)

@@ -9,7 +9,8 @@ import sys
 from ..cosim import CoSimulationOptions
 from ..parameters import MAX_WEAR_STEP_S, ParameterError
 from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from ..validation.wear_calibration import calibrate_wear_coefficient, run_convergence
+from ..validation.wear_calibration import calibrate_wear_coefficient
+from ..validation.wear_convergence import run_convergence
 from ..validation.wear_study import (
     DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
     WearStudyConfig, run_wear_study,
@@ -48,6 +49,8 @@ def add_arguments(parser) -> None:
                              "(default %(default)s)")
     parser.add_argument("--max-step", type=float, default=_STUDY["max_step_s"],
                         help="largest integration step [s] (RK4: the step) " + _MAX_STEP_DEFAULT)
+    parser.add_argument("--rtol", type=float, default=_STUDY["rtol"],
+                        help="dopri: relative tolerance (default %(default)g)")
     parser.add_argument("--checkpoint-every", type=float, default=_STUDY["checkpoint_every_revolutions"],
                         help="simulated revolutions between checkpoints (default %(default)g)")
     parser.add_argument("--impact-threshold-m-s2", type=float, default=_STUDY["impact_threshold_m_s2"],
@@ -66,6 +69,7 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from ..cosim import CoSimulationError
     from ..runner import RunDiverged
+    from ..validation.wear_study import StudyDiverged
 
     if args.seeds is not None and args.seeds > 1:
         from .sweep import run_from_args
@@ -80,8 +84,17 @@ def run(args) -> int:
             result = run_convergence(config, factors, args.out, resume=args.resume, progress=not args.quiet)
             for row in result["rows"]:
                 print(f"  {row['run']:14s} rev {row['revolution']:6d}  max depth {row['max_wear_depth_m'] * 1e6:9.2f} µm"
-                      f"  rel diff {row['max_depth_rel_diff']:+.3f}  rms rel {row['rms_profile_diff_rel']:.3f}")
+                      f"  rel diff {_number(row['max_depth_rel_diff'], '+.3f')}"
+                      f"  rms rel {_number(row['rms_profile_diff_rel'], '.3f')}"
+                      + ("  (diverged)" if row["status"] == "diverged" else ""))
             print(f"largest factor within {result['tolerance_rel']:.0%}: {result['largest_factor_within_tolerance']}")
+            if result["diverged"]:
+                label, message = next(iter(result["diverged"].items()))
+                others = [k for k in result["diverged"] if k != label]
+                print(f"wearjoint wear-study: error: {label}: {message}; "
+                      + (f"{', '.join(others)} diverged too; " if others else "")
+                      + f"the table of the runs that finished is {args.out / 'convergence.csv'}", file=sys.stderr)
+                return 1
         elif args.calibrate_max_depth_m is not None:
             result = calibrate_wear_coefficient(config, args.calibrate_max_depth_m, args.out, resume=args.resume,
                                                 progress=not args.quiet)
@@ -98,6 +111,9 @@ def run(args) -> int:
                       f"{s['max_wear_angle_deg']:.1f} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"
                       f"{_angle(s['lobe_180_angle_deg'])} deg  impact events {s['impact_events']}")
             print(f"  wall time {summary['wall_time_s']:.1f} s")
+    except StudyDiverged as exc:       # its outputs for what finished are written; the message says what next
+        print(f"wearjoint wear-study: error: {exc}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out} "
               "(continue with --resume)", file=sys.stderr)
@@ -111,6 +127,10 @@ def run(args) -> int:
 
 def _angle(value) -> str:
     return "-" if value is None else f"{value:.1f}"
+
+
+def _number(value, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
 
 
 __all__ = ["add_arguments", "run"]

@@ -14,15 +14,16 @@ WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one expl
 MAX_WEAR_STEP_S = 1e-5           # and never a longer accepted step with wear [s]
 
 # --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
-# P_FOUNDATION_MODULUS) is given (JointParameters, or the FMU's parameters: wearjoint.fmu.variables
-# maps each to its slot); the derived slots are filled by core.wear.complete_joint_parameters.
+# P_FOUNDATION_MODULUS; P_STIFFNESS where given as 0) is given (JointParameters, or the FMU's parameters:
+# wearjoint.fmu.variables maps each to its slot); the derived slots are filled by
+# core.wear.complete_joint_parameters.
 P_PIN_RADIUS = 0          # R_i [m]
 P_BUSHING_RADIUS = 1      # R_j [m]
 P_PIN_OFFSET_X = 2        # s_i^P in the pin body frame [m]
 P_PIN_OFFSET_Y = 3
 P_BUSHING_OFFSET_X = 4    # s_j^P in the bushing body frame [m]
 P_BUSHING_OFFSET_Y = 5
-P_STIFFNESS = 6           # K [N/m^n]
+P_STIFFNESS = 6           # K [N/m^n]; given as 0: derived from the radii and materials (Eqs. 16-17)
 P_EXPONENT = 7            # n [-]
 P_RESTITUTION = 8         # e_r [-]
 P_FRICTION = 9            # mu [-]

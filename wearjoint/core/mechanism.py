@@ -18,8 +18,9 @@ from .joint_access import contact_forces
 from .layout import (
     CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
     MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
-    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_MECHANISM_FIELDS, R_BUSHING_FX, R_BUSHING_FY,
-    R_BUSHING_TORQUE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
+    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_MECHANISM_FIELDS, N_RESULT, R_BUSHING_FX,
+    R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD,
+    SLIDER,
 )
 from .trig import rotated_trig
 
@@ -316,7 +317,8 @@ def stage_trig(trig, y, y_stage):
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
     :data:`JointArrays`, or a :data:`~wearjoint.core.joint_access.FmuJoint`; writes its result
-    array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none."""
+    array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none and writes the ideal
+    revolute's reaction to the joint's result array (:func:`ideal_joint_reaction`)."""
     derivative_rotated(t, y, angle_trig(y), mode, mp, joint, body_forces, ws, dy)
 
 
@@ -342,8 +344,27 @@ def derivative_rotated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
         dy[k] = y[n + k]
     if mode == MODE_IDEAL:
         accelerations(t, y[:n], y[n:], mp, True, body_forces, ws, dy[n:])
+        ideal_joint_reaction(ws, joint.result)
     else:
         open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, sin2, dy)
+
+
+@kernel(inline='always')
+def ideal_joint_reaction(ws, result):
+    """The ideal crank-rod revolute's reaction as the joint's result (layout.R_*) after
+    :func:`accelerations` of the ideal mechanism: -C^T lambda of its rows 7-8 on the crank (the pin
+    body) and on the rod (the bushing body), about their centres of mass; the normal force is its
+    magnitude, the joint always closed (contact 1, no penetration, no eccentricity, no friction)."""
+    jac = ws[0]
+    gamma = ws[4]                        # lambda after the Schur solve
+    for k in range(N_RESULT):
+        result[k] = 0.0
+    for k in range(3):
+        result[R_PIN_FX + k] = -(jac[7, CRANK + k] * gamma[7] + jac[8, CRANK + k] * gamma[8])
+        result[R_BUSHING_FX + k] = -(jac[7, ROD + k] * gamma[7] + jac[8, ROD + k] * gamma[8])
+    result[R_NORMAL_FORCE] = math.sqrt(result[R_PIN_FX] ** 2 + result[R_PIN_FY] ** 2)
+    result[R_CONTACT] = 1.0
+    result[R_CONTACT_INDEX] = -1.0
 
 
 @kernel

@@ -46,13 +46,24 @@ def effective_modulus(pin_youngs_modulus, pin_poisson_ratio, bushing_youngs_modu
 
 
 @kernel
+def materials_contact_stiffness(pin_radius, bushing_radius, effective_modulus_Pa):
+    """Contact stiffness K [N/m^1.5] of a pin inside a bushing, Eqs. (16)-(17) with the internal-contact
+    radius R_i R_j / (R_j - R_i): K = 4/(3 pi (h_i + h_j)) sqrt(R), h_k = (1 - nu_k^2)/(pi E_k), i.e.
+    4 E* sqrt(R) / 3 (docs/model.md §3.1)."""
+    return 4.0 / 3.0 * effective_modulus_Pa * math.sqrt(pin_radius * bushing_radius / (bushing_radius - pin_radius))
+
+
+@kernel
 def complete_joint_parameters(jp):
-    """Fill the derived slots of the joint parameter vector from the given ones: E* (Eq. 32),
-    the wear coefficient the updates use (k_w times the wear acceleration factor) and the elastic
-    foundation's k_f L / R_i (:func:`core.pressure.foundation_modulus_factor`: three square roots the
-    contact would otherwise take at every evaluation)."""
+    """Fill the derived slots of the joint parameter vector from the given ones: E* (Eq. 32), the
+    contact stiffness where it is given as 0 (from the radii and materials, Eqs. 16-17), the wear
+    coefficient the updates use (k_w times the wear acceleration factor) and the elastic foundation's
+    k_f L / R_i (:func:`core.pressure.foundation_modulus_factor`: three square roots the contact would
+    otherwise take at every evaluation)."""
     jp[P_EFFECTIVE_MODULUS] = effective_modulus(jp[P_PIN_YOUNGS_MODULUS], jp[P_PIN_POISSON_RATIO],
                                                 jp[P_BUSHING_YOUNGS_MODULUS], jp[P_BUSHING_POISSON_RATIO])
+    if jp[P_STIFFNESS] == 0.0:
+        jp[P_STIFFNESS] = materials_contact_stiffness(jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS], jp[P_EFFECTIVE_MODULUS])
     jp[P_WEAR_COEFFICIENT] = jp[P_ARCHARD_COEFFICIENT] * jp[P_WEAR_FACTOR]
     jp[P_FOUNDATION_MODULUS] = foundation_modulus_factor(jp[P_STIFFNESS], jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS])
 

@@ -296,7 +296,8 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
                      worn_volume_m3=float(trace.values[-1, _COLUMN[(ssp.JOINT, "worn_volume")]]),
                      simulated_time_s=float(trace.time_s[-1]), wall_time_s=trace.wall_time_s,
                      compile_time_s=trace.load_time_s, revolutions=float(revolutions), period_s=period,
-                     clearance_m=joint.clearance_m, parameters=parameters, extra=extra)
+                     clearance_m=joint.clearance_m, contact_stiffness_N_m1_5=joint.stiffness_N_m1_5,
+                     parameters=parameters, extra=extra)
 
 
 def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,

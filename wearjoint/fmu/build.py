@@ -72,36 +72,51 @@ def _check_model(model: str, backend: str) -> str:
     return model
 
 
+def _check_starts(starts, backend: str) -> dict:
+    """Start values other than the defaults need the native backend (the pythonfmu slave starts from the defaults)."""
+    if starts and backend != "native":
+        raise ParameterError(f"parameter backend={backend!r} is invalid with start values other than the defaults "
+                             f"({', '.join(sorted(starts))}): allowed 'native' (or set them in the host)")
+    return dict(starts or {})
+
+
 def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
-                     fmi_version: int = DEFAULT_FMI_VERSION, platforms=None, model: str = "joint") -> Path:
+                     fmi_version: int = DEFAULT_FMI_VERSION, platforms=None, model: str = "joint",
+                     starts: dict | None = None) -> Path:
     """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``,
-    ``platforms`` (native; None: this machine's plus every cross platform installed) and ``model``."""
+    ``platforms`` (native; None: this machine's plus every cross platform installed), ``model`` and
+    its parameters' ``starts`` (native)."""
     module = _backend_module(backend)
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
     model = _check_model(model, backend)
+    starts = _check_starts(starts, backend)
     if backend != "native":
         return module.default_fmu_path(n_points)
-    return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names, model=model)
+    return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names, model=model,
+                                   starts=starts)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
               backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION, platforms=None,
-              model: str = "joint") -> Path:
+              model: str = "joint", starts: dict | None = None) -> Path:
     """Build ``out_dir/ClearanceWearJoint.fmu`` (``model="joint"``) or ``out_dir/SliderCrank.fmu``
     (``model="slider-crank"``, native only, ``n_points`` unused); return its path (an identical
     existing build is kept unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend
     only; the joint's ``n_points`` is then the start value of the structural parameter
     ``n_points``).  ``platforms`` (native): a comma-separated text or list of linux64, win64,
     aarch64-linux, ...; None builds this machine's plus every cross platform whose compiler is
-    installed.  Raises ParameterError for a bad argument, RuntimeError when the build cannot run
-    (no C compiler, a missing cross toolchain)."""
+    installed.  ``starts`` (native): the parameters' start values where not the defaults, FMU name ->
+    value (:func:`wearjoint.fmu.variables.parameter_starts` of a joint,
+    :func:`wearjoint.fmu.slider_crank.parameter_starts` of a mechanism).  Raises ParameterError for a
+    bad argument, RuntimeError when the build cannot run (no C compiler, a missing cross toolchain)."""
     module = _backend_module(backend)
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
     model = _check_model(model, backend)
+    starts = _check_starts(starts, backend)
     if backend != "native":
         return module.build_fmu(out_dir, n_points=n_points, force=force)
     return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names,
-                            model=model)
+                            model=model, starts=starts)
 

@@ -23,6 +23,7 @@ one ``Float64`` array ``wear_depth`` of that size.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import subprocess
 import tempfile
@@ -128,29 +129,32 @@ def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT
             *(PACKAGE_DIR / name for name in (*BUILD_MODULES, *spec.modules))]
 
 
-def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL) -> str:
+def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL,
+              starts: dict | None = None) -> str:
     """Identifies the model a native build implements (its GUID): wearjoint version, the model (the
-    joint: n_points), FMI version, numba version, hash of the sources."""
+    joint: n_points), FMI version, numba version, hash of the sources, and of the parameters' start
+    values where ``starts`` changes them."""
     import numba
 
     spec = native_model(model)
     digest = source_digest(shipped_sources(fmi_version, model), PACKAGE_DIR.parent)
     size = spec.name if spec.fixed_size else f"n{n_points}"
-    return f"{__version__}-{size}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}"
+    values = ("-p" + hashlib.sha256(json.dumps(sorted(starts.items())).encode()).hexdigest()[:12]) if starts else ""
+    return f"{__version__}-{size}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}{values}"
 
 
 def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, platform_names=("linux64",),
-              model: str = DEFAULT_MODEL) -> str:
-    """Identifies a native build: the model and the platforms it carries binaries for."""
-    return f"{model_key(n_points, fmi_version, model)}-{'+'.join(platform_names)}"
+              model: str = DEFAULT_MODEL, starts: dict | None = None) -> str:
+    """Identifies a native build: the model (with its start values) and the platforms it carries binaries for."""
+    return f"{model_key(n_points, fmi_version, model, starts)}-{'+'.join(platform_names)}"
 
 
 def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION,
-                     platform_names=None, model: str = DEFAULT_MODEL) -> Path:
+                     platform_names=None, model: str = DEFAULT_MODEL, starts: dict | None = None) -> Path:
     """Cache location of the build for ``platform_names`` (default: what :func:`platforms.select` picks)."""
     if platform_names is None:
         platform_names = [p.name for p in platforms.select()[0]]
-    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model)
+    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model, starts)
             / native_model(model).file_name)
 
 
@@ -159,14 +163,15 @@ def model_guid(key: str) -> str:
     return "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, f"wearjoint:{key}")) + "}"
 
 
-def model_variables_header(n_points: int, guid: str) -> str:
-    """``model_variables.h``: the variable table as the C layer reads it (generated, not edited)."""
+def model_variables_header(n_points: int, guid: str, starts: dict | None = None) -> str:
+    """``model_variables.h``: the variable table as the C layer reads it (generated, not edited), the
+    parameters' start values from ``starts`` where given there."""
     variables = fv.fmu_variables(n_points)
     vr = {v.name: i for i, v in enumerate(variables)}
     parameter_index = {p.variable.name: i for i, p in enumerate(fv.PARAMETERS)}
     slot_of = {(source if isinstance(source, tuple) else (source, None)): slot
                for slot, source in PARAMETER_SLOTS.items()}
-    rows = parameter_rows([(p.variable.name, slot_of[(p.field, p.component)], p.variable.start,
+    rows = parameter_rows([(p.variable.name, slot_of[(p.field, p.component)], fv.parameter_variable(p, starts).start,
                             len(p.choices or ()), p.allowed,
                             parameter_index[p.allowed.above] if p.allowed.above else -1, p.allowed_text())
                            for p in fv.PARAMETERS])
@@ -306,18 +311,20 @@ def fmi_headers(fmi_version: int) -> Path:
     return headers
 
 
-def _model_description(fmi_version: int, n_points: int, token: str, model: str) -> bytes:
+def _model_description(fmi_version: int, n_points: int, token: str, model: str, starts: dict | None) -> bytes:
     tool = f"wearjoint {__version__} (native)"
     if model == "slider-crank":
-        return sc.model_description(fmi_version, token, tool)
+        return sc.model_description(fmi_version, token, tool, starts)
     cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
     if fmi_version == 2:
-        return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS)
-    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange)
+        return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS,
+                                     starts=starts)
+    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange, starts=starts)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
-              fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None, model: str = DEFAULT_MODEL) -> Path:
+              fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None, model: str = DEFAULT_MODEL,
+              starts: dict | None = None) -> Path:
     """Build ``model``'s native FMU (:data:`MODELS`: ``joint`` -> ``out_dir/ClearanceWearJoint.fmu``,
     ``slider-crank`` -> ``out_dir/SliderCrank.fmu``), FMI ``fmi_version`` 2 or 3; return its path.
 
@@ -325,7 +332,9 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     None builds this machine's plus every cross platform whose compiler is installed.  The joint's
     ``n_points``: FMI 2.0 fixes it in the FMU; FMI 3.0 makes it the start value of the structural
     parameter ``n_points`` (a host may set another in Configuration Mode); the slider-crank has no
-    bushing and ignores it.  An FMU there built from the same sources, model, n_points, FMI version
+    bushing and ignores it.  ``starts``: the parameters' start values where not the defaults
+    (:func:`~wearjoint.fmu.variables.parameter_starts`, :func:`~wearjoint.fmu.slider_crank.parameter_starts`).
+    An FMU there built from the same sources, model, start values, n_points, FMI version
     and platforms is kept unless ``force`` (which also recompiles the kernels).  Raises
     ParameterError for a bad argument, RuntimeError when the build cannot run (naming what to
     install).
@@ -337,14 +346,15 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
                              f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
     targets, _ = platforms.select(platform_names)
-    key = build_key(n_points, fmi_version, [t.name for t in targets], model)
+    key = build_key(n_points, fmi_version, [t.name for t in targets], model, starts)
     target_path, current = current_build(out_dir, key, force, spec.file_name)
     if current:
         return target_path
     out_dir = Path(out_dir)
     headers = fmi_headers(fmi_version)
-    guid = model_guid(model_key(n_points, fmi_version, model))
-    header = sc.model_variables_header(guid) if spec.fixed_size else model_variables_header(n_points, guid)
+    guid = model_guid(model_key(n_points, fmi_version, model, starts))
+    header = (sc.model_variables_header(guid, starts) if spec.fixed_size
+              else model_variables_header(n_points, guid, starts))
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
         modules = compile_kernel_ir(sources / "kernels", spec, reuse=not force)
@@ -374,7 +384,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         out_dir.mkdir(parents=True, exist_ok=True)
         partial = target_path.with_name(target_path.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
-            fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid, model))
+            fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid, model, starts))
             for arcname, data in binaries.items():
                 fmu.writestr(arcname, data)
             configuration = {"model": model} if spec.fixed_size else {"n_points": n_points}

@@ -89,18 +89,20 @@ def _dependencies(output: str, reference: dict[str, int], parameters: tuple[str,
 
 
 def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str],
-                          model_exchange: dict[str, str] | None = None, event_indicators: int = 0) -> bytes:
+                          model_exchange: dict[str, str] | None = None, event_indicators: int = 0,
+                          starts: dict | None = None) -> bytes:
     """The complete modelDescription.xml; ``cosimulation`` / ``model_exchange`` are the
     ``<CoSimulation>`` / ``<ModelExchange>`` attributes (``modelIdentifier`` and the capability
     flags; no ``<ModelExchange>`` if None); ``event_indicators``: Model Exchange's number of
-    event indicators."""
+    event indicators; ``starts``: parameter start values other than the defaults
+    (:func:`~wearjoint.fmu.variables.parameter_starts`)."""
     root = root_with_interfaces_and_units(
         {"fmiVersion": "2.0", "guid": guid, "generationTool": generation_tool,
          "numberOfEventIndicators": str(event_indicators)}, cosimulation, model_exchange, fv.UNIT_DEFINITIONS)
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():
         ET.SubElement(categories, "Category", name=name, description=text)
-    variables = fv.fmu_variables(n_points)
+    variables = fv.fmu_variables(n_points, starts)
     model_variables = ET.SubElement(root, "ModelVariables")
     for vr, v in enumerate(variables):
         variability, initial = _KIND[v.causality]
@@ -155,14 +157,14 @@ def fmi3_value_references() -> dict[str, int]:
 
 def model_description_fmi3_xml(n_points: int, instantiation_token: str, generation_tool: str,
                                cosimulation: dict[str, str], model_exchange: dict[str, str] | None = None,
-                               event_indicators: tuple[str, ...] = ("penetration",)) -> bytes:
+                               event_indicators: tuple[str, ...] = ("penetration",), starts: dict | None = None) -> bytes:
     """modelDescription.xml of the FMI 3.0 FMU: the variables of :mod:`wearjoint.fmu.variables`
     as ``Float64`` / ``Enumeration`` (the three option parameters, with their
     ``<EnumerationType>``), the structural parameter ``n_points`` (``UInt64``, start
     ``n_points``, settable in Configuration Mode) and the wear profile as one ``Float64`` array
     ``wear_depth`` whose ``<Dimension>`` is ``n_points``; value references from
     :func:`fmi3_value_references`; ``event_indicators`` names the outputs that are Model
-    Exchange's event indicators."""
+    Exchange's event indicators; ``starts`` as :func:`model_description_xml`'s."""
     vr = fmi3_value_references()
     root = root_with_interfaces_and_units(
         {"fmiVersion": "3.0", "instantiationToken": instantiation_token, "generationTool": generation_tool},
@@ -195,7 +197,7 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
     for v in fv.INPUTS:
         variable("Float64", v.name, v.description, fv.INPUT, "continuous", unit=v.unit, start=_number(v.start))
     for p in fv.PARAMETERS:
-        v = p.variable
+        v = fv.parameter_variable(p, starts)
         if p.choices is not None:
             variable("Enumeration", v.name, v.description, fv.PARAMETER, "fixed", "exact",
                      declaredType=enumeration_type_name(v.name), start=str(v.start))

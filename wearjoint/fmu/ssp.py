@@ -133,7 +133,8 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     """Write ``out_dir/SliderCrankWithClearance.ssp`` and return its path.
 
     ``mechanism`` (default: the paper's) and ``joint`` (default: the paper's with the mechanism's
-    offsets; ParameterError if its offsets do not fit the mechanism) become the parameter sets;
+    offsets; ParameterError if its offsets do not fit the mechanism) become the parameter sets and
+    the two FMUs' start values;
     ``stop_time`` the default experiment's stop time (default one crank revolution [s]);
     ``platforms`` those the FMUs carry binaries for (default: every installed one).
     """
@@ -146,8 +147,10 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     _require("stop_time", stop_time, _finite("stop_time", stop_time) > 0.0, "> 0")
     out_dir = Path(out_dir)
     with tempfile.TemporaryDirectory(prefix="wearjoint_ssp_") as tmp:
-        fmus = {MECHANISM: build_fmu(Path(tmp) / MECHANISM, model="slider-crank", platforms=platforms),
-                JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms)}
+        fmus = {MECHANISM: build_fmu(Path(tmp) / MECHANISM, model="slider-crank", platforms=platforms,
+                                     starts=sc.parameter_starts(mechanism)),
+                JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms,
+                                 starts=fv.parameter_starts(joint))}
         ssd = system_structure(fmus, stop_time)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
         parameter_sets = {MECHANISM: _parameter_set(sc.parameter_values(mechanism)),

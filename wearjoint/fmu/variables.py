@@ -11,6 +11,7 @@ Imports only the standard library, :mod:`wearjoint.parameters` and :mod:`wearjoi
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from ..core import layout
@@ -95,8 +96,8 @@ OUTPUT_DEPENDENCIES: dict[str, tuple[str, ...]] = {
 @dataclass(frozen=True)
 class Allowed:
     """The allowed values of a Real parameter: finite, within (or on) ``low`` / ``high`` where
-    given, greater than the parameter named ``above``, and ``equal`` where the option ``when`` =
-    (its name, value, label) has that value (the same rules as :class:`JointParameters`; the
+    given, greater than the parameter named ``above``, and ``equal`` where a parameter of ``when`` =
+    ((its name, value, label), ...) has that value (the same rules as :class:`JointParameters`; the
     native FMU checks them from this table)."""
 
     low: float | None = None
@@ -105,7 +106,7 @@ class Allowed:
     high_open: bool = False
     above: str | None = None
     equal: float | None = None
-    when: tuple[str, int, str] | None = None
+    when: tuple[tuple[str, float, str], ...] = ()
 
     def text(self) -> str:
         """The rule as :class:`ParameterError` messages state it, e.g. ``> 0`` or ``in (0, 1]``."""
@@ -115,8 +116,8 @@ class Allowed:
             rule = f"{'>' if self.low_open else '>='} {self.low:g}"
         else:
             rule = "a finite real number"
-        if self.when:
-            rule += f", and {self.equal!r} with {self.when[0]}={self.when[1]} ({self.when[2]})"
+        for other, value, label in self.when:
+            rule += f", and {self.equal!r} with {other}={value:g} ({label})"
         return rule + (f" and > {self.above}" if self.above else "")
 
 
@@ -139,10 +140,15 @@ class ParameterField:
         return self.allowed.text()
 
 
+def _fmi_real(value) -> float:
+    """A Real parameter's FMU value: an unset contact stiffness (None: from the materials) is 0."""
+    return 0.0 if value is None else float(value)
+
+
 def _real(name, unit, field, text, component=None, allowed=ANY) -> ParameterField:
     default = getattr(JointParameters, field)
     start = default if component is None else default[component]
-    return ParameterField(FmuVariable(name, PARAMETER, REAL, unit, text, float(start)), field, component,
+    return ParameterField(FmuVariable(name, PARAMETER, REAL, unit, text, _fmi_real(start)), field, component,
                           allowed=allowed)
 
 
@@ -169,11 +175,13 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _real("bushing_poisson_ratio", "1", "bushing_poisson_ratio", "Poisson ratio of the bushing",
           allowed=Allowed(0.0, True, 0.5, True)),
     _real("contact_stiffness", "N/m1.5", "contact_stiffness_N_m1_5",
-          "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent)", allowed=POSITIVE),
+          "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent); 0: from the radii and "
+          "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", allowed=NON_NEGATIVE),
     _real("contact_exponent", "1", "contact_exponent",
           "exponent n of the contact law (1.5 with the foundation contact: a linear foundation on a circle)",
-          allowed=Allowed(0.0, True, equal=1.5, when=("contact_model", CONTACT_MODELS.index("foundation"),
-                                                      "foundation"))),
+          allowed=Allowed(0.0, True, equal=1.5, when=(
+              ("contact_model", CONTACT_MODELS.index("foundation"), "foundation"),
+              ("contact_stiffness", 0.0, "K from the materials")))),
     _real("restitution", "1", "restitution", "coefficient of restitution e_r in (0, 1]",
           allowed=Allowed(0.0, True, 1.0)),
     _real("friction_coefficient", "1", "friction_coefficient", "Coulomb friction coefficient mu",
@@ -223,10 +231,25 @@ def wear_depth_outputs(n_points: int) -> tuple[FmuVariable, ...]:
                  for z in range(1, n_points + 1))
 
 
-def fmu_variables(n_points: int) -> list[FmuVariable]:
-    """Every variable of the FMU in value-reference order."""
-    return [*INPUTS, *(p.variable for p in PARAMETERS), n_points_variable(n_points),
+def fmu_variables(n_points: int, starts: dict | None = None) -> list[FmuVariable]:
+    """Every variable of the FMU in value-reference order; ``starts`` (FMU parameter name -> value,
+    :func:`parameter_starts`) replaces the parameters' default start values."""
+    return [*INPUTS, *(parameter_variable(p, starts) for p in PARAMETERS), n_points_variable(n_points),
             *SCALAR_OUTPUTS, *wear_depth_outputs(n_points)]
+
+
+def parameter_variable(p: ParameterField, starts: dict | None = None) -> FmuVariable:
+    """``p``'s variable with its start value from ``starts`` where given there."""
+    if not starts or p.variable.name not in starts:
+        return p.variable
+    return dataclasses.replace(p.variable, start=starts[p.variable.name])
+
+
+def parameter_starts(params: JointParameters) -> dict[str, float | int]:
+    """The FMU parameter values of ``params`` that differ from the FMU's defaults: the start values a
+    build for this joint writes (empty for the defaults)."""
+    return {name: value for name, value in fmi_parameter_values(params).items()
+            if value != next(p.variable.start for p in PARAMETERS if p.variable.name == name)}
 
 
 UNIT_DEFINITIONS: dict[str, dict[str, int]] = {
@@ -265,6 +288,8 @@ def joint_parameters_from_fmi(values: dict, n_points: int) -> JointParameters:
             pair = list(changes.get(p.field, getattr(JointParameters, p.field)))
             pair[p.component] = value
             changes[p.field] = tuple(pair)
+        elif p.field == "contact_stiffness_N_m1_5" and value == 0.0:
+            changes[p.field] = None      # 0: from the radii and materials
         else:
             changes[p.field] = value
     return JointParameters(**changes)
@@ -287,5 +312,5 @@ def fmi_parameter_values(params: JointParameters) -> dict[str, float | int]:
         elif p.component is not None:
             out[p.variable.name] = float(value[p.component])
         else:
-            out[p.variable.name] = float(value)
+            out[p.variable.name] = _fmi_real(value)
     return out

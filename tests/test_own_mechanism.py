@@ -1,0 +1,202 @@
+"""A slider-crank that is not the paper's (docs/own_mechanism.md): its own dimensions, speed and
+materials reach the contact in every engine and in what the build writes."""
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from wearjoint import ClearanceJoint, JointParameters, SliderCrankParameters
+from wearjoint.parameters import paper_joint
+from wearjoint.simulate import SimulationOptions, run_simulation
+
+# a longer crank and rod at twice the speed, a larger pin with more clearance, a bronze bushing
+MECHANISM = SliderCrankParameters(crank_length_m=0.08, rod_length_m=0.3, crank_speed_rpm=300.0, slider_mass_kg=1.2)
+MATERIALS = {"pin_radius_m": 0.012, "bushing_radius_m": 0.01215, "contact_length_m": 0.01,
+             "bushing_youngs_modulus_Pa": 110e9, "bushing_poisson_ratio": 0.34}
+MODEL_OPTIONS = ["--crank-length-m", "0.08", "--rod-length-m", "0.3", "--crank-speed-rpm", "300",
+                 "--slider-mass-kg", "1.2", "--pin-radius-m", "0.012", "--bushing-radius-m", "0.01215",
+                 "--contact-length-m", "0.01", "--bushing-youngs-modulus-Pa", "110e9", "--bushing-poisson-ratio", "0.34"]
+
+
+def own_joint(**changes) -> JointParameters:
+    return paper_joint(MECHANISM, **{**MATERIALS, **changes})
+
+
+def k_by_hand(joint: JointParameters) -> float:
+    """Eqs. 16-17, internal contact: K = 4/(3 pi (h_i + h_j)) sqrt(R_i R_j / (R_j - R_i)), h = (1 - nu^2)/(pi E)."""
+    h = sum((1.0 - nu * nu) / (math.pi * e) for e, nu in ((joint.pin_youngs_modulus_Pa, joint.pin_poisson_ratio),
+                                                          (joint.bushing_youngs_modulus_Pa, joint.bushing_poisson_ratio)))
+    r = joint.pin_radius_m * joint.bushing_radius_m / (joint.bushing_radius_m - joint.pin_radius_m)
+    return 4.0 / (3.0 * math.pi * h) * math.sqrt(r)
+
+
+def wearjoint(*args, timeout=600):
+    return subprocess.run([sys.executable, "-m", "wearjoint.cli", *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def _first_impact(joint: JointParameters) -> dict:
+    """The first 20 ms (before chaos separates trajectories): the largest normal force."""
+    options = SimulationOptions(revolutions=0.02 / MECHANISM.period_s, integrator="rk4", step_s=5e-6)
+    record = run_simulation(joint, MECHANISM, options, progress=False)
+    return record.summary()
+
+
+def test_the_bushings_modulus_sets_the_force_and_a_given_stiffness_overrides_it():
+    steel = own_joint()
+    polymer = own_joint(bushing_youngs_modulus_Pa=3e9, bushing_poisson_ratio=0.4)
+    assert steel.stiffness_N_m1_5 == pytest.approx(k_by_hand(steel), rel=1e-12)
+    assert polymer.stiffness_N_m1_5 == pytest.approx(k_by_hand(polymer), rel=1e-12)
+    stiff, soft = _first_impact(steel), _first_impact(polymer)
+    assert stiff["contact_stiffness_N_m1_5"] == pytest.approx(k_by_hand(steel), rel=1e-12)
+    # a Hertz impact's peak force grows as K^(2/5): 25x softer, at least 2x less force
+    assert soft["max_contact_force_N"] < 0.5 * stiff["max_contact_force_N"]
+    # a given K overrides the materials: the same forces whatever the modulus (the foundation wear uses K alone)
+    given = {"contact_stiffness_N_m1_5": 5e10}
+    a, b = _first_impact(own_joint(**given)), _first_impact(own_joint(bushing_youngs_modulus_Pa=3e9, **given))
+    assert a["max_contact_force_N"] == b["max_contact_force_N"]
+    assert a["contact_stiffness_N_m1_5"] == 5e10
+
+
+def test_the_cli_states_the_stiffness_it_uses_and_notes_an_override(tmp_path):
+    done = wearjoint("simulate", "--revolutions", "0.05", "--no-plots", "--out", str(tmp_path / "own"),
+                     "--bushing-youngs-modulus-Pa", "3e9", *MODEL_OPTIONS[:-4])
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((tmp_path / "own" / "summary.json").read_text())
+    assert summary["parameters"]["joint"]["contact_stiffness_N_m1_5"] is None
+    assert summary["contact_stiffness_N_m1_5"] == pytest.approx(k_by_hand(own_joint(bushing_youngs_modulus_Pa=3e9,
+                                                                              bushing_poisson_ratio=0.33)),
+                                                                rel=1e-12)
+    assert "note:" not in done.stderr
+    done = wearjoint("simulate", "--revolutions", "0.01", "--no-plots", "--out", str(tmp_path / "given"),
+                     "--contact-stiffness-N-m1-5", "4e10", *MODEL_OPTIONS)
+    assert done.returncode == 0, done.stderr
+    assert "note: --contact-stiffness-N-m1-5 4e+10 overrides the" in done.stderr
+    summary = json.loads((tmp_path / "given" / "summary.json").read_text())
+    assert summary["contact_stiffness_N_m1_5"] == 4e10
+    done = wearjoint("simulate", "--revolutions", "0.01", "--out", str(tmp_path / "bad"), "--contact-model", "deepest",
+                     "--contact-exponent", "2")
+    assert done.returncode == 2 and "contact_exponent=2.0 is invalid" in done.stderr
+    assert len(done.stderr.strip().splitlines()) <= 3 and "Traceback" not in done.stderr
+
+
+def test_the_paper_joint_keeps_table_2s_stiffness():
+    """Table 2 prints K = 7.95e10; its radii and materials give 7.951e10 (docs/model.md §3.1)."""
+    assert JointParameters().stiffness_N_m1_5 == pytest.approx(7.95e10, rel=2e-4)
+    assert np.isclose(JointParameters().stiffness_N_m1_5, k_by_hand(JointParameters()), rtol=1e-12)
+
+
+def _starts(fmu_path) -> dict:
+    from fmpy import read_model_description
+
+    return {v.name: (int(v.start) if v.type in ("Integer", "Enumeration") else float(v.start))
+            for v in read_model_description(str(fmu_path)).modelVariables if v.causality == "parameter"}
+
+
+def test_build_fmu_writes_the_mechanisms_parameters_as_start_values(tmp_path):
+    """The joint FMU built for this mechanism starts with its radii, materials and centres (read back
+    through fmpy) and computes with them when the host sets nothing; SliderCrank.fmu with its dimensions."""
+    fmpy = pytest.importorskip("fmpy")
+    from fmpy_instance import Slave, contact_inputs
+
+    from wearjoint.fmu import slider_crank as sc
+    from wearjoint.fmu import variables as fv
+
+    done = wearjoint("build-fmu", "--out", str(tmp_path / "joint"), "--platforms", "linux64", *MODEL_OPTIONS)
+    assert done.returncode == 0, done.stderr
+    joint_fmu = tmp_path / "joint" / "ClearanceWearJoint.fmu"
+    starts = _starts(joint_fmu)
+    assert fv.joint_parameters_from_fmi(starts, 1257) == own_joint()
+    assert starts["pin_radius"] == 0.012 and starts["bushing_offset_x"] == -0.15 and starts["contact_stiffness"] == 0.0
+    assert "start values: pin_radius=0.012" in done.stderr
+    from wearjoint.cosim.step_rule import communication_step_rule
+
+    assert communication_step_rule(own_joint(), MECHANISM).text() in done.stderr     # the rule for these parameters
+    x = contact_inputs(depth=4e-6, params=own_joint())
+    md = fmpy.read_model_description(str(joint_fmu))
+    s = Slave({"md": md, "dir": fmpy.extract(str(joint_fmu), unzipdir=str(tmp_path / "unzipped")),
+               "vr": fv.value_references(md)}, "own").initialise()
+    s.set_inputs(x)
+    expected = ClearanceJoint(own_joint()).evaluate(x[:6], x[6:])
+    assert expected.normal_force_N > 100.0
+    assert s.get(["normal_force"])[0] == pytest.approx(expected.normal_force_N, rel=1e-12)
+    s.free()
+
+    done = wearjoint("build-fmu", "--model", "slider-crank", "--out", str(tmp_path / "sc"), "--platforms", "linux64",
+                     *MODEL_OPTIONS[:8])
+    assert done.returncode == 0, done.stderr
+    assert _starts(tmp_path / "sc" / "SliderCrank.fmu") == {**sc.parameter_values(MECHANISM),
+                                                           sc.MAX_INTERNAL_STEP_NAME: sc.MAX_INTERNAL_STEP_START}
+    done = wearjoint("build-fmu", "--model", "slider-crank", "--out", str(tmp_path / "bad"), "--pin-radius-m", "0.012")
+    assert done.returncode == 2
+    assert "--pin-radius-m is a joint parameter: it applies to --model joint" in done.stderr
+
+
+def test_export_ssp_carries_the_mechanisms_parameter_sets(tmp_path):
+    """The SSP's parameter sets and its two FMUs' start values are this mechanism's (read back)."""
+    pytest.importorskip("fmpy")
+    import zipfile
+    from xml.etree import ElementTree
+
+    from wearjoint.fmu import slider_crank as sc
+    from wearjoint.fmu import ssp
+    from wearjoint.fmu import variables as fv
+
+    done = wearjoint("export-ssp", "--out", str(tmp_path), "--platforms", "linux64", *MODEL_OPTIONS)
+    assert done.returncode == 0, done.stderr
+    with zipfile.ZipFile(tmp_path / ssp.SSP_FILE_NAME) as z:
+        z.extractall(tmp_path / "unzipped")
+    resources = tmp_path / "unzipped" / "resources"
+
+    def parameter_set(name):
+        root = ElementTree.parse(resources / f"{name}.ssv").getroot()
+        return {p.get("name"): float(p[0].get("value")) for p in root.iter("{%s}Parameter" % ssp.SSV)}
+
+    joint = {k: float(v) for k, v in fv.fmi_parameter_values(own_joint()).items()}
+    assert parameter_set(ssp.JOINT) == joint
+    assert parameter_set(ssp.MECHANISM) == sc.parameter_values(MECHANISM)
+    assert fv.joint_parameters_from_fmi(_starts(resources / "ClearanceWearJoint.fmu"), 1257) == own_joint()
+    mechanism_starts = _starts(resources / "SliderCrank.fmu")
+    assert {k: mechanism_starts[k] for k in sc.parameter_values(MECHANISM)} == sc.parameter_values(MECHANISM)
+
+
+def _ideal_pin_force(t, m: SliderCrankParameters):
+    """The ideal crank-rod revolute's force on the crank [N] by Newton-Euler on the rod and the slider:
+    positions in closed form (theta1 = theta0 - omega t), accelerations by central differences."""
+    def positions(time):
+        th1 = math.radians(m.initial_crank_angle_deg) - m.omega_rad_s * time
+        px, py = m.crank_length_m * np.cos(th1), m.crank_length_m * np.sin(th1)
+        xs = px + np.sqrt(m.rod_length_m ** 2 - py ** 2)
+        th2 = np.arctan2(-py, xs - px)
+        return px, py, xs, 0.5 * (px + xs), 0.5 * py, th2
+
+    h = 1e-5
+    before, now, after = positions(t - h), positions(t), positions(t + h)
+    acc = [(a - 2 * b + c) / h ** 2 for a, b, c in zip(before, now, after)]
+    px, py, xs, gx, gy, _ = now
+    _, _, a_s, a_gx, a_gy, alpha2 = acc
+    # rod: m2 a_G = F_P + F_S - m2 g e_y, I2 alpha2 = (P - G) x F_P + (S - G) x F_S; slider x: F_S,x = -m3 a_s
+    f_sx = -m.slider_mass_kg * a_s
+    f_px = m.rod_mass_kg * a_gx - f_sx
+    # two unknowns F_P,y, F_S,y: F_P,y + F_S,y = m2 (a_Gy + g); (P-G)_x F_Py - (P-G)_y F_Px + (S-G)_x F_Sy - (S-G)_y F_Sx = I2 alpha2
+    rpx, rpy, rsx, rsy = px - gx, py - gy, xs - gx, -gy
+    total = m.rod_mass_kg * (a_gy + m.gravity_m_s2)
+    moment = m.rod_inertia_kg_m2 * alpha2 + rpy * f_px + rsy * f_sx
+    f_py = (moment - rsx * total) / (rpx - rsx)
+    return -f_px, -f_py            # on the crank (the pin body)
+
+
+def test_ideal_reports_the_ideal_revolutes_reaction():
+    options = SimulationOptions(revolutions=0.5, integrator="dopri", rtol=1e-9, atol_position_m=1e-12,
+                                atol_velocity_m_s=1e-9, sample_dt_s=1e-3, ideal=True)
+    record = run_simulation(own_joint(), MECHANISM, options, progress=False)
+    t = record.samples[:, 0]
+    fx, fy = _ideal_pin_force(t, MECHANISM)
+    scale = np.max(np.hypot(fx, fy))
+    assert scale > 100.0
+    np.testing.assert_allclose(record.samples[:, 5], fx, atol=1e-4 * scale)
+    np.testing.assert_allclose(record.samples[:, 6], fy, atol=1e-4 * scale)
+    assert record.summary()["max_contact_force_N"] == pytest.approx(scale, rel=1e-3)

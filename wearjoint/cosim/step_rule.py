@@ -1,0 +1,76 @@
+"""The communication step a fixed-step master needs for the joint FMU in a slider-crank
+(docs/cosim_study.md, "Choosing the communication step for your own mechanism").
+
+A master holding the joint's loads over a step h feeds a contact force lagging the motion by h/2
+(inputs set before the loads are read: "on time") or 3h/2 (loads read first: "one step late"); the
+lag pumps energy into a contact faster than the damping takes it out when
+
+    h > 4 ln(1/e_r) / (pi omega)   (on time; one step late: a third of it),
+    omega = sqrt(k / m),  k = dF/d delta = 1.5 K^(2/3) F_max^(1/3),
+
+m the smallest effective mass at the pin along a contact direction.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters
+
+
+@dataclass(frozen=True)
+class StepRule:
+    """The stability limits of a zero-order-hold master's step [s] and what they rest on."""
+
+    on_time_s: float                # inputs set before the loads are read
+    one_step_late_s: float          # loads read before the new inputs are set
+    max_force_N: float              # F_max the rule assumes
+    effective_mass_kg: float        # the smallest effective mass at the pin
+    contact_stiffness_N_m: float    # k = 1.5 K^(2/3) F_max^(1/3)
+    restitution: float              # e_r the damping gives (Hunt-Crossley: at its restitution speed)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def text(self) -> str:
+        """One line for a command's output."""
+        return (f"communication step (docs/cosim_study.md): below {self.on_time_s * 1e6:.2g} us with the inputs set "
+                f"before the loads are read, {self.one_step_late_s * 1e6:.2g} us one step late (F_max "
+                f"{self.max_force_N:.3g} N, effective mass {self.effective_mass_kg:.3g} kg); a master inside the "
+                "monolithic scatter needs about half of it")
+
+
+def effective_mass_kg(mechanism: SliderCrankParameters) -> float:
+    """The smallest effective mass at the crank-rod joint [kg]: the crank is driven (infinite), the rod end
+    weighs m2 + m3 along the rod and (I2 + m2 l2^2/4) / l2^2 across it (the rod turning about the slider pin)."""
+    l2 = mechanism.rod_length_m
+    across = (mechanism.rod_inertia_kg_m2 + 0.25 * mechanism.rod_mass_kg * l2 * l2) / (l2 * l2)
+    return min(across, mechanism.rod_mass_kg + mechanism.slider_mass_kg)
+
+
+def estimated_max_force_N(joint: JointParameters, mechanism: SliderCrankParameters) -> float:
+    """An upper estimate of the largest contact force [N]: a Hertz impact, F = K^(2/5) (5/4 m v^2)^(3/5), of the
+    effective mass at the crank pin's speed v = omega l1 (about 4x the 1000 N measured on the paper's mechanism;
+    the rule depends on it as F_max^(-1/6))."""
+    v = mechanism.omega_rad_s * mechanism.crank_length_m
+    energy = 1.25 * effective_mass_kg(mechanism) * v * v
+    return joint.stiffness_N_m1_5 ** 0.4 * energy ** 0.6
+
+
+def communication_step_rule(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
+                            max_force_N: float | None = None) -> StepRule:
+    """The step limits of :class:`StepRule` for ``joint`` in the slider-crank ``mechanism`` (defaults: the
+    paper's); ``max_force_N``: the largest contact force expected (default :func:`estimated_max_force_N`)."""
+    mechanism = mechanism or SliderCrankParameters()
+    joint = joint or JointParameters()
+    force = estimated_max_force_N(joint, mechanism) if max_force_N is None else float(max_force_N)
+    if not force > 0.0 or not math.isfinite(force):
+        raise ParameterError(f"parameter max_force_N={max_force_N!r} is invalid: allowed a finite value > 0")
+    mass = effective_mass_kg(mechanism)
+    k = 1.5 * joint.stiffness_N_m1_5 ** (2.0 / 3.0) * force ** (1.0 / 3.0)
+    on_time = 4.0 * math.log(1.0 / joint.restitution) / (math.pi * math.sqrt(k / mass)) if joint.restitution < 1.0 \
+        else 0.0
+    return StepRule(on_time, on_time / 3.0, force, mass, k, joint.restitution)
+
+
+__all__ = ["StepRule", "communication_step_rule", "effective_mass_kg", "estimated_max_force_N"]
