@@ -122,9 +122,9 @@ class ClearanceWearJoint(Fmi2Slave):
     """FMI 2.0 Co-Simulation slave holding one ClearanceJoint (see the module docstring)."""
 
     author = "wearjoint"
-    description = ("Planar revolute clearance joint with a wearing bushing (Archard wear, "
-                   "Lankarani-Nikravesh contact, Ambrosio friction). Inputs: kinematics of the pin "
-                   "and bushing bodies; outputs: forces (direct feed-through) and the wear profile.")
+    description = ("Planar revolute clearance joint with a wearing bushing (Archard wear, elastic-foundation "
+                   "contact, Hunt-Crossley damping, Ambrosio friction). Inputs: kinematics of the pin and bushing "
+                   "bodies; outputs: forces (direct feed-through) and the wear profile.")
     version = __version__
 
     def __init__(self, **kwargs):

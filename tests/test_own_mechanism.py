@@ -200,3 +200,54 @@ def test_ideal_reports_the_ideal_revolutes_reaction():
     np.testing.assert_allclose(record.samples[:, 5], fx, atol=1e-4 * scale)
     np.testing.assert_allclose(record.samples[:, 6], fy, atol=1e-4 * scale)
     assert record.summary()["max_contact_force_N"] == pytest.approx(scale, rel=1e-3)
+
+
+# ------------------------------------------------------------------ the start-up transient and the regimes
+def test_the_start_up_transient_is_reported_apart():
+    from wearjoint import analysis
+    from wearjoint.core import layout as L
+    from wearjoint.results import new_revolution_stats
+
+    stats = new_revolution_stats(3)
+    for k, (force, ecc) in enumerate(((5400.0, 3e-4), (180.0, 1.6e-4), (200.0, 1.5e-4))):
+        stats[k, [L.S_TIME, L.S_FORCE_MAX, L.S_ECC_MAX, L.S_ACC_MAX, L.S_ACC_MIN]] = (0.2, force, ecc, 10.0, -10.0)
+    steady = analysis.run_statistics(stats)
+    assert steady["max_contact_force_N"] == 200.0 and steady["max_eccentricity_m"] == 1.6e-4
+    assert steady["statistics_from_revolution"] == 1 and steady["start_up"]["max_contact_force_N"] == 5400.0
+    whole = analysis.run_statistics(stats, settling_revolutions=0)
+    assert whole["max_contact_force_N"] == 5400.0 and "start_up" not in whole
+    one = analysis.run_statistics(stats[:1])      # a run that has not passed its start-up keeps it, and says so
+    assert one["max_contact_force_N"] == 5400.0 and one["statistics_from_revolution"] == 0
+    assert "included" in one["start_up"]
+
+
+def _orbit(rate_rad_s, spin_rad_s, contact=1.0, n=400, dt=1e-5, radius=1e-4):
+    from wearjoint.core import layout as L
+
+    t = np.arange(n) * dt
+    samples = np.zeros((n, L.N_SAMPLE_COLUMNS))
+    samples[:, L.T_TIME] = t
+    samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y] = radius * np.cos(rate_rad_s * t), radius * np.sin(rate_rad_s * t)
+    samples[:, L.T_RELATIVE_OMEGA] = spin_rad_s
+    samples[:, L.T_CONTACT] = contact
+    return samples
+
+
+def test_a_backward_whirl_is_named_and_a_load_following_contact_is_not():
+    """A pin rolling inside the bushing turns its contact point at -omega_rel R_i / c (here 100 omega_rel): whirl;
+    the contact point following the load back by less than a turn, or turning forward, or the pin in free
+    flight: not."""
+    from wearjoint import analysis
+    from wearjoint.core import layout as L
+
+    spin = 157.0
+    assert analysis.regime(_orbit(-100 * spin, spin)) == {"regime": "backward whirl", "whirl_fraction": 1.0}
+    assert analysis.regime(_orbit(-0.5 * spin, spin))["regime"] == "impacting"     # 0.3 rad in the 4 ms
+    interrupted = _orbit(-100 * spin, spin)
+    interrupted[::20, L.T_CONTACT] = 0.0          # contact spells of 0.2 ms, 0.3 turn each
+    assert analysis.whirl_fraction(interrupted) == 0.0
+    assert analysis.regime(_orbit(+100 * spin, spin))["whirl_fraction"] == 0.0
+    assert analysis.regime(_orbit(-100 * spin, spin, contact=0.0))["whirl_fraction"] == 0.0
+    record = run_simulation(options=SimulationOptions(revolutions=0.5, integrator="rk4", step_s=1e-5),
+                            progress=False)
+    assert record.summary()["regime"] == "impacting"           # the paper's mechanism over half a revolution

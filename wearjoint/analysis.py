@@ -74,24 +74,69 @@ def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray) -> np.ndarray
                             rows[:, L.S_ACC_MIN], rows[:, L.S_FORCE_MAX], rows[:, L.S_ECC_MAX], growth])
 
 
-def run_statistics(stats: np.ndarray) -> dict:
+def _finite(x):
+    return float(x) if math.isfinite(x) else None
+
+
+def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
     """The statistics of ``summary.json`` (docs/model.md §6): of the last revolution the contact
-    fraction, the impacts and the slider acceleration extremes (None if not finite); over
-    the whole run the max contact force and the max eccentricity."""
-    last = stats[last_revolution(stats)]
+    fraction, the impacts and the slider acceleration extremes (None if not finite); the max contact
+    force and the max eccentricity over the revolutions after the first ``settling_revolutions`` (the
+    start-up transient: the pin starts centred at full speed), which are reported apart under
+    ``start_up``.  A run that has not passed them keeps its transient in the statistics
+    (``statistics_from_revolution`` 0) and says so."""
+    last_index = last_revolution(stats)
+    last = stats[last_index]
     reached = covered(stats)
-
-    def finite(x):
-        return float(x) if math.isfinite(x) else None
-
-    return {
-        "max_contact_force_N": float(stats[reached, L.S_FORCE_MAX].max()) if reached.any() else 0.0,
+    first = min(max(0, int(settling_revolutions)), last_index)
+    steady = reached & (np.arange(stats.shape[0]) >= first)
+    transient = reached & (np.arange(stats.shape[0]) < first)
+    out = {
+        "max_contact_force_N": float(stats[steady, L.S_FORCE_MAX].max()) if steady.any() else 0.0,
         "contact_fraction": float(contact_fraction(last)) if last[L.S_TIME] > 0 else 0.0,
         "impacts_per_revolution": int(last[L.S_IMPACTS]),
-        "slider_acc_max_m_s2": finite(last[L.S_ACC_MAX]),
-        "slider_acc_min_m_s2": finite(last[L.S_ACC_MIN]),
-        "max_eccentricity_m": float(stats[reached, L.S_ECC_MAX].max()) if reached.any() else 0.0,
+        "slider_acc_max_m_s2": _finite(last[L.S_ACC_MAX]),
+        "slider_acc_min_m_s2": _finite(last[L.S_ACC_MIN]),
+        "max_eccentricity_m": float(stats[steady, L.S_ECC_MAX].max()) if steady.any() else 0.0,
+        "statistics_from_revolution": first,
     }
+    if transient.any():
+        out["start_up"] = {"revolutions": first, "max_contact_force_N": float(stats[transient, L.S_FORCE_MAX].max()),
+                           "max_eccentricity_m": float(stats[transient, L.S_ECC_MAX].max()),
+                           "slider_acc_max_m_s2": _finite(stats[transient, L.S_ACC_MAX].max()),
+                           "slider_acc_min_m_s2": _finite(stats[transient, L.S_ACC_MIN].min())}
+    elif settling_revolutions > 0:
+        out["start_up"] = (f"included: the run ends in revolution {last_index}, before the {settling_revolutions} "
+                           "start-up revolution(s) are over")
+    return out
+
+
+WHIRL_SHARE = 0.05           # a run whose pin whirls for more of its time than this is in the whirl regime
+
+
+def whirl_fraction(samples: np.ndarray) -> float:
+    """Share of the sampled time [-] in which the pin whirls backward: contact spells (consecutive samples in
+    contact) in which the contact point (the eccentricity's angle in the bushing frame) travels at least one
+    full turn against the pin's spin relative to the bushing, as a pin rolling round the bushing does (at
+    -omega_rel R_i / c); impacts and sliding contacts move it back and forth with the load.  The
+    friction-driven backward whirl of docs/own_mechanism.md."""
+    if samples.shape[0] < 2:
+        return 0.0
+    angle = np.unwrap(np.arctan2(samples[:, L.T_ECC_Y], samples[:, L.T_ECC_X]))
+    dt = np.diff(samples[:, L.T_TIME])
+    backward = -np.diff(angle) * np.sign(0.5 * (samples[1:, L.T_RELATIVE_OMEGA] + samples[:-1, L.T_RELATIVE_OMEGA]))
+    contact = (samples[1:, L.T_CONTACT] > 0.5) & (samples[:-1, L.T_CONTACT] > 0.5)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], contact.astype(np.int8), [0]))))
+    whirling = sum(dt[a:b].sum() for a, b in zip(edges[::2], edges[1::2]) if backward[a:b].sum() >= 2.0 * math.pi)
+    total = dt.sum()
+    return float(whirling / total) if total > 0.0 else 0.0
+
+
+def regime(samples: np.ndarray) -> dict:
+    """The run's regime: ``backward whirl`` where the pin whirls for more than WHIRL_SHARE of the time
+    (:func:`whirl_fraction`), else ``impacting``; with the whirl fraction."""
+    share = whirl_fraction(samples)
+    return {"regime": "backward whirl" if share > WHIRL_SHARE else "impacting", "whirl_fraction": share}
 
 
 def mean_revolution_statistics(stats: np.ndarray, period_s: float, samples: np.ndarray | None = None) -> dict:

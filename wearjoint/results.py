@@ -56,6 +56,7 @@ class RunRecord:
     compile_time_s: float = 0.0             # building the engine (FMU load, instantiation) and JIT compilation
     failure: str = ""                       # why the run stopped early when it diverged
     contact_stiffness_N_m1_5: float | None = None   # the K the joint used (given, or from its materials)
+    settling_revolutions: int = 1           # the start-up transient, left out of the run's extremes
 
     def last_revolution(self) -> int:
         """Index of the last revolution that was simulated (complete or partial)."""
@@ -69,8 +70,9 @@ class RunRecord:
             "wall_time_s": self.wall_time_s,
             "compile_time_s": self.compile_time_s,
             "realtime_factor": self.simulated_time_s / self.wall_time_s if self.wall_time_s > 0 else None,
-            **analysis.run_statistics(self.revolution_stats),
+            **analysis.run_statistics(self.revolution_stats, self.settling_revolutions),
             **analysis.deepest_point(self.phi_deg, self.wear_depth_m),
+            **analysis.regime(self.samples),
             "worn_volume_m3": self.worn_volume_m3,
             "clearance_m": self.clearance_m,
             **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
-from ..parameters import OPTION_CHOICES, JointParameters, SliderCrankParameters
+from ..parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
 _HELP = {
     "rho_mode": "equivalent radius of the Hertz patch (docs/model.md §3.2)",
     "wear_placement": "where the Archard increment goes (docs/model.md §3.7)",
@@ -105,6 +105,21 @@ def add_output_arguments(parser: argparse.ArgumentParser, plots: bool = True) ->
     if plots:
         parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
     parser.add_argument("--quiet", action="store_true", help="no progress output")
+
+
+def add_settling_argument(parser: argparse.ArgumentParser) -> None:
+    """--settling-revolutions N: the start-up revolutions left out of the summary's extremes."""
+    parser.add_argument("--settling-revolutions", type=int, default=1, metavar="N",
+                        help="start-up revolutions left out of the run's max contact force and eccentricity, reported "
+                             "apart under start_up (the pin starts centred at full speed) (default %(default)s)")
+
+
+def check_settling(args) -> int:
+    """The --settling-revolutions value, refused in one line unless an integer >= 0."""
+    if args.settling_revolutions < 0:
+        raise ParameterError(f"parameter --settling-revolutions={args.settling_revolutions} is invalid: allowed an "
+                             "integer >= 0")
+    return args.settling_revolutions
 
 
 def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:

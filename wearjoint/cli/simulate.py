@@ -4,7 +4,10 @@ from __future__ import annotations
 from ..results import write_results
 from ..parameters import MAX_WEAR_STEP_S
 from ..simulate import GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
-from .options import add_model_arguments, add_output_arguments, exit_status, model_from_args, print_summary
+from .options import (
+    add_model_arguments, add_output_arguments, add_settling_argument, check_settling, exit_status, model_from_args,
+    print_summary,
+)
 
 _DEFAULTS = SimulationOptions()
 
@@ -41,6 +44,7 @@ def options_from_args(args) -> SimulationOptions:
 
 def add_arguments(parser) -> None:
     add_output_arguments(parser)
+    add_settling_argument(parser)
     add_integration_arguments(parser)
     add_model_arguments(parser)
 
@@ -48,7 +52,9 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     joint, mechanism = model_from_args(args)
     options = options_from_args(args)
+    settling = check_settling(args)
     record = run_simulation(joint, mechanism, options, progress=not args.quiet)
+    record.settling_revolutions = settling
     summary = write_results(record, args.out, plots=not args.no_plots)
     print_summary(summary, args.out, ("integrator_accepted_steps", "integrator_rejected_steps"))
     return exit_status(record, "simulate")

@@ -15,9 +15,9 @@ from xml.etree import ElementTree as ET
 from .. import __version__
 from . import variables as fv
 
-DESCRIPTION = ("Planar revolute clearance joint with a wearing bushing (Archard wear, "
-               "Lankarani-Nikravesh contact, Ambrosio friction). Inputs: kinematics of the pin "
-               "and bushing bodies; outputs: forces (direct feed-through) and the wear profile.")
+DESCRIPTION = ("Planar revolute clearance joint with a wearing bushing (Archard wear, elastic-foundation "
+               "contact, Hunt-Crossley damping, Ambrosio friction). Inputs: kinematics of the pin and bushing "
+               "bodies; outputs: forces (direct feed-through) and the wear profile.")
 LOG_CATEGORIES = {"logStatusError": "errors (always reported)", "logStatusWarning": "warnings",
                   "logAll": "every other message"}
 # causality -> (variability, initial) of the ScalarVariable
@@ -157,7 +157,8 @@ def fmi3_value_references() -> dict[str, int]:
 
 def model_description_fmi3_xml(n_points: int, instantiation_token: str, generation_tool: str,
                                cosimulation: dict[str, str], model_exchange: dict[str, str] | None = None,
-                               event_indicators: tuple[str, ...] = ("penetration",), starts: dict | None = None) -> bytes:
+                               event_indicators: tuple[str, ...] = ("penetration",),
+                               starts: dict | None = None) -> bytes:
     """modelDescription.xml of the FMI 3.0 FMU: the variables of :mod:`wearjoint.fmu.variables`
     as ``Float64`` / ``Enumeration`` (the three option parameters, with their
     ``<EnumerationType>``), the structural parameter ``n_points`` (``UInt64``, start
