@@ -113,6 +113,19 @@ def _trace_command(tmp_path, n: int, h: float = 1e-3) -> str:
 
 
 # ------------------------------------------------------------------ the model
+
+def _continuous_time_model(fmu) -> "FMU2Model":
+    """An initialised FMI 2.0 Model Exchange instance of the SliderCrank FMU ``fmu``, in Continuous-Time Mode."""
+    model = FMU2Model(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
+                      instanceName="me")
+    model.instantiate()
+    model.setupExperiment(startTime=0.0)
+    model.enterInitializationMode()
+    model.exitInitializationMode()
+    model.newDiscreteStates()
+    model.enterContinuousTimeMode()
+    return model
+
 def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
     """Both versions validate; the inputs are the joint FMU's force outputs, the outputs include its
     12 kinematic inputs, every SliderCrankParameters field is a parameter with its default."""
@@ -136,14 +149,7 @@ def test_fed_the_ideal_joint_reaction_the_derivatives_are_the_ideal_mechanisms(f
     inputs the ideal joint's reaction there: the FMU's derivatives are the velocities and the ideal
     mechanism's accelerations."""
     fmu = fmus[2]
-    model = FMU2Model(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
-                      instanceName="me")
-    model.instantiate()
-    model.setupExperiment(startTime=0.0)
-    model.enterInitializationMode()
-    model.exitInitializationMode()
-    model.newDiscreteStates()
-    model.enterContinuousTimeMode()
+    model = _continuous_time_model(fmu)
     rng = np.random.default_rng(3)
     y0 = MECHANISM.initial_state()
     for t in np.linspace(0.0, 0.4, 9):
@@ -210,6 +216,54 @@ def test_model_exchange_under_fmpys_cvode_equals_co_simulation(fmus):
         for name in OUTPUTS:
             scale = max(np.ptp(cs[name]), 1e-12)
             assert np.abs(me[name] - cs[name]).max() < 1e-6 * scale, (version, name)
+
+
+def _declared_input_dependencies(md) -> dict[str, set[str]]:
+    """{unknown: the inputs its ModelStructure declares it depends on} over the outputs and derivatives."""
+    return {u.variable.name: {d.name for d in u.dependencies if d.causality == "input"}
+            for u in (*md.outputs, *md.derivatives)}
+
+
+def test_model_structure_declares_the_feed_through_finite_differences_show(fmus):
+    """Every output and derivative declares its dependencies (none absent: absent means "on every known", an
+    algebraic loop for a master closing the joint around it); FMI 2.0 and 3.0 declare the same ones.  Model
+    Exchange at a generic state (30 ms into a run), each input moved by 1 N (N m) in turn: an unknown declared
+    independent of an input does not move at all (the crank's accelerations follow from its drive alone:
+    exactly), one declared dependent moves by more than 1e-3 of its unit for each input it declares."""
+    declared = {version: _declared_input_dependencies(fmu["md"]) for version, fmu in fmus.items()}
+    assert declared[2] == declared[3]
+    for version, fmu in fmus.items():
+        assert all(u.dependencies is not None for u in (*fmu["md"].outputs, *fmu["md"].derivatives,
+                                                         *fmu["md"].initialUnknowns)), version
+    state_outputs = {v.name for v in (*sc.POSITIONS, *sc.VELOCITIES, sc.CRANK_ANGLE) if v.causality == fv.OUTPUT}
+    assert all(declared[2][name] == set() for name in state_outputs)
+    assert declared[2]["slider_a"]      # the acceleration feeds through
+    slave = _slave(fmus[2])
+    for i in range(30):
+        slave.doStep(i * 1e-3, 1e-3)
+    y = slave.getReal(STATE_VRS)
+    slave.terminate()
+    slave.freeInstance()
+    model = _continuous_time_model(fmus[2])
+    model.setTime(0.03)
+    model.setContinuousStates((fmi2Real * len(y))(*y), len(y))
+    unknowns = sorted(declared[2])
+    vrs = [sc.VALUE_REFERENCES[name] for name in unknowns]
+    base = list(_smooth_loads(0.03))
+    model.setReal(INPUT_VRS, base)
+    before = np.array(model.getReal(vrs))
+    for k, v in enumerate(sc.INPUTS):
+        moved = list(base)
+        moved[k] += 1.0
+        model.setReal(INPUT_VRS, moved)
+        change = np.abs(np.array(model.getReal(vrs)) - before)
+        for name, delta in zip(unknowns, change):
+            if v.name in declared[2][name]:
+                assert delta > 1e-3, (name, v.name, delta)
+            else:
+                assert delta == 0.0, (name, v.name, delta)
+    model.terminate()
+    model.freeInstance()
 
 
 def _start(version: int, parameters: dict, interface: str = "instantiate") -> str:

@@ -74,6 +74,45 @@ def test_the_ssp_validates_and_wires_every_joint_variable(package):
     assert float(experiment.get("stopTime")) == mechanism.period_s
 
 
+def _master_settings(root) -> dict:
+    """What the SSD tells a master: OMSimulator's fixed step, result file, logging interval and signal
+    filter, OSP's base step, the stop time."""
+    q = lambda ns, tag: "{%s}%s" % (ns, tag)   # noqa: E731
+    system, experiment = root.find(q(ssp.SSD, "System")), root.find(q(ssp.SSD, "DefaultExperiment"))
+    first = lambda element: element.find(q(ssp.SSD, "Annotations"))[0]   # noqa: E731 (OMSimulator reads the first)
+    assert first(system).get("type") == first(experiment).get("type") == ssp.OMS_TYPE
+    master = first(system).find(f"{q(ssp.OMS, 'Annotations')}/{q(ssp.OMS, 'SimulationInformation')}/"
+                                f"{q(ssp.OMS, 'FixedStepMaster')}")
+    information = first(experiment).find(f"{q(ssp.OMS, 'Annotations')}/{q(ssp.OMS, 'SimulationInformation')}")
+    osp = experiment.find(f"{q(ssp.SSD, 'Annotations')}/{q(ssp.SSC, 'Annotation')}[@type='{ssp.OSP_TYPE}']/"
+                          f"{q(ssp.OSP, 'Algorithm')}/{q(ssp.OSP, 'FixedStepAlgorithm')}")
+    return {"oms_step": float(master.get("stepSize")), "solver": master.get("description"),
+            "osp_step": float(osp.get("baseStepSize")), "stop": float(experiment.get("stopTime")),
+            "result": information.get("resultFile"), "interval": float(information.get("loggingInterval")),
+            "filter": information.get("signalFilter")}
+
+
+def test_the_ssd_carries_the_step_stop_time_and_recorded_signals(package, tmp_path):
+    """OMSimulator's vendor annotations (the system's fixed-step master, first so that OMSimulator reads
+    it; the default experiment's result file, logging interval and signal filter, a file in the
+    package naming the recorded signals) and OSP's fixed-step algorithm hold the default 1 us step;
+    export_ssp's step_s and stop_time change them; the SSD stays valid (fmpy reads it with the schema)."""
+    path, unzipped = package
+    settings = _master_settings(etree.parse(str(unzipped / "SystemStructure.ssd")).getroot())
+    assert settings == {"oms_step": 1e-6, "solver": "oms-ma", "osp_step": 1e-6,
+                        "stop": SliderCrankParameters().period_s, "result": ssp.RESULT_FILE,
+                        "interval": ssp.RESULT_INTERVAL_S, "filter": ssp.SIGNAL_FILTER}
+    signals = etree.parse(str(unzipped / ssp.SIGNAL_FILTER)).getroot()
+    assert [v.get("name") for v in signals] == [f"{ssp.SSP_NAME}.{ssp.SSP_NAME}.{c}.{n}" for c, n in ssp.RECORDED]
+    other = ssp.export_ssp(tmp_path, stop_time=0.8, step_s=5e-7, platforms="linux64")
+    read_ssd(str(other), validate=True)
+    with zipfile.ZipFile(other) as zf:
+        settings = _master_settings(etree.fromstring(zf.read("SystemStructure.ssd")))
+    assert (settings["oms_step"], settings["osp_step"], settings["stop"]) == (5e-7, 5e-7, 0.8)
+    with pytest.raises(ParameterError, match="step_s"):
+        ssp.export_ssp(tmp_path, step_s=0.0, platforms="linux64")
+
+
 def test_a_joint_that_does_not_fit_the_mechanism_is_refused(tmp_path):
     with pytest.raises(ParameterError, match="pin_offset_m"):
         ssp.export_ssp(tmp_path, joint=JointParameters(), platforms="linux64")

@@ -32,8 +32,10 @@ def add_arguments(parser) -> None:
     g.add_argument("--master", default="wearjoint", metavar="MASTER",
                    help=f"who runs the co-simulation, one of {', '.join(MASTERS)}: wearjoint is this package's master "
                         "(the options below); the others run SliderCrankWithClearance.ssp (export-ssp) at the fixed "
-                        "step --step: OSP libcosim, ecos, fmpy's SSP simulator, or the system as one fmpy container "
-                        "FMU in fmpy (or in fmusim with --fmusim) (default %(default)s)")
+                        "step --step: OSP libcosim, ecos, fmpy's SSP simulator, OpenModelica's OMSimulator (its Python "
+                        "package importable: pip install omsimulator, or a build's lib/<platform> on PYTHONPATH), or "
+                        "the system as one fmpy container FMU in fmpy (or in fmusim with --fmusim) (default "
+                        "%(default)s)")
     g.add_argument("--fmusim", metavar="PATH", default=None,
                    help="with --master container: run the container FMU in this fmusim binary instead of fmpy")
     g.add_argument("--revolutions", type=float, default=_DEFAULTS.revolutions, help="crank revolutions to simulate")

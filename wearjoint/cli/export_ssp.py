@@ -8,7 +8,7 @@ import sys
 
 from ..cosim.step_rule import communication_step_rule
 from ..fmu import platforms
-from ..fmu.ssp import CONTAINER_STEP_S
+from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S
 from ..parameters import ParameterError, SliderCrankParameters
 from .options import add_model_arguments, model_from_args
 
@@ -28,9 +28,19 @@ def add_arguments(parser) -> None:
     parser.add_argument("--platforms", default="auto", metavar="LIST",
                         help="platforms the FMUs carry binaries for, of "
                              f"{', '.join(platforms.CROSS_PLATFORMS)}, or auto (default %(default)s)")
+    parser.add_argument("--step", type=float, default=None, metavar="S",
+                        help="communication step the package asks its masters for [s] (OMSimulator's and OSP's "
+                             f"annotations; default {DEFAULT_STEP_S:g} s for the paper's mechanism, scaled by the "
+                             "step rule for others: docs/cosim_study.md)")
     add_model_arguments(parser)
     parser.epilog = ("The model options become the parameter sets and the FMUs' start values; the joint's centres "
                      "follow the crank tip and the rod end.")
+
+
+def default_step_s(rule) -> float:
+    """The package's step for a mechanism whose step rule is ``rule``: the step measured inside the monolithic
+    scatter on the paper's mechanism (DEFAULT_STEP_S), scaled by the rule's ratio to the paper's."""
+    return DEFAULT_STEP_S * min(1.0, rule.on_time_s / communication_step_rule().on_time_s)
 
 
 def run(args) -> int:
@@ -39,9 +49,11 @@ def run(args) -> int:
 
     try:
         joint, mechanism = model_from_args(args)
-        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms)
+        rule = communication_step_rule(joint, mechanism)
+        step = args.step if args.step is not None else default_step_s(rule)
+        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms, step_s=step)
         print(path)
-        print(communication_step_rule(joint, mechanism).text(), file=sys.stderr)
+        print(f"{rule.text()}; the package asks for {step:.3g} s", file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
             step = CONTAINER_STEP_S if args.container_step is None else args.container_step
             print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))

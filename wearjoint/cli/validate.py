@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..parameters import JointParameters, ParameterError
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..validation.compare import ENGINES, FULL, QUICK
 from ..validation.report import run_validation
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
@@ -46,8 +46,10 @@ def add_arguments(parser) -> None:
                         help=f"revolutions of the wear run (default {FULL.wear_revolutions:g}, "
                              f"--quick {QUICK.wear_revolutions:g}); --wear-factor sets its factor "
                              f"(default {FULL.wear_factor:g}, --quick {QUICK.wear_factor:g}); --no-wear skips it")
-    parser.add_argument("--window", type=float, default=FULL.window_s,
-                        help="point-wise comparison over the first WINDOW seconds (default %(default)g)")
+    parser.add_argument("--window", type=float, default=None,
+                        help=f"point-wise comparison over the first WINDOW seconds (default {FULL.window_s:g} s for the "
+                             f"paper's {SliderCrankParameters().period_s:g} s revolution, scaled to the mechanism's "
+                             "period: the same share of a turn)")
     parser.add_argument("--engines", type=str, default=",".join(ENGINES),
                         help="comma-separated engines to run (default %(default)s; monolithic is the reference)")
     parser.add_argument("--perturb", nargs=2, action="append", default=[], metavar=("ENGINE", "NAME=VALUE"),
@@ -71,7 +73,8 @@ def run(args) -> int:
                    ensemble=args.ensemble if args.ensemble is not None else base.ensemble,
                    wear_revolutions=args.wear_revolutions or base.wear_revolutions,
                    wear_factor=args.wear_factor if args.wear_factor is not None else base.wear_factor,
-                   window_s=args.window, engines=_engine_list(args.engines), run_wear=not args.no_wear,
+                   window_s=args.window or base.window_s * mechanism.period_s / SliderCrankParameters().period_s,
+                   engines=_engine_list(args.engines), run_wear=not args.no_wear,
                    fmu_backend=args.fmu_backend)
     summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
     for m in summary["metrics"]:

@@ -15,6 +15,12 @@ writes, the per-revolution statistics accounted by the engines' own recorder
   apply the SSD's parameter bindings itself, so the package's parameter sets (as fmpy reads them)
   are passed as its ``parameter_set``.  It returns connector values only (no worn profile) and keeps
   every connector of every step in memory, about 3 kB a step.
+* ``omsimulator`` -- OpenModelica's OMSimulator (its Python package ``OMSimulator``: ``pip install
+  omsimulator``, or an OMSimulator build's ``lib/<platform>`` on ``PYTHONPATH``): the package imported
+  through its C API (``oms_importFile``, the SSD's OMSimulator annotations and parameter sets), the
+  fixed step set, no result file, stepped one communication step at a time and read with ``oms_getReal``.
+  Its fixed-step master moves the connections after each step in dependency order, the joint's
+  loads evaluated at the new kinematics, like the container.
 * ``container`` -- the system as one fmpy container FMU (:func:`wearjoint.fmu.ssp.container_fmu`,
   fixed internal step = the communication step), run by fmpy's ``FMU2Slave`` or, given its path,
   by fmusim (the Reference-FMUs' importer; no worn profile from its CSV).
@@ -44,7 +50,7 @@ from ..fmu import variables as fv
 from ..mechanism import pack_mechanism_parameters
 from ..results import RunRecord, new_revolution_stats, new_track
 
-MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "container")
+MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")
 THIRD_PARTY = MASTERS[1:]
 DEFAULT_STEP_S = 1e-6     # a third-party master's default communication step (stable, docs/cosim_study.md)
 # what every adapter records at each communication point: (component, variable)
@@ -59,7 +65,9 @@ _DY = {"slider_a": L.N_COORDINATES + L.SLIDER}
 _RESULT = {"pin_force_x": L.R_PIN_FX, "pin_force_y": L.R_PIN_FY, "normal_force": L.R_NORMAL_FORCE,
            "friction_force": L.R_FRICTION_FORCE, "penetration": L.R_PENETRATION, "contact": L.R_CONTACT,
            "eccentricity_x": L.R_ECCENTRICITY_X, "eccentricity_y": L.R_ECCENTRICITY_Y}
-_PACKAGES = {"libcosim": "libcosimpy", "ecos": "ecospy and tbb", "fmpy-ssp": "fmpy", "container": "fmpy"}
+_PACKAGES = {"libcosim": "libcosimpy", "ecos": "ecospy and tbb", "fmpy-ssp": "fmpy", "container": "fmpy",
+             "omsimulator": "the OMSimulator Python package (pip install omsimulator, or an OMSimulator build's "
+                            "lib/x86_64-linux-gnu on PYTHONPATH)"}
 
 
 class MasterUnavailable(ImportError):
@@ -204,6 +212,69 @@ def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
     return _align_joint(MasterTrace("fmpy-ssp", step_s, (np.arange(len(rows)) + 1) * step_s, values, None, wall, load))
 
 
+def _load_omsimulator():
+    """OMSimulator's C API (``OMSimulator.capi.Capi``; importing it loads ``libOMSimulator.so``)."""
+    try:
+        from OMSimulator.capi import Capi
+    except (ImportError, OSError) as exc:
+        raise MasterUnavailable(str(exc)) from exc
+    return Capi
+
+
+def run_omsimulator(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> MasterTrace:
+    """The package in OMSimulator at ``step_s`` [s] up to ``stop_time_s`` [s]: its log to a file (the
+    temporary folder's ``omsimulator.log``, quoted in the error if a call fails)."""
+    capi = _load_omsimulator()
+    lib = capi.obj
+    lib.oms_importFile.argtypes = [ctypes.c_char_p, ctypes.POINTER(ctypes.c_char_p)]
+    n = _steps(stop_time_s, step_s)
+    with tempfile.TemporaryDirectory(prefix="wearjoint_omsimulator_") as tmp:
+        log = Path(tmp) / "omsimulator.log"
+
+        def check(status, what: str) -> None:
+            if getattr(status, "value", status) != 0:   # oms_status_ok; warnings too end the run (OMSimulator's)
+                text = log.read_text(errors="replace").strip().splitlines() if log.exists() else []
+                raise RuntimeError(f"OMSimulator: {what} failed ({status}): {' | '.join(text[-3:])}")
+
+        start = time.perf_counter()
+        capi.setLogFile(str(log))
+        model = None
+        try:
+            capi.setTempDirectory(tmp)
+            cref = ctypes.c_char_p()
+            check(lib.oms_importFile(str(Path(ssp_path).resolve()).encode(), ctypes.byref(cref)), "importFile")
+            model = cref.value.decode()
+            system = f"{model}.{ssp.SSP_NAME}"
+            check(capi.setResultFile(model, "", 1), "setResultFile")
+            check(capi.setFixedStepSize(system, step_s), "setFixedStepSize")
+            check(capi.setStopTime(model, (n + 1) * step_s), "setStopTime")
+            check(capi.instantiate(model), "instantiate")
+            check(capi.initialize(model), "initialize")
+            value = ctypes.c_double()
+            names = [f"{system}.{component}.{name}".encode() for component, name in TRACED]
+
+            def read(crefs=names):
+                out = []
+                for name in crefs:
+                    check(lib.oms_getReal(name, ctypes.byref(value)), f"getReal({name.decode()})")
+                    out.append(value.value)
+                return out
+
+            clock = iter(range(1, n + 1))
+            # stepUntil runs while its time < the target: half a step short of the next point makes one step
+            trace = _stepwise("omsimulator", step_s, n,
+                              lambda: check(lib.oms_stepUntil(model.encode(), (next(clock) - 0.5) * step_s),
+                                            "stepUntil"), read, time.perf_counter() - start)
+            profile = [f"{system}.{ssp.JOINT}.{name}".encode() for name in _profile_names(n_points)]
+            trace.wear_depth_m = np.array(read(profile))
+            check(capi.terminate(model), "terminate")
+        finally:
+            if model is not None:
+                capi.delete(model)
+            capi.setLogFile("")   # back to the console: the file goes with the folder
+    return trace
+
+
 def run_container(ssp_path, step_s: float, stop_time_s: float, n_points: int, fmusim: str | None = None) -> MasterTrace:
     """The package as an fmpy container FMU (fixed step ``step_s`` [s]) up to ``stop_time_s`` [s],
     run by fmpy's ``FMU2Slave``, or by the fmusim binary ``fmusim`` when given."""
@@ -257,7 +328,8 @@ def _fmusim(fmusim: str, fmu: Path, names, step_s: float, n: int, load_time_s: f
     return MasterTrace("container-fmusim", step_s, np.asarray(rows["time"]), values, None, wall, load_time_s)
 
 
-RUNNERS = {"libcosim": run_libcosim, "ecos": run_ecos, "fmpy-ssp": run_fmpy_ssp, "container": run_container}
+RUNNERS = {"libcosim": run_libcosim, "ecos": run_ecos, "fmpy-ssp": run_fmpy_ssp, "omsimulator": run_omsimulator,
+           "container": run_container}
 
 
 def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, parameters: dict,
@@ -316,11 +388,11 @@ def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, ste
 
 def run_master(master: str, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,
                fmusim: str | None = None) -> RunRecord:
-    """:func:`run_package` on the package exported with these parameters (linux64 binaries) into a
+    """:func:`run_package` on the package exported with these parameters and step (linux64 binaries) into a
     temporary folder."""
     with tempfile.TemporaryDirectory(prefix="wearjoint_master_") as tmp:
         path = ssp.export_ssp(tmp, mechanism=mechanism, joint=joint, stop_time=revolutions * mechanism.period_s,
-                              platforms="linux64")
+                              platforms="linux64", step_s=min(step_s, revolutions * mechanism.period_s))
         return run_package(master, path, joint, mechanism, revolutions, step_s, sample_dt_s, fmusim)
 
 
@@ -333,6 +405,8 @@ def master_available(master: str) -> str | None:
             _load_ecos()
         elif master in ("fmpy-ssp", "container"):
             import fmpy  # noqa: F401
-    except (ImportError, OSError) as exc:
+        elif master == "omsimulator":
+            _load_omsimulator()
+    except (ImportError, OSError) as exc:   # MasterUnavailable is an ImportError
         return f"{master} needs {_PACKAGES[master]} ({type(exc).__name__}: {exc})"
     return None

@@ -232,6 +232,41 @@ static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
 """
 
 
+# ModelStructure: what each unknown depends on (tests/test_slider_crank_fmu.py checks it by finite
+# differences).  The crank is driven and pinned to the ground, so its accelerations follow from its constraints
+# alone: its loads (pin_*) move no variable.  The rod's loads move the rod's and the slider's x acceleration; the
+# slider's y and rotation are constrained to rest.  A state output is the state itself, set by the integration:
+# it depends on no input (no direct feed-through), and OMSimulator sees no algebraic loop through the joint.  The
+# accelerations depend on the states (conservatively all 18: mass matrix, Baumgarte terms), a position's
+# derivative (a velocity) on that velocity state only.
+_ROD_LOADS = tuple(v.name for v in INPUTS if v.name.startswith("bushing_"))
+_LOAD_DRIVEN = frozenset(v.name for v in ACCELERATIONS if v.name.startswith("bushing_") or v.name == "slider_a")
+
+
+def input_dependencies(name: str) -> tuple[str, ...]:
+    """The inputs whose instantaneous value variable ``name`` depends on (direct feed-through)."""
+    return _ROD_LOADS if name in _LOAD_DRIVEN else ()
+
+
+def _known_dependencies(name: str, kind: str) -> tuple[str, ...]:
+    """The knowns ``name`` depends on as an unknown of ``kind``: "output" (a state output: none; an
+    acceleration: its inputs and the states), "derivative" (a velocity: itself, the state; an acceleration:
+    its inputs and the states) or "initial" (its inputs and the mechanism's parameters: geometry, initial
+    angle, speed, masses make the assembled initial state and its accelerations)."""
+    accelerations = {a.name for a in ACCELERATIONS}
+    if kind == "initial":
+        return (*input_dependencies(name), *(p.name for p in PARAMETERS if p.name != MAX_INTERNAL_STEP_NAME))
+    if name in accelerations:
+        return (*input_dependencies(name), *(s.name for s in STATES))
+    return (name,) if kind == "derivative" else ()
+
+
+def _dependencies(name: str, reference: dict[str, int], kind: str) -> str:
+    """The ``dependencies`` attribute of ``name``: its knowns (:func:`_known_dependencies`) as FMI 2.0
+    indices or FMI 3.0 value references (``reference``), in ascending order."""
+    return " ".join(str(i) for i in sorted(reference[k] for k in _known_dependencies(name, kind)))
+
+
 def _log_categories(root: ET.Element) -> None:
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():
@@ -260,16 +295,19 @@ def _fmi2_variables(root: ET.Element, starts: dict | None) -> None:
     outputs = ET.SubElement(structure, "Outputs")
     for v in VARIABLES:
         if v.causality == fv.OUTPUT:
-            ET.SubElement(outputs, "Unknown", index=str(index[v.name]))
+            ET.SubElement(outputs, "Unknown", index=str(index[v.name]),
+                          dependencies=_dependencies(v.name, index, "output"))
     derivatives = ET.SubElement(structure, "Derivatives")
     for d in STATE_DERIVATIVES:
-        ET.SubElement(derivatives, "Unknown", index=str(index[d.name]))
+        ET.SubElement(derivatives, "Unknown", index=str(index[d.name]),
+                      dependencies=_dependencies(d.name, index, "derivative"))
     initial = ET.SubElement(structure, "InitialUnknowns")
     calculated = {v.name for v in (*STATES, *STATE_DERIVATIVES)} | {v.name for v in VARIABLES
                                                                      if v.causality == fv.OUTPUT}
     for v in VARIABLES:
         if v.name in calculated:
-            ET.SubElement(initial, "Unknown", index=str(index[v.name]))
+            ET.SubElement(initial, "Unknown", index=str(index[v.name]),
+                          dependencies=_dependencies(v.name, index, "initial"))
 
 
 def _fmi3_variables(root: ET.Element, starts: dict | None) -> None:
@@ -295,14 +333,17 @@ def _fmi3_variables(root: ET.Element, starts: dict | None) -> None:
     structure = ET.SubElement(root, "ModelStructure")
     for v in VARIABLES:
         if v.causality == fv.OUTPUT:
-            ET.SubElement(structure, "Output", valueReference=str(VALUE_REFERENCES[v.name]))
+            ET.SubElement(structure, "Output", valueReference=str(VALUE_REFERENCES[v.name]),
+                          dependencies=_dependencies(v.name, VALUE_REFERENCES, "output"))
     for d in STATE_DERIVATIVES:
-        ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(VALUE_REFERENCES[d.name]))
+        ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(VALUE_REFERENCES[d.name]),
+                      dependencies=_dependencies(d.name, VALUE_REFERENCES, "derivative"))
     calculated = {v.name for v in (*STATES, *STATE_DERIVATIVES)} | {v.name for v in VARIABLES
                                                                      if v.causality == fv.OUTPUT}
     for v in VARIABLES:
         if v.name in calculated:
-            ET.SubElement(structure, "InitialUnknown", valueReference=str(VALUE_REFERENCES[v.name]))
+            ET.SubElement(structure, "InitialUnknown", valueReference=str(VALUE_REFERENCES[v.name]),
+                          dependencies=_dependencies(v.name, VALUE_REFERENCES, "initial"))
 
 
 def model_description(fmi_version: int, guid: str, tool: str, starts: dict | None = None) -> bytes:

@@ -4,7 +4,9 @@ master runs (SSP 1.0: System Structure and Parameterization).
 The package holds ``SystemStructure.ssd`` (the system: the ``mechanism`` component, a
 ``SliderCrank.fmu``, and the ``joint`` component, a ``ClearanceWearJoint.fmu``; every input and
 output as a connector with its unit; the 12 kinematic connections mechanism -> joint and the 6
-load connections joint -> mechanism; a default experiment of one crank revolution), the two FMUs
+load connections joint -> mechanism; a default experiment of one crank revolution; the communication
+step, 1 us by default, in OMSimulator's and OSP's vendor annotations, with OMSimulator's result file,
+logging interval and signal filter ``resources/signalFilter.xml``: docs/omsimulator.md), the two FMUs
 (native, FMI 2.0, every installed platform) and one parameter set per component
 (``resources/<component>.ssv``): the paper's values, the joint's body-frame offsets those of the
 slider-crank (:meth:`SliderCrankParameters.joint_offsets`).  The SSD and the parameter sets are
@@ -36,9 +38,21 @@ PARAMETER_SET = "parameters"
 CONNECTIONS = ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
                + [(JOINT, v.name, MECHANISM, v.name) for v in sc.INPUTS])
 
-ET.register_namespace("ssd", SSD)
-ET.register_namespace("ssc", SSC)
-ET.register_namespace("ssv", SSV)
+# vendor annotations: OpenModelica's OMSimulator (its own prefix "oms", matched literally), OSP's libcosim
+OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
+OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
+OMS_TYPE, OSP_TYPE = "org.openmodelica", "com.opensimulationplatform"
+DEFAULT_STEP_S = 1e-6       # s: the communication step the package asks for (docs/cosim_study.md)
+RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 10th step at 1 us
+RESULT_FILE = f"{SSP_NAME}_res.mat"
+SIGNAL_FILTER = "resources/signalFilter.xml"
+# what OMSimulator records by default: the mechanism's crank and slider, the joint's scalar results
+RECORDED = tuple((MECHANISM, n) for n in ("crank_angle", "slider_x", "slider_v", "slider_a")) + tuple(
+    (JOINT, n) for n in ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
+                         "eccentricity_x", "eccentricity_y", "max_wear_depth", "worn_volume"))
+
+for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("oms", OMS), ("osp", OSP)):
+    ET.register_namespace(_prefix, _uri)
 
 
 def _q(namespace: str, tag: str) -> str:
@@ -88,8 +102,47 @@ def _parameter_set(values: dict) -> bytes:
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
 
-def system_structure(fmus: dict, stop_time: float) -> bytes:
-    """``SystemStructure.ssd`` for the FMUs {component: path}."""
+def _annotation(parent: ET.Element, kind: str) -> ET.Element:
+    """A vendor ``ssc:Annotation`` of type ``kind`` in ``parent``'s ``ssd:Annotations`` (made if absent)."""
+    annotations = parent.find(_q(SSD, "Annotations"))
+    if annotations is None:
+        annotations = ET.SubElement(parent, _q(SSD, "Annotations"))
+    return ET.SubElement(annotations, _q(SSC, "Annotation"), type=kind)
+
+
+def _master_annotations(system: ET.Element, experiment: ET.Element, step_s: float) -> None:
+    """The fixed communication step where masters read one, and OMSimulator's result settings.
+
+    OMSimulator (read first, so its annotations come first): the system's ``oms:SimulationInformation``
+    with an ``oms:FixedStepMaster`` (its ``oms-ma``: a weakly coupled system at the fixed step; without it
+    ``OMSimulator file.ssp`` cannot load the package), and in the default experiment its result file,
+    logging interval and signal filter (:data:`SIGNAL_FILTER`).  OSP libcosim: the default experiment's
+    ``osp:FixedStepAlgorithm``.  fmpy and ecos read no step from an SSP: their callers pass it."""
+    information = ET.SubElement(ET.SubElement(_annotation(system, OMS_TYPE), _q(OMS, "Annotations")),
+                                _q(OMS, "SimulationInformation"))
+    ET.SubElement(information, _q(OMS, "FixedStepMaster"), description="oms-ma", stepSize=repr(step_s),
+                  relativeTolerance="0.0001")
+    oms = ET.SubElement(_annotation(experiment, OMS_TYPE), _q(OMS, "Annotations"))
+    ET.SubElement(oms, _q(OMS, "SimulationInformation"), resultFile=RESULT_FILE,
+                  loggingInterval=repr(max(RESULT_INTERVAL_S, step_s)), bufferSize="10", signalFilter=SIGNAL_FILTER)
+    algorithm = ET.SubElement(_annotation(experiment, OSP_TYPE), _q(OSP, "Algorithm"))
+    ET.SubElement(algorithm, _q(OSP, "FixedStepAlgorithm"), baseStepSize=repr(step_s))
+
+
+def signal_filter(recorded=RECORDED) -> bytes:
+    """OMSimulator's signal filter (``oms:SignalFilter``): the variables it writes to its result file,
+    ``<model>.<system>.<component>.<name>`` (the package's model and system are both :data:`SSP_NAME`)."""
+    root = ET.Element(_q(OMS, "SignalFilter"), version="2.0")
+    for component, name in recorded:
+        kind = "input" if component == MECHANISM and name in {v.name for v in sc.INPUTS} else "output"
+        ET.SubElement(root, _q(OMS, "Variable"), name=f"{SSP_NAME}.{SSP_NAME}.{component}.{name}", type="Real",
+                      kind=kind)
+    ET.indent(root)
+    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+
+
+def system_structure(fmus: dict, stop_time: float, step_s: float = DEFAULT_STEP_S) -> bytes:
+    """``SystemStructure.ssd`` for the FMUs {component: path}, at the communication step ``step_s`` [s]."""
     root = ET.Element(_q(SSD, "SystemStructureDescription"), version="1.0", name=SSP_NAME)
     system = ET.SubElement(root, _q(SSD, "System"), name=SSP_NAME,
                            description="The paper's slider-crank (Sec. 6.1) with a wearing clearance joint between "
@@ -111,7 +164,8 @@ def system_structure(fmus: dict, stop_time: float) -> bytes:
     for name in sorted(units):
         unit = ET.SubElement(unit_definitions, _q(SSC, "Unit"), name=name)
         ET.SubElement(unit, _q(SSC, "BaseUnit"), {k: str(v) for k, v in _UNITS[name].items()})
-    ET.SubElement(root, _q(SSD, "DefaultExperiment"), startTime="0.0", stopTime=repr(float(stop_time)))
+    experiment = ET.SubElement(root, _q(SSD, "DefaultExperiment"), startTime="0.0", stopTime=repr(float(stop_time)))
+    _master_annotations(system, experiment, float(step_s))   # the system's: after its connections (schema)
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
@@ -129,14 +183,16 @@ def _validate(xml: bytes, schema: str, what: str) -> None:
 
 
 def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: JointParameters | None = None,
-               stop_time: float | None = None, platforms=None) -> Path:
+               stop_time: float | None = None, platforms=None, step_s: float = DEFAULT_STEP_S) -> Path:
     """Write ``out_dir/SliderCrankWithClearance.ssp`` and return its path.
 
     ``mechanism`` (default: the paper's) and ``joint`` (default: the paper's with the mechanism's
     offsets; ParameterError if its offsets do not fit the mechanism) become the parameter sets and
     the two FMUs' start values;
     ``stop_time`` the default experiment's stop time (default one crank revolution [s]);
-    ``platforms`` those the FMUs carry binaries for (default: every installed one).
+    ``platforms`` those the FMUs carry binaries for (default: every installed one);
+    ``step_s`` the communication step the package asks its masters for [s] (OMSimulator's and OSP's
+    annotations; default 1 us, docs/cosim_study.md).
     """
     from .build import build_fmu
 
@@ -145,13 +201,14 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     check_joint_fits_mechanism(joint, mechanism)
     stop_time = mechanism.period_s if stop_time is None else stop_time
     _require("stop_time", stop_time, _finite("stop_time", stop_time) > 0.0, "> 0")
+    _require("step_s", step_s, 0.0 < _finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
     out_dir = Path(out_dir)
     with tempfile.TemporaryDirectory(prefix="wearjoint_ssp_") as tmp:
         fmus = {MECHANISM: build_fmu(Path(tmp) / MECHANISM, model="slider-crank", platforms=platforms,
                                      starts=sc.parameter_starts(mechanism)),
                 JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms,
                                  starts=fv.parameter_starts(joint))}
-        ssd = system_structure(fmus, stop_time)
+        ssd = system_structure(fmus, stop_time, step_s)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
         parameter_sets = {MECHANISM: _parameter_set(sc.parameter_values(mechanism)),
                           JOINT: _parameter_set(fv.fmi_parameter_values(joint))}
@@ -162,6 +219,7 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
         partial = target.with_name(target.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as ssp:
             ssp.writestr("SystemStructure.ssd", ssd)
+            ssp.writestr(SIGNAL_FILTER, signal_filter())
             for name, path in fmus.items():
                 ssp.write(path, f"resources/{path.name}")
                 ssp.writestr(f"resources/{name}.ssv", parameter_sets[name])
