@@ -280,7 +280,7 @@ static int step_warnings(JointInstance *joint, double dt, int32_t changed, const
                   "explicit wear placements): the step no longer resolves the wear; take shorter steps or a smaller "
                   "wear_factor (docs/model.md §7; said once)", function, joint->time, dt, MAX_WEAR_STEP_S,
                   WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT);
-        status = JOINT_WARNING;
+        /* logged as a warning, returned fmi2OK: some masters (OMSimulator) end the run on a warning status */
     }
     return status;
 }

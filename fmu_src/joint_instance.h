@@ -65,8 +65,9 @@ int joint_wear_summary(JointInstance *joint, const char *function);
  * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
  * the step's mean force, docs/model.md §3.11).
  * JOINT_DISCARD (logged, state unchanged) for non-finite inputs or dt.  JOINT_WARNING (logged, the
- * step accepted), once per instance each: the first step's pin centre lies outside the bushing (the
- * inputs likely lack the offsets), or a wearing step is over the wear-step limit (docs/model.md §7). */
+ * step accepted), once per instance: the first step's pin centre lies outside the bushing (the inputs
+ * likely lack the offsets).  A wearing step over the wear-step limit (docs/model.md §7) is logged as a
+ * warning once per instance and returns JOINT_OK: the run goes on in every master. */
 int joint_accept_step(JointInstance *joint, double dt, int held, const char *function);
 /* Model Exchange: accept the step since the last completed one (wear, onsets); a JOINT_* status. */
 int joint_completed_integrator_step(JointInstance *joint, const char *function);

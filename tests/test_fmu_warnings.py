@@ -2,7 +2,7 @@
 (docs/model.md §5): a wearing step over the wear-step limit (longer than 1e-5 s, or wearing more than
 0.3 of a conforming contact's penetration in one step, docs/model.md §7), and a first step whose
 inputs put the pin centre outside the bushing (offsets forgotten).  Seen through fmpy's logger with
-the status fmi2Warning / fmi3Warning; the step is accepted."""
+the status fmi2Warning / fmi3Warning; the step is accepted, the wear-step one with fmi2OK / fmi3OK."""
 import math
 
 import pytest
@@ -56,7 +56,7 @@ def warnings_of(joint):
     (1.0, 1.0, 2e-5, True),        # share 0.07, but longer than 1e-5 s with wear
     (0.0, 4.0, 1e-3, False),       # no wear: any step
 ])
-def test_a_wearing_step_over_the_limit_is_a_warning_once(fmus, version, wear_factor, speed, step_s, over):
+def test_a_wearing_step_over_the_limit_is_logged_once_and_the_step_ok(fmus, version, wear_factor, speed, step_s, over):
     params = joint_parameters(wear_factor)
     share = step_share(params, speed, step_s)
     assert over == (wear_factor > 0.0 and (share > WEAR_STEP_SHARE or step_s > 1e-5))   # the cases are what they say
@@ -67,8 +67,8 @@ def test_a_wearing_step_over_the_limit_is_a_warning_once(fmus, version, wear_fac
         statuses = [joint.do_step(k * step_s, step_s) for k in range(3)]
         assert joint.errors() == ""
         said = warnings_of(joint)
-        if over:
-            assert statuses == [WARNING, 0, 0] and len(said) == 1
+        if over:       # logged as a warning, returned OK: a master that stops on a warning status goes on
+            assert statuses == [0, 0, 0] and len(said) == 1
             assert "wear-step limit" in said[0] and f"{step_s:g} s" in said[0] and "wear_factor" in said[0]
             assert joint.get(["max_wear_depth"])[0] > 0.0                  # the steps were taken
         else:
