@@ -10,7 +10,8 @@ from ..parameters import _finite, _require
 from ..results import write_results
 from ..simulate import SimulationOptions
 from .options import (
-    add_fmu_arguments, add_model_arguments, add_output_arguments, exit_status, model_from_args, print_summary,
+    add_fmu_arguments, add_model_arguments, add_output_arguments, add_settling_argument, check_settling, exit_status,
+    model_from_args, print_summary,
 )
 
 _DEFAULTS = CoSimulationOptions()
@@ -22,6 +23,7 @@ _MONOLITHIC = SimulationOptions()
 def add_arguments(parser) -> None:
     """Options of ``wearjoint cosim``: results folder, FMU, coupling, and every model parameter."""
     add_output_arguments(parser)
+    add_settling_argument(parser)
     add_fmu_arguments(parser)
     parser.add_argument("--fmu-interface", choices=INTERFACES, default="co-simulation",
                         help="co-simulation: this master exchanges with the FMU at communication steps (the "
@@ -80,6 +82,7 @@ def run(args) -> int:
     _require("--master", args.master, args.master in MASTERS, "one of " + ", ".join(MASTERS))
     _require("--fmusim", args.fmusim, args.fmusim is None or args.master == "container", "only with --master container")
     joint, mechanism = model_from_args(args)
+    settling = check_settling(args)
     try:
         if args.master != "wearjoint":
             record = _third_party(args, joint, mechanism)
@@ -105,6 +108,7 @@ def run(args) -> int:
     except (CoSimulationError, RuntimeError) as exc:
         print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
         return 1
+    record.settling_revolutions = settling
     summary = write_results(record, args.out, plots=not args.no_plots)
     print_summary(summary, args.out, keys)
     return exit_status(record, "cosim")
