@@ -276,3 +276,36 @@ def test_validate_quick_runs_on_this_mechanism_and_fails_a_perturbed_engine(tmp_
     assert done.returncode == 1, done.stdout + done.stderr
     failed = json.loads((tmp_path / "perturbed" / "summary.json").read_text())["metrics_failed"]
     assert any("normal_force_max_difference_N" in str(m) for m in failed), failed
+
+
+# ------------------------------------------------------------------ a given worn profile
+def test_a_uniformly_worn_profile_is_a_larger_bushing():
+    """A bushing worn 20 um all round is a bushing 20 um larger: with the deepest-point contact (its force
+    K delta^n of the penetration alone) and no wear, the two runs agree over the first 20 ms."""
+    mechanism = SliderCrankParameters()
+    joint = paper_joint(mechanism, contact_model="deepest", contact_stiffness_N_m1_5=7.95e10, wear_factor=0.0)
+    options = SimulationOptions(revolutions=0.05, integrator="rk4", step_s=2e-6)
+    worn = run_simulation(joint, mechanism, options, progress=False,
+                          initial_profile_m=np.full(joint.n_points, 20e-6))
+    larger = run_simulation(joint.replace(bushing_radius_m=joint.bushing_radius_m + 20e-6), mechanism, options,
+                            progress=False)
+    assert worn.summary()["max_wear_depth_m"] == 20e-6 and worn.summary()["max_contact_force_N"] > 100.0
+    np.testing.assert_allclose(worn.samples[:, 9:11], larger.samples[:, 9:11], rtol=0, atol=1e-9)   # eccentricity
+    np.testing.assert_allclose(worn.samples[:, 7], larger.samples[:, 7], rtol=0,
+                               atol=1e-6 * larger.samples[:, 7].max())                          # normal force
+
+
+def test_simulate_starts_from_a_profile_file_and_refuses_one_that_does_not_fit(tmp_path):
+    done = wearjoint("simulate", "--revolutions", "0.05", "--no-plots", "--quiet", "--wear-factor", "20",
+                     "--out", str(tmp_path / "first"))
+    assert done.returncode == 0, done.stderr
+    first = np.loadtxt(tmp_path / "first" / "profile.csv", delimiter=",", skiprows=1)
+    done = wearjoint("simulate", "--revolutions", "0.01", "--no-plots", "--quiet", "--no-wear", "--initial-profile",
+                     str(tmp_path / "first" / "profile.csv"), "--out", str(tmp_path / "again"))
+    assert done.returncode == 0, done.stderr
+    again = np.loadtxt(tmp_path / "again" / "profile.csv", delimiter=",", skiprows=1)
+    assert first[:, 1].max() > 0.0 and np.array_equal(again, first)          # without wear it stays as given
+    done = wearjoint("simulate", "--revolutions", "0.01", "--n-points", "628", "--initial-profile",
+                     str(tmp_path / "first" / "profile.csv"), "--out", str(tmp_path / "bad"))
+    assert done.returncode == 2 and "--initial-profile" in done.stderr and "628 bushing points" in done.stderr
+    assert "Traceback" not in done.stderr

@@ -98,12 +98,16 @@ class Simulation:
     """One slider-crank (ideal or with the clearance joint) and its integration state."""
 
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
-                 options: SimulationOptions | None = None):
+                 options: SimulationOptions | None = None, initial_profile_m=None):
+        """``initial_profile_m``: the bushing's wear depth [m] at every point to start from (a worn bushing;
+        default unworn), checked against the joint (n_points, finite, within the bushing radius)."""
         self.mechanism = SliderCrank(mechanism)
         joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
         self.options = (options or SimulationOptions()).for_joint(joint, self.mechanism.params)
         check_joint_fits_mechanism(joint, self.mechanism.params)
         self.joint = ClearanceJoint(joint)
+        if initial_profile_m is not None:
+            self.joint.set_wear_profile(initial_profile_m)
         self.mode = L.MODE_IDEAL if self.options.ideal else L.MODE_CLEARANCE
         self.t = 0.0
         self.y = self.mechanism.initial_state()
@@ -303,15 +307,16 @@ def _cvode_steps(rhs, jacobian, t, y, t_end, o: SimulationOptions, counts: dict)
 
 def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                    options: SimulationOptions | None = None, progress: bool = True,
-                   chunks_per_revolution: int = 8) -> RunRecord:
-    """Simulate ``options.revolutions`` crank revolutions; returns the run's record.
+                   chunks_per_revolution: int = 8, initial_profile_m=None) -> RunRecord:
+    """Simulate ``options.revolutions`` crank revolutions from the bushing's ``initial_profile_m`` (default
+    unworn; :class:`Simulation`); returns the run's record.
 
     The run proceeds in chunks (:func:`wearjoint.runner.run_in_chunks`: progress
     bar, compilation timed apart, Ctrl-C keeps the finished chunks with ``completed = False``).
     """
     o = options or SimulationOptions()
     period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: Simulation(joint, mechanism, o), o.revolutions, period, o.sample_dt_s, "simulate",
+    run = run_in_chunks(lambda: Simulation(joint, mechanism, o, initial_profile_m), o.revolutions, period, o.sample_dt_s, "simulate",
                         progress, chunks_per_revolution, clearance_m=(joint or JointParameters()).clearance_m)
     sim = run.engine
     return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
