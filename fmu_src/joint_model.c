@@ -85,8 +85,8 @@ void model_variable_name(const FmuModel *model, int fmi_version, unsigned vr, ch
         snprintf(out, size, "n_points");
     else if (vr < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS)
         snprintf(out, size, "%s", OUTPUTS[vr - VR_FIRST_OUTPUT].name);
-    else if (fmi_version == 2 && vr < VR_FIRST_WEAR_DEPTH + (unsigned)model->joint->n_points)
-        snprintf(out, size, "wear_depth[%u]", (unsigned)(vr - VR_FIRST_WEAR_DEPTH + 1));
+    else if (fmi_version == 2 && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS)
+        snprintf(out, size, "wear_depth[%u]", (unsigned)((vr - VR_FIRST_WEAR_DEPTH) * PROFILE_STRIDE + 1));
     else if (fmi_version == 3 && vr == FMI3_VR_WEAR_DEPTH)
         snprintf(out, size, "wear_depth");
     else if (fmi_version == 3 && vr == FMI3_VR_TIME)
@@ -110,7 +110,7 @@ size_t model_float64_count(const FmuModel *model, int fmi_version, unsigned vr)
     if (vr < N_INPUTS || is_parameter(vr, 0) || is_scalar_output(vr))
         return 1;
     if (fmi_version == 2)
-        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + (unsigned)model->joint->n_points;
+        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS;
     if (vr == FMI3_VR_WEAR_DEPTH)
         return (size_t)model->joint->n_points;
     return vr == FMI3_VR_TIME;
@@ -142,7 +142,7 @@ int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *val
             values[0] = o->source == OUTPUT_MAX_WEAR_DEPTH ? joint->max_wear_depth : joint->worn_volume;
         }
     } else if (fmi_version == 2 && model_float64_count(model, 2, vr) == 1) {
-        values[0] = joint->wear_depth[vr - VR_FIRST_WEAR_DEPTH];
+        values[0] = joint->wear_depth[(vr - VR_FIRST_WEAR_DEPTH) * PROFILE_STRIDE];
     } else if (fmi_version == 3 && vr == FMI3_VR_WEAR_DEPTH) {
         memcpy(values, joint->wear_depth, (size_t)joint->n_points * sizeof(double));
     } else if (fmi_version == 3 && vr == FMI3_VR_TIME) {
@@ -272,7 +272,7 @@ static size_t output_derivatives(const FmuModel *model, int fmi_version, unsigne
         return 1;
     }
     if (fmi_version == 2)
-        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + (unsigned)model->joint->n_points;
+        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS;
     return vr == FMI3_VR_WEAR_DEPTH ? (size_t)model->joint->n_points : 0;
 }
 

@@ -8,6 +8,7 @@ import sys
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 fmpy = pytest.importorskip("fmpy")
@@ -171,3 +172,46 @@ def test_cli_reports_a_bad_n_points(capsys, tmp_path, backend):
     assert run(parser.parse_args(["--out", str(tmp_path), "--n-points", "3", "--backend", backend])) == 2
     assert "n_points" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
+
+
+def test_a_profile_stride_exposes_every_sth_point_and_none(tmp_path):
+    """--profile-stride S: wear_depth[1], [1 + S], ... are outputs with the worn depths of those points (the
+    full FMU's values), 0: none; the profile stays whole in the state; refused for FMI 3.0 and pythonfmu."""
+    import fmpy
+    from fmpy_instance import Slave, contact_inputs
+
+    from wearjoint.fmu import variables as fv
+    from wearjoint.fmu.build import build_fmu
+    from wearjoint.parameters import ParameterError
+
+    def worn(path):
+        md = fmpy.read_model_description(str(path))
+        fmu = {"md": md, "dir": fmpy.extract(str(path), unzipdir=str(tmp_path / path.parent.name / "x")),
+               "vr": fv.value_references(md)}
+        s = Slave(fmu, path.parent.name, parameters={"wear_factor": 1000.0}).initialise()
+        s.set_inputs(contact_inputs(depth=4e-6))
+        for k in range(20):
+            s.fmu.doStep(k * 1e-5, 1e-5)
+        names = [v.name for v in md.modelVariables if v.name.startswith("wear_depth[")]
+        values = dict(zip(names, s.get(names))) if names else {}
+        state = s.fmu.serializeFMUstate(s.fmu.getFMUstate())
+        s.free()
+        return values, len(state)
+
+    full, full_state = worn(build_fmu(tmp_path / "full", platforms="linux64"))
+    strided, strided_state = worn(build_fmu(tmp_path / "strided", platforms="linux64", profile_stride=10))
+    none, none_state = worn(build_fmu(tmp_path / "none", platforms="linux64", profile_stride=0))
+    assert len(full) == 1257 and sorted(strided, key=lambda n: int(n[11:-1])) == [fv.wear_depth_name(z)
+                                                                                   for z in range(1, 1258, 10)]
+    assert max(full.values()) > 0.0 and strided == {name: full[name] for name in strided} and none == {}
+    assert full_state == strided_state == none_state            # the whole profile in each FMU's state
+    from wearjoint import JointParameters
+    from wearjoint.fmu.instance import FmuInstance
+
+    with pytest.raises(ParameterError, match="every profile point as an output"):   # our master reads them all
+        FmuInstance(tmp_path / "none" / "ClearanceWearJoint.fmu", JointParameters(), np.zeros(12), np.zeros(1),
+                    ("normal_force",))
+    for bad in ({"profile_stride": 2, "fmi_version": 3}, {"profile_stride": 2, "backend": "pythonfmu"},
+                {"profile_stride": -1}):
+        with pytest.raises(ParameterError, match="profile_stride"):
+            build_fmu(tmp_path / "bad", platforms="linux64", **bad)

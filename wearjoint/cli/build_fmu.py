@@ -46,6 +46,10 @@ def add_arguments(parser) -> None:
                              "plus every one whose cross toolchain is installed (.ci/install-cross-toolchains "
                              "installs them) (default %(default)s)")
     parser.add_argument("--force", action="store_true", help="rebuild even if an identical FMU exists")
+    parser.add_argument("--profile-stride", type=int, default=1, metavar="S",
+                        help="FMI 2.0 joint: a wear_depth[z] output every S-th bushing point (1: all N_d, 0: none; "
+                             "fewer outputs keep a host's result files small; the whole profile stays in the FMU's "
+                             "state, and FMI 3.0 has it as one array) (default %(default)s)")
     add_model_arguments(parser, skip=("n_points",))
     parser.epilog = ("The model options become the FMU's parameter start values (native backend): the joint's with "
                      "--model joint (the slider-crank's lengths, if given, place its pin and bushing centres at the "
@@ -77,9 +81,9 @@ def run(args) -> int:
         starts = sc.parameter_starts(mechanism) if joint is None else fv.parameter_starts(joint)
         out = Path(args.out) if args.out is not None else \
             default_fmu_path(args.n_points, args.backend, fmi_version=version, platforms=requested,
-                             model=args.model, starts=starts).parent
+                             model=args.model, starts=starts, profile_stride=args.profile_stride).parent
         path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version,
-                         platforms=requested, model=args.model, starts=starts)
+                         platforms=requested, model=args.model, starts=starts, profile_stride=args.profile_stride)
         if starts:
             print("start values: " + ", ".join(f"{k}={v:g}" for k, v in starts.items()), file=sys.stderr)
         if joint is not None:

@@ -47,7 +47,7 @@ def add_arguments(parser) -> None:
                              f"--quick {QUICK.wear_revolutions:g}); --wear-factor sets its factor "
                              f"(default {FULL.wear_factor:g}, --quick {QUICK.wear_factor:g}); --no-wear skips it")
     parser.add_argument("--window", type=float, default=None,
-                        help=f"point-wise comparison over the first WINDOW seconds (default {FULL.window_s:g} s for the "
+                        help=f"point-wise comparison over the first WINDOW seconds (default {FULL.window_s:g}; for the "
                              f"paper's {SliderCrankParameters().period_s:g} s revolution, scaled to the mechanism's "
                              "period: the same share of a turn)")
     parser.add_argument("--engines", type=str, default=",".join(ENGINES),

@@ -72,17 +72,21 @@ def _check_model(model: str, backend: str) -> str:
     return model
 
 
-def _check_starts(starts, backend: str) -> dict:
-    """Start values other than the defaults need the native backend (the pythonfmu slave starts from the defaults)."""
+def _check_starts(starts, backend: str, profile_stride: int = 1) -> dict:
+    """Start values other than the defaults, and profile outputs other than all, need the native backend (the
+    pythonfmu slave starts from the defaults and outputs every point)."""
     if starts and backend != "native":
         raise ParameterError(f"parameter backend={backend!r} is invalid with start values other than the defaults "
                              f"({', '.join(sorted(starts))}): allowed 'native' (or set them in the host)")
+    if profile_stride != 1 and backend != "native":
+        raise ParameterError(f"parameter backend={backend!r} is invalid with profile_stride={profile_stride!r}: "
+                             "allowed 'native'")
     return dict(starts or {})
 
 
 def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
                      fmi_version: int = DEFAULT_FMI_VERSION, platforms=None, model: str = "joint",
-                     starts: dict | None = None) -> Path:
+                     starts: dict | None = None, profile_stride: int = 1) -> Path:
     """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``,
     ``platforms`` (native; None: this machine's plus every cross platform installed), ``model`` and
     its parameters' ``starts`` (native)."""
@@ -90,16 +94,16 @@ def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DE
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
     model = _check_model(model, backend)
-    starts = _check_starts(starts, backend)
+    starts = _check_starts(starts, backend, profile_stride)
     if backend != "native":
         return module.default_fmu_path(n_points)
     return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names, model=model,
-                                   starts=starts)
+                                   starts=starts, profile_stride=profile_stride)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
               backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION, platforms=None,
-              model: str = "joint", starts: dict | None = None) -> Path:
+              model: str = "joint", starts: dict | None = None, profile_stride: int = 1) -> Path:
     """Build ``out_dir/ClearanceWearJoint.fmu`` (``model="joint"``) or ``out_dir/SliderCrank.fmu``
     (``model="slider-crank"``, native only, ``n_points`` unused); return its path (an identical
     existing build is kept unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend
@@ -108,15 +112,17 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     aarch64-linux, ...; None builds this machine's plus every cross platform whose compiler is
     installed.  ``starts`` (native): the parameters' start values where not the defaults, FMU name ->
     value (:func:`wearjoint.fmu.variables.parameter_starts` of a joint,
-    :func:`wearjoint.fmu.slider_crank.parameter_starts` of a mechanism).  Raises ParameterError for a
+    :func:`wearjoint.fmu.slider_crank.parameter_starts` of a mechanism).  ``profile_stride`` (native, the
+    joint's FMI 2.0 build): every how many bushing points a ``wear_depth[z]`` output is (1: all, 0: none; the
+    whole profile stays in the FMU's state and in FMI 3.0's array).  Raises ParameterError for a
     bad argument, RuntimeError when the build cannot run (no C compiler, a missing cross toolchain)."""
     module = _backend_module(backend)
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
     model = _check_model(model, backend)
-    starts = _check_starts(starts, backend)
+    starts = _check_starts(starts, backend, profile_stride)
     if backend != "native":
         return module.build_fmu(out_dir, n_points=n_points, force=force)
     return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names,
-                            model=model, starts=starts)
+                            model=model, starts=starts, profile_stride=profile_stride)
 

@@ -130,7 +130,7 @@ def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT
 
 
 def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL,
-              starts: dict | None = None) -> str:
+              starts: dict | None = None, profile_stride: int = 1) -> str:
     """Identifies the model a native build implements (its GUID): wearjoint version, the model (the
     joint: n_points), FMI version, numba version, hash of the sources, and of the parameters' start
     values where ``starts`` changes them."""
@@ -140,22 +140,38 @@ def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str 
     digest = source_digest(shipped_sources(fmi_version, model), PACKAGE_DIR.parent)
     size = spec.name if spec.fixed_size else f"n{n_points}"
     values = ("-p" + hashlib.sha256(json.dumps(sorted(starts.items())).encode()).hexdigest()[:12]) if starts else ""
-    return f"{__version__}-{size}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-{digest}{values}"
+    stride = f"-s{profile_stride}" if profile_stride != 1 else ""
+    return (f"{__version__}-{size}{stride}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-"
+            f"{digest}{values}")
 
 
 def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, platform_names=("linux64",),
-              model: str = DEFAULT_MODEL, starts: dict | None = None) -> str:
-    """Identifies a native build: the model (with its start values) and the platforms it carries binaries for."""
-    return f"{model_key(n_points, fmi_version, model, starts)}-{'+'.join(platform_names)}"
+              model: str = DEFAULT_MODEL, starts: dict | None = None, profile_stride: int = 1) -> str:
+    """Identifies a native build: the model (with its start values and profile outputs) and the platforms it
+    carries binaries for."""
+    return f"{model_key(n_points, fmi_version, model, starts, profile_stride)}-{'+'.join(platform_names)}"
 
 
 def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION,
-                     platform_names=None, model: str = DEFAULT_MODEL, starts: dict | None = None) -> Path:
+                     platform_names=None, model: str = DEFAULT_MODEL, starts: dict | None = None,
+                     profile_stride: int = 1) -> Path:
     """Cache location of the build for ``platform_names`` (default: what :func:`platforms.select` picks)."""
     if platform_names is None:
         platform_names = [p.name for p in platforms.select()[0]]
-    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model, starts)
+    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model, starts, profile_stride)
             / native_model(model).file_name)
+
+
+def check_profile_stride(profile_stride, fmi_version: int, model: str, n_points: int) -> int:
+    """ParameterError unless ``profile_stride`` is an integer in [0, n_points], and 1 unless the joint's FMI 2.0
+    build (FMI 3.0 has the profile as one array; the slider-crank has none)."""
+    if isinstance(profile_stride, bool) or not isinstance(profile_stride, int) or not 0 <= profile_stride <= n_points:
+        raise ParameterError(f"parameter profile_stride={profile_stride!r} is invalid: allowed an integer in "
+                             f"[0, n_points = {n_points}] (1: every point, 0: none)")
+    if profile_stride != 1 and (fmi_version != 2 or model != "joint"):
+        raise ParameterError(f"parameter profile_stride={profile_stride!r} is invalid with FMI {fmi_version}.0 and "
+                             f"model={model!r}: allowed 1 (only the joint's FMI 2.0 build has scalar profile outputs)")
+    return profile_stride
 
 
 def model_guid(key: str) -> str:
@@ -163,10 +179,12 @@ def model_guid(key: str) -> str:
     return "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, f"wearjoint:{key}")) + "}"
 
 
-def model_variables_header(n_points: int, guid: str, starts: dict | None = None) -> str:
+def model_variables_header(n_points: int, guid: str, starts: dict | None = None, profile_stride: int = 1) -> str:
     """``model_variables.h``: the variable table as the C layer reads it (generated, not edited), the
-    parameters' start values from ``starts`` where given there."""
-    variables = fv.fmu_variables(n_points)
+    parameters' start values from ``starts`` where given there, the FMI 2.0 profile outputs every
+    ``profile_stride``-th point (:func:`~wearjoint.fmu.variables.profile_points`)."""
+    variables = fv.fmu_variables(n_points, profile_stride=profile_stride)
+    n_profile = len(fv.profile_points(n_points, profile_stride))
     vr = {v.name: i for i, v in enumerate(variables)}
     parameter_index = {p.variable.name: i for i, p in enumerate(fv.PARAMETERS)}
     slot_of = {(source if isinstance(source, tuple) else (source, None)): slot
@@ -183,11 +201,11 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None)
             source = "OUTPUT_MAX_WEAR_DEPTH" if v.name == "max_wear_depth" else "OUTPUT_WORN_VOLUME"
             outputs.append(f"    {{{_c_string(v.name)}, {source}, 0}},")
     first_output = vr[fv.SCALAR_OUTPUTS[0].name]
-    first_wear = vr[fv.wear_depth_name(1)]
+    first_wear = len(variables) - n_profile
     checks = [list(vr)[:len(fv.INPUTS)] == [v.name for v in fv.INPUTS],
               [vr[p.variable.name] for p in fv.PARAMETERS] == list(range(len(fv.INPUTS), len(fv.INPUTS) + len(fv.PARAMETERS))),
               [vr[v.name] for v in fv.SCALAR_OUTPUTS] == list(range(first_output, first_output + len(fv.SCALAR_OUTPUTS))),
-              first_wear + n_points == len(variables)]
+              first_wear == first_output + len(fv.SCALAR_OUTPUTS)]
     if not all(checks):
         raise RuntimeError("the FMU variable table is not in the order the C layer expects "
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
@@ -232,6 +250,8 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None)
 #define VR_N_POINTS {vr[fv.N_POINTS_NAME]}
 #define VR_FIRST_OUTPUT {first_output}
 #define VR_FIRST_WEAR_DEPTH {first_wear}
+#define N_PROFILE_OUTPUTS {n_profile}   /* FMI 2.0: wear_depth[1 + k PROFILE_STRIDE], k < N_PROFILE_OUTPUTS */
+#define PROFILE_STRIDE {max(1, profile_stride)}
 
 /* The state format (wearjoint/core/state_format.py): an FMU state's contents kind, its head (time,
  * initialised flag, inputs, parameters), the parameters that bound its values, and the message
@@ -311,20 +331,21 @@ def fmi_headers(fmi_version: int) -> Path:
     return headers
 
 
-def _model_description(fmi_version: int, n_points: int, token: str, model: str, starts: dict | None) -> bytes:
+def _model_description(fmi_version: int, n_points: int, token: str, model: str, starts: dict | None,
+                       profile_stride: int) -> bytes:
     tool = f"wearjoint {__version__} (native)"
     if model == "slider-crank":
         return sc.model_description(fmi_version, token, tool, starts)
     cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
     if fmi_version == 2:
         return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS,
-                                     starts=starts)
+                                     starts=starts, profile_stride=profile_stride)
     return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange, starts=starts)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
               fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None, model: str = DEFAULT_MODEL,
-              starts: dict | None = None) -> Path:
+              starts: dict | None = None, profile_stride: int = 1) -> Path:
     """Build ``model``'s native FMU (:data:`MODELS`: ``joint`` -> ``out_dir/ClearanceWearJoint.fmu``,
     ``slider-crank`` -> ``out_dir/SliderCrank.fmu``), FMI ``fmi_version`` 2 or 3; return its path.
 
@@ -334,6 +355,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     parameter ``n_points`` (a host may set another in Configuration Mode); the slider-crank has no
     bushing and ignores it.  ``starts``: the parameters' start values where not the defaults
     (:func:`~wearjoint.fmu.variables.parameter_starts`, :func:`~wearjoint.fmu.slider_crank.parameter_starts`).
+    ``profile_stride`` (the joint, FMI 2.0): every how many bushing points a ``wear_depth[z]`` output is
+    (1: all, 0: none; :func:`~wearjoint.fmu.variables.profile_points`), the profile whole in the FMU's state.
     An FMU there built from the same sources, model, start values, n_points, FMI version
     and platforms is kept unless ``force`` (which also recompiles the kernels).  Raises
     ParameterError for a bad argument, RuntimeError when the build cannot run (naming what to
@@ -342,19 +365,20 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     fmi_version = check_fmi_version(fmi_version)
     spec = native_model(model)
     JointParameters(n_points=n_points)  # validates n_points, names it in the error
+    check_profile_stride(profile_stride, fmi_version, model, n_points)
     if not spec.fixed_size and fmi_version == 3 and not N_POINTS_MIN <= n_points <= N_POINTS_MAX:
         raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
                              f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
     targets, _ = platforms.select(platform_names)
-    key = build_key(n_points, fmi_version, [t.name for t in targets], model, starts)
+    key = build_key(n_points, fmi_version, [t.name for t in targets], model, starts, profile_stride)
     target_path, current = current_build(out_dir, key, force, spec.file_name)
     if current:
         return target_path
     out_dir = Path(out_dir)
     headers = fmi_headers(fmi_version)
-    guid = model_guid(model_key(n_points, fmi_version, model, starts))
+    guid = model_guid(model_key(n_points, fmi_version, model, starts, profile_stride))
     header = (sc.model_variables_header(guid, starts) if spec.fixed_size
-              else model_variables_header(n_points, guid, starts))
+              else model_variables_header(n_points, guid, starts, profile_stride))
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
         modules = compile_kernel_ir(sources / "kernels", spec, reuse=not force)
@@ -384,10 +408,12 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         out_dir.mkdir(parents=True, exist_ok=True)
         partial = target_path.with_name(target_path.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
-            fmu.writestr("modelDescription.xml", _model_description(fmi_version, n_points, guid, model, starts))
+            fmu.writestr("modelDescription.xml",
+                         _model_description(fmi_version, n_points, guid, model, starts, profile_stride))
             for arcname, data in binaries.items():
                 fmu.writestr(arcname, data)
-            configuration = {"model": model} if spec.fixed_size else {"n_points": n_points}
+            configuration = {"model": model} if spec.fixed_size else {"n_points": n_points,
+                                                                      "profile_stride": profile_stride}
             fmu.writestr(f"resources/{fv.BUILD_CONFIG_FILE}",
                          json.dumps({**configuration, "build_key": key, "backend": "native",
                                      "fmi_version": fmi_version, "platforms": [t.name for t in targets]}))

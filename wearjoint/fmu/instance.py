@@ -105,6 +105,9 @@ class FmuInstance:
         if built != joint.n_points:
             raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: the FMU {fmu_path} "
                                  f"was built for {built} points (wearjoint build-fmu --n-points N)")
+        if fv.wear_depth_name(joint.n_points) not in self.vr:
+            raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: allowed an FMU with every profile "
+                                 "point as an output (this master reads the whole profile; build-fmu --profile-stride 1)")
         self.log: list[tuple[int, str]] = []
         # A plain ctypes logger (no fmpy logger proxy: that proxy is one per process).
         # pythonfmu passes the message as the format string with '%' doubled.

@@ -90,19 +90,20 @@ def _dependencies(output: str, reference: dict[str, int], parameters: tuple[str,
 
 def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str],
                           model_exchange: dict[str, str] | None = None, event_indicators: int = 0,
-                          starts: dict | None = None) -> bytes:
+                          starts: dict | None = None, profile_stride: int = 1) -> bytes:
     """The complete modelDescription.xml; ``cosimulation`` / ``model_exchange`` are the
     ``<CoSimulation>`` / ``<ModelExchange>`` attributes (``modelIdentifier`` and the capability
     flags; no ``<ModelExchange>`` if None); ``event_indicators``: Model Exchange's number of
     event indicators; ``starts``: parameter start values other than the defaults
-    (:func:`~wearjoint.fmu.variables.parameter_starts`)."""
+    (:func:`~wearjoint.fmu.variables.parameter_starts`); ``profile_stride``: the profile points exposed
+    as outputs (:func:`~wearjoint.fmu.variables.profile_points`)."""
     root = root_with_interfaces_and_units(
         {"fmiVersion": "2.0", "guid": guid, "generationTool": generation_tool,
          "numberOfEventIndicators": str(event_indicators)}, cosimulation, model_exchange, fv.UNIT_DEFINITIONS)
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():
         ET.SubElement(categories, "Category", name=name, description=text)
-    variables = fv.fmu_variables(n_points, starts)
+    variables = fv.fmu_variables(n_points, starts, profile_stride)
     model_variables = ET.SubElement(root, "ModelVariables")
     for vr, v in enumerate(variables):
         variability, initial = _KIND[v.causality]

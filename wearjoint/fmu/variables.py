@@ -224,18 +224,25 @@ def wear_depth_name(point: int) -> str:
     return f"wear_depth[{point}]"
 
 
-def wear_depth_outputs(n_points: int) -> tuple[FmuVariable, ...]:
-    """``wear_depth[1..N_d]``: point z sits at bushing-frame angle z 2 pi / N_d."""
+def profile_points(n_points: int, profile_stride: int = 1) -> range:
+    """The bushing points (1-based) an FMI 2.0 build exposes as ``wear_depth[z]`` outputs: every
+    ``profile_stride``-th from 1 (1: all; 0: none; the whole profile stays in the FMU's state)."""
+    return range(1, n_points + 1, profile_stride) if profile_stride > 0 else range(0)
+
+
+def wear_depth_outputs(n_points: int, profile_stride: int = 1) -> tuple[FmuVariable, ...]:
+    """``wear_depth[z]`` of :func:`profile_points`: point z sits at bushing-frame angle z 2 pi / N_d."""
     return tuple(FmuVariable(wear_depth_name(z), OUTPUT, REAL, "m",
                              f"wear depth of bushing point {z} at angle {z}*2*pi/{n_points} rad, bushing frame")
-                 for z in range(1, n_points + 1))
+                 for z in profile_points(n_points, profile_stride))
 
 
-def fmu_variables(n_points: int, starts: dict | None = None) -> list[FmuVariable]:
+def fmu_variables(n_points: int, starts: dict | None = None, profile_stride: int = 1) -> list[FmuVariable]:
     """Every variable of the FMU in value-reference order; ``starts`` (FMU parameter name -> value,
-    :func:`parameter_starts`) replaces the parameters' default start values."""
+    :func:`parameter_starts`) replaces the parameters' default start values; ``profile_stride``: which
+    profile points are outputs (:func:`profile_points`)."""
     return [*INPUTS, *(parameter_variable(p, starts) for p in PARAMETERS), n_points_variable(n_points),
-            *SCALAR_OUTPUTS, *wear_depth_outputs(n_points)]
+            *SCALAR_OUTPUTS, *wear_depth_outputs(n_points, profile_stride)]
 
 
 def parameter_variable(p: ParameterField, starts: dict | None = None) -> FmuVariable:
