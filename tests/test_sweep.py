@@ -320,3 +320,50 @@ def test_profile_bands_are_overlaid_in_one_panel_with_a_legend(monkeypatch, tmp_
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert len(labels) == 3 and all("bias unknown" in t for t in labels)
     assert [label.split(" ")[0] for label in labels] == ["mu=0.05", "mu=0.1", "mu=0.2"]
+
+
+def test_ensemble_reports_the_fraction_of_starts_in_each_regime(tmp_path):
+    """Synthetic summaries through the report: 2 of 8 starts in backward whirl give 0.25, in ensemble.csv,
+    in the report's per-point regimes and in the printed table's regime note; a point in one regime is
+    not mixed."""
+    from wearjoint.sweep.report import regime_line, write_reports
+    from wearjoint.sweep.runner import summary_figures
+
+    rows = []
+    for mu, regimes in ((0.1, ["impacting"] * 6 + ["backward whirl"] * 2), (0.2, ["impacting"] * 8)):
+        for seed, regime in enumerate(regimes):
+            summary = {"max_wear_depth_m": 1e-6 * (1 + seed), "regime": regime,
+                       "whirl_fraction": 0.5 if regime == "backward whirl" else 0.0}
+            rows.append({"case_id": f"{mu}-{seed}", "mu": mu, "seed": seed, "status": "ok", "error": "",
+                         **summary_figures(summary), "folder": f"cases/{mu}-{seed}"})
+    report = write_reports(tmp_path, rows, ["mu"], plots=False)
+    ensemble = read_csv(tmp_path / "ensemble.csv")
+    assert float(ensemble[0]["regime_backward_whirl_fraction"]) == 0.25
+    assert float(ensemble[0]["regime_impacting_fraction"]) == 0.75
+    assert ensemble[0]["regimes"] == "backward whirl 2/8, impacting 6/8" and ensemble[0]["mixed_regimes"] == "1"
+    assert float(ensemble[1]["regime_backward_whirl_fraction"]) == 0.0
+    assert ensemble[1]["regimes"] == "impacting 8/8" and ensemble[1]["mixed_regimes"] == "0"
+    assert report["regimes"][0]["regimes"] == {"backward whirl": 2, "impacting": 6} and report["regimes"][0]["mixed"]
+    assert not report["regimes"][1]["mixed"]
+    assert "backward whirl 2/8" in regime_line(ensemble[0]) and "MIXED" in regime_line(ensemble[0])
+    assert "MIXED" not in regime_line(ensemble[1])
+    assert "regime" not in read_csv(tmp_path / "ensemble.csv")[0]      # the string is counted, not averaged
+
+
+def test_seeds_start_the_crank_half_a_degree_apart_reproducibly():
+    """The documented perturbation (docs/sweeps.md): seed s starts the crank s x 0.5 deg further, the same
+    every time; validate's perturbed starts keep their own 1e-6 deg."""
+    from wearjoint.parameters import SliderCrankParameters
+    from wearjoint.sweep.design import perturbed_start
+
+    angles = [dict(c.options)["initial_crank_angle_deg"] for c in build_cases("simulate", _base(), seeds=4)]
+    assert angles[0] in (None, 0.0) and angles[1:] == [0.5, 1.0, 1.5]      # seed 0: the command's default 0
+    again = [dict(c.options)["initial_crank_angle_deg"] for c in build_cases("simulate", _base(), seeds=4)]
+    assert again == angles
+    assert perturbed_start(SliderCrankParameters(), 3).initial_crank_angle_deg == 3e-6
+
+
+def _base() -> dict:
+    from wearjoint.sweep.design import command_options
+
+    return command_options("simulate", command_parser("simulate").parse_args(["--out", "unused"]))

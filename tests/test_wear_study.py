@@ -9,10 +9,11 @@ import pytest
 from wearjoint.analysis import impact_events
 from wearjoint.cli import main as cli_main
 from wearjoint.mechanism import SliderCrank
-from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
+from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from wearjoint.validation.wear_convergence import run_convergence
-from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study
+from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study, snapshot_statistics
+from wearjoint.validation.wear_study_plots import is_paper_case
 
 MODEL_SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
                       "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
@@ -199,3 +200,54 @@ def test_resume_refuses_a_corrupted_checkpoint_and_a_bad_profile(tmp_path):
     path.write_bytes(data + crc32c(data).to_bytes(4, "little"))
     with pytest.raises(ParameterError, match=r"snapshot 5 wear_depth_m: wear profile: wear_depth\[4\]=-1e-09 m is negative"):
         run_wear_study(config, tmp_path, resume=True, progress=False, plots=False)
+
+
+def _revolutions_csv(out) -> list:
+    import csv
+
+    with open(out / "revolutions.csv", newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_a_snapshot_states_the_slider_acceleration_of_its_revolutions_csv_row(tmp_path):
+    """One definition: each snapshot's slider acceleration extremes are revolutions.csv's row of the simulated
+    revolution ending at it (every accepted step; the 1e-5 s samples of Fig. 8 miss impact peaks)."""
+    summary = run_wear_study(small_config(revolutions=30, snapshots=(10, 20, 30)), tmp_path, progress=False,
+                             plots=False)
+    rows = _revolutions_csv(tmp_path)
+    assert len(rows) == 3
+    for snap, expected_row in zip(summary["snapshots"], (0, 1, 2)):     # wear factor 10: revolution R = row R/10 - 1
+        assert snap["statistics_revolution"] == expected_row
+        row = rows[expected_row]
+        assert int(float(row["revolution"])) == expected_row
+        for key in ("slider_acc_max_m_s2", "slider_acc_min_m_s2"):
+            assert snap[key] == pytest.approx(float(row[key]), rel=1e-9), key
+    samples = np.load(tmp_path / "timeseries.npz")        # the last revolution's samples: within the extremes
+    last = samples["time_s"] > 2 * SliderCrankParameters().period_s
+    assert samples["slider_a_m_s2"][last].max() <= summary["snapshots"][-1]["slider_acc_max_m_s2"]
+    assert summary["paper_max_depth_at_4000_rev_m"] == 0.58e-3 and "experiment" in summary   # the paper's case
+
+
+def test_a_snapshot_before_the_first_complete_revolution_states_no_acceleration():
+    stats = np.zeros((2, 8))
+    assert snapshot_statistics(stats, 0.5) == {"statistics_revolution": None, "slider_acc_max_m_s2": None,
+                                               "slider_acc_min_m_s2": None}
+
+
+def test_paper_comparisons_only_on_the_paper_mechanism_and_joint(tmp_path):
+    paper = SliderCrankParameters()
+    assert is_paper_case(paper_joint(wear_coefficient_m2_N=1e-12, wear_factor=10.0), paper)   # k_w may differ
+    assert is_paper_case(JointParameters(), paper.replace(initial_crank_angle_deg=1.5))          # a seed's start
+    assert not is_paper_case(JointParameters(), paper.replace(crank_speed_rpm=300.0))
+    assert not is_paper_case(JointParameters(), paper.replace(rod_length_m=0.3))
+    assert not is_paper_case(JointParameters(bushing_radius_m=0.0102), paper)
+    assert not is_paper_case(JointParameters(contact_length_m=0.01), paper)
+    other = SliderCrankParameters(crank_speed_rpm=300.0)
+    summary = run_wear_study(small_config(mechanism=other, joint=paper_joint(other, wear_factor=10.0)), tmp_path,
+                             progress=False, plots=False)
+    assert summary["status"] == "finished"
+    assert "paper_max_depth_at_4000_rev_m" not in summary and "experiment" not in summary
+    assert not any(key.startswith("experiment") for key in summary["growth"])
+    assert "experiment" not in summary["growth"]["note"]
+    written = json.loads((tmp_path / "summary.json").read_text())
+    assert "paper_max_depth_at_4000_rev_m" not in written and "experiment" not in written

@@ -31,7 +31,7 @@ from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 DAMPINGS = ("hunt-crossley", "lankarani-nikravesh")
-SEED_ANGLE_STEP_DEG = 1e-6                   # as wearjoint.sweep.design
+SEED_ANGLE_STEP_DEG = 1e-6                   # as validate's starts (wearjoint.sweep.design.START_ANGLE_STEP_DEG)
 STATISTICS = ("impacts_per_revolution", "contact_fraction", "max_contact_force_N", "slider_acc_max_m_s2",
               "slider_acc_min_m_s2")
 STEP_CONFIGURATIONS = (("rk4", 2.5e-6, None), ("rk4", 5e-6, None), ("rk4", 1e-5, None),

@@ -1,6 +1,6 @@
 """Third-party co-simulation masters on SliderCrankWithClearance.ssp: accuracy, wall time, real-time factor.
 
-Each master (:mod:`wearjoint.cosim.masters`: OSP libcosim, ecos, fmpy's SSP simulator, the fmpy
+Each master (:mod:`wearjoint.cosim.masters`: OSP libcosim, ecos, fmpy's SSP simulator, OMSimulator, the fmpy
 container FMU in fmpy and in fmusim) runs the package (no wear) for ``--revolutions`` crank
 revolutions at each communication step, from ``--ensemble`` perturbed starts (a package each); the
 mean of its per-revolution statistics is judged exactly as ``wearjoint validate`` judges an engine
@@ -28,7 +28,7 @@ from wearjoint.sweep.design import perturbed_start
 from wearjoint.validation.compare import GROUP_STATISTICS, STATISTICS, ValidationPlan, compare, run_engines
 
 STEPS_S = (0.5e-6, 1e-6, 2e-6, 4e-6)
-STUDY_MASTERS = ("libcosim", "ecos", "fmpy-ssp", "container", "container-fmusim")
+STUDY_MASTERS = ("libcosim", "ecos", "fmpy-ssp", "omsimulator", "container", "container-fmusim")
 SAMPLE_DT_S = 1e-5
 ENSEMBLE = 2        # perturbed starts per master and per monolithic configuration (validate: 8; a master's
                     # run at 0.5 us takes 40 s to 3 min): a single run against means of 8 is judged too strictly

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wearjoint.analysis import impact_events, profile_features, sample_statistics
+from wearjoint.analysis import impact_events, profile_features, revolution_row, sample_statistics
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
@@ -46,7 +46,7 @@ from wearjoint.runner import RunDiverged, divergence
 from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
-from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
+from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment, is_paper_case
 from .wear_study_recovery import (
     ARRAY_KEYS, CHECKPOINT_FORMAT, CHECKPOINT_NAME, StudyDiverged, checkpoint_revolution, continue_segments,
     divergence_reason, diverged_message, extend_segment, load_checkpoint, read_checkpoint, snapshot_entry,
@@ -292,7 +292,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
                 samples = np.concatenate(state["pending_samples"].pop(snapshot, [np.zeros((0, L.N_SAMPLE_COLUMNS))]))
                 _keep_snapshot(config, state, out, phi_deg, _snapshot(
                     config, snapshot, sim_rev, phi_deg, depth, volume, samples,
-                    wall_before + time.perf_counter() - wall0), sim_rev * per)
+                    wall_before + time.perf_counter() - wall0, engine.revolution_stats), sim_rev * per)
             state["next_stop"] = i + 1
             final = i + 1 == len(stops)
             if final or sim_rev - state["last_checkpoint_revolution"] >= config.checkpoint_every_revolutions - 1e-9:
@@ -322,8 +322,8 @@ def _advance_jump_route(config, state, engine, out, ckpt_path, progress, plots, 
     def keep_snapshot(revolution, simulated, samples):
         _, depth, volume = engine.wear_profile()
         _keep_snapshot(config, state, out, phi_deg, _snapshot(config, revolution, simulated, phi_deg, depth, volume,
-                                                              samples, wall_before + time.perf_counter() - wall0),
-                       revolution)
+                                                              samples, wall_before + time.perf_counter() - wall0,
+                                                              engine.revolution_stats), revolution)
 
     def checkpoint() -> bool:
         _check_not_worn_through(config, engine.max_wear_depth_m(), state["jump"]["revolution"])
@@ -398,7 +398,19 @@ def _keep_window_samples(pending: dict, config: WearStudyConfig, samples: np.nda
             pending.setdefault(s, []).append(samples[inside].copy())
 
 
-def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall_s) -> dict:
+def snapshot_statistics(stats: np.ndarray, sim_rev: float) -> dict:
+    """A snapshot's slider acceleration extremes: those of revolutions.csv's row of the last simulated
+    revolution complete at the snapshot (the one ending there; ``statistics_revolution``, its ``revolution``
+    column), over every accepted step as the per-revolution statistics take them (the samples, every
+    1e-5 s, miss the peaks of impacts); None where the run keeps no statistics of that revolution (the
+    cycle-jumping route beyond MAX_JUMP_ROUTE_STATISTICS simulated revolutions)."""
+    index = math.floor(sim_rev + 1e-9) - 1
+    row = revolution_row(stats, index)
+    return {"statistics_revolution": index if row else None,
+            "slider_acc_max_m_s2": row.get("slider_acc_max_m_s2"), "slider_acc_min_m_s2": row.get("slider_acc_min_m_s2")}
+
+
+def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall_s, stats) -> dict:
     events = impact_events(samples[:, L.T_TIME], samples[:, L.T_SLIDER_A], config.mechanism,
                            config.impact_threshold_m_s2, config.impact_merge_deg)
     peaks = [e["peak_deviation_m_s2"] for e in events]
@@ -406,7 +418,8 @@ def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall
             **profile_features(phi_deg, depth), "worn_volume_m3": volume,
             "impact_events": len(events), "impact_peak_max_m_s2": max(peaks, default=0.0),
             "impact_peak_mean_m_s2": float(np.mean(peaks)) if peaks else 0.0, "impact_event_list": events,
-            **sample_statistics(samples),
+            "contact_fraction_samples": sample_statistics(samples)["contact_fraction_samples"],
+            **snapshot_statistics(stats, sim_rev),
             "wear_depth_m": depth, "time_s": samples[:, L.T_TIME].copy(),
             "slider_a_m_s2": samples[:, L.T_SLIDER_A].copy(),
             "samples": samples if revolution == config.revolutions else None}
@@ -451,6 +464,7 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         completed=ending is None, failure=ending["failure"] if ending else "")
     summary = write_results(record, out, plots=plots and ending is None)
     status = ending["status"] if ending else "finished"
+    paper = is_paper_case(config.joint, config.mechanism)
     summary.update({
         "status": status,
         "simulated_revolutions": simulated,
@@ -463,10 +477,11 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
                                     f"clusters closer than {config.impact_merge_deg:g} deg of crank rotation merge; "
                                     "size = the cluster's peak |a - a_ideal|"),
         "snapshots": [snapshot_entry(s) for s in snaps],
-        "growth": growth_assessment(growth) if len(growth) > 1 else None,
+        "growth": growth_assessment(growth, paper) if len(growth) > 1 else None,
         "numerical_settings": state["numerical_settings"],
-        "paper_max_depth_at_4000_rev_m": PAPER_MAX_DEPTH_M,
-        "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS), "max_wear_depth_m": list(EXPERIMENT_MAX_DEPTH_M)},
+        **({"paper_max_depth_at_4000_rev_m": PAPER_MAX_DEPTH_M,      # the paper's mechanism only
+            "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS),
+                           "max_wear_depth_m": list(EXPERIMENT_MAX_DEPTH_M)}} if paper else {}),
         "finished": ending is None,
         **({k: v for k, v in ending.items() if k not in ("status", "failure")} if ending else {}),
     })
@@ -474,11 +489,11 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         summary["cycle_jumping"] = jump_summary(config, state)
     if plots:
         from .wear_study_plots import plot_study
-        summary["figures"] = summary.get("figures", []) + plot_study(phi_deg, snaps, growth, config, out)
+        summary["figures"] = summary.get("figures", []) + plot_study(phi_deg, snaps, growth, config, out, paper)
     write_json_atomic(out / "summary.json", summary)
     write_snapshot_index(out, config, state, status)
     return summary
 
 
-__all__ = ["WearStudyConfig", "run_wear_study", "make_engine", "profile_angles_deg", "write_study_outputs",
+__all__ = ["WearStudyConfig", "run_wear_study", "snapshot_statistics", "make_engine", "profile_angles_deg", "write_study_outputs",
            "StudyDiverged", "CHECKPOINT_NAME", "CHECKPOINT_FORMAT", "ARRAY_KEYS"]

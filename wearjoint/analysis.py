@@ -338,3 +338,14 @@ def ensemble_statistics(records) -> tuple[dict, dict]:
     """(mean, sample standard deviation) over an ensemble's run records of each
     :func:`revolution_statistics` quantity."""
     return ensemble_mean_std([revolution_statistics(r) for r in records])
+
+
+def revolution_row(stats: np.ndarray, revolution: int) -> dict:
+    """Row ``revolution`` of :func:`revolution_table` (revolutions.csv's row with that ``revolution``) as
+    {column: value} (NaN as None), or {} when the run has not reached it; e.g. a wear-study snapshot's
+    slider acceleration extremes, so that a snapshot and revolutions.csv state the same numbers."""
+    if not 0 <= revolution < stats.shape[0] or not covered(stats)[revolution]:
+        return {}
+    row = revolution_table(stats[:revolution + 1], np.zeros(0))[revolution]
+    return {name: (_finite(value) if name != "revolution" else int(value)) for name, value in
+            zip(REVOLUTION_COLUMNS, row) if name != "max_wear_depth_m"}

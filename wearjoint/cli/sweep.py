@@ -105,7 +105,7 @@ def print_outcome(summary: dict, out) -> None:
     factor's bias beside them), the notes on that bias, the failed cases."""
     import csv
 
-    from ..sweep.report import BIAS_NOTE
+    from ..sweep.report import BIAS_NOTE, regime_line
 
     print(f"  {summary['cases']} cases ({summary['grid_points']} grid points x {summary['seeds']} seeds): "
           f"{summary['ok']} ok, {summary['failed']} failed, {summary['skipped_as_done']} already done; "
@@ -121,6 +121,8 @@ def print_outcome(summary: dict, out) -> None:
             values = ", ".join(f"{name}={row[name]}" for name in names) or "base case"
             print(f"  point {row['point']} ({values}): {row['n_ok']} ok  "
                   + "  ".join(filter(None, (_mean_std(row, k) for k in keys))))
+            if regime_line(row):
+                print(f"    {regime_line(row)}")
             notes.update(dict.fromkeys(filter(None, (row.get(BIAS_NOTE) or "").split(" | "))))
     for note in notes:
         print(f"  wear-factor bias of the max depth: {note}")

@@ -5,7 +5,7 @@ The package holds ``SystemStructure.ssd`` (the system: the ``mechanism`` compone
 ``SliderCrank.fmu``, and the ``joint`` component, a ``ClearanceWearJoint.fmu``; every input and
 output as a connector with its unit; the 12 kinematic connections mechanism -> joint and the 6
 load connections joint -> mechanism; a default experiment of one crank revolution; the communication
-step, 1 us by default, in OMSimulator's and OSP's vendor annotations, with OMSimulator's result file,
+step, 0.5 us by default, in OMSimulator's and OSP's vendor annotations, with OMSimulator's result file,
 logging interval and signal filter ``resources/signalFilter.xml``: docs/omsimulator.md), the two FMUs
 (native, FMI 2.0, every installed platform) and one parameter set per component
 (``resources/<component>.ssv``): the paper's values, the joint's body-frame offsets those of the
@@ -42,8 +42,9 @@ CONNECTIONS = ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
 OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
 OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 OMS_TYPE, OSP_TYPE = "org.openmodelica", "com.opensimulationplatform"
-DEFAULT_STEP_S = 1e-6       # s: the communication step the package asks for (docs/cosim_study.md)
-RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 10th step at 1 us
+DEFAULT_STEP_S = 0.5e-6     # s: the step the package asks for: inside the monolithic scatter in every master
+                            # here, on time or one step late (6 starts, docs/omsimulator.md, docs/cosim_study.md)
+RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 20th step at 0.5 us
 RESULT_FILE = f"{SSP_NAME}_res.mat"
 SIGNAL_FILTER = "resources/signalFilter.xml"
 # what OMSimulator records by default: the mechanism's crank and slider, the joint's scalar results
@@ -192,7 +193,7 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     ``stop_time`` the default experiment's stop time (default one crank revolution [s]);
     ``platforms`` those the FMUs carry binaries for (default: every installed one);
     ``step_s`` the communication step the package asks its masters for [s] (OMSimulator's and OSP's
-    annotations; default 1 us, docs/cosim_study.md).
+    annotations; default 0.5 us, docs/omsimulator.md).
     """
     from .build import build_fmu
 

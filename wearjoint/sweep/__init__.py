@@ -41,6 +41,7 @@ def run_sweep(command: str, base: dict, out, vary: dict | None = None, points=()
         "not_run": len(cases) - len(table), "skipped_as_done": skipped, **timing,
         "wall_time_s": time.perf_counter() - start, "seed_angle_step_deg": SEED_ANGLE_STEP_DEG,
         "wear_factor_bias": report["wear_factor_bias"],
+        "regimes": report["regimes"],     # per grid point: the starts in each regime (ensemble.csv: regime_*)
         "failures": [{"case_id": r["case_id"], "seed": r["seed"], "error": r["error"]}
                      for r in table if r["status"] == "failed"],
         "files": ["sweep.csv", "ensemble.csv", "sweep.json", "bands/", "cases/", *report["figures"]],

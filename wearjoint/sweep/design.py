@@ -4,8 +4,11 @@ ensemble of seeds, each case one run of a command, identified by a hash of its c
 A case is the target command's full option set (``dest -> value``, as its parser gives
 them); its command line (:meth:`Case.argv`) names only the options that differ from the
 command's defaults, so ``wearjoint COMMAND *case.argv() --out DIR`` is the same run outside the
-sweep.  Seed s > 0 adds ``s * SEED_ANGLE_STEP_DEG`` to the initial crank angle; seed 0 is
-the unperturbed run.
+sweep.  Seed s > 0 adds ``s * SEED_ANGLE_STEP_DEG`` (0.5 deg) to the initial crank angle; seed 0 is
+the unperturbed run.  The step is large enough that the starts differ from the first revolution (the pin
+starts centred at full speed, and the crank angle at the start decides where the start-up impacts fall), so
+an ensemble samples the regimes a start can fall into (impacting, backward whirl: docs/sweeps.md); the
+1e-6 deg of earlier versions left starts that part only after ~80 ms of chaotic growth.
 """
 from __future__ import annotations
 
@@ -24,7 +27,8 @@ from pathlib import Path
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 
 TARGETS = ("simulate", "cosim", "wear-study")
-SEED_ANGLE_STEP_DEG = 1e-6          # seed s starts the crank at initial_crank_angle_deg + s * 1e-6 deg
+SEED_ANGLE_STEP_DEG = 0.5           # seed s starts the crank at initial_crank_angle_deg + s * 0.5 deg
+START_ANGLE_STEP_DEG = 1e-6         # validate's perturbed starts (:func:`perturbed_start`), not the sweep's
 SEED_OPTION = "initial_crank_angle_deg"
 # options the sweep sets itself or that name another task: never forwarded, never varied, not hashed
 SWEEP_DESTS = ("vary", "design", "seeds", "workers", "scheduler", "resume", "retry_failed")
@@ -279,7 +283,9 @@ __all__ = ["Case", "TARGETS", "SEED_ANGLE_STEP_DEG", "build_cases", "parse_vary"
 
 
 def perturbed_start(mechanism: SliderCrankParameters, start: int) -> SliderCrankParameters:
-    """The mechanism of perturbed start number ``start`` (0: unperturbed): the initial crank angle
-    moved by ``start`` times the sweep's seed step (1e-6 deg; two starts part by 10 um after ~80 ms)."""
+    """The mechanism of validate's perturbed start number ``start`` (0: unperturbed): the initial crank
+    angle moved by ``start`` times START_ANGLE_STEP_DEG (1e-6 deg; two starts part by 10 um after ~80 ms).
+    Kept apart from the sweep's seed step (SEED_ANGLE_STEP_DEG): validate's ensembles and their
+    tolerances were measured with these starts."""
     return mechanism.replace(initial_crank_angle_deg=mechanism.initial_crank_angle_deg
-                             + start * SEED_ANGLE_STEP_DEG)
+                             + start * START_ANGLE_STEP_DEG)

@@ -5,7 +5,11 @@ and, for every summary figure, ``_mean``, ``_std`` (sample standard deviation, n
 with one seed), ``_min``, ``_max`` over the point's ``ok`` seeds; the systematic uncertainty the
 run can state beside them (:mod:`.bias`): ``max_wear_depth_m_bias_rel`` (and ``revR_..._bias_rel``
 per wear-study snapshot), the wear factor's relative bias or ``unknown``, and
-``wear_factor_bias_note``.  ``bands/pointK_LABEL.csv``: the worn profile's mean, std, min and max
+``wear_factor_bias_note``; the regimes of the point's starts (each ok case's summary ``regime``,
+:func:`wearjoint.analysis.regime`): ``regime_<name>_fraction`` per regime met in the sweep (e.g.
+``regime_backward_whirl_fraction``, over the ok cases that name one), ``regimes`` (e.g.
+``backward whirl 2/8, impacting 6/8``) and ``mixed_regimes`` (1 where the point's means average
+over more than one regime).  ``bands/pointK_LABEL.csv``: the worn profile's mean, std, min and max
 per bushing point (LABEL ``final``, and ``revR`` per wear-study snapshot).  Figures:
 ``vs_PARAMETER.png`` (each figure of merit against each swept parameter as the change from the
 first grid point in %, mean with the +-std band, every seed, and the wear factor's bias band),
@@ -77,15 +81,51 @@ def _number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def regime_counts(point: GridPoint) -> dict:
+    """{regime: number of the point's ok cases in it} (the summaries' ``regime``; cases without one left out)."""
+    counts = {}
+    for row in point.ok:
+        if isinstance(row.get("regime"), str) and row["regime"]:
+            counts[row["regime"]] = counts.get(row["regime"], 0) + 1
+    return dict(sorted(counts.items()))
+
+
+def regime_column(name: str) -> str:
+    """ensemble.csv's column of the fraction of starts in regime ``name``: ``regime_<name>_fraction``."""
+    return "regime_" + re.sub(r"\W+", "_", name.strip().lower()) + "_fraction"
+
+
+def regime_text(counts: dict) -> str:
+    """E.g. ``backward whirl 2/8, impacting 6/8`` (empty without regimes)."""
+    total = sum(counts.values())
+    return ", ".join(f"{name} {n}/{total}" for name, n in counts.items())
+
+
+def regime_fields(points: list[GridPoint]) -> list[dict]:
+    """Per point: ``regime_<name>_fraction`` for every regime met anywhere in the sweep (0.0 where the point
+    has none of it; empty where no case of the point names a regime), ``regimes`` and ``mixed_regimes``."""
+    counts = [regime_counts(point) for point in points]
+    names = sorted({name for c in counts for name in c})
+    out = []
+    for c in counts:
+        total = sum(c.values())
+        fields = {regime_column(name): (c.get(name, 0) / total if total else "") for name in names}
+        fields["regimes"] = regime_text(c)
+        fields["mixed_regimes"] = int(len(c) > 1) if total else ""
+        out.append(fields)
+    return out
+
+
 def ensemble_rows(points: list[GridPoint]) -> list[dict]:
     """ensemble.csv's rows (see the module docstring)."""
     out = []
+    regimes = regime_fields(points)
     for k, point in enumerate(points):
         ok = point.ok
         pending = sum(r["status"] == PENDING for r in point.rows)
-        skip = set(LEAD_COLUMNS) | set(TAIL_COLUMNS) | set(point.values)
+        skip = set(LEAD_COLUMNS) | set(TAIL_COLUMNS) | set(point.values) | {"mixed_regimes"}
         row = {"point": k, **point.values, "n_ok": len(ok), "n_failed": len(point.rows) - len(ok) - pending,
-               "n_pending": pending}
+               "n_pending": pending, **regimes[k]}
         columns = dict.fromkeys(c for r in ok for c, v in r.items() if c not in skip and _number(v))
         for column in columns:
             values = np.array([r[column] for r in ok if _number(r.get(column))], dtype=float)
@@ -297,8 +337,20 @@ def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = T
         figures = (plot_against_parameters(out, points) + plot_profile_bands(out, points, bands)
                    + plot_fig7_bands(out, points, bands))
     notes = list(dict.fromkeys(b.note for point in points for b in point.bias.values()))
-    return {"ensemble": ensemble, "figures": figures, "wear_factor_bias": notes}
+    regimes = [{"point": k, "values": point.values, "regimes": regime_counts(point), "text": row["regimes"],
+                "mixed": bool(row["mixed_regimes"])} for k, (point, row) in enumerate(zip(points, ensemble))]
+    return {"ensemble": ensemble, "figures": figures, "wear_factor_bias": notes, "regimes": regimes}
 
 
-__all__ = ["write_reports", "ensemble_rows", "grid_points", "profile_bands", "read_biases", "GridPoint",
+def regime_line(row: dict) -> str:
+    """The printed table's regime note of an ensemble.csv row (values as read back: strings): e.g.
+    ``regimes: backward whirl 2/8, impacting 6/8 (MIXED: ...)``; empty when the row names no regime."""
+    text = row.get("regimes") or ""
+    if not text:
+        return ""
+    mixed = str(row.get("mixed_regimes", "")).strip() in ("1", "True", "true")
+    return f"regimes: {text}" + (" (MIXED: the means average over these regimes)" if mixed else "")
+
+
+__all__ = ["write_reports", "ensemble_rows", "regime_counts", "regime_fields", "regime_line", "regime_text", "grid_points", "profile_bands", "read_biases", "GridPoint",
            "FIGURES_OF_MERIT", "BIAS_NOTE"]

@@ -34,9 +34,12 @@ SNAPSHOT_FIGURES = ("max_wear_depth_m", "worn_volume_m3", "lobe_0_depth_m", "lob
 
 
 def summary_figures(summary: dict) -> dict:
-    """The numbers of a case's summary.json as flat columns: every top-level number, and for a
-    wear study ``rev{R}_{figure}`` per snapshot and the growth exponent."""
+    """The numbers of a case's summary.json as flat columns: every top-level number, the run's ``regime``
+    (:func:`wearjoint.analysis.regime`), and for a wear study ``rev{R}_{figure}`` per snapshot and the
+    growth exponent."""
     row = {k: v for k, v in summary.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    if isinstance(summary.get("regime"), str):
+        row["regime"] = summary["regime"]
     for snap in summary.get("snapshots", []):
         for key in SNAPSHOT_FIGURES:
             if isinstance(snap.get(key), (int, float)):
