@@ -119,7 +119,8 @@ def whirl_fraction(samples: np.ndarray) -> float:
     contact) in which the contact point (the eccentricity's angle in the bushing frame) travels at least one
     full turn against the pin's spin relative to the bushing, as a pin rolling round the bushing does (at
     -omega_rel R_i / c); impacts and sliding contacts move it back and forth with the load.  The
-    friction-driven backward whirl of docs/own_mechanism.md."""
+    friction-driven backward whirl of docs/own_mechanism.md.  The samples must resolve a whirl turn (a
+    sample spacing well below 2 pi c / (omega_rel R_i)): a coarser one aliases the angle's unwrapping."""
     if samples.shape[0] < 2:
         return 0.0
     angle = np.unwrap(np.arctan2(samples[:, L.T_ECC_Y], samples[:, L.T_ECC_X]))
