@@ -53,6 +53,32 @@ def test_replay_removes_archards_volume_at_any_scale_without_ripple(scale):
     assert np.all(rising >= -1e-12 * h.max()) and np.all(falling <= 1e-12 * h.max())   # one groove, no ripple
 
 
+@pytest.mark.parametrize("flank_deg", [0.0, 10.0, 14.0])
+def test_replay_keeps_archards_volume_on_the_flank_of_a_groove_deeper_than_the_clearance(flank_deg):
+    """A bushing worn into a groove 0.4 mm deep (four clearances c; the bore shifted by d: r(phi) =
+    d cos(phi) + sqrt(R_j^2 - d^2 sin^2(phi))) and a load towards phi on its flank (|phi| < asin(c/d) = 14.5 deg):
+    the pin touches the groove where |e u - d x| = c + p, so moving it along u changes its penetration p by
+    the cosine of a steep angle (about 0.25 at 14 deg).  Recorded 20 um shallower (a profile the jump has worn
+    since),
+    the pin must still be placed at its recorded penetration and the row remove Archard's volume
+    k_w F R_j |omega| t, up to the worn radius (a factor between 1 and 1 + 2 h_max / R_j, as above)."""
+    p = paper_joint(wear_factor=1.0)
+    joint = ClearanceJoint(p)
+    d, radius, c = 0.4e-3, p.bushing_radius_m, p.clearance_m
+    phi = joint.phi_rad
+    joint.set_wear_profile(np.maximum(0.0, d * np.cos(phi) + np.sqrt(radius ** 2 - (d * np.sin(phi)) ** 2) - radius))
+    force, omega, t, angle, penetration = 300.0, 30.0, 1e-4, math.radians(flank_deg), 0.1e-6
+    touching = d * math.cos(angle) + math.sqrt((c + penetration) ** 2 - (d * math.sin(angle)) ** 2)
+    e = touching - 20e-6
+    row = np.zeros((1, N_LOAD_COLUMNS))
+    row[0] = [e * math.cos(angle), e * math.sin(angle), penetration, force, omega, 0.0, t]
+    before = joint.worn_volume_m3
+    joint.replay_wear(row, 1.0)
+    archard = p.wear_coefficient_m2_N * force * omega * t
+    removed = joint.worn_volume_m3 - before
+    assert archard * radius <= removed <= archard * (radius + 2 * d), (removed, archard * radius)
+
+
 def test_replay_refuses_bad_loading_and_absurd_wear_leaving_the_joint_unchanged():
     p = paper_joint(wear_factor=1.0)
     joint = ClearanceJoint(p)
@@ -124,6 +150,8 @@ def test_a_jump_study_accounts_every_revolution_and_reports_its_jumps(tmp_path):
     growth = np.loadtxt(tmp_path / "wear_growth.csv", delimiter=",", skiprows=1)
     assert np.all(np.diff(growth[:, 0]) > 0) and np.all(np.diff(growth[:, 1]) >= 0.0)
     assert [s["revolution"] for s in whole["snapshots"]] == [5, 10]
+    low, high = jumps["replay_volume_ratio_range"]       # each jump wore the block's volume per revolution times N
+    assert 0.97 <= low <= high <= 1.05, (low, high)
 
 
 @pytest.mark.parametrize("changes, message", [

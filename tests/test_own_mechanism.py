@@ -309,3 +309,94 @@ def test_simulate_starts_from_a_profile_file_and_refuses_one_that_does_not_fit(t
                      str(tmp_path / "first" / "profile.csv"), "--out", str(tmp_path / "bad"))
     assert done.returncode == 2 and "--initial-profile" in done.stderr and "628 bushing points" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_cosim_study_scales_its_window_with_the_period_and_its_steps_with_the_stiffness():
+    """15 ms of the paper's 0.4 s turn is 7.5 ms at 300 rpm.  The step rule's on-time limit goes as
+    (m/k)^(1/2), k ~ K^(2/3) F^(1/3) and the estimated F ~ K^(2/5): a joint 8x stiffer takes 8^(-0.4) of the
+    paper's steps; a softer one keeps them."""
+    from wearjoint.validation.cosim_study import PAPER_STEPS_S, default_steps_s, pointwise_window_s
+
+    assert pointwise_window_s(MECHANISM) == pytest.approx(0.0075, rel=1e-12)
+    paper = paper_joint()
+    stiff = paper.replace(contact_stiffness_N_m1_5=8.0 * paper.stiffness_N_m1_5)
+    assert default_steps_s(stiff, SliderCrankParameters()) == pytest.approx([s * 8.0 ** -0.4 for s in PAPER_STEPS_S],
+                                                                             rel=2e-3)
+    soft = paper.replace(contact_stiffness_N_m1_5=paper.stiffness_N_m1_5 / 8.0)
+    assert default_steps_s(soft, SliderCrankParameters()) == pytest.approx(PAPER_STEPS_S, rel=1e-12)
+
+
+@pytest.mark.parametrize("options, named", [(["--no-wear"], "--no-wear"), (["--steps", "1e-6", "0"], "--steps"),
+                                            (["--crank-speed-rpm", "-5"], "crank_speed_rpm")])
+def test_cosim_study_refuses_what_it_cannot_run_in_one_line(tmp_path, options, named):
+    result = wearjoint("cosim-study", "--out", str(tmp_path), *options, timeout=120)
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and named in lines[0], result.stderr
+    assert not (tmp_path / "cosim_study.json").exists()
+
+
+@pytest.mark.slow
+def test_cosim_study_runs_on_this_mechanism(tmp_path):
+    """The study on the own mechanism: its parameters reach every run, and over the point-wise window (before the
+    chaotic motion separates the runs) the zero-order-hold coupling converges at first order: half the step,
+    half the slider's deviation from the monolithic reference."""
+    result = wearjoint("cosim-study", "--out", str(tmp_path), "--revolutions", "0.5", "--schemes", "zoh",
+                       "--steps", "1e-6", "5e-7", *MODEL_OPTIONS, timeout=1200)
+    assert result.returncode == 0, result.stderr
+    study = json.loads((tmp_path / "cosim_study.json").read_text())
+    assert study["parameters"]["mechanism"]["crank_speed_rpm"] == 300.0
+    assert study["parameters"]["joint"]["bushing_radius_m"] == 0.01215
+    assert study["pointwise_window_s"] == pytest.approx(0.0075)
+    cosim = {r["step_s"]: r for r in study["rows"] if r["engine"] == "cosim"}
+    assert all("failed" not in r for r in cosim.values())
+    assert cosim[1e-6]["communication_steps"] >= 0.99 * 0.5 * MECHANISM.period_s / 1e-6
+    ratio = cosim[1e-6]["pointwise_slider_x_m"] / cosim[5e-7]["pointwise_slider_x_m"]
+    assert 1.6 < ratio < 2.5, ratio
+
+
+@pytest.mark.parametrize("interface", ["co-simulation", "model-exchange"])
+def test_the_fmu_starts_from_a_worn_profile_as_from_a_larger_bushing(interface):
+    """The FMU's state carries the profile: started 20 um worn all round (deepest-point contact, no wear) it
+    moves as the unworn FMU of a bushing 20 um larger over the first 20 ms, and keeps the profile as given."""
+    from wearjoint.cosim import CoSimulationOptions, run_cosimulation
+    from wearjoint.cosim.model_exchange import run_model_exchange
+
+    mechanism = SliderCrankParameters()
+    joint = paper_joint(mechanism, contact_model="deepest", contact_stiffness_N_m1_5=7.95e10, wear_factor=0.0)
+    larger = joint.replace(bushing_radius_m=joint.bushing_radius_m + 20e-6)
+    if interface == "co-simulation":
+        def run(j, profile=None):
+            return run_cosimulation(j, mechanism, CoSimulationOptions(revolutions=0.05, step_s=1e-6), progress=False,
+                                    initial_profile_m=profile)
+    else:
+        def run(j, profile=None):
+            return run_model_exchange(j, mechanism, SimulationOptions(revolutions=0.05, integrator="rk4", step_s=2e-6),
+                                      progress=False, initial_profile_m=profile)
+    worn, reference = run(joint, np.full(joint.n_points, 20e-6)), run(larger)
+    assert np.array_equal(worn.wear_depth_m, np.full(joint.n_points, 20e-6))
+    assert reference.summary()["max_contact_force_N"] > 100.0
+    window = worn.samples[:, 0] <= 0.02
+    np.testing.assert_allclose(worn.samples[window, 9:11], reference.samples[window, 9:11], rtol=0, atol=1e-9)
+
+
+def test_cosim_starts_from_a_profile_file_and_refuses_a_bad_one_in_one_line(tmp_path):
+    from wearjoint.core.geometry import bushing_point_angles
+
+    profile, n = tmp_path / "profile.csv", JointParameters().n_points
+    angles = np.degrees(bushing_point_angles(n))
+    np.savetxt(profile, np.column_stack([angles, np.full(n, 5e-6)]), delimiter=",", header="phi_deg,wear_depth_m",
+               comments="")
+    done = wearjoint("cosim", "--revolutions", "0.01", "--no-plots", "--quiet", "--no-wear", "--initial-profile",
+                     str(profile), "--out", str(tmp_path / "run"))
+    assert done.returncode == 0, done.stderr
+    assert np.allclose(np.loadtxt(tmp_path / "run" / "profile.csv", delimiter=",", skiprows=1)[:, 1], 5e-6, rtol=0,
+                       atol=0)
+    np.savetxt(profile, np.column_stack([angles, np.full(n, -5e-6)]), delimiter=",", header="phi_deg,wear_depth_m",
+               comments="")
+    done = wearjoint("cosim", "--revolutions", "0.01", "--no-plots", "--quiet", "--initial-profile", str(profile),
+                     "--out", str(tmp_path / "bad"))
+    assert done.returncode != 0 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert "wear" in done.stderr and "Traceback" not in done.stderr
+    done = wearjoint("cosim", "--master", "fmpy-ssp", "--initial-profile", str(profile), "--out", str(tmp_path / "x"))
+    assert done.returncode == 2 and "--initial-profile" in done.stderr and "only with --master wearjoint" in done.stderr

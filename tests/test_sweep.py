@@ -212,7 +212,8 @@ def test_wear_study_seeds_reports_fig7_with_bands(tmp_path):
     assert (out / "fig7_bands_point0.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "rev20_max_wear_depth_m" in done.stdout
     assert ensemble["max_wear_depth_m_bias_rel"] == ensemble["rev10_max_wear_depth_m_bias_rel"] == "unknown"
-    assert "F = 20" in ensemble["wear_factor_bias_note"] and "(bias unknown)" in done.stdout   # never measured
+    # the printed k_w: not the measured case; the note says how to measure it
+    assert "--convergence jump,20" in ensemble["wear_factor_bias_note"] and "(bias unknown)" in done.stdout
 
 
 # ------------------------------------------------------------------ names, the wear factor's bias, figures
@@ -245,9 +246,11 @@ def test_unknown_vary_name_names_the_option_the_value_and_the_allowed_names(tmp_
 
 
 def test_a_friction_sweep_shows_the_wear_factor_bias_next_to_the_answer(tmp_path):
-    """The issue's sweep, small: F = 100 at 500 revolutions, where the convergence study measured the bias."""
+    """The issue's sweep, small: F = 100 at 500 revolutions and k_w 5.576e-11, where the convergence study
+    measured the bias."""
     out = tmp_path / "friction"
     done = wearjoint("sweep", "wear-study", "--revolutions", "500", "--snapshots", "500", "--wear-factor", "100",
+                     "--wear-coefficient-m2-N=5.576e-11",
                      "--vary", "friction_coefficient=0.05,0.2", "--seeds", "1", "--workers", "2", "--no-plots",
                      "--out", str(out), "--quiet")
     assert done.returncode == 0, done.stderr
@@ -271,6 +274,26 @@ def test_wear_factor_bias_is_stated_only_where_measured():
     assert wear_factor_bias(100.0, 5000).rel is None and wear_factor_bias(20.0, 1000).rel is None
     assert wear_factor_bias(100.0, 1000, cycle_jump=True).rel is None
     assert wear_factor_bias(20.0, 1000).text == "unknown"
+
+
+def test_the_measured_bias_belongs_to_the_paper_case_only():
+    """The table was measured on the paper's mechanism and joint at k_w 5.576e-11: another mechanism, joint
+    geometry or k_w gets unknown and the command that measures it for its own case and horizon."""
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
+    from wearjoint.sweep.bias import summary_biases
+
+    def summary(mechanism=SliderCrankParameters(), **changes):
+        joint = paper_joint(mechanism, **{"wear_coefficient_m2_N": 5.576e-11, "wear_factor": 100.0, **changes})
+        return {"revolutions": 10.0, "parameters": {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()}}
+
+    assert summary_biases(summary())["max_wear_depth_m"].rel == WEAR_FACTOR_BIAS[100.0][1000]
+    seeded = summary(SliderCrankParameters(initial_crank_angle_deg=0.5))
+    assert summary_biases(seeded)["max_wear_depth_m"].rel == WEAR_FACTOR_BIAS[100.0][1000]
+    for other in (summary(SliderCrankParameters(crank_speed_rpm=300.0)), summary(bushing_radius_m=0.0102),
+                  summary(wear_coefficient_m2_N=1e-12)):
+        bias = summary_biases(other)["max_wear_depth_m"]
+        assert bias.rel is None
+        assert "--convergence jump,100 --revolutions 1000" in bias.note
 
 
 def _points(values_by_x: dict, bias_rel):

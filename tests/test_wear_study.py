@@ -13,7 +13,7 @@ from wearjoint.parameters import JointParameters, ParameterError, SliderCrankPar
 from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from wearjoint.validation.wear_convergence import run_convergence
 from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study, snapshot_statistics
-from wearjoint.validation.wear_study_plots import is_paper_case
+from wearjoint.parameters import is_paper_case
 
 MODEL_SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
                       "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
@@ -145,6 +145,7 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100", "--cycle-jump-tolerance", "0.01", "--wear-factor", "10"), "wear_factor=10.0"),
     (("--revolutions", "100", "--cycle-jump-block", "0"), "jump_block_revolutions=0"),
     (("--revolutions", "100", "--convergence", "1,-10"), "factor"),
+    (("--revolutions", "100", "--convergence", "jump,x"), "--convergence: 'x' is not a number"),
 ])
 def test_bad_arguments_give_one_clear_error(tmp_path, capsys, args, message):
     assert cli_main(["wear-study", "--out", str(tmp_path / "x"), "--quiet", *args]) == 2

@@ -225,6 +225,23 @@ def test_convergence_runs_the_listed_factors_and_keeps_those_that_finish(tmp_pat
     assert json.loads((tmp_path / "convergence.json").read_text())["runs"]["F=10"] == "diverged"
 
 
+def test_convergence_against_the_jump_route_runs_it_at_the_real_wear_rate():
+    """``jump`` in the list is the default route: wear factor 1 with cycle jumping (the config's tolerance, or
+    the default one); the factors run without it; a repeated entry is refused in one line."""
+    from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
+    from wearjoint.validation.wear_convergence import convergence_runs
+
+    runs = convergence_runs(small_config(revolutions=100, snapshots=(100,)), ["jump", 10.0])
+    assert list(runs) == ["jump", "F=10"]
+    assert (runs["jump"].joint.wear_factor, runs["jump"].jump_tolerance) == (1.0, DEFAULT_JUMP_TOLERANCE)
+    assert (runs["F=10"].joint.wear_factor, runs["F=10"].jump_tolerance) == (10.0, None)
+    tighter = convergence_runs(small_config(revolutions=100, snapshots=(100,), jump_tolerance=0.001,
+                                            joint=paper_joint(wear_factor=1.0)), ["jump"])
+    assert tighter["jump"].jump_tolerance == 0.001
+    with pytest.raises(ParameterError, match="jump,10,jump repeats one"):
+        convergence_runs(small_config(revolutions=100, snapshots=(100,)), ["jump", 10.0, "jump"])
+
+
 def test_wear_factor_leaving_less_than_one_simulated_revolution_is_refused():
     with pytest.raises(ParameterError) as caught:
         small_config(revolutions=1000, snapshots=(1000,), joint=paper_joint(wear_factor=1e6))

@@ -7,9 +7,13 @@ contact fraction, slider acceleration extremes, max contact force, max
 eccentricity) and the worn profile after a few revolutions (reduced
 wear_factor) must differ from the reference by no more than equally valid
 monolithic runs differ from it (RK4 1 us, DOPRI at a tighter tolerance);
-pointwise agreement is checked only over the first 15 ms.
+pointwise agreement is checked only over the first 15 ms (of the paper's 0.4 s crank period).
 
-    wearjoint cosim-study --out DIR [--revolutions 2] [--steps ...] [--fmu PATH] [--fmu-backend B]
+    wearjoint cosim-study --out DIR [--revolutions 2] [--steps ...] [--fmu PATH] [--fmu-backend B] [model options]
+
+Any slider-crank and joint (the model options of ``simulate``): the default steps are the paper's
+1, 2, 5 and 10 us scaled by the communication-step rule (:func:`wearjoint.cosim.step_rule.paper_step_scale`)
+and the point-wise window is the paper's 15 ms scaled with the crank period.
 
 Writes ``cosim_study.md`` (the table), ``cosim_study.json`` and ``cosim_study.png``.
 """
@@ -25,11 +29,13 @@ from wearjoint import analysis
 from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
 from wearjoint.fmu.build import DEFAULT_BACKEND
-from wearjoint.parameters import paper_joint
+from wearjoint.cosim.step_rule import paper_step_scale
+from wearjoint.parameters import JointParameters, SliderCrankParameters
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
 
-POINTWISE_WINDOW_S = 0.015
+POINTWISE_WINDOW_S = 0.015     # on the paper's mechanism (a 0.4 s crank period); scaled with the period
+PAPER_STEPS_S = (1e-6, 2e-6, 5e-6, 1e-5)
 WEAR_FACTOR = 0.01          # reduced wear: ~0.4 um per revolution, no effect on the dynamics
 STATISTICS = (              # (key, wearjoint.analysis.mean_revolution_statistics key, label)
     ("impacts", "impacts_per_revolution", "impacts / rev"),
@@ -48,28 +54,44 @@ def revolution_statistics(record: RunRecord) -> dict:
     return {key: stats[name] for key, name, _ in STATISTICS}
 
 
-def pointwise_deviation(record: RunRecord, reference: RunRecord) -> dict:
-    """Max |difference| over the first POINTWISE_WINDOW_S of slider position [m] and
+def pointwise_window_s(mechanism: SliderCrankParameters) -> float:
+    """The point-wise window [s]: POINTWISE_WINDOW_S of the paper's crank period, scaled with this one's."""
+    return POINTWISE_WINDOW_S * mechanism.period_s / SliderCrankParameters().period_s
+
+
+def default_steps_s(joint: JointParameters, mechanism: SliderCrankParameters) -> list:
+    """PAPER_STEPS_S scaled by the communication-step rule for ``joint`` in ``mechanism``."""
+    scale = paper_step_scale(joint, mechanism)
+    return [float(f"{step * scale:.3g}") for step in PAPER_STEPS_S]
+
+
+def pointwise_deviation(record: RunRecord, reference: RunRecord, window_s: float = POINTWISE_WINDOW_S) -> dict:
+    """Max |difference| over the first ``window_s`` of slider position [m] and
     eccentricity [m], the record interpolated at the reference's sample times."""
     keys = {"slider_x_m": L.T_SLIDER_X, "eccentricity_x_m": L.T_ECC_X, "eccentricity_y_m": L.T_ECC_Y}
-    d = analysis.window_differences(record.samples, reference.samples, POINTWISE_WINDOW_S, keys.values())
+    d = analysis.window_differences(record.samples, reference.samples, window_s, keys.values())
     return {key: float(np.max(np.abs(d[:, k]))) for k, key in enumerate(keys)}
 
 
-def compare(record: RunRecord, reference: RunRecord) -> dict:
-    """Deviation of ``record`` from ``reference``: relative per statistic, pointwise, profile."""
+def compare(record: RunRecord, reference: RunRecord, window_s: float = POINTWISE_WINDOW_S) -> dict:
+    """Deviation of ``record`` from ``reference``: relative per statistic, pointwise over ``window_s``, profile."""
     stats, ref = revolution_statistics(record), revolution_statistics(reference)
     out = {f"{k}_rel": abs(stats[k] - ref[k]) / max(abs(ref[k]), 1e-300) for k in stats}
-    out.update({f"pointwise_{k}": v for k, v in pointwise_deviation(record, reference).items()})
+    out.update({f"pointwise_{k}": v for k, v in pointwise_deviation(record, reference, window_s).items()})
     out["profile_rel"] = analysis.profile_relative_l2(record.wear_depth_m, reference.wear_depth_m)
     out["statistics"] = stats
     return out
 
 
 def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
-              fmu_backend: str = DEFAULT_BACKEND) -> dict:
-    """All runs and their comparison (see module docstring)."""
-    joint = paper_joint(wear_factor=WEAR_FACTOR)
+              fmu_backend: str = DEFAULT_BACKEND, joint: JointParameters | None = None,
+              mechanism: SliderCrankParameters | None = None) -> dict:
+    """All runs and their comparison (see module docstring) for ``joint`` (its wear factor set to WEAR_FACTOR)
+    in ``mechanism`` (defaults: the paper's); ``steps`` None: :func:`default_steps_s`."""
+    joint = (joint or JointParameters()).replace(wear_factor=WEAR_FACTOR)
+    mechanism = mechanism or SliderCrankParameters()
+    steps = default_steps_s(joint, mechanism) if steps is None else list(steps)
+    window = pointwise_window_s(mechanism)
     monolithic = {
         "dopri (reference)": SimulationOptions(revolutions=revolutions, integrator="dopri", max_step_s=1e-5),
         "rk4 1 us": SimulationOptions(revolutions=revolutions, integrator="rk4", step_s=1e-6),
@@ -77,21 +99,21 @@ def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
     }
     records = {}
     for name, options in monolithic.items():
-        records[name] = run_simulation(joint, None, options, progress=False)
+        records[name] = run_simulation(joint, mechanism, options, progress=False)
         log(f"monolithic {name}: {records[name].wall_time_s:.1f} s")
     reference = records["dopri (reference)"]
     rows = []
     for name in list(monolithic)[1:]:
         rows.append({"engine": "monolithic", "run": name, "wall_time_s": records[name].wall_time_s,
                      "realtime_factor": records[name].summary()["realtime_factor"],
-                     **compare(records[name], reference)})
+                     **compare(records[name], reference, window)})
     scatter = {k: max(r[k] for r in rows) for k in rows[0] if k.endswith("_rel") or k.startswith("pointwise_")}
     for scheme in schemes:
         for step in steps:
             options = CoSimulationOptions(revolutions=revolutions, scheme=scheme, step_s=step,
                                           max_step_s=max(step, CoSimulationOptions.max_step_s))
             try:
-                record = run_cosimulation(joint, None, options, fmu_path=fmu_path, progress=False,
+                record = run_cosimulation(joint, mechanism, options, fmu_path=fmu_path, progress=False,
                                           fmu_backend=fmu_backend)
             except CoSimulationError as exc:
                 log(f"cosim {scheme} {step:g}: failed ({exc})")
@@ -101,11 +123,12 @@ def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
             row = {"engine": "cosim", "run": f"{scheme} {step:g}", "scheme": scheme, "step_s": step,
                    "wall_time_s": record.wall_time_s, "realtime_factor": record.summary()["realtime_factor"],
                    **{k: record.extra[k] for k in ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s")},
-                   **compare(record, reference)}
+                   **compare(record, reference, window)}
             rows.append(row)
             log(f"cosim {row['run']}: {record.wall_time_s:.1f} s")
-    return {"revolutions": revolutions, "wear_factor": WEAR_FACTOR, "pointwise_window_s": POINTWISE_WINDOW_S,
-            "fmu_backend": fmu_backend,
+    return {"revolutions": revolutions, "wear_factor": WEAR_FACTOR, "pointwise_window_s": window,
+            "fmu_backend": fmu_backend, "steps_s": steps,
+            "parameters": {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()},
             "reference": revolution_statistics(reference), "scatter": scatter, "rows": rows}
 
 
@@ -113,7 +136,7 @@ def markdown_table(study: dict) -> str:
     """The study as a markdown table: relative deviations from the monolithic reference."""
     keys = [f"{k}_rel" for k, _, _ in STATISTICS] + ["profile_rel"]
     head = ["run", "comm. steps", "rollbacks", "real-time factor"] + [k[:-4] for k in keys] + \
-           ["slider x, 15 ms [m]", "inside scatter"]
+           [f"slider x, {study['pointwise_window_s'] * 1e3:.3g} ms [m]", "inside scatter"]
     scatter = study["scatter"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in study["rows"]:

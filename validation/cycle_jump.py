@@ -13,7 +13,9 @@ ended with, so the jump's error is about half its length times the change of the
 Euler's and Heun's steps), which also contains the rate's sampling noise of the chaotic dynamics:
 e = N/2 RMS(w_after - w_before), relative to the max depth.  The next jump is N * 0.9 (tol / e)^(1/2),
 between 0.2 and 2 times N (a first-order method's local error grows with N^2).  Every jump's length,
-passes and estimate go to summary.json.
+passes and estimate go to summary.json, with a check the estimate cannot make: the volume the replay wore
+over the block's volume per revolution times N (Archard's volume is the block's: 1 up to the worn radius
+the points slide at; ``replay_volume_ratio``, its range over the study).
 """
 from __future__ import annotations
 
@@ -115,7 +117,7 @@ def _block(config, state, engine, buffer, period, sample_dt, keep_snapshot) -> N
     js = state["jump"]
     revolution = js["revolution"]
     length = min(config.jump_block_revolutions, _next_snapshot(config, revolution) - revolution)
-    start_depth = engine.wear_profile()[1]
+    _, start_depth, start_volume = engine.wear_profile()
     loads, last = [], None
     for _ in range(length):
         js["simulated_revolutions"] += 1
@@ -127,6 +129,7 @@ def _block(config, state, engine, buffer, period, sample_dt, keep_snapshot) -> N
         last = buffer[:n].copy()
     _, depth, volume = engine.wear_profile()
     rate = (depth - start_depth) / length
+    js["volume_rate"] = (volume - start_volume) / length
     js["revolution"] = revolution + length
     js["loading"] = np.concatenate(loads)
     js["block_length"] = length
@@ -153,7 +156,7 @@ def _jump(config, state, engine, replayer) -> None:
                                                                gap - config.jump_block_revolutions)
     if jump <= 0:
         return
-    _, depth, _ = engine.wear_profile()
+    _, depth, volume_before = engine.wear_profile()
     passes = replay_passes(jump, js["rate"], float(depth.max()))
     start = time.perf_counter()
     replayer.set_wear_profile(depth)
@@ -165,9 +168,11 @@ def _jump(config, state, engine, replayer) -> None:
                           "--wear-coefficient-m2-N or --revolutions)")
     engine.set_wear_profile(replayer.wear_depth)
     _, depth, volume = engine.wear_profile()
+    block_volume = js.get("volume_rate", 0.0) * jump
     js["jumps"].append({"start_revolution": revolution, "revolutions": int(jump), "passes": passes,
                         "replay_wall_time_s": time.perf_counter() - start, "error_estimate_rel": None,
-                        "error_estimate_m": None})
+                        "error_estimate_m": None,
+                        "replay_volume_ratio": (volume - volume_before) / block_volume if block_volume > 0 else None})
     js["pending_jump"] = len(js["jumps"]) - 1
     js["revolution"] = revolution + jump
     state["growth"].append((js["revolution"], float(depth.max()), volume))
@@ -177,6 +182,7 @@ def jump_summary(config, state: dict) -> dict:
     """summary.json's "cycle_jumping": the settings, every jump, and the estimates."""
     js = state["jump"]
     estimates = [j["error_estimate_rel"] for j in js["jumps"] if j["error_estimate_rel"] is not None]
+    ratios = [j["replay_volume_ratio"] for j in js["jumps"] if j.get("replay_volume_ratio") is not None]
     depth = state["growth"][-1][1] if state["growth"] else 0.0
     summed = sum(j["error_estimate_m"] for j in js["jumps"] if j["error_estimate_rel"] is not None)
     return {"tolerance_rel": config.jump_tolerance, "block_revolutions": config.jump_block_revolutions,
@@ -185,6 +191,7 @@ def jump_summary(config, state: dict) -> dict:
             "largest_jump_revolutions": max((j["revolutions"] for j in js["jumps"]), default=0),
             "largest_error_estimate_rel": max(estimates, default=0.0),
             "error_estimate_summed_rel_to_final_depth": float(summed / depth) if depth > 0.0 else 0.0,
+            "replay_volume_ratio_range": [min(ratios), max(ratios)] if ratios else None,
             "jump_history": js["jumps"]}
 
 

@@ -1,6 +1,9 @@
 """The convergence of the wear acceleration factor (``wearjoint wear-study --convergence F1,F2,...``): one
 wear study (:mod:`wearjoint.validation.wear_study`) per factor given, exactly those, the first the reference
-(normally 1), compared at the matched snapshots.  A run that diverges is marked (its message in
+(normally 1), compared at the matched snapshots.  ``jump`` in the list stands for the default route
+(error-controlled cycle jumping, within about 1 % of brute force on the paper's case, its own error estimate in
+its summary): ``--convergence jump,100`` measures F = 100's bias for any mechanism and horizon at a fraction of
+brute force's cost.  A run that diverges is marked (its message in
 convergence.json, its rows "diverged"); the others and the table of what finished are written all the same.
 """
 from __future__ import annotations
@@ -15,31 +18,43 @@ from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
 
 from .wear_study import CHECKPOINT_NAME, CONVERGENCE_TOLERANCE, WearStudyConfig, profile_angles_deg, run_wear_study
+from .cycle_jump import DEFAULT_JUMP_TOLERANCE
 from .wear_study_recovery import StudyDiverged
 
+JUMP = "jump"                   # the cycle-jumping route in a --convergence list
 ROW_KEYS = ("run", "status", "revolution", "max_wear_depth_m", "reference_max_wear_depth_m", "max_depth_rel_diff",
             "rms_profile_diff_rel", "wall_time_s")
 
 
 def convergence_runs(config: WearStudyConfig, factors) -> dict:
     """label -> the study of each factor (the wear-factor route; a step left at its default is the default of
-    each factor's wear: the wear-step limit falls with the factor).  Every config is validated here, before
+    each factor's wear: the wear-step limit falls with the factor) or of :data:`JUMP` (the cycle-jumping route
+    at wear factor 1 with ``config``'s tolerance, or the default one).  Every config is validated here, before
     any run: a factor that leaves less than one simulated revolution is refused in one line."""
-    factors = [float(f) for f in factors]
+    factors = [f if f == JUMP else float(f) for f in factors]
     if not factors:
-        raise ParameterError("--convergence: no factor given (expected e.g. 1,10,50)")
+        raise ParameterError(f"--convergence: no factor given (expected e.g. 1,10,50 or {JUMP},100)")
     if len(set(factors)) != len(factors):
-        raise ParameterError(f"--convergence: factors {','.join(f'{f:g}' for f in factors)} repeat one: allowed "
+        raise ParameterError(f"--convergence: {','.join(_label_text(f) for f in factors)} repeats one: allowed "
                              "distinct factors")
     default_step = config.max_step_s == config.replace(max_step_s=None).max_step_s
+    step = {"max_step_s": None} if default_step else {}
     runs = {}
     for f in factors:
         try:
-            runs[f"F={f:g}"] = config.replace(joint=config.joint.replace(wear_factor=f), jump_tolerance=None,
-                                              **({"max_step_s": None} if default_step else {}))
+            if f == JUMP:
+                runs[JUMP] = config.replace(joint=config.joint.replace(wear_factor=1.0),
+                                            jump_tolerance=config.jump_tolerance or DEFAULT_JUMP_TOLERANCE, **step)
+            else:
+                runs[f"F={f:g}"] = config.replace(joint=config.joint.replace(wear_factor=f), jump_tolerance=None,
+                                                  **step)
         except ParameterError as exc:
-            raise ParameterError(f"--convergence: factor {f:g}: {exc}") from None
+            raise ParameterError(f"--convergence: factor {_label_text(f)}: {exc}") from None
     return runs
+
+
+def _label_text(factor) -> str:
+    return factor if factor == JUMP else f"{factor:g}"
 
 
 def run_convergence(config: WearStudyConfig, factors, out_dir, resume: bool = False, progress: bool = True,
@@ -78,7 +93,7 @@ def run_convergence(config: WearStudyConfig, factors, out_dir, resume: bool = Fa
         comparable = reference not in diverged and label not in diverged and len(mine) == len(config.snapshots)
         verdict[label] = (bool(all(abs(r["max_depth_rel_diff"]) <= tolerance and r["rms_profile_diff_rel"] <= tolerance
                                    for r in mine)) if comparable else None)
-    passing = [cfg.joint.wear_factor for label, cfg in runs.items() if verdict[label]]
+    passing = [cfg.joint.wear_factor for label, cfg in runs.items() if verdict[label] and label != JUMP]
     with open(out / "convergence.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(ROW_KEYS))
         writer.writeheader()
@@ -90,6 +105,9 @@ def run_convergence(config: WearStudyConfig, factors, out_dir, resume: bool = Fa
                "diverged": diverged, "within_tolerance": verdict,
                "largest_factor_within_tolerance": max(passing) if passing else None,
                "rows": rows, "parameters": config.to_dict()}
+    if reference == JUMP and reference not in diverged:
+        summary["reference_error_estimate_rel"] = \
+            results[JUMP]["cycle_jumping"]["error_estimate_summed_rel_to_final_depth"]
     summary["figures"] = _plot(out, folders, profiles, config)
     write_json_atomic(out / "convergence.json", summary)
     return summary
@@ -124,4 +142,4 @@ def _plot(out: Path, folders: dict, profiles: dict, config: WearStudyConfig) -> 
     return figures + ["convergence_growth.png"]
 
 
-__all__ = ["run_convergence", "convergence_runs"]
+__all__ = ["run_convergence", "convergence_runs", "JUMP"]

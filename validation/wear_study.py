@@ -39,14 +39,14 @@ from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.joint import StateError
-from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters
+from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, is_paper_case
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
 from wearjoint.runner import RunDiverged, divergence
 from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
-from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment, is_paper_case
+from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
 from .wear_study_recovery import (
     ARRAY_KEYS, CHECKPOINT_FORMAT, CHECKPOINT_NAME, StudyDiverged, checkpoint_revolution, continue_segments,
     divergence_reason, diverged_message, extend_segment, load_checkpoint, read_checkpoint, snapshot_entry,

@@ -10,26 +10,12 @@ import numpy as np
 
 from wearjoint.analysis import growth_exponent
 from wearjoint.mechanism import SliderCrank
-from wearjoint.parameters import JointParameters, SliderCrankParameters
 
 EXPERIMENT_REVOLUTIONS = (200_000, 400_000)
 EXPERIMENT_MAX_DEPTH_M = (0.19e-3, 0.55e-3)
-PAPER_JOINT_GEOMETRY = ("pin_radius_m", "bushing_radius_m", "contact_length_m")
-
-
-def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> bool:
-    """The paper's mechanism (SliderCrankParameters(); the start angle, which a seed moves, aside) and joint
-    geometry (radii, clearance, length; the wear coefficient, the wear factor and the rest may differ): the
-    only case the paper's depth and its experiment describe, so the only one whose summary (and growth
-    figure) carries them."""
-    paper_joint, paper_mechanism = JointParameters(), SliderCrankParameters()
-    return (mechanism.replace(initial_crank_angle_deg=0.0) == paper_mechanism
-            and all(getattr(joint, name) == getattr(paper_joint, name) for name in PAPER_JOINT_GEOMETRY))
-
-
 def growth_assessment(growth: np.ndarray, paper: bool = True) -> dict:
     """Does the growth accelerate?  With ``paper`` (the paper's mechanism and joint,
-    :func:`wearjoint.validation.wear_study.is_paper_case`) compared with its experiment (0.19 mm at 200k,
+    :func:`wearjoint.parameters.is_paper_case`) compared with its experiment (0.19 mm at 200k,
     0.55 mm at 400k); other mechanisms have no experiment to compare with."""
     r, d = growth[:, 0], growth[:, 1]
     half = float(np.interp(r[-1] / 2.0, r, d))
@@ -112,5 +98,5 @@ def plot_growth(growth: np.ndarray, path: Path, paper: bool = True) -> None:
     save_figure(fig, path)
 
 
-__all__ = ["growth_assessment", "is_paper_case", "PAPER_JOINT_GEOMETRY", "plot_study", "plot_fig8", "plot_growth", "EXPERIMENT_REVOLUTIONS",
+__all__ = ["growth_assessment", "plot_study", "plot_fig8", "plot_growth", "EXPERIMENT_REVOLUTIONS",
            "EXPERIMENT_MAX_DEPTH_M"]

@@ -340,7 +340,20 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
                  f"{tuple(value)} for this slider-crank (crank tip / rod end)")
 
 
-__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness",
+PAPER_JOINT_GEOMETRY = ("pin_radius_m", "bushing_radius_m", "contact_length_m")
+
+
+def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> bool:
+    """The paper's mechanism (SliderCrankParameters(); the start angle, which a seed moves, aside) and joint
+    geometry (radii, clearance, length; the wear coefficient, the wear factor and the rest may differ): the
+    only case the paper's depth and its experiment describe, so the only one whose summary (and growth
+    figure) carries them."""
+    paper = JointParameters()
+    return (mechanism.replace(initial_crank_angle_deg=0.0) == SliderCrankParameters()
+            and all(getattr(joint, name) == getattr(paper, name) for name in PAPER_JOINT_GEOMETRY))
+
+
+__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness", "is_paper_case",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
            "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S",

@@ -10,8 +10,8 @@ from ..parameters import _finite, _require
 from ..results import write_results
 from ..simulate import SimulationOptions
 from .options import (
-    add_fmu_arguments, add_model_arguments, add_output_arguments, add_settling_argument, check_settling, exit_status,
-    model_from_args, print_summary,
+    add_fmu_arguments, add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument,
+    check_settling, exit_status, model_from_args, print_summary, read_initial_profile,
 )
 
 _DEFAULTS = CoSimulationOptions()
@@ -55,6 +55,7 @@ def add_arguments(parser) -> None:
     g.add_argument("--onset-penetration", type=float, default=_DEFAULTS.onset_penetration_m,
                    help="how deep past a contact onset an adaptive step may end [m] (default %(default)g)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
+    add_initial_profile_argument(g)
     me = parser.add_argument_group("model exchange (--fmu-interface model-exchange)")
     me.add_argument("--rtol", type=float, default=_MONOLITHIC.rtol, help="relative tolerance (default %(default)g)")
     me.add_argument("--atol-position", type=float, default=_MONOLITHIC.atol_position_m,
@@ -81,8 +82,12 @@ def run(args) -> int:
     2 on a bad option (one line naming it)."""
     _require("--master", args.master, args.master in MASTERS, "one of " + ", ".join(MASTERS))
     _require("--fmusim", args.fmusim, args.fmusim is None or args.master == "container", "only with --master container")
+    _require("--initial-profile", None if args.initial_profile is None else str(args.initial_profile),
+             args.initial_profile is None or args.master == "wearjoint",
+             "only with --master wearjoint (it sets the FMU's state; the SSP's masters start unworn)")
     joint, mechanism = model_from_args(args)
     settling = check_settling(args)
+    profile = None if args.initial_profile is None else read_initial_profile(args.initial_profile, joint)
     try:
         if args.master != "wearjoint":
             record = _third_party(args, joint, mechanism)
@@ -95,7 +100,7 @@ def run(args) -> int:
                                         max_step_s=max_step, onset_penetration_m=args.onset_penetration,
                                         sample_dt_s=args.sample_dt)
             record = run_model_exchange(joint, mechanism, options, fmu_path=args.fmu, progress=not args.quiet,
-                                        fmu_backend=args.fmu_backend)
+                                        fmu_backend=args.fmu_backend, initial_profile_m=profile)
             keys = INTEGRATOR_KEYS
         else:
             options = CoSimulationOptions(revolutions=args.revolutions, scheme=args.scheme,
@@ -103,7 +108,7 @@ def run(args) -> int:
                                           max_step_s=args.max_step, min_step_s=args.min_step,
                                           onset_penetration_m=args.onset_penetration, sample_dt_s=args.sample_dt)
             record = run_cosimulation(joint, mechanism, options, fmu_path=args.fmu, progress=not args.quiet,
-                                      fmu_backend=args.fmu_backend)
+                                      fmu_backend=args.fmu_backend, initial_profile_m=profile)
             keys = COMMUNICATION_KEYS
     except (CoSimulationError, RuntimeError) as exc:
         print(f"wearjoint cosim: error: {exc}", file=sys.stderr)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import sys
 
-from ..cosim.step_rule import communication_step_rule
+from ..cosim.step_rule import communication_step_rule, paper_step_scale
 from ..fmu import platforms
 from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S
 from ..parameters import ParameterError, SliderCrankParameters
@@ -37,12 +37,6 @@ def add_arguments(parser) -> None:
                      "follow the crank tip and the rod end.")
 
 
-def default_step_s(rule) -> float:
-    """The package's step for a mechanism whose step rule is ``rule``: the step measured inside the monolithic
-    scatter on the paper's mechanism (DEFAULT_STEP_S), scaled by the rule's ratio to the paper's."""
-    return DEFAULT_STEP_S * min(1.0, rule.on_time_s / communication_step_rule().on_time_s)
-
-
 def run(args) -> int:
     """Write the package and print its path; 0 on success, 2 with a message on stderr otherwise."""
     from ..fmu.ssp import CONTAINER_FILE_NAME, container_fmu, export_ssp
@@ -50,7 +44,7 @@ def run(args) -> int:
     try:
         joint, mechanism = model_from_args(args)
         rule = communication_step_rule(joint, mechanism)
-        step = args.step if args.step is not None else default_step_s(rule)
+        step = args.step if args.step is not None else DEFAULT_STEP_S * paper_step_scale(joint, mechanism)
         path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms, step_s=step)
         print(path)
         print(f"{rule.text()}; the package asks for {step:.3g} s", file=sys.stderr)

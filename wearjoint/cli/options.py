@@ -13,6 +13,9 @@ import dataclasses
 import sys
 from pathlib import Path
 
+import numpy as np
+
+from ..core.geometry import bushing_point_angles
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
 from ..parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
 _HELP = {
@@ -120,6 +123,28 @@ def check_settling(args) -> int:
         raise ParameterError(f"parameter --settling-revolutions={args.settling_revolutions} is invalid: allowed an "
                              "integer >= 0")
     return args.settling_revolutions
+
+
+def add_initial_profile_argument(group) -> None:
+    """--initial-profile FILE: a worn bushing to start from."""
+    group.add_argument("--initial-profile", type=Path, default=None, metavar="FILE",
+                       help="start from this worn bushing: a profile.csv (phi_deg,wear_depth_m, one row per bushing "
+                            "point, as every run writes); with --no-wear the profile stays as given")
+
+
+def read_initial_profile(path: Path, joint) -> np.ndarray:
+    """The wear depths [m] of a profile.csv for ``joint``; ParameterError naming the file and what does not fit."""
+    try:
+        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise ParameterError(f"parameter --initial-profile={str(path)!r} is invalid: allowed a readable "
+                             f"profile.csv with columns phi_deg,wear_depth_m ({exc})") from None
+    expected = np.degrees(bushing_point_angles(joint.n_points))
+    if data.shape != (joint.n_points, 2) or not np.allclose(data[:, 0], expected, atol=1e-6):
+        raise ParameterError(f"parameter --initial-profile={str(path)!r} is invalid: allowed a profile of this joint's "
+                             f"{joint.n_points} bushing points (--n-points) at its angles, "
+                             f"got {data.shape[0]} rows")
+    return data[:, 1]
 
 
 def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:

@@ -1,17 +1,13 @@
 """`wearjoint simulate`: the monolithic run from the command line."""
 from __future__ import annotations
 
-from pathlib import Path
 
-import numpy as np
-
-from ..core.geometry import bushing_point_angles
 from ..results import write_results
-from ..parameters import MAX_WEAR_STEP_S, ParameterError
+from ..parameters import MAX_WEAR_STEP_S
 from ..simulate import GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
 from .options import (
-    add_model_arguments, add_output_arguments, add_settling_argument, check_settling, exit_status, model_from_args,
-    print_summary,
+    add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument, check_settling,
+    exit_status, model_from_args, print_summary, read_initial_profile,
 )
 
 _DEFAULTS = SimulationOptions()
@@ -37,24 +33,7 @@ def add_integration_arguments(parser) -> None:
                         "docs/model.md §7)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
-    g.add_argument("--initial-profile", type=Path, default=None, metavar="FILE",
-                   help="start from this worn bushing: a profile.csv (phi_deg,wear_depth_m, one row per bushing point, "
-                        "as every run writes); with --no-wear the profile stays as given")
-
-
-def read_initial_profile(path: Path, joint) -> np.ndarray:
-    """The wear depths [m] of a profile.csv for ``joint``; ParameterError naming the file and what does not fit."""
-    try:
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    except (OSError, ValueError) as exc:
-        raise ParameterError(f"parameter --initial-profile={str(path)!r} is invalid: allowed a readable "
-                             f"profile.csv with columns phi_deg,wear_depth_m ({exc})") from None
-    expected = np.degrees(bushing_point_angles(joint.n_points))
-    if data.shape != (joint.n_points, 2) or not np.allclose(data[:, 0], expected, atol=1e-6):
-        raise ParameterError(f"parameter --initial-profile={str(path)!r} is invalid: allowed a profile of this joint's "
-                             f"{joint.n_points} bushing points (--n-points) at its angles, "
-                             f"got {data.shape[0]} rows")
-    return data[:, 1]
+    add_initial_profile_argument(g)
 
 
 def options_from_args(args) -> SimulationOptions:

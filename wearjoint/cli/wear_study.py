@@ -10,7 +10,7 @@ from ..cosim import CoSimulationOptions
 from ..parameters import MAX_WEAR_STEP_S, ParameterError
 from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from ..validation.wear_calibration import calibrate_wear_coefficient
-from ..validation.wear_convergence import run_convergence
+from ..validation.wear_convergence import JUMP, run_convergence
 from ..validation.wear_study import (
     DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
     WearStudyConfig, run_wear_study,
@@ -58,7 +58,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--resume", action="store_true", help="continue the study checkpointed in --out")
     task = parser.add_argument_group("other tasks")
     task.add_argument("--convergence", default=None, metavar="F1,F2,...",
-                      help="convergence study of the acceleration factors (first = reference, normally 1)")
+                      help="convergence study of the acceleration factors (first = reference: 1 for brute force, "
+                           "or jump for the cycle-jumping route, e.g. jump,100 for the bias of F = 100 on this "
+                           "mechanism and horizon)")
     task.add_argument("--calibrate-max-depth-m", type=float, default=None,
                       help="find the effective k_w whose study ends at this max depth (e.g. 0.58e-3)")
     add_model_arguments(parser)
@@ -77,10 +79,11 @@ def run(args) -> int:
     config = config_from_args(args)
     try:
         if args.convergence is not None:
-            factors = parse_float_list("--convergence", args.convergence)
+            factors = [JUMP if item.strip() == JUMP else parse_float_list("--convergence", item)[0]
+                       for item in args.convergence.split(",")]
             for f in factors:
-                if not (math.isfinite(f) and f > 0):
-                    raise ParameterError(f"--convergence: factor {f!r} is invalid: allowed > 0")
+                if f != JUMP and not (math.isfinite(f) and f > 0):
+                    raise ParameterError(f"--convergence: factor {f!r} is invalid: allowed > 0 or {JUMP}")
             result = run_convergence(config, factors, args.out, resume=args.resume, progress=not args.quiet)
             for row in result["rows"]:
                 print(f"  {row['run']:14s} rev {row['revolution']:6d}  max depth {row['max_wear_depth_m'] * 1e6:9.2f} µm"
@@ -88,6 +91,9 @@ def run(args) -> int:
                       f"  rms rel {_number(row['rms_profile_diff_rel'], '.3f')}"
                       + ("  (diverged)" if row["status"] == "diverged" else ""))
             print(f"largest factor within {result['tolerance_rel']:.0%}: {result['largest_factor_within_tolerance']}")
+            if "reference_error_estimate_rel" in result:
+                print(f"the reference ({JUMP}) estimates its own error at "
+                      f"{result['reference_error_estimate_rel']:.2%} of its final max depth (summed over its jumps)")
             if result["diverged"]:
                 label, message = next(iter(result["diverged"].items()))
                 others = [k for k in result["diverged"] if k != label]

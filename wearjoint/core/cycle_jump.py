@@ -24,8 +24,9 @@ from .wear import apply_wear
 LOAD_ECC_X, LOAD_ECC_Y, LOAD_PENETRATION, LOAD_NORMAL_FORCE, LOAD_RELATIVE_OMEGA, LOAD_TANGENTIAL_VELOCITY, \
     LOAD_DURATION = range(7)
 N_LOAD_COLUMNS = 7
-PLACEMENT_ITERATIONS = 8
+PLACEMENT_ITERATIONS = 30
 PLACEMENT_TOLERANCE = 1e-3     # of the recorded penetration
+MIN_PLACEMENT_SLOPE = 0.01     # a measured slope below this keeps the previous one (a step across a contact change)
 
 
 @kernel
@@ -45,15 +46,25 @@ def _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_ph
 @kernel
 def _place_at_penetration(distance, target, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth,
                           block_min, memory, result):
-    """The pin along (ux, uy), from ``distance`` [m], where its penetration of the profile is ``target`` [m]
-    (slope 1 in the distance); ``result`` the contact there."""
-    for _ in range(PLACEMENT_ITERATIONS):
+    """The pin along (ux, uy), from ``distance`` [m], where its penetration of the profile is ``target`` [m];
+    ``result`` the contact there.  Secant steps on the penetration's measured slope in the distance (1 where
+    the worn surface is normal to the direction; on the flank of a groove deeper than the clearance it falls
+    to a third and less), the first step with slope 1."""
+    slope = 1.0
+    previous_distance, previous_penetration = distance, 0.0
+    for iteration in range(PLACEMENT_ITERATIONS):
         _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                    result)
-        miss = target - result[R_PENETRATION]
+        penetration = result[R_PENETRATION]
+        miss = target - penetration
         if abs(miss) <= PLACEMENT_TOLERANCE * target:
             break
-        distance += miss
+        if iteration > 0 and distance != previous_distance:
+            measured = (penetration - previous_penetration) / (distance - previous_distance)
+            if measured > MIN_PLACEMENT_SLOPE:
+                slope = min(measured, 1.0)
+        previous_distance, previous_penetration = distance, penetration
+        distance += miss / slope
 
 
 @kernel

@@ -86,7 +86,8 @@ class CoSimulation:
     recorded in the run's parameters)."""
 
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
-                 options: CoSimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND):
+                 options: CoSimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,
+                 initial_profile_m=None):
         self.options = options or CoSimulationOptions()
         self.mechanism = SliderCrank(mechanism)
         self.joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
@@ -133,6 +134,8 @@ class CoSimulation:
         self._slave = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
                                   b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
         try:
+            if initial_profile_m is not None:
+                self._slave.set_wear_profile(initial_profile_m, 0.0)
             self._slave.exchange(0.0)
         except BaseException:
             self.close()
@@ -243,8 +246,10 @@ class CoSimulation:
 
 def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                      options: CoSimulationOptions | None = None, fmu_path=None, progress: bool = True,
-                     chunks_per_revolution: int = 8, fmu_backend: str = DEFAULT_BACKEND) -> RunRecord:
-    """Co-simulate ``options.revolutions`` crank revolutions with the joint FMU; the run's record.
+                     chunks_per_revolution: int = 8, fmu_backend: str = DEFAULT_BACKEND,
+                     initial_profile_m=None) -> RunRecord:
+    """Co-simulate ``options.revolutions`` crank revolutions with the joint FMU from the bushing's
+    ``initial_profile_m`` (default: unworn); the run's record.
 
     Runs through :func:`wearjoint.runner.run_in_chunks` like
     :func:`wearjoint.simulate.run_simulation` (progress bar; loading the FMU and compiling
@@ -254,7 +259,7 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
     """
     o = options or CoSimulationOptions()
     period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend), o.revolutions, period,
+    run = run_in_chunks(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m), o.revolutions, period,
                         o.sample_dt_s, "cosim", progress, chunks_per_revolution, clearance_m=(joint or JointParameters()).clearance_m)
     sim = run.engine
     try:

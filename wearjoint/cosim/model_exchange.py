@@ -32,7 +32,8 @@ class ModelExchangeSimulation(Simulation):
     :meth:`close` (or use ``with``) to free the FMU instance."""
 
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
-                 options: SimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND):
+                 options: SimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,
+                 initial_profile_m=None):
         options = options or SimulationOptions()
         if options.integrator == "gear" or options.ideal:
             raise ParameterError(f"parameter integrator={options.integrator!r} is invalid with the FMU's Model "
@@ -49,8 +50,10 @@ class ModelExchangeSimulation(Simulation):
                                 interface="model-exchange")
         try:
             self._fmu_joint = None
-            super().__init__(joint, mechanism, options)   # builds the in-process joint only for its parameter vector
+            super().__init__(joint, mechanism, options, initial_profile_m)   # the in-process joint: its parameter vector
             f = self._fmu
+            if initial_profile_m is not None:
+                f.set_wear_profile(initial_profile_m, 0.0)
             self._fmu_joint = FmuJoint(f.component, *f.model_exchange_functions, f.input_vrs, f.output_vrs,
                                        OUTPUT_RESULT_INDEX.astype(np.int64), self._io, self.joint.result,
                                        self.joint.parameter_vector, self.joint.memory, f.event_info,
@@ -120,13 +123,14 @@ class ModelExchangeSimulation(Simulation):
 
 def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                        options: SimulationOptions | None = None, fmu_path=None, progress: bool = True,
-                       fmu_backend: str = DEFAULT_BACKEND, chunks_per_revolution: int = 8):
-    """Simulate ``options.revolutions`` crank revolutions with the FMU's Model Exchange interface;
-    the run's record (as :func:`wearjoint.simulate.run_simulation`'s)."""
+                       fmu_backend: str = DEFAULT_BACKEND, chunks_per_revolution: int = 8, initial_profile_m=None):
+    """Simulate ``options.revolutions`` crank revolutions with the FMU's Model Exchange interface from the
+    bushing's ``initial_profile_m`` (default: unworn); the run's record (as
+    :func:`wearjoint.simulate.run_simulation`'s)."""
     o = options or SimulationOptions()
     period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend), o.revolutions,
-                        period, o.sample_dt_s, "cosim (model exchange)", progress, chunks_per_revolution,
+    run = run_in_chunks(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
+                        o.revolutions, period, o.sample_dt_s, "cosim (model exchange)", progress, chunks_per_revolution,
                         clearance_m=(joint or JointParameters()).clearance_m)
     sim = run.engine
     try:

@@ -73,4 +73,11 @@ def communication_step_rule(joint: JointParameters | None = None, mechanism: Sli
     return StepRule(on_time, on_time / 3.0, force, mass, k, joint.restitution)
 
 
-__all__ = ["StepRule", "communication_step_rule", "effective_mass_kg", "estimated_max_force_N"]
+def paper_step_scale(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None) -> float:
+    """The factor (<= 1) by which a step measured on the paper's mechanism shrinks for ``joint`` in
+    ``mechanism``: the ratio of their on-time limits, never above 1 (a stiffer or lighter joint needs a smaller
+    step; a softer one keeps the paper's measured step)."""
+    return min(1.0, communication_step_rule(joint, mechanism).on_time_s / communication_step_rule().on_time_s)
+
+
+__all__ = ["StepRule", "communication_step_rule", "effective_mass_kg", "estimated_max_force_N", "paper_step_scale"]

@@ -136,7 +136,7 @@ class FmuInstance:
         self.inputs = (fmi2Real * N_INPUTS).from_buffer(inputs)
         self.outputs = (fmi2Real * len(output_names)).from_buffer(outputs)
         self._fmi2Real, self._fmi2Integer, self._fmi2ValueReference = fmi2Real, fmi2Integer, fmi2ValueReference
-        n = joint.n_points
+        n = self.n_points = joint.n_points
         wear_names = [fv.wear_depth_name(z) for z in range(1, n + 1)] + ["max_wear_depth", "worn_volume"]
         self.wear_vrs = (fmi2ValueReference * (n + 2))(*(self.vr[name] for name in wear_names))
         self.wear_values = (fmi2Real * (n + 2))()
@@ -240,6 +240,23 @@ class FmuInstance:
             self.check(self.fmu.dll.fmi2SetFMUstate(self.component, state), "fmi2SetFMUstate", t)
         finally:
             self.fmu.fmi2FreeFMUstate(self.component, ctypes.byref(state))
+
+    def set_wear_profile(self, wear_depth_m, t: float) -> None:
+        """Start from a worn bushing: the instance's state with its wear depths [m] replaced by ``wear_depth_m``
+        (one per bushing point), through the FMU's own state format (get, serialise, rewrite, deserialise,
+        set); the FMU checks the depths (finite, in [0, bushing radius]) and refuses others with an error."""
+        from ..core.state_format import CONTENTS_FMU, state_size
+        from ..joint import read_state_bytes, state_bytes
+
+        depth = np.ascontiguousarray(wear_depth_m, dtype=float)
+        n_points = self.n_points
+        if depth.shape != (n_points,):
+            raise ParameterError(f"parameter wear profile of {depth.size} points is invalid: allowed the FMU's "
+                                 f"{n_points} bushing points")
+        data = self.serialize(t)
+        n_head = (len(data) - state_size(0, n_points)) // 8
+        head, memory, _ = read_state_bytes(data, CONTENTS_FMU, n_head, n_points)
+        self.deserialize(state_bytes(CONTENTS_FMU, head, memory, depth), t)
 
     def close(self) -> None:
         """Free the snapshot and the instance (terminate first), remove the extracted files.

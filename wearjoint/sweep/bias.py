@@ -3,13 +3,18 @@
 A wear factor F > 1 lets one simulated revolution stand for F crank revolutions; its answer differs
 from the brute-force run (F = 1) by a bias that the scatter over seeds does not show.
 :data:`WEAR_FACTOR_BIAS` holds that bias as measured by ``wearjoint wear-study --convergence``
-(:data:`SOURCE`); a run's bias is taken from it where its factor and revolution count match, and is
-unknown otherwise.  Without wear, or at F = 1, there is no wear-factor bias (0).
+(:data:`SOURCE`) on the paper's mechanism and joint at k_w 5.576e-11 m^2/N; a run of that case takes its bias
+from it where its factor and revolution count match.  Any other run's is unknown: its note says how to measure
+it (``wear-study --convergence jump,F``: the factor against the error-controlled cycle-jumping route on the
+same mechanism and horizon).  Without wear, or at F = 1, there is no wear-factor bias (0).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, JointParameters, ParameterError,
+                          SliderCrankParameters, is_paper_case)
 
 SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (F = 10, 50, 100 against 4000 "
           "brute-force revolutions at F = 1; the paper case, k_w 5.576e-11 m^2/N, foundation contact and placement, "
@@ -21,6 +26,8 @@ WEAR_FACTOR_BIAS = {
     100.0: {500: -0.044, 1000: -0.082, 2000: -0.099, 3000: -0.104, 4000: -0.106},
 }
 UNKNOWN = "unknown"
+MEASURE_IT = ("measure it for this mechanism and horizon: wearjoint wear-study --convergence jump,{F} --revolutions "
+              "{R} with the run's model options (docs/own_mechanism.md)")
 
 
 @dataclass(frozen=True)
@@ -46,16 +53,21 @@ class Bias:
         return cls(None if cell == UNKNOWN else float(cell), note)
 
 
-def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = False) -> Bias:
+def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = False,
+                     measured_case: bool = True) -> Bias:
     """The bias of the max depth after ``revolutions`` crank revolutions at wear factor ``wear_factor``
     (0: no wear); ``cycle_jump``: the run jumped over revolutions (its own error estimate is in its
-    summary.json, ``cycle_jumping``)."""
+    summary.json, ``cycle_jumping``); ``measured_case``: the run is the case :data:`SOURCE` measured
+    (:func:`is_measured_case`)."""
     if not wear_factor > 0.0:
         return Bias(0.0, "none: no wear")
     if wear_factor == 1.0 and not cycle_jump:
         return Bias(0.0, "none: F = 1 (brute force)")
     if cycle_jump:
         return Bias(None, "unknown here: cycle jumping states its error estimate in summary.json's cycle_jumping")
+    if not measured_case:
+        return Bias(None, "unknown: measured on the paper's case only; "
+                          + MEASURE_IT.format(F=f"{wear_factor:g}", R=f"{revolutions:g}"))
     for factor, by_revolution in WEAR_FACTOR_BIAS.items():
         for revolution, rel in by_revolution.items():
             if math.isclose(wear_factor, factor, rel_tol=1e-9) and math.isclose(revolutions, revolution, rel_tol=1e-9):
@@ -65,20 +77,36 @@ def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = 
                       f"{', '.join(f'{f:g}' for f in WEAR_FACTOR_BIAS)} at {revs} rev)")
 
 
+def is_measured_case(joint: dict, mechanism: dict) -> bool:
+    """Are a summary's parameter dicts the case :data:`SOURCE` measured: the paper's mechanism and joint geometry
+    (:func:`wearjoint.parameters.is_paper_case`) at its wear coefficient?"""
+    try:
+        mech = SliderCrankParameters(**mechanism)
+        geometry = JointParameters(**{k: joint[k] for k in ("pin_radius_m", "bushing_radius_m", "contact_length_m")},
+                                   **mech.joint_offsets())
+    except (KeyError, TypeError, ParameterError):
+        return False
+    return (is_paper_case(geometry, mech)
+            and math.isclose(joint.get("wear_coefficient_m2_N", math.nan), PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N,
+                             rel_tol=1e-9))
+
+
 def summary_biases(summary: dict) -> dict:
     """{figure column: Bias} for a case's summary.json: ``max_wear_depth_m`` and, for a wear study,
     ``revR_max_wear_depth_m`` per snapshot R (the revolutions the run stands for: R, or F x the
     simulated revolutions of simulate and cosim)."""
     joint = summary.get("parameters", {}).get("joint", {})
     factor = joint.get("wear_factor", 1.0) if joint.get("wear_coefficient_m2_N", 1.0) > 0.0 else 0.0
+    measured = is_measured_case(joint, summary.get("parameters", {}).get("mechanism", {}))
     study = summary.get("parameters", {}).get("study")
     if study is None:
-        return {"max_wear_depth_m": wear_factor_bias(factor, factor * summary.get("revolutions", math.nan))}
+        return {"max_wear_depth_m": wear_factor_bias(factor, factor * summary.get("revolutions", math.nan),
+                                                     measured_case=measured)}
     jump = study.get("jump_tolerance") is not None
-    out = {f"rev{s['revolution']}_max_wear_depth_m": wear_factor_bias(factor, s["revolution"], jump)
+    out = {f"rev{s['revolution']}_max_wear_depth_m": wear_factor_bias(factor, s["revolution"], jump, measured)
            for s in summary.get("snapshots", [])}
-    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump)
+    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump, measured)
     return out
 
 
-__all__ = ["Bias", "WEAR_FACTOR_BIAS", "SOURCE", "UNKNOWN", "wear_factor_bias", "summary_biases"]
+__all__ = ["Bias", "WEAR_FACTOR_BIAS", "SOURCE", "UNKNOWN", "wear_factor_bias", "summary_biases", "is_measured_case"]
