@@ -328,9 +328,9 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
         with pytest.raises(ParameterError, match=message.replace("(", r"\(").replace(")", r"\)")):
             add_clearance_joint(mbs, *args)
     handle = add_clearance_joint(mbs, ground, bar, params)
-    with pytest.raises(ParameterError, match=r"step_s=2e-05 is invalid with wear: allowed at most 1e-05 s"):
-        check_step(2e-5, [handle])
-    check_step(1e-5, [handle])
+    with pytest.raises(ParameterError, match=r"step_s=4e-05 is invalid with wear: allowed at most 3e-05 s"):
+        check_step(4e-5, [handle])
+    check_step(3e-5, [handle])
     with pytest.raises(ParameterError, match=r"coordinate_scale_m=0.0 is invalid: allowed a finite length > 0 m"):
         simulation_settings(0.1, 1e-5, [handle], coordinate_scale_m=0.0)
 
@@ -366,7 +366,7 @@ def test_solving_with_a_step_too_long_for_wear_stops_naming_the_step():
     settings.timeIntegration.endTime = 0.01
     settings.timeIntegration.verboseMode = 0
     settings.solution.file.write = False
-    with pytest.raises(Exception, match=r"solver's step 0\.0001 s .* invalid with wear: allowed at most 1e-05 s"):
+    with pytest.raises(Exception, match=r"solver's step 0\.0001 s .* invalid with wear: allowed at most 3e-05 s"):
         exu.SolveDynamic(mbs, settings)
     sc, mbs, handle = _hung_bar(wear_factor=0.0)
     assert exu.SolveDynamic(mbs, settings)

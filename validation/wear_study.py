@@ -43,7 +43,7 @@ from wearjoint.parameters import JointParameters, ParameterError, SliderCrankPar
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
 from wearjoint.runner import RunDiverged, divergence
-from wearjoint.simulate import Simulation, SimulationOptions, wear_step_limit_s
+from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
 from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
@@ -56,6 +56,7 @@ from .wear_study_recovery import (
 ENGINES = ("monolithic", "cosim")
 STUDY_INTEGRATORS = ("rk4", "dopri")
 DEFAULT_STUDY_INTEGRATOR = "rk4"       # fixed steps (the wear-step limit) with located contact onsets
+STUDY_STEP_S = 1e-5                     # RK4's step, or shorter where the wear's default share needs it
 DEFAULT_WEAR_FACTOR = 1.0               # cycle jumping's blocks run at the real wear rate
 PRINTED_WEAR_COEFFICIENT_M2_N = JointParameters().wear_coefficient_m2_N
 PAPER_MAX_DEPTH_M = 0.58e-3             # Fig. 7, after 4000 revolutions
@@ -120,7 +121,7 @@ class WearStudyConfig:
             raise ParameterError(f"integrator {self.integrator!r} is invalid: allowed one of "
                                  f"{', '.join(STUDY_INTEGRATORS)}")
         if self.max_step_s is None:     # the wear-step limit of the wear actually applied
-            limit = wear_step_limit_s(self.joint, self.mechanism)
+            limit = min(STUDY_STEP_S, wear_step_limit_s(self.joint, self.mechanism, DEFAULT_WEAR_STEP_SHARE))
             if self.engine == "cosim":  # the communication step in contact: at most the co-simulation's default
                 from wearjoint.cosim import CoSimulationOptions
                 limit = min(limit, CoSimulationOptions().step_s)

@@ -226,13 +226,14 @@ class JointParameters:
         WEAR_STEP_SHARE_EXPLICIT for the explicit placements (docs/model.md §7)."""
         return WEAR_STEP_SHARE if self.wear_placement == "foundation" else WEAR_STEP_SHARE_EXPLICIT
 
-    def max_wear_step_s(self, sliding_speed_m_s: float) -> float:
+    def max_wear_step_s(self, sliding_speed_m_s: float, share: float | None = None) -> float:
         """Longest accepted step [s] with wear: MAX_WEAR_STEP_S, or shorter where the step's share
         k_f k_w F v dt of a conforming contact sliding at ``sliding_speed_m_s`` (the share of its penetration
         an explicit step would wear: the mean overlap is p / k_f and such a step wears k_w F p v dt) passes
-        :attr:`wear_step_share` (docs/model.md §7); inf without wear."""
+        ``share`` (default :attr:`wear_step_share`, the limit; docs/model.md §7); inf without wear."""
         rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * sliding_speed_m_s
-        return min(MAX_WEAR_STEP_S, self.wear_step_share / rate) if rate > 0.0 else math.inf
+        share = self.wear_step_share if share is None else min(share, self.wear_step_share)
+        return min(MAX_WEAR_STEP_S, share / rate) if rate > 0.0 else math.inf
 
     @property
     def effective_modulus_Pa(self) -> float:

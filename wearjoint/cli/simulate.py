@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from ..results import write_results
 from ..parameters import MAX_WEAR_STEP_S
-from ..simulate import GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation
+from ..simulate import (
+    DEFAULT_WEAR_STEP_SHARE, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation,
+)
 from .options import (
     add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument, check_settling,
     exit_status, model_from_args, print_summary, read_initial_profile,
@@ -28,9 +30,9 @@ def add_integration_arguments(parser) -> None:
     g.add_argument("--atol-position", type=float, default=_DEFAULTS.atol_position_m, help="absolute tolerance on positions [m, rad]")
     g.add_argument("--atol-velocity", type=float, default=_DEFAULTS.atol_velocity_m_s, help="absolute tolerance on velocities [m/s, rad/s]")
     g.add_argument("--max-step", type=float, default=None,
-                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear at most {MAX_WEAR_STEP_S:g}, less "
-                        "where one step would wear 0.3 of the penetration: the default and the most allowed then, "
-                        "docs/model.md §7)")
+                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, less where "
+                        f"a step's share of the penetration would pass {DEFAULT_WEAR_STEP_SHARE:g}; at most "
+                        f"{MAX_WEAR_STEP_S:g} and a share of 4: docs/model.md §7)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
     add_initial_profile_argument(g)

@@ -11,7 +11,7 @@ positions are defined.
 # the explicit placements (patch, penetration) overshoot past about 1
 WEAR_STEP_SHARE = 4.0            # the largest lambda of one accepted step of the foundation's update
 WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one explicit (patch, penetration) step wears
-MAX_WEAR_STEP_S = 1e-5           # and never a longer accepted step with wear [s]
+MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s] (the statistics, docs/model.md §7)
 
 # --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
 # P_FOUNDATION_MODULUS; P_STIFFNESS where given as 0) is given (JointParameters, or the FMU's parameters:
