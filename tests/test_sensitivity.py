@@ -255,9 +255,9 @@ def _default_sigint() -> None:
 
 def test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them(tmp_path):
     out = tmp_path / "out"
-    # 12 runs of ~1 s (RK4 at 1 us over half a revolution) one after the other: the study is still running
+    # 12 runs of ~0.5 s (RK4 at 1 us over a quarter revolution) one after the other: the study is still running
     # when 2 are done (on two workers all 12 could finish between two looks at the results folder)
-    args = ["sensitivity", "simulate", "--revolutions", "0.5", "--integrator", "rk4", "--step", "1e-6", "--no-plots",
+    args = ["sensitivity", "simulate", "--revolutions", "0.25", "--integrator", "rk4", "--step", "1e-6", "--no-plots",
             "--param", "restitution=0.6,0.95", "--param", "friction-coefficient=0.05,0.2", "--samples", "4",
             "--outputs", "max_wear_depth_m", "--workers", "1", "--out", str(out), "--quiet"]
     here = signal.getsignal(signal.SIGINT)
