@@ -21,8 +21,8 @@ from numba.core import event
 # "-helped" one: the first of two processes, compile_helper)
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 20, 83),
-    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 17, 50),
-    "cosim": ("the co-simulation master's numba kernels", 15, 96),
+    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 31, 50),
+    "cosim": ("the co-simulation master's numba kernels", 33, 50),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100),
     "kernels": ("the numba kernels", 20, 90),
 }
