@@ -30,7 +30,7 @@ from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
 from wearjoint.fmu.build import DEFAULT_BACKEND
 from wearjoint.cosim.step_rule import paper_step_scale
-from wearjoint.parameters import JointParameters, SliderCrankParameters
+from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
 
@@ -88,8 +88,8 @@ def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
               mechanism: SliderCrankParameters | None = None) -> dict:
     """All runs and their comparison (see module docstring) for ``joint`` (its wear factor set to WEAR_FACTOR)
     in ``mechanism`` (defaults: the paper's); ``steps`` None: :func:`default_steps_s`."""
-    joint = (joint or JointParameters()).replace(wear_factor=WEAR_FACTOR)
     mechanism = mechanism or SliderCrankParameters()
+    joint = (joint or paper_joint(mechanism)).replace(wear_factor=WEAR_FACTOR)
     steps = default_steps_s(joint, mechanism) if steps is None else list(steps)
     window = pointwise_window_s(mechanism)
     monolithic = {

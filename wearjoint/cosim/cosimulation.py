@@ -259,8 +259,9 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
     """
     o = options or CoSimulationOptions()
     period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m), o.revolutions, period,
-                        o.sample_dt_s, "cosim", progress, chunks_per_revolution, clearance_m=(joint or JointParameters()).clearance_m)
+    run = run_in_chunks(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
+                        o.revolutions, period, o.sample_dt_s, "cosim", progress, chunks_per_revolution,
+                        clearance_m=(joint or JointParameters()).clearance_m)
     sim = run.engine
     try:
         return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint,
