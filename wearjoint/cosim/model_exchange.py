@@ -18,7 +18,7 @@ from ..core import layout as L
 from ..core.integrators import integrate
 from ..core.joint_access import FMU_CALLS, FmuJoint
 from ..fmu.build import DEFAULT_BACKEND
-from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
+from ..fmu.instance import N_INPUTS, FmuError, FmuInstance, ensure_fmu
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from ..runner import record_run, run_in_chunks
 from ..simulate import Simulation, SimulationOptions
@@ -45,8 +45,8 @@ class ModelExchangeSimulation(Simulation):
         joint = joint or paper_joint(mechanism)
         self.fmu_path = ensure_fmu(joint.n_points, fmu_path, backend=fmu_backend)
         self.fmu_backend = fmu_backend
-        self._io = np.zeros(12 + len(OUTPUT_NAMES))
-        self._fmu = FmuInstance(self.fmu_path, joint, self._io[:12], self._io[12:], OUTPUT_NAMES,
+        self._io = np.zeros(N_INPUTS + len(OUTPUT_NAMES))
+        self._fmu = FmuInstance(self.fmu_path, joint, self._io[:N_INPUTS], self._io[N_INPUTS:], OUTPUT_NAMES,
                                 interface="model-exchange")
         try:
             self._fmu_joint = None
