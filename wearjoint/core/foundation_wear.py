@@ -141,11 +141,11 @@ def _relaxed_run(mode, first, last, shift, scale, relative_dt, slide, rotation, 
     """Over points first..last (first >= -1, last < 2 N_d, at most N_d points, wrapping) with their overlaps
     in work[:N_d], each point's pressure p_z = cell mean of (o + shift)+ times k_eff, relaxed over the step:
     lambda_z = scale Delta s_z (scale = k_w k_eff [1/m]), increment scale c_z cell_overlap(o + shift) with
-    c_z = Delta s_z phi(lambda_z).  PASS_COEFFICIENTS (work[N_d:] holds the weights w_z): returns
-    (0, 0, the explicit update's volume sum rho_z Delta s_z w_z) and leaves c_z in work[N_d:] (they do not
-    depend on the shift: one exponential per point and step); PASS_SHIFT: returns (the volume sum
-    rho_z c_z cell_overlap(o + shift), its derivative in shift, 0); PASS_APPLY: applies the increments,
-    returns (the largest increment, 0, 0)."""
+    c_z = Delta s_z phi(lambda_z).  PASS_COEFFICIENTS (work[N_d:] holds the weights w_z, the cell overlaps
+    at shift 0): returns (PASS_SHIFT's two sums at shift 0, the explicit update's volume sum
+    rho_z Delta s_z w_z) and leaves c_z in work[N_d:] (they do not depend on the shift: one exponential per
+    point and step); PASS_SHIFT: returns (the volume sum rho_z c_z cell_overlap(o + shift), its derivative in
+    shift, 0); PASS_APPLY: applies the increments, returns (the largest increment, 0, 0)."""
     n = wear_depth.shape[0]
     volume = slope = explicit = 0.0
     for i in range(first, last + 1):
@@ -153,8 +153,15 @@ def _relaxed_run(mode, first, last, shift, scale, relative_dt, slide, rotation, 
         rho = bushing_radius + wear_depth[z]
         if mode == PASS_COEFFICIENTS:
             ds = rho * relative_dt if rotation else slide
-            explicit += rho * ds * work[n + z]
-            work[n + z] = ds * relaxation_factor(scale * ds)
+            w = work[n + z]
+            explicit += rho * ds * w
+            c = ds * relaxation_factor(scale * ds)
+            work[n + z] = c
+            before, at, after = work[wrap_index(i - 1, n)], work[z], work[wrap_index(i + 1, n)]
+            if max(before, max(at, after)) > 0.0:       # PASS_SHIFT at shift 0, whose cell overlap is w
+                g_before, g_at, g_after = cell_overlap_gradient(before, at, after)
+                volume += rho * c * w
+                slope += rho * c * (g_before + g_at + g_after)
             continue
         before = work[wrap_index(i - 1, n)] + shift
         at = work[z] + shift
@@ -232,7 +239,7 @@ def _foundation_pass(mode, shift, scale, relative_dt, slide, rotation, ex, ey, p
             x, y, z, e = _run_pass(mode, first, last, False, shift, scale, relative_dt, slide, rotation, ex,
                                    ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work)
             first_sum += x
-            second = second + y if mode == PASS_SHIFT else max(second, y)
+            second = second + y if mode == PASS_SHIFT or mode == PASS_COEFFICIENTS else max(second, y)
             third_sum += z
             edge = max(edge, e)
             start = -1
@@ -247,14 +254,11 @@ def _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushin
     (Newton on a convex, increasing function of a, from a = 0 where it is below, to 1e-13 of the volume), and
     the largest end overlap of the runs it was solved on.  Leaves the relaxed coefficients in work[N_d:]
     (PASS_COEFFICIENTS)."""
-    _, _, explicit, edge = _foundation_pass(PASS_COEFFICIENTS, 0.0, scale, relative_dt, slide, rotation, ex, ey,
-                                            pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min,
-                                            kept, skipped, work)
-    shift = 0.0
+    volume, slope, explicit, edge = _foundation_pass(PASS_COEFFICIENTS, 0.0, scale, relative_dt, slide, rotation,
+                                                     ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                                                     wear_depth, block_min, kept, skipped, work)
+    shift = 0.0                               # the coefficients' pass gave the volume and slope at shift 0
     for _ in range(60):
-        volume, slope, _, edge = _foundation_pass(PASS_SHIFT, shift, scale, relative_dt, slide, rotation, ex, ey,
-                                                  pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                                                  block_min, kept, skipped, work)
         missing = explicit - volume
         if not slope > 0.0 or abs(missing) <= 1e-13 * explicit:
             break
@@ -262,6 +266,9 @@ def _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushin
         shift = max(0.0, shift + step)
         if abs(step) <= 1e-15 * (shift + 1e-30) or abs(missing) <= NEWTON_LAST_STEP * explicit:
             break                             # quadratic convergence: the step just taken leaves ~0.2 missing^2
+        volume, slope, _, edge = _foundation_pass(PASS_SHIFT, shift, scale, relative_dt, slide, rotation, ex, ey,
+                                                  pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                                  block_min, kept, skipped, work)
     return shift, edge
 
 
