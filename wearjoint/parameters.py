@@ -354,7 +354,7 @@ def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> b
             and all(getattr(joint, name) == getattr(paper, name) for name in PAPER_JOINT_GEOMETRY))
 
 
-__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness", "is_paper_case",
+__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness", "is_paper_case", "PAPER_JOINT_GEOMETRY",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
            "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S",

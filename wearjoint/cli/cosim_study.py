@@ -6,7 +6,7 @@ import json
 import sys
 from pathlib import Path
 
-from ..parameters import ParameterError
+from ..parameters import ParameterError, _require
 from ..validation.cosim_study import PAPER_STEPS_S, run_study, write_study
 from .options import add_fmu_arguments, add_model_arguments, model_from_args
 
@@ -32,17 +32,12 @@ def run(args) -> int:
     if args.replot is not None:
         study = json.loads(args.replot.read_text())
     else:
-        try:
-            if args.no_wear:
-                raise ParameterError("--no-wear is not allowed here: the study compares the profiles worn at wear "
-                                     "factor 0.01")
-            joint, mechanism = model_from_args(args)
-            for step in args.steps or ():
-                if not step > 0.0:
-                    raise ParameterError(f"--steps {step!r} is invalid: allowed > 0 s")
-        except ParameterError as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
+        if args.no_wear:          # a ParameterError is one line from the CLI's dispatch (exit status 2)
+            raise ParameterError("--no-wear is not allowed here: the study compares the profiles worn at wear "
+                                 "factor 0.01")
+        joint, mechanism = model_from_args(args)
+        for step in args.steps or ():
+            _require("--steps", step, step > 0.0, "communication steps > 0 [s]")
         study = run_study(args.revolutions, args.steps, args.schemes, fmu_path=args.fmu,
                           log=lambda m: print(m, file=sys.stderr, flush=True), fmu_backend=args.fmu_backend,
                           joint=joint, mechanism=mechanism)

@@ -7,12 +7,12 @@ import math
 import sys
 
 from ..cosim import CoSimulationOptions
-from ..parameters import MAX_WEAR_STEP_S, ParameterError
+from ..parameters import ParameterError
 from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from ..validation.wear_calibration import calibrate_wear_coefficient
 from ..validation.wear_convergence import JUMP, run_convergence
 from ..validation.wear_study import (
-    DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS,
+    DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS, STUDY_STEP_S,
     WearStudyConfig, run_wear_study,
 )
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, restate_default
@@ -23,7 +23,7 @@ from .sweep import add_ensemble_arguments
 # WearStudyConfig's defaults: the one source of the options' defaults
 _STUDY = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
 _MAX_STEP_DEFAULT = ("(default %(default)g)" if _STUDY["max_step_s"] is not None else
-                     f"(default: the wear-step limit of the run's wear, at most {MAX_WEAR_STEP_S:g}, through the FMU "
+                     f"(default: {STUDY_STEP_S:g}, less where the run's wear needs it, through the FMU "
                      f"{CoSimulationOptions().step_s:g}; docs/model.md §7)")
 
 

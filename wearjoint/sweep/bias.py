@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, JointParameters, ParameterError,
-                          SliderCrankParameters, is_paper_case)
+from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, PAPER_JOINT_GEOMETRY, JointParameters,
+                          ParameterError, SliderCrankParameters, is_paper_case)
 
 SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (F = 10, 50, 100 against 4000 "
           "brute-force revolutions at F = 1; the paper case, k_w 5.576e-11 m^2/N, foundation contact and placement, "
@@ -82,8 +82,7 @@ def is_measured_case(joint: dict, mechanism: dict) -> bool:
     (:func:`wearjoint.parameters.is_paper_case`) at its wear coefficient?"""
     try:
         mech = SliderCrankParameters(**mechanism)
-        geometry = JointParameters(**{k: joint[k] for k in ("pin_radius_m", "bushing_radius_m", "contact_length_m")},
-                                   **mech.joint_offsets())
+        geometry = JointParameters(**{k: joint[k] for k in PAPER_JOINT_GEOMETRY}, **mech.joint_offsets())
     except (KeyError, TypeError, ParameterError):
         return False
     return (is_paper_case(geometry, mech)
