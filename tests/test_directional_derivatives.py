@@ -24,6 +24,7 @@ from fmpy.validation import validate_fmu  # noqa: E402
 from fmpy_instance import Joint  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
+from wearjoint.core.layout import N_MEMORY  # noqa: E402
 from wearjoint.core.state_format import CONTENTS_FMU  # noqa: E402
 from wearjoint.fmu import slider_crank as sc  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
@@ -87,9 +88,10 @@ class ContactState:
 
     def fmu_state(self) -> bytes:
         """The FMU state (contents "FMU instance") of an initialised instance with these parameters, inputs,
-        contact memory and wear profile."""
+        contact memory (the wear batch empty) and wear profile."""
         head = [0.0, 1.0, *self.inputs(), *fv.fmi_parameter_values(self.params).values()]
-        return state_bytes(CONTENTS_FMU, head, self.memory, self.wear())
+        memory = [*self.memory, *[0.0] * (N_MEMORY - len(self.memory))]
+        return state_bytes(CONTENTS_FMU, head, memory, self.wear())
 
 
 def _rotate(angle, vector) -> np.ndarray:

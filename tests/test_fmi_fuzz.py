@@ -78,7 +78,7 @@ def test_a_huge_step_is_refused(fuzz_fmus):
         status, values = i.get_reals(i.outputs)
         assert status == OK and all(abs(v) < float("inf") for v in values), values
         assert values[i.outputs.index(i.vr["max_wear_depth"])] == 0.0
-        assert i.do_step(0.0, 1e-5) == OK
+        assert i.do_step(0.0, 3e-5) == OK                # the whole wear interval: its wear applied at once
         status, values = i.get_reals(i.outputs)
         assert status == OK and all(abs(v) < float("inf") for v in values)
         assert 0.0 < values[i.outputs.index(i.vr["max_wear_depth"])] < 1e-6

@@ -128,20 +128,21 @@ def test_crc32c_gives_the_published_check_values():
 
 
 def test_state_layout_is_the_documented_one():
-    """docs/model.md: magic, version 2, contents 1, n_points, payload bytes; float64 memory (active flag,
-    onset velocity, start force) and depths; CRC-32C of everything before it (little-endian throughout)."""
+    """docs/model.md: magic, version 3, contents 1, n_points, payload bytes; float64 memory (active flag,
+    onset velocity, start force, the wear batch's seven values) and depths; CRC-32C of everything before it (little-endian throughout)."""
     import struct
 
     from wearjoint.core.state_format import crc32c
 
     joint = ClearanceJoint(JointParameters(n_points=16, wear_factor=50.0))
     joint.wear_depth[3] = 1.5e-6
-    joint.memory[:] = [1.0, 0.25, 12.5]
+    memory = [1.0, 0.25, 12.5, 2e-5, 1e-3, 2e-6, 3e-2, 1e-4, -2e-5, 7.0]
+    joint.memory[:] = memory
     data = joint.state_to_bytes()
     assert data[:8] == b"WJSTATE\0"
-    assert struct.unpack_from("<4I", data, 8) == (2, 1, 16, 8 * 19)
-    assert struct.unpack_from("<19d", data, 24) == (1.0, 0.25, 12.5, *joint.wear_depth)
-    assert len(data) == 24 + 8 * 19 + 4
+    assert struct.unpack_from("<4I", data, 8) == (3, 1, 16, 8 * 26)
+    assert struct.unpack_from("<26d", data, 24) == (*memory, *joint.wear_depth)
+    assert len(data) == 24 + 8 * 26 + 4
     assert struct.unpack_from("<I", data, len(data) - 4)[0] == crc32c(np.frombuffer(data, np.uint8), len(data) - 4)
 
 
@@ -164,15 +165,15 @@ def test_each_refusal_names_the_check_and_the_two_things_compared():
     good = joint.state_to_bytes()
     n = joint.wear_depth.size
     assert _restore_refused(good[:-8]) == (f"the state has {len(good) - 8} bytes, its header declares {len(good)} "
-                                           f"(a payload of {8 * (n + 3)} bytes)")
+                                           f"(a payload of {8 * (n + 10)} bytes)")
     assert _restore_refused(good[:10]) == "the state has 10 bytes, fewer than the 28 of its header and checksum"
     flipped = bytearray(good)
     flipped[100] ^= 4
     assert "CRC-32C is 0x" in _restore_refused(bytes(flipped)) and "the bytes are corrupted" in _restore_refused(
         bytes(flipped))
     newer = bytearray(good)
-    newer[8] = 3
-    assert _restore_refused(bytes(newer)) == "the state has format version 3, this build reads version 2"
+    newer[8] = 4
+    assert _restore_refused(bytes(newer)) == "the state has format version 4, this build reads version 3"
     assert _restore_refused(good, ClearanceJoint(JointParameters(n_points=100))) == (
         f"the state holds {n} bushing points, this joint has n_points=100")
     fmu_state = state_bytes(CONTENTS_FMU, [0.0, 1.0], joint.memory, joint.wear_depth)

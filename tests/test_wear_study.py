@@ -169,16 +169,20 @@ def test_accelerated_profiles_agree_with_brute_force(tmp_path):
 
 
 @pytest.mark.parametrize("placement", ["foundation", "patch"])
-def test_wear_acceleration_matches_brute_force(tmp_path, placement):
-    """One simulated revolution standing for ten at wear factor 10 removes the Archard volume of ten
-    simulated revolutions (wear factor 1) within 20 %: measured -4 % (foundation), +1 % (patch)."""
-    joint = paper_joint(wear_factor=1.0, wear_placement=placement)
-    brute = run_wear_study(small_config(joint=joint, snapshots=(10,)), tmp_path / "brute", progress=False, plots=False)
+def test_one_revolution_at_wear_factor_ten_stands_for_ten(tmp_path, placement):
+    """The study's bookkeeping of the wear factor: at a k_w so small that the wear does not move the pin (1e-4
+    of the printed one), ten revolutions at wear factor 10 simulate one revolution, the same trajectory as the
+    first of a run at wear factor 1, and remove ten times its Archard volume.  (The factor's bias where the wear
+    does feed back is measured against cycle jumping over many revolutions: tests/test_wear_convergence.py; two
+    single chaotic runs over 1 and 10 revolutions, compared before, differed by 18 % with either wear update.)"""
+    joint = paper_joint(wear_factor=1.0, wear_placement=placement, wear_coefficient_m2_N=5.05e-14)
+    brute = run_wear_study(small_config(joint=joint, revolutions=1, snapshots=(1,)), tmp_path / "brute",
+                           progress=False, plots=False)
     factor = run_wear_study(small_config(joint=joint.replace(wear_factor=10.0), snapshots=(10,)), tmp_path / "factor",
                             progress=False, plots=False)
-    assert brute["simulated_revolutions"] == pytest.approx(10.0)
+    assert brute["simulated_revolutions"] == pytest.approx(1.0)
     assert factor["simulated_revolutions"] == pytest.approx(1.0)
-    assert factor["worn_volume_m3"] == pytest.approx(brute["worn_volume_m3"], rel=0.2)
+    assert factor["worn_volume_m3"] == pytest.approx(10.0 * brute["worn_volume_m3"], rel=1e-3)
 
 
 def test_resume_refuses_a_corrupted_checkpoint_and_a_bad_profile(tmp_path):

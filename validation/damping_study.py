@@ -3,6 +3,7 @@
     python -m wearjoint.validation.damping_study onsets [--revolutions 3] [--seeds 4]
     python -m wearjoint.validation.damping_study steps [--revolutions 5] [--seeds 8] [--wear-factor 1]
     python -m wearjoint.validation.damping_study lhs [--sets 64] [--revolutions 20]
+    python -m wearjoint.validation.damping_study batches [--revolutions 5] [--seeds 8] [--wear-factor 1]
 
 ``onsets``: the normal approach speeds at contact onsets of the paper's slider-crank (no wear, DOPRI),
 under each damping law: quantiles and the energy-weighted mean sum v^3 / sum v^2, the speed at which
@@ -10,7 +11,12 @@ a Hunt-Crossley law dissipates over these impacts what a speed-independent resti
 (docs/model.md §3.5).  ``steps``: ensembles of ``--seeds`` starts (the crank angle perturbed as in
 ``wearjoint sweep``), revolutions 2.. (the start-up transient dropped), for RK4 at 2.5, 5 and 10 us and
 DOPRI at rtol 1e-6 and 1e-5: mean, standard error and each configuration's distance from the pooled
-mean in standard errors.  ``lhs``: runs over a Latin hypercube of restitution, crank speed, wear
+mean in standard errors.  ``batches``: the same for the wear batches (docs/model.md §3.11): RK4 at 2.5
+and 10 us, DOPRI and the co-simulation (native FMU, its default scheme), each with the wear of every
+step (``wear_interval_s`` 0) and in batches of the default interval, with the wear's own statistics
+beside the dynamics': the depth and volume at the end, and the volume worn after the first revolution
+(the starts share their first revolution: its wear is one sample).  ``lhs``: runs over a Latin
+hypercube of restitution, crank speed, wear
 factor, k_w, clearance, friction and the rod's and slider's masses (docs/sensitivity.md's ranges,
 restitution down to 0.1, up to 300 rpm), RK4 at the default 10 us and DOPRI, with wear; prints every
 diverged run.  Runs go to a pool of one process per
@@ -27,15 +33,22 @@ import numpy as np
 
 from wearjoint import analysis
 from wearjoint.core import layout as L
-from wearjoint.parameters import SliderCrankParameters, paper_joint
+from wearjoint.cosim import CoSimulationOptions, run_cosimulation
+from wearjoint.parameters import MAX_WEAR_STEP_S, SliderCrankParameters, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 DAMPINGS = ("hunt-crossley", "lankarani-nikravesh")
 SEED_ANGLE_STEP_DEG = 1e-6                   # as validate's starts (wearjoint.sweep.design.START_ANGLE_STEP_DEG)
 STATISTICS = ("impacts_per_revolution", "contact_fraction", "max_contact_force_N", "slider_acc_max_m_s2",
               "slider_acc_min_m_s2")
-STEP_CONFIGURATIONS = (("rk4", 2.5e-6, None), ("rk4", 5e-6, None), ("rk4", 1e-5, None),
-                       ("dopri", None, 1e-6), ("dopri", None, 1e-5))
+STEP_CONFIGURATIONS = (("rk4", 2.5e-6, None, None), ("rk4", 5e-6, None, None), ("rk4", 1e-5, None, None),
+                       ("dopri", None, 1e-6, None), ("dopri", None, 1e-5, None))
+# (integrator, step, rtol, wear_interval_s): every step's wear at once, and the default batches
+BATCH_CONFIGURATIONS = tuple((integrator, step, rtol, interval) for integrator, step, rtol in
+                             (("rk4", 2.5e-6, None), ("rk4", 1e-5, None), ("dopri", None, 1e-6),
+                                                         ("cosim", None, None))
+                             for interval in (0.0, MAX_WEAR_STEP_S))
+WEAR_STATISTICS = ("max_wear_depth_um", "worn_volume_mm3", "late_worn_volume_mm3")
 # docs/sensitivity.md's ranges, restitution down to 0.1 and up to 300 rpm; * sampled log-uniformly
 LHS_RANGES = {"restitution": (0.1, 0.95), "crank_speed_rpm": (150.0, 300.0), "wear_factor*": (1.0, 100.0),
               "wear_coefficient_m2_N*": (2.7245e-11, 1.0898e-10), "clearance_m": (0.05e-3, 0.2e-3),
@@ -43,15 +56,27 @@ LHS_RANGES = {"restitution": (0.1, 0.95), "crank_speed_rpm": (150.0, 300.0), "we
 JOINT_FIELDS = ("restitution", "wear_factor", "wear_coefficient_m2_N", "friction_coefficient")
 
 
-def _run(joint_changes: dict, mechanism_changes: dict, options: dict):
-    """One run (in a worker): its record's revolution statistics, samples, failure and wall time."""
+def _record(joint, mechanism, options: dict):
+    if options.get("integrator") == "cosim":      # the co-simulation's default scheme and steps
+        cosim = CoSimulationOptions(revolutions=options["revolutions"], sample_dt_s=options["sample_dt_s"])
+        return run_cosimulation(joint, mechanism, cosim, progress=False)
+    return run_simulation(joint, mechanism, SimulationOptions(**options), progress=False)
+
+
+def _run(joint_changes: dict, mechanism_changes: dict, options: dict, late_wear: bool = False):
+    """One run (in a worker): its record's revolution statistics, samples, failure and wall time; ``late_wear``:
+    also the volume worn after the first revolution (the run's less that of the same start over one revolution,
+    the same trajectory: starts 1e-6 deg apart share their first revolution or more, so the first revolution's
+    wear is one sample, not an ensemble's)."""
     mechanism = SliderCrankParameters(**mechanism_changes)
     joint = paper_joint(mechanism, **joint_changes)
     start = time.perf_counter()
-    record = run_simulation(joint, mechanism, SimulationOptions(**options), progress=False)
+    record = _record(joint, mechanism, options)
+    first = _record(joint, mechanism, options | {"revolutions": 1.0}).worn_volume_m3 if late_wear else math.nan
     return {"stats": record.revolution_stats, "samples": record.samples, "failure": record.failure,
             "wall_s": time.perf_counter() - start, "period_s": record.period_s,
-            "max_wear_depth_m": float(record.wear_depth_m.max())}
+            "max_wear_depth_m": float(record.wear_depth_m.max()), "worn_volume_m3": record.worn_volume_m3,
+            "late_worn_volume_m3": record.worn_volume_m3 - first}
 
 
 def onset_speeds(samples: np.ndarray) -> np.ndarray:
@@ -88,36 +113,44 @@ def onsets(pool, revolutions: float, seeds: int) -> None:
         print(f"{damping:20s} {v.size:7d} " + " ".join(f"{x:6.1f}" for x in q) + f" {weighted:14.1f}", flush=True)
 
 
-def ensemble(runs) -> dict:
-    """Mean and standard error over runs of their revolution statistics, the first revolution dropped."""
-    rows = [analysis.mean_revolution_statistics(r["stats"][1:], r["period_s"]) for r in runs]
+def ensemble(runs, names=STATISTICS) -> dict:
+    """Mean and standard error over runs of their revolution statistics, the first revolution dropped, and of
+    the wear at the end (WEAR_STATISTICS)."""
+    rows = [analysis.mean_revolution_statistics(r["stats"][1:], r["period_s"])
+            | {"max_wear_depth_um": r["max_wear_depth_m"] * 1e6, "worn_volume_mm3": r["worn_volume_m3"] * 1e9,
+               "late_worn_volume_mm3": r["late_worn_volume_m3"] * 1e9}
+            for r in runs]
     out = {}
-    for name in STATISTICS:
+    for name in names:
         x = np.array([row[name] for row in rows])
         out[name] = (float(x.mean()), float(x.std(ddof=1) / math.sqrt(x.size)))
     return out
 
 
-def steps(pool, revolutions: float, seeds: int, wear_factor: float, damping: str) -> None:
-    print(f"\nstep independence, {damping}, wear factor {wear_factor:g}, {seeds} seeds, revolutions 2-"
+def steps(pool, revolutions: float, seeds: int, wear_factor: float, damping: str,
+          configurations=STEP_CONFIGURATIONS, names=STATISTICS, title: str = "step independence") -> None:
+    print(f"\n{title}, {damping}, wear factor {wear_factor:g}, {seeds} seeds, revolutions 2-"
           f"{revolutions:g}: mean +- standard error, (distance from the pooled mean in standard errors)")
-    print(f"{'integrator':18s} " + " ".join(f"{n:>26s}" for n in STATISTICS) + f" {'wall s':>7s} failed")
+    print(f"{'integrator':26s} " + " ".join(f"{n:>26s}" for n in names) + f" {'wall s':>7s} failed")
     results = []
-    for integrator, step, rtol in STEP_CONFIGURATIONS:
+    for integrator, step, rtol, interval in configurations:
         options = {"revolutions": revolutions, "integrator": integrator, "sample_dt_s": 1e-4}
-        options.update({"step_s": step} if step else {"rtol": rtol})
-        futures = [pool.submit(_run, {"wear_factor": wear_factor, "contact_damping": damping}, _seed_angle(s), options)
+        options.update({"step_s": step} if step else {"rtol": rtol} if rtol else {})
+        joint = {"wear_factor": wear_factor, "contact_damping": damping}
+        joint.update({} if interval is None else {"wear_interval_s": interval})
+        futures = [pool.submit(_run, joint, _seed_angle(s), options, "late_worn_volume_mm3" in names)
                    for s in range(seeds)]
         runs = [f.result() for f in futures]
-        label = f"rk4 {step * 1e6:g} us" if step else f"dopri rtol {rtol:g}"
+        label = (f"rk4 {step * 1e6:g} us" if step else f"dopri rtol {rtol:g}" if rtol else integrator) + (
+            "" if interval is None else f", batch {interval * 1e6:g} us")
         ok = [r for r in runs if not r["failure"]]
-        results.append((label, ensemble(ok) if len(ok) > 1 else None, sum(r["wall_s"] for r in runs),
+        results.append((label, ensemble(ok, names) if len(ok) > 1 else None, sum(r["wall_s"] for r in runs),
                         len(runs) - len(ok)))
-    pooled = {n: np.mean([e[n][0] for _, e, _, _ in results if e]) for n in STATISTICS}
+    pooled = {n: np.mean([e[n][0] for _, e, _, _ in results if e]) for n in names}
     for label, e, wall, failed in results:
         cells = " ".join(f"{e[n][0]:10.4g} +- {e[n][1]:7.3g} ({(e[n][0] - pooled[n]) / e[n][1]:+4.1f})"
-                         if e else f"{'-':>26s}" for n in STATISTICS)
-        print(f"{label:18s} {cells} {wall:7.1f} {failed}", flush=True)
+                         if e else f"{'-':>26s}" for n in names)
+        print(f"{label:26s} {cells} {wall:7.1f} {failed}", flush=True)
 
 
 def lhs(pool, sets: int, revolutions: float, seed: int, damping: str) -> None:
@@ -151,7 +184,7 @@ def lhs(pool, sets: int, revolutions: float, seed: int, damping: str) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("part", choices=("onsets", "steps", "lhs"))
+    parser.add_argument("part", choices=("onsets", "steps", "batches", "lhs"))
     parser.add_argument("--revolutions", type=float, default=None)
     parser.add_argument("--seeds", type=int, default=8)
     parser.add_argument("--wear-factor", type=float, default=1.0)
@@ -165,6 +198,9 @@ def main() -> None:
             onsets(pool, args.revolutions or 3.0, args.seeds)
         elif args.part == "steps":
             steps(pool, args.revolutions or 5.0, args.seeds, args.wear_factor, args.damping)
+        elif args.part == "batches":
+            steps(pool, args.revolutions or 5.0, args.seeds, args.wear_factor, args.damping, BATCH_CONFIGURATIONS,
+                  STATISTICS + WEAR_STATISTICS, "wear batches")
         else:
             lhs(pool, args.sets, args.revolutions or 20.0, args.seed, args.damping)
 

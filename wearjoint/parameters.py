@@ -11,7 +11,9 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from .core.layout import MAX_WEAR_STEP_S, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT   # the wear-step limit (§7)
+from .core.layout import (   # the wear-step limit and the wear batches (docs/model.md §3.11, §7)
+    MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
+)
 
 RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
@@ -157,6 +159,7 @@ class JointParameters:
     contact_model: str = "foundation"
     contact_damping: str = "hunt-crossley"
     restitution_speed_m_s: float = RESTITUTION_SPEED_M_S
+    wear_interval_s: float = MAX_WEAR_STEP_S
 
     def __post_init__(self):
         for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
@@ -182,6 +185,9 @@ class JointParameters:
             _require(name, value, _finite(name, value) >= 0.0, ">= 0")
         _require("friction_v1_m_s", self.friction_v1_m_s, self.friction_v1_m_s > self.friction_v0_m_s,
                  f"> friction_v0_m_s = {self.friction_v0_m_s!r}")
+        _require("wear_interval_s", self.wear_interval_s,
+                 0.0 <= _finite("wear_interval_s", self.wear_interval_s) <= MAX_WEAR_STEP_S,
+                 f"in [0, {MAX_WEAR_STEP_S:g}] s (0: the wear of every accepted step at once)")
         n = self.n_points
         _require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
                  "an integer >= 8")
@@ -358,4 +364,5 @@ __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contac
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
            "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S",
-           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S"]
+           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S",
+           "WEAR_BATCH_SHARE"]

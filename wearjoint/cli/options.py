@@ -27,6 +27,8 @@ _HELP = {
     "restitution_speed_m_s": "impact speed at which the Hunt-Crossley damping gives --restitution",
     "impact_velocity_floor_m_s": "Lankarani-Nikravesh: floor on the stored impact velocity",
     "wear_factor": "wear acceleration factor on k_w",
+    "wear_interval_s": "the foundation's wear is applied once per this much contact time, 0: every step "
+                       "(docs/model.md §3.11)",
     "pin_offset_m": "pin centre in the crank's frame, x y [m]",
     "bushing_offset_m": "bushing centre in the rod's frame, x y [m]",
     "n_points": "bushing discrete points N_d",

@@ -12,6 +12,7 @@ positions are defined.
 WEAR_STEP_SHARE = 4.0            # the largest lambda of one accepted step of the foundation's update
 WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one explicit (patch, penetration) step wears
 MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s] (the statistics, docs/model.md §7)
+WEAR_BATCH_SHARE = 0.1           # the largest lambda of a wear batch: its lag stays a tenth of the overlap (§3.11)
 
 # --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
 # P_FOUNDATION_MODULUS; P_STIFFNESS where given as 0) is given (JointParameters, or the FMU's parameters:
@@ -46,13 +47,25 @@ P_CONTACT_MODEL = 25          # 0 elastic foundation, 1 deepest bushing point (d
 P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/model.md 3.10)
 P_CONTACT_DAMPING = 27        # 0 Hunt-Crossley, 1 Lankarani-Nikravesh (docs/model.md 3.5)
 P_RESTITUTION_SPEED = 28      # impact speed at which the Hunt-Crossley damping restitutes e_r [m/s]
-N_JOINT_PARAMETERS = 29
+P_WEAR_INTERVAL = 29          # the foundation's wear is applied once per this much contact time [s] (0: every step)
+N_JOINT_PARAMETERS = 30
 
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts
 M_IMPACT_VELOCITY = 1     # delta_dot^(-) stored at that contact's onset [m/s]
 M_START_FORCE = 2         # F_N at the last accepted point on its worn profile: the next step's start [N]
-N_MEMORY = 3
+# the wear batch not yet applied (core.wear.batch_wear, docs/model.md §3.11): its accepted steps' summed time [s],
+# relative rotation |d alpha| [rad], tangential slide |v_T| dt [m], load (F_N times the sliding measure in use),
+# the load's first moment (sum of load times eccentricity [m]: the batch is applied at the load-weighted mean
+# eccentricity) and the last step's deepest bushing point
+M_BATCH_TIME = 3
+M_BATCH_ANGLE = 4
+M_BATCH_SLIDE = 5
+M_BATCH_LOAD = 6
+M_BATCH_MOMENT_X = 7
+M_BATCH_MOMENT_Y = 8
+M_BATCH_INDEX = 9
+N_MEMORY = 10
 NO_START_FORCE = -1.0     # M_START_FORCE before the first accepted point
 
 # --- result of one joint evaluation

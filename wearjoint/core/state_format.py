@@ -16,11 +16,14 @@ import re
 import numpy as np
 
 from .jit import kernel
-from .layout import M_ACTIVE, M_IMPACT_VELOCITY, M_START_FORCE, N_MEMORY, NO_START_FORCE
+from .layout import (
+    M_ACTIVE, M_BATCH_MOMENT_X, M_BATCH_MOMENT_Y, M_BATCH_INDEX, M_BATCH_TIME, M_IMPACT_VELOCITY,
+    M_START_FORCE, N_MEMORY, NO_START_FORCE,
+)
 
 MAGIC = b"WJSTATE\0"
 MAGIC_WORD = int.from_bytes(MAGIC, "little")
-FORMAT_VERSION = 2    # 2: the contact memory holds the start force of the next step
+FORMAT_VERSION = 3    # 2: the contact memory holds the start force of the next step; 3: and the wear batch
 CONTENTS_JOINT = 1   # contact memory and wear depths (ClearanceJoint)
 CONTENTS_FMU = 2     # time, initialised flag, inputs, parameters, then a joint's (an FMU instance)
 CONTENTS_MECHANISM = 3   # time, initialised flag, inputs, parameters, y = [q, q_dot] (a SliderCrank FMU instance)
@@ -31,7 +34,7 @@ FMU_HEAD_TIME, FMU_HEAD_INITIALISED, FMU_HEAD_INPUTS = 0, 1, 2   # the FMU head:
 # problem code -> message; {i:k} is values[i] as an integer (d), a float (g, shortest repr) or hex (x),
 # numbered in the order they appear (the C layer formats them with printf)
 (OK, SHORT, BAD_MAGIC, VERSION, SIZE, CHECKSUM, CONTENTS, N_POINTS, PAYLOAD, TIME, INITIALISED,
- DEPTH_NON_FINITE, DEPTH_NEGATIVE, DEPTH_TOO_DEEP, ACTIVE_FLAG, ONSET_VELOCITY, START_FORCE) = range(17)
+ DEPTH_NON_FINITE, DEPTH_NEGATIVE, DEPTH_TOO_DEEP, ACTIVE_FLAG, ONSET_VELOCITY, START_FORCE, BATCH) = range(18)
 PROBLEMS = {
     OK: "",
     SHORT: "the state has {0:d} bytes, fewer than the {1:d} of its header and checksum",
@@ -53,6 +56,8 @@ PROBLEMS = {
                     "finite value >= impact_velocity_floor={2:g} m/s while a contact is active, 0 otherwise",
     START_FORCE: "the contact memory's start force={0:g} N is invalid: allowed a finite force >= 0, or -1 before the "
                  "first accepted step",
+    BATCH: "the contact memory's wear batch value {0:g} (slot {1:d}) is invalid: allowed finite sums >= 0, a finite "
+           "first moment and a bushing point index in [0, {2:d})",
 }
 
 
@@ -262,6 +267,24 @@ def check_memory(memory, velocity_floor, values):
 
 
 @kernel
+def check_batch(memory, n_points, values):
+    """0 if the contact memory's wear batch (layout.M_BATCH_*) is one the kernels write: finite sums >= 0, a
+    finite first moment of the load, an integral bushing point index in [0, n_points) (0 in a state without points)."""
+    for m in range(M_BATCH_TIME, M_BATCH_INDEX + 1):
+        value = memory[m]
+        if m == M_BATCH_MOMENT_X or m == M_BATCH_MOMENT_Y:
+            good = np.isfinite(value)
+        elif m == M_BATCH_INDEX:
+            good = value == np.floor(value) and (0.0 <= value < n_points or value == 0.0)   # 0 without points
+        else:
+            good = np.isfinite(value) and value >= 0.0
+        if not good:
+            values[0], values[1], values[2] = value, m, n_points
+            return BATCH
+    return OK
+
+
+@kernel
 def check_values(head, memory, wear_depth, bushing_radius, velocity_floor, values):
     """0 if a state's values are in range: an FMU head's time and flag (if ``head`` has any), the
     contact memory (onset velocity >= ``velocity_floor``), the wear depths up to ``bushing_radius``;
@@ -269,6 +292,8 @@ def check_values(head, memory, wear_depth, bushing_radius, velocity_floor, value
     problem = check_fmu_head(head, values) if head.size > 0 else OK
     if problem == OK:
         problem = check_memory(memory, velocity_floor, values)
+    if problem == OK:
+        problem = check_batch(memory, wear_depth.shape[0], values)
     if problem == OK:
         problem = check_wear_depth(wear_depth, bushing_radius, values)
     return problem

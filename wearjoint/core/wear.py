@@ -25,11 +25,12 @@ from .geometry import block_minimum_depth, distance_sq, penetrating_points, refr
 from .jit import kernel
 from .pressure import foundation_modulus_factor
 from .layout import (
-    M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
+    M_BATCH_ANGLE, M_BATCH_MOMENT_X, M_BATCH_MOMENT_Y, M_BATCH_INDEX, M_BATCH_LOAD, M_BATCH_SLIDE,
+    M_BATCH_TIME, M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
     P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS, P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_FOUNDATION_MODULUS,
     P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE, P_SLIDING, P_STIFFNESS, P_WEAR_COEFFICIENT,
-    P_WEAR_FACTOR, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_NORMAL_FORCE,
-    R_PENETRATION, R_TANGENTIAL_VELOCITY, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
+    P_WEAR_FACTOR, P_WEAR_INTERVAL, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX, R_ECCENTRICITY_X, R_ECCENTRICITY_Y,
+    R_NORMAL_FORCE, R_PENETRATION, R_TANGENTIAL_VELOCITY, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
 )
 
 
@@ -138,6 +139,27 @@ def step_mean_normal_force(result, memory, held):
     return 0.5 * (start + result[R_NORMAL_FORCE])
 
 
+@kernel(inline='always')
+def _relaxation(k, angle, slide, jp, wear_depth):
+    """lambda = k_f k_w Delta s at the deepest point k of a step or batch relative rotation ``angle`` [rad] and
+    tangential ``slide`` [m] (docs/model.md §7)."""
+    k_f = jp[P_FOUNDATION_MODULUS] * jp[P_PIN_RADIUS] / jp[P_CONTACT_LENGTH]     # the slot holds k_f L / R_i
+    rotation = int(jp[P_SLIDING]) == 0
+    return k_f * jp[P_WEAR_COEFFICIENT] * ((jp[P_BUSHING_RADIUS] + wear_depth[k]) * angle if rotation else slide)
+
+
+@kernel
+def _foundation_increment(k, ex, ey, f_n, angle, slide, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work):
+    """The foundation's relaxed update (:func:`foundation_wear`) of a pin at eccentricity (ex, ey) with deepest
+    point k, mean normal force f_n [N], relative rotation ``angle`` [rad] and tangential ``slide`` [m]; returns
+    (the largest increment or WEAR_REFUSED, lambda over WEAR_STEP_SHARE)."""
+    share = _relaxation(k, angle, slide, jp, wear_depth) / WEAR_STEP_SHARE       # on the profile before the update
+    largest = foundation_wear(jp[P_WEAR_COEFFICIENT], f_n, jp[P_CONTACT_LENGTH], angle, slide, int(jp[P_SLIDING]) == 0,
+                              ex, ey, jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS], cos_phi, sin_phi, wear_depth,
+                              block_min, mask, work, k)
+    return largest, share
+
+
 @kernel
 def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work):
     """Archard update of the wear profile over an accepted step of length dt, Eqs. (28)-(33).
@@ -156,10 +178,16 @@ def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     """
     if not wears(result, f_n, jp, dt):
         return 0.0, 0.0
+    k = int(result[R_CONTACT_INDEX])
+    relative_rate = abs(vel_i[2] - vel_j[2])
+    tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
+    placement = int(jp[P_WEAR_PLACEMENT])
+    if placement == 2:
+        return _foundation_increment(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], f_n, relative_rate * dt,
+                                     tangential_slide, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work)
     k_w = jp[P_WEAR_COEFFICIENT]
     n = wear_depth.shape[0]
     dphi = 2.0 * math.pi / n
-    k = int(result[R_CONTACT_INDEX])
     pin_radius = jp[P_PIN_RADIUS]
     bushing_radius = jp[P_BUSHING_RADIUS]
     worn_radius = bushing_radius + wear_depth[k]
@@ -167,17 +195,7 @@ def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     half_width = hertz_half_width(f_n, rho, jp[P_CONTACT_LENGTH], jp[P_EFFECTIVE_MODULUS])
     pressure = f_n / (2.0 * half_width * jp[P_CONTACT_LENGTH])          # Eqs. (25), (29)
     rotation = int(jp[P_SLIDING]) == 0
-    relative_rate = abs(vel_i[2] - vel_j[2])
-    tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
     largest = 0.0
-    placement = int(jp[P_WEAR_PLACEMENT])
-    if placement == 2:
-        largest = foundation_wear(k_w, f_n, jp[P_CONTACT_LENGTH], relative_rate * dt, tangential_slide, rotation,
-                                  result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], pin_radius, bushing_radius,
-                                  cos_phi, sin_phi, wear_depth, block_min, mask, work, k)
-        k_f = jp[P_FOUNDATION_MODULUS] * pin_radius / jp[P_CONTACT_LENGTH]     # the slot holds k_f L / R_i
-        share = k_f * k_w * (worn_radius * relative_rate * dt if rotation else tangential_slide)   # lambda, §7
-        return largest, share / WEAR_STEP_SHARE
     # a bound on the increments below (patch weights <= 4/pi, depths <= R_j): refuse an absurd step
     slide_bound = 2.0 * worn_radius * relative_rate * dt if rotation else tangential_slide
     if not k_w * pressure * (4.0 / math.pi) * slide_bound <= bushing_radius:
@@ -211,22 +229,91 @@ def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
 
 
 @kernel
+def _flush_batch(jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory):
+    """Apply the wear batch in ``memory`` (M_BATCH_*) at its load-weighted mean eccentricity with its
+    load-weighted mean normal force and summed sliding, then empty it; returns :func:`_foundation_increment`'s
+    (largest, share), or (WEAR_REFUSED, 0) with nothing changed, the batch kept."""
+    angle, slide, load = memory[M_BATCH_ANGLE], memory[M_BATCH_SLIDE], memory[M_BATCH_LOAD]
+    measure = angle if int(jp[P_SLIDING]) == 0 else slide
+    largest, share = 0.0, 0.0
+    if load > 0.0 and measure > 0.0:
+        largest, share = _foundation_increment(int(memory[M_BATCH_INDEX]), memory[M_BATCH_MOMENT_X] / load,
+                                               memory[M_BATCH_MOMENT_Y] / load, load / measure, angle, slide, jp,
+                                               cos_phi, sin_phi, wear_depth, block_min, mask, work)
+        if largest < 0.0:
+            return largest, share
+    for m in range(M_BATCH_TIME, M_BATCH_INDEX + 1):
+        memory[m] = 0.0
+    return largest, share
+
+
+@kernel
+def batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory):
+    """The foundation's wear of an accepted step, gathered into batches of contact time jp[P_WEAR_INTERVAL]
+    (docs/model.md §3.11): the step's time, sliding and load (F_N times the sliding) join the batch in
+    ``memory``, which is applied (:func:`_flush_batch`) when it reaches the interval or the largest lambda
+    WEAR_BATCH_SHARE, before it would pass either, and when the contact ends.  The removed volume is Archard's,
+    k_w sum F_N Delta s, as step by step; the relaxed update takes the batch at the pin's load-weighted mean
+    position.  Returns (the largest increment, share) as :func:`apply_wear`, or (WEAR_REFUSED, 0)
+    with nothing changed if the step alone would wear absurdly."""
+    wearing = wears(result, f_n, jp, dt)
+    angle = abs(vel_i[2] - vel_j[2]) * dt
+    slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
+    bushing_radius = jp[P_BUSHING_RADIUS]
+    bound = 2.0 * bushing_radius * angle if int(jp[P_SLIDING]) == 0 else slide   # as foundation_wear refuses
+    if wearing and not jp[P_WEAR_COEFFICIENT] * f_n * bound <= math.pi * bushing_radius ** 2 * jp[P_CONTACT_LENGTH]:
+        return WEAR_REFUSED, 0.0
+    interval = jp[P_WEAR_INTERVAL]
+    k = int(result[R_CONTACT_INDEX])
+    largest, share = 0.0, 0.0
+    if memory[M_BATCH_TIME] > 0.0 and (
+            not wearing or memory[M_BATCH_TIME] + dt > interval * (1.0 + 1e-9)
+            or _relaxation(int(memory[M_BATCH_INDEX]), memory[M_BATCH_ANGLE] + angle, memory[M_BATCH_SLIDE] + slide,
+                           jp, wear_depth) > WEAR_BATCH_SHARE):
+        largest, share = _flush_batch(jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory)
+        if largest < 0.0:
+            return largest, share
+    if not wearing:
+        return largest, share
+    memory[M_BATCH_TIME] += dt
+    memory[M_BATCH_ANGLE] += angle
+    memory[M_BATCH_SLIDE] += slide
+    load = f_n * (angle if int(jp[P_SLIDING]) == 0 else slide)
+    memory[M_BATCH_LOAD] += load
+    memory[M_BATCH_MOMENT_X] += load * result[R_ECCENTRICITY_X]
+    memory[M_BATCH_MOMENT_Y] += load * result[R_ECCENTRICITY_Y]
+    memory[M_BATCH_INDEX] = k
+    if (memory[M_BATCH_TIME] >= interval * (1.0 - 1e-9)
+            or _relaxation(k, memory[M_BATCH_ANGLE], memory[M_BATCH_SLIDE], jp, wear_depth) >= WEAR_BATCH_SHARE):
+        applied, applied_share = _flush_batch(jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory)
+        if applied < 0.0:
+            return applied, applied_share
+        largest, share = max(largest, applied), max(share, applied_share)
+    return largest, share
+
+
+@kernel
 def accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                    mask, work):
     """Archard update over dt with the step's mean normal force (:func:`step_mean_normal_force`) and the
     contact-onset bookkeeping for ``result``, the contact evaluated at the accepted state (pos, vel) on the
-    profile the step began with (left as it is).  memory[M_START_FORCE] becomes the normal force there on
-    the new profile, evaluated in ``work`` after the wear.  Returns STEP_CHANGED if the joint's forces changed,
-    STEP_OVERSHOT if they did by a step over the wear-step limit (longer than MAX_WEAR_STEP_S, or past its
-    share of the wear, :func:`apply_wear`; docs/model.md §7), STEP_UNCHANGED, or STEP_REFUSED (nothing
-    changed: the wear would be absurd, :func:`apply_wear`)."""
+    profile the step began with (left as it is).  The foundation's wear goes in batches (:func:`batch_wear`)
+    where jp[P_WEAR_INTERVAL] > 0.  memory[M_START_FORCE] becomes the normal force there on the new profile,
+    evaluated in ``work`` after the wear (not ``held``: a held step's wear takes its own end force).  Returns
+    STEP_CHANGED if the joint's forces changed, STEP_OVERSHOT if they did by a step over the wear-step limit
+    (longer than MAX_WEAR_STEP_S, or past its share of the wear, :func:`apply_wear`; docs/model.md §7),
+    STEP_UNCHANGED, or STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`)."""
     f_n = step_mean_normal_force(result, memory, held)
-    largest, share = apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask,
-                                work)
+    if int(jp[P_WEAR_PLACEMENT]) == 2 and jp[P_WEAR_INTERVAL] > 0.0:
+        largest, share = batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                                    mask, work, memory)
+    else:
+        largest, share = apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                                    mask, work)
     if largest < 0.0:
         return STEP_REFUSED
     changed = update_contact_memory(result, jp, memory)
-    if largest > 0.0:
+    if largest > 0.0 and not held:
         after = work[:N_RESULT]
         for r in range(N_RESULT):                # the search starts from the contact before the wear
             after[r] = result[r]

@@ -205,6 +205,9 @@ PARAMETERS: tuple[ParameterField, ...] = (
             "(restitution at every stored impact velocity)"),
     _real("restitution_speed", "m/s", "restitution_speed_m_s",
           "impact speed at which the Hunt-Crossley damping gives the restitution e_r", allowed=POSITIVE),
+    _real("wear_interval", "s", "wear_interval_s",
+          "the foundation's wear is applied once per this much contact time (and when a contact ends; "
+          "0: at every accepted step)", allowed=Allowed(0.0, False, layout.MAX_WEAR_STEP_S)),
 )
 # an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
 STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
@@ -264,7 +267,7 @@ UNIT_DEFINITIONS: dict[str, dict[str, int]] = {
     # non-integer exponent of m and is declared without BaseUnit.
     "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1},
     "N": {"kg": 1, "m": 1, "s": -2}, "N.m": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-    "N/m1.5": {}, "m2/N": {"kg": -1, "m": 1, "s": 2}, "m3": {"m": 3}, "1": {},
+    "N/m1.5": {}, "m2/N": {"kg": -1, "m": 1, "s": 2}, "m3": {"m": 3}, "s": {"s": 1}, "1": {},
 }
 
 

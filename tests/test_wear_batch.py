@@ -1,0 +1,119 @@
+"""The foundation's wear in batches of contact time (core.wear.batch_wear, docs/model.md §3.11).
+
+A pin pressed into the bushing at a fixed eccentricity while it turns: every accepted step's wear
+joins a batch, applied once per ``wear_interval_s`` of contact time, before the batch's lambda would
+pass WEAR_BATCH_SHARE, and when the contact ends.  Archard's volume k_w sum F_N Delta s is kept
+whatever the batches; a step as long as the interval is the unbatched step; a batch survives a
+state round trip.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wearjoint.core import layout as L
+from wearjoint.joint import ClearanceJoint, JointState, StateError
+from wearjoint.parameters import MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, JointParameters, ParameterError
+
+SPIN_RAD_S = 100.0          # pin's rotation relative to the bushing
+PENETRATION_M = 2e-6
+AT_REST = np.zeros(3)
+
+
+def pressed_joint(interval_s: float, wear_factor: float = 0.5) -> ClearanceJoint:
+    return ClearanceJoint(JointParameters(wear_factor=wear_factor, wear_interval_s=interval_s))
+
+
+def press(joint: ClearanceJoint, dt: float, steps: int, eccentricity_m: float | None = None) -> float:
+    """``steps`` held steps of ``dt`` with the pin at ``eccentricity_m`` along x (default: clearance plus
+    PENETRATION_M), turning at SPIN_RAD_S; returns Archard's k_w sum F_N (R_j |d alpha|) of the forces the steps
+    saw (the bushing's radius for the sliding radius: the depths here are 1e-4 of it)."""
+    e = joint.params.clearance_m + PENETRATION_M if eccentricity_m is None else eccentricity_m
+    pos_i, vel_i = np.array([e, 0.0, 0.0]), np.array([0.0, 0.0, SPIN_RAD_S])
+    k_w = joint.parameter_vector[L.P_WEAR_COEFFICIENT]
+    archard = 0.0
+    for _ in range(steps):
+        assert joint.advance_array(pos_i, vel_i, AT_REST, AT_REST, dt, True) >= 0
+        archard += k_w * joint.result[L.R_NORMAL_FORCE] * joint.params.bushing_radius_m * SPIN_RAD_S * dt
+    return archard
+
+
+def batch_time(joint: ClearanceJoint) -> float:
+    return float(joint.memory[L.M_BATCH_TIME])
+
+
+@pytest.mark.parametrize("interval_s", [0.0, 1e-5, MAX_WEAR_STEP_S])
+def test_batches_keep_archards_volume(interval_s):
+    joint = pressed_joint(interval_s)
+    archard = press(joint, 2e-6, 45)              # 90 us: whole batches of 10 and 30 us
+    assert batch_time(joint) == 0.0
+    assert joint.worn_volume_m3 == pytest.approx(archard, rel=1e-4)
+
+
+def test_a_batch_waits_for_its_interval_then_wears_at_once():
+    joint = pressed_joint(MAX_WEAR_STEP_S)
+    press(joint, 2e-6, 14)
+    assert joint.max_wear_depth_m == 0.0
+    assert batch_time(joint) == pytest.approx(28e-6)
+    press(joint, 2e-6, 1)                          # the 15th step fills 30 us
+    assert joint.max_wear_depth_m > 0.0
+    assert batch_time(joint) == 0.0
+
+
+def test_a_batch_is_applied_when_the_contact_ends():
+    joint = pressed_joint(MAX_WEAR_STEP_S)
+    archard = press(joint, 2e-6, 5)
+    assert joint.max_wear_depth_m == 0.0 and batch_time(joint) > 0.0
+    press(joint, 2e-6, 1, eccentricity_m=0.5 * joint.params.clearance_m)     # free flight
+    assert joint.result[L.R_CONTACT] < 0.5
+    assert batch_time(joint) == 0.0
+    assert joint.worn_volume_m3 == pytest.approx(archard, rel=1e-4)
+
+
+def test_a_step_of_the_whole_interval_is_the_unbatched_step():
+    """(To rounding: the batch's position is its load moment over its load.)"""
+    batched, unbatched = pressed_joint(MAX_WEAR_STEP_S), pressed_joint(0.0)
+    for joint in (batched, unbatched):
+        press(joint, MAX_WEAR_STEP_S, 3)
+    np.testing.assert_allclose(batched.wear_depth, unbatched.wear_depth, rtol=1e-12, atol=0.0)
+    assert batch_time(batched) == 0.0
+
+
+def test_a_batch_stops_before_its_relaxation_passes_the_share():
+    """At a wear factor where one 2 us step has lambda 0.04 a batch holds two steps, not fifteen."""
+    joint = pressed_joint(MAX_WEAR_STEP_S, wear_factor=5.6)
+    pv = joint.parameter_vector
+    k_f = pv[L.P_FOUNDATION_MODULUS] * pv[L.P_PIN_RADIUS] / pv[L.P_CONTACT_LENGTH]
+    step_lambda = k_f * pv[L.P_WEAR_COEFFICIENT] * joint.params.bushing_radius_m * SPIN_RAD_S * 2e-6
+    assert 0.5 * WEAR_BATCH_SHARE < 2 * step_lambda < WEAR_BATCH_SHARE < 3 * step_lambda
+    press(joint, 2e-6, 2)
+    assert joint.max_wear_depth_m == 0.0       # two steps wait
+    press(joint, 2e-6, 1)                       # the third would pass the share: the two are applied first
+    assert joint.max_wear_depth_m > 0.0
+    assert batch_time(joint) == pytest.approx(2e-6)
+
+
+def test_a_batch_survives_a_state_round_trip():
+    whole, resumed = pressed_joint(MAX_WEAR_STEP_S), pressed_joint(MAX_WEAR_STEP_S)
+    press(whole, 2e-6, 7)
+    resumed.state_from_bytes(whole.state_to_bytes())
+    assert batch_time(resumed) == batch_time(whole) > 0.0
+    for joint in (whole, resumed):
+        press(joint, 2e-6, 20)
+    np.testing.assert_array_equal(resumed.wear_depth, whole.wear_depth)
+    np.testing.assert_array_equal(resumed.memory, whole.memory)
+
+
+@pytest.mark.parametrize("value", [-1e-6, 2 * MAX_WEAR_STEP_S, float("nan")])
+def test_wear_interval_out_of_range_is_refused(value):
+    with pytest.raises(ParameterError, match=r"wear_interval_s=\S+ is invalid: allowed (a finite|in \[0, 3e-05\] s)"):
+        JointParameters(wear_interval_s=value)
+
+
+def test_a_corrupt_batch_in_a_state_is_refused():
+    joint = pressed_joint(MAX_WEAR_STEP_S)
+    press(joint, 2e-6, 3)
+    memory = joint.memory.copy()
+    memory[L.M_BATCH_INDEX] = joint.params.n_points          # past the last bushing point
+    with pytest.raises(StateError, match=r"wear batch value 1257(\.0)? \(slot 9\) is invalid"):
+        joint.set_state(JointState(joint.wear_depth.copy(), memory))
