@@ -13,7 +13,9 @@ untimed run of each that builds the FMU and fills the numba caches), through API
 * ``cosim-wear`` -- the README's first command's engine (``wearjoint cosim``: the paper's joint, which
   wears): adaptive, 0.2 s after 0.01 s, native FMU: real-time factor, communication steps (they follow the
   chaotic trajectory: a last-digit change in the mechanism moves them by several per cent), wall and FMI
-  time per step; ``cosim``: the same without wear (``benchmarks/bench_cosim.py``'s run);
+  time per step; ``cosim-wear-long``: the same over four revolutions (1.6 s: the groove worn in, where a long
+  study spends its time; the step count over 0.2 s swings by 2x with the trajectory); ``cosim``: the same
+  without wear (``benchmarks/bench_cosim.py``'s run);
 * ``monolithic-wear`` -- ``wearjoint simulate --revolutions 2``'s engine (DOPRI default, with wear):
   real-time factor, accepted steps; ``monolithic``: 5 revolutions without wear;
 * ``cold`` -- ``wearjoint simulate --revolutions 0.05``, ``wearjoint build-fmu`` and ``wearjoint cosim
@@ -37,19 +39,19 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PROBES = ("cosim-wear", "monolithic-wear", "cosim", "monolithic", "cold")
+PROBES = ("cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
 DEFAULT_PROBES = ("cosim-wear", "monolithic-wear", "cosim", "monolithic")
 
 
 # ------------------------------------------------------------------ probes (run by either interpreter)
-def probe_cosim(wear: bool = False) -> dict:
+def probe_cosim(wear: bool = False, duration: float = 0.2) -> dict:
     import numpy as np
 
     from wearjoint.core import layout as L
     from wearjoint.cosim import CoSimulation, CoSimulationOptions
     from wearjoint.parameters import paper_joint
 
-    warm_up, duration = 0.01, 0.2
+    warm_up = 0.01
     options = CoSimulationOptions(revolutions=(warm_up + duration) / 0.4 + 0.1)
     samples = np.zeros((int((warm_up + duration) / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
     with CoSimulation(paper_joint() if wear else paper_joint(wear_factor=0.0), None, options) as sim:
@@ -74,6 +76,10 @@ def probe_monolithic(wear: bool = False) -> dict:
 
 def probe_cosim_wear() -> dict:
     return probe_cosim(wear=True)
+
+
+def probe_cosim_wear_long() -> dict:
+    return probe_cosim(wear=True, duration=4 * 0.4)
 
 
 def probe_monolithic_wear() -> dict:
