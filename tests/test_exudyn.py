@@ -13,7 +13,7 @@ from wearjoint.core import layout as L
 from wearjoint.core.contact import ambrosio_friction_factor
 from wearjoint.core.mechanism import derivative
 from wearjoint.mechanism import SliderCrank
-from wearjoint.simulate import SimulationOptions, joint_arrays, run_simulation
+from wearjoint.simulate import SimulationOptions, run_simulation
 
 em = pytest.importorskip("wearjoint.validation.exudyn_model")
 from wearjoint.exudyn import set_post_step  # noqa: E402
@@ -260,7 +260,7 @@ def test_generic_ode2_applies_the_contact_pair_with_the_right_sign():
     contact = joint.evaluate(np.r_[y[L.CRANK:L.CRANK + 3], y[n + L.CRANK:n + L.CRANK + 3]],
                              np.r_[y[L.ROD:L.ROD + 3], y[n + L.ROD:n + L.ROD + 3]])
     assert contact.in_contact and contact.normal_force_N > 100.0
-    arrays = joint_arrays(joint)
+    arrays = joint.arrays
 
     def monolithic_accelerations(body_forces):       # MODE_EXTERNAL: loads as given, joint unused
         dy = np.empty_like(y)

@@ -62,7 +62,7 @@ def compile_late_kernels() -> None:
     at_rest = np.zeros(3)
     accept_contact(joint.result, at_rest, at_rest.copy(), at_rest.copy(), at_rest.copy(), 1e-6, False,
                    joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-                   joint.memory, joint._mask, joint.work)
+                   joint.memory, joint.mask, joint.work)
     y = np.zeros(2 * L.N_COORDINATES)
     record_step(0.0, 1e-6, y, y.copy(), joint.result, np.zeros(L.N_MECHANISM_PARAMETERS), new_revolution_stats(1),
                 np.zeros((0, L.N_SAMPLE_COLUMNS)), new_track(1e-3))

@@ -239,7 +239,7 @@ class ClearanceJointHandle:
                                  "1e-5), or wear_factor=0 (docs/model.md §7)")
         if self._system_indices is None:
             self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
-            self._accept_arguments = (*self._system_indices, *self._shared, j._mask, j.work, j.result, _HISTORY_SLOTS)
+            self._accept_arguments = (*self._system_indices, *self._shared, j.mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)

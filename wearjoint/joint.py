@@ -19,6 +19,7 @@ from .core import layout as L
 from .core import state_format as SF
 from .core.contact import evaluate_contact
 from .core.geometry import block_minimum_depth, bushing_points
+from .core.joint_access import JointArrays
 from .core.wear import (
     advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
 )
@@ -172,8 +173,15 @@ class ClearanceJoint:
         self.memory = np.zeros(L.N_MEMORY)
         self.memory[L.M_START_FORCE] = L.NO_START_FORCE
         self.result = np.zeros(L.N_RESULT)
-        self._mask = np.zeros(n, dtype=np.bool_)
+        self.mask = np.zeros(n, dtype=np.bool_)
         self.work = np.zeros(2 * n)                 # scratch of the wear kernels (not state)
+
+    @property
+    def arrays(self) -> JointArrays:
+        """The joint's arrays as the kernels and integrators take them (no copies; ``mask`` and ``work`` are
+        the wear kernels' scratch, not state)."""
+        return JointArrays(self.parameter_vector, self.cos_phi, self.sin_phi, self.wear_depth, self.block_min,
+                           self.memory, self.mask, self.work, self.result)
 
     # ------------------------------------------------------------- forces
     def evaluate_array(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:
@@ -225,7 +233,7 @@ class ClearanceJoint:
         (its wear would exceed the bushing radius or not be finite; nothing changed)."""
         return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, held, self.parameter_vector, self.cos_phi,
                              self.sin_phi, self.wear_depth, self.block_min, self.memory,
-                             self._mask, self.work, self.result)
+                             self.mask, self.work, self.result)
 
     def advance(self, pin_kinematics, bushing_kinematics, dt: float, held: bool = False) -> ContactResult:
         """Accept a step of length dt [s] ending at these kinematics: the Archard wear of the whole step
@@ -262,7 +270,7 @@ class ClearanceJoint:
         before = self.wear_depth.copy()
         kinematics = [np.zeros(3) for _ in range(4)]
         largest = replay_wear(loading, float(scale), int(passes), self.parameter_vector, self.cos_phi, self.sin_phi,
-                              self.wear_depth, self.block_min, self.memory.copy(), self._mask, self.work,
+                              self.wear_depth, self.block_min, self.memory.copy(), self.mask, self.work,
                               np.zeros(L.N_RESULT), *kinematics)
         if largest < 0.0:
             self.set_wear_profile(before)

@@ -9,7 +9,8 @@ import numpy as np
 
 from .core import layout as L
 from .core.integrators import DOPRI5, RK4, accept_point, integrate, record_step
-from .core.mechanism import JointArrays, derivative
+from .core.joint_access import JointArrays
+from .core.mechanism import derivative
 from .core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
 from .joint import ClearanceJoint
 from .mechanism import SliderCrank
@@ -134,7 +135,7 @@ class Simulation:
 
     @property
     def _joint_arrays(self) -> JointArrays:
-        return joint_arrays(self.joint)
+        return self.joint.arrays
 
     def _derivative(self):
         """dy = f(t, y).  RK4 and DOPRI: by their integrator over no time (it evaluates f where it starts), so a
@@ -331,11 +332,6 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
                              **{"integrator_" + key: value for key, value in sim.solver_counts.items()}})
 
 
-def joint_arrays(joint: ClearanceJoint) -> JointArrays:
-    """The arrays of a :class:`ClearanceJoint` as the kernels take them (no copies)."""
-    return JointArrays(joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-                       joint.memory, joint._mask, joint.work, joint.result)
 
-
-__all__ = ["SimulationOptions", "Simulation", "run_simulation", "joint_arrays", "INTEGRATORS", "GEAR_SOLVERS",
+__all__ = ["SimulationOptions", "Simulation", "run_simulation", "INTEGRATORS", "GEAR_SOLVERS",
            "GEAR_JACOBIANS", "ParameterError"]

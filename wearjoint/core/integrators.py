@@ -191,8 +191,8 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
               rev_stats, samples, track):
     """Integrate y from t to t_end; ``dy`` is set to f(t, y) first and holds f at the end (t == t_end:
     only f(t, y)).
-    ``joint`` is a :data:`core.mechanism.JointArrays` (the joint in process) or a
-    :data:`core.joint_access.FmuJoint` (an FMU's Model Exchange interface): the same steps.
+    ``joint`` is a :data:`core.joint_access.JointArrays` (the joint in process) or a
+    :data:`~wearjoint.cosim.fmu_joint.FmuJoint` (an FMU's Model Exchange interface): the same steps.
 
     control = [h (RK4 step or DOPRI initial/next step), h_max, rtol, atol_position,
     atol_velocity, h_min, onset_penetration].  Returns (t, accepted steps, rejected

@@ -1,14 +1,10 @@
-"""How the integrators reach the clearance joint: one integrator, two kinds of joint.
+"""How the integrators reach the clearance joint: one integrator, any kind of joint.
 
-* :data:`~wearjoint.core.mechanism.JointArrays` -- the joint in process: the kernels run on
-  its arrays (the monolithic engine).
-* :data:`FmuJoint` -- the joint as an FMU's Model Exchange interface: every evaluation is
-  ``fmi2SetTime`` + ``fmi2SetReal`` of the 12 inputs + ``fmi2GetReal`` of the outputs, every
-  accepted point ``fmi2CompletedIntegratorStep`` (and, where the contact begins or ends, an event:
-  ``fmi2EnterEventMode``, ``fmi2NewDiscreteStates``, ``fmi2EnterContinuousTimeMode``).
-
-The functions below are specialised by numba on the joint's type (``overload``), so the
-integrators' code is the same for both and the in-process path compiles to what it was.
+The integrators call four functions on their ``joint`` argument -- :func:`contact_forces`,
+:func:`contact_at`, :func:`accept_joint`, :func:`joint_failed` -- which numba specialises on the
+joint's type (``overload``).  This module implements them for :data:`JointArrays`, the joint in
+process (the kernels run on its arrays: the monolithic engine); another module can register them for
+another joint type (:mod:`wearjoint.cosim.fmu_joint`: the joint FMU's Model Exchange interface).
 """
 from collections import namedtuple
 
@@ -17,35 +13,26 @@ import math
 from numba import types
 from numba.extending import overload
 
-from .contact import evaluate_contact_scalars, update_contact_memory
+from .contact import evaluate_contact_scalars
 from .jit import kernel
-from .layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, R_NORMAL_FORCE, ROD
-from .wear import accept_contact, advance_joint, wears
+from .layout import CRANK, N_COORDINATES, ROD
+from .wear import accept_contact, advance_joint
 
 # The integrators' right-hand side calls the compiled contact evaluation: inlining it there
 # (numba's inline='always') took 16 of a cold run's 41 s of compiling and ran no faster
 # (docs/performance.md, "Compile time").
 
-# The FMU's C functions (ctypes function pointers) and the buffers they read and write:
-# ``io`` = the 12 inputs (pin body = crank, bushing body = rod) then the outputs, whose
-# layout.R_* slots are ``output_slots``; ``result`` the outputs in the result layout;
-# ``parameters`` / ``memory`` the joint parameter vector and a mirror of the FMU's contact
-# memory (the same onset rule, :func:`update_contact_memory`, applied to the FMU's outputs);
-# ``event_info`` the fmi2EventInfo struct, ``flags`` the two fmi2Boolean outputs of
-# fmi2CompletedIntegratorStep; ``events`` counts the event iterations [at contact onsets, at
-# separations]; ``failure`` = [index of the failed call (FMU_CALLS), status, time].
-FmuJoint = namedtuple("FmuJoint", ("component", "set_time", "set_real", "get_real", "completed_integrator_step",
-                                   "enter_event_mode", "new_discrete_states", "enter_continuous_time_mode",
-                                   "input_vrs", "output_vrs", "output_slots", "io", "result", "parameters",
-                                   "memory", "event_info", "flags", "events", "failure"))
-FMU_CALLS = ("", "fmi2SetTime", "fmi2SetReal", "fmi2GetReal", "fmi2CompletedIntegratorStep", "fmi2EnterEventMode",
-             "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode")
-N_INPUTS = 12
-FMI_WARNING = 1
+# The joint in process: the joint parameter vector (layout.P_*), the bushing points' cos/sin, the wear
+# profile, the contact search's block minima, the contact memory (layout.M_*), the wear kernels' scratch (a
+# bool mask, N_d long, and a float64 array ``work``, 2 N_d long; not state) and the evaluation result
+# (layout.R_*).
+JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
+                                         "memory", "mask", "work", "result"))
 
 
-def _is_fmu_joint(joint) -> bool:
-    return isinstance(joint, types.NamedTuple) and joint.instance_class is FmuJoint
+def is_joint_type(joint, kind) -> bool:
+    """True if the numba type ``joint`` is the namedtuple class ``kind`` (an overload's dispatch)."""
+    return isinstance(joint, types.BaseNamedTuple) and joint.instance_class is kind
 
 
 def contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
@@ -67,7 +54,6 @@ def joint_failed(joint):
     """True if a call to the joint failed (an FMU call; never in process)."""
 
 
-# ------------------------------------------------------------------ in process
 @kernel(inline='always')
 def _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
     n = N_COORDINATES
@@ -92,79 +78,13 @@ def _arrays_accept(joint, t, y, h, evaluated):
                          joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work, joint.result) > 0
 
 
-# ------------------------------------------------------------------ through the FMU
-@kernel(inline='always')
-def _fmu_call_failed(joint, call, status, t):
-    """Record the first failing call; True if ``status`` is worse than fmi2Warning."""
-    if status > FMI_WARNING:
-        if joint.failure[0] == 0.0:
-            joint.failure[0] = call
-            joint.failure[1] = status
-            joint.failure[2] = t
-        return True
-    return False
-
-
-@kernel
-def _fmu_contact_forces(joint, t, y):
-    if joint.failure[0] != 0.0:
-        return
-    n = N_COORDINATES
-    io = joint.io
-    for k in range(3):
-        io[k] = y[CRANK + k]
-        io[3 + k] = y[n + CRANK + k]
-        io[6 + k] = y[ROD + k]
-        io[9 + k] = y[n + ROD + k]
-    if _fmu_call_failed(joint, 1, joint.set_time(joint.component, t), t):
-        return
-    if _fmu_call_failed(joint, 2, joint.set_real(joint.component, joint.input_vrs.ctypes.data, N_INPUTS,
-                                                 io.ctypes.data), t):
-        return
-    n_out = joint.output_vrs.shape[0]
-    if _fmu_call_failed(joint, 3, joint.get_real(joint.component, joint.output_vrs.ctypes.data, n_out,
-                                                 io.ctypes.data + 8 * N_INPUTS), t):
-        return
-    for k in range(n_out):
-        joint.result[joint.output_slots[k]] = io[N_INPUTS + k]
-
-
-@kernel
-def _fmu_accept(joint, t, y, h, evaluated):
-    """fmi2CompletedIntegratorStep (and an event iteration where a contact begins or ends).
-    "Changed" as in process: the onset memory changed, or the step may have worn the bushing;
-    otherwise DOPRI reuses its last stage (FSAL) instead of evaluating the FMU again."""
-    if not evaluated:
-        _fmu_contact_forces(joint, t, y)
-    if joint.failure[0] != 0.0:
-        return True
-    c = joint.component
-    if _fmu_call_failed(joint, 4, joint.completed_integrator_step(c, 1, joint.flags.ctypes.data,
-                                                                  joint.flags.ctypes.data + 4), t):
-        return True
-    onset = joint.result[R_CONTACT] > 0.5
-    if onset != (joint.memory[M_ACTIVE] > 0.5):   # a contact began or ended: a state event
-        joint.events[0 if onset else 1] += 1
-        if _fmu_call_failed(joint, 5, joint.enter_event_mode(c), t):
-            return True
-        if _fmu_call_failed(joint, 6, joint.new_discrete_states(c, joint.event_info.ctypes.data), t):
-            return True
-        if _fmu_call_failed(joint, 7, joint.enter_continuous_time_mode(c), t):
-            return True
-    onset_changed = update_contact_memory(joint.result, joint.parameters, joint.memory)
-    return onset_changed or wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)
-
-
 @overload(contact_forces)
 def _contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
-    if _is_fmu_joint(joint):
-        def fmu(joint, t, y, cos1, sin1, cos2, sin2):
-            _fmu_contact_forces(joint, t, y)
-        return fmu
-
-    def arrays(joint, t, y, cos1, sin1, cos2, sin2):
-        _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
-    return arrays
+    if is_joint_type(joint, JointArrays):
+        def arrays(joint, t, y, cos1, sin1, cos2, sin2):
+            _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
+        return arrays
+    return None
 
 
 @overload(contact_at)
@@ -177,26 +97,20 @@ def _contact_at(joint, t, y):
 
 @overload(accept_joint)
 def _accept_joint(joint, t, y, h, evaluated):
-    if _is_fmu_joint(joint):
-        def fmu(joint, t, y, h, evaluated):
-            return _fmu_accept(joint, t, y, h, evaluated)
-        return fmu
-
-    def arrays(joint, t, y, h, evaluated):
-        return _arrays_accept(joint, t, y, h, evaluated)
-    return arrays
+    if is_joint_type(joint, JointArrays):
+        def arrays(joint, t, y, h, evaluated):
+            return _arrays_accept(joint, t, y, h, evaluated)
+        return arrays
+    return None
 
 
 @overload(joint_failed)
 def _joint_failed(joint):
-    if _is_fmu_joint(joint):
-        def fmu(joint):
-            return joint.failure[0] != 0.0
-        return fmu
-
-    def arrays(joint):
-        return False
-    return arrays
+    if is_joint_type(joint, JointArrays):
+        def arrays(joint):
+            return False
+        return arrays
+    return None
 
 
-__all__ = ["FmuJoint", "FMU_CALLS", "contact_forces", "contact_at", "accept_joint", "joint_failed"]
+__all__ = ["JointArrays", "accept_joint", "contact_at", "contact_forces", "is_joint_type", "joint_failed"]

@@ -9,12 +9,11 @@ equations of motion (Eq. 44) are solved through the Schur complement
 and Baumgarte stabilisation c = gamma - 2 alpha Phi_dot - beta^2 Phi.
 """
 import math
-from collections import namedtuple
 
 import numpy as np
 
 from .jit import kernel
-from .joint_access import contact_forces
+from .joint_access import JointArrays, contact_forces
 from .layout import (
     CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
     MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
@@ -23,14 +22,6 @@ from .layout import (
     SLIDER,
 )
 from .trig import rotated_trig
-
-# The clearance joint's arrays as the kernels take them (numba compiles the attribute
-# access to the same code as tuple indexing): the joint parameter vector (layout.P_*), the
-# bushing points' cos/sin, the wear profile, the contact search's block minima, the contact
-# memory (layout.M_*), the wear kernels' scratch (a bool mask, N_d long, and a float64 array
-# ``work``, 2 N_d long; not state) and the evaluation result (layout.R_*).
-JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
-                                         "memory", "mask", "work", "result"))
 
 
 @kernel(inline='always')
@@ -316,7 +307,7 @@ def stage_trig(trig, y, y_stage):
 @kernel(inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
-    :data:`JointArrays`, or a :data:`~wearjoint.core.joint_access.FmuJoint`; writes its result
+    :data:`JointArrays`, or a :data:`~wearjoint.cosim.fmu_joint.FmuJoint`; writes its result
     array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none and writes the ideal
     revolute's reaction to the joint's result array (:func:`ideal_joint_reaction`)."""
     derivative_rotated(t, y, angle_trig(y), mode, mp, joint, body_forces, ws, dy)

@@ -20,10 +20,10 @@ from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
 from ..core.mechanism import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
+from ..fmu.fmi_status import FMI_WARNING
 from ..fmu.instance import N_INPUTS, c_function
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
-FMI_WARNING = 1
 
 # --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
 OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",

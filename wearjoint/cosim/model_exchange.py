@@ -2,7 +2,7 @@
 
 The mechanism and the joint are integrated together by the same integrator as ``wearjoint
 simulate`` (:func:`wearjoint.core.integrators.integrate`), with the joint reached through the
-FMU (:data:`wearjoint.core.joint_access.FmuJoint`): every stage evaluation is
+FMU (:data:`wearjoint.cosim.fmu_joint.FmuJoint`): every stage evaluation is
 ``fmi2SetTime`` + ``fmi2SetReal`` of the 12 inputs + ``fmi2GetReal`` of the outputs, contact
 onsets are located on the event indicator (the signed penetration) exactly as the monolithic
 run locates them, and every accepted step ends with ``fmi2CompletedIntegratorStep`` (plus an
@@ -16,12 +16,12 @@ import numpy as np
 
 from ..core import layout as L
 from ..core.integrators import integrate
-from ..core.joint_access import FMU_CALLS, FmuJoint
 from ..fmu.build import DEFAULT_BACKEND
 from ..fmu.instance import N_INPUTS, FmuError, FmuInstance, ensure_fmu
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from ..runner import record_run, run_in_chunks
 from ..simulate import Simulation, SimulationOptions
+from .fmu_joint import FMU_CALLS, FmuJoint
 from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
 
 INTERFACES = ("co-simulation", "model-exchange")

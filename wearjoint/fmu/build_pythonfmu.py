@@ -48,7 +48,7 @@ REQUIREMENTS = "numpy\nnumba\n"
 # importing the slave from the FMU's resources loads exactly these).
 RUNTIME_MODULES = ("__init__.py", "_numba_cache.py", "parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py",
-                   "core/foundation_wear.py", "core/wear.py", "core/state_format.py")
+                   "core/foundation_wear.py", "core/wear.py", "core/state_format.py", "core/joint_access.py")
 
 
 def _package_sources() -> list[Path]:

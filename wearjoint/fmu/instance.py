@@ -18,8 +18,8 @@ import numpy as np
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .build import DEFAULT_BACKEND
+from .fmi_status import FMI_WARNING
 
-FMI_OK, FMI_WARNING = 0, 1
 _FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
 N_INPUTS = len(INPUT_NAMES)

@@ -1,0 +1,126 @@
+"""The joint FMU's Model Exchange interface as the integrators' joint (:mod:`wearjoint.core.joint_access`).
+
+:data:`FmuJoint` holds the FMU's C functions (ctypes function pointers) and the buffers they read and
+write.  Every evaluation is ``fmi2SetTime`` + ``fmi2SetReal`` of the inputs + ``fmi2GetReal`` of the
+outputs, every accepted point ``fmi2CompletedIntegratorStep`` (and, where the contact begins or ends, an
+event: ``fmi2EnterEventMode``, ``fmi2NewDiscreteStates``, ``fmi2EnterContinuousTimeMode``).  Importing
+this module registers those implementations (numba ``overload``) beside the in-process joint's.
+"""
+from collections import namedtuple
+
+from numba.extending import overload
+
+from ..core.contact import update_contact_memory
+from ..core.jit import kernel
+from ..core.joint_access import accept_joint, contact_forces, is_joint_type, joint_failed
+from ..core.layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, R_NORMAL_FORCE, ROD
+from ..core.wear import wears
+from ..fmu.fmi_status import FMI_WARNING
+from ..fmu.variables import INPUTS
+
+# ``io`` = the inputs (pin body = crank, bushing body = rod) then the outputs, whose layout.R_* slots are
+# ``output_slots``; ``result`` the outputs in the result layout; ``parameters`` / ``memory`` the joint
+# parameter vector and a mirror of the FMU's contact memory (the same onset rule,
+# :func:`~wearjoint.core.contact.update_contact_memory`, applied to the FMU's outputs); ``event_info`` the
+# fmi2EventInfo struct, ``flags`` the two fmi2Boolean outputs of fmi2CompletedIntegratorStep; ``events``
+# counts the event iterations [at contact onsets, at separations]; ``failure`` = [index of the failed call
+# (FMU_CALLS), status, time].
+FmuJoint = namedtuple("FmuJoint", ("component", "set_time", "set_real", "get_real", "completed_integrator_step",
+                                   "enter_event_mode", "new_discrete_states", "enter_continuous_time_mode",
+                                   "input_vrs", "output_vrs", "output_slots", "io", "result", "parameters",
+                                   "memory", "event_info", "flags", "events", "failure"))
+FMU_CALLS = ("", "fmi2SetTime", "fmi2SetReal", "fmi2GetReal", "fmi2CompletedIntegratorStep", "fmi2EnterEventMode",
+             "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode")
+N_INPUTS = len(INPUTS)
+
+
+@kernel(inline='always')
+def _call_failed(joint, call, status, t):
+    """Record the first failing call; True if ``status`` is worse than fmi2Warning."""
+    if status > FMI_WARNING:
+        if joint.failure[0] == 0.0:
+            joint.failure[0] = call
+            joint.failure[1] = status
+            joint.failure[2] = t
+        return True
+    return False
+
+
+@kernel
+def _contact_forces(joint, t, y):
+    if joint.failure[0] != 0.0:
+        return
+    n = N_COORDINATES
+    io = joint.io
+    for k in range(3):
+        io[k] = y[CRANK + k]
+        io[3 + k] = y[n + CRANK + k]
+        io[6 + k] = y[ROD + k]
+        io[9 + k] = y[n + ROD + k]
+    if _call_failed(joint, 1, joint.set_time(joint.component, t), t):
+        return
+    if _call_failed(joint, 2, joint.set_real(joint.component, joint.input_vrs.ctypes.data, N_INPUTS,
+                                             io.ctypes.data), t):
+        return
+    n_out = joint.output_vrs.shape[0]
+    if _call_failed(joint, 3, joint.get_real(joint.component, joint.output_vrs.ctypes.data, n_out,
+                                             io.ctypes.data + 8 * N_INPUTS), t):
+        return
+    for k in range(n_out):
+        joint.result[joint.output_slots[k]] = io[N_INPUTS + k]
+
+
+@kernel
+def _accept(joint, t, y, h, evaluated):
+    """fmi2CompletedIntegratorStep (and an event iteration where a contact begins or ends).
+    "Changed" as in process: the onset memory changed, or the step may have worn the bushing;
+    otherwise DOPRI reuses its last stage (FSAL) instead of evaluating the FMU again."""
+    if not evaluated:
+        _contact_forces(joint, t, y)
+    if joint.failure[0] != 0.0:
+        return True
+    c = joint.component
+    if _call_failed(joint, 4, joint.completed_integrator_step(c, 1, joint.flags.ctypes.data,
+                                                              joint.flags.ctypes.data + 4), t):
+        return True
+    onset = joint.result[R_CONTACT] > 0.5
+    if onset != (joint.memory[M_ACTIVE] > 0.5):   # a contact began or ended: a state event
+        joint.events[0 if onset else 1] += 1
+        if _call_failed(joint, 5, joint.enter_event_mode(c), t):
+            return True
+        if _call_failed(joint, 6, joint.new_discrete_states(c, joint.event_info.ctypes.data), t):
+            return True
+        if _call_failed(joint, 7, joint.enter_continuous_time_mode(c), t):
+            return True
+    onset_changed = update_contact_memory(joint.result, joint.parameters, joint.memory)
+    return onset_changed or wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)
+
+
+@overload(contact_forces)
+def _overload_contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
+    if is_joint_type(joint, FmuJoint):
+        def fmu(joint, t, y, cos1, sin1, cos2, sin2):
+            _contact_forces(joint, t, y)
+        return fmu
+    return None
+
+
+@overload(accept_joint)
+def _overload_accept_joint(joint, t, y, h, evaluated):
+    if is_joint_type(joint, FmuJoint):
+        def fmu(joint, t, y, h, evaluated):
+            return _accept(joint, t, y, h, evaluated)
+        return fmu
+    return None
+
+
+@overload(joint_failed)
+def _overload_joint_failed(joint):
+    if is_joint_type(joint, FmuJoint):
+        def fmu(joint):
+            return joint.failure[0] != 0.0
+        return fmu
+    return None
+
+
+__all__ = ["FMU_CALLS", "FmuJoint"]
