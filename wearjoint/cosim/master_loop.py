@@ -71,7 +71,10 @@ G_FAILED_CALL = 8        # index into FMI_CALLS of the call that failed, 0 if no
 G_FAILED_STATUS = 9      # its fmi2Status
 G_FAILED_TIME = 10       # the communication point it was made for [s]
 N_REGISTER = 11
-FMI_TIMING_EVERY = 16    # the loop times the FMI calls of one iteration in this many and scales them by it
+# the loop times the FMI calls of one iteration in this many and scales them by it: a prime, so that a periodic
+# pattern of costly steps (the FMU applies its wear batch every few steps) is sampled at every phase (with 16 a
+# batch every 6 steps was sampled at half its phases: the FMI estimate passed the wall time)
+FMI_TIMING_EVERY = 17
 # adaptive contact step: the relative miss of the extrapolated contact force that halves it (else
 # it grows back to step_s), and its floor as a share of step_s (force jumps, e.g. friction reversing
 # or the deepest bushing point moving on, miss at any step and must not drive it to nothing)
