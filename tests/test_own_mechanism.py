@@ -355,7 +355,7 @@ def test_cosim_study_runs_on_this_mechanism(tmp_path):
     assert 1.6 < ratio < 2.5, ratio
 
 
-@pytest.mark.parametrize("interface", ["co-simulation", "model-exchange"])
+@pytest.mark.parametrize("interface", ["co-simulation", pytest.param("model-exchange", marks=pytest.mark.slow)])
 def test_the_fmu_starts_from_a_worn_profile_as_from_a_larger_bushing(interface):
     """The FMU's state carries the profile: started 20 um worn all round (deepest-point contact, no wear) it
     moves as the unworn FMU of a bushing 20 um larger over the first 20 ms, and keeps the profile as given."""

@@ -229,6 +229,7 @@ def test_morris_and_sobol_put_k_w_first_for_the_wear_depth(studies):
         assert rows[0]["parameter"] == "wear-coefficient-m2-N", method
 
 
+@pytest.mark.slow      # resume is in the default run: test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them
 def test_more_samples_resume_reuses_every_finished_run(studies, tmp_path):
     root, _ = studies
     out = tmp_path / "sobol"

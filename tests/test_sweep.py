@@ -196,6 +196,7 @@ def test_sweep_on_a_scheduler_and_two_workers_started_by_hand(tmp_path):
         logs.close()
 
 
+@pytest.mark.slow      # ensembles over seeds and their bands are in the default run (the sweep fixture, profile bands)
 def test_wear_study_seeds_reports_fig7_with_bands(tmp_path):
     out = tmp_path / "ensemble"
     done = wearjoint("wear-study", "--revolutions", "20", "--wear-factor", "20", "--snapshots", "10,20", "--seeds", "2",

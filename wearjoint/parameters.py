@@ -187,7 +187,7 @@ class JointParameters:
                  f"> friction_v0_m_s = {self.friction_v0_m_s!r}")
         _require("wear_interval_s", self.wear_interval_s,
                  0.0 <= _finite("wear_interval_s", self.wear_interval_s) <= MAX_WEAR_STEP_S,
-                 f"in [0, {MAX_WEAR_STEP_S:g}] s (0: the wear of every accepted step at once)")
+                 f"in [0, {MAX_WEAR_STEP_S:g}] s (0: each accepted step's wear at that step)")
         n = self.n_points
         _require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
                  "an integer >= 8")
