@@ -147,8 +147,10 @@ def start_client(workers: int | None, scheduler: str | None):
     main = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
+        # the workers' own log: critical only.  A case's failure comes back through its future; at ERROR a worker
+        # whose heartbeat crossed the scheduler's shutdown printed a traceback after a finished sweep
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
