@@ -88,13 +88,8 @@ def _kernel_steps(rows, h, jp, cos_phi, sin_phi, wear_depth, block_min, memory, 
 
 
 def in_process_seconds_per_step(rows: np.ndarray) -> float:
-    joint = ClearanceJoint(JointParameters())
-    arrays = (joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-              joint.memory, joint._mask, joint.work, joint.result)
-    _kernel_steps(rows[:10], STEP_S, *arrays)   # compile
-    joint = ClearanceJoint(JointParameters())
-    arrays = (joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-              joint.memory, joint._mask, joint.work, joint.result)
+    _kernel_steps(rows[:10], STEP_S, *ClearanceJoint(JointParameters()).arrays)   # compile
+    arrays = ClearanceJoint(JointParameters()).arrays
     t0 = time.perf_counter()
     _kernel_steps(rows, STEP_S, *arrays)
     return (time.perf_counter() - t0) / len(rows)

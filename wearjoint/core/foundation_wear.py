@@ -272,6 +272,14 @@ def _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushin
     return shift, edge
 
 
+@kernel(inline='always')
+def archard_volume_fits(k_w, f_n, relative_dt, slide, rotation, bushing_radius, contact_length):
+    """False if Archard's volume k_w F_N Delta s of a relative rotation ``relative_dt`` [rad] (points slide at radii
+    <= 2 R_j) or a tangential ``slide`` [m] exceeds the whole bushing's, pi R_j^2 L, or is not finite."""
+    slide_bound = 2.0 * bushing_radius * relative_dt if rotation else slide
+    return k_w * f_n * slide_bound <= math.pi * bushing_radius * bushing_radius * contact_length
+
+
 @kernel
 def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                     cos_phi, sin_phi, wear_depth, block_min, mask, work, k):
@@ -305,9 +313,8 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
         refresh_blocks(wear_depth, block_min, k, k)
         return dh
     scale = k_w * f_n / (contact_length * total)
-    slide_bound = 2.0 * bushing_radius * relative_dt if rotation else slide       # points slide at radii <= 2 R_j
-    if not k_w * f_n * slide_bound <= math.pi * bushing_radius * bushing_radius * contact_length:
-        return WEAR_REFUSED                   # more than the whole bushing's volume, or not finite
+    if not archard_volume_fits(k_w, f_n, relative_dt, slide, rotation, bushing_radius, contact_length):
+        return WEAR_REFUSED
     shift, edge = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                                cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
     if edge + shift > 0.0:                    # the shifted contact reaches past a run: the whole circle

@@ -52,7 +52,7 @@ def make_jacobian_workspace():
 def state_jacobian(t, y, mp, joint, ws, jac):
     """jac[r, m] = d y_dot[r] / d y[m] (18 x 18) of the clearance mechanism (MODE_CLEARANCE of
     :func:`~wearjoint.core.mechanism.derivative`) at time t [s] and state y; ``joint`` a
-    :data:`~wearjoint.core.mechanism.JointArrays` (its ``result`` is overwritten with the contact at
+    :data:`~wearjoint.core.joint_access.JointArrays` (its ``result`` is overwritten with the contact at
     (t, y), its state is not changed), ``ws`` from :func:`make_jacobian_workspace`.  Where the force
     is not differentiable (contact onset, friction ramp ends, deepest point changes) it is one of the
     one-sided derivatives (:func:`~wearjoint.core.contact.contact_jacobian`)."""

@@ -20,7 +20,7 @@ import math
 
 
 from .contact import evaluate_contact, update_contact_memory
-from .foundation_wear import WEAR_REFUSED, foundation_wear
+from .foundation_wear import WEAR_REFUSED, archard_volume_fits, foundation_wear
 from .geometry import block_minimum_depth, distance_sq, penetrating_points, refresh_blocks, wrap_index
 from .jit import kernel
 from .pressure import foundation_modulus_factor
@@ -259,9 +259,8 @@ def batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     wearing = wears(result, f_n, jp, dt)
     angle = abs(vel_i[2] - vel_j[2]) * dt
     slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
-    bushing_radius = jp[P_BUSHING_RADIUS]
-    bound = 2.0 * bushing_radius * angle if int(jp[P_SLIDING]) == 0 else slide   # as foundation_wear refuses
-    if wearing and not jp[P_WEAR_COEFFICIENT] * f_n * bound <= math.pi * bushing_radius ** 2 * jp[P_CONTACT_LENGTH]:
+    if wearing and not archard_volume_fits(jp[P_WEAR_COEFFICIENT], f_n, angle, slide, int(jp[P_SLIDING]) == 0,
+                                           jp[P_BUSHING_RADIUS], jp[P_CONTACT_LENGTH]):
         return WEAR_REFUSED, 0.0
     interval = jp[P_WEAR_INTERVAL]
     k = int(result[R_CONTACT_INDEX])
