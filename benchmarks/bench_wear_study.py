@@ -24,8 +24,8 @@ import time
 
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, ParameterError, SliderCrankParameters, paper_joint
-from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from wearjoint.validation.wear_study import (
+from wearjoint.studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+from wearjoint.studies.wear_study import (
     DEFAULT_STUDY_INTEGRATOR, DEFAULT_WEAR_FACTOR, ENGINES, STUDY_INTEGRATORS, WearStudyConfig, run_wear_study,
 )
 

@@ -1,21 +1,39 @@
 """Shared pytest fixtures: the FMU of each backend, built once per session."""
+import fcntl
+import hashlib
+import json
+
 import pytest
 
 
 @pytest.fixture(scope="session")
-def built_fmu(tmp_path_factory):
-    """ClearanceWearJoint.fmu of the pythonfmu backend (default n_points), built once per session."""
+def shared_build(tmp_path_factory):
+    """shared_build(**arguments): ``build_fmu(folder, **arguments)`` once for the whole run, the xdist workers
+    sharing it (one folder and lock file per set of arguments; build_fmu keeps an identical build).  The tests
+    read the FMU and unzip it elsewhere; none writes into it."""
     from wearjoint.fmu.build import build_fmu
 
-    return build_fmu(tmp_path_factory.mktemp("fmu"), backend="pythonfmu")
+    root = tmp_path_factory.getbasetemp().parent / "shared_fmus"
+    root.mkdir(exist_ok=True)
+
+    def get(**arguments):
+        key = hashlib.sha256(json.dumps(arguments, sort_keys=True).encode()).hexdigest()[:16]
+        with open(root / f"{key}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            return build_fmu(root / key, **arguments)
+    return get
 
 
 @pytest.fixture(scope="session")
-def native_fmu(tmp_path_factory):
-    """ClearanceWearJoint.fmu of the native backend (default n_points), built once per session."""
-    from wearjoint.fmu.build import build_fmu
+def built_fmu(shared_build):
+    """ClearanceWearJoint.fmu of the pythonfmu backend (default n_points), built once per run."""
+    return shared_build(backend="pythonfmu")
 
-    return build_fmu(tmp_path_factory.mktemp("native_fmu"), backend="native")
+
+@pytest.fixture(scope="session")
+def native_fmu(shared_build):
+    """ClearanceWearJoint.fmu of the native backend (default n_points), built once per run."""
+    return shared_build(backend="native", fmi_version=2)   # the arguments of test_platforms.py's
 
 
 @pytest.fixture(scope="session", params=["native", "pythonfmu"])
@@ -94,17 +112,15 @@ _EXIT_STATUS = pytest.StashKey[int]()
 
 
 @pytest.fixture(scope="module")
-def fmus(native_fmu, tmp_path_factory):
+def fmus(native_fmu, shared_build, tmp_path_factory):
     """The native FMI 2.0 (session build) and FMI 3.0 (linux64) FMUs, unzipped, with their value references
     (for tests/fmpy_instance.py's Joint)."""
     from fmpy import extract, read_model_description
 
     from wearjoint.fmu import variables as fv
-    from wearjoint.fmu.build import build_fmu
     from wearjoint.fmu.model_description import fmi3_value_references
 
-    built = {2: native_fmu, 3: build_fmu(tmp_path_factory.mktemp("dd3"), backend="native", fmi_version=3,
-                                         platforms="linux64")}
+    built = {2: native_fmu, 3: shared_build(backend="native", fmi_version=3)}
     return {version: {"path": path, "md": read_model_description(str(path)),
                       "dir": extract(str(path), unzipdir=str(tmp_path_factory.mktemp(f"dd{version}_x"))),
                       "vr": fv.value_references(read_model_description(str(path))) if version == 2

@@ -69,7 +69,7 @@ HOST_COMPILERS = _host_compilers()
 def wine_environment() -> dict:
     """wine's environment: a prefix kept in the user cache (made once, ~10 s), no debug output, no
     Mono/Gecko installer dialogs."""
-    from wearjoint.fmu.build import user_cache_dir
+    from wearjoint._compile.cache import user_cache_dir
 
     user_cache_dir().mkdir(parents=True, exist_ok=True)   # wine makes the prefix, not its parent
     return {**CLEAN_ENV, "HOME": str(Path.home()), "WINEPREFIX": str(user_cache_dir() / "wine"), "WINEDEBUG": "-all",

@@ -415,16 +415,17 @@ class Corruption(RuleBasedStateMachine):
         self.attempt("spliced", first, first[:cut] + second[cut:], second)
 
 
-def run(fmu_dir: str, machine: str, examples: int, steps: int) -> None:
+def run(fmu_dir: str, machine: str, examples: int, steps: int, derandomize: bool = False) -> None:
     name, version = machine.split("-")[:2]
     if name == "calls":
         cls = type("Calls", (CallOrder,), {"FMU_DIR": fmu_dir, "VERSION": int(version), "KIND": machine.split("-")[2]})
     else:
         cls = type("Corrupt", (Corruption,), {"FMU_DIR": fmu_dir, "VERSION": int(version)})
     run_state_machine_as_test(cls, settings=settings(max_examples=examples, stateful_step_count=steps, deadline=None,
-                                                     database=None, suppress_health_check=list(HealthCheck)))
+                                                     database=None, derandomize=derandomize,
+                                                     suppress_health_check=list(HealthCheck)))
 
 
 if __name__ == "__main__":
-    run(sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
+    run(sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), sys.argv[5:] == ["derandomize"])
     print(json.dumps(dict(COUNTS)))

@@ -25,7 +25,6 @@ from kinematic_trace import run_joint_on_trace, slider_crank_trace  # noqa: E402
 from wearjoint import paper_joint  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.fmu.build import build_fmu  # noqa: E402
 from wearjoint.fmu.model_description import fmi3_value_references  # noqa: E402
 
 VR3 = fmi3_value_references()
@@ -39,8 +38,8 @@ STATE_FRAME = 24 + 4                             # its header and CRC-32C (docs/
 
 # ------------------------------------------------------------------ fixtures
 @pytest.fixture(scope="module")
-def fmi3(tmp_path_factory):
-    path = build_fmu(tmp_path_factory.mktemp("c_fmi3"), backend="native", fmi_version=3)
+def fmi3(shared_build, tmp_path_factory):
+    path = shared_build(backend="native", fmi_version=3)
     md = read_model_description(str(path))
     return {"dir": Path(extract(str(path), unzipdir=str(tmp_path_factory.mktemp("c_fmi3_unzipped")))),
             "token": md.guid}

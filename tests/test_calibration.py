@@ -1,4 +1,4 @@
-"""`wearjoint calibrate` (validation/calibration.py): k_w from measured max depths on a study's master curve,
+"""`wearjoint calibrate` (wearjoint/studies/calibration.py): k_w from measured max depths on a study's master curve,
 checked on master curves whose answers are known in closed form."""
 import json
 import math
@@ -8,7 +8,7 @@ import pytest
 
 from wearjoint.cli import main as cli_main
 from wearjoint.parameters import ParameterError
-from wearjoint.validation.calibration import fit_archard, fit_mild_severe, predicted_depth
+from wearjoint.studies.calibration import fit_archard, fit_mild_severe, predicted_depth
 
 K0 = 5e-11
 

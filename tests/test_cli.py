@@ -7,6 +7,9 @@ import time
 import numpy as np
 import pytest
 
+from wearjoint import JointParameters
+from wearjoint.results import new_revolution_stats
+
 SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
                 "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
                 "max_eccentricity_m", "max_wear_depth_m", "max_wear_angle_deg", "worn_volume_m3", "parameters"}
@@ -68,9 +71,15 @@ def test_unknown_choice_is_rejected_by_the_parser(tmp_path):
 
 
 class _SlowCompilingEngine:
-    """An engine whose compilation (warm_up) takes 0.5 s and whose simulation takes none."""
+    """An engine (wearjoint.runner.Engine) whose compilation (warm_up) takes 0.5 s and whose simulation
+    takes none."""
 
     t = 0.0
+    joint_parameters = JointParameters()
+
+    def __init__(self):
+        self.revolution_stats = new_revolution_stats(2)
+        self.closed = False
 
     def warm_up(self):
         time.sleep(0.5)
@@ -85,18 +94,22 @@ class _SlowCompilingEngine:
     def wear_profile(self):
         return np.array([180.0, 360.0]), np.array([1e-6, 0.0]), 0.0
 
+    def describe(self):
+        return {"engine": "test"}, {"steps": 3}
+
     def close(self):
-        pass
+        self.closed = True
 
 
 def test_compile_time_is_reported_apart_from_the_simulation_wall_time(tmp_path):
-    from wearjoint import JointParameters
-    from wearjoint.results import new_revolution_stats, write_results
-    from wearjoint.runner import record_run, run_in_chunks
+    from wearjoint.results import write_results
+    from wearjoint.runner import run_engine
 
-    run = run_in_chunks(_SlowCompilingEngine, 1.0, 0.01, 1e-3, "test", progress=False)
-    assert run.compile_time_s >= 0.5 > run.wall_time_s
-    record = record_run(run, new_revolution_stats(2), 1.0, 0.01, JointParameters(), parameters={}, extra={})
+    engines = []
+    record = run_engine(lambda: engines.append(_SlowCompilingEngine()) or engines[-1], 1.0, 0.01, 1e-3, "test",
+                        progress=False)
+    assert record.compile_time_s >= 0.5 > record.wall_time_s
+    assert engines[0].closed and record.parameters == {"engine": "test"} and record.extra == {"steps": 3}
     write_results(record, tmp_path, plots=False)
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["compile_time_s"] >= 0.5 > summary["wall_time_s"] > 0.0

@@ -1,4 +1,4 @@
-"""Cycle jumping (wearjoint.validation.cycle_jump, core.cycle_jump): the replay of a loading against
+"""Cycle jumping (wearjoint.studies.cycle_jump, core.cycle_jump): the replay of a loading against
 Archard's volume and against a simulated revolution, the jump controller, a jump study's accounts."""
 import math
 
@@ -10,8 +10,8 @@ from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
-from wearjoint.validation.cycle_jump import JUMP_GROWTH, jump_error, loading_from_samples, next_jump
-from wearjoint.validation.wear_study import WearStudyConfig, run_wear_study
+from wearjoint.studies.cycle_jump import JUMP_GROWTH, jump_error, loading_from_samples, next_jump
+from wearjoint.studies.wear_study import WearStudyConfig, run_wear_study
 
 
 def constant_load(joint: ClearanceJoint, force_n: float, angle_rad: float, relative_omega: float, duration: float):

@@ -19,7 +19,7 @@ from wearjoint.fmu.ssp import CONTAINER_STEP_S
 from wearjoint.parameters import JointParameters, SliderCrankParameters
 from wearjoint.simulate import SimulationOptions
 from wearjoint.validation.compare import FULL, ValidationPlan
-from wearjoint.validation.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
+from wearjoint.studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
 
 REPO = Path(__file__).resolve().parents[1]
 NOTHING = object()

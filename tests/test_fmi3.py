@@ -44,8 +44,8 @@ TRACE_JOINT = paper_joint(wear_factor=WEAR_FACTOR)
 
 # ------------------------------------------------------------- FMUs and a kinematic trace
 @pytest.fixture(scope="module")
-def fmi3_fmu(tmp_path_factory):
-    return build_fmu(tmp_path_factory.mktemp("fmi3"), backend="native", fmi_version=3)
+def fmi3_fmu(shared_build):
+    return shared_build(backend="native", fmi_version=3)
 
 
 def _unzipped(path, tmp_path_factory, name):
@@ -231,7 +231,7 @@ def test_fmi3_cosimulation_equals_fmi2_over_a_trace_with_wear(fmi3, fmi2, trace,
             fmu.freeInstance()
 
 
-@pytest.mark.parametrize("n_points", [628, 2514])
+@pytest.mark.parametrize("n_points", [628, pytest.param(2514, marks=pytest.mark.slow)])
 def test_n_points_set_in_configuration_mode_sizes_the_profile(fmi3, trace, n_points, tmp_path_factory):
     fmu3 = _slave3(fmi3, n_points=n_points)
     fmi2_n = _unzipped(build_fmu(tmp_path_factory.mktemp(f"fmi2_n{n_points}"), n_points=n_points, backend="native"),

@@ -1,4 +1,4 @@
-"""The four-bar with two clearance joints (validation/four_bar.py, docs/four_bar.md): as the
+"""The four-bar with two clearance joints (wearjoint/examples/four_bar.py, docs/four_bar.md): as the
 clearance shrinks and the contact stiffens, its rocker angle converges to the ideal linkage's,
 Freudenstein's closed form."""
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from wearjoint import ParameterError
 
-four_bar = pytest.importorskip("wearjoint.validation.four_bar")
+four_bar = pytest.importorskip("wearjoint.examples.four_bar")
 
 
 def test_freudensteins_rocker_angle_closes_the_loop():

@@ -176,11 +176,9 @@ FIELD_TO_VARIABLE = {p.field if p.component is None else (p.field, p.component):
 
 
 @pytest.fixture(scope="module")
-def small_native(tmp_path_factory):
+def small_native(shared_build):
     fmpy = pytest.importorskip("fmpy")
-    from wearjoint.fmu.build import build_fmu
-
-    path = build_fmu(tmp_path_factory.mktemp("native64"), n_points=N_POINTS, backend="native")
+    path = shared_build(n_points=N_POINTS, backend="native")
     md = fmpy.read_model_description(str(path))
     return {"md": md, "dir": fmpy.extract(str(path)), "vr": fv.value_references(md)}
 

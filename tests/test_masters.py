@@ -174,7 +174,7 @@ SLOW_STEP_S = {"libcosim": 0.5e-6, "ecos": 0.5e-6, "fmpy-ssp": 0.5e-6, "omsimula
 def study():
     """Every installed master at its SLOW_STEP_S over 2 revolutions from two starts, judged against the
     monolithic scatter."""
-    from wearjoint.validation.masters_study import run_study
+    from wearjoint.studies.masters_study import run_study
 
     rows = run_study(2.0, sorted(set(SLOW_STEP_S.values())), CASES, FMUSIM, log=lambda m: None,
                      skip=lambda case, step: None if SLOW_STEP_S[case] == step else "another step")["rows"]

@@ -315,7 +315,7 @@ def test_cosim_study_scales_its_window_with_the_period_and_its_steps_with_the_st
     """15 ms of the paper's 0.4 s turn is 7.5 ms at 300 rpm.  The step rule's on-time limit goes as
     (m/k)^(1/2), k ~ K^(2/3) F^(1/3) and the estimated F ~ K^(2/5): a joint 8x stiffer takes 8^(-0.4) of the
     paper's steps; a softer one keeps them."""
-    from wearjoint.validation.cosim_study import PAPER_STEPS_S, default_steps_s, pointwise_window_s
+    from wearjoint.studies.cosim_study import PAPER_STEPS_S, default_steps_s, pointwise_window_s
 
     assert pointwise_window_s(MECHANISM) == pytest.approx(0.0075, rel=1e-12)
     paper = paper_joint()

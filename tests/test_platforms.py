@@ -41,7 +41,6 @@ from wearjoint import JointParameters, paper_joint  # noqa: E402
 from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
 from wearjoint.fmu import platforms  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.fmu.build import build_fmu  # noqa: E402
 from wearjoint.fmu.model_description import fmi3_value_references  # noqa: E402
 
 CROSS = ("win64", "aarch64-linux")
@@ -55,11 +54,11 @@ CASES = {"fmi2-cs": (2, False), "fmi2-me": (2, True), "fmi3-cs": (3, False)}
 
 # ------------------------------------------------------------------ fixtures
 @pytest.fixture(scope="module")
-def fmus(tmp_path_factory):
+def fmus(shared_build, tmp_path_factory):
     """The FMI 2.0 and 3.0 FMUs as built by default (every installed platform), unzipped."""
     built = {}
     for version in (2, 3):
-        path = build_fmu(tmp_path_factory.mktemp(f"multi{version}"), backend="native", fmi_version=version)
+        path = shared_build(backend="native", fmi_version=version)
         md = read_model_description(str(path))
         vr = fv.value_references(md) if version == 2 else fmi3_value_references()
         built[version] = {"path": path, "token": md.guid, "vr": vr,
@@ -208,8 +207,10 @@ def test_a_pin_driven_round_a_fast_wearing_bushing_gives_linux64s_numbers_on_win
     assert_within_win64_tolerance(rows, profile, reference_rows, reference_profile)
 
 
-@pytest.mark.parametrize("case", list(CASES))
-@pytest.mark.parametrize("platform", CROSS)
+# every case on win64 (its own compiler and C runtime); aarch64's FMI 2.0 co-simulation by default, the others slow
+@pytest.mark.parametrize("platform,case", [(platform, case) if platform == "win64" or case == "fmi2-cs" else
+                                           pytest.param(platform, case, marks=pytest.mark.slow)
+                                           for platform in CROSS for case in CASES])
 def test_the_worn_trace_gives_linux64s_numbers(fmus, hosts, trace_file, case, platform):
     """aarch64: the same bits as linux64; win64: within 1e-9 of each output's range and of the deepest wear."""
     carries(fmus, platform)

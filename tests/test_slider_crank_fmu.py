@@ -30,7 +30,6 @@ from wearjoint.core.state_format import CONTENTS_FMU, CONTENTS_MECHANISM  # noqa
 from wearjoint.core.mechanism import accelerations  # noqa: E402
 from wearjoint.fmu import slider_crank as sc  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.fmu.build import build_fmu  # noqa: E402
 from wearjoint.joint import read_state_bytes, state_bytes  # noqa: E402
 from wearjoint.mechanism import SliderCrank  # noqa: E402
 from wearjoint.parameters import ParameterError, SliderCrankParameters  # noqa: E402
@@ -45,11 +44,11 @@ WIN64_TOLERANCE = 1e-9   # of each output's range (MinGW's sin/cos differ from g
 
 # ------------------------------------------------------------------ fixtures and helpers
 @pytest.fixture(scope="module")
-def fmus(tmp_path_factory):
+def fmus(shared_build, tmp_path_factory):
     """SliderCrank.fmu, FMI 2.0 and 3.0, as built by default (every installed platform), unzipped."""
     built = {}
     for version in (2, 3):
-        path = build_fmu(tmp_path_factory.mktemp(f"sc{version}"), fmi_version=version, model="slider-crank")
+        path = shared_build(fmi_version=version, model="slider-crank")
         md = read_model_description(str(path))
         built[version] = {"path": path, "md": md, "token": md.guid,
                           "dir": Path(extract(str(path), unzipdir=str(tmp_path_factory.mktemp(f"sc{version}_x"))))}

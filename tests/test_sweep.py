@@ -246,6 +246,7 @@ def test_unknown_vary_name_names_the_option_the_value_and_the_allowed_names(tmp_
     assert set(allowed) == set(one_value)
 
 
+@pytest.mark.slow
 def test_a_friction_sweep_shows_the_wear_factor_bias_next_to_the_answer(tmp_path):
     """The issue's sweep, small: F = 100 at 500 revolutions and k_w 5.576e-11, where the convergence study
     measured the bias."""

@@ -98,6 +98,7 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
         assert name in summary["figures"] and (out / name).read_bytes()[:8] == PNG
 
 
+@pytest.mark.slow   # the default run keeps test_own_mechanism.py's perturbed engine
 def test_validation_fails_when_one_engine_has_a_different_restitution(tmp_path):
     """exudyn with e_r = 0.5 instead of 0.9: the rebound of the first impact (3 ms) differs,
     so the point-wise traces must fail, and the command must exit 1."""

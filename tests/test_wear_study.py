@@ -10,9 +10,9 @@ from wearjoint.analysis import impact_events
 from wearjoint.cli import main as cli_main
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
-from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from wearjoint.validation.wear_convergence import run_convergence
-from wearjoint.validation.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study, snapshot_statistics
+from wearjoint.studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+from wearjoint.studies.wear_convergence import run_convergence
+from wearjoint.studies.wear_study import CHECKPOINT_NAME, WearStudyConfig, run_wear_study, snapshot_statistics
 from wearjoint.parameters import is_paper_case
 
 MODEL_SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
@@ -35,7 +35,7 @@ def small_config(**changes) -> WearStudyConfig:
     return WearStudyConfig(**values)
 
 
-@pytest.mark.parametrize("route", ["wear factor", "cycle jumping"])
+@pytest.mark.parametrize("route", ["wear factor", pytest.param("cycle jumping", marks=pytest.mark.slow)])
 def test_killed_study_resumes_to_the_same_profile_bit_for_bit(tmp_path, route):
     config = small_config() if route == "wear factor" else \
         small_config(joint=paper_joint(wear_factor=1.0), jump_tolerance=DEFAULT_JUMP_TOLERANCE)
@@ -188,7 +188,7 @@ def test_one_revolution_at_wear_factor_ten_stands_for_ten(tmp_path, placement):
 def test_resume_refuses_a_corrupted_checkpoint_and_a_bad_profile(tmp_path):
     import pickle
 
-    from wearjoint.validation.wear_study_recovery import crc32c
+    from wearjoint.studies.wear_study_recovery import crc32c
 
     config = small_config()
     run_wear_study(config, tmp_path, progress=False, plots=False, stop_after_checkpoints=5)   # past snapshot 5

@@ -14,10 +14,10 @@ from wearjoint.cli import main as cli_main
 from wearjoint.cli.study_options import config_from_args
 from wearjoint.core import layout as L
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
-from wearjoint.validation import wear_study
-from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from wearjoint.validation.wear_convergence import run_convergence
-from wearjoint.validation.wear_study import CHECKPOINT_NAME, StudyDiverged, WearStudyConfig, run_wear_study
+from wearjoint.studies import wear_study
+from wearjoint.studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+from wearjoint.studies.wear_convergence import run_convergence
+from wearjoint.studies.wear_study import CHECKPOINT_NAME, StudyDiverged, WearStudyConfig, run_wear_study
 
 
 def small_config(**changes) -> WearStudyConfig:
@@ -212,7 +212,7 @@ def test_convergence_runs_the_listed_factors_and_keeps_those_that_finish(tmp_pat
     def counted(config, *args, **kwargs):
         calls.append((config.joint.wear_factor, config.integrator))
         return run(config, *args, **kwargs)
-    monkeypatch.setattr("wearjoint.validation.wear_convergence.run_wear_study", counted)
+    monkeypatch.setattr("wearjoint.studies.wear_convergence.run_wear_study", counted)
     result = run_convergence(small_config(checkpoint_every_revolutions=1.0), [5.0, 10.0], tmp_path, progress=False)
     assert calls == [(5.0, "rk4"), (10.0, "rk4")]
     assert sorted(p.name for p in tmp_path.iterdir() if p.is_dir()) == ["F10", "F5"]
@@ -228,8 +228,8 @@ def test_convergence_runs_the_listed_factors_and_keeps_those_that_finish(tmp_pat
 def test_convergence_against_the_jump_route_runs_it_at_the_real_wear_rate():
     """``jump`` in the list is the default route: wear factor 1 with cycle jumping (the config's tolerance, or
     the default one); the factors run without it; a repeated entry is refused in one line."""
-    from wearjoint.validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-    from wearjoint.validation.wear_convergence import convergence_runs
+    from wearjoint.studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+    from wearjoint.studies.wear_convergence import convergence_runs
 
     runs = convergence_runs(small_config(revolutions=100, snapshots=(100,)), ["jump", 10.0])
     assert list(runs) == ["jump", "F=10"]

@@ -1,4 +1,4 @@
-"""`wearjoint validate`: one slider-crank, several engines, compared on robust quantities (issue 4).
+"""`wearjoint validate`: one slider-crank, several engines, compared on robust quantities.
 
 Engines: the monolithic simulation (:mod:`wearjoint.simulate`; the reference is RK4 at
 1 µs), the FMU co-simulation (:mod:`wearjoint.cosim`, Co-Simulation and Model Exchange) and

@@ -1,4 +1,4 @@
-"""The paper's slider-crank built natively in exudyn 1.13 (issue 4): an independent
+"""The paper's slider-crank built natively in exudyn 1.13: an independent
 check of the monolithic engine (:mod:`wearjoint.simulate`).
 
 Crank, rod and slider are ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` with the

@@ -1,4 +1,4 @@
-"""exudyn's own contact as the unworn clearance joint (issue 32): ``ObjectContactSphereSphere``
+"""exudyn's own contact as the unworn clearance joint: ``ObjectContactSphereSphere``
 with ``isHollowSphere1``, a sphere in a hollow sphere, which in the plane is a pin in a bushing.
 
 An independent contact law in exudyn's C++ code, none of the wearjoint kernels: the cross-check

@@ -1,4 +1,4 @@
-"""A bar pendulum hung through the clearance joint, in exudyn (issue 25): the case on which the
+"""A bar pendulum hung through the clearance joint, in exudyn: the case on which the
 deepest-point contact stops exudyn's implicit solver.
 
 The ground carries the pin (centre at the origin); the bar (the paper's rod: 0.19 kg,

@@ -3,11 +3,11 @@
 Importing the package loads numpy and numba only; the FMI, exudyn and plotting
 layers are imported by the modules that need them.
 """
-from ._numba_cache import drop_stale_numba_cache
+from ._compile import cache
 
-drop_stale_numba_cache()
+cache.install()
 
-# kernels load only after the cache check
+# kernels load only after numba's cache locator is installed
 from .joint import ClearanceJoint, ContactResult, JointState, StateError  # noqa: E402
 from .parameters import (  # noqa: E402
     JointParameters, ParameterError, SliderCrankParameters, contact_stiffness, effective_modulus,

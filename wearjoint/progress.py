@@ -110,8 +110,8 @@ class Progress:
 
     def compiled(self) -> None:
         """Compilation is over: the description becomes the plain label (and the bar of the
-        compilations, :mod:`wearjoint.compile_notice`, closes)."""
-        notice = sys.modules.get("wearjoint.compile_notice")   # loaded by the CLI
+        compilations, :mod:`wearjoint._compile.notice`, closes)."""
+        notice = sys.modules.get("wearjoint._compile.notice")   # loaded by the CLI
         if notice is not None:
             notice.compiled()
         if self._bar is not None:

@@ -1,23 +1,49 @@
-"""The chunked run loop shared by the simulation engines.
+"""The run pipeline every engine goes through: :class:`Engine`, the chunked run loop and the run's record.
 
-An engine (``simulate.Simulation``, ``cosim.CoSimulation``) offers
-``warm_up()`` (compile its kernels without advancing), ``advance_to(t_end, samples) -> n``,
-``t``, ``max_wear_depth_m()``, ``wear_profile() -> (phi_deg, wear_depth_m, worn_volume_m3)``
-and ``close()``.
+The engines: :class:`wearjoint.simulate.Simulation` (monolithic), :class:`wearjoint.cosim.CoSimulation`
+(the joint FMU's co-simulation) and :class:`wearjoint.cosim.model_exchange.ModelExchangeSimulation` (its Model Exchange);
+each ``run_*`` function is :func:`run_engine` on one of them.
 """
 from __future__ import annotations
 
 import math
 import time
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
 from . import analysis
 from .core import layout as L
+from .parameters import JointParameters
 from .progress import Progress
 from .results import RunRecord
+
+
+class Engine(Protocol):
+    """What :func:`run_engine` runs."""
+    t: float                           # the engine's time [s]
+    revolution_stats: np.ndarray       # (revolutions + 1, layout.N_STATS), filled as it advances
+
+    @property
+    def joint_parameters(self) -> JointParameters: ...
+
+    def warm_up(self) -> None:
+        """Compile what :meth:`advance_to` runs, without advancing."""
+
+    def advance_to(self, t_end: float, samples: np.ndarray) -> int:
+        """Advance to ``t_end`` [s], writing rows (layout.T_*) into ``samples``; returns how many."""
+
+    def max_wear_depth_m(self) -> float: ...
+
+    def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """(phi_deg, wear_depth_m, worn_volume_m3) of the bushing, copies."""
+
+    def describe(self) -> tuple[dict, dict]:
+        """The run record's ``parameters`` (what ran, typed values as dicts) and ``extra`` (its counters)."""
+
+    def close(self) -> None:
+        """Free what the engine holds (an FMU instance)."""
 
 
 @dataclass
@@ -31,9 +57,22 @@ class ChunkedRun:
     failure: str = ""            # why the run stopped early when it diverged ('' otherwise)
 
 
+def run_engine(make_engine: Callable[[], Engine], revolutions: float, period_s: float, sample_dt_s: float,
+               label: str, progress: bool = True, chunks_per_revolution: int = 8) -> RunRecord:
+    """Run the engine ``make_engine()`` builds for ``revolutions`` crank revolutions (:func:`run_in_chunks`),
+    its record (:func:`record_run`, with the engine's :meth:`~Engine.describe`); the engine is closed."""
+    run = run_in_chunks(make_engine, revolutions, period_s, sample_dt_s, label, progress, chunks_per_revolution)
+    try:
+        parameters, extra = run.engine.describe()
+        return record_run(run, run.engine.revolution_stats, revolutions, period_s, run.engine.joint_parameters,
+                          parameters, extra)
+    finally:
+        run.engine.close()
+
+
 def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: float, sample_dt_s: float,
                   label: str, progress: bool = True, chunks_per_revolution: int = 8,
-                  clearance_m: float = math.inf) -> ChunkedRun:
+                  clearance_m: float | None = None) -> ChunkedRun:
     """Build the engine (``make_engine()``), compile it (``engine.warm_up()``), then advance
     it by ``revolutions`` crank revolutions in chunks of 1/chunks_per_revolution revolution,
     collecting samples and the wear growth.
@@ -42,7 +81,8 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
     (``wall_time_s``), so that the real-time factor measures the simulation alone.  A
     progress bar on stderr (its description says "compiling" until the first chunk);
     Ctrl-C during the chunks stops after the current one and keeps what was finished, and so
-    does a chunk after which the run has diverged (:func:`divergence`; ``failure`` says why).
+    does a chunk after which the run has diverged (:func:`divergence` against ``clearance_m``, by
+    default the engine's joint's; ``failure`` says why).
     If anything raises, the engine is closed before the error propagates.
     """
     t_final = revolutions * period_s
@@ -55,6 +95,8 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
         engine.warm_up()
         compile_time = time.perf_counter() - start
         bar.compiled()
+        if clearance_m is None:
+            clearance_m = engine.joint_parameters.clearance_m
         buffer = np.zeros((int(chunk / sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
         samples, growth = [], []
         completed, failure = True, ""

@@ -16,10 +16,10 @@ from .joint import ClearanceJoint
 from .mechanism import SliderCrank
 from .parameters import (
     MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
-    check_joint_fits_mechanism,
+    check_joint_fits_mechanism, paper_joint,
 )
 from .results import RunRecord, new_revolution_stats, new_track
-from .runner import record_run, run_in_chunks
+from .runner import run_engine
 
 INTEGRATORS = ("rk4", "dopri", "gear")
 GEAR_SOLVERS = ("cvode", "scipy")
@@ -108,7 +108,7 @@ class Simulation:
         """``initial_profile_m``: the bushing's wear depth [m] at every point to start from (a worn bushing;
         default unworn), checked against the joint (n_points, finite, within the bushing radius)."""
         self.mechanism = SliderCrank(mechanism)
-        joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
+        joint = joint or paper_joint(self.mechanism.params)
         self.options = (options or SimulationOptions()).for_joint(joint, self.mechanism.params)
         check_joint_fits_mechanism(joint, self.mechanism.params)
         self.joint = ClearanceJoint(joint)
@@ -139,7 +139,7 @@ class Simulation:
 
     def _derivative(self):
         """dy = f(t, y).  RK4 and DOPRI: by their integrator over no time (it evaluates f where it starts), so a
-        cold run compiles the right-hand side inside the integrator only, not on its own too (0.4 s)."""
+        cold run compiles the right-hand side inside the integrator only, not on its own too."""
         mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
         if self.options.integrator == "gear":
             derivative(self.t, self.y, self.mode, mp, self._joint_arrays, self.body_forces, ws, self.dy)
@@ -188,6 +188,18 @@ class Simulation:
 
     def close(self) -> None:
         """Nothing to free (the co-simulation engine frees its FMU instance here)."""
+
+    @property
+    def joint_parameters(self) -> JointParameters:
+        return self.joint.params
+
+    def describe(self) -> tuple[dict, dict]:
+        """The run record's parameters and the integrator's counts (:class:`wearjoint.runner.Engine`)."""
+        parameters = {"joint": self.joint.params.to_dict(), "mechanism": self.mechanism.params.to_dict(),
+                      "simulation": self.options.to_dict(), "engine": "monolithic"}
+        extra = {"integrator_accepted_steps": self.accepted, "integrator_rejected_steps": self.rejected,
+                 **{"integrator_" + key: value for key, value in self.solver_counts.items()}}
+        return parameters, extra
 
     def warm_up(self) -> None:
         """Compile the kernels :meth:`advance_to` calls (numba) without advancing.  RK4 and DOPRI:
@@ -317,20 +329,13 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
     """Simulate ``options.revolutions`` crank revolutions from the bushing's ``initial_profile_m`` (default
     unworn; :class:`Simulation`); returns the run's record.
 
-    The run proceeds in chunks (:func:`wearjoint.runner.run_in_chunks`: progress
+    The run proceeds in chunks (:func:`wearjoint.runner.run_engine`: progress
     bar, compilation timed apart, Ctrl-C keeps the finished chunks with ``completed = False``).
     """
     o = options or SimulationOptions()
-    period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: Simulation(joint, mechanism, o, initial_profile_m), o.revolutions, period, o.sample_dt_s, "simulate",
-                        progress, chunks_per_revolution, clearance_m=(joint or JointParameters()).clearance_m)
-    sim = run.engine
-    return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
-                      parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
-                                  "simulation": sim.options.to_dict(), "engine": "monolithic"},
-                      extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected,
-                             **{"integrator_" + key: value for key, value in sim.solver_counts.items()}})
-
+    return run_engine(lambda: Simulation(joint, mechanism, o, initial_profile_m), o.revolutions,
+                      (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s, "simulate", progress,
+                      chunks_per_revolution)
 
 
 __all__ = ["SimulationOptions", "Simulation", "run_simulation", "INTEGRATORS", "GEAR_SOLVERS",

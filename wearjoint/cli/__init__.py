@@ -5,7 +5,7 @@ Each command module provides ``add_arguments(parser)`` and ``run(args) -> int``
 shared by several commands (the model, the results folder, the FMU) are defined
 once in :mod:`wearjoint.cli.options`.  Parameter errors print one line and exit
 with status 2, never a traceback.  A command whose kernels compile first says so
-(:mod:`wearjoint.compile_notice`).
+(:mod:`wearjoint._compile.notice`).
 """
 from __future__ import annotations
 
@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
-    from ..compile_notice import watch_command
+    from .._compile.notice import watch_command
 
     try:
         with watch_command(args.command):   # the first line of a run that compiles says so

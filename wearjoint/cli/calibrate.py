@@ -1,5 +1,5 @@
 """`wearjoint calibrate`: fit k_w to measured (revolutions, max depth) points on a finished wear study's growth
-curve (:mod:`wearjoint.validation.calibration`), one coefficient or the mild-to-severe law."""
+curve (:mod:`wearjoint.studies.calibration`), one coefficient or the mild-to-severe law."""
 from __future__ import annotations
 
 import json
@@ -9,8 +9,8 @@ import numpy as np
 
 from ..parameters import ParameterError
 from ..results import write_json_atomic
-from ..validation.calibration import fit_archard, fit_mild_severe, plot_calibration
-from ..validation.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
+from ..studies.calibration import fit_archard, fit_mild_severe, plot_calibration
+from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 
 LAWS = ("archard", "mild-severe")
 EXPERIMENT_POINTS = ",".join(f"{n}:{d:g}" for n, d in zip(EXPERIMENT_REVOLUTIONS, EXPERIMENT_MAX_DEPTH_M))  # Sec. 7

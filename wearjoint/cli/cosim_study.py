@@ -1,5 +1,5 @@
 """`wearjoint cosim-study`: co-simulation error versus communication step and coupling scheme
-(:mod:`wearjoint.validation.cosim_study`)."""
+(:mod:`wearjoint.studies.cosim_study`)."""
 from __future__ import annotations
 
 import json
@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from ..parameters import ParameterError, _require
-from ..validation.cosim_study import PAPER_STEPS_S, run_study, write_study
+from ..studies.cosim_study import PAPER_STEPS_S, run_study, write_study
 from .options import add_fmu_arguments, add_model_arguments, model_from_args
 
 

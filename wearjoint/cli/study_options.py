@@ -4,8 +4,8 @@ import the command that imports them)."""
 from __future__ import annotations
 
 from ..parameters import ParameterError
-from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from ..validation.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
+from ..studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+from ..studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
 from .options import model_from_args
 
 

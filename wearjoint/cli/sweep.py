@@ -9,7 +9,7 @@ import importlib
 import os
 import sys
 
-from ..compile_helper import usable_cores
+from .._compile.prefetch import usable_cores
 from ..parameters import ParameterError
 from ..sweep.bias import Bias
 from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, parse_vary, read_design

@@ -1,4 +1,4 @@
-"""`wearjoint wear-study`: the wear study (:mod:`wearjoint.validation.wear_study`), its
+"""`wearjoint wear-study`: the wear study (:mod:`wearjoint.studies.wear_study`), its
 factor-convergence study and the calibration of k_w from the command line."""
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ import sys
 
 from ..cosim import CoSimulationOptions
 from ..parameters import ParameterError
-from ..validation.cycle_jump import DEFAULT_JUMP_TOLERANCE
-from ..validation.wear_calibration import calibrate_wear_coefficient
-from ..validation.wear_convergence import JUMP, run_convergence
-from ..validation.wear_study import (
+from ..studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+from ..studies.wear_calibration import calibrate_wear_coefficient
+from ..studies.wear_convergence import JUMP, run_convergence
+from ..studies.wear_study import (
     DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS, STUDY_STEP_S,
     WearStudyConfig, run_wear_study,
 )
@@ -71,7 +71,7 @@ def add_arguments(parser) -> None:
 def run(args) -> int:
     from ..cosim import CoSimulationError
     from ..runner import RunDiverged
-    from ..validation.wear_study import StudyDiverged
+    from ..studies.wear_study import StudyDiverged
 
     if args.seeds is not None and args.seeds > 1:
         from .sweep import run_from_args

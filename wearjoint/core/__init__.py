@@ -2,6 +2,6 @@
 
 ``contact`` (Eqs. 1-23), ``wear`` (Eqs. 24-35), ``mechanism`` (Eqs. 38-44),
 ``integrators`` (RK4, Dormand-Prince 5(4) and the per-step bookkeeping);
-``layout`` names the positions in the shared arrays.  Stale numba caches are
-dropped by :mod:`wearjoint._numba_cache` when the package is imported.
+``layout`` names the positions in the shared arrays.  numba caches them outside the
+source tree, one folder per version of their sources (:mod:`wearjoint._compile.cache`).
 """

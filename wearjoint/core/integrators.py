@@ -170,7 +170,7 @@ def rk4_hold(t, h, n_steps, y, mp, joint, body_forces, ws, dy, stages):
     derivative(t + h, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
 
 
-@kernel(inline='always')   # one call site in the integrators' loop: inlined, a cold run compiles 0.5 s less
+@kernel(inline='always')   # one call site in the integrators' loop: inlined, a cold run compiles it once
 def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
     """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint.
 
@@ -206,8 +206,8 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     returns to its fixed step h after it.
     """
     n2 = y.shape[0]
-    # a Python function: a compiled one allocating the scratch cost a cold run 1.6 s of compiling
-    # (numba links and emits the whole integrator again; docs/performance.md, "Compile time")
+    # a Python function: a compiled one allocating the scratch would make numba link and emit the whole
+    # integrator again on a cold run (docs/performance.md, "Compile time")
     stages = np.empty((4, n2))                  # RK4 scratch
     k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
     k_stage = np.empty(n2)                      # f of the current stage (no views of k in the loop)

@@ -2,8 +2,8 @@
 
 The mechanism's equations of motion need cos and sin of the crank's and the rod's angles at every
 stage; libm's cos and sin cost ~10 ns a pair in a loop (more inside the stages: the call spills the
-caller's registers), the rotation by the stage's small angle ~4 ns (benchmarks/bench_cosim.py: the
-co-simulation master's mechanism step 0.18 -> 0.14 us).
+caller's registers), the rotation by the stage's small angle ~4 ns (benchmarks/bench_cosim.py times
+the co-simulation master's mechanism step).
 """
 import math
 

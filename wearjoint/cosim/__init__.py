@@ -27,7 +27,7 @@ Schemes (``CoSimulationOptions.scheme``):
   for DOPRI.  Free flight carries no joint force, so large steps there cost no
   accuracy.  In contact the step is halved (down to ``step_s``/16) while the force
   at a step's end misses its extrapolation by > 30 %, and grows back otherwise:
-  the explicit coupling is unstable at a fixed step in deep or hard-damped contact.  The default (validation/cosim_study.py): ``adaptive`` with 5 us in
+  the explicit coupling is unstable at a fixed step in deep or hard-damped contact.  The default (wearjoint/studies/cosim_study.py): ``adaptive`` with 5 us in
   contact.  Zero-order hold is first order in h (pointwise 100x off the
   monolithic run at 1 us) and unstable from ~5 us on (stiff contact).
 """

@@ -5,24 +5,23 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
-import subprocess
-import sys
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._compile.prefetch import start_fmu_build
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
-from ..fmu.build import BACKENDS, DEFAULT_BACKEND, default_fmu_path
+from ..fmu.build import BACKENDS, DEFAULT_BACKEND
 from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
 from ..mechanism import SliderCrank
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
+    paper_joint,
 )
 from ..results import RunRecord, new_revolution_stats, new_track
-from ..runner import record_run, run_in_chunks
+from ..runner import run_engine
 from .master_loop import (
     _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
     C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_STATUS, G_FAILED_TIME,
@@ -43,7 +42,7 @@ class CoSimulationOptions:
 
     revolutions: float = 2.0
     scheme: str = "adaptive"
-    step_s: float = 5e-6     # default from validation/cosim_study.py (adaptive, 5 us)
+    step_s: float = 5e-6     # default from wearjoint/studies/cosim_study.py (adaptive, 5 us)
     max_step_s: float = 1e-4
     min_step_s: float = 1e-9
     onset_penetration_m: float = 1e-8
@@ -59,19 +58,6 @@ class CoSimulationOptions:
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
-
-
-def _start_fmu_build(n_points: int, fmu_path, backend: str):
-    """A process building the cached FMU (:func:`ensure_fmu`) if it is missing, else None: its kernels then
-    compile ahead of time while the master's compile in this process (two cores: at the same time).  It
-    says what it compiles; its progress bar is off (this process shows its own), and if it fails,
-    :func:`ensure_fmu` builds again here and says why."""
-    if fmu_path is not None or default_fmu_path(n_points, backend).is_file():
-        return None
-    code = (f"from wearjoint.fmu.instance import ensure_fmu\ntry:\n    ensure_fmu({int(n_points)}, None, "
-            f"backend={backend!r})\nexcept Exception:\n    pass")
-    return subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
-                            env={**os.environ, "TQDM_DISABLE": "1"})
 
 
 # ------------------------------------------------------------------ the master
@@ -90,12 +76,12 @@ class CoSimulation:
                  initial_profile_m=None):
         self.options = options or CoSimulationOptions()
         self.mechanism = SliderCrank(mechanism)
-        self.joint = joint or JointParameters(**self.mechanism.params.joint_offsets())
+        self.joint = joint or paper_joint(self.mechanism.params)
         check_joint_fits_mechanism(self.joint, self.mechanism.params)
         _require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
         self._slave = None
-        build = _start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
+        build = start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
         n_rev = int(math.ceil(self.options.revolutions)) + 1
         self.buf = np.zeros(B_STATS + n_rev * L.N_STATS)
         b = self.buf
@@ -238,6 +224,20 @@ class CoSimulation:
     def max_wear_depth_m(self) -> float:
         return self._live_slave().max_wear_depth(self.t)
 
+    @property
+    def joint_parameters(self) -> JointParameters:
+        return self.joint
+
+    def describe(self) -> tuple[dict, dict]:
+        """The run record's parameters and the communication statistics (:class:`wearjoint.runner.Engine`)."""
+        parameters = {"joint": self.joint.to_dict(), "mechanism": self.mechanism.params.to_dict(),
+                      "cosimulation": self.options.to_dict(), "fmu": str(self.fmu_path),
+                      "fmu_backend": self.fmu_backend, "engine": "cosim"}
+        extra = {"communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
+                 "free_steps": self.free_steps, "shrunk_steps": self.shrunk_steps,
+                 "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
+        return parameters, extra
+
     def set_wear_profile(self, depth_m) -> None:
         """Not available: the FMU has no input or parameter that sets its wear profile."""
         raise ParameterError("the joint FMU offers no way to set its wear profile (cycle jumping); "
@@ -251,25 +251,13 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
     """Co-simulate ``options.revolutions`` crank revolutions with the joint FMU from the bushing's
     ``initial_profile_m`` (default: unworn); the run's record.
 
-    Runs through :func:`wearjoint.runner.run_in_chunks` like
+    Runs through :func:`wearjoint.runner.run_engine` like
     :func:`wearjoint.simulate.run_simulation` (progress bar; loading the FMU and compiling
     the master count as ``compile_time_s``, apart from the simulation's wall time; Ctrl-C
     keeps the finished chunks with ``completed = False``).  The FMU instance is always
     freed.  ``extra`` holds the communication statistics.
     """
     o = options or CoSimulationOptions()
-    period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
-                        o.revolutions, period, o.sample_dt_s, "cosim", progress, chunks_per_revolution,
-                        clearance_m=(joint or JointParameters()).clearance_m)
-    sim = run.engine
-    try:
-        return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint,
-                          parameters={"joint": sim.joint.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
-                                      "cosimulation": o.to_dict(), "fmu": str(sim.fmu_path),
-                                      "fmu_backend": sim.fmu_backend, "engine": "cosim"},
-                          extra={"communication_steps": sim.communication_steps, "rollbacks": sim.rollbacks,
-                                 "free_steps": sim.free_steps, "shrunk_steps": sim.shrunk_steps,
-                                 "fmi_time_s": sim.fmi_time_s, "master_time_s": sim.master_time_s})
-    finally:
-        sim.close()
+    return run_engine(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
+                      o.revolutions, (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s, "cosim",
+                      progress, chunks_per_revolution)

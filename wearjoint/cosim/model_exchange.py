@@ -19,7 +19,7 @@ from ..core.integrators import integrate
 from ..fmu.build import DEFAULT_BACKEND
 from ..fmu.instance import N_INPUTS, FmuError, FmuInstance, ensure_fmu
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
-from ..runner import record_run, run_in_chunks
+from ..runner import run_engine
 from ..simulate import Simulation, SimulationOptions
 from .fmu_joint import FMU_CALLS, FmuJoint
 from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
@@ -109,6 +109,13 @@ class ModelExchangeSimulation(Simulation):
     def checkpoint(self) -> dict:
         raise ParameterError("checkpoints of the Model Exchange engine are not supported")
 
+    def describe(self) -> tuple[dict, dict]:
+        """The monolithic engine's record naming the FMU and its interface (:class:`wearjoint.runner.Engine`)."""
+        parameters, _ = super().describe()
+        parameters |= {"engine": "cosim", "fmu_interface": "model-exchange", "fmu": str(self.fmu_path),
+                       "fmu_backend": self.fmu_backend}
+        return parameters, {"integrator_accepted_steps": self.accepted, "integrator_rejected_steps": self.rejected}
+
     def close(self) -> None:
         if getattr(self, "_fmu", None) is not None:
             self._fmu.close()
@@ -128,19 +135,9 @@ def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCr
     bushing's ``initial_profile_m`` (default: unworn); the run's record (as
     :func:`wearjoint.simulate.run_simulation`'s)."""
     o = options or SimulationOptions()
-    period = (mechanism or SliderCrankParameters()).period_s
-    run = run_in_chunks(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
-                        o.revolutions, period, o.sample_dt_s, "cosim (model exchange)", progress, chunks_per_revolution,
-                        clearance_m=(joint or JointParameters()).clearance_m)
-    sim = run.engine
-    try:
-        return record_run(run, sim.revolution_stats, o.revolutions, period, sim.joint.params,
-                          parameters={"joint": sim.joint.params.to_dict(), "mechanism": sim.mechanism.params.to_dict(),
-                                      "simulation": sim.options.to_dict(), "engine": "cosim", "fmu_interface": "model-exchange",
-                                      "fmu": str(sim.fmu_path), "fmu_backend": fmu_backend},
-                          extra={"integrator_accepted_steps": sim.accepted, "integrator_rejected_steps": sim.rejected})
-    finally:
-        sim.close()
+    return run_engine(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
+                      o.revolutions, (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s,
+                      "cosim (model exchange)", progress, chunks_per_revolution)
 
 
 __all__ = ["ModelExchangeSimulation", "run_model_exchange", "INTERFACES", "FmuError"]

@@ -205,7 +205,7 @@ def emit_object(ir_path: Path, triple: str, cpu: str) -> bytes:
 
 
 if __name__ == "__main__":
-    from ..compile_notice import watching   # each compilation's count on stdout: the builder's progress bar
+    from .._compile.notice import watching   # each compilation's count on stdout: the builder's progress bar
 
     with watching("fmu", on_compile=lambda count: print(count, flush=True), quiet=True):
         compile_ir(sys.argv[1], Path(sys.argv[2]), sys.argv[3].split(",") if len(sys.argv) > 3 else None)

@@ -19,11 +19,6 @@ from pathlib import Path
 
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
-from .build_common import (  # what the backends share, importable from here as before
-    FMU_FILE_NAME as FMU_FILE_NAME, FMU_SOURCE_DIR as FMU_SOURCE_DIR, PACKAGE_DIR as PACKAGE_DIR,
-    c_compiler as c_compiler, current_build as current_build, existing_build_key as existing_build_key,
-    fmi2_headers as fmi2_headers, source_digest as source_digest, user_cache_dir as user_cache_dir,
-)
 
 BACKENDS = ("native", "pythonfmu")
 DEFAULT_BACKEND = "native"

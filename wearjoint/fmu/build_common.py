@@ -14,21 +14,13 @@ import sys
 import zipfile
 from pathlib import Path
 
+from .._compile.cache import user_cache_dir as user_cache_dir   # built FMUs live below it
 from . import variables as fv
 
 FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
 PACKAGE_DIR = Path(__file__).resolve().parent.parent   # wearjoint/
 # fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
 FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
-
-
-def user_cache_dir() -> Path:
-    """wearjoint's folder in the user's cache (built FMUs live below it, keyed by their sources)."""
-    if sys.platform == "win32":
-        return Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local")) / "wearjoint" / "Cache"
-    if sys.platform == "darwin":
-        return Path.home() / "Library" / "Caches" / "wearjoint"
-    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "wearjoint"
 
 
 def source_digest(paths, root: Path) -> str:

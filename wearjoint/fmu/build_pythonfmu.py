@@ -30,9 +30,10 @@ from xml.etree import ElementTree as ET
 from .. import __version__
 from ..parameters import JointParameters
 from . import variables as fv
-from .build import (
-    BINARY_ARCNAME, FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, current_build, fmi2_headers,
-    source_digest, user_cache_dir,
+from .build import BINARY_ARCNAME
+from .build_common import (
+    FMU_FILE_NAME, FMU_SOURCE_DIR, PACKAGE_DIR, c_compiler, current_build, fmi2_headers, source_digest,
+    user_cache_dir,
 )
 from .model_description import model_description_xml
 
@@ -46,7 +47,7 @@ REQUIREMENTS = "numpy\nnumba\n"
 
 # The slave's run-time import closure within wearjoint (tests/test_fmu_build.py checks that
 # importing the slave from the FMU's resources loads exactly these).
-RUNTIME_MODULES = ("__init__.py", "_numba_cache.py", "parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
+RUNTIME_MODULES = ("__init__.py", "_compile/__init__.py", "_compile/cache.py", "parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py",
                    "core/foundation_wear.py", "core/wear.py", "core/state_format.py", "core/joint_access.py")
 
@@ -117,10 +118,10 @@ def _compile_status_shim(library: Path) -> Path:
 def _stage_project_files(stage: Path, n_points: int, key: str) -> list[Path]:
     """Stage the resources: the wearjoint run-time modules (no caches), requirements.txt, build config."""
     package = stage / "wearjoint"
-    (package / "core").mkdir(parents=True)
-    (package / "fmu").mkdir()
     for path in _package_sources():
-        shutil.copy2(path, package / path.relative_to(PACKAGE_DIR))
+        target = package / path.relative_to(PACKAGE_DIR)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(path, target)
     requirements = stage / "requirements.txt"
     requirements.write_text(REQUIREMENTS)
     config = stage / fv.BUILD_CONFIG_FILE

@@ -30,8 +30,8 @@ import threading
 import time
 from pathlib import Path
 
-from ..compile_helper import usable_cores
-from ..compile_notice import announced_progress
+from .._compile.prefetch import usable_cores
+from .._compile.notice import announced_progress
 from . import aot, platforms
 from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir
 

@@ -8,7 +8,7 @@ mean of its per-revolution statistics is judged exactly as ``wearjoint validate`
 against k x the largest difference of the other valid monolithic configurations' ensembles of the same
 size, with the same floors).  Prints one table; ``--out DIR`` also writes ``masters_study.json``.
 
-    python -m wearjoint.validation.masters_study [--revolutions 2] [--steps 0.5e-6 1e-6 2e-6 4e-6]
+    python -m wearjoint.studies.masters_study [--revolutions 2] [--steps 0.5e-6 1e-6 2e-6 4e-6]
         [--masters libcosim ecos fmpy-ssp container container-fmusim] [--ensemble 2] [--fmusim PATH] [--out DIR]
 """
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""What of a wear study (:mod:`wearjoint.validation.wear_study`) survives a kill or a divergence.
+"""What of a wear study (:mod:`wearjoint.studies.wear_study`) survives a kill or a divergence.
 
 * **Checkpoints** (``wear_study_checkpoint.pkl``): the study's state pickled, then its CRC-32C, written
   atomically (tmp + rename).  ``--resume`` reads the last one; it may change the study's *numerical*

@@ -1,7 +1,7 @@
 """A four-bar linkage with two wearing clearance joints, built in exudyn with
 :func:`wearjoint.exudyn.add_clearance_joint` (docs/four_bar.md).
 
-    python -m wearjoint.validation.four_bar --out results/four_bar [--revolutions 3] [--wear-factor 100]
+    python -m wearjoint.examples.four_bar --out results/four_bar [--revolutions 3] [--wear-factor 100]
 
 Links (docs/four_bar.md says where the values come from): ground A-D of length d along X,
 crank A-B (a), coupler B-C (b), rocker D-C (c); a Grashof crank-rocker (a + b <= c + d).  The crank

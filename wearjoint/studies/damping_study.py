@@ -1,9 +1,9 @@
 """The contact damping against the numerics: onset speeds, step independence, a Latin hypercube of runs.
 
-    python -m wearjoint.validation.damping_study onsets [--revolutions 3] [--seeds 4]
-    python -m wearjoint.validation.damping_study steps [--revolutions 5] [--seeds 8] [--wear-factor 1]
-    python -m wearjoint.validation.damping_study lhs [--sets 64] [--revolutions 20]
-    python -m wearjoint.validation.damping_study batches [--revolutions 5] [--seeds 8] [--wear-factor 1]
+    python -m wearjoint.studies.damping_study onsets [--revolutions 3] [--seeds 4]
+    python -m wearjoint.studies.damping_study steps [--revolutions 5] [--seeds 8] [--wear-factor 1]
+    python -m wearjoint.studies.damping_study lhs [--sets 64] [--revolutions 20]
+    python -m wearjoint.studies.damping_study batches [--revolutions 5] [--seeds 8] [--wear-factor 1]
 
 ``onsets``: the normal approach speeds at contact onsets of the paper's slider-crank (no wear, DOPRI),
 under each damping law: quantiles and the energy-weighted mean sum v^3 / sum v^2, the speed at which

@@ -1,6 +1,6 @@
 """The calibration of an effective k_w to a target depth on the wear study
-(:mod:`wearjoint.validation.wear_study`, ``wearjoint wear-study --calibrate-max-depth-m``); the
-convergence of the wear acceleration factor is :mod:`wearjoint.validation.wear_convergence`."""
+(:mod:`wearjoint.studies.wear_study`, ``wearjoint wear-study --calibrate-max-depth-m``); the
+convergence of the wear acceleration factor is :mod:`wearjoint.studies.wear_convergence`."""
 from __future__ import annotations
 
 import math
@@ -11,7 +11,7 @@ import numpy as np
 from wearjoint.core import layout as L
 from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
-from wearjoint.validation.wear_study import (
+from wearjoint.studies.wear_study import (
     CHECKPOINT_NAME, PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, make_engine,
     run_wear_study,
 )

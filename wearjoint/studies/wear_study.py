@@ -6,7 +6,7 @@ RK4, ~1 s with DOPRI):
 * **wear acceleration** -- the joint's ``wear_factor`` F multiplies k_w, so one simulated revolution stands
   for F crank revolutions; the snapshot at revolution R is taken after R/F simulated revolutions (at least
   one revolution is simulated: F <= the revolutions);
-* **cycle jumping** (the default; :mod:`wearjoint.validation.cycle_jump`) -- blocks of simulated revolutions
+* **cycle jumping** (the default; :mod:`wearjoint.studies.cycle_jump`) -- blocks of simulated revolutions
   at the real wear rate, each followed by a jump that replays the block's loading through the relaxed wear
   update, its length chosen from an error estimate (``--cycle-jump-tolerance``).
 
@@ -20,9 +20,9 @@ Nothing is lost: every ``checkpoint_every_revolutions`` simulated revolutions th
 ``DIR/wear_study_checkpoint.pkl``; ``--resume`` continues bit-identically, or with other numerical settings
 (integrator, max step, ...) but the same physical ones.  Each snapshot's files are written as it is reached;
 a study that diverges writes what finished and says where to continue from
-(:mod:`wearjoint.validation.wear_study_recovery`).  The factor-convergence study (``--convergence``) is in
-:mod:`wearjoint.validation.wear_convergence`, the calibration of an effective k_w to a target depth
-(``--calibrate-max-depth-m``) in :mod:`wearjoint.validation.wear_calibration`.
+(:mod:`wearjoint.studies.wear_study_recovery`).  The factor-convergence study (``--convergence``) is in
+:mod:`wearjoint.studies.wear_convergence`, the calibration of an effective k_w to a target depth
+(``--calibrate-max-depth-m``) in :mod:`wearjoint.studies.wear_calibration`.
 """
 from __future__ import annotations
 
@@ -314,7 +314,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
 
 def _advance_jump_route(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
                         compile_time_s) -> dict:
-    """The cycle-jumping route (:func:`wearjoint.validation.cycle_jump.advance_jump_study`), checkpointed after
+    """The cycle-jumping route (:func:`wearjoint.studies.cycle_jump.advance_jump_study`), checkpointed after
     every block and its jump."""
     phi_deg = profile_angles_deg(config.joint.n_points)
     wall0, wall_before = time.perf_counter(), state["wall_time_s"]

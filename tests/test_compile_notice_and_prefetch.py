@@ -1,4 +1,4 @@
-"""A command that compiles says so first (wearjoint.compile_notice): one line on stderr naming what
+"""A command that compiles says so first (wearjoint._compile.notice): one line on stderr naming what
 compiles and about how long it takes, before anything else; nothing when nothing compiles."""
 import json
 import os
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from numba import njit
 
-from wearjoint import compile_helper, compile_notice
-from wearjoint.cosim import cosimulation
+from wearjoint._compile import notice
+from wearjoint._compile import prefetch
 
 
 def _fresh_kernel():
@@ -20,11 +20,11 @@ def _fresh_kernel():
 
 def test_the_first_compilation_announces_what_compiles_and_its_time(capsys):
     kernel = _fresh_kernel()
-    with compile_notice.watching("simulate") as watch:
+    with notice.watching("simulate") as watch:
         kernel(4.0)
         kernel(2)                                   # a second specialisation: counted, not announced again
     err = capsys.readouterr().err
-    text, seconds, _ = compile_notice.ESTIMATES["simulate"]
+    text, seconds, _ = notice.ESTIMATES["simulate"]
     assert err.splitlines()[0] == (f"wearjoint: compiling {text}: about {seconds} s on first use, "
                                    "cached for later runs")
     assert err.count("wearjoint: compiling") == 1 and watch.count == 2
@@ -34,16 +34,16 @@ def test_nothing_is_said_when_nothing_compiles(capsys):
     kernel = _fresh_kernel()
     kernel(4.0)
     capsys.readouterr()
-    with compile_notice.watch_command("cosim") as watch:
+    with notice.watch_command("cosim") as watch:
         kernel(9.0)
     assert capsys.readouterr().err == "" and watch.count == 0
 
 
 def test_the_profile_lists_each_compilation_with_its_own_time(tmp_path, monkeypatch):
     profile = tmp_path / "compile.jsonl"
-    monkeypatch.setenv(compile_notice.PROFILE_ENV, str(profile))
+    monkeypatch.setenv(notice.PROFILE_ENV, str(profile))
     kernel = _fresh_kernel()
-    with compile_notice.watching("kernels", quiet=True):
+    with notice.watching("kernels", quiet=True):
         kernel(4.0)
     rows = [json.loads(line) for line in profile.read_text().splitlines()]
     assert [row[0].rsplit(".", 1)[-1] for row in rows] == ["<lambda>"] and rows[0][2] > 0.0
@@ -51,30 +51,30 @@ def test_the_profile_lists_each_compilation_with_its_own_time(tmp_path, monkeypa
 
 def test_a_cached_or_given_fmu_starts_no_build(tmp_path):
     given = tmp_path / "given.fmu"
-    assert cosimulation._start_fmu_build(1257, given, "native") is None
+    assert prefetch.start_fmu_build(1257, given, "native") is None
 
 
 def test_a_cold_engine_command_starts_the_second_compiling_process_at_its_first_compilation(monkeypatch, capsys):
     started = []
-    monkeypatch.setattr(compile_helper, "usable_cores", lambda: 2)
-    monkeypatch.setattr(compile_helper, "start", lambda: started.append(True))
+    monkeypatch.setattr(prefetch, "usable_cores", lambda: 2)
+    monkeypatch.setattr(prefetch, "start", lambda: started.append(True))
     kernel = _fresh_kernel()
-    with compile_notice.watch_command("simulate"):
+    with notice.watch_command("simulate"):
         assert started == []                        # nothing compiled yet: nothing started
         kernel(4.0)
         kernel(2)
     assert started == [True]
-    text = compile_notice.ESTIMATES["simulate-helped"][0]
+    text = notice.ESTIMATES["simulate-helped"][0]
     assert f"wearjoint: compiling {text}" in capsys.readouterr().err
-    with compile_notice.watch_command("simulate"):  # a warm run starts nothing
+    with notice.watch_command("simulate"):  # a warm run starts nothing
         kernel(3.0)
     assert started == [True]
 
 
 def test_one_core_compiles_alone(monkeypatch):
-    monkeypatch.setattr(compile_helper, "usable_cores", lambda: 1)
-    assert compile_helper.start() is None
-    with compile_notice.watch_command("simulate") as watch:
+    monkeypatch.setattr(prefetch, "usable_cores", lambda: 1)
+    assert prefetch.start() is None
+    with notice.watch_command("simulate") as watch:
         assert watch.what == "simulate"
 
 
@@ -83,11 +83,11 @@ def test_a_cold_engine_compiles_none_of_what_the_second_process_cached(tmp_path)
     """Cold, in fresh processes sharing an empty numba cache: the second process first, then a short
     simulate: the engine compiles none of the second process's kernels."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba"), "XDG_CACHE_HOME": str(tmp_path / "cache"),
-           compile_notice.PROFILE_ENV: str(tmp_path / "engine.jsonl")}
-    helper_env = {k: v for k, v in env.items() if k != compile_notice.PROFILE_ENV}
-    subprocess.run([sys.executable, "-m", "wearjoint.compile_helper"], env=helper_env, check=True)
+           notice.PROFILE_ENV: str(tmp_path / "engine.jsonl")}
+    helper_env = {k: v for k, v in env.items() if k != notice.PROFILE_ENV}
+    subprocess.run([sys.executable, "-m", "wearjoint._compile.prefetch", "kernels"], env=helper_env, check=True)
     subprocess.run([sys.executable, "-c", "from wearjoint.simulate import SimulationOptions, run_simulation; "
-                    "from wearjoint.compile_notice import watching\n"
+                    "from wearjoint._compile.notice import watching\n"
                     "with watching('kernels', quiet=True): "
                     "run_simulation(options=SimulationOptions(revolutions=0.002), progress=False)"],
                    env=env, check=True)

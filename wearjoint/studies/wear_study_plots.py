@@ -1,6 +1,6 @@
 """The wear study's figures beyond the profiles: Fig. 8 (slider acceleration at each snapshot) and the
 growth curve against the experiment's shape, and that shape in numbers
-(:mod:`wearjoint.validation.wear_study`)."""
+(:mod:`wearjoint.studies.wear_study`)."""
 from __future__ import annotations
 
 import math

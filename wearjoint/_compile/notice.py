@@ -18,7 +18,7 @@ import time
 from numba.core import event
 
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core; the
-# "-helped" one: the first of two processes, compile_helper).  The machine runs at one of two speeds: simulate-helped
+# "-helped" one: the first of two processes, prefetch).  The machine runs at one of two speeds: simulate-helped
 # measured 31 and 49 s, cosim 32 and 47 s (compile_time_s, empty caches), so each figure sits between them
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 20, 83),
@@ -28,7 +28,7 @@ ESTIMATES = {
     "kernels": ("the numba kernels", 20, 90),
 }
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
-# commands of the monolithic engine: on two cores a second process compiles its wear kernels (compile_helper)
+# commands of the monolithic engine: on two cores a second process compiles its wear kernels (prefetch)
 HELPED_COMMANDS = ("simulate", "wear-study")
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
 PROFILE_ENV = "WEARJOINT_COMPILE_PROFILE"
@@ -108,17 +108,17 @@ def watching(what: str, on_compile=None, quiet: bool = False, on_first=None):
 
 def watch_command(command: str):
     """:func:`watching` for a command of the CLI (its kernels' estimate, or the generic one); a command
-    of :data:`HELPED_COMMANDS` on two cores or more starts :mod:`.compile_helper` as it starts compiling."""
-    from . import compile_helper
+    of :data:`HELPED_COMMANDS` on two cores or more starts :mod:`.prefetch` as it starts compiling."""
+    from . import prefetch
 
-    if command in HELPED_COMMANDS and compile_helper.usable_cores() > 1:
-        return watching("simulate-helped", on_first=compile_helper.start)
+    if command in HELPED_COMMANDS and prefetch.usable_cores() > 1:
+        return watching("simulate-helped", on_first=prefetch.start)
     return watching(COMMAND_KERNELS.get(command, "kernels"))
 
 
 def announced_progress(what: str):
     """:func:`announce` and a progress bar of ``what``'s compilations, counted by the caller."""
-    from .progress import Progress
+    from ..progress import Progress
 
     announce(what)
     return Progress(ESTIMATES[what][2], "compiling", unit="functions", delay_s=0.0)

@@ -1,5 +1,5 @@
 """The convergence of the wear acceleration factor (``wearjoint wear-study --convergence F1,F2,...``): one
-wear study (:mod:`wearjoint.validation.wear_study`) per factor given, exactly those, the first the reference
+wear study (:mod:`wearjoint.studies.wear_study`) per factor given, exactly those, the first the reference
 (normally 1), compared at the matched snapshots.  ``jump`` in the list stands for the default route
 (error-controlled cycle jumping, within about 1 % of brute force on the paper's case, its own error estimate in
 its summary): ``--convergence jump,100`` measures F = 100's bias for any mechanism and horizon at a fraction of

@@ -1,0 +1,101 @@
+"""A cold run's second core: what the running command will need next, compiled in a second process.
+
+* ``python -m wearjoint._compile.prefetch kernels`` (:func:`start`): numba compiles one function at a
+  time, and a cold ``simulate`` reaches its kernels in one order: the mechanism, the contact, the
+  integrators, then the wear and the step's record.  This process compiles the wear's accept step, the
+  step's record, the worn volume and the joint's advance with the argument types the engine passes
+  (C-contiguous float64 arrays, a bool mask), so numba's cache, which the two processes share, serves them
+  to the first when it gets there; one it reaches before the second has cached it is compiled twice,
+  which costs nothing but the second core (docs/performance.md, "Compile time").
+* ``python -m wearjoint._compile.prefetch fmu N_POINTS BACKEND`` (:func:`start_fmu_build`): the joint FMU
+  a co-simulation will load, built (its kernels compiled ahead of time) while the master's kernels
+  compile in the first process.
+"""
+from __future__ import annotations
+
+import atexit
+import os
+import subprocess
+import sys
+
+
+def usable_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the system has one, e.g. under taskset)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def start() -> subprocess.Popen | None:
+    """The kernels' second process, in the background, stopped when this one exits if it is still running
+    (None on one core, or if it cannot start)."""
+    if usable_cores() < 2:
+        return None
+    try:
+        process = subprocess.Popen([sys.executable, "-m", __name__, "kernels"], stdin=subprocess.DEVNULL,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except OSError:
+        return None
+    atexit.register(_stop, process)
+    return process
+
+
+def start_fmu_build(n_points: int, fmu_path, backend: str) -> subprocess.Popen | None:
+    """A process building the cached joint FMU (:func:`wearjoint.fmu.instance.ensure_fmu`) if it is missing,
+    else None (``fmu_path`` given, or the FMU already built).  It says what it compiles; its progress bar is
+    off (the first process shows its own), and if it fails, ``ensure_fmu`` builds again in the first process
+    and says why."""
+    from ..fmu.build import default_fmu_path
+
+    if fmu_path is not None or default_fmu_path(n_points, backend).is_file():
+        return None
+    return subprocess.Popen([sys.executable, "-m", __name__, "fmu", str(int(n_points)), backend],
+                            stdout=subprocess.DEVNULL, env={**os.environ, "TQDM_DISABLE": "1"})
+
+
+def _stop(process: subprocess.Popen) -> None:
+    """Stop the second process (numba writes each cache file whole: stopping it loses nothing cached)."""
+    if process.poll() is None:
+        process.terminate()
+        try:
+            process.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            process.kill()
+
+
+def compile_late_kernels() -> None:
+    """Call the wear's accept step, the step's record, the worn volume and the joint's advance once on
+    an unworn joint at rest (nothing in contact): numba compiles them, and caches them."""
+    import numpy as np
+
+    from ..core import layout as L
+    from ..core.integrators import record_step
+    from ..core.wear import accept_contact, worn_volume
+    from ..joint import ClearanceJoint
+    from ..parameters import JointParameters
+    from ..results import new_revolution_stats, new_track
+
+    joint = ClearanceJoint(JointParameters())
+    at_rest = np.zeros(3)
+    accept_contact(joint.result, at_rest, at_rest.copy(), at_rest.copy(), at_rest.copy(), 1e-6, False,
+                   joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
+                   joint.memory, joint.mask, joint.work)
+    y = np.zeros(2 * L.N_COORDINATES)
+    record_step(0.0, 1e-6, y, y.copy(), joint.result, np.zeros(L.N_MECHANISM_PARAMETERS), new_revolution_stats(1),
+                np.zeros((0, L.N_SAMPLE_COLUMNS)), new_track(1e-3))
+    worn_volume(joint.parameter_vector, joint.wear_depth)
+    joint.advance_array(at_rest, at_rest.copy(), np.array([0.0, 0.0, 0.0]), at_rest.copy(), 1e-6)
+
+
+def _build_fmu(n_points: int, backend: str) -> None:
+    from ..fmu.instance import ensure_fmu
+
+    try:
+        ensure_fmu(n_points, None, backend=backend)
+    except Exception:      # the first process builds again and reports the error
+        pass
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["fmu"]:
+        _build_fmu(int(sys.argv[2]), sys.argv[3])
+    else:
+        compile_late_kernels()
