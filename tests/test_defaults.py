@@ -37,6 +37,7 @@ SOURCES = {"simulate": (SimulationOptions,), "cosim": (CoSimulationOptions, Simu
 # options left None whose run resolves a default the help states
 RESOLVED = {
     ("simulate", "max_step"): SimulationOptions().for_joint(JointParameters(wear_factor=0.0)).max_step_s,
+    ("simulate", "free_flight_max_step"): SimulationOptions().for_joint(JointParameters()).free_flight_max_step_s,
     ("cosim", "step"): CoSimulationOptions().step_s,
     ("wear-study", "wear_factor"): DEFAULT_WEAR_FACTOR,
     ("wear-study", "cycle_jump_tolerance"): WearStudyConfig.__dataclass_fields__["jump_tolerance"].default,

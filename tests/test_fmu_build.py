@@ -215,3 +215,22 @@ def test_a_profile_stride_exposes_every_sth_point_and_none(tmp_path):
                 {"profile_stride": -1}):
         with pytest.raises(ParameterError, match="profile_stride"):
             build_fmu(tmp_path / "bad", platforms="linux64", **bad)
+
+
+def test_a_pythonfmu_fmu_loaded_in_the_process_does_not_break_the_next_build(built_fmu, tmp_path):
+    """Loading the pythonfmu FMU in process puts its resources (the slave, a copy of pythonfmu's modules
+    without its binaries) on sys.path; a build in the same process must still use the installed pythonfmu."""
+    code = textwrap.dedent(f"""
+        import sys, zipfile
+        from fmpy import extract, instantiate_fmu, read_model_description
+        from wearjoint.fmu.build_pythonfmu import build_fmu
+        md = read_model_description({str(built_fmu)!r})
+        fmu = instantiate_fmu(extract({str(built_fmu)!r}), md, "CoSimulation")
+        fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode(); fmu.exitInitializationMode()
+        assert "pythonfmu" in sys.modules and "resources" in sys.modules["pythonfmu"].__file__
+        built = build_fmu({str(tmp_path)!r}, n_points=64, force=True)
+        assert "binaries/linux64/ClearanceWearJoint.so" in zipfile.ZipFile(built).namelist()
+        fmu.terminate(); fmu.freeInstance()
+        print("ok")""")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0 and done.stdout.strip().endswith("ok"), done.stderr[-3000:]

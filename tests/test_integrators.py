@@ -162,3 +162,31 @@ def test_contact_share_of_a_step_is_linear_in_the_signed_penetration(start, end,
     from wearjoint.core.integrators import contact_share
     assert contact_share(start, end) == pytest.approx(share)
 
+
+
+def test_dopri_with_wear_takes_long_steps_in_free_flight_and_the_wear_cap_in_contact():
+    """Nothing wears in free flight: a DOPRI step that starts with no contact may reach free_flight_max_step_s
+    (1e-4 s by default); one that starts in contact stays within max_step_s, the wear's cap.  Every accepted
+    point is sampled (sample_dt_s below the shortest step but a located onset's)."""
+    record = run_simulation(paper_joint(), options=SimulationOptions(revolutions=0.3, sample_dt_s=1e-7),
+                            progress=False, chunks_per_revolution=64)
+    options = record.parameters["simulation"]
+    cap, free = options["max_step_s"], options["free_flight_max_step_s"]
+    assert cap <= 3e-5 and free == 1e-4
+    s = record.samples
+    steps = np.diff(s[:, L.T_TIME])
+    contact = s[:, L.T_CONTACT] > 0.5
+    in_contact = steps[contact[:-1] & contact[1:]]
+    in_flight = steps[~contact[:-1] & ~contact[1:]]
+    assert in_contact.size > 500 and in_flight.size > 50
+    assert in_contact.max() <= cap * (1 + 1e-9) + 2e-7                  # two sub-sample steps merged at most
+    assert 2.0 * cap < in_flight.max() <= free * (1 + 1e-9)
+
+
+def test_the_free_flight_cap_defaults_to_max_step_when_that_is_given():
+    joint = paper_joint()
+    given = SimulationOptions(max_step_s=1e-5).for_joint(joint)
+    assert given.free_flight_max_step_s == 1e-5
+    assert SimulationOptions(max_step_s=1e-5, free_flight_max_step_s=2e-4).for_joint(joint).free_flight_max_step_s == 2e-4
+    with pytest.raises(ParameterError, match=r"free_flight_max_step_s=0\.0 is invalid"):
+        SimulationOptions(free_flight_max_step_s=0.0)

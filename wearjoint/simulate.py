@@ -52,7 +52,8 @@ class SimulationOptions:
     :mod:`wearjoint.core.mechanism_jacobian`; ``numerical``: the solver's finite differences, which
     the ideal mechanism always uses).  ``onset_penetration_m``: how deep past a
     contact onset an adaptive step may end (event location, see
-    ``core.integrators.integrate``).  ``sample_dt_s``: spacing of the time series."""
+    ``core.integrators.integrate``).  ``free_flight_max_step_s`` (dopri): the largest step that starts with
+    no contact active, where nothing wears (None: 1e-4 s with the default ``max_step_s``, else ``max_step_s``).  ``sample_dt_s``: spacing of the time series."""
 
     revolutions: float = 2.0
     integrator: str = "dopri"
@@ -61,6 +62,7 @@ class SimulationOptions:
     atol_position_m: float = 1e-9
     atol_velocity_m_s: float = 1e-5
     max_step_s: float | None = None
+    free_flight_max_step_s: float | None = None
     min_step_s: float = 1e-10
     onset_penetration_m: float = 1e-8
     sample_dt_s: float = 1e-5
@@ -75,7 +77,8 @@ class SimulationOptions:
         _require("gear_jacobian", self.gear_jacobian, self.gear_jacobian in GEAR_JACOBIANS,
                  "one of " + ", ".join(GEAR_JACOBIANS))
         positive = ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s", "sample_dt_s",
-                    "onset_penetration_m") + (() if self.max_step_s is None else ("max_step_s",))
+                    "onset_penetration_m") + tuple(name for name in ("max_step_s", "free_flight_max_step_s")
+                                                    if getattr(self, name) is not None)
         for name in positive:
             _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
         largest = self.max_step_s or 1e-7                   # None: the wear-step limit, at least this
@@ -87,13 +90,16 @@ class SimulationOptions:
         limit = wear_step_limit_s(joint, mechanism) if not self.ideal else math.inf
         if self.max_step_s is None:
             default = wear_step_limit_s(joint, mechanism, DEFAULT_WEAR_STEP_SHARE) if not self.ideal else math.inf
-            return dataclasses.replace(self, max_step_s=min(default, NO_WEAR_MAX_STEP_S))
+            return dataclasses.replace(self, max_step_s=min(default, NO_WEAR_MAX_STEP_S),
+                                       free_flight_max_step_s=self.free_flight_max_step_s or NO_WEAR_MAX_STEP_S)
         name, step = ("step_s", self.step_s) if self.integrator == "rk4" else ("max_step_s", self.max_step_s)
         if step > limit:
             raise ParameterError(f"{name}={step!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
                                  f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
                                  f"{limit:.3g} s, a step's share k_f k_w F v dt of the penetration at most "
                                  f"{joint.wear_step_share:g} and at most {MAX_WEAR_STEP_S:g} s (docs/model.md §7)")
+        if self.free_flight_max_step_s is None:
+            return dataclasses.replace(self, free_flight_max_step_s=self.max_step_s)
         return self
 
     def to_dict(self) -> dict:
@@ -122,7 +128,8 @@ class Simulation:
         first_step = self.options.step_s if self.options.integrator == "rk4" else min(1e-6, self.options.max_step_s)
         self.control = np.array([first_step, self.options.max_step_s, self.options.rtol,
                                  self.options.atol_position_m, self.options.atol_velocity_m_s,
-                                 self.options.min_step_s, self.options.onset_penetration_m])
+                                 self.options.min_step_s, self.options.onset_penetration_m,
+                                 self.options.free_flight_max_step_s])
         n_rev = int(math.ceil(self.options.revolutions)) + 1
         self.revolution_stats = new_revolution_stats(n_rev)
         self.track = new_track(self.options.sample_dt_s)
@@ -164,7 +171,8 @@ class Simulation:
         """Continue from :meth:`checkpoint` (same parameters and options)."""
         self.t = float(checkpoint["t"])
         self.y[:] = checkpoint["y"]
-        self.control[:] = checkpoint["control"]
+        control = np.asarray(checkpoint["control"])
+        self.control[:control.size] = control          # a checkpoint written before the free-flight cap: 7 values
         self.joint.state_from_bytes(checkpoint["joint_state"])
         self.revolution_stats[:] = checkpoint["revolution_stats"]
         self.track[:] = checkpoint["track"]

@@ -33,6 +33,9 @@ def add_integration_arguments(parser) -> None:
                    help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, less where "
                         f"a step's share of the penetration would pass {DEFAULT_WEAR_STEP_SHARE:g}; at most "
                         f"{MAX_WEAR_STEP_S:g} and a share of 4: docs/model.md §7)")
+    g.add_argument("--free-flight-max-step", type=float, default=None,
+                   help=f"dopri: largest step that starts with no contact [s], where nothing wears (default "
+                        f"{NO_WEAR_MAX_STEP_S:g}; --max-step when that is given)")
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
     add_initial_profile_argument(g)
@@ -42,6 +45,7 @@ def options_from_args(args) -> SimulationOptions:
     return SimulationOptions(revolutions=args.revolutions, integrator=args.integrator, step_s=args.step,
                              rtol=args.rtol, atol_position_m=args.atol_position,
                              atol_velocity_m_s=args.atol_velocity, max_step_s=args.max_step,
+                             free_flight_max_step_s=args.free_flight_max_step,
                              sample_dt_s=args.sample_dt, ideal=args.ideal, gear_solver=args.gear_solver,
                              gear_jacobian=args.gear_jacobian)
 

@@ -195,7 +195,8 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     :data:`~wearjoint.cosim.fmu_joint.FmuJoint` (an FMU's Model Exchange interface): the same steps.
 
     control = [h (RK4 step or DOPRI initial/next step), h_max, rtol, atol_position,
-    atol_velocity, h_min, onset_penetration].  Returns (t, accepted steps, rejected
+    atol_velocity, h_min, onset_penetration, h_max_free] (DOPRI: h_max bounds a step that starts in contact,
+    h_max_free one that starts in free flight, where nothing wears).  Returns (t, accepted steps, rejected
     steps); control[0] holds the step to continue with.
 
     Contact onset (RK4 and DOPRI, MODE_CLEARANCE): a step that starts in free
@@ -224,12 +225,13 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     n = N_COORDINATES
     result = joint.result
     h = control[0]
-    h_max = control[1]
+    h_max_contact = control[1]
     rtol = control[2]
     atol_q = control[3]
     atol_v = control[4]
     h_min = control[5]
     onset_tol = control[6]
+    h_max_free = control[7]
     locate_onsets = mode == MODE_CLEARANCE
     memory = joint.memory
     err_previous = 1e-4
@@ -239,9 +241,8 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     derivative(t, y, mode, mp, joint, body_forces, ws, dy)
     pen_start = result[R_PENETRATION]
     while t < t_end * (1.0 - 1e-15) - 1e-300 and not joint_failed(joint):
-        step = min(h, t_end - t)
         if method == RK4:
-            step = min(step, onset_step)
+            step = min(h, t_end - t, onset_step)
             for i in range(n2):
                 y_new[i] = y[i]
             trig = angle_trig(y_new) if mode == MODE_EXTERNAL else _UNUSED_TRIG   # only MODE_EXTERNAL rotates
@@ -265,6 +266,9 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             pen_start = result[R_PENETRATION]
             continue
         # Dormand-Prince 5(4)
+        h_max = h_max_free if locate_onsets and memory[M_ACTIVE] < 0.5 else h_max_contact
+        h = min(h, h_max)
+        step = min(h, t_end - t)
         for i in range(n2):
             k[0, i] = dy[i]
         for stage in range(1, 7):

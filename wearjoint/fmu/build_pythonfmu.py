@@ -24,6 +24,7 @@ import subprocess
 import sys
 import tempfile
 import zipfile
+from importlib.metadata import distribution, version
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
@@ -64,8 +65,6 @@ def shipped_sources() -> list[Path]:
 
 def build_key(n_points: int) -> str:
     """Identifies an FMU build: wearjoint version, n_points, pythonfmu version, hash of the sources."""
-    from importlib.metadata import version
-
     digest = source_digest(shipped_sources(), PACKAGE_DIR.parent)
     return f"{__version__}-n{n_points}-pythonfmu{version('pythonfmu')}-{digest}"
 
@@ -132,23 +131,26 @@ def _stage_project_files(stage: Path, n_points: int, key: str) -> list[Path]:
 def _run_pythonfmu(dest: Path, project_files: list[Path]) -> Path:
     """pythonfmu's builder on fmu_src, leaving the caller's sys.path and sys.modules as they were.
 
-    The builder imports the slave by module name: fmu_src goes first on sys.path so
-    that an FMU loaded earlier in this process (its resources are on sys.path) is not used.
+    A pythonfmu FMU loaded earlier in this process put its resources on sys.path, with the slave and a copy
+    of pythonfmu's modules but not its binaries: the installed pythonfmu (whose builder copies its binary
+    into the FMU) and fmu_src's slave go first on sys.path, and the modules of those names are imported
+    afresh for the build.
     """
-    from pythonfmu.builder import FmuBuilder
-
+    installed = str(distribution("pythonfmu").locate_file(""))
     saved_path = list(sys.path)
-    slave_module = SLAVE_SOURCE.stem
-    saved_module = sys.modules.pop(slave_module, None)
-    sys.path.insert(0, str(SLAVE_SOURCE.parent))
+    names = [SLAVE_SOURCE.stem] + [name for name in sys.modules if name == "pythonfmu" or name.startswith("pythonfmu.")]
+    saved_modules = {name: sys.modules.pop(name) for name in names if name in sys.modules}
+    sys.path[:0] = [str(SLAVE_SOURCE.parent), installed]
     try:
+        from pythonfmu.builder import FmuBuilder
+
         return Path(FmuBuilder.build_FMU(SLAVE_SOURCE, dest=dest, project_files=project_files,
                                          canGetAndSetFMUstate=True, canSerializeFMUstate=True))
     finally:
         sys.path[:] = saved_path
-        sys.modules.pop(slave_module, None)
-        if saved_module is not None:
-            sys.modules[slave_module] = saved_module
+        for name in [name for name in sys.modules if name in names or name.split(".")[0] == "pythonfmu"]:
+            sys.modules.pop(name)
+        sys.modules.update(saved_modules)
 
 
 def _finish_fmu(raw: Path, target: Path, n_points: int, shim: Path) -> None:
