@@ -1,5 +1,5 @@
 """Hypothesis state machines that drive the native FMU in process through fmpy (run as a child process
-by tests/test_fmi_fuzz.py, so that a crash of the FMU cannot take pytest down).
+by tests/fmu/test_fmi_fuzz.py, so that a crash of the FMU cannot take pytest down).
 
 ``python tests/fmi_state_machines.py FMU_DIR MACHINE EXAMPLES STEPS`` runs one machine and prints, as
 its last line, a JSON object of counts.  MACHINE: ``calls-<fmi version>-<cs|me>`` (legal and illegal
@@ -25,7 +25,7 @@ OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 ODD = st.sampled_from([math.nan, math.inf, -math.inf, 1e300, -1e300, 1e-300, -0.0, 5e-324])
 VALUE = st.one_of(st.floats(-0.5, 0.5), ODD)
 # finite steps up to 1 s: a step of 1e300 s wears the bushing beyond its radius with an OK status, a known
-# fault left open (tests/test_fmi_fuzz.py::test_a_huge_step_is_refused, strict xfail)
+# fault left open (tests/fmu/test_fmi_fuzz.py::test_a_huge_step_is_refused, strict xfail)
 STEP = st.one_of(st.floats(0.0, 1e-4), st.sampled_from([-1e-5, math.nan, math.inf, -math.inf, 0.0, 1.0]))
 COUNTS = Counter()
 

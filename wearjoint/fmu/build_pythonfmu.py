@@ -46,7 +46,7 @@ WRAPPED_BINARY_NAME = f"pythonfmu_{fv.MODEL_NAME}.so"
 REQUIREMENTS = "numpy\nnumba\n"
 
 
-# The slave's run-time import closure within wearjoint (tests/test_fmu_build.py checks that
+# The slave's run-time import closure within wearjoint (tests/fmu/test_fmu_build.py checks that
 # importing the slave from the FMU's resources loads exactly these).
 RUNTIME_MODULES = ("__init__.py", "_compile/__init__.py", "_compile/cache.py", "parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py",

@@ -8,7 +8,7 @@
    compiled from this tree's kernels with the numba and llvmlite it names, as a Cython package
    ships its generated C.  Taken only where :func:`kernel_key` (those versions and a hash of the
    kernels' sources) is the archive's, so it is never stale; ``python -m wearjoint.fmu.ship_ir``
-   writes it anew after a change to the kernels (``tests/test_kernel_ir.py`` fails until then);
+   writes it anew after a change to the kernels (``tests/fmu/test_kernel_ir.py`` fails until then);
 3. numba, in fresh processes for a generic CPU (:mod:`wearjoint.fmu.aot`; ``build-fmu --force``
    always does this).
 

@@ -232,7 +232,7 @@ static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
 """
 
 
-# ModelStructure: what each unknown depends on (tests/test_slider_crank_fmu.py checks it by finite
+# ModelStructure: what each unknown depends on (tests/fmu/test_slider_crank_fmu.py checks it by finite
 # differences).  The crank is driven and pinned to the ground, so its accelerations follow from its constraints
 # alone: its loads (pin_*) move no variable.  The rod's loads move the rod's and the slider's x acceleration; the
 # slider's y and rotation are constrained to rest.  A state output is the state itself, set by the integration:

@@ -368,12 +368,12 @@ def test_the_readme_c_tool_recipe_runs_on_linux64_and_under_wine(fmus, tmp_path)
     """README "Using the FMU from a C tool", as written: the linux64 host and the Windows host (wine)
     load their own platform's binary of the same FMU and print the same answers."""
     carries(fmus, "win64")
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
     section = readme[readme.index("### Using the FMU from a C tool"):]
     recipe = section[section.index("```bash\n") + 8:section.index("```\n", section.index("```bash\n") + 8)]
     (tmp_path / "build").mkdir()
     shutil.copy(fmus[2]["path"], tmp_path / "build" / f"{fv.MODEL_NAME}.fmu")
-    (tmp_path / "tests").symlink_to(Path(__file__).resolve().parent)
+    (tmp_path / "tests").symlink_to(Path(__file__).resolve().parents[1])
     from fmi_host import wine_environment
     env = {**wine_environment(), "PATH": f"{Path(shutil.which('python')).parent}:/usr/bin:/bin"}
     done = subprocess.run(["bash", "-e", "-c", recipe], capture_output=True, text=True, cwd=tmp_path, env=env,

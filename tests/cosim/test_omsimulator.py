@@ -20,7 +20,7 @@ from wearjoint.cosim import masters  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters, paper_joint  # noqa: E402
 
-OMSIMULATOR = Path(__file__).resolve().parents[2] / "shared/tools/omsimulator"
+OMSIMULATOR = Path(__file__).resolve().parents[3] / "shared/tools/omsimulator"
 CLI = OMSIMULATOR / "bin/OMSimulator"
 PYTHON_PACKAGE = OMSIMULATOR / "lib/x86_64-linux-gnu"
 

@@ -2,7 +2,7 @@
 fmi3GetDirectionalDerivative against central differences of the outputs (set the inputs +-h, read
 them), FMI 2.0 and 3.0, Co-Simulation and Model Exchange, at unworn and worn contact states (the
 wear profile and contact memory set through an FMU state); the ModelStructure's dependencies
-against the same differences; errors.  The cross-built binaries: tests/test_platforms.py.
+against the same differences; errors.  The cross-built binaries: tests/fmu/test_platforms.py.
 """
 from __future__ import annotations
 

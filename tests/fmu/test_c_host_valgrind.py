@@ -1,6 +1,6 @@
 """The C FMI 2.0 host under valgrind (slow): a full script and every error exit free what they
 allocate, and the check is not vacuous (an FMU built to leak fails it).  The host and its test FMU:
-tests/test_c_host_tool.py."""
+tests/fmu/test_c_host_tool.py."""
 from __future__ import annotations
 
 import shutil

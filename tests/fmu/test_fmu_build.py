@@ -19,7 +19,7 @@ from fmpy_instance import P  # noqa: E402
 from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
 from wearjoint.fmu.build_pythonfmu import build_fmu, build_key, default_fmu_path  # noqa: E402
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
+REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 # ------------------------------------------------------------- run-time imports

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 FILES = subprocess.run(["git", "ls-files"], cwd=REPO, capture_output=True, text=True, check=True).stdout.split()
 PROSE = [f for f in FILES if f.endswith((".md", ".py", ".c", ".h")) and f != "CHANGELOG.md"]
 TOP_FOLDERS = sorted({f.split("/")[0] for f in FILES if "/" in f})

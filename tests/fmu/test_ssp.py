@@ -1,6 +1,6 @@
 """SliderCrankWithClearance.ssp (wearjoint export-ssp): valid SSP 1.0, wired and parameterised as the
 monolithic slider-crank; its container FMU valid and carrying fmpy's container binaries.  The
-closed-loop runs in third-party masters: tests/test_masters.py."""
+closed-loop runs in third-party masters: tests/cosim/test_masters.py."""
 from __future__ import annotations
 
 import zipfile

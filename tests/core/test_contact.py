@@ -28,7 +28,7 @@ def test_no_contact_inside_the_clearance():
 
 def test_pin_pressed_outward_is_pushed_back_with_hertz_force_and_hand_torques():
     """The paper's deepest-point contact: K delta^1.5 exactly (the foundation's force is checked
-    against its own quadrature in tests/test_foundation_contact.py)."""
+    against its own quadrature in tests/core/test_foundation_contact.py)."""
     delta = 4e-6
     joint = ClearanceJoint(P.replace(contact_model="deepest"))
     r = joint.evaluate(*bodies_with_eccentricity(0.0, C + delta))

@@ -12,7 +12,7 @@ import pytest
 fmpy = pytest.importorskip("fmpy")
 
 MACHINES = ["calls-2-cs", "calls-2-me", "calls-3-cs", "calls-3-me", "corrupt-2", "corrupt-3"]
-HERE = Path(__file__).parent
+HERE = Path(__file__).resolve().parents[1]   # tests/, beside fmi_state_machines.py
 
 
 @pytest.fixture(scope="module")

@@ -21,7 +21,7 @@ from wearjoint.simulate import SimulationOptions
 from wearjoint.validation.compare import FULL, ValidationPlan
 from wearjoint.studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 NOTHING = object()
 
 

@@ -173,7 +173,7 @@ def test_one_revolution_at_wear_factor_ten_stands_for_ten(tmp_path, placement):
     """The study's bookkeeping of the wear factor: at a k_w so small that the wear does not move the pin (1e-4
     of the printed one), ten revolutions at wear factor 10 simulate one revolution, the same trajectory as the
     first of a run at wear factor 1, and remove ten times its Archard volume.  (The factor's bias where the wear
-    does feed back is measured against cycle jumping over many revolutions: tests/test_wear_convergence.py; two
+    does feed back is measured against cycle jumping over many revolutions: tests/core/test_wear_convergence.py; two
     single chaotic runs over 1 and 10 revolutions, compared before, differed by 18 % with either wear update.)"""
     joint = paper_joint(wear_factor=1.0, wear_placement=placement, wear_coefficient_m2_N=5.05e-14)
     brute = run_wear_study(small_config(joint=joint, revolutions=1, snapshots=(1,)), tmp_path / "brute",

@@ -78,7 +78,7 @@ def test_ideal_mechanism_matches_the_closed_form():
     assert np.abs(closed["slider_a_m_s2"] - s[:, L.T_SLIDER_A]).max() < 1e-6
     # the paper's ideal peak: l1 w^2 (1 + l1/l2) = 15.1 m/s^2 at 150 rpm
     assert np.abs(s[:, L.T_SLIDER_A]).max() == pytest.approx(15.14, abs=0.01)
-    # the joint's force is the ideal revolute's reaction (tests/test_own_mechanism.py checks it by Newton-Euler)
+    # the joint's force is the ideal revolute's reaction (tests/cli/test_own_mechanism.py checks it by Newton-Euler)
     reaction = np.hypot(s[:, L.T_PIN_FX], s[:, L.T_PIN_FY])
     assert reaction.min() > 0.0 and rec.summary()["max_contact_force_N"] == pytest.approx(reaction.max(), rel=1e-3)
 
