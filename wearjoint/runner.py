@@ -46,6 +46,19 @@ class Engine(Protocol):
         """Free what the engine holds (an FMU instance)."""
 
 
+class CheckpointingEngine(Engine, Protocol):
+    """An :class:`Engine` the wear study drives through its own loop of stops (snapshots, checkpoints, cycle
+    jumps: :mod:`wearjoint.studies.wear_study`): the monolithic and the co-simulation engine."""
+
+    def checkpoint(self) -> dict:
+        """Everything needed to continue bit-identically (picklable)."""
+
+    def restore(self, checkpoint: dict) -> None: ...
+
+    def set_wear_profile(self, depth_m) -> None:
+        """Replace the bushing's wear depths [m] (a cycle jump); ParameterError where the engine cannot."""
+
+
 @dataclass
 class ChunkedRun:
     engine: Any                  # the engine that ran (the caller closes it)

@@ -42,7 +42,7 @@ from wearjoint.joint import StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, is_paper_case
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, write_json_atomic, write_results
-from wearjoint.runner import RunDiverged, divergence
+from wearjoint.runner import CheckpointingEngine, RunDiverged, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
@@ -160,9 +160,8 @@ def _check_int(name, value, minimum) -> None:
 
 
 # ----------------------------------------------------------------------------- engines
-def make_engine(config: WearStudyConfig):
-    """The simulation engine of ``config.engine``: ``Simulation`` or ``CoSimulation``
-    (``advance_to``, ``checkpoint``/``restore``, ``wear_profile``, ``set_wear_profile``, ``close``)."""
+def make_engine(config: WearStudyConfig) -> CheckpointingEngine:
+    """The simulation engine of ``config.engine``: ``Simulation`` or ``CoSimulation``."""
     revolutions = math.ceil(config.simulated_revolutions - 1e-9)
     if config.jump_tolerance is not None:     # the jumps decide how many are simulated: statistics of the first
         revolutions = min(revolutions, MAX_JUMP_ROUTE_STATISTICS)
