@@ -3,7 +3,7 @@
  * The generic FMI layers (fmi2Functions.c, fmi3Functions.c) own the call sequence and
  * joint_model.c the value references (the model interface of fmu_model.h); this part owns the
  * joint's memory and data (inputs, parameters, the kernels' arrays), checks parameters against the
- * generated table, calls the compiled kernels (model.h) and reads and writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
+ * generated table, calls the compiled kernels (joint_kernels.h) and reads and writes the FMU state.  Statuses are numbered as fmi2Status and fmi3Status (0 ok .. 4 fatal).
  */
 #ifndef WEARJOINT_JOINT_INSTANCE_H
 #define WEARJOINT_JOINT_INSTANCE_H

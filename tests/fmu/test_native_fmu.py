@@ -85,7 +85,7 @@ def test_variables_are_the_pythonfmu_backends(native, built_fmu):
 
 def test_sources_relink_into_a_working_binary(native, tmp_path, c_host):
     sources = native["dir"] / "sources"
-    for name in ("fmi2Functions.c", "model.h", "model_variables.h", "build.sh", "kernels/wearjoint_evaluate.ll",
+    for name in ("fmi2Functions.c", "joint_kernels.h", "model_variables.h", "build.sh", "kernels/wearjoint_evaluate.ll",
                  "kernels/linux64/wearjoint_evaluate.o", "kernels/linux64/wearjoint_advance.o"):
         assert (sources / name).is_file(), name
     done = subprocess.run(["sh", str(sources / "build.sh"), "linux64"], capture_output=True, text=True,

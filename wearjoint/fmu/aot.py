@@ -2,7 +2,7 @@
 
 A native FMU runs the very kernels the library runs: the numba ``cfunc`` entry points of its
 model (:data:`ENTRY_POINTS`: ``joint``, the ClearanceWearJoint FMU, from
-:mod:`wearjoint.fmu.entry_points`, the kernels :class:`wearjoint.ClearanceJoint` runs;
+:mod:`wearjoint.fmu.joint_entry_points`, the kernels :class:`wearjoint.ClearanceJoint` runs;
 ``slider-crank``, the SliderCrank FMU, from :mod:`wearjoint.fmu.slider_crank_entry_points`, the
 mechanism kernels of the monolithic engine).  For each, numba's optimised LLVM IR is taken,
 the ``cfunc`` wrapper (which reports Python exceptions through the CPython API) is dropped,
@@ -39,12 +39,12 @@ import sys
 from pathlib import Path
 
 # model -> (module of its cfuncs, {stable C symbol: (cfunc, its number of arguments)}); the C
-# prototypes (the model's kernel header: fmu_src/model.h, fmu_src/slider_crank_kernels.h; the state
+# prototypes (the model's kernel header: fmu_src/joint_kernels.h, fmu_src/slider_crank_kernels.h; the state
 # format's, wearjoint_*_state*, in fmu_src/state_format.h for both) take two
 # more (return value, exception info).  A cfunc whose argument count differs from its
 # prototype's fails the build.
 ENTRY_POINTS = {
-    "joint": ("wearjoint.fmu.entry_points", {
+    "joint": ("wearjoint.fmu.joint_entry_points", {
         "wearjoint_evaluate": ("evaluate_native", 11),
         "wearjoint_jacobian": ("jacobian_native", 11),
         "wearjoint_advance": ("advance_native", 14),

@@ -84,12 +84,12 @@ class NativeModel:
 
 
 MODELS = {m.name: m for m in (
-    NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "model.h",
-                                          "state_format.h"), "model.h",
+    NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "joint_kernels.h",
+                                          "state_format.h"), "joint_kernels.h",
                 ("core/geometry.py", "core/pressure.py", "core/contact.py", "core/foundation_wear.py", "core/wear.py",
-                 "core/state_format.py", "joint.py", "fmu/entry_points.py",
+                 "core/state_format.py", "joint.py", "fmu/joint_entry_points.py",
                  "fmu/state_entry_points.py"),
-                ("fmu/entry_points.py", "fmu/state_entry_points.py"),
+                ("fmu/joint_entry_points.py", "fmu/state_entry_points.py"),
                 False),
     NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h",
                                                       "state_format.h"),

@@ -1,14 +1,14 @@
 /* The joint's kernels, compiled ahead of time from wearjoint's numba code (wearjoint/fmu/aot.py).
  *
- * Each is the function behind a numba cfunc of wearjoint/fmu/entry_points.py, with numba's
+ * Each is the function behind a numba cfunc of wearjoint/fmu/joint_entry_points.py, with numba's
  * calling convention: int32 status (0 = success), a pointer for the return value, a pointer
  * for exception information (never written: the kernels have no path that raises), then the
  * arguments.  The physics lives only there (wearjoint/core/); joint_instance.c and joint_model.c
  * map FMI variables onto the kernels' arrays (layout: wearjoint/core/layout.py, mirrored in
  * the generated model_variables.h).
  */
-#ifndef WEARJOINT_MODEL_H
-#define WEARJOINT_MODEL_H
+#ifndef WEARJOINT_JOINT_KERNELS_H
+#define WEARJOINT_JOINT_KERNELS_H
 
 #include <stdint.h>
 
