@@ -7,7 +7,7 @@ file and the comments of every tracked C file.  A name there is checked when it 
 * a dotted path starting ``wearjoint.``: the longest prefix must be an importable module and
   the rest attributes of it (``wearjoint.simulate.run_simulation``);
 * a repository path: its first component is a top-level folder of the repository
-  (``wearjoint/fmu/build.py``, ``fmu_src/status_shim.c``, ``docs/model.md``,
+  (``wearjoint/fmu/build.py``, ``fmu_src/pythonfmu/status_shim.c``, ``docs/model.md``,
   ``benchmarks/bench_cosim.py``, ``tests/c_host/``) and it must be a tracked file or folder; a
   wearjoint subpackage path ending ``.py`` (``core/contact.py``) must be a file of the package;
 * a bare Python file name (``joint.py``): some tracked Python file has that name;
@@ -157,7 +157,7 @@ def test_names_in_the_prose_exist(path):
 @pytest.mark.parametrize("text, broken", [
     ("see wearjoint/fmu_build.py and docs/model.md", ["path wearjoint/fmu_build.py"]),
     ("``wearjoint.fmu_variables``; ``wearjoint.simulate.run_simulation``.", ["module wearjoint.fmu_variables"]),
-    ("results/run/summary.json, binaries/linux64/x.so, ~/.cache/wearjoint/fmu/, fmu_src/status_shim.c", []),
+    ("results/run/summary.json, binaries/linux64/x.so, ~/.cache/wearjoint/fmu/, fmu_src/pythonfmu/status_shim.c", []),
     ("core/contact.py and core/native.py; tests/c_host/ and tests/...", ["path core/native.py"]),
 ])
 def test_the_rule_finds_stale_names_only(tmp_path, monkeypatch, text, broken):

@@ -126,8 +126,8 @@ def test_build_key_follows_the_shipped_files_only(tmp_path, monkeypatch):
             path.write_bytes(original)
 
     assert edited("wearjoint/runner.py") == key
-    for shipped in ("wearjoint/joint.py", "wearjoint/core/contact.py", "fmu_src/status_shim.c",
-                    "fmu_src/ClearanceWearJoint.py"):
+    for shipped in ("wearjoint/joint.py", "wearjoint/core/contact.py", "fmu_src/pythonfmu/status_shim.c",
+                    "fmu_src/pythonfmu/ClearanceWearJoint.py"):
         assert edited(shipped) != key, shipped
 
 

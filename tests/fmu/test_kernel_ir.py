@@ -23,11 +23,12 @@ def test_the_digest_is_the_same_where_the_package_is_installed(tmp_path, monkeyp
     spec = MODELS["joint"]
     in_tree = kernel_ir.kernel_digest(spec)
     installed = tmp_path / "site-packages" / "wearjoint" / "fmu_src"
-    installed.mkdir(parents=True)
-    (installed / spec.kernel_header).write_bytes((kernel_ir.FMU_SOURCE_DIR / spec.kernel_header).read_bytes())
+    header = installed / spec.folder / spec.kernel_header
+    header.parent.mkdir(parents=True)
+    header.write_bytes((kernel_ir.FMU_SOURCE_DIR / spec.folder / spec.kernel_header).read_bytes())
     monkeypatch.setattr(kernel_ir, "FMU_SOURCE_DIR", installed)
     assert kernel_ir.kernel_digest(spec) == in_tree
-    (installed / spec.kernel_header).write_bytes(b"/* another header */\n")
+    header.write_bytes(b"/* another header */\n")
     assert kernel_ir.kernel_digest(spec) != in_tree
 
 

@@ -39,8 +39,8 @@ import sys
 from pathlib import Path
 
 # model -> (module of its cfuncs, {stable C symbol: (cfunc, its number of arguments)}); the C
-# prototypes (the model's kernel header: fmu_src/joint_kernels.h, fmu_src/slider_crank_kernels.h; the state
-# format's, wearjoint_*_state*, in fmu_src/state_format.h for both) take two
+# prototypes (the model's kernel header: fmu_src/joint/joint_kernels.h, fmu_src/slider_crank/slider_crank_kernels.h; the state
+# format's, wearjoint_*_state*, in fmu_src/fmi/state_format.h for both) take two
 # more (return value, exception info).  A cfunc whose argument count differs from its
 # prototype's fails the build.
 ENTRY_POINTS = {

@@ -8,7 +8,7 @@ Backends (docs/model.md, "The FMU"):
   (``fmu_src/``), one shared library per platform needing only the system C runtime
   (:mod:`wearjoint.fmu.build_native`; linux64, win64, aarch64-linux:
   :mod:`wearjoint.fmu.platforms`); FMI 2.0 (default) or FMI 3.0 (``fmi_version=3``);
-* ``pythonfmu`` -- the Python slave ``fmu_src/ClearanceWearJoint.py`` behind a C
+* ``pythonfmu`` -- the Python slave ``fmu_src/pythonfmu/ClearanceWearJoint.py`` behind a C
   status shim; the host needs Python with numpy and numba
   (:mod:`wearjoint.fmu.build_pythonfmu`); FMI 2.0, linux64 only.
 """

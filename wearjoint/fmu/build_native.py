@@ -52,13 +52,14 @@ from .model_description import (
 
 FMI_VERSIONS = (2, 3)
 DEFAULT_FMI_VERSION = 2
-# the FMI layer, every model's: its files and the header they share
+# the FMI layer, every model's (fmu_src/fmi/): its files and the header they share
 GLUE_C_SOURCES_BY_VERSION = {
     2: ("fmi2Functions.c", "fmi2_values.c", "fmi2_cosimulation.c", "fmi2_model_exchange.c", "fmi2_instance.h"),
     3: ("fmi3Functions.c", "fmi3_values.c", "fmi3_not_provided.c", "fmi3_cosimulation.c", "fmi3_model_exchange.c",
         "fmi3_instance.h"),
 }
-COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h", "fmi_checks.h")
+COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h", "fmi_checks.h", "state_format.h")
+FMI_LAYER_FOLDER = "fmi"
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
@@ -72,6 +73,7 @@ class NativeModel:
 
     name: str                  # build_fmu's ``model``
     identifier: str            # modelIdentifier: the binary's and the .fmu's name
+    folder: str                # its C part's folder in fmu_src/
     c_sources: tuple
     kernel_header: str
     modules: tuple             # the wearjoint modules whose content decides this model's FMU (with BUILD_MODULES)
@@ -84,15 +86,14 @@ class NativeModel:
 
 
 MODELS = {m.name: m for m in (
-    NativeModel("joint", fv.MODEL_NAME, ("joint_model.c", "joint_instance.c", "joint_instance.h", "joint_kernels.h",
-                                          "state_format.h"), "joint_kernels.h",
+    NativeModel("joint", fv.MODEL_NAME, "joint", ("joint_model.c", "joint_instance.c", "joint_instance.h",
+                                                   "joint_kernels.h"), "joint_kernels.h",
                 ("core/geometry.py", "core/pressure.py", "core/contact.py", "core/foundation_wear.py", "core/wear.py",
                  "core/state_format.py", "joint.py", "fmu/joint_entry_points.py",
                  "fmu/state_entry_points.py"),
                 ("fmu/joint_entry_points.py", "fmu/state_entry_points.py"),
                 False),
-    NativeModel("slider-crank", sc.MODEL_IDENTIFIER, ("slider_crank_model.c", "slider_crank_kernels.h",
-                                                      "state_format.h"),
+    NativeModel("slider-crank", sc.MODEL_IDENTIFIER, "slider_crank", ("slider_crank_model.c", "slider_crank_kernels.h"),
                 "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "core/trig.py", "core/state_format.py",
                                            "fmu/slider_crank.py", "fmu/slider_crank_entry_points.py",
                                            "fmu/state_entry_points.py"),
@@ -109,8 +110,16 @@ def native_model(model) -> NativeModel:
 
 
 def c_sources(fmi_version: int, model: str = DEFAULT_MODEL) -> tuple:
-    """The C files of ``model``'s binary (and headers) for ``fmi_version``."""
+    """The C files of ``model``'s binary (and headers) for ``fmi_version``: their names in the FMU's sources
+    folder, which holds them side by side."""
     return (*GLUE_C_SOURCES_BY_VERSION[fmi_version], *COMMON_C_SOURCES, *native_model(model).c_sources)
+
+
+def source_file(name: str, model: str = DEFAULT_MODEL) -> Path:
+    """Where :func:`c_sources`' file ``name`` of ``model`` is: fmu_src/ the model's folder for its C part,
+    fmu_src/fmi/ for the FMI layer."""
+    spec = native_model(model)
+    return FMU_SOURCE_DIR / (spec.folder if name in spec.c_sources else FMI_LAYER_FOLDER) / name
 FMI_HEADERS_BY_VERSION = {2: ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"),
                           3: ("fmi3Functions.h", "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")}
 EXPORTS_MAP_BY_VERSION = {v: f"{{\n  global: fmi{v}*;\n  local: *;\n}};\n" for v in FMI_VERSIONS}   # ELF platforms
@@ -125,7 +134,7 @@ def check_fmi_version(fmi_version) -> int:
 
 def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL) -> list[Path]:
     spec = native_model(model)
-    return [*(FMU_SOURCE_DIR / name for name in c_sources(check_fmi_version(fmi_version), model)),
+    return [*(source_file(name, model) for name in c_sources(check_fmi_version(fmi_version), model)),
             *(PACKAGE_DIR / name for name in (*BUILD_MODULES, *spec.modules))]
 
 
@@ -383,7 +392,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         sources = Path(tmp) / "sources"
         modules = compile_kernel_ir(sources / "kernels", spec, reuse=not force)
         for name in c_sources(fmi_version, model):
-            (sources / name).write_bytes((FMU_SOURCE_DIR / name).read_bytes())
+            (sources / name).write_bytes(source_file(name, model).read_bytes())
         for name in FMI_HEADERS_BY_VERSION[fmi_version]:
             (sources / name).write_bytes((headers / name).read_bytes())
         (sources / "model_variables.h").write_text(header)

@@ -9,7 +9,7 @@ no problem: units, ModelStructure dependencies (direct feed-through of the
 force outputs on the 12 inputs) and InitialUnknowns.
 
 pythonfmu 0.7 reports every Python exception as fmi2Fatal.  The build therefore
-compiles ``fmu_src/status_shim.c`` (a C compiler is required: ``$CC``, default
+compiles ``fmu_src/pythonfmu/status_shim.c`` (a C compiler is required: ``$CC``, default
 gcc; Linux x86_64 only) into the FMU's ``binaries/linux64/ClearanceWearJoint.so``;
 pythonfmu's binary becomes ``binaries/linux64/pythonfmu_ClearanceWearJoint.so``
 behind it, and errors the slave reports come out as fmi2Error.
@@ -38,8 +38,8 @@ from .build_common import (
 )
 from .model_description import model_description_xml
 
-SLAVE_SOURCE = FMU_SOURCE_DIR / f"{fv.MODEL_NAME}.py"
-SHIM_SOURCE = FMU_SOURCE_DIR / "status_shim.c"
+SLAVE_SOURCE = FMU_SOURCE_DIR / "pythonfmu" / f"{fv.MODEL_NAME}.py"
+SHIM_SOURCE = FMU_SOURCE_DIR / "pythonfmu" / "status_shim.c"
 # the shim takes the place of pythonfmu's binary, which it loads from the same folder
 SHIM_ARCNAME = BINARY_ARCNAME
 WRAPPED_BINARY_NAME = f"pythonfmu_{fv.MODEL_NAME}.so"
@@ -103,7 +103,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
 
 
 def _compile_status_shim(library: Path) -> Path:
-    """Compile fmu_src/status_shim.c into ``library`` (``$CC``, default gcc); RuntimeError if impossible."""
+    """Compile fmu_src/pythonfmu/status_shim.c into ``library`` (``$CC``, default gcc); RuntimeError if impossible."""
     compiler = c_compiler("the FMU's status shim")
     headers = fmi2_headers()
     command = [compiler, "-shared", "-fPIC", "-O2", "-fvisibility=hidden", f"-I{headers}",

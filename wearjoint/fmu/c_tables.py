@@ -16,7 +16,7 @@ def c_double(value: float) -> str:
 
 
 def parameter_rows(parameters) -> list[str]:
-    """The rows of a ``ParameterInfo`` table (fmu_src/fmu_model.h) for ``parameters`` =
+    """The rows of a ``ParameterInfo`` table (fmu_src/fmi/fmu_model.h) for ``parameters`` =
     (name, slot, start, number of choices, :class:`~wearjoint.fmu.variables.Allowed`, index of the
     parameter it must exceed or -1, the allowed values as the error message states them); an
     ``Allowed.when`` names parameters of the same table (at most two)."""

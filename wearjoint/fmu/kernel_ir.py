@@ -52,7 +52,7 @@ def kernel_digest(spec) -> str:
     kernels' sources and its kernel header, named as in the source tree (``wearjoint/...``,
     ``fmu_src/...``) wherever the package is installed."""
     python = source_digest([PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)], PACKAGE_DIR.parent)
-    header = source_digest([FMU_SOURCE_DIR / spec.kernel_header], FMU_SOURCE_DIR.parent)
+    header = source_digest([FMU_SOURCE_DIR / spec.folder / spec.kernel_header], FMU_SOURCE_DIR.parent)
     return hashlib.sha256(f"{python}{header}".encode()).hexdigest()[:16]
 
 

@@ -1,7 +1,7 @@
 """The variables of the ``ClearanceWearJoint`` FMU: names, order, units, descriptions, defaults.
 
 This table is the single definition shared by the pythonfmu slave
-(``fmu_src/ClearanceWearJoint.py``), the build step (units, ModelStructure) and
+(``fmu_src/pythonfmu/ClearanceWearJoint.py``), the build step (units, ModelStructure) and
 co-simulation masters (value references looked up by name).  The slave
 registers the variables in exactly the order of :func:`fmu_variables`, so
 value reference = position in that list; masters should still look them up

@@ -1,6 +1,6 @@
 """pythonfmu reference slave ``ClearanceWearJoint``: FMI 2.0 Co-Simulation of one
 :class:`wearjoint.ClearanceJoint` (contract: docs/model.md §5), with the variables and numbers
-of the native FMU (fmu_src/fmi2Functions.c).
+of the native FMU (fmu_src/fmi/fmi2Functions.c).
 
 * Variables come from :mod:`wearjoint.fmu.variables`, registered in its order (value
   reference = position in ``fmu_variables(n_points)``).  Every Real value lives in one array
@@ -9,7 +9,7 @@ of the native FMU (fmu_src/fmi2Functions.c).
   a step or an FMU state changed them.
 * ``doStep(t, h)`` advances wear and contact memory with the inputs held at t.
 * Parameters are read at exitInitializationMode (the kernels compile there) and fixed afterwards.
-* Errors are logged with fmi2Error and flagged to the status shim (fmu_src/status_shim.c, the
+* Errors are logged with fmi2Error and flagged to the status shim (fmu_src/pythonfmu/status_shim.c, the
   FMU's binary), which returns fmi2Error where pythonfmu alone gives fmi2Fatal (:meth:`_abort_call`).
   Non-finite inputs: getReal of a joint output fails, doStep is discarded (fmi2Discard).
 
