@@ -53,7 +53,8 @@ class SimulationOptions:
     the ideal mechanism always uses).  ``onset_penetration_m``: how deep past a
     contact onset an adaptive step may end (event location, see
     ``core.integrators.integrate``).  ``free_flight_max_step_s`` (dopri): the largest step that starts with
-    no contact active, where nothing wears (None: 1e-4 s with the default ``max_step_s``, else ``max_step_s``).  ``sample_dt_s``: spacing of the time series."""
+    no contact active, where nothing wears (None: 1e-4 s with the default ``max_step_s``, else
+    ``max_step_s``).  ``sample_dt_s``: spacing of the time series."""
 
     revolutions: float = 2.0
     integrator: str = "dopri"
@@ -83,6 +84,9 @@ class SimulationOptions:
             _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
         largest = self.max_step_s or 1e-7                   # None: the wear-step limit, at least this
         _require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
+        if self.free_flight_max_step_s is not None:
+            _require("free_flight_max_step_s", self.free_flight_max_step_s,
+                     self.free_flight_max_step_s >= self.min_step_s, f">= min_step_s = {self.min_step_s!r}")
 
     def for_joint(self, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> "SimulationOptions":
         """These options for a run of ``joint`` in ``mechanism``: the default ``max_step_s`` resolved, an

@@ -190,3 +190,5 @@ def test_the_free_flight_cap_defaults_to_max_step_when_that_is_given():
     assert SimulationOptions(max_step_s=1e-5, free_flight_max_step_s=2e-4).for_joint(joint).free_flight_max_step_s == 2e-4
     with pytest.raises(ParameterError, match=r"free_flight_max_step_s=0\.0 is invalid"):
         SimulationOptions(free_flight_max_step_s=0.0)
+    with pytest.raises(ParameterError, match=r"free_flight_max_step_s=1e-11 is invalid: allowed >= min_step_s"):
+        SimulationOptions(free_flight_max_step_s=1e-11)
