@@ -80,7 +80,7 @@ def _evaluation_costs(joint, options, fmu, samples):
             states.append(me.y.copy())
         states = np.array(states)
         costs = []
-        for target in (mono._joint_arrays, me._joint_arrays):
+        for target in (mono._joint_arrays, me._fmu_joint):
             _evaluate_repeatedly(target, me.t, states, 10)
             best = np.inf
             for _ in range(5):

@@ -142,11 +142,21 @@ class Simulation:
         # gear: the BDF solvers' counts (right-hand sides outside finite-difference Jacobians, Jacobians,
         # LU decompositions (scipy only)), summed over the solvers (one per advance_to)
         self.solver_counts = {}
+        self._integrator_joint = None
         self._derivative()
 
     @property
-    def _joint_arrays(self) -> JointArrays:
-        return self.joint.arrays
+    def _joint_arrays(self):
+        """The joint the integrator calls: the in-process arrays, or the one :meth:`integrate_with` gave."""
+        return self.joint.arrays if self._integrator_joint is None else self._integrator_joint
+
+    def integrate_with(self, joint) -> None:
+        """Integrate with ``joint`` in place of the in-process arrays from now on (RK4 or DOPRI): an
+        :data:`~wearjoint.cosim.fmu_joint.FmuJoint`, the joint FMU's Model Exchange interface that
+        :class:`~wearjoint.cosim.model_exchange.ModelExchangeSimulation` composes with this engine.  The
+        derivative at the current state is evaluated through it."""
+        self._integrator_joint = joint
+        self._derivative()
 
     def _derivative(self):
         """dy = f(t, y).  RK4 and DOPRI: by their integrator over no time (it evaluates f where it starts), so a

@@ -27,9 +27,10 @@ from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
 INTERFACES = ("co-simulation", "model-exchange")
 
 
-class ModelExchangeSimulation(Simulation):
-    """:class:`wearjoint.simulate.Simulation` with the joint in the FMU (Model Exchange); call
-    :meth:`close` (or use ``with``) to free the FMU instance."""
+class ModelExchangeSimulation:
+    """The monolithic engine (:class:`wearjoint.simulate.Simulation`, composed) integrating the slider-crank with
+    the joint in the FMU (Model Exchange): a :class:`wearjoint.runner.Engine`.  Call :meth:`close` (or use
+    ``with``) to free the FMU instance."""
 
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                  options: SimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,
@@ -49,24 +50,29 @@ class ModelExchangeSimulation(Simulation):
         self._fmu = FmuInstance(self.fmu_path, joint, self._io[:N_INPUTS], self._io[N_INPUTS:], OUTPUT_NAMES,
                                 interface="model-exchange")
         try:
-            self._fmu_joint = None
-            super().__init__(joint, mechanism, options, initial_profile_m)   # the in-process joint: its parameter vector
+            # the in-process joint lends the FMU joint its parameter vector, memory mirror and result array
+            self._engine = Simulation(joint, mechanism, options, initial_profile_m)
+            in_process = self._engine.joint
             f = self._fmu
             if initial_profile_m is not None:
                 f.set_wear_profile(initial_profile_m, 0.0)
             self._fmu_joint = FmuJoint(f.component, *f.model_exchange_functions, f.input_vrs, f.output_vrs,
-                                       OUTPUT_RESULT_INDEX.astype(np.int64), self._io, self.joint.result,
-                                       self.joint.parameter_vector, self.joint.memory, f.event_info,
+                                       OUTPUT_RESULT_INDEX.astype(np.int64), self._io, in_process.result,
+                                       in_process.parameter_vector, in_process.memory, f.event_info,
                                        np.zeros(2, dtype=np.int32), np.zeros(2, dtype=np.int64), np.zeros(3))
-            self._derivative()
+            self._engine.integrate_with(self._fmu_joint)
+            self._check()
         except BaseException:
             self.close()
             raise
 
-    @property
-    def _joint_arrays(self):
-        """The joint the integrator sees: the FMU (before it is connected, the in-process arrays)."""
-        return super()._joint_arrays if self._fmu_joint is None else self._fmu_joint
+    # the engine's state, read through
+    t = property(lambda self: self._engine.t)
+    y = property(lambda self: self._engine.y)
+    accepted = property(lambda self: self._engine.accepted)
+    rejected = property(lambda self: self._engine.rejected)
+    revolution_stats = property(lambda self: self._engine.revolution_stats)
+    joint_parameters = property(lambda self: self._engine.joint_parameters)
 
     @property
     def events(self) -> tuple[int, int]:
@@ -78,40 +84,30 @@ class ModelExchangeSimulation(Simulation):
         if failure[0] != 0.0:
             self._fmu.check(int(failure[1]), FMU_CALLS[int(failure[0])], float(failure[2]))
 
-    def _derivative(self):
-        if self._fmu_joint is not None:   # none before the FMU is connected: nothing to evaluate yet
-            super()._derivative()
-            self._check()
-
     def warm_up(self) -> None:
         """Compile the integrator for the FMU joint without advancing (an empty interval)."""
-        integrate(self._method, self.t, self.t, self.y.copy(), self.control.copy(), self.mode,
-                  self.mechanism.parameter_vector, self._fmu_joint, self.body_forces.copy(), self.mechanism.workspace,
-                  self.dy.copy(), self.revolution_stats.copy(), np.zeros((0, L.N_SAMPLE_COLUMNS)), self.track.copy())
+        e = self._engine
+        integrate(e._method, e.t, e.t, e.y.copy(), e.control.copy(), e.mode, e.mechanism.parameter_vector,
+                  self._fmu_joint, e.body_forces.copy(), e.mechanism.workspace, e.dy.copy(), e.revolution_stats.copy(),
+                  np.zeros((0, L.N_SAMPLE_COLUMNS)), e.track.copy())
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
-        n = super().advance_to(t_end, samples)
+        n = self._engine.advance_to(t_end, samples)
         self._check()
         return n
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
         values = self._fmu.wear(self.t)
-        n = self.joint.params.n_points
-        return self.joint.phi_deg, values[:n], float(values[n + 1])
+        n = self.joint_parameters.n_points
+        return self._engine.joint.phi_deg, values[:n], float(values[n + 1])
 
     def max_wear_depth_m(self) -> float:
         return self._fmu.max_wear_depth(self.t)
 
-    def set_wear_profile(self, depth_m) -> None:
-        raise ParameterError("the joint FMU offers no way to set its wear profile (cycle jumping)")
-
-    def checkpoint(self) -> dict:
-        raise ParameterError("checkpoints of the Model Exchange engine are not supported")
-
     def describe(self) -> tuple[dict, dict]:
         """The monolithic engine's record naming the FMU and its interface (:class:`wearjoint.runner.Engine`)."""
-        parameters, _ = super().describe()
+        parameters, _ = self._engine.describe()
         parameters |= {"engine": "cosim", "fmu_interface": "model-exchange", "fmu": str(self.fmu_path),
                        "fmu_backend": self.fmu_backend}
         return parameters, {"integrator_accepted_steps": self.accepted, "integrator_rejected_steps": self.rejected}
