@@ -38,7 +38,7 @@ from wearjoint import analysis
 from wearjoint.analysis import ensemble_statistics, revolution_statistics
 from wearjoint.core import layout as L
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
-from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, _finite, _require
+from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, finite, require
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
 from wearjoint.sweep.design import perturbed_start
@@ -96,14 +96,14 @@ class ValidationPlan:
     def __post_init__(self):
         for name in ("revolutions", "window_s", "wear_revolutions", "wear_factor", "reference_step_s",
                      "exudyn_step_s", "exudyn_wear_step_s", "cosim_step_s", "window_step_s", "sample_dt_s"):
-            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
-        _require("ensemble", self.ensemble, not isinstance(self.ensemble, bool) and isinstance(self.ensemble, int)
+            require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
+        require("ensemble", self.ensemble, not isinstance(self.ensemble, bool) and isinstance(self.ensemble, int)
                  and self.ensemble >= 2, "an integer >= 2 (a spread needs two starts)")
         for name in self.engines:
-            _require("engines", name, name in ENGINES, "names from " + ", ".join(ENGINES))
-        _require("engines", ",".join(self.engines), REFERENCE in self.engines,
+            require("engines", name, name in ENGINES, "names from " + ", ".join(ENGINES))
+        require("engines", ",".join(self.engines), REFERENCE in self.engines,
                  f"a list that includes the reference {REFERENCE!r}")
-        _require("fmu_backend", self.fmu_backend, self.fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
+        require("fmu_backend", self.fmu_backend, self.fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
 
     def engine_step_s(self, engine: str, wear: bool = False) -> float:
         """The step of an engine's statistics (or ``wear``) runs [s]."""
@@ -265,7 +265,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
     different joint: the validation's self-check, which must then fail."""
     changes = engine_joint_changes or {}
     for engine in changes:
-        _require("perturbed engine", engine, engine in plan.engines and engine != REFERENCE,
+        require("perturbed engine", engine, engine in plan.engines and engine != REFERENCE,
                  "an engine of the plan other than the reference " + REFERENCE)
     no_wear = joint.replace(wear_factor=0.0)
     wear = joint.replace(wear_factor=plan.wear_factor)

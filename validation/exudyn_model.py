@@ -42,7 +42,7 @@ from wearjoint.exudyn import add_clearance_joint, set_post_step
 from wearjoint.joint import ClearanceJoint
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import (
-    JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
+    JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
 )
 from wearjoint.progress import Progress
 from wearjoint.results import RunRecord, new_revolution_stats, new_track
@@ -56,7 +56,7 @@ SPECTRAL_RADIUS = 0.9        # generalized-alpha rho_inf (exudyn's default; 1 = 
 
 
 def _contact_formulation(contact: str) -> int:
-    _require("contact", contact, contact in CONTACT_FORMULATIONS, "one of " + ", ".join(CONTACT_FORMULATIONS))
+    require("contact", contact, contact in CONTACT_FORMULATIONS, "one of " + ", ".join(CONTACT_FORMULATIONS))
     return CONTACT_FORMULATIONS.index(contact)
 
 
@@ -227,10 +227,10 @@ class ExudynSliderCrank:
         generalized-alpha solver at the fixed step ``step_s`` [s] (rounded so that
         whole steps end at ``end_time_s``); fills :attr:`samples`,
         :attr:`revolution_stats`, :attr:`wear_growth`.  Call once per instance."""
-        _require("end_time_s", end_time_s, _finite("end_time_s", end_time_s) > 0.0, "> 0")
-        _require("step_s", step_s, 0.0 < _finite("step_s", step_s) <= end_time_s, f"in (0, end_time_s = {end_time_s!r}]")
-        _require("sample_dt_s", sample_dt_s, _finite("sample_dt_s", sample_dt_s) > 0.0, "> 0")
-        _require("spectral_radius", spectral_radius, 0.0 <= _finite("spectral_radius", spectral_radius) <= 1.0,
+        require("end_time_s", end_time_s, finite("end_time_s", end_time_s) > 0.0, "> 0")
+        require("step_s", step_s, 0.0 < finite("step_s", step_s) <= end_time_s, f"in (0, end_time_s = {end_time_s!r}]")
+        require("sample_dt_s", sample_dt_s, finite("sample_dt_s", sample_dt_s) > 0.0, "> 0")
+        require("spectral_radius", spectral_radius, 0.0 <= finite("spectral_radius", spectral_radius) <= 1.0,
                  "in [0, 1]")
         if self.accepted_steps or self.t > 0.0:
             raise RuntimeError("ExudynSliderCrank.simulate runs once; build a new model for another run")
@@ -280,8 +280,8 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
     (generalized-alpha, fixed step ``step_s`` [s]; None = the paper's parameters);
     returns the same :class:`RunRecord` as :func:`wearjoint.simulate.run_simulation`,
     with ``parameters["engine"] == "exudyn"``."""
-    _require("revolutions", revolutions, _finite("revolutions", revolutions) > 0.0, "> 0")
-    _require("ideal", ideal, isinstance(ideal, bool), "True or False")
+    require("revolutions", revolutions, finite("revolutions", revolutions) > 0.0, "> 0")
+    require("ideal", ideal, isinstance(ideal, bool), "True or False")
     model = ExudynSliderCrank(joint, mechanism, contact=contact, ideal=ideal)
     period = model.mechanism.params.period_s
     try:

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from wearjoint.core import layout as L
-from wearjoint.parameters import JointParameters, SliderCrankParameters, _require
+from wearjoint.parameters import JointParameters, SliderCrankParameters, require
 from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.validation.compare import (
     compare, run_engines,
@@ -362,7 +362,7 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
     engine raised, 3 an engine is not available)."""
     mechanism = mechanism or SliderCrankParameters()
     joint = joint or JointParameters(**mechanism.joint_offsets())
-    _require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
+    require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
              f"<= the no-wear run ({plan.revolutions:g} rev = {plan.revolutions * mechanism.period_s:g} s)")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

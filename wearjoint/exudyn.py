@@ -46,7 +46,7 @@ from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
 from .core.wear import STEP_OVERSHOT, advance_joint
 from .joint import ClearanceJoint, ContactResult
-from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, _require
+from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
 
 # the columns of ClearanceJointHandle.history(), one row per accepted step
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
@@ -361,7 +361,7 @@ def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate
     :data:`NEWTON_SAFETY` k eps X (3e-6 N for the paper's joint at X = 1 m), a joint load F then
     resolved to that over F.  The relative tolerance stays exudyn's; modified Newton updates the
     Jacobian after 2 iterations without convergence instead of 8 (fewer iterations per step)."""
-    _require("coordinate_scale_m", coordinate_scale_m, math.isfinite(coordinate_scale_m) and coordinate_scale_m > 0.0,
+    require("coordinate_scale_m", coordinate_scale_m, math.isfinite(coordinate_scale_m) and coordinate_scale_m > 0.0,
              "a finite length > 0 m")
     stiffness = max((contact_stiffness_bound(h.joint.params) for h in handles),
                     default=contact_stiffness_bound(JointParameters()))

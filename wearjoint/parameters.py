@@ -35,17 +35,20 @@ class ParameterError(ValueError):
     """A parameter value outside its allowed range."""
 
 
-def _require(name: str, value, ok: bool, allowed: str) -> None:
+def require(name: str, value, ok: bool, allowed: str) -> None:
+    """ParameterError naming ``name``, its ``value`` and what is ``allowed`` unless ``ok``: the one-line message
+    every edge (API, CLI, FMU build, exudyn, sweep) gives for a bad value."""
     if not ok:
         raise ParameterError(f"parameter {name}={value!r} is invalid: allowed {allowed}")
 
 
-def _finite(name: str, value) -> float:
+def finite(name: str, value) -> float:
+    """``value`` as a finite float, else :func:`require`'s error naming ``name``."""
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite real number") from None
-    _require(name, value, math.isfinite(x), "a finite real number")
+    require(name, value, math.isfinite(x), "a finite real number")
     return x
 
 
@@ -57,11 +60,11 @@ def _is_finite_pair(value) -> bool:
 
 
 def _positive(name: str, value) -> None:
-    _require(name, value, _finite(name, value) > 0.0, "> 0")
+    require(name, value, finite(name, value) > 0.0, "> 0")
 
 
 def _choice(name: str, value, choices) -> None:
-    _require(name, value, value in choices, "one of " + ", ".join(choices))
+    require(name, value, value in choices, "one of " + ", ".join(choices))
 
 
 def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
@@ -170,37 +173,37 @@ class JointParameters:
             _positive("contact_stiffness_N_m1_5", self.contact_stiffness_N_m1_5)
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
-            _require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
+            require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
             object.__setattr__(self, name, (float(value[0]), float(value[1])))
-        _require("bushing_radius_m", self.bushing_radius_m,
+        require("bushing_radius_m", self.bushing_radius_m,
                  self.bushing_radius_m > self.pin_radius_m,
                  f"> pin_radius_m = {self.pin_radius_m!r} (the clearance must be positive)")
         for name in ("pin_poisson_ratio", "bushing_poisson_ratio"):
             value = getattr(self, name)
-            _require(name, value, 0.0 < _finite(name, value) < 0.5, "in (0, 0.5)")
-        _require("restitution", self.restitution, 0.0 < _finite("restitution", self.restitution) <= 1.0,
+            require(name, value, 0.0 < finite(name, value) < 0.5, "in (0, 0.5)")
+        require("restitution", self.restitution, 0.0 < finite("restitution", self.restitution) <= 1.0,
                  "in (0, 1]")
         for name in ("friction_coefficient", "friction_v0_m_s", "wear_coefficient_m2_N", "wear_factor"):
             value = getattr(self, name)
-            _require(name, value, _finite(name, value) >= 0.0, ">= 0")
-        _require("friction_v1_m_s", self.friction_v1_m_s, self.friction_v1_m_s > self.friction_v0_m_s,
+            require(name, value, finite(name, value) >= 0.0, ">= 0")
+        require("friction_v1_m_s", self.friction_v1_m_s, self.friction_v1_m_s > self.friction_v0_m_s,
                  f"> friction_v0_m_s = {self.friction_v0_m_s!r}")
-        _require("wear_interval_s", self.wear_interval_s,
-                 0.0 <= _finite("wear_interval_s", self.wear_interval_s) <= MAX_WEAR_STEP_S,
+        require("wear_interval_s", self.wear_interval_s,
+                 0.0 <= finite("wear_interval_s", self.wear_interval_s) <= MAX_WEAR_STEP_S,
                  f"in [0, {MAX_WEAR_STEP_S:g}] s (0: each accepted step's wear at that step)")
         n = self.n_points
-        _require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
+        require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
                  "an integer >= 8")
         _choice("rho_mode", self.rho_mode, RHO_MODES)
         _choice("wear_placement", self.wear_placement, WEAR_PLACEMENTS)
         _choice("sliding_distance", self.sliding_distance, SLIDING_DISTANCES)
         _choice("contact_model", self.contact_model, CONTACT_MODELS)
         _choice("contact_damping", self.contact_damping, CONTACT_DAMPINGS)
-        _require("contact_exponent", self.contact_exponent,
+        require("contact_exponent", self.contact_exponent,
                  self.contact_model != "foundation" or self.contact_exponent == 1.5,
                  "1.5 with contact_model='foundation' (a linear foundation on a circle gives delta^1.5; "
                  "other exponents need contact_model='deepest')")
-        _require("contact_exponent", self.contact_exponent,
+        require("contact_exponent", self.contact_exponent,
                  self.contact_stiffness_N_m1_5 is not None or self.contact_exponent == 1.5,
                  "1.5 without a given contact_stiffness_N_m1_5 (the radii and materials give K of the exponent 1.5)")
 
@@ -208,8 +211,8 @@ class JointParameters:
         """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under this joint's
         damping, F = F_e max(0, 1 + chi delta_dot / v), chi = 3(1 - e_r^2)/4 (docs/model.md §3.5): v is
         ``restitution_speed_m_s`` (Hunt-Crossley) or the impact speed itself, floored (Lankarani-Nikravesh)."""
-        speed = _finite("impact_speed_m_s", impact_speed_m_s)
-        _require("impact_speed_m_s", impact_speed_m_s, speed > 0.0, "> 0")
+        speed = finite("impact_speed_m_s", impact_speed_m_s)
+        require("impact_speed_m_s", impact_speed_m_s, speed > 0.0, "> 0")
         chi = 0.75 * (1.0 - self.restitution ** 2)
         reference = (self.restitution_speed_m_s if self.contact_damping == "hunt-crossley"
                      else max(speed, self.impact_velocity_floor_m_s))
@@ -298,11 +301,11 @@ class SliderCrankParameters:
                      "crank_speed_rpm"):
             _positive(name, getattr(self, name))
         for name in ("initial_crank_angle_deg", "gravity_m_s2", "baumgarte_alpha", "baumgarte_beta"):
-            _finite(name, getattr(self, name))
-        _require("rod_length_m", self.rod_length_m, self.rod_length_m > self.crank_length_m,
+            finite(name, getattr(self, name))
+        require("rod_length_m", self.rod_length_m, self.rod_length_m > self.crank_length_m,
                  f"> crank_length_m = {self.crank_length_m!r} (the crank must turn fully)")
-        _require("baumgarte_alpha", self.baumgarte_alpha, self.baumgarte_alpha >= 0.0, ">= 0")
-        _require("baumgarte_beta", self.baumgarte_beta, self.baumgarte_beta >= 0.0, ">= 0")
+        require("baumgarte_alpha", self.baumgarte_alpha, self.baumgarte_alpha >= 0.0, ">= 0")
+        require("baumgarte_beta", self.baumgarte_beta, self.baumgarte_beta >= 0.0, ">= 0")
 
     @property
     def omega_rad_s(self) -> float:
@@ -343,7 +346,7 @@ def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankPar
     expected = mechanism.joint_offsets()
     for name, value in expected.items():
         got = getattr(joint, name)
-        _require(name, got, all(abs(a - b) <= 1e-12 for a, b in zip(got, value)),
+        require(name, got, all(abs(a - b) <= 1e-12 for a, b in zip(got, value)),
                  f"{tuple(value)} for this slider-crank (crank tip / rod end)")
 
 
@@ -360,7 +363,8 @@ def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> b
             and all(getattr(joint, name) == getattr(paper, name) for name in PAPER_JOINT_GEOMETRY))
 
 
-__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "contact_stiffness", "is_paper_case", "PAPER_JOINT_GEOMETRY",
+__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "require", "finite", "contact_stiffness",
+           "is_paper_case", "PAPER_JOINT_GEOMETRY",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
            "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S",

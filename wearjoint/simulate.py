@@ -15,7 +15,7 @@ from .core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
 from .joint import ClearanceJoint
 from .mechanism import SliderCrank
 from .parameters import (
-    MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, _finite, _require,
+    MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, finite, require,
     check_joint_fits_mechanism, paper_joint,
 )
 from .results import RunRecord, new_revolution_stats, new_track
@@ -72,20 +72,20 @@ class SimulationOptions:
     gear_jacobian: str = "exact"
 
     def __post_init__(self):
-        _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
-        _require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
-        _require("gear_solver", self.gear_solver, self.gear_solver in GEAR_SOLVERS, "one of " + ", ".join(GEAR_SOLVERS))
-        _require("gear_jacobian", self.gear_jacobian, self.gear_jacobian in GEAR_JACOBIANS,
+        require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
+        require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
+        require("gear_solver", self.gear_solver, self.gear_solver in GEAR_SOLVERS, "one of " + ", ".join(GEAR_SOLVERS))
+        require("gear_jacobian", self.gear_jacobian, self.gear_jacobian in GEAR_JACOBIANS,
                  "one of " + ", ".join(GEAR_JACOBIANS))
         positive = ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s", "sample_dt_s",
                     "onset_penetration_m") + tuple(name for name in ("max_step_s", "free_flight_max_step_s")
                                                     if getattr(self, name) is not None)
         for name in positive:
-            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
+            require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
         largest = self.max_step_s or 1e-7                   # None: the wear-step limit, at least this
-        _require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
+        require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
         if self.free_flight_max_step_s is not None:
-            _require("free_flight_max_step_s", self.free_flight_max_step_s,
+            require("free_flight_max_step_s", self.free_flight_max_step_s,
                      self.free_flight_max_step_s >= self.min_step_s, f">= min_step_s = {self.min_step_s!r}")
 
     def for_joint(self, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> "SimulationOptions":

@@ -6,7 +6,7 @@ import sys
 from ..cosim import SCHEMES, CoSimulationError, CoSimulationOptions, run_cosimulation
 from ..cosim.masters import DEFAULT_STEP_S, MASTERS, master_available, run_master
 from ..cosim.model_exchange import INTERFACES, run_model_exchange
-from ..parameters import _finite, _require
+from ..parameters import finite, require
 from ..results import write_results
 from ..simulate import SimulationOptions
 from .options import (
@@ -70,19 +70,19 @@ def _third_party(args, joint, mechanism):
     missing = master_available(args.master)
     if missing is not None:
         installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
-        _require("--master", args.master, False,
+        require("--master", args.master, False,
                  f"one of the masters installed here, {', '.join(installed)} ({missing})")
     step = DEFAULT_STEP_S if args.step is None else args.step
-    _require("--step", step, _finite("--step", step) > 0.0, "a communication step > 0 [s]")
+    require("--step", step, finite("--step", step) > 0.0, "a communication step > 0 [s]")
     return run_master(args.master, joint, mechanism, args.revolutions, step, args.sample_dt, fmusim=args.fmusim)
 
 
 def run(args) -> int:
     """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error,
     2 on a bad option (one line naming it)."""
-    _require("--master", args.master, args.master in MASTERS, "one of " + ", ".join(MASTERS))
-    _require("--fmusim", args.fmusim, args.fmusim is None or args.master == "container", "only with --master container")
-    _require("--initial-profile", None if args.initial_profile is None else str(args.initial_profile),
+    require("--master", args.master, args.master in MASTERS, "one of " + ", ".join(MASTERS))
+    require("--fmusim", args.fmusim, args.fmusim is None or args.master == "container", "only with --master container")
+    require("--initial-profile", None if args.initial_profile is None else str(args.initial_profile),
              args.initial_profile is None or args.master == "wearjoint",
              "only with --master wearjoint (it sets the FMU's state; the SSP's masters start unworn)")
     joint, mechanism = model_from_args(args)

@@ -6,7 +6,7 @@ import json
 import sys
 from pathlib import Path
 
-from ..parameters import ParameterError, _require
+from ..parameters import ParameterError, require
 from ..studies.cosim_study import PAPER_STEPS_S, run_study, write_study
 from .options import add_fmu_arguments, add_model_arguments, model_from_args
 
@@ -37,7 +37,7 @@ def run(args) -> int:
                                  "factor 0.01")
         joint, mechanism = model_from_args(args)
         for step in args.steps or ():
-            _require("--steps", step, step > 0.0, "communication steps > 0 [s]")
+            require("--steps", step, step > 0.0, "communication steps > 0 [s]")
         study = run_study(args.revolutions, args.steps, args.schemes, fmu_path=args.fmu,
                           log=lambda m: print(m, file=sys.stderr, flush=True), fmu_backend=args.fmu_backend,
                           joint=joint, mechanism=mechanism)

@@ -17,7 +17,7 @@ from ..fmu.build import BACKENDS, DEFAULT_BACKEND
 from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
 from ..mechanism import SliderCrank
 from ..parameters import (
-    JointParameters, ParameterError, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism,
+    JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
     paper_joint,
 )
 from ..results import RunRecord, new_revolution_stats, new_track
@@ -49,12 +49,12 @@ class CoSimulationOptions:
     sample_dt_s: float = 1e-5
 
     def __post_init__(self):
-        _require("revolutions", self.revolutions, _finite("revolutions", self.revolutions) > 0.0, "> 0")
-        _require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
+        require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
+        require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
         for name in ("step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):
-            _require(name, getattr(self, name), _finite(name, getattr(self, name)) > 0.0, "> 0")
-        _require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
-        _require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
+            require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
+        require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
+        require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -78,7 +78,7 @@ class CoSimulation:
         self.mechanism = SliderCrank(mechanism)
         self.joint = joint or paper_joint(self.mechanism.params)
         check_joint_fits_mechanism(self.joint, self.mechanism.params)
-        _require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
+        require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
         self._slave = None
         build = start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)

@@ -29,7 +29,7 @@ from exudyn.itemInterface import (
 )
 
 from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step, simulation_settings
-from wearjoint.parameters import JointParameters, ParameterError, _require
+from wearjoint.parameters import JointParameters, ParameterError, require
 from wearjoint.progress import Progress
 from wearjoint.validation.exudyn_native import NativeContact
 
@@ -55,7 +55,7 @@ class FourBar:
 
     def __post_init__(self):
         lengths = sorted((self.crank_m, self.coupler_m, self.rocker_m, self.ground_m))
-        _require("crank_m", self.crank_m, self.crank_m == lengths[0] and lengths[0] + lengths[3] <= lengths[1] +
+        require("crank_m", self.crank_m, self.crank_m == lengths[0] and lengths[0] + lengths[3] <= lengths[1] +
                  lengths[2], "the shortest link, with shortest + longest <= the other two (Grashof crank-rocker)")
 
     @property
@@ -106,10 +106,10 @@ class FourBarModel:
                  contact: str = "wearjoint"):
         """``contact``: ``wearjoint`` (our joint, :func:`add_clearance_joint`) or ``native`` (exudyn's own
         hollow-sphere contact, unworn: :class:`~wearjoint.validation.exudyn_native.NativeContact`)."""
-        _require("contact", contact, contact in CONTACTS, "one of " + ", ".join(CONTACTS))
+        require("contact", contact, contact in CONTACTS, "one of " + ", ".join(CONTACTS))
         self.contact = contact
         self.linkage = linkage = linkage or FourBar()
-        _require("clearance_m", clearance_m, 0.0 < clearance_m < 1e-3, "in (0, 1 mm)")
+        require("clearance_m", clearance_m, 0.0 < clearance_m < 1e-3, "in (0, 1 mm)")
         a, b, c = linkage.crank_m, linkage.coupler_m, linkage.rocker_m
         (th2, th3, th4), (w2, w3, w4) = ideal_configuration(linkage, math.radians(linkage.initial_crank_angle_deg))
         self.system_container = exu.SystemContainer()
@@ -178,7 +178,7 @@ class FourBarModel:
         ``step_s`` [s] to ``end_time_s`` [s]; returns the rocker angle and Freudenstein's at every
         accepted step, the wall time, exudyn's steps and Newton iterations, and ``completed``: False
         if exudyn's Newton stopped earlier (docs/four_bar.md), the run then ending there."""
-        _require("end_time_s", end_time_s, math.isfinite(end_time_s) and end_time_s > 0.0, "> 0 s")
+        require("end_time_s", end_time_s, math.isfinite(end_time_s) and end_time_s > 0.0, "> 0 s")
         handles = self.joints.values() if self.contact == "wearjoint" else ()
         check_step(step_s, handles)
         linkage = self.linkage
@@ -243,7 +243,7 @@ def main(argv=None) -> int:
     parser.add_argument("--step", type=float, default=1e-5, help="solver step [s] (default %(default)s)")
     args = parser.parse_args(argv)
     try:
-        _require("revolutions", args.revolutions, math.isfinite(args.revolutions) and args.revolutions > 0, "> 0")
+        require("revolutions", args.revolutions, math.isfinite(args.revolutions) and args.revolutions > 0, "> 0")
         model = FourBarModel(clearance_m=args.clearance_m, wear_factor=args.wear_factor)
         run = model.simulate(args.revolutions * 60.0 / model.linkage.crank_speed_rpm, args.step, progress=True)
     except ParameterError as exc:

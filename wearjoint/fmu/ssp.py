@@ -21,7 +21,7 @@ from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from ..parameters import (
-    JointParameters, SliderCrankParameters, _finite, _require, check_joint_fits_mechanism, paper_joint,
+    JointParameters, SliderCrankParameters, finite, require, check_joint_fits_mechanism, paper_joint,
 )
 from . import slider_crank as sc
 from . import variables as fv
@@ -201,8 +201,8 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     joint = joint or paper_joint(mechanism)
     check_joint_fits_mechanism(joint, mechanism)
     stop_time = mechanism.period_s if stop_time is None else stop_time
-    _require("stop_time", stop_time, _finite("stop_time", stop_time) > 0.0, "> 0")
-    _require("step_s", step_s, 0.0 < _finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
+    require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
+    require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
     out_dir = Path(out_dir)
     with tempfile.TemporaryDirectory(prefix="wearjoint_ssp_") as tmp:
         fmus = {MECHANISM: build_fmu(Path(tmp) / MECHANISM, model="slider-crank", platforms=platforms,
@@ -261,7 +261,7 @@ def container_fmu(ssp_path, out_path, step_s: float = CONTAINER_STEP_S) -> Path:
     from fmpy.model_description import CoSimulation, DefaultExperiment, ModelDescription, ModelVariable, Unknown
     from fmpy.ssp.ssd import read_ssd
 
-    _require("step_s", step_s, _finite("step_s", step_s) > 0.0, "> 0")
+    require("step_s", step_s, finite("step_s", step_s) > 0.0, "> 0")
     ssd = read_ssd(str(ssp_path))
     out_path = Path(out_path)
     with tempfile.TemporaryDirectory(prefix="wearjoint_container_") as tmp:
