@@ -33,9 +33,9 @@ def add_integration_arguments(parser) -> None:
                    help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, less where "
                         f"a step's share of the penetration would pass {DEFAULT_WEAR_STEP_SHARE:g}; at most "
                         f"{MAX_WEAR_STEP_S:g} and a share of 4: docs/model.md §7)")
+    free_flight = f"(default {NO_WEAR_MAX_STEP_S:g}; --max-step when that is given)"
     g.add_argument("--free-flight-max-step", type=float, default=None,
-                   help=f"dopri: largest step that starts with no contact [s], where nothing wears (default "
-                        f"{NO_WEAR_MAX_STEP_S:g}; --max-step when that is given)")
+                   help="dopri: largest step that starts with no contact [s], where nothing wears " + free_flight)
     g.add_argument("--sample-dt", type=float, default=_DEFAULTS.sample_dt_s, help="time-series spacing [s]")
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
     add_initial_profile_argument(g)
