@@ -78,3 +78,12 @@ def test_old_digest_folders_are_pruned_to_the_most_recent(tmp_path):
     cache._prune(root, "current")
     kept = sorted(p.name for p in root.iterdir())
     assert kept == [f"old{i}" for i in range(3, cache.KEEP + 2)]      # KEEP - 1 newest, and "current" to come
+
+
+def test_a_module_that_only_mentions_the_decorator_is_not_a_kernel_source(tmp_path):
+    copy = _copy(tmp_path)
+    before = cache.kernel_digest(copy)
+    _append(copy / "plots.py", '\n"""``@kernel`` is the decorator of :mod:`wearjoint.core.jit`."""\n')
+    assert cache.kernel_digest(copy) == before
+    _append(copy / "plots.py", "\n@kernel\ndef f():\n    pass\n")
+    assert cache.kernel_digest(copy) != before

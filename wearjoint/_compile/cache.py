@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -23,6 +24,7 @@ from numba.core import caching, config
 
 KERNEL_PACKAGES = ("core", "cosim")     # whole: their modules hold kernels and the constants kernels compile in
 KEEP = 4
+KERNEL_DECORATOR = re.compile(rb"^\s*@kernel\b", re.MULTILINE)     # a line decorating a kernel, not a mention
 PACKAGE = Path(__file__).resolve().parent.parent
 
 
@@ -40,7 +42,7 @@ def kernel_sources(package: Path = PACKAGE) -> list[Path]:
     and in the package's other folders those that define a kernel (``@kernel``)."""
     folders = [package, *sorted(init.parent for init in package.glob("*/__init__.py"))]
     return [path for folder in folders for path in sorted(folder.glob("*.py"))
-            if folder.name in KERNEL_PACKAGES or b"@kernel" in path.read_bytes()]
+            if folder.name in KERNEL_PACKAGES or KERNEL_DECORATOR.search(path.read_bytes())]
 
 
 def kernel_digest(package: Path = PACKAGE) -> str:
@@ -57,7 +59,8 @@ def cache_root() -> Path:
 
 
 class KernelCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
-    """numba's cache locator for the package's modules: ``<cache_root>/<digest>/<module's folder>``."""
+    """numba's cache locator for the package's modules: ``<cache_root>/<digest>/<module's folder>`` (numba's
+    locator classes are private: the pinned numba 0.68's, as :mod:`wearjoint.core.jit` relies on its ``_nrt``)."""
     digest = ""
 
     def __init__(self, py_func, py_file):
