@@ -113,7 +113,7 @@ _EXIT_STATUS = pytest.StashKey[int]()
 
 @pytest.fixture(scope="module")
 def fmus(native_fmu, shared_build, tmp_path_factory):
-    """The native FMI 2.0 (session build) and FMI 3.0 (linux64) FMUs, unzipped, with their value references
+    """The native FMI 2.0 and 3.0 FMUs (shared builds), unzipped, with their value references
     (for tests/fmpy_instance.py's Joint)."""
     from fmpy import extract, read_model_description
 

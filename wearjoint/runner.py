@@ -1,8 +1,8 @@
 """The run pipeline every engine goes through: :class:`Engine`, the chunked run loop and the run's record.
 
 The engines: :class:`wearjoint.simulate.Simulation` (monolithic), :class:`wearjoint.cosim.CoSimulation`
-(the joint FMU's co-simulation) and :class:`wearjoint.cosim.model_exchange.ModelExchangeSimulation` (its Model Exchange);
-each ``run_*`` function is :func:`run_engine` on one of them.
+(the joint FMU's co-simulation) and :class:`wearjoint.cosim.model_exchange.ModelExchangeSimulation` (its
+Model Exchange); each ``run_*`` function is :func:`run_engine` on one of them.
 """
 from __future__ import annotations
 
