@@ -49,9 +49,16 @@ def test_the_profile_lists_each_compilation_with_its_own_time(tmp_path, monkeypa
     assert [row[0].rsplit(".", 1)[-1] for row in rows] == ["<lambda>"] and rows[0][2] > 0.0
 
 
-def test_a_cached_or_given_fmu_starts_no_build(tmp_path):
-    given = tmp_path / "given.fmu"
-    assert prefetch.start_fmu_build(1257, given, "native") is None
+def test_a_cached_or_given_fmu_starts_no_build_and_a_missing_one_is_built_beside(tmp_path, monkeypatch):
+    from wearjoint.fmu.build import default_fmu_path
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    assert prefetch.start_fmu_build(64, tmp_path / "given.fmu", "native") is None
+    cached = default_fmu_path(64, "native")
+    assert not cached.exists()
+    process = prefetch.start_fmu_build(64, None, "native")       # missing: a second process builds it
+    assert process is not None and process.wait(timeout=600) == 0 and cached.is_file()
+    assert prefetch.start_fmu_build(64, None, "native") is None   # cached now
 
 
 def test_a_cold_engine_command_starts_the_second_compiling_process_at_its_first_compilation(monkeypatch, capsys):

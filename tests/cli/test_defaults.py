@@ -47,8 +47,6 @@ RESOLVED = {
     ("export-ssp", "container_step"): CONTAINER_STEP_S,
     ("wear-study", "seeds"): DEFAULT_SEEDS,
 }
-# disagreements in files owned elsewhere, reported to the lead (remove the entry once fixed)
-REPORTED = {}
 
 
 def command_parser(command: str):
@@ -99,9 +97,7 @@ for _command in COMMANDS:
     _parser = command_parser(_command)
     for _action in _parser._actions:
         if _action.option_strings and _action.dest != "help":
-            _marks = [pytest.mark.xfail(reason=REPORTED[(_command, _action.dest)])] \
-                if (_command, _action.dest) in REPORTED else []
-            OPTIONS.append(pytest.param(_command, _action.dest, marks=_marks, id=f"{_command}:{_action.dest}"))
+            OPTIONS.append(pytest.param(_command, _action.dest, id=f"{_command}:{_action.dest}"))
 
 
 @pytest.mark.parametrize("command,dest", OPTIONS)

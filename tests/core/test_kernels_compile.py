@@ -9,7 +9,6 @@ import textwrap
 from numba.core.registry import CPUDispatcher
 
 from wearjoint.core import contact, integrators, mechanism, wear
-from wearjoint.core.jit import kernel
 
 # a kernel touching what NRT reference-counts: array views, held in a tuple
 PROBE = textwrap.dedent('''
@@ -40,8 +39,8 @@ HOT_KERNELS = (mechanism.derivative, mechanism.accelerations, mechanism.open_joi
                wear.accept_contact, wear.advance_joint)
 
 
-def test_kernel_decorator_compiles_without_nrt():
-    assert kernel(lambda x: x).targetoptions["_nrt"] is False
+def test_the_hot_kernels_are_compiled_without_nrt():
+    """Each hot kernel is a :func:`wearjoint.core.jit.kernel` (not a plain njit, which would bring NRT back)."""
     for dispatcher in HOT_KERNELS:
         assert isinstance(dispatcher, CPUDispatcher), dispatcher
         assert dispatcher.targetoptions.get("_nrt") is False, dispatcher.py_func.__qualname__

@@ -1,5 +1,6 @@
 """The joint FMU's Model Exchange interface (docs/model.md section 5) inside the monolithic
-integrator: no coupling error, so it must reproduce ``wearjoint simulate --integrator dopri``."""
+integrator: no coupling error, so it must reproduce ``wearjoint simulate --integrator dopri``.  These test
+the FMI glue: both sides run the same kernels, whose physics has its own tests (tests/core/)."""
 import numpy as np
 import pytest
 
