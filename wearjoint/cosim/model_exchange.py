@@ -107,10 +107,10 @@ class ModelExchangeSimulation:
 
     def describe(self) -> tuple[dict, dict]:
         """The monolithic engine's record naming the FMU and its interface (:class:`wearjoint.runner.Engine`)."""
-        parameters, _ = self._engine.describe()
+        parameters, extra = self._engine.describe()
         parameters |= {"engine": "cosim", "fmu_interface": "model-exchange", "fmu": str(self.fmu_path),
                        "fmu_backend": self.fmu_backend}
-        return parameters, {"integrator_accepted_steps": self.accepted, "integrator_rejected_steps": self.rejected}
+        return parameters, extra
 
     def close(self) -> None:
         if getattr(self, "_fmu", None) is not None:
