@@ -1,7 +1,8 @@
-/* ClearanceWearJoint as a model of the generic FMI layers (fmu_model.h): the joint's variables by
- * value reference (FMI 2.0: the wear profile as scalars wear_depth[1..N_d]; FMI 3.0: one Float64
- * array sized by the structural parameter n_points, then the independent time), on the
- * FMI-independent joint of joint_instance.c.
+/* ClearanceWearJoint as a model of the generic FMI layers (fmu_model.h), in three files by concern on the
+ * joint's data (struct FmuModel, joint_model.h): this one owns the joint's memory and data (inputs,
+ * parameters, the kernels' arrays), checks parameters against the generated table and calls the compiled
+ * kernels (joint_kernels.h): lifetime, Configuration Mode, evaluation, steps (Co-Simulation) and Model
+ * Exchange; joint_variables.c maps the variables by value reference; joint_state.c is the FMU state.
  *
  * Semantics (docs/model.md §5): the forces are direct feed-through, evaluated at the first read
  * of a joint output after an input changed; Co-Simulation accepts a step with the inputs held at
@@ -13,336 +14,400 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "fmu_model.h"
-#include "joint_instance.h"
+#include "joint_model.h"
+#include "joint_kernels.h"
 
-struct FmuModel {
-    JointInstance *joint;
-    uint64_t configured_n_points;   /* FMI 3.0 Configuration Mode: the value set for n_points */
-};
+static int kernel_ok(const FmuModel *model, const char *kernel, int32_t status)
+{
+    if (status == 0)
+        return 1;
+    fmu_log(&model->host, FMU_ERROR, "%s", kernel);
+    return 0;
+}
+
+static void describe_non_finite_inputs(const FmuModel *model, char *out, size_t size)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (int i = 0; i < N_INPUTS && used < size; i++)
+        if (model->non_finite_inputs & (1u << i)) {
+            int n = snprintf(out + used, size - used, "%s%s=%g", used ? ", " : "", INPUT_NAMES[i], model->inputs[i]);
+            if (n < 0)
+                break;
+            used += (size_t)n;
+        }
+}
 
 /* ------------------------------------------------------------------ lifetime */
-FmuModel *model_new(const char *name, int logging_on, FmuLogFunction *log, FmuAllocateFunction *allocate,
-                    FmuReleaseFunction *release, void *environment)
+static int allocate_arrays(FmuModel *model, int64_t n_points)
 {
-    JointInstance *joint = joint_new(name, N_POINTS, logging_on, log, allocate, release, environment);
-    if (joint == NULL)
-        return NULL;
-    FmuModel *model = allocate(environment, 1, sizeof *model);
-    if (model == NULL) {
-        joint_log(joint, FMU_ERROR, "fmiInstantiate: out of memory");
-        joint_free(joint);
-        return NULL;
+    int64_t n_blocks = (n_points + BLOCK_SIZE - 1) / BLOCK_SIZE;
+    double *arrays = model->host.allocate(model->host.environment, (size_t)(7 * n_points + n_blocks), sizeof(double));
+    unsigned char *mask = model->host.allocate(model->host.environment, (size_t)n_points, 1);
+    if (arrays == NULL || mask == NULL) {
+        if (arrays != NULL)
+            model->host.release(model->host.environment, arrays);
+        if (mask != NULL)
+            model->host.release(model->host.environment, mask);
+        fmu_log(&model->host, FMU_ERROR, "out of memory for %lld bushing points", (long long)n_points);
+        return 0;
     }
-    model->joint = joint;
-    model->configured_n_points = N_POINTS;
-    return model;
+    if (model->phi != NULL)
+        model->host.release(model->host.environment, model->phi);
+    if (model->mask != NULL)
+        model->host.release(model->host.environment, model->mask);
+    model->n_points = n_points;
+    model->n_blocks = n_blocks;
+    model->phi = arrays;
+    model->cos_phi = arrays + n_points;
+    model->sin_phi = arrays + 2 * n_points;
+    model->wear_depth = arrays + 3 * n_points;
+    model->work = arrays + 4 * n_points;
+    model->block_min = arrays + 6 * n_points;     /* work: 2 n_points */
+    model->mask = mask;
+    int32_t status = 0;
+    wearjoint_bushing_points(&status, NULL, model->phi, model->cos_phi, model->sin_phi, n_points);
+    return 1;
+}
+
+/* Default inputs and parameters, an unworn bushing, no contact memory (n_points as it is). */
+static void reset(FmuModel *model)
+{
+    model->time = model->last_accepted_time = 0.0;
+    memset(model->inputs, 0, sizeof model->inputs);
+    model->non_finite_inputs = 0;
+    for (int i = 0; i < N_PARAMETERS; i++)
+        model->parameters[i] = PARAMETERS[i].start;
+    model->parameters_changed = 1;
+    model->forces_stale = model->wear_summary_stale = model->jacobian_stale = 1;
+    model->onsets_accepted = model->warned_wear_step = model->started = 0;
+    memset(model->memory, 0, sizeof model->memory);
+    model->memory[M_START_FORCE] = NO_START_FORCE;
+    memset(model->result, 0, sizeof model->result);
+    memset(model->wear_depth, 0, (size_t)model->n_points * sizeof(double));
+    memset(model->block_min, 0, (size_t)model->n_blocks * sizeof(double));
+}
+
+/* Re-size the bushing to n_points (>= 8) and restore the defaults; 0 (logged) on failure. */
+static int resize(FmuModel *model, int64_t n_points)
+{
+    if (n_points != model->n_points && !allocate_arrays(model, n_points))
+        return 0;
+    reset(model);
+    return 1;
 }
 
 void model_free(FmuModel *model)
 {
     if (model == NULL)
         return;
-    FmuHost host = model->joint->host;
-    joint_free(model->joint);
-    host.release(host.environment, model);
+    if (model->phi != NULL)
+        model->host.release(model->host.environment, model->phi);
+    if (model->mask != NULL)
+        model->host.release(model->host.environment, model->mask);
+    fmu_free_instance(model);
 }
 
-FmuHost *model_host(FmuModel *model) { return &model->joint->host; }
+/* N_POINTS bushing points and the start values. */
+FmuModel *model_new(const char *name, int logging_on, FmuLogFunction *log, FmuAllocateFunction *allocate,
+                    FmuReleaseFunction *release, void *environment)
+{
+    FmuModel *model = fmu_new_instance(sizeof *model, name, logging_on, log, allocate, release, environment);
+    if (model == NULL)
+        return NULL;
+    if (!allocate_arrays(model, N_POINTS)) {
+        model_free(model);
+        return NULL;
+    }
+    reset(model);
+    model->configured_n_points = N_POINTS;
+    return model;
+}
+
+FmuHost *model_host(FmuModel *model) { return &model->host; }
 
 /* Back to the start values, n_points (FMI 3.0) too. */
 int model_reset(FmuModel *model)
 {
-    if (!joint_resize(model->joint, N_POINTS))
+    if (!resize(model, N_POINTS))
         return 0;
     model->configured_n_points = N_POINTS;
     return 1;
 }
 
-double model_time(const FmuModel *model) { return model->joint->time; }
+double model_time(const FmuModel *model) { return model->time; }
 
 void model_set_start_time(FmuModel *model, double time)
 {
-    model->joint->time = model->joint->last_accepted_time = time;
+    model->time = model->last_accepted_time = time;
 }
 
 int model_exit_initialization(FmuModel *model, const char *function)
 {
-    if (!joint_pack_parameters(model->joint, function))
+    if (!joint_pack_parameters(model, function))
         return 0;
-    model->joint->last_accepted_time = model->joint->time;
+    model->last_accepted_time = model->time;
     return 1;
 }
 
-/* ------------------------------------------------------------------ values */
-void model_variable_name(const FmuModel *model, int fmi_version, unsigned vr, char *out, size_t size)
-{
-    if (vr < N_INPUTS)
-        snprintf(out, size, "%s", INPUT_NAMES[vr]);
-    else if (vr < VR_FIRST_PARAMETER + N_PARAMETERS)
-        snprintf(out, size, "%s", PARAMETERS[vr - VR_FIRST_PARAMETER].name);
-    else if (vr == VR_N_POINTS)
-        snprintf(out, size, "n_points");
-    else if (vr < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS)
-        snprintf(out, size, "%s", OUTPUTS[vr - VR_FIRST_OUTPUT].name);
-    else if (fmi_version == 2 && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS)
-        snprintf(out, size, "wear_depth[%u]", (unsigned)((vr - VR_FIRST_WEAR_DEPTH) * PROFILE_STRIDE + 1));
-    else if (fmi_version == 3 && vr == FMI3_VR_WEAR_DEPTH)
-        snprintf(out, size, "wear_depth");
-    else if (fmi_version == 3 && vr == FMI3_VR_TIME)
-        snprintf(out, size, "time");
-    else
-        snprintf(out, size, "<no variable with valueReference %u>", vr);
-}
-
-/* A Real parameter (choice = 0) or an enumeration (choice = 1). */
-static int is_parameter(unsigned vr, int choice)
-{
-    return vr >= VR_FIRST_PARAMETER && vr < VR_FIRST_PARAMETER + N_PARAMETERS &&
-           (PARAMETERS[vr - VR_FIRST_PARAMETER].n_choices > 0) == choice;
-}
-
-static int is_scalar_output(unsigned vr) { return vr >= VR_FIRST_OUTPUT && vr < VR_FIRST_OUTPUT + N_SCALAR_OUTPUTS; }
-
-/* The scalars keep their FMI 2.0 value references in FMI 3.0 (FMI3_VR_FIRST_INPUT is 0). */
-size_t model_float64_count(const FmuModel *model, int fmi_version, unsigned vr)
-{
-    if (vr < N_INPUTS || is_parameter(vr, 0) || is_scalar_output(vr))
-        return 1;
-    if (fmi_version == 2)
-        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS;
-    if (vr == FMI3_VR_WEAR_DEPTH)
-        return (size_t)model->joint->n_points;
-    return vr == FMI3_VR_TIME;
-}
-
-const char *model_array_sizes(const FmuModel *model, char *out, size_t size)
-{
-    snprintf(out, size, " (wear_depth has n_points=%lld)", (long long)model->joint->n_points);
-    return out;
-}
-
-int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *values, const char *function)
-{
-    JointInstance *joint = model->joint;
-    if (vr < N_INPUTS) {
-        values[0] = joint->inputs[vr];
-    } else if (is_parameter(vr, 0)) {
-        values[0] = joint->parameters[vr - VR_FIRST_PARAMETER];
-    } else if (is_scalar_output(vr)) {
-        const OutputInfo *o = &OUTPUTS[vr - VR_FIRST_OUTPUT];
-        if (o->source == OUTPUT_FROM_RESULT) {
-            /* evaluated at the first joint output after an input changed, then current */
-            if (!joint_evaluate(joint, function, o->name))
-                return 0;
-            values[0] = joint->result[o->index];
-        } else {
-            if (!joint_wear_summary(joint, function))
-                return 0;
-            values[0] = o->source == OUTPUT_MAX_WEAR_DEPTH ? joint->max_wear_depth : joint->worn_volume;
-        }
-    } else if (fmi_version == 2 && model_float64_count(model, 2, vr) == 1) {
-        values[0] = joint->wear_depth[(vr - VR_FIRST_WEAR_DEPTH) * PROFILE_STRIDE];
-    } else if (fmi_version == 3 && vr == FMI3_VR_WEAR_DEPTH) {
-        memcpy(values, joint->wear_depth, (size_t)joint->n_points * sizeof(double));
-    } else if (fmi_version == 3 && vr == FMI3_VR_TIME) {
-        values[0] = joint->time;
-    } else {
-        return -1;
-    }
-    return 1;
-}
-
-int model_set_float64(FmuModel *model, int fmi_version, unsigned vr, double value, int parameters_settable,
-                      const char *function)
-{
-    (void)fmi_version;
-    (void)function;
-    if (vr < N_INPUTS) {
-        joint_set_input(model->joint, (int)vr, value);
-    } else if (is_parameter(vr, 0)) {
-        if (!parameters_settable)
-            return -2;
-        joint_set_parameter(model->joint, (int)(vr - VR_FIRST_PARAMETER), value);
-    } else {
-        return -1;
-    }
-    return 1;
-}
-
-/* FMI 2.0 Integer: n_points and the enumerations; FMI 3.0 Int64: the enumerations. */
-int model_get_integer(FmuModel *model, int fmi_version, unsigned vr, int64_t *value, const char *function)
-{
-    (void)function;
-    if (fmi_version == 2 && vr == VR_N_POINTS)
-        *value = model->joint->n_points;
-    else if (is_parameter(vr, 1))
-        *value = (int64_t)model->joint->parameters[vr - VR_FIRST_PARAMETER];
-    else
-        return -1;
-    return 1;
-}
-
-int model_set_integer(FmuModel *model, int fmi_version, unsigned vr, int64_t value, int parameters_settable,
-                      const char *function)
-{
-    JointInstance *joint = model->joint;
-    if (fmi_version == 2 && vr == VR_N_POINTS) {
-        if (value == joint->n_points)
-            return 1;
-        joint_log(joint, FMU_ERROR,
-                  "%s: n_points is fixed at %lld when the FMU is built; rebuild it for %d points (wearjoint "
-                  "build-fmu --n-points %d)", function, (long long)joint->n_points, (int)value, (int)value);
-        return 0;
-    }
-    if (!is_parameter(vr, 1))
-        return -1;
-    if (!parameters_settable)
-        return -2;
-    /* checked at exitInitializationMode, like every parameter */
-    joint_set_parameter(joint, (int)(vr - VR_FIRST_PARAMETER), (double)value);
-    return 1;
-}
-
-/* FMI 3.0: the structural parameter n_points, readable in every state. */
-int model_get_structural(FmuModel *model, unsigned vr, int configuration, uint64_t *value)
-{
-    if (vr != FMI3_VR_N_POINTS)
-        return -1;
-    *value = configuration ? model->configured_n_points : (uint64_t)model->joint->n_points;
-    return 1;
-}
-
-int model_set_structural(FmuModel *model, unsigned vr, uint64_t value, int configuration, int settable,
-                         const char *state, const char *function)
-{
-    JointInstance *joint = model->joint;
-    if (vr != FMI3_VR_N_POINTS)
-        return -1;
-    if (!configuration) {
-        if (value == (uint64_t)joint->n_points && settable)
-            return 1;   /* its current value: nothing changes */
-        joint_log(joint, FMU_ERROR,
-                  "%s: the structural parameter n_points (now %lld) can be changed in Configuration Mode only "
-                  "(fmi3EnterConfigurationMode after instantiation), not in state %s", function,
-                  (long long)joint->n_points, state);
-        return 0;
-    }
-    if (value < FMI3_N_POINTS_MIN || value > FMI3_N_POINTS_MAX) {
-        joint_log(joint, FMU_ERROR, "%s: structural parameter n_points=%llu is invalid: allowed an integer in [%d, %d]",
-                  function, (unsigned long long)value, FMI3_N_POINTS_MIN, FMI3_N_POINTS_MAX);
-        return 0;
-    }
-    model->configured_n_points = value;
-    return 1;
-}
-
-void model_enter_configuration(FmuModel *model) { model->configured_n_points = (uint64_t)model->joint->n_points; }
+/* ------------------------------------------------------------------ FMI 3.0 Configuration Mode */
+void model_enter_configuration(FmuModel *model) { model->configured_n_points = (uint64_t)model->n_points; }
 
 /* Re-size the bushing to the n_points set; inputs, parameters and the time set before are kept. */
 int model_exit_configuration(FmuModel *model)
 {
-    JointInstance *joint = model->joint;
-    if ((int64_t)model->configured_n_points == joint->n_points)
+    if ((int64_t)model->configured_n_points == model->n_points)
         return 1;
     double inputs[N_INPUTS], parameters[N_PARAMETERS];
-    double time = joint->time;
-    memcpy(inputs, joint->inputs, sizeof inputs);
-    memcpy(parameters, joint->parameters, sizeof parameters);
-    if (!joint_resize(joint, (int64_t)model->configured_n_points))
+    double time = model->time;
+    memcpy(inputs, model->inputs, sizeof inputs);
+    memcpy(parameters, model->parameters, sizeof parameters);
+    if (!resize(model, (int64_t)model->configured_n_points))
         return 0;   /* out of memory (logged): the old size stays */
     for (int i = 0; i < N_INPUTS; i++)
-        joint_set_input(joint, i, inputs[i]);
+        joint_set_input(model, i, inputs[i]);
     for (int i = 0; i < N_PARAMETERS; i++)
-        joint_set_parameter(joint, i, parameters[i]);
-    joint->time = joint->last_accepted_time = time;
+        joint_set_parameter(model, i, parameters[i]);
+    model->time = model->last_accepted_time = time;
     return 1;
 }
 
-/* ------------------------------------------------------------------ directional derivatives */
-/* The number of values of output ``vr`` (an FMI 3.0 array: its size) and, in *row, its derivatives with respect
- * to the inputs (NULL: none, the wear); 0 if ``vr`` is no output. */
-static size_t output_derivatives(const FmuModel *model, int fmi_version, unsigned vr, const double **row)
+/* ------------------------------------------------------------------ inputs and parameters */
+void joint_set_input(FmuModel *model, int index, double value)
 {
-    *row = NULL;
-    if (is_scalar_output(vr)) {
-        const OutputInfo *o = &OUTPUTS[vr - VR_FIRST_OUTPUT];
-        if (o->source == OUTPUT_FROM_RESULT)
-            *row = model->joint->jacobian + (size_t)o->index * N_INPUTS;
-        return 1;
-    }
-    if (fmi_version == 2)
-        return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS;
-    return vr == FMI3_VR_WEAR_DEPTH ? (size_t)model->joint->n_points : 0;
+    if (!(value == model->inputs[index]))
+        model->onsets_accepted = 0;
+    model->inputs[index] = value;
+    if (isfinite(value))
+        model->non_finite_inputs &= ~(1u << index);
+    else
+        model->non_finite_inputs |= 1u << index;
+    model->forces_stale = 1;
 }
 
-/* 1 if ``accepted``; else logs that the ``what`` ``vr`` (named) is invalid and what is allowed. */
-static int derivative_variable(const FmuModel *model, int fmi_version, unsigned vr, int accepted, const char *what,
-                               const char *allowed, const char *function)
+void joint_set_parameter(FmuModel *model, int index, double value)
 {
-    if (accepted)
-        return 1;
-    char name[96];
-    model_variable_name(model, fmi_version, vr, name, sizeof name);
-    joint_log(model->joint, FMU_ERROR, "%s: %s %s (valueReference %u) is invalid: allowed %s", function, what, name,
-              vr, allowed);
-    return 0;
+    model->parameters[index] = value;
+    model->parameters_changed = 1;
 }
 
-/* sensitivity = J seed: J the derivatives of the unknowns (outputs) with respect to the knowns (inputs); the
- * forces, torques and contact geometry are the kernels' exact derivatives, the wear outputs do not depend on the
- * inputs (0). */
-int model_directional_derivative(FmuModel *model, int fmi_version, const unsigned *unknowns, size_t n_unknowns,
-                                 const unsigned *knowns, size_t n_knowns, const double *seed, double *sensitivity,
-                                 const char *function)
+int joint_pack_parameters(FmuModel *model, const char *when)
 {
-    const double *row;
-    const char *needs_jacobian = NULL;   /* the first unknown that depends on the inputs */
-    for (size_t j = 0; j < n_knowns; j++)
-        if (!derivative_variable(model, fmi_version, knowns[j], knowns[j] < N_INPUTS, "known",
-                                 "an input (the 12 kinematic inputs)", function))
-            return 0;
-    for (size_t i = 0; i < n_unknowns; i++) {
-        int output = output_derivatives(model, fmi_version, unknowns[i], &row) > 0;
-        if (!derivative_variable(model, fmi_version, unknowns[i], output, "unknown", "an output", function))
-            return 0;
-        if (row != NULL && needs_jacobian == NULL)
-            needs_jacobian = OUTPUTS[unknowns[i] - VR_FIRST_OUTPUT].name;
-    }
-    if (needs_jacobian != NULL && !joint_jacobian(model->joint, function, needs_jacobian))
+    if (!model->parameters_changed)
+        return 1;
+    if (!fmu_parameters_valid(&model->host, PARAMETERS, N_PARAMETERS, model->parameters, when))
         return 0;
-    size_t k = 0;
-    for (size_t i = 0; i < n_unknowns; i++) {
-        size_t count = output_derivatives(model, fmi_version, unknowns[i], &row);
-        double sum = 0.0;
-        for (size_t j = 0; row != NULL && j < n_knowns; j++)
-            sum += row[knowns[j]] * seed[j];
-        for (size_t z = 0; z < count; z++)
-            sensitivity[k++] = sum;
+    memset(model->joint_parameters, 0, sizeof model->joint_parameters);
+    for (int i = 0; i < N_PARAMETERS; i++)
+        model->joint_parameters[PARAMETERS[i].slot] = model->parameters[i];
+    int32_t status = 0;
+    if (!kernel_ok(model, "wearjoint_complete_parameters failed",
+                   wearjoint_complete_parameters(&status, NULL, model->joint_parameters)))
+        return 0;
+    model->parameters_changed = 0;
+    model->forces_stale = model->wear_summary_stale = 1;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ the kernels */
+/* 1 if the n values per result slot of ``values`` (the result: 1, the jacobian: N_INPUTS) are finite for every
+ * output read from the result; else logs the first that is not. */
+static int outputs_finite(const FmuModel *model, const double *values, int n, const char *what,
+                          const char *function, const char *output)
+{
+    double probe = 0.0;   /* 0 unless a value is infinite or NaN: then look for the output that is */
+    for (int i = 0; i < N_RESULT * n; i++)
+        probe += values[i] * 0.0;
+    if (probe == 0.0)
+        return 1;
+    for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
+        for (int m = 0; m < n && OUTPUTS[i].source == OUTPUT_FROM_RESULT; m++) {
+            double value = values[OUTPUTS[i].index * n + m];
+            if (isfinite(value))
+                continue;
+            double largest = 0.0;
+            for (int k = 0; k < N_INPUTS; k++)
+                largest = fabs(model->inputs[k]) > largest ? fabs(model->inputs[k]) : largest;
+            fmu_log(&model->host, FMU_ERROR, "%s of %s: %s %s=%g is not finite for inputs up to |%g|: allowed "
+                    "inputs whose contact geometry stays finite", function, output, what, OUTPUTS[i].name, value,
+                    largest);
+            return 0;
+        }
     }
     return 1;
+}
+
+int joint_evaluate(FmuModel *model, const char *function, const char *output)
+{
+    if (!model->forces_stale && !model->parameters_changed)
+        return 1;
+    if (!joint_pack_parameters(model, function))
+        return 0;
+    if (!model->forces_stale)
+        return 1;
+    if (model->non_finite_inputs) {
+        char inputs[512];
+        describe_non_finite_inputs(model, inputs, sizeof inputs);
+        fmu_log(&model->host, FMU_ERROR, "%s of %s: undefined for non-finite inputs (%s)", function, output, inputs);
+        return 0;
+    }
+    int32_t status = 0;
+    if (!kernel_ok(model, "wearjoint_evaluate failed",
+                   wearjoint_evaluate(&status, NULL, model->inputs, model->joint_parameters, model->cos_phi,
+                                      model->sin_phi, model->wear_depth, model->block_min, model->memory,
+                                      model->result, model->mask, model->n_points, model->n_blocks)))
+        return 0;
+    if (!outputs_finite(model, model->result, 1, "output", function, output))
+        return 0;
+    model->forces_stale = 0;
+    model->jacobian_stale = 1;
+    return 1;
+}
+
+/* The derivatives at the evaluation in result (the same kernels, the same evaluation written to scratch). */
+int joint_jacobian(FmuModel *model, const char *function, const char *output)
+{
+    if (!joint_evaluate(model, function, output))
+        return 0;
+    if (!model->jacobian_stale)
+        return 1;
+    double result[N_RESULT];
+    memcpy(result, model->result, sizeof result);   /* its deepest point seeds the search */
+    int32_t status = 0;
+    if (!kernel_ok(model, "wearjoint_jacobian failed",
+                   wearjoint_jacobian(&status, NULL, model->inputs, model->joint_parameters, model->cos_phi,
+                                      model->sin_phi, model->wear_depth, model->block_min, model->memory, result,
+                                      model->jacobian, model->n_points, model->n_blocks)))
+        return 0;
+    if (!outputs_finite(model, model->jacobian, N_INPUTS, "the derivative of output", function, output))
+        return 0;
+    model->jacobian_stale = 0;
+    return 1;
+}
+
+int joint_wear_summary(FmuModel *model, const char *function)
+{
+    if (!joint_pack_parameters(model, function))
+        return 0;
+    if (!model->wear_summary_stale)
+        return 1;
+    double largest = model->wear_depth[0];
+    for (int64_t k = 1; k < model->n_points; k++)
+        largest = model->wear_depth[k] > largest ? model->wear_depth[k] : largest;
+    double volume = 0.0;
+    if (!kernel_ok(model, "wearjoint_worn_volume failed",
+                   wearjoint_worn_volume(&volume, NULL, model->joint_parameters, model->wear_depth, model->n_points)))
+        return 0;
+    model->max_wear_depth = largest;
+    model->worn_volume = volume;
+    model->wear_summary_stale = 0;
+    return 1;
+}
+
+/* The warnings of an accepted step (accept_step), from the kernels' result at its start. */
+static int step_warnings(FmuModel *model, double dt, int32_t changed, const char *function)
+{
+    int status = FMU_OK;
+    const double *p = model->joint_parameters;
+    if (!model->started) {
+        model->started = 1;
+        double e = hypot(model->result[R_ECCENTRICITY_X], model->result[R_ECCENTRICITY_Y]);
+        double radius = p[P_BUSHING_RADIUS];
+        if (e > radius) {
+            fmu_log(&model->host, FMU_WARNING, "%s: at t=%.17g s the inputs put the pin centre %g m from the "
+                    "bushing centre, outside the bushing (radius %g m): the contact force is meaningless.  The "
+                    "inputs are the bodies' reference points; are the offsets set (pin_offset_x=%g, pin_offset_y=%g, "
+                    "bushing_offset_x=%g, bushing_offset_y=%g m, each in its body's frame)?", function, model->time,
+                    e, radius, p[P_PIN_OFFSET_X], p[P_PIN_OFFSET_Y], p[P_BUSHING_OFFSET_X], p[P_BUSHING_OFFSET_Y]);
+            status = FMU_WARNING;
+        }
+    }
+    if (changed == STEP_OVERSHOT && !model->warned_wear_step) {
+        model->warned_wear_step = 1;
+        fmu_log(&model->host, FMU_WARNING, "%s: at t=%.17g s a wearing step of %g s is over the wear-step limit "
+                "(at most %g s, and a share k_f k_w v dt of at most %g of a conforming contact's penetration, %g "
+                "with the explicit wear placements): the step no longer resolves the wear; take shorter steps or a "
+                "smaller wear_factor (docs/model.md §7; said once)", function, model->time, dt, MAX_WEAR_STEP_S,
+                WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT);
+        /* logged as a warning, returned fmi2OK: some masters (OMSimulator) end the run on a warning status */
+    }
+    return status;
+}
+
+/* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs
+ * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
+ * the step's mean force, docs/model.md §3.11).
+ * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt.  FMU_WARNING (logged, the
+ * step accepted), once per instance: the first step's pin centre lies outside the bushing (the inputs
+ * likely lack the offsets).  A wearing step over the wear-step limit (docs/model.md §7) is logged as a
+ * warning once per instance and returns FMU_OK: the run goes on in every master. */
+static int accept_step(FmuModel *model, double dt, int held, const char *function)
+{
+    if (model->non_finite_inputs) {
+        char inputs[512];
+        describe_non_finite_inputs(model, inputs, sizeof inputs);
+        fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: non-finite inputs (%s)", function,
+                model->time, inputs);
+        return FMU_DISCARD;
+    }
+    if (!(dt >= 0.0 && isfinite(dt))) {
+        fmu_log(&model->host, FMU_ERROR, "%s: step rejected: step size %g s is not a finite value >= 0", function,
+                dt);
+        return FMU_DISCARD;
+    }
+    if (!joint_pack_parameters(model, function))
+        return FMU_ERROR;
+    /* the forces read since the inputs changed are the evaluation the step accepts: no second one */
+    int32_t changed = 0;
+    int32_t status = model->forces_stale
+                         ? wearjoint_advance(&changed, NULL, model->inputs, model->joint_parameters, model->cos_phi,
+                                             model->sin_phi, model->wear_depth, model->block_min, model->memory,
+                                             model->result, model->mask, model->work, model->n_points,
+                                             model->n_blocks, dt, held)
+                         : wearjoint_accept(&changed, NULL, model->inputs, model->joint_parameters, model->cos_phi,
+                                            model->sin_phi, model->wear_depth, model->block_min, model->memory,
+                                            model->result, model->mask, model->work, model->n_points,
+                                            model->n_blocks, dt, held);
+    if (!kernel_ok(model, "wearjoint_advance failed", status))
+        return FMU_ERROR;
+    if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */
+        fmu_log(&model->host, FMU_ERROR, "%s: step rejected: a step of %g s wears the bushing by more than its "
+                "radius %g m (or by a non-finite depth)", function, dt,
+                model->parameters[STATE_PARAMETER_BUSHING_RADIUS]);
+        return FMU_DISCARD;
+    }
+    if (changed)
+        model->wear_summary_stale = 1;
+    model->forces_stale = 1;
+    model->onsets_accepted = 1;
+    return step_warnings(model, dt, changed, function);
 }
 
 /* ------------------------------------------------------------------ Co-Simulation */
 /* Accept the step with the inputs held at t: wear and contact-onset bookkeeping. */
 int model_do_step(FmuModel *model, double t, double h, const char *function)
 {
-    JointInstance *joint = model->joint;
-    double previous = joint->time;
-    joint->time = t;
-    int status = joint_accept_step(joint, h, 1, function);
-    if (status > JOINT_WARNING) {
-        joint->time = previous;
+    double previous = model->time;
+    model->time = t;
+    int status = accept_step(model, h, 1, function);
+    if (status > FMU_WARNING) {
+        model->time = previous;
         return status;
     }
-    joint->time = joint->last_accepted_time = t + h;
+    model->time = model->last_accepted_time = t + h;
     return status;   /* a warning: the step is accepted */
 }
 
 /* ------------------------------------------------------------------ Model Exchange: no continuous states */
+/* The time (finite; 0, logged, otherwise). */
 int model_set_time(FmuModel *model, double time, const char *function)
 {
-    return joint_set_time(model->joint, time, function);
+    if (!isfinite(time)) {
+        fmu_log(&model->host, FMU_ERROR, "%s: time=%g is not finite", function, time);
+        return 0;
+    }
+    model->time = time;
+    return 1;
 }
 
 int model_get_continuous_states(FmuModel *model, double *x, const char *function)
@@ -363,51 +428,40 @@ int model_get_derivatives(FmuModel *model, double *dx, const char *function)
     return 1;
 }
 
-/* The signed penetration of the deepest bushing point at the current inputs. */
+/* The signed penetration of the deepest bushing point at the current inputs (a contact onset is its zero
+ * crossing); 0 (logged) on failure. */
 int model_get_event_indicators(FmuModel *model, double *z, const char *function)
 {
-    return joint_event_indicator(model->joint, function, &z[0]);
+    if (!joint_evaluate(model, function, "the event indicator"))
+        return 0;
+    z[0] = model->result[R_PENETRATION];
+    return 1;
 }
 
-/* A contact begins or ends: the contact-onset bookkeeping at the current inputs. */
+/* A contact begins or ends: the contact-onset bookkeeping at the current inputs; nothing if an accepted step at
+ * these inputs did it (from the contact before that step's wear, as in process). */
 int model_event_update(FmuModel *model, const char *function)
 {
-    return joint_update_contact_memory(model->joint, function);
+    if (model->onsets_accepted)
+        return 1;
+    if (!joint_evaluate(model, function, "the event indicator"))
+        return 0;
+    int32_t changed = 0;
+    if (!kernel_ok(model, "wearjoint_update_contact_memory failed",
+                   wearjoint_update_contact_memory(&changed, NULL, model->result, model->joint_parameters,
+                                                   model->memory)))
+        return 0;
+    if (changed)
+        model->forces_stale = 1;
+    return 1;
 }
 
-/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs. */
+/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs; an FMU_*
+ * status. */
 int model_completed_integrator_step(FmuModel *model, const char *function)
 {
-    return joint_completed_integrator_step(model->joint, function);
-}
-
-/* ------------------------------------------------------------------ FMU state */
-size_t model_state_size(const FmuModel *model) { return joint_state_size(model->joint); }
-
-void model_get_state(const FmuModel *model, double *state, int initialised)
-{
-    joint_get_state(model->joint, state, initialised);
-}
-
-int model_set_state(FmuModel *model, const double *state, int *initialised, const char *function)
-{
-    return joint_set_state(model->joint, state, initialised, function);
-}
-
-size_t model_serialized_state_size(const FmuModel *model, const double *state)
-{
-    (void)model;
-    return joint_serialized_state_size(state);
-}
-
-void model_serialize_state(const FmuModel *model, const double *state, unsigned char *bytes)
-{
-    (void)model;
-    joint_serialize_state(state, bytes);
-}
-
-int model_deserialize_state(FmuModel *model, const unsigned char *bytes, size_t size, double *state,
-                            const char *function)
-{
-    return joint_deserialize_state(model->joint, bytes, size, state, function);
+    int status = accept_step(model, model->time - model->last_accepted_time, 0, function);
+    if (status <= FMU_WARNING)
+        model->last_accepted_time = model->time;
+    return status;
 }

@@ -155,7 +155,7 @@ def test_fmi3_fmu_validates_and_is_a_self_contained_fmi3_binary(fmi3):
     assert {"fmi3InstantiateCoSimulation", "fmi3InstantiateModelExchange", "fmi3DoStep", "fmi3EnterConfigurationMode",
             "fmi3CompletedIntegratorStep", "fmi3SerializeFMUState"} <= set(defined)
     sources = fmi3["dir"] / "sources"
-    for name in ("fmi3Functions.c", "joint_instance.c", "model_variables.h", "build.sh", "kernels/wearjoint_advance.ll",
+    for name in ("fmi3Functions.c", "joint_state.c", "model_variables.h", "build.sh", "kernels/wearjoint_advance.ll",
                  "kernels/linux64/wearjoint_advance.o"):
         assert (sources / name).is_file(), name
     assert not (sources / "fmi2Functions.c").exists()

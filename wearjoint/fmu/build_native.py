@@ -11,8 +11,8 @@ numba, else compiled by numba in fresh processes and kept in the user cache; (2)
 triple and data layout change); (3) the model's variable table becomes ``model_variables.h``
 (value references, start values, allowed ranges, where each value comes from), and each
 platform's C compiler links the FMI layer (``fmi2Functions.c`` or ``fmi3Functions.c`` and their
-``fmi2_*``/``fmi3_*`` parts, :data:`GLUE_C_SOURCES_BY_VERSION`, the same for every model), ``fmu_model.c``, ``fmu_state.c``, the model's C files (``joint_model.c`` on
-``joint_instance.c``; ``slider_crank_model.c``) and the objects, exporting only the ``fmi2*``
+``fmi2_*``/``fmi3_*`` parts, :data:`GLUE_C_SOURCES_BY_VERSION`, the same for every model), ``fmu_model.c``, ``fmu_state.c``, the model's C files (``joint_model.c``,
+``joint_variables.c``, ``joint_state.c``; ``slider_crank_model.c``) and the objects, exporting only the ``fmi2*``
 (``fmi3*``) functions and refusing any undefined symbol outside the C runtime; (4) the FMU gets
 the generated ``modelDescription.xml`` and ``sources/`` (C layer, generated header, kernel IR,
 each platform's objects, ``build.sh PLATFORM``), so a user with a C compiler can relink it.
@@ -86,8 +86,8 @@ class NativeModel:
 
 
 MODELS = {m.name: m for m in (
-    NativeModel("joint", fv.MODEL_NAME, "joint", ("joint_model.c", "joint_instance.c", "joint_instance.h",
-                                                   "joint_kernels.h"), "joint_kernels.h",
+    NativeModel("joint", fv.MODEL_NAME, "joint", ("joint_model.c", "joint_variables.c", "joint_state.c",
+                                                   "joint_model.h", "joint_kernels.h"), "joint_kernels.h",
                 ("core/geometry.py", "core/pressure.py", "core/contact.py", "core/foundation_wear.py", "core/wear.py",
                  "core/state_format.py", "joint.py", "fmu/joint_entry_points.py",
                  "fmu/state_entry_points.py"),
