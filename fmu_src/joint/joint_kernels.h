@@ -3,7 +3,7 @@
  * Each is the function behind a numba cfunc of wearjoint/fmu/joint_entry_points.py, with numba's
  * calling convention: int32 status (0 = success), a pointer for the return value, a pointer
  * for exception information (never written: the kernels have no path that raises), then the
- * arguments.  The physics lives only there (wearjoint/core/); joint_instance.c and joint_model.c
+ * arguments.  The physics lives only there (wearjoint/core/); joint_model.c and joint_variables.c
  * map FMI variables onto the kernels' arrays (layout: wearjoint/core/layout.py, mirrored in
  * the generated model_variables.h).
  */

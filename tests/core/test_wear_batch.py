@@ -117,3 +117,31 @@ def test_a_corrupt_batch_in_a_state_is_refused():
     memory[L.M_BATCH_INDEX] = joint.params.n_points          # past the last bushing point
     with pytest.raises(StateError, match=r"wear batch value 1257(\.0)? \(slot 9\) is invalid"):
         joint.set_state(JointState(joint.wear_depth.copy(), memory))
+
+
+def test_a_batch_whose_mean_position_clears_the_wall_wears_an_arc_around_it():
+    """Two steps pressed 2 um deep at +-0.3 rad: their load-weighted mean position, on the bisector, lies
+    e (1 - cos 0.3) = 4.5 um inside the wall's reach, clear of it.  The batch keeps Archard's volume and
+    wears an arc symmetric about the bisector, deepest there (the pin moved out until it touches): not the
+    whole volume in one cell at the last step's deepest point."""
+    joint = pressed_joint(MAX_WEAR_STEP_S)
+    e = joint.params.clearance_m + PENETRATION_M
+    angle = 0.3
+    assert e * (1.0 - np.cos(angle)) > 2.0 * PENETRATION_M
+    k_w = joint.parameter_vector[L.P_WEAR_COEFFICIENT]
+    archard = 0.0
+    for side in (1.0, -1.0):
+        pos_i = np.array([e * np.cos(angle), side * e * np.sin(angle), 0.0])
+        joint.advance_array(pos_i, np.array([0.0, 0.0, SPIN_RAD_S]), AT_REST, AT_REST, 1e-5, True)
+        assert joint.result[L.R_CONTACT] > 0.5
+        archard += k_w * joint.result[L.R_NORMAL_FORCE] * joint.params.bushing_radius_m * SPIN_RAD_S * 1e-5
+    assert joint.max_wear_depth_m == 0.0 and batch_time(joint) > 0.0
+    press(joint, 1e-5, 1, eccentricity_m=0.5 * joint.params.clearance_m)      # the contact ends: the batch wears
+    depth = joint.wear_depth
+    assert joint.worn_volume_m3 == pytest.approx(archard, rel=1e-4)
+    bisector = int(np.argmin(np.abs(np.angle(np.exp(1j * joint.phi_rad)))))    # the point at angle 0
+    assert np.argmax(depth) == bisector
+    offsets = np.arange(1, depth.size // 2)
+    np.testing.assert_allclose(depth[(bisector + offsets) % depth.size], depth[(bisector - offsets) % depth.size],
+                               rtol=1e-6, atol=1e-6 * depth.max())
+    assert np.count_nonzero(depth > 0.1 * depth.max()) >= 5

@@ -19,6 +19,9 @@ WEAR_REFUSED = -1.0                    # the step's wear is absurd; nothing chan
 # a Newton step from a residual below this share of the volume is the last: the next residual, measured as
 # 0.16-0.17 times the square of the relative residual before the step, is below 1e-14 (no check pass)
 NEWTON_LAST_STEP = 1e-7
+# the overlap a pin that clears the wall is moved to: far below any increment, so that the update is the pin's
+# geometric advance (lambda >> 1: every point wears its shifted overlap), independent of this value
+TOUCH_OVERLAP_M = 1e-12
 
 
 @kernel
@@ -281,8 +284,29 @@ def archard_volume_fits(k_w, f_n, relative_dt, slide, rotation, bushing_radius, 
 
 
 @kernel
+def _touching_position(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """The pin centre moved from (ex, ey) outward along its own direction until the first bushing point
+    overlaps by TOUCH_OVERLAP_M [m]: the least s >= 0 with |rho_z n_z - (e + s u)|^2 = R_i^2 - 2 R_i TOUCH_OVERLAP_M
+    over the points z, u = e / |e|."""
+    norm = math.sqrt(ex * ex + ey * ey)
+    ux, uy = (ex / norm, ey / norm) if norm > 0.0 else (1.0, 0.0)
+    reach_sq = pin_radius * pin_radius - 2.0 * pin_radius * TOUCH_OVERLAP_M
+    move = math.inf
+    for z in range(wear_depth.shape[0]):
+        rho = bushing_radius + wear_depth[z]
+        dx = rho * cos_phi[z] - ex
+        dy = rho * sin_phi[z] - ey
+        along = dx * ux + dy * uy
+        discriminant = along * along - (dx * dx + dy * dy) + reach_sq
+        if along > 0.0 and discriminant >= 0.0:
+            move = min(move, along - math.sqrt(discriminant))
+    move = max(move, 0.0)
+    return ex + move * ux, ey + move * uy
+
+
+@kernel
 def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
-                    cos_phi, sin_phi, wear_depth, block_min, mask, work, k):
+                    cos_phi, sin_phi, wear_depth, block_min, mask, work):
     """Elastic-foundation (Winkler) placement of the Archard increment, relaxed exactly over the step
     (docs/model.md §3.7, §3.11).
 
@@ -294,7 +318,9 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     k_eff cell(o + a)+, with a set so that the removed volume stays Archard's, k_w F_N Delta s (for small
     lambda the explicit update h_z += k_w p_z Delta s_z).  Any lambda is stable: a point never wears more
     than its shifted overlap.  Pressures are cell means (:func:`cell_overlap`) of the depths before the
-    update.  Scratch: ``mask`` (bool, N_d), whose first nb entries flag the blocks of points that may
+    update.  A pin at (ex, ey) that clears the wall (a batch's load-weighted mean position,
+:func:`wearjoint.core.wear.batch_wear`) is first moved outward along its direction until it touches
+(:func:`_touching_position`).  Scratch: ``mask`` (bool, N_d), whose first nb entries flag the blocks of points that may
     overlap, and ``work`` (float64, 2 N_d), which holds the points' overlaps (work[:N_d]) and weights
     (work[N_d:]).  Returns the largest increment [m], or WEAR_REFUSED with nothing changed if the step's
     Archard volume exceeds the whole bushing's (pi R_j^2 L) or the pin's advance its radius, or either is
@@ -303,15 +329,17 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     total, _, _, _ = _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey,
                                          pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask,
                                          skipped, work)
-    if total <= 0.0:                          # cannot happen with F_N > 0 (the deepest point overlaps)
-        n = wear_depth.shape[0]
-        rho = bushing_radius + wear_depth[k]
-        dh = k_w * f_n / (contact_length * rho * 2.0 * math.pi / n) * (rho * relative_dt if rotation else slide)
-        if not dh <= bushing_radius:
+    if total <= 0.0:
+        # the pin clears the worn wall (a batch's load-weighted mean position: the mean of contact points along
+        # the concave wall lies inside it): move it outward along its direction until it touches
+        ex, ey = _touching_position(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth)
+        skipped = _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask,
+                               work)
+        total, _, _, _ = _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey,
+                                          pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min,
+                                          mask, skipped, work)
+        if not total > 0.0:
             return WEAR_REFUSED
-        wear_depth[k] += dh
-        refresh_blocks(wear_depth, block_min, k, k)
-        return dh
     scale = k_w * f_n / (contact_length * total)
     if not archard_volume_fits(k_w, f_n, relative_dt, slide, rotation, bushing_radius, contact_length):
         return WEAR_REFUSED

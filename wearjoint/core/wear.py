@@ -156,7 +156,7 @@ def _foundation_increment(k, ex, ey, f_n, angle, slide, jp, cos_phi, sin_phi, we
     share = _relaxation(k, angle, slide, jp, wear_depth) / WEAR_STEP_SHARE       # on the profile before the update
     largest = foundation_wear(jp[P_WEAR_COEFFICIENT], f_n, jp[P_CONTACT_LENGTH], angle, slide, int(jp[P_SLIDING]) == 0,
                               ex, ey, jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS], cos_phi, sin_phi, wear_depth,
-                              block_min, mask, work, k)
+                              block_min, mask, work)
     return largest, share
 
 

@@ -1,7 +1,7 @@
 """C entry points of the joint's hot path, for hosts that call it from native code.
 
 The native FMU (wearjoint/fmu/build_native.py) compiles these numba ``cfunc``s ahead of
-time (:mod:`wearjoint.fmu.aot`) and its C layer (fmu_src/joint/joint_instance.c) calls them:
+time (:mod:`wearjoint.fmu.aot`) and its C model (fmu_src/joint/joint_model.c) calls them:
 they run the same kernels as :meth:`wearjoint.ClearanceJoint.evaluate_array` and
 ``advance_array`` (and the contact's exact derivatives, for FMI directional derivatives) on
 the joint's arrays, passed as raw pointers (``kinematics`` = the 12 FMU inputs: pin x, y,
