@@ -93,7 +93,7 @@ def run(args) -> int:
             record = _third_party(args, joint, mechanism)
             keys = ("master", "communication_steps")
         elif args.fmu_interface == "model-exchange":
-            # --max-step left at the master's default: SimulationOptions' own (3e-5 s with wear, else 1e-4 s)
+            # --max-step left at the master's default: SimulationOptions' own (DOPRI with wear 1e-5 s, else 1e-4 s)
             max_step = None if args.max_step == _DEFAULTS.max_step_s else args.max_step
             options = SimulationOptions(revolutions=args.revolutions, integrator="dopri", rtol=args.rtol,
                                         atol_position_m=args.atol_position, atol_velocity_m_s=args.atol_velocity,

@@ -5,7 +5,8 @@ from __future__ import annotations
 from ..results import write_results
 from ..parameters import MAX_WEAR_STEP_S
 from ..simulate import (
-    DEFAULT_WEAR_STEP_SHARE, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S, SimulationOptions, run_simulation,
+    DEFAULT_WEAR_STEP_SHARE, DOPRI_WEAR_CONTACT_STEP_S, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, NO_WEAR_MAX_STEP_S,
+    SimulationOptions, run_simulation,
 )
 from .options import (
     add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument, check_settling,
@@ -30,9 +31,9 @@ def add_integration_arguments(parser) -> None:
     g.add_argument("--atol-position", type=float, default=_DEFAULTS.atol_position_m, help="absolute tolerance on positions [m, rad]")
     g.add_argument("--atol-velocity", type=float, default=_DEFAULTS.atol_velocity_m_s, help="absolute tolerance on velocities [m/s, rad/s]")
     g.add_argument("--max-step", type=float, default=None,
-                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, less where "
-                        f"a step's share of the penetration would pass {DEFAULT_WEAR_STEP_SHARE:g}; at most "
-                        f"{MAX_WEAR_STEP_S:g} and a share of 4: docs/model.md §7)")
+                   help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, dopri "
+                        f"{DOPRI_WEAR_CONTACT_STEP_S:g}, less where a step's share of the penetration would pass "
+                        f"{DEFAULT_WEAR_STEP_SHARE:g}; at most {MAX_WEAR_STEP_S:g} and a share of 4: docs/model.md §7)")
     free_flight = f"(default {NO_WEAR_MAX_STEP_S:g}; --max-step when that is given)"
     g.add_argument("--free-flight-max-step", type=float, default=None,
                    help="dopri: largest step that starts with no contact [s], where nothing wears " + free_flight)
