@@ -31,6 +31,7 @@ import uuid
 import zipfile
 from pathlib import Path
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from .. import __version__
@@ -69,7 +70,8 @@ BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py",
 @dataclass(frozen=True)
 class NativeModel:
     """One model of the native FMUs: its C part (besides the FMI layer and fmu_model.c), its kernels'
-    header and Python modules (the AOT entry points: :data:`aot.ENTRY_POINTS` [name])."""
+    header and Python modules (the AOT entry points: :data:`aot.ENTRY_POINTS` [name]), and the generators
+    of its ``model_variables.h`` and ``modelDescription.xml``."""
 
     name: str                  # build_fmu's ``model``
     identifier: str            # modelIdentifier: the binary's and the .fmu's name
@@ -79,10 +81,34 @@ class NativeModel:
     modules: tuple             # the wearjoint modules whose content decides this model's FMU (with BUILD_MODULES)
     ir_modules: tuple          # what its kernels' IR depends on (with kernel_ir.IR_SOURCES)
     fixed_size: bool           # n_points does not apply (no bushing)
+    header: Callable[..., str]             # (guid, n_points, starts, profile_stride) -> model_variables.h
+    model_description: Callable[..., bytes]   # (fmi_version, n_points, token, tool, starts, profile_stride)
 
     @property
     def file_name(self) -> str:
         return f"{self.identifier}.fmu"
+
+
+def _joint_header(guid: str, n_points: int, starts: dict | None, profile_stride: int) -> str:
+    return model_variables_header(n_points, guid, starts, profile_stride)
+
+
+def _joint_model_description(fmi_version: int, n_points: int, token: str, tool: str, starts: dict | None,
+                             profile_stride: int) -> bytes:
+    cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
+    if fmi_version == 2:
+        return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS,
+                                     starts=starts, profile_stride=profile_stride)
+    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange, starts=starts)
+
+
+def _slider_crank_header(guid: str, n_points: int, starts: dict | None, profile_stride: int) -> str:
+    return sc.model_variables_header(guid, starts)
+
+
+def _slider_crank_model_description(fmi_version: int, n_points: int, token: str, tool: str, starts: dict | None,
+                                    profile_stride: int) -> bytes:
+    return sc.model_description(fmi_version, token, tool, starts)
 
 
 MODELS = {m.name: m for m in (
@@ -92,12 +118,13 @@ MODELS = {m.name: m for m in (
                  "core/state_format.py", "joint.py", "fmu/joint_entry_points.py",
                  "fmu/state_entry_points.py"),
                 ("fmu/joint_entry_points.py", "fmu/state_entry_points.py"),
-                False),
+                False, _joint_header, _joint_model_description),
     NativeModel("slider-crank", sc.MODEL_IDENTIFIER, "slider_crank", ("slider_crank_model.c", "slider_crank_kernels.h"),
                 "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "core/trig.py", "core/state_format.py",
                                            "fmu/slider_crank.py", "fmu/slider_crank_entry_points.py",
                                            "fmu/state_entry_points.py"),
-                ("fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py"), True),
+                ("fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py"), True,
+                _slider_crank_header, _slider_crank_model_description),
 )}
 DEFAULT_MODEL = "joint"
 
@@ -177,7 +204,7 @@ def check_profile_stride(profile_stride, fmi_version: int, model: str, n_points:
     if isinstance(profile_stride, bool) or not isinstance(profile_stride, int) or not 0 <= profile_stride <= n_points:
         raise ParameterError(f"parameter profile_stride={profile_stride!r} is invalid: allowed an integer in "
                              f"[0, n_points = {n_points}] (1: every point, 0: none)")
-    if profile_stride != 1 and (fmi_version != 2 or model != "joint"):
+    if profile_stride != 1 and (fmi_version != 2 or native_model(model).fixed_size):
         raise ParameterError(f"parameter profile_stride={profile_stride!r} is invalid with FMI {fmi_version}.0 and "
                              f"model={model!r}: allowed 1 (only the joint's FMI 2.0 build has scalar profile outputs)")
     return profile_stride
@@ -340,18 +367,6 @@ def fmi_headers(fmi_version: int) -> Path:
     return headers
 
 
-def _model_description(fmi_version: int, n_points: int, token: str, model: str, starts: dict | None,
-                       profile_stride: int) -> bytes:
-    tool = f"wearjoint {__version__} (native)"
-    if model == "slider-crank":
-        return sc.model_description(fmi_version, token, tool, starts)
-    cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
-    if fmi_version == 2:
-        return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS,
-                                     starts=starts, profile_stride=profile_stride)
-    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange, starts=starts)
-
-
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
               fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None, model: str = DEFAULT_MODEL,
               starts: dict | None = None, profile_stride: int = 1) -> Path:
@@ -386,8 +401,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     out_dir = Path(out_dir)
     headers = fmi_headers(fmi_version)
     guid = model_guid(model_key(n_points, fmi_version, model, starts, profile_stride))
-    header = (sc.model_variables_header(guid, starts) if spec.fixed_size
-              else model_variables_header(n_points, guid, starts, profile_stride))
+    header = spec.header(guid, n_points, starts, profile_stride)
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
         modules = compile_kernel_ir(sources / "kernels", spec, reuse=not force)
@@ -417,8 +431,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         out_dir.mkdir(parents=True, exist_ok=True)
         partial = target_path.with_name(target_path.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
-            fmu.writestr("modelDescription.xml",
-                         _model_description(fmi_version, n_points, guid, model, starts, profile_stride))
+            fmu.writestr("modelDescription.xml", spec.model_description(
+                fmi_version, n_points, guid, f"wearjoint {__version__} (native)", starts, profile_stride))
             for arcname, data in binaries.items():
                 fmu.writestr(arcname, data)
             configuration = {"model": model} if spec.fixed_size else {"n_points": n_points,
