@@ -45,7 +45,7 @@ from wearjoint.parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
 )
 from wearjoint.progress import Progress
-from wearjoint.results import RunRecord, new_revolution_stats, new_track
+from wearjoint.results import RunParameters, RunRecord, new_revolution_stats, new_track
 from wearjoint.validation.exudyn_native import NativeContact, native_contact_forces, native_contact_parameters
 
 CONTACT_FORMULATIONS = ("discrete", "native")
@@ -279,7 +279,7 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
     """Simulate ``revolutions`` crank revolutions of the slider-crank in exudyn
     (generalized-alpha, fixed step ``step_s`` [s]; None = the paper's parameters);
     returns the same :class:`RunRecord` as :func:`wearjoint.simulate.run_simulation`,
-    with ``parameters["engine"] == "exudyn"``."""
+    with ``parameters.engine == "exudyn"``."""
     require("revolutions", revolutions, finite("revolutions", revolutions) > 0.0, "> 0")
     require("ideal", ideal, isinstance(ideal, bool), "True or False")
     model = ExudynSliderCrank(joint, mechanism, contact=contact, ideal=ideal)
@@ -295,11 +295,10 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
         worn_volume_m3=j.worn_volume_m3, simulated_time_s=model.t, wall_time_s=model.wall_time_s,
         revolutions=model.t / period, period_s=period, clearance_m=j.params.clearance_m,
         contact_stiffness_N_m1_5=j.params.stiffness_N_m1_5,
-        parameters={"joint": j.params.to_dict(), "mechanism": model.mechanism.params.to_dict(),
-                    "simulation": {"revolutions": revolutions, "integrator": "exudyn GeneralizedAlpha",
-                                   "step_s": model.step_s, "spectral_radius": SPECTRAL_RADIUS,
-                                   "contact": contact, "ideal": ideal, "sample_dt_s": sample_dt_s},
-                    "engine": "exudyn"},
+        parameters=RunParameters("exudyn", j.params, model.mechanism.params, "simulation",
+                                 {"revolutions": revolutions, "integrator": "exudyn GeneralizedAlpha",
+                                  "step_s": model.step_s, "spectral_radius": SPECTRAL_RADIUS, "contact": contact,
+                                  "ideal": ideal, "sample_dt_s": sample_dt_s}),
         extra={"integrator_accepted_steps": model.accepted_steps, "exudyn_version": exu.config.Version()})
 
 

@@ -122,7 +122,7 @@ def _statistics_figure(runs: Runs, plan: ValidationPlan, out: Path, plt) -> str:
 
 
 def _mechanism_of(record: RunRecord) -> SliderCrankParameters:
-    return SliderCrankParameters(**record.parameters["mechanism"])
+    return record.parameters.mechanism
 
 
 def _save(fig, out: Path, name: str) -> str:

@@ -11,7 +11,6 @@ import numpy as np  # noqa: E402
 
 from .core import layout as L  # noqa: E402
 from .mechanism import SliderCrank  # noqa: E402
-from .parameters import SliderCrankParameters  # noqa: E402
 
 
 def save_figure(fig, path: Path, dpi: int = 120) -> None:
@@ -30,7 +29,7 @@ def plot_slider_acceleration(record, path: Path) -> None:
     s = record.samples
     last = s[:, L.T_TIME] > record.last_revolution() * record.period_s
     t = s[last, L.T_TIME]
-    mech = SliderCrank(SliderCrankParameters(**record.parameters["mechanism"]))
+    mech = SliderCrank(record.parameters.mechanism)
     grid = np.linspace(0.0, record.period_s, 721)
     fig, ax = plt.subplots(figsize=(8, 4.5))
     ax.plot(crank_rotation_deg(t, record.period_s), s[last, L.T_SLIDER_A], ".", ms=1.5, label="clearance joint")

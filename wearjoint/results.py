@@ -17,6 +17,7 @@ import numpy as np
 from . import analysis
 from .analysis import REVOLUTION_COLUMNS
 from .core import layout as L
+from .parameters import JointParameters, SliderCrankParameters
 
 
 def new_revolution_stats(n_revolutions: int) -> np.ndarray:
@@ -35,6 +36,27 @@ def new_track(sample_dt: float, t0: float = 0.0) -> np.ndarray:
     return track
 
 
+@dataclass(frozen=True)
+class RunParameters:
+    """What a run ran: its engine, the joint and the mechanism as they were given, the engine's options under
+    ``options_key`` (``simulation``, ``cosimulation``, ``study``, ...; a dataclass with ``to_dict`` or a dict) and
+    the engine's own entries (``details``: the FMU, its backend and interface, a master).  summary.json holds
+    :meth:`to_dict`."""
+
+    engine: str
+    joint: JointParameters
+    mechanism: SliderCrankParameters
+    options_key: str | None = None
+    options: object = None
+    details: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        out = {"joint": self.joint.to_dict(), "mechanism": self.mechanism.to_dict()}
+        if self.options_key is not None:
+            out[self.options_key] = self.options.to_dict() if hasattr(self.options, "to_dict") else dict(self.options)
+        return out | {"engine": self.engine, **self.details}
+
+
 @dataclass
 class RunRecord:
     """Everything a simulating command writes (see module docstring)."""
@@ -50,7 +72,7 @@ class RunRecord:
     revolutions: float
     period_s: float                         # duration of one crank revolution
     clearance_m: float
-    parameters: dict
+    parameters: RunParameters
     extra: dict = field(default_factory=dict)
     completed: bool = True
     compile_time_s: float = 0.0             # building the engine (FMU load, instantiation) and JIT compilation
@@ -78,7 +100,7 @@ class RunRecord:
             **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),
             "completed": self.completed,
             "failure": self.failure or None,
-            "parameters": self.parameters,
+            "parameters": self.parameters.to_dict(),
         }
         out.update(self.extra)
         return out

@@ -17,7 +17,7 @@ from . import analysis
 from .core import layout as L
 from .parameters import JointParameters
 from .progress import Progress
-from .results import RunRecord
+from .results import RunParameters, RunRecord
 
 
 class Engine(Protocol):
@@ -39,8 +39,8 @@ class Engine(Protocol):
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(phi_deg, wear_depth_m, worn_volume_m3) of the bushing, copies."""
 
-    def describe(self) -> tuple[dict, dict]:
-        """The run record's ``parameters`` (what ran, typed values as dicts) and ``extra`` (its counters)."""
+    def describe(self) -> tuple[RunParameters, dict]:
+        """The run record's ``parameters`` (what ran) and ``extra`` (its counters)."""
 
     def close(self) -> None:
         """Free what the engine holds (an FMU instance)."""
@@ -139,7 +139,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
 
 
 def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float, period_s: float, joint_params,
-               parameters: dict, extra: dict) -> RunRecord:
+               parameters: RunParameters, extra: dict) -> RunRecord:
     """The :class:`RunRecord` of a chunked run: the engine's wear profile (read now),
     statistics of the requested revolutions, times and counters."""
     phi_deg, wear_depth, worn_volume = run.engine.wear_profile()

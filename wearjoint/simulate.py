@@ -18,7 +18,7 @@ from .parameters import (
     MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, finite, require,
     check_joint_fits_mechanism, paper_joint,
 )
-from .results import RunRecord, new_revolution_stats, new_track
+from .results import RunParameters, RunRecord, new_revolution_stats, new_track
 from .runner import run_engine
 
 INTEGRATORS = ("rk4", "dopri", "gear")
@@ -221,10 +221,9 @@ class Simulation:
     def joint_parameters(self) -> JointParameters:
         return self.joint.params
 
-    def describe(self) -> tuple[dict, dict]:
+    def describe(self) -> tuple[RunParameters, dict]:
         """The run record's parameters and the integrator's counts (:class:`wearjoint.runner.Engine`)."""
-        parameters = {"joint": self.joint.params.to_dict(), "mechanism": self.mechanism.params.to_dict(),
-                      "simulation": self.options.to_dict(), "engine": "monolithic"}
+        parameters = RunParameters("monolithic", self.joint.params, self.mechanism.params, "simulation", self.options)
         extra = {"integrator_accepted_steps": self.accepted, "integrator_rejected_steps": self.rejected,
                  **{"integrator_" + key: value for key, value in self.solver_counts.items()}}
         return parameters, extra

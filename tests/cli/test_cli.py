@@ -7,8 +7,8 @@ import time
 import numpy as np
 import pytest
 
-from wearjoint import JointParameters
-from wearjoint.results import new_revolution_stats
+from wearjoint import JointParameters, SliderCrankParameters, paper_joint
+from wearjoint.results import RunParameters, new_revolution_stats
 
 SUMMARY_KEYS = {"revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",
                 "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
@@ -95,7 +95,7 @@ class _SlowCompilingEngine:
         return np.array([180.0, 360.0]), np.array([1e-6, 0.0]), 0.0
 
     def describe(self):
-        return {"engine": "test"}, {"steps": 3}
+        return RunParameters("test", paper_joint(), SliderCrankParameters()), {"steps": 3}
 
     def close(self):
         self.closed = True
@@ -109,7 +109,7 @@ def test_compile_time_is_reported_apart_from_the_simulation_wall_time(tmp_path):
     record = run_engine(lambda: engines.append(_SlowCompilingEngine()) or engines[-1], 1.0, 0.01, 1e-3, "test",
                         progress=False)
     assert record.compile_time_s >= 0.5 > record.wall_time_s
-    assert engines[0].closed and record.parameters == {"engine": "test"} and record.extra == {"steps": 3}
+    assert engines[0].closed and record.parameters.engine == "test" and record.extra == {"steps": 3}
     write_results(record, tmp_path, plots=False)
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["compile_time_s"] >= 0.5 > summary["wall_time_s"] > 0.0

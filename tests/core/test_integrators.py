@@ -170,8 +170,8 @@ def test_dopri_with_wear_takes_long_steps_in_free_flight_and_the_wear_cap_in_con
     point is sampled (sample_dt_s below the shortest step but a located onset's)."""
     record = run_simulation(paper_joint(), options=SimulationOptions(revolutions=0.3, sample_dt_s=1e-7),
                             progress=False, chunks_per_revolution=64)
-    options = record.parameters["simulation"]
-    cap, free = options["max_step_s"], options["free_flight_max_step_s"]
+    options = record.parameters.options
+    cap, free = options.max_step_s, options.free_flight_max_step_s
     assert cap <= 3e-5 and free == 1e-4
     s = record.samples
     steps = np.diff(s[:, L.T_TIME])

@@ -19,6 +19,7 @@ from wearjoint.cli import main  # noqa: E402
 from wearjoint.cosim import masters  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters, paper_joint  # noqa: E402
+from wearjoint.results import RunParameters  # noqa: E402
 
 OMSIMULATOR = Path(__file__).resolve().parents[3] / "shared/tools/omsimulator"
 CLI = OMSIMULATOR / "bin/OMSimulator"
@@ -93,7 +94,7 @@ def test_cosim_master_omsimulator_agrees_with_fmpys_container(omsimulator, packa
     assert trace.time_s[-1] == pytest.approx(stop, abs=0.5 * masters.DEFAULT_STEP_S)
     assert np.isfinite(trace.values).all() and np.isfinite(trace.wear_depth_m).all()
     assert trace.values[:, masters.TRACED.index((ssp.JOINT, "contact"))].max() == 1.0
-    record = masters.record_from_trace(trace, joint, mechanism, 1e-4, {})
+    record = masters.record_from_trace(trace, joint, mechanism, 1e-4, RunParameters("cosim", joint, mechanism))
     assert np.isfinite(record.revolution_stats).all() and record.worn_volume_m3 > 0.0
     window = slice(0, round(0.02 / masters.DEFAULT_STEP_S) + 1)
     reference = masters.run_container(package, masters.DEFAULT_STEP_S, 0.02, joint.n_points)

@@ -43,7 +43,7 @@ def test_ideal_slider_follows_the_closed_form():
     rec = em.run_exudyn(None, None, 1.0, step_s=5e-5, ideal=True, progress=False)
     s = rec.samples
     exact = SliderCrank().closed_form(s[:, L.T_TIME])
-    assert rec.parameters["engine"] == "exudyn"
+    assert rec.parameters.engine == "exudyn"
     assert rec.simulated_time_s == pytest.approx(SliderCrankParameters().period_s, rel=1e-9)
     assert s[-1, L.T_TIME] == pytest.approx(rec.simulated_time_s)
     np.testing.assert_allclose(s[:, L.T_CRANK_ANGLE], exact["crank_angle_rad"], atol=1e-9)   # driver sign

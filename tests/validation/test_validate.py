@@ -9,9 +9,9 @@ import sys
 import numpy as np
 import pytest
 
-from wearjoint import paper_joint
+from wearjoint import SliderCrankParameters, paper_joint
 from wearjoint.core import layout as L
-from wearjoint.results import RunRecord, new_revolution_stats
+from wearjoint.results import RunParameters, RunRecord, new_revolution_stats
 
 pytest.importorskip("wearjoint.validation.exudyn_model")
 cmp = pytest.importorskip("wearjoint.validation.compare")
@@ -135,7 +135,8 @@ def _record(stats_rows, samples=None, period=0.4):
     samples = np.zeros((0, L.N_SAMPLE_COLUMNS)) if samples is None else samples
     return RunRecord(samples=samples, revolution_stats=stats, wear_growth_m=np.zeros(0), phi_deg=np.zeros(4),
                      wear_depth_m=np.zeros(4), worn_volume_m3=0.0, simulated_time_s=0.8, wall_time_s=1.0,
-                     revolutions=2.0, period_s=period, clearance_m=1e-4, parameters={})
+                     revolutions=2.0, period_s=period, clearance_m=1e-4,
+                     parameters=RunParameters("test", paper_joint(), SliderCrankParameters()))
 
 
 def test_revolution_statistics_average_over_revolutions():

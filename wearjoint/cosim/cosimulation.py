@@ -20,7 +20,7 @@ from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
     paper_joint,
 )
-from ..results import RunRecord, new_revolution_stats, new_track
+from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
 from .master_loop import (
     _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
@@ -228,11 +228,10 @@ class CoSimulation:
     def joint_parameters(self) -> JointParameters:
         return self.joint
 
-    def describe(self) -> tuple[dict, dict]:
+    def describe(self) -> tuple[RunParameters, dict]:
         """The run record's parameters and the communication statistics (:class:`wearjoint.runner.Engine`)."""
-        parameters = {"joint": self.joint.to_dict(), "mechanism": self.mechanism.params.to_dict(),
-                      "cosimulation": self.options.to_dict(), "fmu": str(self.fmu_path),
-                      "fmu_backend": self.fmu_backend, "engine": "cosim"}
+        parameters = RunParameters("cosim", self.joint, self.mechanism.params, "cosimulation", self.options,
+                                   {"fmu": str(self.fmu_path), "fmu_backend": self.fmu_backend})
         extra = {"communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
                  "free_steps": self.free_steps, "shrunk_steps": self.shrunk_steps,
                  "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}

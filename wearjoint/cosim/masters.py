@@ -48,7 +48,7 @@ from ..core.integrators import record_points
 from ..fmu import ssp
 from ..fmu import variables as fv
 from ..mechanism import pack_mechanism_parameters
-from ..results import RunRecord, new_revolution_stats, new_track
+from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 
 MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")
 THIRD_PARTY = MASTERS[1:]
@@ -332,7 +332,7 @@ RUNNERS = {"libcosim": run_libcosim, "ecos": run_ecos, "fmpy-ssp": run_fmpy_ssp,
            "container": run_container}
 
 
-def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, parameters: dict,
+def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, parameters: RunParameters,
                       chunk: int = 100_000) -> RunRecord:
     """The run record of a trace: per-revolution statistics and samples from the engines' recorder
     (every communication point is an accepted point; ``chunk`` points at a time), the worn profile
@@ -381,8 +381,8 @@ def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, ste
     stop_time = revolutions * mechanism.period_s
     extra = {"fmusim": fmusim} if master == "container" and fmusim else {}
     trace = RUNNERS[master](ssp_path, step_s, stop_time, joint.n_points, **extra)
-    parameters = {"joint": joint.to_dict(), "mechanism": mechanism.to_dict(), "engine": "cosim", "master": master,
-                  "communication_step_s": step_s, "fmusim": fmusim}
+    parameters = RunParameters("cosim", joint, mechanism,
+                               details={"master": master, "communication_step_s": step_s, "fmusim": fmusim})
     return record_from_trace(trace, joint, mechanism, sample_dt_s, parameters)
 
 

@@ -12,6 +12,8 @@ options this reproduces the monolithic run step for step.
 from __future__ import annotations
 
 
+import dataclasses
+
 import numpy as np
 
 from ..core import layout as L
@@ -19,6 +21,7 @@ from ..core.integrators import integrate
 from ..fmu.build import DEFAULT_BACKEND
 from ..fmu.instance import N_INPUTS, FmuError, FmuInstance, ensure_fmu
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
+from ..results import RunParameters
 from ..runner import run_engine
 from ..simulate import Simulation, SimulationOptions
 from .fmu_joint import FMU_CALLS, FmuJoint
@@ -105,12 +108,11 @@ class ModelExchangeSimulation:
     def max_wear_depth_m(self) -> float:
         return self._fmu.max_wear_depth(self.t)
 
-    def describe(self) -> tuple[dict, dict]:
+    def describe(self) -> tuple[RunParameters, dict]:
         """The monolithic engine's record naming the FMU and its interface (:class:`wearjoint.runner.Engine`)."""
         parameters, extra = self._engine.describe()
-        parameters |= {"engine": "cosim", "fmu_interface": "model-exchange", "fmu": str(self.fmu_path),
-                       "fmu_backend": self.fmu_backend}
-        return parameters, extra
+        details = {"fmu_interface": "model-exchange", "fmu": str(self.fmu_path), "fmu_backend": self.fmu_backend}
+        return dataclasses.replace(parameters, engine="cosim", details=details), extra
 
     def close(self) -> None:
         if getattr(self, "_fmu", None) is not None:

@@ -41,7 +41,7 @@ from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
 from wearjoint.joint import StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, is_paper_case
 from wearjoint.progress import Progress
-from wearjoint.results import RunRecord, write_json_atomic, write_results
+from wearjoint.results import RunParameters, RunRecord, write_json_atomic, write_results
 from wearjoint.runner import CheckpointingEngine, RunDiverged, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
@@ -458,9 +458,8 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         wall_time_s=state["wall_time_s"], compile_time_s=compile_time_s, revolutions=revolutions,
         period_s=period,
         clearance_m=config.joint.clearance_m, contact_stiffness_N_m1_5=config.joint.stiffness_N_m1_5,
-        parameters={"joint": config.joint.to_dict(), "mechanism": config.mechanism.to_dict(),
-                    "study": {k: v for k, v in config.to_dict().items() if k not in ("joint", "mechanism")},
-                    "engine": config.engine},
+        parameters=RunParameters(config.engine, config.joint, config.mechanism, "study",
+                                 {k: v for k, v in config.to_dict().items() if k not in ("joint", "mechanism")}),
         completed=ending is None, failure=ending["failure"] if ending else "")
     summary = write_results(record, out, plots=plots and ending is None)
     status = ending["status"] if ending else "finished"
