@@ -39,9 +39,9 @@ def new_track(sample_dt: float, t0: float = 0.0) -> np.ndarray:
 @dataclass(frozen=True)
 class RunParameters:
     """What a run ran: its engine, the joint and the mechanism as they were given, the engine's options under
-    ``options_key`` (``simulation``, ``cosimulation``, ``study``, ...; a dataclass with ``to_dict`` or a dict) and
-    the engine's own entries (``details``: the FMU, its backend and interface, a master).  summary.json holds
-    :meth:`to_dict`."""
+    ``options_key`` (``simulation``, ``cosimulation``, ``study``, ...; a dataclass with ``to_dict`` or a dict; None:
+    no options entry) and the engine's own entries (``details``: the FMU, its backend and interface, a master).
+    summary.json holds :meth:`to_dict`."""
 
     engine: str
     joint: JointParameters

@@ -31,7 +31,7 @@ NO_WEAR_MAX_STEP_S = 1e-4   # largest adaptive step without wear [s]
 # a 1 us run, lambda 4 (the limit an explicit step may take) 43 % deeper (docs/model.md §7)
 DEFAULT_WEAR_STEP_SHARE = 1.5
 # DOPRI's default step with wear in contact [s]: at 3e-5 s (the wear-step limit) the own-mechanism example's
-# impacts per revolution came out 9 % high (84.8 +- 1.1 against 77.8-80.1 at 1e-5 s, 5e-6 s and RK4 at
+# impacts per revolution came out 9 % high (84.8 +- 1.3 against 77.8-80.1 at 1e-5 s, 5e-6 s and RK4 at
 # 2.5 us, 16 starts x 10 revolutions), the paper's mechanism unchanged (docs/model.md §7)
 DOPRI_WEAR_CONTACT_STEP_S = 1e-5
 

@@ -319,9 +319,9 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     lambda the explicit update h_z += k_w p_z Delta s_z).  Any lambda is stable: a point never wears more
     than its shifted overlap.  Pressures are cell means (:func:`cell_overlap`) of the depths before the
     update.  A pin at (ex, ey) that clears the wall (a batch's load-weighted mean position,
-:func:`wearjoint.core.wear.batch_wear`) is first moved outward along its direction until it touches
-(:func:`_touching_position`).  Scratch: ``mask`` (bool, N_d), whose first nb entries flag the blocks of points that may
-    overlap, and ``work`` (float64, 2 N_d), which holds the points' overlaps (work[:N_d]) and weights
+    :func:`wearjoint.core.wear.batch_wear`) is first moved outward along its direction until it touches
+    (:func:`_touching_position`).  Scratch: ``mask`` (bool, N_d), whose first nb entries flag the blocks of
+    points that may overlap, and ``work`` (float64, 2 N_d), which holds the points' overlaps (work[:N_d]) and weights
     (work[N_d:]).  Returns the largest increment [m], or WEAR_REFUSED with nothing changed if the step's
     Archard volume exceeds the whole bushing's (pi R_j^2 L) or the pin's advance its radius, or either is
     not finite."""
