@@ -9,7 +9,8 @@ import math
 import numpy as np
 
 from .geometry import (
-    _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, refresh_blocks, wrap_index,
+    _block_lower_bound_sq, _direction_point, _is_direction_block, _tie_margin, candidate_blocks, refresh_blocks,
+    wrap_index,
 )
 from .jit import kernel
 from .layout import BLOCK_SIZE
@@ -40,8 +41,8 @@ def _fill_overlaps(lo, hi, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
 @kernel
 def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, kept, work):
     """kept[b] for every block b (``kept``: the first nb entries of the joint's point mask): False
-    only if block b holds no point inside the pin, by the block's lower bound
-    (:func:`geometry._block_lower_bound_sq`), else by the overlaps of its points, which are left in
+    only if block b holds no point inside the pin, by its angle from e (:func:`geometry.candidate_blocks`) or its
+    lower bound (:func:`geometry._block_lower_bound_sq`), else by the overlaps of its points, which are left in
     ``work`` (:func:`_fill_overlaps`).  Blocks of fewer than 4 points are always kept, so the runs
     of kept blocks are at least 4 points apart.  Returns a block that is not kept, or -1 if all are."""
     n = wear_depth.shape[0]
@@ -49,13 +50,15 @@ def _mark_blocks(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_dept
     e, ux, uy, k0 = _direction_point(ex, ey, n)
     b0 = k0 // BLOCK_SIZE
     margin = _tie_margin(pin_radius * pin_radius)
+    first, count = candidate_blocks(e, bushing_radius, margin, k0, n, nb)
     skipped = -1
     for b in range(nb):
         lo = b * BLOCK_SIZE
         hi = min(lo + BLOCK_SIZE, n)
         forced = nb <= 3 or hi - lo < 4
         if (not forced and not _is_direction_block(b, b0, nb)
-                and _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) > margin):
+                and (wrap_index(b - first, nb) >= count
+                     or _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) > margin)):
             kept[b] = False
         else:
             inside = _fill_overlaps(lo, hi, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, work)
@@ -136,6 +139,19 @@ def relaxation_factor(lam):
 
 
 PASS_WEIGHTS, PASS_SHIFT, PASS_APPLY, PASS_COEFFICIENTS = 0, 1, 2, 3
+UNSET = -1.0                           # work[N_d + z]: point z's relaxed coefficient is not computed yet (c >= 0)
+
+
+@kernel(inline='always')
+def _coefficient(z, n, rho, scale, relative_dt, slide, rotation, work):
+    """Point z's (of N_d = n) relaxed coefficient c_z = Delta s_z phi(scale Delta s_z) (:func:`_relaxed_run`), from work[N_d + z]
+    or computed there if UNSET (one exponential per point and step, and none for a point never in contact)."""
+    c = work[n + z]
+    if c < 0.0:
+        ds = rho * relative_dt if rotation else slide
+        c = ds * relaxation_factor(scale * ds)
+        work[n + z] = c
+    return c
 
 
 @kernel
@@ -144,42 +160,47 @@ def _relaxed_run(mode, first, last, shift, scale, relative_dt, slide, rotation, 
     """Over points first..last (first >= -1, last < 2 N_d, at most N_d points, wrapping) with their overlaps
     in work[:N_d], each point's pressure p_z = cell mean of (o + shift)+ times k_eff, relaxed over the step:
     lambda_z = scale Delta s_z (scale = k_w k_eff [1/m]), increment scale c_z cell_overlap(o + shift) with
-    c_z = Delta s_z phi(lambda_z).  PASS_COEFFICIENTS (work[N_d:] holds the weights w_z, the cell overlaps
-    at shift 0): returns (PASS_SHIFT's two sums at shift 0, the explicit update's volume sum
-    rho_z Delta s_z w_z) and leaves c_z in work[N_d:] (they do not depend on the shift: one exponential per
-    point and step); PASS_SHIFT: returns (the volume sum rho_z c_z cell_overlap(o + shift), its derivative in
-    shift, 0); PASS_APPLY: applies the increments, returns (the largest increment, 0, 0)."""
+    c_z = Delta s_z phi(lambda_z) (:func:`_coefficient`).  PASS_COEFFICIENTS (work[N_d:] holds the weights w_z,
+    the cell overlaps at shift 0): returns (PASS_SHIFT's two sums at shift 0, the explicit update's volume sum
+    rho_z Delta s_z w_z) and leaves in work[N_d:] c_z where the cell is in contact, UNSET elsewhere (they do not
+    depend on the shift; the passes compute a missing one when a shift brings its cell into contact);
+    PASS_SHIFT: returns (the volume sum rho_z c_z cell_overlap(o + shift), its derivative in shift, 0);
+    PASS_APPLY: applies the increments, returns (the largest increment, 0, 0).  Streams the overlaps: each
+    point's once."""
     n = wear_depth.shape[0]
     volume = slope = explicit = 0.0
+    coefficients = mode == PASS_COEFFICIENTS
+    z = wrap_index(first, n)
+    before = work[wrap_index(first - 1, n)] if coefficients else work[wrap_index(first - 1, n)] + shift
+    at = work[z] if coefficients else work[z] + shift
     for i in range(first, last + 1):
-        z = wrap_index(i, n)
-        rho = bushing_radius + wear_depth[z]
-        if mode == PASS_COEFFICIENTS:
+        following = wrap_index(i + 1, n)
+        after = work[following] if coefficients else work[following] + shift
+        touching = max(before, max(at, after)) > 0.0
+        if coefficients:
+            rho = bushing_radius + wear_depth[z]
             ds = rho * relative_dt if rotation else slide
             w = work[n + z]
             explicit += rho * ds * w
-            c = ds * relaxation_factor(scale * ds)
-            work[n + z] = c
-            before, at, after = work[wrap_index(i - 1, n)], work[z], work[wrap_index(i + 1, n)]
-            if max(before, max(at, after)) > 0.0:       # PASS_SHIFT at shift 0, whose cell overlap is w
+            work[n + z] = UNSET
+            if touching:                              # PASS_SHIFT at shift 0, whose cell overlap is w
+                c = _coefficient(z, n, rho, scale, relative_dt, slide, rotation, work)
                 g_before, g_at, g_after = cell_overlap_gradient(before, at, after)
                 volume += rho * c * w
                 slope += rho * c * (g_before + g_at + g_after)
-            continue
-        before = work[wrap_index(i - 1, n)] + shift
-        at = work[z] + shift
-        after = work[wrap_index(i + 1, n)] + shift
-        if max(before, max(at, after)) <= 0.0:
-            continue                              # a cell out of contact: no overlap, no gradient, no wear
-        mean = cell_overlap(before, at, after)
-        if mode == PASS_SHIFT:
-            g_before, g_at, g_after = cell_overlap_gradient(before, at, after)
-            volume += rho * work[n + z] * mean
-            slope += rho * work[n + z] * (g_before + g_at + g_after)
-        elif mean > 0.0:
-            dh = scale * work[n + z] * mean
-            wear_depth[z] = rho + dh - bushing_radius
-            volume = max(volume, dh)
+        elif touching:                                # else a cell out of contact: no overlap, gradient, wear
+            rho = bushing_radius + wear_depth[z]
+            c = _coefficient(z, n, rho, scale, relative_dt, slide, rotation, work)
+            mean = cell_overlap(before, at, after)
+            if mode == PASS_SHIFT:
+                g_before, g_at, g_after = cell_overlap_gradient(before, at, after)
+                volume += rho * c * mean
+                slope += rho * c * (g_before + g_at + g_after)
+            elif mean > 0.0:
+                dh = scale * c * mean
+                wear_depth[z] = rho + dh - bushing_radius
+                volume = max(volume, dh)
+        before, at, z = at, after, following
     return volume, slope, explicit
 
 
@@ -256,7 +277,7 @@ def _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushin
     increments remove the explicit update's volume, sum rho Delta s phi cell(o + a) = sum rho Delta s w
     (Newton on a convex, increasing function of a, from a = 0 where it is below, to 1e-13 of the volume), and
     the largest end overlap of the runs it was solved on.  Leaves the relaxed coefficients in work[N_d:]
-    (PASS_COEFFICIENTS)."""
+    (PASS_COEFFICIENTS: UNSET where no pass needed one)."""
     volume, slope, explicit, edge = _foundation_pass(PASS_COEFFICIENTS, 0.0, scale, relative_dt, slide, rotation,
                                                      ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
                                                      wear_depth, block_min, kept, skipped, work)

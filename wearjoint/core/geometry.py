@@ -223,6 +223,37 @@ def _is_direction_block(b, b0, nb):
     return off <= 1 or off == nb - 1
 
 
+@kernel(inline='always')
+def arc_cosine_bound(x):
+    """acos(x) or a little more [rad], x < 1: near 1 (t = 1 - x <= 0.1) sqrt(2t) (1 + t/6), above
+    acos(1 - t) = sqrt(2t) (1 + t/12 + 3t^2/160 + ...) by under 1 % of it (no libm call: the contact's
+    small overlaps); else acos(x) by libm's asin."""
+    t = 1.0 - x
+    if t <= 0.1:
+        return math.sqrt(2.0 * t) * (1.0 + t / 6.0)
+    return 2.0 * math.asin(math.sqrt(0.5 * min(t, 2.0)))
+
+
+@kernel(inline='always')
+def candidate_blocks(e, bushing_radius, limit_sq, k0, n, nb):
+    """(first block, count) of the blocks, cyclically from the first, that may hold a point with
+    |d_z|^2 <= limit_sq [m^2]: those reaching within the angle Delta* of point k0 (a point nearest e's
+    direction, to one spacing), where the angular bound with rho = R_j (every rho >= R_j), R_j^2 + |e|^2 -
+    2 R_j |e| cos Delta, reaches limit_sq, widened by two spacings; every block where that is more than a
+    third of the circle or |e| is not in (0, R_j)."""
+    if not 0.0 < e < bushing_radius:
+        return 0, nb
+    c = (bushing_radius * bushing_radius + e * e - limit_sq) / (2.0 * bushing_radius * e)
+    if not c > 0.5:
+        return 0, nb
+    half = 2 if c >= 1.0 else int(arc_cosine_bound(c) * (n / TWO_PI)) + 3
+    if 2 * half + 1 >= n:
+        return 0, nb
+    first = wrap_index(k0 - half, n) // BLOCK_SIZE
+    last = wrap_index(k0 + half, n) // BLOCK_SIZE
+    return first, (last - first if last >= first else last + nb - first) + 1
+
+
 @kernel
 def _tie_margin(best_d2):
     """Candidates whose bound is within rounding of the best are still scanned."""
@@ -252,7 +283,8 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
        On a circular or mildly worn bushing this decides after a few points.
     2. Otherwise (deep local wear), scan the three blocks around the direction
        of e and every other block whose own lower bound could still beat or
-       tie the best.
+       tie the best, among those :func:`candidate_blocks` leaves (with the
+       best after the three blocks: a point outside cannot beat or tie it).
     Ties go to the lower index, as in the full scan.
     """
     n = wear_depth.shape[0]
@@ -284,7 +316,9 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
         lo = wrap_index(b0 + db, nb) * BLOCK_SIZE
         best_d2, best_k = _scan_block(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth,
                                       lo, min(lo + BLOCK_SIZE, n), best_d2, best_k)
-    for b in range(nb):
+    first, count = candidate_blocks(e, bushing_radius, _tie_margin(best_d2), k0, n, nb)
+    for j in range(count):
+        b = wrap_index(first + j, nb)
         if _is_direction_block(b, b0, nb):
             continue
         if _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min, b, n) <= _tie_margin(best_d2):

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .geometry import wrap_index
+from .geometry import arc_cosine_bound, wrap_index
 from .jit import kernel
 
 
@@ -252,17 +252,6 @@ def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushi
 
 
 @kernel(inline='always')
-def _arc_cosine_bound(x):
-    """acos(x) or a little more [rad], x < 1: near 1 (t = 1 - x <= 0.1) sqrt(2t) (1 + t/6), above
-    acos(1 - t) = sqrt(2t) (1 + t/12 + 3t^2/160 + ...) by under 1 % of it (no libm call: the contact's
-    small overlaps); else acos(x) by libm's asin."""
-    t = 1.0 - x
-    if t <= 0.1:
-        return math.sqrt(2.0 * t) * (1.0 + t / 6.0)
-    return 2.0 * math.asin(math.sqrt(0.5 * min(t, 2.0)))
-
-
-@kernel(inline='always')
 def _nearest_point(ex, ey, n):
     """The bushing point nearest e's direction (point k at angle (k + 1) dphi)."""
     return int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1
@@ -301,7 +290,7 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     if cos_max >= 1.0:                           # no point can reach the pin
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     dphi = 2.0 * math.pi / n
-    reach = _arc_cosine_bound(cos_max)
+    reach = arc_cosine_bound(cos_max)
     half = int(reach / dphi) + 3                   # + rounding of the centre, + the cells reaching in
     if 2 * half + 1 >= n:           # every point; n - n: an int64 (a literal 0 is one more compilation)
         sums = _resultant_run(n - n, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
