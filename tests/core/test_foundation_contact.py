@@ -276,7 +276,7 @@ def test_the_closed_form_over_unworn_points_is_the_point_by_point_sum(worn):
     Jacobian, in any direction (across point 0 too) from 30 nm to 80 um; a window touching a worn point
     sums point by point.  The same with the deepest point given (the window then placed about it)."""
     from wearjoint.core import pressure
-    from wearjoint.core.geometry import bushing_point_angles
+    from wearjoint.core.geometry import bushing_point_angles, find_deepest_point_full
 
     phi = bushing_point_angles(P.n_points)
     cos_phi, sin_phi = np.cos(phi), np.sin(phi)
@@ -285,19 +285,26 @@ def test_the_closed_form_over_unworn_points_is_the_point_by_point_sum(worn):
     if worn:
         wear[::97] = 1e-7                          # a worn point in every window
     rng = np.random.default_rng(7)
+    by_points = 0
     for angle in [*rng.uniform(-math.pi, math.pi, 40), 0.0, phi[0] / 2, -phi[0] / 2, math.pi]:
         for delta in (3e-8, 2e-6, 1e-5, 8e-5):
             ex, ey = (C + delta) * math.cos(angle), (C + delta) * math.sin(angle)
-            s0, sx, sy, m11, m12, m21, m22 = pressure._resultant_run(0, P.n_points - 1, ex, ey, r_i, r_j, cos_phi,
-                                                                     sin_phi, wear, True, (0.0,) * 7)
+            (s0, sx, sy, m11, m12, m21, m22), _, _ = pressure._resultant_run(0, P.n_points - 1, ex, ey, r_i, r_j,
+                                                                             cos_phi, sin_phi, wear, True, (0.0,) * 7)
             scale = 0.5 / r_i
             s0, sx, sy = s0 * scale, sx * scale, sy * scale
             expected = np.array([-sx, -sy, s0 - m11 / r_i, -m12 / r_i, -m21 / r_i, s0 - m22 / r_i, s0])
             rho = r_j + wear
             deepest = int(np.argmin((rho * cos_phi - ex) ** 2 + (rho * sin_phi - ey) ** 2))
+            nearest, nearest_d2 = find_deepest_point_full(ex, ey, r_j, cos_phi, sin_phi, wear)
             for hint in (-1, deepest):
                 got = np.array(pressure.foundation_resultant(ex, ey, r_i, r_j, cos_phi, sin_phi, wear, True, hint))
                 force = np.abs(expected[:2]).max()
                 assert np.abs(got[:2] - expected[:2]).max() <= 1e-9 * force, (angle, delta, hint)
                 assert abs(got[6] - expected[6]) <= 1e-9 * expected[6]
                 assert np.abs(got[2:6] - expected[2:6]).max() <= 1e-12 * np.abs(expected[2:6]).max()
+                # a window summed point by point: its point nearest the pin centre (inside it) is the deepest
+                # point, to the bit; a closed-form window has none
+                assert (got[7], got[8]) in ((nearest, nearest_d2), (-1, math.inf)), (angle, delta, hint)
+                by_points += got[7] >= 0
+    assert (by_points > 100) if worn else by_points == 0

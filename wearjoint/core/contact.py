@@ -313,8 +313,20 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
     out[R_CONTACT_INDEX] = -1.0
     pin_radius = jp[P_PIN_RADIUS]
     bushing_radius = jp[P_BUSHING_RADIUS]
-    k, d2 = find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, hint)
     n = wear_depth.shape[0]
+    foundation = int(jp[P_CONTACT_MODEL]) == CONTACT_FOUNDATION
+    resultant = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1, math.inf)
+    k, d2 = -1, math.inf
+    if foundation and 0.0 <= previous < n and wear_depth[hint] > 0.0:
+        # last in contact at a worn point: the resultant's window first, whose nearest point, if inside the
+        # pin, is the deepest point (the search's answer, found without it)
+        resultant = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                         with_jacobian, -1)
+        if resultant[7] >= 0 and not math.sqrt(resultant[8]) > pin_radius:
+            k, d2 = resultant[7], resultant[8]
+    windowed = k >= 0
+    if not windowed:
+        k, d2 = find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, hint)
     rho = bushing_radius + wear_depth[k]
     dkx = rho * cos_phi[k] - ex                 # d_k = rho_k u_k - e: pin centre to the deepest point
     dky = rho * sin_phi[k] - ey
@@ -325,9 +337,11 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
     if d > pin_radius:
         out[R_CONTACT_ANGLE] = angle_near_point(ex, ey, k, cos_phi, sin_phi)
         return False, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), True, bushing_point, fallback, dkx, dky, d
-    if int(jp[P_CONTACT_MODEL]) == CONTACT_FOUNDATION:
-        fx, fy, j11, j12, j21, j22, _ = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
-                                                            wear_depth, with_jacobian, k)
+    if foundation:
+        if not windowed:
+            resultant = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
+                                             with_jacobian, k)
+        fx, fy, j11, j12, j21, j22 = resultant[:6]
         scale = jp[P_FOUNDATION_MODULUS] * (TWO_PI / n)
         elastic = (scale * fx, scale * fy, scale * j11, scale * j12, scale * j21, scale * j22)
         common_point = True

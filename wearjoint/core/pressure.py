@@ -97,14 +97,15 @@ def foundation_modulus_factor(stiffness, pin_radius, bushing_radius):
 
 
 @kernel(inline='always')
-def _point(z, ex, ey, pin_radius_sq, bushing_radius, cos_phi, sin_phi, wear_depth):
-    """(rho_z, d_z x, d_z y, 2 R_i o_z) of bushing point z, 0 <= z < N_d (the overlap without its constant
-    divisor).  Indexed unsigned: numba then adds no negative-index wrap."""
+def _point(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
+    """(rho_z, d_z x, d_z y, |d_z|^2) of bushing point z, 0 <= z < N_d, |d_z|^2 as
+    :func:`geometry.distance_sq`; R_i^2 - |d_z|^2 is 2 R_i o_z (the overlap without its constant divisor).
+    Indexed unsigned: numba then adds no negative-index wrap."""
     u = np.uint64(z)
     rho = bushing_radius + wear_depth[u]
     dx = rho * cos_phi[u] - ex
     dy = rho * sin_phi[u] - ey
-    return rho, dx, dy, pin_radius_sq - (dx * dx + dy * dy)
+    return rho, dx, dy, dx * dx + dy * dy
 
 
 @kernel
@@ -112,16 +113,25 @@ def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin
                    sums):
     """Add to ``sums`` the terms of points first..last (indices wrap; first >= -1, last < 2 N_d):
     (s0, sx, sy) = 2 R_i sum w_z rho_z (1, d_z), and with_jacobian M = sum rho_z d_z (x) g_z with
-    g_z = R_i dw_z/de (4 entries, row-major).  Streams the overlaps: each point's once.  The overlaps
-    are taken times 2 R_i (no division per point): w is homogeneous of degree 1 in them, its
+    g_z = R_i dw_z/de (4 entries, row-major); returns (sums, the smallest |d_z|^2 of the points, its z), ties
+    to the lower z as :func:`geometry.find_deepest_point`.  Streams the overlaps: each point's once.  The
+    overlaps are taken times 2 R_i (no division per point): w is homogeneous of degree 1 in them, its
     gradient of degree 0."""
     n = wear_depth.shape[0]
     r2 = pin_radius * pin_radius
     s0, sx, sy, m11, m12, m21, m22 = sums
-    _, pdx, pdy, po = _point(wrap_index(first - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
-    rho, dx, dy, o = _point(wrap_index(first, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+    best_d2, best_z = math.inf, -1
+    _, pdx, pdy, pd2 = _point(wrap_index(first - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    z = wrap_index(first, n)
+    rho, dx, dy, d2 = _point(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+    po, o = r2 - pd2, r2 - d2
     for i in range(first, last + 1):
-        nrho, ndx, ndy, no = _point(wrap_index(i + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)
+        following = wrap_index(i + 1, n)
+        nrho, ndx, ndy, nd2 = _point(following, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
+        no = r2 - nd2
+        if d2 <= best_d2:                       # down a groove's flank, then rarely: a predictable branch
+            if d2 < best_d2 or z < best_z:
+                best_d2, best_z = d2, z
         w = cell_overlap(po, o, no)
         if w > 0.0:
             rw = rho * w
@@ -137,8 +147,8 @@ def _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin
                 m21 += rho * dy * gx
                 m22 += rho * dy * gy
         pdx, pdy, po = dx, dy, o
-        rho, dx, dy, o = nrho, ndx, ndy, no
-    return s0, sx, sy, m11, m12, m21, m22
+        rho, dx, dy, d2, o, z = nrho, ndx, ndy, nd2, no, following
+    return (s0, sx, sy, m11, m12, m21, m22), best_d2, best_z
 
 
 @kernel(inline='always')
@@ -232,23 +242,23 @@ def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushi
     r2 = pin_radius * pin_radius
     lo = max(first + 1, int(math.ceil(direction - steps)))
     hi = min(last - 1, int(math.floor(direction + steps)))
-    while lo <= hi and _point(wrap_index(lo, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+    while lo <= hi and r2 - _point(wrap_index(lo, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
         lo += 1
-    while lo - 1 > first and _point(wrap_index(lo - 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
-                                    wear_depth)[3] >= 0.0:
+    while lo - 1 > first and r2 - _point(wrap_index(lo - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi,
+                                         wear_depth)[3] >= 0.0:
         lo -= 1
-    while hi >= lo and _point(wrap_index(hi, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+    while hi >= lo and r2 - _point(wrap_index(hi, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
         hi -= 1
-    while hi + 1 < last and _point(wrap_index(hi + 1, n), ex, ey, r2, bushing_radius, cos_phi, sin_phi,
-                                   wear_depth)[3] >= 0.0:
+    while hi + 1 < last and r2 - _point(wrap_index(hi + 1, n), ex, ey, bushing_radius, cos_phi, sin_phi,
+                                        wear_depth)[3] >= 0.0:
         hi += 1
     if hi - lo < 2:
         return False, zeros
     sums = _unworn_interior_sums(lo + 1, hi - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, with_jacobian)
     sums = _resultant_run(lo - 1, lo, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                          with_jacobian, sums)
+                          with_jacobian, sums)[0]
     return True, _resultant_run(hi, hi + 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                                with_jacobian, sums)
+                                with_jacobian, sums)[0]
 
 
 @kernel(inline='always')
@@ -270,7 +280,7 @@ def _window(centre, half, n):
 @kernel
 def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, with_jacobian, deepest):
     """Elastic-foundation force on the pin per unit kappa, in the bushing frame, and its Jacobian
-    (module docstring): returns (f_x, f_y, df_x/de_x, df_x/de_y, df_y/de_x, df_y/de_y, s0) with
+    (module docstring): returns (f_x, f_y, df_x/de_x, df_x/de_y, df_y/de_x, df_y/de_y, s0, k, |d_k|^2) with
     F = kappa f, f = -sum_z w_z rho_z d_z [m^3] and s0 = sum_z w_z rho_z [m^2] (the overlap
     integral divided by dphi).  The Jacobian is 0 unless ``with_jacobian``.
 
@@ -278,23 +288,27 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     wear: |d|^2 = rho^2 + |e|^2 - 2 rho |e| cos(Delta) grows with rho >= R_j (rho > |e|), so o > 0
     needs cos(Delta) > (R_j^2 + |e|^2 - R_i^2) / (2 R_j |e|).  The sum runs over that window and
     one point past each end (their cells reach into the contact): in closed form where every point
-    of it is unworn (:func:`_unworn_window_sums`), else point by point.  ``deepest``: the deepest
-    bushing point if known (else -1); where it is unworn and so is the window about it, it is the point
-    nearest e's direction, which is then not computed (an arctangent per evaluation)."""
+    of it is unworn (:func:`_unworn_window_sums`), else point by point, and then (k, |d_k|^2) is the
+    point of the window nearest the pin centre, ties to the lower index (else (-1, inf)): if it is inside
+    the pin it is the deepest point of the whole bushing (every point outside the window is outside the
+    pin).  ``deepest``: the deepest bushing point if known (else -1); where it is unworn and so is the window
+    about it, it is the point nearest e's direction, which is then not computed (an arctangent per
+    evaluation)."""
     n = wear_depth.shape[0]
     sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    nearest_d2, nearest = math.inf, -1
     e = math.sqrt(ex * ex + ey * ey)
     if e <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
     cos_max = (bushing_radius * bushing_radius + e * e - pin_radius * pin_radius) / (2.0 * bushing_radius * e)
     if cos_max >= 1.0:                           # no point can reach the pin
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
     dphi = 2.0 * math.pi / n
     reach = arc_cosine_bound(cos_max)
     half = int(reach / dphi) + 3                   # + rounding of the centre, + the cells reaching in
     if 2 * half + 1 >= n:           # every point; n - n: an int64 (a literal 0 is one more compilation)
-        sums = _resultant_run(n - n, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                              with_jacobian, sums)
+        sums, nearest_d2, nearest = _resultant_run(n - n, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                                   sin_phi, wear_depth, with_jacobian, sums)
     else:
         hinted = 0 <= deepest < n and wear_depth[deepest] == 0.0
         first, last, direction = _window(deepest if hinted else _nearest_point(ex, ey, n), half, n)
@@ -303,12 +317,14 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
         if not done:
             if hinted:                               # the window must be about e's direction
                 first, last, direction = _window(_nearest_point(ex, ey, n), half, n)
-            sums = _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                                  with_jacobian, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+            sums, nearest_d2, nearest = _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi,
+                                                       sin_phi, wear_depth, with_jacobian,
+                                                       (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     s0, sx, sy, m11, m12, m21, m22 = sums
     scale = 0.5 / pin_radius                     # the runs' overlaps are 2 R_i o
     s0, sx, sy = s0 * scale, sx * scale, sy * scale
     if not with_jacobian:
-        return -sx, -sy, 0.0, 0.0, 0.0, 0.0, s0
+        return -sx, -sy, 0.0, 0.0, 0.0, 0.0, s0, nearest, nearest_d2
     # df/de = -(M / R_i - s0 I): d(w rho d)/de = rho d (x) dw/de - w rho I
-    return -sx, -sy, s0 - m11 / pin_radius, -m12 / pin_radius, -m21 / pin_radius, s0 - m22 / pin_radius, s0
+    return (-sx, -sy, s0 - m11 / pin_radius, -m12 / pin_radius, -m21 / pin_radius, s0 - m22 / pin_radius, s0,
+            nearest, nearest_d2)
