@@ -28,6 +28,10 @@ from .wear import accept_contact, advance_joint
 # (layout.R_*).
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
                                          "memory", "mask", "work", "result"))
+# No joint: the mechanism's own forces come from elsewhere (MODE_EXTERNAL: the co-simulation master, the
+# slider-crank FMU).  Its functions do nothing, so code compiled for it holds no contact kernel (compiling
+# the contact for a JointArrays that is never evaluated took 15 of a cold co-simulation's 35 s).
+NoJoint = namedtuple("NoJoint", ("result",))
 
 
 def is_joint_type(joint, kind) -> bool:
@@ -84,6 +88,10 @@ def _contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
         def arrays(joint, t, y, cos1, sin1, cos2, sin2):
             _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
         return arrays
+    if is_joint_type(joint, NoJoint):
+        def none(joint, t, y, cos1, sin1, cos2, sin2):
+            pass
+        return none
     return None
 
 
@@ -101,16 +109,20 @@ def _accept_joint(joint, t, y, h, evaluated):
         def arrays(joint, t, y, h, evaluated):
             return _arrays_accept(joint, t, y, h, evaluated)
         return arrays
+    if is_joint_type(joint, NoJoint):
+        def none(joint, t, y, h, evaluated):
+            return False
+        return none
     return None
 
 
 @overload(joint_failed)
 def _joint_failed(joint):
-    if is_joint_type(joint, JointArrays):
-        def arrays(joint):
+    if is_joint_type(joint, JointArrays) or is_joint_type(joint, NoJoint):
+        def never(joint):
             return False
-        return arrays
+        return never
     return None
 
 
-__all__ = ["JointArrays", "accept_joint", "contact_at", "contact_forces", "is_joint_type", "joint_failed"]
+__all__ = ["JointArrays", "NoJoint", "accept_joint", "contact_at", "contact_forces", "is_joint_type", "joint_failed"]

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from .jit import kernel
-from .joint_access import JointArrays, contact_forces
+from .joint_access import NoJoint, contact_forces
 from .layout import (
     CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
     MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
@@ -26,9 +26,9 @@ from .trig import rotated_trig
 
 @kernel(inline='always')
 def no_joint(mp):
-    """The joint argument of :func:`derivative` where it reads none of it (MODE_EXTERNAL, MODE_IDEAL): every
-    field ``mp``, so nothing is allocated."""
-    return JointArrays(mp, mp, mp, mp, mp, mp, mp, mp, mp)
+    """The joint argument of :func:`derivative` in MODE_EXTERNAL, which reads none of it: a
+    :data:`~.joint_access.NoJoint` on ``mp``, so nothing is allocated and no contact kernel is compiled."""
+    return NoJoint(mp)
 
 
 GROUND = -1
@@ -307,7 +307,7 @@ def stage_trig(trig, y, y_stage):
 @kernel(inline='always')
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
-    :data:`JointArrays`, or a :data:`~wearjoint.cosim.fmu_joint.FmuJoint`; writes its result
+    :data:`~.joint_access.JointArrays`, or a :data:`~wearjoint.cosim.fmu_joint.FmuJoint`; writes its result
     array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none and writes the ideal
     revolute's reaction to the joint's result array (:func:`ideal_joint_reaction`)."""
     derivative_rotated(t, y, angle_trig(y), mode, mp, joint, body_forces, ws, dy)

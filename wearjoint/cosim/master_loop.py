@@ -331,8 +331,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         elif h < h_contact and t < t_stop:
             shrunk_steps += 1
     register[G_CONTACT_STEP] = h_touching
-    if record and failed == 0:
-        communication_step(t, 0.0, True, buf, stats, stages, ws, samples)
+    if record and failed == 0:      # ``record``, not a literal True: numba would compile the step a second time
+        communication_step(t, 0.0, record, buf, stats, stages, ws, samples)
     register[G_T] = t
     register[G_PREVIOUS_PENETRATION] = pen_before
     register[G_STEPS] = steps
