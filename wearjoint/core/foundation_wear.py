@@ -144,8 +144,9 @@ UNSET = -1.0                           # work[N_d + z]: point z's relaxed coeffi
 
 @kernel(inline='always')
 def _coefficient(z, n, rho, scale, relative_dt, slide, rotation, work):
-    """Point z's (of N_d = n) relaxed coefficient c_z = Delta s_z phi(scale Delta s_z) (:func:`_relaxed_run`), from work[N_d + z]
-    or computed there if UNSET (one exponential per point and step, and none for a point never in contact)."""
+    """Point z's (of N_d = n) relaxed coefficient c_z = Delta s_z phi(scale Delta s_z) (:func:`_relaxed_run`),
+    from work[N_d + z] or computed there if UNSET (one exponential per point and step, none for a point never in
+    contact)."""
     c = work[n + z]
     if c < 0.0:
         ds = rho * relative_dt if rotation else slide
