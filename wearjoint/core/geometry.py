@@ -235,6 +235,22 @@ def arc_cosine_bound(x):
 
 
 @kernel(inline='always')
+def reach_cosine(e, bushing_radius, limit_sq):
+    """cos Delta* [-]: beyond the angle Delta* from e's direction every bushing point (rho >= R_j > |e|) has
+    |d_z|^2 = rho^2 + |e|^2 - 2 rho |e| cos Delta > limit_sq [m^2]."""
+    return (bushing_radius * bushing_radius + e * e - limit_sq) / (2.0 * bushing_radius * e)
+
+
+@kernel(inline='always')
+def reach_points(cos_reach, n):
+    """(Delta* or a little more [rad], the half-width in points of a window about the point nearest e's
+    direction that holds every point within Delta*: + 1 for the centre's rounding, + 2 for the cells reaching
+    in) of cos_reach = :func:`reach_cosine` < 1."""
+    reach = arc_cosine_bound(cos_reach)
+    return reach, int(reach / (2.0 * math.pi / n)) + 3
+
+
+@kernel(inline='always')
 def candidate_blocks(e, bushing_radius, limit_sq, k0, n, nb):
     """(first block, count) of the blocks, cyclically from the first, that may hold a point with
     |d_z|^2 <= limit_sq [m^2]: those reaching within the angle Delta* of point k0 (a point nearest e's
@@ -243,10 +259,10 @@ def candidate_blocks(e, bushing_radius, limit_sq, k0, n, nb):
     third of the circle or |e| is not in (0, R_j)."""
     if not 0.0 < e < bushing_radius:
         return 0, nb
-    c = (bushing_radius * bushing_radius + e * e - limit_sq) / (2.0 * bushing_radius * e)
+    c = reach_cosine(e, bushing_radius, limit_sq)
     if not c > 0.5:
         return 0, nb
-    half = 2 if c >= 1.0 else int(arc_cosine_bound(c) * (n / TWO_PI)) + 3
+    half = 2 if c >= 1.0 else reach_points(c, n)[1]
     if 2 * half + 1 >= n:
         return 0, nb
     first = wrap_index(k0 - half, n) // BLOCK_SIZE

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .geometry import arc_cosine_bound, wrap_index
+from .geometry import reach_cosine, reach_points, wrap_index
 from .jit import kernel
 
 
@@ -300,12 +300,10 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     e = math.sqrt(ex * ex + ey * ey)
     if e <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
-    cos_max = (bushing_radius * bushing_radius + e * e - pin_radius * pin_radius) / (2.0 * bushing_radius * e)
+    cos_max = reach_cosine(e, bushing_radius, pin_radius * pin_radius)
     if cos_max >= 1.0:                           # no point can reach the pin
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
-    dphi = 2.0 * math.pi / n
-    reach = arc_cosine_bound(cos_max)
-    half = int(reach / dphi) + 3                   # + rounding of the centre, + the cells reaching in
+    reach, half = reach_points(cos_max, n)
     if 2 * half + 1 >= n:           # every point; n - n: an int64 (a literal 0 is one more compilation)
         sums, nearest_d2, nearest = _resultant_run(n - n, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi,
                                                    sin_phi, wear_depth, with_jacobian, sums)
