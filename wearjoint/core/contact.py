@@ -26,6 +26,8 @@ omega of body i, then of body j); :func:`contact_jacobian` runs it for the 12 un
 """
 import math
 
+import numpy as np
+
 from .geometry import angle_near_point, find_deepest_point, point_nearest_angle
 from .jit import kernel
 from .layout import (
@@ -321,7 +323,7 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
         # last in contact at a worn point: the resultant's window first, whose nearest point, if inside the
         # pin, is the deepest point (the search's answer, found without it)
         resultant = foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                                         with_jacobian, -1)
+                                         with_jacobian, np.int64(-1))   # not a literal: one compile
         if resultant[7] >= 0 and not math.sqrt(resultant[8]) > pin_radius:
             k, d2 = resultant[7], resultant[8]
     windowed = k >= 0

@@ -121,7 +121,7 @@ def _scan_block(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, lo, hi, be
 def find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     """Full scan of all bushing points: (index, |d|^2) of the point nearest the pin centre."""
     return _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, 0, wear_depth.shape[0],
-                 np.inf, -1)[::-1]
+                 np.inf, np.int64(-1))[::-1]
 
 
 @kernel
@@ -309,7 +309,9 @@ def find_deepest_point(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, blo
         return find_deepest_point_full(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)
     e, ux, uy, k0 = _direction_point_from(ex, ey, cos_phi, sin_phi, hint)
     rho_min = bushing_radius                    # every wear depth is >= 0
-    best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf, -1)
+    # np.int64: with a literal -1 numba would compile _scan_block for it too, while typing best_k
+    best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, k0, k0 + 1, np.inf,
+                            np.int64(-1))
     if 0 <= hint < n and hint != k0:
         best_d2, best_k = _scan(ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth, hint, hint + 1, best_d2,
                                 best_k)

@@ -141,11 +141,14 @@ def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
             jac[r, c] = 0.0
     l1 = mp[MP_CRANK_LENGTH]
     l2 = mp[MP_ROD_LENGTH]
-    _revolute(0, q, qd, CRANK, -0.5 * l1, 0.0, GROUND, 0.0, 0.0, jac, phi, phi_dot, gamma)
+    # the int arguments as np.int64: a literal one would make numba compile _revolute once per value
+    _revolute(np.int64(0), q, qd, np.int64(CRANK), -0.5 * l1, 0.0, np.int64(GROUND), 0.0, 0.0, jac, phi, phi_dot,
+              gamma)
     jac[2, CRANK + 2] = 1.0                       # driver th1 - (th0 - omega t) = 0
     phi[2] = q[CRANK + 2] - (mp[MP_THETA0] - mp[MP_OMEGA] * t)
     phi_dot[2] = qd[CRANK + 2] + mp[MP_OMEGA]
-    _revolute(3, q, qd, ROD, 0.5 * l2, 0.0, SLIDER, 0.0, 0.0, jac, phi, phi_dot, gamma)
+    _revolute(np.int64(3), q, qd, np.int64(ROD), 0.5 * l2, 0.0, np.int64(SLIDER), 0.0, 0.0, jac, phi, phi_dot,
+              gamma)
     jac[5, SLIDER + 1] = 1.0                      # y3 = 0
     phi[5] = q[SLIDER + 1]
     phi_dot[5] = qd[SLIDER + 1]
@@ -153,7 +156,8 @@ def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
     phi[6] = q[SLIDER + 2]
     phi_dot[6] = qd[SLIDER + 2]
     if ideal:
-        _revolute(7, q, qd, CRANK, 0.5 * l1, 0.0, ROD, -0.5 * l2, 0.0, jac, phi, phi_dot, gamma)
+        _revolute(np.int64(7), q, qd, np.int64(CRANK), 0.5 * l1, 0.0, np.int64(ROD), -0.5 * l2, 0.0, jac, phi,
+                  phi_dot, gamma)
     return m
 
 
@@ -393,7 +397,7 @@ def initial_state(t, mp, ws, y):
             for c in range(n):
                 s += jac[r, c] * jac[r2, c]
             schur[r, r2] = s
-    ldl_solve(schur, gamma, 0, m)
+    ldl_solve(schur, gamma, np.int64(0), m)      # not a literal 0: one compiled ldl_solve
     for c in range(n):
         s = 0.0
         for r in range(m):

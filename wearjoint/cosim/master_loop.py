@@ -18,6 +18,7 @@ import numpy as np
 from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
+from ..core.layout import MODE_EXTERNAL
 from ..core.mechanism import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
 from ..fmu.fmi_status import FMI_WARNING
@@ -155,7 +156,9 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
         forces[k] = outputs[k]
     joint = no_joint(mp)                        # MODE_EXTERNAL reads none of the joint's arrays
     trig = _step_trig(buf, y)
-    derivative_rotated(t, y, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
+    # MODE_EXTERNAL by name, not as L.MODE_EXTERNAL: numba prunes the other modes' branches only for a constant
+    # it sees as one (else this compiles the ideal mechanism's solve, which it never runs)
+    derivative_rotated(t, y, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy)
     if record:
         record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
     previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
@@ -166,8 +169,8 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
             slope = 0.5 * h / buf[B_LAST_STEP]
             for k in range(6):
                 forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
-            derivative_rotated(t, y, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy)
-        rk4_step(t, y, h, trig, L.MODE_EXTERNAL, mp, joint, forces, ws, dy, stages)
+            derivative_rotated(t, y, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy)
+        rk4_step(t, y, h, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy, stages)
         for k in range(6):
             previous[k] = outputs[k]
         buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
@@ -189,8 +192,9 @@ def _seconds(clock, timespec):
     return timespec[0] + 1e-9 * timespec[1]
 
 
-@kernel
+@kernel(inline='always')   # six call sites with literal call indices: one compile each, were it a call
 def _failed(register, call, status, t):
+    """Record the failed FMI call (an FMI_CALLS index), its status and its communication point [s]."""
     register[G_FAILED_CALL] = call
     register[G_FAILED_STATUS] = status
     register[G_FAILED_TIME] = t
