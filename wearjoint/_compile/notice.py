@@ -19,10 +19,11 @@ from numba.core import event
 
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core; the
 # "-helped" one: the first of two processes, prefetch).  The machine runs at one of two speeds: simulate-helped
-# measured 31 and 49 s, cosim 11 and 16 s (compile_time_s, empty caches), so each figure sits between them
+# measured 31 and 34 s, simulate on one core 49 s, cosim 11 and 16 s (compile_time_s, empty caches), so each figure
+# sits between them
 ESTIMATES = {
-    "simulate": ("the monolithic engine's numba kernels", 20, 83),
-    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 39, 50),
+    "simulate": ("the monolithic engine's numba kernels", 45, 75),
+    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 41),
     "cosim": ("the co-simulation master's numba kernels", 13, 19),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100),
     "kernels": ("the numba kernels", 20, 90),

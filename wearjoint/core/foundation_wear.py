@@ -138,7 +138,9 @@ def relaxation_factor(lam):
     return (1.0 - math.exp(-lam)) / lam
 
 
-PASS_WEIGHTS, PASS_SHIFT, PASS_APPLY, PASS_COEFFICIENTS = 0, 1, 2, 3
+# the passes of _foundation_pass; np.int64, not literal ints: numba would compile the passes' three levels once per
+# mode (four times; 11 s of a cold simulate), where the mode's branches cost 0.8 % of a worn FMU step's instructions
+PASS_WEIGHTS, PASS_SHIFT, PASS_APPLY, PASS_COEFFICIENTS = (np.int64(mode) for mode in range(4))
 UNSET = -1.0                           # work[N_d + z]: point z's relaxed coefficient is not computed yet (c >= 0)
 
 
@@ -244,8 +246,10 @@ def _foundation_pass(mode, shift, scale, relative_dt, slide, rotation, ex, ey, p
     n = wear_depth.shape[0]
     nb = block_min.shape[0]
     if skipped < 0:
-        return _run_pass(mode, 0, n - 1, True, shift, scale, relative_dt, slide, rotation, ex, ey, pin_radius,
-                         bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work)
+        # np.int64 / np.bool_: with literal arguments numba would compile _run_pass, _relaxed_run and
+        # _cell_weights a second time
+        return _run_pass(mode, np.int64(0), n - 1, np.bool_(True), shift, scale, relative_dt, slide, rotation, ex,
+                         ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work)
     first_sum = second = third_sum = 0.0
     edge = -math.inf
     start = -1
@@ -261,7 +265,7 @@ def _foundation_pass(mode, shift, scale, relative_dt, slide, rotation, ex, ey, p
             if first >= n:
                 first -= n
                 last -= n
-            x, y, z, e = _run_pass(mode, first, last, False, shift, scale, relative_dt, slide, rotation, ex,
+            x, y, z, e = _run_pass(mode, first, last, np.bool_(False), shift, scale, relative_dt, slide, rotation, ex,
                                    ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth, block_min, work)
             first_sum += x
             second = second + y if mode == PASS_SHIFT or mode == PASS_COEFFICIENTS else max(second, y)
@@ -368,9 +372,9 @@ def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, 
     shift, edge = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                                cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
     if edge + shift > 0.0:                    # the shifted contact reaches past a run: the whole circle
-        skipped = -1
-        _fill_overlaps(0, wear_depth.shape[0], ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wear_depth,
-                       work)
+        skipped = np.int64(-1)                 # not a literal: the passes compiled once
+        _fill_overlaps(np.int64(0), wear_depth.shape[0], ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi,
+                       wear_depth, work)
         _foundation_pass(PASS_WEIGHTS, 0.0, 0.0, relative_dt, slide, rotation, ex, ey, pin_radius,
                          bushing_radius, cos_phi, sin_phi, wear_depth, block_min, mask, skipped, work)
         shift, _ = _pin_advance(scale, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
