@@ -138,6 +138,9 @@ def test_cli_writes_the_results_contract(native_fmu, tmp_path, capsys):
     assert summary["parameters"]["engine"] == "cosim" and summary["parameters"]["fmu_backend"] == "native"
     # FMU loading and JIT compilation are reported apart: the real-time factor is the simulation's alone
     assert summary["compile_time_s"] > 0.0 and summary["wall_time_s"] > 0.0
+    # the FMI time, estimated from a sample of the steps, never passes the run's wall time (150 steps here)
+    assert summary["fmi_time_s"] >= 0.0 and summary["master_time_s"] >= 0.0
+    assert summary["fmi_time_s"] + summary["master_time_s"] <= summary["wall_time_s"] * (1.0 + 1e-9)
     assert summary["realtime_factor"] == pytest.approx(summary["simulated_time_s"] / summary["wall_time_s"])
     assert summary["parameters"]["joint"]["wear_factor"] == 0.1
     assert summary["simulated_time_s"] == pytest.approx(0.02 * PERIOD_S)
