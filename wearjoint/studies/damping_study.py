@@ -4,6 +4,7 @@
     python -m wearjoint.studies.damping_study steps [--revolutions 5] [--seeds 8] [--wear-factor 1]
     python -m wearjoint.studies.damping_study lhs [--sets 64] [--revolutions 20]
     python -m wearjoint.studies.damping_study batches [--revolutions 5] [--seeds 8] [--wear-factor 1]
+    python -m wearjoint.studies.damping_study contact-step [--mechanism own] [--revolutions 10] [--seeds 16]
 
 ``onsets``: the normal approach speeds at contact onsets of the paper's slider-crank (no wear, DOPRI),
 under each damping law: quantiles and the energy-weighted mean sum v^3 / sum v^2, the speed at which
@@ -15,7 +16,9 @@ mean in standard errors.  ``batches``: the same for the wear batches (docs/model
 and 10 us, DOPRI and the co-simulation (native FMU, its default scheme), each with the wear of every
 step (``wear_interval_s`` 0) and in batches of the default interval, with the wear's own statistics
 beside the dynamics': the depth and volume at the end, and the volume worn after the first revolution
-(the starts share their first revolution: its wear is one sample).  ``lhs``: runs over a Latin
+(the starts share their first revolution: its wear is one sample).  ``contact-step``: RK4 at 2.5 us, at 20 us
+and at the wear-step limit (30 us) and DOPRI's default, with wear, on the paper's or the own-mechanism example's
+slider-crank (``--mechanism``), the starts spread over a turn (docs/performance.md).  ``lhs``: runs over a Latin
 hypercube of restitution, crank speed, wear
 factor, k_w, clearance, friction and the rod's and slider's masses (docs/sensitivity.md's ranges,
 restitution down to 0.1, up to 300 rpm), RK4 at the default 10 us and DOPRI, with wear; prints every
@@ -49,6 +52,12 @@ BATCH_CONFIGURATIONS = tuple((integrator, step, rtol, interval) for integrator, 
                                                          ("cosim", None, None))
                              for interval in (0.0, MAX_WEAR_STEP_S))
 WEAR_STATISTICS = ("max_wear_depth_um", "worn_volume_mm3", "late_worn_volume_mm3")
+# RK4 at the wear-step limit against the reference and DOPRI's default step, with wear (docs/performance.md)
+CONTACT_STEP_CONFIGURATIONS = (("rk4", 2.5e-6, None, None), ("rk4", 2e-5, None, None),
+                               ("rk4", MAX_WEAR_STEP_S, None, None), ("dopri", None, None, None))
+# docs/own_mechanism.md's slider-crank: with the paper's joint and wear in contact ~89 % of the time
+MECHANISMS = {"paper": {}, "own": {"crank_length_m": 0.08, "rod_length_m": 0.3, "crank_speed_rpm": 300.0,
+                                   "slider_mass_kg": 1.2}}
 # docs/sensitivity.md's ranges, restitution down to 0.1 and up to 300 rpm; * sampled log-uniformly
 LHS_RANGES = {"restitution": (0.1, 0.95), "crank_speed_rpm": (150.0, 300.0), "wear_factor*": (1.0, 100.0),
               "wear_coefficient_m2_N*": (2.7245e-11, 1.0898e-10), "clearance_m": (0.05e-3, 0.2e-3),
@@ -128,8 +137,11 @@ def ensemble(runs, names=STATISTICS) -> dict:
 
 
 def steps(pool, revolutions: float, seeds: int, wear_factor: float, damping: str,
-          configurations=STEP_CONFIGURATIONS, names=STATISTICS, title: str = "step independence") -> None:
-    print(f"\n{title}, {damping}, wear factor {wear_factor:g}, {seeds} seeds, revolutions 2-"
+          configurations=STEP_CONFIGURATIONS, names=STATISTICS, title: str = "step independence",
+          mechanism: str = "paper", spread: bool = False) -> None:
+    """Each configuration over ``seeds`` starts (:func:`_seed_angle`, or with ``spread`` spread over a turn) of the
+    ``mechanism`` (a key of MECHANISMS)."""
+    print(f"\n{title}, {mechanism} mechanism, {damping}, wear factor {wear_factor:g}, {seeds} seeds, revolutions 2-"
           f"{revolutions:g}: mean +- standard error, (distance from the pooled mean in standard errors)")
     print(f"{'integrator':26s} " + " ".join(f"{n:>26s}" for n in names) + f" {'wall s':>7s} failed")
     results = []
@@ -138,8 +150,9 @@ def steps(pool, revolutions: float, seeds: int, wear_factor: float, damping: str
         options.update({"step_s": step} if step else {"rtol": rtol} if rtol else {})
         joint = {"wear_factor": wear_factor, "contact_damping": damping}
         joint.update({} if interval is None else {"wear_interval_s": interval})
-        futures = [pool.submit(_run, joint, _seed_angle(s), options, "late_worn_volume_mm3" in names)
-                   for s in range(seeds)]
+        starts = [{"initial_crank_angle_deg": 360.0 * s / seeds} if spread else _seed_angle(s) for s in range(seeds)]
+        futures = [pool.submit(_run, joint, MECHANISMS[mechanism] | start, options, "late_worn_volume_mm3" in names)
+                   for start in starts]
         runs = [f.result() for f in futures]
         label = (f"rk4 {step * 1e6:g} us" if step else f"dopri rtol {rtol:g}" if rtol else integrator) + (
             "" if interval is None else f", batch {interval * 1e6:g} us")
@@ -184,7 +197,8 @@ def lhs(pool, sets: int, revolutions: float, seed: int, damping: str) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("part", choices=("onsets", "steps", "batches", "lhs"))
+    parser.add_argument("part", choices=("onsets", "steps", "batches", "contact-step", "lhs"))
+    parser.add_argument("--mechanism", choices=tuple(MECHANISMS), default="paper")
     parser.add_argument("--revolutions", type=float, default=None)
     parser.add_argument("--seeds", type=int, default=8)
     parser.add_argument("--wear-factor", type=float, default=1.0)
@@ -201,6 +215,10 @@ def main() -> None:
         elif args.part == "batches":
             steps(pool, args.revolutions or 5.0, args.seeds, args.wear_factor, args.damping, BATCH_CONFIGURATIONS,
                   STATISTICS + WEAR_STATISTICS, "wear batches")
+        elif args.part == "contact-step":
+            steps(pool, args.revolutions or 5.0, args.seeds, args.wear_factor, args.damping,
+                  CONTACT_STEP_CONFIGURATIONS, STATISTICS + ("max_wear_depth_um", "worn_volume_mm3"),
+                  "RK4 at the wear-step limit", args.mechanism, spread=True)
         else:
             lhs(pool, args.sets, args.revolutions or 20.0, args.seed, args.damping)
 
