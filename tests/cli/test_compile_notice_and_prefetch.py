@@ -100,8 +100,8 @@ def test_a_cold_engine_compiles_none_of_what_the_second_process_cached(tmp_path)
                    env=env, check=True)
     compiled = {json.loads(line)[0].rsplit(".", 1)[-1] for line in (tmp_path / "engine.jsonl").read_text().splitlines()}
     assert "_integrate_steps" in compiled                       # the engine did compile (a cold cache)
-    assert not compiled & {"accept_contact", "apply_wear", "foundation_wear", "record_step", "worn_volume",
-                           "advance_joint"}, compiled
+    assert not compiled & {"accept_contact_refreshing", "apply_wear", "foundation_wear", "record_step",
+                           "worn_volume"}, compiled
 
 
 @pytest.mark.parametrize("cores", [1, 2])

@@ -3,7 +3,7 @@
 * ``python -m wearjoint._compile.prefetch kernels`` (:func:`start`): numba compiles one function at a
   time, and a cold ``simulate`` reaches its kernels in one order: the mechanism, the contact, the
   integrators, then the wear and the step's record.  This process compiles the wear's accept step, the
-  step's record, the worn volume and the joint's advance with the argument types the engine passes
+  step's record and the worn volume with the argument types the engine passes
   (C-contiguous float64 arrays, a bool mask), so numba's cache, which the two processes share, serves them
   to the first when it gets there; one it reaches before the second has cached it is compiled twice,
   which costs nothing but the second core (docs/performance.md, "Compile time").
@@ -62,27 +62,26 @@ def _stop(process: subprocess.Popen) -> None:
 
 
 def compile_late_kernels() -> None:
-    """Call the wear's accept step, the step's record, the worn volume and the joint's advance once on
+    """Call the wear's accept step, the step's record and the worn volume once on
     an unworn joint at rest (nothing in contact): numba compiles them, and caches them."""
     import numpy as np
 
     from ..core import layout as L
     from ..core.integrators import record_step
-    from ..core.wear import accept_contact, worn_volume
+    from ..core.wear import accept_contact_refreshing, worn_volume
     from ..joint import ClearanceJoint
     from ..parameters import JointParameters
     from ..results import new_revolution_stats, new_track
 
     joint = ClearanceJoint(JointParameters())
     at_rest = np.zeros(3)
-    accept_contact(joint.result, at_rest, at_rest.copy(), at_rest.copy(), at_rest.copy(), 1e-6, False,
-                   joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
-                   joint.memory, joint.mask, joint.work)
+    accept_contact_refreshing(joint.result, at_rest, at_rest.copy(), at_rest.copy(), at_rest.copy(), 1e-6,
+                              joint.parameter_vector, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
+                              joint.memory, joint.mask, joint.work)
     y = np.zeros(2 * L.N_COORDINATES)
     record_step(0.0, 1e-6, y, y.copy(), joint.result, np.zeros(L.N_MECHANISM_PARAMETERS), new_revolution_stats(1),
                 np.zeros((0, L.N_SAMPLE_COLUMNS)), new_track(1e-3))
     worn_volume(joint.parameter_vector, joint.wear_depth)
-    joint.advance_array(at_rest, at_rest.copy(), np.array([0.0, 0.0, 0.0]), at_rest.copy(), 1e-6)
 
 
 def _build_fmu(n_points: int, backend: str) -> None:

@@ -21,8 +21,8 @@ from .layout import (
     T_SLIDER_X, T_TANGENTIAL_VELOCITY, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
 from .jit import kernel
-from .joint_access import accept_joint, contact_at, joint_failed
-from .mechanism import angle_trig, derivative, derivative_rotated, stage_trig
+from .joint_access import JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_at, joint_failed
+from .mechanism import angle_trig, derivative, derivative_evaluated, derivative_rotated, stage_trig
 
 RK4 = 0
 DOPRI5 = 1
@@ -175,14 +175,15 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
     """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint.
 
     ``reuse_k_end``: ``k_end`` is f(t, y) and the joint's result array holds the contact
-    evaluated there (DOPRI's last stage); both are reused unless the joint changed.
+    evaluated there (DOPRI's last stage); both are reused unless the joint changed, and the
+    contact is not evaluated again where the joint's bookkeeping left it evaluated (JOINT_EVALUATED).
     """
-    changed = False
-    if mode == MODE_CLEARANCE:
-        changed = accept_joint(joint, t, y, h, reuse_k_end)
-    if reuse_k_end and not changed:
+    state = accept_joint(joint, t, y, h, reuse_k_end) if mode == MODE_CLEARANCE else JOINT_UNCHANGED
+    if reuse_k_end and state == JOINT_UNCHANGED:
         for i in range(dy.shape[0]):
             dy[i] = k_end[i]
+    elif mode == MODE_CLEARANCE and state != JOINT_CHANGED:
+        derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
     else:
         derivative(t, y, mode, mp, joint, body_forces, ws, dy)
 
@@ -247,6 +248,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                 y_new[i] = y[i]
             trig = angle_trig(y_new) if mode == MODE_EXTERNAL else _UNUSED_TRIG   # only MODE_EXTERNAL rotates
             rk4_step(t, y_new, step, trig, mode, mp, joint, body_forces, ws, dy, stages)
+            evaluated = False
             if locate_onsets:
                 contact_at(joint, t + step, y_new)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
@@ -255,13 +257,16 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                     onset_step = retry
                     rejected += 1
                     continue
-                accept_joint(joint, t + step, y_new, step, True)
+                evaluated = accept_joint(joint, t + step, y_new, step, True) != JOINT_CHANGED
             onset_step = np.inf
             t += step
             accepted += 1
             for i in range(n2):
                 y[i] = y_new[i]
-            derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+            if evaluated:                       # the joint's result holds its contact at (t, y)
+                derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
+            else:
+                derivative(t, y, mode, mp, joint, body_forces, ws, dy)
             record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
             pen_start = result[R_PENETRATION]
             continue

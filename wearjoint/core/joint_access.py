@@ -13,10 +13,10 @@ import math
 from numba import types
 from numba.extending import overload
 
-from .contact import evaluate_contact_scalars
+from .contact import evaluate_contact, evaluate_contact_scalars
 from .jit import kernel
 from .layout import CRANK, N_COORDINATES, ROD
-from .wear import accept_contact, advance_joint
+from .wear import accept_contact_refreshing
 
 # The integrators' right-hand side calls the compiled contact evaluation: inlining it there
 # (numba's inline='always') took 16 of a cold run's 41 s of compiling and ran no faster
@@ -48,10 +48,16 @@ def contact_at(joint, t, y):
     """:func:`contact_forces` at (t, y)."""
 
 
+# accept_joint's answer: the joint did not change (``joint.result`` holds the contact at the accepted point); it
+# changed, and ``joint.result`` holds the contact there on its new state (evaluated once, where the step wore); it
+# changed otherwise (the contact must be evaluated again there)
+JOINT_UNCHANGED, JOINT_EVALUATED, JOINT_CHANGED = 0, 1, 2
+
+
 def accept_joint(joint, t, y, h, evaluated):
     """The joint's bookkeeping at an accepted point (wear over h, contact onsets); ``evaluated``:
-    ``joint.result`` already holds the contact at (t, y).  Returns True if the joint may have
-    changed (forces at the same state would differ)."""
+    ``joint.result`` already holds the contact at (t, y).  Returns JOINT_UNCHANGED, JOINT_EVALUATED or
+    JOINT_CHANGED (forces at the same state would differ, and ``joint.result`` does not hold them)."""
 
 
 def joint_failed(joint):
@@ -74,12 +80,15 @@ def _arrays_accept(joint, t, y, h, evaluated):
     vel_j = y[n + ROD:n + ROD + 3]
     pos_i = y[CRANK:CRANK + 3]
     pos_j = y[ROD:ROD + 3]
-    if evaluated:
-        return accept_contact(joint.result, pos_i, vel_i, pos_j, vel_j, h, False, joint.parameters, joint.cos_phi,
-                              joint.sin_phi, joint.wear_depth, joint.block_min, joint.memory, joint.mask,
-                              joint.work) > 0
-    return advance_joint(pos_i, vel_i, pos_j, vel_j, h, False, joint.parameters, joint.cos_phi, joint.sin_phi,
-                         joint.wear_depth, joint.block_min, joint.memory, joint.mask, joint.work, joint.result) > 0
+    if not evaluated:                  # as advance_joint, whose accept then refreshes the result
+        evaluate_contact(pos_i, vel_i, pos_j, vel_j, joint.parameters, joint.cos_phi, joint.sin_phi, joint.wear_depth,
+                         joint.block_min, joint.memory, joint.result)
+    code, refreshed = accept_contact_refreshing(joint.result, pos_i, vel_i, pos_j, vel_j, h, joint.parameters,
+                                                joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
+                                                joint.memory, joint.mask, joint.work)
+    if refreshed:
+        return JOINT_EVALUATED
+    return JOINT_CHANGED if code > 0 else JOINT_UNCHANGED
 
 
 @overload(contact_forces)
@@ -111,7 +120,7 @@ def _accept_joint(joint, t, y, h, evaluated):
         return arrays
     if is_joint_type(joint, NoJoint):
         def none(joint, t, y, h, evaluated):
-            return False
+            return JOINT_UNCHANGED
         return none
     return None
 
@@ -125,4 +134,5 @@ def _joint_failed(joint):
     return None
 
 
-__all__ = ["JointArrays", "NoJoint", "accept_joint", "contact_at", "contact_forces", "is_joint_type", "joint_failed"]
+__all__ = ["JOINT_CHANGED", "JOINT_EVALUATED", "JOINT_UNCHANGED", "JointArrays", "NoJoint", "accept_joint",
+           "contact_at", "contact_forces", "is_joint_type", "joint_failed"]

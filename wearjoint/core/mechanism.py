@@ -321,11 +321,26 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
 def derivative_rotated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
     """:func:`derivative` with trig = :func:`angle_trig` (y) given (one set of trigonometric
     values for the pin's and the bushing's bodies, the joint and the mechanism)."""
+    if mode == MODE_CLEARANCE:
+        cos1, sin1, cos2, sin2 = trig
+        contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
+    _derivative_joint_evaluated(t, y, trig, mode, mp, joint, body_forces, ws, dy)
+
+
+@kernel(inline='always')
+def derivative_evaluated(t, y, mp, joint, body_forces, ws, dy):
+    """:func:`derivative` of MODE_CLEARANCE where ``joint.result`` already holds the joint's contact at (t, y)
+    (an accepted point whose joint did not change, or was evaluated on its new state): not evaluated again."""
+    _derivative_joint_evaluated(t, y, angle_trig(y), MODE_CLEARANCE, mp, joint, body_forces, ws, dy)
+
+
+@kernel(inline='always')
+def _derivative_joint_evaluated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
+    """:func:`derivative_rotated` after its joint's evaluation (MODE_CLEARANCE: the forces from ``joint.result``)."""
     n = N_COORDINATES
     cos1, sin1, cos2, sin2 = trig
     if mode == MODE_CLEARANCE:
         result = joint.result
-        contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
         body_forces[0] = result[R_PIN_FX]
         body_forces[1] = result[R_PIN_FY]
         body_forces[2] = result[R_PIN_TORQUE]

@@ -291,6 +291,34 @@ def batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     return largest, share
 
 
+@kernel(inline='always')
+def _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
+            work, after):
+    """:func:`accept_contact` with the contact after the wear evaluated into ``after`` (N_RESULT values; may be
+    ``result`` itself); returns (its STEP_* code, True if ``after`` was evaluated)."""
+    f_n = step_mean_normal_force(result, memory, held)
+    if int(jp[P_WEAR_PLACEMENT]) == 2 and jp[P_WEAR_INTERVAL] > 0.0:
+        largest, share = batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                                    mask, work, memory)
+    else:
+        largest, share = apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                                    mask, work)
+    if largest < 0.0:
+        return STEP_REFUSED, False
+    changed = update_contact_memory(result, jp, memory)
+    evaluated = largest > 0.0 and not held
+    if evaluated:
+        for r in range(N_RESULT):                # the search starts from the contact before the wear
+            after[r] = result[r]
+        evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, after)
+        memory[M_START_FORCE] = after[R_NORMAL_FORCE]
+    else:
+        memory[M_START_FORCE] = result[R_NORMAL_FORCE]
+    if largest > 0.0 and (dt > MAX_WEAR_STEP_S * (1.0 + 1e-9) or share > 1.0):
+        return STEP_OVERSHOT, evaluated
+    return (STEP_CHANGED if largest > 0.0 or changed else STEP_UNCHANGED), evaluated
+
+
 @kernel
 def accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                    mask, work):
@@ -302,27 +330,18 @@ def accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, si
     STEP_CHANGED if the joint's forces changed, STEP_OVERSHOT if they did by a step over the wear-step limit
     (longer than MAX_WEAR_STEP_S, or past its share of the wear, :func:`apply_wear`; docs/model.md §7),
     STEP_UNCHANGED, or STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`)."""
-    f_n = step_mean_normal_force(result, memory, held)
-    if int(jp[P_WEAR_PLACEMENT]) == 2 and jp[P_WEAR_INTERVAL] > 0.0:
-        largest, share = batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
-                                    mask, work, memory)
-    else:
-        largest, share = apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
-                                    mask, work)
-    if largest < 0.0:
-        return STEP_REFUSED
-    changed = update_contact_memory(result, jp, memory)
-    if largest > 0.0 and not held:
-        after = work[:N_RESULT]
-        for r in range(N_RESULT):                # the search starts from the contact before the wear
-            after[r] = result[r]
-        evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, after)
-        memory[M_START_FORCE] = after[R_NORMAL_FORCE]
-    else:
-        memory[M_START_FORCE] = result[R_NORMAL_FORCE]
-    if largest > 0.0 and (dt > MAX_WEAR_STEP_S * (1.0 + 1e-9) or share > 1.0):
-        return STEP_OVERSHOT
-    return STEP_CHANGED if largest > 0.0 or changed else STEP_UNCHANGED
+    return _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                   mask, work, work[:N_RESULT])[0]
+
+
+@kernel
+def accept_contact_refreshing(result, pos_i, vel_i, pos_j, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
+                              memory, mask, work):
+    """:func:`accept_contact` of a step whose kinematics end it (not held) that leaves in ``result`` the contact
+    on the new profile where the step wore (the evaluation the next step starts from, made once); returns (the
+    STEP_* code, True if ``result`` is that evaluation)."""
+    return _accept(result, pos_i, vel_i, pos_j, vel_j, dt, False, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                   mask, work, result)
 
 
 @kernel

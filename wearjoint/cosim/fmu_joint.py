@@ -12,7 +12,9 @@ from numba.extending import overload
 
 from ..core.contact import update_contact_memory
 from ..core.jit import kernel
-from ..core.joint_access import accept_joint, contact_forces, is_joint_type, joint_failed
+from ..core.joint_access import (
+    JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_forces, is_joint_type, joint_failed,
+)
 from ..core.layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, R_NORMAL_FORCE, ROD
 from ..core.wear import wears
 from ..fmu.fmi_status import FMI_WARNING
@@ -109,7 +111,7 @@ def _overload_contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
 def _overload_accept_joint(joint, t, y, h, evaluated):
     if is_joint_type(joint, FmuJoint):
         def fmu(joint, t, y, h, evaluated):
-            return _accept(joint, t, y, h, evaluated)
+            return JOINT_CHANGED if _accept(joint, t, y, h, evaluated) else JOINT_UNCHANGED
         return fmu
     return None
 
