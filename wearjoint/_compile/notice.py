@@ -23,7 +23,7 @@ from numba.core import event
 # sits between them
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 45, 75),
-    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 41),
+    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 39),
     "cosim": ("the co-simulation master's numba kernels", 13, 19),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100),
     "kernels": ("the numba kernels", 20, 90),
