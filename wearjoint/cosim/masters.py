@@ -159,12 +159,14 @@ def run_libcosim(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
 
 
 def _load_ecos():
-    """ecospy, its library's libtbb.so.12 (pip package ``tbb``, in the environment's lib) loaded first."""
+    """ecospy, its library's libtbb.so.12 (pip package ``tbb``, in the environment's lib, or the base
+    interpreter's for a venv that sees its packages) loaded first."""
     import sys
 
-    for lib in Path(sys.prefix, "lib").glob("libtbb.so.12*"):
-        ctypes.CDLL(str(lib), mode=ctypes.RTLD_GLOBAL)
-        break
+    libs = [lib for prefix in dict.fromkeys((sys.prefix, sys.base_prefix))
+            for lib in sorted(Path(prefix, "lib").glob("libtbb.so.12*"))]
+    if libs:
+        ctypes.CDLL(str(libs[0]), mode=ctypes.RTLD_GLOBAL)
     try:
         import ecospy
     except (ImportError, OSError) as exc:
