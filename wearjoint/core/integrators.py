@@ -2,7 +2,7 @@
 
 Fixed-step RK4 and adaptive Dormand-Prince 5(4) (error control on positions
 and velocities, maximum step).  The joint's state (wear profile, contact-onset
-memory) changes only at accepted points (``accept_contact``); stage
+memory) changes only at accepted points (``accept_joint``); stage
 evaluations never change it.  Both locate contact onsets (see :func:`integrate`).
 ``record_step`` accumulates per-revolution statistics and time-series samples;
 the co-simulation master uses it too.

@@ -242,15 +242,15 @@ def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushi
     r2 = pin_radius * pin_radius
     lo = max(first + 1, int(math.ceil(direction - steps)))
     hi = min(last - 1, int(math.floor(direction + steps)))
-    while lo <= hi and r2 - _point(wrap_index(lo, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+    while lo <= hi and _point(wrap_index(lo, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)[3] > r2:
         lo += 1
-    while lo - 1 > first and r2 - _point(wrap_index(lo - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi,
-                                         wear_depth)[3] >= 0.0:
+    while lo - 1 > first and _point(wrap_index(lo - 1, n), ex, ey, bushing_radius, cos_phi, sin_phi,
+                                    wear_depth)[3] <= r2:
         lo -= 1
-    while hi >= lo and r2 - _point(wrap_index(hi, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)[3] < 0.0:
+    while hi >= lo and _point(wrap_index(hi, n), ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth)[3] > r2:
         hi -= 1
-    while hi + 1 < last and r2 - _point(wrap_index(hi + 1, n), ex, ey, bushing_radius, cos_phi, sin_phi,
-                                        wear_depth)[3] >= 0.0:
+    while hi + 1 < last and _point(wrap_index(hi + 1, n), ex, ey, bushing_radius, cos_phi, sin_phi,
+                                   wear_depth)[3] <= r2:
         hi += 1
     if hi - lo < 2:
         return False, zeros
