@@ -1,9 +1,9 @@
 """Where the co-simulation master spends its time: the median of ``--repeats`` runs in one invocation.
 
     python benchmarks/bench_cosim.py [--duration 0.2] [--scheme adaptive] [--step 5e-6] [--repeats 3]
-                                     [--fmu-backend native|pythonfmu] [--fmu PATH] [--callgrind]
+                                     [--wear-factor 0] [--fmu-backend native|pythonfmu] [--fmu PATH] [--callgrind]
 
-Each run, on a fresh co-simulation:
+Each run, on a fresh co-simulation of the paper's slider-crank (the joint without wear unless ``--wear-factor``):
 
 1. As shipped: wall time, communication steps, rollbacks, and the master loop's
    own split (``CoSimulation.fmi_time_s``: wall time inside the FMI calls, read
@@ -63,7 +63,7 @@ def measure(args) -> dict:
     t_end = WARM_UP_S + args.duration
     options = CoSimulationOptions(revolutions=t_end / 0.4 + 0.1, scheme=args.scheme, step_s=args.step)
     samples = np.zeros((int(t_end / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
-    with CoSimulation(paper_joint(wear_factor=0.0), None, options, fmu_path=args.fmu,
+    with CoSimulation(paper_joint(wear_factor=args.wear_factor), None, options, fmu_path=args.fmu,
                       fmu_backend=args.fmu_backend) as sim:
         sim.advance_to(WARM_UP_S, samples)
         before = (sim.communication_steps, sim.rollbacks, sim.fmi_time_s, sim.master_time_s, sim.free_steps,
@@ -145,6 +145,8 @@ def main(argv=None) -> int:
     parser.add_argument("--duration", type=float, default=0.2, help="simulated interval measured [s]")
     parser.add_argument("--scheme", choices=SCHEMES, default=defaults.scheme)
     parser.add_argument("--step", type=float, default=defaults.step_s, help="communication step [s]")
+    parser.add_argument("--wear-factor", type=float, default=0.0,
+                        help="the joint's wear factor (default %(default)g; the README's main job wears at 1)")
     parser.add_argument("--fmu", default=None, help="FMU to use (default: the cached build of --fmu-backend)")
     parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND, help="FMU backend")
     parser.add_argument("--callgrind", action="store_true", help="count the instructions in the FMI calls instead")
@@ -165,7 +167,8 @@ def main(argv=None) -> int:
     def median(key, scale=1e6, fmt="8.2f"):
         return median_text([run[key] * scale for run in runs], fmt)
 
-    print(f"scheme {args.scheme}, step {args.step:g} s, {args.duration:g} s simulated after {WARM_UP_S:g} s warm-up, "
+    print(f"wear factor {args.wear_factor:g}, scheme {args.scheme}, step {args.step:g} s, {args.duration:g} s simulated "
+          f"after {WARM_UP_S:g} s warm-up, "
           f"FMU {args.fmu or args.fmu_backend + ' (cached build)'}; {load}")
     print(f"communication steps {median('steps', 1, '.0f')}, rollbacks {median('rollbacks', 1, '.0f')}; "
           f"started in free flight {median('free', 1, '.0f')}, in contact shorter than the step "
