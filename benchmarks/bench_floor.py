@@ -57,6 +57,10 @@ def main() -> int:
                         help="this tree's monolithic-wear real-time factor / f74ef9c's (default %(default)g)")
     add_repeats_argument(parser)
     args = parser.parse_args()
+    for name in ("paired_cosim", "paired_simulate"):
+        value = getattr(args, name)
+        if not value > 0.0:       # NaN too
+            parser.error(f"--{name.replace('_', '-')}={value!r} is invalid: allowed a ratio > 0")
 
     load = Load()
     worn_args = SimpleNamespace(duration=0.2, scheme=CoSimulationOptions().scheme, step=CoSimulationOptions().step_s,
