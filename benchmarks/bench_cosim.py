@@ -153,6 +153,8 @@ def main(argv=None) -> int:
     parser.add_argument("--measure-once", action="store_true", help=argparse.SUPPRESS)   # the run under valgrind
     add_repeats_argument(parser)
     args = parser.parse_args(argv)
+    if not args.wear_factor >= 0.0:       # NaN too
+        parser.error(f"--wear-factor={args.wear_factor!r} is invalid: allowed >= 0")
     if args.measure_once:
         run = measure(args)
         print(f"communication steps {run['steps']} (after the warm-up)")
