@@ -304,8 +304,8 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     if cos_max >= 1.0:                           # no point can reach the pin
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
     reach, half = reach_points(cos_max, n)
-    if 2 * half + 1 >= n:           # every point; n - n: an int64 (a literal 0 is one more compilation)
-        sums, nearest_d2, nearest = _resultant_run(n - n, n - 1, ex, ey, pin_radius, bushing_radius, cos_phi,
+    if 2 * half + 1 >= n:           # every point; np.int64: a literal 0 is one more compilation
+        sums, nearest_d2, nearest = _resultant_run(np.int64(0), n - 1, ex, ey, pin_radius, bushing_radius, cos_phi,
                                                    sin_phi, wear_depth, with_jacobian, sums)
     else:
         hinted = 0 <= deepest < n and wear_depth[deepest] == 0.0
