@@ -97,7 +97,7 @@ class ExudynSliderCrank:
                  contact: str = "discrete", ideal: bool = False, initial_state=None):
         self.mechanism = SliderCrank(mechanism)
         mp = self.mechanism.params
-        joint = joint or JointParameters(**mp.joint_offsets())
+        joint = joint or JointParameters(**mp.joint_defaults())
         check_joint_fits_mechanism(joint, mp)
         self.formulation = _contact_formulation(contact)
         if self.formulation == NATIVE and not ideal and joint.wear_coefficient_m2_N * joint.wear_factor > 0.0:
@@ -329,7 +329,7 @@ def law_study(configurations: dict = LAW_STUDY, ensemble: int = 8, revolutions: 
     from wearjoint.sweep.design import perturbed_start
 
     base = SliderCrankParameters()
-    joint = JointParameters(**base.joint_offsets(), wear_factor=0.0)
+    joint = JointParameters(**base.joint_defaults(), wear_factor=0.0)
     out = {}
     for label, (contact, change) in configurations.items():
         records = [run_exudyn(joint.replace(**change), perturbed_start(base, k), revolutions, step_s, contact,

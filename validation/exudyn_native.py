@@ -42,6 +42,7 @@ from exudyn.itemInterface import (
 )
 
 from wearjoint.core import layout as L
+from wearjoint.core.damping import hunt_crossley_damping
 from wearjoint.exudyn import _Body, _initial_eccentricity
 from wearjoint.parameters import JointParameters, ParameterError
 
@@ -50,18 +51,25 @@ DATA_GAP, DATA_TANGENT_SPEED, DATA_IMPACT_VELOCITY, DATA_PLASTIC = range(4)   # 
 _OUT = exu.OutputVariableType
 
 
-def native_restitution(restitution: float) -> float:
-    """exudyn's Hunt-Crossley restitution e_x with 3/2 (1 - e_x) = 3/4 (1 - e_r^2) (Lankarani-Nikravesh's)."""
-    return 0.5 * (1.0 + restitution * restitution)
+def native_restitution(p: JointParameters) -> float:
+    """exudyn's Hunt-Crossley restitution e_x with 3/2 (1 - e_x) = chi of ``p``'s law in the onset form
+    F = K delta^n (1 + chi delta_dot / delta_dot^-): the paper's 3/4 (1 - e_r^2) for Lankarani-Nikravesh, else
+    the closed form's a(e_r), which Hunt-Crossley's alpha v_r and Lankarani-Nikravesh exact's chi are
+    (docs/model.md §3.5)."""
+    if p.contact_damping == "lankarani-nikravesh":
+        return 0.5 * (1.0 + p.restitution * p.restitution)
+    return 1.0 - float(hunt_crossley_damping(p.restitution)) / 1.5
 
 
 def native_law(p: JointParameters) -> dict:
     """The changes to ``p`` whose wearjoint kernels compute exudyn's law (up to exudyn's exact circle and the
-    differences of docs/validation.md): the deepest point's K delta^n with Lankarani-Nikravesh damping,
-    floored at exudyn's ``minimumImpactVelocity`` (our restitution speed v_r where ``p`` has our default
-    Hunt-Crossley damping)."""
-    floor = p.restitution_speed_m_s if p.contact_damping == "hunt-crossley" else p.impact_velocity_floor_m_s
-    return {"contact_model": "deepest", "contact_damping": "lankarani-nikravesh", "impact_velocity_floor_m_s": floor}
+    differences of docs/validation.md): the deepest point's K delta^n with the onset-memory damping of the same
+    chi, floored at exudyn's ``minimumImpactVelocity`` (our restitution speed v_r where ``p`` has a memory-free
+    law)."""
+    memory = p.contact_damping in ("lankarani-nikravesh", "lankarani-nikravesh-exact")
+    floor = p.impact_velocity_floor_m_s if memory else p.restitution_speed_m_s
+    law = "lankarani-nikravesh" if p.contact_damping == "lankarani-nikravesh" else "lankarani-nikravesh-exact"
+    return {"contact_model": "deepest", "contact_damping": law, "impact_velocity_floor_m_s": floor}
 
 
 def native_contact_parameters(p: JointParameters) -> dict:
@@ -69,7 +77,7 @@ def native_contact_parameters(p: JointParameters) -> dict:
     return {"spheresRadii": [p.pin_radius_m, p.bushing_radius_m], "isHollowSphere1": True,
             "contactStiffness": p.stiffness_N_m1_5, "contactStiffnessExponent": p.contact_exponent,
             "contactDamping": 0.0, "impactModel": HUNT_CROSSLEY,
-            "restitutionCoefficient": native_restitution(p.restitution),
+            "restitutionCoefficient": native_restitution(p),
             "minimumImpactVelocity": native_law(p)["impact_velocity_floor_m_s"],
             "dynamicFriction": p.friction_coefficient,
             "frictionProportionalZone": p.friction_v0_m_s + p.friction_v1_m_s}

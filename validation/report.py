@@ -361,7 +361,7 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
     ``out_dir``; returns the summary (``exit_status``: 0 pass, 1 a metric failed or an
     engine raised, 3 an engine is not available)."""
     mechanism = mechanism or SliderCrankParameters()
-    joint = joint or JointParameters(**mechanism.joint_offsets())
+    joint = joint or JointParameters(**mechanism.joint_defaults())
     require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
              f"<= the no-wear run ({plan.revolutions:g} rev = {plan.revolutions * mechanism.period_s:g} s)")
     out = Path(out_dir)

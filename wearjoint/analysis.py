@@ -1,6 +1,6 @@
 """Every statistic a report shows, defined once: per-revolution statistics, profile
-metrics (deepest point, wear lobes, profile differences), impact events and the wear
-growth exponent.
+metrics (deepest point, wear lobes, profile differences), impact-vibration events (per
+revolution, with the chattering revolutions) and the wear growth exponent.
 
 Per-revolution statistics come from the rows the engines accumulate
 (``layout.S_*``, one row per crank revolution, filled by
@@ -19,7 +19,12 @@ from .core import layout as L
 
 REVOLUTION_COLUMNS = ("revolution", "impacts", "contact_fraction", "slider_acc_max_m_s2",
                       "slider_acc_min_m_s2", "max_contact_force_N", "max_eccentricity_m",
-                      "max_wear_depth_m")
+                      "max_wear_depth_m", "impact_events", "chattering")
+# impact-vibration events (paper Sec. 7: two per crank revolution, at the slider's dead centres), :func:`impact_events`
+IMPACT_EVENT_THRESHOLD_M_S2 = 100.0     # a sample is in an event where |a - a_ideal| exceeds this [m/s^2]
+IMPACT_EVENT_MERGE_DEG = 15.0           # clusters at most this much crank rotation apart are one event [deg]
+CHATTER_IMPACTS_PER_REVOLUTION = 120    # a revolution with more contact onsets (impacts) than this chatters
+IMPACT_EVENT_SAMPLES_PER_REVOLUTION = 360   # samples coarser than this many per revolution are noted as such
 LOBE_CENTRES_DEG = (0, 180)
 
 
@@ -62,16 +67,30 @@ def contact_fraction(rows: np.ndarray):
         return rows[..., L.S_CONTACT_TIME] / rows[..., L.S_TIME]
 
 
-def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray) -> np.ndarray:
+def _padded(values, n: int) -> np.ndarray:
+    out = np.full(n, np.nan)
+    if values is not None:
+        values = np.asarray(values, dtype=float)
+        m = min(n, values.size)
+        out[:m] = values[:m]
+    return out
+
+
+def chattering(stats: np.ndarray) -> np.ndarray:
+    """Per statistics row: more contact onsets than CHATTER_IMPACTS_PER_REVOLUTION (bool)."""
+    return stats[..., L.S_IMPACTS] > CHATTER_IMPACTS_PER_REVOLUTION
+
+
+def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray, impact_events_per_revolution=None) -> np.ndarray:
     """One row per revolution up to the last one simulated, columns REVOLUTION_COLUMNS
-    (``max_wear_depth_m``: at the revolution's end, NaN where not reached)."""
+    (``max_wear_depth_m``: at the revolution's end, NaN where not reached; ``impact_events``: the
+    ``events`` of :func:`revolution_impact_events`, NaN where not given; ``chattering``: 0/1)."""
     n = last_revolution(stats) + 1
     rows = stats[:n]
-    growth = np.full(n, np.nan)
-    m = min(n, wear_growth_m.size)
-    growth[:m] = wear_growth_m[:m]
     return np.column_stack([np.arange(n), rows[:, L.S_IMPACTS], contact_fraction(rows), rows[:, L.S_ACC_MAX],
-                            rows[:, L.S_ACC_MIN], rows[:, L.S_FORCE_MAX], rows[:, L.S_ECC_MAX], growth])
+                            rows[:, L.S_ACC_MIN], rows[:, L.S_FORCE_MAX], rows[:, L.S_ECC_MAX],
+                            _padded(wear_growth_m, n), _padded(impact_events_per_revolution, n),
+                            chattering(rows).astype(float)])
 
 
 def _finite(x):
@@ -174,12 +193,15 @@ def sample_statistics(samples: np.ndarray) -> dict:
 
 
 def window_differences(samples: np.ndarray, reference: np.ndarray, window_s: float, columns) -> np.ndarray:
-    """``samples`` interpolated at the reference's sample times in [0, window_s] minus the
-    reference, one column per sample column in ``columns``."""
-    t = reference[reference[:, L.T_TIME] <= window_s, L.T_TIME]
+    """``samples`` interpolated at the reference's sample times in [first sample of ``samples``, window_s] minus
+    the reference, one column per sample column in ``columns`` (a run that records its first sample later, e.g.
+    a co-simulation at its first communication point in free flight, is not extrapolated back)."""
+    times = reference[:, L.T_TIME]
+    rows = np.flatnonzero((times <= window_s) & (times >= samples[0, L.T_TIME] * (1.0 - 1e-9)))
+    t = times[rows]
     if samples[-1, L.T_TIME] < t[-1] * (1.0 - 1e-9):
         raise ValueError(f"run ends at {samples[-1, L.T_TIME]:.6g} s, before the window end {t[-1]:.6g} s")
-    return np.column_stack([np.interp(t, samples[:, L.T_TIME], samples[:, c]) - reference[:t.size, c]
+    return np.column_stack([np.interp(t, samples[:, L.T_TIME], samples[:, c]) - reference[rows, c]
                             for c in columns])
 
 
@@ -289,30 +311,131 @@ def growth_exponent(revolutions, depth_m) -> float:
 
 
 # ---------------------------------------------------------------- impact events
-def impact_events(time_s, slider_a_m_s2, mechanism, threshold_m_s2: float, merge_deg: float) -> list[dict]:
-    """Impact events seen in the slider acceleration: clusters of samples with
-    |a - a_ideal| > threshold (a_ideal: the closed-form ideal slider-crank of the
-    ``SliderCrankParameters`` ``mechanism``); clusters closer than merge_deg of crank
-    rotation merge.  (Not the contact onsets counted as ``impacts`` per revolution.)
-
-    Returns one dict per event: start/end time [s], crank rotation at the peak [deg], peak |a - a_ideal|.
-    """
+def _impact_clusters(t: np.ndarray, slider_a_m_s2, mechanism, threshold_m_s2: float, merge_deg: float):
+    """(clusters of sample indices, |a - a_ideal| [m/s^2]) of :func:`impact_events`."""
     from .mechanism import SliderCrank
 
-    t = np.asarray(time_s)
     deviation = np.abs(np.asarray(slider_a_m_s2) - SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"])
     above = np.flatnonzero(deviation > threshold_m_s2)
     if above.size == 0:
-        return []
-    merge_s = merge_deg / 360.0 * mechanism.period_s
-    splits = np.flatnonzero(np.diff(t[above]) > merge_s) + 1
+        return [], deviation
+    splits = np.flatnonzero(np.diff(t[above]) > merge_deg / 360.0 * mechanism.period_s) + 1
+    return np.split(above, splits), deviation
+
+
+def impact_events(time_s, slider_a_m_s2, mechanism, threshold_m_s2: float = IMPACT_EVENT_THRESHOLD_M_S2,
+                  merge_deg: float = IMPACT_EVENT_MERGE_DEG) -> list[dict]:
+    """Impact(-vibration) events seen in the slider acceleration: clusters of samples with
+    |a - a_ideal| > threshold (a_ideal: the closed-form ideal slider-crank of the
+    ``SliderCrankParameters`` ``mechanism``); clusters at most merge_deg of crank rotation apart
+    merge.  (Not the contact onsets counted as ``impacts`` per revolution.)
+
+    Returns one dict per event: start/end time [s], crank rotation since t = 0 at the peak [deg, 0..360),
+    peak |a - a_ideal| [m/s^2].
+    """
+    t = np.asarray(time_s)
+    clusters, deviation = _impact_clusters(t, slider_a_m_s2, mechanism, threshold_m_s2, merge_deg)
     events = []
-    for cluster in np.split(above, splits):
+    for cluster in clusters:
         peak = cluster[np.argmax(deviation[cluster])]
         events.append({"start_s": float(t[cluster[0]]), "end_s": float(t[cluster[-1]]),
                        "peak_crank_rotation_deg": float((t[peak] / mechanism.period_s * 360.0) % 360.0),
                        "peak_deviation_m_s2": float(deviation[peak])})
     return events
+
+
+def crank_angle_deg(theta1_rad) -> np.ndarray:
+    """The crank angle theta1 (layout.T_CRANK_ANGLE, theta0 - omega t, unwrapped) [rad] as [deg] in [0, 360)."""
+    deg = np.degrees(np.asarray(theta1_rad, dtype=float)) % 360.0
+    return np.where(deg >= 360.0, 0.0, deg)       # -1e-17 % 360 rounds to 360
+
+
+def _revolution_of(t, period_s: float):
+    """Revolution index of time(s) t [s], as the per-revolution statistics assign an accepted point."""
+    return (np.asarray(t, dtype=float) / period_s * (1.0 - 1e-14)).astype(np.int64)
+
+
+def _sampled_revolutions(t: np.ndarray, n: int, period_s: float) -> tuple[np.ndarray, float]:
+    """Which of revolutions 0..n-1 the sample times t [s] cover end to end (first and last sample, and every
+    gap, within max(1 deg of crank rotation, 1.5 median spacings)), and the largest spacing in those [s]."""
+    sampled = np.zeros(n, dtype=bool)
+    if t.size < 2:
+        return sampled, math.nan
+    tol = max(period_s / IMPACT_EVENT_SAMPLES_PER_REVOLUTION, 1.5 * float(np.median(np.diff(t))))
+    widest = 0.0
+    for k in range(n):
+        a, b = np.searchsorted(t, [k * period_s - tol, (k + 1) * period_s + tol])
+        window = t[a:b]
+        if window.size < 2 or window[0] > k * period_s + tol or window[-1] < (k + 1) * period_s - tol:
+            continue
+        gap = float(np.diff(window).max())
+        if gap <= tol:
+            sampled[k] = True
+            widest = max(widest, gap)
+    return sampled, (widest if sampled.any() else math.nan)
+
+
+def revolution_impact_events(samples: np.ndarray, stats: np.ndarray, mechanism,
+                             threshold_m_s2: float = IMPACT_EVENT_THRESHOLD_M_S2,
+                             merge_deg: float = IMPACT_EVENT_MERGE_DEG) -> dict:
+    """Impact-vibration events per revolution (revolutions 0 .. :func:`last_revolution` of ``stats``):
+    :func:`impact_events` of the samples (layout.T_*), each counted in the revolution in which its peak
+    sample falls.  Returns ``events`` (count per revolution, NaN where the samples do not cover the
+    revolution end to end), ``angles_deg`` (per revolution, the crank angle theta1 at each event's peak
+    [deg, 0..360), :func:`crank_angle_deg`), ``chattering`` (bool, :func:`chattering`), ``sampled`` (bool)
+    and ``sample_interval_s`` (the largest sample spacing in the sampled revolutions [s], NaN if none)."""
+    n = last_revolution(stats) + 1
+    period = mechanism.period_s
+    t = np.asarray(samples[:, L.T_TIME], dtype=float)
+    sampled, interval = _sampled_revolutions(t, n, period)
+    clusters, deviation = _impact_clusters(t, samples[:, L.T_SLIDER_A], mechanism, threshold_m_s2, merge_deg)
+    angles = [[] for _ in range(n)]
+    for cluster in clusters:
+        peak = cluster[np.argmax(deviation[cluster])]
+        k = int(_revolution_of(t[peak], period))
+        if 0 <= k < n:
+            angles[k].append(float(crank_angle_deg(samples[peak, L.T_CRANK_ANGLE])))
+    events = np.array([len(a) for a in angles], dtype=float)
+    events[~sampled] = np.nan
+    return {"events": events, "angles_deg": angles, "chattering": chattering(stats[:n]), "sampled": sampled,
+            "sample_interval_s": interval}
+
+
+def impact_event_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, settling_revolutions: int = 1,
+                            threshold_m_s2: float = IMPACT_EVENT_THRESHOLD_M_S2,
+                            merge_deg: float = IMPACT_EVENT_MERGE_DEG) -> dict:
+    """summary.json's impact-vibration statistics (docs/model.md §6) over the counted revolutions: those the
+    samples cover end to end (:func:`revolution_impact_events`) after the start-up revolutions that
+    :func:`run_statistics` leaves out (all sampled revolutions if none of those is left, e.g. a one-revolution
+    run).  ``impact_events_per_revolution`` (mean), ``impact_event_crank_angles_deg`` (every counted event's
+    peak crank angle [deg]), ``chattering_revolution_share``, ``impact_event_revolutions`` (the counted
+    revolutions) and ``impact_event_definition``; None without a counted revolution."""
+    per = revolution_impact_events(samples, stats, mechanism, threshold_m_s2, merge_deg)
+    n = per["events"].size
+    first = min(max(0, int(settling_revolutions)), n - 1)
+    counted = np.flatnonzero(per["sampled"] & (np.arange(n) >= first))
+    notes = []
+    if counted.size == 0 and per["sampled"].any():
+        counted = np.flatnonzero(per["sampled"])
+        notes.append("the start-up revolution(s) included: no later revolution is sampled end to end")
+    interval_deg = per["sample_interval_s"] / mechanism.period_s * 360.0
+    if interval_deg > 360.0 / IMPACT_EVENT_SAMPLES_PER_REVOLUTION:
+        notes.append(f"samples up to {interval_deg:.3g} deg apart, coarser than 1/"
+                     f"{IMPACT_EVENT_SAMPLES_PER_REVOLUTION} revolution: events may merge or be missed and their "
+                     "angles are as coarse")
+    if counted.size == 0:
+        notes.append("no revolution is sampled end to end: no statistic")
+    definition = (f"impact-vibration event: a cluster of time-series samples with |a_slider - a_ideal| > "
+                  f"{threshold_m_s2:g} m/s^2 (a_ideal: the ideal slider-crank at the same time), clusters at most "
+                  f"{merge_deg:g} deg of crank rotation apart merged; counted in the revolution of its peak sample, "
+                  "its angle the crank angle theta1 there (deg, 0..360); a chattering revolution has more than "
+                  f"{CHATTER_IMPACTS_PER_REVOLUTION} contact onsets (impacts); means over the revolutions after the "
+                  "start-up that the samples cover end to end" + "".join(f"; {note}" for note in notes))
+    return {"impact_events_per_revolution": float(per["events"][counted].mean()) if counted.size else None,
+            "impact_event_crank_angles_deg": [a for k in counted for a in per["angles_deg"][k]],
+            "chattering_revolution_share": float(per["chattering"][counted].mean()) if counted.size else None,
+            "impact_event_revolutions": [int(k) for k in counted],
+            "impact_event_definition": definition}
 
 
 def revolution_statistics(record) -> dict:
@@ -349,4 +472,4 @@ def revolution_row(stats: np.ndarray, revolution: int) -> dict:
         return {}
     row = revolution_table(stats[:revolution + 1], np.zeros(0))[revolution]
     return {name: (_finite(value) if name != "revolution" else int(value)) for name, value in
-            zip(REVOLUTION_COLUMNS, row) if name != "max_wear_depth_m"}
+            zip(REVOLUTION_COLUMNS, row) if name not in ("max_wear_depth_m", "impact_events")}

@@ -82,6 +82,7 @@ PARAMETER_SLOTS = {
     L.P_ARCHARD_COEFFICIENT: "wear_coefficient_m2_N", L.P_WEAR_FACTOR: "wear_factor",
     L.P_CONTACT_MODEL: "contact_model", L.P_CONTACT_DAMPING: "contact_damping",
     L.P_RESTITUTION_SPEED: "restitution_speed_m_s", L.P_WEAR_INTERVAL: "wear_interval_s",
+    L.P_EFFECTIVE_MASS: "effective_mass_kg",
 }
 
 

@@ -19,13 +19,16 @@ RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
 CONTACT_MODELS = ("foundation", "deepest")
-CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh")
+CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh", "tsuji", "lankarani-nikravesh-exact")   # core.damping.DAMPING_*, in order
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
 # (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
 PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.576e-11
-# the impact speed [m/s] at which the default (Hunt-Crossley) damping restitutes `restitution`: the
-# energy-weighted mean onset speed of the paper's slider-crank (docs/model.md §3.5)
+# the impact speed [m/s] at which the Hunt-Crossley damping restitutes `restitution`: the energy-weighted mean onset
+# speed of the paper's slider-crank under its own law (docs/model.md §3.5)
 RESTITUTION_SPEED_M_S = 0.05
+# the mass [kg] the Tsuji damping's restitution is exact for: the paper's slider-crank's rod and slider, the mass
+# the crank-rod joint decelerates along the rod at the dead centres (SliderCrankParameters.contact_effective_mass_kg)
+PAPER_EFFECTIVE_MASS_KG = 0.19 + 0.70
 # the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
 OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
                   "contact_model": CONTACT_MODELS, "contact_damping": CONTACT_DAMPINGS}
@@ -98,27 +101,22 @@ def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
     return float(kernel(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa, bushing_poisson_ratio))
 
 
-def hysteresis_restitution(damping: float, exponent: float = 1.5, steps: int = 4000) -> float:
-    """Restitution of a mass striking F = K delta^n max(0, 1 + alpha delta_dot) at speed v, as a function of
-    ``damping`` = alpha v alone [-] (docs/model.md §3.5): the impact in units of the elastic maximum
-    penetration and v, x'' = -(n + 1)/2 x^n max(0, 1 + a x'), x(0) = 0, x'(0) = 1, integrated by RK4 until x
-    returns to 0; e = -x' there.  For small a, e = 1 - (2/3) a (Hunt and Crossley 1975)."""
-    a, half = float(damping), 0.5 * (exponent + 1.0)
+def restitution_of_law(law: str, restitution: float, impact_speed_m_s: float, restitution_speed_m_s: float,
+                       exponent: float = 1.5, velocity_floor_m_s: float = 0.0) -> float:
+    """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under damping law
+    ``law`` asked for ``restitution`` (docs/model.md §3.5, :mod:`wearjoint.core.damping`): Hunt-Crossley's
+    closed form at a = alpha v (exact e_r at ``restitution_speed_m_s``); the Lankarani-Nikravesh laws' at
+    a = chi v / max(v, floor) (chi = 3(1 - e_r^2)/4 for the paper's, exact e_r for ``-exact``, above the
+    ``velocity_floor_m_s`` on the stored onset speed); Tsuji's e_r at every speed."""
+    from .core import damping
 
-    def accel(x, u):
-        return -half * max(x, 0.0) ** exponent * max(0.0, 1.0 + a * u)
-
-    x, u, dt = 0.0, 1.0, 4.0 / steps        # the elastic impact lasts 2.94 units at n = 1.5
-    while True:
-        k1x, k1u = u, accel(x, u)
-        k2x, k2u = u + 0.5 * dt * k1u, accel(x + 0.5 * dt * k1x, u + 0.5 * dt * k1u)
-        k3x, k3u = u + 0.5 * dt * k2u, accel(x + 0.5 * dt * k2x, u + 0.5 * dt * k2u)
-        k4x, k4u = u + dt * k3u, accel(x + dt * k3x, u + dt * k3u)
-        x_next = x + dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
-        u_next = u + dt / 6.0 * (k1u + 2.0 * k2u + 2.0 * k3u + k4u)
-        if x_next <= 0.0 and u_next < 0.0:
-            return -u_next
-        x, u = x_next, u_next
+    if law == "hunt-crossley":
+        a = damping.hunt_crossley_damping(restitution) * impact_speed_m_s / restitution_speed_m_s
+        return float(damping.hunt_crossley_restitution(a))
+    if law == "tsuji":
+        return float(damping.tsuji_restitution(damping.tsuji_damping(restitution, exponent), exponent))
+    chi = 0.75 * (1.0 - restitution ** 2) if law == "lankarani-nikravesh" else damping.hunt_crossley_damping(restitution)
+    return float(damping.hunt_crossley_restitution(chi * impact_speed_m_s / max(impact_speed_m_s, velocity_floor_m_s)))
 
 
 @dataclass(frozen=True)
@@ -162,12 +160,14 @@ class JointParameters:
     contact_model: str = "foundation"
     contact_damping: str = "hunt-crossley"
     restitution_speed_m_s: float = RESTITUTION_SPEED_M_S
+    effective_mass_kg: float = PAPER_EFFECTIVE_MASS_KG
     wear_interval_s: float = MAX_WEAR_STEP_S
 
     def __post_init__(self):
         for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
                      "pin_youngs_modulus_Pa", "bushing_youngs_modulus_Pa",
-                     "contact_exponent", "friction_v1_m_s", "impact_velocity_floor_m_s", "restitution_speed_m_s"):
+                     "contact_exponent", "friction_v1_m_s", "impact_velocity_floor_m_s", "restitution_speed_m_s",
+                     "effective_mass_kg"):
             _positive(name, getattr(self, name))
         if self.contact_stiffness_N_m1_5 is not None:
             _positive("contact_stiffness_N_m1_5", self.contact_stiffness_N_m1_5)
@@ -209,14 +209,13 @@ class JointParameters:
 
     def restitution_at(self, impact_speed_m_s: float) -> float:
         """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under this joint's
-        damping, F = F_e max(0, 1 + chi delta_dot / v), chi = 3(1 - e_r^2)/4 (docs/model.md §3.5): v is
-        ``restitution_speed_m_s`` (Hunt-Crossley) or the impact speed itself, floored (Lankarani-Nikravesh)."""
+        damping law (:func:`restitution_of_law`, docs/model.md §3.5): ``restitution`` at ``restitution_speed_m_s``
+        for Hunt-Crossley, at every speed for Tsuji and (above the velocity floor) Lankarani-Nikravesh exact;
+        the paper's Lankarani-Nikravesh its own value (0.913 for 0.9)."""
         speed = finite("impact_speed_m_s", impact_speed_m_s)
         require("impact_speed_m_s", impact_speed_m_s, speed > 0.0, "> 0")
-        chi = 0.75 * (1.0 - self.restitution ** 2)
-        reference = (self.restitution_speed_m_s if self.contact_damping == "hunt-crossley"
-                     else max(speed, self.impact_velocity_floor_m_s))
-        return hysteresis_restitution(chi * speed / reference, self.contact_exponent)
+        return restitution_of_law(self.contact_damping, self.restitution, speed, self.restitution_speed_m_s,
+                                  self.contact_exponent, self.impact_velocity_floor_m_s)
 
     @property
     def clearance_m(self) -> float:
@@ -323,6 +322,17 @@ class SliderCrankParameters:
         """Duration of one crank revolution [s]."""
         return 2.0 * math.pi / self.omega_rad_s
 
+    @property
+    def contact_effective_mass_kg(self) -> float:
+        """The mass [kg] the crank-rod joint decelerates along the rod at the dead centres, rod and slider
+        (the crank is driven): the Tsuji damping's effective mass for this mechanism (docs/model.md §3.5)."""
+        return self.rod_mass_kg + self.slider_mass_kg
+
+    def joint_defaults(self) -> dict:
+        """The joint's values this mechanism sets unless given: the centres (:meth:`joint_offsets`) and the
+        contact's effective mass."""
+        return {**self.joint_offsets(), "effective_mass_kg": self.contact_effective_mass_kg}
+
     def joint_offsets(self) -> dict:
         """Pin and bushing centres in the crank and rod frames (docs/model.md §1)."""
         return {"pin_offset_m": (0.5 * self.crank_length_m, 0.0),
@@ -336,9 +346,10 @@ class SliderCrankParameters:
 
 
 def paper_joint(mechanism: SliderCrankParameters | None = None, **changes) -> JointParameters:
-    """Joint parameters of the paper with offsets matching ``mechanism``."""
+    """Joint parameters of the paper with the offsets and the effective mass of ``mechanism``
+    (:meth:`SliderCrankParameters.joint_defaults`) unless ``changes`` gives them."""
     mechanism = mechanism or SliderCrankParameters()
-    return JointParameters(**{**mechanism.joint_offsets(), **changes})
+    return JointParameters(**{**mechanism.joint_defaults(), **changes})
 
 
 def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankParameters) -> None:
@@ -367,6 +378,6 @@ __all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "requir
            "is_paper_case", "PAPER_JOINT_GEOMETRY",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
-           "OPTION_CHOICES", "hysteresis_restitution", "RESTITUTION_SPEED_M_S",
+           "OPTION_CHOICES", "restitution_of_law", "RESTITUTION_SPEED_M_S", "PAPER_EFFECTIVE_MASS_KG",
            "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S",
            "WEAR_BATCH_SHARE"]

@@ -3,7 +3,8 @@
 ``summary.json`` (key figures, SI units named in the keys, every parameter
 used), ``profile.csv`` (phi_deg,wear_depth_m), ``timeseries.npz`` (all
 samples), ``last_revolution.csv`` (samples of the last revolution),
-``revolutions.csv`` (per-revolution statistics) and PNG figures.
+``revolutions.csv`` (per-revolution statistics, with the impact-vibration events and
+chattering flags of :func:`wearjoint.analysis.revolution_impact_events`) and PNG figures.
 """
 from __future__ import annotations
 
@@ -95,6 +96,8 @@ class RunRecord:
             **analysis.run_statistics(self.revolution_stats, self.settling_revolutions),
             **analysis.deepest_point(self.phi_deg, self.wear_depth_m),
             **analysis.regime(self.samples),
+            **analysis.impact_event_statistics(self.samples, self.revolution_stats, self.parameters.mechanism,
+                                               self.settling_revolutions),
             "worn_volume_m3": self.worn_volume_m3,
             "clearance_m": self.clearance_m,
             **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),
@@ -107,7 +110,8 @@ class RunRecord:
 
     def revolution_table(self) -> np.ndarray:
         """Per-revolution statistics, columns :data:`wearjoint.analysis.REVOLUTION_COLUMNS`."""
-        return analysis.revolution_table(self.revolution_stats, self.wear_growth_m)
+        events = analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism)
+        return analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"])
 
 
 def write_json_atomic(path: Path, data: dict) -> None:

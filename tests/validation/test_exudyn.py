@@ -138,7 +138,7 @@ def _active_contact_joint(p, impact_velocity):
 def test_discrete_and_native_contact_agree_to_the_discretisation_error():
     """Our deepest-point kernel and exudyn's own contact (its C++ code) on random unworn cases."""
     p = DEEPEST
-    impact_velocity = 0.2
+    impact_velocity = 0.5       # 1 + chi delta_dot / delta_dot^- > 0 over the random rates (|rate| < 2.4 m/s): exudyn does not clip
     joint = _active_contact_joint(p, impact_velocity)
     rng = np.random.default_rng(7)
     relative_bounds = []

@@ -22,14 +22,19 @@ MASS = 1.0                                  # kg
 
 # ---------------------------------------------------------------- the mapping
 @pytest.mark.parametrize("restitution", [0.3, 0.6, 0.9, 1.0])
-def test_hunt_crossley_restitution_gives_the_lankarani_nikravesh_coefficient(restitution):
+def test_exudyns_restitution_gives_our_laws_coefficient(restitution):
     """exudyn's impactModel 1: lambda = K/delta_dot^- * 3/2 (e_x - 1), i.e. F = K delta^n (1 + 3/2 (1 - e_x)
-    delta_dot/delta_dot^-); Eq. (15): 3/4 (1 - e_r^2) in its place."""
+    delta_dot/delta_dot^-): 3/2 (1 - e_x) is Hunt-Crossley's exact a(e_r), the root of -a e - ln(1 - a e) =
+    a - ln(1 + a) (checked here by its residual), floored at v_r; Eq. (15)'s 3/4 (1 - e_r^2) for the paper's law."""
     args = native.native_contact_parameters(PIN.replace(restitution=restitution))
     assert args["impactModel"] == native.HUNT_CROSSLEY and args["contactDamping"] == 0.0
-    assert 1.5 * (1.0 - args["restitutionCoefficient"]) == pytest.approx(0.75 * (1.0 - restitution ** 2), abs=1e-15)
+    a, e = 1.5 * (1.0 - args["restitutionCoefficient"]), restitution
+    assert abs(a - np.log1p(a) + a * e + np.log1p(-a * e)) < 1e-12 and (a > 0.0) == (e < 1.0)
     assert args["minimumImpactVelocity"] == PIN.restitution_speed_m_s          # our default, Hunt-Crossley's v_r
-    literal = native.native_contact_parameters(PIN.replace(contact_damping="lankarani-nikravesh"))
+    literal = native.native_contact_parameters(PIN.replace(contact_damping="lankarani-nikravesh",
+                                                           restitution=restitution))
+    assert 1.5 * (1.0 - literal["restitutionCoefficient"]) == pytest.approx(0.75 * (1.0 - restitution ** 2),
+                                                                            abs=1e-15)
     assert literal["minimumImpactVelocity"] == PIN.impact_velocity_floor_m_s
 
 
@@ -114,14 +119,14 @@ def test_resting_pin_carries_its_weight_at_the_hertz_penetration():
 
 def _impact_peak_force(p, v0, mass):
     """Closed form: the largest normal force of a mass ``mass`` [kg] hitting the wall at v0 [m/s] with
-    F = K delta^n (1 + chi u/v0), chi = 3/4 (1 - e_r^2), u = delta_dot.  Energy along the compression,
+    F = K delta^n (1 + chi u/v0), chi = 3/2 (1 - e_x) of the restitution exudyn is given, u = delta_dot.  Energy along the compression,
     m u du / (1 + chi u/v0) = -K delta^n d delta, integrates to
     K delta(u)^(n+1)/(n+1) = m v0^2 [chi (1 - u/v0) - ln((1 + chi)/(1 + chi u/v0))] / chi^2;
     undamped (chi -> 0): delta_max = ((n+1) m v0^2 / (2K))^(1/(n+1)) = (5 m v0^2/(4K))^(2/5), F_max = K delta_max^n.
-    LN's damping lowers delta_max by [2 (chi - ln(1 + chi))/chi^2]^(1/(n+1)) (0.965 at e_r = 0.9) and moves the
+    LN's damping lowers delta_max by [2 (chi - ln(1 + chi))/chi^2]^(1/(n+1)) (0.959 at e_r = 0.9) and moves the
     peak before delta_max, to the largest K delta(u)^n (1 + chi u/v0) over 0 <= u <= v0 (taken on a fine grid)."""
     k, n = p.stiffness_N_m1_5, p.contact_exponent
-    chi = 0.75 * (1.0 - p.restitution ** 2)
+    chi = 1.5 * (1.0 - native.native_contact_parameters(p)["restitutionCoefficient"])
     if chi == 0.0:
         return k * ((n + 1.0) * mass * v0 ** 2 / (2.0 * k)) ** (n / (n + 1.0))
     u = np.linspace(0.0, v0, 100001)

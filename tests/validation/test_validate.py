@@ -71,7 +71,7 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     assert set(summary["ensemble_std"]) == {cmp.REFERENCE, *summary["scatter_run_statistics"], *others}
     law = summary["law_differences"]["exudyn-native"]                    # traces against its own law's reference
     assert summary["law_references"] == {"exudyn-native": {"contact_model": "deepest", "contact_damping":
-                                                           "lankarani-nikravesh", "impact_velocity_floor_m_s": 0.05}}
+                                                           "lankarani-nikravesh-exact", "impact_velocity_floor_m_s": 0.05}}
     assert law["engine"]["eccentricity_max_difference_m"] > 0.0 and law["law"]["eccentricity_max_difference_m"] > 0.0
     native = {m["name"]: m for m in by_group[cmp.GROUP_STATISTICS] if m["engine"] == "exudyn-native"}
     for name, value in summary["law_statistics"]["exudyn-native"].items():   # statistics against its law's ensemble

@@ -28,6 +28,8 @@ COMMANDS = {
     "cosim-study": ("wearjoint.cli.cosim_study", "co-simulation error versus communication step and scheme"),
     "sweep": ("wearjoint.cli.sweep", "a grid of parameter values x seeds of simulate, cosim or wear-study on Dask"),
     "sensitivity": ("wearjoint.cli.sensitivity", "which parameters drive the outputs: Morris or Sobol' on Dask (SALib)"),
+    "contact-law": ("wearjoint.cli.contact_law", "restitution of a single impact against its speed under each contact "
+                                                 "damping law"),
 }
 DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, "
                "FMU co-simulation, validation and the paper's wear study.")

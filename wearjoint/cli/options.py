@@ -23,8 +23,11 @@ _HELP = {
     "wear_placement": "where the Archard increment goes (docs/model.md §3.7)",
     "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
     "contact_model": "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing point (docs/model.md §3.10)",
-    "contact_damping": "contact damping: Hunt-Crossley, or the paper's Lankarani-Nikravesh with its stored impact velocity (docs/model.md §3.5)",
+    "contact_damping": "contact damping: Hunt-Crossley (--restitution at --restitution-speed-m-s), the paper's "
+                       "Lankarani-Nikravesh with its stored impact velocity (rebounds at 0.913 for --restitution 0.9), or "
+                       "Tsuji (--restitution at every speed for --effective-mass-kg) (docs/model.md §3.5)",
     "restitution_speed_m_s": "impact speed at which the Hunt-Crossley damping gives --restitution",
+    "effective_mass_kg": "Tsuji damping: the mass the contact decelerates, for which the restitution is exact",
     "impact_velocity_floor_m_s": "Lankarani-Nikravesh: floor on the stored impact velocity",
     "wear_factor": "wear acceleration factor on k_w",
     "wear_interval_s": "the foundation's wear is applied once per this much contact time, 0: every step "
@@ -34,7 +37,8 @@ _HELP = {
     "n_points": "bushing discrete points N_d",
 }
 # model options whose default is not a value: what the parameter set does without them
-_UNSET = {"contact_stiffness_N_m1_5": "(default: from the radii and materials, 4 E* sqrt(R_i R_j/(R_j - R_i))/3, "
+_UNSET = {"effective_mass_kg": "(default: the slider-crank's rod and slider masses, 0.89 for the paper's)",
+          "contact_stiffness_N_m1_5": "(default: from the radii and materials, 4 E* sqrt(R_i R_j/(R_j - R_i))/3, "
                                       "Eqs. 16-17; 7.951e10 for the paper's joint)"}
 
 
@@ -93,7 +97,7 @@ def given_options(args, cls) -> dict:
 def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options."""
     mechanism = SliderCrankParameters(**given_options(args, SliderCrankParameters))
-    joint_values = {**mechanism.joint_offsets(), **given_options(args, JointParameters)}
+    joint_values = {**mechanism.joint_defaults(), **given_options(args, JointParameters)}
     if args.no_wear:
         joint_values["wear_factor"] = 0.0
     joint = JointParameters(**joint_values)

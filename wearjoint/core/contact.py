@@ -11,11 +11,11 @@ Pure numba functions on arrays.  Bodies: i carries the pin, j the bushing.  The 
 * 1, ``deepest``: the paper's, K delta^n at the deepest bushing point k (Eqs. 5-8), applied at
   the pin-surface point Q_i (Eq. 9) and the bushing point Q_j (Eq. 10).
 
-On either, a hysteresis damping scales the elastic force (``jp[P_CONTACT_DAMPING]``, docs/model.md
-§3.5): 0, Hunt-Crossley (default), F_e max(0, 1 + alpha delta_dot) with the constant
-alpha = 3(1 - e_r^2)/(4 v_r) from the restitution e_r at the impact speed v_r; 1, the paper's
-Lankarani-Nikravesh (Eq. 15), the same form with the approach velocity stored at the contact's onset
-in place of v_r.  Ambrosio's friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions
+On either, a damping law turns the elastic force F_e into the normal force (``jp[P_CONTACT_DAMPING]``,
+:mod:`.damping`, docs/model.md §3.5): 0, Hunt-Crossley, F_e max(0, 1 + alpha delta_dot) with alpha
+from the restitution e_r at the impact speed v_r; 1, the paper's Lankarani-Nikravesh (Eq. 15),
+F_e (1 + chi delta_dot / delta_dot^-) with the approach velocity stored at the contact's onset; 2, Tsuji,
+max(0, F_e + c sqrt(F_e / delta) delta_dot): a restitution that does not depend on the speed.  Ambrosio's friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions
 (docs/model.md §3): delta = R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into
 the bushing; the normal force on the pin is -F_N n; friction on the pin opposes its sliding relative
 to the bushing; torques are planar cross products l_x F_y - l_y F_x.
@@ -28,12 +28,13 @@ import math
 
 import numpy as np
 
+from .damping import DAMPING_HUNT_CROSSLEY, DAMPING_TSUJI
 from .geometry import angle_near_point, find_deepest_point, point_nearest_angle
 from .jit import kernel
 from .layout import (
     M_ACTIVE, M_IMPACT_VELOCITY, N_KINEMATIC_INPUTS, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS,
-    P_CONTACT_DAMPING, P_CONTACT_MODEL, P_EXPONENT, P_FOUNDATION_MODULUS, P_FRICTION, P_PIN_OFFSET_X,
-    P_PIN_OFFSET_Y, P_PIN_RADIUS, P_RESTITUTION, P_RESTITUTION_SPEED, P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR,
+    P_CONTACT_DAMPING, P_CONTACT_MODEL, P_DAMPING_COEFFICIENT, P_EXPONENT, P_FOUNDATION_MODULUS, P_FRICTION,
+    P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR,
     R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X,
     R_ECCENTRICITY_Y, R_FRICTION_FORCE, R_NORMAL_FORCE, R_PENETRATION, R_PENETRATION_RATE, R_PIN_FX, R_PIN_FY,
     R_PIN_TORQUE, R_TANGENTIAL_VELOCITY,
@@ -42,14 +43,7 @@ from .pressure import foundation_resultant
 
 TWO_PI = 2.0 * math.pi
 CONTACT_FOUNDATION, CONTACT_DEEPEST = 0, 1
-DAMPING_HUNT_CROSSLEY, DAMPING_LANKARANI_NIKRAVESH = 0, 1
 NO_DIRECTION = (0.0,) * N_KINEMATIC_INPUTS
-
-
-@kernel(inline='always')
-def hysteresis_factor(penetration_rate, impact_velocity, restitution):
-    """1 + 3(1 - e_r^2)/4 delta_dot/delta_dot^- of Eq. (15) [-]."""
-    return 1.0 + 0.75 * (1.0 - restitution * restitution) * penetration_rate / impact_velocity
 
 
 @kernel
@@ -125,12 +119,13 @@ def _kinematics(xi, yi, ci, si, xj, yj, cj, sj, dq, jp):
 
 @kernel(inline='always')
 def _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, memory, elastic, common_point,
-            bushing_point, fallback):
+            bushing_point, fallback, depth):
     """Forces of the contact from the elastic force on the pin ``elastic`` = (f_x, f_y, J11, J12, J21, J22)
     (bushing frame, J its Jacobian in e), with their derivatives along dq (forward mode).
     ``common_point``: both bodies' forces act at Q = pin centre + R_i n (the foundation), else body
     j's at ``bushing_point`` (bushing frame, from the bushing centre: the deepest point, Eq. 10).
-    ``fallback``: the normal (bushing frame) where the elastic force is exactly 0.
+    ``fallback``: the normal (bushing frame) where the elastic force is exactly 0.  ``depth``: the penetration
+    delta (Eq. 6) and the unit vector d_k / |d_k| (bushing frame) whose product with de is its derivative.
     Returns (values, derivatives), each (F_x, F_y, T_i, T_j, F_N, F_T, v_T, delta_dot, n_x, n_y) with
     F = (F_x, F_y) on the pin (global), T the torques about the reference points, n global."""
     (ax, ay, gx, gy, ex, ey), (dax, day, dgx, dgy, dex, dey) = _kinematics(xi, yi, ci, si, xj, yj, cj, sj, dq, jp)
@@ -180,24 +175,36 @@ def _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, 
     drate = drvx * nx + drvy * ny + rvx * dnx + rvy * dny
     v_t = rvx * tx + rvy * ty                       # Eq. (14)
     dv_t = drvx * tx + drvy * ty + rvx * dtx + rvy * dty
-    # hysteresis damping on the elastic force: Hunt-Crossley with delta_dot^- fixed at the restitution speed
-    # (docs/model.md 3.5), or Lankarani-Nikravesh with the stored onset velocity, Eq. (15)
-    restitution = jp[P_RESTITUTION]
-    if jp[P_CONTACT_DAMPING] == DAMPING_HUNT_CROSSLEY:
-        impact_velocity = jp[P_RESTITUTION_SPEED]
-        dh = 0.75 * (1.0 - restitution * restitution) * drate / impact_velocity
-    elif memory[M_ACTIVE] > 0.5:
-        impact_velocity = memory[M_IMPACT_VELOCITY]
-        dh = 0.75 * (1.0 - restitution * restitution) * drate / impact_velocity
-    elif rate > jp[P_VELOCITY_FLOOR]:               # the approach velocity stands in: h = 1 + 3(1 - e_r^2)/4
-        impact_velocity = rate
-        dh = 0.0
+    # the damping law (core.damping, docs/model.md 3.5): Hunt-Crossley with a constant alpha, Lankarani-Nikravesh
+    # with the onset velocity stored, Eq. (15), or Tsuji's F_e + c F_e^q delta_dot
+    law = jp[P_CONTACT_DAMPING]
+    coefficient = jp[P_DAMPING_COEFFICIENT]
+    if law == DAMPING_TSUJI:                        # c sqrt(F_e / delta): c sqrt(K delta^(n-1)) for K delta^n
+        delta, ux, uy = depth
+        if f_e > 0.0 and delta > 0.0:
+            scale = coefficient * math.sqrt(f_e / delta)
+            ddelta = ux * dex + uy * dey
+            f_n = f_e + scale * rate
+            df_n = df_e + scale * (0.5 * rate * (df_e / f_e - ddelta / delta) + drate)
+        else:
+            f_n = df_n = 0.0
     else:
-        impact_velocity = jp[P_VELOCITY_FLOOR]
-        dh = 0.75 * (1.0 - restitution * restitution) * drate / impact_velocity
-    h = hysteresis_factor(rate, impact_velocity, restitution)
-    f_n = f_e * h
-    df_n = df_e * h + f_e * dh
+        if law == DAMPING_HUNT_CROSSLEY:
+            h = 1.0 + coefficient * rate
+            dh = coefficient * drate
+        else:
+            if memory[M_ACTIVE] > 0.5:
+                impact_velocity = memory[M_IMPACT_VELOCITY]
+                dh = coefficient * drate / impact_velocity
+            elif rate > jp[P_VELOCITY_FLOOR]:       # the approach velocity stands in: h = 1 + chi
+                impact_velocity = rate
+                dh = 0.0
+            else:
+                impact_velocity = jp[P_VELOCITY_FLOOR]
+                dh = coefficient * drate / impact_velocity
+            h = 1.0 + coefficient * rate / impact_velocity
+        f_n = f_e * h
+        df_n = df_e * h + f_e * dh
     if f_n <= 0.0:                                  # no adhesion
         f_n = df_n = 0.0
     # Ambrosio friction, Eqs. (18-19): d(c_d(|v|) sign v)/dv = c_d'(|v|)
@@ -279,7 +286,8 @@ def contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
                 jacobian[R_CONTACT_ANGLE, m] = (ex * dey - ey * dex) / e2
             continue
         values, derivative = _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, memory,
-                                     elastic, common_point, bushing_point, fallback)
+                                     elastic, common_point, bushing_point, fallback,
+                                     (out[R_PENETRATION], fallback[0], fallback[1]))
         nlx, nly = values[8], values[9]
         dfx, dfy, dt_i, dt_j, df_n, df_t, dv_t, drate, dnlx, dnly = derivative
         jacobian[R_PIN_FX, m] = dfx
@@ -351,7 +359,7 @@ def _contact(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, jp, cos
         elastic = _deepest_elastic_force(ex, ey, k, d2, jp, cos_phi, sin_phi, wear_depth)
         common_point = False
     values, _ = _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, NO_DIRECTION, jp, memory,
-                        elastic, common_point, bushing_point, fallback)
+                        elastic, common_point, bushing_point, fallback, (pin_radius - d, fallback[0], fallback[1]))
     fx, fy, t_i, t_j, f_n, f_t, v_t, rate, nlx, nly = values
     out[R_PIN_FX] = fx
     out[R_PIN_FY] = fy

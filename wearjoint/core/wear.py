@@ -20,6 +20,7 @@ import math
 
 
 from .contact import evaluate_contact, update_contact_memory
+from .damping import damping_coefficient
 from .foundation_wear import WEAR_REFUSED, archard_volume_fits, foundation_wear
 from .geometry import block_minimum_depth, distance_sq, penetrating_points, refresh_blocks, wrap_index
 from .jit import kernel
@@ -27,10 +28,11 @@ from .pressure import foundation_modulus_factor
 from .layout import (
     M_BATCH_ANGLE, M_BATCH_MOMENT_X, M_BATCH_MOMENT_Y, M_BATCH_INDEX, M_BATCH_LOAD, M_BATCH_SLIDE,
     M_BATCH_TIME, M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
-    P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS, P_CONTACT_LENGTH, P_EFFECTIVE_MODULUS, P_FOUNDATION_MODULUS,
-    P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE, P_SLIDING, P_STIFFNESS, P_WEAR_COEFFICIENT,
-    P_WEAR_FACTOR, P_WEAR_INTERVAL, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX, R_ECCENTRICITY_X, R_ECCENTRICITY_Y,
-    R_NORMAL_FORCE, R_PENETRATION, R_TANGENTIAL_VELOCITY, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
+    P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS, P_CONTACT_LENGTH, P_DAMPING_COEFFICIENT, P_EFFECTIVE_MODULUS,
+    P_FOUNDATION_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE, P_SLIDING, P_STIFFNESS,
+    P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_INTERVAL, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX, R_ECCENTRICITY_X,
+    R_ECCENTRICITY_Y, R_NORMAL_FORCE, R_PENETRATION, R_TANGENTIAL_VELOCITY, WEAR_BATCH_SHARE, WEAR_STEP_SHARE,
+    WEAR_STEP_SHARE_EXPLICIT,
 )
 
 
@@ -58,15 +60,17 @@ def materials_contact_stiffness(pin_radius, bushing_radius, effective_modulus_Pa
 def complete_joint_parameters(jp):
     """Fill the derived slots of the joint parameter vector from the given ones: E* (Eq. 32), the
     contact stiffness where it is given as 0 (from the radii and materials, Eqs. 16-17), the wear
-    coefficient the updates use (k_w times the wear acceleration factor) and the elastic foundation's
+    coefficient the updates use (k_w times the wear acceleration factor), the elastic foundation's
     k_f L / R_i (:func:`core.pressure.foundation_modulus_factor`: three square roots the contact would
-    otherwise take at every evaluation)."""
+    otherwise take at every evaluation) and the damping law's coefficient (:func:`core.damping.damping_coefficient`:
+    solved once from the restitution)."""
     jp[P_EFFECTIVE_MODULUS] = effective_modulus(jp[P_PIN_YOUNGS_MODULUS], jp[P_PIN_POISSON_RATIO],
                                                 jp[P_BUSHING_YOUNGS_MODULUS], jp[P_BUSHING_POISSON_RATIO])
     if jp[P_STIFFNESS] == 0.0:
         jp[P_STIFFNESS] = materials_contact_stiffness(jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS], jp[P_EFFECTIVE_MODULUS])
     jp[P_WEAR_COEFFICIENT] = jp[P_ARCHARD_COEFFICIENT] * jp[P_WEAR_FACTOR]
     jp[P_FOUNDATION_MODULUS] = foundation_modulus_factor(jp[P_STIFFNESS], jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS])
+    jp[P_DAMPING_COEFFICIENT] = damping_coefficient(jp)
 
 
 @kernel

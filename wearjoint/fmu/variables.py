@@ -201,10 +201,14 @@ PARAMETERS: tuple[ParameterField, ...] = (
     _choice("contact_model", "contact_model", CONTACT_MODELS,
             "contact force: elastic-foundation pressure over the worn bushing, or the deepest bushing point"),
     _choice("contact_damping", "contact_damping", CONTACT_DAMPINGS,
-            "contact damping: Hunt-Crossley (restitution at restitution_speed), or the paper's Lankarani-Nikravesh "
-            "(restitution at every stored impact velocity)"),
+            "contact damping: Hunt-Crossley (restitution e_r at restitution_speed), the paper's Lankarani-Nikravesh "
+            "(chi = 3(1 - e_r^2)/4 over the stored impact velocity: restitution 0.913 for e_r 0.9), or Tsuji "
+            "(restitution e_r at every speed for a body of effective_mass)"),
     _real("restitution_speed", "m/s", "restitution_speed_m_s",
           "impact speed at which the Hunt-Crossley damping gives the restitution e_r", allowed=POSITIVE),
+    _real("effective_mass", "kg", "effective_mass_kg",
+          "Tsuji damping: the mass the contact decelerates along its normal (the restitution is e_r for it)",
+          allowed=POSITIVE),
     _real("wear_interval", "s", "wear_interval_s",
           "the foundation's wear is applied once per this much contact time (and when a contact ends; "
           "0: at every accepted step)", allowed=Allowed(0.0, False, layout.MAX_WEAR_STEP_S)),
@@ -267,7 +271,7 @@ UNIT_DEFINITIONS: dict[str, dict[str, int]] = {
     # non-integer exponent of m and is declared without BaseUnit.
     "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1},
     "N": {"kg": 1, "m": 1, "s": -2}, "N.m": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-    "N/m1.5": {}, "m2/N": {"kg": -1, "m": 1, "s": 2}, "m3": {"m": 3}, "s": {"s": 1}, "1": {},
+    "N/m1.5": {}, "m2/N": {"kg": -1, "m": 1, "s": 2}, "m3": {"m": 3}, "s": {"s": 1}, "kg": {"kg": 1}, "1": {},
 }
 
 

@@ -34,7 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from wearjoint.analysis import impact_events, profile_features, revolution_row, sample_statistics
+from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
+                                profile_features, revolution_row, sample_statistics)
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
@@ -81,8 +82,8 @@ class WearStudyConfig:
     rtol: float = SimulationOptions.rtol    # DOPRI's relative tolerance (monolithic engine)
     chunks_per_revolution: int = 8
     checkpoint_every_revolutions: float = 1.0   # simulated revolutions between checkpoints
-    impact_threshold_m_s2: float = 100.0
-    impact_merge_deg: float = 15.0
+    impact_threshold_m_s2: float = IMPACT_EVENT_THRESHOLD_M_S2
+    impact_merge_deg: float = IMPACT_EVENT_MERGE_DEG
     fmu_backend: str = DEFAULT_BACKEND      # engine "cosim": the joint FMU's backend
 
     def __post_init__(self):

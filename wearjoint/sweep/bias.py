@@ -82,7 +82,7 @@ def is_measured_case(joint: dict, mechanism: dict) -> bool:
     (:func:`wearjoint.parameters.is_paper_case`) at its wear coefficient?"""
     try:
         mech = SliderCrankParameters(**mechanism)
-        geometry = JointParameters(**{k: joint[k] for k in PAPER_JOINT_GEOMETRY}, **mech.joint_offsets())
+        geometry = JointParameters(**{k: joint[k] for k in PAPER_JOINT_GEOMETRY}, **mech.joint_defaults())
     except (KeyError, TypeError, ParameterError):
         return False
     return (is_paper_case(geometry, mech)
