@@ -412,7 +412,7 @@ def impact_event_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, s
     revolutions) and ``impact_event_definition``; None without a counted revolution."""
     per = revolution_impact_events(samples, stats, mechanism, threshold_m_s2, merge_deg)
     n = per["events"].size
-    first = min(max(0, int(settling_revolutions)), n - 1)
+    first = max(0, int(settling_revolutions))
     counted = np.flatnonzero(per["sampled"] & (np.arange(n) >= first))
     notes = []
     if counted.size == 0 and per["sampled"].any():

@@ -328,6 +328,13 @@ class SliderCrankParameters:
         (the crank is driven): the Tsuji damping's effective mass for this mechanism (docs/model.md §3.5)."""
         return self.rod_mass_kg + self.slider_mass_kg
 
+    @property
+    def rod_across_mass_kg(self) -> float:
+        """The mass [kg] the crank-rod joint decelerates across the rod: the rod turning about the slider pin,
+        (I2 + m2 l2^2 / 4) / l2^2 (the smallest effective mass at the joint for the paper's proportions)."""
+        length = self.rod_length_m
+        return (self.rod_inertia_kg_m2 + 0.25 * self.rod_mass_kg * length * length) / (length * length)
+
     def joint_defaults(self) -> dict:
         """The joint's values this mechanism sets unless given: the centres (:meth:`joint_offsets`) and the
         contact's effective mass."""

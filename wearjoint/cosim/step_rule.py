@@ -43,9 +43,7 @@ class StepRule:
 def effective_mass_kg(mechanism: SliderCrankParameters) -> float:
     """The smallest effective mass at the crank-rod joint [kg]: the crank is driven (infinite), the rod end
     weighs m2 + m3 along the rod and (I2 + m2 l2^2/4) / l2^2 across it (the rod turning about the slider pin)."""
-    l2 = mechanism.rod_length_m
-    across = (mechanism.rod_inertia_kg_m2 + 0.25 * mechanism.rod_mass_kg * l2 * l2) / (l2 * l2)
-    return min(across, mechanism.rod_mass_kg + mechanism.slider_mass_kg)
+    return min(mechanism.rod_across_mass_kg, mechanism.contact_effective_mass_kg)
 
 
 def estimated_max_force_N(joint: JointParameters, mechanism: SliderCrankParameters) -> float:

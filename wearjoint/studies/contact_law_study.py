@@ -22,28 +22,18 @@ import numpy as np
 
 from wearjoint import analysis
 from wearjoint.core import layout as L
+from wearjoint.contact_laws import contact_law_variants
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 MAJOR_SHARE = 0.25             # a major event peaks at >= this share of its revolution's largest
 MECHANISM = SliderCrankParameters()
-ROD_ACROSS_KG = ((MECHANISM.rod_inertia_kg_m2 + MECHANISM.rod_mass_kg * (0.5 * MECHANISM.rod_length_m) ** 2)
-                 / MECHANISM.rod_length_m ** 2)      # the rod pivoting about the slider pin, struck across
-# (label, joint changes)
-LAWS = (("lankarani-nikravesh (paper)", {"contact_damping": "lankarani-nikravesh"}),
-        ("lankarani-nikravesh-exact", {"contact_damping": "lankarani-nikravesh-exact"}),
-        ("lankarani-nikravesh-exact, floor 10 mm/s", {"contact_damping": "lankarani-nikravesh-exact",
-                                                      "impact_velocity_floor_m_s": 0.01}),
-        ("hunt-crossley v_r 50 mm/s", {"contact_damping": "hunt-crossley"}),
-        ("hunt-crossley v_r 12.5 mm/s", {"contact_damping": "hunt-crossley", "restitution_speed_m_s": 0.0125}),
-        ("hunt-crossley v_r 200 mm/s", {"contact_damping": "hunt-crossley", "restitution_speed_m_s": 0.2}),
-        (f"tsuji m_eff {MECHANISM.contact_effective_mass_kg:.3g} kg", {"contact_damping": "tsuji"}),
-        (f"tsuji m_eff {ROD_ACROSS_KG:.3g} kg", {"contact_damping": "tsuji", "effective_mass_kg": ROD_ACROSS_KG}))
+LAWS = contact_law_variants(MECHANISM)
 COLUMNS = ("events_per_revolution", "major_events_per_revolution", "event_past_dead_centre_deg", "chattering_share", "impacts_per_revolution",
            "contact_fraction", "max_contact_force_N", "slider_acc_max_m_s2")
 
 
-def run_case(changes: dict, start_deg: float, revolutions: float, profile) -> dict:
+def run_case(changes: dict, start_deg: float, revolutions: float, profile, merge_deg: float) -> dict:
     """One start (in a worker): the counted revolutions' statistics of :data:`COLUMNS`."""
     mechanism = MECHANISM.replace(initial_crank_angle_deg=start_deg)
     joint = paper_joint(mechanism, wear_factor=0.0, **changes)
@@ -51,7 +41,7 @@ def run_case(changes: dict, start_deg: float, revolutions: float, profile) -> di
     record = run_simulation(joint, mechanism, options, progress=False, initial_profile_m=profile)
     period = mechanism.period_s
     samples = record.samples[record.samples[:, L.T_TIME] >= period]
-    events = analysis.impact_events(samples[:, L.T_TIME], samples[:, L.T_SLIDER_A], mechanism)
+    events = analysis.impact_events(samples[:, L.T_TIME], samples[:, L.T_SLIDER_A], mechanism, merge_deg=merge_deg)
     # the crank turns clockwise from start_deg: its rotation past the preceding dead centre (theta1 = 0 or 180 deg)
     past = [(e["peak_crank_rotation_deg"] - start_deg) % 180.0 for e in events]
     stats = record.revolution_stats[1:]
@@ -75,9 +65,12 @@ def main(argv=None) -> int:
     parser.add_argument("--revolutions", type=float, default=4.0)
     parser.add_argument("--worn-profile", default=None, help="a profile.csv (phi_deg,wear_depth_m)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--merge-deg", type=float, default=analysis.IMPACT_EVENT_MERGE_DEG,
+                        help="clusters at most this much crank rotation apart are one event (default %(default)s)")
+    parser.add_argument("--worn-only", action="store_true", help="only the worn profile")
     parser.add_argument("--laws", default=None, help="comma-separated indices into LAWS (default all)")
     args = parser.parse_args(argv)
-    profiles = [("unworn", None)]
+    profiles = [] if args.worn_only else [("unworn", None)]
     if args.worn_profile:
         depth = np.loadtxt(args.worn_profile, delimiter=",", skiprows=1)[:, 1]
         profiles.append((f"worn {depth.max() * 1e3:.2f} mm", depth))
@@ -89,7 +82,8 @@ def main(argv=None) -> int:
         for profile_label, profile in profiles:
             for label, changes in [LAWS[int(i)] for i in args.laws.split(",")] if args.laws else LAWS:
                 start = time.perf_counter()
-                futures = [pool.submit(run_case, changes, 360.0 * s / args.seeds, args.revolutions, profile)
+                futures = [pool.submit(run_case, changes, 360.0 * s / args.seeds, args.revolutions, profile,
+                                           args.merge_deg)
                            for s in range(args.seeds)]
                 rows = [f.result() for f in futures]
                 failed = sum(bool(r["failure"]) for r in rows)
