@@ -180,3 +180,13 @@ def test_damping_parameters_are_named_when_bad():
     with pytest.raises(ParameterError, match="contact_damping='hunt'"):
         DEEPEST.replace(contact_damping="hunt")
     assert math.isfinite(DEEPEST.restitution_at(1e-6)) and np.isclose(DEEPEST.restitution_at(1e-6), 1.0, atol=1e-5)
+
+
+def test_the_law_names_and_the_kernels_codes_agree():
+    """JointParameters' names are the kernels' codes by position (the FMU's Integer takes the same)."""
+    from wearjoint.parameters import CONTACT_DAMPINGS
+
+    assert [CONTACT_DAMPINGS.index(name) for name in ("hunt-crossley", "lankarani-nikravesh", "tsuji",
+                                                       "lankarani-nikravesh-exact")] == [
+        damping.DAMPING_HUNT_CROSSLEY, damping.DAMPING_LANKARANI_NIKRAVESH, damping.DAMPING_TSUJI,
+        damping.DAMPING_LANKARANI_NIKRAVESH_EXACT]

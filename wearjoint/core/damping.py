@@ -24,7 +24,8 @@ import math
 from .jit import kernel
 from .layout import P_CONTACT_DAMPING, P_EFFECTIVE_MASS, P_EXPONENT, P_RESTITUTION, P_RESTITUTION_SPEED
 
-DAMPING_HUNT_CROSSLEY, DAMPING_LANKARANI_NIKRAVESH, DAMPING_TSUJI, DAMPING_ONSET_EXACT = 0, 1, 2, 3
+DAMPING_HUNT_CROSSLEY, DAMPING_LANKARANI_NIKRAVESH, DAMPING_TSUJI = 0, 1, 2
+DAMPING_LANKARANI_NIKRAVESH_EXACT = 3
 _BISECTIONS = 100
 _TSUJI_STEP = 2e-3            # RK4 step of the dimensionless impact (it lasts ~3 units): e to ~1e-6
 
@@ -127,6 +128,6 @@ def damping_coefficient(jp):
         return hunt_crossley_damping(restitution) / jp[P_RESTITUTION_SPEED]
     if law == DAMPING_LANKARANI_NIKRAVESH:
         return 0.75 * (1.0 - restitution * restitution)
-    if law == DAMPING_ONSET_EXACT:
+    if law == DAMPING_LANKARANI_NIKRAVESH_EXACT:
         return hunt_crossley_damping(restitution)
     return tsuji_damping(restitution, jp[P_EXPONENT]) * math.sqrt(jp[P_EFFECTIVE_MASS])
