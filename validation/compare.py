@@ -92,6 +92,7 @@ class ValidationPlan:
     engines: tuple = ENGINES
     run_wear: bool = True
     fmu_backend: str = DEFAULT_BACKEND       # the co-simulation's FMU (wearjoint.fmu.build.BACKENDS)
+    law_spread: bool = True                  # the model-form spread over the contact laws (validation/law_spread.py)
 
     def __post_init__(self):
         for name in ("revolutions", "window_s", "wear_revolutions", "wear_factor", "reference_step_s",

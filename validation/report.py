@@ -17,6 +17,7 @@ from wearjoint.validation.compare import (
     STATISTICS, WEAR_ENGINES, Metric, Runs, ValidationPlan, _us, ensemble_profile, ensemble_statistics,
     pointwise_differences, revolution_statistics,
 )
+from wearjoint.validation.law_spread import STAGE, law_spread_summary, run_law_spread
 
 
 # ---------------------------------------------------------------- figures
@@ -335,8 +336,9 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
                              f"{_shown(m.scatter, m.unit)} | {_shown(m.tolerance, m.unit)} | "
                              f"{'pass' if m.passed else '**FAIL**'} |")
     lines += ["", "profile_decorrelation = 1 − Pearson correlation of h(φ) with the reference profile. Lobe angles: "
-              "depth-weighted mean angle of the wear within ±90° of 0° and of 180° (rod frame).", "",
-              "## Runs", "", f"{MACHINE_NOTE}.", "",
+              "depth-weighted mean angle of the wear within ±90° of 0° and of 180° (rod frame).", ""]
+    lines += _law_spread_lines(summary["law_spread"]) if summary.get("law_spread") else []
+    lines += ["## Runs", "", f"{MACHINE_NOTE}.", "",
               "| run | simulated [s] | wall [s] | simulated s per wall s |", "|---|---|---|---|"]
     for row in summary["runs"]:
         rate = row["realtime_factor"]
@@ -351,15 +353,45 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _law_spread_lines(spread: dict) -> list[str]:
+    """The model-form spread's section: one row per contact-law variant, then the spread, the sampling spread
+    and their ratio, one column per answer."""
+    answers = spread["answers"]
+    no_wear, wear = spread["no_wear_runs"], spread["wear_run"]
+    lines = [f"## {STAGE[0].upper()}{STAGE[1:]}", "",
+             "Informs, never judged: the exit status is the engine comparisons'. The mechanism and joint above under "
+             "each contact damping law and each law's free parameter at the ends of its plausible range "
+             "(`wearjoint.contact_laws.contact_law_variants`), monolithic DOPRI (rtol "
+             f"{no_wear['options']['rtol']:g}): means of {no_wear['ensemble']} perturbed starts × "
+             f"{no_wear['revolutions']:g} rev without wear"
+             + (f"; max wear depth after one {wear['revolutions']:g} rev run at wear factor {wear['wear_factor']:g}"
+                if wear else "") + ". slider_acc_error_max: the largest |a − a_ideal| of the slider over the counted "
+             "revolutions (a_ideal: the ideal joint's closed form). Spread = max − min over the variants; sampling "
+             f"spread = {spread['sampling_spread']}; ratio = spread / sampling spread (above 1: the choice of law "
+             "moves the answer more than equally valid runs of one law do).", "",
+             "| variant | " + " | ".join(f"{name} [{_shown_unit(a['unit'])}]" for name, a in answers.items()) + " |",
+             "|---|" + "---|" * len(answers)]
+    for k, label in enumerate(spread["variants"]):
+        lines.append(f"| {label} | " + " | ".join(_shown(a["values"][k], a["unit"]) for a in answers.values()) + " |")
+    for row, key in (("**spread** (max − min)", "spread"), ("sampling spread", "sampling_spread")):
+        lines.append(f"| {row} | " + " | ".join(_shown(a[key], a["unit"]) for a in answers.values()) + " |")
+    lines.append("| ratio | " + " | ".join("—" if a["ratio"] is None else f"{a['ratio']:.3g}"
+                                            for a in answers.values()) + " |")
+    lines += ["", f"{spread['runs']} runs in {spread['wall_time_s']:.1f} s wall (compilation included)."]
+    lines += [f"- error: {e}" for e in spread["errors"]]
+    return lines + [""]
+
+
 __all__ = ["write_figures", "build_summary", "build_report"]
 
 
 def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None = None,
                    mechanism: SliderCrankParameters | None = None, engine_joint_changes: dict | None = None,
                    progress: bool = True) -> dict:
-    """Run, compare, and write ``report.md``, ``summary.json`` and the PNG overlays into
-    ``out_dir``; returns the summary (``exit_status``: 0 pass, 1 a metric failed or an
-    engine raised, 3 an engine is not available)."""
+    """Run, compare, (``plan.law_spread``) run the model-form spread over the contact laws, and write
+    ``report.md``, ``summary.json`` and the PNG overlays into ``out_dir``; returns the summary
+    (``exit_status``: 0 pass, 1 a metric failed or an engine raised, 3 an engine is not available;
+    the law spread never changes it)."""
     mechanism = mechanism or SliderCrankParameters()
     joint = joint or JointParameters(**mechanism.joint_defaults())
     require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
@@ -368,8 +400,11 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
     out.mkdir(parents=True, exist_ok=True)
     runs = run_engines(plan, joint, mechanism, engine_joint_changes, progress)
     metrics = compare(runs, plan)
+    spread = run_law_spread(plan, joint, mechanism, progress) if plan.law_spread else None
     figures = write_figures(runs, plan, out)
     summary = build_summary(runs, plan, metrics, joint, mechanism, engine_joint_changes or {}, figures)
+    if spread is not None:      # informs only: the exit status stays the comparisons'
+        summary["law_spread"] = law_spread_summary(spread, runs, plan)
     (out / "report.md").write_text(build_report(summary, metrics))
     write_json_atomic(out / "summary.json", summary)
     return summary

@@ -96,6 +96,30 @@ def test_forces_are_the_joints_and_point_back_to_the_bushing_centre(slave):
                                (P.clearance_m + 5e-6) * np.array([math.cos(0.7), math.sin(0.7)]), rtol=1e-6)
 
 
+@pytest.mark.parametrize("law", range(4))
+def test_every_damping_law_gives_the_joints_force(fmu, law):
+    """The damping coefficient is solved inside the FMU from its own parameters (core.damping): the normal
+    force of a pin approaching the wall at 0.05 m/s (and leaving at 0.02 m/s) is the in-process joint's, for
+    each law at a restitution of 0.3, a restitution speed of 30 mm/s and an effective mass of 0.4 kg."""
+    from wearjoint.parameters import CONTACT_DAMPINGS
+
+    params = P.replace(contact_damping=CONTACT_DAMPINGS[law], restitution=0.3, restitution_speed_m_s=0.03,
+                       effective_mass_kg=0.4)
+    s = Slave(fmu, f"law{law}", parameters={"restitution": 0.3, "restitution_speed": 0.03, "effective_mass": 0.4},
+              integers={"contact_damping": law}).initialise()
+    for speed in (0.05, -0.02):
+        x = contact_inputs(depth=3e-6)
+        x[3] += speed * math.cos(1.0)           # the pin body moving along the contact direction (global 1 rad)
+        x[4] += speed * math.sin(1.0)
+        s.set_inputs(x)
+        expected = ClearanceJoint(params).evaluate(x[:6], x[6:]).normal_force_N
+        elastic = ClearanceJoint(params).evaluate(contact_inputs(depth=3e-6)[:3] + [0.0] * 3,
+                                                  contact_inputs(depth=3e-6)[6:9] + [0.0] * 3).normal_force_N
+        assert s.get(["normal_force"])[0] == pytest.approx(expected, rel=1e-12)
+        assert abs(expected - elastic) > 0.01 * elastic        # the damping acts
+    s.free()
+
+
 def test_the_materials_set_the_stiffness_unless_it_is_given(fmu):
     """contact_stiffness = 0 (the start value): K of the FMU's own radii and materials, so a bushing
     10x softer carries the force of 4 E* sqrt(R)/3 (by hand here); a given K overrides them."""

@@ -9,12 +9,17 @@ import sys
 import numpy as np
 import pytest
 
-from wearjoint import SliderCrankParameters, paper_joint
+from wearjoint import SliderCrankParameters, analysis, paper_joint
+from wearjoint.cli import main as cli_main
+from wearjoint.contact_laws import contact_law_variants
 from wearjoint.core import layout as L
+from wearjoint.mechanism import SliderCrank
 from wearjoint.results import RunParameters, RunRecord, new_revolution_stats
 
 pytest.importorskip("wearjoint.validation.exudyn_model")
 cmp = pytest.importorskip("wearjoint.validation.compare")
+law_spread = pytest.importorskip("wearjoint.validation.law_spread")
+run_monolithic = cmp.run_monolithic
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -96,6 +101,91 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     for name in ("slider_acceleration.png", "pin_orbits.png", "first_impacts.png", "statistics.png",
                  "worn_profiles.png"):
         assert name in summary["figures"] and (out / name).read_bytes()[:8] == PNG
+
+
+def test_quick_validation_reports_the_contact_law_spread_beside_the_sampling_spread(quick):
+    """One value per variant of contact_law_variants, spread = max - min of them, the sampling spread from validate's
+    valid monolithic runs; the default law's variant is validate's own DOPRI configuration (the same runs). The
+    law moves the answers far more than the sampling does and the run still passes: the stage is not judged."""
+    out, _, done = quick
+    summary = json.loads((out / "summary.json").read_text())
+    spread = summary["law_spread"]
+    mechanism = SliderCrankParameters()
+    variants = contact_law_variants(mechanism)
+    assert spread["variants"] == [label for label, _ in variants]
+    assert spread["joint_changes"] == [changes for _, changes in variants]
+    assert set(spread["answers"]) == set(law_spread.ANSWERS) and spread["judged"] is False and spread["errors"] == []
+    assert spread["runs"] == len(variants) * (summary["plan"]["ensemble"] + 1)      # ensembles and one wear run each
+    for name, answer in spread["answers"].items():
+        values = answer["values"]
+        assert len(values) == len(variants) and all(np.isfinite(v) for v in values), name
+        assert answer["spread"] == pytest.approx(max(values) - min(values))
+        assert answer["sampling_spread"] > 0.0 and answer["ratio"] == pytest.approx(answer["spread"]
+                                                                                   / answer["sampling_spread"])
+    joint = paper_joint(mechanism)
+    default = next(k for k, (_, changes) in enumerate(variants)
+                   if all(getattr(joint, n) == v for n, v in changes.items()))
+    dopri = summary["scatter_run_statistics"]["DOPRI rtol 1e-06"]
+    for name in ("contact_fraction", "impacts_per_revolution", "max_contact_force_N"):
+        assert spread["answers"][name]["values"][default] == dopri[name]
+    assert spread["answers"]["contact_fraction"]["ratio"] > 2.0            # 12.7 measured
+    assert summary["exit_status"] == 0 and summary["plan"]["law_spread"] is True
+    report = (out / "report.md").read_text()
+    section = report[report.index("## Model-form spread (contact law)"):report.index("## Runs")]
+    assert all(f"| {label} |" in section for label in spread["variants"])
+    assert "| **spread** (max − min) |" in section and "| sampling spread |" in section and "| ratio |" in section
+    assert "validate: law spread [1/" in done.stderr and "LAW SPREAD contact_fraction:" in done.stdout
+
+
+def _monolithic_quick(tmp_path, name, *extra):
+    out = tmp_path / name
+    status = cli_main(["validate", "--quick", "--engines", "monolithic", "--no-wear", "--quiet", "--out", str(out),
+                       *extra])
+    return status, json.loads((out / "summary.json").read_text()), (out / "report.md").read_text()
+
+
+def test_law_spread_never_changes_the_exit_status_and_can_be_switched_off(tmp_path, monkeypatch):
+    """A variant that raises is listed in the stage's errors (its values None), not in validate's; the verdict and
+    exit status are those of the same run with --no-law-spread, which has no law_spread at all."""
+    status_off, off, report_off = _monolithic_quick(tmp_path, "off", "--no-law-spread")
+    assert "law_spread" not in off and off["plan"]["law_spread"] is False
+    assert "Model-form spread" not in report_off
+
+    def tsuji_fails(joint, *args, **kwargs):
+        if joint.contact_damping == "tsuji":
+            raise RuntimeError("tsuji broke")
+        return run_monolithic(joint, *args, **kwargs)
+
+    monkeypatch.setattr(law_spread, "run_monolithic", tsuji_fails)
+    status_on, on, report_on = _monolithic_quick(tmp_path, "on")
+    assert status_on == status_off == on["exit_status"] == off["exit_status"] == 0
+    assert on["errors"] == [] and on["passed"] == off["passed"] and on["metrics"] == off["metrics"]
+    spread = on["law_spread"]
+    failed = [k for k, label in enumerate(spread["variants"]) if label.startswith("tsuji")]
+    assert len(spread["errors"]) == len(failed) == 2 and "tsuji broke" in spread["errors"][0]
+    assert "max_wear_depth_m" not in spread["answers"] and spread["wear_run"] is None      # --no-wear
+    values = spread["answers"]["contact_fraction"]["values"]
+    assert [values[k] for k in failed] == [None, None]
+    finite = [v for v in values if v is not None]
+    assert spread["answers"]["contact_fraction"]["spread"] == pytest.approx(max(finite) - min(finite))
+    assert "- error: tsuji" in report_on
+
+
+def test_slider_acceleration_error_counts_the_counted_revolutions_against_the_ideal_joint():
+    """|a - a_ideal| over the revolutions covering more than half the longest: a sliver after the end is not
+    counted; the ideal joint's own acceleration gives 0."""
+    mechanism = SliderCrankParameters()
+    period = mechanism.period_s
+    t = np.arange(0.0, 1.02 * period, 1e-4)
+    samples = np.zeros((t.size, L.N_SAMPLE_COLUMNS))
+    samples[:, L.T_TIME] = t
+    samples[:, L.T_SLIDER_A] = SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"]
+    samples[t < 0.5 * period, L.T_SLIDER_A] += 30.0
+    samples[t > 1.005 * period, L.T_SLIDER_A] += 500.0              # in the sliver row: ignored
+    record = _record([{L.S_TIME: period}, {L.S_TIME: 0.02 * period}], samples, period=period)
+    assert analysis.slider_acc_error_max(record) == pytest.approx(30.0)
+    samples[:, L.T_SLIDER_A] = SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"]
+    assert analysis.slider_acc_error_max(record) == pytest.approx(0.0, abs=1e-9)
 
 
 @pytest.mark.slow   # the default run keeps test_own_mechanism.py's perturbed engine

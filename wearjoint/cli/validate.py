@@ -32,6 +32,10 @@ def _joint_change(engine: str, assignment: str) -> tuple[str, dict]:
     return engine, {name: value}
 
 
+def _number(value) -> str:
+    return "—" if value is None else f"{value:.3g}"
+
+
 def add_arguments(parser) -> None:
     add_output_arguments(parser, plots=False)
     parser.add_argument("--quick", action="store_true",
@@ -52,6 +56,9 @@ def add_arguments(parser) -> None:
                              "period: the same share of a turn)")
     parser.add_argument("--engines", type=str, default=",".join(ENGINES),
                         help="comma-separated engines to run (default %(default)s; monolithic is the reference)")
+    parser.add_argument("--no-law-spread", action="store_true",
+                        help="skip the model-form spread: the answers under every contact damping law and its free "
+                             "parameter's range (wearjoint.contact_laws; informs, never judged)")
     parser.add_argument("--perturb", nargs=2, action="append", default=[], metavar=("ENGINE", "NAME=VALUE"),
                         help="self-check: give ENGINE a different joint parameter; the validation must then fail")
     add_fmu_arguments(parser, fmu_file=False, when="the cosim engine")
@@ -75,12 +82,18 @@ def run(args) -> int:
                    wear_factor=args.wear_factor if args.wear_factor is not None else base.wear_factor,
                    window_s=args.window or base.window_s * mechanism.period_s / SliderCrankParameters().period_s,
                    engines=_engine_list(args.engines), run_wear=not args.no_wear,
-                   fmu_backend=args.fmu_backend)
+                   fmu_backend=args.fmu_backend, law_spread=not args.no_law_spread)
     summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
     for m in summary["metrics"]:
         if not m["passed"]:
             print(f"FAIL {m['group']}: {m['engine']} {m['name']}: difference {m['difference']:.4g} > tolerance "
                   f"{m['tolerance']:.4g} (scatter {m['scatter']:.4g})")
+    spread = summary.get("law_spread")
+    for name, answer in (spread["answers"] if spread else {}).items():     # informs, never judged
+        unit = "" if answer["unit"] == "-" else f" {answer['unit']}"
+        print(f"LAW SPREAD {name}: {_number(answer['spread'])}{unit} over {len(spread['variants'])} "
+              f"contact-law variants, sampling spread {_number(answer['sampling_spread'])} (ratio "
+              f"{_number(answer['ratio'])})")
     for gap in summary["gaps"]:
         print(f"GAP {gap}")
     for error in summary["errors"]:
