@@ -2,7 +2,9 @@
 linear function), the designs' prefix property that --resume and --target-interval rely on, bad input, and
 tiny studies of the model on a LocalCluster: a parameter with no physical effect (the driven crank's
 inertia) gets intervals holding 0, Morris and Sobol' put k_w first for the wear depth, stopped studies
-resume.  Slow: a running scheduler with two workers; the doc's study ranks alike in both methods."""
+resume, the contact law's spread (one run per law variant at the nominal point; skipped where a --param names
+the law's field; off with --no-law-spread).  Slow: a running scheduler with two workers; the doc's study ranks
+alike in both methods."""
 import json
 import math
 import re
@@ -18,6 +20,9 @@ import pytest
 from test_sweep import read_csv, wearjoint
 from test_sweep_faults import _finished, _stop, _wait_for
 from wearjoint.cli import main
+from wearjoint.contact_laws import contact_law_variants
+from wearjoint.parameters import SliderCrankParameters
+from wearjoint.sensitivity.law_spread import nominal_point, settle
 from wearjoint.sensitivity.analyse import analyse, until_target, widest_interval
 from wearjoint.sensitivity.problem import Parameter, Problem, parse_params
 from wearjoint.sensitivity.report import invalid_reason, output_value
@@ -280,6 +285,97 @@ def test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them(tmp_path
     assert done.returncode == 0, done.stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["skipped_as_done"] == len(kept) and summary["ok"] == summary["cases"]
+
+
+# ------------------------------------------------------------------ the contact law's spread
+LAWS = [label for label, _ in contact_law_variants(SliderCrankParameters())]
+
+
+def test_the_contact_laws_spread_runs_every_variant_at_the_nominal_point(studies):
+    root, done = studies
+    for method in ("sobol", "morris"):
+        out = root / method
+        summary = json.loads((out / "summary.json").read_text())
+        law, rows = summary["law_spread"], read_csv(out / "law_spread.csv")
+        assert [r["variant"] for r in rows] == [v["label"] for v in law["variants"]] == LAWS
+        assert (law["ok"], law["failed"], law["skipped"], law["not_run"]) == (len(LAWS), 0, 0, 0)
+        assert law["point"] == pytest.approx({"wear-coefficient-m2-N": 1e-10, "restitution": 0.775,
+                                              DUMMY: 0.0095}, rel=1e-12)
+        samples = read_csv(out / "samples.csv")
+        for name in summary["outputs"]:
+            values = [float(r[name]) for r in rows]
+            spread = law["spread"][name]
+            assert spread["spread"] == max(values) - min(values)
+            assert (spread["min"], spread["max"]) == (min(values), max(values))
+            assert spread["sample_spread"] == pytest.approx(np.ptp([float(r[name]) for r in samples]), rel=1e-12)
+            assert spread["relative"] == pytest.approx(spread["spread"] / spread["sample_spread"], rel=1e-12)
+        for r, (_, changes) in zip(rows, contact_law_variants(SliderCrankParameters())):
+            run = json.loads((out / "law_spread" / "cases" / r["case_id"] / "summary.json").read_text())
+            joint = run["parameters"]["joint"]
+            assert {k: joint[k] for k in changes} == changes
+            assert (joint["restitution"], joint["wear_coefficient_m2_N"]) == pytest.approx((0.775, 1e-10), rel=1e-12)
+            assert float(r["max_wear_depth_m"]) == run["max_wear_depth_m"]
+        assert "contact law spread at the nominal point (8 variants: 8 ok" in done[method].stdout
+        assert "laws / samples" in done[method].stdout
+
+
+def test_a_param_naming_a_law_field_skips_the_variants_that_would_override_it(tmp_path):
+    out = tmp_path / "out"
+    done = wearjoint("sensitivity", "simulate", *TINY, "--param", "restitution-speed-m-s=0.0125,0.2,log",
+                     "--param", "effective_mass_kg=0.05,1", "--samples", "2", "--outputs", "max_contact_force_N",
+                     "--workers", "2", "--out", str(out), "--quiet")
+    assert done.returncode == 0, done.stderr
+    law = json.loads((out / "summary.json").read_text())["law_spread"]
+    clash = {label: [n for n, dest in (("restitution-speed-m-s", "restitution_speed_m_s"),
+                                       ("effective-mass-kg", "effective_mass_kg")) if dest in changes]
+             for label, changes in contact_law_variants(SliderCrankParameters())}
+    rows = read_csv(out / "law_spread.csv")
+    assert [r["variant"] for r in rows] == LAWS and law["skipped"] == 5 and law["ok"] == 3
+    for r in rows:
+        if clash[r["variant"]]:
+            assert r["status"] == "skipped" and f"--param {clash[r['variant']][0]} is sampled" in r["error"]
+            assert r["case_id"] == r["max_contact_force_N"] == ""
+        else:
+            assert r["status"] == "ok" and float(r["max_contact_force_N"]) > 0.0
+    assert [s["variant"] for s in law["skipped_variants"]] == [label for label in LAWS if clash[label]]
+    assert law["point"] == pytest.approx({"restitution-speed-m-s": 0.05, "effective-mass-kg": 0.525}, rel=1e-12)
+    assert "skipped: --param restitution-speed-m-s is sampled" in done.stdout
+    assert len(list((out / "law_spread" / "cases").iterdir())) == 3
+
+
+def test_no_law_spread_runs_no_variant(tmp_path):
+    out = tmp_path / "out"
+    done = wearjoint("sensitivity", "simulate", *TINY, "--param", "restitution=0.6,0.95", "--samples", "2",
+                     "--outputs", "max_contact_force_N", "--workers", "1", "--no-law-spread", "--out", str(out),
+                     "--quiet")
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["law_spread"] is None and "law_spread.csv" not in summary["files"]
+    assert not (out / "law_spread.csv").exists() and not (out / "law_spread").exists()
+    assert "contact law" not in done.stdout and len(list((out / "cases").iterdir())) == summary["cases"]
+
+
+def test_a_failed_variant_is_counted_not_a_number():
+    variants = [{"label": label, "changes": {}, "skipped": ""} for label in ("a", "b", "c", "d")]
+    variants[3]["skipped"] = "--param x is sampled (the variant would override it)"
+    ok = {"status": "ok", "error": "", "max_contact_force_N": 10.0}
+    rows = {"A": ok, "B": {**ok, "max_contact_force_N": 14.0}, "C": {"status": "failed", "error": "diverged"}}
+    law = settle(variants, ["A", "B", "C", None], rows, ["max_contact_force_N"], {"max_contact_force_N": [0.0, 8.0]})
+    assert [v["status"] for v in law["variants"]] == ["ok", "ok", "failed", "skipped"]
+    assert law["variants"][2]["values"] == {"max_contact_force_N": None}
+    assert (law["ok"], law["failed"], law["skipped"]) == (2, 1, 1)
+    assert law["failures"] == [{"variant": "c", "case_id": "C", "status": "failed", "error": "diverged"}]
+    assert law["spread"]["max_contact_force_N"] == {"min": 10.0, "min_variant": "a", "max": 14.0, "max_variant": "b",
+                                                    "spread": 4.0, "sample_spread": 8.0, "relative": 0.5}
+    apart = {**ok, "clearance_m": 1e-4, "max_wear_depth_m": 0.0, "max_eccentricity_m": 1.0}
+    law = settle([{"label": "e", "changes": {}, "skipped": ""}], ["E"], {"E": apart}, ["max_contact_force_N"], {})
+    assert law["variants"][0]["status"] == "invalid" and law["failed"] == 1
+    assert "left the bushing" in law["failures"][0]["error"]
+
+
+def test_the_nominal_point_is_the_middle_of_each_range():
+    problem = Problem("simulate", (Parameter("a", "a", 2.0, 5.0), Parameter("b", "b", 1e-3, 1e1, log=True)))
+    assert nominal_point(problem) == pytest.approx({"a": 3.5, "b": 0.1}, rel=1e-12)
 
 
 # ------------------------------------------------------------------ slow

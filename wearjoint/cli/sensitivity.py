@@ -1,8 +1,9 @@
 """`wearjoint sensitivity COMMAND --param NAME=LOW,HIGH[,log]... --out DIR`: which parameters drive
 COMMAND's outputs (SALib's Morris or Sobol' design, every row a Dask case of :mod:`wearjoint.sweep`;
-:mod:`wearjoint.sensitivity`, docs/sensitivity.md).  Exit status 0 when every run is ok, 1 when some
-failed or gave numbers that are not physical (the pin left the bushing), 2 for bad input, 130 after Ctrl-C
-(finished runs kept; continue with --resume)."""
+:mod:`wearjoint.sensitivity`, docs/sensitivity.md), and how far the contact damping laws move them at the
+nominal point (the model-form spread; ``--no-law-spread`` leaves it out).  Exit status 0 when every run is ok,
+1 when some (a law variant's included) failed or gave numbers that are not physical (the pin left the bushing),
+2 for bad input, 130 after Ctrl-C (finished runs kept; continue with --resume)."""
 from __future__ import annotations
 
 import argparse
@@ -44,6 +45,10 @@ def target_parser(target: str) -> argparse.ArgumentParser:
                         "and ST; Morris: of mu* as a share of the largest mu*)")
     g.add_argument("--max-samples", type=int, default=None,
                    help="with --target-interval: the most samples to reach (default 8 x --samples)")
+    g.add_argument("--no-law-spread", action="store_true",
+                   help="skip the contact law's spread: the run of every contact damping law variant at the nominal "
+                        "point (every --param at the middle of its range) after the study (it costs one run per "
+                        "variant)")
     if "--resume" not in parser._option_string_actions:
         g.add_argument("--resume", action="store_true", help="reuse the runs finished in --out")
     return parser
@@ -65,7 +70,7 @@ def run(args) -> int:
         summary = run_sensitivity(args.target, base, problem, a.out, method=a.method, samples=a.samples, seed=a.seed,
                                   outputs=a.outputs, target_interval=a.target_interval, max_samples=a.max_samples,
                                   workers=a.workers, scheduler=a.scheduler, resume=a.resume, progress=not a.quiet,
-                                  command_line=command_line)
+                                  command_line=command_line, law_spread=not a.no_law_spread)
     except KeyboardInterrupt:
         summary = {"interrupted": True}
     if summary["interrupted"]:
@@ -73,11 +78,13 @@ def run(args) -> int:
               file=sys.stderr)
         return 130
     print_outcome(summary, a.out)
-    return 1 if summary["failed"] or summary["invalid"] else 0
+    law = summary.get("law_spread")
+    return 1 if summary["failed"] or summary["invalid"] or (law and law["failed"]) else 0
 
 
 def print_outcome(summary: dict, out) -> None:
-    """Counts, then per output its parameters by effect with their 95 % intervals and the wear factor's bias."""
+    """Counts, then per output its parameters by effect with their 95 % intervals and the wear factor's bias, then
+    the contact law's spread."""
     from ..sensitivity.report import ranked
 
     method = summary["method"]
@@ -98,6 +105,10 @@ def print_outcome(summary: dict, out) -> None:
             print(f"    {r['parameter']:28s} {text}")
     for failure in summary["failures"][:10]:
         print(f"  failed or invalid {failure['case_id']}: {failure['error']}")
+    if summary.get("law_spread"):
+        from ..sensitivity.law_spread import spread_lines
+
+        print("\n".join(spread_lines(summary["law_spread"], summary["outputs"])))
     print(f"results in {out}")
 
 

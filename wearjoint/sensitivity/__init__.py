@@ -4,7 +4,9 @@ Sample (:mod:`.sample`, SALib's Morris or Sobol' design over the ranges of :mod:
 (every design row one case of the sweep's Dask runner, :mod:`wearjoint.sweep.runner`: same workers,
 failures, ``--resume`` and ``--scheduler``; equal rows share one case), analyse (:mod:`.analyse`,
 bootstrap 95 % intervals) and report (:mod:`.report`) with the wear factor's bias beside the answer.
-With a target interval the design doubles until the widest interval meets it (docs/sensitivity.md).
+With a target interval the design doubles until the widest interval meets it.  Then, on the same Dask client,
+the target runs once per contact damping law variant at the nominal point (:mod:`.law_spread`: the model-form
+spread beside the sampling intervals; docs/sensitivity.md).
 """
 from __future__ import annotations
 
@@ -17,6 +19,7 @@ import numpy as np
 from ..parameters import ParameterError
 from ..results import write_json_atomic
 from .analyse import CONF_LEVEL, RESAMPLES, convergence, until_target
+from .law_spread import CSV_NAME as LAW_CSV, run_law_spread
 from .problem import Problem, parse_params
 from .report import (BIAS_EFFECT, invalid_reason, output_biases, output_value, parse_outputs, plot_indices, write_indices,
                      write_samples)
@@ -48,11 +51,13 @@ def check_target(target, samples: int, max_samples) -> None:
 def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str = "morris", samples: int | None = None,
                     seed: int = 0, outputs=None, target_interval: float | None = None, max_samples: int | None = None,
                     workers: int | None = None, scheduler: str | None = None, resume: bool = False,
-                    progress: bool = True, command_line: str | None = None) -> dict:
+                    progress: bool = True, command_line: str | None = None, law_spread: bool = True) -> dict:
     """Sample ``problem`` (``samples`` Morris trajectories or Sobol' base samples, drawn with ``seed``), run
     every row as a case of ``command`` (options ``base``, dest -> value) into ``out``, analyse ``outputs``
     (names, default :data:`.report.DEFAULT_OUTPUTS`); with ``target_interval`` double the samples (up to
-    ``max_samples``, default 8 x ``samples``) until the widest interval meets it.  Returns summary.json's content."""
+    ``max_samples``, default 8 x ``samples``) until the widest interval meets it; with ``law_spread`` then run
+    every contact law variant at the nominal point (:func:`.law_spread.run_law_spread`).  Returns summary.json's
+    content."""
     from ..sweep.runner import SweepFolder, run_cases, start_client
 
     n = check_samples(method, DEFAULT_SAMPLES.get(method) if samples is None else samples)
@@ -63,17 +68,21 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
     state = {"client": None, "cluster": None, "cluster_start_s": 0.0, "run_wall_time_s": 0.0, "case_run_time_s": 0.0,
              "warmup_time_s": 0.0, "workers": workers, "rounds": 0}
 
+    def client():
+        """The study's Dask client, started on first use."""
+        if state["client"] is None:
+            t0 = time.perf_counter()
+            state["client"], state["cluster"] = start_client(workers, scheduler)
+            state["cluster_start_s"] = time.perf_counter() - t0
+        return state["client"]
+
     def evaluate(x):
         """Run the design's rows not yet done in ``out``; their outputs (NaN where a run failed or is missing)."""
         ids, cases = design_cases(command, base, problem.points(x))
         folder = SweepFolder(out, cases, resume or state["rounds"] > 0)
         skipped = len(cases) - len(folder.todo())
-        if folder.todo() and state["client"] is None:
-            t0 = time.perf_counter()
-            state["client"], state["cluster"] = start_client(workers, scheduler)
-            state["cluster_start_s"] = time.perf_counter() - t0
         done = run_cases(folder, no_plots=True, workers=workers, scheduler=scheduler, progress=progress,
-                         client=state["client"])
+                         client=client() if folder.todo() else None)
         for key in ("run_wall_time_s", "case_run_time_s", "warmup_time_s"):
             state[key] += done[key]
         if done["cases_run"]:
@@ -83,19 +92,26 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
         y = {name: np.array([output_value(rows.get(cid), name) for cid in ids]) for name in outputs}
         return y, {"cases": len(cases), "cases_run": done["cases_run"], "skipped_as_done": skipped}, done["interrupted"]
 
+    law = None
     try:
         study = until_target(problem, method, n, seed, evaluate, target_interval, max_samples)
+        if law_spread and not study["stopped"]:
+            law = run_law_spread(command, base, problem, out, outputs, study["y"], client, resume, workers, scheduler,
+                                 progress)
+        elif not law_spread:
+            (out / LAW_CSV).unlink(missing_ok=True)          # a stale table from an earlier run of this folder
     finally:
         for key in ("client", "cluster"):
             if state[key] is not None:
                 state[key].close()
-    x, n, results, interrupted = study["x"], study["samples"], study["results"], study["stopped"]
+    x, n, results = study["x"], study["samples"], study["results"]
+    interrupted = study["stopped"] or bool(law and law["interrupted"])
     ids, cases, table = state["ids"], state["cases"], state["folder"].table()
     write_samples(out, problem, problem.points(x), group_size(method, len(problem.parameters)), ids,
                   {r["case_id"]: r for r in table}, outputs)
     biases = output_biases(out, table, outputs)
     figures = []
-    if not interrupted:
+    if not study["stopped"]:
         write_indices(out, method, results, biases)
         for name, result in results.items():
             if result["indices"]:
@@ -112,7 +128,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
         "rounds": study["rounds"], "confidence_level": CONF_LEVEL, "bootstrap_resamples": RESAMPLES,
         "analysis": {name: {k: r[k] for k in ("groups", "dropped", "constant")} for name, r in results.items()},
         "widest_interval": study["rounds"][-1]["widest_interval"],
-        "convergence": {} if interrupted else
+        "convergence": {} if study["stopped"] else
         {name: [{"samples": k, "widest_interval": w} for k, w in convergence(problem, method, x, study["y"][name], seed)]
          for name in outputs},
         "wear_factor_bias": {name: {"rel": b.rel, "text": b.text, "note": b.note} for name, b in biases.items()},
@@ -121,7 +137,9 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
         "wall_time_s": time.perf_counter() - start, "command_line": command_line,
         "failures": [{"case_id": r["case_id"], "error": r["error"] or invalid_reason(r)} for r in table
                      if r["status"] == "failed" or invalid_reason(r)],
-        "files": ["samples.csv", "indices.csv", "sweep.csv", "sweep.json", "cases/", *figures],
+        "law_spread": law,
+        "files": ["samples.csv", "indices.csv", "sweep.csv", "sweep.json", "cases/", *figures,
+                  *(law["files"] if law else ())],
     }
     write_json_atomic(out / SUMMARY_NAME, summary)
     summary["results"] = results
