@@ -38,19 +38,35 @@ def hunt_crossley_residual(a, e):
 
 
 @kernel
+def _above(mode, x, value, exponent):
+    """Whether the root of :func:`_bisect`'s equation lies above ``x``: mode 0, a(e = value) against
+    :func:`hunt_crossley_residual`; 1, e(a = value); 2, Tsuji's gamma(e = value)."""
+    if mode == 0:
+        return hunt_crossley_residual(x, value) > 0.0
+    if mode == 1:
+        return hunt_crossley_residual(value, x) > 0.0
+    return tsuji_restitution(x, exponent) > value
+
+
+@kernel
+def _bisect(mode, value, exponent, lo, hi, iterations):
+    """The root in (lo, hi) of the equation of :func:`_above`, by bisection."""
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        if _above(mode, mid, value, exponent):
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@kernel
 def hunt_crossley_damping(restitution):
     """a = alpha v [-] at which the Hunt-Crossley force rebounds at ``restitution`` from speed v: the
     root of :func:`hunt_crossley_residual` in (0, 1/e) (0 for e = 1)."""
     if restitution >= 1.0:
         return 0.0
-    lo, hi = 0.0, 1.0 / restitution
-    for _ in range(_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        if hunt_crossley_residual(mid, restitution) > 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return _bisect(0, restitution, 0.0, 0.0, 1.0 / restitution, _BISECTIONS)
 
 
 @kernel
@@ -59,14 +75,7 @@ def hunt_crossley_restitution(damping):
     the root e in (0, min(1, 1/a)) of :func:`hunt_crossley_residual`."""
     if damping <= 0.0:
         return 1.0
-    lo, hi = 0.0, min(1.0, 1.0 / damping)
-    for _ in range(_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        if hunt_crossley_residual(damping, mid) > 0.0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return _bisect(1, damping, 0.0, 0.0, min(1.0, 1.0 / damping), _BISECTIONS)
 
 
 @kernel(inline='always')
@@ -86,15 +95,16 @@ def tsuji_restitution(gamma, exponent):
     x, u = 0.0, 1.0
     for _ in range(100_000_000):
         k1x, k1u = u, _tsuji_acceleration(x, u, gamma, exponent, power)
-        k2x, k2u = u + 0.5 * dt * k1u, _tsuji_acceleration(x + 0.5 * dt * k1x, u + 0.5 * dt * k1u, gamma, exponent, power)
-        k3x, k3u = u + 0.5 * dt * k2u, _tsuji_acceleration(x + 0.5 * dt * k2x, u + 0.5 * dt * k2u, gamma, exponent, power)
-        k4x, k4u = u + dt * k3u, _tsuji_acceleration(x + dt * k3x, u + dt * k3u, gamma, exponent, power)
+        k2x = u + 0.5 * dt * k1u
+        k2u = _tsuji_acceleration(x + 0.5 * dt * k1x, k2x, gamma, exponent, power)
+        k3x = u + 0.5 * dt * k2u
+        k3u = _tsuji_acceleration(x + 0.5 * dt * k2x, k3x, gamma, exponent, power)
+        k4x = u + dt * k3u
+        k4u = _tsuji_acceleration(x + dt * k3x, k4x, gamma, exponent, power)
         x_next = x + dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
         u_next = u + dt / 6.0 * (k1u + 2.0 * k2u + 2.0 * k3u + k4u)
         if x_next <= 0.0:
             return -(u + (u_next - u) * x / (x - x_next))
-        if u_next < 0.0 and u_next == u:       # released (the force clamped at 0): free flight out
-            return -u
         x, u = x_next, u_next
     return 0.0
 
@@ -107,14 +117,7 @@ def tsuji_damping(restitution, exponent):
     hi = 1.0
     while tsuji_restitution(hi, exponent) > restitution and hi < 1e6:
         hi *= 2.0
-    lo = 0.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if tsuji_restitution(mid, exponent) > restitution:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return _bisect(2, restitution, exponent, 0.0, hi, 60)
 
 
 @kernel
