@@ -40,7 +40,8 @@ ENSEMBLE_ANSWERS = ("contact_fraction", "impacts_per_revolution", "max_contact_f
 
 
 def run_answers(record) -> dict:
-    """The no-wear answers of one run: three :func:`revolution_statistics` and :func:`wearjoint.analysis.slider_acc_error_max`."""
+    """The no-wear answers of one run: three :func:`revolution_statistics` and
+    :func:`wearjoint.analysis.slider_acc_error_max`."""
     stats = revolution_statistics(record)
     return {**{name: stats[name] for name in ENSEMBLE_ANSWERS[:3]},
             "slider_acc_error_max_m_s2": analysis.slider_acc_error_max(record)}

@@ -19,7 +19,8 @@ RHO_MODES = ("conformal", "paper")
 WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
 SLIDING_DISTANCES = ("rotation", "tangential")
 CONTACT_MODELS = ("foundation", "deepest")
-CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh", "tsuji", "lankarani-nikravesh-exact")   # core.damping.DAMPING_*, in order
+# the contact damping laws, in the order of their codes (core.damping.DAMPING_*)
+CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh", "tsuji", "lankarani-nikravesh-exact")
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
 # (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
 PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.576e-11
@@ -115,7 +116,8 @@ def restitution_of_law(law: str, restitution: float, impact_speed_m_s: float, re
         return float(damping.hunt_crossley_restitution(a))
     if law == "tsuji":
         return float(damping.tsuji_restitution(damping.tsuji_damping(restitution, exponent), exponent))
-    chi = 0.75 * (1.0 - restitution ** 2) if law == "lankarani-nikravesh" else damping.hunt_crossley_damping(restitution)
+    chi = (0.75 * (1.0 - restitution ** 2) if law == "lankarani-nikravesh"
+           else damping.hunt_crossley_damping(restitution))
     return float(damping.hunt_crossley_restitution(chi * impact_speed_m_s / max(impact_speed_m_s, velocity_floor_m_s)))
 
 

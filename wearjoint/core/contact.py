@@ -13,9 +13,10 @@ Pure numba functions on arrays.  Bodies: i carries the pin, j the bushing.  The 
 
 On either, a damping law turns the elastic force F_e into the normal force (``jp[P_CONTACT_DAMPING]``,
 :mod:`.damping`, docs/model.md §3.5): 0, Hunt-Crossley, F_e max(0, 1 + alpha delta_dot) with alpha
-from the restitution e_r at the impact speed v_r; 1, the paper's Lankarani-Nikravesh (Eq. 15),
-F_e (1 + chi delta_dot / delta_dot^-) with the approach velocity stored at the contact's onset; 2, Tsuji,
-max(0, F_e + c sqrt(F_e / delta) delta_dot): a restitution that does not depend on the speed.  Ambrosio's friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions
+from the restitution e_r at the impact speed v_r; 1 and 3, Lankarani-Nikravesh (Eq. 15, and with the exact
+chi), F_e (1 + chi delta_dot / delta_dot^-) with the approach velocity stored at the contact's onset; 2, Tsuji,
+max(0, F_e + c sqrt(F_e / delta) delta_dot): a restitution that does not depend on the speed.  Ambrosio's
+friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions
 (docs/model.md §3): delta = R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into
 the bushing; the normal force on the pin is -F_N n; friction on the pin opposes its sliding relative
 to the bushing; torques are planar cross products l_x F_y - l_y F_x.
@@ -176,7 +177,7 @@ def _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, 
     v_t = rvx * tx + rvy * ty                       # Eq. (14)
     dv_t = drvx * tx + drvy * ty + rvx * dtx + rvy * dty
     # the damping law (core.damping, docs/model.md 3.5): Hunt-Crossley with a constant alpha, Lankarani-Nikravesh
-    # with the onset velocity stored, Eq. (15), or Tsuji's F_e + c F_e^q delta_dot
+    # with the onset velocity stored, Eq. (15), or Tsuji's F_e + c sqrt(F_e / delta) delta_dot
     law = jp[P_CONTACT_DAMPING]
     coefficient = jp[P_DAMPING_COEFFICIENT]
     if law == DAMPING_TSUJI:                        # c sqrt(F_e / delta): c sqrt(K delta^(n-1)) for K delta^n

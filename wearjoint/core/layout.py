@@ -15,8 +15,8 @@ MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s
 WEAR_BATCH_SHARE = 0.1           # the largest lambda of a wear batch: its lag stays a tenth of the overlap (§3.11)
 
 # --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
-# P_FOUNDATION_MODULUS, P_DAMPING_COEFFICIENT; P_STIFFNESS where given as 0) is given (JointParameters, or the FMU's parameters:
-# wearjoint.fmu.variables maps each to its slot); the derived slots are filled by
+# P_FOUNDATION_MODULUS, P_DAMPING_COEFFICIENT; P_STIFFNESS where given as 0) is given (JointParameters, or the
+# FMU's parameters: wearjoint.fmu.variables maps each to its slot); the derived slots are filled by
 # core.wear.complete_joint_parameters.
 P_PIN_RADIUS = 0          # R_i [m]
 P_BUSHING_RADIUS = 1      # R_j [m]
@@ -45,7 +45,7 @@ P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
 P_CONTACT_MODEL = 25          # 0 elastic foundation, 1 deepest bushing point (docs/model.md 3.10)
 P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/model.md 3.10)
-P_CONTACT_DAMPING = 27        # core.damping.DAMPING_*: 0 Hunt-Crossley, 1 Lankarani-Nikravesh, 2 Tsuji (docs/model.md 3.5)
+P_CONTACT_DAMPING = 27        # core.damping.DAMPING_*: Hunt-Crossley, Lankarani-Nikravesh, Tsuji, LN exact (model.md 3.5)
 P_RESTITUTION_SPEED = 28      # impact speed at which the Hunt-Crossley damping restitutes e_r [m/s]
 P_WEAR_INTERVAL = 29          # the foundation's wear is applied once per this much contact time [s] (0: every step)
 P_EFFECTIVE_MASS = 30         # Tsuji: the mass the contact decelerates along its normal [kg]

@@ -1,14 +1,14 @@
 """Which contact damping law reproduces what the paper reports: ensembles of the paper's slider-crank under each law.
 
     python -m wearjoint.studies.contact_law_study [--seeds 8] [--revolutions 4] [--worn-profile PROFILE.csv]
+        [--worn-only] [--merge-deg 15] [--laws 0,3,...]
 
 The paper (Sec. 7, Figs. 8 and 13) reports two impact-vibration events per crank revolution, when the slider
-reaches the ends of its travel (the dead centres), growing with wear.  Each law (and the plausible range of its free
-parameter: Hunt-Crossley's v_r, Tsuji's effective mass between the rod's across and the rod and slider's along)
-runs ``--seeds`` starts spread over a turn, DOPRI, without wear, on the unworn bushing and on ``--worn-profile``
+reaches the ends of its travel (the dead centres), growing with wear.  Each law and the plausible range of its free
+parameter (:func:`wearjoint.contact_laws.contact_law_variants`; ``--laws`` picks some by index) runs ``--seeds`` starts spread over a turn, DOPRI, without wear, on the unworn bushing and on ``--worn-profile``
 (e.g. the 4000-revolution profile of `wearjoint wear-study`); revolutions 2.. are counted.  Per configuration: the
-impact-vibration events per revolution (analysis.impact_events: |a - a_ideal| > 100 m/s^2, clusters within 15 deg
-merged), where their peaks fall (crank rotation past the preceding dead centre), the share of chattering
+impact-vibration events per revolution (analysis.impact_events: |a - a_ideal| > 100 m/s^2, clusters within
+``--merge-deg`` merged) and the major ones (peaking at >= 25 % of their revolution's largest), where their peaks fall (crank rotation past the preceding dead centre), the share of chattering
 revolutions (> 120 contact onsets), and the revolution statistics; mean +- standard error over the starts.
 """
 from __future__ import annotations
@@ -29,8 +29,8 @@ from wearjoint.simulate import SimulationOptions, run_simulation
 MAJOR_SHARE = 0.25             # a major event peaks at >= this share of its revolution's largest
 MECHANISM = SliderCrankParameters()
 LAWS = contact_law_variants(MECHANISM)
-COLUMNS = ("events_per_revolution", "major_events_per_revolution", "event_past_dead_centre_deg", "chattering_share", "impacts_per_revolution",
-           "contact_fraction", "max_contact_force_N", "slider_acc_max_m_s2")
+COLUMNS = ("events_per_revolution", "major_events_per_revolution", "event_past_dead_centre_deg", "chattering_share",
+           "impacts_per_revolution", "contact_fraction", "max_contact_force_N", "slider_acc_max_m_s2")
 
 
 def run_case(changes: dict, start_deg: float, revolutions: float, profile, merge_deg: float) -> dict:
