@@ -18,12 +18,12 @@ from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, PAPER_JOINT_GE
 
 SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (F = 10, 50, 100 against 4000 "
           "brute-force revolutions at F = 1; the paper case, k_w 5.576e-11 m^2/N, foundation contact and placement, "
-          "Hunt-Crossley damping, the relaxed wear update, RK4 at 1e-5 s; 2026-11-26)")
+          "Hunt-Crossley damping with the exact coefficient, the relaxed wear update, RK4 at 1e-5 s)")
 # F -> {crank revolutions R: max depth at F / max depth at F = 1 - 1}, from SOURCE's table
 WEAR_FACTOR_BIAS = {
-    10.0: {500: -0.039, 1000: -0.011, 2000: -0.007, 3000: -0.009, 4000: -0.012},
-    50.0: {500: -0.033, 1000: -0.070, 2000: -0.086, 3000: -0.090, 4000: -0.091},
-    100.0: {500: -0.044, 1000: -0.082, 2000: -0.099, 3000: -0.104, 4000: -0.106},
+    10.0: {500: -0.027, 1000: -0.009, 2000: -0.009, 3000: -0.012, 4000: -0.014},
+    50.0: {500: -0.021, 1000: -0.066, 2000: -0.082, 3000: -0.085, 4000: -0.086},
+    100.0: {500: -0.035, 1000: -0.081, 2000: -0.098, 3000: -0.101, 4000: -0.103},
 }
 UNKNOWN = "unknown"
 MEASURE_IT = ("measure it for this mechanism and horizon: wearjoint wear-study --convergence jump,{F} --revolutions "
