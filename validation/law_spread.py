@@ -19,12 +19,9 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from wearjoint import analysis
 from wearjoint.analysis import ensemble_mean_std, revolution_statistics
 from wearjoint.contact_laws import contact_law_variants
-from wearjoint.core import layout as L
 from wearjoint.parameters import JointParameters, SliderCrankParameters
 from wearjoint.sweep.design import perturbed_start
 from wearjoint.validation.compare import DOPRI_RTOLS, WEAR_CONFIGURATIONS, Runs, ValidationPlan, _log, run_monolithic
