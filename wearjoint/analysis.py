@@ -351,8 +351,7 @@ def slider_acc_error_max(record) -> float:
     stats = record.revolution_stats
     counted = np.flatnonzero(stats[:, L.S_TIME] > 0.5 * stats[:, L.S_TIME].max())
     t = record.samples[:, L.T_TIME]
-    revolution = np.floor(t / record.period_s * (1.0 - 1e-14)).astype(int)    # as the kernels' record_step
-    inside = np.isin(revolution, counted)
+    inside = np.isin(_revolution_of(t, record.period_s), counted)
     if not inside.any():
         return float("nan")
     from .mechanism import SliderCrank
@@ -400,7 +399,8 @@ def revolution_impact_events(samples: np.ndarray, stats: np.ndarray, mechanism,
     sample falls.  Returns ``events`` (count per revolution, NaN where the samples do not cover the
     revolution end to end), ``angles_deg`` (per revolution, the crank angle theta1 at each event's peak
     [deg, 0..360), :func:`crank_angle_deg`), ``chattering`` (bool, :func:`chattering`), ``sampled`` (bool)
-    and ``sample_interval_s`` (the largest sample spacing in the sampled revolutions [s], NaN if none)."""
+    ``sample_interval_s`` (the largest sample spacing in the sampled revolutions [s], NaN if none), and the
+    ``threshold_m_s2`` and ``merge_deg`` it used."""
     n = last_revolution(stats) + 1
     period = mechanism.period_s
     t = np.asarray(samples[:, L.T_TIME], dtype=float)
@@ -415,19 +415,17 @@ def revolution_impact_events(samples: np.ndarray, stats: np.ndarray, mechanism,
     events = np.array([len(a) for a in angles], dtype=float)
     events[~sampled] = np.nan
     return {"events": events, "angles_deg": angles, "chattering": chattering(stats[:n]), "sampled": sampled,
-            "sample_interval_s": interval}
+            "sample_interval_s": interval, "threshold_m_s2": threshold_m_s2, "merge_deg": merge_deg}
 
 
-def impact_event_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, settling_revolutions: int = 1,
-                            threshold_m_s2: float = IMPACT_EVENT_THRESHOLD_M_S2,
-                            merge_deg: float = IMPACT_EVENT_MERGE_DEG) -> dict:
-    """summary.json's impact-vibration statistics (docs/model.md §6) over the counted revolutions: those the
-    samples cover end to end (:func:`revolution_impact_events`) after the start-up revolutions that
+def impact_event_statistics(per: dict, mechanism, settling_revolutions: int = 1) -> dict:
+    """summary.json's impact-vibration statistics (docs/model.md §6) from ``per``, the run's
+    :func:`revolution_impact_events`, over the counted revolutions: those the samples cover end to end after the
+    start-up revolutions that
     :func:`run_statistics` leaves out (all sampled revolutions if none of those is left, e.g. a one-revolution
     run).  ``impact_events_per_revolution`` (mean), ``impact_event_crank_angles_deg`` (every counted event's
     peak crank angle [deg]), ``chattering_revolution_share``, ``impact_event_revolutions`` (the counted
     revolutions) and ``impact_event_definition``; None without a counted revolution."""
-    per = revolution_impact_events(samples, stats, mechanism, threshold_m_s2, merge_deg)
     n = per["events"].size
     first = max(0, int(settling_revolutions))
     counted = np.flatnonzero(per["sampled"] & (np.arange(n) >= first))
@@ -442,6 +440,7 @@ def impact_event_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, s
                      "angles are as coarse")
     if counted.size == 0:
         notes.append("no revolution is sampled end to end: no statistic")
+    threshold_m_s2, merge_deg = per["threshold_m_s2"], per["merge_deg"]
     definition = (f"impact-vibration event: a cluster of time-series samples with |a_slider - a_ideal| > "
                   f"{threshold_m_s2:g} m/s^2 (a_ideal: the ideal slider-crank at the same time), clusters at most "
                   f"{merge_deg:g} deg of crank rotation apart merged; counted in the revolution of its peak sample, "

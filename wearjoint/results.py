@@ -85,8 +85,13 @@ class RunRecord:
         """Index of the last revolution that was simulated (complete or partial)."""
         return analysis.last_revolution(self.revolution_stats)
 
-    def summary(self) -> dict:
-        """summary.json's content (docs/model.md §6); the statistics are :mod:`wearjoint.analysis`'s."""
+    def impact_events(self) -> dict:
+        """The run's impact-vibration events per revolution (:func:`wearjoint.analysis.revolution_impact_events`)."""
+        return analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism)
+
+    def summary(self, impact_events: dict | None = None) -> dict:
+        """summary.json's content (docs/model.md §6); the statistics are :mod:`wearjoint.analysis`'s
+        (``impact_events``: :meth:`impact_events` where the caller has it already)."""
         out = {
             "revolutions": self.revolutions,
             "simulated_time_s": self.simulated_time_s,
@@ -96,7 +101,7 @@ class RunRecord:
             **analysis.run_statistics(self.revolution_stats, self.settling_revolutions),
             **analysis.deepest_point(self.phi_deg, self.wear_depth_m),
             **analysis.regime(self.samples),
-            **analysis.impact_event_statistics(self.samples, self.revolution_stats, self.parameters.mechanism,
+            **analysis.impact_event_statistics(impact_events or self.impact_events(), self.parameters.mechanism,
                                                self.settling_revolutions),
             "worn_volume_m3": self.worn_volume_m3,
             "clearance_m": self.clearance_m,
@@ -108,9 +113,10 @@ class RunRecord:
         out.update(self.extra)
         return out
 
-    def revolution_table(self) -> np.ndarray:
-        """Per-revolution statistics, columns :data:`wearjoint.analysis.REVOLUTION_COLUMNS`."""
-        events = analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism)
+    def revolution_table(self, impact_events: dict | None = None) -> np.ndarray:
+        """Per-revolution statistics, columns :data:`wearjoint.analysis.REVOLUTION_COLUMNS` (``impact_events``: as
+        :meth:`summary`'s)."""
+        events = impact_events or self.impact_events()
         return analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"])
 
 
@@ -141,9 +147,10 @@ def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
     in_last = record.samples[:, L.T_TIME] > record.last_revolution() * record.period_s
     np.savetxt(out / "last_revolution.csv", record.samples[in_last], delimiter=",",
                header=",".join(L.SAMPLE_NAMES), comments="", fmt="%.10g")
-    np.savetxt(out / "revolutions.csv", record.revolution_table(), delimiter=",",
+    events = record.impact_events()              # once, for revolutions.csv and summary.json
+    np.savetxt(out / "revolutions.csv", record.revolution_table(events), delimiter=",",
                header=",".join(REVOLUTION_COLUMNS), comments="", fmt="%.10g")
-    summary = record.summary()
+    summary = record.summary(events)
     if plots:
         from .plots import plot_run  # matplotlib only when figures are written
         summary["figures"] = plot_run(record, out)

@@ -106,7 +106,8 @@ def test_no_event_below_the_threshold_or_without_bursts():
 
 def test_summary_statistics_of_the_counted_revolutions(synthetic):
     samples, stats = synthetic
-    out = analysis.impact_event_statistics(samples, stats, MECH, settling_revolutions=1)
+    out = analysis.impact_event_statistics(analysis.revolution_impact_events(samples, stats, MECH), MECH,
+                                           settling_revolutions=1)
     assert out["impact_event_revolutions"] == [1, 2, 3]                  # start-up 0 and the half revolution 4 out
     assert out["impact_events_per_revolution"] == pytest.approx(9.0 / 3.0)
     assert sorted(out["impact_event_crank_angles_deg"]) == pytest.approx(
@@ -120,7 +121,8 @@ def test_summary_statistics_of_the_counted_revolutions(synthetic):
 def test_one_revolution_is_used_and_coarse_samples_are_noted():
     dt = PERIOD / 200.0                                                  # 1.8 deg: coarser than 1/360 revolution
     samples = trace([(peak_time(0, 5.0), 1000.0), (peak_time(0, 185.0), 1000.0)], revolutions=1.0, dt=dt)
-    out = analysis.impact_event_statistics(samples, stats_rows([121], 1.0), MECH, settling_revolutions=1)
+    out = analysis.impact_event_statistics(analysis.revolution_impact_events(samples, stats_rows([121], 1.0), MECH),
+                                           MECH, settling_revolutions=1)
     assert out["impact_event_revolutions"] == [0]
     assert out["impact_events_per_revolution"] == 2.0 and out["chattering_revolution_share"] == 1.0
     assert sorted(out["impact_event_crank_angles_deg"]) == pytest.approx([5.0, 185.0], abs=1.01 * deg_per_sample(dt))

@@ -190,3 +190,15 @@ def test_the_law_names_and_the_kernels_codes_agree():
                                                        "lankarani-nikravesh-exact")] == [
         damping.DAMPING_HUNT_CROSSLEY, damping.DAMPING_LANKARANI_NIKRAVESH, damping.DAMPING_TSUJI,
         damping.DAMPING_LANKARANI_NIKRAVESH_EXACT]
+
+
+def test_the_joints_default_effective_mass_is_the_paper_slider_cranks():
+    """JointParameters' default m_eff (the joint alone, the FMU) is what the paper's slider-crank sets: rod + slider."""
+    from wearjoint import SliderCrankParameters, paper_joint
+
+    mechanism = SliderCrankParameters()
+    assert JointParameters().effective_mass_kg == mechanism.rod_mass_kg + mechanism.slider_mass_kg
+    assert paper_joint(mechanism).effective_mass_kg == JointParameters().effective_mass_kg
+    heavy = mechanism.replace(slider_mass_kg=30.0)
+    assert paper_joint(heavy).effective_mass_kg == pytest.approx(30.19)
+    assert paper_joint(heavy, effective_mass_kg=2.0).effective_mass_kg == 2.0

@@ -1,10 +1,10 @@
 """`wearjoint contact-law`: the coefficient of restitution a single impact actually gets under each contact damping
 law, against the impact speed (docs/model.md §3.5, :mod:`wearjoint.core.damping`).
 
-The three laws are asked for the same ``--restitution``: Hunt-Crossley gives it exactly at
+The four laws are asked for the same ``--restitution``: Hunt-Crossley gives it exactly at
 ``--restitution-speed-m-s`` (a slower impact rebounds more, a faster one less), Lankarani-Nikravesh (the paper's
 Eq. 15) its own value at every speed (0.913 for 0.9), Tsuji the asked value at every speed (for a body of
-``--effective-mass-kg``).  Writes ``contact_law.csv``, ``contact_law.json`` and ``contact_law.png``.
+``--effective-mass-kg``), Lankarani-Nikravesh exact the asked value at every speed above its velocity floor.  Writes ``contact_law.csv``, ``contact_law.json`` and ``contact_law.png``.
 """
 from __future__ import annotations
 
@@ -54,7 +54,7 @@ def format_table(joint: JointParameters, speeds_m_s, curves: dict) -> str:
 
 
 def plot_contact_law(joint: JointParameters, path: Path) -> None:
-    """e(v) of the three laws on a log speed axis, the asked restitution (dashed) and its speed (dotted)."""
+    """e(v) of the four laws on a log speed axis, the asked restitution (dashed) and its speed (dotted)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -62,9 +62,9 @@ def plot_contact_law(joint: JointParameters, path: Path) -> None:
 
     curves = restitution_curves(joint, PLOT_SPEEDS_M_S)
     fig, ax = plt.subplots(figsize=(8.5, 4.2))
-    for law, marker in zip(CONTACT_DAMPINGS, (None, "s", "o")):
+    for law, marker, style in zip(CONTACT_DAMPINGS, (None, "s", "o", "^"), ("-", "-", "-", "--")):
         given = law == joint.contact_damping
-        ax.plot(PLOT_SPEEDS_M_S, curves[law], "-", marker=marker, markevery=(3, 6), ms=4,
+        ax.plot(PLOT_SPEEDS_M_S, curves[law], style, marker=marker, markevery=(3, 6), ms=4,
                 lw=2.2 if given else 1.4, zorder=3, label=law + (" (this joint)" if given else ""))
     # the asked restitution wide and light, under the curves: Tsuji's lies on it
     ax.axhline(joint.restitution, color="0.7", ls="--", lw=3.0, zorder=1,

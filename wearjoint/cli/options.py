@@ -24,8 +24,9 @@ _HELP = {
     "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
     "contact_model": "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing point (docs/model.md §3.10)",
     "contact_damping": "contact damping: Hunt-Crossley (--restitution at --restitution-speed-m-s), the paper's "
-                       "Lankarani-Nikravesh with its stored impact velocity (rebounds at 0.913 for --restitution 0.9), or "
-                       "Tsuji (--restitution at every speed for --effective-mass-kg) (docs/model.md §3.5)",
+                       "Lankarani-Nikravesh with its stored impact velocity (rebounds at 0.913 for --restitution 0.9), "
+                       "Tsuji (--restitution at every speed for --effective-mass-kg), or Lankarani-Nikravesh exact "
+                       "(--restitution at every speed above --impact-velocity-floor-m-s) (docs/model.md §3.5)",
     "restitution_speed_m_s": "impact speed at which the Hunt-Crossley damping gives --restitution",
     "effective_mass_kg": "Tsuji damping: the mass the contact decelerates, for which the restitution is exact",
     "impact_velocity_floor_m_s": "Lankarani-Nikravesh: floor on the stored impact velocity",

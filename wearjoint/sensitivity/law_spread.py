@@ -12,19 +12,19 @@ variant that would override a sampled parameter is skipped and says so.  The run
 """
 from __future__ import annotations
 
+import dataclasses
 import math
-from argparse import Namespace
 from pathlib import Path
 
 import numpy as np
 
+from ..parameters import SliderCrankParameters
 from ..sweep.runner import write_csv_atomic
 from .problem import Problem
 from .report import invalid_reason, output_value
 
 FOLDER = "law_spread"
 CSV_NAME = "law_spread.csv"
-LAW_FIELDS = ("contact_damping", "restitution_speed_m_s", "impact_velocity_floor_m_s", "effective_mass_kg")
 
 
 def nominal_point(problem: Problem) -> dict:
@@ -37,11 +37,11 @@ def law_variants(base: dict, problem: Problem, point: dict) -> list:
     """[{"label", "changes", "skipped"}] of :func:`contact_law_variants` for the mechanism at ``point`` (the Tsuji
     masses follow a sampled rod or slider mass); ``skipped`` names the sampled parameters a variant would override
     ('' when it runs)."""
-    from ..cli.options import model_from_args
     from ..contact_laws import contact_law_variants
 
-    options = {**base, **{p.dest: point[p.name] for p in problem.parameters}, "quiet": True}
-    mechanism = model_from_args(Namespace(**options))[1]
+    options = {**base, **{p.dest: point[p.name] for p in problem.parameters}}
+    mechanism = SliderCrankParameters(**{f.name: options[f.name] for f in dataclasses.fields(SliderCrankParameters)
+                                         if options.get(f.name) is not None})
     sampled = {p.dest: p.name for p in problem.parameters}
     variants = []
     for label, changes in contact_law_variants(mechanism):
@@ -138,10 +138,11 @@ def settle(variants: list, ids: list, rows: dict, outputs: list, y: dict) -> dic
 
 def csv_rows(law: dict, outputs: list) -> list:
     """law_spread.csv: one row per variant: its label, case, status and why, the outputs (empty unless ok) and its
-    joint changes (``changes_FIELD``)."""
+    joint changes (``changes_FIELD``, every field some variant changes)."""
+    fields = sorted({k for v in law["variants"] for k in v["changes"]})
     return [{"variant": v["label"], "case_id": v["case_id"], "status": v["status"], "error": v["error"],
              **{name: "" if v["values"][name] is None else v["values"][name] for name in outputs},
-             **{f"changes_{k}": v["changes"].get(k, "") for k in LAW_FIELDS}} for v in law["variants"]]
+             **{f"changes_{k}": v["changes"].get(k, "") for k in fields}} for v in law["variants"]]
 
 
 def _g(value, digits: int = 4) -> str:
@@ -168,4 +169,4 @@ def spread_lines(law: dict, outputs: list) -> list:
 
 
 __all__ = ["run_law_spread", "nominal_point", "law_variants", "variant_cases", "settle", "spread_of", "csv_rows",
-           "spread_lines", "FOLDER", "CSV_NAME", "LAW_FIELDS"]
+           "spread_lines", "FOLDER", "CSV_NAME"]
