@@ -31,13 +31,14 @@ import time
 import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import (
-    LoadMassProportional, MarkerBodyMass, MarkerBodyPosition, MarkerBodyRigid, MarkerNodeCoordinate,
+    LoadForceVector, LoadMassProportional, MarkerBodyMass, MarkerBodyPosition, MarkerBodyRigid, MarkerNodeCoordinate,
     NodePointGround, NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGround, ObjectJointPrismatic2D,
     ObjectJointRevolute2D, ObjectRigidBody2D,
 )
 
 from wearjoint.core import layout as L
 from wearjoint.core.integrators import record_step
+from wearjoint.core.mechanism import slider_load
 from wearjoint.exudyn import add_clearance_joint, set_post_step
 from wearjoint.joint import ClearanceJoint
 from wearjoint.mechanism import SliderCrank
@@ -140,10 +141,16 @@ class ExudynSliderCrank:
                                                initialVelocities=list(y0[n + 3 * k:n + 3 * k + 3])))
             body = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=mass, inertia=inertia))
             mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=body)),
-                                             loadVector=[0.0, -p.gravity_m_s2, 0.0]))
+                                             loadVector=[*p.gravity_m_s2, 0.0]))
             self.nodes.append(node)
             self.bodies.append(body)
         crank, rod, slider = self.bodies
+        if p.loaded:                                                     # the slider's load, the kernels' own
+            mp_vector = self.mechanism.parameter_vector
+            mbs.AddLoad(LoadForceVector(
+                markerNumber=mbs.AddMarker(MarkerBodyPosition(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0])),
+                loadVector=[0.0, 0.0, 0.0],
+                loadVectorUserFunction=lambda mbs_, t, load: [-slider_load(t, mp_vector), 0.0, 0.0]))
         ground = mbs.AddObject(ObjectGround())
         l1 = p.crank_length_m
         l2 = p.rod_length_m

@@ -19,7 +19,7 @@ import math
 import time
 from dataclasses import dataclass, field
 
-from wearjoint import analysis
+from wearjoint.against_ideal import slider_acc_error_max
 from wearjoint.analysis import ensemble_mean_std, revolution_statistics
 from wearjoint.contact_laws import contact_law_variants
 from wearjoint.parameters import JointParameters, SliderCrankParameters
@@ -38,10 +38,10 @@ ENSEMBLE_ANSWERS = ("contact_fraction", "impacts_per_revolution", "max_contact_f
 
 def run_answers(record) -> dict:
     """The no-wear answers of one run: three :func:`revolution_statistics` and
-    :func:`wearjoint.analysis.slider_acc_error_max`."""
+    :func:`wearjoint.against_ideal.slider_acc_error_max`."""
     stats = revolution_statistics(record)
     return {**{name: stats[name] for name in ENSEMBLE_ANSWERS[:3]},
-            "slider_acc_error_max_m_s2": analysis.slider_acc_error_max(record)}
+            "slider_acc_error_max_m_s2": slider_acc_error_max(record)}
 
 
 def ensemble_answers(records) -> tuple[dict, dict]:

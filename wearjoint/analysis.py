@@ -344,22 +344,6 @@ def impact_events(time_s, slider_a_m_s2, mechanism, threshold_m_s2: float = IMPA
     return events
 
 
-def slider_acc_error_max(record) -> float:
-    """Largest |a - a_ideal| [m/s^2] of the slider acceleration over the run's counted revolutions (those covering
-    more than half the longest, as :func:`mean_revolution_statistics` counts), a_ideal the
-    closed-form ideal slider-crank of the run's own mechanism at the sample times; NaN without samples there."""
-    stats = record.revolution_stats
-    counted = np.flatnonzero(stats[:, L.S_TIME] > 0.5 * stats[:, L.S_TIME].max())
-    t = record.samples[:, L.T_TIME]
-    inside = np.isin(_revolution_of(t, record.period_s), counted)
-    if not inside.any():
-        return float("nan")
-    from .mechanism import SliderCrank
-
-    ideal = SliderCrank(record.parameters.mechanism).closed_form(t[inside])["slider_a_m_s2"]
-    return float(np.abs(record.samples[inside, L.T_SLIDER_A] - ideal).max())
-
-
 def crank_angle_deg(theta1_rad) -> np.ndarray:
     """The crank angle theta1 (layout.T_CRANK_ANGLE, theta0 - omega t, unwrapped) [rad] as [deg] in [0, 360)."""
     deg = np.degrees(np.asarray(theta1_rad, dtype=float)) % 360.0

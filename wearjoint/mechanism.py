@@ -1,19 +1,17 @@
 """The paper's slider-crank (Sec. 6.1): parameter packing, initial state, closed form."""
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from .core import layout as L
-from .core.mechanism import initial_state, make_workspace, mechanism_parameter_vector
-from .parameters import SliderCrankParameters
+from .core.mechanism import ideal_joint_forces, initial_state, make_workspace, mechanism_parameter_vector
+from .mechanism_parameters import FIELD_SCALES, SliderCrankParameters, field_vector
 
 
 def pack_mechanism_parameters(p: SliderCrankParameters) -> np.ndarray:
     """The flat parameter vector the kernels read (layout.MP_*)."""
     mp = np.zeros(L.N_MECHANISM_PARAMETERS)
-    mechanism_parameter_vector(np.array([getattr(p, f.name) for f in dataclasses.fields(p)], dtype=float), mp)
+    mechanism_parameter_vector(field_vector(p), FIELD_SCALES, mp)
     return mp
 
 
@@ -32,6 +30,16 @@ class SliderCrank:
         y = np.zeros(2 * L.N_COORDINATES)
         initial_state(0.0, self.parameter_vector, self.workspace, y)
         return y
+
+    def ideal_joint_force(self, t) -> np.ndarray:
+        """|Reaction| [N] of the ideal crank-rod revolute at times t [s], with gravity and the slider's load: what
+        the joint would carry without clearance (the kernels' ideal mechanism on its consistent state)."""
+        times = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.empty(times.shape)
+        n = L.N_COORDINATES
+        ideal_joint_forces(times, self.parameter_vector, self.workspace, np.zeros(L.N_RESULT), np.zeros(2 * n),
+                           np.zeros(n), np.zeros(6), out)
+        return out
 
     def crank_angle(self, t) -> np.ndarray:
         """Driven crank angle theta1(t) = theta0 - omega t [rad]."""

@@ -11,6 +11,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from .checks import ParameterError, choice as _choice, finite, is_finite_pair as _is_finite_pair, positive as _positive, require
+from .mechanism_parameters import SliderCrankParameters, SliderForceTable
 from .core.layout import (   # the wear-step limit and the wear batches (docs/model.md §3.11, §7)
     MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
 )
@@ -33,42 +35,6 @@ PAPER_EFFECTIVE_MASS_KG = 0.19 + 0.70
 # the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
 OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
                   "contact_model": CONTACT_MODELS, "contact_damping": CONTACT_DAMPINGS}
-
-
-class ParameterError(ValueError):
-    """A parameter value outside its allowed range."""
-
-
-def require(name: str, value, ok: bool, allowed: str) -> None:
-    """ParameterError naming ``name``, its ``value`` and what is ``allowed`` unless ``ok``: the one-line message
-    every edge (API, CLI, FMU build, exudyn, sweep) gives for a bad value."""
-    if not ok:
-        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed {allowed}")
-
-
-def finite(name: str, value) -> float:
-    """``value`` as a finite float, else :func:`require`'s error naming ``name``."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite real number") from None
-    require(name, value, math.isfinite(x), "a finite real number")
-    return x
-
-
-def _is_finite_pair(value) -> bool:
-    try:
-        return len(value) == 2 and all(math.isfinite(float(v)) for v in value)
-    except (TypeError, ValueError):
-        return False
-
-
-def _positive(name: str, value) -> None:
-    require(name, value, finite(name, value) > 0.0, "> 0")
-
-
-def _choice(name: str, value, choices) -> None:
-    require(name, value, value in choices, "one of " + ", ".join(choices))
 
 
 def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
@@ -152,7 +118,7 @@ class JointParameters:
     friction_coefficient: float = 0.1
     friction_v0_m_s: float = 1e-3
     friction_v1_m_s: float = 1e-2
-    wear_coefficient_m2_N: float = 5.05e-10
+    wear_coefficient_m2_N: float = 5.05e-10           # PAPER_PRINTED_WEAR_COEFFICIENT_M2_N
     wear_factor: float = 1.0
     n_points: int = 1257
     rho_mode: str = "conformal"
@@ -273,87 +239,6 @@ class JointParameters:
         return d
 
 
-@dataclass(frozen=True)
-class SliderCrankParameters:
-    """The paper's slider-crank (Table 1, Eqs. 38-44), crank driven clockwise.
-
-    ``theta1(t) = initial_crank_angle - omega t`` with omega from
-    ``crank_speed_rpm``.  The clearance joint sits between the crank tip and the
-    rod's crank-side end; its body-frame offsets follow from the lengths.
-    """
-
-    crank_length_m: float = 0.050
-    crank_mass_kg: float = 3.0
-    crank_inertia_kg_m2: float = 7.36e-3
-    rod_length_m: float = 0.220
-    rod_mass_kg: float = 0.19
-    rod_inertia_kg_m2: float = 8.8e-4
-    slider_mass_kg: float = 0.70
-    slider_inertia_kg_m2: float = 3.6e-4
-    crank_speed_rpm: float = 150.0
-    initial_crank_angle_deg: float = 0.0
-    gravity_m_s2: float = 9.81
-    baumgarte_alpha: float = 5.0
-    baumgarte_beta: float = 5.0
-
-    def __post_init__(self):
-        for name in ("crank_length_m", "crank_mass_kg", "crank_inertia_kg_m2", "rod_length_m",
-                     "rod_mass_kg", "rod_inertia_kg_m2", "slider_mass_kg", "slider_inertia_kg_m2",
-                     "crank_speed_rpm"):
-            _positive(name, getattr(self, name))
-        for name in ("initial_crank_angle_deg", "gravity_m_s2", "baumgarte_alpha", "baumgarte_beta"):
-            finite(name, getattr(self, name))
-        require("rod_length_m", self.rod_length_m, self.rod_length_m > self.crank_length_m,
-                 f"> crank_length_m = {self.crank_length_m!r} (the crank must turn fully)")
-        require("baumgarte_alpha", self.baumgarte_alpha, self.baumgarte_alpha >= 0.0, ">= 0")
-        require("baumgarte_beta", self.baumgarte_beta, self.baumgarte_beta >= 0.0, ">= 0")
-
-    @property
-    def omega_rad_s(self) -> float:
-        """Crank speed magnitude [rad/s]; the crank turns clockwise."""
-        return self.crank_speed_rpm * 2.0 * math.pi / 60.0
-
-    def sliding_speed_bound_m_s(self, joint: "JointParameters") -> float:
-        """Bound on the sliding speed in the crank-rod joint [m/s]: R_j |omega_crank - omega_rod| with the
-        rod's rate at most omega l1 / (l2 - l1)."""
-        return joint.bushing_radius_m * self.omega_rad_s * (1.0 + self.crank_length_m / (self.rod_length_m
-                                                                                           - self.crank_length_m))
-
-    @property
-    def period_s(self) -> float:
-        """Duration of one crank revolution [s]."""
-        return 2.0 * math.pi / self.omega_rad_s
-
-    @property
-    def contact_effective_mass_kg(self) -> float:
-        """The mass [kg] the crank-rod joint decelerates along the rod at the dead centres, rod and slider
-        (the crank is driven): the Tsuji damping's effective mass for this mechanism (docs/model.md §3.5)."""
-        return self.rod_mass_kg + self.slider_mass_kg
-
-    @property
-    def rod_across_mass_kg(self) -> float:
-        """The mass [kg] the crank-rod joint decelerates across the rod: the rod turning about the slider pin,
-        (I2 + m2 l2^2 / 4) / l2^2 (the smallest effective mass at the joint for the paper's proportions)."""
-        length = self.rod_length_m
-        return (self.rod_inertia_kg_m2 + 0.25 * self.rod_mass_kg * length * length) / (length * length)
-
-    def joint_defaults(self) -> dict:
-        """The joint's values this mechanism sets unless given: the centres (:meth:`joint_offsets`) and the
-        contact's effective mass."""
-        return {**self.joint_offsets(), "effective_mass_kg": self.contact_effective_mass_kg}
-
-    def joint_offsets(self) -> dict:
-        """Pin and bushing centres in the crank and rod frames (docs/model.md §1)."""
-        return {"pin_offset_m": (0.5 * self.crank_length_m, 0.0),
-                "bushing_offset_m": (-0.5 * self.rod_length_m, 0.0)}
-
-    def replace(self, **changes) -> "SliderCrankParameters":
-        return dataclasses.replace(self, **changes)
-
-    def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
-
-
 def paper_joint(mechanism: SliderCrankParameters | None = None, **changes) -> JointParameters:
     """Joint parameters of the paper with the offsets and the effective mass of ``mechanism``
     (:meth:`SliderCrankParameters.joint_defaults`) unless ``changes`` gives them."""
@@ -383,10 +268,29 @@ def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> b
             and all(getattr(joint, name) == getattr(paper, name) for name in PAPER_JOINT_GEOMETRY))
 
 
-__all__ = ["JointParameters", "SliderCrankParameters", "ParameterError", "require", "finite", "contact_stiffness",
+PAPER_PRINTED_WEAR_COEFFICIENT_M2_N = 5.05e-10    # the paper's Table 2 (the JointParameters default)
+
+
+def wear_coefficient_source(joint: JointParameters, mechanism: SliderCrankParameters) -> dict:
+    """Where the run's k_w came from (summary.json): ``wear_coefficient_source`` "paper printed" (Table 2's
+    5.05e-10 m^2/N, the default), "paper calibrated" (5.576e-11, the paper's 0.58 mm after 4000 revolutions) or
+    "given", and ``wear_coefficient_note``: a line where a mechanism or joint other than the paper's runs on the
+    paper's coefficient (None otherwise)."""
+    k_w = joint.wear_coefficient_m2_N
+    source = {PAPER_PRINTED_WEAR_COEFFICIENT_M2_N: "paper printed",
+              PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N: "paper calibrated"}.get(k_w, "given")
+    note = None
+    if source != "given" and not is_paper_case(joint, mechanism):
+        note = (f"k_w = {k_w:g} m^2/N is the paper's ({source}: its aluminium bushing, steel pin, load and "
+                "speed); for this machine give its own (--wear-coefficient-m2-N) or calibrate one on a measured "
+                "depth (wear-study --calibrate-max-depth-m)")
+    return {"wear_coefficient_source": source, "wear_coefficient_note": note}
+
+
+__all__ = ["JointParameters", "SliderCrankParameters", "SliderForceTable", "ParameterError", "require", "finite", "contact_stiffness",
            "is_paper_case", "PAPER_JOINT_GEOMETRY",
            "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
            "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
            "OPTION_CHOICES", "restitution_of_law", "RESTITUTION_SPEED_M_S", "PAPER_EFFECTIVE_MASS_KG",
-           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S",
+           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "PAPER_PRINTED_WEAR_COEFFICIENT_M2_N", "wear_coefficient_source", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S",
            "WEAR_BATCH_SHARE"]

@@ -15,10 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from . import analysis
-from .analysis import REVOLUTION_COLUMNS
+from . import against_ideal, analysis
 from .core import layout as L
-from .parameters import JointParameters, SliderCrankParameters
+from .parameters import JointParameters, SliderCrankParameters, wear_coefficient_source
+
+REVOLUTION_COLUMNS = analysis.REVOLUTION_COLUMNS + against_ideal.REVOLUTION_COLUMNS
 
 
 def new_revolution_stats(n_revolutions: int) -> np.ndarray:
@@ -104,20 +105,25 @@ class RunRecord:
             **analysis.impact_event_statistics(impact_events or self.impact_events(), self.parameters.mechanism,
                                                self.settling_revolutions),
             "worn_volume_m3": self.worn_volume_m3,
+            **wear_coefficient_source(self.parameters.joint, self.parameters.mechanism),
             "clearance_m": self.clearance_m,
             **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),
             "completed": self.completed,
             "failure": self.failure or None,
             "parameters": self.parameters.to_dict(),
         }
+        out.update(against_ideal.summary_statistics(self.samples, self.revolution_stats, self.parameters.mechanism,
+                                                    self.settling_revolutions, out.get("max_contact_force_N")))
         out.update(self.extra)
         return out
 
     def revolution_table(self, impact_events: dict | None = None) -> np.ndarray:
-        """Per-revolution statistics, columns :data:`wearjoint.analysis.REVOLUTION_COLUMNS` (``impact_events``: as
+        """Per-revolution statistics, columns :data:`REVOLUTION_COLUMNS` (``impact_events``: as
         :meth:`summary`'s)."""
         events = impact_events or self.impact_events()
-        return analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"])
+        return np.column_stack([
+            analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"]),
+            against_ideal.revolution_columns(self.samples, self.revolution_stats, self.parameters.mechanism)])
 
 
 def write_json_atomic(path: Path, data: dict) -> None:

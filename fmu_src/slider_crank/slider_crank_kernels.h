@@ -3,7 +3,8 @@
  * convention (int32 status, 0 = success; a pointer for the return value; one for exception
  * information, never written), then the arguments.  The physics lives only in wearjoint/core/
  * (mechanism.py: Eqs. 38-44; integrators.py: RK4).  y = [q, q_dot] (18 values: crank, rod, slider,
- * each x, y, angle); forces = the joint's (Fx, Fy, T) on the crank, then on the rod; the workspace
+ * each x, y, angle); inputs = the joint's (Fx, Fy, T) on the crank, then on the rod, then the load on
+ * the slider (positive towards the crank's pivot); the workspace
  * is jac, schur (81 values each), phi, phi_dot, gamma, minv, force (9 each), all scratch but minv.
  */
 #ifndef WEARJOINT_SLIDER_CRANK_KERNELS_H
@@ -13,24 +14,25 @@
 
 #include "state_format.h"
 
-/* The kernels' parameter vector mp from the 13 SliderCrankParameters fields (rpm, degrees), and
- * minv = M^-1 (Eq. 42). */
-int32_t slider_crank_parameters(int32_t *status, void *excinfo, const double *fields, double *mp, double *minv);
+/* The kernels' parameter vector mp from the mechanism's parameters (rpm, degrees; the FMU's in their
+ * order), and minv = M^-1 (Eq. 42).  Returns (through *problem) 0, or what is wrong with the slider-load
+ * table: kind * LOAD_TABLE_ROW_BASE + row (nothing packed). */
+int32_t slider_crank_parameters(int32_t *problem, void *excinfo, const double *fields, double *mp, double *minv);
 
 /* The ideal mechanism's consistent state at time t into y (crank at theta0 - omega t, Eq. 39). */
 int32_t slider_crank_initial_state(int32_t *status, void *excinfo, double t, const double *mp, double *jac,
                                    double *schur, double *phi, double *phi_dot, double *gamma, double *minv,
                                    double *force, double *y);
 
-/* dy = dy/dt at (t, y) under the joint's loads (Eq. 44, crank-rod joint open). */
-int32_t slider_crank_derivative(int32_t *status, void *excinfo, double t, const double *y, const double *mp,
-                                const double *forces, double *jac, double *schur, double *phi, double *phi_dot,
+/* dy = dy/dt at (t, y) under the inputs (Eq. 44, crank-rod joint open); writes the slider's input load into mp. */
+int32_t slider_crank_derivative(int32_t *status, void *excinfo, double t, const double *y, double *mp,
+                                const double *inputs, double *jac, double *schur, double *phi, double *phi_dot,
                                 double *gamma, double *minv, double *force, double *dy);
 
-/* y advanced over [t, t + h] in n_steps RK4 steps with the loads held; dy = f at the end; stages:
+/* y advanced over [t, t + h] in n_steps RK4 steps with the inputs held; dy = f at the end; stages:
  * 4 x 18 scratch. */
 int32_t slider_crank_step(int32_t *status, void *excinfo, double t, double h, int64_t n_steps, double *y,
-                          const double *mp, const double *forces, double *jac, double *schur, double *phi,
+                          double *mp, const double *inputs, double *jac, double *schur, double *phi,
                           double *phi_dot, double *gamma, double *minv, double *force, double *dy, double *stages);
 
 #endif

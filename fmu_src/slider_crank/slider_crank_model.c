@@ -85,7 +85,17 @@ static int prepare(FmuModel *model, const char *function)
     if (model->parameters_changed) {
         if (!fmu_parameters_valid(&model->host, PARAMETERS, N_PARAMETERS, model->parameters, function))
             return 0;
-        slider_crank_parameters(&status, NULL, model->parameters, model->mp, model->minv);
+        int32_t problem = 0;
+        slider_crank_parameters(&problem, NULL, model->parameters, model->mp, model->minv);
+        if (problem != 0) {
+            int row = (int)(problem % LOAD_TABLE_ROW_BASE);
+            const char *text = LOAD_TABLE_PROBLEMS[problem / LOAD_TABLE_ROW_BASE - 1];
+            if (row > 0)
+                fmu_log(&model->host, FMU_ERROR, "%s: slider-load table, row %d: %s", function, row, text);
+            else
+                fmu_log(&model->host, FMU_ERROR, "%s: slider-load table: %s", function, text);
+            return 0;
+        }
         model->parameters_changed = 0;
         model->derivatives_stale = 1;
     }

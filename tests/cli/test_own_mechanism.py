@@ -70,7 +70,7 @@ def test_the_cli_states_the_stiffness_it_uses_and_notes_an_override(tmp_path):
     assert summary["contact_stiffness_N_m1_5"] == pytest.approx(k_by_hand(own_joint(bushing_youngs_modulus_Pa=3e9,
                                                                               bushing_poisson_ratio=0.33)),
                                                                 rel=1e-12)
-    assert "note:" not in done.stderr
+    assert "note: --contact-stiffness" not in done.stderr
     done = wearjoint("simulate", "--revolutions", "0.01", "--no-plots", "--out", str(tmp_path / "given"),
                      "--contact-stiffness-N-m1-5", "4e10", *MODEL_OPTIONS)
     assert done.returncode == 0, done.stderr
@@ -190,7 +190,7 @@ def _ideal_pin_force(t, m: SliderCrankParameters):
     f_px = m.rod_mass_kg * a_gx - f_sx
     # two unknowns F_P,y, F_S,y: F_P,y + F_S,y = m2 (a_Gy + g); (P-G)_x F_Py - (P-G)_y F_Px + (S-G)_x F_Sy - (S-G)_y F_Sx = I2 alpha2
     rpx, rpy, rsx, rsy = px - gx, py - gy, xs - gx, -gy
-    total = m.rod_mass_kg * (a_gy + m.gravity_m_s2)
+    total = m.rod_mass_kg * (a_gy - m.gravity_m_s2[1])       # gravity (0, g_y), g_y = -9.81
     moment = m.rod_inertia_kg_m2 * alpha2 + rpy * f_px + rsy * f_sx
     f_py = (moment - rsx * total) / (rpx - rsx)
     return -f_px, -f_py            # on the crank (the pin body)

@@ -32,6 +32,7 @@ from wearjoint.fmu import slider_crank as sc  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.joint import read_state_bytes, state_bytes  # noqa: E402
 from wearjoint.mechanism import SliderCrank  # noqa: E402
+from wearjoint.mechanism_parameters import MECHANISM_FIELDS, SliderForceTable  # noqa: E402
 from wearjoint.parameters import ParameterError, SliderCrankParameters  # noqa: E402
 
 MECHANISM = SliderCrank()
@@ -67,15 +68,18 @@ def _slave(fmu, parameters=None, name="sc"):
     return slave
 
 
-def ideal_loads(t, y, mechanism=MECHANISM):
-    """The ideal crank-rod revolute's loads on the crank and the rod at (t, y): -C^T lambda of its two
-    rows (Eq. 44 with the joint as a constraint), and the ideal mechanism's accelerations."""
+def ideal_loads(t, y, mechanism=MECHANISM, slider_input=0.0):
+    """The FMU's inputs that hold the ideal crank-rod revolute: its loads on the crank and the rod at (t, y) (-C^T
+    lambda of its two rows, Eq. 44 with the joint as a constraint) and the slider's input load ``slider_input``;
+    and the ideal mechanism's accelerations."""
     qdd = np.empty(L.N_COORDINATES)
     ws = mechanism.workspace
-    accelerations(t, y[:L.N_COORDINATES], y[L.N_COORDINATES:], mechanism.parameter_vector, True, np.zeros(6), ws, qdd)
+    mp = mechanism.parameter_vector.copy()
+    mp[L.MP_SLIDER_FORCE_INPUT] = slider_input
+    accelerations(t, y[:L.N_COORDINATES], y[L.N_COORDINATES:], mp, True, np.zeros(6), ws, qdd)
     jac, lam = ws[0], ws[4]
     loads = np.array([-(jac[7, c] * lam[7] + jac[8, c] * lam[8])
-                      for c in (*range(L.CRANK, L.CRANK + 3), *range(L.ROD, L.ROD + 3))])
+                      for c in (*range(L.CRANK, L.CRANK + 3), *range(L.ROD, L.ROD + 3))] + [slider_input])
     return loads, qdd
 
 
@@ -100,15 +104,17 @@ def _fed_the_ideal_joint(fmu, h, stop):
 
 
 def _smooth_loads(t):
-    """Loads of the order of the ideal joint's (N, N m), smooth in t: the inputs of the traces."""
+    """Loads of the order of the ideal joint's (N, N m), smooth in t, and a load on the slider: the inputs of the
+    traces."""
     return np.array([40 * math.sin(31 * t), -25 + 10 * math.cos(17 * t), 0.3 * math.sin(13 * t),
-                     -40 * math.sin(31 * t), 25 - 10 * math.cos(17 * t), -0.2 * math.cos(11 * t)])
+                     -40 * math.sin(31 * t), 25 - 10 * math.cos(17 * t), -0.2 * math.cos(11 * t),
+                     5 * math.sin(7 * t)])
 
 
 def _trace_command(tmp_path, n: int, h: float = 1e-3) -> str:
     """The C hosts' ``trace`` command over ``n`` steps of ``h`` [s] under the smooth loads (file in tmp_path)."""
     path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *_smooth_loads(i * h)] for i in range(n)])
-    return f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    return f"trace {path} {len(INPUT_VRS)} {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
 
 
 # ------------------------------------------------------------------ the model
@@ -126,19 +132,28 @@ def _continuous_time_model(fmu) -> "FMU2Model":
     return model
 
 def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
-    """Both versions validate; the inputs are the joint FMU's force outputs, the outputs include its
-    12 kinematic inputs, every SliderCrankParameters field is a parameter with its default."""
+    """Both versions validate; the inputs are the joint FMU's force outputs and the slider's load, the outputs
+    include its 12 kinematic inputs, every scalar SliderCrankParameters field is a parameter with its default
+    (gravity's two components; the load table's rows 0)."""
     for version, fmu in fmus.items():
         assert validate_fmu(str(fmu["path"])) == [], version
         md = fmu["md"]
         variables = {v.name: v for v in md.modelVariables}
         assert [v.name for v in md.modelVariables if v.causality == "input"] == \
-            [v.name for v in fv.SCALAR_OUTPUTS[:6]]
+            [v.name for v in fv.SCALAR_OUTPUTS[:6]] + ["slider_force"]
         assert {v.name for v in fv.INPUTS} <= {v.name for v in md.modelVariables if v.causality == "output"}
         defaults = SliderCrankParameters()
         for field in dataclasses.fields(SliderCrankParameters):
-            name = re.sub(r"_(m|kg|kg_m2|rpm|deg|m_s2)$", "", field.name)
-            assert float(variables[name].start) == getattr(defaults, field.name), name
+            if field.name == "slider_force_table":
+                assert float(variables["slider_force_table_rows"].start) == 0.0
+                continue
+            name = {"slider_force_N": "slider_force_constant"}.get(field.name,
+                                                                   re.sub(r"_(m|kg|kg_m2|rpm|deg|m_s2)$", "", field.name))
+            default = getattr(defaults, field.name)
+            if isinstance(default, tuple):
+                assert [float(variables[f"{name}_{axis}"].start) for axis in "xy"] == list(default), name
+            else:
+                assert float(variables[name].start) == default, name
         assert md.coSimulation is not None and md.modelExchange is not None
         assert len(md.derivatives) == 2 * L.N_COORDINATES
 
@@ -165,6 +180,67 @@ def test_fed_the_ideal_joint_reaction_the_derivatives_are_the_ideal_mechanisms(f
         np.testing.assert_allclose(dx[L.N_COORDINATES:], qdd, rtol=1e-9, atol=1e-9 * np.abs(qdd).max())
     model.terminate()
     model.freeInstance()
+
+
+LOADED = SliderCrankParameters(slider_force_N=150.0, gravity_m_s2=(4.0, -9.0), slider_force_table=SliderForceTable(
+    (0.0, 20.0, 40.0, 300.0, 360.0), (0.0, 1800.0, 200.0, -400.0, 0.0)))
+
+
+def _loaded_parameters() -> dict:
+    """The FMU parameters that make the default SliderCrank FMU :data:`LOADED`."""
+    return sc.parameter_starts(LOADED)
+
+
+def test_loaded_and_tilted_the_derivatives_are_the_ideal_mechanisms(fmus):
+    """The slider's load (constant, table and input) and gravity in the plane reach the FMU: fed the reaction that
+    the ideal revolute carries under them (and a slider input of 250 N), its Model Exchange derivatives are the
+    ideal mechanism's accelerations; without the load parameters they are not."""
+    loaded = SliderCrank(LOADED)
+    y0 = loaded.initial_state()
+    for version, parameters, matches in ((2, _loaded_parameters(), True), (2, {}, False)):
+        model = FMU2Model(guid=fmus[version]["token"], unzipDirectory=str(fmus[version]["dir"]),
+                          modelIdentifier=sc.MODEL_IDENTIFIER, instanceName="loaded")
+        model.instantiate()
+        model.setupExperiment(startTime=0.0)
+        model.enterInitializationMode()
+        for key, value in parameters.items():
+            model.setReal([sc.VALUE_REFERENCES[key]], [value])
+        model.exitInitializationMode()
+        model.newDiscreteStates()
+        model.enterContinuousTimeMode()
+        errors = []
+        for t in np.linspace(0.0, 0.4, 17):
+            y = y0.copy()
+            loads, qdd = ideal_loads(t, y, loaded, slider_input=250.0)
+            model.setTime(t)
+            model.setContinuousStates(y.ctypes.data_as(POINTER(fmi2Real)), y.size)
+            model.setReal(INPUT_VRS, list(loads))
+            dx = np.zeros(y.size)
+            model.getDerivatives(dx.ctypes.data_as(POINTER(fmi2Real)), dx.size)
+            errors.append(np.abs(dx[L.N_COORDINATES:] - qdd).max() / np.abs(qdd).max())
+        model.terminate()
+        model.freeInstance()
+        assert (max(errors) < 1e-9) == matches, (matches, max(errors))
+
+
+@pytest.mark.parametrize("changes, row, problem", [
+    ({"slider_force_table_angle_3": 10.0}, 3, "the crank angle does not rise"),
+    ({"slider_force_table_force_5": 5.0}, 5, "the load at 360 deg differs"),
+    ({"slider_force_table_rows": 4.0}, 4, "the last row is not at 360 deg"),
+    ({"slider_force_table_rows": 2.5}, None, "0 rows (none) or an integer number"),
+])
+def test_a_bad_load_table_fails_initialisation_naming_the_row(fmus, c_host, fmi3_host, changes, row, problem):
+    """A table SliderForceTable refuses is refused by the FMU at exitInitializationMode, in one line naming the
+    row and the problem (the same words), FMI 2.0 and 3.0."""
+    parameters = {**_loaded_parameters(), **changes}
+    for version, host in ((2, c_host), (3, fmi3_host)):
+        fmu = fmus[version]
+        script = _start(version, parameters) + "expect error\nfree\n"
+        code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script)
+        assert code == 0, err
+        where = f", row {row}" if row else ""
+        assert f"fmi{version}ExitInitializationMode: slider-load table{where}: " in err and problem in err, err
+        assert "exit_init error" in out
 
 
 def test_fed_the_ideal_joint_reaction_it_follows_the_ideal_slider_crank_closed_form(fmus):
@@ -286,7 +362,7 @@ def test_bad_parameter_fails_initialisation_naming_the_variable(fmus, c_host, fm
     """The FMU refuses what SliderCrankParameters refuses, at exitInitializationMode (FMI 2.0 and
     3.0), with one message naming the variable, its value and the allowed range; nothing on stdout
     but the host's own lines."""
-    field = dict(zip((p.name for p in sc.PARAMETERS), sc.FIELDS)).get(name)
+    field = {f.fmu_name: f.field for f in MECHANISM_FIELDS}.get(name)
     if field is not None:
         with pytest.raises(ParameterError, match=f"parameter {field}="):
             SliderCrankParameters(**{field: value})
@@ -308,7 +384,7 @@ def test_c_hosts_run_it_without_python_and_equal_fmpy(fmus, c_host, fmi3_host, t
     h, n = 1e-3, 200
     rows = [[i * h, h, *_smooth_loads(i * h)] for i in range(n)]
     path = write_trace_file(tmp_path / "loads.txt", rows)
-    command = f"trace {path} 6 {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
+    command = f"trace {path} {len(INPUT_VRS)} {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
     results = {}
     for version, host in ((2, c_host), (3, fmi3_host)):
         fmu = fmus[version]

@@ -12,6 +12,7 @@ from ..fmu import variables as fv
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND, DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
 from ..cosim.step_rule import communication_step_rule
 from ..fmu.build_native import DEFAULT_MODEL, MODELS
+from ..mechanism_parameters import mechanism_from_options
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from .options import _option, add_model_arguments, given_options, model_from_args
 
@@ -65,7 +66,7 @@ def model_parameters(args) -> tuple[JointParameters | None, SliderCrankParameter
         if joint_given or args.no_wear:
             option = _option(next(iter(joint_given))) if joint_given else "--no-wear"
             raise ParameterError(f"{option} is a joint parameter: it applies to --model joint, not SliderCrank.fmu")
-        return None, SliderCrankParameters(**mechanism_given)
+        return None, mechanism_from_options(mechanism_given)
     if mechanism_given:           # the joint of this slider-crank: its centres at the crank tip and the rod end
         return model_from_args(args)
     joint = JointParameters(**joint_given, **({"wear_factor": 0.0} if args.no_wear else {}))

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core.geometry import bushing_point_angles
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
+from ..mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
 from ..parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
 _HELP = {
     "rho_mode": "equivalent radius of the Hertz patch (docs/model.md §3.2)",
@@ -36,7 +37,27 @@ _HELP = {
     "pin_offset_m": "pin centre in the crank's frame, x y [m]",
     "bushing_offset_m": "bushing centre in the rod's frame, x y [m]",
     "n_points": "bushing discrete points N_d",
+    **{f.field: f.text for f in MECHANISM_FIELDS if f.component is None and f.field != "slider_force_table"},
+    "gravity_m_s2": "gravity [m/s^2]: G for (0, -G), across the slide (the paper's), or GX,GY in the mechanism's "
+                    "frame (x along the slider's axis, from the crank's pivot towards the slider)",
+    "slider_force_table": "CSV file crank_angle_deg,force_N: the slider's load over a revolution, linearly "
+                          "interpolated, positive towards the crank's pivot; the angles rise from 0 to 360 and the "
+                          "360 row repeats the 0 row's load (docs/model.md §3.12)",
 }
+
+
+def gravity_value(text: str):
+    """``--gravity-m-s2``: one value G, or GX,GY."""
+    parts = text.split(",")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: allowed G or GX,GY (numbers)") from None
+    if len(values) == 1:
+        return values[0]
+    if len(values) == 2:
+        return tuple(values)
+    raise argparse.ArgumentTypeError(f"{text!r}: allowed G or GX,GY (one or two numbers)")
 # model options whose default is not a value: what the parameter set does without them
 _UNSET = {"effective_mass_kg": "(default: the slider-crank's rod and slider masses, 0.89 for the paper's)",
           "contact_stiffness_N_m1_5": "(default: from the radii and materials, 4 E* sqrt(R_i R_j/(R_j - R_i))/3, "
@@ -66,6 +87,12 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
         help_text = " ".join(filter(None, (_HELP.get(f.name), remark)))
         if f.name in OPTION_CHOICES:
             group.add_argument(_option(f.name), dest=f.name, choices=OPTION_CHOICES[f.name], default=None, help=help_text)
+        elif f.name == "gravity_m_s2":
+            group.add_argument(_option(f.name), dest=f.name, type=gravity_value, default=None, metavar="G|GX,GY",
+                               help=_HELP[f.name] + " (default 0,-9.81)")
+        elif f.name == "slider_force_table":
+            group.add_argument(_option(f.name), dest=f.name, type=Path, default=None, metavar="FILE",
+                               help=_HELP[f.name])
         elif isinstance(default, tuple):
             group.add_argument(_option(f.name), dest=f.name, type=float, nargs=2, default=None,
                                metavar=("X", "Y"), help=help_text)
@@ -97,7 +124,7 @@ def given_options(args, cls) -> dict:
 
 def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options."""
-    mechanism = SliderCrankParameters(**given_options(args, SliderCrankParameters))
+    mechanism = mechanism_from_options(given_options(args, SliderCrankParameters))
     joint_values = {**mechanism.joint_defaults(), **given_options(args, JointParameters)}
     if args.no_wear:
         joint_values["wear_factor"] = 0.0
@@ -167,9 +194,10 @@ def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:
                              f"{qualifier} (default %(default)s)")
 
 
-SUMMARY_KEYS = ("revolutions", "realtime_factor", "compile_time_s", "max_contact_force_N", "contact_fraction",
-                "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2", "max_eccentricity_m",
-                "max_wear_depth_m", "max_wear_angle_deg", "worn_volume_m3")
+SUMMARY_KEYS = ("revolutions", "realtime_factor", "compile_time_s", "max_contact_force_N", "ideal_joint_force_max_N",
+                "contact_fraction", "impacts_per_revolution", "slider_acc_max_m_s2", "slider_acc_min_m_s2",
+                "slider_acc_error_max_m_s2", "slider_acc_error_rms_m_s2", "max_eccentricity_m", "max_wear_depth_m",
+                "max_wear_angle_deg", "worn_volume_m3", "wear_coefficient_source")
 
 
 def print_summary(summary: dict, out: Path, extra_keys=()) -> None:
@@ -177,6 +205,8 @@ def print_summary(summary: dict, out: Path, extra_keys=()) -> None:
     for k in SUMMARY_KEYS + tuple(extra_keys):
         v = summary.get(k)
         print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
+    if summary.get("wear_coefficient_note"):
+        print(f"note: {summary['wear_coefficient_note']}", file=sys.stderr)
     print(f"results in {out}")
 
 

@@ -93,7 +93,8 @@ N_KINEMATIC_INPUTS = 12   # x, y, theta, vx, vy, omega of the pin body, then of 
 # --- contact search blocks (see geometry.find_deepest_point)
 BLOCK_SIZE = 32
 
-# --- slider-crank parameter vector (SliderCrankParameters packed by wearjoint.mechanism)
+# --- slider-crank parameter vector (SliderCrankParameters packed by wearjoint.mechanism; the fields' table is
+# wearjoint.mechanism_parameters.MECHANISM_FIELDS: field k of the user's values fills slot k, scaled)
 MP_CRANK_LENGTH = 0
 MP_ROD_LENGTH = 1
 MP_CRANK_MASS = 2
@@ -102,13 +103,23 @@ MP_ROD_MASS = 4
 MP_ROD_INERTIA = 5
 MP_SLIDER_MASS = 6
 MP_SLIDER_INERTIA = 7
-MP_GRAVITY = 8
-MP_OMEGA = 9              # crank speed magnitude [rad/s]; theta1 = theta0 - omega t
-MP_THETA0 = 10
-MP_ALPHA = 11             # Baumgarte
-MP_BETA = 12
-N_MECHANISM_PARAMETERS = 13
-N_MECHANISM_FIELDS = 13    # SliderCrankParameters' fields (core.mechanism.mechanism_parameter_vector)
+MP_GRAVITY_X = 8          # gravity along the slider's axis [m/s^2] (mechanism frame)
+MP_GRAVITY_Y = 9          # gravity across the slide [m/s^2] (the paper's: -9.81)
+MP_OMEGA = 10             # crank speed magnitude [rad/s]; theta1 = theta0 - omega t
+MP_THETA0 = 11
+MP_ALPHA = 12             # Baumgarte
+MP_BETA = 13
+MP_SLIDER_FORCE = 14      # constant load on the slider [N], positive towards the crank's pivot
+MP_LOAD_ROWS = 15         # rows of the slider-load table (0: none)
+MAX_LOAD_ROWS = 361       # the most rows a slider-load table has (every degree, 0 and 360 included)
+MP_LOAD_ANGLES = 16       # the table's crank angles [rad], 0 ... 2 pi increasing, MAX_LOAD_ROWS slots
+MP_LOAD_FORCES = MP_LOAD_ANGLES + MAX_LOAD_ROWS   # the table's loads [N], MAX_LOAD_ROWS slots
+N_MECHANISM_FIELDS = MP_LOAD_FORCES + MAX_LOAD_ROWS  # the slots the fields fill (core.mechanism.mechanism_parameter_vector)
+MP_SLIDER_FORCE_INPUT = N_MECHANISM_FIELDS       # a master's load on the slider [N] (the SliderCrank FMU's input)
+N_MECHANISM_PARAMETERS = MP_SLIDER_FORCE_INPUT + 1
+# what core.mechanism.load_table_problem finds wrong with a slider-load table: kind * LOAD_TABLE_ROW_BASE + row
+LOAD_TABLE_ROWS, LOAD_TABLE_START, LOAD_TABLE_END, LOAD_TABLE_RISE, LOAD_TABLE_PERIODIC = 1, 2, 3, 4, 5
+LOAD_TABLE_ROW_BASE = 1000
 
 # state vector y = [q (9), q_dot (9)], q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (Eq. 38)
 N_COORDINATES = 9

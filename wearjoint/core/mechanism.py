@@ -15,9 +15,11 @@ import numpy as np
 from .jit import kernel
 from .joint_access import NoJoint, contact_forces
 from .layout import (
-    CRANK, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
-    MP_CRANK_MASS, MP_GRAVITY, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
-    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_MECHANISM_FIELDS, N_RESULT, R_BUSHING_FX,
+    CRANK, LOAD_TABLE_END, LOAD_TABLE_PERIODIC, LOAD_TABLE_RISE, LOAD_TABLE_ROW_BASE, LOAD_TABLE_ROWS, LOAD_TABLE_START,
+    MAX_LOAD_ROWS, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
+    MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_LOAD_ANGLES, MP_LOAD_FORCES, MP_LOAD_ROWS, MP_OMEGA, MP_ROD_INERTIA,
+    MP_ROD_LENGTH, MP_ROD_MASS, MP_SLIDER_FORCE, MP_SLIDER_FORCE_INPUT, MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0,
+    N_COORDINATES, N_MECHANISM_FIELDS, N_RESULT, R_BUSHING_FX,
     R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD,
     SLIDER,
 )
@@ -55,24 +57,62 @@ def make_workspace(mp):
 
 
 @kernel
-def mechanism_parameter_vector(fields, mp):
-    """The kernels' parameter vector mp (layout.MP_*) from the :class:`SliderCrankParameters`
-    fields in their declaration order (layout.N_MECHANISM_FIELDS values, the user's units: rpm,
-    degrees): omega = 2 pi n / 60 [rad/s], theta0 in radians."""
-    mp[MP_CRANK_LENGTH] = fields[0]
-    mp[MP_CRANK_MASS] = fields[1]
-    mp[MP_CRANK_INERTIA] = fields[2]
-    mp[MP_ROD_LENGTH] = fields[3]
-    mp[MP_ROD_MASS] = fields[4]
-    mp[MP_ROD_INERTIA] = fields[5]
-    mp[MP_SLIDER_MASS] = fields[6]
-    mp[MP_SLIDER_INERTIA] = fields[7]
-    mp[MP_OMEGA] = fields[8] * 2.0 * math.pi / 60.0
-    mp[MP_THETA0] = math.radians(fields[9])
-    mp[MP_GRAVITY] = fields[10]
-    mp[MP_ALPHA] = fields[11]
-    mp[MP_BETA] = fields[12]
+def mechanism_parameter_vector(fields, scales, mp):
+    """The kernels' parameter vector mp (layout.MP_*) from the mechanism's fields in the user's units (rpm,
+    degrees; wearjoint.mechanism_parameters.field_vector, the SliderCrank FMU's parameters in their order):
+    slot k = fields[k] scales[0, k] / scales[1, k] (wearjoint.mechanism_parameters.FIELD_SCALES); the master's
+    slider load 0."""
+    for k in range(N_MECHANISM_FIELDS):
+        mp[k] = fields[k] * scales[0, k] / scales[1, k]
+    mp[MP_SLIDER_FORCE_INPUT] = 0.0
     return N_MECHANISM_FIELDS
+
+
+@kernel
+def load_table_problem(fields):
+    """0 if the slider-load table in ``fields`` (the mechanism's fields in the user's units: degrees) is valid:
+    no rows, or 2 to MAX_LOAD_ROWS rows whose angles rise strictly from 0 to 360 and whose 360 row repeats the 0
+    row's load; else kind * LOAD_TABLE_ROW_BASE + the (1-based) row it concerns (layout.LOAD_TABLE_*;
+    wearjoint.mechanism_parameters.LOAD_TABLE_PROBLEMS words each kind, the FMU logs the same words)."""
+    rows_value = fields[MP_LOAD_ROWS]
+    rows = int(rows_value)
+    if rows == 0 and rows_value == 0.0:
+        return 0
+    if rows != rows_value or rows < 2 or rows > MAX_LOAD_ROWS:
+        return LOAD_TABLE_ROWS * LOAD_TABLE_ROW_BASE
+    if fields[MP_LOAD_ANGLES] != 0.0:
+        return LOAD_TABLE_START * LOAD_TABLE_ROW_BASE + 1
+    for k in range(1, rows):
+        if not fields[MP_LOAD_ANGLES + k] > fields[MP_LOAD_ANGLES + k - 1]:
+            return LOAD_TABLE_RISE * LOAD_TABLE_ROW_BASE + k + 1
+    if fields[MP_LOAD_ANGLES + rows - 1] != 360.0:
+        return LOAD_TABLE_END * LOAD_TABLE_ROW_BASE + rows
+    if fields[MP_LOAD_FORCES + rows - 1] != fields[MP_LOAD_FORCES]:
+        return LOAD_TABLE_PERIODIC * LOAD_TABLE_ROW_BASE + rows
+    return 0
+
+
+@kernel(inline='always')
+def slider_load(t, mp):
+    """The load on the slider [N] at time t [s], positive towards the crank's pivot: the constant, the master's
+    input and the table at theta1 = theta0 - omega t (mod 2 pi), linearly interpolated between its rows."""
+    load = mp[MP_SLIDER_FORCE] + mp[MP_SLIDER_FORCE_INPUT]
+    rows = int(mp[MP_LOAD_ROWS])
+    if rows >= 2:
+        angle = (mp[MP_THETA0] - mp[MP_OMEGA] * t) % (2.0 * math.pi)
+        lo = 0
+        hi = rows - 1
+        while hi - lo > 1:                   # the segment [a_lo, a_hi] holding the angle (a_0 = 0, a_last = 2 pi)
+            mid = (lo + hi) // 2
+            if mp[MP_LOAD_ANGLES + mid] <= angle:
+                lo = mid
+            else:
+                hi = mid
+        a0 = mp[MP_LOAD_ANGLES + lo]
+        a1 = mp[MP_LOAD_ANGLES + hi]
+        f0 = mp[MP_LOAD_FORCES + lo]
+        load += f0 + (mp[MP_LOAD_FORCES + hi] - f0) * (angle - a0) / (a1 - a0)
+    return load
 
 
 @kernel
@@ -183,15 +223,18 @@ def inverse_mass_diagonal(mp, out):
 @kernel
 def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
     """q_dd of Eq. (44) for applied contact loads ``body_forces`` =
-    (Fx, Fy, T) on the crank then (Fx, Fy, T) on the rod (Eq. 43 with gravity in -Y)."""
+    (Fx, Fy, T) on the crank then (Fx, Fy, T) on the rod (Eq. 43 with gravity (g_x, g_y) and the slider's load,
+    :func:`slider_load`)."""
     jac, schur, phi, phi_dot, gamma, minv, force = ws
     m = constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma)
-    g = mp[MP_GRAVITY]
+    gx = mp[MP_GRAVITY_X]
+    gy = mp[MP_GRAVITY_Y]
     for k in range(N_COORDINATES):
         force[k] = 0.0
-    force[CRANK + 1] = -mp[MP_CRANK_MASS] * g
-    force[ROD + 1] = -mp[MP_ROD_MASS] * g
-    force[SLIDER + 1] = -mp[MP_SLIDER_MASS] * g
+    for body, mass in ((CRANK, mp[MP_CRANK_MASS]), (ROD, mp[MP_ROD_MASS]), (SLIDER, mp[MP_SLIDER_MASS])):
+        force[body] = mass * gx
+        force[body + 1] = mass * gy
+    force[SLIDER] -= slider_load(t, mp)
     for k in range(3):
         force[CRANK + k] += body_forces[k]
         force[ROD + k] += body_forces[3 + k]
@@ -247,7 +290,6 @@ def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, si
     n = N_COORDINATES
     alpha2 = 2.0 * mp[MP_ALPHA]
     beta_sq = mp[MP_BETA] * mp[MP_BETA]
-    g = mp[MP_GRAVITY]
     # crank: pivot r1 + A1 (-l1/2, 0) = 0 (rows 0-1) and driver th1 = th0 - omega t (row 2)
     th1 = y[CRANK + 2]
     w1 = y[n + CRANK + 2]
@@ -275,10 +317,10 @@ def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, si
     inv_m2 = 1.0 / mp[MP_ROD_MASS]
     inv_i2 = 1.0 / mp[MP_ROD_INERTIA]
     inv_m3 = 1.0 / mp[MP_SLIDER_MASS]
-    fx2 = body_forces[3]
-    fy2 = body_forces[4] - mp[MP_ROD_MASS] * g
+    fx2 = body_forces[3] + mp[MP_ROD_MASS] * mp[MP_GRAVITY_X]
+    fy2 = body_forces[4] + mp[MP_ROD_MASS] * mp[MP_GRAVITY_Y]
     tz2 = body_forces[5]
-    fx3 = 0.0                                   # the slider carries no applied load along X
+    fx3 = mp[MP_SLIDER_MASS] * mp[MP_GRAVITY_X] - slider_load(t, mp)   # gravity and the load along the slide
     # (J M^-1 J^T) lambda = J M^-1 Q - c
     s11 = inv_m2 + by * by * inv_i2 + inv_m3
     s12 = -by * bx * inv_i2
@@ -418,3 +460,17 @@ def initial_state(t, mp, ws, y):
         for r in range(m):
             s += jac[r, c] * gamma[r]
         y[n + c] = s
+
+
+@kernel
+def ideal_joint_forces(times, mp, ws, result, y, qdd, body_forces, out):
+    """out[k] = |the ideal crank-rod revolute's reaction| [N] at times[k] [s]: the ideal mechanism's consistent
+    state there (:func:`initial_state`), its accelerations under gravity and the slider's load (Eq. 44) and the
+    reaction (:func:`ideal_joint_reaction`).  Scratch: ``result`` (layout.N_RESULT), ``y`` (2 N_COORDINATES),
+    ``qdd`` (N_COORDINATES), ``body_forces`` (6, zeros)."""
+    n = N_COORDINATES
+    for k in range(times.shape[0]):
+        initial_state(times[k], mp, ws, y)
+        accelerations(times[k], y[:n], y[n:], mp, True, body_forces, ws, qdd)
+        ideal_joint_reaction(ws, result)
+        out[k] = result[R_NORMAL_FORCE]

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from xml.etree import ElementTree as ET
 
 from ..core import layout
+from .. import mechanism_parameters as mp
 from ..parameters import SliderCrankParameters
 from . import variables as fv
 from ..core import state_format
@@ -53,54 +54,29 @@ class Variable:
     allowed: fv.Allowed | None = None   # parameters
 
 
-_FIELD_UNITS = {"_m": "m", "_kg": "kg", "_kg_m2": "kg.m2", "_rpm": "rpm", "_deg": "deg", "_m_s2": "m/s2"}
-_FIELD_TEXT = {
-    "crank_length_m": "crank length l1 (Table 1)", "crank_mass_kg": "crank mass m1",
-    "crank_inertia_kg_m2": "crank moment of inertia I1 about its centre of mass",
-    "rod_length_m": "connecting rod length l2 (> crank_length)", "rod_mass_kg": "rod mass m2",
-    "rod_inertia_kg_m2": "rod moment of inertia I2 about its centre of mass", "slider_mass_kg": "slider mass m3",
-    "slider_inertia_kg_m2": "slider moment of inertia I3", "crank_speed_rpm": "crank speed (clockwise)",
-    "initial_crank_angle_deg": "crank angle theta0 at t = 0 (theta1 = theta0 - omega t, Eq. 39)",
-    "gravity_m_s2": "gravity, acting in -Y", "baumgarte_alpha": "Baumgarte alpha (Eq. 44 stabilisation)",
-    "baumgarte_beta": "Baumgarte beta (Eq. 44 stabilisation)",
-}
-# the rules of SliderCrankParameters.__post_init__
-_FIELD_ALLOWED = {"initial_crank_angle_deg": fv.ANY, "gravity_m_s2": fv.ANY, "baumgarte_alpha": fv.NON_NEGATIVE,
-                  "baumgarte_beta": fv.NON_NEGATIVE, "rod_length_m": fv.Allowed(0.0, True, above="crank_length")}
-
-
-def _parameter_name(field: str) -> str:
-    for suffix in sorted(_FIELD_UNITS, key=len, reverse=True):
-        if field.endswith(suffix):
-            return field[:-len(suffix)]
-    return field
-
-
-def _unit(field: str) -> str:
-    for suffix in sorted(_FIELD_UNITS, key=len, reverse=True):
-        if field.endswith(suffix):
-            return _FIELD_UNITS[suffix]
-    return "1/s"   # Baumgarte alpha, beta
-
-
-FIELDS = tuple(f.name for f in dataclasses.fields(SliderCrankParameters))
-if len(FIELDS) != layout.N_MECHANISM_FIELDS:
-    raise RuntimeError("SliderCrankParameters and layout.N_MECHANISM_FIELDS disagree")
+# the FMU's check of each mechanism parameter's rule (wearjoint.mechanism_parameters.RULE_TEXT)
+_ALLOWED = {mp.POSITIVE: fv.POSITIVE, mp.FINITE: fv.ANY, mp.NON_NEGATIVE: fv.NON_NEGATIVE,
+            mp.ABOVE_CRANK: fv.Allowed(0.0, True, above="crank_length"),
+            mp.TABLE_ROWS: fv.Allowed(0.0, high=float(layout.MAX_LOAD_ROWS)), mp.TABLE_ANGLE: fv.Allowed(0.0, high=360.0)}
+_DEFAULTS = mp.field_vector(SliderCrankParameters())
 
 _BODIES = (("pin", "crank (pin body)"), ("bushing", "rod (bushing body)"))
+SLIDER_FORCE_NAME = "slider_force"
 INPUTS = tuple(Variable(f"{body}_{name}", fv.INPUT, unit, f"load of the clearance joint on the {text}: {what}",
                         INPUT, 3 * b + k, 0.0)
                for b, (body, text) in enumerate(_BODIES)
                for k, (name, unit, what) in enumerate((("force_x", "N", "force x, global frame"),
                                                        ("force_y", "N", "force y, global frame"),
-                                                       ("torque", "N.m", "torque about its centre of mass"))))
+                                                       ("torque", "N.m", "torque about its centre of mass")))) + (
+    Variable(SLIDER_FORCE_NAME, fv.INPUT, "N", "load on the slider along its axis, positive towards the crank's "
+             "pivot: added to slider_force_constant and the slider-load table", INPUT, 6, 0.0),)
 PARAMETERS = tuple(
-    Variable(_parameter_name(field), fv.PARAMETER, _unit(field), _FIELD_TEXT[field], PARAMETER, i,
-             float(getattr(SliderCrankParameters, field)), _FIELD_ALLOWED.get(field, fv.POSITIVE))
-    for i, field in enumerate(FIELDS)) + (
+    Variable(f.fmu_name, fv.PARAMETER, f.unit, f.text, PARAMETER, i, float(_DEFAULTS[i]), _ALLOWED[f.rule])
+    for i, f in enumerate(mp.MECHANISM_FIELDS)) + (
     Variable(MAX_INTERNAL_STEP_NAME, fv.PARAMETER, "s",
              "Co-Simulation: longest internal RK4 step; a communication step h is taken in ceil(h / max_internal_step) "
-             "equal steps with the inputs held", PARAMETER, len(FIELDS), MAX_INTERNAL_STEP_START, fv.POSITIVE),)
+             "equal steps with the inputs held", PARAMETER, len(mp.MECHANISM_FIELDS), MAX_INTERNAL_STEP_START,
+             fv.POSITIVE),)
 
 # y = [q, q_dot] (Eq. 38): the variable holding each, its unit and what it is
 _BODY_OF = (("pin", "crank"), ("bushing", "rod"), ("slider", "slider"))
@@ -150,14 +126,14 @@ UNIT_DEFINITIONS: dict[str, dict] = {
     "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "rad": {"rad": 1},
     "rad/s": {"rad": 1, "s": -1}, "rad/s2": {"rad": 1, "s": -2}, "N": {"kg": 1, "m": 1, "s": -2},
     "N.m": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "kg.m2": {"kg": 1, "m": 2}, "s": {"s": 1},
-    "1/s": {"s": -1}, "rpm": {"rad": 1, "s": -1, "factor": repr(2.0 * math.pi / 60.0)},
+    "1/s": {"s": -1}, "1": {}, "rpm": {"rad": 1, "s": -1, "factor": repr(2.0 * math.pi / 60.0)},
     "deg": {"rad": 1, "factor": repr(math.pi / 180.0)},
 }
 
 
 def parameter_values(params: SliderCrankParameters) -> dict[str, float]:
     """FMU parameter values (keyed by FMU name) reproducing ``params``."""
-    return {PARAMETERS[i].name: float(getattr(params, field)) for i, field in enumerate(FIELDS)}
+    return {PARAMETERS[i].name: float(value) for i, value in enumerate(mp.field_vector(params))}
 
 
 def parameter_starts(params: SliderCrankParameters) -> dict[str, float]:
@@ -182,6 +158,7 @@ def model_variables_header(guid: str, starts: dict | None = None) -> str:
     rows = parameter_rows([(p.name, p.index, p.start, 0, p.allowed, names.index(p.allowed.above)
                             if p.allowed.above else -1, p.allowed.text()) for p in parameters])
     table = "\n".join(f"    {{{c_string(v.name)}, {v.source}, {v.index}}}," for v in VARIABLES)
+    load_table_row_base = layout.LOAD_TABLE_ROW_BASE
     return f"""/* Generated by wearjoint/fmu/build_native.py from wearjoint/fmu/slider_crank.py: do not edit. */
 #ifndef WEARJOINT_MODEL_VARIABLES_H
 #define WEARJOINT_MODEL_VARIABLES_H
@@ -202,6 +179,11 @@ def model_variables_header(guid: str, starts: dict | None = None) -> str:
 /* The state format (wearjoint/core/state_format.py): a SliderCrank state's contents kind and head
  * (time, initialised flag, inputs, parameters, y), the contact memory it writes as zeros, and the
  * message of each problem a check reports. */
+/* what is wrong with a slider-load table: slider_crank_parameters returns kind * LOAD_TABLE_ROW_BASE + row
+ * (wearjoint/core/mechanism.py, load_table_problem); LOAD_TABLE_PROBLEMS[kind - 1] words it */
+#define LOAD_TABLE_ROW_BASE {load_table_row_base}
+static const char *const LOAD_TABLE_PROBLEMS[{len(mp.LOAD_TABLE_PROBLEMS)}] = {{{", ".join(c_string(mp.LOAD_TABLE_PROBLEMS[k]) for k in sorted(mp.LOAD_TABLE_PROBLEMS))}}};
+
 #define STATE_CONTENTS_MECHANISM {state_format.CONTENTS_MECHANISM}
 #define STATE_N_HEAD {STATE_HEAD_SIZE}
 #define STATE_N_MEMORY {layout.N_MEMORY}
@@ -234,12 +216,13 @@ static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
 
 # ModelStructure: what each unknown depends on (tests/fmu/test_slider_crank_fmu.py checks it by finite
 # differences).  The crank is driven and pinned to the ground, so its accelerations follow from its constraints
-# alone: its loads (pin_*) move no variable.  The rod's loads move the rod's and the slider's x acceleration; the
+# alone: its loads (pin_*) move no variable.  The rod's and the slider's loads move the rod's and the slider's x
+# acceleration; the
 # slider's y and rotation are constrained to rest.  A state output is the state itself, set by the integration:
 # it depends on no input (no direct feed-through), and OMSimulator sees no algebraic loop through the joint.  The
 # accelerations depend on the states (conservatively all 18: mass matrix, Baumgarte terms), a position's
 # derivative (a velocity) on that velocity state only.
-_ROD_LOADS = tuple(v.name for v in INPUTS if v.name.startswith("bushing_"))
+_ROD_LOADS = tuple(v.name for v in INPUTS if v.name.startswith("bushing_") or v.name == SLIDER_FORCE_NAME)
 _LOAD_DRIVEN = frozenset(v.name for v in ACCELERATIONS if v.name.startswith("bushing_") or v.name == "slider_a")
 
 

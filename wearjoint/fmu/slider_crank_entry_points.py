@@ -4,9 +4,9 @@ The numba ``cfunc``s the AOT build compiles for the mechanism FMU (:mod:`wearjoi
 model ``slider-crank``): the very kernels the monolithic engine and the co-simulation master run
 (:mod:`wearjoint.core.mechanism`, Eqs. 38-44 with Baumgarte stabilisation, the crank-rod joint
 open: ``MODE_EXTERNAL``), on arrays the C model owns and passes as raw pointers.  Nothing here
-allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``forces`` =
+allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``inputs`` =
 the joint's (Fx, Fy, T) on the crank then on the rod (global frame, torques about the centres of
-mass).  The workspace of :func:`wearjoint.core.mechanism.make_workspace` comes as seven arrays:
+mass), then the master's load on the slider [N] (positive towards the crank's pivot).  The workspace of :func:`wearjoint.core.mechanism.make_workspace` comes as seven arrays:
 ``jac`` and ``schur`` (9 x 9), ``phi``, ``phi_dot``, ``gamma``, ``minv`` (M^-1), ``force`` (9 each).
 The FMU state is written, checked and read by the state format's entry points
 (:mod:`wearjoint.fmu.state_entry_points`), as the joint FMU's.
@@ -15,8 +15,11 @@ from numba import carray, types
 
 from ..core.integrators import rk4_hold
 from ..core.jit import kernel
-from ..core.layout import MODE_EXTERNAL, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
-from ..core.mechanism import derivative, initial_state, inverse_mass_diagonal, mechanism_parameter_vector, no_joint
+from ..core.layout import MODE_EXTERNAL, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
+from ..core.mechanism import (
+    derivative, initial_state, inverse_mass_diagonal, load_table_problem, mechanism_parameter_vector, no_joint,
+)
+from ..mechanism_parameters import FIELD_SCALES
 from .aot import entry_point
 from .state_entry_points import (  # noqa: F401  (the FMU state's entry points, aot.ENTRY_POINTS)
     check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
@@ -35,10 +38,15 @@ def _workspace(jac, schur, phi, phi_dot, gamma, minv, force):
 
 @entry_point(types.int32(_F64, _F64, _F64))
 def parameters_native(fields, mp, minv):
-    """The kernels' parameter vector (layout.MP_*) from the SliderCrankParameters fields (rpm,
-    degrees) and M^-1 (Eq. 42); returns 0."""
+    """The kernels' parameter vector (layout.MP_*) from the FMU's mechanism parameters (rpm, degrees;
+    wearjoint.mechanism_parameters.MECHANISM_FIELDS) and M^-1 (Eq. 42); returns 0, or what is wrong with the
+    slider-load table (core.mechanism.load_table_problem: nothing packed)."""
+    f = carray(fields, N_MECHANISM_FIELDS)
+    problem = load_table_problem(f)
+    if problem != 0:
+        return problem
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    mechanism_parameter_vector(carray(fields, N_MECHANISM_FIELDS), p)
+    mechanism_parameter_vector(f, FIELD_SCALES, p)
     inverse_mass_diagonal(p, carray(minv, _N))
     return 0
 
@@ -52,20 +60,24 @@ def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y)
 
 
 @entry_point(types.int32(types.float64, _F64, _F64, _F64, *_WORKSPACE, _F64))
-def derivative_native(t, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy):
-    """dy = dy/dt of y = [q, q_dot] under the joint's loads ``forces`` (Eq. 44); returns 0."""
+def derivative_native(t, y, mp, inputs, jac, schur, phi, phi_dot, gamma, minv, force, dy):
+    """dy = dy/dt of y = [q, q_dot] under the ``inputs`` (Eq. 44); returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, no_joint(p), carray(forces, 6),
+    u = carray(inputs, 7)
+    p[MP_SLIDER_FORCE_INPUT] = u[6]
+    derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, no_joint(p), u[:6],
                _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N))
     return 0
 
 
 @entry_point(types.int32(types.float64, types.float64, types.int64, _F64, _F64, _F64, *_WORKSPACE, _F64, _F64))
-def step_native(t, h, n_steps, y, mp, forces, jac, schur, phi, phi_dot, gamma, minv, force, dy, stages):
-    """y advanced over [t, t + h] in n_steps RK4 steps with ``forces`` held, dy = f at the end
+def step_native(t, h, n_steps, y, mp, inputs, jac, schur, phi, phi_dot, gamma, minv, force, dy, stages):
+    """y advanced over [t, t + h] in n_steps RK4 steps with the ``inputs`` held, dy = f at the end
     (``stages``: 4 x 18 scratch); returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, no_joint(p), carray(forces, 6),
+    u = carray(inputs, 7)
+    p[MP_SLIDER_FORCE_INPUT] = u[6]
+    rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, no_joint(p), u[:6],
              _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N),
              carray(stages, (4, 2 * _N)))
     return 0

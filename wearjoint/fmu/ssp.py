@@ -35,8 +35,9 @@ FMU_TYPE = "application/x-fmu-sharedlibrary"
 MECHANISM, JOINT = "mechanism", "joint"
 PARAMETER_SET = "parameters"
 # connections (start element, start connector, end element, end connector)
+# (the mechanism's slider_force input stays open: the parameters' load, or a load FMU the user connects)
 CONNECTIONS = ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
-               + [(JOINT, v.name, MECHANISM, v.name) for v in sc.INPUTS])
+               + [(JOINT, v.name, MECHANISM, v.name) for v in sc.INPUTS if v.name != sc.SLIDER_FORCE_NAME])
 
 # vendor annotations: OpenModelica's OMSimulator (its own prefix "oms", matched literally), OSP's libcosim
 OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
@@ -69,14 +70,18 @@ def _connectors(component: ET.Element, fmu_path: Path) -> set[str]:
     """A connector per input, output and parameter of the FMU (its unit where it has one), but the
     joint's N_d ``wear_depth[k]`` outputs: nothing connects to them, every master still reads them
     from the FMU, and a master that moves every connector at every step (fmpy's SSP simulator) runs
-    ten times faster without them.  Returns the units used."""
+    ten times faster without them; nor an input no connection feeds (the mechanism's
+    ``slider_force``: a master that connects a load FMU declares it).  Returns the units used."""
     from fmpy import read_model_description
 
     connectors = ET.SubElement(component, _q(SSD, "Connectors"))
     units = set()
+    fed = {(end, name) for _, _, end, name in CONNECTIONS}
     for v in read_model_description(str(fmu_path)).modelVariables:
         if v.causality not in ("input", "output", "parameter") or _is_profile(v.name):
             continue
+        if v.causality == "input" and (component.get("name"), v.name) not in fed:
+            continue          # an open input (slider_force): fmpy 0.3.32's SSP simulator wires it to the previous one's source
         connector = ET.SubElement(connectors, _q(SSD, "Connector"), name=v.name, kind=v.causality)
         if v.type == "Real":
             unit = v.unit if v.unit in _UNITS else None

@@ -12,13 +12,12 @@ variant that would override a sampled parameter is skipped and says so.  The run
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from pathlib import Path
 
 import numpy as np
 
-from ..parameters import SliderCrankParameters
+from ..mechanism_parameters import mechanism_from_options
 from ..sweep.runner import write_csv_atomic
 from .problem import Problem
 from .report import invalid_reason, output_value
@@ -40,8 +39,7 @@ def law_variants(base: dict, problem: Problem, point: dict) -> list:
     from ..contact_laws import contact_law_variants
 
     options = {**base, **{p.dest: point[p.name] for p in problem.parameters}}
-    mechanism = SliderCrankParameters(**{f.name: options[f.name] for f in dataclasses.fields(SliderCrankParameters)
-                                         if options.get(f.name) is not None})
+    mechanism = mechanism_from_options(options)
     sampled = {p.dest: p.name for p in problem.parameters}
     variants = []
     for label, changes in contact_law_variants(mechanism):

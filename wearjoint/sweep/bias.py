@@ -81,7 +81,7 @@ def is_measured_case(joint: dict, mechanism: dict) -> bool:
     """Are a summary's parameter dicts the case :data:`SOURCE` measured: the paper's mechanism and joint geometry
     (:func:`wearjoint.parameters.is_paper_case`) at its wear coefficient?"""
     try:
-        mech = SliderCrankParameters(**mechanism)
+        mech = SliderCrankParameters.from_dict(mechanism)
         geometry = JointParameters(**{k: joint[k] for k in PAPER_JOINT_GEOMETRY}, **mech.joint_defaults())
     except (KeyError, TypeError, ParameterError):
         return False

@@ -102,8 +102,11 @@ def options_to_argv(parser: argparse.ArgumentParser, options: dict) -> list[str]
 
 
 def case_id(command: str, options: dict) -> str:
-    """16 hex digits of the SHA-256 of the command and its full option set."""
-    text = json.dumps({"command": command, "options": options}, sort_keys=True, default=str)
+    """16 hex digits of the SHA-256 of the command and the options that differ from its defaults (an option a later
+    version adds leaves the cases of a study it does not use as they were: ``--resume`` finds them)."""
+    defaults = {dest: action.default for dest, action in _option_actions(command_parser(command)).items()}
+    given = {dest: value for dest, value in options.items() if dest not in defaults or value != defaults[dest]}
+    text = json.dumps({"command": command, "options": given}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
