@@ -9,7 +9,9 @@ of rod and slider give the joint force by hand (below).  The contact rings at a 
 damping of a resting contact, docs/model.md §3.5): the force is compared in 0.1 s means, in the monolithic
 engine, the co-simulation (native joint FMU) and exudyn.
 """
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -169,3 +171,39 @@ def test_every_engine_carries_the_quasi_static_load_and_wears_archards_volume(en
         assert mean_force == pytest.approx(expected, rel=0.02), times[0]
     archard = _archard_volume(LOADED_SLOWLY, WEARING, 1000.0, record.simulated_time_s)
     assert record.worn_volume_m3 == pytest.approx(archard, rel=0.05)
+
+
+@pytest.mark.parametrize("text, problem", [
+    ("crank_angle_deg,force_N\n0,0\n90,x\n360,0\n", "line 3: force_N='x' is not a number"),
+    (None, "cannot read it"),
+])
+def test_the_cli_refuses_a_bad_table_in_one_line_and_exit_2(tmp_path, capsys, text, problem):
+    from wearjoint.cli import main
+
+    path = tmp_path / "load.csv"
+    if text is not None:
+        path.write_text(text)
+    code = main(["simulate", "--revolutions", "0.01", "--slider-force-table", str(path), "--out",
+                 str(tmp_path / "out")])
+    error = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(error) == 1 and problem in error[0] and str(path) in error[0], error
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_loaded_wear_study_completes_with_its_error_estimate(tmp_path):
+    """Cycle jumping on the press of docs/own_mechanism.md (the table, gravity along the stroke): the study runs
+    to its horizon, its jumps carry error estimates and their replays wear the blocks' volumes."""
+    from wearjoint.cli import main
+
+    table = Path(__file__).resolve().parents[2] / "docs" / "examples" / "press_load.csv"
+    out = tmp_path / "press"
+    assert main(["wear-study", "--crank-length-m", "0.05", "--rod-length-m", "0.25", "--crank-speed-rpm", "120",
+                 "--slider-mass-kg", "8", "--rod-mass-kg", "1.2", "--rod-inertia-kg-m2", "0.00625",
+                 "--gravity-m-s2=9.81,0", "--slider-force-table", str(table), "--wear-coefficient-m2-N", "2e-15",
+                 "--revolutions", "300", "--snapshots", "100,300", "--no-plots", "--quiet", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    jumping = summary["cycle_jumping"]
+    assert summary["completed"] and summary["failure"] is None
+    assert jumping["jumps"] >= 1 and 0.0 < jumping["error_estimate_summed_rel_to_final_depth"] < 0.05
+    assert all(abs(ratio - 1.0) < 0.01 for ratio in jumping["replay_volume_ratio_range"])
+    assert summary["parameters"]["mechanism"]["slider_force_table"]["force_N"][1] == 2000.0
