@@ -97,8 +97,8 @@ def slider_load(t, mp):
     """The load on the slider [N] at time t [s], positive towards the crank's pivot: the constant, the master's
     input and the table at theta1 = theta0 - omega t (mod 2 pi), linearly interpolated between its rows."""
     load = mp[MP_SLIDER_FORCE] + mp[MP_SLIDER_FORCE_INPUT]
-    rows = int(mp[MP_LOAD_ROWS])
-    if rows >= 2:
+    if mp[MP_LOAD_ROWS] >= 2.0:
+        rows = int(mp[MP_LOAD_ROWS])
         angle = (mp[MP_THETA0] - mp[MP_OMEGA] * t) % (2.0 * math.pi)
         lo = 0
         hi = rows - 1
