@@ -333,7 +333,7 @@ def field_vector(p: SliderCrankParameters) -> np.ndarray:
             if f.slot == L.MP_LOAD_ROWS:
                 out[k] = len(table.crank_angle_deg)
             elif f.component < len(table.crank_angle_deg):
-                out[k] = (table.crank_angle_deg if f.unit == "deg" else table.force_N)[f.component]
+                out[k] = (table.crank_angle_deg if f.slot < L.MP_LOAD_FORCES else table.force_N)[f.component]
         elif f.component is not None:
             out[k] = getattr(p, f.field)[f.component]
         else:
