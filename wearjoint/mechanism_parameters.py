@@ -341,5 +341,5 @@ def field_vector(p: SliderCrankParameters) -> np.ndarray:
     return out
 
 
-__all__ = ["SliderCrankParameters", "SliderForceTable", "LOAD_TABLE_PROBLEMS", "MechanismField", "MECHANISM_FIELDS", "FIELD_SCALES",
-           "field_vector", "mechanism_from_options", "RULE_TEXT", "PAPER_GRAVITY_M_S2"]
+__all__ = ["SliderCrankParameters", "SliderForceTable", "LOAD_TABLE_PROBLEMS", "MechanismField", "MECHANISM_FIELDS",
+           "FIELD_SCALES", "field_vector", "mechanism_from_options", "RULE_TEXT", "PAPER_GRAVITY_M_S2"]

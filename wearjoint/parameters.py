@@ -1,4 +1,5 @@
-"""Parameter sets of the clearance/wear joint and of the paper's slider-crank.
+"""Parameter sets of the clearance/wear joint, and of the slider-crank (:mod:`wearjoint.mechanism_parameters`,
+re-exported here with its load table).
 
 All values are SI; field names carry their unit.  Defaults are the paper's
 Tables 1 and 2 (see docs/model.md §2).  Every constructor validates
@@ -11,7 +12,9 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from .checks import ParameterError, choice as _choice, finite, is_finite_pair as _is_finite_pair, positive as _positive, require
+from .checks import (
+    ParameterError, choice as _choice, finite, is_finite_pair as _is_finite_pair, positive as _positive, require,
+)
 from .mechanism_parameters import SliderCrankParameters, SliderForceTable
 from .core.layout import (   # the wear-step limit and the wear batches (docs/model.md §3.11, §7)
     MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
@@ -287,10 +290,9 @@ def wear_coefficient_source(joint: JointParameters, mechanism: SliderCrankParame
     return {"wear_coefficient_source": source, "wear_coefficient_note": note}
 
 
-__all__ = ["JointParameters", "SliderCrankParameters", "SliderForceTable", "ParameterError", "require", "finite", "contact_stiffness",
-           "is_paper_case", "PAPER_JOINT_GEOMETRY",
-           "effective_modulus", "paper_joint", "check_joint_fits_mechanism",
-           "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS", "CONTACT_DAMPINGS",
-           "OPTION_CHOICES", "restitution_of_law", "RESTITUTION_SPEED_M_S", "PAPER_EFFECTIVE_MASS_KG",
-           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "PAPER_PRINTED_WEAR_COEFFICIENT_M2_N", "wear_coefficient_source", "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S",
-           "WEAR_BATCH_SHARE"]
+__all__ = ["JointParameters", "SliderCrankParameters", "SliderForceTable", "ParameterError", "require", "finite",
+           "contact_stiffness", "is_paper_case", "PAPER_JOINT_GEOMETRY", "effective_modulus", "paper_joint",
+           "check_joint_fits_mechanism", "RHO_MODES", "WEAR_PLACEMENTS", "SLIDING_DISTANCES", "CONTACT_MODELS",
+           "CONTACT_DAMPINGS", "OPTION_CHOICES", "restitution_of_law", "RESTITUTION_SPEED_M_S", "PAPER_EFFECTIVE_MASS_KG",
+           "PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N", "PAPER_PRINTED_WEAR_COEFFICIENT_M2_N", "wear_coefficient_source",
+           "WEAR_STEP_SHARE", "WEAR_STEP_SHARE_EXPLICIT", "MAX_WEAR_STEP_S", "WEAR_BATCH_SHARE"]

@@ -58,6 +58,8 @@ def gravity_value(text: str):
     if len(values) == 2:
         return tuple(values)
     raise argparse.ArgumentTypeError(f"{text!r}: allowed G or GX,GY (one or two numbers)")
+
+
 # model options whose default is not a value: what the parameter set does without them
 _UNSET = {"effective_mass_kg": "(default: the slider-crank's rod and slider masses, 0.89 for the paper's)",
           "contact_stiffness_N_m1_5": "(default: from the radii and materials, 4 E* sqrt(R_i R_j/(R_j - R_i))/3, "

@@ -2,11 +2,12 @@
 open (Sec. 6.1, Eqs. 38-44), the system around a ``ClearanceWearJoint`` FMU.
 
 Inputs are the joint's loads on the crank (pin body) and on the rod (bushing body), named like
-the joint FMU's outputs; outputs are the 12 kinematic quantities the joint FMU takes (named like
-its inputs: reference points at the centres of mass, global frame), the crank angle and the
-slider's position, velocity and acceleration.  Parameters: every :class:`SliderCrankParameters`
-field (without its unit suffix; rpm and degrees as there) and ``max_internal_step``, the longest
-RK4 step of a Co-Simulation step.  Model Exchange: the 18 continuous states are the coordinates
+the joint FMU's outputs, and ``slider_force``, a load on the slider added to the parameters'; outputs are
+the 12 kinematic quantities the joint FMU takes (named like its inputs: reference points at the centres of
+mass, global frame), the crank angle and the slider's position, velocity and acceleration.  Parameters: one
+per row of :data:`wearjoint.mechanism_parameters.MECHANISM_FIELDS` (its FMU name, unit, rule; rpm and
+degrees as there; gravity's two components, the slider-load table's rows) and ``max_internal_step``, the
+longest RK4 step of a Co-Simulation step.  Model Exchange: the 18 continuous states are the coordinates
 and velocities q, q_dot (Eq. 38), declared on the variables that hold them; their derivatives are
 the velocities and the accelerations (Eq. 44).
 
