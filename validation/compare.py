@@ -24,8 +24,9 @@ monolithic reference run with that law, and its statistics with an ensemble of t
 differences from the default reference are reported beside (not judged).
 
 Writes ``report.md``, ``summary.json`` and PNG overlays (:mod:`wearjoint.validation.report`);
-the exit status is 0 when every metric passes, 1 when one fails (or an engine raised), 3 when
-an engine is not available.
+the exit status is 0 when every metric of the engines that run the project's joint passes, 1 when one fails
+(or an engine raised), 3 when an engine is not available; the metrics of a ``LAW_REFERENCES`` engine are
+reported per engine, never judged.
 """
 from __future__ import annotations
 

@@ -14,7 +14,8 @@ from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.validation.compare import (
     compare, run_engines,
     GROUP_POINTWISE, GROUP_PROFILE, GROUP_STATISTICS, POINTWISE, PROFILE, REFERENCE,
-    STATISTICS, WEAR_ENGINES, Metric, Runs, ValidationPlan, _us, ensemble_profile, ensemble_statistics,
+    LAW_REFERENCES, STATISTICS, WEAR_ENGINES, Metric, Runs, ValidationPlan, _us, ensemble_profile,
+    ensemble_statistics,
     pointwise_differences, revolution_statistics,
 )
 from wearjoint.validation.law_spread import STAGE, law_spread_summary, run_law_spread
@@ -148,12 +149,36 @@ def _shown_unit(unit: str) -> str:
     return _DISPLAY.get(unit, (1.0, unit))[1]
 
 
+def judged(metric: Metric) -> bool:
+    """True for a metric of an engine that runs the project's joint; an engine of ``LAW_REFERENCES`` (exudyn's own
+    contact law) is a reference whose differences are reported, not judged."""
+    return metric.engine not in LAW_REFERENCES
+
+
 def _status(metrics: list[Metric], runs: Runs) -> int:
-    """0: every metric passes and every engine ran; 1: a metric fails or an engine raised;
+    """0: every judged metric passes and every engine ran; 1: a judged metric fails or an engine raised;
     3: an engine is not available."""
-    if runs.errors or not all(m.passed for m in metrics):
+    if runs.errors or not all(m.passed for m in metrics if judged(m)):
         return 1
     return 3 if runs.gaps else 0
+
+
+_ROLE_TEXT = {"joint": "the project's joint", "reference law": "its own contact law (a reference: reported, not judged)"}
+
+
+def engine_verdicts(metrics: list[Metric]) -> dict:
+    """engine -> its role (``joint``: runs the project's joint; ``reference law``: a law of its own), its metrics,
+    how many are within tolerance, the failed ones and its verdict (``pass``, ``fail``; a reference law
+    ``within tolerance`` or ``differs``, never judged)."""
+    out = {}
+    for engine in dict.fromkeys(m.engine for m in metrics):
+        rows = [m for m in metrics if m.engine == engine]
+        failed = [m.name for m in rows if not m.passed]
+        role = "joint" if judged(rows[0]) else "reference law"
+        verdict = ("fail" if failed else "pass") if role == "joint" else ("differs" if failed else "within tolerance")
+        out[engine] = {"role": role, "metrics": len(rows), "within_tolerance": len(rows) - len(failed),
+                       "failed": failed, "verdict": verdict}
+    return out
 
 
 def _runs_table(runs: Runs) -> list[dict]:
@@ -181,8 +206,10 @@ def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint
         "passed": status != 1,
         "complete": not (runs.gaps or runs.errors),
         "exit_status": status,
-        "metrics_total": len(metrics),
-        "metrics_failed": [f"{m.engine}: {m.name}" for m in metrics if not m.passed],
+        "metrics_total": sum(judged(m) for m in metrics),
+        "metrics_failed": [f"{m.engine}: {m.name}" for m in metrics if judged(m) and not m.passed],
+        "engines": engine_verdicts(metrics),
+        "reference_law_differences": [f"{m.engine}: {m.name}" for m in metrics if not judged(m) and not m.passed],
         "gaps": runs.gaps,
         "errors": runs.errors,
         "plan": asdict(plan),
@@ -253,9 +280,13 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
     verdict = "PASS" if summary["passed"] else "FAIL"
     lines = [
         "# wearjoint validate: monolithic vs co-simulation vs exudyn", "",
-        f"**{verdict}**: {len(metrics) - len(failed)} of {len(metrics)} metrics within tolerance"
+        f"**{verdict}**: {summary['metrics_total'] - len(failed)} of {summary['metrics_total']} metrics of the "
+        "engines that run the project's joint within tolerance"
         + ("" if summary["complete"] else "; **incomplete**: engines missing or failed (see Gaps and errors)")
         + ".", "",
+        "| engine | runs | metrics within tolerance | verdict | outside tolerance |", "|---|---|---|---|---|",
+        *(f"| {engine} | {_ROLE_TEXT[v['role']]} | {v['within_tolerance']} of {v['metrics']} | {v['verdict']} | "
+          f"{', '.join(v['failed']) or '—'} |" for engine, v in summary["engines"].items()), "",
         f"No-wear runs: {plan['revolutions']:g} revolutions, {plan['ensemble']} perturbed starts per engine and "
         "configuration (initial crank angle + k × 1e-6°); point-wise window: first "
         f"{plan['window_s'] * 1e3:g} ms; "
@@ -390,8 +421,8 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
                    progress: bool = True) -> dict:
     """Run, compare, (``plan.law_spread``) run the model-form spread over the contact laws, and write
     ``report.md``, ``summary.json`` and the PNG overlays into ``out_dir``; returns the summary
-    (``exit_status``: 0 pass, 1 a metric failed or an engine raised, 3 an engine is not available;
-    the law spread never changes it)."""
+    (``exit_status``: 0 pass, 1 a metric of an engine running the project's joint failed or an engine raised, 3 an
+    engine is not available; a reference law's metrics and the law spread never change it)."""
     mechanism = mechanism or SliderCrankParameters()
     joint = joint or JointParameters(**mechanism.joint_defaults())
     require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,

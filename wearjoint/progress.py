@@ -127,10 +127,12 @@ class Progress:
         if self._log is not None:
             self._log.update(min(float(done), self.total))
 
-    def close(self) -> None:
+    def close(self, final_line: bool = True) -> None:
+        """Close; a log writes its last line unless ``final_line`` is False (a count nobody waits for any more)."""
         if self._bar is not None:
             self._bar.close()
             self._bar = None
         if self._log is not None:
-            self._log.close()
+            if final_line:
+                self._log.close()
             self._log = None

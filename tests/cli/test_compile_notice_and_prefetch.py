@@ -30,6 +30,21 @@ def test_the_first_compilation_announces_what_compiles_and_its_time(capsys):
     assert err.count("wearjoint: compiling") == 1 and watch.count == 2
 
 
+def test_a_count_still_open_when_the_command_ends_writes_no_line_after_its_results(capsys, monkeypatch):
+    """A command that compiles during its run (a wear study's replay) never closes the count at its start: the
+    count's last line must not follow the command's own last line ("results in ...").  The clock runs 100 s a
+    reading, so the count's log writes at every compilation."""
+    from wearjoint import progress
+
+    clock = iter(range(0, 10**6, 100))
+    monkeypatch.setattr(progress, "_now", lambda: float(next(clock)))
+    kernel = _fresh_kernel()
+    with notice.watching("kernels"):
+        kernel(4.0)
+        print("results in somewhere", file=sys.stderr)
+    assert capsys.readouterr().err.strip().splitlines()[-1] == "results in somewhere"
+
+
 def test_nothing_is_said_when_nothing_compiles(capsys):
     kernel = _fresh_kernel()
     kernel(4.0)

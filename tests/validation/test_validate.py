@@ -96,7 +96,11 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
                          + ensemble * (1 + len(cmp.WEAR_CONFIGURATIONS) + len(others & set(cmp.WEAR_ENGINES))))
     assert all(r["wall_time_s"] > 0 and r["realtime_factor"] > 0 for r in rows.values())
     report = (out / "report.md").read_text()
-    assert "**PASS**" in report and report.count("| pass |") == len(summary["metrics"])
+    verdicts = summary["engines"]
+    assert {e: v["role"] for e, v in verdicts.items()} == {**{e: "joint" for e in others - {"exudyn-native"}},
+                                                          "exudyn-native": "reference law"}
+    passing_engines = sum(v["verdict"] == "pass" for v in verdicts.values())     # the verdict table's rows
+    assert "**PASS**" in report and report.count("| pass |") == len(summary["metrics"]) + passing_engines
     assert "exudyn-native: no wear run" in report and "contact_model=deepest" in report
     for name in ("slider_acceleration.png", "pin_orbits.png", "first_impacts.png", "statistics.png",
                  "worn_profiles.png"):
@@ -306,3 +310,25 @@ def test_pointwise_differences_and_profile_quantities():
     assert mean["lobe_angle_near_180_deg"] == pytest.approx(185.0) and std["lobe_angle_near_180_deg"] == 0.0
     assert mean["lobe_angle_near_0_deg"] is None and std["lobe_angle_near_0_deg"] is None   # a run without that lobe
     assert h[185] == pytest.approx(6e-6) and h[0] == 0.0
+
+
+def test_a_reference_law_is_reported_per_engine_and_never_fails_the_run():
+    """exudyn's own contact law outside its tolerance: listed under its engine as differing, not in the failed
+    metrics, exit status 0; the same metric of an engine running the project's joint fails the run."""
+    from types import SimpleNamespace
+
+    from wearjoint.validation import report
+
+    def metric(engine, passed):
+        return cmp.Metric(cmp.GROUP_POINTWISE, "normal_force_max_difference_N", "N", engine, 10.0, 0.0, 10.0, 1.0,
+                          2.0, passed)
+
+    ran = SimpleNamespace(errors=[], gaps=[])
+    metrics = [metric("cosim", True), metric("exudyn-native", False)]
+    assert report._status(metrics, ran) == 0
+    verdicts = report.engine_verdicts(metrics)
+    assert verdicts["exudyn-native"] == {"role": "reference law", "metrics": 1, "within_tolerance": 0,
+                                         "failed": ["normal_force_max_difference_N"], "verdict": "differs"}
+    assert verdicts["cosim"]["verdict"] == "pass"
+    assert report._status([metric("cosim", False), metric("exudyn-native", True)], ran) == 1
+    assert report.engine_verdicts([metric("exudyn-discrete", False)])["exudyn-discrete"]["verdict"] == "fail"

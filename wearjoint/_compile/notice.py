@@ -83,9 +83,10 @@ class CompileWatch(event.Listener):
             with open(self._profile, "a") as out:
                 out.write(json.dumps([name, str(event.data["args"]), seconds - nested]) + "\n")
 
-    def close(self) -> None:
+    def close(self, final_line: bool = True) -> None:
+        """Close the progress bar; without ``final_line`` (the command has ended) a log writes no last line."""
         if self._bar is not None:
-            self._bar.close()
+            self._bar.close(final_line)
             self._bar = None
 
 
@@ -101,10 +102,10 @@ def watching(what: str, on_compile=None, quiet: bool = False, on_first=None):
     _ACTIVE.append(watch)
     try:
         yield watch
-    finally:
+    finally:        # a bar still open here counted compilations of the run itself: no line after its results
         _ACTIVE.remove(watch)
         event.unregister("numba:compile", watch)
-        watch.close()
+        watch.close(final_line=False)
 
 
 def watch_command(command: str):
