@@ -39,7 +39,7 @@ from exudyn.itemInterface import (
 from wearjoint.core import layout as L
 from wearjoint.core.integrators import record_step
 from wearjoint.core.mechanism import slider_load
-from wearjoint.exudyn import add_clearance_joint, set_post_step
+from wearjoint.exudyn import add_clearance_joint, set_post_step, solve_dynamic
 from wearjoint.joint import ClearanceJoint
 from wearjoint.mechanism import SliderCrank
 from wearjoint.parameters import (
@@ -268,7 +268,7 @@ class ExudynSliderCrank:
         self._progress = Progress(end_time_s, "exudyn", enabled=progress)
         wall0 = time.perf_counter()
         try:
-            exu.SolveDynamic(self.mbs, settings, solverType=exu.DynamicSolverType.GeneralizedAlpha)
+            solve_dynamic(self.mbs, settings, solverType=exu.DynamicSolverType.GeneralizedAlpha)
         finally:
             self.wall_time_s = time.perf_counter() - wall0
             self._progress.close()

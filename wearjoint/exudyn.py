@@ -26,7 +26,7 @@ warns once if a step's share k_f k_w F v dt of the contact's penetration passed 
 exudyn prints "detected large amount of memory allocations ... this may be due to user functions" for
 every system with a clearance joint: its force and Jacobian user functions hand exudyn a new numpy
 array per call, which exudyn counts.  It is harmless: that conversion is part of the measured cost
-per step (docs/performance.md).
+per step (docs/performance.md).  :func:`solve_dynamic` is ``exu.SolveDynamic`` without that warning.
 
 This module and ``validation/`` are the only ones that import exudyn.
 """
@@ -346,6 +346,20 @@ def contact_stiffness_bound(parameters: JointParameters) -> float:
     return (1.0 + p.friction_coefficient) * stiffness
 
 
+def solve_dynamic(mbs, settings, **options):
+    """``exu.SolveDynamic(mbs, settings, **options)`` without exudyn's memory-allocation warning, which a clearance
+    joint's user functions always raise (a new array per call, counted by exudyn; harmless): exudyn's threshold
+    (``exudyn.solver.solverCheckMemoryAllocationsThreshold``) is lifted for the call and restored after."""
+    import exudyn.solver as solver
+
+    threshold = solver.solverCheckMemoryAllocationsThreshold
+    solver.solverCheckMemoryAllocationsThreshold = math.inf
+    try:
+        return exu.SolveDynamic(mbs, settings, **options)
+    finally:
+        solver.solverCheckMemoryAllocationsThreshold = threshold
+
+
 def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate_scale_m: float = 1.0
                         ) -> "exu.SimulationSettings":
     """exudyn settings for ``end_time_s`` [s] in whole fixed steps of at most ``step_s`` [s] (the fewest such),
@@ -389,5 +403,5 @@ def check_step(step_s: float, handles) -> None:
                              "(set wear_factor=0 for a longer step)")
 
 
-__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "contact_stiffness_bound",
-           "ClearanceJointHandle", "HISTORY_COLUMNS", "MAX_WEAR_STEP_S", "NEWTON_SAFETY"]
+__all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "solve_dynamic",
+           "contact_stiffness_bound", "ClearanceJointHandle", "HISTORY_COLUMNS", "MAX_WEAR_STEP_S", "NEWTON_SAFETY"]

@@ -424,3 +424,24 @@ def test_a_step_wearing_too_much_of_the_penetration_is_a_warning_once(wear_facto
     said = [w for w in caught if "of the contact's penetration" in str(w.message)]
     assert len(said) == (1 if warned else 0)
     assert handle.accepted_steps >= 2000
+
+
+def test_solve_dynamic_keeps_exudyns_allocation_warning_off_and_restores_its_threshold(capfd):
+    """exudyn counts the joint's per-call arrays and warns on every solve ("memory allocations"): harmless, so
+    solve_dynamic lifts exudyn's threshold for the call, and puts it back; exudyn's own call still warns."""
+    import exudyn.solver
+
+    from wearjoint.exudyn import solve_dynamic
+
+    threshold = exudyn.solver.solverCheckMemoryAllocationsThreshold
+    outputs = []
+    for run in (exu.SolveDynamic, solve_dynamic):
+        _, mbs = new_system()
+        hung_bar(mbs, wear_factor=0.0)
+        mbs.Assemble()
+        capfd.readouterr()
+        run(mbs, simulation_settings(0.2, 1e-5))          # 20 000 steps: past exudyn's 1e5 allocations
+        outputs.append(capfd.readouterr())
+    said = [out.out + out.err for out in outputs]
+    assert "memory allocations" in said[0] and "memory allocations" not in said[1]
+    assert exudyn.solver.solverCheckMemoryAllocationsThreshold == threshold

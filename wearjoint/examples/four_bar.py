@@ -28,7 +28,7 @@ from exudyn.itemInterface import (
     NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGround, ObjectJointRevolute2D, ObjectRigidBody2D,
 )
 
-from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step, simulation_settings
+from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic
 from wearjoint.parameters import JointParameters, ParameterError, require
 from wearjoint.progress import Progress
 from wearjoint.validation.exudyn_native import NativeContact
@@ -193,7 +193,7 @@ class FourBarModel:
         wall = time.perf_counter()
         completed = True
         try:
-            exu.SolveDynamic(self.mbs, settings)
+            solve_dynamic(self.mbs, settings)
         except exu.SolverError:
             completed = False
         finally:
