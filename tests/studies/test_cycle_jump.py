@@ -10,7 +10,9 @@ from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
-from wearjoint.studies.cycle_jump import JUMP_GROWTH, jump_error, loading_from_samples, next_jump
+from wearjoint.studies.cycle_jump import (
+    JUMP_GROWTH, jump_error, jump_summary, loading_from_samples, next_jump, replay_volume_warning,
+)
 from wearjoint.studies.wear_study import WearStudyConfig, run_wear_study
 
 
@@ -151,7 +153,23 @@ def test_a_jump_study_accounts_every_revolution_and_reports_its_jumps(tmp_path):
     assert np.all(np.diff(growth[:, 0]) > 0) and np.all(np.diff(growth[:, 1]) >= 0.0)
     assert [s["revolution"] for s in whole["snapshots"]] == [5, 10]
     low, high = jumps["replay_volume_ratio_range"]       # each jump wore the block's volume per revolution times N
-    assert 0.97 <= low <= high <= 1.05, (low, high)
+    assert 0.99 <= low <= high <= 1.01, (low, high)
+    assert jumps["replay_volume_outside"] == [] and replay_volume_warning(jumps) is None
+
+
+def test_a_jump_whose_replay_lost_volume_is_named_with_a_warning():
+    """0.943 of the block's volume (what the replay's old placement gave on a deep groove): the jump is listed
+    and the warning names the band and how to check."""
+    state = {"jump": {"jumps": [{"start_revolution": 4, "revolutions": 8, "passes": 1, "error_estimate_rel": 0.001,
+                                 "error_estimate_m": 1e-9, "replay_volume_ratio": 0.943},
+                                {"start_revolution": 14, "revolutions": 16, "passes": 1, "error_estimate_rel": None,
+                                 "error_estimate_m": None, "replay_volume_ratio": 1.002}],
+                      "simulated_revolutions": 8},
+             "growth": [(30, 1e-5, 1e-10)]}
+    summary = jump_summary(jump_config(), state)
+    assert summary["replay_volume_outside"] == [4] and summary["replay_volume_ratio_allowed"] == [0.99, 1.01]
+    warning = replay_volume_warning(summary)
+    assert "1 jump(s) (from revolution 4) replayed 0.943-1" in warning and "outside 0.99-1.01" in warning
 
 
 @pytest.mark.parametrize("changes, message", [

@@ -8,7 +8,7 @@ import sys
 
 from ..cosim import CoSimulationOptions
 from ..parameters import ParameterError
-from ..studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+from ..studies.cycle_jump import DEFAULT_JUMP_TOLERANCE, replay_volume_warning
 from ..studies.wear_calibration import calibrate_wear_coefficient
 from ..studies.wear_convergence import JUMP, run_convergence
 from ..studies.wear_study import (
@@ -117,6 +117,9 @@ def run(args) -> int:
                       f"{s['max_wear_angle_deg']:.1f} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"
                       f"{_angle(s['lobe_180_angle_deg'])} deg  impact events {s['impact_events']}")
             print(f"  wall time {summary['wall_time_s']:.1f} s")
+            warning = replay_volume_warning(summary.get("cycle_jumping") or {})
+            if warning:
+                print(f"wearjoint wear-study: warning: {warning}", file=sys.stderr)
     except StudyDiverged as exc:       # its outputs for what finished are written; the message says what next
         print(f"wearjoint wear-study: error: {exc}", file=sys.stderr)
         return 1

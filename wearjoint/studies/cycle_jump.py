@@ -35,6 +35,9 @@ PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this sha
 FIRST_JUMP_BLOCKS = 1                   # the first jump is as long as a block
 JUMP_GROWTH = (0.2, 2.0)                # limits of the next jump's factor
 SAFETY = 0.9
+# a jump's replayed volume over its block's volume per revolution times its length: every correct replay measured
+# lies within 0.999-1.005 (docs/wear_study.md); outside 1 -/+ this, the jump's wear is not the block's
+REPLAY_VOLUME_TOLERANCE = 0.01
 
 
 def loading_from_samples(samples: np.ndarray, sample_dt_s: float) -> np.ndarray:
@@ -192,9 +195,25 @@ def jump_summary(config, state: dict) -> dict:
             "largest_error_estimate_rel": max(estimates, default=0.0),
             "error_estimate_summed_rel_to_final_depth": float(summed / depth) if depth > 0.0 else 0.0,
             "replay_volume_ratio_range": [min(ratios), max(ratios)] if ratios else None,
+            "replay_volume_ratio_allowed": [1.0 - REPLAY_VOLUME_TOLERANCE, 1.0 + REPLAY_VOLUME_TOLERANCE],
+            "replay_volume_outside": [j["start_revolution"] for j in js["jumps"]
+                                      if j.get("replay_volume_ratio") is not None
+                                      and abs(j["replay_volume_ratio"] - 1.0) > REPLAY_VOLUME_TOLERANCE],
             "jump_history": js["jumps"]}
 
 
-__all__ = ["DEFAULT_JUMP_TOLERANCE", "warm_up_replay", "loading_from_samples", "jump_error", "next_jump",
-           "replay_passes",
+def replay_volume_warning(cycle_jumping: dict) -> str | None:
+    """One line where a jump's replayed volume left the allowed band (summary.json's ``cycle_jumping``), else None."""
+    outside = cycle_jumping.get("replay_volume_outside") or []
+    if not outside:
+        return None
+    low, high = cycle_jumping["replay_volume_ratio_range"]
+    allowed_low, allowed_high = cycle_jumping["replay_volume_ratio_allowed"]
+    return (f"{len(outside)} jump(s) (from revolution {outside[0]}) replayed {low:.3g}-{high:.3g} of their blocks' "
+            f"volume, outside {allowed_low:g}-{allowed_high:g}: their wear is not the blocks' (docs/wear_study.md); "
+            "check against --cycle-jump-tolerance 0.001 or a --convergence jump,1 study")
+
+
+__all__ = ["DEFAULT_JUMP_TOLERANCE", "REPLAY_VOLUME_TOLERANCE", "warm_up_replay", "loading_from_samples",
+           "jump_error", "next_jump", "replay_passes", "replay_volume_warning",
            "new_jump_state", "advance_jump_study", "jump_summary"]
