@@ -397,7 +397,8 @@ def _law_spread_lines(spread: dict) -> list[str]:
              f"{no_wear['revolutions']:g} rev without wear"
              + (f"; max wear depth after one {wear['revolutions']:g} rev run at wear factor {wear['wear_factor']:g}"
                 if wear else "") + ". slider_acc_error_max: the largest |a − a_ideal| of the slider over the counted "
-             "revolutions (a_ideal: the ideal joint's closed form). Spread = max − min over the variants; sampling "
+             "revolutions after the start-up, as summary.json's slider_acc_error_max_m_s2 (a_ideal: the ideal "
+             "joint's closed form). Spread = max − min over the variants; sampling "
              f"spread = {spread['sampling_spread']}; ratio = spread / sampling spread (above 1: the choice of law "
              "moves the answer more than equally valid runs of one law do).", "",
              "| variant | " + " | ".join(f"{name} [{_shown_unit(a['unit'])}]" for name, a in answers.items()) + " |",

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .analysis import _revolution_of, last_revolution
+from .analysis import counted_revolutions, last_revolution, revolution_of
 from .core import layout as L
 
 # revolutions.csv's columns of this module, after wearjoint.analysis.REVOLUTION_COLUMNS
@@ -26,19 +26,12 @@ def _acc_error(samples: np.ndarray, mechanism) -> np.ndarray:
     return np.abs(samples[:, L.T_SLIDER_A] - SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"])
 
 
-def _counted(stats: np.ndarray) -> np.ndarray:
-    """The revolutions covering more than half the longest (as wearjoint.analysis.mean_revolution_statistics)."""
-    return np.flatnonzero(stats[:, L.S_TIME] > 0.5 * stats[:, L.S_TIME].max())
-
-
 def slider_acc_error_max(record) -> float:
-    """Largest |a - a_ideal| [m/s^2] of the slider acceleration over the run's counted revolutions (those covering
-    more than half the longest), NaN without samples there."""
-    t = record.samples[:, L.T_TIME]
-    inside = np.isin(_revolution_of(t, record.period_s), _counted(record.revolution_stats))
-    if not inside.any():
-        return float("nan")
-    return float(_acc_error(record.samples[inside], record.parameters.mechanism).max())
+    """Largest |a - a_ideal| [m/s^2] of a run record's slider: summary.json's ``slider_acc_error_max_m_s2``
+    (:func:`summary_statistics`), NaN without samples in its counted revolutions."""
+    value = summary_statistics(record.samples, record.revolution_stats, record.parameters.mechanism,
+                               record.settling_revolutions, None)["slider_acc_error_max_m_s2"]
+    return math.nan if value is None else value
 
 
 def revolution_columns(samples: np.ndarray, stats: np.ndarray, mechanism) -> np.ndarray:
@@ -51,7 +44,7 @@ def revolution_columns(samples: np.ndarray, stats: np.ndarray, mechanism) -> np.
     if samples.shape[0] == 0:
         return out
     t = samples[:, L.T_TIME]
-    revolution = _revolution_of(t, mechanism.period_s)
+    revolution = revolution_of(t, mechanism.period_s)
     error = _acc_error(samples, mechanism)
     ideal = SliderCrank(mechanism).ideal_joint_force(t)
     for k in range(n):
@@ -68,10 +61,10 @@ def summary_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, settli
     and ``joint_force_over_ideal`` (``max_contact_force_N`` over it); None without samples."""
     from .mechanism import SliderCrank
 
-    counted = _counted(stats)
+    counted = counted_revolutions(stats)
     after = counted[counted >= settling_revolutions]
     t = samples[:, L.T_TIME]
-    inside = np.isin(_revolution_of(t, mechanism.period_s), after if after.size else counted)
+    inside = np.isin(revolution_of(t, mechanism.period_s), after if after.size else counted)
     if not inside.any():
         return dict.fromkeys(("slider_acc_error_max_m_s2", "slider_acc_error_rms_m_s2", "ideal_joint_force_max_N",
                               "joint_force_over_ideal"))

@@ -55,6 +55,12 @@ def covered(stats: np.ndarray) -> np.ndarray:
     return stats[:, L.S_TIME] > 0.0
 
 
+def counted_revolutions(stats: np.ndarray) -> np.ndarray:
+    """Indices of the revolutions that cover more than half the longest one (a sliver row after the last
+    revolution is dropped): the rows the run's comparable statistics are taken over."""
+    return np.flatnonzero(stats[:, L.S_TIME] > 0.5 * stats[:, L.S_TIME].max())
+
+
 def last_revolution(stats: np.ndarray) -> int:
     """Index of the last revolution that was simulated (complete or partial)."""
     rows = np.nonzero(covered(stats))[0]
@@ -165,7 +171,7 @@ def mean_revolution_statistics(stats: np.ndarray, period_s: float, samples: np.n
     (a sliver row after the last revolution is dropped), the per-revolution extremes
     averaged over those revolutions and, from ``samples``, the mean eccentricity while in
     contact."""
-    rows = stats[stats[:, L.S_TIME] > 0.5 * stats[:, L.S_TIME].max()]
+    rows = stats[counted_revolutions(stats)]
     time_s = rows[:, L.S_TIME].sum()
     out = {
         "impacts_per_revolution": float(rows[:, L.S_IMPACTS].sum() / (time_s / period_s)),
@@ -350,7 +356,7 @@ def crank_angle_deg(theta1_rad) -> np.ndarray:
     return np.where(deg >= 360.0, 0.0, deg)       # -1e-17 % 360 rounds to 360
 
 
-def _revolution_of(t, period_s: float):
+def revolution_of(t, period_s: float):
     """Revolution index of time(s) t [s], as the per-revolution statistics assign an accepted point."""
     return (np.asarray(t, dtype=float) / period_s * (1.0 - 1e-14)).astype(np.int64)
 
@@ -393,7 +399,7 @@ def revolution_impact_events(samples: np.ndarray, stats: np.ndarray, mechanism,
     angles = [[] for _ in range(n)]
     for cluster in clusters:
         peak = cluster[np.argmax(deviation[cluster])]
-        k = int(_revolution_of(t[peak], period))
+        k = int(revolution_of(t[peak], period))
         if 0 <= k < n:
             angles[k].append(float(crank_angle_deg(samples[peak, L.T_CRANK_ANGLE])))
     events = np.array([len(a) for a in angles], dtype=float)
