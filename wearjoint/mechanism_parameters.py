@@ -93,8 +93,8 @@ LOAD_TABLE_PROBLEMS = {
     L.LOAD_TABLE_ROWS: f"the table has 0 rows (none) or an integer number from 2 to {L.MAX_LOAD_ROWS}",
     L.LOAD_TABLE_START: "the first row is not at 0 deg: the table covers the revolution from 0 to 360 deg",
     L.LOAD_TABLE_END: "the last row is not at 360 deg: the table covers the revolution from 0 to 360 deg",
-    L.LOAD_TABLE_RISE: "the crank angle does not rise above the row before's: the angles rise strictly "
-                             "from 0 to 360 deg",
+    L.LOAD_TABLE_RISE: "the crank angle does not rise above the row before's: the angles rise strictly from 0 to "
+                       "360 deg",
     L.LOAD_TABLE_PERIODIC: "the load at 360 deg differs from the load at 0 deg: the table is periodic",
 }
 
@@ -147,7 +147,7 @@ class SliderForceTable:
         """The table in CSV file ``path``: a header ``crank_angle_deg,force_N`` and one row per angle."""
         path = Path(path)
         try:
-            with open(path, newline="") as f:
+            with open(path, newline="", encoding="utf-8-sig") as f:     # a spreadsheet's byte-order mark dropped
                 rows = list(csv.reader(f))
         except OSError as error:
             raise ParameterError(f"slider force table {path}: cannot read it ({error.strerror})") from None

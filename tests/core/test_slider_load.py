@@ -66,6 +66,13 @@ def test_a_bad_table_file_is_refused_in_one_line_naming_file_line_and_problem(tm
     assert "\n" not in message and str(path) in message and problem in message, message
 
 
+def test_a_spreadsheets_csv_with_a_byte_order_mark_reads(tmp_path):
+    path = tmp_path / "load.csv"
+    path.write_bytes("\ufeffcrank_angle_deg,force_N\r\n0,5\r\n180,-5\r\n360,5\r\n".encode())
+    table = SliderForceTable.from_csv(path)
+    assert table.crank_angle_deg == (0.0, 180.0, 360.0) and table.force_N == (5.0, -5.0, 5.0)
+
+
 def test_gravity_is_a_vector_and_a_single_value_is_its_magnitude_across_the_slide():
     assert SliderCrankParameters(gravity_m_s2=9.81).gravity_m_s2 == (0.0, -9.81)
     assert SliderCrankParameters(gravity_m_s2=(9.81, 0.0)).gravity_m_s2 == (9.81, 0.0)
