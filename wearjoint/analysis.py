@@ -317,11 +317,17 @@ def growth_exponent(revolutions, depth_m) -> float:
 
 
 # ---------------------------------------------------------------- impact events
-def _impact_clusters(t: np.ndarray, slider_a_m_s2, mechanism, threshold_m_s2: float, merge_deg: float):
-    """(clusters of sample indices, |a - a_ideal| [m/s^2]) of :func:`impact_events`."""
+def slider_acc_deviation(time_s, slider_a_m_s2, mechanism) -> np.ndarray:
+    """|a - a_ideal| [m/s^2] of the slider at times ``time_s`` [s], a_ideal the closed-form ideal slider-crank of the
+    ``SliderCrankParameters`` ``mechanism`` (its crank is driven: the ideal kinematics do not depend on the loads)."""
     from .mechanism import SliderCrank
 
-    deviation = np.abs(np.asarray(slider_a_m_s2) - SliderCrank(mechanism).closed_form(t)["slider_a_m_s2"])
+    return np.abs(np.asarray(slider_a_m_s2) - SliderCrank(mechanism).closed_form(time_s)["slider_a_m_s2"])
+
+
+def _impact_clusters(t: np.ndarray, slider_a_m_s2, mechanism, threshold_m_s2: float, merge_deg: float):
+    """(clusters of sample indices, |a - a_ideal| [m/s^2]) of :func:`impact_events`."""
+    deviation = slider_acc_deviation(t, slider_a_m_s2, mechanism)
     above = np.flatnonzero(deviation > threshold_m_s2)
     if above.size == 0:
         return [], deviation

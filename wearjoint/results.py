@@ -90,9 +90,15 @@ class RunRecord:
         """The run's impact-vibration events per revolution (:func:`wearjoint.analysis.revolution_impact_events`)."""
         return analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism)
 
-    def summary(self, impact_events: dict | None = None) -> dict:
-        """summary.json's content (docs/model.md §6); the statistics are :mod:`wearjoint.analysis`'s
-        (``impact_events``: :meth:`impact_events` where the caller has it already)."""
+    def ideal_comparison(self) -> tuple[np.ndarray, np.ndarray]:
+        """|a - a_ideal| and the ideal joint's reaction at every sample
+        (:func:`wearjoint.against_ideal.sample_comparison`)."""
+        return against_ideal.sample_comparison(self.samples, self.parameters.mechanism)
+
+    def summary(self, impact_events: dict | None = None, ideal_comparison=None) -> dict:
+        """summary.json's content (docs/model.md §6); the statistics are :mod:`wearjoint.analysis`'s and
+        :mod:`wearjoint.against_ideal`'s (``impact_events``, ``ideal_comparison``: :meth:`impact_events`,
+        :meth:`ideal_comparison` where the caller has them already)."""
         out = {
             "revolutions": self.revolutions,
             "simulated_time_s": self.simulated_time_s,
@@ -113,17 +119,19 @@ class RunRecord:
             "parameters": self.parameters.to_dict(),
         }
         out.update(against_ideal.summary_statistics(self.samples, self.revolution_stats, self.parameters.mechanism,
-                                                    self.settling_revolutions, out.get("max_contact_force_N")))
+                                                    self.settling_revolutions, out.get("max_contact_force_N"),
+                                                    ideal_comparison))
         out.update(self.extra)
         return out
 
-    def revolution_table(self, impact_events: dict | None = None) -> np.ndarray:
-        """Per-revolution statistics, columns :data:`REVOLUTION_COLUMNS` (``impact_events``: as
-        :meth:`summary`'s)."""
+    def revolution_table(self, impact_events: dict | None = None, ideal_comparison=None) -> np.ndarray:
+        """Per-revolution statistics, columns :data:`REVOLUTION_COLUMNS` (``impact_events``, ``ideal_comparison``:
+        as :meth:`summary`'s)."""
         events = impact_events or self.impact_events()
         return np.column_stack([
             analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"]),
-            against_ideal.revolution_columns(self.samples, self.revolution_stats, self.parameters.mechanism)])
+            against_ideal.revolution_columns(self.samples, self.revolution_stats, self.parameters.mechanism,
+                                             ideal_comparison)])
 
 
 def write_json_atomic(path: Path, data: dict) -> None:
@@ -153,10 +161,11 @@ def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
     in_last = record.samples[:, L.T_TIME] > record.last_revolution() * record.period_s
     np.savetxt(out / "last_revolution.csv", record.samples[in_last], delimiter=",",
                header=",".join(L.SAMPLE_NAMES), comments="", fmt="%.10g")
-    events = record.impact_events()              # once, for revolutions.csv and summary.json
-    np.savetxt(out / "revolutions.csv", record.revolution_table(events), delimiter=",",
+    events = record.impact_events()              # once each, for revolutions.csv and summary.json
+    comparison = record.ideal_comparison()
+    np.savetxt(out / "revolutions.csv", record.revolution_table(events, comparison), delimiter=",",
                header=",".join(REVOLUTION_COLUMNS), comments="", fmt="%.10g")
-    summary = record.summary(events)
+    summary = record.summary(events, comparison)
     if plots:
         from .plots import plot_run  # matplotlib only when figures are written
         summary["figures"] = plot_run(record, out)
