@@ -3,16 +3,16 @@ check of the monolithic engine (:mod:`wearjoint.simulate`).
 
 Crank, rod and slider are ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` with the
 nodes at the centres of mass (so the inertias are about the COM, docs/model.md §7);
-gravity is a mass-proportional load; the crank pivot and the rod-slider joint
-are ``ObjectJointRevolute2D``; the slider runs on an ``ObjectJointPrismatic2D``
+gravity is a mass-proportional load; the crank pivot, the rod-slider and the crank-rod joints
+are ``ObjectJointRevolute2D`` but the clearance joint (``clearance_joint``); the slider runs on an ``ObjectJointPrismatic2D``
 along X with its rotation constrained; the crank is driven by an
 ``ObjectConnectorCoordinate`` whose offset acts on the displacement from the
 reference angle, offset(t) = -omega t (theta1 = theta0 - omega t).
 
-``ideal=True`` closes the crank-rod joint with another revolute joint.  Otherwise
+``ideal=True`` closes the clearance joint with a revolute joint too.  Otherwise
 the clearance joint goes in through the public helper
-:func:`wearjoint.exudyn.add_clearance_joint` (crank = pin body, rod = bushing body):
-a zero-mass ``ObjectGenericODE2`` on the crank and rod nodes applies the clearance
+:func:`wearjoint.exudyn.add_clearance_joint` (its pin body and bushing body, core.joint_location):
+a zero-mass ``ObjectGenericODE2`` on their nodes applies the clearance
 force pair (Eqs. 20-23) on exudyn's right-hand side, and wear and the contact-onset
 bookkeeping advance once per accepted step, before this model's recorder runs.
 
@@ -38,7 +38,7 @@ from exudyn.itemInterface import (
 
 from wearjoint.core import layout as L
 from wearjoint.core.integrators import record_step
-from wearjoint.core.mechanism import slider_load
+from wearjoint.core.slider_load import slider_load
 from wearjoint.exudyn import add_clearance_joint, set_post_step, solve_dynamic
 from wearjoint.joint import ClearanceJoint
 from wearjoint.mechanism import SliderCrank
@@ -160,8 +160,14 @@ class ExudynSliderCrank:
                 mbs.AddMarker(MarkerBodyPosition(bodyNumber=body_a, localPosition=[*local_a, 0.0])),
                 mbs.AddMarker(MarkerBodyPosition(bodyNumber=body_b, localPosition=[*local_b, 0.0]))]))
 
-        revolute(ground, (0.0, 0.0), crank, (-0.5 * l1, 0.0))           # crank pivot at the origin
-        revolute(rod, (0.5 * l2, 0.0), slider, (0.0, 0.0))               # rod - slider
+        # the three revolutes (pin body, its point; bushing body, its point), the clearance joint's left open
+        revolutes = {"crank-rod": (crank, (0.5 * l1, 0.0), rod, (-0.5 * l2, 0.0)),
+                     "rod-slider": (slider, (0.0, 0.0), rod, (0.5 * l2, 0.0)),
+                     "crank-ground": (crank, (-0.5 * l1, 0.0), ground, (0.0, 0.0))}
+        pin_body, _, bushing_body, _ = revolutes[p.clearance_joint]
+        for name, pair in revolutes.items():
+            if name != p.clearance_joint or self.ideal:
+                revolute(*pair)
         mbs.AddObject(ObjectJointPrismatic2D(                            # slider on X, rotation fixed
             markerNumbers=[mbs.AddMarker(MarkerBodyRigid(bodyNumber=ground, localPosition=[0.0, 0.0, 0.0])),
                            mbs.AddMarker(MarkerBodyRigid(bodyNumber=slider, localPosition=[0.0, 0.0, 0.0]))],
@@ -175,12 +181,10 @@ class ExudynSliderCrank:
         self.native = None
         if self.ideal or self.formulation == NATIVE:
             self.joint = ClearanceJoint(self.joint_parameters)        # unworn; its result: zero, or read from exudyn
-            if self.ideal:
-                revolute(crank, (0.5 * l1, 0.0), rod, (-0.5 * l2, 0.0))
-            else:
-                self.native = NativeContact(mbs, crank, rod, self.joint_parameters)
+            if not self.ideal:
+                self.native = NativeContact(mbs, pin_body, bushing_body, self.joint_parameters)
         else:
-            self.joint = add_clearance_joint(mbs, crank, rod, self.joint_parameters).joint
+            self.joint = add_clearance_joint(mbs, pin_body, bushing_body, self.joint_parameters).joint
         set_post_step(mbs, self.post_step)
         mbs.Assemble()
         for k, node in enumerate(self.nodes):

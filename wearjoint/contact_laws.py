@@ -12,8 +12,9 @@ from .parameters import SliderCrankParameters
 def contact_law_variants(mechanism: SliderCrankParameters) -> tuple[tuple[str, dict], ...]:
     """(label, joint changes) of every law and of each free parameter's plausible range: Hunt-Crossley's v_r from
     12.5 to 200 mm/s (the paper case's onset speeds, 25 % to 99 %), the Lankarani-Nikravesh laws' velocity floor at
-    1 and 10 mm/s, Tsuji's effective mass from the rod across (:attr:`SliderCrankParameters.rod_across_mass_kg`) to
-    the rod and slider along the rod (:attr:`SliderCrankParameters.contact_effective_mass_kg`)."""
+    1 and 10 mm/s, Tsuji's effective mass from the one the clearance joint decelerates across the rod
+    (:attr:`SliderCrankParameters.rod_across_mass_kg`) to the one along it
+    (:attr:`SliderCrankParameters.contact_effective_mass_kg`)."""
     across = mechanism.rod_across_mass_kg
     along = mechanism.contact_effective_mass_kg
     return (("hunt-crossley v_r 50 mm/s", {"contact_damping": "hunt-crossley", "restitution_speed_m_s": 0.05}),

@@ -20,11 +20,13 @@ from .checks import ParameterError, finite, positive, require
 from .core import layout as L
 
 # allowed rules of a row (the FMU's checks are built from the same names: fmu/slider_crank.py)
-POSITIVE, FINITE, NON_NEGATIVE, ABOVE_CRANK, TABLE_ROWS, TABLE_ANGLE = (
-    "positive", "finite", "non-negative", "above-crank", "table-rows", "table-angle")
+POSITIVE, FINITE, NON_NEGATIVE, ABOVE_CRANK, TABLE_ROWS, TABLE_ANGLE, CHOICE = (
+    "positive", "finite", "non-negative", "above-crank", "table-rows", "table-angle", "choice")
+CLEARANCE_JOINTS = L.CLEARANCE_JOINTS     # the values of clearance_joint; the FMU's: their index
 RULE_TEXT = {POSITIVE: "> 0", FINITE: "a finite real number", NON_NEGATIVE: ">= 0",
              ABOVE_CRANK: "> crank_length_m (the crank must turn fully)",
-             TABLE_ROWS: f"0 (no table) or an integer from 2 to {L.MAX_LOAD_ROWS}", TABLE_ANGLE: "in [0, 360] deg"}
+             TABLE_ROWS: f"0 (no table) or an integer from 2 to {L.MAX_LOAD_ROWS}", TABLE_ANGLE: "in [0, 360] deg",
+             CHOICE: ", ".join(f"{k} ({name})" for k, name in enumerate(CLEARANCE_JOINTS))}
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,7 @@ class MechanismField:
     scale: float = 1.0          # user unit -> the kernels' SI unit: times scale, then over divisor
     divisor: float = 1.0
     component: int | None = None  # the element of a pair (gravity) or of the load table
+    choices: tuple[str, ...] | None = None  # CHOICE: the field's values, the FMU's value their index
 
 
 _DEG = math.pi / 180.0
@@ -72,6 +75,9 @@ _SCALARS = (
                    "positive towards the crank's pivot (compressing the rod)", FINITE, L.MP_SLIDER_FORCE),
     MechanismField("slider_force_table", "slider_force_table_rows", "1", "rows of the slider-load table (0: none)",
                    TABLE_ROWS, L.MP_LOAD_ROWS),
+    MechanismField("clearance_joint", "clearance_joint", "1", "the joint with the clearance: "
+                   f"{RULE_TEXT[CHOICE]}; the other two are ideal", CHOICE, L.MP_CLEARANCE_JOINT,
+                   choices=CLEARANCE_JOINTS),
 )
 _TABLE = tuple(
     MechanismField("slider_force_table", f"slider_force_table_angle_{k + 1}", "deg",
@@ -84,11 +90,11 @@ _TABLE = tuple(
 MECHANISM_FIELDS: tuple[MechanismField, ...] = tuple(sorted(_SCALARS + _TABLE, key=lambda f: f.slot))
 if [f.slot for f in MECHANISM_FIELDS] != list(range(L.N_MECHANISM_FIELDS)):
     raise RuntimeError("MECHANISM_FIELDS does not fill core.layout's mechanism slots once each")
-# user unit -> kernel unit of each slot, value * scale / divisor (core.mechanism.mechanism_parameter_vector): rpm as
+# user unit -> kernel unit of each slot, value * scale / divisor (core.slider_load.mechanism_parameter_vector): rpm as
 # n 2 pi / 60, degrees as math.radians (the arithmetic the parameter set's own properties use, to the last bit)
 FIELD_SCALES = np.array([[f.scale for f in MECHANISM_FIELDS], [f.divisor for f in MECHANISM_FIELDS]])
 PAPER_GRAVITY_M_S2 = 9.81
-# what is wrong with a slider-load table, by core.mechanism.load_table_problem's kind (the FMU logs the same words)
+# what is wrong with a slider-load table, by core.slider_load.load_table_problem's kind (the FMU logs the same words)
 LOAD_TABLE_PROBLEMS = {
     L.LOAD_TABLE_ROWS: f"the table has 0 rows (none) or an integer number from 2 to {L.MAX_LOAD_ROWS}",
     L.LOAD_TABLE_START: "the first row is not at 0 deg: the table covers the revolution from 0 to 360 deg",
@@ -131,7 +137,7 @@ class SliderForceTable:
         fields[L.MP_LOAD_ROWS] = len(angles)
         fields[L.MP_LOAD_ANGLES:L.MP_LOAD_ANGLES + len(angles)] = angles
         fields[L.MP_LOAD_FORCES:L.MP_LOAD_FORCES + len(forces)] = forces
-        from .core.mechanism import load_table_problem    # the kernels only where a table is given
+        from .core.slider_load import load_table_problem    # the kernels only where a table is given
 
         problem = load_table_problem(fields)
         if problem:
@@ -204,8 +210,10 @@ class SliderCrankParameters:
     """The paper's slider-crank (Table 1, Eqs. 38-44), crank driven clockwise, with the user's loads.
 
     ``theta1(t) = initial_crank_angle - omega t`` with omega from ``crank_speed_rpm``.  The clearance
-    joint sits between the crank tip and the rod's crank-side end; its body-frame offsets follow from
-    the lengths.  ``gravity_m_s2``: a pair (g_x, g_y) in the mechanism's frame (x along the slider's
+    joint is ``clearance_joint``: ``crank-rod`` (the crank's tip in the rod's big end, the paper's),
+    ``rod-slider`` (the slider's pin in the rod's small end) or ``crank-ground`` (the crank's journal in a
+    bushing fixed at the pivot); the other two joints are ideal; its body-frame offsets follow from the
+    lengths (:meth:`joint_offsets`).  ``gravity_m_s2``: a pair (g_x, g_y) in the mechanism's frame (x along the slider's
     axis, from the crank's pivot towards the slider), or one value g for (0, -g).  The slider carries
     ``slider_force_N`` plus ``slider_force_table`` (a :class:`SliderForceTable`), positive towards the
     crank's pivot.
@@ -226,6 +234,7 @@ class SliderCrankParameters:
     baumgarte_beta: float = 5.0
     slider_force_N: float = 0.0
     slider_force_table: SliderForceTable | None = None
+    clearance_joint: str = "crank-rod"
 
     def __post_init__(self):
         object.__setattr__(self, "gravity_m_s2", _gravity_pair(self.gravity_m_s2))
@@ -233,7 +242,9 @@ class SliderCrankParameters:
             if f.component is not None or f.field == "slider_force_table":
                 continue
             value = getattr(self, f.field)
-            if f.rule in (POSITIVE, ABOVE_CRANK):
+            if f.rule == CHOICE:
+                require(f.field, value, value in f.choices, " or ".join(repr(c) for c in f.choices))
+            elif f.rule in (POSITIVE, ABOVE_CRANK):
                 positive(f.field, value)
             elif f.rule == NON_NEGATIVE:
                 require(f.field, value, finite(f.field, value) >= 0.0, RULE_TEXT[NON_NEGATIVE])
@@ -255,11 +266,18 @@ class SliderCrankParameters:
         """True where the slider carries a load (constant or table)."""
         return self.slider_force_N != 0.0 or self.slider_force_table is not None
 
+    @property
+    def clearance_location(self) -> int:
+        """The clearance joint's location code (core.layout.CLEARANCE_*)."""
+        return CLEARANCE_JOINTS.index(self.clearance_joint)
+
     def sliding_speed_bound_m_s(self, joint) -> float:
-        """Bound on the sliding speed in the crank-rod joint [m/s]: R_j |omega_crank - omega_rod| with the
-        rod's rate at most omega l1 / (l2 - l1)."""
-        return joint.bushing_radius_m * self.omega_rad_s * (1.0 + self.crank_length_m / (self.rod_length_m
-                                                                                           - self.crank_length_m))
+        """Bound on the sliding speed in the clearance joint [m/s]: R_j |omega_pin - omega_bushing| with the
+        rod's rate at most omega l1 / (l2 - l1) (the slider and the ground do not turn)."""
+        rod_rate = self.crank_length_m / (self.rod_length_m - self.crank_length_m)
+        relative = {L.CLEARANCE_CRANK_ROD: 1.0 + rod_rate, L.CLEARANCE_ROD_SLIDER: rod_rate,
+                    L.CLEARANCE_CRANK_GROUND: 1.0}[self.clearance_location]
+        return joint.bushing_radius_m * self.omega_rad_s * relative
 
     @property
     def period_s(self) -> float:
@@ -268,16 +286,23 @@ class SliderCrankParameters:
 
     @property
     def contact_effective_mass_kg(self) -> float:
-        """The mass [kg] the crank-rod joint decelerates along the rod at the dead centres, rod and slider
-        (the crank is driven): the Tsuji damping's effective mass for this mechanism (docs/model.md §3.5)."""
-        return self.rod_mass_kg + self.slider_mass_kg
+        """The mass [kg] the clearance joint decelerates along the rod at the dead centres (the crank's rotation
+        is driven): rod and slider at the crank-rod joint, the slider at the rod-slider joint (the rod's end
+        follows the crank), all three bodies at the crank-ground joint; the Tsuji damping's effective mass for
+        this mechanism (docs/model.md §3.5)."""
+        return {L.CLEARANCE_CRANK_ROD: self.rod_mass_kg + self.slider_mass_kg,
+                L.CLEARANCE_ROD_SLIDER: self.slider_mass_kg,
+                L.CLEARANCE_CRANK_GROUND: self.crank_mass_kg + self.rod_mass_kg + self.slider_mass_kg,
+                }[self.clearance_location]
 
     @property
     def rod_across_mass_kg(self) -> float:
-        """The mass [kg] the crank-rod joint decelerates across the rod: the rod turning about the slider pin,
-        (I2 + m2 l2^2 / 4) / l2^2 (the smallest effective mass at the joint for the paper's proportions)."""
+        """The mass [kg] the clearance joint decelerates across the rod: the rod's end turning about its other
+        end, (I2 + m2 l2^2 / 4) / l2^2, plus the crank's mass at the crank-ground joint (the slider cannot move
+        across the slide; the smallest effective mass at the joint for the paper's proportions)."""
         length = self.rod_length_m
-        return (self.rod_inertia_kg_m2 + 0.25 * self.rod_mass_kg * length * length) / (length * length)
+        rod = (self.rod_inertia_kg_m2 + 0.25 * self.rod_mass_kg * length * length) / (length * length)
+        return rod + (self.crank_mass_kg if self.clearance_location == L.CLEARANCE_CRANK_GROUND else 0.0)
 
     def joint_defaults(self) -> dict:
         """The joint's values this mechanism sets unless given: the centres (:meth:`joint_offsets`) and the
@@ -285,9 +310,15 @@ class SliderCrankParameters:
         return {**self.joint_offsets(), "effective_mass_kg": self.contact_effective_mass_kg}
 
     def joint_offsets(self) -> dict:
-        """Pin and bushing centres in the crank and rod frames (docs/model.md §1)."""
-        return {"pin_offset_m": (0.5 * self.crank_length_m, 0.0),
-                "bushing_offset_m": (-0.5 * self.rod_length_m, 0.0)}
+        """Pin and bushing centres in their bodies' frames (docs/model.md §1): the crank's tip and the rod's big
+        end (crank-rod), the slider's centre and the rod's small end (rod-slider), the crank's pivot end and the
+        frame's origin (crank-ground)."""
+        l1 = self.crank_length_m
+        l2 = self.rod_length_m
+        return {L.CLEARANCE_CRANK_ROD: {"pin_offset_m": (0.5 * l1, 0.0), "bushing_offset_m": (-0.5 * l2, 0.0)},
+                L.CLEARANCE_ROD_SLIDER: {"pin_offset_m": (0.0, 0.0), "bushing_offset_m": (0.5 * l2, 0.0)},
+                L.CLEARANCE_CRANK_GROUND: {"pin_offset_m": (-0.5 * l1, 0.0), "bushing_offset_m": (0.0, 0.0)},
+                }[self.clearance_location]
 
     def replace(self, **changes) -> "SliderCrankParameters":
         return dataclasses.replace(self, **changes)
@@ -323,7 +354,7 @@ def mechanism_from_options(options: dict) -> SliderCrankParameters:
 
 def field_vector(p: SliderCrankParameters) -> np.ndarray:
     """The values of :data:`MECHANISM_FIELDS` for ``p`` in the user's units (the SliderCrank FMU's parameters,
-    in its order); :func:`wearjoint.core.mechanism.mechanism_parameter_vector` scales them into the kernels'."""
+    in its order); :func:`wearjoint.core.slider_load.mechanism_parameter_vector` scales them into the kernels'."""
     out = np.zeros(L.N_MECHANISM_FIELDS)
     table = p.slider_force_table
     for k, f in enumerate(MECHANISM_FIELDS):
@@ -334,6 +365,8 @@ def field_vector(p: SliderCrankParameters) -> np.ndarray:
                 out[k] = len(table.crank_angle_deg)
             elif f.component < len(table.crank_angle_deg):
                 out[k] = (table.crank_angle_deg if f.slot < L.MP_LOAD_FORCES else table.force_N)[f.component]
+        elif f.choices is not None:
+            out[k] = f.choices.index(getattr(p, f.field))
         elif f.component is not None:
             out[k] = getattr(p, f.field)[f.component]
         else:
@@ -342,4 +375,4 @@ def field_vector(p: SliderCrankParameters) -> np.ndarray:
 
 
 __all__ = ["SliderCrankParameters", "SliderForceTable", "LOAD_TABLE_PROBLEMS", "MechanismField", "MECHANISM_FIELDS",
-           "FIELD_SCALES", "field_vector", "mechanism_from_options", "RULE_TEXT", "PAPER_GRAVITY_M_S2"]
+           "FIELD_SCALES", "field_vector", "mechanism_from_options", "RULE_TEXT", "PAPER_GRAVITY_M_S2", "CLEARANCE_JOINTS"]

@@ -127,6 +127,11 @@ class Simulation:
         joint = joint or paper_joint(self.mechanism.params)
         self.options = (options or SimulationOptions()).for_joint(joint, self.mechanism.params)
         check_joint_fits_mechanism(joint, self.mechanism.params)
+        o = self.options
+        clearance_joint = self.mechanism.params.clearance_joint
+        require("gear_jacobian", o.gear_jacobian, o.integrator != "gear" or o.ideal or o.gear_jacobian != "exact"
+                or clearance_joint == "crank-rod",
+                f"'numerical' with clearance_joint={clearance_joint!r} (the exact Jacobian is the crank-rod joint's)")
         self.joint = ClearanceJoint(joint)
         if initial_profile_m is not None:
             self.joint.set_wear_profile(initial_profile_m)

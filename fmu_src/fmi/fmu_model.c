@@ -102,7 +102,7 @@ int fmu_parameters_valid(const FmuHost *host, const ParameterInfo *table, int n,
         if (ok)
             continue;
         char text[32], other[32];
-        if (p->n_choices > 0)   /* an Integer: its value as an integer */
+        if (p->n_choices > 0 && x == floor(x))   /* an enumeration's value as an integer */
             snprintf(text, sizeof text, "%.0f", x);
         else
             fmu_shortest(x, text, sizeof text);

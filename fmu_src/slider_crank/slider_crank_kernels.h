@@ -35,4 +35,8 @@ int32_t slider_crank_step(int32_t *status, void *excinfo, double t, double h, in
                           double *mp, const double *inputs, double *jac, double *schur, double *phi,
                           double *phi_dot, double *gamma, double *minv, double *force, double *dy, double *stages);
 
+/* out = the clearance joint's kinematic inputs (x, y, angle, vx, vy, omega of its pin body, then of its
+ * bushing body; the ground's zero) from y, for the joint named by mp (wearjoint/core/joint_location.py). */
+int32_t slider_crank_joint_kinematics(int32_t *status, void *excinfo, const double *y, const double *mp, double *out);
+
 #endif

@@ -193,6 +193,15 @@ int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *val
             return 0;
         values[0] = model->y[v->index];
         return 1;
+    case SOURCE_JOINT: {
+        if (!prepare(model, function))
+            return 0;
+        double kinematics[12];
+        int32_t status = 0;
+        slider_crank_joint_kinematics(&status, NULL, model->y, model->mp, kinematics);
+        values[0] = kinematics[v->index];
+        return 1;
+    }
     default: { /* SOURCE_DERIVATIVE */
         char what[128];
         snprintf(what, sizeof what, "%s of %s", function, v->name);

@@ -44,11 +44,12 @@ def test_the_masters_chained_rotations_stay_within_64_ulp_of_libm():
     buf = np.zeros(B_TRIG + 7)
     y = np.zeros(2 * L.N_COORDINATES)
     y[L.CRANK + 2], y[L.ROD + 2] = 2.0e4, -1.3
+    mp = np.zeros(L.N_MECHANISM_PARAMETERS)                 # the crank-rod joint: the crank's and the rod's angles
     worst = 0.0
     for _ in range(20_000):
         y[L.CRANK + 2] += rng.uniform(0.0, 3e-3)
         y[L.ROD + 2] += rng.uniform(-3e-3, 3e-3)
-        cos1, sin1, cos2, sin2 = _step_trig(buf, y)
+        cos1, sin1, cos2, sin2 = _step_trig(buf, y, mp)
         worst = max(worst, abs(cos1 - math.cos(y[L.CRANK + 2])), abs(sin1 - math.sin(y[L.CRANK + 2])),
                     abs(cos2 - math.cos(y[L.ROD + 2])), abs(sin2 - math.sin(y[L.ROD + 2])))
     assert 0.0 < worst <= 64 * np.spacing(1.0)

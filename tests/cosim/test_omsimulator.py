@@ -124,22 +124,24 @@ def _result_signal(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     return mat["data_2"][0], values
 
 
-def test_command_line_runs_a_loaded_package_and_carries_its_load(omsimulator, tmp_path):
-    """`export-ssp --slider-force-table FILE` (the press of docs/own_mechanism.md, gravity along the stroke) runs in
-    OMSimulator's command line as exported; over the crank angles where the table presses with 2 kN the joint
-    carries, on average, what the ideal joint carries under the same load (1.8 kN) within 5 %, where before the
-    table's ramp the ideal joint carries under 0.2 kN: the load reached the mechanism through the package's
-    parameter set."""
+@pytest.mark.parametrize("location", ["crank-rod", "rod-slider", "crank-ground"])
+def test_command_line_runs_a_loaded_package_and_carries_its_load(omsimulator, tmp_path, location):
+    """`export-ssp --slider-force-table FILE --clearance-joint J` (the press of docs/own_mechanism.md, gravity along
+    the stroke) runs in OMSimulator's command line as exported; over the crank angles where the table presses with
+    2 kN the joint carries, on average, what the ideal joint J carries under the same load (1.8 kN) within 5 %,
+    where before the table's ramp the ideal joint carries a ninth of it at most: the load reached the mechanism
+    through the package's parameter set, and the joint FMU sits where the mechanism FMU opened the joint."""
     from wearjoint.mechanism import SliderCrank
     from wearjoint.mechanism_parameters import SliderForceTable
 
     table = Path(__file__).resolve().parents[2] / "docs" / "examples" / "press_load.csv"
     press = SliderCrankParameters(crank_length_m=0.05, rod_length_m=0.25, crank_speed_rpm=120.0, slider_mass_kg=8.0,
                                   rod_mass_kg=1.2, rod_inertia_kg_m2=0.00625, gravity_m_s2=(9.81, 0.0),
-                                  initial_crank_angle_deg=30.0, slider_force_table=SliderForceTable.from_csv(table))
+                                  initial_crank_angle_deg=30.0, slider_force_table=SliderForceTable.from_csv(table),
+                                  clearance_joint=location)
     options = ["--crank-length-m", "0.05", "--rod-length-m", "0.25", "--crank-speed-rpm", "120", "--slider-mass-kg",
                "8", "--rod-mass-kg", "1.2", "--rod-inertia-kg-m2", "0.00625", "--gravity-m-s2=9.81,0",
-               "--initial-crank-angle-deg", "30", "--slider-force-table", str(table)]
+               "--initial-crank-angle-deg", "30", "--slider-force-table", str(table), "--clearance-joint", location]
     assert main(["export-ssp", "--out", str(tmp_path), "--platforms", "linux64", *options]) == 0
     run = subprocess.run([str(omsimulator), "--stopTime=0.06", ssp.SSP_FILE_NAME], cwd=tmp_path, capture_output=True,
                          text=True, timeout=600)
@@ -152,4 +154,5 @@ def test_command_line_runs_a_loaded_package_and_carries_its_load(omsimulator, tm
     pressing = (degrees > 2.0) & (degrees < 14.0)
     assert pressing.sum() > 100
     assert force[pressing].mean() == pytest.approx(ideal[pressing].mean(), rel=0.05)
-    assert ideal[pressing].mean() > 1500.0 and ideal[(degrees > 21.0) & (degrees < 28.0)].max() < 200.0
+    assert ideal[pressing].mean() > 1500.0
+    assert ideal[(degrees > 21.0) & (degrees < 28.0)].max() < ideal[pressing].mean() / 8.0

@@ -77,7 +77,7 @@ def ideal_loads(t, y, mechanism=MECHANISM, slider_input=0.0):
     mp = mechanism.parameter_vector.copy()
     mp[L.MP_SLIDER_FORCE_INPUT] = slider_input
     accelerations(t, y[:L.N_COORDINATES], y[L.N_COORDINATES:], mp, True, np.zeros(6), ws, qdd)
-    jac, lam = ws[0], ws[4]
+    jac, lam = ws[0], ws[3]                     # the multipliers of all nine rows, in order
     loads = np.array([-(jac[7, c] * lam[7] + jac[8, c] * lam[8])
                       for c in (*range(L.CRANK, L.CRANK + 3), *range(L.ROD, L.ROD + 3))] + [slider_input])
     return loads, qdd
@@ -119,13 +119,16 @@ def _trace_command(tmp_path, n: int, h: float = 1e-3) -> str:
 
 # ------------------------------------------------------------------ the model
 
-def _continuous_time_model(fmu) -> "FMU2Model":
-    """An initialised FMI 2.0 Model Exchange instance of the SliderCrank FMU ``fmu``, in Continuous-Time Mode."""
+def _continuous_time_model(fmu, parameters=None) -> "FMU2Model":
+    """An initialised FMI 2.0 Model Exchange instance of the SliderCrank FMU ``fmu`` with ``parameters``, in
+    Continuous-Time Mode."""
     model = FMU2Model(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
                       instanceName="me")
     model.instantiate()
     model.setupExperiment(startTime=0.0)
     model.enterInitializationMode()
+    for key, value in (parameters or {}).items():
+        model.setReal([sc.VALUE_REFERENCES[key]], [value])
     model.exitInitializationMode()
     model.newDiscreteStates()
     model.enterContinuousTimeMode()
@@ -152,6 +155,8 @@ def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
             default = getattr(defaults, field.name)
             if isinstance(default, tuple):
                 assert [float(variables[f"{name}_{axis}"].start) for axis in "xy"] == list(default), name
+            elif field.name == "clearance_joint":            # an enumeration's index
+                assert L.CLEARANCE_JOINTS[int(float(variables[name].start))] == default
             else:
                 assert float(variables[name].start) == default, name
         assert md.coSimulation is not None and md.modelExchange is not None
@@ -301,44 +306,50 @@ def _declared_input_dependencies(md) -> dict[str, set[str]]:
 
 def test_model_structure_declares_the_feed_through_finite_differences_show(fmus):
     """Every output and derivative declares its dependencies (none absent: absent means "on every known", an
-    algebraic loop for a master closing the joint around it); FMI 2.0 and 3.0 declare the same ones.  Model
-    Exchange at a generic state (30 ms into a run), each input moved by 1 N (N m) in turn: an unknown declared
-    independent of an input does not move at all (the crank's accelerations follow from its drive alone:
-    exactly), one declared dependent moves by more than 1e-3 of its unit for each input it declares."""
+    algebraic loop for a master closing the joint around it); FMI 2.0 and 3.0 declare the same ones, for any
+    clearance_joint (a parameter).  Model Exchange at a generic state (30 ms into a run), with the clearance at
+    each joint in turn, each input moved by 1 N (N m): an unknown declared independent of an input moves by
+    round-off at most (the crank's angular acceleration follows from its drive alone, the slider's across the
+    slide and in rotation from its guide), one declared dependent moves by more than 1e-3 of its unit at one
+    joint at least."""
     declared = {version: _declared_input_dependencies(fmu["md"]) for version, fmu in fmus.items()}
     assert declared[2] == declared[3]
     for version, fmu in fmus.items():
         assert all(u.dependencies is not None for u in (*fmu["md"].outputs, *fmu["md"].derivatives,
                                                          *fmu["md"].initialUnknowns)), version
-    state_outputs = {v.name for v in (*sc.POSITIONS, *sc.VELOCITIES, sc.CRANK_ANGLE) if v.causality == fv.OUTPUT}
+    state_outputs = {v.name for v in (*sc.POSITIONS, *sc.VELOCITIES, *sc.JOINT_KINEMATICS)
+                     if v.causality == fv.OUTPUT}
     assert all(declared[2][name] == set() for name in state_outputs)
     assert declared[2]["slider_a"]      # the acceleration feeds through
-    slave = _slave(fmus[2])
-    for i in range(30):
-        slave.doStep(i * 1e-3, 1e-3)
-    y = slave.getReal(STATE_VRS)
-    slave.terminate()
-    slave.freeInstance()
-    model = _continuous_time_model(fmus[2])
-    model.setTime(0.03)
-    model.setContinuousStates((fmi2Real * len(y))(*y), len(y))
     unknowns = sorted(declared[2])
     vrs = [sc.VALUE_REFERENCES[name] for name in unknowns]
-    base = list(_smooth_loads(0.03))
-    model.setReal(INPUT_VRS, base)
-    before = np.array(model.getReal(vrs))
-    for k, v in enumerate(sc.INPUTS):
-        moved = list(base)
-        moved[k] += 1.0
-        model.setReal(INPUT_VRS, moved)
-        change = np.abs(np.array(model.getReal(vrs)) - before)
-        for name, delta in zip(unknowns, change):
-            if v.name in declared[2][name]:
-                assert delta > 1e-3, (name, v.name, delta)
-            else:
-                assert delta == 0.0, (name, v.name, delta)
-    model.terminate()
-    model.freeInstance()
+    moved_somewhere = {name: set() for name in unknowns}
+    for location in range(len(L.CLEARANCE_JOINTS)):
+        slave = _slave(fmus[2], {"clearance_joint": float(location)})
+        for i in range(30):
+            slave.doStep(i * 1e-3, 1e-3)
+        y = slave.getReal(STATE_VRS)
+        slave.terminate()
+        slave.freeInstance()
+        model = _continuous_time_model(fmus[2], {"clearance_joint": float(location)})
+        model.setTime(0.03)
+        model.setContinuousStates((fmi2Real * len(y))(*y), len(y))
+        base = list(_smooth_loads(0.03))
+        model.setReal(INPUT_VRS, base)
+        before = np.array(model.getReal(vrs))
+        for k, v in enumerate(sc.INPUTS):
+            moved = list(base)
+            moved[k] += 1.0
+            model.setReal(INPUT_VRS, moved)
+            change = np.abs(np.array(model.getReal(vrs)) - before)
+            for name, delta in zip(unknowns, change):
+                if v.name not in declared[2][name]:
+                    assert delta < 1e-9, (location, name, v.name, delta)
+                elif delta > 1e-3:
+                    moved_somewhere[name].add(v.name)
+        model.terminate()
+        model.freeInstance()
+    assert moved_somewhere == {name: declared[2][name] for name in unknowns}
 
 
 def _start(version: int, parameters: dict, interface: str = "instantiate") -> str:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core import layout as L
 from ..core.geometry import bushing_point_angles
 from ..fmu.build import BACKENDS, DEFAULT_BACKEND
 from ..mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
@@ -34,10 +35,14 @@ _HELP = {
     "wear_factor": "wear acceleration factor on k_w",
     "wear_interval_s": "the foundation's wear is applied once per this much contact time, 0: every step "
                        "(docs/model.md §3.11)",
-    "pin_offset_m": "pin centre in the crank's frame, x y [m]",
-    "bushing_offset_m": "bushing centre in the rod's frame, x y [m]",
+    "pin_offset_m": "pin centre in the pin body's frame, x y [m]",
+    "bushing_offset_m": "bushing centre in the bushing body's frame, x y [m]",
     "n_points": "bushing discrete points N_d",
-    **{f.field: f.text for f in MECHANISM_FIELDS if f.component is None and f.field != "slider_force_table"},
+    **{f.field: f.text for f in MECHANISM_FIELDS if f.component is None and f.field not in ("slider_force_table",
+                                                                                            "clearance_joint")},
+    "clearance_joint": "the joint with the clearance (the other two are ideal): crank-rod, the crank's tip in the "
+                       "rod's big end (the paper's); rod-slider, the slider's pin in the rod's small end; "
+                       "crank-ground, the crank's journal in a bushing at the pivot (docs/model.md §1)",
     "gravity_m_s2": "gravity [m/s^2]: G for (0, -G), across the slide (the paper's), or GX,GY in the mechanism's "
                     "frame (x along the slider's axis, from the crank's pivot towards the slider)",
     "slider_force_table": "CSV file crank_angle_deg,force_N: the slider's load over a revolution, linearly "
@@ -61,7 +66,9 @@ def gravity_value(text: str):
 
 
 # model options whose default is not a value: what the parameter set does without them
-_UNSET = {"effective_mass_kg": "(default: the slider-crank's rod and slider masses, 0.89 for the paper's)",
+_UNSET = {"effective_mass_kg": "(default: the mass the clearance joint decelerates along the rod: rod and slider at "
+                               "the crank-rod joint, 0.89 for the paper's; the slider at the rod-slider joint; all "
+                               "three bodies at the crank-ground joint)",
           "contact_stiffness_N_m1_5": "(default: from the radii and materials, 4 E* sqrt(R_i R_j/(R_j - R_i))/3, "
                                       "Eqs. 16-17; 7.951e10 for the paper's joint)"}
 
@@ -75,9 +82,11 @@ def _default_text(value) -> str:
     return " ".join(f"{v:g}" for v in value) if isinstance(value, tuple) else str(value)
 
 
-# the joint's centres in a slider-crank command: the mechanism's crank tip and rod end
-_OFFSETS = {name: f"(default {_default_text(value)}; follows {source})" for (name, value), source in
-            zip(SliderCrankParameters().joint_offsets().items(), ("--crank-length-m", "--rod-length-m"))}
+# the joint's centres in a slider-crank command: the clearance joint's, from the mechanism's lengths
+_OFFSETS = {name: f"(default {_default_text(value)}, {where}; follows --clearance-joint and {source})"
+            for (name, value), where, source in
+            zip(SliderCrankParameters().joint_offsets().items(), ("the crank's tip", "the rod's big end"),
+                ("--crank-length-m", "--rod-length-m"))}
 
 
 def _add_dataclass_options(group, cls, skip=()) -> None:
@@ -87,7 +96,10 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
         default = f.default
         remark = _OFFSETS.get(f.name) or _UNSET.get(f.name) or f"(default {_default_text(default)})"
         help_text = " ".join(filter(None, (_HELP.get(f.name), remark)))
-        if f.name in OPTION_CHOICES:
+        if f.name == "clearance_joint":
+            group.add_argument(_option(f.name), dest=f.name, choices=L.CLEARANCE_JOINTS, default=None,
+                               help=help_text)
+        elif f.name in OPTION_CHOICES:
             group.add_argument(_option(f.name), dest=f.name, choices=OPTION_CHOICES[f.name], default=None, help=help_text)
         elif f.name == "gravity_m_s2":
             group.add_argument(_option(f.name), dest=f.name, type=gravity_value, default=None, metavar="G|GX,GY",

@@ -15,13 +15,14 @@ from .layout import (
     CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, M_ACTIVE,
     MODE_CLEARANCE, MODE_EXTERNAL,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
-    R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, R_TANGENTIAL_VELOCITY, ROD, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
+    R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, R_TANGENTIAL_VELOCITY, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
     T_FRICTION_FORCE, T_NORMAL_FORCE, T_PENETRATION, T_PIN_FX, T_PIN_FY, T_RELATIVE_OMEGA, T_SLIDER_A, T_SLIDER_V,
     T_SLIDER_X, T_TANGENTIAL_VELOCITY, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
 from .jit import kernel
 from .joint_access import JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_at, joint_failed
+from .joint_location import body_rate, joint_bodies
 from .mechanism import angle_trig, derivative, derivative_evaluated, derivative_rotated, stage_trig
 
 RK4 = 0
@@ -115,7 +116,8 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
             s[T_ECC_Y] = result[R_ECCENTRICITY_Y]
             s[T_PENETRATION] = result[R_PENETRATION]
             s[T_CONTACT] = 1.0 if contact else 0.0
-            s[T_RELATIVE_OMEGA] = y[N_COORDINATES + CRANK + 2] - y[N_COORDINATES + ROD + 2]
+            pin, bushing = joint_bodies(mp)
+            s[T_RELATIVE_OMEGA] = body_rate(y, pin) - body_rate(y, bushing)
             s[T_TANGENTIAL_VELOCITY] = result[R_TANGENTIAL_VELOCITY]
             track[K_N_SAMPLES] = i + 1
         while track[K_NEXT_SAMPLE] <= t:
@@ -136,7 +138,7 @@ def record_points(t_previous, times, ys, dys, results, mp, rev_stats, samples, t
 @kernel(inline='always')
 def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) and trig =
-    ``angle_trig(y)`` on entry, ``stages`` is (4, len(y)) scratch.  Four derivative
+    ``angle_trig(y, mp)`` on entry, ``stages`` is (4, len(y)) scratch.  Four derivative
     evaluations, no bookkeeping.  MODE_EXTERNAL (a co-simulation master's step) rotates the
     stages' trigonometry from trig; the other modes call libm as the FMU's joint does, so that
     a monolithic run and the FMU's Model Exchange run stay bit-identical."""
@@ -147,7 +149,7 @@ def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
         c = _RK4_C[s]
         for i in range(n2):
             ys[i] = y[i] + c * h * previous[i]
-        stage = stage_trig(trig, y, ys) if mode == MODE_EXTERNAL else angle_trig(ys)
+        stage = stage_trig(trig, y, ys, mp) if mode == MODE_EXTERNAL else angle_trig(ys, mp)
         derivative_rotated(t + c * h, ys, stage, mode, mp, joint, body_forces, ws, stages[s])
         previous = stages[s]
     k2 = stages[0]
@@ -164,7 +166,7 @@ def rk4_hold(t, h, n_steps, y, mp, joint, body_forces, ws, dy, stages):
     dy = f(t + h, y) on return.  ``stages``: (4, len(y)) scratch."""
     step = h / n_steps
     for i in range(n_steps):
-        trig = angle_trig(y)
+        trig = angle_trig(y, mp)
         derivative_rotated(t + i * step, y, trig, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
         rk4_step(t + i * step, y, step, trig, MODE_EXTERNAL, mp, joint, body_forces, ws, dy, stages)
     derivative(t + h, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
@@ -178,7 +180,8 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
     evaluated there (DOPRI's last stage); both are reused unless the joint changed, and the
     contact is not evaluated again where the joint's bookkeeping left it evaluated (JOINT_EVALUATED).
     """
-    state = accept_joint(joint, t, y, h, reuse_k_end) if mode == MODE_CLEARANCE else JOINT_UNCHANGED
+    pin, bushing = joint_bodies(mp)
+    state = accept_joint(joint, t, y, pin, bushing, h, reuse_k_end) if mode == MODE_CLEARANCE else JOINT_UNCHANGED
     if reuse_k_end and state == JOINT_UNCHANGED:
         for i in range(dy.shape[0]):
             dy[i] = k_end[i]
@@ -234,6 +237,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     onset_tol = control[6]
     h_max_free = control[7]
     locate_onsets = mode == MODE_CLEARANCE
+    pin, bushing = joint_bodies(mp)
     memory = joint.memory
     err_previous = 1e-4
     accepted = 0
@@ -246,18 +250,18 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             step = min(h, t_end - t, onset_step)
             for i in range(n2):
                 y_new[i] = y[i]
-            trig = angle_trig(y_new) if mode == MODE_EXTERNAL else _UNUSED_TRIG   # only MODE_EXTERNAL rotates
+            trig = angle_trig(y_new, mp) if mode == MODE_EXTERNAL else _UNUSED_TRIG   # only MODE_EXTERNAL rotates
             rk4_step(t, y_new, step, trig, mode, mp, joint, body_forces, ws, dy, stages)
             evaluated = False
             if locate_onsets:
-                contact_at(joint, t + step, y_new)
+                contact_at(joint, t + step, y_new, pin, bushing)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
                                          h_min)
                 if retry > 0.0:
                     onset_step = retry
                     rejected += 1
                     continue
-                evaluated = accept_joint(joint, t + step, y_new, step, True) != JOINT_CHANGED
+                evaluated = accept_joint(joint, t + step, y_new, pin, bushing, step, True) != JOINT_CHANGED
             onset_step = np.inf
             t += step
             accepted += 1

@@ -8,14 +8,12 @@ another joint type (:mod:`wearjoint.cosim.fmu_joint`: the joint FMU's Model Exch
 """
 from collections import namedtuple
 
-import math
-
 from numba import types
 from numba.extending import overload
 
 from .contact import evaluate_contact, evaluate_contact_scalars
 from .jit import kernel
-from .layout import CRANK, N_COORDINATES, ROD
+from .joint_location import bodies_kinematics, bodies_trig, body_state
 from .wear import accept_contact_refreshing
 
 # The integrators' right-hand side calls the compiled contact evaluation: inlining it there
@@ -25,9 +23,9 @@ from .wear import accept_contact_refreshing
 # The joint in process: the joint parameter vector (layout.P_*), the bushing points' cos/sin, the wear
 # profile, the contact search's block minima, the contact memory (layout.M_*), the wear kernels' scratch (a
 # bool mask, N_d long, and a float64 array ``work``, 2 N_d long; not state) and the evaluation result
-# (layout.R_*).
+# (layout.R_*), and the pin body's and the bushing body's kinematics (layout.N_KINEMATIC_INPUTS; scratch).
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
-                                         "memory", "mask", "work", "result"))
+                                         "memory", "mask", "work", "result", "kinematics"))
 # No joint: the mechanism's own forces come from elsewhere (MODE_EXTERNAL: the co-simulation master, the
 # slider-crank FMU).  Its functions do nothing, so code compiled for it holds no contact kernel (compiling
 # the contact for a JointArrays that is never evaluated took 15 of a cold co-simulation's 35 s).
@@ -39,12 +37,13 @@ def is_joint_type(joint, kind) -> bool:
     return isinstance(joint, types.BaseNamedTuple) and joint.instance_class is kind
 
 
-def contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
-    """Evaluate the joint at time t and state y into ``joint.result`` (layout.R_*); cos/sin of the
-    crank's and the rod's angles are given (the mechanism's right-hand side shares them)."""
+def contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
+    """Evaluate the joint between the bodies ``pin`` and ``bushing`` (offsets into q, layout.GROUND: the frame;
+    core.joint_location) at time t and state y into ``joint.result`` (layout.R_*); cos/sin of their angles are
+    given (the mechanism's right-hand side shares them)."""
 
 
-def contact_at(joint, t, y):
+def contact_at(joint, t, y, pin, bushing):
     """:func:`contact_forces` at (t, y)."""
 
 
@@ -54,8 +53,8 @@ def contact_at(joint, t, y):
 JOINT_UNCHANGED, JOINT_EVALUATED, JOINT_CHANGED = 0, 1, 2
 
 
-def accept_joint(joint, t, y, h, evaluated):
-    """The joint's bookkeeping at an accepted point (wear over h, contact onsets); ``evaluated``:
+def accept_joint(joint, t, y, pin, bushing, h, evaluated):
+    """The joint's bookkeeping (between the bodies ``pin`` and ``bushing``, as :func:`contact_forces`) at an accepted point (wear over h, contact onsets); ``evaluated``:
     ``joint.result`` already holds the contact at (t, y).  Returns JOINT_UNCHANGED, JOINT_EVALUATED or
     JOINT_CHANGED (forces at the same state would differ, and ``joint.result`` does not hold them)."""
 
@@ -65,21 +64,22 @@ def joint_failed(joint):
 
 
 @kernel(inline='always')
-def _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
-    n = N_COORDINATES
-    evaluate_contact_scalars(y[CRANK], y[CRANK + 1], cos1, sin1, y[n + CRANK], y[n + CRANK + 1], y[n + CRANK + 2],
-                             y[ROD], y[ROD + 1], cos2, sin2, y[n + ROD], y[n + ROD + 1], y[n + ROD + 2],
+def _arrays_contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
+    xi, yi, _, vxi, vyi, wi = body_state(y, pin)
+    xj, yj, _, vxj, vyj, wj = body_state(y, bushing)
+    evaluate_contact_scalars(xi, yi, cos1, sin1, vxi, vyi, wi, xj, yj, cos2, sin2, vxj, vyj, wj,
                              joint.parameters, joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
                              joint.memory, joint.result)
 
 
 @kernel(inline='always')
-def _arrays_accept(joint, t, y, h, evaluated):
-    n = N_COORDINATES
-    vel_i = y[n + CRANK:n + CRANK + 3]
-    vel_j = y[n + ROD:n + ROD + 3]
-    pos_i = y[CRANK:CRANK + 3]
-    pos_j = y[ROD:ROD + 3]
+def _arrays_accept(joint, t, y, pin, bushing, h, evaluated):
+    kinematics = joint.kinematics
+    bodies_kinematics(y, pin, bushing, kinematics)
+    pos_i = kinematics[0:3]
+    vel_i = kinematics[3:6]
+    pos_j = kinematics[6:9]
+    vel_j = kinematics[9:12]
     if not evaluated:                  # as advance_joint, whose accept then refreshes the result
         evaluate_contact(pos_i, vel_i, pos_j, vel_j, joint.parameters, joint.cos_phi, joint.sin_phi, joint.wear_depth,
                          joint.block_min, joint.memory, joint.result)
@@ -92,34 +92,34 @@ def _arrays_accept(joint, t, y, h, evaluated):
 
 
 @overload(contact_forces)
-def _contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
+def _contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
     if is_joint_type(joint, JointArrays):
-        def arrays(joint, t, y, cos1, sin1, cos2, sin2):
-            _arrays_contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
+        def arrays(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
+            _arrays_contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2)
         return arrays
     if is_joint_type(joint, NoJoint):
-        def none(joint, t, y, cos1, sin1, cos2, sin2):
+        def none(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
             pass
         return none
     return None
 
 
 @overload(contact_at)
-def _contact_at(joint, t, y):
-    def at(joint, t, y):
-        contact_forces(joint, t, y, math.cos(y[CRANK + 2]), math.sin(y[CRANK + 2]), math.cos(y[ROD + 2]),
-                       math.sin(y[ROD + 2]))
+def _contact_at(joint, t, y, pin, bushing):
+    def at(joint, t, y, pin, bushing):
+        cos1, sin1, cos2, sin2 = bodies_trig(y, pin, bushing)
+        contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2)
     return at
 
 
 @overload(accept_joint)
-def _accept_joint(joint, t, y, h, evaluated):
+def _accept_joint(joint, t, y, pin, bushing, h, evaluated):
     if is_joint_type(joint, JointArrays):
-        def arrays(joint, t, y, h, evaluated):
-            return _arrays_accept(joint, t, y, h, evaluated)
+        def arrays(joint, t, y, pin, bushing, h, evaluated):
+            return _arrays_accept(joint, t, y, pin, bushing, h, evaluated)
         return arrays
     if is_joint_type(joint, NoJoint):
-        def none(joint, t, y, h, evaluated):
+        def none(joint, t, y, pin, bushing, h, evaluated):
             return JOINT_UNCHANGED
         return none
     return None

@@ -114,10 +114,11 @@ MP_LOAD_ROWS = 15         # rows of the slider-load table (0: none)
 MAX_LOAD_ROWS = 361       # the most rows a slider-load table has (every degree, 0 and 360 included)
 MP_LOAD_ANGLES = 16       # the table's crank angles [rad], 0 ... 2 pi increasing, MAX_LOAD_ROWS slots
 MP_LOAD_FORCES = MP_LOAD_ANGLES + MAX_LOAD_ROWS   # the table's loads [N], MAX_LOAD_ROWS slots
-N_MECHANISM_FIELDS = MP_LOAD_FORCES + MAX_LOAD_ROWS  # the slots the fields fill (core.mechanism.mechanism_parameter_vector)
+MP_CLEARANCE_JOINT = MP_LOAD_FORCES + MAX_LOAD_ROWS  # the joint with the clearance (CLEARANCE_*); the others are ideal
+N_MECHANISM_FIELDS = MP_CLEARANCE_JOINT + 1  # the slots the fields fill (core.slider_load.mechanism_parameter_vector)
 MP_SLIDER_FORCE_INPUT = N_MECHANISM_FIELDS       # a master's load on the slider [N] (the SliderCrank FMU's input)
 N_MECHANISM_PARAMETERS = MP_SLIDER_FORCE_INPUT + 1
-# what core.mechanism.load_table_problem finds wrong with a slider-load table: kind * LOAD_TABLE_ROW_BASE + row
+# what core.slider_load.load_table_problem finds wrong with a slider-load table: kind * LOAD_TABLE_ROW_BASE + row
 LOAD_TABLE_ROWS, LOAD_TABLE_START, LOAD_TABLE_END, LOAD_TABLE_RISE, LOAD_TABLE_PERIODIC = 1, 2, 3, 4, 5
 LOAD_TABLE_ROW_BASE = 1000
 
@@ -125,13 +126,19 @@ LOAD_TABLE_ROW_BASE = 1000
 N_COORDINATES = 9
 Y_SLIDER_X = 6
 Y_SLIDER_V = 15
-# body blocks inside q: crank (pin body) 0..2, rod (bushing body) 3..5, slider 6..8
+# body blocks inside q: crank 0..2, rod 3..5, slider 6..8; GROUND stands for the fixed frame (no coordinates)
 CRANK = 0
 ROD = 3
 SLIDER = 6
+GROUND = -1
+# where the clearance joint is (MP_CLEARANCE_JOINT), its pin body and bushing body (core.joint_location):
+# crank-rod (pin on the crank's tip, bushing in the rod's big end: the paper's), rod-slider (pin in the slider,
+# bushing in the rod's small end), crank-ground (the crank's journal in a bushing fixed in the frame)
+CLEARANCE_CRANK_ROD, CLEARANCE_ROD_SLIDER, CLEARANCE_CRANK_GROUND = 0, 1, 2
+CLEARANCE_JOINTS = ("crank-rod", "rod-slider", "crank-ground")
 
 # --- how the contact forces enter the mechanism
-MODE_IDEAL = 0            # crank-rod revolute as a constraint (closed-form baseline)
+MODE_IDEAL = 0            # the clearance joint's revolute as a constraint (closed-form baseline)
 MODE_CLEARANCE = 1        # constraint removed, ClearanceJoint evaluated inside the RHS
 MODE_EXTERNAL = 2         # constraint removed, forces given (held from a co-simulation slave)
 
@@ -151,15 +158,15 @@ T_CRANK_ANGLE = 1         # theta1 [rad]
 T_SLIDER_X = 2
 T_SLIDER_V = 3
 T_SLIDER_A = 4
-T_PIN_FX = 5              # contact force on the pin (crank), global [N]
+T_PIN_FX = 5              # contact force on the pin (its body), global [N]
 T_PIN_FY = 6
 T_NORMAL_FORCE = 7
 T_FRICTION_FORCE = 8
-T_ECC_X = 9               # eccentricity in the bushing (rod) frame [m]
+T_ECC_X = 9               # eccentricity in the bushing body's frame [m]
 T_ECC_Y = 10
 T_PENETRATION = 11        # signed: negative is the gap
 T_CONTACT = 12
-T_RELATIVE_OMEGA = 13     # omega_crank - omega_rod [rad/s] (the rotation sliding rate, Eq. 33)
+T_RELATIVE_OMEGA = 13     # omega_pin body - omega_bushing body [rad/s] (the rotation sliding rate, Eq. 33)
 T_TANGENTIAL_VELOCITY = 14  # pin relative to bushing along t at the contact [m/s]
 N_SAMPLE_COLUMNS = 15
 SAMPLE_NAMES = ("time_s", "crank_angle_rad", "slider_x_m", "slider_v_m_s", "slider_a_m_s2",

@@ -1,12 +1,14 @@
 """Slider-crank multibody kernels (paper Sec. 6.1, Eqs. 38-44).
 
 Coordinates q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (crank, rod, slider, each at
-its centre of mass).  Constraints (Eq. 39): crank pivot at the origin, rod-
-slider revolute, slider on the X axis without rotation, the driver
-th1 = th0 - omega t; the ideal variant adds the crank-rod revolute.  The
-equations of motion (Eq. 44) are solved through the Schur complement
-(C M^-1 C^T) lambda = C M^-1 Q - c with the diagonal mass matrix (Eq. 42)
-and Baumgarte stabilisation c = gamma - 2 alpha Phi_dot - beta^2 Phi.
+its centre of mass).  Constraints (Eq. 39): crank pivot at the origin (crank-ground
+revolute), the driver th1 = th0 - omega t, rod-slider revolute, slider on the X axis
+without rotation, crank-rod revolute; the clearance joint's revolute (layout.CLEARANCE_*:
+core.joint_location) is open, the ideal mechanism keeps all.  The equations of motion
+(Eq. 44) are solved through the Schur complement (C M^-1 C^T) lambda = C M^-1 Q - c with
+the diagonal mass matrix (Eq. 42) and Baumgarte stabilisation c = gamma - 2 alpha Phi_dot -
+beta^2 Phi; with the crank-rod joint open, in closed form
+(:func:`open_joint_accelerations_rotated`).
 """
 import math
 
@@ -14,15 +16,14 @@ import numpy as np
 
 from .jit import kernel
 from .joint_access import NoJoint, contact_forces
+from .joint_location import body_angle, bodies_trig, clearance_location, joint_bodies, JOINT_BODIES
 from .layout import (
-    CRANK, LOAD_TABLE_END, LOAD_TABLE_PERIODIC, LOAD_TABLE_RISE, LOAD_TABLE_ROW_BASE, LOAD_TABLE_ROWS, LOAD_TABLE_START,
-    MAX_LOAD_ROWS, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA, MP_CRANK_LENGTH,
-    MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_LOAD_ANGLES, MP_LOAD_FORCES, MP_LOAD_ROWS, MP_OMEGA, MP_ROD_INERTIA,
-    MP_ROD_LENGTH, MP_ROD_MASS, MP_SLIDER_FORCE, MP_SLIDER_FORCE_INPUT, MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0,
-    N_COORDINATES, N_MECHANISM_FIELDS, N_RESULT, R_BUSHING_FX,
-    R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD,
-    SLIDER,
+    CLEARANCE_CRANK_ROD, CRANK, GROUND, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA,
+    MP_CRANK_LENGTH, MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
+    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_RESULT, R_BUSHING_FX, R_BUSHING_FY,
+    R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
 )
+from .slider_load import slider_load
 from .trig import rotated_trig
 
 
@@ -33,19 +34,18 @@ def no_joint(mp):
     return NoJoint(mp)
 
 
-GROUND = -1
 NO_BODY = -1
-N_CONSTRAINTS_CLEARANCE = 7
-N_CONSTRAINTS_IDEAL = 9
-# Constraint rows and the bodies (offsets into q) each one touches: crank pivot (0, 1),
-# driver (2), rod-slider revolute (3, 4), y3 = 0 (5), th3 = 0 (6), and for the ideal
-# mechanism the crank-rod revolute (7, 8).  With the crank-rod joint open the Schur
-# matrix is block diagonal: rows 0-2 (crank) and 3-6 (rod and slider).
+N_CONSTRAINTS = 9
+# Constraint rows and the bodies (offsets into q) each one touches: crank pivot, the crank-ground revolute
+# (0, 1), driver (2), rod-slider revolute (3, 4), y3 = 0 (5), th3 = 0 (6), crank-rod revolute (7, 8).
 ROW_BODIES = np.array([[CRANK, NO_BODY], [CRANK, NO_BODY], [CRANK, NO_BODY],
                        [ROD, SLIDER], [ROD, SLIDER], [SLIDER, NO_BODY], [SLIDER, NO_BODY],
                        [CRANK, ROD], [CRANK, ROD]])
-CLEARANCE_BLOCKS = np.array([0, 3, 7])
-IDEAL_BLOCKS = np.array([0, 9])
+# the first of the clearance joint's two revolute rows, by location (layout.CLEARANCE_*)
+JOINT_ROWS = np.array([7, 3, 0])
+# the rows the mechanism keeps: all (ideal), or all but the clearance joint's, by location
+IDEAL_ROWS = np.arange(N_CONSTRAINTS)
+OPEN_ROWS = np.array([[0, 1, 2, 3, 4, 5, 6], [0, 1, 2, 5, 6, 7, 8], [2, 3, 4, 5, 6, 7, 8]])
 
 
 def make_workspace(mp):
@@ -54,65 +54,6 @@ def make_workspace(mp):
     inverse_mass = np.empty(n)
     inverse_mass_diagonal(mp, inverse_mass)
     return (np.zeros((n, n)), np.zeros((n, n)), np.zeros(n), np.zeros(n), np.zeros(n), inverse_mass, np.zeros(n))
-
-
-@kernel
-def mechanism_parameter_vector(fields, scales, mp):
-    """The kernels' parameter vector mp (layout.MP_*) from the mechanism's fields in the user's units (rpm,
-    degrees; wearjoint.mechanism_parameters.field_vector, the SliderCrank FMU's parameters in their order):
-    slot k = fields[k] scales[0, k] / scales[1, k] (wearjoint.mechanism_parameters.FIELD_SCALES); the master's
-    slider load 0."""
-    for k in range(N_MECHANISM_FIELDS):
-        mp[k] = fields[k] * scales[0, k] / scales[1, k]
-    mp[MP_SLIDER_FORCE_INPUT] = 0.0
-    return N_MECHANISM_FIELDS
-
-
-@kernel
-def load_table_problem(fields):
-    """0 if the slider-load table in ``fields`` (the mechanism's fields in the user's units: degrees) is valid:
-    no rows, or 2 to MAX_LOAD_ROWS rows whose angles rise strictly from 0 to 360 and whose 360 row repeats the 0
-    row's load; else kind * LOAD_TABLE_ROW_BASE + the (1-based) row it concerns (layout.LOAD_TABLE_*;
-    wearjoint.mechanism_parameters.LOAD_TABLE_PROBLEMS words each kind, the FMU logs the same words)."""
-    rows_value = fields[MP_LOAD_ROWS]
-    rows = int(rows_value)
-    if rows == 0 and rows_value == 0.0:
-        return 0
-    if rows != rows_value or rows < 2 or rows > MAX_LOAD_ROWS:
-        return LOAD_TABLE_ROWS * LOAD_TABLE_ROW_BASE
-    if fields[MP_LOAD_ANGLES] != 0.0:
-        return LOAD_TABLE_START * LOAD_TABLE_ROW_BASE + 1
-    for k in range(1, rows):
-        if not fields[MP_LOAD_ANGLES + k] > fields[MP_LOAD_ANGLES + k - 1]:
-            return LOAD_TABLE_RISE * LOAD_TABLE_ROW_BASE + k + 1
-    if fields[MP_LOAD_ANGLES + rows - 1] != 360.0:
-        return LOAD_TABLE_END * LOAD_TABLE_ROW_BASE + rows
-    if fields[MP_LOAD_FORCES + rows - 1] != fields[MP_LOAD_FORCES]:
-        return LOAD_TABLE_PERIODIC * LOAD_TABLE_ROW_BASE + rows
-    return 0
-
-
-@kernel(inline='always')
-def slider_load(t, mp):
-    """The load on the slider [N] at time t [s], positive towards the crank's pivot: the constant, the master's
-    input and the table at theta1 = theta0 - omega t (mod 2 pi), linearly interpolated between its rows."""
-    load = mp[MP_SLIDER_FORCE] + mp[MP_SLIDER_FORCE_INPUT]
-    if mp[MP_LOAD_ROWS] >= 2.0:
-        rows = int(mp[MP_LOAD_ROWS])
-        angle = (mp[MP_THETA0] - mp[MP_OMEGA] * t) % (2.0 * math.pi)
-        lo = 0
-        hi = rows - 1
-        while hi - lo > 1:                   # the segment [a_lo, a_hi] holding the angle (a_0 = 0, a_last = 2 pi)
-            mid = (lo + hi) // 2
-            if mp[MP_LOAD_ANGLES + mid] <= angle:
-                lo = mid
-            else:
-                hi = mid
-        a0 = mp[MP_LOAD_ANGLES + lo]
-        a1 = mp[MP_LOAD_ANGLES + hi]
-        f0 = mp[MP_LOAD_FORCES + lo]
-        load += f0 + (mp[MP_LOAD_FORCES + hi] - f0) * (angle - a0) / (a1 - a0)
-    return load
 
 
 @kernel
@@ -170,10 +111,9 @@ def _revolute(row, q, qd, body_a, sax, say, body_b, sbx, sby, jac, phi, phi_dot,
 
 
 @kernel
-def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
-    """Jacobian (Eq. 40), Phi (Eq. 39), Phi_dot and gamma (Eq. 41); returns the row count."""
-    m = N_CONSTRAINTS_IDEAL if ideal else N_CONSTRAINTS_CLEARANCE
-    for r in range(m):
+def constraints(t, q, qd, mp, jac, phi, phi_dot, gamma):
+    """Jacobian (Eq. 40), Phi (Eq. 39), Phi_dot and gamma (Eq. 41) of all N_CONSTRAINTS rows (ROW_BODIES)."""
+    for r in range(N_CONSTRAINTS):
         phi[r] = 0.0
         phi_dot[r] = 0.0
         gamma[r] = 0.0
@@ -195,10 +135,8 @@ def constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma):
     jac[6, SLIDER + 2] = 1.0                      # th3 = 0
     phi[6] = q[SLIDER + 2]
     phi_dot[6] = qd[SLIDER + 2]
-    if ideal:
-        _revolute(np.int64(7), q, qd, np.int64(CRANK), 0.5 * l1, 0.0, np.int64(ROD), -0.5 * l2, 0.0, jac, phi,
-                  phi_dot, gamma)
-    return m
+    _revolute(np.int64(7), q, qd, np.int64(CRANK), 0.5 * l1, 0.0, np.int64(ROD), -0.5 * l2, 0.0, jac, phi,
+              phi_dot, gamma)
 
 
 @kernel
@@ -222,11 +160,15 @@ def inverse_mass_diagonal(mp, out):
 
 @kernel
 def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
-    """q_dd of Eq. (44) for applied contact loads ``body_forces`` =
-    (Fx, Fy, T) on the crank then (Fx, Fy, T) on the rod (Eq. 43 with gravity (g_x, g_y) and the slider's load,
-    :func:`slider_load`)."""
+    """q_dd of Eq. (44) for the clearance joint's loads ``body_forces`` = (Fx, Fy, T) on its pin body then
+    (Fx, Fy, T) on its bushing body (Eq. 43 with gravity (g_x, g_y) and the slider's load, :func:`slider_load`);
+    ``ideal``: the joint's revolute kept (its loads are then the constraint's, ``body_forces`` zero).  The
+    Lagrange multipliers of the kept rows (IDEAL_ROWS or OPEN_ROWS, in their order) are left in ws[3]."""
     jac, schur, phi, phi_dot, gamma, minv, force = ws
-    m = constraints(t, q, qd, mp, ideal, jac, phi, phi_dot, gamma)
+    constraints(t, q, qd, mp, jac, phi, phi_dot, gamma)
+    location = clearance_location(mp)
+    rows = IDEAL_ROWS if ideal else OPEN_ROWS[location]
+    m = rows.shape[0]
     gx = mp[MP_GRAVITY_X]
     gy = mp[MP_GRAVITY_Y]
     for k in range(N_COORDINATES):
@@ -235,40 +177,46 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
         force[body] = mass * gx
         force[body + 1] = mass * gy
     force[SLIDER] -= slider_load(t, mp)
+    pin = JOINT_BODIES[location, 0]
+    bushing = JOINT_BODIES[location, 1]
     for k in range(3):
-        force[CRANK + k] += body_forces[k]
-        force[ROD + k] += body_forces[3 + k]
+        force[pin + k] += body_forces[k]
+        if bushing != GROUND:
+            force[bushing + k] += body_forces[3 + k]
     alpha = mp[MP_ALPHA]
     beta = mp[MP_BETA]
-    # Schur system (C M^-1 C^T) lambda = C M^-1 Q - c, assembled over the bodies
-    # that each pair of rows shares (ROW_BODIES); the rhs is stored in gamma
-    for r in range(m):
+    for r in range(N_CONSTRAINTS):                # c of every row into gamma
+        gamma[r] = gamma[r] - 2.0 * alpha * phi_dot[r] - beta * beta * phi[r]
+    # Schur system (C M^-1 C^T) lambda = C M^-1 Q - c over the kept rows, assembled over the bodies
+    # that each pair of rows shares (ROW_BODIES); the rhs, then lambda, in phi_dot
+    for i in range(m):
+        r = rows[i]
         s = 0.0
         for slot in range(2):
             b = ROW_BODIES[r, slot]
             if b != NO_BODY:
                 for c in range(b, b + 3):
                     s += jac[r, c] * minv[c] * force[c]
-        gamma[r] = s - (gamma[r] - 2.0 * alpha * phi_dot[r] - beta * beta * phi[r])
-        for r2 in range(r + 1):
+        phi_dot[i] = s - gamma[r]
+        for i2 in range(i + 1):
+            r2 = rows[i2]
             s = 0.0
             for slot in range(2):
                 b = ROW_BODIES[r, slot]
                 if b != NO_BODY and (ROW_BODIES[r2, 0] == b or ROW_BODIES[r2, 1] == b):
                     for c in range(b, b + 3):
                         s += jac[r, c] * minv[c] * jac[r2, c]
-            schur[r, r2] = s
-    blocks = IDEAL_BLOCKS if ideal else CLEARANCE_BLOCKS
-    for i in range(blocks.shape[0] - 1):
-        ldl_solve(schur, gamma, blocks[i], blocks[i + 1])
+            schur[i, i2] = s
+    ldl_solve(schur, phi_dot, np.int64(0), m)
     for c in range(N_COORDINATES):
         qdd[c] = force[c]
-    for r in range(m):
+    for i in range(m):
+        r = rows[i]
         for slot in range(2):
             b = ROW_BODIES[r, slot]
             if b != NO_BODY:
                 for c in range(b, b + 3):
-                    qdd[c] -= jac[r, c] * gamma[r]
+                    qdd[c] -= jac[r, c] * phi_dot[i]
     for c in range(N_COORDINATES):
         qdd[c] *= minv[c]
 
@@ -337,16 +285,19 @@ def open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, si
 
 
 @kernel(inline='always')
-def angle_trig(y):
-    """(cos, sin) of the crank's angle, then of the rod's, in state y: the pin's and the bushing's bodies."""
-    return math.cos(y[CRANK + 2]), math.sin(y[CRANK + 2]), math.cos(y[ROD + 2]), math.sin(y[ROD + 2])
+def angle_trig(y, mp):
+    """(cos, sin) of the clearance joint's pin body's angle, then of its bushing body's, in state y (the crank's
+    and the rod's for the crank-rod joint, which :func:`open_joint_accelerations_rotated` shares)."""
+    pin, bushing = joint_bodies(mp)
+    return bodies_trig(y, pin, bushing)
 
 
 @kernel(inline='always')
-def stage_trig(trig, y, y_stage):
-    """:func:`angle_trig` of y_stage from trig = angle_trig(y), y_stage a Runge-Kutta stage of a step from y."""
-    cos1, sin1 = rotated_trig(trig[0], trig[1], y[CRANK + 2], y_stage[CRANK + 2])
-    cos2, sin2 = rotated_trig(trig[2], trig[3], y[ROD + 2], y_stage[ROD + 2])
+def stage_trig(trig, y, y_stage, mp):
+    """:func:`angle_trig` of y_stage from trig = angle_trig(y, mp), y_stage a Runge-Kutta stage of a step from y."""
+    pin, bushing = joint_bodies(mp)
+    cos1, sin1 = rotated_trig(trig[0], trig[1], body_angle(y, pin), body_angle(y_stage, pin))
+    cos2, sin2 = rotated_trig(trig[2], trig[3], body_angle(y, bushing), body_angle(y_stage, bushing))
     return cos1, sin1, cos2, sin2
 
 
@@ -356,16 +307,17 @@ def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     :data:`~.joint_access.JointArrays`, or a :data:`~wearjoint.cosim.fmu_joint.FmuJoint`; writes its result
     array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none and writes the ideal
     revolute's reaction to the joint's result array (:func:`ideal_joint_reaction`)."""
-    derivative_rotated(t, y, angle_trig(y), mode, mp, joint, body_forces, ws, dy)
+    derivative_rotated(t, y, angle_trig(y, mp), mode, mp, joint, body_forces, ws, dy)
 
 
 @kernel(inline='always')
 def derivative_rotated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
-    """:func:`derivative` with trig = :func:`angle_trig` (y) given (one set of trigonometric
+    """:func:`derivative` with trig = :func:`angle_trig` (y, mp) given (one set of trigonometric
     values for the pin's and the bushing's bodies, the joint and the mechanism)."""
     if mode == MODE_CLEARANCE:
         cos1, sin1, cos2, sin2 = trig
-        contact_forces(joint, t, y, cos1, sin1, cos2, sin2)
+        pin, bushing = joint_bodies(mp)
+        contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2)
     _derivative_joint_evaluated(t, y, trig, mode, mp, joint, body_forces, ws, dy)
 
 
@@ -373,7 +325,7 @@ def derivative_rotated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
 def derivative_evaluated(t, y, mp, joint, body_forces, ws, dy):
     """:func:`derivative` of MODE_CLEARANCE where ``joint.result`` already holds the joint's contact at (t, y)
     (an accepted point whose joint did not change, or was evaluated on its new state): not evaluated again."""
-    _derivative_joint_evaluated(t, y, angle_trig(y), MODE_CLEARANCE, mp, joint, body_forces, ws, dy)
+    _derivative_joint_evaluated(t, y, angle_trig(y, mp), MODE_CLEARANCE, mp, joint, body_forces, ws, dy)
 
 
 @kernel(inline='always')
@@ -396,24 +348,34 @@ def _derivative_joint_evaluated(t, y, trig, mode, mp, joint, body_forces, ws, dy
         dy[k] = y[n + k]
     if mode == MODE_IDEAL:
         accelerations(t, y[:n], y[n:], mp, True, body_forces, ws, dy[n:])
-        ideal_joint_reaction(ws, joint.result)
-    else:
+        ideal_joint_reaction(ws, mp, joint.result)
+    elif clearance_location(mp) == CLEARANCE_CRANK_ROD:
         open_joint_accelerations_rotated(t, y, mp, body_forces, cos1, sin1, cos2, sin2, dy)
+    else:
+        accelerations(t, y[:n], y[n:], mp, False, body_forces, ws, dy[n:])
 
 
 @kernel(inline='always')
-def ideal_joint_reaction(ws, result):
-    """The ideal crank-rod revolute's reaction as the joint's result (layout.R_*) after
-    :func:`accelerations` of the ideal mechanism: -C^T lambda of its rows 7-8 on the crank (the pin
-    body) and on the rod (the bushing body), about their centres of mass; the normal force is its
+def ideal_joint_reaction(ws, mp, result):
+    """The ideal clearance joint's reaction as the joint's result (layout.R_*) after :func:`accelerations` of the
+    ideal mechanism: -C^T lambda of its two revolute rows (JOINT_ROWS) on the pin body and on the bushing body,
+    about their centres of mass (the ground's: the reaction at the pivot, no torque); the normal force is its
     magnitude, the joint always closed (contact 1, no penetration, no eccentricity, no friction)."""
     jac = ws[0]
-    gamma = ws[4]                        # lambda after the Schur solve
+    lam = ws[3]                          # lambda after the Schur solve (IDEAL_ROWS: row r at r)
+    location = clearance_location(mp)
+    row = JOINT_ROWS[location]
+    pin = JOINT_BODIES[location, 0]
+    bushing = JOINT_BODIES[location, 1]
     for k in range(N_RESULT):
         result[k] = 0.0
     for k in range(3):
-        result[R_PIN_FX + k] = -(jac[7, CRANK + k] * gamma[7] + jac[8, CRANK + k] * gamma[8])
-        result[R_BUSHING_FX + k] = -(jac[7, ROD + k] * gamma[7] + jac[8, ROD + k] * gamma[8])
+        result[R_PIN_FX + k] = -(jac[row, pin + k] * lam[row] + jac[row + 1, pin + k] * lam[row + 1])
+        if bushing != GROUND:
+            result[R_BUSHING_FX + k] = -(jac[row, bushing + k] * lam[row] + jac[row + 1, bushing + k] * lam[row + 1])
+    if bushing == GROUND:
+        result[R_BUSHING_FX] = -result[R_PIN_FX]
+        result[R_BUSHING_FY] = -result[R_PIN_FY]
     result[R_NORMAL_FORCE] = math.sqrt(result[R_PIN_FX] ** 2 + result[R_PIN_FY] ** 2)
     result[R_CONTACT] = 1.0
     result[R_CONTACT_INDEX] = -1.0
@@ -444,9 +406,10 @@ def initial_state(t, mp, ws, y):
     jac, schur, phi, phi_dot, gamma, _, zero = ws
     for c in range(n):
         zero[c] = 0.0
-    m = constraints(t, y[:n], zero, mp, True, jac, phi, phi_dot, gamma)
+    constraints(t, y[:n], zero, mp, jac, phi, phi_dot, gamma)
     # C q_dot = -Phi_t (Phi_t: omega in the driver row, i.e. phi_dot at q_dot = 0);
     # C is square and regular, so q_dot = C^T z with (C C^T) z = -Phi_t
+    m = N_CONSTRAINTS
     for r in range(m):
         gamma[r] = -phi_dot[r]
         for r2 in range(r + 1):
@@ -454,7 +417,7 @@ def initial_state(t, mp, ws, y):
             for c in range(n):
                 s += jac[r, c] * jac[r2, c]
             schur[r, r2] = s
-    ldl_solve(schur, gamma, np.int64(0), m)      # not a literal 0: one compiled ldl_solve
+    ldl_solve(schur, gamma, np.int64(0), np.int64(m))   # not literals: one compiled ldl_solve
     for c in range(n):
         s = 0.0
         for r in range(m):
@@ -464,7 +427,7 @@ def initial_state(t, mp, ws, y):
 
 @kernel
 def ideal_joint_forces(times, mp, ws, result, y, qdd, body_forces, out):
-    """out[k] = |the ideal crank-rod revolute's reaction| [N] at times[k] [s]: the ideal mechanism's consistent
+    """out[k] = |the ideal clearance joint's reaction| [N] at times[k] [s]: the ideal mechanism's consistent
     state there (:func:`initial_state`), its accelerations under gravity and the slider's load (Eq. 44) and the
     reaction (:func:`ideal_joint_reaction`).  Scratch: ``result`` (layout.N_RESULT), ``y`` (2 N_COORDINATES),
     ``qdd`` (N_COORDINATES), ``body_forces`` (6, zeros)."""
@@ -472,5 +435,5 @@ def ideal_joint_forces(times, mp, ws, result, y, qdd, body_forces, out):
     for k in range(times.shape[0]):
         initial_state(times[k], mp, ws, y)
         accelerations(times[k], y[:n], y[n:], mp, True, body_forces, ws, qdd)
-        ideal_joint_reaction(ws, result)
+        ideal_joint_reaction(ws, mp, result)
         out[k] = result[R_NORMAL_FORCE]

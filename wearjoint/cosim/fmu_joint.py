@@ -15,12 +15,13 @@ from ..core.jit import kernel
 from ..core.joint_access import (
     JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_forces, is_joint_type, joint_failed,
 )
-from ..core.layout import CRANK, M_ACTIVE, N_COORDINATES, R_CONTACT, R_NORMAL_FORCE, ROD
+from ..core.joint_location import bodies_kinematics
+from ..core.layout import M_ACTIVE, R_CONTACT, R_NORMAL_FORCE
 from ..core.wear import wears
 from ..fmu.fmi_status import FMI_WARNING
 from ..fmu.variables import INPUTS
 
-# ``io`` = the inputs (pin body = crank, bushing body = rod) then the outputs, whose layout.R_* slots are
+# ``io`` = the inputs (the pin body's kinematics, then the bushing body's) then the outputs, whose layout.R_* slots are
 # ``output_slots``; ``result`` the outputs in the result layout; ``parameters`` / ``memory`` the joint
 # parameter vector and a mirror of the FMU's contact memory (the same onset rule,
 # :func:`~wearjoint.core.contact.update_contact_memory`, applied to the FMU's outputs); ``event_info`` the
@@ -49,16 +50,11 @@ def _call_failed(joint, call, status, t):
 
 
 @kernel
-def _contact_forces(joint, t, y):
+def _contact_forces(joint, t, y, pin, bushing):
     if joint.failure[0] != 0.0:
         return
-    n = N_COORDINATES
     io = joint.io
-    for k in range(3):
-        io[k] = y[CRANK + k]
-        io[3 + k] = y[n + CRANK + k]
-        io[6 + k] = y[ROD + k]
-        io[9 + k] = y[n + ROD + k]
+    bodies_kinematics(y, pin, bushing, io)
     if _call_failed(joint, 1, joint.set_time(joint.component, t), t):
         return
     if _call_failed(joint, 2, joint.set_real(joint.component, joint.input_vrs.ctypes.data, N_INPUTS,
@@ -73,12 +69,12 @@ def _contact_forces(joint, t, y):
 
 
 @kernel
-def _accept(joint, t, y, h, evaluated):
+def _accept(joint, t, y, pin, bushing, h, evaluated):
     """fmi2CompletedIntegratorStep (and an event iteration where a contact begins or ends).
     "Changed" as in process: the onset memory changed, or the step may have worn the bushing;
     otherwise DOPRI reuses its last stage (FSAL) instead of evaluating the FMU again."""
     if not evaluated:
-        _contact_forces(joint, t, y)
+        _contact_forces(joint, t, y, pin, bushing)
     if joint.failure[0] != 0.0:
         return True
     c = joint.component
@@ -99,19 +95,19 @@ def _accept(joint, t, y, h, evaluated):
 
 
 @overload(contact_forces)
-def _overload_contact_forces(joint, t, y, cos1, sin1, cos2, sin2):
+def _overload_contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
     if is_joint_type(joint, FmuJoint):
-        def fmu(joint, t, y, cos1, sin1, cos2, sin2):
-            _contact_forces(joint, t, y)
+        def fmu(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
+            _contact_forces(joint, t, y, pin, bushing)
         return fmu
     return None
 
 
 @overload(accept_joint)
-def _overload_accept_joint(joint, t, y, h, evaluated):
+def _overload_accept_joint(joint, t, y, pin, bushing, h, evaluated):
     if is_joint_type(joint, FmuJoint):
-        def fmu(joint, t, y, h, evaluated):
-            return JOINT_CHANGED if _accept(joint, t, y, h, evaluated) else JOINT_UNCHANGED
+        def fmu(joint, t, y, pin, bushing, h, evaluated):
+            return JOINT_CHANGED if _accept(joint, t, y, pin, bushing, h, evaluated) else JOINT_UNCHANGED
         return fmu
     return None
 

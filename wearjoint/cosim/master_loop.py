@@ -19,6 +19,7 @@ from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
 from ..core.layout import MODE_EXTERNAL
+from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
 from ..core.mechanism import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
 from ..fmu.fmi_status import FMI_WARNING
@@ -105,20 +106,21 @@ _TRIG_ROTATIONS = 31
 
 
 @kernel(inline='always')
-def _step_trig(buf, y):
-    """``angle_trig(y)``, rotated from the last call's (``buf[B_TRIG:]``) but every
+def _step_trig(buf, y, mp):
+    """``angle_trig(y, mp)``, rotated from the last call's (``buf[B_TRIG:]``) but every
     _TRIG_ROTATIONS + 1-th call, which calls libm; stores it for the next call."""
     trig = buf[B_TRIG:B_TRIG + 7]
-    crank = y[L.CRANK + 2]
-    rod = y[L.ROD + 2]
+    pin, bushing = joint_bodies(mp)
+    pin_angle = body_angle(y, pin)
+    bushing_angle = body_angle(y, bushing)
     if trig[6] > 0.5:
-        cos1, sin1 = rotated_trig(trig[1], trig[2], trig[0], crank)
-        cos2, sin2 = rotated_trig(trig[4], trig[5], trig[3], rod)
+        cos1, sin1 = rotated_trig(trig[1], trig[2], trig[0], pin_angle)
+        cos2, sin2 = rotated_trig(trig[4], trig[5], trig[3], bushing_angle)
         trig[6] -= 1.0
     else:
-        cos1, sin1, cos2, sin2 = angle_trig(y)
+        cos1, sin1, cos2, sin2 = angle_trig(y, mp)
         trig[6] = _TRIG_ROTATIONS
-    trig[0], trig[1], trig[2], trig[3], trig[4], trig[5] = crank, cos1, sin1, rod, cos2, sin2
+    trig[0], trig[1], trig[2], trig[3], trig[4], trig[5] = pin_angle, cos1, sin1, bushing_angle, cos2, sin2
     return cos1, sin1, cos2, sin2
 
 
@@ -140,8 +142,8 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
     there being ``buf[B_LAST_STEP]``); if h > 0, integrates y over [t, t + h]
     with one RK4 step (``rk4_step``, MODE_EXTERNAL), the forces held at their value at t or,
     with extrapolation in persisting contact, at the mean of their linear
-    extrapolation.  Writes the FMU inputs at the time reached (crank = pin
-    body, rod = bushing body).
+    extrapolation.  Writes the FMU inputs at the time reached (the clearance joint's
+    pin body's and bushing body's kinematics, core.joint_location).
     """
     n = L.N_COORDINATES
     y = buf[B_Y:B_Y + 2 * n]
@@ -155,7 +157,7 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
     for k in range(6):
         forces[k] = outputs[k]
     joint = no_joint(mp)                        # MODE_EXTERNAL reads none of the joint's arrays
-    trig = _step_trig(buf, y)
+    trig = _step_trig(buf, y, mp)
     # MODE_EXTERNAL by name, not as L.MODE_EXTERNAL: numba prunes the other modes' branches only for a constant
     # it sees as one (else this compiles the ideal mechanism's solve, which it never runs)
     derivative_rotated(t, y, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy)
@@ -176,12 +178,7 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
         buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
         buf[B_LAST_STEP] = h
         t = t + h
-    inputs = buf[B_INPUT:B_INPUT + N_INPUTS]
-    for k in range(3):
-        inputs[k] = y[L.CRANK + k]
-        inputs[3 + k] = y[n + L.CRANK + k]
-        inputs[6 + k] = y[L.ROD + k]
-        inputs[9 + k] = y[n + L.ROD + k]
+    joint_kinematics(y, mp, buf[B_INPUT:B_INPUT + N_INPUTS])
     return t
 
 

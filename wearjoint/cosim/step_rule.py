@@ -41,8 +41,9 @@ class StepRule:
 
 
 def effective_mass_kg(mechanism: SliderCrankParameters) -> float:
-    """The smallest effective mass at the crank-rod joint [kg]: the crank is driven (infinite), the rod end
-    weighs m2 + m3 along the rod and (I2 + m2 l2^2/4) / l2^2 across it (the rod turning about the slider pin)."""
+    """The smallest effective mass at the clearance joint [kg]: along the rod and across it
+    (:attr:`SliderCrankParameters.contact_effective_mass_kg`, :attr:`SliderCrankParameters.rod_across_mass_kg`;
+    at the crank-rod joint m2 + m3 and (I2 + m2 l2^2/4) / l2^2, the crank driven)."""
     return min(mechanism.rod_across_mass_kg, mechanism.contact_effective_mass_kg)
 
 

@@ -65,6 +65,7 @@ ENTRY_POINTS = {
         "slider_crank_initial_state": ("initial_state_native", 10),
         "slider_crank_derivative": ("derivative_native", 12),
         "slider_crank_step": ("step_native", 15),
+        "slider_crank_joint_kinematics": ("joint_kinematics_native", 3),
         "wearjoint_state_size": ("state_size_native", 2),
         "wearjoint_write_state": ("write_state_native", 8),
         "wearjoint_check_header": ("check_header_native", 6),

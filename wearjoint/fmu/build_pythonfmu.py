@@ -52,7 +52,8 @@ RUNTIME_MODULES = ("__init__.py", "_compile/__init__.py", "_compile/cache.py", "
                    "mechanism_parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/damping.py",
                    "core/contact.py",
-                   "core/foundation_wear.py", "core/wear.py", "core/state_format.py", "core/joint_access.py")
+                   "core/foundation_wear.py", "core/wear.py", "core/state_format.py", "core/joint_access.py",
+                   "core/joint_location.py")
 
 
 def _package_sources() -> list[Path]:

@@ -1,10 +1,12 @@
 """The variables of the ``SliderCrank`` FMU: the paper's rigid slider-crank with the crank-rod joint
 open (Sec. 6.1, Eqs. 38-44), the system around a ``ClearanceWearJoint`` FMU.
 
-Inputs are the joint's loads on the crank (pin body) and on the rod (bushing body), named like
-the joint FMU's outputs, and ``slider_force``, a load on the slider added to the parameters'; outputs are
-the 12 kinematic quantities the joint FMU takes (named like its inputs: reference points at the centres of
-mass, global frame), the crank angle and the slider's position, velocity and acceleration.  Parameters: one
+The clearance joint sits where the parameter ``clearance_joint`` says (0 crank-rod, 1 rod-slider, 2
+crank-ground; core.joint_location), the other joints ideal.  Inputs are the joint's loads on its pin body and on
+its bushing body, named like the joint FMU's outputs, and ``slider_force``, a load on the slider added to the
+parameters'; outputs are the 12 kinematic quantities the joint FMU takes (named like its inputs: the pin body's
+and the bushing body's reference points at their centres of mass, global frame; the ground's are zero), the
+crank angle and the slider's position, velocity and acceleration.  Parameters: one
 per row of :data:`wearjoint.mechanism_parameters.MECHANISM_FIELDS` (its FMU name, unit, rule; rpm and
 degrees as there; gravity's two components, the slider-load table's rows) and ``max_internal_step``, the
 longest RK4 step of a Co-Simulation step.  Model Exchange: the 18 continuous states are the coordinates
@@ -32,13 +34,16 @@ from .model_description import LOG_CATEGORIES, interfaces, root_with_interfaces_
 
 MODEL_IDENTIFIER = "SliderCrank"
 DESCRIPTION = ("The rigid slider-crank of Sec. 6.1 (Eqs. 38-44, Baumgarte stabilisation), crank driven "
-               "clockwise, with the crank-rod revolute joint open: inputs are that joint's loads on the crank and "
-               "the rod, outputs their kinematics (the inputs of a ClearanceWearJoint FMU) and the slider's motion.")
+               "clockwise, with the revolute joint named by clearance_joint open: inputs are that joint's loads on "
+               "its pin body and bushing body, outputs their kinematics (the inputs of a ClearanceWearJoint FMU) "
+               "and the slider's motion.")
 MAX_INTERNAL_STEP_NAME = "max_internal_step"
 MAX_INTERNAL_STEP_START = 1e-5
 TIME_NAME = "time"
 # kind of a variable's value in the C model: an input, a parameter, y[index] or dy[index]
-INPUT, PARAMETER, STATE, DERIVATIVE = "SOURCE_INPUT", "SOURCE_PARAMETER", "SOURCE_STATE", "SOURCE_DERIVATIVE"
+# or the clearance joint's kinematic input[index] (core.joint_location.joint_kinematics)
+INPUT, PARAMETER, STATE, DERIVATIVE, JOINT = (
+    "SOURCE_INPUT", "SOURCE_PARAMETER", "SOURCE_STATE", "SOURCE_DERIVATIVE", "SOURCE_JOINT")
 
 
 @dataclass(frozen=True)
@@ -53,15 +58,19 @@ class Variable:
     index: int
     start: float | None = None
     allowed: fv.Allowed | None = None   # parameters
+    n_choices: int = 0                  # > 0: a parameter taking the values 0 .. n_choices - 1 (an enumeration)
 
 
 # the FMU's check of each mechanism parameter's rule (wearjoint.mechanism_parameters.RULE_TEXT)
 _ALLOWED = {mp.POSITIVE: fv.POSITIVE, mp.FINITE: fv.ANY, mp.NON_NEGATIVE: fv.NON_NEGATIVE,
             mp.ABOVE_CRANK: fv.Allowed(0.0, True, above="crank_length"),
-            mp.TABLE_ROWS: fv.Allowed(0.0, high=float(layout.MAX_LOAD_ROWS)), mp.TABLE_ANGLE: fv.Allowed(0.0, high=360.0)}
+            mp.TABLE_ROWS: fv.Allowed(0.0, high=float(layout.MAX_LOAD_ROWS)), mp.TABLE_ANGLE: fv.Allowed(0.0, high=360.0),
+            mp.CHOICE: fv.Allowed(0.0, high=float(len(mp.CLEARANCE_JOINTS) - 1))}
 _DEFAULTS = mp.field_vector(SliderCrankParameters())
 
-_BODIES = (("pin", "crank (pin body)"), ("bushing", "rod (bushing body)"))
+_BODIES = (("pin", "pin body (the crank at the crank-rod and crank-ground joints, the slider at the rod-slider "
+                   "joint)"),
+           ("bushing", "bushing body (the rod, or the ground at the crank-ground joint: ignored)"))
 SLIDER_FORCE_NAME = "slider_force"
 INPUTS = tuple(Variable(f"{body}_{name}", fv.INPUT, unit, f"load of the clearance joint on the {text}: {what}",
                         INPUT, 3 * b + k, 0.0)
@@ -72,7 +81,8 @@ INPUTS = tuple(Variable(f"{body}_{name}", fv.INPUT, unit, f"load of the clearanc
     Variable(SLIDER_FORCE_NAME, fv.INPUT, "N", "load on the slider along its axis, positive towards the crank's "
              "pivot: added to slider_force_constant and the slider-load table", INPUT, 6, 0.0),)
 PARAMETERS = tuple(
-    Variable(f.fmu_name, fv.PARAMETER, f.unit, f.text, PARAMETER, i, float(_DEFAULTS[i]), _ALLOWED[f.rule])
+    Variable(f.fmu_name, fv.PARAMETER, f.unit, f.text, PARAMETER, i, float(_DEFAULTS[i]), _ALLOWED[f.rule],
+             len(f.choices or ()))
     for i, f in enumerate(mp.MECHANISM_FIELDS)) + (
     Variable(MAX_INTERNAL_STEP_NAME, fv.PARAMETER, "s",
              "Co-Simulation: longest internal RK4 step; a communication step h is taken in ceil(h / max_internal_step) "
@@ -80,7 +90,7 @@ PARAMETERS = tuple(
              fv.POSITIVE),)
 
 # y = [q, q_dot] (Eq. 38): the variable holding each, its unit and what it is
-_BODY_OF = (("pin", "crank"), ("bushing", "rod"), ("slider", "slider"))
+_BODY_OF = (("crank", "crank"), ("rod", "rod"), ("slider", "slider"))
 _POSITION = (("x", "m", "x of the centre of mass"), ("y", "m", "y of the centre of mass"),
              ("angle", "rad", "rotation angle, counter-clockwise"))
 _VELOCITY = (("vx", "m/s", "x velocity of the centre of mass"), ("vy", "m/s", "y velocity of the centre of mass"),
@@ -92,6 +102,8 @@ _ACCELERATION = (("ax", "m/s2", "x acceleration of the centre of mass"),
 _SLIDER_NAMES = {"x": "slider_x", "vx": "slider_v", "ax": "slider_a", "y": "slider_y", "angle": "slider_angle",
                  "vy": "slider_vy", "omega": "slider_omega", "ay": "slider_ay", "alpha": "slider_alpha"}
 _OUTPUT_SLIDER = frozenset({"slider_x", "slider_v", "slider_a"})
+CRANK_ANGLE_NAME = "crank_angle"          # the crank's angle state, an output too
+CRANK_ANGLE_TEXT = "crank angle theta1 = theta0 - omega t (driven, Eq. 39)"
 
 
 def _motion(rows, source: str, offset: int) -> tuple[Variable, ...]:
@@ -99,8 +111,10 @@ def _motion(rows, source: str, offset: int) -> tuple[Variable, ...]:
     for b, (prefix, body) in enumerate(_BODY_OF):
         for k, (suffix, unit, text) in enumerate(rows):
             name = _SLIDER_NAMES[suffix] if prefix == "slider" else f"{prefix}_{suffix}"
-            causality = fv.OUTPUT if prefix != "slider" or name in _OUTPUT_SLIDER else fv.LOCAL
-            out.append(Variable(name, causality, unit, f"{body}: {text}, global frame", source, offset + 3 * b + k))
+            causality = fv.OUTPUT if name in _OUTPUT_SLIDER or name == CRANK_ANGLE_NAME else fv.LOCAL
+            description = (CRANK_ANGLE_TEXT if name == CRANK_ANGLE_NAME and source == STATE
+                           else f"{body}: {text}, global frame")
+            out.append(Variable(name, causality, unit, description, source, offset + 3 * b + k))
     return tuple(out)
 
 
@@ -109,9 +123,12 @@ POSITIONS = _motion(_POSITION, STATE, 0)
 VELOCITIES = _motion(_VELOCITY, STATE, N)
 ACCELERATIONS = tuple(dataclasses.replace(v, causality=fv.OUTPUT if v.name in _OUTPUT_SLIDER else fv.LOCAL)
                       for v in _motion(_ACCELERATION, DERIVATIVE, N))
-CRANK_ANGLE = Variable("crank_angle", fv.OUTPUT, "rad", "crank angle theta1 = theta0 - omega t (driven, Eq. 39)",
-                       STATE, layout.CRANK + 2)
-VARIABLES: tuple[Variable, ...] = (*INPUTS, *PARAMETERS, *POSITIONS, *VELOCITIES, CRANK_ANGLE, *ACCELERATIONS)
+# the clearance joint's kinematics, named like a ClearanceWearJoint FMU's inputs (in its input order)
+JOINT_KINEMATICS = tuple(Variable(v.name, fv.OUTPUT, v.unit, f"{v.description.split(':')[0]} of the clearance "
+                                  f"joint:{v.description.split(':', 1)[1]}", JOINT, k)
+                         for k, v in enumerate(fv.INPUTS))
+VARIABLES: tuple[Variable, ...] = (*INPUTS, *PARAMETERS, *POSITIONS, *VELOCITIES, *ACCELERATIONS,
+                                   *JOINT_KINEMATICS)
 STATES = (*POSITIONS, *VELOCITIES)                 # y[0..17], in order
 STATE_DERIVATIVES = (*VELOCITIES, *ACCELERATIONS)   # dy[0..17], in order
 VALUE_REFERENCES = {v.name: i for i, v in enumerate(VARIABLES)}
@@ -156,8 +173,9 @@ def model_variables_header(guid: str, starts: dict | None = None) -> str:
     parameters' start values from ``starts`` where given there."""
     parameters = [v for v in variables(starts) if v.causality == fv.PARAMETER]
     names = [p.name for p in parameters]
-    rows = parameter_rows([(p.name, p.index, p.start, 0, p.allowed, names.index(p.allowed.above)
-                            if p.allowed.above else -1, p.allowed.text()) for p in parameters])
+    rows = parameter_rows([(p.name, p.index, p.start, p.n_choices, p.allowed, names.index(p.allowed.above)
+                            if p.allowed.above else -1, mp.RULE_TEXT[mp.CHOICE] if p.n_choices else p.allowed.text())
+                           for p in parameters])
     table = "\n".join(f"    {{{c_string(v.name)}, {v.source}, {v.index}}}," for v in VARIABLES)
     load_table_row_base = layout.LOAD_TABLE_ROW_BASE
     return f"""/* Generated by wearjoint/fmu/build_native.py from wearjoint/fmu/slider_crank.py: do not edit. */
@@ -181,7 +199,7 @@ def model_variables_header(guid: str, starts: dict | None = None) -> str:
  * (time, initialised flag, inputs, parameters, y), the contact memory it writes as zeros, and the
  * message of each problem a check reports. */
 /* what is wrong with a slider-load table: slider_crank_parameters returns kind * LOAD_TABLE_ROW_BASE + row
- * (wearjoint/core/mechanism.py, load_table_problem); LOAD_TABLE_PROBLEMS[kind - 1] words it */
+ * (wearjoint/core/slider_load.py, load_table_problem); LOAD_TABLE_PROBLEMS[kind - 1] words it */
 #define LOAD_TABLE_ROW_BASE {load_table_row_base}
 static const char *const LOAD_TABLE_PROBLEMS[{len(mp.LOAD_TABLE_PROBLEMS)}] = {{{", ".join(c_string(mp.LOAD_TABLE_PROBLEMS[k]) for k in sorted(mp.LOAD_TABLE_PROBLEMS))}}};
 
@@ -190,12 +208,12 @@ static const char *const LOAD_TABLE_PROBLEMS[{len(mp.LOAD_TABLE_PROBLEMS)}] = {{
 #define STATE_N_MEMORY {layout.N_MEMORY}
 {state_problem_tables()}
 
-enum {{ {INPUT}, {PARAMETER}, {STATE}, {DERIVATIVE} }};
+enum {{ {INPUT}, {PARAMETER}, {STATE}, {DERIVATIVE}, {JOINT} }};
 
 typedef struct {{
     const char *name;
     int source;   /* SOURCE_*: where the value is */
-    int index;    /* in inputs, parameters, y = [q, q_dot] or dy */
+    int index;    /* in inputs, parameters, y = [q, q_dot], dy or the joint's kinematics */
 }} VariableInfo;
 
 /* value reference = position (FMI 2.0 and 3.0) */
@@ -216,25 +234,29 @@ static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
 
 
 # ModelStructure: what each unknown depends on (tests/fmu/test_slider_crank_fmu.py checks it by finite
-# differences).  The crank is driven and pinned to the ground, so its accelerations follow from its constraints
-# alone: its loads (pin_*) move no variable.  The rod's and the slider's loads move the rod's and the slider's x
-# acceleration; the
-# slider's y and rotation are constrained to rest.  A state output is the state itself, set by the integration:
-# it depends on no input (no direct feed-through), and OMSimulator sees no algebraic loop through the joint.  The
-# accelerations depend on the states (conservatively all 18: mass matrix, Baumgarte terms), a position's
-# derivative (a velocity) on that velocity state only.
-_ROD_LOADS = tuple(v.name for v in INPUTS if v.name.startswith("bushing_") or v.name == SLIDER_FORCE_NAME)
-_LOAD_DRIVEN = frozenset(v.name for v in ACCELERATIONS if v.name.startswith("bushing_") or v.name == "slider_a")
+# differences), for any clearance_joint (a parameter).  The pin's torque acts on a body whose rotation is held
+# (the crank driven, the slider guided) at every joint: it moves nothing.  The crank translates only with the
+# clearance at its pivot, where the bushing is the ground: its accelerations depend on the pin's forces and the
+# slider's load alone.  The other loads move the rod's and the slider's x accelerations; the crank's rotation and
+# the slider's y and rotation are held.  A state is set by the integration and the joint's kinematics are the
+# states': they depend on no input (no direct feed-through), and OMSimulator sees no algebraic loop through the
+# joint.  The accelerations depend on the states (conservatively all 18: mass matrix, Baumgarte terms), a
+# position's derivative (a velocity) on that velocity state only.
+_MOVING_LOADS = tuple(v.name for v in INPUTS if v.name != "pin_torque")
+_CRANK_LOADS = ("pin_force_x", "pin_force_y", SLIDER_FORCE_NAME)
+_LOAD_DRIVEN = {"crank_ax": _CRANK_LOADS, "crank_ay": _CRANK_LOADS, "rod_ax": _MOVING_LOADS, "rod_ay": _MOVING_LOADS,
+                "rod_alpha": _MOVING_LOADS, "slider_a": _MOVING_LOADS}
+_JOINT_KINEMATICS = frozenset(v.name for v in JOINT_KINEMATICS)
 
 
 def input_dependencies(name: str) -> tuple[str, ...]:
     """The inputs whose instantaneous value variable ``name`` depends on (direct feed-through)."""
-    return _ROD_LOADS if name in _LOAD_DRIVEN else ()
+    return _LOAD_DRIVEN.get(name, ())
 
 
 def _known_dependencies(name: str, kind: str) -> tuple[str, ...]:
-    """The knowns ``name`` depends on as an unknown of ``kind``: "output" (a state output: none; an
-    acceleration: its inputs and the states), "derivative" (a velocity: itself, the state; an acceleration:
+    """The knowns ``name`` depends on as an unknown of ``kind``: "output" (the joint's kinematics: the states;
+    an acceleration: its inputs and the states), "derivative" (a velocity: itself, the state; an acceleration:
     its inputs and the states) or "initial" (its inputs and the mechanism's parameters: geometry, initial
     angle, speed, masses make the assembled initial state and its accelerations)."""
     accelerations = {a.name for a in ACCELERATIONS}
@@ -242,6 +264,8 @@ def _known_dependencies(name: str, kind: str) -> tuple[str, ...]:
         return (*input_dependencies(name), *(p.name for p in PARAMETERS if p.name != MAX_INTERNAL_STEP_NAME))
     if name in accelerations:
         return (*input_dependencies(name), *(s.name for s in STATES))
+    if name in _JOINT_KINEMATICS:
+        return tuple(s.name for s in STATES)
     return (name,) if kind == "derivative" else ()
 
 

@@ -15,10 +15,12 @@ from numba import carray, types
 
 from ..core.integrators import rk4_hold
 from ..core.jit import kernel
-from ..core.layout import MODE_EXTERNAL, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS
-from ..core.mechanism import (
-    derivative, initial_state, inverse_mass_diagonal, load_table_problem, mechanism_parameter_vector, no_joint,
+from ..core.layout import (
+    MODE_EXTERNAL, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_KINEMATIC_INPUTS, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS,
 )
+from ..core.joint_location import joint_kinematics
+from ..core.mechanism import derivative, initial_state, inverse_mass_diagonal, no_joint
+from ..core.slider_load import load_table_problem, mechanism_parameter_vector
 from ..mechanism_parameters import FIELD_SCALES
 from .aot import entry_point
 from .state_entry_points import (  # noqa: F401  (the FMU state's entry points, aot.ENTRY_POINTS)
@@ -40,7 +42,7 @@ def _workspace(jac, schur, phi, phi_dot, gamma, minv, force):
 def parameters_native(fields, mp, minv):
     """The kernels' parameter vector (layout.MP_*) from the FMU's mechanism parameters (rpm, degrees;
     wearjoint.mechanism_parameters.MECHANISM_FIELDS) and M^-1 (Eq. 42); returns 0, or what is wrong with the
-    slider-load table (core.mechanism.load_table_problem: nothing packed)."""
+    slider-load table (core.slider_load.load_table_problem: nothing packed)."""
     f = carray(fields, N_MECHANISM_FIELDS)
     problem = load_table_problem(f)
     if problem != 0:
@@ -80,4 +82,12 @@ def step_native(t, h, n_steps, y, mp, inputs, jac, schur, phi, phi_dot, gamma, m
     rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, no_joint(p), u[:6],
              _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N),
              carray(stages, (4, 2 * _N)))
+    return 0
+
+
+@entry_point(types.int32(_F64, _F64, _F64))
+def joint_kinematics_native(y, mp, out):
+    """out = the clearance joint's kinematic inputs (layout.N_KINEMATIC_INPUTS: the pin body's x, y, angle, vx,
+    vy, omega, then the bushing body's; the ground's zero) from y (core.joint_location); returns 0."""
+    joint_kinematics(carray(y, 2 * _N), carray(mp, N_MECHANISM_PARAMETERS), carray(out, N_KINEMATIC_INPUTS))
     return 0
