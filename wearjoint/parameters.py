@@ -250,12 +250,13 @@ def paper_joint(mechanism: SliderCrankParameters | None = None, **changes) -> Jo
 
 
 def check_joint_fits_mechanism(joint: JointParameters, mechanism: SliderCrankParameters) -> None:
-    """Raise if the joint's body-frame offsets do not sit at the crank tip and rod end."""
+    """Raise if the joint's body-frame offsets do not sit at the clearance joint's centres
+    (:meth:`SliderCrankParameters.joint_offsets`)."""
     expected = mechanism.joint_offsets()
     for name, value in expected.items():
         got = getattr(joint, name)
         require(name, got, all(abs(a - b) <= 1e-12 for a, b in zip(got, value)),
-                 f"{tuple(value)} for this slider-crank (crank tip / rod end)")
+                f"{tuple(value)} for this slider-crank's {mechanism.clearance_joint} joint")
 
 
 PAPER_JOINT_GEOMETRY = ("pin_radius_m", "bushing_radius_m", "contact_length_m")

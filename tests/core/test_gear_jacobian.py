@@ -11,7 +11,7 @@ import pytest
 from wearjoint.core import layout as L
 from wearjoint.core.mechanism import derivative
 from wearjoint.core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
-from wearjoint.parameters import paper_joint
+from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
 
 N2 = 2 * L.N_COORDINATES
@@ -152,3 +152,15 @@ def test_jacobian_leaves_the_joint_state_alone():
     before = sim.joint.state_to_bytes()
     exact(sim)
     assert sim.joint.state_to_bytes() == before
+
+
+@pytest.mark.parametrize("location", ["rod-slider", "crank-ground"])
+def test_the_exact_jacobian_is_the_crank_rod_joints_and_refused_elsewhere_in_one_line(location):
+    """The exact Jacobian differentiates the crank-rod joint's closed-form solve: with the clearance at another
+    joint ``gear`` runs on the solver's finite differences, and asking for ``exact`` there is refused."""
+    mechanism = SliderCrankParameters(clearance_joint=location)
+    with pytest.raises(ParameterError, match=r"^parameter gear_jacobian='exact' is invalid: allowed 'numerical' "
+                                             rf"with clearance_joint='{location}'"):
+        Simulation(paper_joint(mechanism), mechanism, SimulationOptions(integrator="gear", revolutions=0.01))
+    Simulation(paper_joint(mechanism), mechanism, SimulationOptions(integrator="gear", gear_jacobian="numerical",
+                                                                    revolutions=0.01))

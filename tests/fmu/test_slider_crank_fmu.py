@@ -368,6 +368,7 @@ def _start(version: int, parameters: dict, interface: str = "instantiate") -> st
     ("initial_crank_angle", math.nan, "a finite real number"),
     ("baumgarte_beta", -0.5, ">= 0"),
     (sc.MAX_INTERNAL_STEP_NAME, 0.0, "> 0"),
+    ("clearance_joint", 1.5, "0 (crank-rod), 1 (rod-slider), 2 (crank-ground)"),
 ])
 def test_bad_parameter_fails_initialisation_naming_the_variable(fmus, c_host, fmi3_host, name, value, allowed):
     """The FMU refuses what SliderCrankParameters refuses, at exitInitializationMode (FMI 2.0 and
