@@ -29,16 +29,18 @@ LOBE_CENTRES_DEG = (0, 180)
 
 
 # ---------------------------------------------------------------- per-revolution statistics
-def pin_left_bushing(max_eccentricity_m: float, clearance_m: float, max_wear_depth_m: float) -> str:
-    """Why a run's numbers are not physical, '' when they may be: the pin centre went further than
-    2 (c + h_max) from the bushing centre (a pin in its groove sits at c + h + its penetration, so the
-    penetration passed the clearance plus the wear), or a value is not finite."""
+def pin_left_bushing(max_eccentricity_m: float, clearance_m: float, max_wear_depth_m: float,
+                     admissible_penetration_m: float) -> str:
+    """Why a run's numbers are not physical, '' when they may be: the pin centre went further from the bushing
+    centre than c + h_max + the admissible penetration (:attr:`JointParameters.admissible_penetration_m`: a pin
+    in its groove sits at c + h + its penetration, docs/model.md §3.14), or a value is not finite."""
     if not (math.isfinite(max_eccentricity_m) and math.isfinite(max_wear_depth_m)):
         return "the state is not finite"
-    limit = 2.0 * (clearance_m + max_wear_depth_m)
+    limit = clearance_m + max_wear_depth_m + admissible_penetration_m
     if max_eccentricity_m > limit:
-        return (f"the pin left the bushing: eccentricity {max_eccentricity_m:.3g} m > 2 x (clearance + max wear "
-                f"depth) = {limit:.3g} m")
+        return (f"the pin went {max_eccentricity_m - clearance_m - max_wear_depth_m:.3g} m into the bushing wall: "
+                f"eccentricity {max_eccentricity_m:.3g} m > clearance + max wear depth + admissible penetration "
+                f"({admissible_penetration_m:.3g} m) = {limit:.3g} m")
     return ""
 
 

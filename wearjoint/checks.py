@@ -1,4 +1,5 @@
-"""The one-line check of a parameter value every edge gives (API, CLI, FMU build, exudyn, sweep)."""
+"""The one-line check of a parameter value every edge gives (API, CLI, FMU build, exudyn, sweep), and the error of a
+run that cannot go on."""
 from __future__ import annotations
 
 import math
@@ -6,6 +7,11 @@ import math
 
 class ParameterError(ValueError):
     """A parameter value outside its allowed range."""
+
+
+class RunDiverged(RuntimeError):
+    """A run that cannot go on: its state left what the joint admits (docs/model.md §3.14) or is not finite; the
+    message says when and why (the run pipeline keeps what came before, ``completed: false``)."""
 
 
 def require(name: str, value, ok: bool, allowed: str) -> None:

@@ -44,9 +44,11 @@ from .core import layout as L
 from .core.contact import contact_jacobian, evaluate_contact
 from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
-from .core.wear import STEP_OVERSHOT, advance_joint
+from .core.admissibility import wall_overlap
+from .core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT, advance_joint
 from .joint import ClearanceJoint, ContactResult
 from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
+from .runner import RunDiverged, inadmissible_message
 
 # the columns of ClearanceJointHandle.history(), one row per accepted step
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",
@@ -243,6 +245,9 @@ class ClearanceJointHandle:
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
+        if code == STEP_INADMISSIBLE:            # nothing changed (docs/model.md §3.14)
+            raise RunDiverged(inadmissible_message(t, wall_overlap(j.result, j.parameter_vector, j.wear_depth),
+                                                   j.params, "exudyn's step"))
         self._rows += 1
         self.t = t
         self.accepted_steps += 1

@@ -177,13 +177,14 @@ class ClearanceJoint:
         self.mask = np.zeros(n, dtype=np.bool_)
         self.work = np.zeros(2 * n)                 # scratch of the wear kernels (not state)
         self.kinematics = np.zeros(L.N_KINEMATIC_INPUTS)   # scratch of the integrators' accepted points
+        self.failure = np.zeros(3)                  # the integrators' first inadmissible point (JointArrays.failure)
 
     @property
     def arrays(self) -> JointArrays:
         """The joint's arrays as the kernels and integrators take them (no copies; ``mask``, ``work`` and
-        ``kinematics`` are scratch, not state)."""
+        ``kinematics`` are scratch, ``failure`` the integrators' record of an inadmissible point, not state)."""
         return JointArrays(self.parameter_vector, self.cos_phi, self.sin_phi, self.wear_depth, self.block_min,
-                           self.memory, self.mask, self.work, self.result, self.kinematics)
+                           self.memory, self.mask, self.work, self.result, self.kinematics, self.failure)
 
     # ------------------------------------------------------------- forces
     def evaluate_array(self, pos_i, vel_i, pos_j, vel_j) -> np.ndarray:

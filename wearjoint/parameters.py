@@ -16,8 +16,8 @@ from .checks import (
     ParameterError, choice as _choice, finite, is_finite_pair as _is_finite_pair, positive as _positive, require,
 )
 from .mechanism_parameters import SliderCrankParameters, SliderForceTable
-from .core.layout import (   # the wear-step limit and the wear batches (docs/model.md §3.11, §7)
-    MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
+from .core.layout import (   # the wear-step limit, the wear batches, admissible states (docs/model.md §3.11, §3.14, §7)
+    ADMISSIBLE_PENETRATION_SHARE, MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
 )
 
 RHO_MODES = ("conformal", "paper")
@@ -192,6 +192,12 @@ class JointParameters:
     def clearance_m(self) -> float:
         """Radial clearance c = R_j - R_i [m]."""
         return self.bushing_radius_m - self.pin_radius_m
+
+    @property
+    def admissible_penetration_m(self) -> float:
+        """The deepest the pin may be in the bushing wall [m], ADMISSIBLE_PENETRATION_SHARE R_i: beyond it a state
+        is no contact of these materials (docs/model.md §3.14)."""
+        return ADMISSIBLE_PENETRATION_SHARE * self.pin_radius_m
 
     @property
     def foundation_modulus_N_m3(self) -> float:

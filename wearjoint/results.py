@@ -113,6 +113,7 @@ class RunRecord:
             "worn_volume_m3": self.worn_volume_m3,
             **wear_coefficient_source(self.parameters.joint, self.parameters.mechanism),
             "clearance_m": self.clearance_m,
+            "admissible_penetration_m": self.parameters.joint.admissible_penetration_m,
             **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),
             "completed": self.completed,
             "failure": self.failure or None,

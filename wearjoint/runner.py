@@ -15,6 +15,7 @@ import numpy as np
 
 from . import analysis
 from .core import layout as L
+from .checks import RunDiverged
 from .parameters import JointParameters
 from .progress import Progress
 from .results import RunParameters, RunRecord
@@ -85,7 +86,7 @@ def run_engine(make_engine: Callable[[], Engine], revolutions: float, period_s: 
 
 def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: float, sample_dt_s: float,
                   label: str, progress: bool = True, chunks_per_revolution: int = 8,
-                  clearance_m: float | None = None) -> ChunkedRun:
+                  joint: JointParameters | None = None) -> ChunkedRun:
     """Build the engine (``make_engine()``), compile it (``engine.warm_up()``), then advance
     it by ``revolutions`` crank revolutions in chunks of 1/chunks_per_revolution revolution,
     collecting samples and the wear growth.
@@ -94,7 +95,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
     (``wall_time_s``), so that the real-time factor measures the simulation alone.  A
     progress bar on stderr (its description says "compiling" until the first chunk);
     Ctrl-C during the chunks stops after the current one and keeps what was finished, and so
-    does a chunk after which the run has diverged (:func:`divergence` against ``clearance_m``, by
+    does a chunk after which the run has diverged (:func:`divergence` against ``joint``, by
     default the engine's joint's; ``failure`` says why).
     If anything raises, the engine is closed before the error propagates.
     """
@@ -108,8 +109,8 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
         engine.warm_up()
         compile_time = time.perf_counter() - start
         bar.compiled()
-        if clearance_m is None:
-            clearance_m = engine.joint_parameters.clearance_m
+        if joint is None:
+            joint = engine.joint_parameters
         buffer = np.zeros((int(chunk / sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
         samples, growth = [], []
         completed, failure = True, ""
@@ -121,10 +122,12 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
                 if (i + 1) % chunks_per_revolution == 0:
                     growth.append(engine.max_wear_depth_m())
                 bar.update(engine.t)
-                failure = divergence(engine, buffer[:n], clearance_m)
+                failure = divergence(engine, buffer[:n], joint)
                 if failure:
                     completed, failure = False, failure + "; the results up to there are written"
                     break
+        except RunDiverged as exc:          # an engine refused an inadmissible state (docs/model.md §3.14)
+            completed, failure = False, f"{exc}; the results before it are written"
         except KeyboardInterrupt:
             completed = False
         wall = time.perf_counter() - wall0
@@ -152,15 +155,31 @@ def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float
         contact_stiffness_N_m1_5=joint_params.stiffness_N_m1_5, parameters=parameters, extra=extra, completed=run.completed, failure=run.failure)
 
 
-def divergence(engine, samples: np.ndarray, clearance_m: float) -> str:
-    """'' while the run is physical, else why not, at the engine's time: its latest ``samples`` leave the pin
-    outside the bushing or are not finite (:func:`wearjoint.analysis.pin_left_bushing`)."""
-    reason = analysis.pin_left_bushing(analysis.sample_eccentricity_max(samples), clearance_m, engine.max_wear_depth_m())
+def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
+    """'' while the run is physical, else why not: the engine's latest ``samples`` or its per-revolution largest
+    eccentricity (every accepted point) put the pin further into the bushing wall than ``joint`` admits, or are
+    not finite (:func:`wearjoint.analysis.pin_left_bushing`); the time named is the first such sample's, else the
+    engine's."""
+    depth = engine.max_wear_depth_m()
+    stats = engine.revolution_stats[analysis.covered(engine.revolution_stats), L.S_ECC_MAX]
+    largest = max(analysis.sample_eccentricity_max(samples), float(stats.max()) if stats.size else 0.0)
+    if not math.isfinite(float(stats.sum())):
+        largest = math.nan
+    reason = analysis.pin_left_bushing(largest, joint.clearance_m, depth, joint.admissible_penetration_m)
     if not reason:
         return ""
-    return (f"the run diverged by t = {engine.t:.6g} s: {reason}; nothing after this is physical (take a shorter step, "
-            "an adaptive integrator or a smaller wear factor; docs/model.md §7)")
+    e = np.hypot(samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y]) if samples.shape[0] else np.zeros(0)
+    over = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m))
+    when = f"at t = {samples[over[0], L.T_TIME]:.6g} s" if over.size else f"by t = {engine.t:.6g} s"
+    return (f"the run diverged {when}: {reason}; nothing after this is physical (take a shorter step, an adaptive "
+            "integrator or a smaller wear factor; docs/model.md §3.14)")
 
 
-class RunDiverged(RuntimeError):
-    """A run that cannot go on: its message is :func:`divergence`'s."""
+def inadmissible_message(t: float, overlap_m: float, joint: JointParameters, where: str) -> str:
+    """Why a run stopped at an inadmissible state (core.admissibility): at time ``t`` [s] ``where`` put the pin
+    ``overlap_m`` [m] into the bushing wall, beyond the admissible penetration of ``joint``."""
+    bound = joint.admissible_penetration_m
+    return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall, beyond "
+            f"the admissible penetration {bound:.3g} m ({L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius): no "
+            "contact of this joint reaches it; nothing after it is physical (take a shorter step or an adaptive "
+            "integrator; docs/model.md §3.14)")

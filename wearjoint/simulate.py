@@ -19,7 +19,7 @@ from .parameters import (
     check_joint_fits_mechanism, paper_joint,
 )
 from .results import RunParameters, RunRecord, new_revolution_stats, new_track
-from .runner import run_engine
+from .runner import RunDiverged, inadmissible_message, run_engine
 
 INTEGRATORS = ("rk4", "dopri", "gear")
 GEAR_SOLVERS = ("cvode", "scipy")
@@ -264,6 +264,9 @@ class Simulation:
                                          self.revolution_stats, samples, self.track)
             self.accepted += acc
             self.rejected += rej
+        failure = self.joint.failure
+        if failure[0] != 0.0:
+            raise RunDiverged(inadmissible_message(failure[1], failure[2], self.joint.params, "an accepted step"))
         return int(self.track[L.K_N_SAMPLES])
 
     def _gear_to(self, t_end: float, samples: np.ndarray) -> None:
@@ -280,6 +283,8 @@ class Simulation:
             self.y[:] = y
             accept_point(self.t, self.y, h, self.dy, self.mode, mp, joint, self.body_forces,
                          self.mechanism.workspace, self.dy, False)
+            if self.joint.failure[0] != 0.0:
+                break
             record_step(self.t, h, self.y, self.dy, self.joint.result, mp, self.revolution_stats, samples,
                         self.track)
             self.accepted += 1

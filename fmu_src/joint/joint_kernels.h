@@ -61,6 +61,11 @@ int32_t wearjoint_block_minima(int32_t *status, void *excinfo, const double *wea
 int32_t wearjoint_worn_volume(double *volume, void *excinfo, const double *joint_parameters, const double *wear_depth,
                               int64_t n_points);
 
+/* out = [how far the pin of the evaluation ``result`` is in the bushing wall [m] along its eccentricity, the
+ * admissible penetration [m]] (wearjoint/core/admissibility.py). */
+int32_t wearjoint_wall_overlap(int32_t *status, void *excinfo, const double *result, const double *joint_parameters,
+                               const double *wear_depth, int64_t n_points, double *out);
+
 /* The derived slots of the joint parameter vector: E* (Eq. 32) and k_w times the wear factor. */
 int32_t wearjoint_complete_parameters(int32_t *status, void *excinfo, double *joint_parameters);
 

@@ -337,7 +337,8 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
 /* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs
  * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
  * the step's mean force, docs/model.md §3.11).
- * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt.  FMU_WARNING (logged, the
+ * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, and for inputs deeper in the bushing wall
+ * than any contact (Co-Simulation; Model Exchange: FMU_ERROR; docs/model.md §3.14).  FMU_WARNING (logged, the
  * step accepted), once per instance: the first step's pin centre lies outside the bushing (the inputs
  * likely lack the offsets).  A wearing step over the wear-step limit (docs/model.md §7) is logged as a
  * warning once per instance and returns FMU_OK: the run goes on in every master. */
@@ -370,6 +371,17 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
                                             model->n_blocks, dt, held);
     if (!kernel_ok(model, "wearjoint_advance failed", status))
         return FMU_ERROR;
+    if (changed == STEP_INADMISSIBLE) {   /* deeper in the wall than any contact: nothing changed */
+        double overlap[2] = {0.0, 0.0};   /* the pin's overlap with the wall, the admissible penetration [m] */
+        int32_t ignored = 0;
+        wearjoint_wall_overlap(&ignored, NULL, model->result, model->joint_parameters, model->wear_depth,
+                               model->n_points, overlap);
+        fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
+                "bushing wall (along its eccentricity), beyond the admissible penetration %g m (" ADMISSIBLE_SHARE_TEXT
+                " of the pin radius): no contact of this joint reaches it, nothing changed; the communication step "
+                "is too long for the contact (docs/model.md §3.14)", function, model->time, overlap[0], overlap[1]);
+        return held ? FMU_DISCARD : FMU_ERROR;
+    }
     if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */
         fmu_log(&model->host, FMU_ERROR, "%s: step rejected: a step of %g s wears the bushing by more than its "
                 "radius %g m (or by a non-finite depth)", function, dt,

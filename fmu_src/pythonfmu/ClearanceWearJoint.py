@@ -51,6 +51,8 @@ with _scipy_hidden():
 
     from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, __version__
     from wearjoint.core import state_format
+    from wearjoint.core.admissibility import wall_overlap
+    from wearjoint.core.wear import STEP_INADMISSIBLE
     from wearjoint.fmu import variables as fv
     from wearjoint.joint import check_state_values, read_state_bytes, state_bytes
 
@@ -255,6 +257,13 @@ class ClearanceWearJoint(Fmi2Slave):
         self._ensure_joint()
         changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
                                             self._bushing_position, self._bushing_velocity, step_size, True)
+        if changed == STEP_INADMISSIBLE:
+            overlap = wall_overlap(self._joint.result, self._joint.parameter_vector, self._joint.wear_depth)
+            self._log_error(f"doStep at t={current_time!r} s rejected: the inputs put the pin {overlap:.6g} m into the "
+                            f"bushing wall, beyond the admissible penetration "
+                            f"{self._joint.params.admissible_penetration_m:.6g} m: no contact of this joint reaches "
+                            "it; the master's step is too long for the contact (docs/model.md §3.14)")
+            return False
         if changed < 0:
             self._log_error(f"doStep rejected: a step of {step_size!r} s wears the bushing by more than its radius")
             return False

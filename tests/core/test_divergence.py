@@ -1,6 +1,6 @@
-"""A run whose pin leaves the bushing stops there, says why, and keeps what came before
-(wearjoint.runner.divergence, analysis.pin_left_bushing): never `completed: true` with a pin
-kilometres away."""
+"""A run whose pin goes further into the bushing wall than the joint admits stops there, says why, and keeps what
+came before (wearjoint.runner.divergence, analysis.pin_left_bushing; docs/model.md §3.14): never `completed: true`
+with a pin through the wall."""
 import math
 
 import numpy as np
@@ -9,9 +9,13 @@ import pytest
 from wearjoint import analysis
 from wearjoint.cli.options import exit_status
 from wearjoint.core import layout as L
+from wearjoint.parameters import JointParameters
+from wearjoint.results import new_revolution_stats
 from wearjoint.runner import divergence, run_in_chunks
 
+JOINT = JointParameters(pin_radius_m=0.01, bushing_radius_m=0.0101)
 CLEARANCE_M = 1e-4
+ADMISSIBLE_M = 2e-4            # 2 % of the pin's 10 mm radius
 PERIOD_S = 0.4
 
 
@@ -21,6 +25,8 @@ class EngineLeavingTheBushing:
 
     def __init__(self, diverge_at_s, wear_m=0.0):
         self.t, self.diverge_at_s, self.wear_m = 0.0, diverge_at_s, wear_m
+        self.revolution_stats = new_revolution_stats(2)
+        self.joint_parameters = JOINT
 
     def warm_up(self):
         pass
@@ -46,17 +52,30 @@ class EngineLeavingTheBushing:
 
 
 @pytest.mark.parametrize("wear_m", [0.0, 3e-4])
-def test_the_pin_may_sit_in_its_groove_but_not_past_twice_clearance_and_wear(wear_m):
-    limit = 2.0 * (CLEARANCE_M + wear_m)
-    assert analysis.pin_left_bushing(limit * (1 - 1e-9), CLEARANCE_M, wear_m) == ""
-    assert "left the bushing" in analysis.pin_left_bushing(limit * (1 + 1e-9), CLEARANCE_M, wear_m)
-    assert "not finite" in analysis.pin_left_bushing(math.nan, CLEARANCE_M, wear_m)
+def test_the_pin_may_sit_in_its_groove_but_not_past_the_admissible_penetration(wear_m):
+    assert JOINT.admissible_penetration_m == pytest.approx(ADMISSIBLE_M)
+    limit = CLEARANCE_M + wear_m + ADMISSIBLE_M
+    assert analysis.pin_left_bushing(limit * (1 - 1e-9), CLEARANCE_M, wear_m, ADMISSIBLE_M) == ""
+    assert "into the bushing wall" in analysis.pin_left_bushing(limit * (1 + 1e-9), CLEARANCE_M, wear_m, ADMISSIBLE_M)
+    assert "not finite" in analysis.pin_left_bushing(math.nan, CLEARANCE_M, wear_m, ADMISSIBLE_M)
+
+
+def test_an_excursion_between_samples_is_caught_by_the_revolutions_largest_eccentricity():
+    """The per-revolution statistics hold the largest eccentricity of every accepted point: a blow-up that the
+    samples (every 10 us) miss is still a divergence."""
+    engine = EngineLeavingTheBushing(diverge_at_s=math.inf)
+    samples = np.zeros((4, L.N_SAMPLE_COLUMNS))
+    samples[:, L.T_TIME] = [1e-3, 2e-3, 3e-3, 4e-3]
+    assert divergence(engine, samples, JOINT) == ""
+    engine.revolution_stats[0, L.S_TIME] = 4e-3
+    engine.revolution_stats[0, L.S_ECC_MAX] = 0.01                       # 10 mm: through the wall
+    assert "into the bushing wall" in divergence(engine, samples, JOINT)
 
 
 def test_a_diverging_run_stops_after_the_chunk_keeping_the_chunks_before():
     run = run_in_chunks(lambda: EngineLeavingTheBushing(diverge_at_s=0.12), revolutions=1.0, period_s=PERIOD_S,
-                        sample_dt_s=1e-3, label="test", progress=False, clearance_m=CLEARANCE_M)
-    assert not run.completed and "diverged by t = 0.15 s" in run.failure and "left the bushing" in run.failure
+                        sample_dt_s=1e-3, label="test", progress=False)
+    assert not run.completed and "diverged at t = 0.122 s" in run.failure and "into the bushing wall" in run.failure
     assert run.engine.t == pytest.approx(0.15)                   # the third chunk of 0.05 s, not the eighth
     times = run.samples[:, L.T_TIME]                              # the chunks before are kept
     assert times[-1] == pytest.approx(0.15) and times[0] <= 1e-3 and np.all(np.diff(times) > 0)
@@ -64,7 +83,7 @@ def test_a_diverging_run_stops_after_the_chunk_keeping_the_chunks_before():
 
 def test_a_physical_run_completes_and_a_worn_groove_is_no_divergence():
     run = run_in_chunks(lambda: EngineLeavingTheBushing(diverge_at_s=math.inf, wear_m=5e-4), revolutions=1.0,
-                        period_s=PERIOD_S, sample_dt_s=1e-3, label="test", progress=False, clearance_m=CLEARANCE_M)
+                        period_s=PERIOD_S, sample_dt_s=1e-3, label="test", progress=False)
     assert run.completed and run.failure == "" and run.engine.t == pytest.approx(PERIOD_S)
 
 
@@ -72,7 +91,7 @@ def test_non_finite_samples_are_a_divergence():
     engine = EngineLeavingTheBushing(diverge_at_s=math.inf)
     samples = np.zeros((4, L.N_SAMPLE_COLUMNS))
     samples[2, L.T_NORMAL_FORCE] = math.nan
-    assert "not finite" in divergence(engine, samples, CLEARANCE_M)
+    assert "not finite" in divergence(engine, samples, JOINT)
 
 
 def test_the_command_exits_1_naming_the_failure(capsys):

@@ -195,3 +195,21 @@ def test_two_revolutions_of_each_master_stay_inside_the_monolithic_scatter(case,
     outside = {name: m for name, m in row["metrics"].items() if not m["passed"]}
     assert len(outside) <= 1, outside
     assert all(abs(m["difference"]) <= 2.0 * m["tolerance"] for m in outside.values()), outside
+
+
+@pytest.mark.parametrize("case", ["own-zoh", "libcosim", "ecos", "omsimulator", "container"])
+def test_a_step_that_blows_the_coupling_up_ends_as_a_failed_run(case, tmp_path, capsys):
+    """At a 20 us communication step the held coupling blows up in the first impacts (the pin through the bushing
+    wall, docs/model.md §3.14): every route, wearjoint's own fixed-step master and each third-party one (whether
+    it stops at the joint's fmi2Discard, libcosim, or steps on, ecos and OMSimulator, whose trace shows the pin past
+    the wall), ends with exit status 1 and one line, `completed: false` and the failure in summary.json, and the
+    results up to there written."""
+    options = ["--scheme", "zoh"] if case == "own-zoh" else ["--master", _master_or_skip(case)[0]]
+    out = tmp_path / "out"
+    code = main(["cosim", *options, "--step", "2e-5", "--revolutions", "0.05", "--quiet", "--no-plots",
+                 "--out", str(out)])
+    errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("wearjoint cosim: error:")]
+    assert code == 1 and len(errors) == 1 and "the run diverged" in errors[0], errors
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["completed"] is False and "bushing wall" in summary["failure"]
+    assert 0.0 < summary["simulated_time_s"] < 0.05 * 0.4

@@ -87,3 +87,25 @@ def test_non_finite_input_fails_get_real_and_discards_do_step(slave, fmu):
     slave.fmu.doStep(0.0, 1e-5)
     assert slave.get(["contact"])[0] == 1.0
     gc.collect()
+
+
+def test_a_step_into_the_bushing_wall_is_discarded_and_a_shorter_one_continues(slave, fmu):
+    """A co-simulation coupling that blew up hands the joint a pin deeper in the bushing wall than any contact
+    (docs/model.md §3.14): doStep returns fmi2Discard with one error line naming the time, the pin's overlap and
+    the bound, the wear profile and the worn volume stay as they were, and the master's retry with the inputs of a
+    shorter step goes on."""
+    slave.set_inputs(contact_inputs())
+    slave.fmu.doStep(0.0, 1e-5)
+    names = [*fmu["wear"], "worn_volume", "max_wear_depth"]
+    before = slave.get(names)
+    slave.set_inputs(contact_inputs(depth=2.0 * P.admissible_penetration_m))
+    with pytest.raises(FMICallException) as failure:
+        slave.fmu.doStep(1e-5, 1e-5)
+    assert failure.value.status == FMI_DISCARD
+    refused = [text for text in slave.errors() if "into the" in text and "bushing wall" in text]
+    assert len(refused) == 1 and "t=1e-05" in refused[0].replace("t=1.0000000000000001e-05", "t=1e-05")
+    assert f"{P.admissible_penetration_m:g} m" in refused[0], refused
+    assert np.array_equal(slave.get(names), before)
+    slave.set_inputs(contact_inputs(depth=1e-6))
+    slave.fmu.doStep(1e-5, 5e-6)
+    assert slave.get(["contact"])[0] == 1.0 and len(slave.errors()) == 1

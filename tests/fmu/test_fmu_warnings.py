@@ -8,12 +8,13 @@ import math
 import pytest
 
 fmpy = pytest.importorskip("fmpy")
+from fmpy.fmi1 import FMICallException  # noqa: E402
 from fmpy_instance import Joint  # noqa: E402
 
 from wearjoint import paper_joint  # noqa: E402
 from wearjoint.parameters import MAX_WEAR_STEP_S, WEAR_STEP_SHARE  # noqa: E402
 
-WARNING = 1
+WARNING, DISCARD = 1, 2
 PENETRATION_M = 5e-6
 INPUTS = ("pin_x", "pin_y", "pin_angle", "pin_vx", "pin_vy", "pin_omega",
           "bushing_x", "bushing_y", "bushing_angle", "bushing_vx", "bushing_vy", "bushing_omega")
@@ -88,7 +89,12 @@ def test_a_first_step_with_the_pin_outside_the_bushing_names_the_offsets(fmus, v
         assert joint.do_step(0.0, 1e-6) == WARNING
         (said,) = warnings_of(joint)
         assert "outside the bushing" in said and "pin_offset_x" in said and "bushing_offset_x" in said
-        assert joint.do_step(1e-6, 1e-6) == 0 and len(warnings_of(joint)) == 1      # once
+        assert len(warnings_of(joint)) == 1
+        # the first step only: a later one with the pin through the wall is refused (docs/model.md §3.14)
+        with pytest.raises(FMICallException) as refused:
+            joint.do_step(1e-6, 1e-6)
+        assert refused.value.status == DISCARD and "bushing wall" in joint.errors()
+        assert len(warnings_of(joint)) == 1                                         # said once
     finally:
         joint.free()
 

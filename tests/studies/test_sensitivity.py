@@ -131,10 +131,13 @@ def test_groups_with_a_failed_run_are_left_out():
 
 
 def test_a_run_whose_pin_left_the_bushing_is_not_analysed():
-    groove = {"status": "ok", "clearance_m": 1e-4, "max_wear_depth_m": 5e-4, "max_eccentricity_m": 6.05e-4}
+    groove = {"status": "ok", "clearance_m": 1e-4, "max_wear_depth_m": 5e-4, "max_eccentricity_m": 6.05e-4,
+              "admissible_penetration_m": 2e-4}
     apart = {**groove, "max_eccentricity_m": 1.46e4}
+    through = {**groove, "max_eccentricity_m": 8.05e-4}                # 0.205 mm into the wall: past the 0.2 mm
     assert invalid_reason(groove) == "" and output_value(groove, "max_wear_depth_m") == 5e-4
-    assert "left the bushing" in invalid_reason(apart) and math.isnan(output_value(apart, "max_wear_depth_m"))
+    for row in (apart, through):
+        assert "into the bushing wall" in invalid_reason(row) and math.isnan(output_value(row, "max_wear_depth_m"))
     assert math.isnan(output_value({**groove, "status": "failed"}, "max_wear_depth_m"))
 
 
@@ -370,7 +373,7 @@ def test_a_failed_variant_is_counted_not_a_number():
     apart = {**ok, "clearance_m": 1e-4, "max_wear_depth_m": 0.0, "max_eccentricity_m": 1.0}
     law = settle([{"label": "e", "changes": {}, "skipped": ""}], ["E"], {"E": apart}, ["max_contact_force_N"], {})
     assert law["variants"][0]["status"] == "invalid" and law["failed"] == 1
-    assert "left the bushing" in law["failures"][0]["error"]
+    assert "into the bushing wall" in law["failures"][0]["error"]
 
 
 def test_the_nominal_point_is_the_middle_of_each_range():
@@ -411,7 +414,7 @@ def test_the_docs_study_ranks_the_dominant_parameters_alike_in_morris_and_sobol(
         assert done.returncode in (0, 1), done.stderr        # 1: some runs' pin left the bushing (the doc says)
         summary = json.loads((tmp_path / method / "summary.json").read_text())
         # the runs that fail are those whose pin left the bushing: stopped as diverged (docs/model.md §7)
-        assert all("diverged" in f["error"] or "left the bushing" in f["error"] for f in summary["failures"])
+        assert all("diverged" in f["error"] or "into the bushing wall" in f["error"] for f in summary["failures"])
         tables[method] = indices(tmp_path / method)
     top = {m: {r["parameter"] for r in t["max_wear_depth_m"][:2]} for m, t in tables.items()}
     assert top["morris"] == top["sobol"]

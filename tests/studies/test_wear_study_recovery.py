@@ -65,8 +65,8 @@ def test_diverged_study_keeps_its_snapshots_and_resumes_with_dopri(tmp_path, mon
         run_wear_study(config, tmp_path, progress=False, plots=False)
     message = str(caught.value)
     assert "\n" not in message
-    assert "diverged at revolution 7.5 of 10 (simulated time 0.3 s, rk4 at max step 1e-05 s): the pin left the " \
-           "bushing" in message
+    assert "diverged at revolution 7.5 of 10 (simulated time 0.3 s, rk4 at max step 1e-05 s): the run diverged " \
+           "at t = " in message and "into the bushing wall" in message
     assert f"the last good checkpoint is at revolution 6.25 ({tmp_path / CHECKPOINT_NAME})" in message
     assert "--resume and --integrator dopri or --max-step 5e-06" in message
     summary = json.loads((tmp_path / "summary.json").read_text())

@@ -14,7 +14,8 @@ from numba.extending import overload
 from .contact import evaluate_contact, evaluate_contact_scalars
 from .jit import kernel
 from .joint_location import bodies_kinematics, bodies_trig, body_state
-from .wear import accept_contact_refreshing
+from .admissibility import wall_overlap
+from .wear import STEP_INADMISSIBLE, accept_contact_refreshing
 
 # The integrators' right-hand side calls the compiled contact evaluation: inlining it there
 # (numba's inline='always') took 16 of a cold run's 41 s of compiling and ran no faster
@@ -23,9 +24,11 @@ from .wear import accept_contact_refreshing
 # The joint in process: the joint parameter vector (layout.P_*), the bushing points' cos/sin, the wear
 # profile, the contact search's block minima, the contact memory (layout.M_*), the wear kernels' scratch (a
 # bool mask, N_d long, and a float64 array ``work``, 2 N_d long; not state) and the evaluation result
-# (layout.R_*), and the pin body's and the bushing body's kinematics (layout.N_KINEMATIC_INPUTS; scratch).
+# (layout.R_*), the pin body's and the bushing body's kinematics (layout.N_KINEMATIC_INPUTS; scratch) and
+# ``failure`` = [1 once an accepted point was inadmissible (core.admissibility), its time [s], the pin's overlap
+# with the bushing wall there [m]] (the integrators stop: :func:`joint_failed`).
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
-                                         "memory", "mask", "work", "result", "kinematics"))
+                                         "memory", "mask", "work", "result", "kinematics", "failure"))
 # No joint: the mechanism's own forces come from elsewhere (MODE_EXTERNAL: the co-simulation master, the
 # slider-crank FMU).  Its functions do nothing, so code compiled for it holds no contact kernel (compiling
 # the contact for a JointArrays that is never evaluated took 15 of a cold co-simulation's 35 s).
@@ -60,7 +63,7 @@ def accept_joint(joint, t, y, pin, bushing, h, evaluated):
 
 
 def joint_failed(joint):
-    """True if a call to the joint failed (an FMU call; never in process)."""
+    """True if a call to the joint failed (an FMU call), or an accepted point was inadmissible (in process)."""
 
 
 @kernel(inline='always')
@@ -86,6 +89,10 @@ def _arrays_accept(joint, t, y, pin, bushing, h, evaluated):
     code, refreshed = accept_contact_refreshing(joint.result, pos_i, vel_i, pos_j, vel_j, h, joint.parameters,
                                                 joint.cos_phi, joint.sin_phi, joint.wear_depth, joint.block_min,
                                                 joint.memory, joint.mask, joint.work)
+    if code == STEP_INADMISSIBLE and joint.failure[0] == 0.0:
+        joint.failure[0] = 1.0
+        joint.failure[1] = t
+        joint.failure[2] = wall_overlap(joint.result, joint.parameters, joint.wear_depth)
     if refreshed:
         return JOINT_EVALUATED
     return JOINT_CHANGED if code > 0 else JOINT_UNCHANGED
@@ -127,7 +134,11 @@ def _accept_joint(joint, t, y, pin, bushing, h, evaluated):
 
 @overload(joint_failed)
 def _joint_failed(joint):
-    if is_joint_type(joint, JointArrays) or is_joint_type(joint, NoJoint):
+    if is_joint_type(joint, JointArrays):
+        def arrays(joint):
+            return joint.failure[0] != 0.0
+        return arrays
+    if is_joint_type(joint, NoJoint):
         def never(joint):
             return False
         return never

@@ -13,6 +13,9 @@ WEAR_STEP_SHARE = 4.0            # the largest lambda of one accepted step of th
 WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one explicit (patch, penetration) step wears
 MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s] (the statistics, docs/model.md §7)
 WEAR_BATCH_SHARE = 0.1           # the largest lambda of a wear batch: its lag stays a tenth of the overlap (§3.11)
+# --- admissible states (docs/model.md §3.14): a pin further into the bushing wall than this share of its radius is no
+# contact of the joint's materials (at 2 % the mean pressure over the pin's projected area passes any bushing's yield)
+ADMISSIBLE_PENETRATION_SHARE = 0.02
 
 # --- joint parameter vector.  Every slot but the derived ones (P_WEAR_COEFFICIENT, P_EFFECTIVE_MODULUS,
 # P_FOUNDATION_MODULUS, P_DAMPING_COEFFICIENT; P_STIFFNESS where given as 0) is given (JointParameters, or the

@@ -19,6 +19,7 @@ Eq. (28) is h_z += k_w p Delta s_z.  Where the increment goes (docs/model.md §3
 import math
 
 
+from .admissibility import is_admissible
 from .contact import evaluate_contact, update_contact_memory
 from .damping import damping_coefficient
 from .foundation_wear import WEAR_REFUSED, archard_volume_fits, foundation_wear
@@ -27,7 +28,7 @@ from .jit import kernel
 from .pressure import foundation_modulus_factor
 from .layout import (
     M_BATCH_ANGLE, M_BATCH_MOMENT_X, M_BATCH_MOMENT_Y, M_BATCH_INDEX, M_BATCH_LOAD, M_BATCH_SLIDE,
-    M_BATCH_TIME, M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
+    M_BATCH_TIME, M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, NO_START_FORCE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
     P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS, P_CONTACT_LENGTH, P_DAMPING_COEFFICIENT, P_EFFECTIVE_MODULUS,
     P_FOUNDATION_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE, P_SLIDING, P_STIFFNESS,
     P_WEAR_COEFFICIENT, P_WEAR_FACTOR, P_WEAR_INTERVAL, P_WEAR_PLACEMENT, R_CONTACT, R_CONTACT_INDEX, R_ECCENTRICITY_X,
@@ -36,8 +37,9 @@ from .layout import (
 )
 
 
-# accept_contact / advance_joint; STEP_OVERSHOT: changed, by a wearing step over the wear-step limit
-STEP_REFUSED, STEP_UNCHANGED, STEP_CHANGED, STEP_OVERSHOT = -1, 0, 1, 2
+# accept_contact / advance_joint; STEP_OVERSHOT: changed, by a wearing step over the wear-step limit;
+# STEP_INADMISSIBLE: refused, nothing changed: the state is deeper in the wall than any contact (core.admissibility)
+STEP_INADMISSIBLE, STEP_REFUSED, STEP_UNCHANGED, STEP_CHANGED, STEP_OVERSHOT = -2, -1, 0, 1, 2
 
 
 @kernel
@@ -300,6 +302,10 @@ def _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, 
             work, after):
     """:func:`accept_contact` with the contact after the wear evaluated into ``after`` (N_RESULT values; may be
     ``result`` itself); returns (its STEP_* code, True if ``after`` was evaluated)."""
+    # the first accepted point is exempt: a master's first step may come before its inputs were connected
+    # (fmpy's SSP simulator steps the joint once on their start values; the FMU warns of that pin outside the bushing)
+    if memory[M_START_FORCE] != NO_START_FORCE and not is_admissible(result, jp, wear_depth):
+        return STEP_INADMISSIBLE, False
     f_n = step_mean_normal_force(result, memory, held)
     if int(jp[P_WEAR_PLACEMENT]) == 2 and jp[P_WEAR_INTERVAL] > 0.0:
         largest, share = batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
@@ -333,7 +339,8 @@ def accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, si
     evaluated in ``work`` after the wear (not ``held``: a held step's wear takes its own end force).  Returns
     STEP_CHANGED if the joint's forces changed, STEP_OVERSHOT if they did by a step over the wear-step limit
     (longer than MAX_WEAR_STEP_S, or past its share of the wear, :func:`apply_wear`; docs/model.md §7),
-    STEP_UNCHANGED, or STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`)."""
+    STEP_UNCHANGED, STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`) or
+    STEP_INADMISSIBLE (nothing changed: the pin is deeper in the wall than any contact, core.admissibility)."""
     return _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                    mask, work, work[:N_RESULT])[0]
 

@@ -32,6 +32,7 @@ container sets the kinematics first and reads the loads evaluated at them (docs/
 """
 from __future__ import annotations
 
+import math
 import ctypes
 import subprocess
 import tempfile
@@ -42,6 +43,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analysis import pin_left_bushing
+from ..checks import RunDiverged
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
 from ..core.integrators import record_points
@@ -78,7 +81,8 @@ class MasterUnavailable(ImportError):
 class MasterTrace:
     """A third-party master's run: ``values[i, k]`` is ``TRACED[k]`` at ``time_s[i]`` [s] (the
     communication points from 0); ``wear_depth_m`` the final profile, None where unreadable;
-    ``wall_time_s`` the stepping loop, ``load_time_s`` loading and initialising the FMUs."""
+    ``wall_time_s`` the stepping loop, ``load_time_s`` loading and initialising the FMUs; ``failure`` why the
+    master stopped before the stop time."""
 
     master: str
     step_s: float
@@ -87,6 +91,7 @@ class MasterTrace:
     wear_depth_m: np.ndarray | None
     wall_time_s: float
     load_time_s: float
+    failure: str = ""        # why the master stopped early ('' if it reached the stop time)
 
 
 def _steps(stop_time_s: float, step_s: float) -> int:
@@ -94,15 +99,26 @@ def _steps(stop_time_s: float, step_s: float) -> int:
 
 
 def _stepwise(master, step_s, n, do_step, read, load_time_s) -> MasterTrace:
-    """``n`` calls of ``do_step()``, ``read()`` (the traced values, in TRACED order) before the first and after each."""
+    """``n`` calls of ``do_step()``, ``read()`` (the traced values, in TRACED order) before the first and after each;
+    a step that fails (``do_step()`` returns False or raises: the joint FMU refused it) ends the trace there, its
+    ``failure`` saying so."""
     values = np.empty((n + 1, len(TRACED)))
     values[0] = read()
+    failure = ""
     start = time.perf_counter()
     for i in range(1, n + 1):
-        do_step()
+        try:
+            ok, why = do_step(), ""
+        except Exception as exc:      # fmpy's FMICallException, an OMSimulator status: the master's own errors
+            ok, why = False, f" ({exc})"
+        if ok is False:
+            failure = (f"{master}'s step to t = {i * step_s:.6g} s failed{why}: the joint FMU refuses inputs deeper "
+                       "in the bushing wall than any contact (fmi2Discard, its log line names them)")
+            values = values[:i]
+            break
         values[i] = read()
     wall = time.perf_counter() - start
-    return MasterTrace(master, step_s, np.arange(n + 1) * step_s, values, None, wall, load_time_s)
+    return MasterTrace(master, step_s, np.arange(values.shape[0]) * step_s, values, None, wall, load_time_s, failure)
 
 
 _JOINT_COLUMNS = [k for (component, _), k in _COLUMN.items() if component == ssp.JOINT]
@@ -207,8 +223,14 @@ def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
     load = time.perf_counter() - start
     start = time.perf_counter()
     # its loop runs while time < stop_time, time += step: (n + 1/2) steps make n + 1; row i is the end of step i
-    rows = simulate_ssp(str(ssp_path), stop_time=(n + 0.5) * step_s, step_size=step_s,
-                        parameter_set=SimpleNamespace(parameters=parameters))
+    try:
+        rows = simulate_ssp(str(ssp_path), stop_time=(n + 0.5) * step_s, step_size=step_s,
+                            parameter_set=SimpleNamespace(parameters=parameters))
+    except Exception as exc:      # fmpy's FMICallException: its simulator keeps no rows of a run it aborts
+        raise RunDiverged(f"the run diverged: fmpy's SSP simulator stopped ({exc}): the joint FMU refuses inputs deeper "
+                          "in the bushing wall than any contact (fmi2Discard, its log line names them); the "
+                          f"communication step {step_s:g} s is too long for this contact; fmpy keeps no rows of the "
+                          "run (docs/cosim_study.md)") from None
     wall = time.perf_counter() - start
     values = np.column_stack([rows[f"{component}.{name}"] for component, name in TRACED])
     return _align_joint(MasterTrace("fmpy-ssp", step_s, (np.arange(len(rows)) + 1) * step_s, values, None, wall, load))
@@ -365,13 +387,35 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     if trace.wear_depth_m is None:
         extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
                      wear_profile=f"not readable through {trace.master}: profile.csv holds NaN")
+    failure = trace_divergence(trace, joint) or (
+        f"the run diverged: {trace.failure}; the communication step {trace.step_s:g} s is too long for this contact "
+        "(take a shorter one, or wearjoint's adaptive master; docs/cosim_study.md)" if trace.failure else "")
     return RunRecord(samples=samples[:int(track[L.K_N_SAMPLES])], revolution_stats=stats, wear_growth_m=max_depth[ends],
                      phi_deg=np.degrees(bushing_point_angles(joint.n_points)), wear_depth_m=profile,
                      worn_volume_m3=float(trace.values[-1, _COLUMN[(ssp.JOINT, "worn_volume")]]),
                      simulated_time_s=float(trace.time_s[-1]), wall_time_s=trace.wall_time_s,
                      compile_time_s=trace.load_time_s, revolutions=float(revolutions), period_s=period,
                      clearance_m=joint.clearance_m, contact_stiffness_N_m1_5=joint.stiffness_N_m1_5,
-                     parameters=parameters, extra=extra)
+                     parameters=parameters, extra=extra, completed=not failure, failure=failure)
+
+
+def trace_divergence(trace: MasterTrace, joint) -> str:
+    """'' if every communication point of ``trace`` is physical, else why the first that is not is not: the pin
+    further into the bushing wall than ``joint`` admits (:func:`wearjoint.analysis.pin_left_bushing` with the
+    wear depth the joint reported there) or a value not finite."""
+    e = np.hypot(trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_x")]],
+                 trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_y")]])
+    depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
+    bad = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m)
+                         | ~np.isfinite(trace.values).all(axis=1))
+    if not bad.size:
+        return ""
+    k = bad[0]
+    reason = pin_left_bushing(float(e[k]) if np.isfinite(trace.values[k]).all() else math.nan, joint.clearance_m,
+                              float(depth[k]), joint.admissible_penetration_m)
+    return (f"the run diverged at t = {trace.time_s[k]:.6g} s: {reason}; nothing after this is physical ("
+            f"{trace.master}'s communication step {trace.step_s:g} s is too long for this contact: take a shorter "
+            "one, or wearjoint's adaptive master; docs/cosim_study.md)")
 
 
 def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,

@@ -85,7 +85,8 @@ class ModelExchangeSimulation:
     def _check(self) -> None:
         failure = self._fmu_joint.failure
         if failure[0] != 0.0:
-            self._fmu.check(int(failure[1]), FMU_CALLS[int(failure[0])], float(failure[2]))
+            call = FMU_CALLS[int(failure[0])]     # an accepted step the joint refused: the run diverged
+            self._fmu.check(int(failure[1]), call, float(failure[2]), diverged=call == "fmi2CompletedIntegratorStep")
 
     def warm_up(self) -> None:
         """Compile the integrator for the FMU joint without advancing (an empty interval)."""

@@ -53,6 +53,7 @@ ENTRY_POINTS = {
         "wearjoint_bushing_points": ("bushing_points_native", 4),
         "wearjoint_block_minima": ("block_minima_native", 4),
         "wearjoint_worn_volume": ("worn_volume_native", 3),
+        "wearjoint_wall_overlap": ("wall_overlap_native", 5),
         "wearjoint_complete_parameters": ("complete_parameters_native", 1),
         "wearjoint_state_size": ("state_size_native", 2),
         "wearjoint_write_state": ("write_state_native", 8),

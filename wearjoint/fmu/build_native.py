@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 from .. import __version__
 from ..core import layout, state_format
-from ..core.wear import STEP_OVERSHOT
+from ..core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT
 from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
@@ -275,6 +275,8 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
 #define P_BUSHING_OFFSET_X {layout.P_BUSHING_OFFSET_X}
 #define P_BUSHING_OFFSET_Y {layout.P_BUSHING_OFFSET_Y}
 #define STEP_OVERSHOT {STEP_OVERSHOT}
+#define STEP_INADMISSIBLE {STEP_INADMISSIBLE}
+#define ADMISSIBLE_SHARE_TEXT "{layout.ADMISSIBLE_PENETRATION_SHARE:.0%}%"
 #define MAX_WEAR_STEP_S {layout.MAX_WEAR_STEP_S!r}
 #define WEAR_STEP_SHARE {layout.WEAR_STEP_SHARE!r}
 #define WEAR_STEP_SHARE_EXPLICIT {layout.WEAR_STEP_SHARE_EXPLICIT!r}

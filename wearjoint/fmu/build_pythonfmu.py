@@ -53,7 +53,7 @@ RUNTIME_MODULES = ("__init__.py", "_compile/__init__.py", "_compile/cache.py", "
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/damping.py",
                    "core/contact.py",
                    "core/foundation_wear.py", "core/wear.py", "core/state_format.py", "core/joint_access.py",
-                   "core/joint_location.py")
+                   "core/joint_location.py", "core/admissibility.py")
 
 
 def _package_sources() -> list[Path]:

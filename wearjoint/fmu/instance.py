@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import RunDiverged
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .build import DEFAULT_BACKEND
@@ -193,10 +194,14 @@ class FmuInstance:
         errors = [text for status, text in self.log if status > FMI_WARNING] or [text for _, text in self.log[-3:]]
         return (": " + " | ".join(errors[-3:])) if errors else ""
 
-    def check(self, status: int, call: str, t: float) -> None:
-        """Raise FmuError (with the FMU's log) for a status worse than fmi2Warning."""
+    def check(self, status: int, call: str, t: float, diverged: bool = False) -> None:
+        """Raise FmuError (with the FMU's log) for a status worse than fmi2Warning; ``diverged``: the call refused
+        the run's state (a doStep's fmi2Discard, an accepted Model Exchange step's error): RunDiverged instead."""
         if status > FMI_WARNING:
             name = _FMI_STATUS[status] if 0 <= status < len(_FMI_STATUS) else str(status)
+            if diverged:
+                raise RunDiverged(f"the run diverged at t = {t:.6g} s: the joint FMU's {call} returned "
+                                  f"fmi2{name.capitalize()}{self._log_tail()}")
             raise FmuError(f"FMU call {call} returned fmi2{name.capitalize()} at t={t:.9g} s"
                                     f"{self._log_tail()}")
 

@@ -114,7 +114,7 @@ def run_law_spread(command: str, base: dict, problem: Problem, out, outputs: lis
 
 def settle(variants: list, ids: list, rows: dict, outputs: list, y: dict) -> dict:
     """The variants' outcomes from their cases' rows (case id -> sweep.csv row): each variant's ``case_id``,
-    ``status`` (ok, failed, invalid: ran but its pin left the bushing, skipped, not run), ``error`` (why it was
+    ``status`` (ok, failed, invalid: ran but its pin went through the bushing wall, skipped, not run), ``error`` (why it was
     skipped, failed or is invalid) and ``values`` (output -> number, None unless ok: a failed run is counted, never
     a number); the counts, the failures and skipped variants named, and :func:`spread_of`."""
     for v, cid in zip(variants, ids):

@@ -59,8 +59,9 @@ def invalid_reason(row: dict | None) -> str:
     if row is None or row.get("status") != "ok":
         return ""
     e, c, h = (row.get(k) for k in ("max_eccentricity_m", "clearance_m", "max_wear_depth_m"))
-    if all(isinstance(v, (int, float)) for v in (e, c, h)):
-        return pin_left_bushing(e, c, h)
+    p = row.get("admissible_penetration_m", c)       # a row written before summary.json had it: the clearance
+    if all(isinstance(v, (int, float)) for v in (e, c, h, p)):
+        return pin_left_bushing(e, c, h, p)
     return ""
 
 

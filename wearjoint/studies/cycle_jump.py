@@ -125,7 +125,7 @@ def _block(config, state, engine, buffer, period, sample_dt, keep_snapshot) -> N
     for _ in range(length):
         js["simulated_revolutions"] += 1
         n = engine.advance_to(js["simulated_revolutions"] * period, buffer)
-        failure = divergence(engine, buffer[:n], config.joint.clearance_m)
+        failure = divergence(engine, buffer[:n], config.joint)
         if failure:
             raise RunDiverged(failure)
         loads.append(loading_from_samples(buffer[:n], sample_dt))

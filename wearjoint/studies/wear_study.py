@@ -282,7 +282,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
             sim_rev, snapshot = stops[i]
             t_stop = sim_rev * period
             n = engine.advance_to(t_stop, buffer)
-            failure = divergence(engine, buffer[:n], config.joint.clearance_m)
+            failure = divergence(engine, buffer[:n], config.joint)
             if failure:
                 raise RunDiverged(failure)
             _keep_window_samples(state["pending_samples"], config, buffer[:n], period)

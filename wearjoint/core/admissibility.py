@@ -1,0 +1,47 @@
+"""Whether a joint state is one a contact of the joint's materials can reach (docs/model.md §3.14).
+
+A pin in its worn bushing sits at |e| = c + h(phi_e) + its penetration; a co-simulation coupling that blew up
+puts it further, through the wall.  The admissible penetration is ADMISSIBLE_PENETRATION_SHARE of the pin's
+radius (layout); a state deeper than that, or not finite, is refused: the wear and contact-onset update of
+an accepted step (core.wear) returns STEP_INADMISSIBLE and changes nothing (but at the joint's first accepted
+point, which a master may take before it connected the inputs).
+"""
+import math
+
+from .jit import kernel
+from .layout import ADMISSIBLE_PENETRATION_SHARE, P_BUSHING_RADIUS, P_PIN_RADIUS, R_ECCENTRICITY_X, R_ECCENTRICITY_Y
+
+
+@kernel(inline='always')
+def admissible_penetration(jp):
+    """The deepest the pin may be in the bushing wall [m]: ADMISSIBLE_PENETRATION_SHARE R_i."""
+    return ADMISSIBLE_PENETRATION_SHARE * jp[P_PIN_RADIUS]
+
+
+@kernel
+def wall_overlap(result, jp, wear_depth):
+    """How far the pin is in the bushing wall along its eccentricity [m]: |e| + R_i - (R_j + h), h the wear depth
+    of the bushing point nearest e's direction (point k at phi = (k + 1) 2 pi / N_d, Eq. 3); NaN if e is not
+    finite."""
+    ex = result[R_ECCENTRICITY_X]
+    ey = result[R_ECCENTRICITY_Y]
+    if not (math.isfinite(ex) and math.isfinite(ey)):
+        return math.nan
+    n = wear_depth.shape[0]
+    k = (int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1) % n
+    return math.sqrt(ex * ex + ey * ey) + jp[P_PIN_RADIUS] - jp[P_BUSHING_RADIUS] - wear_depth[k]
+
+
+@kernel(inline='always')
+def is_admissible(result, jp, wear_depth):
+    """True if the evaluated contact ``result`` (layout.R_*) is within the admissible penetration of the worn
+    bushing; the wall is looked up only where |e| passes the unworn clearance plus that penetration."""
+    ex = result[R_ECCENTRICITY_X]
+    ey = result[R_ECCENTRICITY_Y]
+    free = jp[P_BUSHING_RADIUS] - jp[P_PIN_RADIUS] + admissible_penetration(jp)
+    if ex * ex + ey * ey <= free * free:
+        return True
+    return wall_overlap(result, jp, wear_depth) <= admissible_penetration(jp)
+
+
+__all__ = ["admissible_penetration", "is_admissible", "wall_overlap"]
