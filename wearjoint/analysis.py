@@ -30,12 +30,17 @@ LOBE_CENTRES_DEG = (0, 180)
 
 # ---------------------------------------------------------------- per-revolution statistics
 def pin_left_bushing(max_eccentricity_m: float, clearance_m: float, max_wear_depth_m: float,
-                     admissible_penetration_m: float) -> str:
+                     admissible_penetration_m: float, max_force_N: float = 0.0,
+                     admissible_force_N: float = math.inf) -> str:
     """Why a run's numbers are not physical, '' when they may be: the pin centre went further from the bushing
     centre than c + h_max + the admissible penetration (:attr:`JointParameters.admissible_penetration_m`: a pin
-    in its groove sits at c + h + its penetration, docs/model.md §3.14), or a value is not finite."""
-    if not (math.isfinite(max_eccentricity_m) and math.isfinite(max_wear_depth_m)):
+    in its groove sits at c + h + its penetration, docs/model.md §3.14), its normal force passed the admissible
+    one (:attr:`JointParameters.admissible_force_N`), or a value is not finite."""
+    if not (math.isfinite(max_eccentricity_m) and math.isfinite(max_wear_depth_m) and math.isfinite(max_force_N)):
         return "the state is not finite"
+    if max_force_N > admissible_force_N:
+        return (f"the normal force reached {max_force_N:.3g} N > the admissible {admissible_force_N:.3g} N (the Hertz "
+                f"law's at the admissible penetration {admissible_penetration_m:.3g} m)")
     limit = clearance_m + max_wear_depth_m + admissible_penetration_m
     if max_eccentricity_m > limit:
         return (f"the pin went {max_eccentricity_m - clearance_m - max_wear_depth_m:.3g} m into the bushing wall: "

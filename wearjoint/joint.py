@@ -177,7 +177,7 @@ class ClearanceJoint:
         self.mask = np.zeros(n, dtype=np.bool_)
         self.work = np.zeros(2 * n)                 # scratch of the wear kernels (not state)
         self.kinematics = np.zeros(L.N_KINEMATIC_INPUTS)   # scratch of the integrators' accepted points
-        self.failure = np.zeros(3)                  # the integrators' first inadmissible point (JointArrays.failure)
+        self.failure = np.zeros(4)                  # the integrators' first inadmissible point (JointArrays.failure)
 
     @property
     def arrays(self) -> JointArrays:

@@ -200,6 +200,12 @@ class JointParameters:
         return ADMISSIBLE_PENETRATION_SHARE * self.pin_radius_m
 
     @property
+    def admissible_force_N(self) -> float:
+        """The largest normal force a contact of this joint carries [N]: K delta_adm^n, the Hertz law's elastic force
+        at :attr:`admissible_penetration_m` (docs/model.md §3.14)."""
+        return self.stiffness_N_m1_5 * self.admissible_penetration_m ** self.contact_exponent
+
+    @property
     def foundation_modulus_N_m3(self) -> float:
         """k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3] of the foundation contact (docs/model.md §3.10)."""
         return (3.0 * self.stiffness_N_m1_5 * math.sqrt(self.clearance_m)

@@ -114,6 +114,7 @@ class RunRecord:
             **wear_coefficient_source(self.parameters.joint, self.parameters.mechanism),
             "clearance_m": self.clearance_m,
             "admissible_penetration_m": self.parameters.joint.admissible_penetration_m,
+            "admissible_force_N": self.parameters.joint.admissible_force_N,
             **({} if self.contact_stiffness_N_m1_5 is None else {"contact_stiffness_N_m1_5": self.contact_stiffness_N_m1_5}),
             "completed": self.completed,
             "failure": self.failure or None,

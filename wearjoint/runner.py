@@ -161,25 +161,29 @@ def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
     not finite (:func:`wearjoint.analysis.pin_left_bushing`); the time named is the first such sample's, else the
     engine's."""
     depth = engine.max_wear_depth_m()
-    stats = engine.revolution_stats[analysis.covered(engine.revolution_stats), L.S_ECC_MAX]
-    largest = max(analysis.sample_eccentricity_max(samples), float(stats.max()) if stats.size else 0.0)
-    if not math.isfinite(float(stats.sum())):
+    stats = engine.revolution_stats[analysis.covered(engine.revolution_stats)]
+    largest = max(analysis.sample_eccentricity_max(samples), float(stats[:, L.S_ECC_MAX].max()) if stats.size else 0.0)
+    force = max(float(samples[:, L.T_NORMAL_FORCE].max()) if samples.shape[0] else 0.0,
+                float(stats[:, L.S_FORCE_MAX].max()) if stats.size else 0.0)
+    if not math.isfinite(float(stats[:, [L.S_ECC_MAX, L.S_FORCE_MAX]].sum())):
         largest = math.nan
-    reason = analysis.pin_left_bushing(largest, joint.clearance_m, depth, joint.admissible_penetration_m)
+    reason = analysis.pin_left_bushing(largest, joint.clearance_m, depth, joint.admissible_penetration_m, force,
+                                       joint.admissible_force_N)
     if not reason:
         return ""
     e = np.hypot(samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y]) if samples.shape[0] else np.zeros(0)
-    over = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m))
+    over = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m)
+                          | ~(samples[:, L.T_NORMAL_FORCE] <= joint.admissible_force_N))
     when = f"at t = {samples[over[0], L.T_TIME]:.6g} s" if over.size else f"by t = {engine.t:.6g} s"
     return (f"the run diverged {when}: {reason}; nothing after this is physical (take a shorter step, an adaptive "
             "integrator or a smaller wear factor; docs/model.md §3.14)")
 
 
-def inadmissible_message(t: float, overlap_m: float, joint: JointParameters, where: str) -> str:
+def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: JointParameters, where: str) -> str:
     """Why a run stopped at an inadmissible state (core.admissibility): at time ``t`` [s] ``where`` put the pin
-    ``overlap_m`` [m] into the bushing wall, beyond the admissible penetration of ``joint``."""
-    bound = joint.admissible_penetration_m
-    return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall, beyond "
-            f"the admissible penetration {bound:.3g} m ({L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius): no "
-            "contact of this joint reaches it; nothing after it is physical (take a shorter step or an adaptive "
-            "integrator; docs/model.md §3.14)")
+    ``overlap_m`` [m] into the bushing wall with a normal force ``force_N`` [N], beyond what ``joint`` admits."""
+    return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall (admissible "
+            f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) with a "
+            f"normal force of {force_N:.3g} N (admissible {joint.admissible_force_N:.3g} N): no contact of this joint "
+            "reaches it; nothing after it is physical (take a shorter step or an adaptive integrator; "
+            "docs/model.md §3.14)")

@@ -62,7 +62,7 @@ int32_t wearjoint_worn_volume(double *volume, void *excinfo, const double *joint
                               int64_t n_points);
 
 /* out = [how far the pin of the evaluation ``result`` is in the bushing wall [m] along its eccentricity, the
- * admissible penetration [m]] (wearjoint/core/admissibility.py). */
+ * admissible penetration [m], the admissible normal force [N]] (wearjoint/core/admissibility.py). */
 int32_t wearjoint_wall_overlap(int32_t *status, void *excinfo, const double *result, const double *joint_parameters,
                                const double *wear_depth, int64_t n_points, double *out);
 

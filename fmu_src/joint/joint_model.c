@@ -372,14 +372,16 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
     if (!kernel_ok(model, "wearjoint_advance failed", status))
         return FMU_ERROR;
     if (changed == STEP_INADMISSIBLE) {   /* deeper in the wall than any contact: nothing changed */
-        double overlap[2] = {0.0, 0.0};   /* the pin's overlap with the wall, the admissible penetration [m] */
+        /* the pin's overlap with the wall and the admissible penetration [m], the admissible force [N] */
+        double bounds[3] = {0.0, 0.0, 0.0};
         int32_t ignored = 0;
         wearjoint_wall_overlap(&ignored, NULL, model->result, model->joint_parameters, model->wear_depth,
-                               model->n_points, overlap);
+                               model->n_points, bounds);
         fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
-                "bushing wall (along its eccentricity), beyond the admissible penetration %g m (" ADMISSIBLE_SHARE_TEXT
-                " of the pin radius): no contact of this joint reaches it, nothing changed; the communication step "
-                "is too long for the contact (docs/model.md §3.14)", function, model->time, overlap[0], overlap[1]);
+                "bushing wall (along its eccentricity; admissible %g m, " ADMISSIBLE_SHARE_TEXT " of the pin radius) "
+                "with a normal force of %g N (admissible %g N): no contact of this joint reaches it, nothing "
+                "changed; the communication step is too long for the contact (docs/model.md §3.14)", function,
+                model->time, bounds[0], bounds[1], model->result[R_NORMAL_FORCE], bounds[2]);
         return held ? FMU_DISCARD : FMU_ERROR;
     }
     if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */

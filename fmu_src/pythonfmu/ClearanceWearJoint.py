@@ -259,10 +259,12 @@ class ClearanceWearJoint(Fmi2Slave):
                                             self._bushing_position, self._bushing_velocity, step_size, True)
         if changed == STEP_INADMISSIBLE:
             overlap = wall_overlap(self._joint.result, self._joint.parameter_vector, self._joint.wear_depth)
+            params = self._joint.params
             self._log_error(f"doStep at t={current_time!r} s rejected: the inputs put the pin {overlap:.6g} m into the "
-                            f"bushing wall, beyond the admissible penetration "
-                            f"{self._joint.params.admissible_penetration_m:.6g} m: no contact of this joint reaches "
-                            "it; the master's step is too long for the contact (docs/model.md §3.14)")
+                            f"bushing wall (admissible {params.admissible_penetration_m:.6g} m) with a normal force "
+                            f"of {self._joint.result[6]:.6g} N (admissible {params.admissible_force_N:.6g} N): no "
+                            "contact of this joint reaches it; the master's step is too long for the contact "
+                            "(docs/model.md §3.14)")
             return False
         if changed < 0:
             self._log_error(f"doStep rejected: a step of {step_size!r} s wears the bushing by more than its radius")

@@ -63,3 +63,19 @@ def test_an_inadmissible_step_changes_nothing_but_the_first_is_exempt():
     assert depth.max() > 0.0
     assert worn.advance_array(*_kinematics(deep + depth.max()), 1e-5) == STEP_INADMISSIBLE
     assert np.array_equal(worn.wear_depth, depth)
+
+
+def test_a_force_past_what_the_materials_carry_is_inadmissible_at_any_eccentricity():
+    """The admissible force is the Hertz law's at the admissible penetration, K delta_adm^1.5: 225 kN for the
+    paper's joint (K 7.951e10 N/m^1.5, delta_adm 0.2 mm); a blown-up coupling's damping force past it is refused
+    even with the pin still near the wall."""
+    paper = JointParameters()
+    assert paper.admissible_force_N == pytest.approx(7.951e10 * 2e-4 ** 1.5, rel=1e-3)
+    joint = ClearanceJoint(paper)
+    result = _at(paper, paper.clearance_m + 1e-5, 0.4)
+    result[L.R_NORMAL_FORCE] = 0.99 * paper.admissible_force_N
+    assert is_admissible(result, joint.parameter_vector, joint.wear_depth)
+    result[L.R_NORMAL_FORCE] = 1.01 * paper.admissible_force_N
+    assert not is_admissible(result, joint.parameter_vector, joint.wear_depth)
+    result[L.R_NORMAL_FORCE] = math.nan
+    assert not is_admissible(result, joint.parameter_vector, joint.wear_depth)

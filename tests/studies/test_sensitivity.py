@@ -136,8 +136,10 @@ def test_a_run_whose_pin_left_the_bushing_is_not_analysed():
     apart = {**groove, "max_eccentricity_m": 1.46e4}
     through = {**groove, "max_eccentricity_m": 8.05e-4}                # 0.205 mm into the wall: past the 0.2 mm
     assert invalid_reason(groove) == "" and output_value(groove, "max_wear_depth_m") == 5e-4
-    for row in (apart, through):
-        assert "into the bushing wall" in invalid_reason(row) and math.isnan(output_value(row, "max_wear_depth_m"))
+    pressed = {**groove, "max_contact_force_N": 3e5, "admissible_force_N": 2.25e5}   # a blown-up damping force
+    for row in (apart, through, pressed):
+        assert invalid_reason(row) and math.isnan(output_value(row, "max_wear_depth_m"))
+    assert "admissible" in invalid_reason(pressed) and "into the bushing wall" in invalid_reason(through)
     assert math.isnan(output_value({**groove, "status": "failed"}, "max_wear_depth_m"))
 
 

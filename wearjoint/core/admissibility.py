@@ -1,15 +1,20 @@
 """Whether a joint state is one a contact of the joint's materials can reach (docs/model.md §3.14).
 
 A pin in its worn bushing sits at |e| = c + h(phi_e) + its penetration; a co-simulation coupling that blew up
-puts it further, through the wall.  The admissible penetration is ADMISSIBLE_PENETRATION_SHARE of the pin's
-radius (layout); a state deeper than that, or not finite, is refused: the wear and contact-onset update of
+puts it further, through the wall, or drives it into the wall so fast that the damping's force passes anything
+the materials carry.  The admissible penetration is ADMISSIBLE_PENETRATION_SHARE of the pin's radius (layout),
+the admissible force the Hertz law's K delta^n there; a state deeper or pressed harder than that, or not
+finite, is refused: the wear and contact-onset update of
 an accepted step (core.wear) returns STEP_INADMISSIBLE and changes nothing (but at the joint's first accepted
 point, which a master may take before it connected the inputs).
 """
 import math
 
 from .jit import kernel
-from .layout import ADMISSIBLE_PENETRATION_SHARE, P_BUSHING_RADIUS, P_PIN_RADIUS, R_ECCENTRICITY_X, R_ECCENTRICITY_Y
+from .layout import (
+    ADMISSIBLE_PENETRATION_SHARE, P_BUSHING_RADIUS, P_EXPONENT, P_PIN_RADIUS, P_STIFFNESS, R_ECCENTRICITY_X,
+    R_ECCENTRICITY_Y, R_NORMAL_FORCE,
+)
 
 
 @kernel(inline='always')
@@ -33,9 +38,20 @@ def wall_overlap(result, jp, wear_depth):
 
 
 @kernel(inline='always')
+def admissible_force(jp):
+    """The largest normal force [N] a contact of the joint carries: K delta_adm^n (Eqs. 14-15, the Hertz law's
+    elastic force at the admissible penetration; the elastic foundation's is about half of it)."""
+    depth = admissible_penetration(jp)
+    return jp[P_STIFFNESS] * (depth * math.sqrt(depth) if jp[P_EXPONENT] == 1.5 else depth ** jp[P_EXPONENT])
+
+
+@kernel(inline='always')
 def is_admissible(result, jp, wear_depth):
     """True if the evaluated contact ``result`` (layout.R_*) is within the admissible penetration of the worn
-    bushing; the wall is looked up only where |e| passes the unworn clearance plus that penetration."""
+    bushing and its normal force within :func:`admissible_force`; the wall is looked up only where |e| passes the
+    unworn clearance plus that penetration."""
+    if not result[R_NORMAL_FORCE] <= admissible_force(jp):
+        return False
     ex = result[R_ECCENTRICITY_X]
     ey = result[R_ECCENTRICITY_Y]
     free = jp[P_BUSHING_RADIUS] - jp[P_PIN_RADIUS] + admissible_penetration(jp)
@@ -44,4 +60,4 @@ def is_admissible(result, jp, wear_depth):
     return wall_overlap(result, jp, wear_depth) <= admissible_penetration(jp)
 
 
-__all__ = ["admissible_penetration", "is_admissible", "wall_overlap"]
+__all__ = ["admissible_force", "admissible_penetration", "is_admissible", "wall_overlap"]

@@ -14,6 +14,7 @@ from numba.extending import overload
 from .contact import evaluate_contact, evaluate_contact_scalars
 from .jit import kernel
 from .joint_location import bodies_kinematics, bodies_trig, body_state
+from .layout import R_NORMAL_FORCE
 from .admissibility import wall_overlap
 from .wear import STEP_INADMISSIBLE, accept_contact_refreshing
 
@@ -26,7 +27,7 @@ from .wear import STEP_INADMISSIBLE, accept_contact_refreshing
 # bool mask, N_d long, and a float64 array ``work``, 2 N_d long; not state) and the evaluation result
 # (layout.R_*), the pin body's and the bushing body's kinematics (layout.N_KINEMATIC_INPUTS; scratch) and
 # ``failure`` = [1 once an accepted point was inadmissible (core.admissibility), its time [s], the pin's overlap
-# with the bushing wall there [m]] (the integrators stop: :func:`joint_failed`).
+# with the bushing wall [m] and the normal force [N] there] (the integrators stop: :func:`joint_failed`).
 JointArrays = namedtuple("JointArrays", ("parameters", "cos_phi", "sin_phi", "wear_depth", "block_min",
                                          "memory", "mask", "work", "result", "kinematics", "failure"))
 # No joint: the mechanism's own forces come from elsewhere (MODE_EXTERNAL: the co-simulation master, the
@@ -93,6 +94,7 @@ def _arrays_accept(joint, t, y, pin, bushing, h, evaluated):
         joint.failure[0] = 1.0
         joint.failure[1] = t
         joint.failure[2] = wall_overlap(joint.result, joint.parameters, joint.wear_depth)
+        joint.failure[3] = joint.result[R_NORMAL_FORCE]
     if refreshed:
         return JOINT_EVALUATED
     return JOINT_CHANGED if code > 0 else JOINT_UNCHANGED

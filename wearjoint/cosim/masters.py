@@ -113,7 +113,8 @@ def _stepwise(master, step_s, n, do_step, read, load_time_s) -> MasterTrace:
             ok, why = False, f" ({exc})"
         if ok is False:
             failure = (f"{master}'s step to t = {i * step_s:.6g} s failed{why}: the joint FMU refuses inputs deeper "
-                       "in the bushing wall than any contact (fmi2Discard, its log line names them)")
+                       "in the bushing wall or pressed harder than any contact admits (fmi2Discard, its log line "
+                       "names them)")
             values = values[:i]
             break
         values[i] = read()
@@ -406,13 +407,14 @@ def trace_divergence(trace: MasterTrace, joint) -> str:
     e = np.hypot(trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_x")]],
                  trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_y")]])
     depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
+    force = trace.values[:, _COLUMN[(ssp.JOINT, "normal_force")]]
     bad = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m)
-                         | ~np.isfinite(trace.values).all(axis=1))
+                         | ~(force <= joint.admissible_force_N) | ~np.isfinite(trace.values).all(axis=1))
     if not bad.size:
         return ""
     k = bad[0]
     reason = pin_left_bushing(float(e[k]) if np.isfinite(trace.values[k]).all() else math.nan, joint.clearance_m,
-                              float(depth[k]), joint.admissible_penetration_m)
+                              float(depth[k]), joint.admissible_penetration_m, float(force[k]), joint.admissible_force_N)
     return (f"the run diverged at t = {trace.time_s[k]:.6g} s: {reason}; nothing after this is physical ("
             f"{trace.master}'s communication step {trace.step_s:g} s is too long for this contact: take a shorter "
             "one, or wearjoint's adaptive master; docs/cosim_study.md)")

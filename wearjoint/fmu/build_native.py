@@ -266,6 +266,7 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
 #define M_START_FORCE {layout.M_START_FORCE}
 #define NO_START_FORCE {layout.NO_START_FORCE!r}
 #define N_RESULT {layout.N_RESULT}
+#define R_NORMAL_FORCE {layout.R_NORMAL_FORCE}
 #define R_PENETRATION {layout.R_PENETRATION}
 #define R_ECCENTRICITY_X {layout.R_ECCENTRICITY_X}
 #define R_ECCENTRICITY_Y {layout.R_ECCENTRICITY_Y}

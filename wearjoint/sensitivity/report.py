@@ -60,8 +60,10 @@ def invalid_reason(row: dict | None) -> str:
         return ""
     e, c, h = (row.get(k) for k in ("max_eccentricity_m", "clearance_m", "max_wear_depth_m"))
     p = row.get("admissible_penetration_m", c)       # a row written before summary.json had it: the clearance
+    force, admissible = row.get("max_contact_force_N"), row.get("admissible_force_N", math.inf)
     if all(isinstance(v, (int, float)) for v in (e, c, h, p)):
-        return pin_left_bushing(e, c, h, p)
+        return pin_left_bushing(e, c, h, p, *((force, admissible) if isinstance(force, (int, float))
+                                              and isinstance(admissible, (int, float)) else ()))
     return ""
 
 
