@@ -18,6 +18,7 @@ import numpy as np
 from . import against_ideal, analysis
 from .core import layout as L
 from .parameters import JointParameters, SliderCrankParameters, wear_coefficient_source
+from .report import write_report
 
 REVOLUTION_COLUMNS = analysis.REVOLUTION_COLUMNS + against_ideal.REVOLUTION_COLUMNS
 
@@ -153,7 +154,7 @@ def _json_default(obj):
 
 
 def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
-    """Write the results folder; returns the summary dict."""
+    """Write the results folder (report.html last, :mod:`wearjoint.report`); returns the summary dict."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     np.savetxt(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]),
@@ -172,4 +173,5 @@ def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
         from .plots import plot_run  # matplotlib only when figures are written
         summary["figures"] = plot_run(record, out)
     write_json_atomic(out / "summary.json", summary)
+    write_report(out)
     return summary

@@ -56,6 +56,10 @@ def test_invalid_case_is_reported_failed_and_the_others_finish(sweep):
               ["initial_crank_angle_deg"] for r in rows[:2]]
     assert angles == [0.0, SEED_ANGLE_STEP_DEG]
     assert "failed" in done.stdout and "Traceback" not in done.stderr
+    # the sweep's folder and each case's carry a report (wearjoint.report; tests/cli/test_report.py checks one)
+    sweep_summary = json.loads((out / "sweep_summary.json").read_text())
+    assert sweep_summary["command_line"].startswith("wearjoint sweep simulate") and (out / "report.html").is_file()
+    assert all((out / r["folder"] / "report.html").is_file() for r in rows[:2])
 
 
 def test_ensemble_holds_mean_std_min_max_per_grid_point(sweep):
@@ -89,7 +93,7 @@ def test_case_in_the_sweep_equals_the_same_case_run_alone(sweep, tmp_path):
     assert (alone / "profile.csv").read_bytes() == (out / row["folder"] / "profile.csv").read_bytes()
     a = json.loads((alone / "summary.json").read_text())
     b = json.loads((out / row["folder"] / "summary.json").read_text())
-    timing = {"wall_time_s", "compile_time_s", "realtime_factor"}
+    timing = {"wall_time_s", "compile_time_s", "realtime_factor", "command_line"}     # and where it was written
     assert {k: v for k, v in a.items() if k not in timing} == {k: v for k, v in b.items() if k not in timing}
     series_a, series_b = np.load(alone / "timeseries.npz"), np.load(out / row["folder"] / "timeseries.npz")
     for name in series_a.files:

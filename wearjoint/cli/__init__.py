@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import shlex
 import sys
 
 from ..parameters import ParameterError
@@ -30,6 +31,7 @@ COMMANDS = {
     "sensitivity": ("wearjoint.cli.sensitivity", "which parameters drive the outputs: Morris or Sobol' on Dask (SALib)"),
     "contact-law": ("wearjoint.cli.contact_law", "restitution of a single impact against its speed under each contact "
                                                  "damping law"),
+    "report": ("wearjoint.cli.report", "(re)write a results folder's report.html: summary, parameters, figures"),
 }
 DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, "
                "FMU co-simulation, validation and the paper's wear study.")
@@ -61,10 +63,22 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with watch_command(args.command):   # the first line of a run that compiles says so
             module = importlib.import_module(COMMANDS[args.command][0])
-            return int(module.run(args) or 0)
+            code = int(module.run(args) or 0)
     except ParameterError as exc:
         print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    _report(args, argv)
+    return code
+
+
+def _report(args, argv: list[str]) -> None:
+    """The results folder's report.html with the command line that made it (wearjoint.report), where the
+    command wrote a summary into ``--out``."""
+    from ..report import summary_path, write_report
+
+    out = getattr(args, "out", None)
+    if out is not None and args.command != "report" and summary_path(out) is not None:
+        write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv))
 
 
 __all__ = ["main", "build_parser", "COMMANDS"]

@@ -58,6 +58,7 @@ def run(args) -> int:
     from ..sensitivity import parse_params, run_sensitivity
 
     a = target_parser(args.target).parse_args(args.options)
+    args.out = a.out                             # the results folder, for its report (wearjoint.cli.main)
     if a.seeds is not None:
         raise ParameterError(f"--seeds={a.seeds!r} is invalid here: each design row is one run (--seed seeds the "
                              "sampling)")

@@ -68,7 +68,9 @@ def target_parser(target: str) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    return run_from_args(args.target, target_parser(args.target).parse_args(args.options))
+    target = target_parser(args.target).parse_args(args.options)
+    args.out = target.out                        # the results folder, for its report (wearjoint.cli.main)
+    return run_from_args(args.target, target)
 
 
 def run_from_args(command: str, args) -> int:

@@ -1,0 +1,87 @@
+"""report.html (wearjoint.report): every results folder a command writes carries one self-contained page: the
+summary's numbers exactly as summary.json has them, the parameters and where each came from, the figures embedded,
+the command line and version; `wearjoint report DIR` rewrites it (a sweep's folder too)."""
+import json
+import math
+from html.parser import HTMLParser
+
+import pytest
+
+from wearjoint import __version__
+from wearjoint.cli import main
+from wearjoint.report import REPORT_NAME
+
+
+class Tables(HTMLParser):
+    """The page's tables by id (rows of cell texts) and its embedded images (their data URIs)."""
+
+    def __init__(self, text):
+        super().__init__()
+        self.tables, self.images, self._table, self._row, self._cell = {}, [], None, None, None
+        self.feed(text)
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if tag == "table":
+            self._table = self.tables.setdefault(attrs.get("id"), [])
+        elif tag == "tr":
+            self._row = []
+        elif tag == "td":
+            self._cell = ""
+        elif tag == "img":
+            self.images.append(attrs["src"])
+
+    def handle_endtag(self, tag):
+        if tag == "td":
+            self._row.append(self._cell)
+            self._cell = None
+        elif tag == "tr" and self._row:
+            self._table.append(self._row)
+        elif tag == "table":
+            self._table = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    out = tmp_path_factory.mktemp("report") / "run"
+    assert main(["simulate", "--revolutions", "0.3", "--slider-force-N", "250", "--quiet", "--out", str(out)]) == 0
+    return out
+
+
+def test_every_number_of_the_summary_is_in_the_report_as_written(folder):
+    summary = json.loads((folder / "summary.json").read_text())
+    page = Tables((folder / REPORT_NAME).read_text(encoding="utf-8"))
+    rows = dict(page.tables["summary"])
+    numbers = {k: v for k, v in summary.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    assert len(numbers) > 20
+    for key, value in numbers.items():
+        shown = float(rows[key])
+        assert shown == value or (math.isnan(value) and math.isnan(shown)), key
+    assert rows["completed"] == "True"
+    assert summary["command_line"].startswith("wearjoint simulate --revolutions 0.3 --slider-force-N 250")
+    assert summary["wearjoint_version"] == __version__
+    text = (folder / REPORT_NAME).read_text(encoding="utf-8")
+    assert summary["command_line"] in text
+
+
+def test_the_parameters_say_where_they_came_from_and_the_figures_are_embedded(folder):
+    summary = json.loads((folder / "summary.json").read_text())
+    page = Tables((folder / REPORT_NAME).read_text(encoding="utf-8"))
+    mechanism = {name: (value, source) for name, value, source in page.tables["mechanism"]}
+    assert mechanism["slider_force_N"] == ("250.0", "given") and mechanism["crank_length_m"][1] == "default"
+    joint = {name: source for name, _, source in page.tables["joint"]}
+    assert joint["pin_radius_m"] == "default"
+    pngs = sorted(p.name for p in folder.glob("*.png"))
+    assert len(pngs) == len(summary["figures"]) >= 4
+    assert len(page.images) == len(pngs) and all(src.startswith("data:image/png;base64,") for src in page.images)
+
+
+def test_the_report_command_rewrites_a_folder_and_refuses_one_without_a_summary(folder, tmp_path, capsys):
+    (folder / REPORT_NAME).unlink()
+    assert main(["report", str(folder)]) == 0 and (folder / REPORT_NAME).is_file()
+    assert main(["report", str(tmp_path)]) == 2
+    assert "not a results folder" in capsys.readouterr().err

@@ -1,0 +1,24 @@
+"""``wearjoint report DIR``: (re)write the results folder's report.html (:mod:`wearjoint.report`)."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..report import write_report
+
+
+def add_arguments(p) -> None:
+    p.add_argument("folder", type=Path, help="a results folder (summary.json or sweep_summary.json, PNGs)")
+
+
+def run(args) -> int:
+    try:
+        page = write_report(args.folder)
+    except FileNotFoundError as exc:
+        print(f"wearjoint report: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"report in {page}")
+    return 0
+
+
+__all__ = ["add_arguments", "run"]

@@ -1,0 +1,111 @@
+"""``report.html``: one self-contained page of a results folder a designer can forward (docs/model.md §6).
+
+The folder's summary (``summary.json``, or a sweep's ``sweep_summary.json``) as a table, every number as written
+there (units in the key names); the joint's and the mechanism's parameters with where each came from (the
+default, or given; the wear coefficient's source as the summary states it); every PNG of the folder embedded;
+the command line and the version that made it.  :func:`write_report` writes it; ``wearjoint report DIR``
+(re)writes it for any results folder, and every command that writes a results folder writes it last.
+"""
+from __future__ import annotations
+
+import base64
+import dataclasses
+import html
+import json
+import math
+from pathlib import Path
+
+from . import __version__
+from .mechanism_parameters import SliderCrankParameters
+from .parameters import JointParameters
+
+REPORT_NAME = "report.html"
+SUMMARY_FILES = ("summary.json", "sweep_summary.json")     # a run's or a study's, a sweep's
+_STYLE = ("body{font-family:sans-serif;max-width:60em;margin:1em auto;color:#222}"
+          "table{border-collapse:collapse;margin:0.5em 0 1.5em}td,th{border:1px solid #ccc;padding:2px 8px;"
+          "text-align:left;font-size:90%}td.number{text-align:right;font-family:monospace}"
+          "img{max-width:100%;border:1px solid #ddd;margin:0.5em 0}code{background:#f4f4f4;padding:1px 4px}")
+
+
+def summary_path(out_dir) -> Path | None:
+    """The folder's summary file (:data:`SUMMARY_FILES`), or None."""
+    return next((Path(out_dir) / name for name in SUMMARY_FILES if (Path(out_dir) / name).is_file()), None)
+
+
+def cell_text(value) -> str:
+    """A summary value as the report's table writes it: numbers as ``repr`` (they read back exactly), None as
+    an empty cell, lists and tables as JSON."""
+    if value is None:
+        return ""
+    if isinstance(value, bool) or isinstance(value, str):
+        return str(value)
+    if isinstance(value, (int, float)):
+        return repr(value) if not (isinstance(value, float) and math.isnan(value)) else "nan"
+    return json.dumps(value)
+
+
+def _table(rows, header, table_id) -> str:
+    body = "".join(
+        "<tr>" + "".join(f'<td class="{"number" if isinstance(v, (int, float)) and not isinstance(v, bool) else ""}">'
+                         f"{html.escape(cell_text(v))}</td>" for v in row) + "</tr>" for row in rows)
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    return f'<table id="{table_id}"><tr>{head}</tr>{body}</table>'
+
+
+def _parameter_rows(given: dict, defaults) -> list:
+    """(name, value, where it came from) of a parameter set's dict against the dataclass ``defaults``."""
+    reference = defaults.to_dict() if hasattr(defaults, "to_dict") else dataclasses.asdict(defaults)
+    return [(name, value, "default" if reference.get(name) == value else "given") for name, value in given.items()]
+
+
+def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> str:
+    """The page: ``summary`` (a summary.json's content), ``figures`` (name, PNG bytes), ``title``."""
+    scalars = [(k, v) for k, v in summary.items() if not isinstance(v, (dict, list)) and k != "command_line"]
+    parameters = summary.get("parameters")
+    parameters = parameters if isinstance(parameters, dict) else {}     # a sensitivity study's: its sampled ones
+    parts = [f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>"
+             f"<style>{_STYLE}</style></head><body><h1>{html.escape(title)}</h1>"]
+    command = summary.get("command_line")
+    parts.append(f"<p>Made by <code>{html.escape(command)}</code>" if command else "<p>Made through the API")
+    parts.append(f" with wearjoint {html.escape(str(summary.get('wearjoint_version', __version__)))}.</p>")
+    if summary.get("completed") is False or summary.get("failure"):
+        parts.append(f"<p><strong>The run did not complete:</strong> {html.escape(str(summary.get('failure') or 'stopped'))}</p>")
+    parts.append("<h2>Summary</h2><p>Units are in the names (docs/model.md §6).</p>")
+    parts.append(_table(scalars, ("quantity", "value"), "summary"))
+    for label, key, defaults in (("Joint", "joint", JointParameters()),
+                                 ("Mechanism", "mechanism", SliderCrankParameters())):
+        if isinstance(parameters.get(key), dict):
+            parts.append(f"<h2>{label} parameters</h2>")
+            if key == "joint" and "wear_coefficient_source" in summary:
+                parts.append(f"<p>The wear coefficient: {html.escape(str(summary['wear_coefficient_source']))}"
+                             f"{'. ' + html.escape(str(summary['wear_coefficient_note'])) if summary.get('wear_coefficient_note') else ''}</p>")
+            parts.append(_table(_parameter_rows(parameters[key], defaults), ("parameter", "value", "from"), key))
+    for name, data in figures:
+        encoded = base64.b64encode(data).decode("ascii")
+        parts.append(f'<h3>{html.escape(name)}</h3><img alt="{html.escape(name)}" src="data:image/png;base64,{encoded}">')
+    parts.append("</body></html>")
+    return "".join(parts)
+
+
+def write_report(out_dir, command_line: str | None = None) -> Path:
+    """Write ``report.html`` into the results folder ``out_dir`` (its summary and PNGs); ``command_line``: the
+    command that made it, recorded into the summary too (with the version).  Returns the page's path."""
+    out = Path(out_dir)
+    path = summary_path(out)
+    if path is None:
+        raise FileNotFoundError(f"{out}: no {' or '.join(SUMMARY_FILES)}: not a results folder")
+    summary = json.loads(path.read_text())
+    if command_line is not None:
+        summary.update(command_line=command_line, wearjoint_version=__version__)
+        tmp = path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(summary, indent=2))
+        tmp.replace(path)
+    figures = [(png.name, png.read_bytes()) for png in sorted(out.glob("*.png"))]
+    page = out / REPORT_NAME
+    tmp = page.with_suffix(".html.tmp")
+    tmp.write_text(report_html(summary, figures, f"wearjoint results: {out.name}"), encoding="utf-8")
+    tmp.replace(page)
+    return page
+
+
+__all__ = ["REPORT_NAME", "SUMMARY_FILES", "cell_text", "report_html", "summary_path", "write_report"]
