@@ -323,7 +323,7 @@ class ClearanceJoint:
         check_state_values((), memory, h, self.params, where)
 
     def save_profile(self, path) -> Path:
-        """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (rod frame)."""
+        """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (bushing frame)."""
         path = Path(path)
         data = np.column_stack([self.phi_deg, self.wear_depth])
         np.savetxt(path, data, delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")

@@ -52,8 +52,8 @@ def plot_pin_orbit(record, path: Path) -> None:
     ax.plot((c_um + record.wear_depth_m * 1e6) * np.cos(phi), (c_um + record.wear_depth_m * 1e6) * np.sin(phi),
             "k-", lw=1, label="clearance + wear")
     ax.set_aspect("equal")
-    ax.set_xlabel("eccentricity x, rod frame [µm]")
-    ax.set_ylabel("eccentricity y, rod frame [µm]")
+    ax.set_xlabel("eccentricity x, bushing frame [µm]")
+    ax.set_ylabel("eccentricity y, bushing frame [µm]")
     ax.set_title("pin centre relative to bushing centre")
     ax.legend(loc="upper right", fontsize=8)
     save_figure(fig, path)
@@ -70,7 +70,7 @@ def plot_contact_force(record, path: Path) -> None:
 
 
 def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushing wear") -> None:
-    """Paper Fig. 7 layout: (a) polar depth, (b) depth vs rod-frame angle, one curve per label."""
+    """Paper Fig. 7 layout: (a) polar depth, (b) depth vs bushing-frame angle, one curve per label."""
     fig = plt.figure(figsize=(11, 4.8))
     ax_polar = fig.add_subplot(1, 2, 1, projection="polar")
     ax = fig.add_subplot(1, 2, 2)
@@ -78,8 +78,8 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushin
     for label, depth in profiles.items():
         ax_polar.plot(np.r_[phi, phi[:1]], np.r_[depth, depth[:1]] * 1e6, lw=1.2, label=label)
         ax.plot(phi_deg, depth * 1e6, lw=1.2, label=label)
-    ax_polar.set_title("(a) wear depth [µm], rod frame", fontsize=10)
-    ax.set_xlabel("angle in the rod frame [deg] (0 = towards the slider)")
+    ax_polar.set_title("(a) wear depth [µm], bushing frame", fontsize=10)
+    ax.set_xlabel("angle in the bushing frame [deg] (crank-rod joint: 0 = towards the slider)")
     ax.set_ylabel("wear depth [µm]")
     ax.set_xlim(0, 360)
     ax.set_xticks(range(0, 361, 45))

@@ -207,7 +207,7 @@ class Simulation:
         self._derivative()
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
-        """(phi_deg, wear_depth_m, worn_volume_m3) of the bushing (rod frame), copies."""
+        """(phi_deg, wear_depth_m, worn_volume_m3) of the bushing (bushing body's frame), copies."""
         return self.joint.phi_deg, self.joint.wear_depth.copy(), self.joint.worn_volume_m3
 
     def max_wear_depth_m(self) -> float:
