@@ -1,4 +1,4 @@
-"""The deepest-point contact against the elastic-foundation contact (issue 28), measured in one run.
+"""The deepest-point contact against the elastic-foundation contact, measured in one run.
 
     python benchmarks/bench_contact_smoothness.py [--revolutions 2] [--rest-s 0.05] [--swing-s 0.5]
 

@@ -7,7 +7,7 @@ Bars hung from ground and swinging from 3 degrees, generalized-alpha at 10 us wi
 on an ideal revolute joint (the same system without the joint's Python callbacks).  Each clearance
 case runs with the helper's exact Jacobian and, for comparison, with the forward differences the
 helper used before (:class:`ForwardDifferences`, kept here only), and each of them at exudyn's
-absolute Newton tolerance (1e-10 N) instead of the helper's: the helper before issue 28 is forward
+absolute Newton tolerance (1e-10 N) instead of the helper's: the helper's first version was forward
 differences at exudyn's tolerance.  Prints microseconds per step, Newton iterations and Jacobian
 updates per step (exudyn's counters), the joint's cost per step over the ideal joint, and the
 kernels' own cost per evaluation (from a numba loop): what is left is exudyn calling Python.  Medians of ``--repeats`` runs, with the load average.

@@ -1,4 +1,4 @@
-"""``--integrator gear`` (BDF) on the paper case (issue 28): exact vs numerical Jacobian, scipy vs CVODE.
+"""``--integrator gear`` (BDF) on the paper case: exact vs numerical Jacobian, scipy vs CVODE.
 
 For each case (one revolution without wear, and with wear factor 100) and each solver
 (``gear_solver``: SUNDIALS CVODE through scikit-sundae, scipy's BDF) and Jacobian (``gear_jacobian``:

@@ -1,4 +1,4 @@
-"""Monolithic engine speed on the paper case (issue 2): the median of ``--repeats`` runs in one invocation.
+"""Monolithic engine speed on the paper case: the median of ``--repeats`` runs in one invocation.
 
 Prints simulated seconds per wall second (real-time factor) for RK4 at 1 us and
 for the adaptive Dormand-Prince integrator, without and with wear, next to the

@@ -1,6 +1,7 @@
 """Building the ClearanceWearJoint FMU: what the pythonfmu FMU imports at run time and ships (exactly
 its slave's import closure), its build key, and the build command (``wearjoint build-fmu``) of both
 backends."""
+import dataclasses
 import json
 import os
 import subprocess
@@ -234,3 +235,15 @@ def test_a_pythonfmu_fmu_loaded_in_the_process_does_not_break_the_next_build(bui
         print("ok")""")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0 and done.stdout.strip().endswith("ok"), done.stderr[-3000:]
+
+
+def test_a_scalar_output_without_a_source_is_a_build_error(monkeypatch):
+    """Each scalar output of the joint FMU names where its value comes from (a result slot, the max wear depth or
+    the worn volume): one with none is refused when the C tables are generated, not wired to some other value."""
+    from wearjoint.fmu import build_native
+    from wearjoint.fmu import variables as fv
+
+    stray = dataclasses.replace(fv.SCALAR_OUTPUTS[-1], name="stray_output")
+    monkeypatch.setattr(fv, "SCALAR_OUTPUTS", (*fv.SCALAR_OUTPUTS, stray))
+    with pytest.raises(RuntimeError, match="scalar output 'stray_output' has no source"):
+        build_native.model_variables_header(16, "guid")

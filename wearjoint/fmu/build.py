@@ -1,4 +1,5 @@
-"""Build ``ClearanceWearJoint.fmu`` with either backend.  What the backends share (where the sources
+"""Build ``ClearanceWearJoint.fmu`` with either backend, or ``SliderCrank.fmu`` (native only: ``model``
+``slider-crank``).  What the backends share (where the sources
 are, the user cache where built FMUs live, the build keys, the C compiler and the FMI headers) is
 :mod:`wearjoint.fmu.build_common`, importable from here too.
 

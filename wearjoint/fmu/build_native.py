@@ -230,12 +230,15 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
                             parameter_index[p.allowed.above] if p.allowed.above else -1, p.allowed_text())
                            for p in fv.PARAMETERS])
     outputs = []
+    wear_summary = {"max_wear_depth": "OUTPUT_MAX_WEAR_DEPTH", "worn_volume": "OUTPUT_WORN_VOLUME"}
     for v in fv.SCALAR_OUTPUTS:
         if v.name in fv.RESULT_SLOTS:
             outputs.append(f"    {{{_c_string(v.name)}, OUTPUT_FROM_RESULT, {fv.RESULT_SLOTS[v.name]}}},")
-        else:
-            source = "OUTPUT_MAX_WEAR_DEPTH" if v.name == "max_wear_depth" else "OUTPUT_WORN_VOLUME"
-            outputs.append(f"    {{{_c_string(v.name)}, {source}, 0}},")
+        elif v.name in wear_summary:
+            outputs.append(f"    {{{_c_string(v.name)}, {wear_summary[v.name]}, 0}},")
+        else:   # each output names its source: a new one without a result slot or a wear figure is a build error
+            raise RuntimeError(f"scalar output {v.name!r} has no source: neither a result slot "
+                               "(fmu.variables.RESULT_SLOTS) nor max_wear_depth / worn_volume")
     first_output = vr[fv.SCALAR_OUTPUTS[0].name]
     first_wear = len(variables) - n_profile
     checks = [list(vr)[:len(fv.INPUTS)] == [v.name for v in fv.INPUTS],
