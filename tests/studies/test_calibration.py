@@ -8,7 +8,7 @@ import pytest
 
 from wearjoint.cli import main as cli_main
 from wearjoint.parameters import ParameterError
-from wearjoint.studies.calibration import fit_archard, fit_mild_severe, predicted_depth
+from wearjoint.studies.calibration import fit_archard, fit_mild_severe, life, predicted_depth, predictions
 
 K0 = 5e-11
 
@@ -26,20 +26,68 @@ def test_one_k_w_is_recovered_with_zero_residuals_when_the_points_lie_on_the_cur
     fit = fit_archard(growth, K0, points)
     assert fit["wear_coefficient_m2_N"] == pytest.approx(k_true, rel=1e-3)
     assert max(abs(r) for r in fit["residuals_rel"]) < 2e-3 and fit["fits"]
-    lo, hi = fit["interval_m2_N"]
-    assert lo < k_true < hi and hi / lo < 1.05      # no scatter: a narrow interval
+    assert fit["interval_95_m2_N"] is None and fit["consistent"] is None   # no uncertainty given: k_w alone
     assert fit["local_growth_exponents"] == pytest.approx([0.9] * 3, abs=0.01)
+    certain = fit_archard(growth, K0, [(n, d, 1e-6) for n, d in points])
+    lo, hi = certain["interval_95_m2_N"]
+    assert lo < k_true < hi and hi / lo < 1.05 and certain["consistent"]       # 1 um on ~0.1 mm: narrow
 
 
-def test_points_a_power_law_cannot_join_are_reported_as_not_fitting_with_a_wide_interval():
-    """The experiment's shape: 2.9 x the depth for 2 x the revolutions, on a curve growing as N^0.9."""
-    fit = fit_archard(power_growth(rate=4e-7), K0, [(200_000, 0.19e-3), (400_000, 0.55e-3)], tolerance=0.1)
-    assert not fit["fits"]
+def test_points_one_k_w_cannot_join_within_their_uncertainty_are_inconsistent_and_get_no_interval():
+    """The experiment's shape: 2.9 x the depth for 2 x the revolutions, on a curve growing as N^0.9: with a 10 um
+    depth error the one-k_w model is rejected (chi^2 far above its 1 degree of freedom)."""
+    points = [(200_000, 0.19e-3, 1e-5), (400_000, 0.55e-3, 1e-5)]
+    fit = fit_archard(power_growth(rate=4e-7), K0, points, tolerance=0.1)
+    assert not fit["fits"] and fit["consistent"] is False and fit["p_value"] < 0.05 and fit["chi2"] > 50
+    assert fit["interval_95_m2_N"] is None and "does not fit" in fit["note"]
     low, high = sorted(fit["residuals_rel"])
-    assert low < -0.1 and high > 0.1                # one over, one under
-    assert fit["degrees_of_freedom"] == 1 and fit["interval_m2_N"][1] / fit["interval_m2_N"][0] > 100
-    single = fit_archard(power_growth(rate=4e-7), K0, [(400_000, 0.55e-3)])
-    assert single["interval_m2_N"] is None and single["degrees_of_freedom"] == 0
+    assert low < 0.0 < high and high - low > 0.2    # one over, one under
+    single = fit_archard(power_growth(rate=4e-7), K0, [(400_000, 0.55e-3, 1e-5)])
+    assert single["degrees_of_freedom"] == 0 and single["p_value"] is None and single["consistent"]
+    lo, hi = single["interval_95_m2_N"]             # one point: its own interval, from its uncertainty alone
+    assert lo < single["wear_coefficient_m2_N"] < hi
+
+
+def test_the_interval_covers_the_truth_and_shrinks_with_the_measurement_uncertainty():
+    """Synthetic measurements from the study's own curve at a known k_w with Gaussian depth errors U: the 95 %
+    interval covers the truth in at least 90 of 100 draws, is about ten times narrower for U / 10, and the
+    model is rejected at 5 % about as often as it should be."""
+    growth = power_growth()
+    k_true, revolutions = 2e-13, np.array([100_000.0, 300_000.0, 700_000.0])
+    depths = 1.5e-7 * (revolutions * k_true / K0) ** 0.9
+    rng = np.random.default_rng(11)
+    widths, covered, rejected = {}, 0, 0
+    for u in (5e-6, 5e-7):
+        spans = []
+        for _ in range(100):
+            drawn = depths + u * rng.standard_normal(3)
+            fit = fit_archard(growth, K0, [(n, d, u) for n, d in zip(revolutions, drawn)])
+            rejected += not fit["consistent"]
+            if fit["interval_95_m2_N"] is None:
+                continue
+            lo, hi = fit["interval_95_m2_N"]
+            spans.append(math.log(hi / lo))
+            covered += u == 5e-6 and lo <= k_true <= hi
+        widths[u] = float(np.median(spans))
+    assert covered >= 90
+    assert 5.0 < widths[5e-6] / widths[5e-7] < 20.0
+    assert rejected <= 25                           # of 200 fits: 5 % expected (10)
+
+
+def test_predictions_and_the_life_to_a_depth_carry_the_band_and_say_when_the_study_is_too_short():
+    growth = power_growth()
+    k_true = 2e-13
+    points = [(n, 1.5e-7 * (n * k_true / K0) ** 0.9, 2e-6) for n in (100_000, 300_000)]
+    fit = fit_archard(growth, K0, points)
+    (near, far) = predictions(growth, K0, fit, [500_000, 2_000_000])
+    assert near["depth_m"] == pytest.approx(1.5e-7 * (500_000 * k_true / K0) ** 0.9, rel=0.01)
+    assert near["band_95_m"][0] < near["depth_m"] < near["band_95_m"][1]
+    assert far["depth_m"] is None and far["study_revolutions_needed"] > 4000     # 2e6 x 2e-13 / 5e-11 = 8000
+    span = life(growth, K0, fit, 1.0e-4)
+    expected = (1.0e-4 / 1.5e-7) ** (1 / 0.9) * K0 / k_true
+    assert span["revolutions"] == pytest.approx(expected, rel=0.01)
+    assert span["band_95_revolutions"][0] < span["revolutions"] < span["band_95_revolutions"][1]
+    assert life(growth, K0, fit, 1.0)["revolutions"] is None
 
 
 def test_mild_severe_recovers_its_two_coefficients_from_two_points():
@@ -87,3 +135,27 @@ def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_witho
     err = capsys.readouterr().err
     assert "not a finished wear study" in err and err.count("\n") == 1
     assert math.isfinite(result["study_wear_coefficient_m2_N"])
+
+
+def test_calibrate_command_predicts_with_bands_and_asks_for_a_stated_transition(tmp_path, capsys):
+    study = tmp_path / "study"
+    study.mkdir()
+    np.savetxt(study / "wear_growth.csv", power_growth(), delimiter=",",
+               header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
+    (study / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
+                                                                              "wear_factor": 1.0}}}))
+    out = tmp_path / "c"
+    assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5,300000:1.1e-4:3e-6",
+                     "--depth-uncertainty-m", "2e-6", "--predict-revolutions", "500000,5000000",
+                     "--life-depth-m", "1e-4", "--out", str(out), "--no-plots"]) == 0
+    result = json.loads((out / "calibration.json").read_text())
+    assert [p["uncertainty_m"] for p in result["points"]] == [2e-6, 3e-6]        # a point's own value first
+    assert result["consistent"] in (True, False) and len(result["interval_95_m2_N"] or [0, 0]) == 2
+    near, far = result["predictions"]
+    assert near["depth_m"] > 1.1e-4 and far["depth_m"] is None and far["study_revolutions_needed"] > 4000
+    assert result["life"]["revolutions"] < 300000
+    text = capsys.readouterr().out
+    assert "run the study to" in text and "95 % band" in text
+    assert cli_main(["calibrate", "--study", str(study), "--law", "mild-severe", "--points",
+                     "100000:4e-5,300000:1.1e-4", "--out", str(out)]) == 2
+    assert "transition_depth_m is missing" in capsys.readouterr().err

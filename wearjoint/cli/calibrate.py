@@ -9,7 +9,7 @@ import numpy as np
 
 from ..parameters import ParameterError
 from ..results import write_json_atomic
-from ..studies.calibration import fit_archard, fit_mild_severe, plot_calibration
+from ..studies.calibration import fit_archard, fit_mild_severe, life, plot_calibration, predictions
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 
 LAWS = ("archard", "mild-severe")
@@ -19,12 +19,20 @@ EXPERIMENT_POINTS = ",".join(f"{n}:{d:g}" for n, d in zip(EXPERIMENT_REVOLUTIONS
 def add_arguments(parser) -> None:
     parser.add_argument("--study", required=True, help="a finished wear-study folder (summary.json, wear_growth.csv)")
     parser.add_argument("--points", default=EXPERIMENT_POINTS,
-                        help="measured REVOLUTIONS:MAX_DEPTH_M pairs, comma separated (default: the paper's "
-                             "experiment, %(default)s)")
+                        help="measured REVOLUTIONS:MAX_DEPTH_M pairs, or REVOLUTIONS:MAX_DEPTH_M:UNCERTAINTY_M, comma "
+                             "separated (default: the paper's experiment, %(default)s)")
+    parser.add_argument("--depth-uncertainty-m", type=float, default=None,
+                        help="archard: the standard uncertainty of every measured depth [m] (a point's own third "
+                             "value takes precedence): the fit becomes a likelihood, with a test of the model and a "
+                             "95 %% interval (without it: k_w alone)")
+    parser.add_argument("--predict-revolutions", default=None,
+                        help="archard: revolutions N1,N2,... to predict the max depth at, with its 95 %% band")
+    parser.add_argument("--life-depth-m", type=float, default=None,
+                        help="archard: a max depth [m] to predict the revolutions to, with their 95 %% band")
     parser.add_argument("--law", choices=LAWS, default="archard", help="wear law to fit (default %(default)s)")
     parser.add_argument("--transition-depth-m", type=float, default=None,
-                        help="mild-severe: the max depth at which the wear turns severe [m] (default: the first "
-                             "point's depth)")
+                        help="mild-severe (required there): the max depth at which the wear turns severe [m], a "
+                             "stated input (with two points the two rates are then determined exactly: no interval)")
     parser.add_argument("--tolerance", type=float, default=0.1,
                         help="archard: residuals within this share count as a fit (default %(default)g)")
     parser.add_argument("--out", default=None,
@@ -32,18 +40,37 @@ def add_arguments(parser) -> None:
     parser.add_argument("--no-plots", action="store_true", help="skip calibration.png")
 
 
-def _points(text: str) -> list[tuple[float, float]]:
+def _points(text: str, uncertainty: float | None = None) -> list[tuple[float, float, float | None]]:
+    """(revolutions, max depth [m], its uncertainty [m] or None) of ``--points`` (``--depth-uncertainty-m`` where
+    a point gives none)."""
     points = []
     for item in text.split(","):
-        revolutions, sep, depth = item.partition(":")
+        values = item.split(":")
         try:
-            points.append((float(revolutions), float(depth)))
+            numbers = [float(v) for v in values]
         except ValueError:
-            raise ParameterError(f"points={text!r} is invalid: allowed REVOLUTIONS:MAX_DEPTH_M pairs, e.g. "
-                                 f"{EXPERIMENT_POINTS}") from None
-        if not sep:
-            raise ParameterError(f"points={text!r} is invalid: allowed REVOLUTIONS:MAX_DEPTH_M pairs")
+            numbers = []
+        if len(numbers) not in (2, 3):
+            raise ParameterError(f"points={text!r} is invalid: allowed REVOLUTIONS:MAX_DEPTH_M[:UNCERTAINTY_M] items, "
+                                 f"e.g. {EXPERIMENT_POINTS}")
+        points.append((numbers[0], numbers[1], numbers[2] if len(numbers) == 3 else uncertainty))
     return sorted(points)
+
+
+def _revolutions(text: str | None) -> list[float]:
+    if text is None:
+        return []
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if not values or not all(v > 0 and np.isfinite(v) for v in values):
+        raise ParameterError(f"predict_revolutions={text!r} is invalid: allowed N1,N2,... revolutions > 0")
+    return values
+
+
+def _band(band, scale=1.0, unit="") -> str:
+    return f" (95 % band {band[0] * scale:.3g} ... {band[1] * scale:.3g}{unit})" if band else " (no band)"
 
 
 def run(args) -> int:
@@ -55,19 +82,47 @@ def run(args) -> int:
         k0 = float(joint["wear_coefficient_m2_N"]) * float(joint["wear_factor"])
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise ParameterError(f"study={args.study!r} is invalid: not a finished wear study ({exc!r})") from None
-    points = _points(args.points)
+    if args.depth_uncertainty_m is not None and not (args.depth_uncertainty_m > 0 and
+                                                     np.isfinite(args.depth_uncertainty_m)):
+        raise ParameterError(f"depth_uncertainty_m={args.depth_uncertainty_m!r} is invalid: allowed a value > 0 [m]")
+    points = _points(args.points, args.depth_uncertainty_m)
+    asked = _revolutions(args.predict_revolutions)
     if args.law == "archard":
-        result = fit_archard(growth, k0, points, tolerance=args.tolerance)
+        curve_error = float((summary.get("cycle_jumping") or {}).get("error_estimate_summed_rel_to_final_depth", 0.0))
+        result = fit_archard(growth, k0, points, tolerance=args.tolerance, curve_error_rel=curve_error)
         fits = [result]
-        interval = result["interval_m2_N"]
-        print(f"  k_w {result['wear_coefficient_m2_N']:.4g} m^2/N"
-              + (f", {result['confidence']:.0%} interval [{interval[0]:.3g}, {interval[1]:.3g}]" if interval else
-                 " (one point: no interval)"))
-        print("  residuals " + ", ".join(f"{r:+.1%}" for r in result["residuals_rel"])
-              + ("" if result["fits"] else f": one k_w cannot fit these points within {args.tolerance:.0%}; "
-                 "try --law mild-severe"))
+        interval = result["interval_95_m2_N"]
+        ends = ["below the study's curve" if interval and interval[0] is None else None,
+                "beyond the study's curve (extend the study)" if interval and interval[1] is None else None]
+        shown = (f", {result['confidence']:.0%} interval [" + ", ".join(
+            end or f"{k:.3g}" for end, k in zip(ends, interval)) + "]" if interval else "")
+        print(f"  k_w {result['wear_coefficient_m2_N']:.4g} m^2/N{shown}"
+              + (f"; chi^2 {result['chi2']:.3g}, p {result['p_value']:.2g}" if result.get("p_value") is not None
+                 else ""))
+        if result["note"]:
+            print(f"  {result['note']}")
+        print("  residuals " + ", ".join(f"{r:+.1%}" for r in result["residuals_rel"]))
+        result["predictions"] = predictions(growth, k0, result, asked)
+        for p in result["predictions"]:
+            if p["depth_m"] is None:
+                made_by = summary.get("command_line", "its wear-study command")
+                print(f"  after {p['revolutions']:.4g} revolutions: beyond the study's curve ({growth[-1, 0]:.4g} "
+                      f"revolutions at its k_w); run the study to {p['study_revolutions_needed']:.0f} revolutions "
+                      f"({made_by}, with --revolutions {p['study_revolutions_needed']:.0f} and another --out)")
+            else:
+                print(f"  after {p['revolutions']:.4g} revolutions: max depth {p['depth_m'] * 1e3:.4g} mm"
+                      + _band(p["band_95_m"], 1e3, " mm"))
+        if args.life_depth_m is not None:
+            result["life"] = life(growth, k0, result, args.life_depth_m)
+            span = result["life"]
+            print(f"  to {args.life_depth_m * 1e3:.4g} mm: " + (
+                f"{span['revolutions']:.4g} revolutions" + _band(span["band_95_revolutions"]) if span["revolutions"] is not None
+                else span["note"]))
     else:
-        transition = args.transition_depth_m if args.transition_depth_m is not None else points[0][1]
+        transition = args.transition_depth_m
+        if transition is None:
+            raise ParameterError("parameter transition_depth_m is missing: --law mild-severe needs the depth where "
+                                 "the wear turns severe as a stated input (--transition-depth-m D)")
         result = fit_mild_severe(growth, k0, points, transition)
         fits = [fit_archard(growth, k0, points, tolerance=args.tolerance), result]
         print(f"  k_mild {result['mild_wear_coefficient_m2_N']:.4g} m^2/N up to {transition:g} m "
@@ -75,12 +130,16 @@ def run(args) -> int:
               f"{result['severe_wear_coefficient_m2_N']:.4g} m^2/N; {result['parameters_fitted']} parameters, "
               f"{result['degrees_of_freedom']} degrees of freedom left")
     result.update({"study": str(study), "study_wear_coefficient_m2_N": k0,
-                   "points": [{"revolutions": n, "max_wear_depth_m": d} for n, d in points]})
+                   "points": [{"revolutions": n, "max_wear_depth_m": d, "uncertainty_m": u} for n, d, u in points]})
     out = Path(args.out) if args.out else study
     out.mkdir(parents=True, exist_ok=True)
     write_json_atomic(out / "calibration.json", result)
     if not args.no_plots:
-        plot_calibration(growth, k0, points, fits, out / "calibration.png")
+        reach = [p["revolutions"] for p in result.get("predictions", []) if p["depth_m"] is not None]
+        if (result.get("life") or {}).get("revolutions"):
+            reach.append(result["life"]["revolutions"])
+        plot_calibration(growth, k0, points, fits, out / "calibration.png",
+                         max([p[0] for p in points] + reach) * 1.1)
     print(f"results in {out}")
     return 0
 

@@ -4,9 +4,10 @@ The model's depth depends on k_w and the revolutions N through k_w N only (the d
 profile, which the product k_w N sets), so one wear study at k_0 gives the master curve D_0 and the
 depth at any k_w is d(N; k_w) = D_0(N k_w / k_0).  The fit needs no further simulation:
 
-* **one k_w** (``archard``): least squares of ln d_i - ln D_0(s N_i) over s = k_w / k_0; the standard
-  error of ln s from the residuals and the local growth exponents p_i = dln D_0 / dln x (n - 1 degrees
-  of freedom, Student's t), the residuals per point, and whether they stay within ``tolerance``;
+* **one k_w** (``archard``): with the depths' measurement uncertainties, the likelihood of Gaussian depth
+  errors over s = k_w / k_0 (:func:`fit_archard`): the model's chi-square test and a profile-likelihood
+  interval; predictions and the revolutions to a depth limit with their bands (:func:`predictions`,
+  :func:`life`); without uncertainties, least squares of the log depths and no interval;
 * **mild-to-severe** (``mild-severe``, Rodriguez et al. 2007): k_mild until the max depth reaches the
   transition depth d_t (given, not fitted), k_severe beyond, on the same master curve: two parameters,
   determined exactly by two points (no degrees of freedom left: no interval).
@@ -29,47 +30,117 @@ def master_curve(growth: np.ndarray):
     return (lambda x: np.interp(x, r, d, right=np.nan)), (lambda depth: np.interp(depth, d, r, right=np.nan))
 
 
-def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray, np.ndarray]:
+def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(revolutions, depths [m], uncertainties [m]: NaN where not given) of ``points``, checked."""
     n = np.array([p[0] for p in points], float)
     d = np.array([p[1] for p in points], float)
+    u = np.array([p[2] if len(p) > 2 and p[2] is not None else math.nan for p in points], float)
     if n.size == 0 or not (np.all(np.isfinite(n)) and np.all(n > 0) and np.all(np.isfinite(d)) and np.all(d > 0)):
         raise ParameterError(f"points={list(points)!r} are invalid: allowed REVOLUTIONS:DEPTH_M pairs, both > 0")
+    given = np.isfinite(u)
+    if given.any() and not (given.all() and np.all(u > 0)):
+        raise ParameterError(f"points={list(points)!r} are invalid: a depth uncertainty > 0 for every point or for "
+                             "none (--depth-uncertainty-m U, or REVOLUTIONS:DEPTH_M:U)")
     if d.max() > depth_reach:
         raise ParameterError(f"points: the deepest, {d.max():g} m, is beyond the study's max depth {depth_reach:g} m "
                              f"(after {reach:g} revolutions): run the study further or with a larger k_w")
-    return n, d
+    return n, d, u
 
 
-def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, confidence: float = 0.95) -> dict:
-    """One k_w for all ``points`` [(revolutions, max depth [m])], on the study ``growth`` run at k0 [m^2/N]."""
+def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, confidence: float = 0.95,
+                curve_error_rel: float = 0.0) -> dict:
+    """One k_w for all ``points`` [(revolutions, max depth [m][, its standard uncertainty [m]])], on the study
+    ``growth`` run at k0 [m^2/N].
+
+    With uncertainties U_i: the likelihood of Gaussian depth errors, chi^2(s) = sum ((D_0(s N_i) - d_i) / sigma_i)^2,
+    sigma_i^2 = U_i^2 + (``curve_error_rel`` D_0(s N_i))^2 (the master curve's own error, the study's estimate);
+    the model's test chi^2_min against n - 1 degrees of freedom (``consistent``: p >= 1 - confidence); the
+    interval where chi^2 - chi^2_min <= chi^2_1(confidence) (profile likelihood: coverage for Gaussian errors,
+    shrinking with U to the curve's own error), none where the model is rejected.  Without uncertainties the
+    least squares of the log depths gives k_w alone: neither a test nor an interval (the residuals' misfit is
+    no measurement error)."""
     curve, inverse = master_curve(growth)
-    n, d = _check_points(points, growth[-1, 0], growth[-1, 1])
-
-    def residuals(log_s):
-        return np.log(curve(math.exp(log_s) * n)) - np.log(d)
-
+    n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1])
     start = np.log(inverse(d) / n)                       # each point's own exact s
-    lo, hi = start.min() - 1e-9, start.max() + 1e-9
-    best = optimize.minimize_scalar(lambda x: float(np.sum(residuals(x) ** 2)), bounds=(lo, hi), method="bounded",
-                                    options={"xatol": 1e-10})
-    log_s = float(best.x)
-    res = residuals(log_s)
-    x = math.exp(log_s) * n
-    exponents = np.array([_local_exponent(curve, xi, growth[-1, 0]) for xi in x])
-    dof = n.size - 1
-    if dof > 0 and np.any(exponents > 0):
-        sigma = math.sqrt(float(np.sum(res ** 2)) / dof)
-        se = sigma / math.sqrt(float(np.sum(exponents ** 2)))
-        half = stats.t.ppf(0.5 + confidence / 2, dof) * se
-        interval = [k0 * math.exp(log_s - half), k0 * math.exp(log_s + half)]
+    out = {"law": "archard", "confidence": confidence, "degrees_of_freedom": int(n.size - 1),
+           "tolerance_rel": tolerance, "each_point_alone_m2_N": [float(k0 * math.exp(x)) for x in start]}
+    top = math.log(growth[-1, 0] / n.max()) - 1e-9       # the largest s the study's curve reaches at every point
+    if not np.isfinite(u).all():
+        best = optimize.minimize_scalar(lambda x: float(np.sum((np.log(curve(math.exp(x) * n)) - np.log(d)) ** 2)),
+                                        bounds=(start.min() - 1e-9, start.max() + 1e-9), method="bounded",
+                                        options={"xatol": 1e-10})
+        log_s = float(best.x)
+        res = np.log(curve(math.exp(log_s) * n)) - np.log(d)
+        out.update(wear_coefficient_m2_N=k0 * math.exp(log_s), interval_95_m2_N=None, chi2=None, p_value=None,
+                   consistent=None, note="no depth uncertainty given (--depth-uncertainty-m): k_w without an "
+                                         "interval or a test of the model")
     else:
-        se, interval = None, None
-    return {"law": "archard", "wear_coefficient_m2_N": k0 * math.exp(log_s), "standard_error_log": se,
-            "confidence": confidence, "interval_m2_N": interval, "degrees_of_freedom": dof,
-            "residuals_rel": [float(math.expm1(r)) for r in res], "tolerance_rel": tolerance,
-            "fits": bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
-            "each_point_alone_m2_N": [float(k0 * math.exp(s)) for s in start],
-            "local_growth_exponents": exponents.tolist()}
+        def chi2(log_s):
+            model = curve(math.exp(log_s) * n)
+            sigma2 = u * u + (curve_error_rel * model) ** 2
+            return float(np.sum((model - d) ** 2 / sigma2))
+
+        lo, hi = start.min() - 3.0, min(start.max() + 3.0, top)
+        best = optimize.minimize_scalar(chi2, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
+        log_s, chi2_min = float(best.x), float(best.fun)
+        dof = n.size - 1
+        p_value = float(stats.chi2.sf(chi2_min, dof)) if dof > 0 else None
+        consistent = p_value is None or p_value >= 1.0 - confidence
+        limit = chi2_min + float(stats.chi2.ppf(confidence, 1))
+        bounds = []
+        for edge in (lo, hi):
+            if chi2(edge) > limit:
+                bounds.append(float(k0 * math.exp(optimize.brentq(lambda x: chi2(x) - limit, *sorted((edge, log_s)),
+                                                                  xtol=1e-12))))
+            else:                                        # not reached within the study's curve
+                bounds.append(None)
+        res = np.log(curve(math.exp(log_s) * n)) - np.log(d)
+        out.update(wear_coefficient_m2_N=k0 * math.exp(log_s), chi2=chi2_min, p_value=p_value,
+                   consistent=bool(consistent), depth_uncertainty_m=u.tolist(), curve_error_rel=curve_error_rel,
+                   interval_95_m2_N=bounds if consistent else None,
+                   note="" if consistent else (
+                       f"one k_w does not fit these points within their uncertainties (chi^2 = {chi2_min:.3g} on "
+                       f"{dof} degree{'s' if dof > 1 else ''} of freedom, p = {p_value:.2g}): no interval; each "
+                       "point alone gives its own k_w (each_point_alone_m2_N); a law whose rate changes with depth "
+                       "(--law mild-severe) or larger uncertainties would be needed"))
+    out.update(residuals_rel=[float(math.expm1(r)) for r in res],
+               fits=bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
+               local_growth_exponents=[_local_exponent(curve, x, growth[-1, 0])
+                                       for x in out["wear_coefficient_m2_N"] / k0 * n])
+    return out
+
+
+def predictions(growth: np.ndarray, k0: float, fit: dict, revolutions) -> list[dict]:
+    """The max depth [m] after each of ``revolutions`` under an Archard ``fit`` with its band (the depths at the
+    interval's ends; the master curve rises with s), or, beyond the study's curve, the study revolutions needed."""
+    curve, _ = master_curve(growth)
+    interval = fit.get("interval_95_m2_N") or [None, None]
+    out = []
+    for n in revolutions:
+        x = n * fit["wear_coefficient_m2_N"] / k0
+        entry = {"revolutions": float(n), "depth_m": None, "band_95_m": None}
+        if x <= growth[-1, 0]:
+            entry["depth_m"] = float(curve(x))
+            if None not in interval and all(n * k / k0 <= growth[-1, 0] for k in interval):
+                entry["band_95_m"] = [float(curve(n * k / k0)) for k in interval]
+        needed = n * max(k for k in (fit["wear_coefficient_m2_N"], *interval) if k is not None) / k0
+        if needed > growth[-1, 0]:
+            entry["study_revolutions_needed"] = float(math.ceil(needed))
+        out.append(entry)
+    return out
+
+
+def life(growth: np.ndarray, k0: float, fit: dict, depth_m: float) -> dict:
+    """The revolutions to a max depth of ``depth_m`` [m] under an Archard ``fit``, with the band from its
+    interval (None beyond the study's curve)."""
+    _, inverse = master_curve(growth)
+    x = float(inverse(depth_m))
+    if not math.isfinite(x):
+        return {"depth_m": depth_m, "revolutions": None, "band_95_revolutions": None,
+                "note": f"beyond the study's max depth {growth[-1, 1]:g} m: run the study further"}
+    interval = fit.get("interval_95_m2_N")
+    band = ([x * k0 / interval[1], x * k0 / interval[0]] if interval and None not in interval else None)
+    return {"depth_m": depth_m, "revolutions": x * k0 / fit["wear_coefficient_m2_N"], "band_95_revolutions": band}
 
 
 def _local_exponent(curve, x: float, reach: float) -> float:
@@ -91,11 +162,12 @@ def predicted_depth(growth: np.ndarray, k0: float, revolutions: np.ndarray, fit:
     return curve(np.where(n <= n_t, k_mild * n, x_t + k_severe * (n - n_t)))
 
 
-def plot_calibration(growth: np.ndarray, k0: float, points, fits: list, path) -> None:
-    """The fitted laws' max depth against revolutions with the measured points."""
+def plot_calibration(growth: np.ndarray, k0: float, points, fits: list, path, n_max: float | None = None) -> None:
+    """The fitted laws' max depth against revolutions with the measured points (their uncertainties as error
+    bars) out to ``n_max`` (default: past the last point); an Archard fit's interval as a band."""
     from wearjoint.plots import plt, save_figure
 
-    n_max = max(p[0] for p in points) * 1.1
+    n_max = n_max or max(p[0] for p in points) * 1.1
     n = np.linspace(0.0, n_max, 400)
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for fit in fits:
@@ -103,7 +175,13 @@ def plot_calibration(growth: np.ndarray, k0: float, points, fits: list, path) ->
                  f"mild {fit['mild_wear_coefficient_m2_N']:.3g} → severe {fit['severe_wear_coefficient_m2_N']:.3g} "
                  f"m²/N at {fit['transition_depth_m'] * 1e3:.3g} mm")
         ax.plot(n, predicted_depth(growth, k0, n, fit) * 1e3, "-", label=label)
-    ax.plot([p[0] for p in points], [p[1] * 1e3 for p in points], "ko", label="measured")
+        interval = fit.get("interval_95_m2_N")
+        if fit["law"] == "archard" and interval and None not in interval:
+            low, high = (predicted_depth(growth, k0, n, {**fit, "wear_coefficient_m2_N": k}) * 1e3 for k in interval)
+            ax.fill_between(n, low, high, alpha=0.25, label=f"{fit['confidence']:.0%} band")
+    errors = [p[2] * 1e3 if len(p) > 2 and p[2] else 0.0 for p in points]
+    ax.errorbar([p[0] for p in points], [p[1] * 1e3 for p in points], yerr=errors, fmt="ko", capsize=3,
+                label="measured")
     ax.set_xlabel("crank revolutions")
     ax.set_ylabel("max wear depth [mm]")
     ax.grid(alpha=0.3)
@@ -115,7 +193,7 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
     """k_mild up to ``transition_depth_m`` of max depth, k_severe beyond; exact for two points, least squares
     for more."""
     curve, inverse = master_curve(growth)
-    n, d = _check_points(points, growth[-1, 0], growth[-1, 1])
+    n, d, _ = _check_points(points, growth[-1, 0], growth[-1, 1])
     if not (math.isfinite(transition_depth_m) and 0.0 < transition_depth_m < growth[-1, 1]):
         raise ParameterError(f"transition_depth_m={transition_depth_m!r} is invalid: allowed in (0, "
                              f"{growth[-1, 1]:g}) m (the study's max depth)")
@@ -143,4 +221,4 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
             "degrees_of_freedom": int(n.size - 2), "residuals_rel": [float(math.expm1(r)) for r in res]}
 
 
-__all__ = ["master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration"]
+__all__ = ["master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration", "predictions", "life"]
