@@ -8,7 +8,9 @@ import pytest
 
 from wearjoint.cli import main as cli_main
 from wearjoint.parameters import ParameterError
-from wearjoint.studies.calibration import fit_archard, fit_mild_severe, life, predicted_depth, predictions
+from wearjoint.studies.calibration import (
+    fit_archard, fit_mild_severe, life, master_curve_check, predicted_depth, predictions,
+)
 
 K0 = 5e-11
 
@@ -159,3 +161,11 @@ def test_calibrate_command_predicts_with_bands_and_asks_for_a_stated_transition(
     assert cli_main(["calibrate", "--study", str(study), "--law", "mild-severe", "--points",
                      "100000:4e-5,300000:1.1e-4", "--out", str(out)]) == 2
     assert "transition_depth_m is missing" in capsys.readouterr().err
+
+
+def test_a_fit_far_from_the_studys_k_w_says_to_run_the_study_at_it():
+    """Depth is a function of k_w N alone only within the range that was checked (1/300 to 300 times the study's
+    k_w): a fit outside it says so and what to run."""
+    assert master_curve_check(K0, {"wear_coefficient_m2_N": K0 / 10})["within"]
+    far = master_curve_check(K0, {"wear_coefficient_m2_N": K0 / 1000})
+    assert not far["within"] and far["rescaled_by"] == pytest.approx(1e-3) and "run the study" in far["note"]

@@ -9,7 +9,9 @@ import numpy as np
 
 from ..parameters import ParameterError
 from ..results import write_json_atomic
-from ..studies.calibration import fit_archard, fit_mild_severe, life, plot_calibration, predictions
+from ..studies.calibration import (
+    fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
+)
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 
 LAWS = ("archard", "mild-severe")
@@ -102,6 +104,9 @@ def run(args) -> int:
         if result["note"]:
             print(f"  {result['note']}")
         print("  residuals " + ", ".join(f"{r:+.1%}" for r in result["residuals_rel"]))
+        result["master_curve"] = master_curve_check(k0, result)
+        if result["master_curve"]["note"]:
+            print(f"  {result['master_curve']['note']}")
         result["predictions"] = predictions(growth, k0, result, asked)
         for p in result["predictions"]:
             if p["depth_m"] is None:

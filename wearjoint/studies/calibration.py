@@ -110,6 +110,22 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
     return out
 
 
+# how far the study's curve has been checked to rescale (depth a function of k_w N alone): within 0.8 % from 1/300 to
+# 300 times the study's k_w (docs/wear_study.md, "The experiment"); it fails where the wear acts within single impacts
+MASTER_CURVE_CHECKED = (1.0 / 300.0, 300.0)
+
+
+def master_curve_check(k0: float, fit: dict) -> dict:
+    """Whether the fitted k_w rescales the study's curve within the range where that was checked
+    (:data:`MASTER_CURVE_CHECKED`); outside it, the note says to run the study at the fitted k_w."""
+    ratio = fit["wear_coefficient_m2_N"] / k0
+    within = MASTER_CURVE_CHECKED[0] <= ratio <= MASTER_CURVE_CHECKED[1]
+    return {"rescaled_by": ratio, "checked_range": list(MASTER_CURVE_CHECKED), "within": within,
+            "note": "" if within else (f"the fit rescales the study's curve by {ratio:.3g}, outside the checked "
+                                       f"{MASTER_CURVE_CHECKED[0]:.3g} ... {MASTER_CURVE_CHECKED[1]:g}: run the study "
+                                       "at the fitted k_w and calibrate on it")}
+
+
 def predictions(growth: np.ndarray, k0: float, fit: dict, revolutions) -> list[dict]:
     """The max depth [m] after each of ``revolutions`` under an Archard ``fit`` with its band (the depths at the
     interval's ends; the master curve rises with s), or, beyond the study's curve, the study revolutions needed."""
@@ -221,4 +237,5 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
             "degrees_of_freedom": int(n.size - 2), "residuals_rel": [float(math.expm1(r)) for r in res]}
 
 
-__all__ = ["master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration", "predictions", "life"]
+__all__ = ["master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration", "predictions", "life",
+           "master_curve_check", "MASTER_CURVE_CHECKED"]
