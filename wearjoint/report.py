@@ -87,16 +87,17 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     return "".join(parts)
 
 
-def write_report(out_dir, command_line: str | None = None) -> Path:
+def write_report(out_dir, command_line: str | None = None, facts: dict | None = None) -> Path:
     """Write ``report.html`` into the results folder ``out_dir`` (its summary and PNGs); ``command_line``: the
-    command that made it, recorded into the summary too (with the version).  Returns the page's path."""
+    command that made it, recorded into the summary too (with the version and ``facts``, entries the command
+    knows of the run: where k_w came from).  Returns the page's path."""
     out = Path(out_dir)
     path = summary_path(out)
     if path is None:
         raise FileNotFoundError(f"{out}: no {' or '.join(SUMMARY_FILES)}: not a results folder")
     summary = json.loads(path.read_text())
     if command_line is not None:
-        summary.update(command_line=command_line, wearjoint_version=__version__)
+        summary.update(command_line=command_line, wearjoint_version=__version__, **(facts or {}))
         tmp = path.with_suffix(".json.tmp")
         tmp.write_text(json.dumps(summary, indent=2))
         tmp.replace(path)

@@ -169,3 +169,22 @@ def test_a_fit_far_from_the_studys_k_w_says_to_run_the_study_at_it():
     assert master_curve_check(K0, {"wear_coefficient_m2_N": K0 / 10})["within"]
     far = master_curve_check(K0, {"wear_coefficient_m2_N": K0 / 1000})
     assert not far["within"] and far["rescaled_by"] == pytest.approx(1e-3) and "run the study" in far["note"]
+
+
+def test_a_calibration_folder_carries_its_k_w_into_a_run_and_names_itself_as_the_source(tmp_path, capsys):
+    folder = tmp_path / "cal"
+    folder.mkdir()
+    (folder / "calibration.json").write_text(json.dumps({"law": "archard", "wear_coefficient_m2_N": 3.5e-13}))
+    out = tmp_path / "run"
+    assert cli_main(["simulate", "--revolutions", "0.02", "--calibration", str(folder), "--quiet", "--no-plots",
+                     "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["parameters"]["joint"]["wear_coefficient_m2_N"] == 3.5e-13
+    assert summary["wear_coefficient_source"] == f"calibration {folder}"
+    assert cli_main(["simulate", "--revolutions", "0.02", "--calibration", str(folder), "--wear-coefficient-m2-N",
+                     "1e-13", "--out", str(tmp_path / "x")]) == 2
+    (folder / "calibration.json").write_text(json.dumps({"law": "mild-severe", "mild_wear_coefficient_m2_N": 1e-13}))
+    assert cli_main(["simulate", "--revolutions", "0.02", "--calibration", str(folder), "--out",
+                     str(tmp_path / "y")]) == 2
+    errors = capsys.readouterr().err.splitlines()
+    assert "both given" in errors[-2] and "mild-severe fit" in errors[-1] and not (tmp_path / "y").exists()

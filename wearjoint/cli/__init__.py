@@ -78,7 +78,10 @@ def _report(args, argv: list[str]) -> None:
 
     out = getattr(args, "out", None)
     if out is not None and args.command != "report" and summary_path(out) is not None:
-        write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv))
+        calibration = getattr(args, "calibration", None)
+        facts = ({"wear_coefficient_source": f"calibration {calibration}", "wear_coefficient_note": None}
+                 if calibration is not None else {})
+        write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), facts)
 
 
 __all__ = ["main", "build_parser", "COMMANDS"]

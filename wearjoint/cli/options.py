@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
+import math
 import sys
 from pathlib import Path
 
@@ -121,6 +123,25 @@ def add_model_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
     joint = parser.add_argument_group("clearance joint (paper Table 2, docs/model.md §3)")
     _add_dataclass_options(joint, JointParameters, skip)
     joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
+    if "wear_coefficient_m2_N" not in skip:
+        joint.add_argument("--calibration", type=Path, default=None, metavar="DIR",
+                           help="take k_w from a `wearjoint calibrate` folder (its calibration.json's one-k_w fit) "
+                                "instead of --wear-coefficient-m2-N; summary.json names it as the source")
+
+
+def calibrated_wear_coefficient(folder) -> float:
+    """The one-k_w fit [m^2/N] of a `wearjoint calibrate` folder's calibration.json."""
+    path = Path(folder) / "calibration.json"
+    try:
+        fit = json.loads(path.read_text())
+        value = float(fit["wear_coefficient_m2_N"]) if fit.get("law") == "archard" else math.nan
+    except (OSError, ValueError, KeyError, TypeError):
+        value = None
+    if value is None or not (math.isfinite(value) and value > 0.0):
+        raise ParameterError(f"parameter calibration={str(folder)!r} is invalid: allowed a `wearjoint calibrate` "
+                             f"folder whose calibration.json holds a one-k_w (archard) fit; {path} "
+                             + ("does not" if value is None else "is a mild-severe fit"))
+    return value
 
 
 def restate_default(parser: argparse.ArgumentParser, dest: str, default_text: str) -> None:
@@ -140,6 +161,10 @@ def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options."""
     mechanism = mechanism_from_options(given_options(args, SliderCrankParameters))
     joint_values = {**mechanism.joint_defaults(), **given_options(args, JointParameters)}
+    if getattr(args, "calibration", None) is not None:
+        if "wear_coefficient_m2_N" in joint_values:
+            raise ParameterError("parameters calibration and wear_coefficient_m2_N are both given: allowed one")
+        joint_values["wear_coefficient_m2_N"] = calibrated_wear_coefficient(args.calibration)
     if args.no_wear:
         joint_values["wear_factor"] = 0.0
     joint = JointParameters(**joint_values)
