@@ -60,14 +60,13 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
         ax.plot(c_um * np.cos(circle), c_um * np.sin(circle), "k-", lw=0.8)
         ax.set_aspect("equal")
         ax.set_title(label, fontsize=9)
-        ax.set_xlabel("eccentricity x, rod frame [µm]")
-    axes[0][0].set_ylabel("eccentricity y, rod frame [µm]")
+        ax.set_xlabel("eccentricity x, bushing frame [µm]")
+    axes[0][0].set_ylabel("eccentricity y, bushing frame [µm]")
     names.append(_save(fig, out, "pin_orbits.png"))
 
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
     traces = {f"{REFERENCE} RK4 {_us(plan.reference_step_s)} (reference)": (ref, "-"),
-              **{f"{REFERENCE} RK4 {_us(plan.reference_step_s)}, "
-                 + ", ".join(f"{k}={v}" for k, v in runs.law_changes[e].items()) + f" ({e}'s law)": (pair[0], "--")
+              **{f"{REFERENCE} RK4 {_us(plan.reference_step_s)} under {e}'s law (report.md)": (pair[0], "--")
                  for e, pair in runs.law_window.items()},
               **{f"{e} step {_us(plan.window_step_s)}": (pair[0], "-") for e, pair in runs.window.items()}}
     for label, (record, style) in traces.items():
@@ -80,7 +79,8 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
     for ax, ylabel in zip(axes, ("|eccentricity| [µm]", "normal force $F_N$ [N]", "slider acceleration [m/s$^2$]")):
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    # above the panels, in two columns: inside, the law variants' entries covered the first panel
+    axes[0].legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=2, frameon=False)
     axes[2].set_xlabel("time [ms]")
     names.append(_save(fig, out, "first_impacts.png"))
 
