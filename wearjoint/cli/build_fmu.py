@@ -14,7 +14,7 @@ from ..cosim.step_rule import communication_step_rule
 from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..mechanism_parameters import mechanism_from_options
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
-from .options import _option, add_model_arguments, given_options, model_from_args
+from .options import _option, add_model_arguments, given_options, model_from_args, take_calibration
 
 
 DESCRIPTION = (f"build the ClearanceWearJoint FMU (FMI {' or '.join(f'{v}.0' for v in FMI_VERSIONS)}; native backend: "
@@ -63,12 +63,14 @@ def model_parameters(args) -> tuple[JointParameters | None, SliderCrankParameter
     mechanism_given = given_options(args, SliderCrankParameters)
     joint_given = {k: v for k, v in given_options(args, JointParameters).items() if k != "n_points"}
     if args.model == "slider-crank":
-        if joint_given or args.no_wear:
-            option = _option(next(iter(joint_given))) if joint_given else "--no-wear"
+        if joint_given or args.no_wear or args.calibration is not None:
+            option = (_option(next(iter(joint_given))) if joint_given else
+                      "--no-wear" if args.no_wear else "--calibration")
             raise ParameterError(f"{option} is a joint parameter: it applies to --model joint, not SliderCrank.fmu")
         return None, mechanism_from_options(mechanism_given)
     if mechanism_given:           # the joint of this slider-crank: its centres at the crank tip and the rod end
         return model_from_args(args)
+    take_calibration(args, joint_given)
     joint = JointParameters(**joint_given, **({"wear_factor": 0.0} if args.no_wear else {}))
     return joint, SliderCrankParameters()
 

@@ -129,6 +129,16 @@ def add_model_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
                                 "instead of --wear-coefficient-m2-N; summary.json names it as the source")
 
 
+def take_calibration(args, joint_values: dict) -> None:
+    """``--calibration DIR``'s k_w into the joint's given values (:func:`calibrated_wear_coefficient`), refused
+    beside ``--wear-coefficient-m2-N``."""
+    if getattr(args, "calibration", None) is None:
+        return
+    if "wear_coefficient_m2_N" in joint_values:
+        raise ParameterError("parameters calibration and wear_coefficient_m2_N are both given: allowed one")
+    joint_values["wear_coefficient_m2_N"] = calibrated_wear_coefficient(args.calibration)
+
+
 def calibrated_wear_coefficient(folder) -> float:
     """The one-k_w fit [m^2/N] of a `wearjoint calibrate` folder's calibration.json."""
     path = Path(folder) / "calibration.json"
@@ -161,10 +171,7 @@ def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options."""
     mechanism = mechanism_from_options(given_options(args, SliderCrankParameters))
     joint_values = {**mechanism.joint_defaults(), **given_options(args, JointParameters)}
-    if getattr(args, "calibration", None) is not None:
-        if "wear_coefficient_m2_N" in joint_values:
-            raise ParameterError("parameters calibration and wear_coefficient_m2_N are both given: allowed one")
-        joint_values["wear_coefficient_m2_N"] = calibrated_wear_coefficient(args.calibration)
+    take_calibration(args, joint_values)
     if args.no_wear:
         joint_values["wear_factor"] = 0.0
     joint = JointParameters(**joint_values)
