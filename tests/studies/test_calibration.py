@@ -190,15 +190,18 @@ def test_a_calibration_folder_carries_its_k_w_into_a_run_and_names_itself_as_the
     assert "both given" in errors[-2] and "mild-severe fit" in errors[-1] and not (tmp_path / "y").exists()
 
 
-def test_build_fmu_takes_the_calibrated_k_w_as_the_fmus_start_value(tmp_path):
+def test_build_fmu_takes_the_calibrated_k_w_as_the_fmus_start_value_and_names_its_source(tmp_path):
     from fmpy import read_model_description
+    from fmpy.validation import validate_fmu
 
     folder = tmp_path / "cal"
     folder.mkdir()
     (folder / "calibration.json").write_text(json.dumps({"law": "archard", "wear_coefficient_m2_N": 3.5e-13}))
     assert cli_main(["build-fmu", "--calibration", str(folder), "--platforms", "linux64", "--out",
                      str(tmp_path / "fmu")]) == 0
-    md = read_model_description(str(tmp_path / "fmu" / "ClearanceWearJoint.fmu"))
+    fmu = tmp_path / "fmu" / "ClearanceWearJoint.fmu"
+    md = read_model_description(str(fmu))
     assert [float(v.start) for v in md.modelVariables if v.name == "wear_coefficient"] == [3.5e-13]
+    assert f"calibration {folder}" in md.description and validate_fmu(str(fmu)) == []     # it names its source
     assert cli_main(["build-fmu", "--model", "slider-crank", "--calibration", str(folder), "--out",
                      str(tmp_path / "sc")]) == 2

@@ -82,11 +82,14 @@ def run(args) -> int:
         requested = args.platforms
         joint, mechanism = model_parameters(args)
         starts = sc.parameter_starts(mechanism) if joint is None else fv.parameter_starts(joint)
+        note = (f"The start value of wear_coefficient is the fit of the calibration {args.calibration} "
+                f"({joint.wear_coefficient_m2_N:g} m2/N)." if args.calibration is not None else "")
         out = Path(args.out) if args.out is not None else \
             default_fmu_path(args.n_points, args.backend, fmi_version=version, platforms=requested,
-                             model=args.model, starts=starts, profile_stride=args.profile_stride).parent
+                             model=args.model, starts=starts, profile_stride=args.profile_stride, note=note).parent
         path = build_fmu(out, n_points=args.n_points, force=args.force, backend=args.backend, fmi_version=version,
-                         platforms=requested, model=args.model, starts=starts, profile_stride=args.profile_stride)
+                         platforms=requested, model=args.model, starts=starts, profile_stride=args.profile_stride,
+                         note=note)
         if starts:
             print("start values: " + ", ".join(f"{k}={v:g}" for k, v in starts.items()), file=sys.stderr)
         if joint is not None:

@@ -82,10 +82,10 @@ def _check_starts(starts, backend: str, profile_stride: int = 1) -> dict:
 
 def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
                      fmi_version: int = DEFAULT_FMI_VERSION, platforms=None, model: str = "joint",
-                     starts: dict | None = None, profile_stride: int = 1) -> Path:
+                     starts: dict | None = None, profile_stride: int = 1, note: str = "") -> Path:
     """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``,
     ``platforms`` (native; None: this machine's plus every cross platform installed), ``model`` and
-    its parameters' ``starts`` (native)."""
+    its parameters' ``starts`` and the description's ``note`` (native)."""
     module = _backend_module(backend)
     fmi_version = _check_fmi_version(fmi_version, backend)
     names = _check_platforms(platforms, backend)
@@ -94,12 +94,12 @@ def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DE
     if backend != "native":
         return module.default_fmu_path(n_points)
     return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names, model=model,
-                                   starts=starts, profile_stride=profile_stride)
+                                   starts=starts, profile_stride=profile_stride, note=note)
 
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
               backend: str = DEFAULT_BACKEND, fmi_version: int = DEFAULT_FMI_VERSION, platforms=None,
-              model: str = "joint", starts: dict | None = None, profile_stride: int = 1) -> Path:
+              model: str = "joint", starts: dict | None = None, profile_stride: int = 1, note: str = "") -> Path:
     """Build ``out_dir/ClearanceWearJoint.fmu`` (``model="joint"``) or ``out_dir/SliderCrank.fmu``
     (``model="slider-crank"``, native only, ``n_points`` unused); return its path (an identical
     existing build is kept unless ``force``).  ``fmi_version``: 2 (default) or 3 (native backend
@@ -108,7 +108,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     aarch64-linux, ...; None builds this machine's plus every cross platform whose compiler is
     installed.  ``starts`` (native): the parameters' start values where not the defaults, FMU name ->
     value (:func:`wearjoint.fmu.variables.parameter_starts` of a joint,
-    :func:`wearjoint.fmu.slider_crank.parameter_starts` of a mechanism).  ``profile_stride`` (native, the
+    :func:`wearjoint.fmu.slider_crank.parameter_starts` of a mechanism); ``note`` (native): a sentence the model
+    description adds (where a start value came from: ``build-fmu --calibration``).  ``profile_stride`` (native, the
     joint's FMI 2.0 build): every how many bushing points a ``wear_depth[z]`` output is (1: all, 0: none; the
     whole profile stays in the FMU's state and in FMI 3.0's array).  Raises ParameterError for a
     bad argument, RuntimeError when the build cannot run (no C compiler, a missing cross toolchain)."""
@@ -120,5 +121,5 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     if backend != "native":
         return module.build_fmu(out_dir, n_points=n_points, force=force)
     return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names,
-                            model=model, starts=starts, profile_stride=profile_stride)
+                            model=model, starts=starts, profile_stride=profile_stride, note=note)
 

@@ -82,7 +82,7 @@ class NativeModel:
     ir_modules: tuple          # what its kernels' IR depends on (with kernel_ir.IR_SOURCES)
     fixed_size: bool           # n_points does not apply (no bushing)
     header: Callable[..., str]             # (guid, n_points, starts, profile_stride) -> model_variables.h
-    model_description: Callable[..., bytes]   # (fmi_version, n_points, token, tool, starts, profile_stride)
+    model_description: Callable[..., bytes]   # (fmi_version, n_points, token, tool, starts, profile_stride, note)
 
     @property
     def file_name(self) -> str:
@@ -94,12 +94,12 @@ def _joint_header(guid: str, n_points: int, starts: dict | None, profile_stride:
 
 
 def _joint_model_description(fmi_version: int, n_points: int, token: str, tool: str, starts: dict | None,
-                             profile_stride: int) -> bytes:
+                             profile_stride: int, note: str = "") -> bytes:
     cosimulation, model_exchange = interfaces(fmi_version, fv.MODEL_NAME, completed_integrator_step=True)
     if fmi_version == 2:
         return model_description_xml(n_points, token, tool, cosimulation, model_exchange, N_EVENT_INDICATORS,
-                                     starts=starts, profile_stride=profile_stride)
-    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange, starts=starts)
+                                     starts=starts, profile_stride=profile_stride, note=note)
+    return model_description_fmi3_xml(n_points, token, tool, cosimulation, model_exchange, starts=starts, note=note)
 
 
 def _slider_crank_header(guid: str, n_points: int, starts: dict | None, profile_stride: int) -> str:
@@ -107,7 +107,7 @@ def _slider_crank_header(guid: str, n_points: int, starts: dict | None, profile_
 
 
 def _slider_crank_model_description(fmi_version: int, n_points: int, token: str, tool: str, starts: dict | None,
-                                    profile_stride: int) -> bytes:
+                                    profile_stride: int, note: str = "") -> bytes:
     return sc.model_description(fmi_version, token, tool, starts)
 
 
@@ -166,36 +166,37 @@ def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT
 
 
 def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL,
-              starts: dict | None = None, profile_stride: int = 1) -> str:
+              starts: dict | None = None, profile_stride: int = 1, note: str = "") -> str:
     """Identifies the model a native build implements (its GUID): wearjoint version, the model (the
     joint: n_points), FMI version, numba version, hash of the sources, and of the parameters' start
-    values where ``starts`` changes them."""
+    values where ``starts`` changes them (with the description's ``note``, where one is given)."""
     import numba
 
     spec = native_model(model)
     digest = source_digest(shipped_sources(fmi_version, model), PACKAGE_DIR.parent)
     size = spec.name if spec.fixed_size else f"n{n_points}"
-    values = ("-p" + hashlib.sha256(json.dumps(sorted(starts.items())).encode()).hexdigest()[:12]) if starts else ""
+    values = ("-p" + hashlib.sha256(json.dumps([sorted(starts.items()), note] if note else sorted(starts.items()))
+                                    .encode()).hexdigest()[:12]) if starts or note else ""
     stride = f"-s{profile_stride}" if profile_stride != 1 else ""
     return (f"{__version__}-{size}{stride}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-"
             f"{digest}{values}")
 
 
 def build_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, platform_names=("linux64",),
-              model: str = DEFAULT_MODEL, starts: dict | None = None, profile_stride: int = 1) -> str:
-    """Identifies a native build: the model (with its start values and profile outputs) and the platforms it
-    carries binaries for."""
-    return f"{model_key(n_points, fmi_version, model, starts, profile_stride)}-{'+'.join(platform_names)}"
+              model: str = DEFAULT_MODEL, starts: dict | None = None, profile_stride: int = 1, note: str = "") -> str:
+    """Identifies a native build: the model (with its start values, note and profile outputs) and the platforms
+    it carries binaries for."""
+    return f"{model_key(n_points, fmi_version, model, starts, profile_stride, note)}-{'+'.join(platform_names)}"
 
 
 def default_fmu_path(n_points: int = JointParameters.n_points, fmi_version: int = DEFAULT_FMI_VERSION,
                      platform_names=None, model: str = DEFAULT_MODEL, starts: dict | None = None,
-                     profile_stride: int = 1) -> Path:
+                     profile_stride: int = 1, note: str = "") -> Path:
     """Cache location of the build for ``platform_names`` (default: what :func:`platforms.select` picks)."""
     if platform_names is None:
         platform_names = [p.name for p in platforms.select()[0]]
-    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model, starts, profile_stride)
-            / native_model(model).file_name)
+    return (user_cache_dir() / "fmu" / build_key(n_points, fmi_version, platform_names, model, starts, profile_stride,
+                                                 note) / native_model(model).file_name)
 
 
 def check_profile_stride(profile_stride, fmi_version: int, model: str, n_points: int) -> int:
@@ -375,7 +376,7 @@ def fmi_headers(fmi_version: int) -> Path:
 
 def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = False,
               fmi_version: int = DEFAULT_FMI_VERSION, platform_names=None, model: str = DEFAULT_MODEL,
-              starts: dict | None = None, profile_stride: int = 1) -> Path:
+              starts: dict | None = None, profile_stride: int = 1, note: str = "") -> Path:
     """Build ``model``'s native FMU (:data:`MODELS`: ``joint`` -> ``out_dir/ClearanceWearJoint.fmu``,
     ``slider-crank`` -> ``out_dir/SliderCrank.fmu``), FMI ``fmi_version`` 2 or 3; return its path.
 
@@ -384,7 +385,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     ``n_points``: FMI 2.0 fixes it in the FMU; FMI 3.0 makes it the start value of the structural
     parameter ``n_points`` (a host may set another in Configuration Mode); the slider-crank has no
     bushing and ignores it.  ``starts``: the parameters' start values where not the defaults
-    (:func:`~wearjoint.fmu.variables.parameter_starts`, :func:`~wearjoint.fmu.slider_crank.parameter_starts`).
+    (:func:`~wearjoint.fmu.variables.parameter_starts`, :func:`~wearjoint.fmu.slider_crank.parameter_starts`);
+    ``note``: a sentence the joint's model description adds to its description (where a start value came from).
     ``profile_stride`` (the joint, FMI 2.0): every how many bushing points a ``wear_depth[z]`` output is
     (1: all, 0: none; :func:`~wearjoint.fmu.variables.profile_points`), the profile whole in the FMU's state.
     An FMU there built from the same sources, model, start values, n_points, FMI version
@@ -400,13 +402,13 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         raise ParameterError(f"parameter n_points={n_points!r} is invalid: allowed an integer in "
                              f"[{N_POINTS_MIN}, {N_POINTS_MAX}] for FMI 3.0")
     targets, _ = platforms.select(platform_names)
-    key = build_key(n_points, fmi_version, [t.name for t in targets], model, starts, profile_stride)
+    key = build_key(n_points, fmi_version, [t.name for t in targets], model, starts, profile_stride, note)
     target_path, current = current_build(out_dir, key, force, spec.file_name)
     if current:
         return target_path
     out_dir = Path(out_dir)
     headers = fmi_headers(fmi_version)
-    guid = model_guid(model_key(n_points, fmi_version, model, starts, profile_stride))
+    guid = model_guid(model_key(n_points, fmi_version, model, starts, profile_stride, note))
     header = spec.header(guid, n_points, starts, profile_stride)
     with tempfile.TemporaryDirectory(prefix="wearjoint_native_") as tmp:
         sources = Path(tmp) / "sources"
@@ -438,7 +440,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         partial = target_path.with_name(target_path.name + ".partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
             fmu.writestr("modelDescription.xml", spec.model_description(
-                fmi_version, n_points, guid, f"wearjoint {__version__} (native)", starts, profile_stride))
+                fmi_version, n_points, guid, f"wearjoint {__version__} (native)", starts, profile_stride, note))
             for arcname, data in binaries.items():
                 fmu.writestr(arcname, data)
             configuration = {"model": model} if spec.fixed_size else {"n_points": n_points,

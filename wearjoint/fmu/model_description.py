@@ -90,7 +90,7 @@ def _dependencies(output: str, reference: dict[str, int], parameters: tuple[str,
 
 def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimulation: dict[str, str],
                           model_exchange: dict[str, str] | None = None, event_indicators: int = 0,
-                          starts: dict | None = None, profile_stride: int = 1) -> bytes:
+                          starts: dict | None = None, profile_stride: int = 1, note: str = "") -> bytes:
     """The complete modelDescription.xml; ``cosimulation`` / ``model_exchange`` are the
     ``<CoSimulation>`` / ``<ModelExchange>`` attributes (``modelIdentifier`` and the capability
     flags; no ``<ModelExchange>`` if None); ``event_indicators``: Model Exchange's number of
@@ -99,7 +99,8 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
     as outputs (:func:`~wearjoint.fmu.variables.profile_points`)."""
     root = root_with_interfaces_and_units(
         {"fmiVersion": "2.0", "guid": guid, "generationTool": generation_tool,
-         "numberOfEventIndicators": str(event_indicators)}, cosimulation, model_exchange, fv.UNIT_DEFINITIONS)
+         "numberOfEventIndicators": str(event_indicators)}, cosimulation, model_exchange, fv.UNIT_DEFINITIONS,
+        description=" ".join(filter(None, (DESCRIPTION, note))))
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():
         ET.SubElement(categories, "Category", name=name, description=text)
@@ -159,7 +160,7 @@ def fmi3_value_references() -> dict[str, int]:
 def model_description_fmi3_xml(n_points: int, instantiation_token: str, generation_tool: str,
                                cosimulation: dict[str, str], model_exchange: dict[str, str] | None = None,
                                event_indicators: tuple[str, ...] = ("penetration",),
-                               starts: dict | None = None) -> bytes:
+                               starts: dict | None = None, note: str = "") -> bytes:
     """modelDescription.xml of the FMI 3.0 FMU: the variables of :mod:`wearjoint.fmu.variables`
     as ``Float64`` / ``Enumeration`` (the three option parameters, with their
     ``<EnumerationType>``), the structural parameter ``n_points`` (``UInt64``, start
@@ -170,7 +171,8 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
     vr = fmi3_value_references()
     root = root_with_interfaces_and_units(
         {"fmiVersion": "3.0", "instantiationToken": instantiation_token, "generationTool": generation_tool},
-        cosimulation, model_exchange, {**fv.UNIT_DEFINITIONS, "s": {"s": 1}})   # FMI 3's time needs "s"
+        cosimulation, model_exchange, {**fv.UNIT_DEFINITIONS, "s": {"s": 1}},   # FMI 3's time needs "s"
+        description=" ".join(filter(None, (DESCRIPTION, note))))
     types = ET.SubElement(root, "TypeDefinitions")
     for p in fv.PARAMETERS:
         if p.choices is not None:
