@@ -34,10 +34,11 @@ def slider_crank_fmus(shared_build, tmp_path_factory) -> dict:
     return built
 
 
-def initialised_slave(fmu, parameters=None, name="sc"):
-    """An initialised FMI 2.0 Co-Simulation instance of the SliderCrank FMU ``fmu`` with ``parameters``."""
-    instance = FMU2Slave(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
-                      instanceName=name)
+def initialised(kind, fmu, parameters=None, name="sc"):
+    """An initialised FMI 2.0 instance (``kind``: fmpy's FMU2Slave or FMU2Model) of the SliderCrank FMU ``fmu`` with
+    ``parameters``."""
+    instance = kind(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
+                    instanceName=name)
     instance.instantiate()
     instance.setupExperiment(startTime=0.0)
     instance.enterInitializationMode()
@@ -45,6 +46,11 @@ def initialised_slave(fmu, parameters=None, name="sc"):
         instance.setReal([sc.VALUE_REFERENCES[key]], [value])
     instance.exitInitializationMode()
     return instance
+
+
+def initialised_slave(fmu, parameters=None, name="sc"):
+    """An initialised FMI 2.0 Co-Simulation instance of the SliderCrank FMU ``fmu`` with ``parameters``."""
+    return initialised(FMU2Slave, fmu, parameters, name)
 
 
 def smooth_loads(t):

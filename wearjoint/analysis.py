@@ -49,6 +49,16 @@ def pin_left_bushing(max_eccentricity_m: float, clearance_m: float, max_wear_dep
     return ""
 
 
+def past_admissible(eccentricity_m, wear_depth_m, normal_force_N, clearance_m: float, admissible_penetration_m: float,
+                    admissible_force_N: float) -> np.ndarray:
+    """Per point, True where :func:`pin_left_bushing` would object: the eccentricity past c + h + the admissible
+    penetration, the normal force past the admissible one, or either not finite (``wear_depth_m`` a value or one
+    per point)."""
+    e = np.asarray(eccentricity_m, float)
+    return (~(e <= clearance_m + np.asarray(wear_depth_m, float) + admissible_penetration_m)
+            | ~(np.asarray(normal_force_N, float) <= admissible_force_N))
+
+
 def sample_eccentricity_max(samples: np.ndarray) -> float:
     """Largest |eccentricity| [m] of time-series samples (NaN if one is not finite, 0 without samples)."""
     if samples.shape[0] == 0:

@@ -171,9 +171,9 @@ def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
                                        joint.admissible_force_N)
     if not reason:
         return ""
-    e = np.hypot(samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y]) if samples.shape[0] else np.zeros(0)
-    over = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m)
-                          | ~(samples[:, L.T_NORMAL_FORCE] <= joint.admissible_force_N))
+    over = np.flatnonzero(analysis.past_admissible(np.hypot(samples[:, L.T_ECC_X], samples[:, L.T_ECC_Y]), depth,
+                                                   samples[:, L.T_NORMAL_FORCE], joint.clearance_m,
+                                                   joint.admissible_penetration_m, joint.admissible_force_N))
     when = f"at t = {samples[over[0], L.T_TIME]:.6g} s" if over.size else f"by t = {engine.t:.6g} s"
     return (f"the run diverged {when}: {reason}; nothing after this is physical (take a shorter step, an adaptive "
             "integrator or a smaller wear factor; docs/model.md §3.14)")

@@ -20,7 +20,8 @@ from fmpy.fmi2 import POINTER, FMU2Model, fmi2Real  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 from fmi_host import run_c_host  # noqa: E402
 from slider_crank_fmu import (  # noqa: E402
-    INPUT_VRS, MECHANISM, OUTPUTS, STATE_VRS, initialised_slave, slider_crank_fmus, smooth_loads, start_script,
+    INPUT_VRS, MECHANISM, OUTPUTS, STATE_VRS, initialised, initialised_slave, slider_crank_fmus, smooth_loads,
+    start_script,
 )
 
 from wearjoint.core import layout as L  # noqa: E402
@@ -78,14 +79,7 @@ def _fed_the_ideal_joint(fmu, h, stop):
 def _continuous_time_model(fmu, parameters=None) -> "FMU2Model":
     """An initialised FMI 2.0 Model Exchange instance of the SliderCrank FMU ``fmu`` with ``parameters``, in
     Continuous-Time Mode."""
-    model = FMU2Model(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
-                      instanceName="me")
-    model.instantiate()
-    model.setupExperiment(startTime=0.0)
-    model.enterInitializationMode()
-    for key, value in (parameters or {}).items():
-        model.setReal([sc.VALUE_REFERENCES[key]], [value])
-    model.exitInitializationMode()
+    model = initialised(FMU2Model, fmu, parameters, "me")
     model.newDiscreteStates()
     model.enterContinuousTimeMode()
     return model

@@ -16,7 +16,7 @@ import numpy as np
 
 from .jit import kernel
 from .joint_access import NoJoint, contact_forces
-from .joint_location import body_angle, bodies_trig, clearance_location, joint_bodies, JOINT_BODIES
+from .joint_location import body_angle, bodies_trig, clearance_location, joint_bodies
 from .layout import (
     CLEARANCE_CRANK_ROD, CRANK, GROUND, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA,
     MP_CRANK_LENGTH, MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
@@ -177,8 +177,7 @@ def accelerations(t, q, qd, mp, ideal, body_forces, ws, qdd):
         force[body] = mass * gx
         force[body + 1] = mass * gy
     force[SLIDER] -= slider_load(t, mp)
-    pin = JOINT_BODIES[location, 0]
-    bushing = JOINT_BODIES[location, 1]
+    pin, bushing = joint_bodies(mp)
     for k in range(3):
         force[pin + k] += body_forces[k]
         if bushing != GROUND:
@@ -365,8 +364,7 @@ def ideal_joint_reaction(ws, mp, result):
     lam = ws[3]                          # lambda after the Schur solve (IDEAL_ROWS: row r at r)
     location = clearance_location(mp)
     row = JOINT_ROWS[location]
-    pin = JOINT_BODIES[location, 0]
-    bushing = JOINT_BODIES[location, 1]
+    pin, bushing = joint_bodies(mp)
     for k in range(N_RESULT):
         result[k] = 0.0
     for k in range(3):

@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analysis import pin_left_bushing
+from ..analysis import past_admissible, pin_left_bushing
 from ..checks import RunDiverged
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
@@ -408,8 +408,8 @@ def trace_divergence(trace: MasterTrace, joint) -> str:
                  trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_y")]])
     depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
     force = trace.values[:, _COLUMN[(ssp.JOINT, "normal_force")]]
-    bad = np.flatnonzero(~(e <= joint.clearance_m + depth + joint.admissible_penetration_m)
-                         | ~(force <= joint.admissible_force_N) | ~np.isfinite(trace.values).all(axis=1))
+    bad = np.flatnonzero(past_admissible(e, depth, force, joint.clearance_m, joint.admissible_penetration_m,
+                                         joint.admissible_force_N) | ~np.isfinite(trace.values).all(axis=1))
     if not bad.size:
         return ""
     k = bad[0]

@@ -47,30 +47,35 @@ def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray,
     return n, d, u
 
 
-def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, confidence: float = 0.95,
-                curve_error_rel: float = 0.0) -> dict:
+CONFIDENCE = 0.95   # of the model's test (rejected below 1 - CONFIDENCE) and of interval_95_m2_N
+
+
+def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, curve_error_rel: float = 0.0) -> dict:
     """One k_w for all ``points`` [(revolutions, max depth [m][, its standard uncertainty [m]])], on the study
     ``growth`` run at k0 [m^2/N].
 
     With uncertainties U_i: the likelihood of Gaussian depth errors, chi^2(s) = sum ((D_0(s N_i) - d_i) / sigma_i)^2,
     sigma_i^2 = U_i^2 + (``curve_error_rel`` D_0(s N_i))^2 (the master curve's own error, the study's estimate);
-    the model's test chi^2_min against n - 1 degrees of freedom (``consistent``: p >= 1 - confidence); the
-    interval where chi^2 - chi^2_min <= chi^2_1(confidence) (profile likelihood: coverage for Gaussian errors,
+    the model's test chi^2_min against n - 1 degrees of freedom (``consistent``: p >= 1 - CONFIDENCE); the
+    interval where chi^2 - chi^2_min <= chi^2_1(CONFIDENCE) (profile likelihood: coverage for Gaussian errors,
     shrinking with U to the curve's own error), none where the model is rejected.  Without uncertainties the
     least squares of the log depths gives k_w alone: neither a test nor an interval (the residuals' misfit is
     no measurement error)."""
     curve, inverse = master_curve(growth)
     n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1])
     start = np.log(inverse(d) / n)                       # each point's own exact s
-    out = {"law": "archard", "confidence": confidence, "degrees_of_freedom": int(n.size - 1),
+    out = {"law": "archard", "confidence": CONFIDENCE, "degrees_of_freedom": int(n.size - 1),
            "tolerance_rel": tolerance, "each_point_alone_m2_N": [float(k0 * math.exp(x)) for x in start]}
     top = math.log(growth[-1, 0] / n.max()) - 1e-9       # the largest s the study's curve reaches at every point
+
+    def log_residuals(log_s):
+        return np.log(curve(math.exp(log_s) * n)) - np.log(d)
+
     if not np.isfinite(u).all():
-        best = optimize.minimize_scalar(lambda x: float(np.sum((np.log(curve(math.exp(x) * n)) - np.log(d)) ** 2)),
+        best = optimize.minimize_scalar(lambda x: float(np.sum(log_residuals(x) ** 2)),
                                         bounds=(start.min() - 1e-9, start.max() + 1e-9), method="bounded",
                                         options={"xatol": 1e-10})
         log_s = float(best.x)
-        res = np.log(curve(math.exp(log_s) * n)) - np.log(d)
         out.update(wear_coefficient_m2_N=k0 * math.exp(log_s), interval_95_m2_N=None, chi2=None, p_value=None,
                    consistent=None, note="no depth uncertainty given (--depth-uncertainty-m): k_w without an "
                                          "interval or a test of the model")
@@ -85,8 +90,8 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
         log_s, chi2_min = float(best.x), float(best.fun)
         dof = n.size - 1
         p_value = float(stats.chi2.sf(chi2_min, dof)) if dof > 0 else None
-        consistent = p_value is None or p_value >= 1.0 - confidence
-        limit = chi2_min + float(stats.chi2.ppf(confidence, 1))
+        consistent = p_value is None or p_value >= 1.0 - CONFIDENCE
+        limit = chi2_min + float(stats.chi2.ppf(CONFIDENCE, 1))
         bounds = []
         for edge in (lo, hi):
             if chi2(edge) > limit:
@@ -94,7 +99,6 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
                                                                   xtol=1e-12))))
             else:                                        # not reached within the study's curve
                 bounds.append(None)
-        res = np.log(curve(math.exp(log_s) * n)) - np.log(d)
         out.update(wear_coefficient_m2_N=k0 * math.exp(log_s), chi2=chi2_min, p_value=p_value,
                    consistent=bool(consistent), depth_uncertainty_m=u.tolist(), curve_error_rel=curve_error_rel,
                    interval_95_m2_N=bounds if consistent else None,
@@ -103,6 +107,7 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
                        f"{dof} degree{'s' if dof > 1 else ''} of freedom, p = {p_value:.2g}): no interval; each "
                        "point alone gives its own k_w (each_point_alone_m2_N); a law whose rate changes with depth "
                        "(--law mild-severe) or larger uncertainties would be needed"))
+    res = log_residuals(log_s)
     out.update(residuals_rel=[float(math.expm1(r)) for r in res],
                fits=bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
                local_growth_exponents=[_local_exponent(curve, x, growth[-1, 0])
