@@ -1,6 +1,6 @@
 """The cost of ``wearjoint.exudyn.add_clearance_joint`` in exudyn, measured in one run.
 
-    python benchmarks/bench_exudyn_joint.py [--end-time 0.2] [--repeats 3]
+    python benchmarks/bench_exudyn_joint.py [--end-time 0.2] [--repeats 3] [--json FILE]
 
 Bars hung from ground and swinging from 3 degrees, generalized-alpha at 10 us with wear, at
 ``simulation_settings()``: one bar through one clearance joint, two bars through two, and one bar
@@ -11,10 +11,12 @@ absolute Newton tolerance (1e-10 N) instead of the helper's: the helper's first 
 differences at exudyn's tolerance.  Prints microseconds per step, Newton iterations and Jacobian
 updates per step (exudyn's counters), the joint's cost per step over the ideal joint, and the
 kernels' own cost per evaluation (from a numba loop): what is left is exudyn calling Python.  Medians of ``--repeats`` runs, with the load average.
+``--json FILE`` also writes the printed figures as JSON (benchmarks/performance_doc.py reads it).
 """
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import statistics
 import sys
@@ -157,8 +159,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--end-time", type=float, default=0.2, help="simulated time per run [s] (default %(default)s)")
     add_repeats_argument(parser)
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures to this JSON file")
     args = parser.parse_args(argv)
     load = Load()
+    rows = []
     run(1, False, 0.01)                                   # compile the kernels and warm up exudyn
     run(1, False, 0.01, differences=True)
     cases = [("ideal revolute", 1, True, False, False)]
@@ -176,9 +180,18 @@ def main(argv=None) -> int:
         ideal = per_step if is_ideal else ideal
         print(f"{label:<45} {1e6 * per_step:8.1f} {1e6 * (per_step - ideal):10.1f} {runs[0][2]:15.3f} "
               f"{runs[0][3]:15.4f}")
+        rows.append({"case": label, "us per step": 1e6 * per_step,
+                     "us per step runs": [1e6 * r[0] / r[1] for r in runs],
+                     "us over ideal": 1e6 * (per_step - ideal), "Newton iterations per step": runs[0][2],
+                     "Jacobians per step": runs[0][3]})
     force, jacobian = kernel_seconds_per_evaluation()
     print(f"kernels per evaluation: evaluate_contact {1e6 * force:.2f} us, contact_jacobian {1e6 * jacobian:.2f} us")
     print(f"medians of {args.repeats} runs of {args.end_time} s; {load.stop()}")
+    if args.json:
+        args.json.write_text(json.dumps({"end_time_s": args.end_time, "repeats": args.repeats,
+                                         "load": [load.before, load.after], "cases": rows,
+                                         "evaluate_contact_us": 1e6 * force, "contact_jacobian_us": 1e6 * jacobian},
+                                        indent=1))
     return 0
 
 

@@ -1,6 +1,6 @@
 """How fast the main jobs with wear could run at the steps they take: measured floors beside the speed targets.
 
-    python benchmarks/bench_floor.py [--repeats 3] [--paired-cosim 1.66] [--paired-simulate 1.81]
+    python benchmarks/bench_floor.py [--repeats 3] [--paired-cosim 1.66] [--paired-simulate 1.81] [--json FILE]
 
 The speed issue asks, with wear, for ``wearjoint cosim`` at 5x and ``wearjoint simulate --revolutions 2`` at
 10x the real-time factors of f74ef9c.  ``--paired-*``: this tree's speed against f74ef9c's as
@@ -19,12 +19,15 @@ step count if parts of its work cost nothing:
   wear; the floor: the run with wear, each attempted step at the cost of a step of the run without wear (the
   same integrator and mechanism; the contact on the unworn bushing, nothing to wear).
 
-Each figure is the median of ``--repeats`` runs, printed with the machine's load.
+Each figure is the median of ``--repeats`` runs, printed with the machine's load; ``--json FILE`` also writes
+the medians as JSON (benchmarks/performance_doc.py reads it).
 """
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
+from pathlib import Path
 from types import SimpleNamespace
 
 from wearjoint.cosim import CoSimulationOptions
@@ -56,6 +59,7 @@ def main() -> int:
     parser.add_argument("--paired-simulate", type=float, default=1.81,
                         help="this tree's monolithic-wear real-time factor / f74ef9c's (default %(default)g)")
     add_repeats_argument(parser)
+    parser.add_argument("--json", type=Path, default=None, help="also write the medians to this JSON file")
     args = parser.parse_args()
     for name in ("paired_cosim", "paired_simulate"):
         value = getattr(args, name)
@@ -103,6 +107,28 @@ def main() -> int:
     print(f"  with wear, each step at the no-wear cost: real-time factor {med(worn, 'floor')}; "
           f"{SIMULATE_TARGET:g}x f74ef9c is {med(worn, 'target')} in this run: the floor is "
           f"{ratio(worn, 'floor', worn, 'target'):.2f} of it")
+    if args.json:
+        def median(runs, key, scale=1.0):
+            return statistics.median(run[key] * scale for run in runs)
+        args.json.write_text(json.dumps({
+            "repeats": args.repeats, "load": [load.before, load.after],
+            "paired_cosim": args.paired_cosim, "paired_simulate": args.paired_simulate,
+            "cosim": {"communication steps": median(cosim, "steps"), "real-time factor": median(cosim, "rtf"),
+                      "FMI us per step": median(cosim, "fmi", 1e6),
+                      "mechanism us per step": median(cosim, "mechanism", 1e6),
+                      "bookkeeping us per step": median(cosim, "bookkeeping", 1e6),
+                      "real-time factor with the FMI calls free": median(cosim, "no_fmi"),
+                      "FMI us per step at the target": median(cosim, "fmi_budget", 1e6)},
+            "cosim without wear": {"communication steps": median(cosim_unworn, "steps"),
+                                   "real-time factor": median(cosim_unworn, "rtf"),
+                                   "FMI us per step": median(cosim_unworn, "fmi", 1e6)},
+            "simulate": {"attempted steps": median(worn, "attempted"), "us per step": median(worn, "per_step", 1e6),
+                         "real-time factor": median(worn, "rtf"),
+                         "real-time factor, each step at the no-wear cost": median(worn, "floor"),
+                         "target real-time factor in this run": median(worn, "target")},
+            "simulate without wear": {"attempted steps": median(unworn, "attempted"),
+                                      "us per step": median(unworn, "per_step", 1e6),
+                                      "real-time factor": median(unworn, "rtf")}}, indent=1))
     return 0
 
 

@@ -1,6 +1,7 @@
 """Instructions per step of the native FMU (callgrind): a speed figure that the machine's load does not change.
 
     python benchmarks/bench_fmu_instructions.py [--rows 20000] [--wear-factor 500] [--fmu A.fmu ...] [--repeats 3]
+                                                [--json FILE]
 
 Drives the native FMU (default: the cached build of this tree; ``--fmu`` for others, e.g. a build
 of an older commit, compared in the same run) with the C host of tests/c_host over a kinematic
@@ -9,13 +10,15 @@ trace of the slider-crank with wear (every 10 us; with the default wear factor t
 fmi2GetReal + fmi2DoStep.  Prints instructions per step, the median of ``--repeats`` runs (the
 count does not depend on the machine's load, printed beside it; the runs should agree), and the
 functions that take most of them.  Two builds whose last outputs differ are reported (they should
-be bit-identical).
+be bit-identical).  ``--json FILE`` also writes the figures as JSON (benchmarks/performance_doc.py reads it).
 """
 from __future__ import annotations
 
 import argparse
+import json
 import re
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -42,6 +45,7 @@ def main() -> int:
                         help="wear acceleration of the trace (default %(default)s)")
     parser.add_argument("--fmu", action="append", default=None, help="FMU file (repeatable; default: this tree's)")
     add_repeats_argument(parser)
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures to this JSON file")
     args = parser.parse_args()
     if shutil.which("valgrind") is None:
         print("bench_fmu_instructions: error: valgrind is not installed", file=sys.stderr)
@@ -53,6 +57,7 @@ def main() -> int:
         trace = write_trace_file(work / "trace.txt", slider_crank_trace(joint, args.rows, STEP_S))
         host = build_c_host(work / "host")
         last_outputs = {}
+        figures = []
         for k, fmu in enumerate(fmus):
             load = Load()
             runs = [count(host, fmu, joint, trace, args.rows, work / f"fmu{k}_{r}") for r in range(args.repeats)]
@@ -62,8 +67,15 @@ def main() -> int:
                   f"{args.rows} steps; {load.stop()}")
             for instructions, function in top:
                 print(f"  {instructions / args.rows:9,.0f}  {function}")
+            figures.append({"fmu": str(fmu), "instructions per step": statistics.median(per_step),
+                            "instructions per step runs": per_step, "load": [load.before, load.after],
+                            "top": [[instructions / args.rows, function] for instructions, function in top]})
         if len(set(last_outputs.values())) > 1:
             print("the builds' last outputs differ:", last_outputs)
+        if args.json:
+            args.json.write_text(json.dumps({"rows": args.rows, "wear_factor": args.wear_factor,
+                                             "repeats": args.repeats, "fmus": figures,
+                                             "outputs_differ": len(set(last_outputs.values())) > 1}, indent=1))
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return 0

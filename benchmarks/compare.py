@@ -1,6 +1,7 @@
 """The README's headline speed figures of a base revision and of the working tree, run alternately.
 
     python benchmarks/compare.py --base REV [--repeats 3] [--probes cosim-wear,monolithic-wear,cosim,...] [--keep DIR]
+                                 [--json FILE]
 
 Run it by hand before figures are published (it takes minutes; not in CI).  REV's tree
 (``git archive``: the repository itself is left alone) goes into a temporary folder with a venv
@@ -23,7 +24,9 @@ untimed run of each that builds the FMU and fills the numba caches), through API
   (several minutes per pair; not run by default).
 
 Prints each figure's median per tree, working / base, and the 1-minute load before and after
-each pair (2 shared cores: compare ratios taken at similar loads).
+each pair (2 shared cores: compare ratios taken at similar loads); ``--json FILE`` also writes them as JSON
+(benchmarks/performance_doc.py reads it).  ``--probe NAME`` runs one probe in this process and prints its
+figures as one JSON line.
 """
 from __future__ import annotations
 
@@ -133,8 +136,11 @@ def run_probe(python, probe: str) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def compare(base_python, work_python, probes, repeats: int) -> None:
+def compare(base_python, work_python, probes, repeats: int) -> dict:
+    """Runs the probes alternately and prints them; returns {probe: {"loads": [[before, after]...],
+    "figures": {figure: {"base": median, "work": median, "base runs": [...], "work runs": [...]}}}}."""
     trees = {"base": base_python, "work": work_python}
+    results = {}
     for probe in probes:
         if probe != "cold":
             for python in trees.values():     # builds the FMU, fills the numba caches
@@ -145,14 +151,20 @@ def compare(base_python, work_python, probes, repeats: int) -> None:
             load = os.getloadavg()[0]
             for name, python in trees.items():
                 runs[name].append(run_probe(python, probe))
-            loads.append(f"{load:.2f}->{os.getloadavg()[0]:.2f}")
-        print(f"{probe}: {repeats} alternating pairs, load per pair {', '.join(loads)} ({os.cpu_count()} CPUs)")
+            loads.append((load, os.getloadavg()[0]))
+        results[probe] = {"loads": loads, "figures": {}}
+        print(f"{probe}: {repeats} alternating pairs, load per pair "
+              f"{', '.join(f'{a:.2f}->{b:.2f}' for a, b in loads)} ({os.cpu_count()} CPUs)")
         print(f"  {'figure':24s} {'base':>12s} {'work':>12s} {'work/base':>10s}   work runs")
         for figure in runs["work"][0]:
             base = statistics.median(r[figure] for r in runs["base"])
             work = statistics.median(r[figure] for r in runs["work"])
             each = " ".join(f"{r[figure]:.4g}" for r in runs["work"])
             print(f"  {figure:24s} {base:12.4g} {work:12.4g} {work / base:10.3f}   {each}", flush=True)
+            results[probe]["figures"][figure] = {"base": base, "work": work,
+                                                 "base runs": [r[figure] for r in runs["base"]],
+                                                 "work runs": [r[figure] for r in runs["work"]]}
+    return results
 
 
 def main(argv=None) -> int:
@@ -163,6 +175,7 @@ def main(argv=None) -> int:
                         help=f"comma-separated, of {', '.join(PROBES)} (default %(default)s)")
     parser.add_argument("--keep", type=Path, default=None, help="build the base in DIR and keep it (default: a "
                                                                  "temporary folder, removed)")
+    parser.add_argument("--json", type=Path, default=None, help="also write the medians to this JSON file")
     parser.add_argument("--probe", choices=PROBES, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.probe:
@@ -185,7 +198,10 @@ def main(argv=None) -> int:
         if not work.exists():
             work = tree_interpreter(REPO, folder / "work-venv")
         print(f"base {args.base} ({folder / 'tree'}) against the working tree {REPO}", flush=True)
-        compare(base, work, probes, args.repeats)
+        results = compare(base, work, probes, args.repeats)
+        if args.json:
+            args.json.write_text(json.dumps({"base": args.base, "base_commit": commit, "repeats": args.repeats,
+                                             "cpus": os.cpu_count(), "probes": results}, indent=1))
     finally:
         if args.keep is None:
             shutil.rmtree(folder, ignore_errors=True)
