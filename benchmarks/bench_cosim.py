@@ -40,7 +40,7 @@ from numba import njit
 from wearjoint.core import layout as L
 from wearjoint.cosim import SCHEMES, CoSimulation, CoSimulationOptions, communication_step
 from wearjoint.cosim.master_loop import B_TRACK, buffer_views
-from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
+from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import paper_joint
 
 from repeats import Load, add_repeats_argument, median_text

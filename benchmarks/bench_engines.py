@@ -17,7 +17,7 @@ import os
 import sys
 from pathlib import Path
 
-from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
+from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.validation.compare import run_monolithic, engine_runner
 

@@ -31,7 +31,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from wearjoint.cosim import CoSimulationOptions
-from wearjoint.fmu.build import DEFAULT_BACKEND
+from wearjoint.fmu.fmi import DEFAULT_BACKEND
 from wearjoint.parameters import paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 

@@ -155,7 +155,7 @@ def main(argv=None) -> int:
         return 0
 
     if args.fmu is None:
-        from wearjoint.fmu.instance import ensure_fmu
+        from wearjoint.fmu.ensure import ensure_fmu
         from wearjoint.parameters import JointParameters
 
         args.fmu = ensure_fmu(JointParameters().n_points)

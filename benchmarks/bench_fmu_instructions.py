@@ -32,7 +32,7 @@ from repeats import Load, add_repeats_argument, median_text  # noqa: E402
 from wearjoint import paper_joint  # noqa: E402
 from wearjoint.parameters import PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.fmu.instance import ensure_fmu  # noqa: E402
+from wearjoint.fmu.ensure import ensure_fmu  # noqa: E402
 
 STEP_S = 1e-5
 TOP_FUNCTIONS = 8

@@ -42,7 +42,7 @@ from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.core.contact import evaluate_contact  # noqa: E402
 from wearjoint.core.wear import accept_contact  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.fmu.instance import ensure_fmu  # noqa: E402
+from wearjoint.fmu.ensure import ensure_fmu  # noqa: E402
 
 STEP_S = 5e-6
 FORCES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y", "bushing_torque")

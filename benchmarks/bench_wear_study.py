@@ -22,7 +22,7 @@ import sys
 import tempfile
 import time
 
-from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
+from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from wearjoint.studies.wear_study import (

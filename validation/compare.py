@@ -38,7 +38,7 @@ import numpy as np
 from wearjoint import analysis
 from wearjoint.analysis import ensemble_statistics, revolution_statistics
 from wearjoint.core import layout as L
-from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
+from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, finite, require
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
@@ -241,14 +241,14 @@ def engine_runner(engine: str, joint: JointParameters, fmu_backend: str = DEFAUL
                                                                 sample_dt_s=dt, progress=progress)
     if engine == "cosim":
         from wearjoint.cosim import CoSimulationOptions, run_cosimulation
-        from wearjoint.fmu.instance import ensure_fmu
+        from wearjoint.fmu.ensure import ensure_fmu
         fmu_path = ensure_fmu(joint.n_points, backend=fmu_backend)
         return lambda j, m, rev, step, dt, progress: run_cosimulation(
             j, m, CoSimulationOptions(revolutions=rev, step_s=step, sample_dt_s=dt), fmu_path=fmu_path,
             progress=progress, fmu_backend=fmu_backend)
     if engine == "cosim-me":   # Model Exchange: the native backend's (pythonfmu is co-simulation only)
         from wearjoint.cosim.model_exchange import run_model_exchange
-        from wearjoint.fmu.instance import ensure_fmu
+        from wearjoint.fmu.ensure import ensure_fmu
         fmu_path = ensure_fmu(joint.n_points, backend="native")
         return lambda j, m, rev, step, dt, progress: run_model_exchange(
             j, m, SimulationOptions(revolutions=rev, integrator="dopri", max_step_s=step, sample_dt_s=dt),

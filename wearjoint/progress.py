@@ -15,6 +15,8 @@ import time
 
 # n and total formatted short: simulated seconds or revolutions are not integers
 _FORMAT = "{desc}: {percentage:5.1f}%|{bar}| {n:.4g}/{total:.4g} {unit} [{elapsed}<{remaining}, {rate_fmt}]"
+# a run whose caller estimates its ETA (not proportional to the amount done): the ETA as postfix
+_FORMAT_CALLER_ETA = "{desc}: {percentage:5.1f}%|{bar}| {n:.4g}/{total:.4g} {unit} [{elapsed}, {rate_fmt}{postfix}]"
 LOG_INTERVAL_S = 15.0        # wall seconds between two lines of a redirected log
 
 
@@ -47,16 +49,17 @@ class _LogLines:
         self.start = self.last = _now()
         self.rate_from = (self.start, 0.0)      # (time, done) the ETA's rate is measured from: after compiling
         self.done = 0.0
+        self.eta_s = None                       # the caller's ETA, if it gives one
         self.compiling = False
         self.written = 0
 
     def line(self, now: float) -> str:
         t0, d0 = self.rate_from
         rate = (self.done - d0) / (now - t0) if now > t0 and self.done > d0 else 0.0
-        eta = (self.total - self.done) / rate if rate > 0.0 else float("nan")
+        eta = self.eta_s if self.eta_s is not None else (self.total - self.done) / rate if rate > 0.0 else float("nan")
         label = f"{self.label} (compiling)" if self.compiling else self.label
         return (f"{label}: {100.0 * self.done / self.total:5.1f}% ({self.done:.4g}/{self.total:.4g} {self.unit}), "
-                f"elapsed {clock_text(now - self.start)}, ETA {clock_text(eta)}")
+                f"elapsed {clock_text(now - self.start)}, ETA {'~' if self.eta_s is not None else ''}{clock_text(eta)}")
 
     def write(self, text: str) -> None:
         try:
@@ -65,8 +68,9 @@ class _LogLines:
             pass
         self.written += 1
 
-    def update(self, done: float) -> None:
+    def update(self, done: float, eta_s: float | None) -> None:
         self.done = done
+        self.eta_s = eta_s
         now = _now()
         if now - self.last >= self.interval_s:
             self.last = now
@@ -87,10 +91,13 @@ class Progress:
     """``update(done)`` takes the amount done so far (absolute, in ``unit``).  With
     ``compiling=True`` the description reads "LABEL (compiling)" until :meth:`compiled`
     is called (numba compiles the kernels before the first chunk).  ``stream``: where it
-    writes (default stderr); ``interval_s``: the seconds between the lines of a log."""
+    writes (default stderr); ``interval_s``: the seconds between the lines of a log.  ``caller_eta``:
+    the caller passes the ETA to :meth:`update` (a run whose pace is not proportional to the amount
+    done, such as cycle jumping's growing jumps) instead of the rate's."""
 
     def __init__(self, total: float, label: str, enabled: bool = True, unit: str = "s",
-                 compiling: bool = False, delay_s: float = 2.0, stream=None, interval_s: float = LOG_INTERVAL_S):
+                 compiling: bool = False, delay_s: float = 2.0, stream=None, interval_s: float = LOG_INTERVAL_S,
+                 caller_eta: bool = False):
         self.label = label
         self.total = float(total)
         self._bar = None
@@ -105,7 +112,7 @@ class Progress:
         from tqdm import tqdm
 
         self._bar = tqdm(total=self.total, desc=f"{label} (compiling)" if compiling else label, unit=unit,
-                         bar_format=_FORMAT, disable=None, delay=delay_s, mininterval=0.5,
+                         bar_format=_FORMAT_CALLER_ETA if caller_eta else _FORMAT, disable=None, delay=delay_s, mininterval=0.5,
                          dynamic_ncols=True, file=stream, leave=False)
 
     def compiled(self) -> None:
@@ -119,13 +126,16 @@ class Progress:
         if self._log is not None:
             self._log.compiled()
 
-    def update(self, done: float) -> None:
+    def update(self, done: float, eta_s: float | None = None) -> None:
+        """``done`` so far; ``eta_s`` the caller's estimate of the seconds left (with ``caller_eta``)."""
         if self._bar is not None:
+            if eta_s is not None:
+                self._bar.set_postfix_str(f"ETA ~{clock_text(eta_s)}", refresh=False)
             step = min(float(done), self.total) - self._bar.n
             if step > 0.0:
                 self._bar.update(step)
         if self._log is not None:
-            self._log.update(min(float(done), self.total))
+            self._log.update(min(float(done), self.total), eta_s)
 
     def close(self, final_line: bool = True) -> None:
         """Close; a log writes its last line unless ``final_line`` is False (a count nobody waits for any more)."""

@@ -11,6 +11,7 @@ from numba import njit
 
 from wearjoint._compile import notice
 from wearjoint._compile import prefetch
+from wearjoint.fmu import ensure
 
 
 def _fresh_kernel():
@@ -68,12 +69,12 @@ def test_a_cached_or_given_fmu_starts_no_build_and_a_missing_one_is_built_beside
     from wearjoint.fmu.build import default_fmu_path
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    assert prefetch.start_fmu_build(64, tmp_path / "given.fmu", "native") is None
+    assert ensure.start_fmu_build(64, tmp_path / "given.fmu", "native") is None
     cached = default_fmu_path(64, "native")
     assert not cached.exists()
-    process = prefetch.start_fmu_build(64, None, "native")       # missing: a second process builds it
+    process = ensure.start_fmu_build(64, None, "native")       # missing: a second process builds it
     assert process is not None and process.wait(timeout=600) == 0 and cached.is_file()
-    assert prefetch.start_fmu_build(64, None, "native") is None   # cached now
+    assert ensure.start_fmu_build(64, None, "native") is None   # cached now
 
 
 def test_a_cold_engine_command_starts_the_second_compiling_process_at_its_first_compilation(monkeypatch, capsys):

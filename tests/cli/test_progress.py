@@ -58,6 +58,21 @@ def test_the_eta_counts_from_the_end_of_compilation_and_a_finished_run_says_so(c
     assert log.getvalue().splitlines()[-1] == "simulate: 100.0% (100 s) in 0:01:20"
 
 
+def test_a_callers_eta_replaces_the_rates(clock):
+    """A run whose pace is not its amount done (cycle jumping's growing jumps) gives its own ETA, marked ~."""
+    log = io.StringIO()
+    bar = Progress(400_000, "wear-study (cycle jumping)", unit="rev", stream=log, interval_s=15.0, caller_eta=True)
+    clock.t += 20.0
+    bar.update(4.0, eta_s=125.0)
+    assert log.getvalue().splitlines() == [
+        "wear-study (cycle jumping):   0.0% (4/4e+05 rev), elapsed 0:00:20, ETA ~0:02:05"]
+    term = FakeTerminal()
+    shown = Progress(400_000, "wear-study", unit="rev", stream=term, delay_s=0.0, caller_eta=True)
+    shown.update(4.0, eta_s=125.0)
+    assert "ETA ~0:02:05" in str(shown._bar)     # what the bar draws at its next refresh
+    shown.close()
+
+
 def test_a_short_run_writes_nothing_and_a_disabled_one_never(clock):
     log = io.StringIO()
     bar = Progress(10.0, "simulate", stream=log)

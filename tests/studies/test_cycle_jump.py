@@ -11,7 +11,7 @@ from wearjoint.joint import ClearanceJoint
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
 from wearjoint.studies.cycle_jump import (
-    JUMP_GROWTH, jump_error, jump_summary, loading_from_samples, next_jump, replay_volume_warning,
+    JUMP_GROWTH, jump_error, jump_summary, loading_from_samples, next_jump, remaining_wall_s, replay_volume_warning,
 )
 from wearjoint.studies.wear_study import WearStudyConfig, run_wear_study
 
@@ -133,6 +133,26 @@ def test_next_jump_follows_a_first_order_error_within_its_limits(error):
         expected = min(hi, max(lo, 0.9 * math.sqrt(tolerance / error)))
         assert proposed == int(jump * expected)
     assert next_jump(1, 10.0, tolerance) == 1
+
+
+@pytest.mark.parametrize("q", [0.05, 0.3, 1.0])
+def test_the_eta_counts_the_cycles_of_jumps_that_keep_their_share(q):
+    """Jumps of q times the revolutions reached plus a block of 2: the ETA is the cycles up to the total times a
+    cycle's wall, counted by stepping the same growth (the total put where a cycle ends)."""
+    r, cycles = 40.0, 0
+    while cycles < 25:
+        r, cycles = (1.0 + q) * r + 2.0, cycles + 1
+    assert remaining_wall_s(40, r, 2, q * 40, 0.7) == pytest.approx(cycles * 0.7, rel=1e-9)
+    assert remaining_wall_s(r, r, 2, q * r, 0.7) == 0.0
+
+
+def test_the_eta_of_the_first_block_of_a_long_study_is_not_hours():
+    """The paper's experiment, 400 000 revolutions, took 195 cycles of 0.7 s (137 s): after its first block and
+    jump (4 revolutions, the next jump proposed at 2) the ETA is a few minutes at most, where the rate of
+    revolutions done said 542 hours; it cannot see the error control's slowing, so it is low early."""
+    first = remaining_wall_s(4, 400_000, 2, 2, 0.7)
+    assert 10.0 < first < 600.0
+    assert remaining_wall_s(4, 400_000, 2, 0, 0.7) != remaining_wall_s(4, 400_000, 2, 0, 0.7)   # NaN: no jump yet
 
 
 def jump_config(**changes) -> WearStudyConfig:

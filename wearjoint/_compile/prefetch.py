@@ -1,15 +1,12 @@
 """A cold run's second core: what the running command will need next, compiled in a second process.
 
-* ``python -m wearjoint._compile.prefetch kernels`` (:func:`start`): numba compiles one function at a
-  time, and a cold ``simulate`` reaches its kernels in one order: the mechanism, the contact, the
-  integrators, then the wear and the step's record.  This process compiles the wear's accept step, the
-  step's record and the worn volume with the argument types the engine passes
-  (C-contiguous float64 arrays, a bool mask), so numba's cache, which the two processes share, serves them
-  to the first when it gets there; one it reaches before the second has cached it is compiled twice,
-  which costs nothing but the second core (docs/performance.md, "Compile time").
-* ``python -m wearjoint._compile.prefetch fmu N_POINTS BACKEND`` (:func:`start_fmu_build`): the joint FMU
-  a co-simulation will load, built (its kernels compiled ahead of time) while the master's kernels
-  compile in the first process.
+``python -m wearjoint._compile.prefetch kernels`` (:func:`start`): numba compiles one function at a time, and
+a cold ``simulate`` reaches its kernels in one order: the mechanism, the contact, the integrators, then the
+wear and the step's record.  This process compiles the wear's accept step, the step's record and the worn
+volume with the argument types the engine passes (C-contiguous float64 arrays, a bool mask), so numba's
+cache, which the two processes share, serves them to the first when it gets there; one it reaches before
+the second has cached it is compiled twice, which costs nothing but the second core.  (The joint FMU a
+co-simulation will load is built in a second process likewise: :func:`wearjoint.fmu.ensure.start_fmu_build`.)
 """
 from __future__ import annotations
 
@@ -36,19 +33,6 @@ def start() -> subprocess.Popen | None:
         return None
     atexit.register(_stop, process)
     return process
-
-
-def start_fmu_build(n_points: int, fmu_path, backend: str) -> subprocess.Popen | None:
-    """A process building the cached joint FMU (:func:`wearjoint.fmu.instance.ensure_fmu`) if it is missing,
-    else None (``fmu_path`` given, or the FMU already built).  It says what it compiles; its progress bar is
-    off (the first process shows its own), and if it fails, ``ensure_fmu`` builds again in the first process
-    and says why."""
-    from ..fmu.build import default_fmu_path
-
-    if fmu_path is not None or default_fmu_path(n_points, backend).is_file():
-        return None
-    return subprocess.Popen([sys.executable, "-m", __name__, "fmu", str(int(n_points)), backend],
-                            stdout=subprocess.DEVNULL, env={**os.environ, "TQDM_DISABLE": "1"})
 
 
 def _stop(process: subprocess.Popen) -> None:
@@ -84,17 +68,5 @@ def compile_late_kernels() -> None:
     worn_volume(joint.parameter_vector, joint.wear_depth)
 
 
-def _build_fmu(n_points: int, backend: str) -> None:
-    from ..fmu.instance import ensure_fmu
-
-    try:
-        ensure_fmu(n_points, None, backend=backend)
-    except Exception:      # the first process builds again and reports the error
-        pass
-
-
 if __name__ == "__main__":
-    if sys.argv[1:2] == ["fmu"]:
-        _build_fmu(int(sys.argv[2]), sys.argv[3])
-    else:
-        compile_late_kernels()
+    compile_late_kernels()

@@ -9,7 +9,8 @@ from pathlib import Path
 from ..fmu import platforms
 from ..fmu import slider_crank as sc
 from ..fmu import variables as fv
-from ..fmu.build import BACKENDS, DEFAULT_BACKEND, DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
+from ..fmu.build import DEFAULT_FMI_VERSION, FMI_VERSIONS, build_fmu, default_fmu_path
+from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from ..cosim.step_rule import communication_step_rule
 from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..mechanism_parameters import mechanism_from_options

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
-from ..fmu.build import BACKENDS, DEFAULT_BACKEND
+from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from ..mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
 from ..parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
 _HELP = {

@@ -31,7 +31,8 @@ Schemes (``CoSimulationOptions.scheme``):
   contact.  Zero-order hold is first order in h (pointwise 100x off the
   monolithic run at 1 us) and unstable from ~5 us on (stiff contact).
 """
-from ..fmu.instance import INPUT_NAMES, ensure_fmu
+from ..fmu.ensure import ensure_fmu
+from ..fmu.instance import INPUT_NAMES
 from .cosimulation import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation
 from .master_loop import OUTPUT_NAMES, SCHEMES, communication_step
 

@@ -10,12 +10,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._compile.prefetch import start_fmu_build
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
-from ..fmu.build import BACKENDS, DEFAULT_BACKEND
-from ..fmu.fmi_status import FMI_DISCARD
-from ..fmu.instance import FmuError, FmuInstance, ensure_fmu
+from ..fmu.ensure import ensure_fmu, start_fmu_build
+from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
+from ..fmu.instance import FmuInstance
 from ..mechanism import SliderCrank
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
@@ -25,7 +24,7 @@ from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
 from .master_loop import (
     _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
-    C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, F_DO_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_STATUS, G_FAILED_TIME,
+    C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME,
     G_FMI_TIME, G_FREE_STEPS, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, N_INPUTS,
     N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views, communication_step,
     master_loop,
@@ -183,9 +182,7 @@ class CoSimulation:
             self.fmi_time_s += fmi
             self.master_time_s += wall - fmi
         if failed:   # a doStep the joint refused (its inputs through the wall, non-finite): the run diverged
-            status = int(register[G_FAILED_STATUS])
-            slave.check(status, FMI_CALLS[failed], float(register[G_FAILED_TIME]),
-                        diverged=failed == F_DO_STEP and status == FMI_DISCARD)
+            slave.check_recorded(register[G_FAILED_CALL:G_FAILED_TIME + 1], FMI_CALLS)
         return int(self.buf[B_TRACK + L.K_N_SAMPLES])
 
     # -- checkpoints

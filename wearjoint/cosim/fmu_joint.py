@@ -18,7 +18,7 @@ from ..core.joint_access import (
 from ..core.joint_location import bodies_kinematics
 from ..core.layout import M_ACTIVE, R_CONTACT, R_NORMAL_FORCE
 from ..core.wear import wears
-from ..fmu.fmi_status import FMI_WARNING
+from ..fmu.fmi import failed_call
 from ..fmu.variables import INPUTS
 
 # ``io`` = the inputs (the pin body's kinematics, then the bushing body's) then the outputs, whose layout.R_* slots are
@@ -37,31 +37,19 @@ FMU_CALLS = ("", "fmi2SetTime", "fmi2SetReal", "fmi2GetReal", "fmi2CompletedInte
 N_INPUTS = len(INPUTS)
 
 
-@kernel(inline='always')
-def _call_failed(joint, call, status, t):
-    """Record the first failing call; True if ``status`` is worse than fmi2Warning."""
-    if status > FMI_WARNING:
-        if joint.failure[0] == 0.0:
-            joint.failure[0] = call
-            joint.failure[1] = status
-            joint.failure[2] = t
-        return True
-    return False
-
-
 @kernel
 def _contact_forces(joint, t, y, pin, bushing):
     if joint.failure[0] != 0.0:
         return
     io = joint.io
     bodies_kinematics(y, pin, bushing, io)
-    if _call_failed(joint, 1, joint.set_time(joint.component, t), t):
+    if failed_call(joint.failure, 0, 1, joint.set_time(joint.component, t), t):
         return
-    if _call_failed(joint, 2, joint.set_real(joint.component, joint.input_vrs.ctypes.data, N_INPUTS,
+    if failed_call(joint.failure, 0, 2, joint.set_real(joint.component, joint.input_vrs.ctypes.data, N_INPUTS,
                                              io.ctypes.data), t):
         return
     n_out = joint.output_vrs.shape[0]
-    if _call_failed(joint, 3, joint.get_real(joint.component, joint.output_vrs.ctypes.data, n_out,
+    if failed_call(joint.failure, 0, 3, joint.get_real(joint.component, joint.output_vrs.ctypes.data, n_out,
                                              io.ctypes.data + 8 * N_INPUTS), t):
         return
     for k in range(n_out):
@@ -78,17 +66,17 @@ def _accept(joint, t, y, pin, bushing, h, evaluated):
     if joint.failure[0] != 0.0:
         return True
     c = joint.component
-    if _call_failed(joint, 4, joint.completed_integrator_step(c, 1, joint.flags.ctypes.data,
+    if failed_call(joint.failure, 0, 4, joint.completed_integrator_step(c, 1, joint.flags.ctypes.data,
                                                               joint.flags.ctypes.data + 4), t):
         return True
     onset = joint.result[R_CONTACT] > 0.5
     if onset != (joint.memory[M_ACTIVE] > 0.5):   # a contact began or ended: a state event
         joint.events[0 if onset else 1] += 1
-        if _call_failed(joint, 5, joint.enter_event_mode(c), t):
+        if failed_call(joint.failure, 0, 5, joint.enter_event_mode(c), t):
             return True
-        if _call_failed(joint, 6, joint.new_discrete_states(c, joint.event_info.ctypes.data), t):
+        if failed_call(joint.failure, 0, 6, joint.new_discrete_states(c, joint.event_info.ctypes.data), t):
             return True
-        if _call_failed(joint, 7, joint.enter_continuous_time_mode(c), t):
+        if failed_call(joint.failure, 0, 7, joint.enter_continuous_time_mode(c), t):
             return True
     onset_changed = update_contact_memory(joint.result, joint.parameters, joint.memory)
     return onset_changed or wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)

@@ -22,8 +22,8 @@ from ..core.layout import MODE_EXTERNAL
 from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
 from ..core.mechanism import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
-from ..fmu.fmi_status import FMI_WARNING
-from ..fmu.instance import N_INPUTS, c_function
+from ..fmu.fmi import c_function, failed_call
+from ..fmu.instance import N_INPUTS
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
 
@@ -189,14 +189,6 @@ def _seconds(clock, timespec):
     return timespec[0] + 1e-9 * timespec[1]
 
 
-@kernel(inline='always')   # six call sites with literal call indices: one compile each, were it a call
-def _failed(register, call, status, t):
-    """Record the failed FMI call (an FMI_CALLS index), its status and its communication point [s]."""
-    register[G_FAILED_CALL] = call
-    register[G_FAILED_STATUS] = status
-    register[G_FAILED_TIME] = t
-
-
 @kernel
 def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, timespec):
     """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
@@ -258,16 +250,14 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             if state_slot[0] != 0 and not reuse_state:
                 status = free_state(component, state_slot.ctypes.data)
                 state_slot[0] = 0
-                if status > FMI_WARNING:
+                if failed_call(register, G_FAILED_CALL, F_FREE_STATE, status, t):
                     failed = F_FREE_STATE
-                    _failed(register, failed, status, t)
                     break
             status = get_state(component, state_slot.ctypes.data)
             if timed:
                 fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1)
-            if status > FMI_WARNING:
+            if failed_call(register, G_FAILED_CALL, F_GET_STATE, status, t):
                 failed = F_GET_STATE
-                _failed(register, failed, status, t)
                 break
         else:
             h = h_touching if adaptive else h_contact
@@ -276,21 +266,18 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         record = False
         c2 = _seconds(clock, timespec) if timed else 0.0
         status = do_step(component, t, t_new - t, 1)
-        if status > FMI_WARNING:
+        if failed_call(register, G_FAILED_CALL, F_DO_STEP, status, t):
             failed = F_DO_STEP
-            _failed(register, failed, status, t)
             break
         status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
-        if status > FMI_WARNING:
+        if failed_call(register, G_FAILED_CALL, F_SET_REAL, status, t_new):
             failed = F_SET_REAL
-            _failed(register, failed, status, t_new)
             break
         status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
         if timed:
             fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c2)
-        if status > FMI_WARNING:
+        if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t_new):
             failed = F_GET_REAL
-            _failed(register, failed, status, t_new)
             break
         retry = onset_retry_step(adaptive and free, pen, buf[B_OUTPUT + O_PENETRATION], onset, h, h_min)
         if retry > 0.0:
@@ -301,9 +288,8 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             status = set_state(component, state_slot[0])
             if timed:
                 fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1)
-            if status > FMI_WARNING:
+            if failed_call(register, G_FAILED_CALL, F_SET_STATE, status, t):
                 failed = F_SET_STATE
-                _failed(register, failed, status, t)
                 break
             retry_step = retry
             rollbacks += 1

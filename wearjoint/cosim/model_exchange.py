@@ -18,8 +18,9 @@ import numpy as np
 
 from ..core import layout as L
 from ..core.integrators import integrate
-from ..fmu.build import DEFAULT_BACKEND
-from ..fmu.instance import N_INPUTS, FmuError, FmuInstance, ensure_fmu
+from ..fmu.ensure import ensure_fmu
+from ..fmu.fmi import DEFAULT_BACKEND, FmuError
+from ..fmu.instance import N_INPUTS, FmuInstance
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from ..results import RunParameters
 from ..runner import run_engine
@@ -83,10 +84,7 @@ class ModelExchangeSimulation:
         return int(self._fmu_joint.events[0]), int(self._fmu_joint.events[1])
 
     def _check(self) -> None:
-        failure = self._fmu_joint.failure
-        if failure[0] != 0.0:
-            call = FMU_CALLS[int(failure[0])]     # an accepted step the joint refused: the run diverged
-            self._fmu.check(int(failure[1]), call, float(failure[2]), diverged=call == "fmi2CompletedIntegratorStep")
+        self._fmu.check_recorded(self._fmu_joint.failure, FMU_CALLS)   # an accepted step refused: the run diverged
 
     def warm_up(self) -> None:
         """Compile the integrator for the FMU joint without advancing (an empty interval)."""

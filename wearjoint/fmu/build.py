@@ -20,9 +20,8 @@ from pathlib import Path
 
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
+from .fmi import BACKENDS, DEFAULT_BACKEND
 
-BACKENDS = ("native", "pythonfmu")
-DEFAULT_BACKEND = "native"
 _MODULES = {"native": "wearjoint.fmu.build_native", "pythonfmu": "wearjoint.fmu.build_pythonfmu"}
 BINARY_ARCNAME = f"binaries/linux64/{fv.MODEL_NAME}.so"
 

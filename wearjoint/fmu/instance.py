@@ -15,21 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..checks import RunDiverged
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
-from .build import DEFAULT_BACKEND
-from .fmi_status import FMI_WARNING
+from .fmi import (
+    COMPLETED_STEP_CALL, COMPONENT_CALL, DO_STEP_CALL, FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL,
+    STATUS_CALL, FmuError, c_function, raise_failed_call,
+)
 
-_FMI_STATUS = ("ok", "warning", "discard", "error", "fatal", "pending")
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
 N_INPUTS = len(INPUT_NAMES)
-
-
-class FmuError(RuntimeError):
-    """An FMI call failed, or the FMU could not be built or loaded; the message carries the FMU's log."""
-
-
 _MODEL_DESCRIPTIONS: dict = {}
 
 
@@ -41,40 +35,6 @@ def _model_description(fmu_path: Path):
     if key not in _MODEL_DESCRIPTIONS:
         _MODEL_DESCRIPTIONS[key] = read_model_description(str(fmu_path))
     return _MODEL_DESCRIPTIONS[key]
-
-
-def ensure_fmu(n_points: int, fmu_path=None, backend: str = DEFAULT_BACKEND) -> Path:
-    """The FMU to use: ``fmu_path`` if given (must exist), else the cached build of ``backend``
-    for ``n_points`` (built now if missing, see :mod:`wearjoint.fmu.build`)."""
-    from .build import build_fmu, default_fmu_path
-
-    if fmu_path is not None:
-        path = Path(fmu_path)
-        if not path.is_file():
-            raise ParameterError(f"parameter fmu_path={str(path)!r} is invalid: allowed an existing .fmu file")
-        return path
-    path = default_fmu_path(n_points, backend)
-    if path.is_file():
-        return path
-    try:
-        return build_fmu(path.parent, n_points=n_points, backend=backend)
-    except (OSError, RuntimeError) as exc:
-        raise FmuError(f"building the FMU into {path.parent} failed: {exc}") from None
-
-
-# C prototypes of the FMI functions master_loop calls (pointers as addresses)
-_STATUS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
-_REAL_VALUES_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
-_DO_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
-_SET_TIME_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double)
-_COMPLETED_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
-_COMPONENT_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
-
-
-def c_function(function, prototype):
-    """``function`` (a ctypes function of a loaded library) as a bare C function pointer of ``prototype``."""
-    return prototype(ctypes.cast(function, ctypes.c_void_p).value)
-
 
 
 INTERFACES = ("co-simulation", "model-exchange")
@@ -97,6 +57,7 @@ class FmuInstance:
                                fmi2CallbackLoggerTYPE, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference)
 
         md = _model_description(fmu_path)
+        self.interface = interface
         kind = md.coSimulation if interface == "co-simulation" else md.modelExchange
         if md.modelName != fv.MODEL_NAME or kind is None:
             raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
@@ -155,7 +116,7 @@ class FmuInstance:
             if interface == "model-exchange":   # the initial event iteration, then continuous time
                 self.event_info = np.zeros(4)     # fmi2EventInfo (5 ints, a double)
                 while True:
-                    self.check(c_function(dll.fmi2NewDiscreteStates, _STATUS_CALL)(self.component,
+                    self.check(c_function(dll.fmi2NewDiscreteStates, STATUS_CALL)(self.component,
                                                                                   self.event_info.ctypes.data),
                                "fmi2NewDiscreteStates", 0.0)
                     if self.event_info.view(np.int32)[0] == 0:   # newDiscreteStatesNeeded
@@ -167,18 +128,18 @@ class FmuInstance:
         if interface == "model-exchange":
             self.loop_functions = None
             self.model_exchange_functions = (
-                c_function(dll.fmi2SetTime, _SET_TIME_CALL), c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),
-                c_function(dll.fmi2GetReal, _REAL_VALUES_CALL),
-                c_function(dll.fmi2CompletedIntegratorStep, _COMPLETED_STEP_CALL),
-                c_function(dll.fmi2EnterEventMode, _COMPONENT_CALL),
-                c_function(dll.fmi2NewDiscreteStates, _STATUS_CALL),
-                c_function(dll.fmi2EnterContinuousTimeMode, _COMPONENT_CALL))
+                c_function(dll.fmi2SetTime, SET_TIME_CALL), c_function(dll.fmi2SetReal, REAL_VALUES_CALL),
+                c_function(dll.fmi2GetReal, REAL_VALUES_CALL),
+                c_function(dll.fmi2CompletedIntegratorStep, COMPLETED_STEP_CALL),
+                c_function(dll.fmi2EnterEventMode, COMPONENT_CALL),
+                c_function(dll.fmi2NewDiscreteStates, STATUS_CALL),
+                c_function(dll.fmi2EnterContinuousTimeMode, COMPONENT_CALL))
             return
         self.loop_functions = (
             self.component, self.input_vrs, self.output_vrs, self.state_slot,
-            c_function(dll.fmi2DoStep, _DO_STEP_CALL), c_function(dll.fmi2SetReal, _REAL_VALUES_CALL),
-            c_function(dll.fmi2GetReal, _REAL_VALUES_CALL), c_function(dll.fmi2GetFMUstate, _STATUS_CALL),
-            c_function(dll.fmi2SetFMUstate, _STATUS_CALL), c_function(dll.fmi2FreeFMUstate, _STATUS_CALL))
+            c_function(dll.fmi2DoStep, DO_STEP_CALL), c_function(dll.fmi2SetReal, REAL_VALUES_CALL),
+            c_function(dll.fmi2GetReal, REAL_VALUES_CALL), c_function(dll.fmi2GetFMUstate, STATUS_CALL),
+            c_function(dll.fmi2SetFMUstate, STATUS_CALL), c_function(dll.fmi2FreeFMUstate, STATUS_CALL))
 
     def _set_parameters(self, joint: JointParameters) -> None:
         real_values, integer_values = fv.fmi_parameter_values_by_type(joint)
@@ -194,16 +155,19 @@ class FmuInstance:
         errors = [text for status, text in self.log if status > FMI_WARNING] or [text for _, text in self.log[-3:]]
         return (": " + " | ".join(errors[-3:])) if errors else ""
 
-    def check(self, status: int, call: str, t: float, diverged: bool = False) -> None:
-        """Raise FmuError (with the FMU's log) for a status worse than fmi2Warning; ``diverged``: the call refused
-        the run's state (a doStep's fmi2Discard, an accepted Model Exchange step's error): RunDiverged instead."""
+    def check(self, status: int, call: str, t: float) -> None:
+        """Raise FmuError (with the FMU's log) for a status worse than fmi2Warning, RunDiverged where the call
+        refused the run's state (co-simulation: a doStep's fmi2Discard; Model Exchange: an accepted step's error)."""
         if status > FMI_WARNING:
-            name = _FMI_STATUS[status] if 0 <= status < len(_FMI_STATUS) else str(status)
-            if diverged:
-                raise RunDiverged(f"the run diverged at t = {t:.6g} s: the joint FMU's {call} returned "
-                                  f"fmi2{name.capitalize()}{self._log_tail()}")
-            raise FmuError(f"FMU call {call} returned fmi2{name.capitalize()} at t={t:.9g} s"
-                                    f"{self._log_tail()}")
+            refused = (call == "fmi2DoStep" and status == FMI_DISCARD if self.interface == "co-simulation"
+                       else call == "fmi2CompletedIntegratorStep")
+            raise_failed_call(status, call, t, self._log_tail(), refused)
+
+    def check_recorded(self, record, calls: tuple[str, ...]) -> None:
+        """:meth:`check` of the failure a compiled loop recorded (:func:`wearjoint.fmu.fmi.failed_call`:
+        the call's index in ``calls``, its status, its time), if any."""
+        if record[0] != 0.0:
+            self.check(int(record[1]), calls[int(record[0])], float(record[2]))
 
     def exchange(self, t: float) -> None:
         """setReal of the inputs, getReal of the outputs (both in the master's buffer)."""

@@ -28,7 +28,7 @@ import numpy as np
 from wearjoint import analysis
 from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
-from wearjoint.fmu.build import DEFAULT_BACKEND
+from wearjoint.fmu.fmi import DEFAULT_BACKEND
 from wearjoint.cosim.step_rule import paper_step_scale
 from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint
 from wearjoint.results import RunRecord

@@ -67,6 +67,21 @@ def next_jump(jump: int, error: float, tolerance: float) -> int:
     return max(1, int(jump * factor))
 
 
+def remaining_wall_s(revolution: int, total: int, block: int, proposed_jump: int, wall_per_cycle_s: float) -> float:
+    """The wear study's ETA [s]: the cycles (a block and a jump) left if every next jump keeps the proposed
+    jump's share q of the revolutions reached (r_{k+1} = (1 + q) r_k + block, the geometric growth the error
+    control settles into), times the wall of one cycle.  The rate of revolutions done is no estimate: the
+    jumps grow, so the first block's rate put 400 000 revolutions hundreds of hours away."""
+    if revolution >= total:
+        return 0.0
+    if revolution <= 0 or proposed_jump <= 0:
+        return float("nan")
+    q = proposed_jump / revolution
+    offset = block / q
+    cycles = math.log((total + offset) / (revolution + offset)) / math.log1p(q)
+    return max(cycles, 1.0) * wall_per_cycle_s
+
+
 def replay_passes(jump: int, rate: np.ndarray, max_depth_m: float) -> int:
     """Passes of the replay: each wears at most PASS_INCREMENT_SHARE of the max depth by the explicit bound."""
     if max_depth_m <= 0.0:
@@ -100,13 +115,17 @@ def advance_jump_study(config, state: dict, engine, keep_snapshot, checkpoint, p
     buffer = np.zeros((int(period / sample_dt) + 64, L.N_SAMPLE_COLUMNS))
     replayer = ClearanceJoint(config.joint)
     bar = Progress(config.revolutions - jump_state["revolution"], "wear-study (cycle jumping)", enabled=progress,
-                   unit="rev")
+                   unit="rev", caller_eta=True)
     done_at_start = jump_state["revolution"]
+    wall0, cycles = time.perf_counter(), 0
     try:
         while jump_state["revolution"] < config.revolutions:
             _block(config, state, engine, buffer, period, sample_dt, keep_snapshot)
             _jump(config, state, engine, replayer)
-            bar.update(jump_state["revolution"] - done_at_start)
+            cycles += 1
+            bar.update(jump_state["revolution"] - done_at_start, remaining_wall_s(
+                jump_state["revolution"], config.revolutions, config.jump_block_revolutions,
+                jump_state["proposed_jump"], (time.perf_counter() - wall0) / cycles))
             if not checkpoint():
                 return False
     finally:

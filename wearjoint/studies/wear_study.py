@@ -38,7 +38,7 @@ from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M
                                 profile_features, revolution_row, sample_statistics)
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
-from wearjoint.fmu.build import BACKENDS, DEFAULT_BACKEND
+from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from wearjoint.joint import StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, is_paper_case
 from wearjoint.progress import Progress
