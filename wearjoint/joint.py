@@ -23,7 +23,8 @@ from .core.joint_access import JointArrays
 from .core.wear import (
     advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
 )
-from .parameters import OPTION_CHOICES, RHO_MODES, JointParameters, ParameterError
+from .joint_fields import JOINT_FIELDS, coded_value
+from .parameters import JointParameters, ParameterError
 
 
 
@@ -68,34 +69,13 @@ def check_state_values(head, memory, wear_depth_m, params: JointParameters, wher
                             params.impact_velocity_floor_m_s, values), values, where)
 
 
-# JointParameters field (or (field, component) of a pair) given to each slot of the parameter vector
-PARAMETER_SLOTS = {
-    L.P_PIN_RADIUS: "pin_radius_m", L.P_BUSHING_RADIUS: "bushing_radius_m",
-    L.P_PIN_OFFSET_X: ("pin_offset_m", 0), L.P_PIN_OFFSET_Y: ("pin_offset_m", 1),
-    L.P_BUSHING_OFFSET_X: ("bushing_offset_m", 0), L.P_BUSHING_OFFSET_Y: ("bushing_offset_m", 1),
-    L.P_STIFFNESS: "contact_stiffness_N_m1_5", L.P_EXPONENT: "contact_exponent", L.P_RESTITUTION: "restitution",
-    L.P_FRICTION: "friction_coefficient", L.P_V0: "friction_v0_m_s", L.P_V1: "friction_v1_m_s",
-    L.P_CONTACT_LENGTH: "contact_length_m", L.P_RHO_MODE: "rho_mode", L.P_WEAR_PLACEMENT: "wear_placement",
-    L.P_SLIDING: "sliding_distance", L.P_VELOCITY_FLOOR: "impact_velocity_floor_m_s",
-    L.P_PIN_YOUNGS_MODULUS: "pin_youngs_modulus_Pa", L.P_PIN_POISSON_RATIO: "pin_poisson_ratio",
-    L.P_BUSHING_YOUNGS_MODULUS: "bushing_youngs_modulus_Pa", L.P_BUSHING_POISSON_RATIO: "bushing_poisson_ratio",
-    L.P_ARCHARD_COEFFICIENT: "wear_coefficient_m2_N", L.P_WEAR_FACTOR: "wear_factor",
-    L.P_CONTACT_MODEL: "contact_model", L.P_CONTACT_DAMPING: "contact_damping",
-    L.P_RESTITUTION_SPEED: "restitution_speed_m_s", L.P_WEAR_INTERVAL: "wear_interval_s",
-    L.P_EFFECTIVE_MASS: "effective_mass_kg",
-}
-
-
 def pack_joint_parameters(p: JointParameters) -> np.ndarray:
-    """The flat parameter vector the kernels read (layout.P_*): the given slots from ``p``
-    (options as their index), the derived ones by :func:`core.wear.complete_joint_parameters`."""
+    """The flat parameter vector the kernels read (layout.P_*): the slots of :data:`JOINT_FIELDS` from ``p``
+    (coded: :func:`~wearjoint.joint_fields.coded_value`), the derived ones by
+    :func:`core.wear.complete_joint_parameters`."""
     jp = np.zeros(L.N_JOINT_PARAMETERS)
-    for slot, source in PARAMETER_SLOTS.items():
-        field, component = source if isinstance(source, tuple) else (source, None)
-        value = getattr(p, field)
-        jp[slot] = (OPTION_CHOICES[field].index(value) if field in OPTION_CHOICES
-                    else value[component] if component is not None
-                    else 0.0 if value is None else value)     # K not given: 0, derived from the materials
+    for f in JOINT_FIELDS:
+        jp[f.slot] = coded_value(f, getattr(p, f.field))
     complete_joint_parameters(jp)
     return jp
 
@@ -212,7 +192,7 @@ class ClearanceJoint:
         if r[L.R_CONTACT] < 0.5 or r[L.R_NORMAL_FORCE] <= 0.0:
             return ContactResult.from_array(r)
         k = int(r[L.R_CONTACT_INDEX])
-        rho = equivalent_radius(p.pin_radius_m, p.bushing_radius_m + depth[k], RHO_MODES.index(p.rho_mode))
+        rho = equivalent_radius(p.pin_radius_m, p.bushing_radius_m + depth[k], L.choice_code("rho_mode", p.rho_mode))
         b = float(hertz_half_width(r[L.R_NORMAL_FORCE], rho, p.contact_length_m,
                                    self.parameter_vector[L.P_EFFECTIVE_MODULUS]))
         radius = p.bushing_radius_m + depth

@@ -22,11 +22,11 @@ from .core import layout as L
 # allowed rules of a row (the FMU's checks are built from the same names: fmu/slider_crank.py)
 POSITIVE, FINITE, NON_NEGATIVE, ABOVE_CRANK, TABLE_ROWS, TABLE_ANGLE, CHOICE = (
     "positive", "finite", "non-negative", "above-crank", "table-rows", "table-angle", "choice")
-CLEARANCE_JOINTS = L.CLEARANCE_JOINTS     # the values of clearance_joint; the FMU's: their index
+CLEARANCE_JOINTS = L.CLEARANCE_JOINTS     # the values of clearance_joint; the FMU's: their code (L.CHOICES)
 RULE_TEXT = {POSITIVE: "> 0", FINITE: "a finite real number", NON_NEGATIVE: ">= 0",
              ABOVE_CRANK: "> crank_length_m (the crank must turn fully)",
              TABLE_ROWS: f"0 (no table) or an integer from 2 to {L.MAX_LOAD_ROWS}", TABLE_ANGLE: "in [0, 360] deg",
-             CHOICE: ", ".join(f"{k} ({name})" for k, name in enumerate(CLEARANCE_JOINTS))}
+             CHOICE: ", ".join(f"{code} ({name})" for name, code in L.CHOICES["clearance_joint"])}
 
 
 @dataclass(frozen=True)
@@ -269,7 +269,7 @@ class SliderCrankParameters:
     @property
     def clearance_location(self) -> int:
         """The clearance joint's location code (core.layout.CLEARANCE_*)."""
-        return CLEARANCE_JOINTS.index(self.clearance_joint)
+        return L.choice_code("clearance_joint", self.clearance_joint)
 
     def sliding_speed_bound_m_s(self, joint) -> float:
         """Bound on the sliding speed in the clearance joint [m/s]: R_j |omega_pin - omega_bushing| with the
@@ -366,7 +366,7 @@ def field_vector(p: SliderCrankParameters) -> np.ndarray:
             elif f.component < len(table.crank_angle_deg):
                 out[k] = (table.crank_angle_deg if f.slot < L.MP_LOAD_FORCES else table.force_N)[f.component]
         elif f.choices is not None:
-            out[k] = f.choices.index(getattr(p, f.field))
+            out[k] = L.choice_code(f.field, getattr(p, f.field))
         elif f.component is not None:
             out[k] = getattr(p, f.field)[f.component]
         else:

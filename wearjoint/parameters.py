@@ -12,20 +12,20 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from .checks import (
-    ParameterError, choice as _choice, finite, is_finite_pair as _is_finite_pair, positive as _positive, require,
-)
+from .checks import ParameterError, finite, is_finite_pair as _is_finite_pair, require
+from .joint_fields import JOINT_FIELDS, check_joint_fields
 from .mechanism_parameters import SliderCrankParameters, SliderForceTable
 from .core.layout import (   # the wear-step limit, the wear batches, admissible states (docs/model.md §3.11, §3.14, §7)
     ADMISSIBLE_PENETRATION_SHARE, MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
+    choice_names,
 )
 
-RHO_MODES = ("conformal", "paper")
-WEAR_PLACEMENTS = ("patch", "penetration", "foundation")
-SLIDING_DISTANCES = ("rotation", "tangential")
-CONTACT_MODELS = ("foundation", "deepest")
-# the contact damping laws, in the order of their codes (core.damping.DAMPING_*)
-CONTACT_DAMPINGS = ("hunt-crossley", "lankarani-nikravesh", "tsuji", "lankarani-nikravesh-exact")
+# the values of the choice fields (their codes: core.layout.CHOICES)
+RHO_MODES = choice_names("rho_mode")
+WEAR_PLACEMENTS = choice_names("wear_placement")
+SLIDING_DISTANCES = choice_names("sliding_distance")
+CONTACT_MODELS = choice_names("contact_model")
+CONTACT_DAMPINGS = choice_names("contact_damping")
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
 # (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
 PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.576e-11
@@ -35,9 +35,8 @@ RESTITUTION_SPEED_M_S = 0.05
 # the mass [kg] the Tsuji damping's restitution is exact for: the paper's slider-crank's rod and slider, the mass
 # the crank-rod joint decelerates along the rod at the dead centres (SliderCrankParameters.contact_effective_mass_kg)
 PAPER_EFFECTIVE_MASS_KG = 0.19 + 0.70
-# the JointParameters fields that take one of a few names (the kernels and the FMU get the index)
-OPTION_CHOICES = {"rho_mode": RHO_MODES, "wear_placement": WEAR_PLACEMENTS, "sliding_distance": SLIDING_DISTANCES,
-                  "contact_model": CONTACT_MODELS, "contact_damping": CONTACT_DAMPINGS}
+# the JointParameters fields that take one of a few names (the kernels and the FMU get the code)
+OPTION_CHOICES = {f.field: choice_names(f.field) for f in JOINT_FIELDS if f.choices is not None}
 
 
 def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
@@ -135,48 +134,18 @@ class JointParameters:
     wear_interval_s: float = MAX_WEAR_STEP_S
 
     def __post_init__(self):
-        for name in ("pin_radius_m", "bushing_radius_m", "contact_length_m",
-                     "pin_youngs_modulus_Pa", "bushing_youngs_modulus_Pa",
-                     "contact_exponent", "friction_v1_m_s", "impact_velocity_floor_m_s", "restitution_speed_m_s",
-                     "effective_mass_kg"):
-            _positive(name, getattr(self, name))
-        if self.contact_stiffness_N_m1_5 is not None:
-            _positive("contact_stiffness_N_m1_5", self.contact_stiffness_N_m1_5)
+        """The rules of :data:`~wearjoint.joint_fields.JOINT_FIELDS` (the FMU's too); a pair must be two finite
+        numbers, ``n_points`` an integer >= 8; a contact stiffness of 0 means "from the materials" (None)."""
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
             require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
             object.__setattr__(self, name, (float(value[0]), float(value[1])))
-        require("bushing_radius_m", self.bushing_radius_m,
-                 self.bushing_radius_m > self.pin_radius_m,
-                 f"> pin_radius_m = {self.pin_radius_m!r} (the clearance must be positive)")
-        for name in ("pin_poisson_ratio", "bushing_poisson_ratio"):
-            value = getattr(self, name)
-            require(name, value, 0.0 < finite(name, value) < 0.5, "in (0, 0.5)")
-        require("restitution", self.restitution, 0.0 < finite("restitution", self.restitution) <= 1.0,
-                 "in (0, 1]")
-        for name in ("friction_coefficient", "friction_v0_m_s", "wear_coefficient_m2_N", "wear_factor"):
-            value = getattr(self, name)
-            require(name, value, finite(name, value) >= 0.0, ">= 0")
-        require("friction_v1_m_s", self.friction_v1_m_s, self.friction_v1_m_s > self.friction_v0_m_s,
-                 f"> friction_v0_m_s = {self.friction_v0_m_s!r}")
-        require("wear_interval_s", self.wear_interval_s,
-                 0.0 <= finite("wear_interval_s", self.wear_interval_s) <= MAX_WEAR_STEP_S,
-                 f"in [0, {MAX_WEAR_STEP_S:g}] s (0: each accepted step's wear at that step)")
+        if self.contact_stiffness_N_m1_5 == 0.0:
+            object.__setattr__(self, "contact_stiffness_N_m1_5", None)
         n = self.n_points
         require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
                  "an integer >= 8")
-        _choice("rho_mode", self.rho_mode, RHO_MODES)
-        _choice("wear_placement", self.wear_placement, WEAR_PLACEMENTS)
-        _choice("sliding_distance", self.sliding_distance, SLIDING_DISTANCES)
-        _choice("contact_model", self.contact_model, CONTACT_MODELS)
-        _choice("contact_damping", self.contact_damping, CONTACT_DAMPINGS)
-        require("contact_exponent", self.contact_exponent,
-                 self.contact_model != "foundation" or self.contact_exponent == 1.5,
-                 "1.5 with contact_model='foundation' (a linear foundation on a circle gives delta^1.5; "
-                 "other exponents need contact_model='deepest')")
-        require("contact_exponent", self.contact_exponent,
-                 self.contact_stiffness_N_m1_5 is not None or self.contact_exponent == 1.5,
-                 "1.5 without a given contact_stiffness_N_m1_5 (the radii and materials give K of the exponent 1.5)")
+        check_joint_fields(self)
 
     def restitution_at(self, impact_speed_m_s: float) -> float:
         """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under this joint's

@@ -147,9 +147,9 @@ def test_readme_commands_table_states_the_dataclass_defaults():
 
 
 def test_docs_state_the_wear_study_default_factor():
-    study = (REPO / "docs" / "wear_study.md").read_text()
+    study = (REPO / "docs" / "explanation" / "wear_study.md").read_text()
     assert same(re.search(r"wear factor F \(default (\S+?):", study)[1], DEFAULT_WEAR_FACTOR)
-    model = (REPO / "docs" / "model.md").read_text()
+    model = (REPO / "docs" / "reference" / "model.md").read_text()
     assert same(re.search(r"the wear study uses (\S+?)\)", model)[1], DEFAULT_WEAR_FACTOR)
 
 
@@ -158,8 +158,9 @@ _VALUE = re.compile(r"(?<![\w^.])([-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?)\s*(GPa|mm/s|
 
 
 def _model_table():
-    """(fields, values in SI) per row of docs/model.md §2; a row ``--x-... …`` stands for every field named x_*."""
-    text = (REPO / "docs" / "model.md").read_text()
+    """(fields, values in SI) per row of docs/reference/model.md §2; a row ``--x-... …`` stands for every field
+    named x_*."""
+    text = (REPO / "docs" / "reference" / "model.md").read_text()
     section = text[text.index("## 2. "):text.index("## 3. ")]
     dests = {a.option_strings[0]: a.dest for a in command_parser("simulate")._actions if a.option_strings}
     rows = []
@@ -214,7 +215,7 @@ def _joint_value(p, joint: JointParameters):
     value = getattr(joint, p.field)
     if value is None:                  # the unset contact stiffness: the FMU's 0, "from the radii and materials"
         return 0.0
-    return p.choices.index(value) if p.choices else value if p.component is None else value[p.component]
+    return dict(p.choices)[value] if p.choices else value if p.component is None else value[p.component]
 
 
 @pytest.mark.parametrize("fmi_version", FMI_VERSIONS)
@@ -227,7 +228,7 @@ def test_model_description_start_values_are_the_joint_defaults(fmi_version):
 
 
 def test_model_md_fmu_table_states_the_start_values():
-    text = (REPO / "docs" / "model.md").read_text()
+    text = (REPO / "docs" / "reference" / "fmu.md").read_text()
     section = text[text.index("## 5. "):text.index("### The state format")]
     by_name = {p.variable.name: p for p in fv.PARAMETERS}
     joint = JointParameters()

@@ -183,13 +183,13 @@ def test_damping_parameters_are_named_when_bad():
 
 
 def test_the_law_names_and_the_kernels_codes_agree():
-    """JointParameters' names are the kernels' codes by position (the FMU's Integer takes the same)."""
-    from wearjoint.parameters import CONTACT_DAMPINGS
+    """Each law's name packs to the code its kernel branch reads (the FMU's Integer takes the same)."""
+    from wearjoint.joint import pack_joint_parameters
 
-    assert [CONTACT_DAMPINGS.index(name) for name in ("hunt-crossley", "lankarani-nikravesh", "tsuji",
-                                                       "lankarani-nikravesh-exact")] == [
-        damping.DAMPING_HUNT_CROSSLEY, damping.DAMPING_LANKARANI_NIKRAVESH, damping.DAMPING_TSUJI,
-        damping.DAMPING_LANKARANI_NIKRAVESH_EXACT]
+    for name, code in (("hunt-crossley", L.DAMPING_HUNT_CROSSLEY),
+                       ("lankarani-nikravesh", L.DAMPING_LANKARANI_NIKRAVESH), ("tsuji", L.DAMPING_TSUJI),
+                       ("lankarani-nikravesh-exact", L.DAMPING_LANKARANI_NIKRAVESH_EXACT)):
+        assert pack_joint_parameters(JointParameters(contact_damping=name))[L.P_CONTACT_DAMPING] == code
 
 
 def test_the_joints_default_effective_mass_is_the_paper_slider_cranks():

@@ -28,8 +28,9 @@ def test_the_default_stiffness_follows_the_radii_and_materials():
     given = paper.replace(contact_stiffness_N_m1_5=1e10, bushing_youngs_modulus_Pa=7.17e9)
     assert given.stiffness_N_m1_5 == 1e10
     assert given.foundation_modulus_N_m3 == pytest.approx(paper.foundation_modulus_N_m3 * 1e10 / paper.stiffness_N_m1_5)
-    with pytest.raises(ParameterError, match=r"contact_exponent=2.0 is invalid: allowed 1.5 without a given "
-                                             r"contact_stiffness_N_m1_5"):
+    with pytest.raises(ParameterError, match=r"contact_exponent=2.0 is invalid: allowed > 0, and 1.5 with "
+                                             r"contact_model='foundation' .*, and 1.5 with no contact_stiffness_N_m1_5 "
+                                             r"given \(K from the materials\)"):
         JointParameters(contact_model="deepest", contact_exponent=2.0)
     assert JointParameters(contact_model="deepest", contact_exponent=2.0, contact_stiffness_N_m1_5=1e12).stiffness_N_m1_5 == 1e12
 

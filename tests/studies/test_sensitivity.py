@@ -398,7 +398,7 @@ def test_study_on_a_running_scheduler_with_two_workers(tmp_path):
         assert len(workers) == 2 and json.loads((out / "summary.json").read_text())["workers"] == 2
 
 
-DOC = Path(__file__).resolve().parents[2] / "docs" / "sensitivity.md"
+DOC = Path(__file__).resolve().parents[2] / "docs" / "explanation" / "sensitivity.md"
 
 
 @pytest.mark.slow

@@ -20,23 +20,11 @@ import numpy as np
 from ..core import layout as L
 from ..core.geometry import bushing_point_angles
 from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND
+from ..joint_fields import JOINT_FIELDS
 from ..mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
 from ..parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
 _HELP = {
-    "rho_mode": "equivalent radius of the Hertz patch (docs/model.md §3.2)",
-    "wear_placement": "where the Archard increment goes (docs/model.md §3.7)",
-    "sliding_distance": "sliding distance of Eq. 33 (docs/model.md §3.8)",
-    "contact_model": "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing point (docs/model.md §3.10)",
-    "contact_damping": "contact damping: Hunt-Crossley (--restitution at --restitution-speed-m-s), the paper's "
-                       "Lankarani-Nikravesh with its stored impact velocity (rebounds at 0.913 for --restitution 0.9), "
-                       "Tsuji (--restitution at every speed for --effective-mass-kg), or Lankarani-Nikravesh exact "
-                       "(--restitution at every speed above --impact-velocity-floor-m-s) (docs/model.md §3.5)",
-    "restitution_speed_m_s": "impact speed at which the Hunt-Crossley damping gives --restitution",
-    "effective_mass_kg": "Tsuji damping: the mass the contact decelerates, for which the restitution is exact",
-    "impact_velocity_floor_m_s": "Lankarani-Nikravesh: floor on the stored impact velocity",
-    "wear_factor": "wear acceleration factor on k_w",
-    "wear_interval_s": "the foundation's wear is applied once per this much contact time, 0: every step "
-                       "(docs/model.md §3.11)",
+    **{f.field: f.text for f in JOINT_FIELDS if f.component is None},
     "pin_offset_m": "pin centre in the pin body's frame, x y [m]",
     "bushing_offset_m": "bushing centre in the bushing body's frame, x y [m]",
     "n_points": "bushing discrete points N_d",

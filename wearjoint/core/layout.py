@@ -36,9 +36,9 @@ P_V1 = 11
 P_WEAR_COEFFICIENT = 12   # derived: k_w times the wear acceleration factor [m^2/N]
 P_CONTACT_LENGTH = 13     # L [m]
 P_EFFECTIVE_MODULUS = 14  # derived: E* of Eq. 32 [Pa]
-P_RHO_MODE = 15           # 0 conformal, 1 paper (docs/model.md 3.2)
-P_WEAR_PLACEMENT = 16     # 0 patch, 1 penetration, 2 foundation (docs/model.md 3.7)
-P_SLIDING = 17            # 0 rotation, 1 tangential (docs/model.md 3.8)
+P_RHO_MODE = 15           # RHO_* (docs/model.md 3.2)
+P_WEAR_PLACEMENT = 16     # PLACEMENT_* (docs/model.md 3.7)
+P_SLIDING = 17            # SLIDING_* (docs/model.md 3.8)
 P_VELOCITY_FLOOR = 18     # Lankarani-Nikravesh: floor on the stored impact velocity [m/s] (docs/model.md 3.5)
 P_PIN_YOUNGS_MODULUS = 19     # E_i [Pa]
 P_PIN_POISSON_RATIO = 20      # nu_i [-]
@@ -46,14 +46,22 @@ P_BUSHING_YOUNGS_MODULUS = 21  # E_j [Pa]
 P_BUSHING_POISSON_RATIO = 22  # nu_j [-]
 P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
-P_CONTACT_MODEL = 25          # 0 elastic foundation, 1 deepest bushing point (docs/model.md 3.10)
+P_CONTACT_MODEL = 25          # CONTACT_* (docs/model.md 3.10)
 P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/model.md 3.10)
-P_CONTACT_DAMPING = 27        # core.damping.DAMPING_*: Hunt-Crossley, Lankarani-Nikravesh, Tsuji, LN exact (model.md 3.5)
+P_CONTACT_DAMPING = 27        # DAMPING_* (docs/model.md 3.5)
 P_RESTITUTION_SPEED = 28      # impact speed at which the Hunt-Crossley damping restitutes e_r [m/s]
 P_WEAR_INTERVAL = 29          # the foundation's wear is applied once per this much contact time [s] (0: every step)
 P_EFFECTIVE_MASS = 30         # Tsuji: the mass the contact decelerates along its normal [kg]
 P_DAMPING_COEFFICIENT = 31    # derived: the damping law's coefficient (core.damping.damping_coefficient)
 N_JOINT_PARAMETERS = 32
+
+# --- the choice parameters: each name (the parameter sets' value) and its code (the kernels' and the FMUs' value),
+# written once; a new choice is a row here and its branch in the kernel that reads the slot
+RHO_CONFORMAL, RHO_PAPER = 0, 1                                        # P_RHO_MODE
+PLACEMENT_PATCH, PLACEMENT_PENETRATION, PLACEMENT_FOUNDATION = 0, 1, 2  # P_WEAR_PLACEMENT
+SLIDING_ROTATION, SLIDING_TANGENTIAL = 0, 1                            # P_SLIDING
+CONTACT_FOUNDATION, CONTACT_DEEPEST = 0, 1                             # P_CONTACT_MODEL
+DAMPING_HUNT_CROSSLEY, DAMPING_LANKARANI_NIKRAVESH, DAMPING_TSUJI, DAMPING_LANKARANI_NIKRAVESH_EXACT = 0, 1, 2, 3
 
 # --- contact memory (the joint's scalar state besides the wear profile)
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts
@@ -138,7 +146,33 @@ GROUND = -1
 # crank-rod (pin on the crank's tip, bushing in the rod's big end: the paper's), rod-slider (pin in the slider,
 # bushing in the rod's small end), crank-ground (the crank's journal in a bushing fixed in the frame)
 CLEARANCE_CRANK_ROD, CLEARANCE_ROD_SLIDER, CLEARANCE_CRANK_GROUND = 0, 1, 2
-CLEARANCE_JOINTS = ("crank-rod", "rod-slider", "crank-ground")
+# field -> its (name, code) pairs, in the order of their codes (0, 1, ...: the FMUs check 0 <= code < count)
+CHOICES = {
+    "rho_mode": (("conformal", RHO_CONFORMAL), ("paper", RHO_PAPER)),
+    "wear_placement": (("patch", PLACEMENT_PATCH), ("penetration", PLACEMENT_PENETRATION),
+                       ("foundation", PLACEMENT_FOUNDATION)),
+    "sliding_distance": (("rotation", SLIDING_ROTATION), ("tangential", SLIDING_TANGENTIAL)),
+    "contact_model": (("foundation", CONTACT_FOUNDATION), ("deepest", CONTACT_DEEPEST)),
+    "contact_damping": (("hunt-crossley", DAMPING_HUNT_CROSSLEY), ("lankarani-nikravesh", DAMPING_LANKARANI_NIKRAVESH),
+                        ("tsuji", DAMPING_TSUJI), ("lankarani-nikravesh-exact", DAMPING_LANKARANI_NIKRAVESH_EXACT)),
+    "clearance_joint": (("crank-rod", CLEARANCE_CRANK_ROD), ("rod-slider", CLEARANCE_ROD_SLIDER),
+                        ("crank-ground", CLEARANCE_CRANK_GROUND)),
+}
+if any([code for _, code in pairs] != list(range(len(pairs))) for pairs in CHOICES.values()):
+    raise RuntimeError("core.layout.CHOICES: each parameter's codes must be 0, 1, ... in order")
+
+
+def choice_names(field: str) -> tuple[str, ...]:
+    """The names a choice parameter takes, in the order of their codes."""
+    return tuple(name for name, _ in CHOICES[field])
+
+
+def choice_code(field: str, name: str) -> int:
+    """The code of choice ``name`` of ``field`` (the kernels' and the FMUs' value)."""
+    return dict(CHOICES[field])[name]
+
+
+CLEARANCE_JOINTS = choice_names("clearance_joint")
 
 # --- how the contact forces enter the mechanism
 MODE_IDEAL = 0            # the clearance joint's revolute as a constraint (closed-form baseline)

@@ -27,7 +27,7 @@ from .geometry import block_minimum_depth, distance_sq, penetrating_points, refr
 from .jit import kernel
 from .pressure import foundation_modulus_factor
 from .layout import (
-    M_BATCH_ANGLE, M_BATCH_MOMENT_X, M_BATCH_MOMENT_Y, M_BATCH_INDEX, M_BATCH_LOAD, M_BATCH_SLIDE,
+    PLACEMENT_FOUNDATION, PLACEMENT_PATCH, RHO_CONFORMAL, SLIDING_ROTATION, M_BATCH_ANGLE, M_BATCH_MOMENT_X, M_BATCH_MOMENT_Y, M_BATCH_INDEX, M_BATCH_LOAD, M_BATCH_SLIDE,
     M_BATCH_TIME, M_START_FORCE, MAX_WEAR_STEP_S, N_RESULT, NO_START_FORCE, P_ARCHARD_COEFFICIENT, P_BUSHING_POISSON_RATIO,
     P_BUSHING_RADIUS, P_BUSHING_YOUNGS_MODULUS, P_CONTACT_LENGTH, P_DAMPING_COEFFICIENT, P_EFFECTIVE_MODULUS,
     P_FOUNDATION_MODULUS, P_PIN_POISSON_RATIO, P_PIN_RADIUS, P_PIN_YOUNGS_MODULUS, P_RHO_MODE, P_SLIDING, P_STIFFNESS,
@@ -77,8 +77,8 @@ def complete_joint_parameters(jp):
 
 @kernel
 def equivalent_radius(pin_radius, worn_bushing_radius, rho_mode):
-    """rho* of Eq. (31) [m]: 0 = conformal R_i R~/(R~ - R_i) (default), 1 = paper R_i R~/(R_i + R~)."""
-    if rho_mode == 0:
+    """rho* of Eq. (31) [m]: RHO_CONFORMAL R_i R~/(R~ - R_i) (default), RHO_PAPER R_i R~/(R_i + R~)."""
+    if rho_mode == RHO_CONFORMAL:
         return pin_radius * worn_bushing_radius / (worn_bushing_radius - pin_radius)
     return pin_radius * worn_bushing_radius / (pin_radius + worn_bushing_radius)
 
@@ -150,7 +150,7 @@ def _relaxation(k, angle, slide, jp, wear_depth):
     """lambda = k_f k_w Delta s at the deepest point k of a step or batch relative rotation ``angle`` [rad] and
     tangential ``slide`` [m] (docs/model.md §7)."""
     k_f = jp[P_FOUNDATION_MODULUS] * jp[P_PIN_RADIUS] / jp[P_CONTACT_LENGTH]     # the slot holds k_f L / R_i
-    rotation = int(jp[P_SLIDING]) == 0
+    rotation = int(jp[P_SLIDING]) == SLIDING_ROTATION
     return k_f * jp[P_WEAR_COEFFICIENT] * ((jp[P_BUSHING_RADIUS] + wear_depth[k]) * angle if rotation else slide)
 
 
@@ -160,7 +160,8 @@ def _foundation_increment(k, ex, ey, f_n, angle, slide, jp, cos_phi, sin_phi, we
     point k, mean normal force f_n [N], relative rotation ``angle`` [rad] and tangential ``slide`` [m]; returns
     (the largest increment or WEAR_REFUSED, lambda over WEAR_STEP_SHARE)."""
     share = _relaxation(k, angle, slide, jp, wear_depth) / WEAR_STEP_SHARE       # on the profile before the update
-    largest = foundation_wear(jp[P_WEAR_COEFFICIENT], f_n, jp[P_CONTACT_LENGTH], angle, slide, int(jp[P_SLIDING]) == 0,
+    largest = foundation_wear(jp[P_WEAR_COEFFICIENT], f_n, jp[P_CONTACT_LENGTH], angle, slide,
+                              int(jp[P_SLIDING]) == SLIDING_ROTATION,
                               ex, ey, jp[P_PIN_RADIUS], jp[P_BUSHING_RADIUS], cos_phi, sin_phi, wear_depth,
                               block_min, mask, work)
     return largest, share
@@ -188,7 +189,7 @@ def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     relative_rate = abs(vel_i[2] - vel_j[2])
     tangential_slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
     placement = int(jp[P_WEAR_PLACEMENT])
-    if placement == 2:
+    if placement == PLACEMENT_FOUNDATION:
         return _foundation_increment(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], f_n, relative_rate * dt,
                                      tangential_slide, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work)
     k_w = jp[P_WEAR_COEFFICIENT]
@@ -200,13 +201,13 @@ def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     rho = equivalent_radius(pin_radius, worn_radius, int(jp[P_RHO_MODE]))
     half_width = hertz_half_width(f_n, rho, jp[P_CONTACT_LENGTH], jp[P_EFFECTIVE_MODULUS])
     pressure = f_n / (2.0 * half_width * jp[P_CONTACT_LENGTH])          # Eqs. (25), (29)
-    rotation = int(jp[P_SLIDING]) == 0
+    rotation = int(jp[P_SLIDING]) == SLIDING_ROTATION
     largest = 0.0
     # a bound on the increments below (patch weights <= 4/pi, depths <= R_j): refuse an absurd step
     slide_bound = 2.0 * worn_radius * relative_rate * dt if rotation else tangential_slide
     if not k_w * pressure * (4.0 / math.pi) * slide_bound <= bushing_radius:
         return WEAR_REFUSED, 0.0
-    if placement == 0:
+    if placement == PLACEMENT_PATCH:
         half_angle = min(half_width / worn_radius, math.pi)
         centre = subgrid_contact_offset(k, result[R_ECCENTRICITY_X], result[R_ECCENTRICITY_Y], bushing_radius,
                                         cos_phi, sin_phi, wear_depth)
@@ -240,7 +241,7 @@ def _flush_batch(jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory
     load-weighted mean normal force and summed sliding, then empty it; returns :func:`_foundation_increment`'s
     (largest, share), or (WEAR_REFUSED, 0) with nothing changed, the batch kept."""
     angle, slide, load = memory[M_BATCH_ANGLE], memory[M_BATCH_SLIDE], memory[M_BATCH_LOAD]
-    measure = angle if int(jp[P_SLIDING]) == 0 else slide
+    measure = angle if int(jp[P_SLIDING]) == SLIDING_ROTATION else slide
     largest, share = 0.0, 0.0
     if load > 0.0 and measure > 0.0:
         largest, share = _foundation_increment(int(memory[M_BATCH_INDEX]), memory[M_BATCH_MOMENT_X] / load,
@@ -265,7 +266,8 @@ def batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     wearing = wears(result, f_n, jp, dt)
     angle = abs(vel_i[2] - vel_j[2]) * dt
     slide = abs(result[R_TANGENTIAL_VELOCITY]) * dt
-    if wearing and not archard_volume_fits(jp[P_WEAR_COEFFICIENT], f_n, angle, slide, int(jp[P_SLIDING]) == 0,
+    if wearing and not archard_volume_fits(jp[P_WEAR_COEFFICIENT], f_n, angle, slide,
+                                           int(jp[P_SLIDING]) == SLIDING_ROTATION,
                                            jp[P_BUSHING_RADIUS], jp[P_CONTACT_LENGTH]):
         return WEAR_REFUSED, 0.0
     interval = jp[P_WEAR_INTERVAL]
@@ -283,7 +285,7 @@ def batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     memory[M_BATCH_TIME] += dt
     memory[M_BATCH_ANGLE] += angle
     memory[M_BATCH_SLIDE] += slide
-    load = f_n * (angle if int(jp[P_SLIDING]) == 0 else slide)
+    load = f_n * (angle if int(jp[P_SLIDING]) == SLIDING_ROTATION else slide)
     memory[M_BATCH_LOAD] += load
     memory[M_BATCH_MOMENT_X] += load * result[R_ECCENTRICITY_X]
     memory[M_BATCH_MOMENT_Y] += load * result[R_ECCENTRICITY_Y]
@@ -307,7 +309,7 @@ def _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, 
     if memory[M_START_FORCE] != NO_START_FORCE and not is_admissible(result, jp, wear_depth):
         return STEP_INADMISSIBLE, False
     f_n = step_mean_normal_force(result, memory, held)
-    if int(jp[P_WEAR_PLACEMENT]) == 2 and jp[P_WEAR_INTERVAL] > 0.0:
+    if int(jp[P_WEAR_PLACEMENT]) == PLACEMENT_FOUNDATION and jp[P_WEAR_INTERVAL] > 0.0:
         largest, share = batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
                                     mask, work, memory)
     else:

@@ -37,7 +37,6 @@ from dataclasses import dataclass
 from .. import __version__
 from ..core import layout, state_format
 from ..core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT
-from ..joint import PARAMETER_SLOTS
 from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
 from . import variables as fv
@@ -224,9 +223,7 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
     n_profile = len(fv.profile_points(n_points, profile_stride))
     vr = {v.name: i for i, v in enumerate(variables)}
     parameter_index = {p.variable.name: i for i, p in enumerate(fv.PARAMETERS)}
-    slot_of = {(source if isinstance(source, tuple) else (source, None)): slot
-               for slot, source in PARAMETER_SLOTS.items()}
-    rows = parameter_rows([(p.variable.name, slot_of[(p.field, p.component)], fv.parameter_variable(p, starts).start,
+    rows = parameter_rows([(p.variable.name, p.slot, fv.parameter_variable(p, starts).start,
                             len(p.choices or ()), p.allowed,
                             parameter_index[p.allowed.above] if p.allowed.above else -1, p.allowed_text())
                            for p in fv.PARAMETERS])
@@ -250,7 +247,7 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
         raise RuntimeError("the FMU variable table is not in the order the C layer expects "
                            "(inputs, parameters, n_points, scalar outputs, wear depths)")
     inputs = ", ".join(_c_string(v.name) for v in fv.INPUTS)
-    parameter_of_slot = {slot_of[(p.field, p.component)]: i for i, p in enumerate(fv.PARAMETERS)}
+    parameter_of_slot = {p.slot: i for i, p in enumerate(fv.PARAMETERS)}
     vr3 = fmi3_value_references()
     if any(vr3[name] != vr[name] for name in (*(v.name for v in fv.INPUTS), *(p.variable.name for p in fv.PARAMETERS),
                                               fv.N_POINTS_NAME, *(v.name for v in fv.SCALAR_OUTPUTS))):

@@ -17,7 +17,7 @@ def c_double(value: float) -> str:
 
 def parameter_rows(parameters) -> list[str]:
     """The rows of a ``ParameterInfo`` table (fmu_src/fmi/fmu_model.h) for ``parameters`` =
-    (name, slot, start, number of choices, :class:`~wearjoint.fmu.variables.Allowed`, index of the
+    (name, slot, start, number of choices, :class:`~wearjoint.checks.Allowed`, index of the
     parameter it must exceed or -1, the allowed values as the error message states them); an
     ``Allowed.when`` names parameters of the same table (at most two)."""
     names = [row[0] for row in parameters]
@@ -25,7 +25,7 @@ def parameter_rows(parameters) -> list[str]:
     for name, slot, start, n_choices, a, above, text in parameters:
         if len(a.when) > 2:
             raise ValueError(f"parameter {name}: at most two conditions (Allowed.when), got {len(a.when)}")
-        when = [(names.index(other), value) for other, value, _ in a.when] + [(-1, 0.0)] * (2 - len(a.when))
+        when = [(names.index(other), value) for other, value, *_ in a.when] + [(-1, 0.0)] * (2 - len(a.when))
         rows.append("    {%s, %d, %s, %d, %d, %d, %s, %d, %d, %s, %d, {%d, %d}, {%s, %s}, %s, %s}," % (
             c_string(name), slot, c_double(start), n_choices, a.low is not None, a.low_open, c_double(a.low or 0.0),
             a.high is not None, a.high_open, c_double(a.high or 0.0), above, when[0][0], when[1][0],

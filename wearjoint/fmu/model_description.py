@@ -178,7 +178,7 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
         if p.choices is not None:
             enumeration = ET.SubElement(types, "EnumerationType", name=enumeration_type_name(p.variable.name),
                                         description=p.variable.description)
-            for value, item in enumerate(p.choices):
+            for item, value in p.choices:
                 ET.SubElement(enumeration, "Item", name=item, value=str(value))
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():

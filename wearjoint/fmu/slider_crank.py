@@ -26,6 +26,7 @@ from xml.etree import ElementTree as ET
 
 from ..core import layout
 from .. import mechanism_parameters as mp
+from ..checks import ANY, NON_NEGATIVE, POSITIVE, Allowed
 from ..parameters import SliderCrankParameters
 from . import variables as fv
 from ..core import state_format
@@ -57,15 +58,15 @@ class Variable:
     source: str
     index: int
     start: float | None = None
-    allowed: fv.Allowed | None = None   # parameters
+    allowed: Allowed | None = None   # parameters
     n_choices: int = 0                  # > 0: a parameter taking the values 0 .. n_choices - 1 (an enumeration)
 
 
 # the FMU's check of each mechanism parameter's rule (wearjoint.mechanism_parameters.RULE_TEXT)
-_ALLOWED = {mp.POSITIVE: fv.POSITIVE, mp.FINITE: fv.ANY, mp.NON_NEGATIVE: fv.NON_NEGATIVE,
-            mp.ABOVE_CRANK: fv.Allowed(0.0, True, above="crank_length"),
-            mp.TABLE_ROWS: fv.Allowed(0.0, high=float(layout.MAX_LOAD_ROWS)), mp.TABLE_ANGLE: fv.Allowed(0.0, high=360.0),
-            mp.CHOICE: fv.Allowed(0.0, high=float(len(mp.CLEARANCE_JOINTS) - 1))}
+_ALLOWED = {mp.POSITIVE: POSITIVE, mp.FINITE: ANY, mp.NON_NEGATIVE: NON_NEGATIVE,
+            mp.ABOVE_CRANK: Allowed(0.0, True, above="crank_length"),
+            mp.TABLE_ROWS: Allowed(0.0, high=float(layout.MAX_LOAD_ROWS)), mp.TABLE_ANGLE: Allowed(0.0, high=360.0),
+            mp.CHOICE: Allowed(0.0, high=float(len(mp.CLEARANCE_JOINTS) - 1))}
 _DEFAULTS = mp.field_vector(SliderCrankParameters())
 
 _BODIES = (("pin", "pin body (the crank at the crank-rod and crank-ground joints, the slider at the rod-slider "
@@ -87,7 +88,7 @@ PARAMETERS = tuple(
     Variable(MAX_INTERNAL_STEP_NAME, fv.PARAMETER, "s",
              "Co-Simulation: longest internal RK4 step; a communication step h is taken in ceil(h / max_internal_step) "
              "equal steps with the inputs held", PARAMETER, len(mp.MECHANISM_FIELDS), MAX_INTERNAL_STEP_START,
-             fv.POSITIVE),)
+             POSITIVE),)
 
 # y = [q, q_dot] (Eq. 38): the variable holding each, its unit and what it is
 _BODY_OF = (("crank", "crank"), ("rod", "rod"), ("slider", "slider"))

@@ -7,7 +7,8 @@ registers the variables in exactly the order of :func:`fmu_variables`, so
 value reference = position in that list; masters should still look them up
 from the modelDescription with :func:`value_references`.
 
-Imports only the standard library, :mod:`wearjoint.parameters` and :mod:`wearjoint.core.layout`.
+The parameters are the rows of :data:`wearjoint.joint_fields.JOINT_FIELDS`.  Imports only the standard library,
+:mod:`wearjoint.joint_fields`, :mod:`wearjoint.parameters` and :mod:`wearjoint.core.layout`.
 """
 from __future__ import annotations
 
@@ -15,9 +16,8 @@ import dataclasses
 from dataclasses import dataclass
 
 from ..core import layout
-from ..parameters import (
-    CONTACT_DAMPINGS, CONTACT_MODELS, RHO_MODES, SLIDING_DISTANCES, WEAR_PLACEMENTS, JointParameters, ParameterError,
-)
+from ..joint_fields import JOINT_FIELDS, JointField, allowed_text, coded_value, coded_values
+from ..parameters import JointParameters, ParameterError
 
 MODEL_NAME = "ClearanceWearJoint"
 # JSON file in the FMU's resources written by the build: {"n_points": N_d, "build_key": ...}
@@ -94,125 +94,34 @@ OUTPUT_DEPENDENCIES: dict[str, tuple[str, ...]] = {
 
 
 @dataclass(frozen=True)
-class Allowed:
-    """The allowed values of a Real parameter: finite, within (or on) ``low`` / ``high`` where
-    given, greater than the parameter named ``above``, and ``equal`` where a parameter of ``when`` =
-    ((its name, value, label), ...) has that value (the same rules as :class:`JointParameters`; the
-    native FMU checks them from this table)."""
-
-    low: float | None = None
-    low_open: bool = False
-    high: float | None = None
-    high_open: bool = False
-    above: str | None = None
-    equal: float | None = None
-    when: tuple[tuple[str, float, str], ...] = ()
-
-    def text(self) -> str:
-        """The rule as :class:`ParameterError` messages state it, e.g. ``> 0`` or ``in (0, 1]``."""
-        if self.low is not None and self.high is not None:
-            rule = f"in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
-        elif self.low is not None:
-            rule = f"{'>' if self.low_open else '>='} {self.low:g}"
-        else:
-            rule = "a finite real number"
-        for other, value, label in self.when:
-            rule += f", and {self.equal!r} with {other}={value:g} ({label})"
-        return rule + (f" and > {self.above}" if self.above else "")
-
-
-ANY, POSITIVE, NON_NEGATIVE = Allowed(), Allowed(0.0, True), Allowed(0.0)
-
-
-@dataclass(frozen=True)
 class ParameterField:
-    """How an FMU parameter maps onto a :class:`JointParameters` field."""
+    """An FMU parameter: its variable and the row of :data:`~wearjoint.joint_fields.JOINT_FIELDS` it comes from."""
 
     variable: FmuVariable
-    field: str
-    component: int | None = None               # index into a (x, y) field
-    choices: tuple[str, ...] | None = None     # Integer enumeration: value = index into choices
-    allowed: Allowed = ANY                     # Real parameters: the allowed values
+    row: JointField
+
+    field = property(lambda self: self.row.field)
+    component = property(lambda self: self.row.component)
+    choices = property(lambda self: self.row.choices)       # (name, code) pairs of an Integer enumeration
+    allowed = property(lambda self: self.row.allowed)
+    slot = property(lambda self: self.row.slot)
 
     def allowed_text(self) -> str:
-        if self.choices is not None:
-            return "one of " + ", ".join(f"{i} ({c})" for i, c in enumerate(self.choices))
-        return self.allowed.text()
+        return allowed_text(self.row)
 
 
-def _fmi_real(value) -> float:
-    """A Real parameter's FMU value: an unset contact stiffness (None: from the materials) is 0."""
-    return 0.0 if value is None else float(value)
+def _parameter(row: JointField) -> ParameterField:
+    """A row's FMU variable: an Integer enumeration for a choice (its codes listed), else a Real; the start value
+    the parameter set's default."""
+    start = coded_value(row, getattr(JointParameters, row.field))
+    if row.choices is None:
+        return ParameterField(FmuVariable(row.fmu_name, PARAMETER, REAL, row.unit, row.text, start), row)
+    listed = ", ".join(f"{code} = {name}" for name, code in row.choices)
+    return ParameterField(FmuVariable(row.fmu_name, PARAMETER, INTEGER, "", f"{row.text} ({listed})", int(start)),
+                          row)
 
 
-def _real(name, unit, field, text, component=None, allowed=ANY) -> ParameterField:
-    default = getattr(JointParameters, field)
-    start = default if component is None else default[component]
-    return ParameterField(FmuVariable(name, PARAMETER, REAL, unit, text, _fmi_real(start)), field, component,
-                          allowed=allowed)
-
-
-def _choice(name, field, choices, text) -> ParameterField:
-    listed = ", ".join(f"{i} = {c}" for i, c in enumerate(choices))
-    start = choices.index(getattr(JointParameters, field))
-    return ParameterField(FmuVariable(name, PARAMETER, INTEGER, "", f"{text} ({listed})", start), field, choices=choices)
-
-
-PARAMETERS: tuple[ParameterField, ...] = (
-    _real("pin_radius", "m", "pin_radius_m", "pin radius R_i", allowed=POSITIVE),
-    _real("bushing_radius", "m", "bushing_radius_m", "unworn bushing radius R_j (> pin_radius)",
-          allowed=Allowed(0.0, True, above="pin_radius")),
-    _real("pin_offset_x", "m", "pin_offset_m", "pin centre in the pin body frame, x", 0),
-    _real("pin_offset_y", "m", "pin_offset_m", "pin centre in the pin body frame, y", 1),
-    _real("bushing_offset_x", "m", "bushing_offset_m", "bushing centre in the bushing body frame, x", 0),
-    _real("bushing_offset_y", "m", "bushing_offset_m", "bushing centre in the bushing body frame, y", 1),
-    _real("contact_length", "m", "contact_length_m", "axial contact length L", allowed=POSITIVE),
-    _real("pin_youngs_modulus", "Pa", "pin_youngs_modulus_Pa", "Young's modulus of the pin", allowed=POSITIVE),
-    _real("pin_poisson_ratio", "1", "pin_poisson_ratio", "Poisson ratio of the pin",
-          allowed=Allowed(0.0, True, 0.5, True)),
-    _real("bushing_youngs_modulus", "Pa", "bushing_youngs_modulus_Pa", "Young's modulus of the bushing",
-          allowed=POSITIVE),
-    _real("bushing_poisson_ratio", "1", "bushing_poisson_ratio", "Poisson ratio of the bushing",
-          allowed=Allowed(0.0, True, 0.5, True)),
-    _real("contact_stiffness", "N/m1.5", "contact_stiffness_N_m1_5",
-          "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent); 0: from the radii and "
-          "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", allowed=NON_NEGATIVE),
-    _real("contact_exponent", "1", "contact_exponent",
-          "exponent n of the contact law (1.5 with the foundation contact: a linear foundation on a circle)",
-          allowed=Allowed(0.0, True, equal=1.5, when=(
-              ("contact_model", CONTACT_MODELS.index("foundation"), "foundation"),
-              ("contact_stiffness", 0.0, "K from the materials")))),
-    _real("restitution", "1", "restitution", "coefficient of restitution e_r in (0, 1]",
-          allowed=Allowed(0.0, True, 1.0)),
-    _real("friction_coefficient", "1", "friction_coefficient", "Coulomb friction coefficient mu",
-          allowed=NON_NEGATIVE),
-    _real("friction_v0", "m/s", "friction_v0_m_s", "friction tolerance velocity v0 (stick below)",
-          allowed=NON_NEGATIVE),
-    _real("friction_v1", "m/s", "friction_v1_m_s", "friction tolerance velocity v1 (> friction_v0, full slip above)",
-          allowed=Allowed(0.0, True, above="friction_v0")),
-    _real("wear_coefficient", "m2/N", "wear_coefficient_m2_N", "Archard wear coefficient k_w", allowed=NON_NEGATIVE),
-    _real("wear_factor", "1", "wear_factor", "wear acceleration factor multiplying k_w",
-          allowed=NON_NEGATIVE),
-    _real("impact_velocity_floor", "m/s", "impact_velocity_floor_m_s",
-          "Lankarani-Nikravesh damping: floor on the stored impact velocity", allowed=POSITIVE),
-    _choice("rho_mode", "rho_mode", RHO_MODES, "equivalent radius of the Hertz half-width"),
-    _choice("wear_placement", "wear_placement", WEAR_PLACEMENTS, "bushing points receiving the wear increment"),
-    _choice("sliding_distance", "sliding_distance", SLIDING_DISTANCES, "sliding distance of the Archard update"),
-    _choice("contact_model", "contact_model", CONTACT_MODELS,
-            "contact force: elastic-foundation pressure over the worn bushing, or the deepest bushing point"),
-    _choice("contact_damping", "contact_damping", CONTACT_DAMPINGS,
-            "contact damping: Hunt-Crossley (restitution e_r at restitution_speed), the paper's Lankarani-Nikravesh "
-            "(chi = 3(1 - e_r^2)/4 over the stored impact velocity: restitution 0.913 for e_r 0.9), or Tsuji "
-            "(restitution e_r at every speed for a body of effective_mass)"),
-    _real("restitution_speed", "m/s", "restitution_speed_m_s",
-          "impact speed at which the Hunt-Crossley damping gives the restitution e_r", allowed=POSITIVE),
-    _real("effective_mass", "kg", "effective_mass_kg",
-          "Tsuji damping: the mass the contact decelerates along its normal (the restitution is e_r for it)",
-          allowed=POSITIVE),
-    _real("wear_interval", "s", "wear_interval_s",
-          "the foundation's wear is applied once per this much contact time (and when a contact ends; "
-          "0: at every accepted step)", allowed=Allowed(0.0, False, layout.MAX_WEAR_STEP_S)),
-)
+PARAMETERS: tuple[ParameterField, ...] = tuple(_parameter(row) for row in JOINT_FIELDS)
 # an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
 STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
 
@@ -294,16 +203,14 @@ def joint_parameters_from_fmi(values: dict, n_points: int) -> JointParameters:
             continue
         value = values[p.variable.name]
         if p.choices is not None:
-            if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < len(p.choices):
-                allowed = ", ".join(f"{i} ({c})" for i, c in enumerate(p.choices))
-                raise ParameterError(f"parameter {p.variable.name}={value!r} is invalid: allowed {allowed}")
-            changes[p.field] = p.choices[value]
+            names = {code: name for name, code in p.choices}
+            if isinstance(value, bool) or not isinstance(value, int) or value not in names:
+                raise ParameterError(f"parameter {p.variable.name}={value!r} is invalid: allowed {p.allowed_text()[7:]}")
+            changes[p.field] = names[value]
         elif p.component is not None:
             pair = list(changes.get(p.field, getattr(JointParameters, p.field)))
             pair[p.component] = value
             changes[p.field] = tuple(pair)
-        elif p.field == "contact_stiffness_N_m1_5" and value == 0.0:
-            changes[p.field] = None      # 0: from the radii and materials
         else:
             changes[p.field] = value
     return JointParameters(**changes)
@@ -318,13 +225,6 @@ def fmi_parameter_values_by_type(params: JointParameters) -> tuple[dict[str, flo
 
 def fmi_parameter_values(params: JointParameters) -> dict[str, float | int]:
     """FMU parameter values (keyed by FMU name) reproducing ``params`` (n_points excluded: fixed at build)."""
-    out: dict[str, float | int] = {}
-    for p in PARAMETERS:
-        value = getattr(params, p.field)
-        if p.choices is not None:
-            out[p.variable.name] = p.choices.index(value)
-        elif p.component is not None:
-            out[p.variable.name] = float(value[p.component])
-        else:
-            out[p.variable.name] = _fmi_real(value)
-    return out
+    values = coded_values(params)
+    return {p.variable.name: int(values[p.variable.name]) if p.choices is not None else values[p.variable.name]
+            for p in PARAMETERS}

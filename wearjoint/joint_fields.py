@@ -1,0 +1,157 @@
+"""The clearance joint's parameters: one table (:data:`JOINT_FIELDS`), as :data:`MECHANISM_FIELDS
+<wearjoint.mechanism_parameters.MECHANISM_FIELDS>` is the slider-crank's.
+
+Each row is one value the kernels read (a slot of the joint's parameter vector, ``core.layout.P_*``): its
+:class:`~wearjoint.parameters.JointParameters` field (and component, for the offsets' pairs), the joint FMU's
+parameter name, unit, what it is (the FMU's description and the command line's help), the allowed rule, and for
+a choice its (name, code) pairs (``core.layout.CHOICES``).  The dataclass checks (:func:`check_joint_fields`),
+the packed vector (:func:`coded_values`, ``joint.pack_joint_parameters``), the FMU's parameters and checks
+(:mod:`wearjoint.fmu.variables`, the native FMU's generated table) and the command line's help come from it.
+A new choice of a parameter is one pair in ``core.layout.CHOICES`` and its kernel branch; a new parameter one
+row here and its slot.  The rows' order is the FMU's value-reference order.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .checks import ANY, NON_NEGATIVE, POSITIVE, Allowed, ParameterError, require
+from .core import layout as L
+
+
+@dataclass(frozen=True)
+class JointField:
+    """One slot of the kernels' joint parameters: where its value comes from and how it is named."""
+
+    fmu_name: str               # the joint FMU's parameter
+    field: str                  # the JointParameters field
+    unit: str                   # SI ("1" for none)
+    text: str                   # what it is (FMU description, CLI help)
+    slot: int                   # core.layout.P_*
+    allowed: Allowed = ANY      # the rule on the coded value (a choice: its codes)
+    component: int | None = None  # the element of a pair (x, y)
+
+    @property
+    def choices(self) -> tuple[tuple[str, int], ...] | None:
+        """A choice's (name, code) pairs, None for a real value."""
+        return L.CHOICES.get(self.field)
+
+
+_OPEN_HALF = Allowed(0.0, True, 0.5, True)
+JOINT_FIELDS: tuple[JointField, ...] = (
+    JointField("pin_radius", "pin_radius_m", "m", "pin radius R_i", L.P_PIN_RADIUS, POSITIVE),
+    JointField("bushing_radius", "bushing_radius_m", "m", "unworn bushing radius R_j (> pin_radius)",
+               L.P_BUSHING_RADIUS, Allowed(0.0, True, above="pin_radius")),
+    JointField("pin_offset_x", "pin_offset_m", "m", "pin centre in the pin body frame, x", L.P_PIN_OFFSET_X,
+               component=0),
+    JointField("pin_offset_y", "pin_offset_m", "m", "pin centre in the pin body frame, y", L.P_PIN_OFFSET_Y,
+               component=1),
+    JointField("bushing_offset_x", "bushing_offset_m", "m", "bushing centre in the bushing body frame, x",
+               L.P_BUSHING_OFFSET_X, component=0),
+    JointField("bushing_offset_y", "bushing_offset_m", "m", "bushing centre in the bushing body frame, y",
+               L.P_BUSHING_OFFSET_Y, component=1),
+    JointField("contact_length", "contact_length_m", "m", "axial contact length L", L.P_CONTACT_LENGTH, POSITIVE),
+    JointField("pin_youngs_modulus", "pin_youngs_modulus_Pa", "Pa", "Young's modulus of the pin",
+               L.P_PIN_YOUNGS_MODULUS, POSITIVE),
+    JointField("pin_poisson_ratio", "pin_poisson_ratio", "1", "Poisson ratio of the pin", L.P_PIN_POISSON_RATIO,
+               _OPEN_HALF),
+    JointField("bushing_youngs_modulus", "bushing_youngs_modulus_Pa", "Pa", "Young's modulus of the bushing",
+               L.P_BUSHING_YOUNGS_MODULUS, POSITIVE),
+    JointField("bushing_poisson_ratio", "bushing_poisson_ratio", "1", "Poisson ratio of the bushing",
+               L.P_BUSHING_POISSON_RATIO, _OPEN_HALF),
+    JointField("contact_stiffness", "contact_stiffness_N_m1_5", "N/m1.5",
+               "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent); 0: from the radii and "
+               "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", L.P_STIFFNESS, NON_NEGATIVE),
+    JointField("contact_exponent", "contact_exponent", "1",
+               "exponent n of the contact law (1.5 with the foundation contact: a linear foundation on a circle)",
+               L.P_EXPONENT, Allowed(0.0, True, equal=1.5, when=(
+                   ("contact_model", L.CONTACT_FOUNDATION, "foundation", "contact_model='foundation' (other "
+                                                                         "exponents need contact_model='deepest')"),
+                   ("contact_stiffness", 0.0, "K from the materials",
+                    "no contact_stiffness_N_m1_5 given (K from the materials)")))),
+    JointField("restitution", "restitution", "1", "coefficient of restitution e_r in (0, 1]", L.P_RESTITUTION,
+               Allowed(0.0, True, 1.0)),
+    JointField("friction_coefficient", "friction_coefficient", "1", "Coulomb friction coefficient mu", L.P_FRICTION,
+               NON_NEGATIVE),
+    JointField("friction_v0", "friction_v0_m_s", "m/s", "friction tolerance velocity v0 (stick below)", L.P_V0,
+               NON_NEGATIVE),
+    JointField("friction_v1", "friction_v1_m_s", "m/s", "friction tolerance velocity v1 (> friction_v0, full slip "
+               "above)", L.P_V1, Allowed(0.0, True, above="friction_v0")),
+    JointField("wear_coefficient", "wear_coefficient_m2_N", "m2/N", "Archard wear coefficient k_w",
+               L.P_ARCHARD_COEFFICIENT, NON_NEGATIVE),
+    JointField("wear_factor", "wear_factor", "1", "wear acceleration factor multiplying k_w", L.P_WEAR_FACTOR,
+               NON_NEGATIVE),
+    JointField("impact_velocity_floor", "impact_velocity_floor_m_s", "m/s",
+               "Lankarani-Nikravesh damping: floor on the stored impact velocity", L.P_VELOCITY_FLOOR, POSITIVE),
+    JointField("rho_mode", "rho_mode", "", "equivalent radius of the Hertz half-width (docs/model.md §3.2)",
+               L.P_RHO_MODE),
+    JointField("wear_placement", "wear_placement", "", "bushing points receiving the wear increment "
+               "(docs/model.md §3.7)", L.P_WEAR_PLACEMENT),
+    JointField("sliding_distance", "sliding_distance", "", "sliding distance of the Archard update, Eq. 33 "
+               "(docs/model.md §3.8)", L.P_SLIDING),
+    JointField("contact_model", "contact_model", "",
+               "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing "
+               "point (docs/model.md §3.10)", L.P_CONTACT_MODEL),
+    JointField("contact_damping", "contact_damping", "",
+               "contact damping: Hunt-Crossley (restitution e_r at restitution_speed), the paper's "
+               "Lankarani-Nikravesh (chi = 3(1 - e_r^2)/4 over the stored impact velocity: restitution 0.913 for "
+               "e_r 0.9), Tsuji (restitution e_r at every speed for a body of effective_mass), or "
+               "Lankarani-Nikravesh exact (e_r at every speed above impact_velocity_floor) (docs/model.md §3.5)",
+               L.P_CONTACT_DAMPING),
+    JointField("restitution_speed", "restitution_speed_m_s", "m/s",
+               "impact speed at which the Hunt-Crossley damping gives the restitution e_r", L.P_RESTITUTION_SPEED,
+               POSITIVE),
+    JointField("effective_mass", "effective_mass_kg", "kg",
+               "Tsuji damping: the mass the contact decelerates along its normal (the restitution is e_r for it)",
+               L.P_EFFECTIVE_MASS, POSITIVE),
+    JointField("wear_interval", "wear_interval_s", "s",
+               "the foundation's wear is applied once per this much contact time (and when a contact ends; "
+               "0: at every accepted step; docs/model.md §3.11)", L.P_WEAR_INTERVAL,
+               Allowed(0.0, False, L.MAX_WEAR_STEP_S)),
+)
+FIELD_NAMES = {f.fmu_name: f.field for f in JOINT_FIELDS}     # the rules' names as the parameter set spells them
+if sorted(f.slot for f in JOINT_FIELDS) != sorted(set(f.slot for f in JOINT_FIELDS)):
+    raise RuntimeError("JOINT_FIELDS gives a kernel slot twice")
+
+
+def coded_value(f: JointField, value) -> float:
+    """A field's value as the kernels and the FMU take it: a choice's code, a pair's component, an unset contact
+    stiffness (None: from the materials) 0."""
+    if f.choices is not None:
+        return L.choice_code(f.field, value)
+    if f.component is not None:
+        return float(value[f.component])
+    return 0.0 if value is None else float(value)
+
+
+def coded_values(params) -> dict[str, float]:
+    """FMU parameter name -> coded value (:func:`coded_value`) of a :class:`JointParameters`."""
+    return {f.fmu_name: coded_value(f, getattr(params, f.field)) for f in JOINT_FIELDS}
+
+
+def allowed_text(f: JointField, names=None) -> str:
+    """A row's allowed values as the error messages state them (``names``: :meth:`Allowed.text`'s)."""
+    if f.choices is not None:
+        if names:
+            return "one of " + ", ".join(name for name, _ in f.choices)
+        return "one of " + ", ".join(f"{code} ({name})" for name, code in f.choices)
+    return f.allowed.text(names)
+
+
+def check_joint_fields(params) -> None:
+    """ParameterError naming the first field of ``params`` (a JointParameters) outside its row's rule."""
+    for f in JOINT_FIELDS:
+        if f.choices is not None:
+            value = getattr(params, f.field)
+            require(f.field, value, value in dict(f.choices), allowed_text(f, FIELD_NAMES))
+    values = coded_values(params)
+    for f in JOINT_FIELDS:
+        if f.choices is None and not f.allowed.admits(values[f.fmu_name], values):
+            value = getattr(params, f.field)
+            finite = "" if math.isfinite(values[f.fmu_name]) or f.allowed == ANY else "a finite real number "
+            raise ParameterError(f"parameter {f.field}={value!r} is invalid: allowed {finite}"
+                                 f"{allowed_text(f, FIELD_NAMES)}")
+
+
+__all__ = ["JointField", "JOINT_FIELDS", "FIELD_NAMES", "coded_value", "coded_values", "allowed_text",
+           "check_joint_fields"]
