@@ -5,9 +5,9 @@
 The speed issue asks, with wear, for ``wearjoint cosim`` at 5x and ``wearjoint simulate --revolutions 2`` at
 10x the real-time factors of f74ef9c.  ``--paired-*``: this tree's speed against f74ef9c's as
 ``benchmarks/compare.py --base f74ef9c --probes cosim-wear,monolithic-wear`` measured it (2026-11-27, 3 pairs,
-load 0.8-0.9; docs/performance.md); a target in this run's terms is then this run's real-time factor times
+load 0.8-0.9; CHANGELOG.md); a target in this run's terms is then this run's real-time factor times
 target / paired, whatever the machine's speed (it varies by up to 1.5x here).  Both engines' steps in contact
-are set by the contact's accuracy (docs/model.md §7: the co-simulation's 5 us, DOPRI's 1e-5 s with wear); from
+are set by the contact's accuracy (docs/reference/model.md §7: the co-simulation's 5 us, DOPRI's 1e-5 s with wear); from
 each run's own counters this prints what the target leaves for a step and how fast each engine would run at its
 step count if parts of its work cost nothing:
 

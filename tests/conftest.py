@@ -90,7 +90,7 @@ def fmi3_host(tmp_path_factory):
 # The test process loads pythonfmu FMUs, libcosim and Dask in one interpreter; once in a while
 # (1 of 2 full runs on 2026-11-23, earlier "corrupted double-linked list" once in 13) it crashed
 # *after* every test had passed and the summary was printed, during interpreter finalisation
-# (pythonfmu's finalisation has a use-after-free under valgrind, docs/model.md §7).  The results
+# (pythonfmu's finalisation has a use-after-free under valgrind, docs/reference/model.md §7).  The results
 # are final by then: leave without finalising, with pytest's own exit status.
 def pytest_sessionfinish(session, exitstatus):
     session.config.stash[_EXIT_STATUS] = int(exitstatus)

@@ -4,7 +4,7 @@ Engines: the monolithic simulation (:mod:`wearjoint.simulate`; the reference is 
 1 µs), the FMU co-simulation (:mod:`wearjoint.cosim`, Co-Simulation and Model Exchange) and
 exudyn (:mod:`wearjoint.validation.exudyn_model`) with our contact through the helper
 (``exudyn-discrete``) and with exudyn's own contact law (``exudyn-native``, unworn).  The
-clearance dynamics are chaotic (docs/model.md §7): trajectories are compared point by point
+clearance dynamics are chaotic (docs/reference/model.md §7): trajectories are compared point by point
 only over the first impacts (``window_s``); beyond that, per-revolution statistics as the
 means of an ensemble of perturbed starts, and the worn profile of a short wear run (also an
 ensemble: one revolution's worn profile scatters by 10 % between starts).
@@ -86,7 +86,7 @@ class ValidationPlan:
     wear_factor: float = 0.5
     reference_step_s: float = 1e-6           # monolithic RK4 reference
     exudyn_step_s: float = 1e-5              # exudyn statistics runs (fixed step)
-    exudyn_wear_step_s: float = 2e-6         # exudyn wear runs: the first impacts' wear needs it (docs/validation.md)
+    exudyn_wear_step_s: float = 2e-6         # exudyn wear runs: the first impacts' wear needs it (docs/explanation/validation.md)
     cosim_step_s: float = 2e-6               # co-simulation statistics and wear runs (step in contact)
     window_step_s: float = 1e-6              # exudyn and co-simulation window runs (and twice that)
     sample_dt_s: float = 1e-5
@@ -141,7 +141,7 @@ class Rule:
 # agreement of the valid configurations.
 STATISTICS = {
     "impacts_per_revolution": ("1/rev", Rule(2.0, 0.0, 0.05, "5 % of the reference, below the 10-20 % "
-                                                             "run-to-run scatter (docs/model.md §7)")),
+                                                             "run-to-run scatter (docs/reference/model.md §7)")),
     "contact_fraction": ("-", Rule(2.0, 0.02, 0.0, "0.02 (2 % of the time), below the 4-10 % spread "
                                                   "of valid monolithic runs")),
     "slider_acc_max_m_s2": ("m/s²", Rule(2.0, 0.0, 0.05, "5 % of the reference")),
@@ -152,7 +152,7 @@ STATISTICS = {
 }
 # Point-wise maximum differences over the window; scatter = monolithic + engine refinement.
 POINTWISE = {
-    "eccentricity_max_difference_m": ("m", Rule(2.0, 1e-8, 0.0, "1e-8 m, the agreement of valid runs (docs/model.md §7)")),
+    "eccentricity_max_difference_m": ("m", Rule(2.0, 1e-8, 0.0, "1e-8 m, the agreement of valid runs (docs/reference/model.md §7)")),
     "normal_force_max_difference_N": ("N", Rule(2.0, 1.0, 0.0, "1 N, 0.1 % of the impact peaks")),
     "slider_acc_max_difference_m_s2": ("m/s²", Rule(2.0, 1.0, 0.0, "1 m/s², 0.1 % of the impact peaks")),
 }

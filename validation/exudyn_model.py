@@ -2,7 +2,7 @@
 check of the monolithic engine (:mod:`wearjoint.simulate`).
 
 Crank, rod and slider are ``NodeRigidBody2D`` + ``ObjectRigidBody2D`` with the
-nodes at the centres of mass (so the inertias are about the COM, docs/model.md §7);
+nodes at the centres of mass (so the inertias are about the COM, docs/reference/model.md §7);
 gravity is a mass-proportional load; the crank pivot, the rod-slider and the crank-rod joints
 are ``ObjectJointRevolute2D`` but the clearance joint (``clearance_joint``); the slider runs on an ``ObjectJointPrismatic2D``
 along X with its rotation constrained; the crank is driven by an
@@ -261,7 +261,7 @@ class ExudynSliderCrank:
             # minimum step (1e-8 s) the solver stops (at the first impact at 1 us steps); with a smaller
             # minimum, generalized-alpha's accelerations spike to 3e5 m/s^2 over such sliver steps and Newton
             # can stall at a relative residual of 2-3e-8 (stopped at 0.35 s with 1e-12 s).  So fixed steps: its
-            # discontinuous iteration switches the contact state within a step (docs/validation.md).
+            # discontinuous iteration switches the contact state within a step (docs/explanation/validation.md).
             ti.discontinuous.useRecommendedStepSize = False
         settings.solution.file.write = False
         settings.solution.sensors.active = False
@@ -313,7 +313,7 @@ def run_exudyn(joint: JointParameters | None, mechanism: SliderCrankParameters |
         extra={"integrator_accepted_steps": model.accepted_steps, "exudyn_version": exu.config.Version()})
 
 
-# docs/validation.md, "exudyn's own contact": which law makes it differ.  label -> (contact, joint change).
+# docs/explanation/validation.md, "exudyn's own contact": which law makes it differ.  label -> (contact, joint change).
 # Our friction with v0 = 0, v1 = v_reg is exudyn's proportional zone (and maps to the same exudyn contact).
 _ZONE = {"friction_v0_m_s": 0.0, "friction_v1_m_s": native_contact_parameters(JointParameters())["frictionProportionalZone"]}
 LAW_STUDY = {

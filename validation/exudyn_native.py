@@ -4,7 +4,7 @@ with ``isHollowSphere1``, a sphere in a hollow sphere, which in the plane is a p
 An independent contact law in exudyn's C++ code, none of the wearjoint kernels: the cross-check
 of the contact law itself (the ``exudyn-native`` engine of ``wearjoint validate``).  It cannot
 wear.  The mapping from :class:`JointParameters` (:func:`native_contact_parameters`,
-docs/validation.md "exudyn's own contact"):
+docs/explanation/validation.md "exudyn's own contact"):
 
 - marker 0 = the pin centre (pin body), marker 1 = the bushing centre (bushing body), the hollow
   one (the other way round the pin sits 40 um from the centre under 132 kN);
@@ -22,7 +22,7 @@ docs/validation.md "exudyn's own contact"):
   mu F_N min(1, |v_T|/v_reg) then has Ambrosio's mean deficit (the integral of 1 - c_d over |v_T|,
   (v0 + v1)/2) and the smallest largest difference from his ramp (v0/(v0 + v1) of mu F_N).
 
-What remains different (docs/validation.md, "which law makes the difference"): exudyn's exact
+What remains different (docs/explanation/validation.md, "which law makes the difference"): exudyn's exact
 circle against our N_d bushing points (the one difference measured to matter), no clip of F_N at 0
 (its damping may pull while the pin separates), friction regularised linearly from 0 (ours: none
 below v0), both forces at the middle of the overlap (ours: on the pin surface), the contact state
@@ -55,7 +55,7 @@ def native_restitution(p: JointParameters) -> float:
     """exudyn's Hunt-Crossley restitution e_x with 3/2 (1 - e_x) = chi of ``p``'s law in the onset form
     F = K delta^n (1 + chi delta_dot / delta_dot^-): the paper's 3/4 (1 - e_r^2) for Lankarani-Nikravesh, else
     the closed form's a(e_r), which Hunt-Crossley's alpha v_r and Lankarani-Nikravesh exact's chi are
-    (docs/model.md §3.5)."""
+    (docs/reference/model.md §3.5)."""
     if p.contact_damping == "lankarani-nikravesh":
         return 0.5 * (1.0 + p.restitution * p.restitution)
     return 1.0 - float(hunt_crossley_damping(p.restitution)) / 1.5
@@ -63,7 +63,7 @@ def native_restitution(p: JointParameters) -> float:
 
 def native_law(p: JointParameters) -> dict:
     """The changes to ``p`` whose wearjoint kernels compute exudyn's law (up to exudyn's exact circle and the
-    differences of docs/validation.md): the deepest point's K delta^n with the onset-memory damping of the same
+    differences of docs/explanation/validation.md): the deepest point's K delta^n with the onset-memory damping of the same
     chi, floored at exudyn's ``minimumImpactVelocity`` (our restitution speed v_r where ``p`` has a memory-free
     law)."""
     memory = p.contact_damping in ("lankarani-nikravesh", "lankarani-nikravesh-exact")

@@ -1,6 +1,6 @@
 """`wearjoint validate`'s model-form spread: the key answers under every contact damping law.
 
-No damping law is singled out by the paper's dynamics (docs/model.md §3.5), so the law is an error bar of its own.
+No damping law is singled out by the paper's dynamics (docs/reference/model.md §3.5), so the law is an error bar of its own.
 Each variant of :func:`wearjoint.contact_laws.contact_law_variants` (each law, and each law's free parameter at the
 ends of its plausible range) is applied to the user's joint (``joint.replace(**changes)``) and run by the monolithic
 engine as validate runs its valid DOPRI configuration: the plan's no-wear revolutions over the plan's ensemble of

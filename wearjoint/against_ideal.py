@@ -1,4 +1,4 @@
-"""A run against the ideal joint: the designer's first answers (docs/model.md §6).
+"""A run against the ideal joint: the designer's first answers (docs/reference/results.md §6).
 
 The slider's acceleration error |a - a_ideal| (:func:`wearjoint.analysis.slider_acc_deviation`) and the ideal
 crank-rod revolute's reaction with the same gravity and slider load

@@ -5,7 +5,7 @@ revolution, with the chattering revolutions) and the wear growth exponent.
 Per-revolution statistics come from the rows the engines accumulate
 (``layout.S_*``, one row per crank revolution, filled by
 ``core.integrators.record_step``); profile metrics from a worn profile
-(``phi_deg`` in the rod frame, ``wear_depth_m``).  ``summary.json`` (docs/model.md §6), the
+(``phi_deg`` in the rod frame, ``wear_depth_m``).  ``summary.json`` (docs/reference/results.md §6), the
 validation, the co-simulation study, the wear study and the benchmarks all read
 these functions.
 """
@@ -34,7 +34,7 @@ def pin_left_bushing(max_eccentricity_m: float, clearance_m: float, max_wear_dep
                      admissible_force_N: float = math.inf) -> str:
     """Why a run's numbers are not physical, '' when they may be: the pin centre went further from the bushing
     centre than c + h_max + the admissible penetration (:attr:`JointParameters.admissible_penetration_m`: a pin
-    in its groove sits at c + h + its penetration, docs/model.md §3.14), its normal force passed the admissible
+    in its groove sits at c + h + its penetration, docs/reference/model.md §3.14), its normal force passed the admissible
     one (:attr:`JointParameters.admissible_force_N`), or a value is not finite."""
     if not (math.isfinite(max_eccentricity_m) and math.isfinite(max_wear_depth_m) and math.isfinite(max_force_N)):
         return "the state is not finite"
@@ -121,7 +121,7 @@ def _finite(x):
 
 
 def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
-    """The statistics of ``summary.json`` (docs/model.md §6): of the last revolution the contact
+    """The statistics of ``summary.json`` (docs/reference/results.md §6): of the last revolution the contact
     fraction, the impacts and the slider acceleration extremes (None if not finite); the max contact
     force and the max eccentricity over the revolutions after the first ``settling_revolutions`` (the
     start-up transient: the pin starts centred at full speed), which are reported apart under
@@ -161,7 +161,7 @@ def whirl_fraction(samples: np.ndarray) -> float:
     contact) in which the contact point (the eccentricity's angle in the bushing frame) travels at least one
     full turn against the pin's spin relative to the bushing, as a pin rolling round the bushing does (at
     -omega_rel R_i / c); impacts and sliding contacts move it back and forth with the load.  The
-    friction-driven backward whirl of docs/own_mechanism.md.  The samples must resolve a whirl turn (a
+    friction-driven backward whirl of docs/tutorials/own_mechanism.md.  The samples must resolve a whirl turn (a
     sample spacing well below 2 pi c / (omega_rel R_i)): a coarser one aliases the angle's unwrapping."""
     if samples.shape[0] < 2:
         return 0.0
@@ -325,7 +325,7 @@ def profile_ripple(phi_deg: np.ndarray, depth_m: np.ndarray, window_deg: float =
 def growth_exponent(revolutions, depth_m) -> float:
     """p of depth ~ revolutions**p over the run's second half, log2(d(R) / d(R/2)) with d(R/2) interpolated:
     the measure two points of an experiment at R/2 and R give (p > 1: the growth accelerates).  A fit over
-    the whole run would weigh the running-in of the first revolutions (docs/wear_study.md)."""
+    the whole run would weigh the running-in of the first revolutions (docs/explanation/wear_study.md)."""
     r, d = np.asarray(revolutions, float), np.asarray(depth_m, float)
     if r.size < 2 or not r[-1] > 0:
         return float("nan")
@@ -432,7 +432,7 @@ def revolution_impact_events(samples: np.ndarray, stats: np.ndarray, mechanism,
 
 
 def impact_event_statistics(per: dict, mechanism, settling_revolutions: int = 1) -> dict:
-    """summary.json's impact-vibration statistics (docs/model.md §6) from ``per``, the run's
+    """summary.json's impact-vibration statistics (docs/reference/results.md §6) from ``per``, the run's
     :func:`revolution_impact_events`, over the counted revolutions: those the samples cover end to end after the
     start-up revolutions that
     :func:`run_statistics` leaves out (all sampled revolutions if none of those is left, e.g. a one-revolution

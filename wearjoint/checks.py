@@ -11,7 +11,7 @@ class ParameterError(ValueError):
 
 
 class RunDiverged(RuntimeError):
-    """A run that cannot go on: its state left what the joint admits (docs/model.md §3.14) or is not finite; the
+    """A run that cannot go on: its state left what the joint admits (docs/reference/model.md §3.14) or is not finite; the
     message says when and why (the run pipeline keeps what came before, ``completed: false``)."""
 
 

@@ -1,4 +1,4 @@
-"""The contact damping laws as a model-form error bar (docs/model.md §3.5): each law, and each law's free
+"""The contact damping laws as a model-form error bar (docs/reference/model.md §3.5): each law, and each law's free
 parameter at the ends of its plausible range, as changes to a joint.
 
 ``validate`` and ``sensitivity`` run a case under each variant and report how far the answers move: the spread a

@@ -1,4 +1,4 @@
-"""The wearing clearance joint in any exudyn mechanism (docs/model.md §8).
+"""The wearing clearance joint in any exudyn mechanism (docs/reference/exudyn.md §8).
 
     from wearjoint.exudyn import add_clearance_joint
     handle = add_clearance_joint(mbs, pin_body, bushing_body, JointParameters(...))
@@ -21,12 +21,12 @@ post-step function, if one was set before the first joint was added (one set lat
 tolerance above the contact's round-off floor.  The post-step function also refuses a solver step
 longer than :data:`MAX_WEAR_STEP_S` while a joint wears (SolveDynamic then raises, naming the step) and
 warns once if a step's share k_f k_w F v dt of the contact's penetration passed its limit
-(:attr:`JointParameters.wear_step_share`, docs/model.md §7).
+(:attr:`JointParameters.wear_step_share`, docs/reference/model.md §7).
 
 exudyn prints "detected large amount of memory allocations ... this may be due to user functions" for
 every system with a clearance joint: its force and Jacobian user functions hand exudyn a new numpy
 array per call, which exudyn counts.  It is harmless: that conversion is part of the measured cost
-per step (docs/performance.md).  :func:`solve_dynamic` is ``exu.SolveDynamic`` without that warning.
+per step (`python benchmarks/bench_exudyn_joint.py`).  :func:`solve_dynamic` is ``exu.SolveDynamic`` without that warning.
 
 This module and ``validation/`` are the only ones that import exudyn.
 """
@@ -238,24 +238,24 @@ class ClearanceJointHandle:
             raise ParameterError(f"the solver's step {dt:.6g} s (t = {t:.6g} s) is invalid with wear: allowed at most "
                                  f"{MAX_WEAR_STEP_S:g} s; set timeIntegration.numberOfSteps to at least endTime / "
                                  f"{MAX_WEAR_STEP_S:g}, e.g. settings = wearjoint.exudyn.simulation_settings(end_time_s, "
-                                 "1e-5), or wear_factor=0 (docs/model.md §7)")
+                                 "1e-5), or wear_factor=0 (docs/reference/model.md §7)")
         if self._system_indices is None:
             self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
             self._accept_arguments = (*self._system_indices, *self._shared, j.mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
-        if code == STEP_INADMISSIBLE:            # nothing changed (docs/model.md §3.14)
+        if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
             raise RunDiverged(inadmissible_message(t, wall_overlap(j.result, j.parameter_vector, j.wear_depth),
                                                    j.result[L.R_NORMAL_FORCE], j.params, "exudyn's step"))
         self._rows += 1
         self.t = t
         self.accepted_steps += 1
-        if code == STEP_OVERSHOT and not self._wear_share_warned:   # (docs/model.md §7)
+        if code == STEP_OVERSHOT and not self._wear_share_warned:   # (docs/reference/model.md §7)
             self._wear_share_warned = True
             warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s took a share k_f k_w F v dt of the contact's "
                           f"penetration above {self.joint.params.wear_step_share:g}: the step no longer resolves the "
-                          "wear; take shorter steps or a smaller wear_factor (docs/model.md §7)", RuntimeWarning,
+                          "wear; take shorter steps or a smaller wear_factor (docs/reference/model.md §7)", RuntimeWarning,
                           stacklevel=2)
 
     def result(self) -> ContactResult:
@@ -371,7 +371,7 @@ def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate
     quiet: no solution file, no console output, sensors sampled at every step (exudyn's default, every
     0.01 s, reads an impact tens of us long as a fraction of its peak; add them with ``storeInternal=True``
     to read them back), with Newton's absolute tolerance above
-    the contact's round-off floor (docs/model.md §8): exudyn's residual M a - f [N, N m] cannot fall
+    the contact's round-off floor (docs/reference/exudyn.md §8): exudyn's residual M a - f [N, N m] cannot fall
     below the jump of the contact force when a position crosses one rounding step, k eps X (k the
     contact's stiffness, at most :func:`contact_stiffness_bound` of the ``handles``' joints, or of
     the paper's joint without handles; X = ``coordinate_scale_m`` [m], the largest |coordinate| of a

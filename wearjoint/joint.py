@@ -38,7 +38,7 @@ def _refuse(problem: int, values, where: str = "") -> None:
 
 
 def state_bytes(contents: int, head, memory, wear_depth_m) -> bytes:
-    """A serialised state (docs/model.md, "The state format"): ``contents`` (SF.CONTENTS_*), its
+    """A serialised state (docs/reference/fmu.md, "The state format"): ``contents`` (SF.CONTENTS_*), its
     ``head`` values (none for a joint; an FMU instance's time, initialised flag, inputs, parameters),
     the contact memory and the wear depths."""
     head = np.ascontiguousarray(head, dtype=float)
@@ -220,7 +220,7 @@ class ClearanceJoint:
 
     def advance(self, pin_kinematics, bushing_kinematics, dt: float, held: bool = False) -> ContactResult:
         """Accept a step of length dt [s] ending at these kinematics: the Archard wear of the whole step
-        (docs/model.md 3.7 and 3.11) with the step's mean normal force, the trapezoid of its start (the last
+        (docs/reference/model.md §3.7 and 3.11) with the step's mean normal force, the trapezoid of its start (the last
         accepted point, on the profile its wear left) and the contact evaluated here; ``held``: the
         kinematics were held over the step (a co-simulation slave's inputs), the force evaluated here
         throughout.  Then the contact-onset bookkeeping.  Returns the contact evaluated here, before the
@@ -237,7 +237,7 @@ class ClearanceJoint:
         return self._contact_result(self.result.copy(), depth_before)
 
     def replay_wear(self, loading, scale: float, passes: int = 1) -> float:
-        """Cycle jumping's wear (docs/model.md §3.11): wear the profile by the loading rows
+        """Cycle jumping's wear (docs/reference/model.md §3.11): wear the profile by the loading rows
         (:func:`wearjoint.core.cycle_jump.replay_wear`, columns LOAD_*) in ``passes`` passes, each row over
         ``scale`` times its duration in all; returns the largest increment of one row [m].  ParameterError
         if the wear would exceed the bushing radius (the joint then unchanged)."""
@@ -338,7 +338,7 @@ class ClearanceJoint:
         block_minimum_depth(self.wear_depth, self.block_min)
 
     def state_to_bytes(self) -> bytes:
-        """Exact serialisation in the state format (docs/model.md): contact memory, wear depths."""
+        """Exact serialisation in the state format (docs/reference/fmu.md): contact memory, wear depths."""
         return state_bytes(SF.CONTENTS_JOINT, (), self.memory, self.wear_depth)
 
     def state_from_bytes(self, data: bytes) -> None:

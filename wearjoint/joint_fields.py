@@ -83,20 +83,20 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                NON_NEGATIVE),
     JointField("impact_velocity_floor", "impact_velocity_floor_m_s", "m/s",
                "Lankarani-Nikravesh damping: floor on the stored impact velocity", L.P_VELOCITY_FLOOR, POSITIVE),
-    JointField("rho_mode", "rho_mode", "", "equivalent radius of the Hertz half-width (docs/model.md §3.2)",
+    JointField("rho_mode", "rho_mode", "", "equivalent radius of the Hertz half-width (docs/reference/model.md §3.2)",
                L.P_RHO_MODE),
     JointField("wear_placement", "wear_placement", "", "bushing points receiving the wear increment "
-               "(docs/model.md §3.7)", L.P_WEAR_PLACEMENT),
+               "(docs/reference/model.md §3.7)", L.P_WEAR_PLACEMENT),
     JointField("sliding_distance", "sliding_distance", "", "sliding distance of the Archard update, Eq. 33 "
-               "(docs/model.md §3.8)", L.P_SLIDING),
+               "(docs/reference/model.md §3.8)", L.P_SLIDING),
     JointField("contact_model", "contact_model", "",
                "contact force: elastic-foundation pressure over the worn bushing, or the paper's deepest bushing "
-               "point (docs/model.md §3.10)", L.P_CONTACT_MODEL),
+               "point (docs/reference/model.md §3.10)", L.P_CONTACT_MODEL),
     JointField("contact_damping", "contact_damping", "",
                "contact damping: Hunt-Crossley (restitution e_r at restitution_speed), the paper's "
                "Lankarani-Nikravesh (chi = 3(1 - e_r^2)/4 over the stored impact velocity: restitution 0.913 for "
                "e_r 0.9), Tsuji (restitution e_r at every speed for a body of effective_mass), or "
-               "Lankarani-Nikravesh exact (e_r at every speed above impact_velocity_floor) (docs/model.md §3.5)",
+               "Lankarani-Nikravesh exact (e_r at every speed above impact_velocity_floor) (docs/reference/model.md §3.5)",
                L.P_CONTACT_DAMPING),
     JointField("restitution_speed", "restitution_speed_m_s", "m/s",
                "impact speed at which the Hunt-Crossley damping gives the restitution e_r", L.P_RESTITUTION_SPEED,
@@ -106,7 +106,7 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                L.P_EFFECTIVE_MASS, POSITIVE),
     JointField("wear_interval", "wear_interval_s", "s",
                "the foundation's wear is applied once per this much contact time (and when a contact ends; "
-               "0: at every accepted step; docs/model.md §3.11)", L.P_WEAR_INTERVAL,
+               "0: at every accepted step; docs/reference/model.md §3.11)", L.P_WEAR_INTERVAL,
                Allowed(0.0, False, L.MAX_WEAR_STEP_S)),
 )
 FIELD_NAMES = {f.fmu_name: f.field for f in JOINT_FIELDS}     # the rules' names as the parameter set spells them

@@ -289,7 +289,7 @@ class SliderCrankParameters:
         """The mass [kg] the clearance joint decelerates along the rod at the dead centres (the crank's rotation
         is driven): rod and slider at the crank-rod joint, the slider at the rod-slider joint (the rod's end
         follows the crank), all three bodies at the crank-ground joint; the Tsuji damping's effective mass for
-        this mechanism (docs/model.md §3.5)."""
+        this mechanism (docs/reference/model.md §3.5)."""
         return {L.CLEARANCE_CRANK_ROD: self.rod_mass_kg + self.slider_mass_kg,
                 L.CLEARANCE_ROD_SLIDER: self.slider_mass_kg,
                 L.CLEARANCE_CRANK_GROUND: self.crank_mass_kg + self.rod_mass_kg + self.slider_mass_kg,
@@ -310,7 +310,7 @@ class SliderCrankParameters:
         return {**self.joint_offsets(), "effective_mass_kg": self.contact_effective_mass_kg}
 
     def joint_offsets(self) -> dict:
-        """Pin and bushing centres in their bodies' frames (docs/model.md §1): the crank's tip and the rod's big
+        """Pin and bushing centres in their bodies' frames (docs/reference/model.md §1): the crank's tip and the rod's big
         end (crank-rod), the slider's centre and the rod's small end (rod-slider), the crank's pivot end and the
         frame's origin (crank-ground)."""
         l1 = self.crank_length_m

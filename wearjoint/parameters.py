@@ -2,7 +2,7 @@
 re-exported here with its load table).
 
 All values are SI; field names carry their unit.  Defaults are the paper's
-Tables 1 and 2 (see docs/model.md §2).  Every constructor validates
+Tables 1 and 2 (see docs/reference/model.md §2).  Every constructor validates
 its values and raises :class:`ParameterError` naming the parameter, its value
 and the allowed range.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from .checks import ParameterError, finite, is_finite_pair as _is_finite_pair, require
 from .joint_fields import JOINT_FIELDS, check_joint_fields
 from .mechanism_parameters import SliderCrankParameters, SliderForceTable
-from .core.layout import (   # the wear-step limit, the wear batches, admissible states (docs/model.md §3.11, §3.14, §7)
+from .core.layout import (   # the wear-step limit, the wear batches, admissible states (docs/reference/model.md §3.11, §3.14, §7)
     ADMISSIBLE_PENETRATION_SHARE, MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
     choice_names,
 )
@@ -27,10 +27,10 @@ SLIDING_DISTANCES = choice_names("sliding_distance")
 CONTACT_MODELS = choice_names("contact_model")
 CONTACT_DAMPINGS = choice_names("contact_damping")
 # the effective k_w [m^2/N] that reproduces the paper's 0.58 mm after 4000 revolutions with the defaults
-# (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/wear_study.md)
+# (conformal rho*, foundation contact and placement; `wear-study --calibrate-max-depth-m 0.58e-3`, docs/explanation/wear_study.md)
 PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N = 5.576e-11
 # the impact speed [m/s] at which the Hunt-Crossley damping restitutes `restitution`: the energy-weighted mean onset
-# speed of the paper's slider-crank under its own law (docs/model.md §3.5)
+# speed of the paper's slider-crank under its own law (docs/reference/model.md §3.5)
 RESTITUTION_SPEED_M_S = 0.05
 # the mass [kg] the Tsuji damping's restitution is exact for: the paper's slider-crank's rod and slider, the mass
 # the crank-rod joint decelerates along the rod at the dead centres (SliderCrankParameters.contact_effective_mass_kg)
@@ -49,7 +49,7 @@ def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
     :func:`wearjoint.core.wear.materials_contact_stiffness`) uses the radius term
     R_i R_j / (R_j - R_i); it gives 7.951e10 for Table 2's values (printed 7.95e10).
     ``form="external"`` is the sum form printed in Eq. (16), R_i R_j / (R_i + R_j)
-    (~5.6e9 for the paper's values; docs/model.md §3.1).
+    (~5.6e9 for the paper's values; docs/reference/model.md §3.1).
     """
     from .core.wear import materials_contact_stiffness
 
@@ -73,7 +73,7 @@ def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
 def restitution_of_law(law: str, restitution: float, impact_speed_m_s: float, restitution_speed_m_s: float,
                        exponent: float = 1.5, velocity_floor_m_s: float = 0.0) -> float:
     """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under damping law
-    ``law`` asked for ``restitution`` (docs/model.md §3.5, :mod:`wearjoint.core.damping`): Hunt-Crossley's
+    ``law`` asked for ``restitution`` (docs/reference/model.md §3.5, :mod:`wearjoint.core.damping`): Hunt-Crossley's
     closed form at a = alpha v (exact e_r at ``restitution_speed_m_s``); the Lankarani-Nikravesh laws' at
     a = chi v / max(v, floor) (chi = 3(1 - e_r^2)/4 for the paper's, exact e_r for ``-exact``, above the
     ``velocity_floor_m_s`` on the stored onset speed); Tsuji's e_r at every speed."""
@@ -149,7 +149,7 @@ class JointParameters:
 
     def restitution_at(self, impact_speed_m_s: float) -> float:
         """Coefficient of restitution [-] of a free impact at normal speed ``impact_speed_m_s`` under this joint's
-        damping law (:func:`restitution_of_law`, docs/model.md §3.5): ``restitution`` at ``restitution_speed_m_s``
+        damping law (:func:`restitution_of_law`, docs/reference/model.md §3.5): ``restitution`` at ``restitution_speed_m_s``
         for Hunt-Crossley, at every speed for Tsuji and (above the velocity floor) Lankarani-Nikravesh exact;
         the paper's Lankarani-Nikravesh its own value (0.913 for 0.9)."""
         speed = finite("impact_speed_m_s", impact_speed_m_s)
@@ -165,32 +165,32 @@ class JointParameters:
     @property
     def admissible_penetration_m(self) -> float:
         """The deepest the pin may be in the bushing wall [m], ADMISSIBLE_PENETRATION_SHARE R_i: beyond it a state
-        is no contact of these materials (docs/model.md §3.14)."""
+        is no contact of these materials (docs/reference/model.md §3.14)."""
         return ADMISSIBLE_PENETRATION_SHARE * self.pin_radius_m
 
     @property
     def admissible_force_N(self) -> float:
         """The largest normal force a contact of this joint carries [N]: K delta_adm^n, the Hertz law's elastic force
-        at :attr:`admissible_penetration_m` (docs/model.md §3.14)."""
+        at :attr:`admissible_penetration_m` (docs/reference/model.md §3.14)."""
         return self.stiffness_N_m1_5 * self.admissible_penetration_m ** self.contact_exponent
 
     @property
     def foundation_modulus_N_m3(self) -> float:
-        """k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3] of the foundation contact (docs/model.md §3.10)."""
+        """k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3] of the foundation contact (docs/reference/model.md §3.10)."""
         return (3.0 * self.stiffness_N_m1_5 * math.sqrt(self.clearance_m)
                 / (4.0 * math.sqrt(2.0) * self.contact_length_m * math.sqrt(self.pin_radius_m * self.bushing_radius_m)))
 
     @property
     def wear_step_share(self) -> float:
         """The largest share k_f k_w F v dt of a step: WEAR_STEP_SHARE for the relaxed ``foundation`` update,
-        WEAR_STEP_SHARE_EXPLICIT for the explicit placements (docs/model.md §7)."""
+        WEAR_STEP_SHARE_EXPLICIT for the explicit placements (docs/reference/model.md §7)."""
         return WEAR_STEP_SHARE if self.wear_placement == "foundation" else WEAR_STEP_SHARE_EXPLICIT
 
     def max_wear_step_s(self, sliding_speed_m_s: float, share: float | None = None) -> float:
         """Longest accepted step [s] with wear: MAX_WEAR_STEP_S, or shorter where the step's share
         k_f k_w F v dt of a conforming contact sliding at ``sliding_speed_m_s`` (the share of its penetration
         an explicit step would wear: the mean overlap is p / k_f and such a step wears k_w F p v dt) passes
-        ``share`` (default :attr:`wear_step_share`, the limit; docs/model.md §7); inf without wear."""
+        ``share`` (default :attr:`wear_step_share`, the limit; docs/reference/model.md §7); inf without wear."""
         rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * sliding_speed_m_s
         share = self.wear_step_share if share is None else min(share, self.wear_step_share)
         return min(MAX_WEAR_STEP_S, share / rate) if rate > 0.0 else math.inf
@@ -203,7 +203,7 @@ class JointParameters:
     @property
     def stiffness_N_m1_5(self) -> float:
         """The contact stiffness K [N/m^n] the joint uses: ``contact_stiffness_N_m1_5`` where given, else
-        :meth:`stiffness_from_materials` (Eqs. 16-17, docs/model.md §3.1)."""
+        :meth:`stiffness_from_materials` (Eqs. 16-17, docs/reference/model.md §3.1)."""
         given = self.contact_stiffness_N_m1_5
         return float(given) if given is not None else self.stiffness_from_materials()
 

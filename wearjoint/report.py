@@ -1,4 +1,4 @@
-"""``report.html``: one self-contained page of a results folder a designer can forward (docs/model.md §6).
+"""``report.html``: one self-contained page of a results folder a designer can forward (docs/reference/results.md §6).
 
 The folder's summary (``summary.json``, or a sweep's ``sweep_summary.json``) as a table, every number as written
 there (units in the key names); the joint's and the mechanism's parameters with where each came from (the
@@ -70,7 +70,7 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     parts.append(f" with wearjoint {html.escape(str(summary.get('wearjoint_version', __version__)))}.</p>")
     if summary.get("completed") is False or summary.get("failure"):
         parts.append(f"<p><strong>The run did not complete:</strong> {html.escape(str(summary.get('failure') or 'stopped'))}</p>")
-    parts.append("<h2>Summary</h2><p>Units are in the names (docs/model.md §6).</p>")
+    parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
     for label, key, defaults in (("Joint", "joint", JointParameters()),
                                  ("Mechanism", "mechanism", SliderCrankParameters())):

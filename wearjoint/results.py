@@ -1,4 +1,4 @@
-"""Results contract (docs/model.md §6): one folder per run.
+"""Results contract (docs/reference/results.md §6): one folder per run.
 
 ``summary.json`` (key figures, SI units named in the keys, every parameter
 used), ``profile.csv`` (phi_deg,wear_depth_m), ``timeseries.npz`` (all
@@ -97,7 +97,7 @@ class RunRecord:
         return against_ideal.sample_comparison(self.samples, self.parameters.mechanism)
 
     def summary(self, impact_events: dict | None = None, ideal_comparison=None) -> dict:
-        """summary.json's content (docs/model.md §6); the statistics are :mod:`wearjoint.analysis`'s and
+        """summary.json's content (docs/reference/results.md §6); the statistics are :mod:`wearjoint.analysis`'s and
         :mod:`wearjoint.against_ideal`'s (``impact_events``, ``ideal_comparison``: :meth:`impact_events`,
         :meth:`ideal_comparison` where the caller has them already)."""
         out = {

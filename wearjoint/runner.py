@@ -126,7 +126,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
                 if failure:
                     completed, failure = False, failure + "; the results up to there are written"
                     break
-        except RunDiverged as exc:          # an engine refused an inadmissible state (docs/model.md §3.14)
+        except RunDiverged as exc:          # an engine refused an inadmissible state (docs/reference/model.md §3.14)
             completed, failure = False, f"{exc}; the results before it are written"
         except KeyboardInterrupt:
             completed = False
@@ -176,7 +176,7 @@ def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
                                                    joint.admissible_penetration_m, joint.admissible_force_N))
     when = f"at t = {samples[over[0], L.T_TIME]:.6g} s" if over.size else f"by t = {engine.t:.6g} s"
     return (f"the run diverged {when}: {reason}; nothing after this is physical (take a shorter step, an adaptive "
-            "integrator or a smaller wear factor; docs/model.md §3.14)")
+            "integrator or a smaller wear factor; docs/reference/model.md §3.14)")
 
 
 def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: JointParameters, where: str) -> str:
@@ -186,4 +186,4 @@ def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: Join
             f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) with a "
             f"normal force of {force_N:.3g} N (admissible {joint.admissible_force_N:.3g} N): no contact of this joint "
             "reaches it; nothing after it is physical (take a shorter step or an adaptive integrator; "
-            "docs/model.md §3.14)")
+            "docs/reference/model.md §3.14)")

@@ -28,11 +28,11 @@ GEAR_JACOBIANS = ("exact", "numerical")
 
 NO_WEAR_MAX_STEP_S = 1e-4   # largest adaptive step without wear [s]
 # the default step's share lambda = k_f k_w F v dt with wear: at wear factor 2000 lambda 1.56 wore within 1 % of
-# a 1 us run, lambda 4 (the limit an explicit step may take) 43 % deeper (docs/model.md §7)
+# a 1 us run, lambda 4 (the limit an explicit step may take) 43 % deeper (docs/reference/model.md §7)
 DEFAULT_WEAR_STEP_SHARE = 1.5
 # DOPRI's default step with wear in contact [s]: at 3e-5 s (the wear-step limit) the own-mechanism example's
 # impacts per revolution came out 9 % high (84.8 +- 1.3 against 77.8-80.1 at 1e-5 s, 5e-6 s and RK4 at
-# 2.5 us, 16 starts x 10 revolutions), the paper's mechanism unchanged (docs/model.md §7)
+# 2.5 us, 16 starts x 10 revolutions), the paper's mechanism unchanged (docs/reference/model.md §7)
 DOPRI_WEAR_CONTACT_STEP_S = 1e-5
 
 
@@ -107,7 +107,7 @@ class SimulationOptions:
             raise ParameterError(f"{name}={step!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
                                  f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
                                  f"{limit:.3g} s, a step's share k_f k_w F v dt of the penetration at most "
-                                 f"{joint.wear_step_share:g} and at most {MAX_WEAR_STEP_S:g} s (docs/model.md §7)")
+                                 f"{joint.wear_step_share:g} and at most {MAX_WEAR_STEP_S:g} s (docs/reference/model.md §7)")
         if self.free_flight_max_step_s is None:
             return dataclasses.replace(self, free_flight_max_step_s=self.max_step_s)
         return self

@@ -4,7 +4,7 @@
  * kernels (joint_kernels.h): lifetime, Configuration Mode, evaluation, steps (Co-Simulation) and Model
  * Exchange; joint_variables.c maps the variables by value reference; joint_state.c is the FMU state.
  *
- * Semantics (docs/model.md §5): the forces are direct feed-through, evaluated at the first read
+ * Semantics (docs/reference/fmu.md §5): the forces are direct feed-through, evaluated at the first read
  * of a joint output after an input changed; Co-Simulation accepts a step with the inputs held at
  * its start (wear, contact onsets); Model Exchange has no continuous states and one event
  * indicator, the signed penetration (a contact onset is a state event, where the approach
@@ -327,7 +327,7 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
         fmu_log(&model->host, FMU_WARNING, "%s: at t=%.17g s a wearing step of %g s is over the wear-step limit "
                 "(at most %g s, and a share k_f k_w v dt of at most %g of a conforming contact's penetration, %g "
                 "with the explicit wear placements): the step no longer resolves the wear; take shorter steps or a "
-                "smaller wear_factor (docs/model.md §7; said once)", function, model->time, dt, MAX_WEAR_STEP_S,
+                "smaller wear_factor (docs/reference/model.md §7; said once)", function, model->time, dt, MAX_WEAR_STEP_S,
                 WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT);
         /* logged as a warning, returned fmi2OK: some masters (OMSimulator) end the run on a warning status */
     }
@@ -336,11 +336,11 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
 
 /* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs
  * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
- * the step's mean force, docs/model.md §3.11).
+ * the step's mean force, docs/reference/model.md §3.11).
  * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, and for inputs deeper in the bushing wall
- * than any contact (Co-Simulation; Model Exchange: FMU_ERROR; docs/model.md §3.14).  FMU_WARNING (logged, the
+ * than any contact (Co-Simulation; Model Exchange: FMU_ERROR; docs/reference/model.md §3.14).  FMU_WARNING (logged, the
  * step accepted), once per instance: the first step's pin centre lies outside the bushing (the inputs
- * likely lack the offsets).  A wearing step over the wear-step limit (docs/model.md §7) is logged as a
+ * likely lack the offsets).  A wearing step over the wear-step limit (docs/reference/model.md §7) is logged as a
  * warning once per instance and returns FMU_OK: the run goes on in every master. */
 static int accept_step(FmuModel *model, double dt, int held, const char *function)
 {
@@ -380,7 +380,7 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
         fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
                 "bushing wall (along its eccentricity; admissible %g m, " ADMISSIBLE_SHARE_TEXT " of the pin radius) "
                 "with a normal force of %g N (admissible %g N): no contact of this joint reaches it, nothing "
-                "changed; the communication step is too long for the contact (docs/model.md §3.14)", function,
+                "changed; the communication step is too long for the contact (docs/reference/model.md §3.14)", function,
                 model->time, bounds[0], bounds[1], model->result[R_NORMAL_FORCE], bounds[2]);
         return held ? FMU_DISCARD : FMU_ERROR;
     }

@@ -1,5 +1,5 @@
 """pythonfmu reference slave ``ClearanceWearJoint``: FMI 2.0 Co-Simulation of one
-:class:`wearjoint.ClearanceJoint` (contract: docs/model.md §5), with the variables and numbers
+:class:`wearjoint.ClearanceJoint` (contract: docs/reference/fmu.md §5), with the variables and numbers
 of the native FMU (fmu_src/fmi/fmi2Functions.c).
 
 * Variables come from :mod:`wearjoint.fmu.variables`, registered in its order (value
@@ -56,7 +56,7 @@ with _scipy_hidden():
     from wearjoint.fmu import variables as fv
     from wearjoint.joint import check_state_values, read_state_bytes, state_bytes
 
-# FMU state: the state format of ClearanceJoint (docs/model.md), contents "FMU instance": its head is
+# FMU state: the state format of ClearanceJoint (docs/reference/fmu.md), contents "FMU instance": its head is
 # the time [s], 1.0 if initialised, the inputs and the parameters (fv.PARAMETERS order)
 _N_INPUTS = len(fv.INPUTS)
 _INPUT_NAMES = [v.name for v in fv.INPUTS]
@@ -264,7 +264,7 @@ class ClearanceWearJoint(Fmi2Slave):
                             f"bushing wall (admissible {params.admissible_penetration_m:.6g} m) with a normal force "
                             f"of {self._joint.result[6]:.6g} N (admissible {params.admissible_force_N:.6g} N): no "
                             "contact of this joint reaches it; the master's step is too long for the contact "
-                            "(docs/model.md §3.14)")
+                            "(docs/reference/model.md §3.14)")
             return False
         if changed < 0:
             self._log_error(f"doStep rejected: a step of {step_size!r} s wears the bushing by more than its radius")

@@ -235,48 +235,7 @@ int model_set_float64(FmuModel *model, int fmi_version, unsigned vr, double valu
     return 1;
 }
 
-/* No Integer, enumeration or structural variables. */
-int model_get_integer(FmuModel *model, int fmi_version, unsigned vr, int64_t *value, const char *function)
-{
-    (void)model, (void)fmi_version, (void)vr, (void)value, (void)function;
-    return -1;
-}
-
-int model_set_integer(FmuModel *model, int fmi_version, unsigned vr, int64_t value, int parameters_settable,
-                      const char *function)
-{
-    (void)model, (void)fmi_version, (void)vr, (void)value, (void)parameters_settable, (void)function;
-    return -1;
-}
-
-int model_get_structural(FmuModel *model, unsigned vr, int configuration, uint64_t *value)
-{
-    (void)model, (void)vr, (void)configuration, (void)value;
-    return -1;
-}
-
-int model_set_structural(FmuModel *model, unsigned vr, uint64_t value, int configuration, int settable,
-                         const char *state, const char *function)
-{
-    (void)model, (void)vr, (void)value, (void)configuration, (void)settable, (void)state, (void)function;
-    return -1;
-}
-
-void model_enter_configuration(FmuModel *model) { (void)model; }
-
-int model_exit_configuration(FmuModel *model)
-{
-    (void)model;
-    return 1;
-}
-
-/* No directional derivatives (providesDirectionalDerivative false). */
-int model_directional_derivative(FmuModel *model, int fmi_version, const unsigned *unknowns, size_t n_unknowns,
-                                 const unsigned *knowns, size_t n_knowns, const double *seed, double *sensitivity,
-                                 const char *function)
-{
-    return -1;
-}
+/* No Integer, structural or directional-derivative support: fmu_src/fmi/fmu_model_defaults.c. */
 
 /* ------------------------------------------------------------------ Co-Simulation */
 /* y over [t, t + h] in ceil(h / max_internal_step) RK4 steps, the inputs held at their values. */

@@ -1,4 +1,4 @@
-"""Impact-vibration events per revolution and chattering revolutions (wearjoint.analysis, docs/model.md §6).
+"""Impact-vibration events per revolution and chattering revolutions (wearjoint.analysis, docs/reference/results.md §6).
 
 The synthetic trace: the ideal slider acceleration plus damped bursts A exp(-s/tau) sin(w s) (s: time since the
 burst's start), whose |.| peaks at s* = atan(w tau) / w, placed so that each peak falls at a chosen crank angle

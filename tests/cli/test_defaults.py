@@ -1,4 +1,4 @@
-"""One source for every default: each command's --help, the README, docs/model.md's tables and the FMU's
+"""One source for every default: each command's --help, the README, docs/reference/'s tables and the FMU's
 modelDescription state the defaults of the dataclasses (JointParameters, SliderCrankParameters,
 SimulationOptions, CoSimulationOptions, WearStudyConfig, ValidationPlan) or what a run resolves from them."""
 import dataclasses
@@ -190,10 +190,10 @@ def test_model_md_parameter_table_states_the_dataclass_defaults():
             if width == 0:
                 continue
             value = values[start:start + width] if width > 1 else values[start]
-            assert same(value, MODEL[field]), f"docs/model.md §2: {field} = {value}, the dataclass says {MODEL[field]}"
+            assert same(value, MODEL[field]), f"docs/reference/model.md §2: {field} = {value}, the dataclass says {MODEL[field]}"
         covered.update(fields)
     numeric = {f for f, v in MODEL.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
-    assert numeric <= covered, f"docs/model.md §2 lacks {sorted(numeric - covered)}"
+    assert numeric <= covered, f"docs/reference/model.md §2 lacks {sorted(numeric - covered)}"
 
 
 def _fmu_starts(fmi_version: int) -> dict:
@@ -236,5 +236,5 @@ def test_model_md_fmu_table_states_the_start_values():
         cells = [c.strip() for c in line.strip("|").split("|")]
         if len(cells) == 7 and cells[2] == "parameter":
             for name, start in zip(re.findall(r"`(\w+)`", cells[1]), cells[5].split(", ")):
-                assert name in by_name, f"docs/model.md §5 names {name}, not an FMU parameter"
-                assert same(start, _joint_value(by_name[name], joint)), f"docs/model.md §5: {name} starts at {start}"
+                assert name in by_name, f"docs/reference/fmu.md §5 names {name}, not an FMU parameter"
+                assert same(start, _joint_value(by_name[name], joint)), f"docs/reference/fmu.md §5: {name} starts at {start}"

@@ -1,4 +1,4 @@
-"""A slider-crank that is not the paper's (docs/own_mechanism.md): its own dimensions, speed and
+"""A slider-crank that is not the paper's (docs/tutorials/own_mechanism.md): its own dimensions, speed and
 materials reach the contact in every engine and in what the build writes."""
 import json
 import math
@@ -84,7 +84,7 @@ def test_the_cli_states_the_stiffness_it_uses_and_notes_an_override(tmp_path):
 
 
 def test_the_paper_joint_keeps_table_2s_stiffness():
-    """Table 2 prints K = 7.95e10; its radii and materials give 7.951e10 (docs/model.md §3.1)."""
+    """Table 2 prints K = 7.95e10; its radii and materials give 7.951e10 (docs/reference/model.md §3.1)."""
     assert JointParameters().stiffness_N_m1_5 == pytest.approx(7.95e10, rel=2e-4)
     assert np.isclose(JointParameters().stiffness_N_m1_5, k_by_hand(JointParameters()), rtol=1e-12)
 
@@ -161,7 +161,7 @@ def test_export_ssp_carries_the_mechanisms_parameter_sets(tmp_path):
     assert fv.joint_parameters_from_fmi(_starts(resources / "ClearanceWearJoint.fmu"), 1257) == own_joint()
     mechanism_starts = _starts(resources / "SliderCrank.fmu")
     assert {k: mechanism_starts[k] for k in sc.parameter_values(MECHANISM)} == sc.parameter_values(MECHANISM)
-    # the step the package asks for: the paper's measured 0.5 us scaled by the step rule (docs/cosim_study.md)
+    # the step the package asks for: the paper's measured 0.5 us scaled by the step rule (docs/explanation/cosim_study.md)
     from wearjoint.cosim.step_rule import communication_step_rule
 
     ssd = ElementTree.parse(tmp_path / "unzipped" / "SystemStructure.ssd").getroot()

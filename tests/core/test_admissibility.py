@@ -1,4 +1,4 @@
-"""Admissible states (core.admissibility, docs/model.md §3.14): the pin's overlap with the worn bushing wall along
+"""Admissible states (core.admissibility, docs/reference/model.md §3.14): the pin's overlap with the worn bushing wall along
 its eccentricity, the bound (2 % of the pin radius), and an accepted step at an inadmissible state refused with
 nothing changed (core.wear.STEP_INADMISSIBLE), but the joint's first."""
 import math

@@ -1,4 +1,4 @@
-"""The contact damping laws (docs/model.md §3.5): Hunt-Crossley, the paper's Lankarani-Nikravesh and its exact
+"""The contact damping laws (docs/reference/model.md §3.5): Hunt-Crossley, the paper's Lankarani-Nikravesh and its exact
 form, Tsuji.
 
 Hand cases of each force law, and free impacts integrated through the joint's own forces against

@@ -1,5 +1,5 @@
 """A run whose pin goes further into the bushing wall than the joint admits stops there, says why, and keeps what
-came before (wearjoint.runner.divergence, analysis.pin_left_bushing; docs/model.md §3.14): never `completed: true`
+came before (wearjoint.runner.divergence, analysis.pin_left_bushing; docs/reference/model.md §3.14): never `completed: true`
 with a pin through the wall."""
 import math
 

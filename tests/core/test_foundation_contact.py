@@ -1,4 +1,4 @@
-"""The elastic-foundation contact (docs/model.md §3.10): its force against an independent quadrature,
+"""The elastic-foundation contact (docs/reference/model.md §3.10): its force against an independent quadrature,
 its continuity on worn profiles (two arcs included), its behaviour while a groove deepens, its
 exact derivatives against central differences, and its balance of moments."""
 import math
@@ -20,7 +20,7 @@ def foundation_force_by_quadrature(e, params=P):
     """|F| of a linear Winkler foundation on the unworn bushing, e along x: (k_f L / R_i) times the
     integral of o+(phi) R_j d_x(phi) dphi with the exact overlap o = (R_i^2 - |d|^2) / (2 R_i), written
     without cancellation as (delta (2 R_j - c - e) - 4 R_j e sin^2(phi/2)) / (2 R_i), delta = e - c
-    (scipy's adaptive quadrature; k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)), docs/model.md §3.10)."""
+    (scipy's adaptive quadrature; k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)), docs/reference/model.md §3.10)."""
     ri, rj = params.pin_radius_m, params.bushing_radius_m
     c = rj - ri
     k_f = 3.0 * params.stiffness_N_m1_5 * math.sqrt(c) / (4.0 * math.sqrt(2.0) * params.contact_length_m
@@ -244,7 +244,7 @@ def test_the_foundation_takes_only_the_hertz_exponent():
 def test_heavy_wear_at_the_default_step_wears_what_a_short_step_does():
     """Half a crank revolution of the slider-crank at wear factor 2000 under adaptive DOPRI.  In a
     conforming contact an explicit step wears the share lambda = k_f k_w F v dt of the penetration
-    (docs/model.md §7): 1.56 at 10 us here, where the explicit update with the end-of-step force let the
+    (docs/reference/model.md §7): 1.56 at 10 us here, where the explicit update with the end-of-step force let the
     pin sink through the bushing at a few newtons (0.344 mm against 0.168 mm at 1 us).  The relaxed update
     with the step's mean force (§3.11) at the default step (lambda 1.5: 9.6 us) wears within 1 % of a 1 us run;
     the limit an explicit step may take (lambda 4: 25.6 us) wears 43 % deeper (measured), which is why the

@@ -4,7 +4,7 @@ paper's run in and out of contact, on the unworn and on a worn bushing, for both
 
 The states are taken where the right-hand side is smooth over the difference stencil: away from the
 friction ramp's ends (|v_T| = v0, v1) and, for the ``deepest`` model, from a change of the deepest
-point; the foundation contact is C1 in the kinematics (docs/model.md §3.10)."""
+point; the foundation contact is C1 in the kinematics (docs/reference/model.md §3.10)."""
 import numpy as np
 import pytest
 

@@ -1,7 +1,7 @@
 """RK4 vs Dormand-Prince: pointwise before chaos, statistically after; wear lobes; BDF runs.
 
 Tolerances come from the spread between two equally valid runs measured on
-the paper case (docs/model.md §7; README "Integrators"): RK4 at 1 us and 0.5 us stay
+the paper case (docs/reference/model.md §7; README "Integrators"): RK4 at 1 us and 0.5 us stay
 within 5e-8 m for 20 ms and their per-revolution statistics differ by 10-40 %.
 """
 import numpy as np
@@ -74,7 +74,7 @@ def test_rk4_and_dopri_agree_statistically_over_several_revolutions():
     assert dopri["force_max"] == pytest.approx(rk4["force_max"], rel=0.3)
     assert dopri["acc_min"] == pytest.approx(rk4["acc_min"], rel=0.3)
     assert dopri["ecc_max"] == pytest.approx(rk4["ecc_max"], abs=5e-6)
-    for stats in (rk4, dopri):   # the regime of docs/model.md §7, far from the ideal joint's 15 m/s^2
+    for stats in (rk4, dopri):   # the regime of docs/reference/model.md §7, far from the ideal joint's 15 m/s^2
         assert 0.1 < stats["contact_fraction"] < 0.5
         assert stats["acc_min"] < -300.0 and stats["force_max"] > 300.0
         assert CLEARANCE < stats["ecc_max"] < CLEARANCE + 2e-5

@@ -128,7 +128,7 @@ def test_crc32c_gives_the_published_check_values():
 
 
 def test_state_layout_is_the_documented_one():
-    """docs/model.md: magic, version 3, contents 1, n_points, payload bytes; float64 memory (active flag,
+    """docs/reference/fmu.md: magic, version 3, contents 1, n_points, payload bytes; float64 memory (active flag,
     onset velocity, start force, the wear batch's seven values) and depths; CRC-32C of everything before it (little-endian throughout)."""
     import struct
 

@@ -57,7 +57,7 @@ def sink_for_area(pin_radius, bushing_radius, area):
 
 
 def relaxation_share(params, dt):
-    """lambda = k_f k_w v dt: the share of the contact's overlap an explicit step of dt would wear (docs/model.md
+    """lambda = k_f k_w v dt: the share of the contact's overlap an explicit step of dt would wear (docs/reference/model.md
     §7); the relaxed update is exact in it."""
     return params.foundation_modulus_N_m3 * params.wear_coefficient_m2_N * params.wear_factor * params.pin_radius_m \
         * OMEGA * dt
@@ -125,7 +125,7 @@ def test_loaded_journal_wears_the_lens(n_points):
 
 @pytest.mark.parametrize("share", [0.5, 1.0, 2.0, 4.0])
 def test_the_relaxed_update_wears_the_lens_at_large_steps(share):
-    """The foundation's update relaxes each point's pressure over the step exactly (docs/model.md §3.11): up to
+    """The foundation's update relaxes each point's pressure over the step exactly (docs/reference/model.md §3.11): up to
     a share lambda = k_f k_w v dt of 4 per step (the explicit update overshoots from about 1, ripples from 2)
     the worn volume, depth and shape stay within 1 % of the lens."""
     r = run_journal(1257, share=share)

@@ -123,7 +123,7 @@ def test_the_open_joints_solve_keeps_the_other_joints_and_balances_the_loads(loc
 @pytest.mark.parametrize("location", L.CLEARANCE_JOINTS)
 def test_one_micrometre_clearance_follows_the_ideal_kinematics(location):
     """At the crank-ground joint without friction: with it the driven journal rolls round its 1 um bushing (dry
-    backward whirl, docs/model.md §1), pressed at 6-8 kN instead of the ideal pivot's 47 N."""
+    backward whirl, docs/reference/model.md §1), pressed at 6-8 kN instead of the ideal pivot's 47 N."""
     mechanism = SliderCrankParameters(clearance_joint=location)
     friction = 0.0 if location == "crank-ground" else JointParameters().friction_coefficient
     joint = paper_joint(mechanism, bushing_radius_m=0.010001, wear_factor=0.0, friction_coefficient=friction)

@@ -1,13 +1,13 @@
-"""The slider's load and gravity in any direction (docs/model.md §3.12): the table's interpolation, its checks, and
+"""The slider's load and gravity in any direction (docs/reference/model.md §3.12): the table's interpolation, its checks, and
 the quasi-static closed form.
 
 A slowly driven slider-crank (12 rpm: the slider's inertia force is below 0.1 N) without gravity under a constant
 load F on the slider: the rod is a two-force member, so each of its joints (and the crank's pivot) carries
 F / cos(beta) (beta the rod's angle, sin beta = l1 sin theta / l2) and Archard's worn volume is k_w times the
 integral of F / cos(beta) over the sliding distance R_j |omega_pin - omega_bushing| dt of the joint with the
-clearance (docs/model.md §3.8).  With gravity along the slide the statics
+clearance (docs/reference/model.md §3.8).  With gravity along the slide the statics
 of rod and slider give the joint force by hand (below).  The contact rings at a few per cent about its mean (weak
-damping of a resting contact, docs/model.md §3.5): the force is compared in 0.1 s means, in the monolithic
+damping of a resting contact, docs/reference/model.md §3.5): the force is compared in 0.1 s means, in the monolithic
 engine, the co-simulation (native joint FMU) and exudyn.
 """
 import json
@@ -233,7 +233,7 @@ def test_the_cli_refuses_a_bad_table_in_one_line_and_exit_2(tmp_path, capsys, te
 
 
 def test_a_loaded_wear_study_completes_with_its_error_estimate(tmp_path):
-    """Cycle jumping on the press of docs/own_mechanism.md (the table, gravity along the stroke): the study runs
+    """Cycle jumping on the press of docs/tutorials/own_mechanism.md (the table, gravity along the stroke): the study runs
     to its horizon, its jumps carry error estimates and their replays wear the blocks' volumes."""
     from wearjoint.cli import main
 

@@ -1,4 +1,4 @@
-"""The foundation's wear in batches of contact time (core.wear.batch_wear, docs/model.md §3.11).
+"""The foundation's wear in batches of contact time (core.wear.batch_wear, docs/reference/model.md §3.11).
 
 A pin pressed into the bushing at a fixed eccentricity while it turns: every accepted step's wear
 joins a batch, applied once per ``wear_interval_s`` of contact time, before the batch's lambda would

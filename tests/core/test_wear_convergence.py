@@ -1,4 +1,4 @@
-"""The wear of a load-carrying pin in the slider-crank does not depend on the step (docs/model.md §3.11, §7).
+"""The wear of a load-carrying pin in the slider-crank does not depend on the step (docs/reference/model.md §3.11, §7).
 
 The explicit update with the end-of-step force wore 375 / 318 / 296 / 286 um in two revolutions at
 10 / 5 / 2.5 / 1.25 us (printed k_w, wear factor 100: a share lambda = 0.73 at 10 us): +31 % at the
@@ -40,7 +40,7 @@ def _own_mechanism_run(start_deg: float, revolutions: int, options: dict) -> flo
 
 def own_mechanism_impacts(options: dict, starts: int = 16, revolutions: int = 10) -> tuple[float, float]:
     """Mean and standard error over ``starts`` crank angles spread over a turn of the impacts per revolution
-    in revolutions 2..``revolutions`` of the own-mechanism example (docs/own_mechanism.md) at wear factor 1."""
+    in revolutions 2..``revolutions`` of the own-mechanism example (docs/tutorials/own_mechanism.md) at wear factor 1."""
     with ProcessPoolExecutor(2) as pool:
         values = np.array(list(pool.map(_own_mechanism_run, [s * 360.0 / starts for s in range(starts)],
                                         [revolutions] * starts, [options] * starts)))
@@ -51,7 +51,7 @@ def own_mechanism_impacts(options: dict, starts: int = 16, revolutions: int = 10
 def test_dopri_with_wear_counts_the_impacts_of_rk4_on_a_faster_mechanism():
     """DOPRI's default step with wear in contact (1e-5 s) on the own-mechanism example (300 rpm, 1.2 kg slider):
     the impacts per revolution as RK4 at 2.5 us counts them, within 3 standard errors.  At the wear-step limit,
-    3e-5 s, they came out 9 % high: 84.8 +- 1.3 against 79.3 +- 0.6 (docs/model.md §7)."""
+    3e-5 s, they came out 9 % high: 84.8 +- 1.3 against 79.3 +- 0.6 (docs/reference/model.md §7)."""
     dopri, dopri_error = own_mechanism_impacts({})
     rk4, rk4_error = own_mechanism_impacts({"integrator": "rk4", "step_s": 2.5e-6})
     assert abs(dopri - rk4) < 3.0 * np.hypot(dopri_error, rk4_error), (dopri, dopri_error, rk4, rk4_error)

@@ -1,4 +1,4 @@
-"""A contact of over 20 kN (docs/model.md §3.5, "High loads"): the paper's joint under a 30 kg slider at 600 rpm.
+"""A contact of over 20 kN (docs/reference/model.md §3.5, "High loads"): the paper's joint under a 30 kg slider at 600 rpm.
 
 The damping's stiffness grows with the load (Hunt-Crossley: alpha F_e, 70 kN s/m at 21 kN), but the slider-crank's
 rod is nearly a two-force member: the large loads act along the rod, where the joint decelerates the rod and the

@@ -94,7 +94,7 @@ def fast_wearing_package(tmp_path_factory):
 @pytest.mark.parametrize("case", CASES)
 def test_each_master_runs_through_the_joints_wear_step_warning(case, fast_wearing_package):
     """At wear factor 1e5 the first contact's 1 us steps wear more than 4 of the penetration's share (the
-    wear-step limit, docs/model.md §7): the joint logs it once and returns fmi2OK, so every master goes on
+    wear-step limit, docs/reference/model.md §7): the joint logs it once and returns fmi2OK, so every master goes on
     (OMSimulator ended the run on the fmi2Warning it used to return) and the bushing wears."""
     master, fmusim = _master_or_skip(case)
     trace = masters.RUNNERS[master](fast_wearing_package, 1e-6, 4e-3, paper_joint().n_points,
@@ -163,7 +163,7 @@ def test_cosim_master_that_is_not_installed_is_refused_in_one_line(tmp_path, cap
                    "(ImportError: no ecospy))")
 
 
-# the slow test's step per master (docs/cosim_study.md, Hunt-Crossley damping): the largest step inside the
+# the slow test's step per master (docs/explanation/cosim_study.md, Hunt-Crossley damping): the largest step inside the
 # scatter, 0.5 us for the masters that pass the loads one step late, 1 us for the container (on time); OMSimulator,
 # on time too, 0.5 us (at 1 us two statistics fell just outside, 1.42 and 1.17 x the tolerance, 2026-11-27)
 SLOW_STEP_S = {"libcosim": 0.5e-6, "ecos": 0.5e-6, "fmpy-ssp": 0.5e-6, "omsimulator": 0.5e-6, "container": 1e-6,
@@ -187,7 +187,7 @@ def test_two_revolutions_of_each_master_stay_inside_the_monolithic_scatter(case,
     """At its step the per-revolution statistics of the master's 2 revolutions, the mean of two perturbed
     starts (masters_study.ENSEMBLE), are within validate's tolerance of the monolithic reference built from
     ensembles of the same size: all but at most one, which (a sample near its tolerance: equally valid runs
-    fall on either side, docs/cosim_study.md) stays within twice it; an unstable coupling is off by orders
+    fall on either side, docs/explanation/cosim_study.md) stays within twice it; an unstable coupling is off by orders
     of magnitude."""
     _master_or_skip(case)
     row = study[case]
@@ -200,7 +200,7 @@ def test_two_revolutions_of_each_master_stay_inside_the_monolithic_scatter(case,
 @pytest.mark.parametrize("case", ["own-zoh", "libcosim", "ecos", "omsimulator", "container"])
 def test_a_step_that_blows_the_coupling_up_ends_as_a_failed_run(case, tmp_path, capsys):
     """At a 20 us communication step the held coupling blows up in the first impacts (the pin through the bushing
-    wall, docs/model.md §3.14): every route, wearjoint's own fixed-step master and each third-party one (whether
+    wall, docs/reference/model.md §3.14): every route, wearjoint's own fixed-step master and each third-party one (whether
     it stops at the joint's fmi2Discard, libcosim, or steps on, ecos and OMSimulator, whose trace shows the pin past
     the wall), ends with exit status 1 and one line, `completed: false` and the failure in summary.json, and the
     results up to there written."""

@@ -1,4 +1,4 @@
-"""The joint FMU's Model Exchange interface (docs/model.md section 5) inside the monolithic
+"""The joint FMU's Model Exchange interface (docs/reference/fmu.md §5) inside the monolithic
 integrator: no coupling error, so it must reproduce ``wearjoint simulate --integrator dopri``.  These test
 the FMI glue: both sides run the same kernels, whose physics has its own tests (tests/core/)."""
 import numpy as np
@@ -91,7 +91,7 @@ def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu):
         indicator = (ctypes.c_double * 1)()
         fmu.getEventIndicators(indicator, 1)
         assert indicator[0] == pytest.approx(5e-6, rel=1e-9)      # the signed penetration
-        fmu.setTime(3e-5)                                # a step of the whole wear interval (docs/model.md §3.11)
+        fmu.setTime(3e-5)                                # a step of the whole wear interval (docs/reference/model.md §3.11)
         fmu.completedIntegratorStep()
         reference = ClearanceJoint(joint)
         reference.advance(pin, bushing, 3e-5)

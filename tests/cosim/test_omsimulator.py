@@ -126,7 +126,7 @@ def _result_signal(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
 
 @pytest.mark.parametrize("location", ["crank-rod", "rod-slider", "crank-ground"])
 def test_command_line_runs_a_loaded_package_and_carries_its_load(omsimulator, tmp_path, location):
-    """`export-ssp --slider-force-table FILE --clearance-joint J` (the press of docs/own_mechanism.md, gravity along
+    """`export-ssp --slider-force-table FILE --clearance-joint J` (the press of docs/tutorials/own_mechanism.md, gravity along
     the stroke) runs in OMSimulator's command line as exported; over the crank angles where the table presses with
     2 kN the joint carries, on average, what the ideal joint J carries under the same load (1.8 kN) within 5 %,
     where before the table's ramp the ideal joint carries a ninth of it at most: the load reached the mechanism

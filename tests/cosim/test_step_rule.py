@@ -1,4 +1,4 @@
-"""The communication-step rule of docs/cosim_study.md as a function of the mechanism and the joint."""
+"""The communication-step rule of docs/explanation/cosim_study.md as a function of the mechanism and the joint."""
 import math
 
 import pytest
@@ -8,7 +8,7 @@ from wearjoint.cosim.step_rule import communication_step_rule, effective_mass_kg
 
 
 def test_the_rule_gives_the_documented_limits_for_the_papers_mechanism():
-    """docs/cosim_study.md: K = 7.95e10, e_r = 0.9, F_max = 1000 N, m = 0.066 kg across the rod -> 2.1 us on
+    """docs/explanation/cosim_study.md: K = 7.95e10, e_r = 0.9, F_max = 1000 N, m = 0.066 kg across the rod -> 2.1 us on
     time, 0.69 us one step late; by hand here."""
     rule = communication_step_rule(JointParameters(contact_stiffness_N_m1_5=7.95e10), max_force_N=1000.0)
     m = (8.8e-4 + 0.19 * 0.22 ** 2 / 4) / 0.22 ** 2

@@ -33,7 +33,7 @@ N_POINTS = JOINT.n_points
 ROWS, STEP = 1000, 1e-4          # 0.1 s of the slider-crank: contact onsets, separations, wear
 OUTPUTS = [v.name for v in fv.SCALAR_OUTPUTS]
 STATE_DOUBLES = fv.STATE_HEAD_SIZE + L.N_MEMORY   # float64 values of an FMU state besides the wear depths
-STATE_FRAME = 24 + 4                             # its header and CRC-32C (docs/model.md, the state format)
+STATE_FRAME = 24 + 4                             # its header and CRC-32C (docs/reference/fmu.md, the state format)
 
 
 # ------------------------------------------------------------------ fixtures

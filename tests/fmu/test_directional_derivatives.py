@@ -1,4 +1,4 @@
-"""FMI directional derivatives of the native joint FMU (docs/model.md section 5): fmi2- and
+"""FMI directional derivatives of the native joint FMU (docs/reference/fmu.md §5): fmi2- and
 fmi3GetDirectionalDerivative against central differences of the outputs (set the inputs +-h, read
 them), FMI 2.0 and 3.0, Co-Simulation and Model Exchange, at unworn and worn contact states (the
 wear profile and contact memory set through an FMU state); the ModelStructure's dependencies

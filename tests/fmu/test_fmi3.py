@@ -1,4 +1,4 @@
-"""The native FMU as FMI 3.0 (``wearjoint build-fmu --fmi-version 3``, docs/model.md section 5):
+"""The native FMU as FMI 3.0 (``wearjoint build-fmu --fmi-version 3``, docs/reference/fmu.md §5):
 Co-Simulation and Model Exchange, the wear profile as one Float64 array sized by the structural
 parameter ``n_points`` (set in Configuration Mode), the options as FMI 3 enumerations, and the
 same numbers as the FMI 2.0 build.

@@ -1,4 +1,4 @@
-"""The ClearanceWearJoint FMU (docs/model.md section 5) of both backends driven through fmpy: its
+"""The ClearanceWearJoint FMU (docs/reference/fmu.md §5) of both backends driven through fmpy: its
 modelDescription, its outputs and the wear of its steps.
 
 Each FMU is built once per session (fixtures ``native_fmu``, ``built_fmu`` for pythonfmu);
@@ -82,7 +82,7 @@ def test_forces_are_the_joints_and_point_back_to_the_bushing_centre(slave):
     assert out["contact"] == 1.0
     assert out["penetration"] == pytest.approx(5e-6, rel=1e-3)
     assert out["normal_force"] == pytest.approx(expected.normal_force_N, rel=1e-12)
-    # the foundation's K delta^1.5 (3 % under it at 5 um: docs/model.md §3.10)
+    # the foundation's K delta^1.5 (3 % under it at 5 um: docs/reference/model.md §3.10)
     assert out["normal_force"] == pytest.approx(P.stiffness_N_m1_5 * 5e-6 ** 1.5, rel=4e-2)
 
     pin_force = np.array([out["pin_force_x"], out["pin_force_y"]])

@@ -91,7 +91,7 @@ def test_non_finite_input_fails_get_real_and_discards_do_step(slave, fmu):
 
 def test_a_step_into_the_bushing_wall_is_discarded_and_a_shorter_one_continues(slave, fmu):
     """A co-simulation coupling that blew up hands the joint a pin deeper in the bushing wall than any contact
-    (docs/model.md §3.14): doStep returns fmi2Discard with one error line naming the time, the pin's overlap and
+    (docs/reference/model.md §3.14): doStep returns fmi2Discard with one error line naming the time, the pin's overlap and
     the bound, the wear profile and the worn volume stay as they were, and the master's retry with the inputs of a
     shorter step goes on."""
     slave.set_inputs(contact_inputs())

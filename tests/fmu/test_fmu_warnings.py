@@ -1,6 +1,6 @@
 """The joint FMU warns, once per instance, where the other engines refuse or a user has likely erred
-(docs/model.md §5): a wearing step over the wear-step limit (longer than 3e-5 s, or a share
-lambda = k_f k_w F v dt of a conforming contact's penetration above 4, docs/model.md §7), and a first step whose
+(docs/reference/fmu.md §5): a wearing step over the wear-step limit (longer than 3e-5 s, or a share
+lambda = k_f k_w F v dt of a conforming contact's penetration above 4, docs/reference/model.md §7), and a first step whose
 inputs put the pin centre outside the bushing (offsets forgotten).  Seen through fmpy's logger with
 the status fmi2Warning / fmi3Warning; the step is accepted, the wear-step one with fmi2OK / fmi3OK."""
 import math
@@ -26,7 +26,7 @@ def joint_parameters(wear_factor):
 
 def step_share(params, sliding_speed_m_s, step_s):
     """The share of the penetration one step wears, k_f k_w F v dt: a foundation pressure k_f delta at the
-    deepest point, k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) (docs/model.md §3.10, §7)."""
+    deepest point, k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) (docs/reference/model.md §3.10, §7)."""
     c = params.bushing_radius_m - params.pin_radius_m
     k_f = (3.0 * params.stiffness_N_m1_5 * math.sqrt(c)
            / (4.0 * math.sqrt(2.0) * params.contact_length_m * math.sqrt(params.pin_radius_m * params.bushing_radius_m)))
@@ -90,7 +90,7 @@ def test_a_first_step_with_the_pin_outside_the_bushing_names_the_offsets(fmus, v
         (said,) = warnings_of(joint)
         assert "outside the bushing" in said and "pin_offset_x" in said and "bushing_offset_x" in said
         assert len(warnings_of(joint)) == 1
-        # the first step only: a later one with the pin through the wall is refused (docs/model.md §3.14)
+        # the first step only: a later one with the pin through the wall is refused (docs/reference/model.md §3.14)
         with pytest.raises(FMICallException) as refused:
             joint.do_step(1e-6, 1e-6)
         assert refused.value.status == DISCARD and "bushing wall" in joint.errors()

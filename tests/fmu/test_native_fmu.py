@@ -1,4 +1,4 @@
-"""The native FMU backend (docs/model.md section 5): one shared library that needs libc and libm
+"""The native FMU backend (docs/reference/fmu.md §5): one shared library that needs libc and libm
 only, the same numbers as the in-process joint, usable from C without Python.
 
 The behaviour both backends share (variables, forces, wear, FMU state, errors) is tested on both

@@ -1,4 +1,4 @@
-"""One FMU for linux64, win64 and aarch64-linux (docs/model.md section 5, "Platforms").
+"""One FMU for linux64, win64 and aarch64-linux (docs/reference/fmu.md §5, "Platforms").
 
 All three binaries come from the same kernels' IR (only the target triple and data layout
 differ).  Each is driven by the C host built for its own platform (tests/c_host, portable C):
@@ -8,7 +8,7 @@ References: linux64 (itself equal to the in-process joint, test_native_fmu.py). 
 give the same bits (no fused multiply-add anywhere); win64 differs in the last bits of sin, cos
 and atan2 (MinGW's msvcrt-based libm), so it is held to 1e-9 of each output's range; the contact
 angle to 1e-8 of its range: where the worn groove conforms to the pin the nearest point of the
-fitted profile is ill-conditioned (docs/model.md §5, Platforms: measured 4.7e-9 of 2 pi).
+fitted profile is ill-conditioned (docs/reference/fmu.md §5, Platforms: measured 4.7e-9 of 2 pi).
 
 Tests of a platform skip, naming what to install, where its cross compiler or emulator is
 missing (.ci/install-cross-toolchains installs them).

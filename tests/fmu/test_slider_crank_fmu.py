@@ -1,5 +1,5 @@
 """The native SliderCrank FMU: the paper's slider-crank with the crank-rod joint open (Eqs. 38-44),
-built from the mechanism kernels of the monolithic engine (docs/model.md §5.x).
+built from the mechanism kernels of the monolithic engine (docs/reference/fmu.md §5.x).
 
 References are independent of the FMU: the ideal slider-crank's closed form (slider
 x3 = l1 cos th1 + sqrt(l2^2 - l1^2 sin^2 th1), its derivatives) and the ideal mechanism of

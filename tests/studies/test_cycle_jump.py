@@ -208,7 +208,7 @@ def test_jump_settings_are_checked(changes, message):
 def test_cycle_jumping_matches_brute_force_through_running_in(tmp_path):
     """40 revolutions of running-in (the rate falls fastest there) by jumps and by simulating every revolution
     at wear factor 1: max depth and worn volume within 5 % (measured at tol 0.01: +1.5 % and +2.5 %, in 22
-    simulated revolutions); the 4000-revolution comparison is in docs/wear_study.md."""
+    simulated revolutions); the 4000-revolution comparison is in docs/explanation/wear_study.md."""
     brute = run_wear_study(jump_config(revolutions=40, snapshots=(40,), jump_tolerance=None), tmp_path / "brute",
                            progress=False, plots=False)
     jumped = run_wear_study(jump_config(revolutions=40, snapshots=(40,)), tmp_path / "jump", progress=False,

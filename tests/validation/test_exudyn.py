@@ -53,7 +53,7 @@ def test_ideal_slider_follows_the_closed_form():
     dense = SliderCrank().closed_form(np.linspace(0.0, rec.period_s, 200001))["slider_a_m_s2"]
     peak = np.abs(s[:, L.T_SLIDER_A]).max()
     assert peak == pytest.approx(np.abs(dense).max(), rel=2e-3)
-    assert 15.0 < peak < 15.2                                            # docs/model.md §7: ideal peak 15.1 m/s^2
+    assert 15.0 < peak < 15.2                                            # docs/reference/model.md §7: ideal peak 15.1 m/s^2
     assert rec.summary()["max_contact_force_N"] == 0.0
 
 
@@ -296,7 +296,7 @@ def _largest_eccentricity_difference(rec, ref):
 
 @pytest.mark.parametrize("contact", em.CONTACT_FORMULATIONS)
 def test_clearance_run_matches_the_monolithic_engine_through_the_first_impacts(monolithic_15ms, contact):
-    """Before the motion turns chaotic (~20 ms, docs/model.md §7) two correct simulators agree.
+    """Before the motion turns chaotic (~20 ms, docs/reference/model.md §7) two correct simulators agree.
 
     The discrete normal jumps by 0.29 deg whenever the deepest bushing point changes and
     every contact onset is non-smooth, so fixed-step methods converge only to first order

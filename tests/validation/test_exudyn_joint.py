@@ -1,5 +1,5 @@
 """``wearjoint.exudyn.add_clearance_joint``: the wearing joint in any exudyn mechanism
-(docs/model.md §8).
+(docs/reference/exudyn.md §8).
 
 References independent of the helper: ``ClearanceJoint.evaluate`` on the same kinematics (the
 forces exudyn is given, bit for bit), the statics of a bar hung through the joint (its weight
@@ -226,7 +226,7 @@ def test_a_hung_bar_comes_to_rest_on_its_normal_force(explicit):
     """The bar drops through the clearance, bounces and settles: the normal force carries its
     weight, m g, and the pin sits c + delta below the bushing centre (delta: Hertz, Eq. 16).  With
     the Lankarani-Nikravesh damping, whose 1 mm/s floor damps the bounces: Hunt-Crossley's restitution
-    tends to 1 as the bounces slow (docs/model.md §3.5), so the bar still bounces at 0.12 s."""
+    tends to 1 as the bounces slow (docs/reference/model.md §3.5), so the bar still bounces at 0.12 s."""
     _, mbs = new_system()
     bar, handle = hung_bar(mbs, wear_factor=0.0, contact_damping="lankarani-nikravesh")
     mbs.Assemble()
@@ -255,7 +255,7 @@ def test_a_body_resting_in_the_joint_converges_and_carries_its_weight(mass, wear
     F_N - m g is m v(T)/T) and at every step of the last 0.1 s, to 1e-5 of m g: Newton's absolute
     tolerance, 3.3e-6 N with these settings, is 3.4e-6 of the lightest weight, 0.98 N.  With the
     Lankarani-Nikravesh damping: Hunt-Crossley's leaves the contact's micro-oscillation (2e-5 of m g from
-    the start's rounding) a damping ratio of ~0.002 (docs/model.md §3.5)."""
+    the start's rounding) a damping ratio of ~0.002 (docs/reference/model.md §3.5)."""
     _, mbs = new_system()
     p = JointParameters(contact_damping="lankarani-nikravesh")
     weight = mass * GRAVITY
@@ -412,7 +412,7 @@ def test_sensors_keep_working_with_the_helpers_settings():
 def test_a_step_wearing_too_much_of_the_penetration_is_a_warning_once(wear_factor, warned):
     """A swinging bar's bushing slides ~0.03 m/s on the pin: at 1e-5 s a step's share k_f k_w F v dt of the
     penetration is ~1e-3 at wear factor 10, ~1 at 1e4 (within the relaxed update's limit of 4) and ~10 at 1e5
-    (docs/model.md §7)."""
+    (docs/reference/model.md §7)."""
     import warnings
 
     sc, mbs = new_system()

@@ -14,7 +14,7 @@ def test_a_body_loaded_against_the_bushing_comes_to_rest_without_rocking_or_wear
     circle is tilted from e by the quadrature's error, under 4e-6 rad at this 0.08 um: |omega| ~ 1e-6
     rad/s, wear ~ 1e-13 m).  The deepest point's normal, tilted by up to half a point spacing, makes it
     rock 500 times faster and wear 500 times more.  With the Lankarani-Nikravesh damping, whose floor damps
-    the contact's micro-oscillation (Hunt-Crossley's damping ratio there is ~0.002, docs/model.md §3.5)."""
+    the contact's micro-oscillation (Hunt-Crossley's damping ratio there is ~0.002, docs/reference/model.md §3.5)."""
     p = exudyn_pendulum.pendulum_joint(contact_model=contact_model, contact_damping="lankarani-nikravesh")
     r = exudyn_pendulum.run_pendulum(p, 0.0, 0.02)
     assert r["completed"]
@@ -23,7 +23,7 @@ def test_a_body_loaded_against_the_bushing_comes_to_rest_without_rocking_or_wear
     if contact_model == "foundation":
         weight = exudyn_pendulum.BAR_MASS_KG * exudyn_pendulum.GRAVITY_M_S2
         hertz = (weight / p.stiffness_N_m1_5) ** (1.0 / p.contact_exponent)
-        # the foundation's force is K delta^1.5 to within 1 % at this 0.08 um (docs/model.md §3.10)
+        # the foundation's force is K delta^1.5 to within 1 % at this 0.08 um (docs/reference/model.md §3.10)
         assert r["final_penetration_m"] == pytest.approx(hertz, rel=1e-2)
         assert r["final_speed_m_s"] < 1e-8
 

@@ -1,4 +1,4 @@
-"""The four-bar with two clearance joints (wearjoint/examples/four_bar.py, docs/four_bar.md): as the
+"""The four-bar with two clearance joints (wearjoint/examples/four_bar.py, docs/explanation/four_bar.md): as the
 clearance shrinks and the contact stiffens, its rocker angle converges to the ideal linkage's,
 Freudenstein's closed form."""
 from __future__ import annotations
@@ -58,7 +58,7 @@ def test_the_example_writes_its_results(tmp_path, capsys):
 
 
 def test_the_example_writes_what_it_has_when_exudyn_stops(tmp_path, monkeypatch, capsys):
-    """exudyn's Newton may stop on worn bushings (docs/four_bar.md): the example then writes the run up
+    """exudyn's Newton may stop on worn bushings (docs/explanation/four_bar.md): the example then writes the run up
     to there, says so in summary.json and on stderr, and exits 1."""
     solve = four_bar.exu.SolveDynamic
 
@@ -78,9 +78,9 @@ def test_the_example_writes_what_it_has_when_exudyn_stops(tmp_path, monkeypatch,
 @pytest.mark.slow
 def test_the_heavily_worn_four_bar_runs_five_revolutions(tmp_path):
     """Wear factor 100 for 5 crank revolutions (2 s): until the foundation contact, exudyn's Newton
-    stopped at 0.79 s, where a worn bushing touched the pin in two places (docs/four_bar.md).  Now
+    stopped at 0.79 s, where a worn bushing touched the pin in two places (docs/explanation/four_bar.md).  Now
     it completes without a step cut, both bushings worn, the rocker still within a few clearances'
-    worth of Freudenstein's angle (docs/four_bar.md: 2c/c_rocker = 1.3e-3 rad per 0.1 mm; the worn
+    worth of Freudenstein's angle (docs/explanation/four_bar.md: 2c/c_rocker = 1.3e-3 rad per 0.1 mm; the worn
     bushings add their depth to the clearance)."""
     assert four_bar.main(["--out", str(tmp_path), "--revolutions", "5", "--wear-factor", "100"]) == 0
     summary = json.loads((tmp_path / "summary.json").read_text())

@@ -4,8 +4,8 @@ numba compiles the kernels on a command's first run (an empty cache, changed sou
 FMU's kernels are compiled ahead of time on its first build.  The first time either starts, one line
 on stderr names what compiles and roughly how long it takes here; on a terminal a progress bar
 (:mod:`wearjoint.progress`) then counts the compilations against the number a cold run makes.
-The figures (:data:`ESTIMATES`) are measured on the project's machine: docs/performance.md,
-"Compile time", which also says how to measure them (:data:`PROFILE_ENV`).
+The figures (:data:`ESTIMATES`) are measured on the project's machine (docs/how-to/choose_step_and_master.md,
+"First runs and speed"); :data:`PROFILE_ENV` measures them.
 """
 from __future__ import annotations
 

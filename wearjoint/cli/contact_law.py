@@ -1,5 +1,5 @@
 """`wearjoint contact-law`: the coefficient of restitution a single impact actually gets under each contact damping
-law, against the impact speed (docs/model.md §3.5, :mod:`wearjoint.core.damping`).
+law, against the impact speed (docs/reference/model.md §3.5, :mod:`wearjoint.core.damping`).
 
 The four laws are asked for the same ``--restitution``: Hunt-Crossley gives it exactly at
 ``--restitution-speed-m-s`` (a slower impact rebounds more, a faster one less), Lankarani-Nikravesh (the paper's

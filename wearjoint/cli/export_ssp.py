@@ -31,7 +31,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--step", type=float, default=None, metavar="S",
                         help="communication step the package asks its masters for [s] (OMSimulator's and OSP's "
                              f"annotations; default {DEFAULT_STEP_S:g} s for the paper's mechanism, scaled by the "
-                             "step rule for others: docs/cosim_study.md)")
+                             "step rule for others: docs/explanation/cosim_study.md)")
     add_model_arguments(parser)
     parser.epilog = ("The model options become the parameter sets and the FMUs' start values; the joint's centres "
                      "follow the crank tip and the rod end.")

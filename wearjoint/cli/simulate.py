@@ -33,7 +33,7 @@ def add_integration_arguments(parser) -> None:
     g.add_argument("--max-step", type=float, default=None,
                    help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, dopri "
                         f"{DOPRI_WEAR_CONTACT_STEP_S:g}, less where a step's share of the penetration would pass "
-                        f"{DEFAULT_WEAR_STEP_SHARE:g}; at most {MAX_WEAR_STEP_S:g} and a share of 4: docs/model.md §7)")
+                        f"{DEFAULT_WEAR_STEP_SHARE:g}; at most {MAX_WEAR_STEP_S:g} and a share of 4: docs/reference/model.md §7)")
     free_flight = f"(default {NO_WEAR_MAX_STEP_S:g}; --max-step when that is given)"
     g.add_argument("--free-flight-max-step", type=float, default=None,
                    help="dopri: largest step that starts with no contact [s], where nothing wears " + free_flight)

@@ -24,7 +24,7 @@ from .sweep import add_ensemble_arguments
 _STUDY = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
 _MAX_STEP_DEFAULT = ("(default %(default)g)" if _STUDY["max_step_s"] is not None else
                      f"(default: {STUDY_STEP_S:g}, less where the run's wear needs it, through the FMU "
-                     f"{CoSimulationOptions().step_s:g}; docs/model.md §7)")
+                     f"{CoSimulationOptions().step_s:g}; docs/reference/model.md §7)")
 
 
 def add_arguments(parser) -> None:

@@ -1,4 +1,4 @@
-"""Whether a joint state is one a contact of the joint's materials can reach (docs/model.md §3.14).
+"""Whether a joint state is one a contact of the joint's materials can reach (docs/reference/model.md §3.14).
 
 A pin in its worn bushing sits at |e| = c + h(phi_e) + its penetration; a co-simulation coupling that blew up
 puts it further, through the wall, or drives it into the wall so fast that the damping's force passes anything

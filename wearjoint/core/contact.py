@@ -2,7 +2,7 @@
 derivatives.
 
 Pure numba functions on arrays.  Bodies: i carries the pin, j the bushing.  The contact model
-(``jp[P_CONTACT_MODEL]``, docs/model.md §3.10):
+(``jp[P_CONTACT_MODEL]``, docs/reference/model.md §3.10):
 
 * 0, ``foundation`` (default): the elastic-foundation pressure of :mod:`.pressure` on every
   bushing point the pin overlaps, any number of arcs; its resultant is the elastic normal force,
@@ -12,12 +12,12 @@ Pure numba functions on arrays.  Bodies: i carries the pin, j the bushing.  The 
   the pin-surface point Q_i (Eq. 9) and the bushing point Q_j (Eq. 10).
 
 On either, a damping law turns the elastic force F_e into the normal force (``jp[P_CONTACT_DAMPING]``,
-:mod:`.damping`, docs/model.md §3.5): 0, Hunt-Crossley, F_e max(0, 1 + alpha delta_dot) with alpha
+:mod:`.damping`, docs/reference/model.md §3.5): 0, Hunt-Crossley, F_e max(0, 1 + alpha delta_dot) with alpha
 from the restitution e_r at the impact speed v_r; 1 and 3, Lankarani-Nikravesh (Eq. 15, and with the exact
 chi), F_e (1 + chi delta_dot / delta_dot^-) with the approach velocity stored at the contact's onset; 2, Tsuji,
 max(0, F_e + c sqrt(F_e / delta) delta_dot): a restitution that does not depend on the speed.  Ambrosio's
 friction (Eqs. 18-19) acts along t = n rotated +90 deg.  Conventions
-(docs/model.md §3): delta = R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into
+(docs/reference/model.md §3): delta = R_i - |d| (Eq. 6) at the deepest point; n points from the pin centre into
 the bushing; the normal force on the pin is -F_N n; friction on the pin opposes its sliding relative
 to the bushing; torques are planar cross products l_x F_y - l_y F_x.
 
@@ -174,7 +174,7 @@ def _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, 
     drate = drvx * nx + drvy * ny + rvx * dnx + rvy * dny
     v_t = rvx * tx + rvy * ty                       # Eq. (14)
     dv_t = drvx * tx + drvy * ty + rvx * dtx + rvy * dty
-    # the damping law (core.damping, docs/model.md 3.5): Hunt-Crossley with a constant alpha, Lankarani-Nikravesh
+    # the damping law (core.damping, docs/reference/model.md §3.5): Hunt-Crossley with a constant alpha, Lankarani-Nikravesh
     # with the onset velocity stored, Eq. (15), or Tsuji's F_e + c sqrt(F_e / delta) delta_dot
     law = jp[P_CONTACT_DAMPING]
     coefficient = jp[P_DAMPING_COEFFICIENT]
@@ -386,7 +386,7 @@ def _unit_direction(m):
 
 @kernel
 def update_contact_memory(result, jp, memory):
-    """Onset bookkeeping after an accepted step (docs/model.md §3.5).
+    """Onset bookkeeping after an accepted step (docs/reference/model.md §3.5).
 
     A contact that is new at the accepted state stores its approach velocity,
     floored at ``impact_velocity_floor``, as delta_dot^- of Eq. (15); leaving

@@ -1,4 +1,4 @@
-"""Cycle jumping's wear (docs/model.md §3.11): the loading of a sampled revolution, replayed over the
+"""Cycle jumping's wear (docs/reference/model.md §3.11): the loading of a sampled revolution, replayed over the
 revolutions a jump stands for through the relaxed wear update, sample by sample.
 
 A sample of the loading is the contact of one accepted point (layout.T_* columns of the time series):
@@ -6,7 +6,7 @@ the pin's eccentricity in the bushing frame, its penetration, the normal force, 
 velocity and the tangential velocity, and the time it stands for.  Replaying it on the profile the jump
 has worn so far places the pin along the recorded direction where its penetration of that profile is the
 recorded one (placing it where it carries the recorded force instead wore 11 % less deep after 1000
-revolutions than the reference, docs/wear_study.md), then wears the profile by
+revolutions than the reference, docs/explanation/wear_study.md), then wears the profile by
 :func:`wearjoint.core.wear.apply_wear` over ``scale`` times the sample's time.  The relaxed update is
 stable for any scale: a point never wears more than its overlap with the advancing pin, and Archard's
 volume k_w F_N Delta s is kept exactly."""

@@ -1,4 +1,4 @@
-"""Contact damping laws (docs/model.md §3.5): the coefficient each law's normal force uses, chosen so
+"""Contact damping laws (docs/reference/model.md §3.5): the coefficient each law's normal force uses, chosen so
 that ``restitution`` is the coefficient of restitution of a single impact, and the restitution a
 coefficient gives.
 

@@ -1,5 +1,5 @@
 """The elastic-foundation placement of the Archard increment, relaxed exactly over the step
-(docs/model.md §3.7, §3.11): the bushing points' overlaps with the pin, their cell weights over the
+(docs/reference/model.md §3.7, §3.11): the bushing points' overlaps with the pin, their cell weights over the
 runs of blocks that may touch it, the uniform pin advance that keeps Archard's volume, and the update.
 Pure numba functions on the joint's arrays; :func:`foundation_wear` is the entry, called by
 :func:`wearjoint.core.wear.apply_wear`.
@@ -132,7 +132,7 @@ def _cell_weights(first, last, cyclic, ex, ey, pin_radius, bushing_radius, cos_p
 @kernel(inline='always')
 def relaxation_factor(lam):
     """phi(lambda) = (1 - exp(-lambda)) / lambda [-]: the share of the explicit increment that wearing a
-    point whose pressure relaxes as exp(-lambda s / Delta s) removes over the step (docs/model.md §3.11)."""
+    point whose pressure relaxes as exp(-lambda s / Delta s) removes over the step (docs/reference/model.md §3.11)."""
     if lam < 1e-3:                            # the series: 1 - exp(-lambda) would cancel (libm has no expm1 here)
         return 1.0 - lam * (0.5 - lam * (1.0 / 6.0 - lam / 24.0))
     return (1.0 - math.exp(-lam)) / lam
@@ -334,7 +334,7 @@ def _touching_position(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, wea
 def foundation_wear(k_w, f_n, contact_length, relative_dt, slide, rotation, ex, ey, pin_radius, bushing_radius,
                     cos_phi, sin_phi, wear_depth, block_min, mask, work):
     """Elastic-foundation (Winkler) placement of the Archard increment, relaxed exactly over the step
-    (docs/model.md §3.7, §3.11).
+    (docs/reference/model.md §3.7, §3.11).
 
     The pressure on the bushing is proportional to the local overlap of the worn surface with the pin,
     p(phi) = k_eff o+(phi), k_eff = F_N / (L int o+ rho dphi), so it integrates to the normal force over

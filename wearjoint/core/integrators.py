@@ -212,7 +212,7 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     """
     n2 = y.shape[0]
     # a Python function: a compiled one allocating the scratch would make numba link and emit the whole
-    # integrator again on a cold run (docs/performance.md, "Compile time")
+    # integrator again on a cold run (docs/how-to/choose_step_and_master.md, "First runs and speed")
     stages = np.empty((4, n2))                  # RK4 scratch
     k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
     k_stage = np.empty(n2)                      # f of the current stage (no views of k in the loop)

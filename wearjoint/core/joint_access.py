@@ -20,7 +20,7 @@ from .wear import STEP_INADMISSIBLE, accept_contact_refreshing
 
 # The integrators' right-hand side calls the compiled contact evaluation: inlining it there
 # (numba's inline='always') took 16 of a cold run's 41 s of compiling and ran no faster
-# (docs/performance.md, "Compile time").
+# (docs/how-to/choose_step_and_master.md, "First runs and speed").
 
 # The joint in process: the joint parameter vector (layout.P_*), the bushing points' cos/sin, the wear
 # profile, the contact search's block minima, the contact memory (layout.M_*), the wear kernels' scratch (a

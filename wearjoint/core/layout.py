@@ -5,15 +5,15 @@ module-level integers as constants); these names are the only place the
 positions are defined.
 """
 
-# --- the wear-step limit (docs/model.md §7): in a conforming contact an explicit step wears
+# --- the wear-step limit (docs/reference/model.md §7): in a conforming contact an explicit step wears
 # lambda = k_f k_w |v_t| dt of the penetration (k_f the foundation modulus, k_w with the wear factor).
 # The foundation's update relaxes each point's pressure exactly over the step (core.wear.foundation_wear);
 # the explicit placements (patch, penetration) overshoot past about 1
 WEAR_STEP_SHARE = 4.0            # the largest lambda of one accepted step of the foundation's update
 WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one explicit (patch, penetration) step wears
-MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s] (the statistics, docs/model.md §7)
+MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s] (the statistics, docs/reference/model.md §7)
 WEAR_BATCH_SHARE = 0.1           # the largest lambda of a wear batch: its lag stays a tenth of the overlap (§3.11)
-# --- admissible states (docs/model.md §3.14): a pin further into the bushing wall than this share of its radius is no
+# --- admissible states (docs/reference/model.md §3.14): a pin further into the bushing wall than this share of its radius is no
 # contact of the joint's materials (at 2 % the mean pressure over the pin's projected area passes any bushing's yield)
 ADMISSIBLE_PENETRATION_SHARE = 0.02
 
@@ -36,19 +36,19 @@ P_V1 = 11
 P_WEAR_COEFFICIENT = 12   # derived: k_w times the wear acceleration factor [m^2/N]
 P_CONTACT_LENGTH = 13     # L [m]
 P_EFFECTIVE_MODULUS = 14  # derived: E* of Eq. 32 [Pa]
-P_RHO_MODE = 15           # RHO_* (docs/model.md 3.2)
-P_WEAR_PLACEMENT = 16     # PLACEMENT_* (docs/model.md 3.7)
-P_SLIDING = 17            # SLIDING_* (docs/model.md 3.8)
-P_VELOCITY_FLOOR = 18     # Lankarani-Nikravesh: floor on the stored impact velocity [m/s] (docs/model.md 3.5)
+P_RHO_MODE = 15           # RHO_* (docs/reference/model.md §3.2)
+P_WEAR_PLACEMENT = 16     # PLACEMENT_* (docs/reference/model.md §3.7)
+P_SLIDING = 17            # SLIDING_* (docs/reference/model.md §3.8)
+P_VELOCITY_FLOOR = 18     # Lankarani-Nikravesh: floor on the stored impact velocity [m/s] (docs/reference/model.md §3.5)
 P_PIN_YOUNGS_MODULUS = 19     # E_i [Pa]
 P_PIN_POISSON_RATIO = 20      # nu_i [-]
 P_BUSHING_YOUNGS_MODULUS = 21  # E_j [Pa]
 P_BUSHING_POISSON_RATIO = 22  # nu_j [-]
 P_ARCHARD_COEFFICIENT = 23    # k_w as given [m^2/N]
 P_WEAR_FACTOR = 24            # wear acceleration factor [-]
-P_CONTACT_MODEL = 25          # CONTACT_* (docs/model.md 3.10)
-P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/model.md 3.10)
-P_CONTACT_DAMPING = 27        # DAMPING_* (docs/model.md 3.5)
+P_CONTACT_MODEL = 25          # CONTACT_* (docs/reference/model.md §3.10)
+P_FOUNDATION_MODULUS = 26     # derived: k_f L / R_i of the elastic foundation [N/m^2] (docs/reference/model.md §3.10)
+P_CONTACT_DAMPING = 27        # DAMPING_* (docs/reference/model.md §3.5)
 P_RESTITUTION_SPEED = 28      # impact speed at which the Hunt-Crossley damping restitutes e_r [m/s]
 P_WEAR_INTERVAL = 29          # the foundation's wear is applied once per this much contact time [s] (0: every step)
 P_EFFECTIVE_MASS = 30         # Tsuji: the mass the contact decelerates along its normal [kg]
@@ -67,7 +67,7 @@ DAMPING_HUNT_CROSSLEY, DAMPING_LANKARANI_NIKRAVESH, DAMPING_TSUJI, DAMPING_LANKA
 M_ACTIVE = 0              # 1.0 while a contact that began on an accepted step lasts
 M_IMPACT_VELOCITY = 1     # delta_dot^(-) stored at that contact's onset [m/s]
 M_START_FORCE = 2         # F_N at the last accepted point on its worn profile: the next step's start [N]
-# the wear batch not yet applied (core.wear.batch_wear, docs/model.md §3.11): its accepted steps' summed time [s],
+# the wear batch not yet applied (core.wear.batch_wear, docs/reference/model.md §3.11): its accepted steps' summed time [s],
 # relative rotation |d alpha| [rad], tangential slide |v_T| dt [m], load (F_N times the sliding measure in use),
 # the load's first moment (sum of load times eccentricity [m]: the batch is applied at the load-weighted mean
 # eccentricity) and the last step's deepest bushing point

@@ -1,5 +1,5 @@
 """The elastic-foundation pressure on the bushing: one field for the contact force and the wear
-(docs/model.md §3.7, §3.10).
+(docs/reference/model.md §3.7, §3.10).
 
 Bushing point z (angle phi_z, radius rho_z = R_j + h_z, Eq. 35) overlaps the pin by
 o_z = (R_i^2 - |d_z|^2) / (2 R_i), d_z = rho_z u_z - e (Eq. 4): R_i - |d_z| to within a factor
@@ -90,7 +90,7 @@ def cell_overlap_gradient(before, at, after):
 def foundation_modulus_factor(stiffness, pin_radius, bushing_radius):
     """kappa of the resultant (module docstring) per radian of cell, k_f L / R_i [N/m^2], with
     k_f = 3 K sqrt(c) / (4 sqrt(2) L sqrt(R_i R_j)) [N/m^3], c = R_j - R_i: the foundation whose force on
-    the unworn bushing tends to K delta^1.5 as delta -> 0 (docs/model.md §3.10)."""
+    the unworn bushing tends to K delta^1.5 as delta -> 0 (docs/reference/model.md §3.10)."""
     clearance = bushing_radius - pin_radius
     return 3.0 * stiffness * math.sqrt(clearance) / (4.0 * math.sqrt(2.0) * pin_radius
                                                      * math.sqrt(pin_radius * bushing_radius))

@@ -1,4 +1,4 @@
-"""The serialised state (docs/model.md, "The state format"): one layout for the in-process joint,
+"""The serialised state (docs/reference/fmu.md, "The state format"): one layout for the in-process joint,
 both FMU backends, both FMI versions and the wear-study checkpoints, written, read and checked by
 these kernels only: Python calls them, the native FMU runs the same code compiled ahead of time.
 

@@ -1,12 +1,12 @@
 """Wear kernels of the clearance joint (paper Sec. 5, Eqs. 24-35).
 
 Archard's law removes the volume k_w F_N ds (Eq. 24); the depth update of
-Eq. (28) is h_z += k_w p Delta s_z.  Where the increment goes (docs/model.md §3.7):
+Eq. (28) is h_z += k_w p Delta s_z.  Where the increment goes (docs/reference/model.md §3.7):
 
 * ``foundation`` (default): the pressure follows the local overlap of the worn
   surface with the pin (an elastic, Winkler foundation), integrated over each
   point's arc cell, normalised to the step's mean normal force and relaxed
-  exactly over the step (:mod:`.foundation_wear`, docs/model.md §3.11).
+  exactly over the step (:mod:`.foundation_wear`, docs/reference/model.md §3.11).
 * ``patch``: the paper's Hertz patch, p = F_N / (2 b L) (Eqs. 29-32); bushing
   point z stands for the arc cell [phi_z - dphi/2, phi_z + dphi/2] and receives
   the increment times the share of its cell inside the patch [-b, b] around
@@ -45,7 +45,7 @@ STEP_INADMISSIBLE, STEP_REFUSED, STEP_UNCHANGED, STEP_CHANGED, STEP_OVERSHOT = -
 @kernel
 def effective_modulus(pin_youngs_modulus, pin_poisson_ratio, bushing_youngs_modulus, bushing_poisson_ratio):
     """Composite modulus E* of Eq. (32) [Pa]: 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j (standard Hertz
-    form; the paper pairs the indices the other way, docs/model.md 3)."""
+    form; the paper pairs the indices the other way, docs/reference/model.md §3)."""
     return 1.0 / ((1.0 - pin_poisson_ratio * pin_poisson_ratio) / pin_youngs_modulus
                   + (1.0 - bushing_poisson_ratio * bushing_poisson_ratio) / bushing_youngs_modulus)
 
@@ -54,7 +54,7 @@ def effective_modulus(pin_youngs_modulus, pin_poisson_ratio, bushing_youngs_modu
 def materials_contact_stiffness(pin_radius, bushing_radius, effective_modulus_Pa):
     """Contact stiffness K [N/m^1.5] of a pin inside a bushing, Eqs. (16)-(17) with the internal-contact
     radius R_i R_j / (R_j - R_i): K = 4/(3 pi (h_i + h_j)) sqrt(R), h_k = (1 - nu_k^2)/(pi E_k), i.e.
-    4 E* sqrt(R) / 3 (docs/model.md §3.1)."""
+    4 E* sqrt(R) / 3 (docs/reference/model.md §3.1)."""
     return 4.0 / 3.0 * effective_modulus_Pa * math.sqrt(pin_radius * bushing_radius / (bushing_radius - pin_radius))
 
 
@@ -138,7 +138,7 @@ def step_mean_normal_force(result, memory, held):
     contact's own if the kinematics were ``held`` over the step (a co-simulation step) or before the first
     accepted point, else the trapezoid of the step's start (memory[M_START_FORCE], the last accepted point
     on its worn profile) and its end, the mean force the host's integrator applied over a step that began
-    just after a wear update (docs/model.md §3.11)."""
+    just after a wear update (docs/reference/model.md §3.11)."""
     start = memory[M_START_FORCE]
     if held or start < 0.0:
         return result[R_NORMAL_FORCE]
@@ -148,7 +148,7 @@ def step_mean_normal_force(result, memory, held):
 @kernel(inline='always')
 def _relaxation(k, angle, slide, jp, wear_depth):
     """lambda = k_f k_w Delta s at the deepest point k of a step or batch relative rotation ``angle`` [rad] and
-    tangential ``slide`` [m] (docs/model.md §7)."""
+    tangential ``slide`` [m] (docs/reference/model.md §7)."""
     k_f = jp[P_FOUNDATION_MODULUS] * jp[P_PIN_RADIUS] / jp[P_CONTACT_LENGTH]     # the slot holds k_f L / R_i
     rotation = int(jp[P_SLIDING]) == SLIDING_ROTATION
     return k_f * jp[P_WEAR_COEFFICIENT] * ((jp[P_BUSHING_RADIUS] + wear_depth[k]) * angle if rotation else slide)
@@ -177,7 +177,7 @@ def apply_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, 
     of the two bodies, Eq. (33), taken as |omega_i - omega_j| dt; or
     ``tangential`` |v_T| dt at the contact.  Returns (the largest depth increment [m], the step's share
     of the wear-step limit: the largest lambda over WEAR_STEP_SHARE for the relaxed ``foundation``
-    update (lambda = k_f k_w Delta s at the contact, docs/model.md §7), the largest increment over
+    update (lambda = k_f k_w Delta s at the contact, docs/reference/model.md §7), the largest increment over
     WEAR_STEP_SHARE_EXPLICIT times the penetration for the explicit
     ``patch`` and ``penetration``), or (WEAR_REFUSED, 0) with nothing changed where a step would wear a
     point by more than the bushing radius or by a non-finite depth (a step no physical host takes:
@@ -257,7 +257,7 @@ def _flush_batch(jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory
 @kernel
 def batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min, mask, work, memory):
     """The foundation's wear of an accepted step, gathered into batches of contact time jp[P_WEAR_INTERVAL]
-    (docs/model.md §3.11): the step's time, sliding and load (F_N times the sliding) join the batch in
+    (docs/reference/model.md §3.11): the step's time, sliding and load (F_N times the sliding) join the batch in
     ``memory``, which is applied (:func:`_flush_batch`) when it reaches the interval or the largest lambda
     WEAR_BATCH_SHARE, before it would pass either, and when the contact ends.  The removed volume is Archard's,
     k_w sum F_N Delta s, as step by step; the relaxed update takes the batch at the pin's load-weighted mean
@@ -340,7 +340,7 @@ def accept_contact(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, si
     where jp[P_WEAR_INTERVAL] > 0.  memory[M_START_FORCE] becomes the normal force there on the new profile,
     evaluated in ``work`` after the wear (not ``held``: a held step's wear takes its own end force).  Returns
     STEP_CHANGED if the joint's forces changed, STEP_OVERSHOT if they did by a step over the wear-step limit
-    (longer than MAX_WEAR_STEP_S, or past its share of the wear, :func:`apply_wear`; docs/model.md §7),
+    (longer than MAX_WEAR_STEP_S, or past its share of the wear, :func:`apply_wear`; docs/reference/model.md §7),
     STEP_UNCHANGED, STEP_REFUSED (nothing changed: the wear would be absurd, :func:`apply_wear`) or
     STEP_INADMISSIBLE (nothing changed: the pin is deeper in the wall than any contact, core.admissibility)."""
     return _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory,

@@ -1,7 +1,7 @@
 """Co-simulation master: the rigid slider-crank coupled to the ``ClearanceWearJoint`` FMU.
 
 The crank-rod joint of the mechanism is open (``MODE_EXTERNAL``); its loads come
-from the FMU (docs/model.md §5).  fmpy loads, instantiates and initialises the
+from the FMU (docs/reference/fmu.md §5).  fmpy loads, instantiates and initialises the
 FMU (``FMU2Slave``); the communication loop (:func:`master_loop`) is numba code
 that calls the FMU's ``fmi2DoStep``/``fmi2SetReal``/``fmi2GetReal`` (and the
 FMU-state functions for rollbacks) through their C entry points, with value

@@ -28,7 +28,7 @@ writes, the per-revolution statistics accounted by the engines' own recorder
 Every master holds each FMU's inputs over a step (zero-order hold): first order in the step and
 unstable from a few microseconds on this stiff contact.  libcosim, ecos and fmpy's simulator read
 the joint's loads before they set its new inputs, so the mechanism gets them one step late; the
-container sets the kinematics first and reads the loads evaluated at them (docs/cosim_study.md).
+container sets the kinematics first and reads the loads evaluated at them (docs/explanation/cosim_study.md).
 """
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 
 MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")
 THIRD_PARTY = MASTERS[1:]
-DEFAULT_STEP_S = 1e-6     # a third-party master's default communication step (stable, docs/cosim_study.md)
+DEFAULT_STEP_S = 1e-6     # a third-party master's default communication step (stable, docs/explanation/cosim_study.md)
 # what every adapter records at each communication point: (component, variable)
 MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a")
 JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
@@ -231,7 +231,7 @@ def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
         raise RunDiverged(f"the run diverged: fmpy's SSP simulator stopped ({exc}): the joint FMU refuses inputs deeper "
                           "in the bushing wall than any contact (fmi2Discard, its log line names them); the "
                           f"communication step {step_s:g} s is too long for this contact; fmpy keeps no rows of the "
-                          "run (docs/cosim_study.md)") from None
+                          "run (docs/explanation/cosim_study.md)") from None
     wall = time.perf_counter() - start
     values = np.column_stack([rows[f"{component}.{name}"] for component, name in TRACED])
     return _align_joint(MasterTrace("fmpy-ssp", step_s, (np.arange(len(rows)) + 1) * step_s, values, None, wall, load))
@@ -390,7 +390,7 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
                      wear_profile=f"not readable through {trace.master}: profile.csv holds NaN")
     failure = trace_divergence(trace, joint) or (
         f"the run diverged: {trace.failure}; the communication step {trace.step_s:g} s is too long for this contact "
-        "(take a shorter one, or wearjoint's adaptive master; docs/cosim_study.md)" if trace.failure else "")
+        "(take a shorter one, or wearjoint's adaptive master; docs/explanation/cosim_study.md)" if trace.failure else "")
     return RunRecord(samples=samples[:int(track[L.K_N_SAMPLES])], revolution_stats=stats, wear_growth_m=max_depth[ends],
                      phi_deg=np.degrees(bushing_point_angles(joint.n_points)), wear_depth_m=profile,
                      worn_volume_m3=float(trace.values[-1, _COLUMN[(ssp.JOINT, "worn_volume")]]),
@@ -417,7 +417,7 @@ def trace_divergence(trace: MasterTrace, joint) -> str:
                               float(depth[k]), joint.admissible_penetration_m, float(force[k]), joint.admissible_force_N)
     return (f"the run diverged at t = {trace.time_s[k]:.6g} s: {reason}; nothing after this is physical ("
             f"{trace.master}'s communication step {trace.step_s:g} s is too long for this contact: take a shorter "
-            "one, or wearjoint's adaptive master; docs/cosim_study.md)")
+            "one, or wearjoint's adaptive master; docs/explanation/cosim_study.md)")
 
 
 def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,

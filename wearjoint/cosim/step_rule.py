@@ -1,5 +1,5 @@
 """The communication step a fixed-step master needs for the joint FMU in a slider-crank
-(docs/cosim_study.md, "Choosing the communication step for your own mechanism").
+(docs/explanation/cosim_study.md, "Choosing the communication step for your own mechanism").
 
 A master holding the joint's loads over a step h feeds a contact force lagging the motion by h/2
 (inputs set before the loads are read: "on time") or 3h/2 (loads read first: "one step late"); the
@@ -34,7 +34,7 @@ class StepRule:
 
     def text(self) -> str:
         """One line for a command's output."""
-        return (f"communication step (docs/cosim_study.md): below {self.on_time_s * 1e6:.2g} us with the inputs set "
+        return (f"communication step (docs/explanation/cosim_study.md): below {self.on_time_s * 1e6:.2g} us with the inputs set "
                 f"before the loads are read, {self.one_step_late_s * 1e6:.2g} us one step late (F_max "
                 f"{self.max_force_N:.3g} N, effective mass {self.effective_mass_kg:.3g} kg); a master inside the "
                 "monolithic scatter needs about half of it")

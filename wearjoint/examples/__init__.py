@@ -1,1 +1,1 @@
-"""Examples built on the library: mechanisms other than the paper's (docs/four_bar.md)."""
+"""Examples built on the library: mechanisms other than the paper's (docs/explanation/four_bar.md)."""

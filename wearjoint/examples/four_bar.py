@@ -1,9 +1,9 @@
 """A four-bar linkage with two wearing clearance joints, built in exudyn with
-:func:`wearjoint.exudyn.add_clearance_joint` (docs/four_bar.md).
+:func:`wearjoint.exudyn.add_clearance_joint` (docs/explanation/four_bar.md).
 
     python -m wearjoint.examples.four_bar --out results/four_bar [--revolutions 3] [--wear-factor 100]
 
-Links (docs/four_bar.md says where the values come from): ground A-D of length d along X,
+Links (docs/explanation/four_bar.md says where the values come from): ground A-D of length d along X,
 crank A-B (a), coupler B-C (b), rocker D-C (c); a Grashof crank-rocker (a + b <= c + d).  The crank
 turns counter-clockwise at a constant speed (a coordinate constraint on its angle), A and D are
 ideal revolute joints to ground, B and C are clearance joints whose bushings sit in the coupler's
@@ -177,7 +177,7 @@ class FourBarModel:
         """exudyn's generalized-alpha (its explicit solvers take no revolute joints) at the fixed step
         ``step_s`` [s] to ``end_time_s`` [s]; returns the rocker angle and Freudenstein's at every
         accepted step, the wall time, exudyn's steps and Newton iterations, and ``completed``: False
-        if exudyn's Newton stopped earlier (docs/four_bar.md), the run then ending there."""
+        if exudyn's Newton stopped earlier (docs/explanation/four_bar.md), the run then ending there."""
         require("end_time_s", end_time_s, math.isfinite(end_time_s) and end_time_s > 0.0, "> 0 s")
         handles = self.joints.values() if self.contact == "wearjoint" else ()
         check_step(step_s, handles)
@@ -272,7 +272,7 @@ def main(argv=None) -> int:
     print(json.dumps({k: v for k, v in summary.items() if k != "linkage"}, indent=1))
     if not run["completed"]:
         print(f"four_bar: exudyn's Newton stopped at t = {summary['simulated_time_s']:.6g} s, before "
-              f"{args.revolutions} revolutions (docs/four_bar.md, Limits); the results up to there are in {out}",
+              f"{args.revolutions} revolutions (docs/explanation/four_bar.md, Limits); the results up to there are in {out}",
               file=sys.stderr)
         return 1
     return 0

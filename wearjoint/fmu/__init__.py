@@ -1,5 +1,5 @@
 """Everything FMI: the variable table, model descriptions, the FMU builders and the
-FMU-instance wrapper a co-simulation master uses (docs/model.md, "The FMU").
+FMU-instance wrapper a co-simulation master uses (docs/reference/fmu.md, "The FMU").
 
 Importing this package loads nothing heavy; fmpy and pythonfmu are imported by
 the functions that need them.

@@ -3,7 +3,7 @@
 are, the user cache where built FMUs live, the build keys, the C compiler and the FMI headers) is
 :mod:`wearjoint.fmu.build_common`, importable from here too.
 
-Backends (docs/model.md, "The FMU"):
+Backends (docs/reference/fmu.md, "The FMU"):
 
 * ``native`` -- the joint's numba kernels compiled ahead of time and a C FMI layer
   (``fmu_src/``), one shared library per platform needing only the system C runtime

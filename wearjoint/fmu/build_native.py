@@ -58,7 +58,8 @@ GLUE_C_SOURCES_BY_VERSION = {
     3: ("fmi3Functions.c", "fmi3_values.c", "fmi3_not_provided.c", "fmi3_cosimulation.c", "fmi3_model_exchange.c",
         "fmi3_instance.h"),
 }
-COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model.h", "fmi_checks.h", "state_format.h")
+COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model_defaults.c", "fmu_model.h", "fmi_checks.h",
+                    "state_format.h")
 FMI_LAYER_FOLDER = "fmi"
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build
@@ -257,6 +258,11 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
 #define WEARJOINT_MODEL_VARIABLES_H
 
 #include "fmu_model.h"
+
+/* the optional parts of fmu_model.h this model provides (else fmu_src/fmi/fmu_model_defaults.c) */
+#define MODEL_HAS_INTEGERS 1
+#define MODEL_HAS_STRUCTURAL_PARAMETERS 1
+#define MODEL_HAS_DIRECTIONAL_DERIVATIVES 1
 
 #define MODEL_GUID {_c_string(guid)}
 #define N_CONTINUOUS_STATES 0

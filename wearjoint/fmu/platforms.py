@@ -28,7 +28,7 @@ from . import variables as fv
 
 # C flags of every build: ISO C11 (no GNU floating-point contraction: a fused multiply-add would
 # change the numbers), warnings as errors; link-time optimisation inlines the FMI glue across its files
-# (fmi2SetReal -> model_set_float64 -> joint_set_input; docs/performance.md)
+# (fmi2SetReal -> model_set_float64 -> joint_set_input; measured in CHANGELOG.md)
 COMMON_C_FLAGS = ("-O2", "-flto", "-std=c11", "-ffp-contract=off", "-Wall", "-Wextra", "-Wno-unused-parameter", "-Werror")
 ELF_LINK_FLAGS = ("-shared", "-fPIC", "-Wl,-z,defs", "-Wl,--version-script=exports.map")
 # MinGW: C99 printf (%zu) from libmingwex instead of msvcrt's; the FMI headers export the fmi2*/fmi3*

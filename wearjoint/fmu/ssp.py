@@ -6,7 +6,7 @@ The package holds ``SystemStructure.ssd`` (the system: the ``mechanism`` compone
 output as a connector with its unit; the 12 kinematic connections mechanism -> joint and the 6
 load connections joint -> mechanism; a default experiment of one crank revolution; the communication
 step, 0.5 us by default, in OMSimulator's and OSP's vendor annotations, with OMSimulator's result file,
-logging interval and signal filter ``resources/signalFilter.xml``: docs/omsimulator.md), the two FMUs
+logging interval and signal filter ``resources/signalFilter.xml``: docs/how-to/run_in_omsimulator.md), the two FMUs
 (native, FMI 2.0, every installed platform) and one parameter set per component
 (``resources/<component>.ssv``): the paper's values, the joint's body-frame offsets those of the
 slider-crank (:meth:`SliderCrankParameters.joint_offsets`).  The SSD and the parameter sets are
@@ -44,7 +44,7 @@ OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/
 OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 OMS_TYPE, OSP_TYPE = "org.openmodelica", "com.opensimulationplatform"
 DEFAULT_STEP_S = 0.5e-6     # s: the step the package asks for: inside the monolithic scatter in every master
-                            # here, on time or one step late (6 starts, docs/omsimulator.md, docs/cosim_study.md)
+                            # here, on time or one step late (6 starts, docs/how-to/run_in_omsimulator.md, docs/explanation/cosim_study.md)
 RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 20th step at 0.5 us
 RESULT_FILE = f"{SSP_NAME}_res.mat"
 SIGNAL_FILTER = "resources/signalFilter.xml"
@@ -198,7 +198,7 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     ``stop_time`` the default experiment's stop time (default one crank revolution [s]);
     ``platforms`` those the FMUs carry binaries for (default: every installed one);
     ``step_s`` the communication step the package asks its masters for [s] (OMSimulator's and OSP's
-    annotations; default 0.5 us, docs/omsimulator.md).
+    annotations; default 0.5 us, docs/how-to/run_in_omsimulator.md).
     """
     from .build import build_fmu
 
@@ -234,7 +234,7 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
 
 
 CONTAINER_FILE_NAME = f"{SSP_NAME}.fmu"
-CONTAINER_STEP_S = 1e-6     # s: a step at which a zero-order hold is stable here (docs/cosim_study.md)
+CONTAINER_STEP_S = 1e-6     # s: a step at which a zero-order hold is stable here (docs/explanation/cosim_study.md)
 
 
 def bound_parameters(ssd) -> dict:

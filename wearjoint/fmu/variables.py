@@ -122,7 +122,7 @@ def _parameter(row: JointField) -> ParameterField:
 
 
 PARAMETERS: tuple[ParameterField, ...] = tuple(_parameter(row) for row in JOINT_FIELDS)
-# an FMU state's head values (the state format, docs/model.md): time, initialised flag, inputs, parameters
+# an FMU state's head values (the state format, docs/reference/fmu.md): time, initialised flag, inputs, parameters
 STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
 
 N_POINTS_NAME = "n_points"

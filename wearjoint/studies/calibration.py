@@ -1,4 +1,4 @@
-"""Fit the wear coefficient to measured (revolutions, max depth) points (docs/wear_study.md, "The experiment").
+"""Fit the wear coefficient to measured (revolutions, max depth) points (docs/explanation/wear_study.md, "The experiment").
 
 The model's depth depends on k_w and the revolutions N through k_w N only (the dynamics follow the
 profile, which the product k_w N sets), so one wear study at k_0 gives the master curve D_0 and the
@@ -116,7 +116,7 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
 
 
 # how far the study's curve has been checked to rescale (depth a function of k_w N alone): within 0.8 % from 1/300 to
-# 300 times the study's k_w (docs/wear_study.md, "The experiment"); it fails where the wear acts within single impacts
+# 300 times the study's k_w (docs/explanation/wear_study.md, "The experiment"); it fails where the wear acts within single impacts
 MASTER_CURVE_CHECKED = (1.0 / 300.0, 300.0)
 
 

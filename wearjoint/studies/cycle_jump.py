@@ -1,12 +1,12 @@
-"""Error-controlled cycle jumping, the wear study's default route to long horizons (docs/wear_study.md,
-docs/model.md §3.11).
+"""Error-controlled cycle jumping, the wear study's default route to long horizons (docs/explanation/wear_study.md,
+docs/reference/model.md §3.11).
 
 The study alternates **blocks** and **jumps**.  A block simulates ``jump_block_revolutions`` crank
 revolutions at the real wear rate (wear factor 1) and measures their wear rate w(phi) [m per revolution]
 and their loading (the contact of every sample: :func:`loading_from_samples`).  A jump of N revolutions
 then replays that loading N times over through the relaxed wear update
 (:meth:`wearjoint.joint.ClearanceJoint.replay_wear`), which is stable for any N, in passes that each wear
-at most PASS_INCREMENT_SHARE of the max depth (the replay's order error, docs/wear_study.md).
+at most PASS_INCREMENT_SHARE of the max depth (the replay's order error, docs/explanation/wear_study.md).
 
 Error estimate of a jump: the jump held the rate it started with; the next block measures the rate it
 ended with, so the jump's error is about half its length times the change of the rate (the difference of
@@ -30,13 +30,13 @@ from wearjoint.joint import ClearanceJoint
 from wearjoint.progress import Progress
 from wearjoint.runner import RunDiverged, divergence
 
-DEFAULT_JUMP_TOLERANCE = 0.003          # local error of a jump, relative to the max depth (docs/wear_study.md)
+DEFAULT_JUMP_TOLERANCE = 0.003          # local error of a jump, relative to the max depth (docs/explanation/wear_study.md)
 PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this share of the max depth (explicit bound)
 FIRST_JUMP_BLOCKS = 1                   # the first jump is as long as a block
 JUMP_GROWTH = (0.2, 2.0)                # limits of the next jump's factor
 SAFETY = 0.9
 # a jump's replayed volume over its block's volume per revolution times its length: every correct replay measured
-# lies within 0.999-1.005 (docs/wear_study.md); outside 1 -/+ this, the jump's wear is not the block's
+# lies within 0.999-1.005 (docs/explanation/wear_study.md); outside 1 -/+ this, the jump's wear is not the block's
 REPLAY_VOLUME_TOLERANCE = 0.01
 
 
@@ -229,7 +229,7 @@ def replay_volume_warning(cycle_jumping: dict) -> str | None:
     low, high = cycle_jumping["replay_volume_ratio_range"]
     allowed_low, allowed_high = cycle_jumping["replay_volume_ratio_allowed"]
     return (f"{len(outside)} jump(s) (from revolution {outside[0]}) replayed {low:.3g}-{high:.3g} of their blocks' "
-            f"volume, outside {allowed_low:g}-{allowed_high:g}: their wear is not the blocks' (docs/wear_study.md); "
+            f"volume, outside {allowed_low:g}-{allowed_high:g}: their wear is not the blocks' (docs/explanation/wear_study.md); "
             "check against --cycle-jump-tolerance 0.001 or a --convergence jump,1 study")
 
 

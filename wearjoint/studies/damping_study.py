@@ -9,18 +9,18 @@
 ``onsets``: the normal approach speeds at contact onsets of the paper's slider-crank (no wear, DOPRI),
 under each damping law: quantiles and the energy-weighted mean sum v^3 / sum v^2, the speed at which
 a Hunt-Crossley law dissipates over these impacts what a speed-independent restitution would
-(docs/model.md §3.5).  ``steps``: ensembles of ``--seeds`` starts (the crank angle perturbed as in
+(docs/reference/model.md §3.5).  ``steps``: ensembles of ``--seeds`` starts (the crank angle perturbed as in
 ``wearjoint sweep``), revolutions 2.. (the start-up transient dropped), for RK4 at 2.5, 5 and 10 us and
 DOPRI at rtol 1e-6 and 1e-5: mean, standard error and each configuration's distance from the pooled
-mean in standard errors.  ``batches``: the same for the wear batches (docs/model.md §3.11): RK4 at 2.5
+mean in standard errors.  ``batches``: the same for the wear batches (docs/reference/model.md §3.11): RK4 at 2.5
 and 10 us, DOPRI and the co-simulation (native FMU, its default scheme), each with the wear of every
 step (``wear_interval_s`` 0) and in batches of the default interval, with the wear's own statistics
 beside the dynamics': the depth and volume at the end, and the volume worn after the first revolution
 (the starts share their first revolution: its wear is one sample).  ``contact-step``: RK4 at 2.5 us, at 20 us
 and at the wear-step limit (30 us), DOPRI's default and DOPRI capped at 20 and 30 us, with wear, on the paper's or
-the own-mechanism example's slider-crank (``--mechanism``), the starts spread over a turn (docs/performance.md).
+the own-mechanism example's slider-crank (``--mechanism``), the starts spread over a turn (docs/explanation/numerics.md).
 ``lhs``: runs over a Latin hypercube of restitution, crank speed, wear
-factor, k_w, clearance, friction and the rod's and slider's masses (docs/sensitivity.md's ranges,
+factor, k_w, clearance, friction and the rod's and slider's masses (docs/explanation/sensitivity.md's ranges,
 restitution down to 0.1, up to 300 rpm), RK4 at the default 10 us and DOPRI, with wear; prints every
 diverged run.  Runs go to a pool of one process per
 usable core; each table is printed as it completes.
@@ -53,14 +53,14 @@ BATCH_CONFIGURATIONS = tuple((integrator, step, rtol, interval) for integrator, 
                              for interval in (0.0, MAX_WEAR_STEP_S))
 WEAR_STATISTICS = ("max_wear_depth_um", "worn_volume_mm3", "late_worn_volume_mm3")
 # the step in contact with wear: RK4 up to the wear-step limit and DOPRI's default and longer caps (a DOPRI step here
-# is its max_step_s) against RK4 at 2.5 us (docs/performance.md)
+# is its max_step_s) against RK4 at 2.5 us (docs/explanation/numerics.md)
 CONTACT_STEP_CONFIGURATIONS = (("rk4", 2.5e-6, None, None), ("rk4", 2e-5, None, None),
                                ("rk4", MAX_WEAR_STEP_S, None, None), ("dopri", None, None, None),
                                ("dopri", 2e-5, None, None), ("dopri", MAX_WEAR_STEP_S, None, None))
-# docs/own_mechanism.md's slider-crank: with the paper's joint and wear in contact ~89 % of the time
+# docs/tutorials/own_mechanism.md's slider-crank: with the paper's joint and wear in contact ~89 % of the time
 MECHANISMS = {"paper": {}, "own": {"crank_length_m": 0.08, "rod_length_m": 0.3, "crank_speed_rpm": 300.0,
                                    "slider_mass_kg": 1.2}}
-# docs/sensitivity.md's ranges, restitution down to 0.1 and up to 300 rpm; * sampled log-uniformly
+# docs/explanation/sensitivity.md's ranges, restitution down to 0.1 and up to 300 rpm; * sampled log-uniformly
 LHS_RANGES = {"restitution": (0.1, 0.95), "crank_speed_rpm": (150.0, 300.0), "wear_factor*": (1.0, 100.0),
               "wear_coefficient_m2_N*": (2.7245e-11, 1.0898e-10), "clearance_m": (0.05e-3, 0.2e-3),
               "friction_coefficient": (0.05, 0.2), "rod_mass_kg": (0.15, 0.25), "slider_mass_kg": (0.5, 0.9)}

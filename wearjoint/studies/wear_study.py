@@ -78,7 +78,7 @@ class WearStudyConfig:
     jump_block_revolutions: int = 2         # simulated revolutions of a cycle-jump block
     engine: str = "monolithic"
     integrator: str = DEFAULT_STUDY_INTEGRATOR
-    max_step_s: float | None = None         # None: the wear-step limit (docs/model.md §7), RK4's step
+    max_step_s: float | None = None         # None: the wear-step limit (docs/reference/model.md §7), RK4's step
     rtol: float = SimulationOptions.rtol    # DOPRI's relative tolerance (monolithic engine)
     chunks_per_revolution: int = 8
     checkpoint_every_revolutions: float = 1.0   # simulated revolutions between checkpoints
@@ -174,7 +174,7 @@ def make_engine(config: WearStudyConfig) -> CheckpointingEngine:
     from wearjoint.cosim import CoSimulation, CoSimulationOptions
     # the communication step in contact: by default the co-simulation's 5 us (at the monolithic study's
     # 10 us the study through the FMU ended 4.4 % deeper after 4000 revolutions, at 5 us 0.12 %;
-    # docs/wear_study.md)
+    # docs/explanation/wear_study.md)
     return CoSimulation(config.joint, config.mechanism,
                         CoSimulationOptions(revolutions=revolutions, step_s=config.max_step_s,
                                             max_step_s=config.max_step_s, sample_dt_s=1e-5),
@@ -428,7 +428,7 @@ def _snapshot(config, revolution, sim_rev, phi_deg, depth, volume, samples, wall
 
 def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path, plots: bool = True,
                         compile_time_s: float = 0.0, ending: dict | None = None) -> dict:
-    """Profiles, growth curve, figures and summary.json (docs/model.md §6 keys for the final state + the study).
+    """Profiles, growth curve, figures and summary.json (docs/reference/results.md §6 keys for the final state + the study).
 
     ``ending`` (a diverged study, :func:`_diverged`): its status and where it stopped; the final state is then
     the engine's (restored to the last good checkpoint), the snapshots and growth those reached."""
