@@ -5,7 +5,6 @@ some failed, 2 for bad input, 130 after Ctrl-C (finished cases kept; continue wi
 from __future__ import annotations
 
 import argparse
-import importlib
 import os
 import sys
 
@@ -13,7 +12,7 @@ from .._compile.prefetch import usable_cores
 from ..parameters import ParameterError
 from ..sweep.bias import Bias
 from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, parse_vary, read_design
-from . import COMMANDS
+from ..targets import target as sweep_target
 
 DEFAULT_SEEDS = 1   # runs per grid point when neither --seeds nor the design file says
 
@@ -43,10 +42,10 @@ def _add(parser, group, flag, **kwargs) -> None:
 
 
 def study_parser(study: str, target: str, description: str) -> argparse.ArgumentParser:
-    """The head of the parser of ``wearjoint STUDY TARGET`` (sweep, sensitivity): TARGET's own options
-    and the ensemble's; the study adds its group."""
+    """The head of the parser of ``wearjoint STUDY TARGET`` (sweep, sensitivity): TARGET's own options (the
+    target's, :mod:`wearjoint.targets`) and the ensemble's; the study adds its group."""
     parser = argparse.ArgumentParser(prog=f"wearjoint {study} {target}", allow_abbrev=False, description=description)
-    importlib.import_module(COMMANDS[target][0]).add_arguments(parser)
+    sweep_target(target).add_arguments(parser)
     add_ensemble_arguments(parser)
     return parser
 

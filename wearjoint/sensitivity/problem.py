@@ -8,13 +8,13 @@ design module.  A ``log`` parameter is sampled uniformly in log10 of its value (
 from __future__ import annotations
 
 import math
-from argparse import Namespace
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..parameters import ParameterError
 from ..sweep.design import canonical_name, parse_value, variable_actions
+from ..run_options import model_from_options
 
 FORM = "NAME=LOW,HIGH[,log] (e.g. restitution=0.6,0.95 or wear-coefficient-m2-N=2e-11,1e-10,log)"
 
@@ -112,12 +112,10 @@ def parse_params(command: str, items, base: dict | None = None) -> Problem:
 
 def check_ranges(problem: Problem, base: dict) -> None:
     """Each parameter's LOW and HIGH through the model's validation (ParameterError naming ``--param``)."""
-    from ..cli.options import model_from_args
-
     for p in problem.parameters:
         for value in (p.low, p.high):
             try:
-                model_from_args(Namespace(**{**base, p.dest: value}))
+                model_from_options({**base, p.dest: value})
             except ParameterError as exc:
                 raise ParameterError(f"--param {p.text()!r} is invalid: {exc}") from None
 

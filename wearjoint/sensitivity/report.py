@@ -1,6 +1,6 @@
 """A sensitivity study's outputs, its systematic uncertainty and its files.
 
-Outputs are numbers of the runs' summary.json (docs/model.md §6; a wear study's ``revR_...`` per
+Outputs are numbers of the runs' summary.json (docs/reference/results.md §6; a wear study's ``revR_...`` per
 snapshot and ``growth_exponent``) plus ``slider_acc_peak_m_s2``, max(|slider_acc_max_m_s2|,
 |slider_acc_min_m_s2|): the peak slider acceleration of the last revolution.  Files: ``samples.csv``
 (one row per design row: its group, parameter values, case and outputs), ``indices.csv`` (per output
@@ -9,9 +9,7 @@ bias) and ``sensitivity_OUTPUT.png`` (bars with interval whiskers, parameters so
 """
 from __future__ import annotations
 
-import json
 import math
-from argparse import Namespace
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +19,7 @@ from ..parameters import ParameterError
 from ..sweep.bias import Bias, summary_biases
 from ..sweep.report import FIGURES_OF_MERIT
 from ..sweep.runner import SNAPSHOT_FIGURES, write_csv_atomic
+from ..targets import RECORD_NAME, read_record, target
 from .analyse import COLUMNS, EFFECT
 
 PEAK = "slider_acc_peak_m_s2"
@@ -34,10 +33,8 @@ BIAS_EFFECT = ("a relative bias b shared by every run scales each run's output b
 def allowed_outputs(command: str, base: dict) -> list:
     """The outputs a study of ``command`` with options ``base`` can analyse."""
     names = [*FIGURES_OF_MERIT, *OTHER_OUTPUTS]
-    if command == "wear-study":
-        from ..cli.study_options import config_from_args
-
-        snapshots = config_from_args(Namespace(**base)).snapshots
+    snapshots = target(command).snapshots(base)      # a wear study's: its figures per snapshot, its growth
+    if snapshots:
         names += [f"rev{r}_{key}" for r in snapshots for key in SNAPSHOT_FIGURES] + ["growth_exponent"]
     return names
 
@@ -84,10 +81,10 @@ def output_biases(out: Path, rows: list, outputs: list) -> dict:
     is measured for the max depth only; the others carry 0 where the runs have no wear-factor bias."""
     found = {name: set() for name in outputs}
     for row in rows:
-        path = Path(out) / row["folder"] / "summary.json"
-        if row["status"] != "ok" or not path.is_file():
+        folder = Path(out) / row["folder"]
+        if row["status"] != "ok" or not (folder / RECORD_NAME).is_file():
             continue
-        biases = summary_biases(json.loads(path.read_text()))
+        biases = summary_biases(read_record(folder))
         depth = biases["max_wear_depth_m"]
         for name in outputs:
             bias = biases.get(name) or (depth if depth.rel == 0.0 else

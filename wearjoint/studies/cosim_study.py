@@ -20,7 +20,6 @@ Writes ``cosim_study.md`` (the table), ``cosim_study.json`` and ``cosim_study.pn
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -192,8 +191,3 @@ def write_study(study: dict, out: Path) -> str:
     plot_study(study, out / "cosim_study.png")
     return table
 
-
-if __name__ == "__main__":      # the command is `wearjoint cosim-study`
-    from wearjoint.cli import main
-
-    sys.exit(main(["cosim-study", *sys.argv[1:]]))

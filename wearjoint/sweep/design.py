@@ -1,32 +1,31 @@
 """The cases of a sweep: a grid of option values (``--vary``, a TOML design file) times an
 ensemble of seeds, each case one run of a command, identified by a hash of its configuration.
 
-A case is the target command's full option set (``dest -> value``, as its parser gives
-them); its command line (:meth:`Case.argv`) names only the options that differ from the
-command's defaults, so ``wearjoint COMMAND *case.argv() --out DIR`` is the same run outside the
-sweep.  Seed s > 0 adds ``s * SEED_ANGLE_STEP_DEG`` (0.5 deg) to the initial crank angle; seed 0 is
-the unperturbed run.  The step is large enough that the starts differ from the first revolution (the pin
-starts centred at full speed, and the crank angle at the start decides where the start-up impacts fall), so
-an ensemble samples the regimes a start can fall into (impacting, backward whirl: docs/sweeps.md); the
-1e-6 deg of earlier versions left starts that part only after ~80 ms of chaotic growth.
+A case is the target command's full option set (``dest -> value``, as its parser gives them: the
+target's options, :mod:`wearjoint.targets`); its command line (:meth:`Case.argv`) names only the
+options that differ from the command's defaults, so ``wearjoint COMMAND *case.argv() --out DIR`` is
+the same run outside the sweep.  Seed s > 0 adds ``s * SEED_ANGLE_STEP_DEG`` (0.5 deg) to the initial
+crank angle; seed 0 is the unperturbed run.  The step is large enough that the starts differ from the
+first revolution (the pin starts centred at full speed, and the crank angle at the start decides where the
+start-up impacts fall), so an ensemble samples the regimes a start can fall into (impacting, backward whirl:
+docs/sweeps.md); the 1e-6 deg of earlier versions left starts that part only after ~80 ms of chaotic growth.
 """
 from __future__ import annotations
 
 import argparse
 import dataclasses
 import difflib
-import functools
 import hashlib
-import importlib
 import itertools
 import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import targets
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 
-TARGETS = ("simulate", "cosim", "wear-study")
+TARGETS = tuple(targets.TARGETS)
 SEED_ANGLE_STEP_DEG = 0.5           # seed s starts the crank at initial_crank_angle_deg + s * 0.5 deg
 START_ANGLE_STEP_DEG = 1e-6         # validate's perturbed starts (:func:`perturbed_start`), not the sweep's
 SEED_OPTION = "initial_crank_angle_deg"
@@ -56,14 +55,10 @@ class Case:
                 "command_line": ["wearjoint", self.command, *self.argv()]}
 
 
-@functools.lru_cache(maxsize=None)
 def command_parser(command: str) -> argparse.ArgumentParser:
-    """A parser holding ``command``'s own options (its CLI module's ``add_arguments``); shared, read only."""
-    from ..cli import COMMANDS
-
-    parser = argparse.ArgumentParser(prog=f"wearjoint {command}", allow_abbrev=False)
-    importlib.import_module(COMMANDS[command][0]).add_arguments(parser)
-    return parser
+    """A parser holding ``command``'s own options (the target's, :func:`wearjoint.targets.parser`); shared, read
+    only."""
+    return targets.parser(command)
 
 
 def _option_actions(parser: argparse.ArgumentParser) -> dict:
@@ -219,19 +214,9 @@ def effective_values(command: str, options: dict) -> dict:
     """dest -> value of every model option as the command's run resolves it (an option left unset, None,
     stands for what the run uses: e.g. wear-study's wear factor, the slider-crank's joint offsets);
     the parameter sets' defaults where the options are invalid (the case then reports the error)."""
-    from argparse import Namespace
-
     try:
-        if command == "wear-study":
-            from ..cli.study_options import config_from_args
-
-            config = config_from_args(Namespace(**options))
-            joint, mechanism = config.joint, config.mechanism
-        else:
-            from ..cli.options import model_from_args
-
-            joint, mechanism = model_from_args(Namespace(**options))
-    except (ParameterError, AttributeError, TypeError, ValueError):
+        joint, mechanism = targets.target(command).model(options)
+    except (ParameterError, AttributeError, KeyError, TypeError, ValueError):
         joint, mechanism = JointParameters(), SliderCrankParameters()
     return {**dataclasses.asdict(mechanism), **dataclasses.asdict(joint)}
 
@@ -244,8 +229,7 @@ def _value(options: dict, resolved: dict, dest: str):
 def build_cases(command: str, base: dict, vary: dict | None = None, points=(), seeds: int = 1) -> list[Case]:
     """The cases of a design: the full grid of ``vary`` plus the explicit ``points``, each with
     seeds 0 .. seeds-1, on top of the command options ``base`` (dest -> value)."""
-    if command not in TARGETS:
-        raise ParameterError(f"sweep command {command!r} is invalid: allowed one of {', '.join(TARGETS)}")
+    targets.target(command)                     # ParameterError unless a target
     check_seeds(seeds)
     for dest in NOT_IN_A_SWEEP:
         if base.get(dest) is not None:

@@ -18,13 +18,13 @@ and for wear studies ``fig7_bands_pointK.png`` (paper Fig. 7 with bands).
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 from pathlib import Path
 
 import numpy as np
 
+from ..targets import RECORD_NAME, read_record
 from .bias import Bias, summary_biases
 from .runner import LEAD_COLUMNS, PENDING, TAIL_COLUMNS, write_csv_atomic
 
@@ -57,9 +57,9 @@ def values_label(pairs) -> str:
 def read_biases(out: Path, point: GridPoint) -> dict:
     """{figure column: Bias} of the point's runs, from its first ok case's summary.json (the seeds share it)."""
     for row in point.ok:
-        path = out / row["folder"] / "summary.json"
-        if path.is_file():
-            return summary_biases(json.loads(path.read_text()))
+        folder = out / row["folder"]
+        if (folder / RECORD_NAME).is_file():
+            return summary_biases(read_record(folder))
     return {}
 
 

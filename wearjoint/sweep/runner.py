@@ -1,10 +1,10 @@
 """Run a sweep's cases as Dask tasks and keep every finished case on disk as it completes.
 
 Cluster: a ``distributed.LocalCluster`` of ``workers`` processes with one thread each, or the
-existing cluster at ``scheduler``.  Each task is :func:`wearjoint.sweep.worker.run_case`; its
-results folder comes back to the client (no shared file system needed) and is written to
-``OUT/cases/CASE_ID/`` with ``log.txt`` and, last, ``case.json`` (the case, its status and
-summary figures): a case with ``case.json`` is done.  ``sweep.csv`` is rewritten after every
+existing cluster at ``scheduler``.  Each task is :func:`wearjoint.sweep.worker.run_case` (the case's
+target, :mod:`wearjoint.targets`); its results folder comes back to the client (no shared file system
+needed) and is written to ``OUT/cases/CASE_ID/`` with ``log.txt`` and, last, ``case.json`` (the case,
+its status and summary figures): a case with ``case.json`` is done.  ``sweep.csv`` is rewritten after every
 case.  Ctrl-C cancels the cases still running and keeps the finished ones.
 """
 from __future__ import annotations
@@ -19,6 +19,7 @@ import threading
 import time
 from pathlib import Path
 
+from .. import targets
 from ..parameters import ParameterError
 from ..progress import Progress
 from ..results import write_json_atomic
@@ -114,8 +115,8 @@ class SweepFolder:
             (folder / name).write_bytes(data)
         (folder / "log.txt").write_text(result.get("log", ""))
         figures = {}
-        if result["status"] == "ok" and (folder / "summary.json").is_file():
-            figures = summary_figures(json.loads((folder / "summary.json").read_text()))
+        if result["status"] == "ok" and (folder / targets.RECORD_NAME).is_file():
+            figures = summary_figures(targets.read_record(folder))
         extra = {k: result[k] for k in ("run_time_s", "warmup_time_s", "worker") if k in result}
         row = case_row(case, result["status"], result.get("error"), figures, extra)
         write_json_atomic(folder / CASE_NAME, {**case.to_dict(), "row": row})
@@ -165,7 +166,7 @@ def _prepare_fmus(cases: list[Case]) -> None:
     needed = set()
     for case in cases:
         o = dict(case.options)
-        if (case.command == "cosim" or o.get("engine") == "cosim") and o.get("fmu") is None:
+        if targets.target(case.command).engine(o)[0] == "cosim" and o.get("fmu") is None:
             needed.add((o.get("n_points") or JointParameters().n_points, o["fmu_backend"]))
     for n_points, backend in sorted(needed):
         try:
@@ -198,8 +199,8 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
         timing["cluster_start_s"] = time.perf_counter() - start
         timing["workers"] = len(client.nthreads()) if scheduler or not own else workers
         run_start = time.perf_counter()
-        futures = {client.submit(run_case, case.command, case.argv(), no_plots, key=f"wearjoint-case-{case.case_id}",
-                                 pure=False): case for case in todo}
+        futures = {client.submit(run_case, case, no_plots, key=f"wearjoint-case-{case.case_id}", pure=False): case
+                   for case in todo}
         bar = Progress(len(todo), "sweep", enabled=progress, unit="case", delay_s=0.0)
         try:
             for k, future in enumerate(as_completed(futures), start=1):

@@ -1,46 +1,44 @@
-"""What a Dask worker runs for one case: the command's own ``wearjoint.cli.main`` in this
-process, into a temporary folder whose files go back to the client.
+"""What a Dask worker runs for one case: the case's target (:mod:`wearjoint.targets`: options -> config -> run ->
+record) in this process, into a temporary folder whose files go back to the client.
+
+A case that fails raises one of its target's ``failures`` (a bad option value, a diverged run, a failed FMU): the
+case's error is that exception's message.  Anything else is a fault of the program: its type and message, the
+traceback in the case's log.  The log holds what the case printed (and its error line).
 
 The first case of each worker process warms the numba kernels of its engine (loads them
 from numba's cache, compiling them if the cache is cold); later cases reuse them.  A
-process runs one case at a time (a lock: the commands print to stdout and draw with
+process runs one case at a time (a lock: runs print to stdout and draw with
 matplotlib, neither safe across threads), so give workers one thread (``--nthreads 1``).
 """
 from __future__ import annotations
 
 import contextlib
-import importlib
 import io
 import os
+import shlex
 import shutil
 import socket
+import sys
 import tempfile
 import threading
 import time
 import traceback
 from pathlib import Path
 
+from .. import targets
+
 _LOCK = threading.Lock()
 _WARM_ENGINES: set = set()
 NOT_SHIPPED = ("wear_study_checkpoint.pkl",)     # a finished case needs no checkpoint
 
 
-def _engine(command: str, options: dict) -> tuple:
-    if command == "cosim" or options.get("engine") == "cosim":
-        return ("cosim", options.get("fmu_backend"), str(options.get("fmu")))
-    return ("monolithic",)
-
-
 def warm_up(command: str, options: dict) -> float:
     """Compile (or load from numba's cache) the kernels of the case's engine, once per process
     and engine; returns the seconds it took (0 when already warm)."""
-    key = _engine(command, options)
+    start = time.perf_counter()
+    key = targets.target(command).engine(options)
     if key in _WARM_ENGINES:
         return 0.0
-    start = time.perf_counter()
-    from ..cli import COMMANDS
-
-    importlib.import_module(COMMANDS[command][0])          # the command's imports, once
     if key[0] == "monolithic":
         from ..simulate import Simulation
 
@@ -54,51 +52,56 @@ def warm_up(command: str, options: dict) -> float:
     return time.perf_counter() - start
 
 
-def _error_line(log: str) -> str:
-    """The command's one-line error ("wearjoint CMD: error: MESSAGE" -> MESSAGE), else the last line."""
-    lines = [line.strip() for line in log.splitlines() if line.strip()]
-    for line in reversed(lines):
-        if "error:" in line:
-            return line.split("error:", 1)[1].strip()
-    return lines[-1] if lines else "no message"
+def command_line(case, folder, no_plots: bool = False) -> str:
+    """The command the case's run equals (its report and summary.json state it)."""
+    argv = [case.command, *case.argv(), "--out", str(folder), "--quiet", *(["--no-plots"] if no_plots else [])]
+    return "wearjoint " + " ".join(shlex.quote(a) for a in argv)
 
 
-def run_case(command: str, argv: list, no_plots: bool = False) -> dict:
-    """Run ``wearjoint COMMAND *argv`` here; returns status ("ok", "failed" or "interrupted"),
+def _run(case, folder: Path, no_plots: bool) -> tuple:
+    """(status, error) of the case's run into ``folder``: "ok"; "failed" and the message of the exception that
+    failed it; "interrupted"."""
+    from .._compile.notice import watch_command
+
+    spec = targets.target(case.command)
+    try:
+        with watch_command(case.command):            # a case that compiles says so in its log
+            targets.run(case.command, dict(case.options), folder, plots=not no_plots,
+                        command_line=command_line(case, folder, no_plots))
+    except spec.failures as exc:                     # the case's failure: its message is the error
+        print(f"wearjoint {case.command}: error: {exc}", file=sys.stderr)
+        return "failed", str(exc)
+    except KeyboardInterrupt:
+        return "interrupted", None
+    except Exception as exc:                         # a fault: its type too, and the traceback in the log
+        traceback.print_exc()
+        return "failed", f"{type(exc).__name__}: {exc}"
+    return "ok", None
+
+
+def run_case(case, no_plots: bool = False) -> dict:
+    """Run ``case`` (a :class:`wearjoint.sweep.design.Case`) here; returns status ("ok", "failed" or "interrupted"),
     the error message, the captured output, the results folder's files (relative path -> bytes),
-    ``run_time_s`` (the command), ``warmup_time_s`` and the worker's name."""
-    from ..cli import main
-    from .design import command_parser
-
+    ``run_time_s`` (the run), ``warmup_time_s`` and the worker's name."""
     with _LOCK:
-        warmup_s, error = 0.0, None
+        warmup_s = 0.0
         log = io.StringIO()
         folder = Path(tempfile.mkdtemp(prefix="wearjoint-case-"))
         try:
             with contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
                 try:
-                    warmup_s = warm_up(command, vars(command_parser(command).parse_args([*argv, "--out", "."])))
-                except (Exception, SystemExit):  # the case itself reports what is wrong
+                    warmup_s = warm_up(case.command, dict(case.options))
+                except Exception:                    # the case itself reports what is wrong
                     traceback.print_exc()
                 start = time.perf_counter()
-                try:
-                    code = main([command, *argv, "--out", str(folder), "--quiet", *(["--no-plots"] if no_plots else [])])
-                except SystemExit as exc:        # argparse
-                    code = exc.code if isinstance(exc.code, int) else 2
-                except Exception as exc:         # numerical failure, FMU error, ...
-                    traceback.print_exc()
-                    code, error = 1, f"{type(exc).__name__}: {exc}"
+                status, error = _run(case, folder, no_plots)
                 run_time_s = time.perf_counter() - start
-            text = log.getvalue()
-            status = "ok" if code == 0 else ("interrupted" if code == 130 else "failed")
-            if status != "ok" and error is None:
-                error = _error_line(text)
             files = {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*"))
                      if p.is_file() and p.name not in NOT_SHIPPED}
         finally:
             shutil.rmtree(folder, ignore_errors=True)
-    return {"status": status, "error": error, "log": text, "files": files, "run_time_s": run_time_s,
+    return {"status": status, "error": error, "log": log.getvalue(), "files": files, "run_time_s": run_time_s,
             "warmup_time_s": warmup_s, "worker": f"{socket.gethostname()}:{os.getpid()}"}
 
 
-__all__ = ["run_case", "warm_up"]
+__all__ = ["run_case", "warm_up", "command_line"]

@@ -1,0 +1,342 @@
+"""The targets of the sweeps and the sensitivity studies: one entry per command they run (``simulate``, ``cosim``,
+``wear-study``), each called as the library (never through the command line): options -> config -> run -> record.
+
+An entry (:class:`Target`) knows
+
+* ``add_arguments(parser)``: its options, the command's own (:mod:`wearjoint.run_options`: names, types,
+  defaults, choices), so that a sweep's ``--vary``, design file and ``--param`` take what the command takes;
+* ``config(options)``: option values (dest -> value, as :func:`parser` gives them) turned into the library's
+  configuration (parameter sets, run options); a bad value raises :class:`~wearjoint.checks.ParameterError` with
+  the command's one-line message;
+* ``run(config, out, plots, progress)``: the run into the results folder ``out``, returning its summary; a run that
+  fails raises one of ``failures`` (ParameterError, RunDiverged, FmuError, ...: the message says why) once what
+  the run keeps of itself is written;
+* ``model(options)``: the parameter sets the run resolves; ``engine(options)``: whose kernels it runs (a worker warms
+  them once); ``snapshots(options)``: the revolutions whose figures its summary holds per snapshot.
+
+:func:`run` chains them and writes the folder's report.html; :func:`read_record` reads a folder's summary.json.
+The engines are imported when a target runs, not with this module.
+"""
+from __future__ import annotations
+
+import argparse
+import functools
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from .checks import ParameterError, RunDiverged, finite, require
+from .fmu.fmi import FmuError
+from .parameters import JointParameters, SliderCrankParameters
+from .run_options import (
+    add_cosim_arguments, add_simulate_arguments, add_wear_study_arguments, check_settling, model_from_options,
+    read_initial_profile,
+)
+
+if TYPE_CHECKING:
+    from .cosim import CoSimulationOptions
+    from .simulate import SimulationOptions
+    from .studies.wear_study import WearStudyConfig
+
+RECORD_NAME = "summary.json"
+
+
+@dataclass(frozen=True)
+class Target:
+    """One sweepable command as the library runs it (see the module docstring)."""
+
+    name: str
+    add_arguments: Callable
+    config: Callable
+    run: Callable
+    model: Callable
+    engine: Callable
+    snapshots: Callable
+    failures: tuple
+
+
+def finished(record) -> None:
+    """A written run's outcome (its :class:`~wearjoint.results.RunRecord`) as an exception: RunDiverged saying why
+    it diverged, KeyboardInterrupt if Ctrl-C stopped it; nothing if it completed."""
+    if record.failure:
+        raise RunDiverged(record.failure)
+    if not record.completed:
+        raise KeyboardInterrupt
+
+
+def _write(record, settling: int, out, plots: bool) -> dict:
+    """The record's results folder (:func:`wearjoint.results.write_results`), then :func:`finished`."""
+    from .results import write_results
+
+    record.settling_revolutions = settling
+    summary = write_results(record, out, plots=plots)
+    finished(record)
+    return summary
+
+
+def _monolithic(options) -> tuple:
+    return ("monolithic",)
+
+
+def _no_snapshots(options) -> tuple:
+    return ()
+
+
+# ------------------------------------------------------------------ simulate
+@dataclass(frozen=True)
+class SimulateConfig:
+    """A monolithic run: the parameter sets, its integration options, the start-up revolutions left out of the
+    summary's extremes and the worn profile to start from (None: unworn)."""
+
+    joint: JointParameters
+    mechanism: SliderCrankParameters
+    options: SimulationOptions
+    settling_revolutions: int = 1
+    initial_profile_m: np.ndarray | None = None
+
+
+def simulation_options(options) -> SimulationOptions:
+    """simulate's integration options from option values."""
+    from .simulate import SimulationOptions
+
+    o = options
+    return SimulationOptions(revolutions=o["revolutions"], integrator=o["integrator"], step_s=o["step"],
+                             rtol=o["rtol"], atol_position_m=o["atol_position"], atol_velocity_m_s=o["atol_velocity"],
+                             max_step_s=o["max_step"], free_flight_max_step_s=o["free_flight_max_step"],
+                             sample_dt_s=o["sample_dt"], ideal=o["ideal"], gear_solver=o["gear_solver"],
+                             gear_jacobian=o["gear_jacobian"])
+
+
+def simulate_config(options) -> SimulateConfig:
+    joint, mechanism = model_from_options(options)
+    run_options = simulation_options(options)
+    settling = check_settling(options)
+    profile = None if options["initial_profile"] is None else read_initial_profile(options["initial_profile"], joint)
+    return SimulateConfig(joint, mechanism, run_options, settling, profile)
+
+
+def simulate_run(config: SimulateConfig, out, plots: bool = True, progress: bool = False) -> dict:
+    from .simulate import run_simulation
+
+    record = run_simulation(config.joint, config.mechanism, config.options, progress=progress,
+                            initial_profile_m=config.initial_profile_m)
+    return _write(record, config.settling_revolutions, out, plots)
+
+
+# ------------------------------------------------------------------ cosim
+@dataclass(frozen=True)
+class CosimConfig:
+    """A co-simulation: who runs it (``master``; with this package's, through the FMU's ``interface``), the
+    parameter sets, the run's options (CoSimulationOptions; SimulationOptions through Model Exchange; None with a
+    third-party master, which runs ``revolutions`` at the fixed ``step_s`` sampled every ``sample_dt_s``), the FMU,
+    the start-up revolutions left out of the summary's extremes, the worn profile to start from."""
+
+    joint: JointParameters
+    mechanism: SliderCrankParameters
+    master: str
+    interface: str
+    options: CoSimulationOptions | SimulationOptions | None
+    revolutions: float
+    step_s: float | None
+    sample_dt_s: float
+    fmusim: str | None
+    fmu: Path | None
+    fmu_backend: str
+    settling_revolutions: int = 1
+    initial_profile_m: np.ndarray | None = None
+
+
+def cosim_config(options) -> CosimConfig:
+    from .cosim import CoSimulationOptions
+    from .cosim.masters import DEFAULT_STEP_S, MASTERS, master_available
+    from .simulate import SimulationOptions
+
+    o, defaults = options, CoSimulationOptions()
+    require("--master", o["master"], o["master"] in MASTERS, "one of " + ", ".join(MASTERS))
+    require("--fmusim", o["fmusim"], o["fmusim"] is None or o["master"] == "container", "only with --master container")
+    require("--initial-profile", None if o["initial_profile"] is None else str(o["initial_profile"]),
+            o["initial_profile"] is None or o["master"] == "wearjoint",
+            "only with --master wearjoint (it sets the FMU's state; the SSP's masters start unworn)")
+    joint, mechanism = model_from_options(o)
+    settling = check_settling(o)
+    profile = None if o["initial_profile"] is None else read_initial_profile(o["initial_profile"], joint)
+    run_options, step = None, o["step"]
+    if o["master"] != "wearjoint":
+        missing = master_available(o["master"])
+        if missing is not None:
+            installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
+            require("--master", o["master"], False,
+                    f"one of the masters installed here, {', '.join(installed)} ({missing})")
+        step = DEFAULT_STEP_S if step is None else step
+        require("--step", step, finite("--step", step) > 0.0, "a communication step > 0 [s]")
+    elif o["fmu_interface"] == "model-exchange":
+        # --max-step left at the master's default: SimulationOptions' own (DOPRI with wear 1e-5 s, else 1e-4 s)
+        max_step = None if o["max_step"] == defaults.max_step_s else o["max_step"]
+        run_options = SimulationOptions(revolutions=o["revolutions"], integrator="dopri", rtol=o["rtol"],
+                                        atol_position_m=o["atol_position"], atol_velocity_m_s=o["atol_velocity"],
+                                        max_step_s=max_step, onset_penetration_m=o["onset_penetration"],
+                                        sample_dt_s=o["sample_dt"])
+    else:
+        run_options = CoSimulationOptions(revolutions=o["revolutions"], scheme=o["scheme"],
+                                          step_s=defaults.step_s if step is None else step,
+                                          max_step_s=o["max_step"], min_step_s=o["min_step"],
+                                          onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"])
+    return CosimConfig(joint, mechanism, o["master"], o["fmu_interface"], run_options, o["revolutions"], step,
+                       o["sample_dt"], o["fmusim"], o["fmu"], o["fmu_backend"], settling, profile)
+
+
+def cosim_run(config: CosimConfig, out, plots: bool = True, progress: bool = False) -> dict:
+    c = config
+    if c.master != "wearjoint":
+        from .cosim.masters import run_master
+
+        record = run_master(c.master, c.joint, c.mechanism, c.revolutions, c.step_s, c.sample_dt_s, fmusim=c.fmusim)
+    elif c.interface == "model-exchange":
+        from .cosim.model_exchange import run_model_exchange
+
+        record = run_model_exchange(c.joint, c.mechanism, c.options, fmu_path=c.fmu, progress=progress,
+                                    fmu_backend=c.fmu_backend, initial_profile_m=c.initial_profile_m)
+    else:
+        from .cosim import run_cosimulation
+
+        record = run_cosimulation(c.joint, c.mechanism, c.options, fmu_path=c.fmu, progress=progress,
+                                  fmu_backend=c.fmu_backend, initial_profile_m=c.initial_profile_m)
+    return _write(record, c.settling_revolutions, out, plots)
+
+
+def _cosim_engine(options) -> tuple:
+    return ("cosim", options.get("fmu_backend"), str(options.get("fmu")))
+
+
+# ------------------------------------------------------------------ wear-study
+def parse_int_list(name: str, text: str) -> tuple:
+    """'1000,2000' -> (1000, 2000); a clear ParameterError for anything else."""
+    values = []
+    for item in str(text).split(","):
+        item = item.strip()
+        try:
+            values.append(int(item))
+        except ValueError:
+            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. 1000,2000)") from None
+    return tuple(values)
+
+
+def parse_float_list(name: str, text: str) -> tuple:
+    values = []
+    for item in str(text).split(","):
+        try:
+            values.append(float(item))
+        except ValueError:
+            raise ParameterError(f"{name}: {item.strip()!r} is not a number (expected e.g. 1,10,50)") from None
+    return tuple(values)
+
+
+def wear_study_config(options) -> WearStudyConfig:
+    """The wear study's configuration (its other tasks, --convergence and --calibrate-max-depth-m, are the
+    command's)."""
+    from .studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
+    from .studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
+
+    o = options
+    joint, mechanism = model_from_options(o)
+    revolutions = parse_int_list("--revolutions", o["revolutions"])
+    if len(revolutions) != 1:
+        raise ParameterError("--revolutions takes one integer")
+    revolutions = revolutions[0]
+    if o["snapshots"] is not None:
+        snapshots = parse_int_list("--snapshots", o["snapshots"])
+    else:
+        snapshots = tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
+    jump_tolerance = o["cycle_jump_tolerance"]
+    if jump_tolerance is None and o["wear_factor"] is None and not o["no_cycle_jump"]:
+        jump_tolerance = DEFAULT_JUMP_TOLERANCE
+    if o["wear_factor"] is None and not o["no_wear"]:
+        joint = joint.replace(wear_factor=DEFAULT_WEAR_FACTOR)
+    return WearStudyConfig(joint=joint, mechanism=mechanism, revolutions=revolutions, snapshots=snapshots,
+                           jump_tolerance=jump_tolerance, jump_block_revolutions=o["cycle_jump_block"],
+                           engine=o["engine"], integrator=o["integrator"], max_step_s=o["max_step"],
+                           **({"rtol": o["rtol"]} if o.get("rtol") is not None else {}),
+                           checkpoint_every_revolutions=o["checkpoint_every"],
+                           impact_threshold_m_s2=o["impact_threshold_m_s2"], fmu_backend=o["fmu_backend"])
+
+
+def wear_study_run(config: WearStudyConfig, out, plots: bool = True, progress: bool = False) -> dict:
+    """The study into ``out`` (StudyDiverged, a RunDiverged, once a diverged study's outputs are written)."""
+    from .studies.wear_study import run_wear_study
+
+    return run_wear_study(config, out, resume=False, progress=progress, plots=plots)
+
+
+def _wear_study_model(options) -> tuple:
+    study = wear_study_config(options)               # its own wear factor where none is given
+    return study.joint, study.mechanism
+
+
+def _wear_study_engine(options) -> tuple:
+    return _cosim_engine(options) if options.get("engine") == "cosim" else ("monolithic",)
+
+
+# ------------------------------------------------------------------ the registry
+TARGETS = {t.name: t for t in (
+    Target("simulate", add_simulate_arguments, simulate_config, simulate_run, model_from_options, _monolithic,
+           _no_snapshots, failures=(ParameterError, RunDiverged)),
+    # an FMU that failed (FmuError), a diverged run, a third-party master that failed: RuntimeErrors all, as
+    # `wearjoint cosim` reports them
+    Target("cosim", add_cosim_arguments, cosim_config, cosim_run, model_from_options, _cosim_engine, _no_snapshots,
+           failures=(ParameterError, RuntimeError)),
+    Target("wear-study", add_wear_study_arguments, wear_study_config, wear_study_run, _wear_study_model,
+           _wear_study_engine, lambda options: wear_study_config(options).snapshots,
+           failures=(ParameterError, RunDiverged, FmuError)),
+)}
+
+
+def target(name: str) -> Target:
+    """Target ``name``; ParameterError naming the allowed ones."""
+    if name not in TARGETS:
+        raise ParameterError(f"sweep command {name!r} is invalid: allowed one of {', '.join(TARGETS)}")
+    return TARGETS[name]
+
+
+@functools.lru_cache(maxsize=None)
+def parser(name: str) -> argparse.ArgumentParser:
+    """A parser holding target ``name``'s options (the command's own); shared, read only."""
+    p = argparse.ArgumentParser(prog=f"wearjoint {name}", allow_abbrev=False)
+    target(name).add_arguments(p)
+    return p
+
+
+def report_facts(options) -> dict:
+    """What the report states beside the summary that only the options know: where k_w came from."""
+    calibration = options.get("calibration")
+    return ({"wear_coefficient_source": f"calibration {calibration}", "wear_coefficient_note": None}
+            if calibration is not None else {})
+
+
+def read_record(out) -> dict:
+    """A results folder's record: its summary.json."""
+    return json.loads((Path(out) / RECORD_NAME).read_text())
+
+
+def run(name: str, options, out, plots: bool = True, progress: bool = False, command_line: str | None = None) -> dict:
+    """Run target ``name`` with option values ``options`` (dest -> value) into the results folder ``out``: config,
+    run, then report.html (``command_line``: the command the run equals, recorded in summary.json too) wherever the
+    run wrote a summary, a failed one's included.  Returns the record (:func:`read_record`); raises the target's
+    ``failures`` as they come."""
+    from .report import summary_path, write_report
+
+    spec = target(name)
+    out = Path(out)
+    try:
+        spec.run(spec.config(options), out, plots=plots, progress=progress)
+    finally:
+        if summary_path(out) is not None:
+            write_report(out, command_line, report_facts(options))
+    return read_record(out)
+
+
+__all__ = ["TARGETS", "RECORD_NAME", "Target", "SimulateConfig", "CosimConfig", "target", "parser", "run",
+           "read_record", "report_facts", "finished", "simulation_options", "simulate_config", "cosim_config",
+           "wear_study_config", "parse_int_list", "parse_float_list"]
