@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wearjoint import analysis
+from wearjoint import analysis, profile_metrics
 from wearjoint.analysis import ensemble_statistics, revolution_statistics
 from wearjoint.core import layout as L
 from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
@@ -391,11 +391,11 @@ def pointwise_differences(record: RunRecord, reference: RunRecord, window_s: flo
 
 def profile_quantities(record: RunRecord) -> dict:
     """Max wear depth, worn volume, and the angle of each wear lobe
-    (:func:`wearjoint.analysis.lobes`: depth-weighted mean angle within +-90 deg of 0 deg
+    (:func:`wearjoint.profile_metrics.lobes`: depth-weighted mean angle within +-90 deg of 0 deg
     and of 180 deg, rod frame; None without wear there)."""
-    lobe = analysis.lobes(record.phi_deg, record.wear_depth_m)
+    lobe = profile_metrics.lobes(record.phi_deg, record.wear_depth_m)
     return {"max_wear_depth_m": float(record.wear_depth_m.max()), "worn_volume_m3": float(record.worn_volume_m3),
-            **{f"lobe_angle_near_{centre}_deg": lobe[centre]["angle_deg"] for centre in analysis.LOBE_CENTRES_DEG}}
+            **{f"lobe_angle_near_{centre}_deg": lobe[centre]["angle_deg"] for centre in profile_metrics.LOBE_CENTRES_DEG}}
 
 
 def ensemble_profile(records: list) -> tuple[dict, dict, np.ndarray]:
@@ -463,15 +463,15 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
                 metrics.append(_judge(GROUP_PROFILE, name, unit, rule, engine, prof[name], ref_profile[name],
                                       _profile_difference(name, prof[name], ref_profile[name]), scatter))
             unit, rule = PROFILE["profile_decorrelation"]
-            d = analysis.profile_decorrelation(h, ref_h)
+            d = profile_metrics.profile_decorrelation(h, ref_h)
             metrics.append(_judge(GROUP_PROFILE, "profile_decorrelation", unit, rule, engine, d, 0.0, d,
-                                  {label: analysis.profile_decorrelation(mean_h, ref_h)
+                                  {label: profile_metrics.profile_decorrelation(mean_h, ref_h)
                                    for label, (_, _, mean_h) in scatter_profiles.items()}))
     return metrics
 
 
 def _profile_difference(name: str, value: float, reference: float) -> float:
-    return float(analysis.wrap_deg(value - reference)) if name.startswith("lobe") else value - reference
+    return float(profile_metrics.wrap_deg(value - reference)) if name.startswith("lobe") else value - reference
 
 
 __all__ = ["ValidationPlan", "FULL", "QUICK", "Rule", "Metric", "Runs", "run_engines", "compare",            "revolution_statistics", "ensemble_statistics", "pointwise_differences",

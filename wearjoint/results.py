@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import against_ideal, analysis
+from . import against_ideal, analysis, profile_metrics
 from .core import layout as L
 from .parameters import JointParameters, SliderCrankParameters, wear_coefficient_source
 from .report import write_report
@@ -107,7 +107,7 @@ class RunRecord:
             "compile_time_s": self.compile_time_s,
             "realtime_factor": self.simulated_time_s / self.wall_time_s if self.wall_time_s > 0 else None,
             **analysis.run_statistics(self.revolution_stats, self.settling_revolutions),
-            **analysis.deepest_point(self.phi_deg, self.wear_depth_m),
+            **profile_metrics.deepest_point(self.phi_deg, self.wear_depth_m),
             **analysis.regime(self.samples),
             **analysis.impact_event_statistics(impact_events or self.impact_events(), self.parameters.mechanism,
                                                self.settling_revolutions),
@@ -153,10 +153,13 @@ def _json_default(obj):
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
-def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
-    """Write the results folder (report.html last, :mod:`wearjoint.report`); returns the summary dict."""
+def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=None) -> dict:
+    """Write the results folder (report.html last, :mod:`wearjoint.report`); returns the summary dict.  With
+    ``figure_worker`` (a started :class:`wearjoint.figure_worker.FigureWorker`) the figures are drawn there while
+    this process writes the data files, else (or if it fails) here."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    drawing = plots and figure_worker is not None and figure_worker.send(record, out)
     np.savetxt(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]),
                delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")
     np.savez_compressed(out / "timeseries.npz", columns=np.array(L.SAMPLE_NAMES),
@@ -170,8 +173,11 @@ def write_results(record: RunRecord, out_dir, plots: bool = True) -> dict:
                header=",".join(REVOLUTION_COLUMNS), comments="", fmt="%.10g")
     summary = record.summary(events, comparison)
     if plots:
-        from .plots import plot_run  # matplotlib only when figures are written
-        summary["figures"] = plot_run(record, out)
+        names = figure_worker.names() if drawing else None
+        if names is None:
+            from .plots import plot_run  # matplotlib only when figures are written
+            names = plot_run(record, out)
+        summary["figures"] = names
     write_json_atomic(out / "summary.json", summary)
     write_report(out)
     return summary

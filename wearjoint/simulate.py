@@ -176,12 +176,12 @@ class Simulation:
         if self.options.integrator == "gear":
             derivative(self.t, self.y, self.mode, mp, self._joint_arrays, self.body_forces, ws, self.dy)
         else:
-            integrate(self._method, self.t, self.t, self.y, self.control, self.mode, mp, self._joint_arrays,
+            integrate(self.method_code, self.t, self.t, self.y, self.control, self.mode, mp, self._joint_arrays,
                       self.body_forces, ws, self.dy, self.revolution_stats, np.zeros((0, L.N_SAMPLE_COLUMNS)),
                       self.track)
 
     @property
-    def _method(self) -> int:
+    def method_code(self) -> int:
         """The integrators' code of RK4 or DOPRI (not gear)."""
         return RK4 if self.options.integrator == "rk4" else DOPRI5
 
@@ -258,7 +258,7 @@ class Simulation:
         if self.options.integrator == "gear":
             self._gear_to(t_end, samples)
         else:
-            self.t, acc, rej = integrate(self._method, self.t, t_end, self.y, self.control, self.mode,
+            self.t, acc, rej = integrate(self.method_code, self.t, t_end, self.y, self.control, self.mode,
                                          self.mechanism.parameter_vector, self._joint_arrays,
                                          self.body_forces, self.mechanism.workspace, self.dy,
                                          self.revolution_stats, samples, self.track)

@@ -67,11 +67,10 @@ def finished(record) -> None:
         raise KeyboardInterrupt
 
 
-def _write(record, settling: int, out, plots: bool) -> dict:
+def _write(record, out, plots: bool) -> dict:
     """The record's results folder (:func:`wearjoint.results.write_results`), then :func:`finished`."""
     from .results import write_results
 
-    record.settling_revolutions = settling
     summary = write_results(record, out, plots=plots)
     finished(record)
     return summary
@@ -118,12 +117,18 @@ def simulate_config(options) -> SimulateConfig:
     return SimulateConfig(joint, mechanism, run_options, settling, profile)
 
 
-def simulate_run(config: SimulateConfig, out, plots: bool = True, progress: bool = False) -> dict:
+def simulate_record(config: SimulateConfig, progress: bool = False):
+    """The monolithic run's record (:class:`~wearjoint.results.RunRecord`), not yet written."""
     from .simulate import run_simulation
 
     record = run_simulation(config.joint, config.mechanism, config.options, progress=progress,
                             initial_profile_m=config.initial_profile_m)
-    return _write(record, config.settling_revolutions, out, plots)
+    record.settling_revolutions = config.settling_revolutions
+    return record
+
+
+def simulate_run(config: SimulateConfig, out, plots: bool = True, progress: bool = False) -> dict:
+    return _write(simulate_record(config, progress), out, plots)
 
 
 # ------------------------------------------------------------------ cosim
@@ -188,7 +193,8 @@ def cosim_config(options) -> CosimConfig:
                        o["sample_dt"], o["fmusim"], o["fmu"], o["fmu_backend"], settling, profile)
 
 
-def cosim_run(config: CosimConfig, out, plots: bool = True, progress: bool = False) -> dict:
+def cosim_record(config: CosimConfig, progress: bool = False):
+    """The co-simulation's record (:class:`~wearjoint.results.RunRecord`), not yet written."""
     c = config
     if c.master != "wearjoint":
         from .cosim.masters import run_master
@@ -204,7 +210,12 @@ def cosim_run(config: CosimConfig, out, plots: bool = True, progress: bool = Fal
 
         record = run_cosimulation(c.joint, c.mechanism, c.options, fmu_path=c.fmu, progress=progress,
                                   fmu_backend=c.fmu_backend, initial_profile_m=c.initial_profile_m)
-    return _write(record, c.settling_revolutions, out, plots)
+    record.settling_revolutions = c.settling_revolutions
+    return record
+
+
+def cosim_run(config: CosimConfig, out, plots: bool = True, progress: bool = False) -> dict:
+    return _write(cosim_record(config, progress), out, plots)
 
 
 def _cosim_engine(options) -> tuple:
@@ -339,4 +350,4 @@ def run(name: str, options, out, plots: bool = True, progress: bool = False, com
 
 __all__ = ["TARGETS", "RECORD_NAME", "Target", "SimulateConfig", "CosimConfig", "target", "parser", "run",
            "read_record", "report_facts", "finished", "simulation_options", "simulate_config", "cosim_config",
-           "wear_study_config", "parse_int_list", "parse_float_list"]
+           "wear_study_config", "parse_int_list", "parse_float_list", "simulate_record", "cosim_record"]

@@ -152,9 +152,9 @@ def test_cosim_master_refuses_bad_options_in_one_line(args, option, value, allow
 
 def test_cosim_master_that_is_not_installed_is_refused_in_one_line(tmp_path, capsys, monkeypatch):
     """A master whose package is missing: exit status 2, one line saying which package it needs."""
-    from wearjoint.cli import cosim
+    from wearjoint.cosim import masters
 
-    monkeypatch.setattr(cosim, "master_available",
+    monkeypatch.setattr(masters, "master_available",
                         lambda m: f"{m} needs ecospy and tbb (ImportError: no ecospy)" if m == "ecos" else None)
     assert main(["cosim", "--out", str(tmp_path), "--master", "ecos"]) == 2
     err = capsys.readouterr().err.strip()

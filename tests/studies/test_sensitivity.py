@@ -415,7 +415,7 @@ def test_the_docs_study_ranks_the_dominant_parameters_alike_in_morris_and_sobol(
         done = wearjoint(*argv, "--quiet", timeout=3600)
         assert done.returncode in (0, 1), done.stderr        # 1: some runs' pin left the bushing (the doc says)
         summary = json.loads((tmp_path / method / "summary.json").read_text())
-        # the runs that fail are those whose pin left the bushing: stopped as diverged (docs/model.md §7)
+        # the runs that fail are those whose pin left the bushing: stopped as diverged (docs/reference/model.md §7)
         assert all("diverged" in f["error"] or "into the bushing wall" in f["error"] for f in summary["failures"])
         tables[method] = indices(tmp_path / method)
     top = {m: {r["parameter"] for r in t["max_wear_depth_m"][:2]} for m, t in tables.items()}

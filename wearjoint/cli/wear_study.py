@@ -2,70 +2,24 @@
 factor-convergence study and the calibration of k_w from the command line."""
 from __future__ import annotations
 
-import dataclasses
 import math
 import sys
 
-from ..cosim import CoSimulationOptions
 from ..parameters import ParameterError
-from ..studies.cycle_jump import DEFAULT_JUMP_TOLERANCE, replay_volume_warning
+from ..run_options import add_wear_study_arguments
+from ..studies.cycle_jump import replay_volume_warning
 from ..studies.wear_calibration import calibrate_wear_coefficient
 from ..studies.wear_convergence import JUMP, run_convergence
-from ..studies.wear_study import (
-    DEFAULT_WEAR_FACTOR, ENGINES, PRINTED_WEAR_COEFFICIENT_M2_N, STUDY_INTEGRATORS, STUDY_STEP_S,
-    WearStudyConfig, run_wear_study,
-)
-from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, restate_default
+from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, run_wear_study
 from .study_options import config_from_args, parse_float_list
 from .sweep import add_ensemble_arguments
 
 
-# WearStudyConfig's defaults: the one source of the options' defaults
-_STUDY = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
-_MAX_STEP_DEFAULT = ("(default %(default)g)" if _STUDY["max_step_s"] is not None else
-                     f"(default: {STUDY_STEP_S:g}, less where the run's wear needs it, through the FMU "
-                     f"{CoSimulationOptions().step_s:g}; docs/reference/model.md §7)")
-
-
 def add_arguments(parser) -> None:
-    add_output_arguments(parser)
-    parser.add_argument("--revolutions", default=str(_STUDY["revolutions"]),
-                        help="crank revolutions to reach (integer) (default %(default)s)")
-    parser.add_argument("--snapshots", default=None,
-                        help="revolutions at which to keep the profile, comma separated (default: quarters)")
-    parser.add_argument("--engine", choices=ENGINES, default=_STUDY["engine"],
-                        help="simulation engine (default %(default)s)")
-    add_fmu_arguments(parser, fmu_file=False, when="with --engine cosim")
-    jump = parser.add_mutually_exclusive_group()
-    jump.add_argument("--cycle-jump-tolerance", type=float, default=None, metavar="TOL",
-                      help="cycle jumping (the default without --wear-factor): a jump's error estimate relative to "
-                           f"the max depth (default {DEFAULT_JUMP_TOLERANCE:g})")
-    jump.add_argument("--no-cycle-jump", action="store_true",
-                      help="simulate every revolution (with --wear-factor F: every F-th)")
-    parser.add_argument("--cycle-jump-block", type=int, default=_STUDY["jump_block_revolutions"], metavar="M",
-                        help="simulated revolutions of a cycle-jump block (default %(default)s)")
-    parser.add_argument("--integrator", choices=STUDY_INTEGRATORS, default=_STUDY["integrator"],
-                        help="rk4: fixed steps of --max-step; dopri: adaptive, at most --max-step "
-                             "(default %(default)s)")
-    parser.add_argument("--max-step", type=float, default=_STUDY["max_step_s"],
-                        help="largest integration step [s] (RK4: the step) " + _MAX_STEP_DEFAULT)
-    parser.add_argument("--rtol", type=float, default=_STUDY["rtol"],
-                        help="dopri: relative tolerance (default %(default)g)")
-    parser.add_argument("--checkpoint-every", type=float, default=_STUDY["checkpoint_every_revolutions"],
-                        help="simulated revolutions between checkpoints (default %(default)g)")
-    parser.add_argument("--impact-threshold-m-s2", type=float, default=_STUDY["impact_threshold_m_s2"],
-                        help="impact event: |a - a_ideal| above this [m/s^2] (default %(default)g)")
-    parser.add_argument("--resume", action="store_true", help="continue the study checkpointed in --out")
-    task = parser.add_argument_group("other tasks")
-    task.add_argument("--convergence", default=None, metavar="F1,F2,...",
-                      help="convergence study of the acceleration factors (first = reference: 1 for brute force, "
-                           "or jump for the cycle-jumping route, e.g. jump,100 for the bias of F = 100 on this "
-                           "mechanism and horizon)")
-    task.add_argument("--calibrate-max-depth-m", type=float, default=None,
-                      help="find the effective k_w whose study ends at this max depth (e.g. 0.58e-3)")
-    add_model_arguments(parser)
-    restate_default(parser, "wear_factor", f"{DEFAULT_WEAR_FACTOR:g}; another value turns cycle jumping off")
-    add_ensemble_arguments(parser)   # --seeds N: N seeds as Dask tasks (wearjoint.sweep), Fig. 7 with bands
+    """The study's options (:func:`wearjoint.run_options.add_wear_study_arguments`, the sweeps' target's) and its
+    ensemble's (--seeds N: N seeds as Dask tasks, Fig. 7 with bands)."""
+    add_wear_study_arguments(parser)
+    add_ensemble_arguments(parser)
 
 
 def run(args) -> int:

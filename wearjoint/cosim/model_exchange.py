@@ -89,7 +89,7 @@ class ModelExchangeSimulation:
     def warm_up(self) -> None:
         """Compile the integrator for the FMU joint without advancing (an empty interval)."""
         e = self._engine
-        integrate(e._method, e.t, e.t, e.y.copy(), e.control.copy(), e.mode, e.mechanism.parameter_vector,
+        integrate(e.method_code, e.t, e.t, e.y.copy(), e.control.copy(), e.mode, e.mechanism.parameter_vector,
                   self._fmu_joint, e.body_forces.copy(), e.mechanism.workspace, e.dy.copy(), e.revolution_stats.copy(),
                   np.zeros((0, L.N_SAMPLE_COLUMNS)), e.track.copy())
 

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wearjoint import analysis
+from wearjoint import analysis, profile_metrics
 from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
 from wearjoint.fmu.fmi import DEFAULT_BACKEND
@@ -77,7 +77,7 @@ def compare(record: RunRecord, reference: RunRecord, window_s: float = POINTWISE
     stats, ref = revolution_statistics(record), revolution_statistics(reference)
     out = {f"{k}_rel": abs(stats[k] - ref[k]) / max(abs(ref[k]), 1e-300) for k in stats}
     out.update({f"pointwise_{k}": v for k, v in pointwise_deviation(record, reference, window_s).items()})
-    out["profile_rel"] = analysis.profile_relative_l2(record.wear_depth_m, reference.wear_depth_m)
+    out["profile_rel"] = profile_metrics.profile_relative_l2(record.wear_depth_m, reference.wear_depth_m)
     out["statistics"] = stats
     return out
 

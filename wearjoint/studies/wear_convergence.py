@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wearjoint.analysis import profile_convergence
+from wearjoint.profile_metrics import profile_convergence
 from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
 

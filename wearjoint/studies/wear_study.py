@@ -35,7 +35,8 @@ from pathlib import Path
 import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
-                                profile_features, revolution_row, sample_statistics)
+                                revolution_row, sample_statistics)
+from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wearjoint.analysis import growth_exponent
+from wearjoint.profile_metrics import growth_exponent
 from wearjoint.mechanism import SliderCrank
 
 EXPERIMENT_REVOLUTIONS = (200_000, 400_000)

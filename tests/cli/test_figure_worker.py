@@ -1,0 +1,54 @@
+"""wearjoint.figure_worker: a run's figures drawn by a second process are the ones the first draws (same files,
+same bytes), and every way the second process can fail leaves the first to draw them."""
+import json
+
+import pytest
+
+from wearjoint import figure_worker
+from wearjoint.figure_worker import FigureWorker
+from wearjoint.parameters import SliderCrankParameters, paper_joint
+from wearjoint.results import write_results
+from wearjoint.simulate import SimulationOptions, run_simulation
+
+
+@pytest.fixture(scope="module")
+def record():
+    return run_simulation(paper_joint(), SliderCrankParameters(), SimulationOptions(revolutions=0.05), progress=False)
+
+
+def _figures(folder, summary):
+    return {name: (folder / name).read_bytes() for name in summary["figures"]}
+
+
+def test_the_workers_figures_are_the_first_process_figures(record, tmp_path, monkeypatch):
+    monkeypatch.setattr(figure_worker, "_cores", lambda: 2)
+    worker = FigureWorker()
+    assert worker.process is not None
+    drawn_there = write_results(record, tmp_path / "worker", figure_worker=worker)
+    assert worker.process is None                       # it answered and ended
+    drawn_here = write_results(record, tmp_path / "here")
+    assert drawn_there["figures"] == drawn_here["figures"] == json.loads(
+        (tmp_path / "worker" / "summary.json").read_text())["figures"]
+    assert _figures(tmp_path / "worker", drawn_there) == _figures(tmp_path / "here", drawn_here)
+
+
+def test_a_worker_that_died_leaves_the_figures_to_the_first_process(record, tmp_path, monkeypatch):
+    monkeypatch.setattr(figure_worker, "_cores", lambda: 2)
+    worker = FigureWorker()
+    worker.process.kill()
+    worker.process.wait()
+    summary = write_results(record, tmp_path, figure_worker=worker)
+    assert len(summary["figures"]) == 4 and all((tmp_path / name).stat().st_size > 0 for name in summary["figures"])
+
+
+def test_a_worker_that_answers_nonsense_leaves_the_figures_to_the_first_process(record, tmp_path, monkeypatch):
+    monkeypatch.setattr(figure_worker, "_cores", lambda: 2)
+    monkeypatch.setattr(figure_worker, "_command", lambda: ["python", "-c", "print('not a list')"])
+    summary = write_results(record, tmp_path, figure_worker=FigureWorker())
+    assert len(summary["figures"]) == 4 and all((tmp_path / name).is_file() for name in summary["figures"])
+
+
+def test_on_one_core_there_is_no_second_process(monkeypatch):
+    monkeypatch.setattr(figure_worker, "_cores", lambda: 1)
+    worker = FigureWorker()
+    assert worker.process is None and worker.names() is None
