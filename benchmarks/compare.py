@@ -19,6 +19,8 @@ untimed run of each that builds the FMU and fills the numba caches), through API
   without wear (``benchmarks/bench_cosim.py``'s run);
 * ``monolithic-wear`` -- ``wearjoint simulate --revolutions 2``'s engine (DOPRI default, with wear):
   real-time factor, accepted steps; ``monolithic``: 5 revolutions without wear;
+* ``main-job`` -- the README's first command after its first run (warm caches): wall seconds of ``wearjoint cosim
+  --revolutions 1 --out DIR`` as a fresh process, with its figures and without (``--no-plots``);
 * ``cold`` -- ``wearjoint simulate --revolutions 0.05``, ``wearjoint build-fmu`` and ``wearjoint cosim
   --revolutions 0.02`` (the FMU and the master), each from empty numba and FMU caches: wall seconds
   (several minutes per pair; not run by default).
@@ -42,7 +44,7 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PROBES = ("cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
+PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
 DEFAULT_PROBES = ("cosim-wear", "monolithic-wear", "cosim", "monolithic")
 
 
@@ -87,6 +89,18 @@ def probe_cosim_wear_long() -> dict:
 
 def probe_monolithic_wear() -> dict:
     return probe_monolithic(wear=True)
+
+
+def probe_main_job() -> dict:
+    """Wall seconds of the README's first command (warm: the caller ran it once), with and without figures."""
+    figures = {}
+    for name, extra in (("main job s", []), ("main job without figures s", ["--no-plots"])):
+        with tempfile.TemporaryDirectory(prefix="compare_main_") as tmp:
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "wearjoint", "cosim", "--revolutions", "1", "--out", f"{tmp}/out",
+                            *extra], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            figures[name] = time.perf_counter() - t0
+    return figures
 
 
 def probe_cold() -> dict:

@@ -14,7 +14,7 @@ Two steps, each its own function:
 
 The jobs (``--skip`` takes their names):
 
-* ``probes`` -- ``benchmarks/compare.py``'s probes of the main jobs (``cosim-wear``, ``cosim-wear-long``,
+* ``probes`` -- ``benchmarks/compare.py``'s probes of the main jobs (``main-job``, ``cosim-wear``, ``cosim-wear-long``,
   ``monolithic-wear``, ``cosim``, ``monolithic``, ``cold``), each ``--repeats`` times in a fresh process
   (``compare.py --probe NAME``, after one untimed run that fills the caches); with ``--base REV`` instead
   ``compare.py --base REV --repeats N --json``, alternating with REV's tree, which adds a "working / REV" column;
@@ -46,9 +46,10 @@ BENCHMARKS = REPO / "benchmarks"
 DEFAULT_JSON = BENCHMARKS / "results" / "performance.json"
 DEFAULT_OUT = REPO / "docs" / "performance.md"
 JOBS = ("probes", "exudyn", "instructions", "floor")
-PROBES = ("cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
+PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
 QUICK_SKIPPED_PROBES = ("cosim-wear-long", "cold")
 PROBE_TITLES = {
+    "main-job": "the README's first command, warm: `wearjoint cosim --revolutions 1 --out DIR`: wall seconds",
     "cosim-wear": "`wearjoint cosim` with wear: adaptive master, native FMU, 0.2 s after 0.01 s",
     "cosim-wear-long": "the same over four revolutions (1.6 s: the groove worn in)",
     "monolithic-wear": "`wearjoint simulate --revolutions 2` with wear (DOPRI)",

@@ -1,8 +1,9 @@
 """A run's figures drawn by a second process that starts with the command (``python -m wearjoint.figure_worker``).
 
 matplotlib's import and the four figures of a run cost about as much wall time as a short run itself.  The
-second process imports them while the first simulates, then draws the record the first sends it (pickled on
-its stdin, before the first writes its CSV and NPZ files) and names the files it wrote on its stdout.  The
+second process, started as the command starts, imports them while the first simulates, then draws the record
+the first sends it (pickled on its stdin by a thread while the first writes its CSV and NPZ files, with the
+ideal joint's closed form the first has its kernels loaded for) and names the files it wrote on its stdout.  The
 figures are the same :func:`wearjoint.plots.plot_run` draws.  On one core, or when the second process cannot
 start or fails, :func:`wearjoint.results.write_results` draws them itself.
 """
@@ -13,6 +14,7 @@ import json
 import pickle
 import subprocess
 import sys
+import threading
 
 TIMEOUT_S = 300.0       # a figure worker that has not answered by then is stopped (the first process draws)
 
@@ -32,6 +34,7 @@ class FigureWorker:
 
     def __init__(self):
         self.process = None
+        self._sender = None
         if _cores() < 2:
             return
         try:
@@ -42,21 +45,31 @@ class FigureWorker:
         atexit.register(self.close)
 
     def send(self, record, out) -> bool:
-        """Hand the record to the worker; False (and the worker stopped) if it cannot take it."""
+        """Hand the record to the worker (a thread writes it: the worker may still be importing); False if there
+        is no worker."""
         if self.process is None:
             return False
+        from .mechanism import SliderCrank
+
+        ideal = SliderCrank(record.parameters.mechanism).ideal_slider_acceleration()
+        self._sender = threading.Thread(target=self._write, args=((record, str(out), ideal),), daemon=True)
+        self._sender.start()
+        return True
+
+    def _write(self, message) -> None:
         try:
-            pickle.dump((record, str(out)), self.process.stdin, protocol=pickle.HIGHEST_PROTOCOL)
+            pickle.dump(message, self.process.stdin, protocol=pickle.HIGHEST_PROTOCOL)
             self.process.stdin.close()
-            return True
-        except (OSError, pickle.PicklingError, AttributeError, TypeError):
-            self.close()
-            return False
+        except (OSError, ValueError, pickle.PicklingError, AttributeError, TypeError):
+            pass                            # the worker is gone: names() says so
 
     def names(self) -> list[str] | None:
         """The figures' file names once the worker wrote them, None if it failed."""
         if self.process is None:
             return None
+        if self._sender is not None:
+            self._sender.join(TIMEOUT_S)
+        self.process.stdin = None               # sent and closed: communicate() only reads the answer
         try:
             stdout, _ = self.process.communicate(timeout=TIMEOUT_S)
         except (OSError, subprocess.TimeoutExpired, ValueError):
@@ -78,15 +91,10 @@ class FigureWorker:
 
 
 def _draw() -> None:
-    import numpy as np
-
-    from wearjoint.mechanism import SliderCrank
-    from wearjoint.parameters import SliderCrankParameters
     from wearjoint.plots import plot_run       # imported before the record arrives: what the first does not wait for
 
-    SliderCrank(SliderCrankParameters()).closed_form(np.zeros(2))   # its kernels loaded too (numba's first load)
-    record, out = pickle.load(sys.stdin.buffer)
-    print(json.dumps(plot_run(record, out)))
+    record, out, ideal = pickle.load(sys.stdin.buffer)
+    print(json.dumps(plot_run(record, out, ideal)))
 
 
 if __name__ == "__main__":

@@ -42,6 +42,12 @@ class SliderCrank:
                            np.zeros(n), np.zeros(6), out)
         return out
 
+    def ideal_slider_acceleration(self, points: int = 721) -> tuple[np.ndarray, np.ndarray]:
+        """(times [s], the ideal joint's slider acceleration [m/s^2]) at ``points`` times over one revolution,
+        in closed form (:meth:`closed_form`)."""
+        grid = np.linspace(0.0, self.params.period_s, points)
+        return grid, self.closed_form(grid)["slider_a_m_s2"]
+
     def crank_angle(self, t) -> np.ndarray:
         """Driven crank angle theta1(t) = theta0 - omega t [rad]."""
         return self.parameter_vector[L.MP_THETA0] - self.params.omega_rad_s * np.asarray(t, dtype=float)

@@ -10,7 +10,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .core import layout as L  # noqa: E402
-from .mechanism import SliderCrank  # noqa: E402
 
 
 def save_figure(fig, path: Path, dpi: int = 120) -> None:
@@ -25,15 +24,22 @@ def crank_rotation_deg(t, period_s):
     return (np.asarray(t) / period_s * 360.0) % 360.0
 
 
-def plot_slider_acceleration(record, path: Path) -> None:
+def ideal_slider_acceleration(record) -> tuple[np.ndarray, np.ndarray]:
+    """The ideal joint's slider acceleration over one revolution (:meth:`SliderCrank.ideal_slider_acceleration`)."""
+    from .mechanism import SliderCrank
+
+    return SliderCrank(record.parameters.mechanism).ideal_slider_acceleration()
+
+
+def plot_slider_acceleration(record, path: Path, ideal=None) -> None:
+    """``ideal``: :func:`ideal_slider_acceleration` if already computed (a figure worker gets it so)."""
     s = record.samples
     last = s[:, L.T_TIME] > record.last_revolution() * record.period_s
     t = s[last, L.T_TIME]
-    mech = SliderCrank(record.parameters.mechanism)
-    grid = np.linspace(0.0, record.period_s, 721)
+    grid, ideal_m_s2 = ideal_slider_acceleration(record) if ideal is None else ideal
     fig, ax = plt.subplots(figsize=(8, 4.5))
     ax.plot(crank_rotation_deg(t, record.period_s), s[last, L.T_SLIDER_A], ".", ms=1.5, label="clearance joint")
-    ax.plot(crank_rotation_deg(grid, record.period_s)[:-1], mech.closed_form(grid)["slider_a_m_s2"][:-1],
+    ax.plot(crank_rotation_deg(grid, record.period_s)[:-1], ideal_m_s2[:-1],
             "k-", lw=1.5, label="ideal joint (closed form)")
     ax.set_xlabel("crank rotation [deg] (last revolution)")
     ax.set_ylabel("slider acceleration [m/s$^2$]")
@@ -90,11 +96,12 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushin
     save_figure(fig, path)
 
 
-def plot_run(record, out: Path) -> list[str]:
-    """Write the run's standard figures into ``out``; returns their file names."""
+def plot_run(record, out: Path, ideal=None) -> list[str]:
+    """Write the run's standard figures into ``out``; returns their file names (``ideal``:
+    :func:`ideal_slider_acceleration` if already computed)."""
     out = Path(out)
     names = ["slider_acceleration.png", "pin_orbit.png", "contact_force.png", "wear_profile.png"]
-    plot_slider_acceleration(record, out / names[0])
+    plot_slider_acceleration(record, out / names[0], ideal)
     plot_pin_orbit(record, out / names[1])
     plot_contact_force(record, out / names[2])
     plot_wear_profiles(record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m},

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from wearjoint import figure_worker
+from wearjoint import figure_worker, plots
 from wearjoint.figure_worker import FigureWorker
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.results import write_results
@@ -24,7 +24,9 @@ def test_the_workers_figures_are_the_first_process_figures(record, tmp_path, mon
     monkeypatch.setattr(figure_worker, "_cores", lambda: 2)
     worker = FigureWorker()
     assert worker.process is not None
-    drawn_there = write_results(record, tmp_path / "worker", figure_worker=worker)
+    with monkeypatch.context() as m:                   # this process cannot draw: the worker must have
+        m.setattr(plots, "plot_run", lambda *a: pytest.fail("the first process drew the figures"))
+        drawn_there = write_results(record, tmp_path / "worker", figure_worker=worker)
     assert worker.process is None                       # it answered and ended
     drawn_here = write_results(record, tmp_path / "here")
     assert drawn_there["figures"] == drawn_here["figures"] == json.loads(

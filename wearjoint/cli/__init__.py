@@ -33,6 +33,8 @@ COMMANDS = {
                                                  "damping law"),
     "report": ("wearjoint.cli.report", "(re)write a results folder's report.html: summary, parameters, figures"),
 }
+# commands whose figures a second process draws, started before anything else (wearjoint.figure_worker)
+FIGURE_COMMANDS = ("simulate", "cosim")
 DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears - monolithic simulation, "
                "FMU co-simulation, validation and the paper's wear study.")
 
@@ -53,22 +55,37 @@ def main(argv: list[str] | None = None) -> int:
     command = next((a for a in argv if not a.startswith("-")), None)
     if command not in COMMANDS:
         command = None
-    parser = build_parser(command)
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return 2
-    from .._compile.notice import watch_command
-
+    figures = _figure_worker(command, argv)
     try:
-        with watch_command(args.command):   # the first line of a run that compiles says so
-            module = importlib.import_module(COMMANDS[args.command][0])
-            code = int(module.run(args) or 0)
-    except ParameterError as exc:
-        print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        parser = build_parser(command)
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 2
+        args.figure_worker = figures
+        from .._compile.notice import watch_command
+
+        try:
+            with watch_command(args.command):   # the first line of a run that compiles says so
+                module = importlib.import_module(COMMANDS[args.command][0])
+                code = int(module.run(args) or 0)
+        except ParameterError as exc:
+            print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
+            return 2
+    finally:
+        if figures is not None:
+            figures.close()
     _report(args, argv)
     return code
+
+
+def _figure_worker(command: str | None, argv: list[str]):
+    """The figure worker of a command of FIGURE_COMMANDS that writes figures, started first; else None."""
+    if command not in FIGURE_COMMANDS or any(a in ("--no-plots", "-h", "--help") for a in argv):
+        return None
+    from ..figure_worker import FigureWorker
+
+    return FigureWorker()
 
 
 def _report(args, argv: list[str]) -> None:

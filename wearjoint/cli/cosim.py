@@ -5,7 +5,6 @@ from __future__ import annotations
 import sys
 
 from ..cosim import CoSimulationError
-from ..figure_worker import FigureWorker
 from ..results import write_results
 from ..run_options import add_cosim_arguments as add_arguments
 from ..targets import cosim_config, cosim_record
@@ -20,17 +19,13 @@ def run(args) -> int:
     2 on a bad option (one line naming it)."""
     config = cosim_config(vars(args))
     stiffness_note(config.joint, args)
-    figures = None if args.no_plots else FigureWorker()      # matplotlib loads beside the run
     try:
-        try:
-            record = cosim_record(config, progress=not args.quiet)
-        except (CoSimulationError, RuntimeError) as exc:
-            print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
-            return 1
-        summary = write_results(record, args.out, plots=not args.no_plots, figure_worker=figures)
-    finally:
-        if figures is not None:
-            figures.close()
+        record = cosim_record(config, progress=not args.quiet)
+    except (CoSimulationError, RuntimeError) as exc:
+        print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
+        return 1
+    summary = write_results(record, args.out, plots=not args.no_plots,
+                            figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
     keys = (("master", "communication_steps") if config.master != "wearjoint" else
             INTEGRATOR_KEYS if config.interface == "model-exchange" else COMMUNICATION_KEYS)
     print_summary(summary, args.out, keys)

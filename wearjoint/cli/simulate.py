@@ -2,7 +2,6 @@
 target's, :mod:`wearjoint.targets`)."""
 from __future__ import annotations
 
-from ..figure_worker import FigureWorker
 from ..results import write_results
 from ..run_options import add_simulate_arguments as add_arguments
 from ..targets import simulate_config, simulate_record
@@ -12,13 +11,9 @@ from .options import exit_status, print_summary, stiffness_note
 def run(args) -> int:
     config = simulate_config(vars(args))
     stiffness_note(config.joint, args)
-    figures = None if args.no_plots else FigureWorker()      # matplotlib loads beside the run
-    try:
-        record = simulate_record(config, progress=not args.quiet)
-        summary = write_results(record, args.out, plots=not args.no_plots, figure_worker=figures)
-    finally:
-        if figures is not None:
-            figures.close()
+    record = simulate_record(config, progress=not args.quiet)
+    summary = write_results(record, args.out, plots=not args.no_plots,
+                            figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
     print_summary(summary, args.out, ("integrator_accepted_steps", "integrator_rejected_steps"))
     return exit_status(record, "simulate")
 
