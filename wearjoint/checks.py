@@ -51,7 +51,8 @@ def choice(name: str, value, choices) -> None:
 class Allowed:
     """The allowed values of a real parameter: finite, within (or on) ``low`` / ``high`` where given, greater than
     the parameter named ``above``, and ``equal`` where a parameter of ``when`` = ((its name, value, label, the
-    condition as the parameter set states it), ...) has that value.  Names are those of the table the rule sits in (the FMU's parameter names); the native FMUs check
+    condition as the parameter set states it), ...) has that value.  Names are those of the table the rule sits in
+    (the FMU's parameter names); the native FMUs check
     the same rules from their generated tables (:func:`wearjoint.fmu.c_tables.parameter_rows`)."""
 
     low: float | None = None

@@ -114,4 +114,5 @@ def growth_exponent(revolutions, depth_m) -> float:
     return float(math.log(d[-1] / half) / math.log(2.0)) if half > 0 and d[-1] > 0 else float("nan")
 
 
-__all__ = ["wrap_deg", "deepest_point", "lobes", "profile_features", "profile_decorrelation", "profile_relative_l2", "profile_convergence", "moving_average_deg", "profile_ripple", "growth_exponent"]
+__all__ = ["wrap_deg", "deepest_point", "lobes", "profile_features", "profile_decorrelation", "profile_relative_l2",
+           "profile_convergence", "moving_average_deg", "profile_ripple", "growth_exponent"]
