@@ -278,7 +278,7 @@ def add_cosim_arguments(parser) -> None:
     """Options of ``wearjoint cosim``: results folder, FMU, coupling, and every model parameter."""
     from .cosim import SCHEMES, CoSimulationOptions
     from .cosim.masters import DEFAULT_STEP_S, MASTERS
-    from .cosim.model_exchange import INTERFACES
+    from .fmu.fmi import INTERFACES
     from .simulate import SimulationOptions
 
     defaults, monolithic = CoSimulationOptions(), SimulationOptions()

@@ -24,6 +24,7 @@ from ..core.mechanism import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
 from ..fmu.fmi import c_function, failed_call
 from ..fmu.instance import N_INPUTS
+from ..fmu.variables import RESULT_SLOTS
 
 SCHEMES = ("zoh", "extrapolation", "adaptive")
 
@@ -31,9 +32,7 @@ SCHEMES = ("zoh", "extrapolation", "adaptive")
 OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
                 "bushing_torque", "normal_force", "friction_force", "penetration", "contact",
                 "eccentricity_x", "eccentricity_y")
-OUTPUT_RESULT_INDEX = np.array([L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
-                                L.R_BUSHING_TORQUE, L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION,
-                                L.R_CONTACT, L.R_ECCENTRICITY_X, L.R_ECCENTRICITY_Y])
+OUTPUT_RESULT_INDEX = np.array([RESULT_SLOTS[name] for name in OUTPUT_NAMES])   # the FMU's table (fmu.variables)
 N_OUTPUTS = len(OUTPUT_NAMES)
 O_PENETRATION = OUTPUT_NAMES.index("penetration")
 O_CONTACT = OUTPUT_NAMES.index("contact")

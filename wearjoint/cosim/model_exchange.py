@@ -28,7 +28,6 @@ from ..simulate import Simulation, SimulationOptions
 from .fmu_joint import FMU_CALLS, FmuJoint
 from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
 
-INTERFACES = ("co-simulation", "model-exchange")
 
 
 class ModelExchangeSimulation:
@@ -137,4 +136,4 @@ def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCr
                       "cosim (model exchange)", progress, chunks_per_revolution)
 
 
-__all__ = ["ModelExchangeSimulation", "run_model_exchange", "INTERFACES", "FmuError"]
+__all__ = ["ModelExchangeSimulation", "run_model_exchange", "FmuError"]

@@ -12,6 +12,7 @@ FMI_OK, FMI_WARNING, FMI_DISCARD, FMI_ERROR, FMI_FATAL = range(5)     # fmi2Stat
 STATUS_NAMES = ("ok", "warning", "discard", "error", "fatal", "pending")
 BACKENDS = ("native", "pythonfmu")      # how the joint FMU is built (wearjoint.fmu.build)
 DEFAULT_BACKEND = "native"
+INTERFACES = ("co-simulation", "model-exchange")     # the joint FMU's interfaces a master uses
 
 # C prototypes of the FMI functions the compiled masters call (pointers as addresses)
 STATUS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)

@@ -37,7 +37,6 @@ def _model_description(fmu_path: Path):
     return _MODEL_DESCRIPTIONS[key]
 
 
-INTERFACES = ("co-simulation", "model-exchange")
 
 
 class FmuInstance:
