@@ -19,7 +19,8 @@ def _fresh_kernel():
     return njit(lambda x: np.sqrt(x) + 1.0)
 
 
-def test_the_first_compilation_announces_what_compiles_and_its_time(capsys):
+def test_a_compilation_that_lasts_announces_what_compiles_and_its_time(capsys, monkeypatch):
+    monkeypatch.setattr(notice, "ANNOUNCE_AFTER_S", 0.0)
     kernel = _fresh_kernel()
     with notice.watching("simulate") as watch:
         kernel(4.0)
@@ -31,6 +32,23 @@ def test_the_first_compilation_announces_what_compiles_and_its_time(capsys):
     assert err.count("wearjoint: compiling") == 1 and watch.count == 2
 
 
+def test_a_short_compilation_says_nothing_and_a_long_one_says_it_once_due(capsys, monkeypatch):
+    """A few kernels of a new specialisation (a wear study after the tests) said "about 33 s" for 1.7 s: below
+    ANNOUNCE_AFTER_S of compiling nothing is said; past it the notice comes once, counting what compiled."""
+    clock = iter([0.0, 0.5, 1.0, 1.5, 2.5, 3.0, 3.5, 4.0])
+    monkeypatch.setattr(notice, "_now", lambda: next(clock))
+    short, long = _fresh_kernel(), _fresh_kernel()
+    with notice.watching("simulate") as watch:
+        short(4.0)                                  # clock 0 (first), 0.5 (its start), 1.0 (its end)
+    assert capsys.readouterr().err == "" and watch.count == 1
+    clock = iter([0.0, 0.5, 1.0, 1.5, 2.5, 3.0, 3.5, 4.0])
+    with notice.watching("simulate") as watch:
+        short(2)                                    # 0, 0.5, 1.0
+        long(4.0)                                   # 1.5: not yet; 2.5 at its end: due
+    err = capsys.readouterr().err
+    assert err.count("wearjoint: compiling") == 1 and watch.count == 2
+
+
 def test_a_count_still_open_when_the_command_ends_writes_no_line_after_its_results(capsys, monkeypatch):
     """A command that compiles during its run (a wear study's replay) never closes the count at its start: the
     count's last line must not follow the command's own last line ("results in ...").  The clock runs 100 s a
@@ -39,6 +57,7 @@ def test_a_count_still_open_when_the_command_ends_writes_no_line_after_its_resul
 
     clock = iter(range(0, 10**6, 100))
     monkeypatch.setattr(progress, "_now", lambda: float(next(clock)))
+    monkeypatch.setattr(notice, "ANNOUNCE_AFTER_S", 0.0)
     kernel = _fresh_kernel()
     with notice.watching("kernels"):
         kernel(4.0)
@@ -81,6 +100,7 @@ def test_a_cold_engine_command_starts_the_second_compiling_process_at_its_first_
     started = []
     monkeypatch.setattr(prefetch, "usable_cores", lambda: 2)
     monkeypatch.setattr(prefetch, "start", lambda: started.append(True))
+    monkeypatch.setattr(notice, "ANNOUNCE_AFTER_S", 0.0)
     kernel = _fresh_kernel()
     with notice.watch_command("simulate"):
         assert started == []                        # nothing compiled yet: nothing started

@@ -33,6 +33,14 @@ COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cos
 HELPED_COMMANDS = ("simulate", "wear-study")
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
 PROFILE_ENV = "WEARJOINT_COMPILE_PROFILE"
+# compilations shorter than this say nothing (a few kernels of a new specialisation, not a cold run: a notice of
+# the cold run's time would be wrong by tenfold); the notice and the count start once compiling has lasted it
+ANNOUNCE_AFTER_S = 2.0
+
+
+def _now() -> float:
+    """The clock of the announcement's delay (a module function so that tests can set it)."""
+    return time.perf_counter()
 
 
 def announce(what: str, stream=None) -> None:
@@ -43,8 +51,9 @@ def announce(what: str, stream=None) -> None:
 
 
 class CompileWatch(event.Listener):
-    """numba's "numba:compile" events: at the first, ``on_first()`` (optional), :func:`announce` and a
-    progress bar (a terminal only) of the compilations (unless ``quiet``); with :data:`PROFILE_ENV` set,
+    """numba's "numba:compile" events: at the first, ``on_first()`` (optional); once compiling has lasted
+    ANNOUNCE_AFTER_S, :func:`announce` and a progress bar (a terminal only) of the compilations (unless
+    ``quiet``); with :data:`PROFILE_ENV` set,
     each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after
     each compilation."""
 
@@ -57,15 +66,24 @@ class CompileWatch(event.Listener):
         self._on_first = on_first
         self._stack = []
         self._profile = os.environ.get(PROFILE_ENV)
+        self._first = None          # when the first compilation started (clock _now)
+        self._announced = False
 
     def on_start(self, event) -> None:
-        if self.count == 0 and not self._stack:
+        if self.count == 0 and not self._stack and self._first is None:
+            self._first = _now()
             if self._on_first is not None:
                 self._on_first()
                 self._on_first = None
-            if not self.quiet:
-                self._bar = announced_progress(self.what)
+        self._announce_when_due()
         self._stack.append([time.perf_counter(), 0.0])
+
+    def _announce_when_due(self) -> None:
+        """The notice and the count, once compiling has lasted ANNOUNCE_AFTER_S."""
+        if not self.quiet and not self._announced and _now() - self._first >= ANNOUNCE_AFTER_S:
+            self._announced = True
+            self._bar = announced_progress(self.what)
+            self._bar.update(self.count)
 
     def on_end(self, event) -> None:
         start, nested = self._stack.pop()
@@ -73,6 +91,7 @@ class CompileWatch(event.Listener):
         if self._stack:
             self._stack[-1][1] += seconds
         self.count += 1
+        self._announce_when_due()
         if self._bar is not None:
             self._bar.update(self.count)
         if self._on_compile is not None:
