@@ -79,17 +79,21 @@ def _check_starts(starts, backend: str, profile_stride: int = 1) -> dict:
     return dict(starts or {})
 
 
+def _checked(backend: str, fmi_version, platforms, model, starts, profile_stride: int) -> tuple:
+    """The backend's module and the checked FMI version, platform names, model and start values (ParameterError
+    naming a bad one)."""
+    return (_backend_module(backend), _check_fmi_version(fmi_version, backend), _check_platforms(platforms, backend),
+            _check_model(model, backend), _check_starts(starts, backend, profile_stride))
+
+
 def default_fmu_path(n_points: int = JointParameters.n_points, backend: str = DEFAULT_BACKEND,
                      fmi_version: int = DEFAULT_FMI_VERSION, platforms=None, model: str = "joint",
                      starts: dict | None = None, profile_stride: int = 1, note: str = "") -> Path:
     """Cache location of the FMU for this source tree, ``n_points``, ``backend``, ``fmi_version``,
     ``platforms`` (native; None: this machine's plus every cross platform installed), ``model`` and
     its parameters' ``starts`` and the description's ``note`` (native)."""
-    module = _backend_module(backend)
-    fmi_version = _check_fmi_version(fmi_version, backend)
-    names = _check_platforms(platforms, backend)
-    model = _check_model(model, backend)
-    starts = _check_starts(starts, backend, profile_stride)
+    module, fmi_version, names, model, starts = _checked(backend, fmi_version, platforms, model, starts,
+                                                         profile_stride)
     if backend != "native":
         return module.default_fmu_path(n_points)
     return module.default_fmu_path(n_points, fmi_version=fmi_version, platform_names=names, model=model,
@@ -112,11 +116,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     joint's FMI 2.0 build): every how many bushing points a ``wear_depth[z]`` output is (1: all, 0: none; the
     whole profile stays in the FMU's state and in FMI 3.0's array).  Raises ParameterError for a
     bad argument, RuntimeError when the build cannot run (no C compiler, a missing cross toolchain)."""
-    module = _backend_module(backend)
-    fmi_version = _check_fmi_version(fmi_version, backend)
-    names = _check_platforms(platforms, backend)
-    model = _check_model(model, backend)
-    starts = _check_starts(starts, backend, profile_stride)
+    module, fmi_version, names, model, starts = _checked(backend, fmi_version, platforms, model, starts,
+                                                         profile_stride)
     if backend != "native":
         return module.build_fmu(out_dir, n_points=n_points, force=force)
     return module.build_fmu(out_dir, n_points=n_points, force=force, fmi_version=fmi_version, platform_names=names,
