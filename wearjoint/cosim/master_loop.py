@@ -188,6 +188,87 @@ def _seconds(clock, timespec):
     return timespec[0] + 1e-9 * timespec[1]
 
 
+@kernel(inline='always')
+def _free_flight_step(buf, pen, pen_before, h_max, h_contact, onset):
+    """An adaptive step that starts in free flight [s]: h_max, or shorter to end just past the contact onset the
+    penetration's rate approaches."""
+    rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
+    if rate > 0.0:                       # approaching the wall: aim just past the onset
+        return min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
+    return h_max
+
+
+@kernel(inline='always')
+def _save_rollback_point(buf, saved, fmi, register, t, reuse_state, timed, clock, timespec):
+    """The state a free-flight step may come back to: ``buf`` up to B_ROLLBACK_END into ``saved`` and the FMU's
+    state (the previous one freed unless the FMU reuses it).  Returns (the FMI_CALLS index of a failed call or 0,
+    the FMI seconds if ``timed``)."""
+    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
+    for i in range(B_ROLLBACK_END):      # element by element: a slice copy needs numba's NRT
+        saved[i] = buf[i]
+    c1 = _seconds(clock, timespec) if timed else 0.0
+    if state_slot[0] != 0 and not reuse_state:
+        status = free_state(component, state_slot.ctypes.data)
+        state_slot[0] = 0
+        if failed_call(register, G_FAILED_CALL, F_FREE_STATE, status, t):
+            return F_FREE_STATE, 0.0
+    status = get_state(component, state_slot.ctypes.data)
+    seconds = FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1) if timed else 0.0
+    if failed_call(register, G_FAILED_CALL, F_GET_STATE, status, t):
+        return F_GET_STATE, seconds
+    return 0, seconds
+
+
+@kernel(inline='always')
+def _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec):
+    """The FMU's step from t to t_new, then the inputs at t_new set and its outputs read.  Returns (the FMI_CALLS
+    index of a failed call or 0, the FMI seconds if ``timed``)."""
+    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
+    c2 = _seconds(clock, timespec) if timed else 0.0
+    status = do_step(component, t, t_new - t, 1)
+    if failed_call(register, G_FAILED_CALL, F_DO_STEP, status, t):
+        return F_DO_STEP, 0.0
+    status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
+    if failed_call(register, G_FAILED_CALL, F_SET_REAL, status, t_new):
+        return F_SET_REAL, 0.0
+    status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
+    seconds = FMI_TIMING_EVERY * (_seconds(clock, timespec) - c2) if timed else 0.0
+    if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t_new):
+        return F_GET_REAL, seconds
+    return 0, seconds
+
+
+@kernel(inline='always')
+def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
+    """Back to the rollback point: ``buf`` from ``saved`` and the FMU's state set.  Returns (the FMI_CALLS index of
+    a failed call or 0, the FMI seconds if ``timed``)."""
+    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
+    for i in range(B_ROLLBACK_END):
+        buf[i] = saved[i]
+    c1 = _seconds(clock, timespec) if timed else 0.0
+    status = set_state(component, state_slot[0])
+    seconds = FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1) if timed else 0.0
+    if failed_call(register, G_FAILED_CALL, F_SET_STATE, status, t):
+        return F_SET_STATE, seconds
+    return 0, seconds
+
+
+@kernel(inline='always')
+def _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact, h_touching):
+    """The next contact step after a step h whose forces were extrapolated: stiff contact (deep, or damped hard
+    after a slow onset) makes the explicit coupling unstable at a fixed step, so it shrinks while the force at the
+    step's end misses its extrapolation and grows back to step_s once it agrees."""
+    fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
+    fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
+    # |miss| > _MISS_SHRINK * scale, scale = max(|F(t + h)|, |F(t)|, floor), in squares (no libm call)
+    fx_new = buf[B_OUTPUT]
+    fy_new = buf[B_OUTPUT + 1]
+    scale_sq = max(fx_new * fx_new + fy_new * fy_new, fx_t * fx_t + fy_t * fy_t, _MISS_FORCE_FLOOR ** 2)
+    if fx_miss * fx_miss + fy_miss * fy_miss > _MISS_SHRINK ** 2 * scale_sq:
+        return max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h)
+    return min(h_contact, 1.25 * h_touching)
+
+
 @kernel
 def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, timespec):
     """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
@@ -199,8 +280,10 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT).
     Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
     at the start of a free-flight step, the FMU state slot the matching FMU state.
+    Each iteration: the step's length, a rollback point in free flight (:func:`_save_rollback_point`), the
+    master's step (:func:`communication_step`), the FMU's (:func:`_exchange`), back to the onset where the step
+    crossed it too deep (:func:`_roll_back`), the next contact step (:func:`_contact_step_after`).
     """
-    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
     adaptive = settings[C_ADAPTIVE] > 0.5
     h_contact = settings[C_STEP]
     h_max = settings[C_MAX_STEP]
@@ -239,74 +322,33 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         if retry_step > 0.0:
             h = retry_step
         elif adaptive and free:
-            h = h_max
-            rate = (pen - pen_before) / buf[B_LAST_STEP] if buf[B_LAST_STEP] > 0.0 else 0.0
-            if rate > 0.0:                       # approaching the wall: aim just past the onset
-                h = min(h_max, max(h_contact, (0.5 * onset - pen) / rate))
-            for i in range(B_ROLLBACK_END):      # element by element: a slice copy needs numba's NRT
-                saved[i] = buf[i]
-            c1 = _seconds(clock, timespec) if timed else 0.0
-            if state_slot[0] != 0 and not reuse_state:
-                status = free_state(component, state_slot.ctypes.data)
-                state_slot[0] = 0
-                if failed_call(register, G_FAILED_CALL, F_FREE_STATE, status, t):
-                    failed = F_FREE_STATE
-                    break
-            status = get_state(component, state_slot.ctypes.data)
-            if timed:
-                fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1)
-            if failed_call(register, G_FAILED_CALL, F_GET_STATE, status, t):
-                failed = F_GET_STATE
+            h = _free_flight_step(buf, pen, pen_before, h_max, h_contact, onset)
+            failed, seconds = _save_rollback_point(buf, saved, fmi, register, t, reuse_state, timed, clock,
+                                                   timespec)
+            fmi_time += seconds
+            if failed:
                 break
         else:
             h = h_touching if adaptive else h_contact
         h = min(h, t_end - t)
         t_new = communication_step(t, h, record, buf, stats, stages, ws, samples)
         record = False
-        c2 = _seconds(clock, timespec) if timed else 0.0
-        status = do_step(component, t, t_new - t, 1)
-        if failed_call(register, G_FAILED_CALL, F_DO_STEP, status, t):
-            failed = F_DO_STEP
-            break
-        status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
-        if failed_call(register, G_FAILED_CALL, F_SET_REAL, status, t_new):
-            failed = F_SET_REAL
-            break
-        status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
-        if timed:
-            fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c2)
-        if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t_new):
-            failed = F_GET_REAL
+        failed, seconds = _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec)
+        fmi_time += seconds
+        if failed:
             break
         retry = onset_retry_step(adaptive and free, pen, buf[B_OUTPUT + O_PENETRATION], onset, h, h_min)
         if retry > 0.0:
             # the step crossed a contact onset too deep: back to t, retry to end just past it
-            for i in range(B_ROLLBACK_END):
-                buf[i] = saved[i]
-            c1 = _seconds(clock, timespec) if timed else 0.0
-            status = set_state(component, state_slot[0])
-            if timed:
-                fmi_time += FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1)
-            if failed_call(register, G_FAILED_CALL, F_SET_STATE, status, t):
-                failed = F_SET_STATE
+            failed, seconds = _roll_back(buf, saved, fmi, register, t, timed, clock, timespec)
+            fmi_time += seconds
+            if failed:
                 break
             retry_step = retry
             rollbacks += 1
             continue
         if extrapolating:
-            # stiff contact (deep, or damped hard after a slow onset) makes the explicit
-            # coupling unstable at a fixed step: shrink the contact step while the force at
-            # the step's end misses its extrapolation, grow it back to step_s once it agrees
-            fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
-            fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
-            # |miss| > _MISS_SHRINK * scale, scale = max(|F(t + h)|, |F(t)|, floor), in squares (no libm call)
-            fx_new = buf[B_OUTPUT]
-            fy_new = buf[B_OUTPUT + 1]
-            scale_sq = max(fx_new * fx_new + fy_new * fy_new, fx_t * fx_t + fy_t * fy_t, _MISS_FORCE_FLOOR ** 2)
-            if fx_miss * fx_miss + fy_miss * fy_miss > _MISS_SHRINK ** 2 * scale_sq:
-                h_touching = max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h)
-            else:
-                h_touching = min(h_contact, 1.25 * h_touching)
+            h_touching = _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact, h_touching)
         retry_step = 0.0
         pen_before = pen
         t = t_new
