@@ -5,7 +5,9 @@ and velocities, maximum step).  The joint's state (wear profile, contact-onset
 memory) changes only at accepted points (``accept_joint``); stage
 evaluations never change it.  Both locate contact onsets (see :func:`integrate`).
 ``record_step`` accumulates per-revolution statistics and time-series samples;
-the co-simulation master uses it too.
+the co-simulation master uses it too.  They are the slider-crank's: they reach the mechanism through
+:mod:`wearjoint.core.mechanism` (``derivative``, its state layout, its recorder's columns); another mechanism
+(the four-bar of ``wearjoint/examples/four_bar.py``) runs in exudyn with the same joint kernels.
 """
 import math
 
