@@ -2,7 +2,7 @@
 
 For each case (one revolution without wear, and with wear factor 100) and each solver
 (``gear_solver``: SUNDIALS CVODE through scikit-sundae, scipy's BDF) and Jacobian (``gear_jacobian``:
-exact, :mod:`wearjoint.core.mechanism_jacobian`; numerical, the solver's finite differences), prints
+exact, :mod:`wearjoint.core.slider_crank_jacobian`; numerical, the solver's finite differences), prints
 accepted and rejected steps, right-hand-side evaluations (outside finite-difference Jacobians, and
 with them: 18 per numerical Jacobian), Jacobian evaluations, LU decompositions, wall time
 (compilation excluded; the median of ``--repeats`` runs, all in this invocation) and the run's

@@ -13,7 +13,7 @@ from fmi_host import write_trace_file
 
 from wearjoint.fmu import slider_crank as sc
 from wearjoint.fmu import variables as fv
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 
 MECHANISM = SliderCrank()
 INPUT_VRS = [sc.VALUE_REFERENCES[v.name] for v in sc.INPUTS]

@@ -41,7 +41,7 @@ from wearjoint.core.integrators import record_step
 from wearjoint.core.slider_load import slider_load
 from wearjoint.exudyn import add_clearance_joint, set_post_step, solve_dynamic
 from wearjoint.joint import ClearanceJoint
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
 )

@@ -25,7 +25,7 @@ from wearjoint.validation.law_spread import STAGE, law_spread_summary, run_law_s
 def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
     """Overlays: slider acceleration vs crank angle, pin orbits, first-impact traces, the ensembles'
     statistics, worn profiles."""
-    from wearjoint.mechanism import SliderCrank
+    from wearjoint.slider_crank import SliderCrank
     from wearjoint.plots import crank_rotation_deg, plot_wear_profiles, plt
 
     ref = runs.reference

@@ -2,7 +2,7 @@
 
 The slider's acceleration error |a - a_ideal| (:func:`wearjoint.analysis.slider_acc_deviation`) and the ideal
 crank-rod revolute's reaction with the same gravity and slider load
-(:meth:`wearjoint.mechanism.SliderCrank.ideal_joint_force`), per revolution and over the run's counted revolutions
+(:meth:`wearjoint.slider_crank.SliderCrank.ideal_joint_force`), per revolution and over the run's counted revolutions
 after the start-up (as :func:`wearjoint.analysis.run_statistics` counts).  Both are taken at every sample once
 (:func:`sample_comparison`) and shared by revolutions.csv and summary.json.
 """
@@ -23,7 +23,7 @@ SUMMARY_KEYS = ("slider_acc_error_max_m_s2", "slider_acc_error_rms_m_s2", "ideal
 
 def sample_comparison(samples: np.ndarray, mechanism) -> tuple[np.ndarray, np.ndarray]:
     """(|a - a_ideal| [m/s^2], the ideal joint's reaction [N]) at every sample (layout.T_*)."""
-    from .mechanism import SliderCrank
+    from .slider_crank import SliderCrank
 
     t = samples[:, L.T_TIME]
     return slider_acc_deviation(t, samples[:, L.T_SLIDER_A], mechanism), SliderCrank(mechanism).ideal_joint_force(t)

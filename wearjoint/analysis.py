@@ -231,7 +231,7 @@ def window_differences(samples: np.ndarray, reference: np.ndarray, window_s: flo
 def slider_acc_deviation(time_s, slider_a_m_s2, mechanism) -> np.ndarray:
     """|a - a_ideal| [m/s^2] of the slider at times ``time_s`` [s], a_ideal the closed-form ideal slider-crank of the
     ``SliderCrankParameters`` ``mechanism`` (its crank is driven: the ideal kinematics do not depend on the loads)."""
-    from .mechanism import SliderCrank
+    from .slider_crank import SliderCrank
 
     return np.abs(np.asarray(slider_a_m_s2) - SliderCrank(mechanism).closed_form(time_s)["slider_a_m_s2"])
 

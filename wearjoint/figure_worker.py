@@ -49,7 +49,7 @@ class FigureWorker:
         is no worker."""
         if self.process is None:
             return False
-        from .mechanism import SliderCrank
+        from .slider_crank import SliderCrank
 
         ideal = SliderCrank(record.parameters.mechanism).ideal_slider_acceleration()
         self._sender = threading.Thread(target=self._write, args=((record, str(out), ideal),), daemon=True)

@@ -26,7 +26,7 @@ def crank_rotation_deg(t, period_s):
 
 def ideal_slider_acceleration(record) -> tuple[np.ndarray, np.ndarray]:
     """The ideal joint's slider acceleration over one revolution (:meth:`SliderCrank.ideal_slider_acceleration`)."""
-    from .mechanism import SliderCrank
+    from .slider_crank import SliderCrank
 
     return SliderCrank(record.parameters.mechanism).ideal_slider_acceleration()
 

@@ -10,10 +10,10 @@ import numpy as np
 from .core import layout as L
 from .core.integrators import DOPRI5, RK4, accept_point, integrate, record_step
 from .core.joint_access import JointArrays
-from .core.mechanism import derivative
-from .core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
+from .core.slider_crank import derivative
+from .core.slider_crank_jacobian import make_jacobian_workspace, state_jacobian
 from .joint import ClearanceJoint
-from .mechanism import SliderCrank
+from .slider_crank import SliderCrank
 from .parameters import (
     MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, finite, require,
     check_joint_fits_mechanism, paper_joint,
@@ -53,7 +53,7 @@ class SimulationOptions:
     may not exceed, ``step_s`` of RK4 included; DOPRI with wear at most DOPRI_WEAR_CONTACT_STEP_S),
     by ``gear_solver`` (``cvode``: SUNDIALS CVODE through scikit-sundae; ``scipy``: scipy's BDF) with
     ``gear_jacobian`` (``exact``: the mechanism's Jacobian with the contact's,
-    :mod:`wearjoint.core.mechanism_jacobian`; ``numerical``: the solver's finite differences, which
+    :mod:`wearjoint.core.slider_crank_jacobian`; ``numerical``: the solver's finite differences, which
     the ideal mechanism always uses).  ``onset_penetration_m``: how deep past a
     contact onset an adaptive step may end (event location, see
     ``core.integrators.integrate``).  ``free_flight_max_step_s`` (dopri): the largest step that starts with
@@ -292,7 +292,7 @@ class Simulation:
 
     def _gear_functions(self, joint: JointArrays):
         """(f, J) for the BDF solvers: f(t, y) = y_dot and J(t, y) = d y_dot / dy (Eqs. 38-44 with the
-        joint; J exact, :mod:`wearjoint.core.mechanism_jacobian`, or None: the solver's finite
+        joint; J exact, :mod:`wearjoint.core.slider_crank_jacobian`, or None: the solver's finite
         differences, ``gear_jacobian="numerical"`` and the ideal mechanism), each a new array, evaluated
         on a contiguous copy of y (the solvers pass strided or read-only arrays: numba would compile
         each layout apart)."""

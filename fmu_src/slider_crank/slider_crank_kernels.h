@@ -2,7 +2,7 @@
  * model slider-crank): the cfuncs of wearjoint/fmu/slider_crank_entry_points.py, with numba's calling
  * convention (int32 status, 0 = success; a pointer for the return value; one for exception
  * information, never written), then the arguments.  The physics lives only in wearjoint/core/
- * (mechanism.py: Eqs. 38-44; integrators.py: RK4).  y = [q, q_dot] (18 values: crank, rod, slider,
+ * (core/slider_crank.py: Eqs. 38-44; integrators.py: RK4).  y = [q, q_dot] (18 values: crank, rod, slider,
  * each x, y, angle); inputs = the joint's (Fx, Fy, T) on the crank, then on the rod, then the load on
  * the slider (positive towards the crank's pivot); the workspace
  * is jac, schur (81 values each), phi, phi_dot, gamma, minv, force (9 each), all scratch but minv.

@@ -13,7 +13,7 @@ import pytest
 
 from wearjoint import analysis
 from wearjoint.core import layout as L
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.parameters import SliderCrankParameters
 
 MECH = SliderCrankParameters(initial_crank_angle_deg=30.0)     # theta1 = 30 deg - rotation

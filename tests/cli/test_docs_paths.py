@@ -14,7 +14,7 @@ file and the comments of every tracked C file.  A name there is checked when it 
 * in Markdown, a relative link target (to the linking file's folder) and its ``#anchor``
   (a heading of the target, GitHub's slug);
 * in a Python file, the target of a Sphinx role (``:func:`prose```, and e.g. ``.design`` or
-  ``core.mechanism.NoJoint`` in a wearjoint module): names the file defines or imports, or a
+  ``core.slider_crank.NoJoint`` in a wearjoint module): names the file defines or imports, or a
   dotted path relative to the file's module or an enclosing package.
 
 Paths whose first component is not a repository folder (``results/...`` outputs, the FMU's
@@ -138,8 +138,8 @@ def link_resolves(path: str, target: str) -> bool:
 
 def role_resolves(path: str, target: str) -> bool:
     """As Sphinx looks it up: a name the file defines or imports, else a module path relative to
-    the file's module or to one of its enclosing packages (``core.mechanism.NoJoint`` in
-    wearjoint.core.integrators is wearjoint.core.mechanism.NoJoint)."""
+    the file's module or to one of its enclosing packages (``core.slider_crank.NoJoint`` in
+    wearjoint.core.integrators is wearjoint.core.slider_crank.NoJoint)."""
     if target.startswith("wearjoint."):
         return resolves(target)
     if not target.startswith(".") and set(target.split(".")) <= defined_names(path):

@@ -1,5 +1,5 @@
-"""The slider-crank's exact Jacobian d(y_dot)/dy (core.mechanism_jacobian, used by ``--integrator gear``)
-against central differences of the right-hand side (core.mechanism.derivative), at states of the
+"""The slider-crank's exact Jacobian d(y_dot)/dy (core.slider_crank_jacobian, used by ``--integrator gear``)
+against central differences of the right-hand side (core.slider_crank.derivative), at states of the
 paper's run in and out of contact, on the unworn and on a worn bushing, for both contact models.
 
 The states are taken where the right-hand side is smooth over the difference stencil: away from the
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from wearjoint.core import layout as L
-from wearjoint.core.mechanism import derivative
-from wearjoint.core.mechanism_jacobian import make_jacobian_workspace, state_jacobian
+from wearjoint.core.slider_crank import derivative
+from wearjoint.core.slider_crank_jacobian import make_jacobian_workspace, state_jacobian
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
 

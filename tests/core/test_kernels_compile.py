@@ -8,7 +8,7 @@ import textwrap
 
 from numba.core.registry import CPUDispatcher
 
-from wearjoint.core import contact, integrators, mechanism, wear
+from wearjoint.core import contact, integrators, slider_crank, wear
 
 # a kernel touching what NRT reference-counts: array views, held in a tuple
 PROBE = textwrap.dedent('''
@@ -33,7 +33,7 @@ PROBE = textwrap.dedent('''
         print(name, "NRT_incref" in ir or "NRT_decref" in ir)
 ''')
 
-HOT_KERNELS = (mechanism.derivative, mechanism.accelerations, mechanism.open_joint_accelerations_rotated,
+HOT_KERNELS = (slider_crank.derivative, slider_crank.accelerations, slider_crank.open_joint_accelerations_rotated,
                integrators.rk4_step, integrators.accept_point, integrators.record_step,
                integrators._integrate_steps, contact.evaluate_contact, contact.evaluate_contact_scalars,
                wear.accept_contact, wear.advance_joint)

@@ -4,10 +4,10 @@ import pytest
 
 from wearjoint import SliderCrankParameters
 from wearjoint.core import layout as L
-from wearjoint.core.mechanism import (
+from wearjoint.core.slider_crank import (
     N_CONSTRAINTS, OPEN_ROWS, accelerations, constraints, open_joint_accelerations_rotated,
 )
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.parameters import JointParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions, run_simulation
 

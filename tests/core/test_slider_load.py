@@ -20,7 +20,7 @@ from scipy.integrate import quad
 
 from wearjoint.core import layout as L
 from wearjoint.core.slider_load import slider_load
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.parameters import ParameterError, SliderCrankParameters, SliderForceTable, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 

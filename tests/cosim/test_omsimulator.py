@@ -131,7 +131,7 @@ def test_command_line_runs_a_loaded_package_and_carries_its_load(omsimulator, tm
     2 kN the joint carries, on average, what the ideal joint J carries under the same load (1.8 kN) within 5 %,
     where before the table's ramp the ideal joint carries a ninth of it at most: the load reached the mechanism
     through the package's parameter set, and the joint FMU sits where the mechanism FMU opened the joint."""
-    from wearjoint.mechanism import SliderCrank
+    from wearjoint.slider_crank import SliderCrank
     from wearjoint.mechanism_parameters import SliderForceTable
 
     table = Path(__file__).resolve().parents[2] / "docs" / "examples" / "press_load.csv"

@@ -3,7 +3,7 @@ built from the mechanism kernels of the monolithic engine (docs/reference/fmu.md
 
 References are independent of the FMU: the ideal slider-crank's closed form (slider
 x3 = l1 cos th1 + sqrt(l2^2 - l1^2 sin^2 th1), its derivatives) and the ideal mechanism of
-:mod:`wearjoint.core.mechanism` (the crank-rod revolute as a constraint, whose Lagrange
+:mod:`wearjoint.core.slider_crank` (the crank-rod revolute as a constraint, whose Lagrange
 multipliers give the joint's reaction loads fed to the FMU).
 """
 from __future__ import annotations
@@ -25,10 +25,10 @@ from slider_crank_fmu import (  # noqa: E402
 )
 
 from wearjoint.core import layout as L  # noqa: E402
-from wearjoint.core.mechanism import accelerations  # noqa: E402
+from wearjoint.core.slider_crank import accelerations  # noqa: E402
 from wearjoint.fmu import slider_crank as sc  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from wearjoint.mechanism import SliderCrank  # noqa: E402
+from wearjoint.slider_crank import SliderCrank  # noqa: E402
 from wearjoint.mechanism_parameters import SliderForceTable  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters  # noqa: E402
 

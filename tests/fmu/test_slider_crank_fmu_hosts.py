@@ -3,7 +3,7 @@ its state round trip and the cross-compiled binaries (tests/fmu/test_slider_cran
 
 References are independent of the FMU: the ideal slider-crank's closed form (slider
 x3 = l1 cos th1 + sqrt(l2^2 - l1^2 sin^2 th1), its derivatives) and the ideal mechanism of
-:mod:`wearjoint.core.mechanism` (the crank-rod revolute as a constraint, whose Lagrange
+:mod:`wearjoint.core.slider_crank` (the crank-rod revolute as a constraint, whose Lagrange
 multipliers give the joint's reaction loads fed to the FMU).
 """
 from __future__ import annotations

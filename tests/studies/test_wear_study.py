@@ -8,7 +8,7 @@ import pytest
 
 from wearjoint.analysis import impact_events
 from wearjoint.cli import main as cli_main
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
 from wearjoint.studies.wear_convergence import run_convergence

@@ -11,8 +11,8 @@ import pytest
 from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.core import layout as L
 from wearjoint.core.contact import ambrosio_friction_factor
-from wearjoint.core.mechanism import derivative
-from wearjoint.mechanism import SliderCrank
+from wearjoint.core.slider_crank import derivative
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 em = pytest.importorskip("wearjoint.validation.exudyn_model")

@@ -13,7 +13,7 @@ from wearjoint import SliderCrankParameters, against_ideal, paper_joint
 from wearjoint.cli import main as cli_main
 from wearjoint.contact_laws import contact_law_variants
 from wearjoint.core import layout as L
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 from wearjoint.results import RunParameters, RunRecord, new_revolution_stats
 
 pytest.importorskip("wearjoint.validation.exudyn_model")

@@ -6,7 +6,7 @@ memory) changes only at accepted points (``accept_joint``); stage
 evaluations never change it.  Both locate contact onsets (see :func:`integrate`).
 ``record_step`` accumulates per-revolution statistics and time-series samples;
 the co-simulation master uses it too.  They are the slider-crank's: they reach the mechanism through
-:mod:`wearjoint.core.mechanism` (``derivative``, its state layout, its recorder's columns); another mechanism
+:mod:`wearjoint.core.slider_crank` (``derivative``, its state layout, its recorder's columns); another mechanism
 (the four-bar of ``wearjoint/examples/four_bar.py``) runs in exudyn with the same joint kernels.
 """
 import math
@@ -25,7 +25,7 @@ from .layout import (
 from .jit import kernel
 from .joint_access import JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_at, joint_failed
 from .joint_location import body_rate, joint_bodies
-from .mechanism import angle_trig, derivative, derivative_evaluated, derivative_rotated, stage_trig
+from .slider_crank import angle_trig, derivative, derivative_evaluated, derivative_rotated, stage_trig
 
 RK4 = 0
 DOPRI5 = 1

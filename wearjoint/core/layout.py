@@ -104,7 +104,7 @@ N_KINEMATIC_INPUTS = 12   # x, y, theta, vx, vy, omega of the pin body, then of 
 # --- contact search blocks (see geometry.find_deepest_point)
 BLOCK_SIZE = 32
 
-# --- slider-crank parameter vector (SliderCrankParameters packed by wearjoint.mechanism; the fields' table is
+# --- slider-crank parameter vector (SliderCrankParameters packed by wearjoint.slider_crank; the fields' table is
 # wearjoint.mechanism_parameters.MECHANISM_FIELDS: field k of the user's values fills slot k, scaled)
 MP_CRANK_LENGTH = 0
 MP_ROD_LENGTH = 1

@@ -15,7 +15,7 @@ from ..core.geometry import bushing_point_angles
 from ..fmu.ensure import ensure_fmu, start_fmu_build
 from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
 from ..fmu.instance import FmuInstance
-from ..mechanism import SliderCrank
+from ..slider_crank import SliderCrank
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
     paper_joint,

@@ -20,7 +20,7 @@ from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
 from ..core.layout import MODE_EXTERNAL
 from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
-from ..core.mechanism import angle_trig, derivative_rotated, no_joint
+from ..core.slider_crank import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
 from ..fmu.fmi import c_function, failed_call
 from ..fmu.instance import N_INPUTS

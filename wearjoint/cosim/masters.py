@@ -50,7 +50,7 @@ from ..core.geometry import bushing_point_angles
 from ..core.integrators import record_points
 from ..fmu import ssp
 from ..fmu import variables as fv
-from ..mechanism import pack_mechanism_parameters
+from ..slider_crank import pack_mechanism_parameters
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 
 MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")

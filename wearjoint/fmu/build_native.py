@@ -120,7 +120,7 @@ MODELS = {m.name: m for m in (
                 ("fmu/joint_entry_points.py", "fmu/state_entry_points.py"),
                 False, _joint_header, _joint_model_description),
     NativeModel("slider-crank", sc.MODEL_IDENTIFIER, "slider_crank", ("slider_crank_model.c", "slider_crank_kernels.h"),
-                "slider_crank_kernels.h", ("core/mechanism.py", "core/integrators.py", "core/trig.py", "core/state_format.py",
+                "slider_crank_kernels.h", ("core/slider_crank.py", "core/integrators.py", "core/trig.py", "core/state_format.py",
                                            "fmu/slider_crank.py", "fmu/slider_crank_entry_points.py",
                                            "fmu/state_entry_points.py"),
                 ("fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py"), True,

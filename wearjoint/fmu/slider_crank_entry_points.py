@@ -2,11 +2,11 @@
 
 The numba ``cfunc``s the AOT build compiles for the mechanism FMU (:mod:`wearjoint.fmu.aot`,
 model ``slider-crank``): the very kernels the monolithic engine and the co-simulation master run
-(:mod:`wearjoint.core.mechanism`, Eqs. 38-44 with Baumgarte stabilisation, the crank-rod joint
+(:mod:`wearjoint.core.slider_crank`, Eqs. 38-44 with Baumgarte stabilisation, the crank-rod joint
 open: ``MODE_EXTERNAL``), on arrays the C model owns and passes as raw pointers.  Nothing here
 allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``inputs`` =
 the joint's (Fx, Fy, T) on the crank then on the rod (global frame, torques about the centres of
-mass), then the master's load on the slider [N] (positive towards the crank's pivot).  The workspace of :func:`wearjoint.core.mechanism.make_workspace` comes as seven arrays:
+mass), then the master's load on the slider [N] (positive towards the crank's pivot).  The workspace of :func:`wearjoint.core.slider_crank.make_workspace` comes as seven arrays:
 ``jac`` and ``schur`` (9 x 9), ``phi``, ``phi_dot``, ``gamma``, ``minv`` (M^-1), ``force`` (9 each).
 The FMU state is written, checked and read by the state format's entry points
 (:mod:`wearjoint.fmu.state_entry_points`), as the joint FMU's.
@@ -19,7 +19,7 @@ from ..core.layout import (
     MODE_EXTERNAL, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_KINEMATIC_INPUTS, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS,
 )
 from ..core.joint_location import joint_kinematics
-from ..core.mechanism import derivative, initial_state, inverse_mass_diagonal, no_joint
+from ..core.slider_crank import derivative, initial_state, inverse_mass_diagonal, no_joint
 from ..core.slider_load import load_table_problem, mechanism_parameter_vector
 from ..mechanism_parameters import FIELD_SCALES
 from .aot import entry_point

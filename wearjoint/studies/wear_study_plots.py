@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from wearjoint.profile_metrics import growth_exponent
-from wearjoint.mechanism import SliderCrank
+from wearjoint.slider_crank import SliderCrank
 
 EXPERIMENT_REVOLUTIONS = (200_000, 400_000)
 EXPERIMENT_MAX_DEPTH_M = (0.19e-3, 0.55e-3)

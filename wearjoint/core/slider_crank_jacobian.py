@@ -2,7 +2,7 @@
 for implicit integrators (scipy's BDF, ``--integrator gear``).
 
 y = [q (9), q_dot (9)] (Eq. 38), y_dot = [q_dot, q_dd(t, y, F(y))] with q_dd the open-joint accelerations
-of :func:`~wearjoint.core.mechanism.open_joint_accelerations_rotated` and F the joint's loads on the
+of :func:`~wearjoint.core.slider_crank.open_joint_accelerations_rotated` and F the joint's loads on the
 crank and the rod (Eqs. 20-23).  The chain rule is evaluated as forward mode through the **same**
 kernels, never a second copy of an equation:
 
@@ -24,10 +24,10 @@ from .layout import (
     CRANK, N_COORDINATES, N_KINEMATIC_INPUTS, N_RESULT, R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_PIN_FX,
     R_PIN_FY, R_PIN_TORQUE, ROD,
 )
-from .mechanism import open_joint_accelerations_rotated
+from .slider_crank import open_joint_accelerations_rotated
 
 COMPLEX_STEP = 1e-40
-# the loads on the crank then on the rod as :func:`~wearjoint.core.mechanism.derivative` passes them
+# the loads on the crank then on the rod as :func:`~wearjoint.core.slider_crank.derivative` passes them
 BODY_FORCE_ROWS = np.array([R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE])
 # the contact kernel's input (layout.N_KINEMATIC_INPUTS: x, y, theta, vx, vy, omega of the crank, then
 # of the rod) that each entry of y is, -1 for the slider's
@@ -51,7 +51,7 @@ def make_jacobian_workspace():
 @kernel
 def state_jacobian(t, y, mp, joint, ws, jac):
     """jac[r, m] = d y_dot[r] / d y[m] (18 x 18) of the clearance mechanism (MODE_CLEARANCE of
-    :func:`~wearjoint.core.mechanism.derivative`) at time t [s] and state y; ``joint`` a
+    :func:`~wearjoint.core.slider_crank.derivative`) at time t [s] and state y; ``joint`` a
     :data:`~wearjoint.core.joint_access.JointArrays` (its ``result`` is overwritten with the contact at
     (t, y), its state is not changed), ``ws`` from :func:`make_jacobian_workspace`.  Where the force
     is not differentiable (contact onset, friction ramp ends, deepest point changes) it is one of the

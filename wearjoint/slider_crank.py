@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .core import layout as L
-from .core.mechanism import ideal_joint_forces, initial_state, make_workspace
+from .core.slider_crank import ideal_joint_forces, initial_state, make_workspace
 from .core.slider_load import mechanism_parameter_vector
 from .mechanism_parameters import FIELD_SCALES, SliderCrankParameters, field_vector
 
