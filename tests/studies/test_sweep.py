@@ -267,11 +267,11 @@ def test_a_friction_sweep_shows_the_wear_factor_bias_next_to_the_answer(tmp_path
     for k, row in enumerate(read_csv(out / "ensemble.csv")):
         assert float(row["max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][500]
         assert float(row["rev500_max_wear_depth_m_bias_rel"]) == WEAR_FACTOR_BIAS[100.0][500]
-        assert "docs/wear_study.md" in row["wear_factor_bias_note"]
+        assert "docs/explanation/wear_study.md" in row["wear_factor_bias_note"]
         line = next(x for x in done.stdout.splitlines() if x.strip().startswith(f"point {k} "))
         assert f"friction_coefficient={row['friction_coefficient']}" in line
         assert f"(bias {WEAR_FACTOR_BIAS[100.0][500] * 100:+.1f} %)" in line
-    assert "docs/wear_study.md" in done.stdout
+    assert "docs/explanation/wear_study.md" in done.stdout
 
 
 def test_wear_factor_bias_is_stated_only_where_measured():
@@ -380,7 +380,7 @@ def test_ensemble_reports_the_fraction_of_starts_in_each_regime(tmp_path):
 
 
 def test_seeds_start_the_crank_half_a_degree_apart_reproducibly():
-    """The documented perturbation (docs/sweeps.md): seed s starts the crank s x 0.5 deg further, the same
+    """The documented perturbation (docs/how-to/sweep_on_dask.md): seed s starts the crank s x 0.5 deg further, the same
     every time; validate's perturbed starts keep their own 1e-6 deg."""
     from wearjoint.parameters import SliderCrankParameters
     from wearjoint.sweep.design import perturbed_start

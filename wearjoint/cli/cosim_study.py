@@ -16,7 +16,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--revolutions", type=float, default=2.0, help="crank revolutions per run")
     parser.add_argument("--steps", type=float, nargs="+", default=None,
                         help="communication steps [s] (default: " + ", ".join(f"{s:g}" for s in PAPER_STEPS_S)
-                             + " on the paper's mechanism, scaled by the step rule for others: docs/cosim_study.md)")
+                             + " on the paper's mechanism, scaled by the step rule for others: docs/explanation/cosim_study.md)")
     parser.add_argument("--schemes", nargs="+", default=["zoh", "extrapolation", "adaptive"],
                         help="coupling schemes")
     add_fmu_arguments(parser)

@@ -1,6 +1,6 @@
 """`wearjoint sensitivity COMMAND --param NAME=LOW,HIGH[,log]... --out DIR`: which parameters drive
 COMMAND's outputs (SALib's Morris or Sobol' design, every row a Dask case of :mod:`wearjoint.sweep`;
-:mod:`wearjoint.sensitivity`, docs/sensitivity.md), and how far the contact damping laws move them at the
+:mod:`wearjoint.sensitivity`, docs/explanation/sensitivity.md), and how far the contact damping laws move them at the
 nominal point (the model-form spread; ``--no-law-spread`` leaves it out).  Exit status 0 when every run is ok,
 1 when some (a law variant's included) failed or gave numbers that are not physical (the pin through the bushing wall),
 2 for bad input, 130 after Ctrl-C (finished runs kept; continue with --resume)."""

@@ -1,6 +1,6 @@
 """`wearjoint sweep COMMAND [sweep options] [COMMAND's options]`: a grid of cases times an
 ensemble of seeds, each case one run of COMMAND (simulate, cosim, wear-study), run as Dask
-tasks (:mod:`wearjoint.sweep`, docs/sweeps.md).  Exit status 0 when every case is ok, 1 when
+tasks (:mod:`wearjoint.sweep`, docs/how-to/sweep_on_dask.md).  Exit status 0 when every case is ok, 1 when
 some failed, 2 for bad input, 130 after Ctrl-C (finished cases kept; continue with --resume)."""
 from __future__ import annotations
 

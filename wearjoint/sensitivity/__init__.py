@@ -6,7 +6,7 @@ failures, ``--resume`` and ``--scheduler``; equal rows share one case), analyse 
 bootstrap 95 % intervals) and report (:mod:`.report`) with the wear factor's bias beside the answer.
 With a target interval the design doubles until the widest interval meets it.  Then, on the same Dask client,
 the target runs once per contact damping law variant at the nominal point (:mod:`.law_spread`: the model-form
-spread beside the sampling intervals; docs/sensitivity.md).
+spread beside the sampling intervals; docs/explanation/sensitivity.md).
 """
 from __future__ import annotations
 

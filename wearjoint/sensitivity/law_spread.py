@@ -3,7 +3,7 @@
 plausible range) at the nominal point of the sampled parameters, every ``--param`` at the middle of its range
 (the geometric middle of a log range).  The outputs' values per variant, their spread (max - min over the
 variants that ran) and that spread relative to the outputs' spread over the sensitivity's own samples: the
-model-form spread to set beside the indices and their sampling intervals (docs/sensitivity.md).
+model-form spread to set beside the indices and their sampling intervals (docs/explanation/sensitivity.md).
 
 A variant's joint changes are added to the case's options (dest -> value, the target's own options
 ``--contact-damping``, ``--restitution-speed-m-s``, ``--impact-velocity-floor-m-s``, ``--effective-mass-kg``).  A

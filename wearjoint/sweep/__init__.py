@@ -3,7 +3,7 @@
 :func:`run_sweep` builds the cases (:mod:`.design`), runs each as a Dask task (:mod:`.runner`,
 :mod:`.worker`) and writes the ensemble statistics and figures (:mod:`.report`) with the
 systematic uncertainty the run can state beside them (the wear factor's bias, :mod:`.bias`).  Dask is
-imported only when cases run, never by ``import wearjoint`` (docs/sweeps.md).
+imported only when cases run, never by ``import wearjoint`` (docs/how-to/sweep_on_dask.md).
 """
 from __future__ import annotations
 

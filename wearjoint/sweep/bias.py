@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, PAPER_JOINT_GEOMETRY, JointParameters,
                           ParameterError, SliderCrankParameters, is_paper_case)
 
-SOURCE = ("docs/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (F = 10, 50, 100 against 4000 "
+SOURCE = ("docs/explanation/wear_study.md, 'Reaching 4000 revolutions: the wear factor' (F = 10, 50, 100 against 4000 "
           "brute-force revolutions at F = 1; the paper case, k_w 5.576e-11 m^2/N, foundation contact and placement, "
           "Hunt-Crossley damping with the exact coefficient, the relaxed wear update, RK4 at 1e-5 s)")
 # F -> {crank revolutions R: max depth at F / max depth at F = 1 - 1}, from SOURCE's table
@@ -27,7 +27,7 @@ WEAR_FACTOR_BIAS = {
 }
 UNKNOWN = "unknown"
 MEASURE_IT = ("measure it for this mechanism and horizon: wearjoint wear-study --convergence jump,{F} --revolutions "
-              "{R} with the run's model options (docs/own_mechanism.md)")
+              "{R} with the run's model options (docs/tutorials/own_mechanism.md)")
 
 
 @dataclass(frozen=True)

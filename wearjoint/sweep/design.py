@@ -8,7 +8,7 @@ the same run outside the sweep.  Seed s > 0 adds ``s * SEED_ANGLE_STEP_DEG`` (0.
 crank angle; seed 0 is the unperturbed run.  The step is large enough that the starts differ from the
 first revolution (the pin starts centred at full speed, and the crank angle at the start decides where the
 start-up impacts fall), so an ensemble samples the regimes a start can fall into (impacting, backward whirl:
-docs/sweeps.md); the 1e-6 deg of earlier versions left starts that part only after ~80 ms of chaotic growth.
+docs/how-to/sweep_on_dask.md); the 1e-6 deg of earlier versions left starts that part only after ~80 ms of chaotic growth.
 """
 from __future__ import annotations
 
