@@ -10,30 +10,31 @@ from collections import namedtuple
 
 from numba.extending import overload
 
-from ..core.contact import update_contact_memory
 from ..core.jit import kernel
 from ..core.joint_access import (
     JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_forces, is_joint_type, joint_failed,
 )
 from ..core.joint_location import bodies_kinematics
-from ..core.layout import M_ACTIVE, R_CONTACT, R_NORMAL_FORCE
+from ..core.layout import M_ACTIVE, R_NORMAL_FORCE
 from ..core.wear import wears
 from ..fmu.fmi import failed_call
 from ..fmu.variables import INPUTS
 
 # ``io`` = the inputs (the pin body's kinematics, then the bushing body's) then the outputs, whose layout.R_* slots are
-# ``output_slots``; ``result`` the outputs in the result layout; ``parameters`` / ``memory`` the joint
-# parameter vector and a mirror of the FMU's contact memory (the same onset rule,
-# :func:`~wearjoint.core.contact.update_contact_memory`, applied to the FMU's outputs); ``event_info`` the
-# fmi2EventInfo struct, ``flags`` the two fmi2Boolean outputs of fmi2CompletedIntegratorStep; ``events``
-# counts the event iterations [at contact onsets, at separations]; ``failure`` = [index of the failed call
-# (FMU_CALLS), status, time].
+# ``output_slots``; ``result`` the outputs in the result layout; ``parameters`` the joint parameter vector;
+# ``memory`` (layout.M_*) the master's own: M_ACTIVE whether the FMU's event indicator (the signed penetration,
+# >= 0 in contact) was in contact at the last accepted point, which the integrators' onset location reads (the
+# FMU keeps its contact memory itself); ``indicators`` the event indicator's value; ``event_info`` the
+# fmi2EventInfo struct, ``flags`` the two fmi2Boolean outputs of fmi2CompletedIntegratorStep; ``events`` counts
+# the event iterations [at contact onsets, at separations]; ``failure`` = [index of the failed call (FMU_CALLS),
+# status, time].
 FmuJoint = namedtuple("FmuJoint", ("component", "set_time", "set_real", "get_real", "completed_integrator_step",
                                    "enter_event_mode", "new_discrete_states", "enter_continuous_time_mode",
-                                   "input_vrs", "output_vrs", "output_slots", "io", "result", "parameters",
-                                   "memory", "event_info", "flags", "events", "failure"))
+                                   "get_event_indicators", "input_vrs", "output_vrs", "output_slots", "io", "result",
+                                   "parameters", "memory", "indicators", "event_info", "flags", "events",
+                                   "failure"))
 FMU_CALLS = ("", "fmi2SetTime", "fmi2SetReal", "fmi2GetReal", "fmi2CompletedIntegratorStep", "fmi2EnterEventMode",
-             "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode")
+             "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode", "fmi2GetEventIndicators")
 N_INPUTS = len(INPUTS)
 
 
@@ -66,10 +67,13 @@ def _accept(joint, t, y, pin, bushing, h, evaluated):
     if joint.failure[0] != 0.0:
         return True
     c = joint.component
+    # the event indicator at the accepted point (before the step's wear): a sign change is a state event
+    if failed_call(joint.failure, 0, 8, joint.get_event_indicators(c, joint.indicators.ctypes.data, 1), t):
+        return True
     if failed_call(joint.failure, 0, 4, joint.completed_integrator_step(c, 1, joint.flags.ctypes.data,
                                                               joint.flags.ctypes.data + 4), t):
         return True
-    onset = joint.result[R_CONTACT] > 0.5
+    onset = joint.indicators[0] >= 0.0
     if onset != (joint.memory[M_ACTIVE] > 0.5):   # a contact began or ended: a state event
         joint.events[0 if onset else 1] += 1
         if failed_call(joint.failure, 0, 5, joint.enter_event_mode(c), t):
@@ -78,8 +82,9 @@ def _accept(joint, t, y, pin, bushing, h, evaluated):
             return True
         if failed_call(joint.failure, 0, 7, joint.enter_continuous_time_mode(c), t):
             return True
-    onset_changed = update_contact_memory(joint.result, joint.parameters, joint.memory)
-    return onset_changed or wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)
+        joint.memory[M_ACTIVE] = 1.0 if onset else 0.0
+        return True
+    return wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)
 
 
 @overload(contact_forces)

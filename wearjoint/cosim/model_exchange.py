@@ -53,7 +53,8 @@ class ModelExchangeSimulation:
         self._fmu = FmuInstance(self.fmu_path, joint, self._io[:N_INPUTS], self._io[N_INPUTS:], OUTPUT_NAMES,
                                 interface="model-exchange")
         try:
-            # the in-process joint lends the FMU joint its parameter vector, memory mirror and result array
+            # the in-process joint lends the FMU joint its parameter vector and result array (the integrators'
+            # bookkeeping); the contact state at accepted points is the FMU's event indicator's
             self._engine = Simulation(joint, mechanism, options, initial_profile_m)
             in_process = self._engine.joint
             f = self._fmu
@@ -61,7 +62,7 @@ class ModelExchangeSimulation:
                 f.set_wear_profile(initial_profile_m, 0.0)
             self._fmu_joint = FmuJoint(f.component, *f.model_exchange_functions, f.input_vrs, f.output_vrs,
                                        OUTPUT_RESULT_INDEX.astype(np.int64), self._io, in_process.result,
-                                       in_process.parameter_vector, in_process.memory, f.event_info,
+                                       in_process.parameter_vector, np.zeros(L.N_MEMORY), np.zeros(1), f.event_info,
                                        np.zeros(2, dtype=np.int32), np.zeros(2, dtype=np.int64), np.zeros(3))
             self._engine.integrate_with(self._fmu_joint)
             self._check()

@@ -18,8 +18,8 @@ import numpy as np
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .fmi import (
-    COMPLETED_STEP_CALL, COMPONENT_CALL, DO_STEP_CALL, FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL,
-    STATUS_CALL, FmuError, c_function, raise_failed_call,
+    COMPLETED_STEP_CALL, COMPONENT_CALL, DO_STEP_CALL, EVENT_INDICATORS_CALL, FMI_DISCARD, FMI_WARNING,
+    REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, raise_failed_call,
 )
 
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
@@ -132,7 +132,8 @@ class FmuInstance:
                 c_function(dll.fmi2CompletedIntegratorStep, COMPLETED_STEP_CALL),
                 c_function(dll.fmi2EnterEventMode, COMPONENT_CALL),
                 c_function(dll.fmi2NewDiscreteStates, STATUS_CALL),
-                c_function(dll.fmi2EnterContinuousTimeMode, COMPONENT_CALL))
+                c_function(dll.fmi2EnterContinuousTimeMode, COMPONENT_CALL),
+                c_function(dll.fmi2GetEventIndicators, EVENT_INDICATORS_CALL))
             return
         self.loop_functions = (
             self.component, self.input_vrs, self.output_vrs, self.state_slot,
