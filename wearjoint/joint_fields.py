@@ -30,6 +30,7 @@ class JointField:
     slot: int                   # core.layout.P_*
     allowed: Allowed = ANY      # the rule on the coded value (a choice: its codes)
     component: int | None = None  # the element of a pair (x, y)
+    unset_is_zero: bool = False   # None ("not given") is coded as 0 (the contact stiffness: from the materials)
 
     @property
     def choices(self) -> tuple[tuple[str, int], ...] | None:
@@ -61,7 +62,8 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                L.P_BUSHING_POISSON_RATIO, _OPEN_HALF),
     JointField("contact_stiffness", "contact_stiffness_N_m1_5", "N/m1.5",
                "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent); 0: from the radii and "
-               "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", L.P_STIFFNESS, NON_NEGATIVE),
+               "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", L.P_STIFFNESS, NON_NEGATIVE,
+               unset_is_zero=True),
     JointField("contact_exponent", "contact_exponent", "1",
                "exponent n of the contact law (1.5 with the foundation contact: a linear foundation on a circle)",
                L.P_EXPONENT, Allowed(0.0, True, equal=1.5, when=(
@@ -115,13 +117,13 @@ if sorted(f.slot for f in JOINT_FIELDS) != sorted(set(f.slot for f in JOINT_FIEL
 
 
 def coded_value(f: JointField, value) -> float:
-    """A field's value as the kernels and the FMU take it: a choice's code, a pair's component, an unset contact
-    stiffness (None: from the materials) 0."""
+    """A field's value as the kernels and the FMU take it: a choice's code, a pair's component, an unset value of a
+    row ``unset_is_zero`` (the contact stiffness: None, from the materials) 0."""
     if f.choices is not None:
         return L.choice_code(f.field, value)
     if f.component is not None:
         return float(value[f.component])
-    return 0.0 if value is None else float(value)
+    return 0.0 if value is None and f.unset_is_zero else float(value)
 
 
 def coded_values(params) -> dict[str, float]:
@@ -141,9 +143,15 @@ def allowed_text(f: JointField, names=None) -> str:
 def check_joint_fields(params) -> None:
     """ParameterError naming the first field of ``params`` (a JointParameters) outside its row's rule."""
     for f in JOINT_FIELDS:
+        value = getattr(params, f.field)
         if f.choices is not None:
-            value = getattr(params, f.field)
-            require(f.field, value, value in dict(f.choices), allowed_text(f, FIELD_NAMES))
+            require(f.field, value, isinstance(value, str) and value in dict(f.choices), allowed_text(f, FIELD_NAMES))
+        else:
+            try:
+                coded_value(f, value)
+            except (TypeError, ValueError, IndexError):
+                raise ParameterError(f"parameter {f.field}={value!r} is invalid: allowed a real number "
+                                     f"{allowed_text(f, FIELD_NAMES)}") from None
     values = coded_values(params)
     for f in JOINT_FIELDS:
         if f.choices is None and not f.allowed.admits(values[f.fmu_name], values):

@@ -106,3 +106,12 @@ BAD_MECHANISM = [
 def test_bad_mechanism_parameter_is_named_in_the_error(name, value):
     with pytest.raises(ParameterError, match=name):
         SliderCrankParameters(**{name: value})
+
+
+@pytest.mark.parametrize("field, value", [("pin_radius_m", "abc"), ("restitution", [1]), ("contact_damping", 3),
+                                          ("wear_factor", None)])
+def test_a_value_of_the_wrong_type_is_named_in_one_line(field, value):
+    """Not a number where the table's rule wants one (or not a name where it wants a choice): the one-line error
+    naming the field and the rule, not Python's conversion error."""
+    with pytest.raises(ParameterError, match=rf"^parameter {field}=.* is invalid: allowed "):
+        JointParameters(**{field: value})
