@@ -235,6 +235,11 @@ def _meta(row) -> str:
     return f"{row['date'][:10]} | {_load_text(row.get('load'))} | `{row['commit']}`"
 
 
+def _meta_text(row) -> str:
+    """:func:`_meta` as a sentence's parenthesis: date, load ..., commit ..."""
+    return f"{row['date'][:10]}, load {_load_text(row.get('load'))}, commit `{row['commit']}`"
+
+
 def render_probes(rows) -> list[str]:
     if not rows:
         return []
@@ -267,7 +272,7 @@ def render_exudyn(rows) -> list[str]:
         lines += ["## The joint in exudyn", "",
                   "Bars swinging in the joint (`wearjoint.exudyn.add_clearance_joint`), generalized-α at 10 µs with "
                   "wear; microseconds per step, the median of the runs.", "",
-                  f"Command: `{row['command']}` ({_meta(row).replace(' | ', ', load ', 1).replace(' | ', ', commit ')})",
+                  f"Command: `{row['command']}` ({_meta_text(row)})",
                   ""]
         if row.get("error") or not row.get("figures"):
             lines += [f"Failed: {_last_line(row, 200)}", ""]
@@ -310,7 +315,7 @@ def render_floor(rows) -> list[str]:
     lines = []
     for row in rows:
         lines += ["## Where a step with wear goes: the floors", "",
-                  f"Command: `{row['command']}` ({_meta(row).replace(' | ', ', load ', 1).replace(' | ', ', commit ')}); "
+                  f"Command: `{row['command']}` ({_meta_text(row)}); "
                   "medians of its runs.", ""]
         fig = row.get("figures")
         if row.get("error") or not fig:

@@ -230,6 +230,19 @@ def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:
 
 
 # ------------------------------------------------------------------ the own options of simulate, cosim, wear-study
+def add_tolerance_arguments(group, integrators: str) -> None:
+    """--rtol, --atol-position, --atol-velocity of the adaptive ``integrators`` (SimulationOptions' defaults)."""
+    from .simulate import SimulationOptions
+
+    defaults = SimulationOptions()
+    group.add_argument("--rtol", type=float, default=defaults.rtol,
+                       help=f"relative tolerance ({integrators}) (default %(default)g)")
+    group.add_argument("--atol-position", type=float, default=defaults.atol_position_m,
+                       help="absolute tolerance on positions [m, rad] (default %(default)g)")
+    group.add_argument("--atol-velocity", type=float, default=defaults.atol_velocity_m_s,
+                       help="absolute tolerance on velocities [m/s, rad/s] (default %(default)g)")
+
+
 def add_integration_arguments(parser) -> None:
     """simulate's integration options (SimulationOptions' defaults)."""
     from .parameters import MAX_WEAR_STEP_S
@@ -249,11 +262,7 @@ def add_integration_arguments(parser) -> None:
                    help="Jacobian of --integrator gear: exact (the contact's with the mechanism's) or the solver's "
                         "finite differences")
     g.add_argument("--step", type=float, default=defaults.step_s, help="RK4 step [s]")
-    g.add_argument("--rtol", type=float, default=defaults.rtol, help="relative tolerance (dopri, gear)")
-    g.add_argument("--atol-position", type=float, default=defaults.atol_position_m,
-                   help="absolute tolerance on positions [m, rad]")
-    g.add_argument("--atol-velocity", type=float, default=defaults.atol_velocity_m_s,
-                   help="absolute tolerance on velocities [m/s, rad/s]")
+    add_tolerance_arguments(g, "dopri, gear")
     g.add_argument("--max-step", type=float, default=None,
                    help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, dopri "
                         f"{DOPRI_WEAR_CONTACT_STEP_S:g}, less where a step's share of the penetration would pass "
@@ -279,9 +288,7 @@ def add_cosim_arguments(parser) -> None:
     from .cosim import SCHEMES, CoSimulationOptions
     from .cosim.masters import DEFAULT_STEP_S, MASTERS
     from .fmu.fmi import INTERFACES
-    from .simulate import SimulationOptions
-
-    defaults, monolithic = CoSimulationOptions(), SimulationOptions()
+    defaults = CoSimulationOptions()
     add_output_arguments(parser)
     add_settling_argument(parser)
     add_fmu_arguments(parser)
@@ -316,12 +323,7 @@ def add_cosim_arguments(parser) -> None:
                    help="how deep past a contact onset an adaptive step may end [m] (default %(default)g)")
     g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help="time-series spacing [s]")
     add_initial_profile_argument(g)
-    me = parser.add_argument_group("model exchange (--fmu-interface model-exchange)")
-    me.add_argument("--rtol", type=float, default=monolithic.rtol, help="relative tolerance (default %(default)g)")
-    me.add_argument("--atol-position", type=float, default=monolithic.atol_position_m,
-                    help="absolute tolerance of positions [m] (default %(default)g)")
-    me.add_argument("--atol-velocity", type=float, default=monolithic.atol_velocity_m_s,
-                    help="absolute tolerance of velocities [m/s] (default %(default)g)")
+    add_tolerance_arguments(parser.add_argument_group("model exchange (--fmu-interface model-exchange)"), "dopri")
     add_model_arguments(parser)
 
 
@@ -378,4 +380,4 @@ def add_wear_study_arguments(parser) -> None:
 __all__ = ["gravity_value", "option_name", "add_model_arguments", "take_calibration", "calibrated_wear_coefficient",
            "restate_default", "given_options", "model_from_options", "add_output_arguments", "add_settling_argument",
            "check_settling", "add_initial_profile_argument", "read_initial_profile", "add_fmu_arguments",
-           "add_integration_arguments", "add_simulate_arguments", "add_cosim_arguments", "add_wear_study_arguments"]
+           "add_tolerance_arguments", "add_integration_arguments", "add_simulate_arguments", "add_cosim_arguments", "add_wear_study_arguments"]

@@ -92,13 +92,11 @@ def _report(args, argv: list[str]) -> None:
     """The results folder's report.html with the command line that made it (wearjoint.report), where the
     command wrote a summary into ``--out``."""
     from ..report import summary_path, write_report
+    from ..targets import report_facts
 
     out = getattr(args, "out", None)
     if out is not None and args.command != "report" and summary_path(out) is not None:
-        calibration = getattr(args, "calibration", None)
-        facts = ({"wear_coefficient_source": f"calibration {calibration}", "wear_coefficient_note": None}
-                 if calibration is not None else {})
-        write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), facts)
+        write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), report_facts(vars(args)))
 
 
 __all__ = ["main", "build_parser", "COMMANDS"]

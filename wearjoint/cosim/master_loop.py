@@ -189,6 +189,12 @@ def _seconds(clock, timespec):
 
 
 @kernel(inline='always')
+def _fmi_seconds(timed, clock, timespec, start):
+    """The FMI calls' wall time since ``start`` scaled to every iteration (FMI_TIMING_EVERY), 0 if not ``timed``."""
+    return FMI_TIMING_EVERY * (_seconds(clock, timespec) - start) if timed else 0.0
+
+
+@kernel(inline='always')
 def _free_flight_step(buf, pen, pen_before, h_max, h_contact, onset):
     """An adaptive step that starts in free flight [s]: h_max, or shorter to end just past the contact onset the
     penetration's rate approaches."""
@@ -213,7 +219,7 @@ def _save_rollback_point(buf, saved, fmi, register, t, reuse_state, timed, clock
         if failed_call(register, G_FAILED_CALL, F_FREE_STATE, status, t):
             return F_FREE_STATE, 0.0
     status = get_state(component, state_slot.ctypes.data)
-    seconds = FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1) if timed else 0.0
+    seconds = _fmi_seconds(timed, clock, timespec, c1)
     if failed_call(register, G_FAILED_CALL, F_GET_STATE, status, t):
         return F_GET_STATE, seconds
     return 0, seconds
@@ -232,7 +238,7 @@ def _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec):
     if failed_call(register, G_FAILED_CALL, F_SET_REAL, status, t_new):
         return F_SET_REAL, 0.0
     status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
-    seconds = FMI_TIMING_EVERY * (_seconds(clock, timespec) - c2) if timed else 0.0
+    seconds = _fmi_seconds(timed, clock, timespec, c2)
     if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t_new):
         return F_GET_REAL, seconds
     return 0, seconds
@@ -247,7 +253,7 @@ def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
         buf[i] = saved[i]
     c1 = _seconds(clock, timespec) if timed else 0.0
     status = set_state(component, state_slot[0])
-    seconds = FMI_TIMING_EVERY * (_seconds(clock, timespec) - c1) if timed else 0.0
+    seconds = _fmi_seconds(timed, clock, timespec, c1)
     if failed_call(register, G_FAILED_CALL, F_SET_STATE, status, t):
         return F_SET_STATE, seconds
     return 0, seconds
