@@ -195,6 +195,13 @@ def _fmi_seconds(timed, clock, timespec, start):
 
 
 @kernel(inline='always')
+def _outcome(register, call, status, t, seconds):
+    """A step's last FMI call checked: (``call``, its FMI_CALLS index, if it failed (recorded in ``register``) else
+    0, ``seconds``)."""
+    return (call if failed_call(register, G_FAILED_CALL, call, status, t) else 0), seconds
+
+
+@kernel(inline='always')
 def _free_flight_step(buf, pen, pen_before, h_max, h_contact, onset):
     """An adaptive step that starts in free flight [s]: h_max, or shorter to end just past the contact onset the
     penetration's rate approaches."""
@@ -219,10 +226,7 @@ def _save_rollback_point(buf, saved, fmi, register, t, reuse_state, timed, clock
         if failed_call(register, G_FAILED_CALL, F_FREE_STATE, status, t):
             return F_FREE_STATE, 0.0
     status = get_state(component, state_slot.ctypes.data)
-    seconds = _fmi_seconds(timed, clock, timespec, c1)
-    if failed_call(register, G_FAILED_CALL, F_GET_STATE, status, t):
-        return F_GET_STATE, seconds
-    return 0, seconds
+    return _outcome(register, F_GET_STATE, status, t, _fmi_seconds(timed, clock, timespec, c1))
 
 
 @kernel(inline='always')
@@ -238,10 +242,7 @@ def _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec):
     if failed_call(register, G_FAILED_CALL, F_SET_REAL, status, t_new):
         return F_SET_REAL, 0.0
     status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
-    seconds = _fmi_seconds(timed, clock, timespec, c2)
-    if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t_new):
-        return F_GET_REAL, seconds
-    return 0, seconds
+    return _outcome(register, F_GET_REAL, status, t_new, _fmi_seconds(timed, clock, timespec, c2))
 
 
 @kernel(inline='always')
@@ -253,10 +254,7 @@ def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
         buf[i] = saved[i]
     c1 = _seconds(clock, timespec) if timed else 0.0
     status = set_state(component, state_slot[0])
-    seconds = _fmi_seconds(timed, clock, timespec, c1)
-    if failed_call(register, G_FAILED_CALL, F_SET_STATE, status, t):
-        return F_SET_STATE, seconds
-    return 0, seconds
+    return _outcome(register, F_SET_STATE, status, t, _fmi_seconds(timed, clock, timespec, c1))
 
 
 @kernel(inline='always')
