@@ -25,7 +25,7 @@
 #include <string.h>
 
 #include "fmi2_instance.h"
-#include "model_variables.h"
+#include "fmi_state_functions.h"
 
 /* ------------------------------------------------------------------ host callbacks */
 /* The host's memory functions (FMI 2.0 callbacks; calloc/free if it gives none). */
@@ -147,11 +147,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined, f
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 {
-    Instance *inst = c;
-    if (inst == NULL || !mode_is(inst, "fmi2EnterInitializationMode", M(MODE_INSTANTIATED)))
-        return fmi2Error;
-    inst->mode = MODE_INITIALIZATION;
-    return fmi2OK;
+    return (fmi2Status)change_mode(c, "fmi2EnterInitializationMode", M(MODE_INSTANTIATED), MODE_INITIALIZATION);
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
@@ -161,17 +157,13 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c)
         return fmi2Error;
     if (!model_exit_initialization(inst->model, "fmi2ExitInitializationMode"))
         return fmi2Error;
-    inst->mode = inst->type == fmi2CoSimulation ? MODE_STEP_COMPLETE : MODE_EVENT;
+    inst->mode = running_mode(inst);
     return fmi2OK;
 }
 
 fmi2Status fmi2Terminate(fmi2Component c)
 {
-    Instance *inst = c;
-    if (inst == NULL || !mode_is(inst, "fmi2Terminate", M(MODE_INITIALIZATION) | INITIALISED))
-        return fmi2Error;
-    inst->mode = MODE_TERMINATED;
-    return fmi2OK;
+    return (fmi2Status)change_mode(c, "fmi2Terminate", READABLE, MODE_TERMINATED);
 }
 
 fmi2Status fmi2Reset(fmi2Component c)
@@ -186,53 +178,6 @@ fmi2Status fmi2Reset(fmi2Component c)
 }
 
 /* ------------------------------------------------------------------ FMU state (fmu_state.c) */
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state)
-{
-    Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    return (fmi2Status)fmu_get_state(inst->model, state, (M(inst->mode) & INITIALISED) != 0, "fmi2GetFMUstate");
-}
-
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state)
-{
-    Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    int initialised = -1;
-    fmi2Status status = (fmi2Status)fmu_set_state(inst->model, state, &initialised, "fmi2SetFMUstate");
-    if (initialised == 1 && !(M(inst->mode) & (M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
-        inst->mode = inst->type == fmi2CoSimulation ? MODE_STEP_COMPLETE : MODE_EVENT;
-    else if (initialised == 0 && (M(inst->mode) & INITIALISED))
-        inst->mode = MODE_INITIALIZATION;
-    return status;
-}
-
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state)
-{
-    Instance *inst = c;
-    return inst == NULL ? fmi2Error : (fmi2Status)fmu_free_state(inst->model, state, "fmi2FreeFMUstate");
-}
-
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_t *size)
-{
-    Instance *inst = c;
-    return inst == NULL ? fmi2Error
-                        : (fmi2Status)fmu_serialized_state_size(inst->model, state, size, "fmi2SerializedFMUstateSize");
-}
-
-fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte bytes[], size_t size)
-{
-    Instance *inst = c;
-    return inst == NULL ? fmi2Error
-                        : (fmi2Status)fmu_serialize_state(inst->model, state, (unsigned char *)bytes, size,
-                                                          "fmi2SerializeFMUstate");
-}
-
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size, fmi2FMUstate *state)
-{
-    Instance *inst = c;
-    return inst == NULL ? fmi2Error
-                        : (fmi2Status)fmu_deserialize_state(inst->model, (const unsigned char *)bytes, size, state,
-                                                            "fmi2DeSerializeFMUstate");
-}
+FMU_STATE_FUNCTIONS(fmi2Status, fmi2Component, fmi2FMUstate, fmi2Byte, fmi2GetFMUstate, fmi2SetFMUstate,
+                    fmi2FreeFMUstate, fmi2SerializedFMUstateSize, fmi2SerializeFMUstate, fmi2DeSerializeFMUstate,
+                    ~0u)

@@ -19,15 +19,6 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     return (fmi2Status)model_do_step(inst->model, current_time, step_size, "fmi2DoStep");
 }
 
-fmi2Status fmi2CancelStep(fmi2Component c)
-{
-    Instance *inst = c;
-    if (inst == NULL)
-        return fmi2Error;
-    LOG(inst, fmi2Error, "fmi2CancelStep: doStep always completes synchronously here");
-    return fmi2Error;
-}
-
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Real *value)
 {
     Instance *inst = c;
@@ -41,39 +32,18 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Rea
     return fmi2OK;
 }
 
-#define NO_STATUS_OF_TYPE(function, type)                                                            \
-    fmi2Status function(fmi2Component c, const fmi2StatusKind kind, type *value)                    \
-    {                                                                                                \
-        Instance *inst = c;                                                                          \
-        (void)kind;                                                                                  \
-        (void)value;                                                                                 \
-        if (inst == NULL)                                                                            \
-            return fmi2Error;                                                                        \
-        LOG(inst, fmi2Error, "%s: doStep never returns fmi2Pending here", #function);   \
-        return fmi2Error;                                                                            \
-    }
-
-NO_STATUS_OF_TYPE(fmi2GetStatus, fmi2Status)
-NO_STATUS_OF_TYPE(fmi2GetIntegerStatus, fmi2Integer)
-NO_STATUS_OF_TYPE(fmi2GetBooleanStatus, fmi2Boolean)
-NO_STATUS_OF_TYPE(fmi2GetStringStatus, fmi2String)
-
 /* (the unused parameters of these functions are named, for the reader; -Wno-unused-parameter) */
-#define NOT_PROVIDED(function, parameters, reason)                \
-    fmi2Status function parameters                                \
-    {                                                             \
-        Instance *inst = c;                                       \
-        if (inst == NULL)                                         \
-            return fmi2Error;                                     \
-        LOG(inst, fmi2Error, "%s: %s", #function, reason); \
-        return fmi2Error;                                         \
-    }
-
-NOT_PROVIDED(fmi2SetRealInputDerivatives,
+#define NO_PENDING "doStep always completes synchronously here (never fmi2Pending)"
+NOT_PROVIDED(fmi2CancelStep, c, (fmi2Component c), NO_PENDING)
+NOT_PROVIDED(fmi2GetStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2Status *value), NO_PENDING)
+NOT_PROVIDED(fmi2GetIntegerStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2Integer *value), NO_PENDING)
+NOT_PROVIDED(fmi2GetBooleanStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2Boolean *value), NO_PENDING)
+NOT_PROVIDED(fmi2GetStringStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2String *value), NO_PENDING)
+NOT_PROVIDED(fmi2SetRealInputDerivatives, c,
              (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer order[],
               const fmi2Real value[]),
              "canInterpolateInputs is false for this FMU")
-NOT_PROVIDED(fmi2GetRealOutputDerivatives,
+NOT_PROVIDED(fmi2GetRealOutputDerivatives, c,
              (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer order[],
               fmi2Real value[]),
              "maxOutputDerivativeOrder is 0 for this FMU")

@@ -18,6 +18,9 @@ static const char *const MODE_NAMES[] = {"instantiated", "initialization mode", 
                                          "continuous-time mode", "terminated"};
 #define M(mode) (1u << (mode))
 #define INITIALISED (M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | M(MODE_CONTINUOUS) | M(MODE_TERMINATED))
+#define READABLE (M(MODE_INITIALIZATION) | INITIALISED)
+#define SETTABLE (M(MODE_INSTANTIATED) | M(MODE_INITIALIZATION) | M(MODE_STEP_COMPLETE) | M(MODE_EVENT) | \
+                  M(MODE_CONTINUOUS))
 
 typedef struct {
     FmuModel *model;
@@ -28,6 +31,10 @@ typedef struct {
 
 #define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)
 
+#define FMI_VERSION 2
+#define FMI_STATUS fmi2Status
+#define MODE_STEPPING MODE_STEP_COMPLETE
+#define IS_CO_SIMULATION(inst) ((inst)->type == fmi2CoSimulation)
 #define FMI_CALL_SEQUENCE "FMI 2.0 call sequence"
 #include "fmi_checks.h"
 

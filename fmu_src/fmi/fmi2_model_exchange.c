@@ -1,19 +1,14 @@
 /* FMI 2.0 layer (fmi2Functions.c): the Model Exchange calls -- event and continuous-time modes, the
  * model's event update and accepted-step bookkeeping, time, continuous states and event indicators
- * (the model's N_CONTINUOUS_STATES and N_EVENT_INDICATORS, model_variables.h).
+ * (the model's N_CONTINUOUS_STATES and N_EVENT_INDICATORS, model_variables.h; the checks in fmi_checks.h).
  */
 #include <string.h>
 
 #include "fmi2_instance.h"
-#include "model_variables.h"
 
 fmi2Status fmi2EnterEventMode(fmi2Component c)
 {
-    Instance *inst = c;
-    if (inst == NULL || !mode_is(inst, "fmi2EnterEventMode", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
-        return fmi2Error;
-    inst->mode = MODE_EVENT;
-    return fmi2OK;
+    return (fmi2Status)change_mode(c, "fmi2EnterEventMode", M(MODE_EVENT) | M(MODE_CONTINUOUS), MODE_EVENT);
 }
 
 /* An event: the model's update (ClearanceWearJoint: the contact-onset bookkeeping). */
@@ -32,11 +27,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info)
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
 {
-    Instance *inst = c;
-    if (inst == NULL || !mode_is(inst, "fmi2EnterContinuousTimeMode", M(MODE_EVENT)))
-        return fmi2Error;
-    inst->mode = MODE_CONTINUOUS;
-    return fmi2OK;
+    return (fmi2Status)change_mode(c, "fmi2EnterContinuousTimeMode", M(MODE_EVENT), MODE_CONTINUOUS);
 }
 
 /* The model's bookkeeping of an accepted step (ClearanceWearJoint: wear and contact onsets). */
@@ -64,26 +55,6 @@ fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time)
     return model_set_time(inst->model, time, "fmi2SetTime") ? fmi2OK : fmi2Error;
 }
 
-/* The model's N_CONTINUOUS_STATES continuous states: nx must be that, x given for nx > 0. */
-static int states_given(const Instance *inst, const char *function, size_t nx, const void *x)
-{
-    if (inst == NULL)
-        return 0;
-    if (nx != N_CONTINUOUS_STATES) {
-        if (N_CONTINUOUS_STATES == 0)
-            LOG(inst, fmi2Error, "%s: this FMU has no continuous states (nx=%zu given)", function, nx);
-        else
-            LOG(inst, fmi2Error, "%s: this FMU has %d continuous states (nx=%zu given)", function,
-                N_CONTINUOUS_STATES, nx);
-        return 0;
-    }
-    if (nx > 0 && x == NULL) {
-        LOG(inst, fmi2Error, "%s: NULL array", function);
-        return 0;
-    }
-    return 1;
-}
-
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx)
 {
     Instance *inst = c;
@@ -96,8 +67,7 @@ fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
 {
     Instance *inst = c;
-    if (!states_given(inst, "fmi2GetDerivatives", nx, derivatives) ||
-        !mode_is(inst, "fmi2GetDerivatives", M(MODE_INITIALIZATION) | INITIALISED))
+    if (!states_given(inst, "fmi2GetDerivatives", nx, derivatives) || !mode_is(inst, "fmi2GetDerivatives", READABLE))
         return fmi2Error;
     return model_get_derivatives(inst->model, derivatives, "fmi2GetDerivatives") ? fmi2OK : fmi2Error;
 }
@@ -105,34 +75,17 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
 {
     Instance *inst = c;
-    if (!states_given(inst, "fmi2GetContinuousStates", nx, x) ||
-        !mode_is(inst, "fmi2GetContinuousStates", M(MODE_INITIALIZATION) | INITIALISED))
+    if (!states_given(inst, "fmi2GetContinuousStates", nx, x) || !mode_is(inst, "fmi2GetContinuousStates", READABLE))
         return fmi2Error;
     return model_get_continuous_states(inst->model, x, "fmi2GetContinuousStates") ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)
 {
-    Instance *inst = c;
-    if (!states_given(inst, "fmi2GetNominalsOfContinuousStates", nx, x_nominal))
-        return fmi2Error;
-    for (size_t i = 0; i < nx; i++)
-        x_nominal[i] = 1.0;
-    return fmi2OK;
+    return (fmi2Status)get_nominals(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx);
 }
 
-/* The model's N_EVENT_INDICATORS event indicators. */
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real indicators[], size_t ni)
 {
-    Instance *inst = c;
-    if (inst == NULL || !mode_is(inst, "fmi2GetEventIndicators", M(MODE_INITIALIZATION) | INITIALISED))
-        return fmi2Error;
-    if (ni != N_EVENT_INDICATORS || (ni > 0 && indicators == NULL)) {
-        LOG(inst, fmi2Error, "fmi2GetEventIndicators: this FMU has %d event indicator%s (ni=%zu given)",
-            N_EVENT_INDICATORS, N_EVENT_INDICATORS == 1 ? "" : "s", ni);
-        return fmi2Error;
-    }
-    if (ni == 0)
-        return fmi2OK;
-    return model_get_event_indicators(inst->model, indicators, "fmi2GetEventIndicators") ? fmi2OK : fmi2Error;
+    return (fmi2Status)get_event_indicators(c, "fmi2GetEventIndicators", indicators, ni);
 }

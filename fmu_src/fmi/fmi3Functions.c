@@ -28,7 +28,7 @@
 #include <string.h>
 
 #include "fmi3_instance.h"
-#include "model_variables.h"
+#include "fmi_state_functions.h"
 
 /* ------------------------------------------------------------------ host callbacks */
 /* FMI 3.0 has no memory callbacks: the C library's (FmuAllocateFunction / FmuReleaseFunction). */
@@ -197,7 +197,7 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
         return fmi3Error;
     if (!model_exit_initialization(inst->model, "fmi3ExitInitializationMode"))
         return fmi3Error;
-    inst->mode = inst->co_simulation ? MODE_STEP : MODE_EVENT;
+    inst->mode = running_mode(inst);
     return fmi3OK;
 }
 
@@ -211,19 +211,12 @@ fmi3Status fmi3EnterEventMode(fmi3Instance instance)
                   "(hasEventMode=\"false\")");
         return fmi3Error;
     }
-    if (!mode_is(inst, "fmi3EnterEventMode", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
-        return fmi3Error;
-    inst->mode = MODE_EVENT;
-    return fmi3OK;
+    return (fmi3Status)change_mode(inst, "fmi3EnterEventMode", M(MODE_EVENT) | M(MODE_CONTINUOUS), MODE_EVENT);
 }
 
 fmi3Status fmi3Terminate(fmi3Instance instance)
 {
-    Instance *inst = instance;
-    if (inst == NULL || !mode_is(inst, "fmi3Terminate", M(MODE_INITIALIZATION) | INITIALISED))
-        return fmi3Error;
-    inst->mode = MODE_TERMINATED;
-    return fmi3OK;
+    return (fmi3Status)change_mode(instance, "fmi3Terminate", READABLE, MODE_TERMINATED);
 }
 
 /* Back to Instantiated with every variable at its start value, structural parameters too. */
@@ -262,51 +255,6 @@ fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance)
 }
 
 /* ------------------------------------------------------------------ FMU state (fmu_state.c, as FMI 2.0's) */
-fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *state)
-{
-    Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    return (fmi3Status)fmu_get_state(inst->model, state, (M(inst->mode) & INITIALISED) != 0, "fmi3GetFMUState");
-}
-
-fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state)
-{
-    Instance *inst = instance;
-    if (inst == NULL || !mode_is(inst, "fmi3SetFMUState", ~M(MODE_CONFIGURATION)))
-        return fmi3Error;
-    int initialised = -1;
-    fmi3Status status = (fmi3Status)fmu_set_state(inst->model, state, &initialised, "fmi3SetFMUState");
-    if (initialised == 1 && !(M(inst->mode) & (M(MODE_STEP) | M(MODE_EVENT) | M(MODE_CONTINUOUS))))
-        inst->mode = inst->co_simulation ? MODE_STEP : MODE_EVENT;
-    else if (initialised == 0 && (M(inst->mode) & INITIALISED))
-        inst->mode = MODE_INITIALIZATION;
-    return status;
-}
-
-fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *state)
-{
-    Instance *inst = instance;
-    return inst == NULL ? fmi3Error : (fmi3Status)fmu_free_state(inst->model, state, "fmi3FreeFMUState");
-}
-
-fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState state, size_t *size)
-{
-    Instance *inst = instance;
-    return inst == NULL ? fmi3Error
-                        : (fmi3Status)fmu_serialized_state_size(inst->model, state, size, "fmi3SerializedFMUStateSize");
-}
-
-fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState state, fmi3Byte bytes[], size_t size)
-{
-    Instance *inst = instance;
-    return inst == NULL ? fmi3Error
-                        : (fmi3Status)fmu_serialize_state(inst->model, state, bytes, size, "fmi3SerializeFMUState");
-}
-
-fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte bytes[], size_t size, fmi3FMUState *state)
-{
-    Instance *inst = instance;
-    return inst == NULL ? fmi3Error
-                        : (fmi3Status)fmu_deserialize_state(inst->model, bytes, size, state, "fmi3DeserializeFMUState");
-}
+FMU_STATE_FUNCTIONS(fmi3Status, fmi3Instance, fmi3FMUState, fmi3Byte, fmi3GetFMUState, fmi3SetFMUState,
+                    fmi3FreeFMUState, fmi3SerializedFMUStateSize, fmi3SerializeFMUState, fmi3DeserializeFMUState,
+                    ~M(MODE_CONFIGURATION))

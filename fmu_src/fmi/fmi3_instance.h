@@ -32,6 +32,10 @@ typedef struct {
 
 #define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)
 
+#define FMI_VERSION 3
+#define FMI_STATUS fmi3Status
+#define MODE_STEPPING MODE_STEP
+#define IS_CO_SIMULATION(inst) ((inst)->co_simulation)
 #define FMI_CALL_SEQUENCE "FMI 3.0 call sequence"
 #include "fmi_checks.h"
 

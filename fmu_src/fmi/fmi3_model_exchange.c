@@ -1,9 +1,8 @@
 /* FMI 3.0 layer (fmi3Functions.c): the Model Exchange calls -- the model's event update and
  * accepted-step bookkeeping, continuous-time mode, time, continuous states and event indicators (the
- * model's N_CONTINUOUS_STATES and N_EVENT_INDICATORS, model_variables.h).
+ * model's N_CONTINUOUS_STATES and N_EVENT_INDICATORS, model_variables.h; the checks in fmi_checks.h).
  */
 #include "fmi3_instance.h"
-#include "model_variables.h"
 
 /* An event: the model's update (ClearanceWearJoint: the contact-onset bookkeeping). */
 fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete_states_need_update,
@@ -30,11 +29,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
 
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
 {
-    Instance *inst = instance;
-    if (inst == NULL || !mode_is(inst, "fmi3EnterContinuousTimeMode", M(MODE_EVENT)))
-        return fmi3Error;
-    inst->mode = MODE_CONTINUOUS;
-    return fmi3OK;
+    return (fmi3Status)change_mode(instance, "fmi3EnterContinuousTimeMode", M(MODE_EVENT), MODE_CONTINUOUS);
 }
 
 /* The model's bookkeeping of an accepted step (ClearanceWearJoint: wear and contact onsets). */
@@ -60,26 +55,6 @@ fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
     if (inst == NULL || !mode_is(inst, "fmi3SetTime", M(MODE_EVENT) | M(MODE_CONTINUOUS)))
         return fmi3Error;
     return model_set_time(inst->model, time, "fmi3SetTime") ? fmi3OK : fmi3Error;
-}
-
-/* The model's N_CONTINUOUS_STATES continuous states: n must be that, the array given for n > 0. */
-static int states_given(const Instance *inst, const char *function, size_t n, const void *x)
-{
-    if (inst == NULL)
-        return 0;
-    if (n != N_CONTINUOUS_STATES) {
-        if (N_CONTINUOUS_STATES == 0)
-            LOG(inst, fmi3Error, "%s: this FMU has no continuous states (%zu given)", function, n);
-        else
-            LOG(inst, fmi3Error, "%s: this FMU has %d continuous states (%zu given)", function, N_CONTINUOUS_STATES,
-                n);
-        return 0;
-    }
-    if (n > 0 && x == NULL) {
-        LOG(inst, fmi3Error, "%s: NULL array", function);
-        return 0;
-    }
-    return 1;
 }
 
 fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 x[], size_t nx)
@@ -110,52 +85,33 @@ fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 x[], size_
 
 fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nx)
 {
-    Instance *inst = instance;
-    if (!states_given(inst, "fmi3GetNominalsOfContinuousStates", nx, nominals))
-        return fmi3Error;
-    for (size_t i = 0; i < nx; i++)
-        nominals[i] = 1.0;
-    return fmi3OK;
+    return (fmi3Status)get_nominals(instance, "fmi3GetNominalsOfContinuousStates", nominals, nx);
 }
 
-/* The model's N_EVENT_INDICATORS event indicators. */
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 indicators[], size_t ni)
 {
-    Instance *inst = instance;
-    if (inst == NULL || !mode_is(inst, "fmi3GetEventIndicators", READABLE))
+    return (fmi3Status)get_event_indicators(instance, "fmi3GetEventIndicators", indicators, ni);
+}
+
+/* The number of the model's event indicators, continuous states: ``count`` into *n. */
+static fmi3Status number_of(const Instance *inst, const char *function, size_t count, size_t *n)
+{
+    if (inst == NULL)
         return fmi3Error;
-    if (ni != N_EVENT_INDICATORS || (ni > 0 && indicators == NULL)) {
-        LOG(inst, fmi3Error, "fmi3GetEventIndicators: this FMU has %d event indicator%s (%zu given)",
-            N_EVENT_INDICATORS, N_EVENT_INDICATORS == 1 ? "" : "s", ni);
+    if (n == NULL) {
+        LOG(inst, fmi3Error, "%s: NULL pointer", function);
         return fmi3Error;
     }
-    if (ni == 0)
-        return fmi3OK;
-    return model_get_event_indicators(inst->model, indicators, "fmi3GetEventIndicators") ? fmi3OK : fmi3Error;
+    *n = count;
+    return fmi3OK;
 }
 
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *n)
 {
-    Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    if (n == NULL) {
-        LOG(inst, fmi3Error, "fmi3GetNumberOfEventIndicators: NULL pointer");
-        return fmi3Error;
-    }
-    *n = N_EVENT_INDICATORS;
-    return fmi3OK;
+    return number_of(instance, "fmi3GetNumberOfEventIndicators", N_EVENT_INDICATORS, n);
 }
 
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *n)
 {
-    Instance *inst = instance;
-    if (inst == NULL)
-        return fmi3Error;
-    if (n == NULL) {
-        LOG(inst, fmi3Error, "fmi3GetNumberOfContinuousStates: NULL pointer");
-        return fmi3Error;
-    }
-    *n = N_CONTINUOUS_STATES;
-    return fmi3OK;
+    return number_of(instance, "fmi3GetNumberOfContinuousStates", N_CONTINUOUS_STATES, n);
 }

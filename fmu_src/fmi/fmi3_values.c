@@ -7,11 +7,6 @@
 
 #include "fmi3_instance.h"
 
-static void variable_name(const Instance *inst, fmi3ValueReference vr, char *out, size_t size)
-{
-    model_variable_name(inst->model, 3, vr, out, size);
-}
-
 /* The number of values nvr Float64 value references stand for (an array counts its size);
  * 0 (logged) if one is not a Float64 variable or the count is not n_values (the argument ``count``). */
 static int float64_values(const Instance *inst, const char *function, const fmi3ValueReference vr[], size_t nvr,
@@ -21,9 +16,7 @@ static int float64_values(const Instance *inst, const char *function, const fmi3
     for (size_t i = 0; i < nvr; i++) {
         size_t n = model_float64_count(inst->model, 3, vr[i]);
         if (n == 0) {
-            char name[96];
-            variable_name(inst, vr[i], name, sizeof name);
-            LOG(inst, fmi3Error, "%s: %s is not a Float64 variable", function, name);
+            access_refused(inst, function, vr[i], "a Float64", 0, -1);
             return 0;
         }
         needed += n;
@@ -63,40 +56,26 @@ fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
     return fmi3OK;
 }
 
-/* A parameter may be set before fmi3ExitInitializationMode only. */
-static int parameters_settable(const Instance *inst)
-{
-    return inst->mode == MODE_INSTANTIATED || inst->mode == MODE_INITIALIZATION;
-}
-
-/* After a set that did not succeed: -1 the variable cannot be set, -2 a parameter after
- * initialisation (logged here); 0 the model logged it. */
-static fmi3Status set_failed(const Instance *inst, const char *function, fmi3ValueReference vr, const char *type,
-                             int done)
-{
-    char name[96];
-    variable_name(inst, vr, name, sizeof name);
-    if (done == -1)
-        LOG(inst, fmi3Error, "%s: %s is not a %s variable that can be set", function, name, type);
-    else if (done == -2)
-        LOG(inst, fmi3Error, "%s: parameter %s is fixed: set it before fmi3ExitInitializationMode", function, name);
-    return fmi3Error;
-}
-
-fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const fmi3Float64 value[],
-                          size_t n_values)
-{
-    Instance *inst = instance;
-    if (!arrays_given(inst, "fmi3SetFloat64", nvr, vr, value) || !mode_is(inst, "fmi3SetFloat64", SETTABLE) ||
-        !scalar_values(inst, "fmi3SetFloat64", nvr, n_values))
-        return fmi3Error;
-    for (size_t i = 0; i < nvr; i++) {
-        int done = model_set_float64(inst->model, 3, vr[i], value[i], parameters_settable(inst), "fmi3SetFloat64");
-        if (done != 1)
-            return set_failed(inst, "fmi3SetFloat64", vr[i], "Float64", done);
+/* fmi3SetFloat64, fmi3SetInt64 (scalars): each value through the model's ``model_set`` (model_set_float64,
+ * model_set_integer), up to the first it refuses. */
+#define SETTER(function, type, model_set, a_type)                                                                  \
+    fmi3Status function(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const type value[],     \
+                        size_t n_values)                                                                          \
+    {                                                                                                              \
+        Instance *inst = instance;                                                                                 \
+        if (!arrays_given(inst, #function, nvr, vr, value) || !mode_is(inst, #function, SETTABLE) ||               \
+            !scalar_values(inst, #function, nvr, n_values))                                                        \
+            return fmi3Error;                                                                                      \
+        for (size_t i = 0; i < nvr; i++) {                                                                         \
+            int done = model_set(inst->model, 3, vr[i], value[i], parameters_settable(inst), #function);           \
+            if (done != 1)                                                                                         \
+                return (fmi3Status)access_refused(inst, #function, vr[i], a_type, 1, done);                        \
+        }                                                                                                          \
+        return fmi3OK;                                                                                             \
     }
-    return fmi3OK;
-}
+
+SETTER(fmi3SetFloat64, fmi3Float64, model_set_float64, "a Float64")
+SETTER(fmi3SetInt64, fmi3Int64, model_set_integer, "an Enumeration")
 
 /* The enumerations: their item values. */
 fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, fmi3Int64 value[],
@@ -109,29 +88,9 @@ fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vr[], si
     for (size_t i = 0; i < nvr; i++) {
         int64_t v = 0;
         int done = model_get_integer(inst->model, 3, vr[i], &v, "fmi3GetInt64");
-        if (done == -1) {
-            char name[96];
-            variable_name(inst, vr[i], name, sizeof name);
-            LOG(inst, fmi3Error, "fmi3GetInt64: %s is not an Enumeration variable", name);
-        }
         if (done != 1)
-            return fmi3Error;
+            return (fmi3Status)access_refused(inst, "fmi3GetInt64", vr[i], "an Enumeration", 0, done);
         value[i] = v;
-    }
-    return fmi3OK;
-}
-
-fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const fmi3Int64 value[],
-                        size_t n_values)
-{
-    Instance *inst = instance;
-    if (!arrays_given(inst, "fmi3SetInt64", nvr, vr, value) || !mode_is(inst, "fmi3SetInt64", SETTABLE) ||
-        !scalar_values(inst, "fmi3SetInt64", nvr, n_values))
-        return fmi3Error;
-    for (size_t i = 0; i < nvr; i++) {
-        int done = model_set_integer(inst->model, 3, vr[i], value[i], parameters_settable(inst), "fmi3SetInt64");
-        if (done != 1)
-            return set_failed(inst, "fmi3SetInt64", vr[i], "Enumeration", done);
     }
     return fmi3OK;
 }
@@ -144,12 +103,8 @@ fmi3Status fmi3GetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], s
     if (!arrays_given(inst, "fmi3GetUInt64", nvr, vr, value) || !scalar_values(inst, "fmi3GetUInt64", nvr, n_values))
         return fmi3Error;
     for (size_t i = 0; i < nvr; i++) {
-        if (model_get_structural(inst->model, vr[i], inst->mode == MODE_CONFIGURATION, &value[i]) != 1) {
-            char name[96];
-            variable_name(inst, vr[i], name, sizeof name);
-            LOG(inst, fmi3Error, "fmi3GetUInt64: %s is not a UInt64 variable", name);
-            return fmi3Error;
-        }
+        if (model_get_structural(inst->model, vr[i], inst->mode == MODE_CONFIGURATION, &value[i]) != 1)
+            return (fmi3Status)access_refused(inst, "fmi3GetUInt64", vr[i], "a UInt64", 0, -1);
     }
     return fmi3OK;
 }
@@ -164,7 +119,7 @@ fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], s
         int done = model_set_structural(inst->model, vr[i], value[i], inst->mode == MODE_CONFIGURATION,
                                         (M(inst->mode) & SETTABLE) != 0, MODE_NAMES[inst->mode], "fmi3SetUInt64");
         if (done != 1)
-            return set_failed(inst, "fmi3SetUInt64", vr[i], "UInt64", done);
+            return (fmi3Status)access_refused(inst, "fmi3SetUInt64", vr[i], "a UInt64", 1, done);
     }
     return fmi3OK;
 }
@@ -174,15 +129,8 @@ fmi3Status fmi3SetUInt64(fmi3Instance instance, const fmi3ValueReference vr[], s
     fmi3Status function(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, qualifier type value[], \
                         size_t n_values)                                                                         \
     {                                                                                                            \
-        Instance *inst = instance;                                                                               \
         (void)n_values;                                                                                          \
-        if (!arrays_given(inst, #function, nvr, vr, value))                                                      \
-            return fmi3Error;                                                                                    \
-        if (nvr == 0)                                                                                            \
-            return fmi3OK;                                                                                       \
-        LOG(inst, fmi3Error, "%s: this FMU has no %s variables (valueReference %u)", #function,     \
-                  #type, (unsigned)vr[0]);                                                                       \
-        return fmi3Error;                                                                                        \
+        return (fmi3Status)no_variables_of_type(instance, #function, #type, nvr, vr, value);                     \
     }
 
 NO_VARIABLES_OF_TYPE(fmi3GetFloat32, fmi3Float32, )

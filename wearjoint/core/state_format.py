@@ -176,6 +176,15 @@ def write_state(data, contents, head, memory, wear_depth):
 
 
 @kernel
+def _differs(found, expected, values):
+    """Whether a header field ``found`` is not ``expected`` (then ``values`` holds the two)."""
+    if found == expected:
+        return False
+    values[0], values[1] = found, expected
+    return True
+
+
+@kernel
 def check_header(data, contents, n_head, n_points, values):
     """0 if ``data`` is an intact state of ``contents`` with ``n_head`` head values for ``n_points``
     bushing points, else the first problem found (header, size, checksum, then what it holds)."""
@@ -186,26 +195,17 @@ def check_header(data, contents, n_head, n_points, values):
     for k in range(8):
         if data[k] != (MAGIC_WORD >> (8 * k)) & 0xFF:
             return BAD_MAGIC
-    version = _get_u32(data, 8)
-    if version != FORMAT_VERSION:
-        values[0], values[1] = version, FORMAT_VERSION
+    if _differs(_get_u32(data, 8), FORMAT_VERSION, values):
         return VERSION
     payload = _get_u32(data, 20)
     if n != HEADER_BYTES + payload + CHECKSUM_BYTES:
         values[0], values[1], values[2] = n, HEADER_BYTES + payload + CHECKSUM_BYTES, payload
         return SIZE
-    stored = _get_u32(data, n - CHECKSUM_BYTES)
-    computed = crc32c(data, n - CHECKSUM_BYTES)
-    if stored != computed:
-        values[0], values[1] = stored, computed
+    if _differs(_get_u32(data, n - CHECKSUM_BYTES), crc32c(data, n - CHECKSUM_BYTES), values):
         return CHECKSUM
-    found = _get_u32(data, 12)
-    if found != contents:
-        values[0], values[1] = found, contents
+    if _differs(_get_u32(data, 12), contents, values):
         return CONTENTS
-    found = _get_u32(data, 16)
-    if found != n_points:
-        values[0], values[1] = found, n_points
+    if _differs(_get_u32(data, 16), n_points, values):
         return N_POINTS
     if payload != 8 * (n_head + N_MEMORY + n_points):
         values[0], values[1], values[2] = payload, n_points, 8 * (n_head + N_MEMORY + n_points)

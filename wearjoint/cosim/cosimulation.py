@@ -14,7 +14,7 @@ from ..core import layout as L
 from ..core.geometry import bushing_point_angles
 from ..fmu.ensure import ensure_fmu, start_fmu_build
 from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
-from ..fmu.instance import FmuInstance
+from ..fmu.instance import FmuInstance, OwnsFmuInstance
 from ..slider_crank import SliderCrank
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
@@ -61,7 +61,7 @@ class CoSimulationOptions:
 
 
 # ------------------------------------------------------------------ the master
-class CoSimulation:
+class CoSimulation(OwnsFmuInstance):
     """The slider-crank (crank-rod joint open) and one joint FMU instance, with the
     same stepping interface as :class:`wearjoint.simulate.Simulation`.  Call
     :meth:`close` (or use ``with``) to free the FMU instance.
@@ -80,7 +80,7 @@ class CoSimulation:
         check_joint_fits_mechanism(self.joint, self.mechanism.params)
         require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
-        self._slave = None
+        self._instance = None
         build = start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
         n_rev = int(math.ceil(self.options.revolutions)) + 1
         self.buf = np.zeros(B_STATS + n_rev * L.N_STATS)
@@ -117,38 +117,25 @@ class CoSimulation:
             if build is not None:
                 build.wait()
         self.fmu_path = ensure_fmu(self.joint.n_points, fmu_path, backend=fmu_backend)
-        self._slave = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
+        self._instance = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
                                   b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
         try:
             if initial_profile_m is not None:
-                self._slave.set_wear_profile(initial_profile_m, 0.0)
-            self._slave.exchange(0.0)
+                self._instance.set_wear_profile(initial_profile_m, 0.0)
+            self._instance.exchange(0.0)
         except BaseException:
             self.close()
             raise
 
-    # -- lifetime
-    def close(self) -> None:
-        """Free the FMU instance (idempotent)."""
-        if self._slave is not None:
-            self._slave.close()
-            self._slave = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
     @property
     def fmu_log(self) -> list[tuple[int, str]]:
         """The FMU's log messages as (FMI status, text)."""
-        return [] if self._slave is None else list(self._slave.log)
+        return [] if self._instance is None else list(self._instance.log)
 
-    def _live_slave(self) -> FmuInstance:
-        if self._slave is None:
+    def _live_instance(self) -> FmuInstance:
+        if self._instance is None:
             raise CoSimulationError("the FMU instance of this co-simulation has been freed (close() was called)")
-        return self._slave
+        return self._instance
 
     # -- stepping
     def warm_up(self) -> None:
@@ -156,12 +143,12 @@ class CoSimulation:
         register = self._register.copy()
         register[G_T] = self.t
         master_loop(self.t, register, self._settings, self.buf, self._saved, np.zeros((0, L.N_SAMPLE_COLUMNS)),
-                    self.mechanism.workspace, self._live_slave().loop_functions, self._clock, self._timespec)
+                    self.mechanism.workspace, self._live_instance().loop_functions, self._clock, self._timespec)
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         """Co-simulate to t_end [s], writing samples into ``samples``; returns how many.
         An FMU error raises CoSimulationError (the instance stays allocated until close())."""
-        slave = self._live_slave()
+        slave = self._live_instance()
         register = self._register
         register[G_T] = self.t
         register[G_STEPS:] = 0.0
@@ -190,7 +177,7 @@ class CoSimulation:
         """Everything needed to continue bit-identically: the master's buffer (mechanism
         state, outputs at t, statistics, recorder), the FMU state (serializeFMUstate
         bytes) and the counters.  Picklable."""
-        slave = self._live_slave()
+        slave = self._live_instance()
         return {"t": self.t, "buffer": self.buf.copy(), "fmu_state": slave.serialize(self.t),
                 "previous_penetration": float(self._register[G_PREVIOUS_PENETRATION]),
                 "contact_step": float(self._register[G_CONTACT_STEP]),
@@ -200,7 +187,7 @@ class CoSimulation:
 
     def restore(self, checkpoint: dict) -> None:
         """Continue from :meth:`checkpoint` (same parameters and options)."""
-        slave = self._live_slave()
+        slave = self._live_instance()
         buffer = np.asarray(checkpoint["buffer"], dtype=float)
         if buffer.shape != self.buf.shape:
             raise ParameterError(f"checkpoint buffer has {buffer.size} values, this co-simulation "
@@ -220,12 +207,12 @@ class CoSimulation:
     # -- results
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
-        values = self._live_slave().wear(self.t)
+        values = self._live_instance().wear(self.t)
         n = self.joint.n_points
         return np.degrees(bushing_point_angles(n)), values[:n], float(values[n + 1])
 
     def max_wear_depth_m(self) -> float:
-        return self._live_slave().max_wear_depth(self.t)
+        return self._live_instance().max_wear_depth(self.t)
 
     @property
     def joint_parameters(self) -> JointParameters:

@@ -20,7 +20,7 @@ from ..core import layout as L
 from ..core.integrators import integrate
 from ..fmu.ensure import ensure_fmu
 from ..fmu.fmi import DEFAULT_BACKEND, FmuError
-from ..fmu.instance import N_INPUTS, FmuInstance
+from ..fmu.instance import N_INPUTS, FmuInstance, OwnsFmuInstance
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from ..results import RunParameters
 from ..runner import run_engine
@@ -30,7 +30,7 @@ from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
 
 
 
-class ModelExchangeSimulation:
+class ModelExchangeSimulation(OwnsFmuInstance):
     """The monolithic engine (:class:`wearjoint.simulate.Simulation`, composed) integrating the slider-crank with
     the joint in the FMU (Model Exchange): a :class:`wearjoint.runner.Engine`.  Call :meth:`close` (or use
     ``with``) to free the FMU instance."""
@@ -50,14 +50,14 @@ class ModelExchangeSimulation:
         self.fmu_path = ensure_fmu(joint.n_points, fmu_path, backend=fmu_backend)
         self.fmu_backend = fmu_backend
         self._io = np.zeros(N_INPUTS + len(OUTPUT_NAMES))
-        self._fmu = FmuInstance(self.fmu_path, joint, self._io[:N_INPUTS], self._io[N_INPUTS:], OUTPUT_NAMES,
-                                interface="model-exchange")
+        self._instance = FmuInstance(self.fmu_path, joint, self._io[:N_INPUTS], self._io[N_INPUTS:], OUTPUT_NAMES,
+                                       interface="model-exchange")
         try:
             # the in-process joint lends the FMU joint its parameter vector and result array (the integrators'
             # bookkeeping); the contact state at accepted points is the FMU's event indicator's
             self._engine = Simulation(joint, mechanism, options, initial_profile_m)
             in_process = self._engine.joint
-            f = self._fmu
+            f = self._instance
             if initial_profile_m is not None:
                 f.set_wear_profile(initial_profile_m, 0.0)
             self._fmu_joint = FmuJoint(f.component, *f.model_exchange_functions, f.input_vrs, f.output_vrs,
@@ -84,7 +84,7 @@ class ModelExchangeSimulation:
         return int(self._fmu_joint.events[0]), int(self._fmu_joint.events[1])
 
     def _check(self) -> None:
-        self._fmu.check_recorded(self._fmu_joint.failure, FMU_CALLS)   # an accepted step refused: the run diverged
+        self._instance.check_recorded(self._fmu_joint.failure, FMU_CALLS)   # an accepted step refused: the run diverged
 
     def warm_up(self) -> None:
         """Compile the integrator for the FMU joint without advancing (an empty interval)."""
@@ -100,29 +100,18 @@ class ModelExchangeSimulation:
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
-        values = self._fmu.wear(self.t)
+        values = self._instance.wear(self.t)
         n = self.joint_parameters.n_points
         return self._engine.joint.phi_deg, values[:n], float(values[n + 1])
 
     def max_wear_depth_m(self) -> float:
-        return self._fmu.max_wear_depth(self.t)
+        return self._instance.max_wear_depth(self.t)
 
     def describe(self) -> tuple[RunParameters, dict]:
         """The monolithic engine's record naming the FMU and its interface (:class:`wearjoint.runner.Engine`)."""
         parameters, extra = self._engine.describe()
         details = {"fmu_interface": "model-exchange", "fmu": str(self.fmu_path), "fmu_backend": self.fmu_backend}
         return dataclasses.replace(parameters, engine="cosim", details=details), extra
-
-    def close(self) -> None:
-        if getattr(self, "_fmu", None) is not None:
-            self._fmu.close()
-            self._fmu = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
 
 def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,

@@ -43,6 +43,14 @@ from pathlib import Path
 # format's, wearjoint_*_state*, in fmu_src/fmi/state_format.h for both) take two
 # more (return value, exception info).  A cfunc whose argument count differs from its
 # prototype's fails the build.
+# the FMU state's entry points (fmu/state_entry_points.py), in both models
+STATE_ENTRY_POINTS = {
+    "wearjoint_state_size": ("state_size_native", 2),
+    "wearjoint_write_state": ("write_state_native", 8),
+    "wearjoint_check_header": ("check_header_native", 6),
+    "wearjoint_read_state": ("read_state_native", 7),
+    "wearjoint_check_values": ("check_values_native", 8),
+}
 ENTRY_POINTS = {
     "joint": ("wearjoint.fmu.joint_entry_points", {
         "wearjoint_evaluate": ("evaluate_native", 11),
@@ -55,11 +63,7 @@ ENTRY_POINTS = {
         "wearjoint_worn_volume": ("worn_volume_native", 3),
         "wearjoint_wall_overlap": ("wall_overlap_native", 5),
         "wearjoint_complete_parameters": ("complete_parameters_native", 1),
-        "wearjoint_state_size": ("state_size_native", 2),
-        "wearjoint_write_state": ("write_state_native", 8),
-        "wearjoint_check_header": ("check_header_native", 6),
-        "wearjoint_read_state": ("read_state_native", 7),
-        "wearjoint_check_values": ("check_values_native", 8),
+        **STATE_ENTRY_POINTS,
     }),
     "slider-crank": ("wearjoint.fmu.slider_crank_entry_points", {
         "slider_crank_parameters": ("parameters_native", 3),
@@ -67,11 +71,7 @@ ENTRY_POINTS = {
         "slider_crank_derivative": ("derivative_native", 12),
         "slider_crank_step": ("step_native", 15),
         "slider_crank_joint_kinematics": ("joint_kinematics_native", 3),
-        "wearjoint_state_size": ("state_size_native", 2),
-        "wearjoint_write_state": ("write_state_native", 8),
-        "wearjoint_check_header": ("check_header_native", 6),
-        "wearjoint_read_state": ("read_state_native", 7),
-        "wearjoint_check_values": ("check_values_native", 8),
+        **STATE_ENTRY_POINTS,
     }),
 }
 # model -> the entry points of the second of two AOT processes, in order (the first takes the rest).  The

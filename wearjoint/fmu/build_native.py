@@ -59,7 +59,7 @@ GLUE_C_SOURCES_BY_VERSION = {
         "fmi3_instance.h"),
 }
 COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model_defaults.c", "fmu_model.h", "fmi_checks.h",
-                    "state_format.h")
+                    "fmi_state_functions.h", "state_format.h")
 FMI_LAYER_FOLDER = "fmi"
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
 # the wearjoint modules of every model's build

@@ -38,6 +38,24 @@ def _model_description(fmu_path: Path):
 
 
 
+class OwnsFmuInstance:
+    """An engine that owns one :class:`FmuInstance` (``_instance``, None once freed): :meth:`close`
+    frees it; ``with`` closes it."""
+
+    _instance: FmuInstance | None = None
+
+    def close(self) -> None:
+        """Free the FMU instance (idempotent)."""
+        if self._instance is not None:
+            self._instance.close()
+            self._instance = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
 
 class FmuInstance:
     """One initialised instance of the joint FMU: fmpy's FMU2Slave (co-simulation) or FMU2Model

@@ -276,6 +276,15 @@ def _dependencies(name: str, reference: dict[str, int], kind: str) -> str:
     return " ".join(str(i) for i in sorted(reference[k] for k in _known_dependencies(name, kind)))
 
 
+def _structure_unknowns() -> list[tuple[str, str]]:
+    """The model structure's unknowns as (kind, variable name), in FMI order: the outputs, the state
+    derivatives, then the initial unknowns (the outputs, states and derivatives, calculated)."""
+    outputs = [v.name for v in VARIABLES if v.causality == fv.OUTPUT]
+    calculated = {*outputs, *(v.name for v in (*STATES, *STATE_DERIVATIVES))}
+    return ([("output", name) for name in outputs] + [("derivative", d.name) for d in STATE_DERIVATIVES]
+            + [("initial", v.name) for v in VARIABLES if v.name in calculated])
+
+
 def _log_categories(root: ET.Element) -> None:
     categories = ET.SubElement(root, "LogCategories")
     for name, text in LOG_CATEGORIES.items():
@@ -301,22 +310,10 @@ def _fmi2_variables(root: ET.Element, starts: dict | None) -> None:
             typed["derivative"] = str(derivative_of[v.name])
         ET.SubElement(ET.SubElement(model_variables, "ScalarVariable", attributes), "Real", typed)
     structure = ET.SubElement(root, "ModelStructure")
-    outputs = ET.SubElement(structure, "Outputs")
-    for v in VARIABLES:
-        if v.causality == fv.OUTPUT:
-            ET.SubElement(outputs, "Unknown", index=str(index[v.name]),
-                          dependencies=_dependencies(v.name, index, "output"))
-    derivatives = ET.SubElement(structure, "Derivatives")
-    for d in STATE_DERIVATIVES:
-        ET.SubElement(derivatives, "Unknown", index=str(index[d.name]),
-                      dependencies=_dependencies(d.name, index, "derivative"))
-    initial = ET.SubElement(structure, "InitialUnknowns")
-    calculated = {v.name for v in (*STATES, *STATE_DERIVATIVES)} | {v.name for v in VARIABLES
-                                                                     if v.causality == fv.OUTPUT}
-    for v in VARIABLES:
-        if v.name in calculated:
-            ET.SubElement(initial, "Unknown", index=str(index[v.name]),
-                          dependencies=_dependencies(v.name, index, "initial"))
+    groups = {kind: ET.SubElement(structure, element) for kind, element in
+              (("output", "Outputs"), ("derivative", "Derivatives"), ("initial", "InitialUnknowns"))}
+    for kind, name in _structure_unknowns():
+        ET.SubElement(groups[kind], "Unknown", index=str(index[name]), dependencies=_dependencies(name, index, kind))
 
 
 def _fmi3_variables(root: ET.Element, starts: dict | None) -> None:
@@ -340,19 +337,10 @@ def _fmi3_variables(root: ET.Element, starts: dict | None) -> None:
             attributes["start"] = repr(v.start)
         ET.SubElement(model_variables, "Float64", attributes)
     structure = ET.SubElement(root, "ModelStructure")
-    for v in VARIABLES:
-        if v.causality == fv.OUTPUT:
-            ET.SubElement(structure, "Output", valueReference=str(VALUE_REFERENCES[v.name]),
-                          dependencies=_dependencies(v.name, VALUE_REFERENCES, "output"))
-    for d in STATE_DERIVATIVES:
-        ET.SubElement(structure, "ContinuousStateDerivative", valueReference=str(VALUE_REFERENCES[d.name]),
-                      dependencies=_dependencies(d.name, VALUE_REFERENCES, "derivative"))
-    calculated = {v.name for v in (*STATES, *STATE_DERIVATIVES)} | {v.name for v in VARIABLES
-                                                                     if v.causality == fv.OUTPUT}
-    for v in VARIABLES:
-        if v.name in calculated:
-            ET.SubElement(structure, "InitialUnknown", valueReference=str(VALUE_REFERENCES[v.name]),
-                          dependencies=_dependencies(v.name, VALUE_REFERENCES, "initial"))
+    element = {"output": "Output", "derivative": "ContinuousStateDerivative", "initial": "InitialUnknown"}
+    for kind, name in _structure_unknowns():
+        ET.SubElement(structure, element[kind], valueReference=str(VALUE_REFERENCES[name]),
+                      dependencies=_dependencies(name, VALUE_REFERENCES, kind))
 
 
 def model_description(fmi_version: int, guid: str, tool: str, starts: dict | None = None) -> bytes:
