@@ -188,7 +188,8 @@ def cosim_config(options) -> CosimConfig:
         run_options = CoSimulationOptions(revolutions=o["revolutions"], scheme=o["scheme"],
                                           step_s=defaults.step_s if step is None else step,
                                           max_step_s=o["max_step"], min_step_s=o["min_step"],
-                                          onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"])
+                                          onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"],
+                                          coupling_tolerance=o["coupling_tolerance"])
     return CosimConfig(joint, mechanism, o["master"], o["fmu_interface"], run_options, o["revolutions"], step,
                        o["sample_dt"], o["fmusim"], o["fmu"], o["fmu_backend"], settling, profile)
 

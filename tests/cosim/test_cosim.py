@@ -154,7 +154,8 @@ def test_cli_writes_the_results_contract(native_fmu, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("option, value, name", [("--friction-coefficient", "-1", "friction_coefficient"),
-                                                 ("--step", "-1e-6", "step_s")])
+                                                 ("--step", "-1e-6", "step_s"),
+                                                 ("--coupling-tolerance", "-0.1", "coupling_tolerance")])
 def test_cli_bad_parameter_exits_nonzero_naming_it(native_fmu, tmp_path, capsys, option, value, name):
     code = cli.main(["cosim", "--revolutions", "0.01", "--out", str(tmp_path / "x"), "--quiet",
                      "--fmu", str(native_fmu), "--fmu-backend", "native", f"{option}={value}"])

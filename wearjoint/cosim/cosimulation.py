@@ -24,8 +24,8 @@ from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
 from .master_loop import (
     _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
-    C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME,
-    G_FMI_TIME, G_FREE_STEPS, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, N_INPUTS,
+    C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME,
+    G_MISS_COUNT, G_MISS_MAX, G_MISS_SQ_SUM, G_FMI_TIME, G_FREE_STEPS, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, N_INPUTS,
     N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views, communication_step,
     master_loop,
 )
@@ -38,7 +38,10 @@ class CoSimulationOptions:
     """How to co-simulate.  ``step_s``: communication step [s] (``zoh``: always;
     ``adaptive``: while in contact).  ``max_step_s`` / ``min_step_s``: bounds of
     the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
-    an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s]."""
+    an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s].
+    ``coupling_tolerance`` (adaptive): the relative miss of the extrapolated contact force
+    the contact step is controlled to, at most step_s (0: the fixed rule, the step halved
+    where the miss passes 0.3 and grown back to step_s)."""
 
     revolutions: float = 2.0
     scheme: str = "adaptive"
@@ -47,6 +50,7 @@ class CoSimulationOptions:
     min_step_s: float = 1e-9
     onset_penetration_m: float = 1e-8
     sample_dt_s: float = 1e-5
+    coupling_tolerance: float = 0.0
 
     def __post_init__(self):
         require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
@@ -55,6 +59,10 @@ class CoSimulationOptions:
             require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
         require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
         require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
+        require("coupling_tolerance", self.coupling_tolerance,
+                finite("coupling_tolerance", self.coupling_tolerance) >= 0.0
+                and (self.coupling_tolerance == 0.0 or self.scheme == "adaptive"),
+                ">= 0, and 0 unless scheme='adaptive'")
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -64,7 +72,7 @@ class CoSimulationOptions:
 class CoSimulation(OwnsFmuInstance):
     """The slider-crank (crank-rod joint open) and one joint FMU instance, with the
     same stepping interface as :class:`wearjoint.simulate.Simulation`.  Call
-    :meth:`close` (or use ``with``) to free the FMU instance.
+    :meth:`~wearjoint.fmu.instance.OwnsFmuInstance.close` (or use ``with``) to free the FMU instance.
 
     ``fmu_path``: the FMU to load; None takes the cached build of ``fmu_backend``
     (``wearjoint.fmu.build.BACKENDS``), built if missing.  With an explicit
@@ -98,6 +106,9 @@ class CoSimulation(OwnsFmuInstance):
         self.rollbacks = 0
         self.free_steps = 0      # communication steps that started in free flight
         self.shrunk_steps = 0    # steps in contact shorter than step_s (adaptive)
+        self.miss_sq_sum = 0.0   # adaptive: the extrapolated contact force's relative misses (master_loop.G_MISS_*)
+        self.miss_max = 0.0
+        self.miss_count = 0
         self.fmi_time_s = 0.0
         self.master_time_s = 0.0
         self._saved = np.empty(B_ROLLBACK_END)   # y and outputs at the start of a step (rollback)
@@ -105,9 +116,9 @@ class CoSimulation(OwnsFmuInstance):
         self._register[G_PREVIOUS_PENETRATION] = -math.inf   # none yet
         o = self.options
         self._settings = np.zeros(N_SETTINGS)
-        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE]] = (
+        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE]] = (
             1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m,
-            1.0 if fmu_backend == "native" else 0.0)
+            1.0 if fmu_backend == "native" else 0.0, o.coupling_tolerance)
         self._clock = _monotonic_clock()
         self._timespec = np.zeros(2, dtype=np.int64)
         try:   # the mechanism's kernels compile while a missing FMU builds
@@ -163,6 +174,9 @@ class CoSimulation(OwnsFmuInstance):
             self.rollbacks += int(register[G_ROLLBACKS])
             self.free_steps += int(register[G_FREE_STEPS])
             self.shrunk_steps += int(register[G_SHRUNK_STEPS])
+            self.miss_sq_sum += float(register[G_MISS_SQ_SUM])
+            self.miss_max = max(self.miss_max, float(register[G_MISS_MAX]))
+            self.miss_count += int(register[G_MISS_COUNT])
             # the FMI time is estimated from a sample of the iterations: over a few steps it can pass the wall time
             wall = time.perf_counter() - wall0
             fmi = min(register[G_FMI_TIME], wall)
@@ -183,7 +197,8 @@ class CoSimulation(OwnsFmuInstance):
                 "contact_step": float(self._register[G_CONTACT_STEP]),
                 "communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
                 "free_steps": self.free_steps, "shrunk_steps": self.shrunk_steps, "fmi_time_s": self.fmi_time_s,
-                "master_time_s": self.master_time_s}
+                "master_time_s": self.master_time_s,
+                "force_miss": (self.miss_sq_sum, self.miss_max, self.miss_count)}
 
     def restore(self, checkpoint: dict) -> None:
         """Continue from :meth:`checkpoint` (same parameters and options)."""
@@ -201,6 +216,8 @@ class CoSimulation(OwnsFmuInstance):
         self.rollbacks = int(checkpoint["rollbacks"])
         self.free_steps = int(checkpoint.get("free_steps", 0))
         self.shrunk_steps = int(checkpoint.get("shrunk_steps", 0))
+        self.miss_sq_sum, self.miss_max, count = checkpoint.get("force_miss", (0.0, 0.0, 0))
+        self.miss_count = int(count)
         self.fmi_time_s = float(checkpoint["fmi_time_s"])
         self.master_time_s = float(checkpoint["master_time_s"])
 
@@ -225,6 +242,13 @@ class CoSimulation(OwnsFmuInstance):
         extra = {"communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
                  "free_steps": self.free_steps, "shrunk_steps": self.shrunk_steps,
                  "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
+        if self.options.scheme == "adaptive":
+            # the coupling's error estimate: the relative miss of the extrapolated contact force, over the steps
+            # in contact (master_loop._contact_step_after)
+            extra["coupling_force_miss_rms"] = (math.sqrt(self.miss_sq_sum / self.miss_count) if self.miss_count
+                                                else 0.0)
+            extra["coupling_force_miss_max"] = self.miss_max
+            extra["coupling_controlled_steps"] = self.miss_count
         return parameters, extra
 
     def set_wear_profile(self, depth_m) -> None:

@@ -12,6 +12,7 @@ Python work per step.  The schemes are described in :mod:`wearjoint.cosim`.
 from __future__ import annotations
 
 import ctypes
+import math
 
 import numpy as np
 
@@ -71,7 +72,10 @@ G_SHRUNK_STEPS = 7       # accepted steps in contact shorter than step_s (the fo
 G_FAILED_CALL = 8        # index into FMI_CALLS of the call that failed, 0 if none
 G_FAILED_STATUS = 9      # its fmi2Status
 G_FAILED_TIME = 10       # the communication point it was made for [s]
-N_REGISTER = 11
+G_MISS_SQ_SUM = 11       # adaptive, steps in contact with an extrapolated force: the sum of the squared relative
+G_MISS_MAX = 12          # misses of the extrapolation (|F(t + h) - F_predicted| / max(|F(t + h)|, |F(t)|, 100 N)),
+G_MISS_COUNT = 13        # their largest and their number: the coupling's error estimate
+N_REGISTER = 14
 # the loop times the FMI calls of one iteration in this many and scales them by it: a prime, so that a periodic
 # pattern of costly steps (the FMU applies its wear batch every few steps) is sampled at every phase (with 16 a
 # batch every 6 steps was sampled at half its phases: the FMI estimate passed the wall time)
@@ -86,9 +90,15 @@ FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", 
              "fmi2FreeFMUstate")
 F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
 # --- master_loop's settings; C_REUSE_STATE: 1.0 if getFMUstate overwrites the state it is given (FMI's "typically";
-# the pythonfmu slave returns a new one and loses the old), else each state is freed before the next
-C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE = range(6)
-N_SETTINGS = 6
+# the pythonfmu slave returns a new one and loses the old), else each state is freed before the next;
+# C_TOLERANCE: the relative force miss the adaptive contact step is controlled to (0: the fixed rule)
+C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE = range(7)
+N_SETTINGS = 7
+# error-controlled contact step: h_next = h * SAFETY * sqrt(tolerance / miss) (the miss of a linear extrapolation
+# is of second order in h), within [1/2, 2] times h
+_CONTROL_SAFETY = 0.9
+_CONTROL_SHRINK_LIMIT = 0.5
+_CONTROL_GROW_LIMIT = 2.0
 
 
 @kernel(inline='always')
@@ -258,19 +268,27 @@ def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
 
 
 @kernel(inline='always')
-def _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact, h_touching):
-    """The next contact step after a step h whose forces were extrapolated: stiff contact (deep, or damped hard
-    after a slow onset) makes the explicit coupling unstable at a fixed step, so it shrinks while the force at the
-    step's end misses its extrapolation and grows back to step_s once it agrees."""
+def _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact, h_touching, tolerance):
+    """(the next contact step, the relative miss) after a step h whose forces were extrapolated; the miss is
+    |F(t + h) - F(t) - h F'(t)| / max(|F(t + h)|, |F(t)|, 100 N).  Stiff contact (deep, or damped hard after a slow
+    onset) makes the explicit coupling unstable at a fixed step.  The fixed rule (``tolerance`` 0): the step halves
+    while the miss passes _MISS_SHRINK and grows back to step_s once it agrees.  With a tolerance: the step that
+    would miss by ``tolerance`` (second order in h), between step_s / 16 and step_s (longer steps than step_s
+    leave the explicit coupling's stability region before the miss shows it)."""
     fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
     fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
-    # |miss| > _MISS_SHRINK * scale, scale = max(|F(t + h)|, |F(t)|, floor), in squares (no libm call)
     fx_new = buf[B_OUTPUT]
     fy_new = buf[B_OUTPUT + 1]
     scale_sq = max(fx_new * fx_new + fy_new * fy_new, fx_t * fx_t + fy_t * fy_t, _MISS_FORCE_FLOOR ** 2)
-    if fx_miss * fx_miss + fy_miss * fy_miss > _MISS_SHRINK ** 2 * scale_sq:
-        return max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h)
-    return min(h_contact, 1.25 * h_touching)
+    miss_sq = fx_miss * fx_miss + fy_miss * fy_miss
+    miss = math.sqrt(miss_sq / scale_sq)
+    if tolerance > 0.0:
+        factor = _CONTROL_GROW_LIMIT if miss <= 0.0 else _CONTROL_SAFETY * math.sqrt(tolerance / miss)
+        factor = min(_CONTROL_GROW_LIMIT, max(_CONTROL_SHRINK_LIMIT, factor))
+        return min(h_contact, max(h_min, _SMALLEST_CONTACT_STEP * h_contact, factor * h)), miss
+    if miss_sq > _MISS_SHRINK ** 2 * scale_sq:
+        return max(h_min, _SMALLEST_CONTACT_STEP * h_contact, 0.5 * h), miss
+    return min(h_contact, 1.25 * h_touching), miss
 
 
 @kernel
@@ -294,6 +312,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     h_min = settings[C_MIN_STEP]
     onset = settings[C_ONSET]
     reuse_state = settings[C_REUSE_STATE] > 0.5
+    tolerance = settings[C_TOLERANCE]
     inputs = buf.ctypes.data + B_INPUT * 8
     outputs = buf.ctypes.data + B_OUTPUT * 8
     stats, stages = buffer_views(buf)
@@ -352,7 +371,11 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             rollbacks += 1
             continue
         if extrapolating:
-            h_touching = _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact, h_touching)
+            h_touching, miss = _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact,
+                                                   h_touching, tolerance)
+            register[G_MISS_SQ_SUM] += miss * miss
+            register[G_MISS_MAX] = max(register[G_MISS_MAX], miss)
+            register[G_MISS_COUNT] += 1.0
         retry_step = 0.0
         pen_before = pen
         t = t_new

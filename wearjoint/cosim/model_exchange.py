@@ -32,8 +32,8 @@ from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
 
 class ModelExchangeSimulation(OwnsFmuInstance):
     """The monolithic engine (:class:`wearjoint.simulate.Simulation`, composed) integrating the slider-crank with
-    the joint in the FMU (Model Exchange): a :class:`wearjoint.runner.Engine`.  Call :meth:`close` (or use
-    ``with``) to free the FMU instance."""
+    the joint in the FMU (Model Exchange): a :class:`wearjoint.runner.Engine`.  Call
+    :meth:`~wearjoint.fmu.instance.OwnsFmuInstance.close` (or use ``with``) to free the FMU instance."""
 
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                  options: SimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,

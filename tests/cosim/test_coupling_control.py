@@ -1,0 +1,56 @@
+"""The adaptive scheme's coupling error: its estimate (the relative miss of the extrapolated contact force) in every
+run's record and summary.json, and the contact step controlled to a tolerance (``coupling_tolerance``)."""
+import numpy as np
+import pytest
+
+from wearjoint.cosim import CoSimulationOptions, run_cosimulation
+from wearjoint.parameters import ParameterError, paper_joint
+
+REVOLUTIONS = 0.15        # 60 ms: the first impacts and a stretch of contact on the paper's mechanism
+NO_WEAR = paper_joint(wear_factor=0.0)
+
+
+def run(native_fmu, **options):
+    return run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=REVOLUTIONS, **options),
+                            fmu_path=native_fmu, progress=False)
+
+
+@pytest.fixture(scope="module")
+def fixed_rule(native_fmu):
+    return run(native_fmu)
+
+
+def test_every_adaptive_run_reports_its_force_miss(fixed_rule):
+    extra = fixed_rule.extra
+    assert extra["coupling_controlled_steps"] > 100          # steps in contact, each with an estimate
+    assert 0.0 < extra["coupling_force_miss_rms"] <= extra["coupling_force_miss_max"]
+    assert extra["coupling_controlled_steps"] <= extra["communication_steps"] - extra["free_steps"]
+
+
+def test_a_tolerance_shortens_the_contact_steps_that_miss_it(native_fmu, fixed_rule):
+    tolerance = 0.2 * fixed_rule.extra["coupling_force_miss_rms"]
+    controlled = run(native_fmu, coupling_tolerance=tolerance)
+    assert controlled.completed
+    # (jumps of the force -- friction reversing, the deepest point moving on -- miss at any step: the rms falls less)
+    assert controlled.extra["coupling_force_miss_rms"] < 0.9 * fixed_rule.extra["coupling_force_miss_rms"]
+    assert controlled.extra["shrunk_steps"] > 0.2 * controlled.extra["coupling_controlled_steps"]
+    assert fixed_rule.extra["shrunk_steps"] < 0.01 * fixed_rule.extra["coupling_controlled_steps"]
+
+
+def test_a_loose_tolerance_keeps_the_fixed_rules_answer_within_its_scatter(native_fmu, fixed_rule):
+    """Over 60 ms, before the runs part (chaos): the slider's path agrees to the micrometre."""
+    loose = run(native_fmu, coupling_tolerance=0.3)
+    t = fixed_rule.samples[:, 0]
+    window = t < 0.02
+    x_fixed = fixed_rule.samples[window, 2]
+    x_loose = np.interp(t[window], loose.samples[:, 0], loose.samples[:, 2])
+    assert np.max(np.abs(x_loose - x_fixed)) < 1e-6
+
+
+@pytest.mark.parametrize("options, words", [({"coupling_tolerance": -0.1}, "coupling_tolerance=-0.1"),
+                                            ({"coupling_tolerance": float("nan")}, "coupling_tolerance=nan"),
+                                            ({"coupling_tolerance": 0.1, "scheme": "zoh"}, "scheme='adaptive'")])
+def test_a_bad_tolerance_is_refused_naming_it(options, words):
+    with pytest.raises(ParameterError, match="coupling_tolerance") as error:
+        CoSimulationOptions(**options)
+    assert words in str(error.value)

@@ -1,0 +1,198 @@
+"""Does the co-simulation's coupling answer what the monolithic engine answers?  Ensembles on four cases.
+
+For each case, ``--starts`` runs (the initial crank angle spread over a turn) of the monolithic reference
+(RK4 at ``--reference-step``) and of each co-simulation configuration (``--cosim-steps``: the adaptive
+scheme's contact step; the default first), over ``--revolutions`` revolutions of which the first
+``--settling`` are dropped.  Per run the mean over its revolutions of: impacts per revolution, contact
+fraction, largest normal force, share of chattering revolutions (more than
+:data:`wearjoint.analysis.CHATTER_IMPACTS_PER_REVOLUTION` onsets).  Per configuration the ensemble's mean
+and standard error, and the difference from the reference in combined standard errors
+(|z| <= 2: inside the monolithic scatter).
+
+Cases (``--cases``): ``paper`` (the paper's slider-crank, unworn, no wear); ``paper-worn`` (its bushing
+with a conforming groove 0.58 mm deep, the depth of the paper's 4000-revolution study, no further wear);
+``own-wear`` (the own-mechanism example of docs/how-to/validate_own_mechanism.md, wearing; wear factor
+``--wear-factor``); ``groove`` (a third slider-crank with a conforming groove 5.7 clearances deep, no
+further wear).  A conforming groove: the bushing worn to the pin's circle pushed ``depth`` past the
+clearance along the direction the contact force of an unworn run points to most
+(:func:`conforming_groove`).
+
+    python -m wearjoint.studies.coupling_accuracy [--cases paper paper-worn own-wear groove] [--starts 8]
+        [--revolutions 6] [--settling 2] [--cosim-steps 5e-6 2.5e-6 1.25e-6] [--out DIR]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from wearjoint.analysis import chattering, contact_fraction, covered
+from wearjoint.core import layout as L
+from wearjoint.core.geometry import bushing_point_angles
+from wearjoint.cosim.cosimulation import CoSimulationOptions, run_cosimulation
+from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint
+from wearjoint.simulate import SimulationOptions, run_simulation
+
+STATISTICS = ("impacts_per_revolution", "contact_fraction", "max_normal_force_N", "chattering_share")
+PAPER_WORN_DEPTH_M = 0.58e-3
+GROOVE_CLEARANCES = 5.7
+OWN_MECHANISM = dict(crank_length_m=0.08, rod_length_m=0.3, crank_speed_rpm=300.0, slider_mass_kg=1.2)
+OWN_JOINT = dict(pin_radius_m=0.012, bushing_radius_m=0.01215, contact_length_m=0.01,
+                 bushing_youngs_modulus_Pa=110e9, bushing_poisson_ratio=0.34)
+GROOVE_MECHANISM = dict(crank_length_m=0.06, rod_length_m=0.25, crank_speed_rpm=200.0, slider_mass_kg=1.5,
+                        rod_mass_kg=0.3, rod_inertia_kg_m2=0.0018)
+GROOVE_JOINT = dict(pin_radius_m=0.008, bushing_radius_m=0.00812, contact_length_m=0.008)
+
+
+def conforming_groove(joint: JointParameters, depth_m: float, direction_rad: float) -> np.ndarray:
+    """Wear depths [m] of a bushing worn to the pin's circle with its centre at c + ``depth_m`` along
+    ``direction_rad`` (bushing frame): depth(phi) = max(0, r(phi) - R_j), r(phi) = e cos(a) + sqrt(R_i^2 - e^2 sin^2 a)
+    the pin's surface along phi, a = phi - direction, e = c + depth."""
+    phi = bushing_point_angles(joint.n_points)
+    e = joint.bushing_radius_m - joint.pin_radius_m + depth_m
+    a = phi - direction_rad
+    chord = joint.pin_radius_m ** 2 - (e * np.sin(a)) ** 2
+    surface = np.where(chord >= 0.0, e * np.cos(a) + np.sqrt(np.maximum(chord, 0.0)), 0.0)
+    return np.maximum(0.0, surface - joint.bushing_radius_m)
+
+
+def loaded_direction(joint: JointParameters, mechanism: SliderCrankParameters) -> float:
+    """The bushing-frame angle [rad] where two revolutions of the unworn joint wear most (wear factor 1e4)."""
+    worn = run_simulation(joint.replace(wear_factor=1e4), mechanism,
+                          SimulationOptions(revolutions=2.0, integrator="rk4", step_s=2.5e-6), progress=False)
+    return float(bushing_point_angles(joint.n_points)[int(np.argmax(worn.wear_depth_m))])
+
+
+def case_setup(name: str, wear_factor: float) -> tuple[JointParameters, SliderCrankParameters, np.ndarray | None]:
+    """(joint, mechanism, initial profile) of case ``name``."""
+    if name == "paper":
+        mechanism = SliderCrankParameters()
+        return paper_joint(mechanism, wear_factor=0.0), mechanism, None
+    if name == "own-wear":
+        mechanism = SliderCrankParameters(**OWN_MECHANISM)
+        return paper_joint(mechanism, wear_factor=wear_factor, **OWN_JOINT), mechanism, None
+    if name == "paper-worn":
+        mechanism, changes, depth = SliderCrankParameters(), {}, PAPER_WORN_DEPTH_M
+    elif name == "groove":
+        mechanism, changes = SliderCrankParameters(**GROOVE_MECHANISM), GROOVE_JOINT
+        depth = GROOVE_CLEARANCES * (GROOVE_JOINT["bushing_radius_m"] - GROOVE_JOINT["pin_radius_m"])
+    else:
+        raise ValueError(f"case {name!r}: allowed paper, paper-worn, own-wear, groove")
+    joint = paper_joint(mechanism, wear_factor=0.0, **changes)
+    return joint, mechanism, conforming_groove(joint, depth, loaded_direction(joint, mechanism))
+
+
+def run_statistics(stats: np.ndarray, settling: int) -> dict:
+    """The means over the revolutions after ``settling`` of :data:`STATISTICS`."""
+    rows = stats[covered(stats)][settling:]
+    rows = rows[rows[:, L.S_TIME] > 0.0]
+    return {"impacts_per_revolution": float(rows[:, L.S_IMPACTS].mean()),
+            "contact_fraction": float(contact_fraction(rows).mean()),
+            "max_normal_force_N": float(rows[:, L.S_FORCE_MAX].mean()),
+            "chattering_share": float(chattering(rows).mean())}
+
+
+def ensemble(run, mechanism: SliderCrankParameters, starts: int, settling: int) -> dict:
+    """Mean and standard error over ``starts`` crank angles spread over a turn of the statistics of
+    ``run(mechanism)``, its wall time and its communication steps per revolution (co-simulation)."""
+    values, wall, steps = [], 0.0, 0.0
+    for k in range(starts):
+        start = time.perf_counter()
+        record = run(mechanism.replace(initial_crank_angle_deg=360.0 * k / starts))
+        wall += time.perf_counter() - start
+        if not record.completed:
+            raise RuntimeError(f"start {k}: {record.failure}")
+        values.append(run_statistics(record.revolution_stats, settling))
+        steps += record.extra.get("communication_steps", 0) / record.revolutions / starts
+    out = {"wall_s": wall, "steps_per_revolution": steps}
+    for name in STATISTICS:
+        x = np.array([v[name] for v in values])
+        out[name] = {"mean": float(x.mean()), "se": float(x.std(ddof=1) / math.sqrt(x.size))}
+    return out
+
+
+def z_scores(row: dict, reference: dict) -> dict:
+    """The differences from the reference in combined standard errors (0 where both scatter nil)."""
+    out = {}
+    for name in STATISTICS:
+        a, b = row[name], reference[name]
+        se = math.hypot(a["se"], b["se"])
+        out[name] = (a["mean"] - b["mean"]) / se if se > 0 else 0.0
+    return out
+
+
+def run_case(name: str, args, log=print) -> dict:
+    joint, mechanism, profile = case_setup(name, args.wear_factor)
+    revolutions = args.revolutions
+
+    def monolithic(m):
+        return run_simulation(joint, m, SimulationOptions(revolutions=revolutions, integrator="rk4",
+                                                          step_s=args.reference_step), progress=False,
+                              initial_profile_m=profile)
+
+    reference = ensemble(monolithic, mechanism, args.starts, args.settling)
+    rows = {f"monolithic rk4 {args.reference_step * 1e6:g} us": reference}
+    log(f"{name}: reference {reference['wall_s']:.0f} s")
+    configurations = [(f"cosim adaptive {step * 1e6:g} us", {"step_s": step}) for step in args.cosim_steps]
+    configurations += [(f"cosim tolerance {tolerance:g}", {"coupling_tolerance": tolerance})
+                       for tolerance in args.tolerances]
+    for label, options in configurations:
+        def cosim(m, options=options):
+            return run_cosimulation(joint, m, CoSimulationOptions(revolutions=revolutions, **options),
+                                    progress=False, initial_profile_m=profile)
+        row = ensemble(cosim, mechanism, args.starts, args.settling)
+        row["z"] = z_scores(row, reference)
+        rows[label] = row
+        log(f"{name}: {label} {row['wall_s']:.0f} s, {row['steps_per_revolution']:.0f} steps/rev, z " +
+            " ".join(f"{k}={v:+.1f}" for k, v in row["z"].items()))
+    depth = None if profile is None else float(profile.max())
+    return {"case": name, "groove_depth_m": depth, "clearance_m": joint.bushing_radius_m - joint.pin_radius_m,
+            "rows": rows}
+
+
+def table(results: list) -> str:
+    """A markdown table: per case and configuration, mean ± standard error and z of each statistic."""
+    head = ("| case | configuration | wall [s] | steps/rev | " + " | ".join(STATISTICS) + " |\n|"
+            + " --- |" * (4 + len(STATISTICS)))
+    lines = [head]
+    for case in results:
+        for label, row in case["rows"].items():
+            cells = []
+            for name in STATISTICS:
+                text = f"{row[name]['mean']:.3g} ± {row[name]['se']:.2g}"
+                if "z" in row:
+                    text += f" (z {row['z'][name]:+.1f})"
+                cells.append(text)
+            steps = f"{row['steps_per_revolution']:.0f}" if row["steps_per_revolution"] else ""
+            lines.append(f"| {case['case']} | {label} | {row['wall_s']:.0f} | {steps} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m wearjoint.studies.coupling_accuracy", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--cases", nargs="+", default=["paper", "paper-worn", "own-wear", "groove"])
+    parser.add_argument("--starts", type=int, default=8)
+    parser.add_argument("--revolutions", type=float, default=6.0)
+    parser.add_argument("--settling", type=int, default=2)
+    parser.add_argument("--reference-step", type=float, default=2.5e-6)
+    parser.add_argument("--cosim-steps", type=float, nargs="+", default=[5e-6])
+    parser.add_argument("--tolerances", type=float, nargs="*", default=[])
+    parser.add_argument("--wear-factor", type=float, default=1.0)
+    parser.add_argument("--out", type=Path, default=None)
+    args = parser.parse_args(argv)
+    results = [run_case(name, args, log=lambda text: print(text, file=sys.stderr, flush=True)) for name in args.cases]
+    print(table(results))
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "coupling_accuracy.json").write_text(json.dumps(results, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
