@@ -311,7 +311,8 @@ def add_cosim_arguments(parser) -> None:
     g.add_argument("--scheme", choices=SCHEMES, default=defaults.scheme,
                    help="zoh: fixed communication step, forces held; extrapolation: fixed step, forces "
                         "extrapolated in contact; adaptive: extrapolation, large steps in free flight, "
-                        "rollback to contact onsets (default %(default)s)")
+                        "rollback to contact onsets; linearised: adaptive, the loads in contact linearised in the "
+                        "kinematics with the FMU's directional derivatives (native FMU) (default %(default)s)")
     g.add_argument("--step", type=float, default=None,
                    help=f"communication step [s] (adaptive: in contact) (default {defaults.step_s:g}; with a "
                         f"third-party master {DEFAULT_STEP_S:g}, a fixed step)")
@@ -322,9 +323,10 @@ def add_cosim_arguments(parser) -> None:
     g.add_argument("--onset-penetration", type=float, default=defaults.onset_penetration_m,
                    help="how deep past a contact onset an adaptive step may end [m] (default %(default)g)")
     g.add_argument("--coupling-tolerance", type=float, default=defaults.coupling_tolerance,
-                   help="adaptive: the relative miss of the extrapolated contact force each contact step is controlled "
-                        "to, at most --step (0: the fixed rule, the step halved where the miss passes 0.3); every run "
-                        "reports the miss in summary.json, coupling_force_miss_rms and _max (default %(default)g)")
+                   help="adaptive, linearised: the relative miss of the predicted contact force each contact step "
+                        "is controlled to, at most --step (0: the fixed rule, the step halved where the miss passes "
+                        "0.3); every run reports the miss in summary.json, coupling_force_miss_rms and _max "
+                        "(default %(default)g)")
     g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help="time-series spacing [s]")
     add_initial_profile_argument(g)
     add_tolerance_arguments(parser.add_argument_group("model exchange (--fmu-interface model-exchange)"), "dopri")

@@ -80,7 +80,7 @@ static void reset(FmuModel *model)
         model->parameters[i] = PARAMETERS[i].start;
     model->parameters_changed = 1;
     model->forces_stale = model->wear_summary_stale = model->jacobian_stale = 1;
-    model->onsets_accepted = model->warned_wear_step = model->started = 0;
+    model->onsets_accepted = model->warned_wear_step = model->started = model->jacobian_read = 0;
     memset(model->memory, 0, sizeof model->memory);
     model->memory[M_START_FORCE] = NO_START_FORCE;
     memset(model->result, 0, sizeof model->result);
@@ -210,15 +210,20 @@ int joint_pack_parameters(FmuModel *model, const char *when)
 }
 
 /* ------------------------------------------------------------------ the kernels */
+static int all_finite(const double *values, int n)
+{
+    double probe = 0.0;   /* 0 unless a value is infinite or NaN */
+    for (int i = 0; i < n; i++)
+        probe += values[i] * 0.0;
+    return probe == 0.0;
+}
+
 /* 1 if the n values per result slot of ``values`` (the result: 1, the jacobian: N_INPUTS) are finite for every
  * output read from the result; else logs the first that is not. */
 static int outputs_finite(const FmuModel *model, const double *values, int n, const char *what,
                           const char *function, const char *output)
 {
-    double probe = 0.0;   /* 0 unless a value is infinite or NaN: then look for the output that is */
-    for (int i = 0; i < N_RESULT * n; i++)
-        probe += values[i] * 0.0;
-    if (probe == 0.0)
+    if (all_finite(values, N_RESULT * n))   /* else look for the output that is not */
         return 1;
     for (int i = 0; i < N_SCALAR_OUTPUTS; i++) {   /* finite inputs so large that the geometry overflows */
         for (int m = 0; m < n && OUTPUTS[i].source == OUTPUT_FROM_RESULT; m++) {
@@ -252,15 +257,26 @@ int joint_evaluate(FmuModel *model, const char *function, const char *output)
         return 0;
     }
     int32_t status = 0;
-    if (!kernel_ok(model, "wearjoint_evaluate failed",
-                   wearjoint_evaluate(&status, NULL, model->inputs, model->joint_parameters, model->cos_phi,
-                                      model->sin_phi, model->wear_depth, model->block_min, model->memory,
-                                      model->result, model->mask, model->n_points, model->n_blocks)))
+    /* a host that read the last evaluation's derivatives (a linearising master) reads these too: one pass for both
+     * (the same forces: the kernels' sums do not depend on whether they also take the derivatives) */
+    int with_jacobian = model->jacobian_read;
+    model->jacobian_read = 0;
+    if (with_jacobian) {
+        if (!kernel_ok(model, "wearjoint_jacobian failed",
+                       wearjoint_jacobian(&status, NULL, model->inputs, model->joint_parameters, model->cos_phi,
+                                          model->sin_phi, model->wear_depth, model->block_min, model->memory,
+                                          model->result, model->jacobian, model->n_points, model->n_blocks)))
+            return 0;
+    } else if (!kernel_ok(model, "wearjoint_evaluate failed",
+                          wearjoint_evaluate(&status, NULL, model->inputs, model->joint_parameters, model->cos_phi,
+                                             model->sin_phi, model->wear_depth, model->block_min, model->memory,
+                                             model->result, model->mask, model->n_points, model->n_blocks))) {
         return 0;
+    }
     if (!outputs_finite(model, model->result, 1, "output", function, output))
         return 0;
     model->forces_stale = 0;
-    model->jacobian_stale = 1;
+    model->jacobian_stale = !with_jacobian || !all_finite(model->jacobian, N_RESULT * N_INPUTS);
     return 1;
 }
 
@@ -269,8 +285,10 @@ int joint_jacobian(FmuModel *model, const char *function, const char *output)
 {
     if (!joint_evaluate(model, function, output))
         return 0;
-    if (!model->jacobian_stale)
+    if (!model->jacobian_stale) {
+        model->jacobian_read = 1;
         return 1;
+    }
     double result[N_RESULT];
     memcpy(result, model->result, sizeof result);   /* its deepest point seeds the search */
     int32_t status = 0;
@@ -282,6 +300,7 @@ int joint_jacobian(FmuModel *model, const char *function, const char *output)
     if (!outputs_finite(model, model->jacobian, N_INPUTS, "the derivative of output", function, output))
         return 0;
     model->jacobian_stale = 0;
+    model->jacobian_read = 1;
     return 1;
 }
 

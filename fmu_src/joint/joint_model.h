@@ -21,6 +21,8 @@ struct FmuModel {
     int parameters_changed;            /* since the joint parameter vector was packed */
     int forces_stale;                  /* result does not belong to the current inputs */
     int jacobian_stale;                /* jacobian does not belong to result */
+    int jacobian_read;                 /* the host read derivatives of this evaluation: the next evaluation takes the
+                                          forces and their derivatives in one pass of the kernels */
     int onsets_accepted;               /* an accepted step did the onset bookkeeping at these inputs */
     int wear_summary_stale;
     int warned_wear_step;              /* the wear-step warning was logged (once per instance) */

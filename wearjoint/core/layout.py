@@ -178,6 +178,18 @@ CLEARANCE_JOINTS = choice_names("clearance_joint")
 MODE_IDEAL = 0            # the clearance joint's revolute as a constraint (closed-form baseline)
 MODE_CLEARANCE = 1        # constraint removed, ClearanceJoint evaluated inside the RHS
 MODE_EXTERNAL = 2         # constraint removed, forces given (held from a co-simulation slave)
+MODE_LINEARISED = 3       # constraint removed, forces linear in the joint's kinematics (a co-simulation slave's
+                          # forces and their Jacobian at the step's start: F0 + J (u - u0), core.linearisation)
+
+# --- a linearisation of the joint's loads (MODE_LINEARISED): at the kinematic inputs u0, the loads F0 (the pin
+# body's force x, y and torque, the bushing body's, then the normal force) and their Jacobian J (row-major,
+# N_LINEARISED_LOADS x N_KINEMATIC_INPUTS), then scratch for the kinematics' change
+N_LINEARISED_LOADS = 7
+LIN_INPUTS = 0
+LIN_LOADS = LIN_INPUTS + 12
+LIN_JACOBIAN = LIN_LOADS + N_LINEARISED_LOADS
+LIN_SCRATCH = LIN_JACOBIAN + N_LINEARISED_LOADS * 12
+N_LINEARISATION = LIN_SCRATCH + 12
 
 # --- per-revolution statistics (one row per crank revolution)
 S_IMPACTS = 0             # contact onsets at accepted points

@@ -17,10 +17,11 @@ import numpy as np
 from .jit import kernel
 from .joint_access import NoJoint, contact_forces
 from .joint_location import body_angle, bodies_trig, clearance_location, joint_bodies
+from .linearisation import linearised_loads
 from .layout import (
-    CLEARANCE_CRANK_ROD, CRANK, GROUND, MODE_CLEARANCE, MODE_IDEAL, MP_ALPHA, MP_BETA, MP_CRANK_INERTIA,
-    MP_CRANK_LENGTH, MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_OMEGA, MP_ROD_INERTIA, MP_ROD_LENGTH, MP_ROD_MASS,
-    MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_RESULT, R_BUSHING_FX, R_BUSHING_FY,
+    CLEARANCE_CRANK_ROD, CRANK, GROUND, MODE_CLEARANCE, MODE_IDEAL, MODE_LINEARISED, MP_ALPHA, MP_BETA,
+    MP_CRANK_INERTIA, MP_CRANK_LENGTH, MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_OMEGA, MP_ROD_INERTIA,
+    MP_ROD_LENGTH, MP_ROD_MASS, MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_RESULT, R_BUSHING_FX, R_BUSHING_FY,
     R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
 )
 from .slider_load import slider_load
@@ -304,7 +305,8 @@ def stage_trig(trig, y, y_stage, mp):
 def derivative(t, y, mode, mp, joint, body_forces, ws, dy):
     """dy/dt of y = [q, q_dot].  MODE_CLEARANCE evaluates the joint (``joint``: a
     :data:`~.joint_access.JointArrays`, or a :data:`~wearjoint.cosim.fmu_joint.FmuJoint`; writes its result
-    array); MODE_EXTERNAL uses ``body_forces`` as given; MODE_IDEAL has none and writes the ideal
+    array); MODE_EXTERNAL uses ``body_forces`` as given, MODE_LINEARISED writes them from ``joint``, a linearisation
+    (:func:`~.linearisation.linearised_loads`); MODE_IDEAL has none and writes the ideal
     revolute's reaction to the joint's result array (:func:`ideal_joint_reaction`)."""
     derivative_rotated(t, y, angle_trig(y, mp), mode, mp, joint, body_forces, ws, dy)
 
@@ -317,6 +319,8 @@ def derivative_rotated(t, y, trig, mode, mp, joint, body_forces, ws, dy):
         cos1, sin1, cos2, sin2 = trig
         pin, bushing = joint_bodies(mp)
         contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2)
+    elif mode == MODE_LINEARISED:                # ``joint``: the linearisation (layout.LIN_*)
+        linearised_loads(joint, y, mp, body_forces)
     _derivative_joint_evaluated(t, y, trig, mode, mp, joint, body_forces, ws, dy)
 
 

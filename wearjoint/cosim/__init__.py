@@ -27,8 +27,13 @@ Schemes (``CoSimulationOptions.scheme``):
   for DOPRI.  Free flight carries no joint force, so large steps there cost no
   accuracy.  In contact the step is halved (down to ``step_s``/16) while the force
   at a step's end misses its extrapolation by > 30 %, and grows back otherwise:
-  the explicit coupling is unstable at a fixed step in deep or hard-damped contact.  The default (wearjoint/studies/cosim_study.py): ``adaptive`` with 5 us in
-  contact.  Zero-order hold is first order in h (pointwise 100x off the
+  the explicit coupling is unstable at a fixed step in deep or hard-damped contact.  The default
+  (wearjoint/studies/cosim_study.py): ``adaptive`` with 5 us in contact.
+* ``linearised`` -- ``adaptive``, but in contact the loads are linearised instead of extrapolated: at each
+  accepted point in contact the master takes the joint's Jacobian in its 12 inputs from the FMU (12
+  ``fmi2GetDirectionalDerivative`` calls, the same kernels' exact derivatives) and integrates
+  F0 + J (u - u0) through the RK4 stages of the next step (``core.linearisation``; no loads where the
+  linear normal force reaches 0: the contact ended).  The step control reads the miss of that prediction.  Zero-order hold is first order in h (pointwise 100x off the
   monolithic run at 1 us) and unstable from ~5 us on (stiff contact).
 """
 from ..fmu.ensure import ensure_fmu

@@ -23,11 +23,12 @@ from ..parameters import (
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
 from .master_loop import (
-    _N_Y, B_EXTRAPOLATE, B_INPUT, B_MP, B_OUTPUT, B_ROLLBACK_END, B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_MAX_STEP,
-    C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME,
-    G_MISS_COUNT, G_MISS_MAX, G_MISS_SQ_SUM, G_FMI_TIME, G_FREE_STEPS, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, N_INPUTS,
-    N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views, communication_step,
-    master_loop,
+    _N_Y, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
+    B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
+    C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME, G_FMI_TIME, G_FREE_STEPS, G_MISS_COUNT,
+    G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISED_OUTPUTS,
+    N_INPUTS, N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views,
+    communication_step, master_loop,
 )
 
 CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
@@ -61,8 +62,8 @@ class CoSimulationOptions:
         require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
         require("coupling_tolerance", self.coupling_tolerance,
                 finite("coupling_tolerance", self.coupling_tolerance) >= 0.0
-                and (self.coupling_tolerance == 0.0 or self.scheme == "adaptive"),
-                ">= 0, and 0 unless scheme='adaptive'")
+                and (self.coupling_tolerance == 0.0 or self.scheme in ADAPTIVE_SCHEMES),
+                ">= 0, and 0 unless scheme is adaptive or linearised")
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -87,6 +88,8 @@ class CoSimulation(OwnsFmuInstance):
         self.joint = joint or paper_joint(self.mechanism.params)
         check_joint_fits_mechanism(self.joint, self.mechanism.params)
         require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
+        require("fmu_backend", fmu_backend, fmu_backend == "native" or self.options.scheme != "linearised",
+                "native with scheme='linearised' (the directional derivatives are the native FMU's)")
         self.fmu_backend = fmu_backend
         self._instance = None
         build = start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
@@ -95,6 +98,8 @@ class CoSimulation(OwnsFmuInstance):
         b = self.buf
         b[B_MP:B_MP + L.N_MECHANISM_PARAMETERS] = self.mechanism.parameter_vector
         b[B_EXTRAPOLATE] = 1.0 if self.options.scheme in ("extrapolation", "adaptive") else 0.0
+        b[B_LINEARISE] = 1.0 if self.options.scheme == "linearised" else 0.0
+        b[B_LINEARISED_AT] = -1.0
         b[B_TRACK:B_TRACK + L.N_TRACK] = new_track(self.options.sample_dt_s)
         b[B_STATS:] = new_revolution_stats(n_rev).ravel()
         self.revolution_stats = b[B_STATS:].reshape((n_rev, L.N_STATS))
@@ -116,9 +121,10 @@ class CoSimulation(OwnsFmuInstance):
         self._register[G_PREVIOUS_PENETRATION] = -math.inf   # none yet
         o = self.options
         self._settings = np.zeros(N_SETTINGS)
-        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE]] = (
-            1.0 if o.scheme == "adaptive" else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m,
-            1.0 if fmu_backend == "native" else 0.0, o.coupling_tolerance)
+        self._settings[[C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE,
+                        C_LINEARISE]] = (
+            1.0 if o.scheme in ADAPTIVE_SCHEMES else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m,
+            1.0 if fmu_backend == "native" else 0.0, o.coupling_tolerance, 1.0 if o.scheme == "linearised" else 0.0)
         self._clock = _monotonic_clock()
         self._timespec = np.zeros(2, dtype=np.int64)
         try:   # the mechanism's kernels compile while a missing FMU builds
@@ -129,11 +135,12 @@ class CoSimulation(OwnsFmuInstance):
                 build.wait()
         self.fmu_path = ensure_fmu(self.joint.n_points, fmu_path, backend=fmu_backend)
         self._instance = FmuInstance(self.fmu_path, self.joint, b[B_INPUT:B_INPUT + N_INPUTS],
-                                  b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
+                                     b[B_OUTPUT:B_OUTPUT + N_OUTPUTS], OUTPUT_NAMES)
         try:
             if initial_profile_m is not None:
                 self._instance.set_wear_profile(initial_profile_m, 0.0)
             self._instance.exchange(0.0)
+            self._directional = self._instance.directional_functions(LINEARISED_OUTPUTS)
         except BaseException:
             self.close()
             raise
@@ -154,7 +161,8 @@ class CoSimulation(OwnsFmuInstance):
         register = self._register.copy()
         register[G_T] = self.t
         master_loop(self.t, register, self._settings, self.buf, self._saved, np.zeros((0, L.N_SAMPLE_COLUMNS)),
-                    self.mechanism.workspace, self._live_instance().loop_functions, self._clock, self._timespec)
+                    self.mechanism.workspace, self._live_instance().loop_functions, self._directional, self._clock,
+                    self._timespec)
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         """Co-simulate to t_end [s], writing samples into ``samples``; returns how many.
@@ -167,7 +175,8 @@ class CoSimulation(OwnsFmuInstance):
         wall0 = time.perf_counter()
         try:
             failed = master_loop(t_end, register, self._settings, self.buf, self._saved, samples,
-                                 self.mechanism.workspace, slave.loop_functions, self._clock, self._timespec)
+                                 self.mechanism.workspace, slave.loop_functions, self._directional, self._clock,
+                                 self._timespec)
         finally:
             self.t = float(register[G_T])
             self.communication_steps += int(register[G_STEPS])
@@ -242,7 +251,7 @@ class CoSimulation(OwnsFmuInstance):
         extra = {"communication_steps": self.communication_steps, "rollbacks": self.rollbacks,
                  "free_steps": self.free_steps, "shrunk_steps": self.shrunk_steps,
                  "fmi_time_s": self.fmi_time_s, "master_time_s": self.master_time_s}
-        if self.options.scheme == "adaptive":
+        if self.options.scheme in ADAPTIVE_SCHEMES:
             # the coupling's error estimate: the relative miss of the extrapolated contact force, over the steps
             # in contact (master_loop._contact_step_after)
             extra["coupling_force_miss_rms"] = (math.sqrt(self.miss_sq_sum / self.miss_count) if self.miss_count

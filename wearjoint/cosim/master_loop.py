@@ -19,7 +19,7 @@ import numpy as np
 from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
-from ..core.layout import MODE_EXTERNAL
+from ..core.layout import MODE_EXTERNAL, MODE_LINEARISED
 from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
 from ..core.slider_crank import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
@@ -27,7 +27,8 @@ from ..fmu.fmi import c_function, failed_call
 from ..fmu.instance import N_INPUTS
 from ..fmu.variables import RESULT_SLOTS
 
-SCHEMES = ("zoh", "extrapolation", "adaptive")
+SCHEMES = ("zoh", "extrapolation", "adaptive", "linearised")
+ADAPTIVE_SCHEMES = ("adaptive", "linearised")   # long steps in free flight, rollbacks to contact onsets
 
 # --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
 OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
@@ -37,6 +38,7 @@ OUTPUT_RESULT_INDEX = np.array([RESULT_SLOTS[name] for name in OUTPUT_NAMES])   
 N_OUTPUTS = len(OUTPUT_NAMES)
 O_PENETRATION = OUTPUT_NAMES.index("penetration")
 O_CONTACT = OUTPUT_NAMES.index("contact")
+O_NORMAL_FORCE = OUTPUT_NAMES.index("normal_force")
 
 # --- the master's state buffer: one float64 array, so the per-step kernel takes few arguments.
 # Everything a rollback restores is at its start (one copy saves it).
@@ -56,7 +58,10 @@ B_STAGES = B_FORCES + 6                   # RK4 stage scratch (4 rows of the sta
 B_TRACK = B_STAGES + 4 * _N_Y             # record_step bookkeeping (samples, previous contact)
 B_MP = B_TRACK + L.N_TRACK                # mechanism parameter vector
 B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces during contact
-B_STATS = B_EXTRAPOLATE + 1               # per-revolution statistics (rows of layout.N_STATS)
+B_LINEARISE = B_EXTRAPOLATE + 1           # 1.0: linearise the loads during contact (scheme linearised)
+B_LINEARISED_AT = B_LINEARISE + 1         # the time of the linearisation at B_LINEARISATION [s] (-1: none)
+B_LINEARISATION = B_LINEARISED_AT + 1     # the FMU's loads and their Jacobian there (layout.LIN_*)
+B_STATS = B_LINEARISATION + L.N_LINEARISATION   # per-revolution statistics (rows of layout.N_STATS)
 
 
 # --- master_loop's register: the loop's state between calls, then its counters (this call, from G_STEPS
@@ -87,18 +92,27 @@ _MISS_SHRINK = 0.3
 _SMALLEST_CONTACT_STEP = 1.0 / 16.0
 _MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching) is not stiff
 FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
-             "fmi2FreeFMUstate")
-F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
+             "fmi2FreeFMUstate", "fmi2GetDirectionalDerivative")
+F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE, F_DIRECTIONAL = range(1, len(FMI_CALLS))
+# the loads a linearisation holds (layout.LIN_LOADS), as FMU outputs: the bodies' loads, then the normal force
+LINEARISED_OUTPUTS = OUTPUT_NAMES[:6] + ("normal_force",)
 # --- master_loop's settings; C_REUSE_STATE: 1.0 if getFMUstate overwrites the state it is given (FMI's "typically";
 # the pythonfmu slave returns a new one and loses the old), else each state is freed before the next;
 # C_TOLERANCE: the relative force miss the adaptive contact step is controlled to (0: the fixed rule)
-C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE = range(7)
-N_SETTINGS = 7
+C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE, C_LINEARISE = range(8)
+N_SETTINGS = 8
 # error-controlled contact step: h_next = h * SAFETY * sqrt(tolerance / miss) (the miss of a linear extrapolation
 # is of second order in h), within [1/2, 2] times h
 _CONTROL_SAFETY = 0.9
 _CONTROL_SHRINK_LIMIT = 0.5
 _CONTROL_GROW_LIMIT = 2.0
+
+
+@kernel(inline='always')
+def _linearises(buf, t):
+    """True if the step from t integrates the linearised loads: the scheme linearises and the FMU's loads were
+    linearised at t (in contact there)."""
+    return buf[B_LINEARISE] > 0.5 and buf[B_LINEARISED_AT] == t
 
 
 @kernel(inline='always')
@@ -174,14 +188,19 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
         record_step(t, buf[B_LAST_STEP], y, dy, result, mp, stats, samples, buf[B_TRACK:B_TRACK + L.N_TRACK])
     previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
     if h > 0.0:
-        if _extrapolates(buf):
-            # in contact at t and at the point before: hold the mean over [t, t + h]
-            # of the forces' linear extrapolation instead of their value at t
-            slope = 0.5 * h / buf[B_LAST_STEP]
-            for k in range(6):
-                forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
-            derivative_rotated(t, y, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy)
-        rk4_step(t, y, h, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy, stages)
+        if _linearises(buf, t):
+            # in contact at t: the loads F0 + J (u - u0) through the step, J the FMU's at t
+            linearisation = buf[B_LINEARISATION:B_LINEARISATION + L.N_LINEARISATION]
+            rk4_step(t, y, h, trig, MODE_LINEARISED, mp, linearisation, forces, ws, dy, stages)
+        else:
+            if _extrapolates(buf):
+                # in contact at t and at the point before: hold the mean over [t, t + h]
+                # of the forces' linear extrapolation instead of their value at t
+                slope = 0.5 * h / buf[B_LAST_STEP]
+                for k in range(6):
+                    forces[k] = outputs[k] + slope * (outputs[k] - previous[k])
+                derivative_rotated(t, y, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy)
+            rk4_step(t, y, h, trig, MODE_EXTERNAL, mp, joint, forces, ws, dy, stages)
         for k in range(6):
             previous[k] = outputs[k]
         buf[B_PREVIOUS_CONTACT] = outputs[O_CONTACT]
@@ -268,15 +287,15 @@ def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
 
 
 @kernel(inline='always')
-def _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact, h_touching, tolerance):
-    """(the next contact step, the relative miss) after a step h whose forces were extrapolated; the miss is
-    |F(t + h) - F(t) - h F'(t)| / max(|F(t + h)|, |F(t)|, 100 N).  Stiff contact (deep, or damped hard after a slow
+def _contact_step_after(buf, fx_predicted, fy_predicted, fx_t, fy_t, h, h_min, h_contact, h_touching, tolerance):
+    """(the next contact step, the relative miss) after a step h whose forces were extrapolated or linearised; the
+    miss is |F(t + h) - F_predicted(t + h)| / max(|F(t + h)|, |F(t)|, 100 N).  Stiff contact (deep, or damped hard after a slow
     onset) makes the explicit coupling unstable at a fixed step.  The fixed rule (``tolerance`` 0): the step halves
     while the miss passes _MISS_SHRINK and grows back to step_s once it agrees.  With a tolerance: the step that
     would miss by ``tolerance`` (second order in h), between step_s / 16 and step_s (longer steps than step_s
     leave the explicit coupling's stability region before the miss shows it)."""
-    fx_miss = buf[B_OUTPUT] - (fx_t + fx_slope * h)
-    fy_miss = buf[B_OUTPUT + 1] - (fy_t + fy_slope * h)
+    fx_miss = buf[B_OUTPUT] - fx_predicted
+    fy_miss = buf[B_OUTPUT + 1] - fy_predicted
     fx_new = buf[B_OUTPUT]
     fy_new = buf[B_OUTPUT + 1]
     scale_sq = max(fx_new * fx_new + fy_new * fy_new, fx_t * fx_t + fy_t * fy_t, _MISS_FORCE_FLOOR ** 2)
@@ -291,14 +310,53 @@ def _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact
     return min(h_contact, 1.25 * h_touching), miss
 
 
+@kernel(inline='always')
+def _linearised_force(buf, r):
+    """The linearisation's load r (layout.LIN_LOADS) at the inputs B_INPUT: F0[r] + J[r] (u - u0)."""
+    lin = B_LINEARISATION
+    value = buf[lin + L.LIN_LOADS + r]
+    for m in range(N_INPUTS):
+        value += buf[lin + L.LIN_JACOBIAN + N_INPUTS * r + m] * (buf[B_INPUT + m] - buf[lin + L.LIN_INPUTS + m])
+    return value
+
+
+@kernel(inline='always')
+def _linearise(buf, fmi, directional, register, t, timed, clock, timespec):
+    """The FMU's loads at t (its outputs) and their Jacobian in its 12 inputs (one fmi2GetDirectionalDerivative
+    an input) into B_LINEARISATION, its time B_LINEARISED_AT.  ``directional`` = (fmi2GetDirectionalDerivative,
+    the LINEARISED_OUTPUTS' value references, the inputs', a seed [1.0], a column's scratch).  Returns (the
+    FMI_CALLS index of a failed call or 0, the FMI seconds if ``timed``)."""
+    component = fmi[0]
+    get_directional_derivative, unknown_vrs, known_vrs, seed, column = directional
+    n = unknown_vrs.shape[0]
+    lin = B_LINEARISATION
+    c1 = _seconds(clock, timespec) if timed else 0.0
+    for m in range(N_INPUTS):
+        status = get_directional_derivative(component, unknown_vrs.ctypes.data, n, known_vrs.ctypes.data + 4 * m, 1,
+                                            seed.ctypes.data, column.ctypes.data)
+        if failed_call(register, G_FAILED_CALL, F_DIRECTIONAL, status, t):
+            buf[B_LINEARISED_AT] = -1.0
+            return F_DIRECTIONAL, 0.0
+        for r in range(n):
+            buf[lin + L.LIN_JACOBIAN + N_INPUTS * r + m] = column[r]
+    for m in range(N_INPUTS):
+        buf[lin + L.LIN_INPUTS + m] = buf[B_INPUT + m]
+    for r in range(6):
+        buf[lin + L.LIN_LOADS + r] = buf[B_OUTPUT + r]
+    buf[lin + L.LIN_LOADS + 6] = buf[B_OUTPUT + O_NORMAL_FORCE]
+    buf[B_LINEARISED_AT] = t
+    return 0, _fmi_seconds(timed, clock, timespec, c1)
+
+
 @kernel
-def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, timespec):
+def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, directional, clock, timespec):
     """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
     call that returned worse than fmi2Warning (details in ``register``).
 
     ``fmi`` = (component, input value references, output value references, FMU-state
     slot (addresses), doStep, setReal, getReal, getFMUstate, setFMUstate,
-    freeFMUstate): the FMU's C functions, called with the buffers' addresses.
+    freeFMUstate): the FMU's C functions, called with the buffers' addresses; ``directional``: what
+    :func:`_linearise` calls (scheme linearised).
     Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT).
     Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
     at the start of a free-flight step, the FMU state slot the matching FMU state.
@@ -313,6 +371,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
     onset = settings[C_ONSET]
     reuse_state = settings[C_REUSE_STATE] > 0.5
     tolerance = settings[C_TOLERANCE]
+    linearise = settings[C_LINEARISE] > 0.5
     inputs = buf.ctypes.data + B_INPUT * 8
     outputs = buf.ctypes.data + B_OUTPUT * 8
     stats, stages = buffer_views(buf)
@@ -336,6 +395,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
         free = buf[B_OUTPUT + O_CONTACT] < 0.5
         # forces predicted for the step's end where the contact persists (extrapolation)
         extrapolating = adaptive and _extrapolates(buf)
+        linearising = _linearises(buf, t)
         fx_t = buf[B_OUTPUT]
         fy_t = buf[B_OUTPUT + 1]
         fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
@@ -370,12 +430,24 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, clock, 
             retry_step = retry
             rollbacks += 1
             continue
-        if extrapolating:
-            h_touching, miss = _contact_step_after(buf, fx_t, fy_t, fx_slope, fy_slope, h, h_min, h_contact,
+        if extrapolating or linearising:
+            if linearising:     # the force at the step's end the linearisation at t predicted
+                fx_predicted, fy_predicted = _linearised_force(buf, 0), _linearised_force(buf, 1)
+            else:
+                fx_predicted, fy_predicted = fx_t + fx_slope * h, fy_t + fy_slope * h
+            h_touching, miss = _contact_step_after(buf, fx_predicted, fy_predicted, fx_t, fy_t, h, h_min, h_contact,
                                                    h_touching, tolerance)
             register[G_MISS_SQ_SUM] += miss * miss
             register[G_MISS_MAX] = max(register[G_MISS_MAX], miss)
             register[G_MISS_COUNT] += 1.0
+        if linearise:
+            if buf[B_OUTPUT + O_CONTACT] > 0.5:
+                failed, seconds = _linearise(buf, fmi, directional, register, t_new, timed, clock, timespec)
+                fmi_time += seconds
+                if failed:
+                    break
+            else:
+                buf[B_LINEARISED_AT] = -1.0
         retry_step = 0.0
         pen_before = pen
         t = t_new

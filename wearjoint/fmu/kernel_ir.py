@@ -39,7 +39,7 @@ from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache
 IR_SOURCES = ("core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py",
               "core/foundation_wear.py", "core/wear.py",
               "core/state_format.py", "core/joint_access.py", "core/slider_crank.py", "core/integrators.py",
-              "core/trig.py", "joint.py", "parameters.py", "fmu/aot.py")
+              "core/trig.py", "core/linearisation.py", "joint.py", "parameters.py", "fmu/aot.py")
 # the process that compiles the kernels: a generic CPU (numba's cache keeps these apart from the
 # in-process kernels, which are compiled for this machine's CPU)
 AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}

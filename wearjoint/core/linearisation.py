@@ -1,0 +1,49 @@
+"""The joint's loads linearised in its kinematics over a step (MODE_LINEARISED): a co-simulation master integrates
+F0 + J (u - u0) through its step, F0 and J the joint FMU's loads and their directional derivatives at the step's
+start, u the joint's kinematic inputs (layout.N_KINEMATIC_INPUTS) at each stage.  Where the linear normal force
+reaches 0 within the step, the contact has ended: no loads."""
+from numba import types
+from numba.extending import overload
+
+from .jit import kernel
+from .joint_location import joint_kinematics
+from .layout import LIN_INPUTS, LIN_JACOBIAN, LIN_LOADS, LIN_SCRATCH, N_KINEMATIC_INPUTS, N_LINEARISED_LOADS
+
+
+def linearised_loads(joint, y, mp, body_forces):
+    """body_forces[0:6] = F0 + J (u(y) - u0) of the linearisation ``joint`` (an array, layout.LIN_*), 0 where the
+    linearised normal force (its seventh row) is not positive; nothing for a joint of another engine (the
+    mechanism's right-hand side takes one argument for every mode's joint)."""
+
+
+@overload(linearised_loads)
+def _overload_linearised_loads(joint, y, mp, body_forces):
+    if isinstance(joint, types.Array):
+        def linearised(joint, y, mp, body_forces):
+            _loads(joint, y, mp, body_forces)
+        return linearised
+
+    def other(joint, y, mp, body_forces):
+        return None
+    return other
+
+
+@kernel(inline='always')
+def _loads(linearisation, y, mp, body_forces):
+    du = linearisation[LIN_SCRATCH:LIN_SCRATCH + N_KINEMATIC_INPUTS]
+    joint_kinematics(y, mp, du)
+    for m in range(N_KINEMATIC_INPUTS):
+        du[m] -= linearisation[LIN_INPUTS + m]
+    normal = _row(linearisation, N_LINEARISED_LOADS - 1, du)
+    for r in range(6):
+        body_forces[r] = _row(linearisation, r, du) if normal > 0.0 else 0.0
+
+
+@kernel(inline='always')
+def _row(linearisation, r, du):
+    """F0[r] + J[r] . du."""
+    value = linearisation[LIN_LOADS + r]
+    at = LIN_JACOBIAN + N_KINEMATIC_INPUTS * r
+    for m in range(N_KINEMATIC_INPUTS):
+        value += linearisation[at + m] * du[m]
+    return value
