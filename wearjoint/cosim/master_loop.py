@@ -155,6 +155,13 @@ def buffer_views(buf):
             buf[B_STAGES:B_STAGES + 4 * _N_Y].reshape((4, _N_Y)))
 
 
+@kernel   # not inlined: the other schemes' step keeps its one RK4 call
+def _linearised_step(t, y, h, trig, mp, buf, forces, ws, dy, stages):
+    """The RK4 step from t in contact with the loads F0 + J (u - u0), J the FMU's at t (B_LINEARISATION)."""
+    linearisation = buf[B_LINEARISATION:B_LINEARISATION + L.N_LINEARISATION]
+    rk4_step(t, y, h, trig, MODE_LINEARISED, mp, linearisation, forces, ws, dy, stages)
+
+
 @kernel
 def communication_step(t, h, record, buf, stats, stages, ws, samples):
     """One communication step of the master; returns the time reached [s].  ``stats``, ``stages``:
@@ -189,9 +196,7 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
     previous = buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6]
     if h > 0.0:
         if _linearises(buf, t):
-            # in contact at t: the loads F0 + J (u - u0) through the step, J the FMU's at t
-            linearisation = buf[B_LINEARISATION:B_LINEARISATION + L.N_LINEARISATION]
-            rk4_step(t, y, h, trig, MODE_LINEARISED, mp, linearisation, forces, ws, dy, stages)
+            _linearised_step(t, y, h, trig, mp, buf, forces, ws, dy, stages)
         else:
             if _extrapolates(buf):
                 # in contact at t and at the point before: hold the mean over [t, t + h]
@@ -310,7 +315,7 @@ def _contact_step_after(buf, fx_predicted, fy_predicted, fx_t, fy_t, h, h_min, h
     return min(h_contact, 1.25 * h_touching), miss
 
 
-@kernel(inline='always')
+@kernel   # not inlined: only the linearised scheme calls it (the others' loop stays as small as it was)
 def _linearised_force(buf, r):
     """The linearisation's load r (layout.LIN_LOADS) at the inputs B_INPUT: F0[r] + J[r] (u - u0)."""
     lin = B_LINEARISATION
@@ -320,7 +325,7 @@ def _linearised_force(buf, r):
     return value
 
 
-@kernel(inline='always')
+@kernel   # not inlined: only the linearised scheme calls it (the others' loop stays as small as it was)
 def _linearise(buf, fmi, directional, register, t, timed, clock, timespec):
     """The FMU's loads at t (its outputs) and their Jacobian in its 12 inputs (one fmi2GetDirectionalDerivative
     an input) into B_LINEARISATION, its time B_LINEARISED_AT.  ``directional`` = (fmi2GetDirectionalDerivative,
