@@ -400,7 +400,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, directi
         free = buf[B_OUTPUT + O_CONTACT] < 0.5
         # forces predicted for the step's end where the contact persists (extrapolation)
         extrapolating = adaptive and _extrapolates(buf)
-        linearising = _linearises(buf, t)
+        linearising = linearise and _linearises(buf, t)
         fx_t = buf[B_OUTPUT]
         fy_t = buf[B_OUTPUT + 1]
         fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
