@@ -17,13 +17,14 @@ import numpy as np
 from .jit import kernel
 from .joint_access import NoJoint, contact_forces
 from .joint_location import body_angle, bodies_trig, clearance_location, joint_bodies
-from .linearisation import linearised_loads
 from .layout import (
     CLEARANCE_CRANK_ROD, CRANK, GROUND, MODE_CLEARANCE, MODE_IDEAL, MODE_LINEARISED, MP_ALPHA, MP_BETA,
     MP_CRANK_INERTIA, MP_CRANK_LENGTH, MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_OMEGA, MP_ROD_INERTIA,
-    MP_ROD_LENGTH, MP_ROD_MASS, MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_RESULT, R_BUSHING_FX, R_BUSHING_FY,
-    R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY, R_PIN_TORQUE, ROD, SLIDER,
+    MP_ROD_LENGTH, MP_ROD_MASS, MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_RESULT,
+    R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY,
+    R_PIN_TORQUE, ROD, SLIDER,
 )
+from .linearisation import linearised_loads
 from .slider_load import slider_load
 from .trig import rotated_trig
 

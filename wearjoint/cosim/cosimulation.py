@@ -36,13 +36,14 @@ CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU
 
 @dataclass(frozen=True)
 class CoSimulationOptions:
-    """How to co-simulate.  ``step_s``: communication step [s] (``zoh``: always;
-    ``adaptive``: while in contact).  ``max_step_s`` / ``min_step_s``: bounds of
+    """How to co-simulate (``scheme``: :data:`SCHEMES`, described in :mod:`wearjoint.cosim`).
+    ``step_s``: communication step [s] (``zoh``, ``extrapolation``: always; ``adaptive``,
+    ``linearised``: while in contact).  ``max_step_s`` / ``min_step_s``: bounds of
     the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
     an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s].
-    ``coupling_tolerance`` (adaptive): the relative miss of the extrapolated contact force
-    the contact step is controlled to, at most step_s (0: the fixed rule, the step halved
-    where the miss passes 0.3 and grown back to step_s)."""
+    ``coupling_tolerance`` (adaptive, linearised): the relative miss of the predicted contact
+    force the contact step is controlled to, at most step_s (0: the fixed rule, the step
+    halved where the miss passes 0.3 and grown back to step_s)."""
 
     revolutions: float = 2.0
     scheme: str = "adaptive"
@@ -111,7 +112,7 @@ class CoSimulation(OwnsFmuInstance):
         self.rollbacks = 0
         self.free_steps = 0      # communication steps that started in free flight
         self.shrunk_steps = 0    # steps in contact shorter than step_s (adaptive)
-        self.miss_sq_sum = 0.0   # adaptive: the extrapolated contact force's relative misses (master_loop.G_MISS_*)
+        self.miss_sq_sum = 0.0   # the predicted contact force's relative misses (master_loop.G_MISS_*)
         self.miss_max = 0.0
         self.miss_count = 0
         self.fmi_time_s = 0.0

@@ -77,9 +77,9 @@ G_SHRUNK_STEPS = 7       # accepted steps in contact shorter than step_s (the fo
 G_FAILED_CALL = 8        # index into FMI_CALLS of the call that failed, 0 if none
 G_FAILED_STATUS = 9      # its fmi2Status
 G_FAILED_TIME = 10       # the communication point it was made for [s]
-G_MISS_SQ_SUM = 11       # adaptive, steps in contact with an extrapolated force: the sum of the squared relative
-G_MISS_MAX = 12          # misses of the extrapolation (|F(t + h) - F_predicted| / max(|F(t + h)|, |F(t)|, 100 N)),
-G_MISS_COUNT = 13        # their largest and their number: the coupling's error estimate
+G_MISS_SQ_SUM = 11       # adaptive and linearised, steps in contact with a predicted force: the sum of the squared
+G_MISS_MAX = 12          # relative misses of the prediction (|F(t + h) - F_predicted| / max(|F(t + h)|, |F(t)|,
+G_MISS_COUNT = 13        # 100 N)), their largest and their number: the coupling's error estimate
 N_REGISTER = 14
 # the loop times the FMI calls of one iteration in this many and scales them by it: a prime, so that a periodic
 # pattern of costly steps (the FMU applies its wear batch every few steps) is sampled at every phase (with 16 a
@@ -294,8 +294,8 @@ def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
 @kernel(inline='always')
 def _contact_step_after(buf, fx_predicted, fy_predicted, fx_t, fy_t, h, h_min, h_contact, h_touching, tolerance):
     """(the next contact step, the relative miss) after a step h whose forces were extrapolated or linearised; the
-    miss is |F(t + h) - F_predicted(t + h)| / max(|F(t + h)|, |F(t)|, 100 N).  Stiff contact (deep, or damped hard after a slow
-    onset) makes the explicit coupling unstable at a fixed step.  The fixed rule (``tolerance`` 0): the step halves
+    miss is |F(t + h) - F_predicted(t + h)| / max(|F(t + h)|, |F(t)|, 100 N).  Stiff contact (deep, or damped hard
+    after a slow onset) makes the explicit coupling unstable at a fixed step.  The fixed rule (``tolerance`` 0): the step halves
     while the miss passes _MISS_SHRINK and grows back to step_s once it agrees.  With a tolerance: the step that
     would miss by ``tolerance`` (second order in h), between step_s / 16 and step_s (longer steps than step_s
     leave the explicit coupling's stability region before the miss shows it)."""

@@ -19,8 +19,7 @@ from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .fmi import (
     COMPLETED_STEP_CALL, COMPONENT_CALL, DIRECTIONAL_DERIVATIVE_CALL, DO_STEP_CALL, EVENT_INDICATORS_CALL,
-    FMI_DISCARD, FMI_WARNING,
-    REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, raise_failed_call,
+    FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, raise_failed_call,
 )
 
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
