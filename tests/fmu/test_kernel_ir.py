@@ -18,6 +18,50 @@ def test_the_shipped_ir_is_compiled_from_these_kernels(model):
         f"python -m wearjoint.fmu.ship_ir {model}")
 
 
+@pytest.mark.parametrize("model", list(MODELS))
+def test_the_digest_covers_every_package_module_the_entry_points_import(model):
+    """Every wearjoint module the model's entry points import, at any depth and inside functions too, is hashed
+    into the digest, unless it cannot reach a kernel (the package's front matter: reports, plots, progress, the
+    compile notice): an edit to one that the digest missed would leave a stale shipped IR looking current."""
+    import ast
+    from pathlib import Path
+    package = Path(kernel_ir.PACKAGE_DIR)
+    front_matter = {"__init__.py", "analysis.py", "against_ideal.py", "checks.py", "plots.py", "profile_metrics.py",
+                    "progress.py", "report.py", "results.py", "slider_crank.py", "_compile/__init__.py",
+                    "_compile/notice.py", "_compile/prefetch.py"}
+
+    def module_file(name):
+        parts = name.split(".")[1:]
+        if not parts:
+            return package / "__init__.py"
+        relative = Path(*parts)
+        for candidate in (package / relative.with_suffix(".py"), package / relative / "__init__.py"):
+            if candidate.is_file():
+                return candidate
+        return None
+
+    spec = MODELS[model]
+    seen, todo = set(), [aot.ENTRY_POINTS[model][0]]
+    while todo:
+        path = module_file(todo.pop())
+        if path is None or path in seen:
+            continue
+        seen.add(path)
+        module = ".".join(("wearjoint", *path.relative_to(package).with_suffix("").parts))
+        if path.name == "__init__.py":
+            module += ".__init__"
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level:
+                base = ".".join(module.split(".")[:-node.level] + ([node.module] if node.module else []))
+                todo += [base] + [f"{base}.{alias.name}" for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("wearjoint"):
+                todo.append(node.module)
+    hashed = {*kernel_ir.IR_SOURCES, *spec.ir_modules}
+    missing = sorted(p.relative_to(package).as_posix() for p in seen)
+    missing = [name for name in missing if name not in hashed and name not in front_matter]
+    assert not missing, f"the kernel digest misses {missing} (wearjoint/fmu/kernel_ir.py IR_SOURCES)"
+
+
 def test_the_digest_is_the_same_where_the_package_is_installed(tmp_path, monkeypatch):
     """In the source tree fmu_src/ sits beside the package; a wheel installs it inside the package."""
     spec = MODELS["joint"]

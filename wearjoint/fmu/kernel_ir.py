@@ -35,11 +35,10 @@ from .._compile.notice import announced_progress
 from . import aot, platforms
 from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir
 
-# what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions)
-IR_SOURCES = ("core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/contact.py",
-              "core/foundation_wear.py", "core/wear.py",
-              "core/state_format.py", "core/joint_access.py", "core/slider_crank.py", "core/integrators.py",
-              "core/trig.py", "core/linearisation.py", "joint.py", "parameters.py", "fmu/aot.py")
+# what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions): every kernel
+# module (all of core/, so that a new one cannot be left out) and the modules that fix the parameter vectors
+IR_SOURCES = (*sorted(f"core/{path.name}" for path in (PACKAGE_DIR / "core").glob("*.py")), "joint.py",
+              "joint_fields.py", "parameters.py", "mechanism_parameters.py", "fmu/aot.py")
 # the process that compiles the kernels: a generic CPU (numba's cache keeps these apart from the
 # in-process kernels, which are compiled for this machine's CPU)
 AOT_ENVIRONMENT = {"NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", "NUMBA_DISABLE_JIT": "0"}
