@@ -41,6 +41,7 @@ from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_j
 from wearjoint.simulate import SimulationOptions, run_simulation
 
 STATISTICS = ("impacts_per_revolution", "contact_fraction", "max_normal_force_N", "chattering_share")
+CASES = ("paper", "paper-worn", "own-wear", "groove")
 PAPER_WORN_DEPTH_M = 0.58e-3
 GROOVE_CLEARANCES = 5.7
 OWN_MECHANISM = dict(crank_length_m=0.08, rod_length_m=0.3, crank_speed_rpm=300.0, slider_mass_kg=1.2)
@@ -84,7 +85,7 @@ def case_setup(name: str, wear_factor: float) -> tuple[JointParameters, SliderCr
         mechanism, changes = SliderCrankParameters(**GROOVE_MECHANISM), GROOVE_JOINT
         depth = GROOVE_CLEARANCES * (GROOVE_JOINT["bushing_radius_m"] - GROOVE_JOINT["pin_radius_m"])
     else:
-        raise ValueError(f"case {name!r}: allowed paper, paper-worn, own-wear, groove")
+        raise ValueError(f"case {name!r}: allowed one of {', '.join(CASES)}")
     joint = paper_joint(mechanism, wear_factor=0.0, **changes)
     return joint, mechanism, conforming_groove(joint, depth, loaded_direction(joint, mechanism))
 
@@ -181,7 +182,7 @@ def table(results: list) -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m wearjoint.studies.coupling_accuracy", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--cases", nargs="+", default=["paper", "paper-worn", "own-wear", "groove"])
+    parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES))
     parser.add_argument("--starts", type=int, default=8)
     parser.add_argument("--revolutions", type=float, default=6.0)
     parser.add_argument("--settling", type=int, default=2)
