@@ -42,8 +42,10 @@ class CoSimulationOptions:
     the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
     an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s].
     ``coupling_tolerance`` (adaptive, linearised): the relative miss of the predicted contact
-    force the contact step is controlled to, at most step_s (0: the fixed rule, the step
-    halved where the miss passes 0.3 and grown back to step_s)."""
+    force the contact step aims at, between step_s / 16 and step_s (0: the fixed rule, the step
+    halved where the miss passes 0.3 and grown back to step_s).  Force jumps (friction
+    reversing, the deepest point moving on) miss at any step: the run's miss can stay above it
+    (the paper's mechanism over 60 ms: 0.004 gave an rms of 0.013, the fixed rule's 0.021)."""
 
     revolutions: float = 2.0
     scheme: str = "adaptive"
