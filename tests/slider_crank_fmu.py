@@ -16,7 +16,7 @@ from wearjoint.fmu import variables as fv
 from wearjoint.slider_crank import SliderCrank
 
 MECHANISM = SliderCrank()
-INPUT_VRS = [sc.VALUE_REFERENCES[v.name] for v in sc.INPUTS]
+INPUT_VRS = [sc.VALUE_REFERENCES[v.name] for v in sc.LOAD_INPUTS]   # the loads and the slider's (load_coupling 0)
 STATE_VRS = [sc.VALUE_REFERENCES[v.name] for v in sc.STATES]
 OUTPUTS = [v.name for v in sc.VARIABLES if v.causality == fv.OUTPUT]
 OUTPUT_VRS = [sc.VALUE_REFERENCES[name] for name in OUTPUTS]

@@ -17,7 +17,7 @@ import numpy as np
 
 from .core import layout as L
 from .core import state_format as SF
-from .core.contact import evaluate_contact
+from .core.contact import contact_jacobian, evaluate_contact
 from .core.geometry import block_minimum_depth, bushing_points
 from .core.joint_access import JointArrays
 from .core.wear import (
@@ -171,6 +171,13 @@ class ClearanceJoint:
         """Hot path: float64 arrays in, the joint's result array (layout.R_*) out (not a copy)."""
         evaluate_contact(pos_i, vel_i, pos_j, vel_j, self.parameter_vector, self.cos_phi,
                          self.sin_phi, self.wear_depth, self.block_min, self.memory, self.result)
+        return self.result
+
+    def linearise_array(self, pos_i, vel_i, pos_j, vel_j, jacobian: np.ndarray) -> np.ndarray:
+        """:meth:`evaluate_array`, and into ``jacobian`` (N_RESULT x 12) the exact derivatives of the result with
+        respect to the 12 kinematic inputs (:func:`~wearjoint.core.contact.contact_jacobian`)."""
+        contact_jacobian(pos_i, vel_i, pos_j, vel_j, self.parameter_vector, self.cos_phi, self.sin_phi,
+                         self.wear_depth, self.block_min, self.memory, self.result, jacobian)
         return self.result
 
     def evaluate(self, pin_kinematics, bushing_kinematics) -> ContactResult:

@@ -288,6 +288,7 @@ def add_cosim_arguments(parser) -> None:
     from .cosim import SCHEMES, CoSimulationOptions
     from .cosim.masters import DEFAULT_STEP_S, MASTERS
     from .fmu.fmi import INTERFACES
+    from .fmu.ssp import LOAD_COUPLINGS
     defaults = CoSimulationOptions()
     add_output_arguments(parser)
     add_settling_argument(parser)
@@ -307,6 +308,10 @@ def add_cosim_arguments(parser) -> None:
                         "%(default)s)")
     g.add_argument("--fmusim", metavar="PATH", default=None,
                    help="with --master container: run the container FMU in this fmusim binary instead of fmpy")
+    g.add_argument("--load-coupling", choices=LOAD_COUPLINGS, default="linearised",
+                   help="with a third-party master: how the package's mechanism takes the joint's loads over a step, "
+                        "linearised (F0 + J (u - u0) from the joint's published derivatives) or hold (default "
+                        "%(default)s)")
     g.add_argument("--revolutions", type=float, default=defaults.revolutions, help="crank revolutions to simulate")
     g.add_argument("--scheme", choices=SCHEMES, default=defaults.scheme,
                    help="zoh: fixed communication step, forces held; extrapolation: fixed step, forces "
@@ -315,7 +320,8 @@ def add_cosim_arguments(parser) -> None:
                         "kinematics with the FMU's directional derivatives (native FMU) (default %(default)s)")
     g.add_argument("--step", type=float, default=None,
                    help=f"communication step [s] (adaptive: in contact) (default {defaults.step_s:g}; with a "
-                        f"third-party master {DEFAULT_STEP_S:g}, a fixed step)")
+                        f"third-party master a fixed step, {DEFAULT_STEP_S['linearised']:g} linearised, "
+                        f"{DEFAULT_STEP_S['hold']:g} hold)")
     g.add_argument("--max-step", type=float, default=defaults.max_step_s,
                    help="largest adaptive communication step [s] (default %(default)g)")
     g.add_argument("--min-step", type=float, default=defaults.min_step_s,

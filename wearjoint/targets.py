@@ -95,6 +95,7 @@ class SimulateConfig:
     options: SimulationOptions
     settling_revolutions: int = 1
     initial_profile_m: np.ndarray | None = None
+    load_coupling: str = "linearised"
 
 
 def simulation_options(options) -> SimulationOptions:
@@ -152,16 +153,22 @@ class CosimConfig:
     fmu_backend: str
     settling_revolutions: int = 1
     initial_profile_m: np.ndarray | None = None
+    load_coupling: str = "linearised"
 
 
 def cosim_config(options) -> CosimConfig:
     from .cosim import CoSimulationOptions
     from .cosim.masters import DEFAULT_STEP_S, MASTERS, master_available
+    from .fmu.ssp import LOAD_COUPLINGS
     from .simulate import SimulationOptions
 
     o, defaults = options, CoSimulationOptions()
     require("--master", o["master"], o["master"] in MASTERS, "one of " + ", ".join(MASTERS))
     require("--fmusim", o["fmusim"], o["fmusim"] is None or o["master"] == "container", "only with --master container")
+    coupling = o.get("load_coupling", "linearised")
+    require("--load-coupling", coupling, coupling in LOAD_COUPLINGS, "one of " + ", ".join(LOAD_COUPLINGS))
+    require("--load-coupling", coupling, coupling == "linearised" or o["master"] != "wearjoint",
+            "only with a third-party --master (this package's master couples by --scheme)")
     require("--initial-profile", None if o["initial_profile"] is None else str(o["initial_profile"]),
             o["initial_profile"] is None or o["master"] == "wearjoint",
             "only with --master wearjoint (it sets the FMU's state; the SSP's masters start unworn)")
@@ -175,7 +182,7 @@ def cosim_config(options) -> CosimConfig:
             installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
             require("--master", o["master"], False,
                     f"one of the masters installed here, {', '.join(installed)} ({missing})")
-        step = DEFAULT_STEP_S if step is None else step
+        step = DEFAULT_STEP_S[coupling] if step is None else step
         require("--step", step, finite("--step", step) > 0.0, "a communication step > 0 [s]")
     elif o["fmu_interface"] == "model-exchange":
         # --max-step left at the master's default: SimulationOptions' own (DOPRI with wear 1e-5 s, else 1e-4 s)
@@ -191,7 +198,7 @@ def cosim_config(options) -> CosimConfig:
                                           onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"],
                                           coupling_tolerance=o["coupling_tolerance"])
     return CosimConfig(joint, mechanism, o["master"], o["fmu_interface"], run_options, o["revolutions"], step,
-                       o["sample_dt"], o["fmusim"], o["fmu"], o["fmu_backend"], settling, profile)
+                       o["sample_dt"], o["fmusim"], o["fmu"], o["fmu_backend"], settling, profile, coupling)
 
 
 def cosim_record(config: CosimConfig, progress: bool = False):
@@ -200,7 +207,8 @@ def cosim_record(config: CosimConfig, progress: bool = False):
     if c.master != "wearjoint":
         from .cosim.masters import run_master
 
-        record = run_master(c.master, c.joint, c.mechanism, c.revolutions, c.step_s, c.sample_dt_s, fmusim=c.fmusim)
+        record = run_master(c.master, c.joint, c.mechanism, c.revolutions, c.step_s, c.sample_dt_s, fmusim=c.fmusim,
+                            load_coupling=c.load_coupling)
     elif c.interface == "model-exchange":
         from .cosim.model_exchange import run_model_exchange
 

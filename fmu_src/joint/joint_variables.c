@@ -69,6 +69,12 @@ int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *val
             if (!joint_evaluate(model, function, o->name))
                 return 0;
             values[0] = model->result[o->index];
+        } else if (o->source == OUTPUT_FROM_JACOBIAN) {
+            if (!joint_jacobian(model, function, o->name))
+                return 0;
+            values[0] = model->jacobian[o->index];
+        } else if (o->source == OUTPUT_FROM_INPUT) {
+            values[0] = model->inputs[o->index];
         } else {
             if (!joint_wear_summary(model, function))
                 return 0;
@@ -169,16 +175,21 @@ int model_set_structural(FmuModel *model, unsigned vr, uint64_t value, int confi
 }
 
 /* ------------------------------------------------------------------ directional derivatives */
-/* The number of values of output ``vr`` (an FMI 3.0 array: its size) and, in *row, its derivatives with respect
- * to the inputs (NULL: none, the wear); 0 if ``vr`` is no output. */
-static size_t output_derivatives(const FmuModel *model, int fmi_version, unsigned vr, const double **row)
+/* The number of values of output ``vr`` (an FMI 3.0 array: its size), in *row its derivatives with respect to the
+ * inputs from the kernels' Jacobian (NULL: none, the wear and the evaluated inputs) and in *input the input an
+ * evaluated input repeats (else -1); 0 if ``vr`` is no output or one of the derivatives (whose own derivatives are
+ * not provided). */
+static size_t output_derivatives(const FmuModel *model, int fmi_version, unsigned vr, const double **row, int *input)
 {
     *row = NULL;
+    *input = -1;
     if (is_scalar_output(vr)) {
         const OutputInfo *o = &OUTPUTS[vr - VR_FIRST_OUTPUT];
         if (o->source == OUTPUT_FROM_RESULT)
             *row = model->jacobian + (size_t)o->index * N_INPUTS;
-        return 1;
+        else if (o->source == OUTPUT_FROM_INPUT)
+            *input = o->index;
+        return o->source != OUTPUT_FROM_JACOBIAN;
     }
     if (fmi_version == 2)
         return vr >= VR_FIRST_WEAR_DEPTH && vr < VR_FIRST_WEAR_DEPTH + N_PROFILE_OUTPUTS;
@@ -199,21 +210,24 @@ static int derivative_variable(const FmuModel *model, int fmi_version, unsigned 
 }
 
 /* sensitivity = J seed: J the derivatives of the unknowns (outputs) with respect to the knowns (inputs); the
- * forces, torques and contact geometry are the kernels' exact derivatives, the wear outputs do not depend on the
- * inputs (0). */
+ * forces, torques and contact geometry are the kernels' exact derivatives, an evaluated input's is 1 for its input,
+ * the wear outputs do not depend on the inputs (0). */
 int model_directional_derivative(FmuModel *model, int fmi_version, const unsigned *unknowns, size_t n_unknowns,
                                  const unsigned *knowns, size_t n_knowns, const double *seed, double *sensitivity,
                                  const char *function)
 {
     const double *row;
+    int input;
     const char *needs_jacobian = NULL;   /* the first unknown that depends on the inputs */
     for (size_t j = 0; j < n_knowns; j++)
         if (!derivative_variable(model, fmi_version, knowns[j], knowns[j] < N_INPUTS, "known",
                                  "an input (the 12 kinematic inputs)", function))
             return 0;
     for (size_t i = 0; i < n_unknowns; i++) {
-        int output = output_derivatives(model, fmi_version, unknowns[i], &row) > 0;
-        if (!derivative_variable(model, fmi_version, unknowns[i], output, "unknown", "an output", function))
+        int output = output_derivatives(model, fmi_version, unknowns[i], &row, &input) > 0;
+        if (!derivative_variable(model, fmi_version, unknowns[i], output, "unknown",
+                                 "an output but the derivatives d_*_d_* (their own derivatives are not provided)",
+                                 function))
             return 0;
         if (row != NULL && needs_jacobian == NULL)
             needs_jacobian = OUTPUTS[unknowns[i] - VR_FIRST_OUTPUT].name;
@@ -222,13 +236,12 @@ int model_directional_derivative(FmuModel *model, int fmi_version, const unsigne
         return 0;
     size_t k = 0;
     for (size_t i = 0; i < n_unknowns; i++) {
-        size_t count = output_derivatives(model, fmi_version, unknowns[i], &row);
+        size_t count = output_derivatives(model, fmi_version, unknowns[i], &row, &input);
         double sum = 0.0;
-        for (size_t j = 0; row != NULL && j < n_knowns; j++)
-            sum += row[knowns[j]] * seed[j];
+        for (size_t j = 0; j < n_knowns; j++)
+            sum += row != NULL ? row[knowns[j]] * seed[j] : (int)knowns[j] == input ? seed[j] : 0.0;
         for (size_t z = 0; z < count; z++)
             sensitivity[k++] = sum;
     }
     return 1;
 }
-

@@ -50,7 +50,7 @@ with _scipy_hidden():
     import numpy as np
 
     from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, __version__
-    from wearjoint.core import state_format
+    from wearjoint.core import layout as L, state_format
     from wearjoint.core.admissibility import wall_overlap
     from wearjoint.core.wear import STEP_INADMISSIBLE
     from wearjoint.fmu import variables as fv
@@ -61,7 +61,7 @@ with _scipy_hidden():
 _N_INPUTS = len(fv.INPUTS)
 _INPUT_NAMES = [v.name for v in fv.INPUTS]
 # what a getReal of a value reference needs brought up to date first
-_NOT_REAL, _NOTHING, _FORCES, _WEAR = -1, 0, 1, 2
+_NOT_REAL, _NOTHING, _FORCES, _WEAR, _LINEARISATION = -1, 0, 1, 2, 3
 
 # pythonfmu's causality, variability and initial of each kind of variable (fv.LOCAL: n_points, read-only)
 _CAUSALITY = {
@@ -158,7 +158,13 @@ class ClearanceWearJoint(Fmi2Slave):
         first_depth = vr_of[fv.wear_depth_name(1)]
         self._depth_vrs = slice(first_depth, first_depth + n_points)
         self._summary_vrs = [vr_of[name] for name in fv.WEAR_SUMMARY_NAMES]
+        self._jacobian = np.zeros((L.N_RESULT, _N_INPUTS))
+        self._derivative_vrs = np.array([vr_of[name] for name in fv.JACOBIAN_SLOTS])
+        self._derivative_slots = tuple(np.array(slots) for slots in zip(*fv.JACOBIAN_SLOTS.values()))
+        self._evaluated_vrs = np.array([vr_of[name] for name in fv.EVALUATED_INPUTS])
         self._needs[self._result_vrs] = _FORCES
+        self._needs[self._derivative_vrs] = _LINEARISATION
+        self._needs[self._evaluated_vrs] = _LINEARISATION
         self._needs[self._depth_vrs] = _WEAR
         self._needs[self._summary_vrs] = _WEAR
         self._needs = self._needs.tolist()
@@ -166,7 +172,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._joint = None
         self._initialised = False
         self._time = 0.0
-        self._forces_stale = self._wear_stale = True
+        self._forces_stale = self._wear_stale = self._linearisation_stale = True
 
     # ------------------------------------------------------------- errors
     def _abort_call(self, message: str):
@@ -215,19 +221,26 @@ class ClearanceWearJoint(Fmi2Slave):
             self._joint = ClearanceJoint(params)
             _compile_kernels(params)
         self._parameter_block = block
-        self._forces_stale = self._wear_stale = True
+        self._forces_stale = self._wear_stale = self._linearisation_stale = True
 
     def _refresh(self, vrs, needs) -> None:
         """Bring the joint's outputs getReal of ``vrs`` needs (``needs``: _FORCES, _WEAR) up to date."""
         self._ensure_joint()
         joint = self._joint
-        if self._forces_stale and _FORCES in needs:
+        linearise = self._linearisation_stale and _LINEARISATION in needs
+        if (self._forces_stale and _FORCES in needs) or linearise:
             non_finite = self._non_finite_inputs()
             if non_finite:
-                outputs = [self._names[vr] for vr in vrs if self._needs[vr] == _FORCES]
+                outputs = [self._names[vr] for vr in vrs if self._needs[vr] in (_FORCES, _LINEARISATION)]
                 self._abort_call(f"getReal of {', '.join(outputs)}: undefined for non-finite inputs ({non_finite})")
-            joint.evaluate_array(self._pin_position, self._pin_velocity, self._bushing_position,
-                                 self._bushing_velocity)
+            kinematics = (self._pin_position, self._pin_velocity, self._bushing_position, self._bushing_velocity)
+            if linearise:
+                joint.linearise_array(*kinematics, self._jacobian)
+                self._values[self._derivative_vrs] = self._jacobian[self._derivative_slots]
+                self._values[self._evaluated_vrs] = self._inputs
+                self._linearisation_stale = False
+            else:
+                joint.evaluate_array(*kinematics)
             self._values[self._result_vrs] = joint.result[self._result_slots]
             self._forces_stale = False
         if self._wear_stale and _WEAR in needs:
@@ -272,7 +285,7 @@ class ClearanceWearJoint(Fmi2Slave):
         if changed:
             self._wear_stale = True
         self._time = current_time + step_size
-        self._forces_stale = True
+        self._forces_stale = self._linearisation_stale = True
         return True
 
     @_guarded
@@ -293,7 +306,7 @@ class ClearanceWearJoint(Fmi2Slave):
             if vr >= _N_INPUTS:
                 self._check_settable("setReal", vr, fv.REAL)
             self._values[vr] = value
-        self._forces_stale = True
+        self._forces_stale = self._linearisation_stale = True
 
     @_guarded
     def get_integer(self, vrs):
@@ -351,7 +364,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._inputs[:] = head[2:2 + _N_INPUTS]
         self._time = float(head[0])
         self._initialised = head[1] == 1.0
-        self._forces_stale = self._wear_stale = True
+        self._forces_stale = self._wear_stale = self._linearisation_stale = True
 
     @staticmethod
     def _fmu_state_to_bytes(state):

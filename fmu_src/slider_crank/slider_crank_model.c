@@ -4,7 +4,7 @@
  * The state is y = [q, q_dot] (18 values).  At exitInitializationMode (and when a state variable
  * is read before) y is the ideal mechanism's consistent state at the start time.  Co-Simulation:
  * doStep(t, h) integrates y over [t, t + h] in ceil(h / max_internal_step) RK4 steps with the
- * inputs held.  Model Exchange: y are the continuous states, their derivatives the kernels'
+ * load inputs held or (load_coupling 1) linearised about the joint's evaluated inputs.  Model Exchange: y are the continuous states, their derivatives the kernels'
  * right-hand side.  All the arithmetic is in the compiled kernels (slider_crank_kernels.h); this
  * file holds the memory, the variables and the checks.
  */
@@ -32,6 +32,7 @@ struct FmuModel {
     double jac[N_COORDINATES * N_COORDINATES], schur[N_COORDINATES * N_COORDINATES];
     double phi[N_COORDINATES], phi_dot[N_COORDINATES], gamma[N_COORDINATES], minv[N_COORDINATES];
     double force[N_COORDINATES], stages[4 * N_Y];
+    double linearisation[N_LINEARISATION], loads[6];   /* load_coupling linearised: F0 + J (u - u0), its loads */
 };
 
 /* ------------------------------------------------------------------ lifetime */
@@ -238,7 +239,8 @@ int model_set_float64(FmuModel *model, int fmi_version, unsigned vr, double valu
 /* No Integer, structural or directional-derivative support: fmu_src/fmi/fmu_model_defaults.c. */
 
 /* ------------------------------------------------------------------ Co-Simulation */
-/* y over [t, t + h] in ceil(h / max_internal_step) RK4 steps, the inputs held at their values. */
+/* y over [t, t + h] in ceil(h / max_internal_step) RK4 steps, the loads held at their inputs' values or (load_coupling
+ * 1) linearised. */
 int model_do_step(FmuModel *model, double t, double h, const char *function)
 {
     char what[128];
@@ -262,9 +264,9 @@ int model_do_step(FmuModel *model, double t, double h, const char *function)
         double y[N_Y];
         memcpy(y, model->y, sizeof y);
         int32_t status = 0;
-        slider_crank_step(&status, NULL, t, h, (int64_t)steps, model->y, model->mp, model->inputs, model->jac,
-                          model->schur, model->phi, model->phi_dot, model->gamma, model->minv, model->force,
-                          model->dy, model->stages);
+        slider_crank_step(&status, NULL, t, h, (int64_t)steps, model->parameters[P_LOAD_COUPLING] == 1.0, model->y,
+                          model->mp, model->inputs, model->jac, model->schur, model->phi, model->phi_dot, model->gamma,
+                          model->minv, model->force, model->dy, model->stages, model->linearisation, model->loads);
         for (int k = 0; k < N_Y; k++)
             if (!isfinite(model->y[k])) {
                 memcpy(model->y, y, sizeof y);

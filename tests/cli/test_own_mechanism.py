@@ -129,7 +129,8 @@ def test_build_fmu_writes_the_mechanisms_parameters_as_start_values(tmp_path):
                      *MODEL_OPTIONS[:8])
     assert done.returncode == 0, done.stderr
     assert _starts(tmp_path / "sc" / "SliderCrank.fmu") == {**sc.parameter_values(MECHANISM),
-                                                           sc.MAX_INTERNAL_STEP_NAME: sc.MAX_INTERNAL_STEP_START}
+                                                           sc.MAX_INTERNAL_STEP_NAME: sc.MAX_INTERNAL_STEP_START,
+                                                           sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLING_HOLD)}
     done = wearjoint("build-fmu", "--model", "slider-crank", "--out", str(tmp_path / "bad"), "--pin-radius-m", "0.012")
     assert done.returncode == 2
     assert "--pin-radius-m is a joint parameter: it applies to --model joint" in done.stderr
@@ -157,17 +158,19 @@ def test_export_ssp_carries_the_mechanisms_parameter_sets(tmp_path):
 
     joint = {k: float(v) for k, v in fv.fmi_parameter_values(own_joint()).items()}
     assert parameter_set(ssp.JOINT) == joint
-    assert parameter_set(ssp.MECHANISM) == sc.parameter_values(MECHANISM)
+    assert parameter_set(ssp.MECHANISM) == {**sc.parameter_values(MECHANISM),
+                                            sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLING_LINEARISED)}
     assert fv.joint_parameters_from_fmi(_starts(resources / "ClearanceWearJoint.fmu"), 1257) == own_joint()
     mechanism_starts = _starts(resources / "SliderCrank.fmu")
     assert {k: mechanism_starts[k] for k in sc.parameter_values(MECHANISM)} == sc.parameter_values(MECHANISM)
-    # the step the package asks for: the paper's measured 0.5 us scaled by the step rule (docs/explanation/cosim_study.md)
+    # the step the package asks for: the paper's measured 5 us (the loads linearised) scaled by the step rule
+    # (docs/explanation/cosim_study.md)
     from wearjoint.cosim.step_rule import communication_step_rule
 
     ssd = ElementTree.parse(tmp_path / "unzipped" / "SystemStructure.ssd").getroot()
     step = float(next(e for e in ssd.iter() if e.tag.endswith("FixedStepAlgorithm")).get("baseStepSize"))
     scale = communication_step_rule(own_joint(), MECHANISM).on_time_s / communication_step_rule().on_time_s
-    assert scale < 1.0 and step == pytest.approx(0.5e-6 * scale, rel=1e-12)
+    assert scale < 1.0 and step == pytest.approx(ssp.DEFAULT_STEP_S["linearised"] * scale, rel=1e-12)
 
 
 def _ideal_pin_force(t, m: SliderCrankParameters):

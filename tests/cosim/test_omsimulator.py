@@ -83,21 +83,21 @@ def test_command_line_runs_the_package_with_no_options(omsimulator, tmp_path):
 
 
 def test_cosim_master_omsimulator_agrees_with_fmpys_container(omsimulator, package):
-    """0.05 s through OMSimulator's Python API at 1 us: every traced value finite, the statistics of the
-    run record finite, the joint touched; over the first 20 ms (free flight and the first impacts) the
-    slider's acceleration equals the container's to 1e-6 of its range.  Both masters step both FMUs
-    with the inputs held and then move the connections in the same order (kinematics, then the loads
-    evaluated at them), so only the rounding of the accumulated time may differ (measured: 3e-10)."""
+    """0.05 s through OMSimulator's Python API at the default step (5 us, the loads linearised): every traced
+    value finite, the statistics of the run record finite, the joint touched; over the first 20 ms (free flight
+    and the first impacts) the slider's acceleration equals the container's to 1e-6 of its range.  Both masters
+    step both FMUs with the inputs held and then move the connections in the same order (kinematics, then the
+    loads evaluated at them), so only the rounding of the accumulated time may differ (measured: 3e-10)."""
     joint, mechanism = paper_joint(), SliderCrankParameters()
-    stop = 0.05
-    trace = masters.run_omsimulator(package, masters.DEFAULT_STEP_S, stop, joint.n_points)
-    assert trace.time_s[-1] == pytest.approx(stop, abs=0.5 * masters.DEFAULT_STEP_S)
+    stop, step = 0.05, masters.DEFAULT_STEP_S["linearised"]
+    trace = masters.run_omsimulator(package, step, stop, joint.n_points)
+    assert trace.time_s[-1] == pytest.approx(stop, abs=0.5 * step)
     assert np.isfinite(trace.values).all() and np.isfinite(trace.wear_depth_m).all()
     assert trace.values[:, masters.TRACED.index((ssp.JOINT, "contact"))].max() == 1.0
     record = masters.record_from_trace(trace, joint, mechanism, 1e-4, RunParameters("cosim", joint, mechanism))
     assert np.isfinite(record.revolution_stats).all() and record.worn_volume_m3 > 0.0
-    window = slice(0, round(0.02 / masters.DEFAULT_STEP_S) + 1)
-    reference = masters.run_container(package, masters.DEFAULT_STEP_S, 0.02, joint.n_points)
+    window = slice(0, round(0.02 / step) + 1)
+    reference = masters.run_container(package, step, 0.02, joint.n_points)
     column = masters.TRACED.index((ssp.MECHANISM, "slider_a"))
     got, expected = trace.values[window, column], reference.values[:, column]
     assert got.shape == expected.shape

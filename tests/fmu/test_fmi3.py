@@ -191,7 +191,7 @@ def test_variables_enumerations_array_and_structure(fmi3):
     structure = root.find("ModelStructure")
     outputs = {int(u.get("valueReference")): u.get("dependencies") for u in structure.findall("Output")}
     assert outputs == {VR3[n]: " ".join(str(VR3[i]) for i in fv.OUTPUT_DEPENDENCIES.get(n, ()))
-                       for n in [*SCALAR_NAMES, "wear_depth"]}
+                       for n in [*SCALAR_NAMES, *(v.name for v in fv.LINEARISATION_OUTPUTS), "wear_depth"]}
     assert [u.get("valueReference") for u in structure.findall("EventIndicator")] == [str(VR3["penetration"])]
     md = fmi3["md"]
     assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate

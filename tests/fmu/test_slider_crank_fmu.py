@@ -85,7 +85,8 @@ def _continuous_time_model(fmu, parameters=None) -> "FMU2Model":
     return model
 
 def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
-    """Both versions validate; the inputs are the joint FMU's force outputs and the slider's load, the outputs
+    """Both versions validate; the inputs are the joint FMU's force outputs, the slider's load and the joint FMU's
+    normal force and linearisation outputs (load_coupling 1), the outputs
     include its 12 kinematic inputs, every scalar SliderCrankParameters field is a parameter with its default
     (gravity's two components; the load table's rows 0)."""
     for version, fmu in fmus.items():
@@ -93,7 +94,8 @@ def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
         md = fmu["md"]
         variables = {v.name: v for v in md.modelVariables}
         assert [v.name for v in md.modelVariables if v.causality == "input"] == \
-            [v.name for v in fv.SCALAR_OUTPUTS[:6]] + ["slider_force"]
+            [v.name for v in fv.SCALAR_OUTPUTS[:6]] + ["slider_force", "normal_force"] + \
+            [v.name for v in fv.LINEARISATION_OUTPUTS]
         assert {v.name for v in fv.INPUTS} <= {v.name for v in md.modelVariables if v.causality == "output"}
         defaults = SliderCrankParameters()
         for field in dataclasses.fields(SliderCrankParameters):
@@ -236,7 +238,7 @@ def test_model_exchange_under_fmpys_cvode_equals_co_simulation(fmus):
     tolerance, over 0.1 s."""
     loads = smooth_loads(0.02)
     signals = np.array([(0.0, *loads), (1.0, *loads)],
-                       dtype=[("time", float), *((v.name, float) for v in sc.INPUTS)])
+                       dtype=[("time", float), *((v.name, float) for v in sc.LOAD_INPUTS)])
     common = dict(stop_time=0.1, output_interval=1e-3, input=signals, output=OUTPUTS)
     for version, fmu in fmus.items():
         cs = simulate_fmu(str(fmu["path"]), fmi_type="CoSimulation", **common)
@@ -287,7 +289,7 @@ def test_model_structure_declares_the_feed_through_finite_differences_show(fmus)
         base = list(smooth_loads(0.03))
         model.setReal(INPUT_VRS, base)
         before = np.array(model.getReal(vrs))
-        for k, v in enumerate(sc.INPUTS):
+        for k, v in enumerate(sc.LOAD_INPUTS):     # the linearisation's inputs act in doStep alone
             moved = list(base)
             moved[k] += 1.0
             model.setReal(INPUT_VRS, moved)

@@ -8,7 +8,7 @@ import sys
 
 from ..cosim.step_rule import communication_step_rule, paper_step_scale
 from ..fmu import platforms
-from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S
+from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS
 from ..parameters import ParameterError, SliderCrankParameters
 from .options import add_model_arguments, model_from_args
 
@@ -28,10 +28,15 @@ def add_arguments(parser) -> None:
     parser.add_argument("--platforms", default="auto", metavar="LIST",
                         help="platforms the FMUs carry binaries for, of "
                              f"{', '.join(platforms.CROSS_PLATFORMS)}, or auto (default %(default)s)")
+    parser.add_argument("--load-coupling", choices=LOAD_COUPLINGS, default="linearised",
+                        help="how the mechanism takes the joint's loads over a communication step: linearised, "
+                             "F0 + J (u - u0) from the joint's published derivatives (wired in the package); hold, "
+                             "held at their values (default %(default)s)")
     parser.add_argument("--step", type=float, default=None, metavar="S",
                         help="communication step the package asks its masters for [s] (OMSimulator's and OSP's "
-                             f"annotations; default {DEFAULT_STEP_S:g} s for the paper's mechanism, scaled by the "
-                             "step rule for others: docs/explanation/cosim_study.md)")
+                             "annotations; default for the paper's mechanism "
+                             + ", ".join(f"{DEFAULT_STEP_S[c]:g} s {c}" for c in LOAD_COUPLINGS)
+                             + ", scaled by the step rule for others: docs/explanation/cosim_study.md)")
     add_model_arguments(parser)
     parser.epilog = ("The model options become the parameter sets and the FMUs' start values; the joint's centres "
                      "follow the crank tip and the rod end.")
@@ -44,8 +49,10 @@ def run(args) -> int:
     try:
         joint, mechanism = model_from_args(args)
         rule = communication_step_rule(joint, mechanism)
-        step = args.step if args.step is not None else DEFAULT_STEP_S * paper_step_scale(joint, mechanism)
-        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms, step_s=step)
+        step = (args.step if args.step is not None
+                else DEFAULT_STEP_S[args.load_coupling] * paper_step_scale(joint, mechanism))
+        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms, step_s=step,
+                          load_coupling=args.load_coupling)
         print(path)
         print(f"{rule.text()}; the package asks for {step:.3g} s", file=sys.stderr)
         if args.container_fmu or args.container_step is not None:

@@ -161,17 +161,18 @@ def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
         y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@kernel
-def rk4_hold(t, h, n_steps, y, mp, joint, body_forces, ws, dy, stages):
+@kernel(inline='always')   # two call sites, each with its mode a constant: numba prunes the other modes
+def rk4_open_joint(t, h, n_steps, y, mode, mp, joint, body_forces, ws, dy, stages):
     """Integrate y over [t, t + h] in ``n_steps`` RK4 steps with the open joint's loads held at
-    ``body_forces`` (MODE_EXTERNAL: a co-simulation step with the inputs held, Eqs. 39-44);
+    ``body_forces`` (MODE_EXTERNAL: a co-simulation step with the inputs held, Eqs. 39-44) or linearised
+    (MODE_LINEARISED: F0 + J (u - u0) of the linearisation ``joint``, written to ``body_forces``);
     dy = f(t + h, y) on return.  ``stages``: (4, len(y)) scratch."""
     step = h / n_steps
     for i in range(n_steps):
         trig = angle_trig(y, mp)
-        derivative_rotated(t + i * step, y, trig, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
-        rk4_step(t + i * step, y, step, trig, MODE_EXTERNAL, mp, joint, body_forces, ws, dy, stages)
-    derivative(t + h, y, MODE_EXTERNAL, mp, joint, body_forces, ws, dy)
+        derivative_rotated(t + i * step, y, trig, mode, mp, joint, body_forces, ws, dy)
+        rk4_step(t + i * step, y, step, trig, mode, mp, joint, body_forces, ws, dy, stages)
+    derivative(t + h, y, mode, mp, joint, body_forces, ws, dy)
 
 
 @kernel(inline='always')   # one call site in the integrators' loop: inlined, a cold run compiles it once

@@ -190,6 +190,19 @@ LIN_LOADS = LIN_INPUTS + 12
 LIN_JACOBIAN = LIN_LOADS + N_LINEARISED_LOADS
 LIN_SCRATCH = LIN_JACOBIAN + N_LINEARISED_LOADS * 12
 N_LINEARISATION = LIN_SCRATCH + 12
+# what a joint FMU publishes of it (its d_*_d_* outputs, fmu.variables.LINEARISED_ROWS): the rows of the pin body's
+# force x, y and torque, the bushing body's torque and the normal force; the bushing body's force is minus the pin
+# body's (Eq. 22)
+PUBLISHED_LINEARISED_LOADS = (0, 1, 2, 5, 6)
+N_PUBLISHED_LINEARISED_LOADS = len(PUBLISHED_LINEARISED_LOADS)
+# the SliderCrank FMU's inputs (fmu.slider_crank.INPUTS): the joint's six loads, the slider's load, then the
+# linearisation a joint FMU publishes (integrated with load_coupling linearised): the normal force, the published
+# rows of J, the inputs u0 they were evaluated at
+MECHANISM_INPUT_SLIDER_FORCE = 6
+MECHANISM_INPUT_NORMAL_FORCE = 7
+MECHANISM_INPUT_DERIVATIVES = 8
+MECHANISM_INPUT_EVALUATED = MECHANISM_INPUT_DERIVATIVES + N_PUBLISHED_LINEARISED_LOADS * 12
+N_MECHANISM_INPUTS = MECHANISM_INPUT_EVALUATED + 12
 
 # --- per-revolution statistics (one row per crank revolution)
 S_IMPACTS = 0             # contact onsets at accepted points

@@ -55,7 +55,9 @@ from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 
 MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")
 THIRD_PARTY = MASTERS[1:]
-DEFAULT_STEP_S = 1e-6     # a third-party master's default communication step (stable, docs/explanation/cosim_study.md)
+# a third-party master's default communication step by the package's load coupling (inside the monolithic scatter,
+# docs/explanation/cosim_study.md)
+DEFAULT_STEP_S = {"hold": 1e-6, "linearised": 5e-6}
 # what every adapter records at each communication point: (component, variable)
 MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a")
 JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
@@ -435,12 +437,13 @@ def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, ste
 
 
 def run_master(master: str, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,
-               fmusim: str | None = None) -> RunRecord:
-    """:func:`run_package` on the package exported with these parameters and step (linux64 binaries) into a
-    temporary folder."""
+               fmusim: str | None = None, load_coupling: str = "linearised") -> RunRecord:
+    """:func:`run_package` on the package exported with these parameters, step and ``load_coupling``
+    (:data:`wearjoint.fmu.ssp.LOAD_COUPLINGS`; linux64 binaries) into a temporary folder."""
     with tempfile.TemporaryDirectory(prefix="wearjoint_master_") as tmp:
         path = ssp.export_ssp(tmp, mechanism=mechanism, joint=joint, stop_time=revolutions * mechanism.period_s,
-                              platforms="linux64", step_s=min(step_s, revolutions * mechanism.period_s))
+                              platforms="linux64", step_s=min(step_s, revolutions * mechanism.period_s),
+                              load_coupling=load_coupling)
         return run_package(master, path, joint, mechanism, revolutions, step_s, sample_dt_s, fmusim)
 
 

@@ -69,7 +69,7 @@ ENTRY_POINTS = {
         "slider_crank_parameters": ("parameters_native", 3),
         "slider_crank_initial_state": ("initial_state_native", 10),
         "slider_crank_derivative": ("derivative_native", 12),
-        "slider_crank_step": ("step_native", 15),
+        "slider_crank_step": ("step_native", 18),
         "slider_crank_joint_kinematics": ("joint_kinematics_native", 3),
         **STATE_ENTRY_POINTS,
     }),

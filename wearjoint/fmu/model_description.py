@@ -213,7 +213,7 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
              f"Configuration Mode (fmi3EnterConfigurationMode), {N_POINTS_MIN} .. {N_POINTS_MAX}",
              "structuralParameter", "fixed", "exact", start=str(n_points), min=str(N_POINTS_MIN),
              max=str(N_POINTS_MAX))
-    for v in fv.SCALAR_OUTPUTS:
+    for v in (*fv.SCALAR_OUTPUTS, *fv.LINEARISATION_OUTPUTS):
         variable("Float64", v.name, v.description, fv.OUTPUT, "continuous", "calculated", unit=v.unit)
     wear = variable("Float64", WEAR_DEPTH_NAME,
                     "wear depth of the bushing points: element z (1-based) at bushing-frame angle z*2*pi/n_points rad",
@@ -222,7 +222,7 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
 
     parameters = (*(p.variable.name for p in fv.PARAMETERS), fv.N_POINTS_NAME)
     structure = ET.SubElement(root, "ModelStructure")   # no continuous states
-    outputs = [*(v.name for v in fv.SCALAR_OUTPUTS), WEAR_DEPTH_NAME]
+    outputs = [*(v.name for v in (*fv.SCALAR_OUTPUTS, *fv.LINEARISATION_OUTPUTS)), WEAR_DEPTH_NAME]
     for name in outputs:
         ET.SubElement(structure, "Output", valueReference=str(vr[name]), dependencies=_dependencies(name, vr))
     for name in outputs:

@@ -40,6 +40,9 @@ DESCRIPTION = ("The rigid slider-crank of Sec. 6.1 (Eqs. 38-44, Baumgarte stabil
                "and the slider's motion.")
 MAX_INTERNAL_STEP_NAME = "max_internal_step"
 MAX_INTERNAL_STEP_START = 1e-5
+LOAD_COUPLING_NAME = "load_coupling"
+LOAD_COUPLINGS = ("hold", "linearised")     # load_coupling's values by code
+LOAD_COUPLING_HOLD, LOAD_COUPLING_LINEARISED = (LOAD_COUPLINGS.index(name) for name in LOAD_COUPLINGS)
 TIME_NAME = "time"
 # kind of a variable's value in the C model: an input, a parameter, y[index] or dy[index]
 # or the clearance joint's kinematic input[index] (core.joint_location.joint_kinematics)
@@ -73,14 +76,28 @@ _BODIES = (("pin", "pin body (the crank at the crank-rod and crank-ground joints
                    "joint)"),
            ("bushing", "bushing body (the rod, or the ground at the crank-ground joint: ignored)"))
 SLIDER_FORCE_NAME = "slider_force"
-INPUTS = tuple(Variable(f"{body}_{name}", fv.INPUT, unit, f"load of the clearance joint on the {text}: {what}",
-                        INPUT, 3 * b + k, 0.0)
-               for b, (body, text) in enumerate(_BODIES)
-               for k, (name, unit, what) in enumerate((("force_x", "N", "force x, global frame"),
-                                                       ("force_y", "N", "force y, global frame"),
-                                                       ("torque", "N.m", "torque about its centre of mass")))) + (
+LOAD_INPUTS = tuple(Variable(f"{body}_{name}", fv.INPUT, unit, f"load of the clearance joint on the {text}: {what}",
+                             INPUT, 3 * b + k, 0.0)
+                    for b, (body, text) in enumerate(_BODIES)
+                    for k, (name, unit, what) in enumerate((("force_x", "N", "force x, global frame"),
+                                                            ("force_y", "N", "force y, global frame"),
+                                                            ("torque", "N.m", "torque about its centre of mass")))) + (
     Variable(SLIDER_FORCE_NAME, fv.INPUT, "N", "load on the slider along its axis, positive towards the crank's "
-             "pivot: added to slider_force_constant and the slider-load table", INPUT, 6, 0.0),)
+             "pivot: added to slider_force_constant and the slider-load table", INPUT,
+             layout.MECHANISM_INPUT_SLIDER_FORCE, 0.0),)
+INPUTS = LOAD_INPUTS + (
+    Variable("normal_force", fv.INPUT, "N", "load_coupling 1: the joint's normal force at the evaluated inputs (the "
+             "linearised loads vanish where its linearisation reaches 0)", INPUT, layout.MECHANISM_INPUT_NORMAL_FORCE,
+             0.0),)
+# load_coupling 1: the linearisation a ClearanceWearJoint FMU publishes, named as its outputs
+LINEARISATION_INPUTS = tuple(
+    Variable(v.name, fv.INPUT, v.unit, f"load_coupling 1: {v.description}", INPUT, index, 0.0)
+    for index, v in enumerate(fv.LINEARISATION_OUTPUTS, start=layout.MECHANISM_INPUT_DERIVATIVES))
+INPUTS += LINEARISATION_INPUTS
+_LINEARISED_LOADS = (*(v.name for v in LOAD_INPUTS[:6]), "normal_force")   # the rows of layout.LIN_LOADS
+if ([_LINEARISED_LOADS[k] for k in layout.PUBLISHED_LINEARISED_LOADS] != list(fv.LINEARISED_ROWS)
+        or [v.index for v in INPUTS] != list(range(layout.N_MECHANISM_INPUTS))):
+    raise RuntimeError("the SliderCrank's inputs and the joint's published linearisation (core/layout.py) disagree")
 PARAMETERS = tuple(
     Variable(f.fmu_name, fv.PARAMETER, f.unit, f.text, PARAMETER, i, float(_DEFAULTS[i]), _ALLOWED[f.rule],
              len(f.choices or ()))
@@ -88,7 +105,13 @@ PARAMETERS = tuple(
     Variable(MAX_INTERNAL_STEP_NAME, fv.PARAMETER, "s",
              "Co-Simulation: longest internal RK4 step; a communication step h is taken in ceil(h / max_internal_step) "
              "equal steps with the inputs held", PARAMETER, len(mp.MECHANISM_FIELDS), MAX_INTERNAL_STEP_START,
-             POSITIVE),)
+             POSITIVE),
+    Variable(LOAD_COUPLING_NAME, fv.PARAMETER, "1",
+             "Co-Simulation: how a communication step takes the joint's loads (0 = hold: the load inputs held; "
+             "1 = linearised: F0 + J (u - u0) from the linearisation inputs, a ClearanceWearJoint FMU's d_*_d_* and "
+             "evaluated_* outputs, u the joint's kinematics along the step; a zero-order-hold master then stays "
+             "accurate at several times the step)", PARAMETER, len(mp.MECHANISM_FIELDS) + 1, 0.0,
+             Allowed(0.0, high=1.0), 2),)
 
 # y = [q, q_dot] (Eq. 38): the variable holding each, its unit and what it is
 _BODY_OF = (("crank", "crank"), ("rod", "rod"), ("slider", "slider"))
@@ -147,6 +170,7 @@ UNIT_DEFINITIONS: dict[str, dict] = {
     "N.m": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "kg.m2": {"kg": 1, "m": 2}, "s": {"s": 1},
     "1/s": {"s": -1}, "1": {}, "rpm": {"rad": 1, "s": -1, "factor": repr(2.0 * math.pi / 60.0)},
     "deg": {"rad": 1, "factor": repr(math.pi / 180.0)},
+    **{v.unit: fv.UNIT_DEFINITIONS[v.unit] for v in LINEARISATION_INPUTS},
 }
 
 
@@ -193,6 +217,8 @@ def model_variables_header(guid: str, starts: dict | None = None) -> str:
 #define N_INPUTS {len(INPUTS)}
 #define N_PARAMETERS {len(PARAMETERS)}
 #define P_MAX_INTERNAL_STEP {names.index(MAX_INTERNAL_STEP_NAME)}
+#define P_LOAD_COUPLING {names.index(LOAD_COUPLING_NAME)}
+#define N_LINEARISATION {layout.N_LINEARISATION}
 #define N_VARIABLES {len(VARIABLES)}
 #define FMI3_VR_TIME {FMI3_TIME_VALUE_REFERENCE}
 
@@ -243,7 +269,7 @@ static const ParameterInfo PARAMETERS[N_PARAMETERS] = {{
 # states': they depend on no input (no direct feed-through), and OMSimulator sees no algebraic loop through the
 # joint.  The accelerations depend on the states (conservatively all 18: mass matrix, Baumgarte terms), a
 # position's derivative (a velocity) on that velocity state only.
-_MOVING_LOADS = tuple(v.name for v in INPUTS if v.name != "pin_torque")
+_MOVING_LOADS = tuple(v.name for v in LOAD_INPUTS if v.name != "pin_torque")
 _CRANK_LOADS = ("pin_force_x", "pin_force_y", SLIDER_FORCE_NAME)
 _LOAD_DRIVEN = {"crank_ax": _CRANK_LOADS, "crank_ay": _CRANK_LOADS, "rod_ax": _MOVING_LOADS, "rod_ay": _MOVING_LOADS,
                 "rod_alpha": _MOVING_LOADS, "slider_a": _MOVING_LOADS}

@@ -3,21 +3,26 @@
 The numba ``cfunc``s the AOT build compiles for the mechanism FMU (:mod:`wearjoint.fmu.aot`,
 model ``slider-crank``): the very kernels the monolithic engine and the co-simulation master run
 (:mod:`wearjoint.core.slider_crank`, Eqs. 38-44 with Baumgarte stabilisation, the crank-rod joint
-open: ``MODE_EXTERNAL``), on arrays the C model owns and passes as raw pointers.  Nothing here
-allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``inputs`` =
-the joint's (Fx, Fy, T) on the crank then on the rod (global frame, torques about the centres of
-mass), then the master's load on the slider [N] (positive towards the crank's pivot).  The workspace of :func:`wearjoint.core.slider_crank.make_workspace` comes as seven arrays:
+open: ``MODE_EXTERNAL``, or ``MODE_LINEARISED``), on arrays the C model owns and passes as raw pointers.  Nothing
+here allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``inputs`` (layout.
+MECHANISM_INPUT_*) = the joint's (Fx, Fy, T) on its pin body then on its bushing body (global frame, torques about
+the centres of mass), the master's load on the slider [N] (positive towards the crank's pivot), then the
+linearisation a joint FMU publishes.  The workspace of :func:`wearjoint.core.slider_crank.make_workspace` comes
+as seven arrays:
 ``jac`` and ``schur`` (9 x 9), ``phi``, ``phi_dot``, ``gamma``, ``minv`` (M^-1), ``force`` (9 each).
 The FMU state is written, checked and read by the state format's entry points
 (:mod:`wearjoint.fmu.state_entry_points`), as the joint FMU's.
 """
 from numba import carray, types
 
-from ..core.integrators import rk4_hold
+from ..core.integrators import rk4_open_joint
 from ..core.jit import kernel
 from ..core.layout import (
-    MODE_EXTERNAL, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_KINEMATIC_INPUTS, N_MECHANISM_FIELDS, N_MECHANISM_PARAMETERS,
+    MECHANISM_INPUT_DERIVATIVES, MECHANISM_INPUT_EVALUATED, MECHANISM_INPUT_NORMAL_FORCE, MECHANISM_INPUT_SLIDER_FORCE,
+    MODE_EXTERNAL, MODE_LINEARISED, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_KINEMATIC_INPUTS, N_LINEARISATION,
+    N_MECHANISM_FIELDS, N_MECHANISM_INPUTS, N_MECHANISM_PARAMETERS,
 )
+from ..core.linearisation import linearisation_from_published
 from ..core.joint_location import joint_kinematics
 from ..core.slider_crank import derivative, initial_state, inverse_mass_diagonal, no_joint
 from ..core.slider_load import load_table_problem, mechanism_parameter_vector
@@ -65,23 +70,34 @@ def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y)
 def derivative_native(t, y, mp, inputs, jac, schur, phi, phi_dot, gamma, minv, force, dy):
     """dy = dy/dt of y = [q, q_dot] under the ``inputs`` (Eq. 44); returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    u = carray(inputs, 7)
-    p[MP_SLIDER_FORCE_INPUT] = u[6]
+    u = carray(inputs, N_MECHANISM_INPUTS)
+    p[MP_SLIDER_FORCE_INPUT] = u[MECHANISM_INPUT_SLIDER_FORCE]
     derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, no_joint(p), u[:6],
                _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N))
     return 0
 
 
-@entry_point(types.int32(types.float64, types.float64, types.int64, _F64, _F64, _F64, *_WORKSPACE, _F64, _F64))
-def step_native(t, h, n_steps, y, mp, inputs, jac, schur, phi, phi_dot, gamma, minv, force, dy, stages):
-    """y advanced over [t, t + h] in n_steps RK4 steps with the ``inputs`` held, dy = f at the end
-    (``stages``: 4 x 18 scratch); returns 0."""
+@entry_point(types.int32(types.float64, types.float64, types.int64, types.int64, _F64, _F64, _F64, *_WORKSPACE, _F64,
+                         _F64, _F64, _F64))
+def step_native(t, h, n_steps, linearised, y, mp, inputs, jac, schur, phi, phi_dot, gamma, minv, force, dy, stages,
+                linearisation, loads):
+    """y advanced over [t, t + h] in n_steps RK4 steps, dy = f at the end; the joint's loads held at the inputs
+    or, if ``linearised``, F0 + J (u - u0) of the linearisation the inputs carry (core.linearisation;
+    ``linearisation``: layout.N_LINEARISATION scratch, ``loads``: 6); ``stages``: 4 x 18 scratch.  Returns 0."""
     p = carray(mp, N_MECHANISM_PARAMETERS)
-    u = carray(inputs, 7)
-    p[MP_SLIDER_FORCE_INPUT] = u[6]
-    rk4_hold(t, h, n_steps, carray(y, 2 * _N), p, no_joint(p), u[:6],
-             _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N),
-             carray(stages, (4, 2 * _N)))
+    u = carray(inputs, N_MECHANISM_INPUTS)
+    p[MP_SLIDER_FORCE_INPUT] = u[MECHANISM_INPUT_SLIDER_FORCE]
+    ws = _workspace(jac, schur, phi, phi_dot, gamma, minv, force)
+    if linearised:
+        lin = carray(linearisation, N_LINEARISATION)
+        linearisation_from_published(u[:6], u[MECHANISM_INPUT_NORMAL_FORCE],
+                                     u[MECHANISM_INPUT_DERIVATIVES:MECHANISM_INPUT_EVALUATED],
+                                     u[MECHANISM_INPUT_EVALUATED:], lin)
+        rk4_open_joint(t, h, n_steps, carray(y, 2 * _N), MODE_LINEARISED, p, lin, carray(loads, 6), ws,
+                       carray(dy, 2 * _N), carray(stages, (4, 2 * _N)))
+    else:
+        rk4_open_joint(t, h, n_steps, carray(y, 2 * _N), MODE_EXTERNAL, p, no_joint(p), u[:6], ws,
+                       carray(dy, 2 * _N), carray(stages, (4, 2 * _N)))
     return 0
 
 

@@ -43,8 +43,10 @@ CONNECTIONS = ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
 OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
 OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 OMS_TYPE, OSP_TYPE = "org.openmodelica", "com.opensimulationplatform"
-DEFAULT_STEP_S = 0.5e-6     # s: the step the package asks for: inside the monolithic scatter in every master
-                            # here, on time or one step late (6 starts, docs/how-to/run_in_omsimulator.md, docs/explanation/cosim_study.md)
+LOAD_COUPLINGS = sc.LOAD_COUPLINGS     # how the mechanism takes the joint's loads over a communication step
+# s: the step the package asks for by coupling: inside the monolithic scatter in every master here, on time or one
+# step late (8 starts, docs/explanation/cosim_study.md)
+DEFAULT_STEP_S = {"hold": 0.5e-6, "linearised": 5e-6}
 RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 20th step at 0.5 us
 RESULT_FILE = f"{SSP_NAME}_res.mat"
 SIGNAL_FILTER = "resources/signalFilter.xml"
@@ -189,7 +191,8 @@ def _validate(xml: bytes, schema: str, what: str) -> None:
 
 
 def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: JointParameters | None = None,
-               stop_time: float | None = None, platforms=None, step_s: float = DEFAULT_STEP_S) -> Path:
+               stop_time: float | None = None, platforms=None, step_s: float | None = None,
+               load_coupling: str = "linearised") -> Path:
     """Write ``out_dir/SliderCrankWithClearance.ssp`` and return its path.
 
     ``mechanism`` (default: the paper's) and ``joint`` (default: the paper's with the mechanism's
@@ -198,7 +201,9 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     ``stop_time`` the default experiment's stop time (default one crank revolution [s]);
     ``platforms`` those the FMUs carry binaries for (default: every installed one);
     ``step_s`` the communication step the package asks its masters for [s] (OMSimulator's and OSP's
-    annotations; default 0.5 us, docs/how-to/run_in_omsimulator.md).
+    annotations; default :data:`DEFAULT_STEP_S` of the coupling, docs/how-to/run_in_omsimulator.md);
+    ``load_coupling`` how the mechanism takes the joint's loads over a step (:data:`LOAD_COUPLINGS`: "linearised",
+    F0 + J (u - u0) from the joint's published linearisation, wired; "hold", the loads held).
     """
     from .build import build_fmu
 
@@ -207,6 +212,8 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     check_joint_fits_mechanism(joint, mechanism)
     stop_time = mechanism.period_s if stop_time is None else stop_time
     require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
+    require("load_coupling", load_coupling, load_coupling in LOAD_COUPLINGS, f"one of {', '.join(LOAD_COUPLINGS)}")
+    step_s = DEFAULT_STEP_S[load_coupling] if step_s is None else step_s
     require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
     out_dir = Path(out_dir)
     with tempfile.TemporaryDirectory(prefix="wearjoint_ssp_") as tmp:
@@ -216,7 +223,8 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
                                  starts=fv.parameter_starts(joint))}
         ssd = system_structure(fmus, stop_time, step_s)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
-        parameter_sets = {MECHANISM: _parameter_set(sc.parameter_values(mechanism)),
+        coupling = {sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLINGS.index(load_coupling))}
+        parameter_sets = {MECHANISM: _parameter_set({**sc.parameter_values(mechanism), **coupling}),
                           JOINT: _parameter_set(fv.fmi_parameter_values(joint))}
         for name, xml in parameter_sets.items():
             _validate(xml, "SystemStructureParameterValues.xsd", f"resources/{name}.ssv")

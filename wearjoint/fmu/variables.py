@@ -83,14 +83,53 @@ RESULT_SLOTS: dict[str, int] = {
 }
 WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
 
-# Names of the outputs that depend directly on the inputs (the rest change only in doStep).
-FEED_THROUGH_OUTPUTS = frozenset(RESULT_SLOTS)
+# The loads' linearisation (docs/reference/fmu.md §2.4): the derivatives of the loads a mechanism integrates with
+# respect to the 12 inputs, and the inputs they were evaluated at, so that a master holding the outputs over a step
+# lets the mechanism integrate F0 + J (u - u0) (core/linearisation.py) whatever the order it moves values in.  The
+# bushing body's force is minus the pin body's (Eq. 22): its rows are not outputs.
+LINEARISED_ROWS = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_torque", "normal_force")
+_DENOMINATOR = {"m": "/m", "rad": "/rad", "m/s": ".s/m", "rad/s": ".s/rad"}
+
+
+def derivative_name(output: str, input_name: str) -> str:
+    """The output holding d ``output`` / d ``input_name``, e.g. ``d_pin_force_x_d_pin_vx``."""
+    return f"d_{output}_d_{input_name}"
+
+
+def evaluated_input_name(input_name: str) -> str:
+    """The output holding the value of ``input_name`` the loads were evaluated at, e.g. ``evaluated_pin_x``."""
+    return f"evaluated_{input_name}"
+
+
+def _derivative_output(row: FmuVariable, column: FmuVariable) -> FmuVariable:
+    return FmuVariable(derivative_name(row.name, column.name), OUTPUT, REAL, row.unit + _DENOMINATOR[column.unit],
+                       f"d {row.name} / d {column.name} at the evaluated inputs: the exact derivative of the contact "
+                       "kernels (0 out of contact; one-sided where the force is not differentiable)")
+
+
+_ROWS = {v.name: v for v in SCALAR_OUTPUTS}
+LINEARISATION_OUTPUTS: tuple[FmuVariable, ...] = tuple(
+    _derivative_output(_ROWS[row], column) for row in LINEARISED_ROWS for column in INPUTS) + tuple(
+    FmuVariable(evaluated_input_name(v.name), OUTPUT, REAL, v.unit,
+                f"the input {v.name} the loads and their derivatives were evaluated at (equal to it: a master that "
+                "reads outputs before it sets inputs passes the mechanism the point its loads belong to)")
+    for v in INPUTS)
+# where each linearisation output comes from: (its row in the kernels' Jacobian, layout.R_*, and its input), or the
+# input it repeats
+JACOBIAN_SLOTS: dict[str, tuple[int, int]] = {derivative_name(row, column.name): (RESULT_SLOTS[row], m)
+                                              for row in LINEARISED_ROWS for m, column in enumerate(INPUTS)}
+EVALUATED_INPUTS: dict[str, int] = {evaluated_input_name(v.name): m for m, v in enumerate(INPUTS)}
+
 # The inputs each feed-through output depends on (ModelStructure): the contact geometry on the positions and
 # angles alone, the forces on the velocities too (damping, friction).
 POSITION_INPUTS = tuple(v.name for v in INPUTS if v.unit in ("m", "rad"))
 GEOMETRY_OUTPUTS = frozenset({"penetration", "contact", "contact_angle", "eccentricity_x", "eccentricity_y"})
 OUTPUT_DEPENDENCIES: dict[str, tuple[str, ...]] = {
-    name: POSITION_INPUTS if name in GEOMETRY_OUTPUTS else tuple(v.name for v in INPUTS) for name in RESULT_SLOTS}
+    **{name: POSITION_INPUTS if name in GEOMETRY_OUTPUTS else tuple(v.name for v in INPUTS) for name in RESULT_SLOTS},
+    **{name: tuple(v.name for v in INPUTS) for name in JACOBIAN_SLOTS},
+    **{name: (INPUTS[m].name,) for name, m in EVALUATED_INPUTS.items()}}
+# Names of the outputs that depend directly on the inputs (the rest change only in doStep).
+FEED_THROUGH_OUTPUTS = frozenset(OUTPUT_DEPENDENCIES)
 
 
 @dataclass(frozen=True)
@@ -158,7 +197,7 @@ def fmu_variables(n_points: int, starts: dict | None = None, profile_stride: int
     :func:`parameter_starts`) replaces the parameters' default start values; ``profile_stride``: which
     profile points are outputs (:func:`profile_points`)."""
     return [*INPUTS, *(parameter_variable(p, starts) for p in PARAMETERS), n_points_variable(n_points),
-            *SCALAR_OUTPUTS, *wear_depth_outputs(n_points, profile_stride)]
+            *SCALAR_OUTPUTS, *LINEARISATION_OUTPUTS, *wear_depth_outputs(n_points, profile_stride)]
 
 
 def parameter_variable(p: ParameterField, starts: dict | None = None) -> FmuVariable:
@@ -182,6 +221,17 @@ UNIT_DEFINITIONS: dict[str, dict[str, int]] = {
     "N": {"kg": 1, "m": 1, "s": -2}, "N.m": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
     "N/m1.5": {}, "m2/N": {"kg": -1, "m": 1, "s": 2}, "m3": {"m": 3}, "s": {"s": 1}, "kg": {"kg": 1}, "1": {},
 }
+
+
+def _quotient(numerator: str, denominator: str) -> dict[str, int]:
+    exponents = dict(UNIT_DEFINITIONS[numerator])
+    for base, power in UNIT_DEFINITIONS[denominator].items():
+        exponents[base] = exponents.get(base, 0) - power
+    return {base: power for base, power in exponents.items() if power != 0}
+
+
+UNIT_DEFINITIONS.update({row.unit + _DENOMINATOR[column.unit]: _quotient(row.unit, column.unit)
+                         for row in (_ROWS[name] for name in LINEARISED_ROWS) for column in INPUTS})
 
 
 def value_references(model_description) -> dict[str, int]:
