@@ -317,7 +317,7 @@ def add_cosim_arguments(parser) -> None:
                    help="zoh: fixed communication step, forces held; extrapolation: fixed step, forces "
                         "extrapolated in contact; adaptive: extrapolation, large steps in free flight, "
                         "rollback to contact onsets; linearised: adaptive, the loads in contact linearised in the "
-                        "kinematics with the FMU's directional derivatives (native FMU) (default %(default)s)")
+                        "kinematics with the derivatives the FMU publishes (default %(default)s)")
     g.add_argument("--step", type=float, default=None,
                    help=f"communication step [s] (adaptive: in contact) (default {defaults.step_s:g}; with a "
                         f"third-party master a fixed step, {DEFAULT_STEP_S['linearised']:g} linearised, "

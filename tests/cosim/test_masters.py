@@ -149,9 +149,12 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
     (["--master", "nope"], "--master", "'nope'", "one of wearjoint, libcosim, ecos, fmpy-ssp, omsimulator, container"),
     (["--master", "libcosim", "--step", "0"], "--step", "0.0", "a communication step > 0 [s]"),
     (["--master", "libcosim", "--step=-1e-6"], "--step", "-1e-06", "a communication step > 0 [s]"),
+    (["--load-coupling", "hold"], "--load-coupling", "'hold'",
+     "only with a third-party --master (this package's master couples by --scheme)"),
 ])
 def test_cosim_master_refuses_bad_options_in_one_line(args, option, value, allowed, tmp_path, capsys):
-    """Unknown master or a step <= 0: exit status 2, one line naming the option, its value and what is allowed."""
+    """Unknown master, a step <= 0 or a load coupling for this package's master: exit status 2, one line naming the
+    option, its value and what is allowed."""
     assert main(["cosim", "--out", str(tmp_path), *args]) == 2
     err = capsys.readouterr().err.strip()
     assert err == f"wearjoint cosim: error: parameter {option}={value} is invalid: allowed {allowed}"

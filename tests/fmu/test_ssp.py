@@ -72,6 +72,28 @@ def test_the_ssp_validates_and_wires_every_joint_variable(package):
     assert sets[ssp.JOINT]["contact_stiffness"] == 0.0      # from the radii and materials
     experiment = root.find("{%s}DefaultExperiment" % ssp.SSD)
     assert float(experiment.get("stopTime")) == mechanism.period_s
+    assert sets[ssp.MECHANISM]["load_coupling"] == 1.0      # the mechanism integrates the published linearisation
+    assert len(ssd.system.connections) == 12 + 6 + 1 + 72
+
+
+def test_the_held_package_wires_the_loads_alone(tmp_path):
+    """`export-ssp --load-coupling hold`: the 12 kinematic and 6 load connections, no connector for the joint's
+    linearisation or the mechanism's linearisation inputs, the mechanism's load_coupling 0, the step 0.5 us."""
+    assert main(["export-ssp", "--out", str(tmp_path), "--platforms", "linux64", "--load-coupling", "hold"]) == 0
+    path = tmp_path / ssp.SSP_FILE_NAME
+    ssd = read_ssd(str(path), validate=True)
+    assert sorted(c.endConnector for c in ssd.system.connections if c.endElement == ssp.MECHANISM) == sorted(
+        ["pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y", "bushing_torque"])
+    assert len(ssd.system.connections) == 18
+    connectors = {(e.name, c.name) for e in ssd.system.elements for c in e.connectors}
+    assert not any(name.startswith(("d_", "evaluated_")) for _, name in connectors)
+    with zipfile.ZipFile(path) as zf:
+        mechanism = etree.fromstring(zf.read(f"resources/{ssp.MECHANISM}.ssv"))
+        root = etree.fromstring(zf.read("SystemStructure.ssd"))
+    coupling = [p for p in mechanism.iter("{%s}Parameter" % ssp.SSV) if p.get("name") == "load_coupling"]
+    assert float(coupling[0][0].get("value")) == 0.0
+    step = next(e for e in root.iter() if e.tag.endswith("FixedStepAlgorithm")).get("baseStepSize")
+    assert float(step) == ssp.DEFAULT_STEP_S["hold"] == 0.5e-6
 
 
 def _master_settings(root) -> dict:

@@ -31,8 +31,8 @@ Schemes (``CoSimulationOptions.scheme``):
   (wearjoint/studies/cosim_study.py): ``adaptive`` with 5 us in contact.  Zero-order hold is first
   order in h (pointwise 100x off the monolithic run at 1 us) and unstable from ~5 us on (stiff contact).
 * ``linearised`` -- ``adaptive``, but in contact the loads are linearised instead of extrapolated: at each
-  accepted point in contact the master takes the joint's Jacobian in its 12 inputs from the FMU (12
-  ``fmi2GetDirectionalDerivative`` calls, the same kernels' exact derivatives) and integrates
+  accepted point in contact the master reads the joint's Jacobian in its 12 inputs from the FMU (its published
+  ``d_*_d_*`` outputs in one ``fmi2GetReal``, the same kernels' exact derivatives) and integrates
   F0 + J (u - u0) through the RK4 stages of the next step (``core.linearisation``; no loads where the
   linear normal force reaches 0: the contact ended).  The step control reads the miss of that prediction.
   About as accurate at 10 us as ``adaptive`` at 5 us (docs/explanation/cosim_study.md, "Ensembles on worn

@@ -26,7 +26,7 @@ from .master_loop import (
     _N_Y, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
     B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
     C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME, G_FMI_TIME, G_FREE_STEPS, G_MISS_COUNT,
-    G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISED_OUTPUTS,
+    G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISATION_OUTPUTS,
     N_INPUTS, N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views,
     communication_step, master_loop,
 )
@@ -91,8 +91,6 @@ class CoSimulation(OwnsFmuInstance):
         self.joint = joint or paper_joint(self.mechanism.params)
         check_joint_fits_mechanism(self.joint, self.mechanism.params)
         require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
-        require("fmu_backend", fmu_backend, fmu_backend == "native" or self.options.scheme != "linearised",
-                "native with scheme='linearised' (the directional derivatives are the native FMU's)")
         self.fmu_backend = fmu_backend
         self._instance = None
         build = start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
@@ -143,7 +141,8 @@ class CoSimulation(OwnsFmuInstance):
             if initial_profile_m is not None:
                 self._instance.set_wear_profile(initial_profile_m, 0.0)
             self._instance.exchange(0.0)
-            self._directional = self._instance.directional_functions(LINEARISED_OUTPUTS)
+            self._published = (np.array([self._instance.vr[n] for n in LINEARISATION_OUTPUTS], dtype=np.uint32),
+                               np.zeros(len(LINEARISATION_OUTPUTS)))
         except BaseException:
             self.close()
             raise
@@ -164,7 +163,7 @@ class CoSimulation(OwnsFmuInstance):
         register = self._register.copy()
         register[G_T] = self.t
         master_loop(self.t, register, self._settings, self.buf, self._saved, np.zeros((0, L.N_SAMPLE_COLUMNS)),
-                    self.mechanism.workspace, self._live_instance().loop_functions, self._directional, self._clock,
+                    self.mechanism.workspace, self._live_instance().loop_functions, self._published, self._clock,
                     self._timespec)
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
@@ -178,7 +177,7 @@ class CoSimulation(OwnsFmuInstance):
         wall0 = time.perf_counter()
         try:
             failed = master_loop(t_end, register, self._settings, self.buf, self._saved, samples,
-                                 self.mechanism.workspace, slave.loop_functions, self._directional, self._clock,
+                                 self.mechanism.workspace, slave.loop_functions, self._published, self._clock,
                                  self._timespec)
         finally:
             self.t = float(register[G_T])

@@ -21,11 +21,12 @@ from ..core.integrators import onset_retry_step, record_step, rk4_step
 from ..core.jit import kernel
 from ..core.layout import MODE_EXTERNAL, MODE_LINEARISED
 from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
+from ..core.linearisation import linearisation_from_published
 from ..core.slider_crank import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
 from ..fmu.fmi import c_function, failed_call
 from ..fmu.instance import N_INPUTS
-from ..fmu.variables import RESULT_SLOTS
+from ..fmu.variables import JACOBIAN_SLOTS, RESULT_SLOTS
 
 SCHEMES = ("zoh", "extrapolation", "adaptive", "linearised")
 ADAPTIVE_SCHEMES = ("adaptive", "linearised")   # long steps in free flight, rollbacks to contact onsets
@@ -92,10 +93,11 @@ _MISS_SHRINK = 0.3
 _SMALLEST_CONTACT_STEP = 1.0 / 16.0
 _MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching) is not stiff
 FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
-             "fmi2FreeFMUstate", "fmi2GetDirectionalDerivative")
-F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE, F_DIRECTIONAL = range(1, len(FMI_CALLS))
-# the loads a linearisation holds (layout.LIN_LOADS), as FMU outputs: the bodies' loads, then the normal force
-LINEARISED_OUTPUTS = OUTPUT_NAMES[:6] + ("normal_force",)
+             "fmi2FreeFMUstate")
+F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
+# the FMU outputs the linearised scheme reads in contact: its published derivatives (layout.LIN_JACOBIAN's rows
+# PUBLISHED_LINEARISED_LOADS)
+LINEARISATION_OUTPUTS = tuple(JACOBIAN_SLOTS)
 # --- master_loop's settings; C_REUSE_STATE: 1.0 if getFMUstate overwrites the state it is given (FMI's "typically";
 # the pythonfmu slave returns a new one and loses the old), else each state is freed before the next;
 # C_TOLERANCE: the relative force miss the adaptive contact step is controlled to (0: the fixed rule)
@@ -326,42 +328,34 @@ def _linearised_force(buf, r):
 
 
 @kernel   # not inlined: only the linearised scheme calls it (the others' loop stays as small as it was)
-def _linearise(buf, fmi, directional, register, t, timed, clock, timespec):
-    """The FMU's loads at t (its outputs) and their Jacobian in its 12 inputs (one fmi2GetDirectionalDerivative
-    an input) into B_LINEARISATION, its time B_LINEARISED_AT.  ``directional`` = (fmi2GetDirectionalDerivative,
-    the LINEARISED_OUTPUTS' value references, the inputs', a seed [1.0], a column's scratch).  Returns (the
-    FMI_CALLS index of a failed call or 0, the FMI seconds if ``timed``)."""
-    component = fmi[0]
-    get_directional_derivative, unknown_vrs, known_vrs, seed, column = directional
-    n = unknown_vrs.shape[0]
-    lin = B_LINEARISATION
+def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
+    """The FMU's loads at t (its outputs) and the linearisation it publishes there (one fmi2GetReal of its
+    d_*_d_* outputs, fmu.variables.LINEARISED_ROWS) into B_LINEARISATION, its time B_LINEARISED_AT.  ``published``
+    = (their value references, scratch for their values).  Returns (the FMI_CALLS index of a failed call or 0, the
+    FMI seconds if ``timed``)."""
+    component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
+    derivative_vrs, derivatives = published
     c1 = _seconds(clock, timespec) if timed else 0.0
-    for m in range(N_INPUTS):
-        status = get_directional_derivative(component, unknown_vrs.ctypes.data, n, known_vrs.ctypes.data + 4 * m, 1,
-                                            seed.ctypes.data, column.ctypes.data)
-        if failed_call(register, G_FAILED_CALL, F_DIRECTIONAL, status, t):
-            buf[B_LINEARISED_AT] = -1.0
-            return F_DIRECTIONAL, 0.0
-        for r in range(n):
-            buf[lin + L.LIN_JACOBIAN + N_INPUTS * r + m] = column[r]
-    for m in range(N_INPUTS):
-        buf[lin + L.LIN_INPUTS + m] = buf[B_INPUT + m]
-    for r in range(6):
-        buf[lin + L.LIN_LOADS + r] = buf[B_OUTPUT + r]
-    buf[lin + L.LIN_LOADS + 6] = buf[B_OUTPUT + O_NORMAL_FORCE]
+    status = get_real(component, derivative_vrs.ctypes.data, derivative_vrs.shape[0], derivatives.ctypes.data)
+    if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t):
+        buf[B_LINEARISED_AT] = -1.0
+        return F_GET_REAL, 0.0
+    linearisation_from_published(buf[B_OUTPUT:B_OUTPUT + 6], buf[B_OUTPUT + O_NORMAL_FORCE], derivatives,
+                                 buf[B_INPUT:B_INPUT + N_INPUTS],
+                                 buf[B_LINEARISATION:B_LINEARISATION + L.N_LINEARISATION])
     buf[B_LINEARISED_AT] = t
     return 0, _fmi_seconds(timed, clock, timespec, c1)
 
 
 @kernel
-def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, directional, clock, timespec):
+def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, published, clock, timespec):
     """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
     call that returned worse than fmi2Warning (details in ``register``).
 
     ``fmi`` = (component, input value references, output value references, FMU-state
     slot (addresses), doStep, setReal, getReal, getFMUstate, setFMUstate,
-    freeFMUstate): the FMU's C functions, called with the buffers' addresses; ``directional``: what
-    :func:`_linearise` calls (scheme linearised).
+    freeFMUstate): the FMU's C functions, called with the buffers' addresses; ``published``: what
+    :func:`_linearise` reads (scheme linearised).
     Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT).
     Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
     at the start of a free-flight step, the FMU state slot the matching FMU state.
@@ -447,7 +441,7 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, directi
             register[G_MISS_COUNT] += 1.0
         if linearise:
             if buf[B_OUTPUT + O_CONTACT] > 0.5:
-                failed, seconds = _linearise(buf, fmi, directional, register, t_new, timed, clock, timespec)
+                failed, seconds = _linearise(buf, fmi, published, register, t_new, timed, clock, timespec)
                 fmi_time += seconds
                 if failed:
                     break

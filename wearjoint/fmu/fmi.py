@@ -22,9 +22,6 @@ SET_TIME_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double)
 COMPLETED_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
 COMPONENT_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
 EVENT_INDICATORS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t)
-# fmi2GetDirectionalDerivative(c, unknown vrs, nUnknown, known vrs, nKnown, dvKnown, dvUnknown)
-DIRECTIONAL_DERIVATIVE_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t,
-                                               ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p, ctypes.c_void_p)
 
 
 class FmuError(RuntimeError):

@@ -18,7 +18,7 @@ import numpy as np
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .fmi import (
-    COMPLETED_STEP_CALL, COMPONENT_CALL, DIRECTIONAL_DERIVATIVE_CALL, DO_STEP_CALL, EVENT_INDICATORS_CALL,
+    COMPLETED_STEP_CALL, COMPONENT_CALL, DO_STEP_CALL, EVENT_INDICATORS_CALL,
     FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, raise_failed_call,
 )
 
@@ -158,14 +158,6 @@ class FmuInstance:
             c_function(dll.fmi2DoStep, DO_STEP_CALL), c_function(dll.fmi2SetReal, REAL_VALUES_CALL),
             c_function(dll.fmi2GetReal, REAL_VALUES_CALL), c_function(dll.fmi2GetFMUstate, STATUS_CALL),
             c_function(dll.fmi2SetFMUstate, STATUS_CALL), c_function(dll.fmi2FreeFMUstate, STATUS_CALL))
-
-    def directional_functions(self, unknown_names) -> tuple:
-        """What a compiled master needs to take the Jacobian of the outputs ``unknown_names`` in the 12 inputs, one
-        input at a time: (fmi2GetDirectionalDerivative, the outputs' value references, the inputs', a seed [1.0],
-        a column's scratch)."""
-        return (c_function(self.fmu.dll.fmi2GetDirectionalDerivative, DIRECTIONAL_DERIVATIVE_CALL),
-                np.array([self.vr[n] for n in unknown_names], dtype=np.uint32), self.input_vrs, np.ones(1),
-                np.zeros(len(unknown_names)))
 
     def _set_parameters(self, joint: JointParameters) -> None:
         real_values, integer_values = fv.fmi_parameter_values_by_type(joint)

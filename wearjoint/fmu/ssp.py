@@ -3,9 +3,11 @@ master runs (SSP 1.0: System Structure and Parameterization).
 
 The package holds ``SystemStructure.ssd`` (the system: the ``mechanism`` component, a
 ``SliderCrank.fmu``, and the ``joint`` component, a ``ClearanceWearJoint.fmu``; every input and
-output as a connector with its unit; the 12 kinematic connections mechanism -> joint and the 6
-load connections joint -> mechanism; a default experiment of one crank revolution; the communication
-step, 0.5 us by default, in OMSimulator's and OSP's vendor annotations, with OMSimulator's result file,
+output as a connector with its unit; the 12 kinematic connections mechanism -> joint, the 6
+load connections joint -> mechanism and, with the mechanism linearising the loads over a step (``load_coupling``,
+the default), the 73 of the joint's normal force and published linearisation; a default experiment of one crank
+revolution; the communication step (:data:`DEFAULT_STEP_S`: 5 us linearised, 0.5 us held) in OMSimulator's and
+OSP's vendor annotations, with OMSimulator's result file,
 logging interval and signal filter ``resources/signalFilter.xml``: docs/how-to/run_in_omsimulator.md), the two FMUs
 (native, FMI 2.0, every installed platform) and one parameter set per component
 (``resources/<component>.ssv``): the paper's values, the joint's body-frame offsets those of the
@@ -34,10 +36,16 @@ SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 FMU_TYPE = "application/x-fmu-sharedlibrary"
 MECHANISM, JOINT = "mechanism", "joint"
 PARAMETER_SET = "parameters"
-# connections (start element, start connector, end element, end connector)
-# (the mechanism's slider_force input stays open: the parameters' load, or a load FMU the user connects)
-CONNECTIONS = ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
-               + [(JOINT, v.name, MECHANISM, v.name) for v in sc.INPUTS if v.name != sc.SLIDER_FORCE_NAME])
+
+
+def connections(load_coupling: str) -> list[tuple[str, str, str, str]]:
+    """The package's connections (start element, start connector, end element, end connector): the kinematics to
+    the joint, its loads to the mechanism and, ``load_coupling`` linearised, its normal force and published
+    linearisation (the mechanism's slider_force input stays open: the parameters' load, or a load FMU the user
+    connects)."""
+    inputs = sc.INPUTS if load_coupling == "linearised" else sc.LOAD_INPUTS
+    return ([(MECHANISM, name, JOINT, name) for name in sc.KINEMATIC_OUTPUTS]
+            + [(JOINT, v.name, MECHANISM, v.name) for v in inputs if v.name != sc.SLIDER_FORCE_NAME])
 
 # vendor annotations: OpenModelica's OMSimulator (its own prefix "oms", matched literally), OSP's libcosim
 OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
@@ -68,19 +76,24 @@ def _is_profile(name: str) -> bool:
     return name.startswith(fv.wear_depth_name(1).removesuffix("1]"))
 
 
-def _connectors(component: ET.Element, fmu_path: Path) -> set[str]:
+def _connectors(component: ET.Element, fmu_path: Path, wired: list) -> set[str]:
     """A connector per input, output and parameter of the FMU (its unit where it has one), but the
     joint's N_d ``wear_depth[k]`` outputs: nothing connects to them, every master still reads them
     from the FMU, and a master that moves every connector at every step (fmpy's SSP simulator) runs
-    ten times faster without them; nor an input no connection feeds (the mechanism's
-    ``slider_force``: a master that connects a load FMU declares it).  Returns the units used."""
+    ten times faster without them; nor its linearisation outputs where ``wired`` (the connections) does not
+    connect them; nor an input no connection feeds (the mechanism's ``slider_force``: a master that connects a
+    load FMU declares it).  Returns the units used."""
     from fmpy import read_model_description
 
     connectors = ET.SubElement(component, _q(SSD, "Connectors"))
     units = set()
-    fed = {(end, name) for _, _, end, name in CONNECTIONS}
+    fed = {(end, name) for _, _, end, name in wired}
+    feeding = {(start, name) for start, name, _, _ in wired}
+    linearisation = {v.name for v in fv.LINEARISATION_OUTPUTS}
     for v in read_model_description(str(fmu_path)).modelVariables:
         if v.causality not in ("input", "output", "parameter") or _is_profile(v.name):
+            continue
+        if v.name in linearisation and v.causality == "output" and (component.get("name"), v.name) not in feeding:
             continue
         if v.causality == "input" and (component.get("name"), v.name) not in fed:
             continue          # an open input (slider_force): fmpy 0.3.32's SSP simulator wires it to the previous one's source
@@ -149,8 +162,10 @@ def signal_filter(recorded=RECORDED) -> bytes:
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
 
-def system_structure(fmus: dict, stop_time: float, step_s: float = DEFAULT_STEP_S) -> bytes:
-    """``SystemStructure.ssd`` for the FMUs {component: path}, at the communication step ``step_s`` [s]."""
+def system_structure(fmus: dict, stop_time: float, step_s: float, load_coupling: str = "linearised") -> bytes:
+    """``SystemStructure.ssd`` for the FMUs {component: path}, at the communication step ``step_s`` [s], wired for
+    ``load_coupling`` (:func:`connections`)."""
+    wired = connections(load_coupling)
     root = ET.Element(_q(SSD, "SystemStructureDescription"), version="1.0", name=SSP_NAME)
     system = ET.SubElement(root, _q(SSD, "System"), name=SSP_NAME,
                            description="The paper's slider-crank (Sec. 6.1) with a wearing clearance joint between "
@@ -161,12 +176,12 @@ def system_structure(fmus: dict, stop_time: float, step_s: float = DEFAULT_STEP_
     for name, path in fmus.items():
         component = ET.SubElement(elements, _q(SSD, "Component"), name=name, type=FMU_TYPE,
                                   source=f"resources/{path.name}")
-        units |= _connectors(component, path)
+        units |= _connectors(component, path, wired)
         bindings = ET.SubElement(component, _q(SSD, "ParameterBindings"))
         ET.SubElement(bindings, _q(SSD, "ParameterBinding"), source=f"resources/{name}.ssv")
-    connections = ET.SubElement(system, _q(SSD, "Connections"))
-    for start, start_connector, end, end_connector in CONNECTIONS:
-        ET.SubElement(connections, _q(SSD, "Connection"), startElement=start, startConnector=start_connector,
+    wires = ET.SubElement(system, _q(SSD, "Connections"))
+    for start, start_connector, end, end_connector in wired:
+        ET.SubElement(wires, _q(SSD, "Connection"), startElement=start, startConnector=start_connector,
                       endElement=end, endConnector=end_connector)
     unit_definitions = ET.SubElement(root, _q(SSD, "Units"))
     for name in sorted(units):
@@ -221,7 +236,7 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
                                      starts=sc.parameter_starts(mechanism)),
                 JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms,
                                  starts=fv.parameter_starts(joint))}
-        ssd = system_structure(fmus, stop_time, step_s)
+        ssd = system_structure(fmus, stop_time, step_s, load_coupling)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
         coupling = {sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLINGS.index(load_coupling))}
         parameter_sets = {MECHANISM: _parameter_set({**sc.parameter_values(mechanism), **coupling}),

@@ -3,7 +3,9 @@
 For each case, ``--starts`` runs (the initial crank angle spread over a turn) of the monolithic reference
 (RK4 at ``--reference-step``) and of each co-simulation configuration (``--cosim-steps``: the adaptive
 scheme's contact step, the default first; ``--tolerances``: its ``coupling_tolerance``; ``--linearised-steps``: the
-linearised scheme's contact step), over ``--revolutions`` revolutions of which the first
+linearised scheme's contact step; ``--masters``: third-party masters on the SSP package at each of
+``--master-steps`` with its ``--load-coupling``, on the cases that start unworn), over ``--revolutions``
+revolutions of which the first
 ``--settling`` are dropped.  Per run the mean over its revolutions of: impacts per revolution, contact
 fraction, largest normal force, share of chattering revolutions (more than
 :data:`wearjoint.analysis.CHATTER_IMPACTS_PER_REVOLUTION` onsets).  Per configuration the ensemble's mean
@@ -20,7 +22,8 @@ clearance along the direction the contact force of an unworn run points to most
 
     python -m wearjoint.studies.coupling_accuracy [--cases paper paper-worn own-wear groove] [--starts 8]
         [--revolutions 6] [--settling 2] [--cosim-steps 5e-6 2.5e-6] [--tolerances 0.03]
-        [--linearised-steps 5e-6 1e-5] [--out DIR]
+        [--linearised-steps 5e-6 1e-5] [--masters libcosim ecos fmpy-ssp omsimulator container]
+        [--master-steps 5e-6] [--load-coupling linearised] [--out DIR]
 """
 from __future__ import annotations
 
@@ -37,9 +40,12 @@ from wearjoint.analysis import chattering, contact_fraction, covered
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.cosim.cosimulation import CoSimulationOptions, run_cosimulation
+from wearjoint.cosim.masters import THIRD_PARTY, run_master
+from wearjoint.fmu.ssp import LOAD_COUPLINGS
 from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 
+SAMPLE_DT_S = 1e-4       # a third-party master's time series (the statistics come from every communication point)
 STATISTICS = ("impacts_per_revolution", "contact_fraction", "max_normal_force_N", "chattering_share")
 CASES = ("paper", "paper-worn", "own-wear", "groove")
 PAPER_WORN_DEPTH_M = 0.58e-3
@@ -146,11 +152,16 @@ def run_case(name: str, args, log=print) -> dict:
                        for tolerance in args.tolerances]
     configurations += [(f"cosim linearised {step * 1e6:g} us", {"scheme": "linearised", "step_s": step})
                        for step in args.linearised_steps]
-    for label, options in configurations:
-        def cosim(m, options=options):
-            return run_cosimulation(joint, m, CoSimulationOptions(revolutions=revolutions, **options),
-                                    progress=False, initial_profile_m=profile)
-        row = ensemble(cosim, mechanism, args.starts, args.settling)
+    runs = [(label, lambda m, options=options: run_cosimulation(
+        joint, m, CoSimulationOptions(revolutions=revolutions, **options), progress=False, initial_profile_m=profile))
+        for label, options in configurations]
+    if profile is None:         # the SSP's masters start unworn
+        runs += [(f"{master} {args.load_coupling} {step * 1e6:g} us",
+                  lambda m, master=master, step=step: run_master(master, joint, m, revolutions, step, SAMPLE_DT_S,
+                                                                 load_coupling=args.load_coupling))
+                 for master in args.masters for step in args.master_steps]
+    for label, run in runs:
+        row = ensemble(run, mechanism, args.starts, args.settling)
         row["z"] = z_scores(row, reference)
         rows[label] = row
         log(f"{name}: {label} {row['wall_s']:.0f} s, {row['steps_per_revolution']:.0f} steps/rev, z " +
@@ -190,6 +201,9 @@ def main(argv=None) -> int:
     parser.add_argument("--cosim-steps", type=float, nargs="+", default=[5e-6])
     parser.add_argument("--tolerances", type=float, nargs="*", default=[])
     parser.add_argument("--linearised-steps", type=float, nargs="*", default=[])
+    parser.add_argument("--masters", nargs="*", choices=THIRD_PARTY, default=[])
+    parser.add_argument("--master-steps", type=float, nargs="+", default=[5e-6])
+    parser.add_argument("--load-coupling", choices=LOAD_COUPLINGS, default="linearised")
     parser.add_argument("--wear-factor", type=float, default=1.0)
     parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args(argv)
