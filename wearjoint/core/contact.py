@@ -33,7 +33,7 @@ from .geometry import angle_near_point, find_deepest_point, point_nearest_angle
 from .jit import kernel
 from .layout import (
     CONTACT_FOUNDATION, DAMPING_HUNT_CROSSLEY, DAMPING_TSUJI, M_ACTIVE, M_IMPACT_VELOCITY, N_KINEMATIC_INPUTS,
-    P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS,
+    N_JOINT_PARAMETERS, N_MEMORY, N_RESULT, P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS,
     P_CONTACT_DAMPING, P_CONTACT_MODEL, P_DAMPING_COEFFICIENT, P_EXPONENT, P_FOUNDATION_MODULUS, P_FRICTION,
     P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, P_STIFFNESS, P_V0, P_V1, P_VELOCITY_FLOOR,
     R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_ANGLE, R_CONTACT_INDEX, R_ECCENTRICITY_X,
@@ -261,8 +261,11 @@ def contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     """:func:`evaluate_contact` into ``out``, and the exact derivatives of its outputs with respect to
     the 12 kinematic inputs into ``jacobian`` (N_RESULT x 12: d out[r] / d input[m], inputs x, y,
     theta, vx, vy, omega of body i, then of body j).  Rows of the discrete outputs (contact flag,
-    deepest point) are 0.  Where the force is not differentiable (the deepest point changes,
-    friction's ramp ends, the contact begins) it is one of the one-sided derivatives."""
+    deepest point) are 0.  Where the force is not differentiable (the deepest point changes, friction's
+    ramp ends, the contact begins) it is one of the one-sided derivatives.  The 12 directions are one loop
+    that stores into ``jacobian`` flattened (rows it need not check for overlaps), with the parameters and
+    the memory as values (:func:`_as_values`): the compiler computes what does not depend on the direction
+    once and runs the directions side by side, in SIMD lanes."""
     xi, yi, ci, si = pos_i[0], pos_i[1], math.cos(pos_i[2]), math.sin(pos_i[2])
     xj, yj, cj, sj = pos_j[0], pos_j[1], math.cos(pos_j[2]), math.sin(pos_j[2])
     vxi, vyi, wi, vxj, vyj, wj = vel_i[0], vel_i[1], vel_i[2], vel_j[0], vel_j[1], vel_j[2]
@@ -272,35 +275,68 @@ def contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_dept
     ex = out[R_ECCENTRICITY_X]
     ey = out[R_ECCENTRICITY_Y]
     e2 = ex * ex + ey * ey
+    depth = (out[R_PENETRATION], fallback[0], fallback[1])
+    jp, memory = _as_values(jp, memory)
+    entries = jacobian.flat                                         # d out[r] / d input[m] at 12 r + m
+    for k in range(N_RESULT * N_KINEMATIC_INPUTS):
+        entries[k] = 0.0
+    if not in_contact:                                              # the contact angle is the direction of e
+        for m in range(N_KINEMATIC_INPUTS):
+            dex, dey = _put_geometry_rows(entries, m, _unit_direction(m), xi, yi, ci, si, xj, yj, cj, sj, jp, dkx,
+                                          dky, d)
+            _put(entries, R_CONTACT_ANGLE, m, (ex * dey - ey * dex) / e2 if e2 > 0.0 else 0.0)
+        return
     for m in range(N_KINEMATIC_INPUTS):
         dq = _unit_direction(m)
-        for r in range(jacobian.shape[0]):
-            jacobian[r, m] = 0.0
-        _, (_, _, _, _, dex, dey) = _kinematics(xi, yi, ci, si, xj, yj, cj, sj, dq, jp)
-        jacobian[R_ECCENTRICITY_X, m] = dex
-        jacobian[R_ECCENTRICITY_Y, m] = dey
-        if d > 0.0:             # delta = R_i - |d_k|, d_k = rho_k u_k - e: d delta = d_k.de / |d_k|
-            jacobian[R_PENETRATION, m] = (dkx * dex + dky * dey) / d
-        if not in_contact:      # the contact angle is the direction of e
-            if e2 > 0.0:
-                jacobian[R_CONTACT_ANGLE, m] = (ex * dey - ey * dex) / e2
-            continue
+        _put_geometry_rows(entries, m, dq, xi, yi, ci, si, xj, yj, cj, sj, jp, dkx, dky, d)
         values, derivative = _forces(xi, yi, ci, si, vxi, vyi, wi, xj, yj, cj, sj, vxj, vyj, wj, dq, jp, memory,
-                                     elastic, common_point, bushing_point, fallback,
-                                     (out[R_PENETRATION], fallback[0], fallback[1]))
+                                     elastic, common_point, bushing_point, fallback, depth)
         nlx, nly = values[8], values[9]
         dfx, dfy, dt_i, dt_j, df_n, df_t, dv_t, drate, dnlx, dnly = derivative
-        jacobian[R_PIN_FX, m] = dfx
-        jacobian[R_PIN_FY, m] = dfy
-        jacobian[R_PIN_TORQUE, m] = dt_i
-        jacobian[R_BUSHING_FX, m] = -dfx
-        jacobian[R_BUSHING_FY, m] = -dfy
-        jacobian[R_BUSHING_TORQUE, m] = dt_j
-        jacobian[R_NORMAL_FORCE, m] = df_n
-        jacobian[R_FRICTION_FORCE, m] = df_t
-        jacobian[R_TANGENTIAL_VELOCITY, m] = dv_t
-        jacobian[R_PENETRATION_RATE, m] = drate
-        jacobian[R_CONTACT_ANGLE, m] = nlx * dnly - nly * dnlx
+        _put(entries, R_PIN_FX, m, dfx)
+        _put(entries, R_PIN_FY, m, dfy)
+        _put(entries, R_PIN_TORQUE, m, dt_i)
+        _put(entries, R_BUSHING_FX, m, -dfx)
+        _put(entries, R_BUSHING_FY, m, -dfy)
+        _put(entries, R_BUSHING_TORQUE, m, dt_j)
+        _put(entries, R_NORMAL_FORCE, m, df_n)
+        _put(entries, R_FRICTION_FORCE, m, df_t)
+        _put(entries, R_TANGENTIAL_VELOCITY, m, dv_t)
+        _put(entries, R_PENETRATION_RATE, m, drate)
+        _put(entries, R_CONTACT_ANGLE, m, nlx * dnly - nly * dnlx)
+
+
+@kernel(inline='always')
+def _put_geometry_rows(entries, m, dq, xi, yi, ci, si, xj, yj, cj, sj, jp, dkx, dky, d):
+    """Column m (direction dq) of the eccentricity and penetration rows of :func:`contact_jacobian`; returns de.
+    delta = R_i - |d_k|, d_k = rho_k u_k - e = (dkx, dky), d = |d_k|: d delta = d_k.de / |d_k|."""
+    _, (_, _, _, _, dex, dey) = _kinematics(xi, yi, ci, si, xj, yj, cj, sj, dq, jp)
+    _put(entries, R_ECCENTRICITY_X, m, dex)
+    _put(entries, R_ECCENTRICITY_Y, m, dey)
+    _put(entries, R_PENETRATION, m, (dkx * dex + dky * dey) / d if d > 0.0 else 0.0)
+    return dex, dey
+
+
+@kernel(inline='always')
+def _put(entries, r, m, value):
+    """d out[r] / d input[m] = value into :func:`contact_jacobian`'s ``jacobian`` flattened."""
+    entries[N_KINEMATIC_INPUTS * r + m] = value
+
+
+@kernel(inline='always')
+def _as_values(jp, memory):
+    """``jp`` and ``memory`` as tuples, indexed as the arrays: values, which a compiled loop that stores into
+    another array need not load again after every store (the arrays might share memory), so that what it
+    computes from them it computes once."""
+    return ((jp[0], jp[1], jp[2], jp[3], jp[4], jp[5], jp[6], jp[7], jp[8], jp[9], jp[10], jp[11], jp[12], jp[13],
+             jp[14], jp[15], jp[16], jp[17], jp[18], jp[19], jp[20], jp[21], jp[22], jp[23], jp[24], jp[25], jp[26],
+             jp[27], jp[28], jp[29], jp[30], jp[31]),
+            (memory[0], memory[1], memory[2], memory[3], memory[4], memory[5], memory[6], memory[7], memory[8],
+             memory[9]))
+
+
+if (N_JOINT_PARAMETERS, N_MEMORY) != (32, 10):
+    raise RuntimeError("_as_values spells out 32 joint parameters and 10 memory entries: update it with the layout")
 
 
 @kernel
