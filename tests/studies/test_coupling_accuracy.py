@@ -41,3 +41,24 @@ def test_z_is_the_difference_in_combined_standard_errors():
     assert z["impacts_per_revolution"] == pytest.approx(8.0 / 5.0)
     nil = {"mean": 1.0, "se": 0.0}
     assert z_scores({k: nil for k in names}, {k: nil for k in names})["contact_fraction"] == 0.0
+
+
+def test_the_study_keeps_every_finished_row_when_a_later_one_fails(tmp_path, monkeypatch):
+    """--out's JSON and table hold the reference and every finished configuration as the study goes: a master that
+    fails after them leaves them on disk (a third-party master's row is labelled by its coupling and step)."""
+    import json
+
+    from wearjoint.studies import coupling_accuracy
+
+    def failing(*args, **kwargs):
+        raise RuntimeError("the master stopped")
+
+    monkeypatch.setattr(coupling_accuracy, "run_master", failing)
+    arguments = ["--cases", "paper", "--starts", "2", "--revolutions", "0.02", "--settling", "0", "--cosim-steps",
+                 "5e-6", "--masters", "container", "--out", str(tmp_path)]
+    with pytest.raises(RuntimeError, match="the master stopped"):
+        coupling_accuracy.main(arguments)
+    (case,) = json.loads((tmp_path / "coupling_accuracy.json").read_text())
+    assert list(case["rows"]) == ["monolithic rk4 2.5 us", "cosim adaptive 5 us"]
+    assert case["rows"]["cosim adaptive 5 us"]["steps_per_revolution"] > 0
+    assert "| paper | cosim adaptive 5 us |" in (tmp_path / "coupling_accuracy.md").read_text()

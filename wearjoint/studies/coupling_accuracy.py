@@ -24,6 +24,9 @@ clearance along the direction the contact force of an unworn run points to most
         [--revolutions 6] [--settling 2] [--cosim-steps 5e-6 2.5e-6] [--tolerances 0.03]
         [--linearised-steps 5e-6 1e-5] [--masters libcosim ecos fmpy-ssp omsimulator container]
         [--master-steps 5e-6] [--load-coupling linearised] [--out DIR]
+
+``--out DIR``: coupling_accuracy.json and coupling_accuracy.md (the table), rewritten as each configuration
+finishes.
 """
 from __future__ import annotations
 
@@ -135,7 +138,7 @@ def z_scores(row: dict, reference: dict) -> dict:
     return out
 
 
-def run_case(name: str, args, log=print) -> dict:
+def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
     joint, mechanism, profile = case_setup(name, args.wear_factor)
     revolutions = args.revolutions
 
@@ -160,15 +163,18 @@ def run_case(name: str, args, log=print) -> dict:
                   lambda m, master=master, step=step: run_master(master, joint, m, revolutions, step, SAMPLE_DT_S,
                                                                  load_coupling=args.load_coupling))
                  for master in args.masters for step in args.master_steps]
+    depth = None if profile is None else float(profile.max())
+    case = {"case": name, "groove_depth_m": depth, "clearance_m": joint.bushing_radius_m - joint.pin_radius_m,
+            "rows": rows}
+    save(case)                      # every finished row on disk before the next starts
     for label, run in runs:
         row = ensemble(run, mechanism, args.starts, args.settling)
         row["z"] = z_scores(row, reference)
         rows[label] = row
+        save(case)
         log(f"{name}: {label} {row['wall_s']:.0f} s, {row['steps_per_revolution']:.0f} steps/rev, z " +
             " ".join(f"{k}={v:+.1f}" for k, v in row["z"].items()))
-    depth = None if profile is None else float(profile.max())
-    return {"case": name, "groove_depth_m": depth, "clearance_m": joint.bushing_radius_m - joint.pin_radius_m,
-            "rows": rows}
+    return case
 
 
 def table(results: list) -> str:
@@ -207,11 +213,20 @@ def main(argv=None) -> int:
     parser.add_argument("--wear-factor", type=float, default=1.0)
     parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args(argv)
-    results = [run_case(name, args, log=lambda text: print(text, file=sys.stderr, flush=True)) for name in args.cases]
+    results = []
+
+    def save(case=None) -> None:
+        """coupling_accuracy.json and .md of the finished cases and rows (and ``case``'s so far)."""
+        if args.out is not None:
+            done = results + ([case] if case is not None else [])
+            args.out.mkdir(parents=True, exist_ok=True)
+            (args.out / "coupling_accuracy.json").write_text(json.dumps(done, indent=1))
+            (args.out / "coupling_accuracy.md").write_text(table(done) + "\n")
+
+    for name in args.cases:
+        results.append(run_case(name, args, log=lambda text: print(text, file=sys.stderr, flush=True), save=save))
+    save()
     print(table(results))
-    if args.out is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "coupling_accuracy.json").write_text(json.dumps(results, indent=1))
     return 0
 
 
