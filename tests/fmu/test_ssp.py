@@ -117,12 +117,12 @@ def _master_settings(root) -> dict:
 def test_the_ssd_carries_the_step_stop_time_and_recorded_signals(package, tmp_path):
     """OMSimulator's vendor annotations (the system's fixed-step master, first so that OMSimulator reads
     it; the default experiment's result file, logging interval and signal filter, a file in the
-    package naming the recorded signals) and OSP's fixed-step algorithm hold the default 5 us step of the
-    linearised coupling; export_ssp's step_s and stop_time change them; the SSD stays valid (fmpy reads it with
-    the schema)."""
+    package naming the recorded signals) and OSP's fixed-step algorithm hold the default steps of the linearised
+    coupling, 10 us for OMSimulator (on time), 5 us for libcosim (one step late); export_ssp's step_s and stop_time
+    change them; the SSD stays valid (fmpy reads it with the schema)."""
     path, unzipped = package
     settings = _master_settings(etree.parse(str(unzipped / "SystemStructure.ssd")).getroot())
-    assert settings == {"oms_step": 5e-6, "solver": "oms-ma", "osp_step": 5e-6,
+    assert settings == {"oms_step": 1e-5, "solver": "oms-ma", "osp_step": 5e-6,
                         "stop": SliderCrankParameters().period_s, "result": ssp.RESULT_FILE,
                         "interval": ssp.RESULT_INTERVAL_S, "filter": ssp.SIGNAL_FILTER}
     signals = etree.parse(str(unzipped / ssp.SIGNAL_FILTER)).getroot()

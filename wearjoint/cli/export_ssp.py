@@ -8,7 +8,7 @@ import sys
 
 from ..cosim.step_rule import communication_step_rule, paper_step_scale
 from ..fmu import platforms
-from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS
+from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, ON_TIME_STEP_S
 from ..parameters import ParameterError, SliderCrankParameters
 from .options import add_model_arguments, model_from_args
 
@@ -35,7 +35,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--step", type=float, default=None, metavar="S",
                         help="communication step the package asks its masters for [s] (OMSimulator's and OSP's "
                              "annotations; default for the paper's mechanism "
-                             + ", ".join(f"{DEFAULT_STEP_S[c]:g} s {c}" for c in LOAD_COUPLINGS)
+                             + ", ".join(f"{DEFAULT_STEP_S[c]:g} s {c} ({ON_TIME_STEP_S[c]:g} s for OMSimulator)"
+                                         for c in LOAD_COUPLINGS)
                              + ", scaled by the step rule for others: docs/explanation/cosim_study.md)")
     add_model_arguments(parser)
     parser.epilog = ("The model options become the parameter sets and the FMUs' start values; the joint's centres "
@@ -49,12 +50,14 @@ def run(args) -> int:
     try:
         joint, mechanism = model_from_args(args)
         rule = communication_step_rule(joint, mechanism)
-        step = (args.step if args.step is not None
-                else DEFAULT_STEP_S[args.load_coupling] * paper_step_scale(joint, mechanism))
-        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms, step_s=step,
-                          load_coupling=args.load_coupling)
+        scale = paper_step_scale(joint, mechanism)
+        step = args.step if args.step is not None else DEFAULT_STEP_S[args.load_coupling] * scale
+        path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms,
+                          step_s=args.step, load_coupling=args.load_coupling, step_scale=scale)
         print(path)
-        print(f"{rule.text()}; the package asks for {step:.3g} s", file=sys.stderr)
+        on_time = args.step if args.step is not None else ON_TIME_STEP_S[args.load_coupling] * scale
+        print(f"{rule.text()}; the package asks for {step:.3g} s ({on_time:.3g} s of OMSimulator, on time)",
+              file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
             step = CONTAINER_STEP_S if args.container_step is None else args.container_step
             print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))

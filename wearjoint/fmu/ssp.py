@@ -55,6 +55,9 @@ LOAD_COUPLINGS = sc.LOAD_COUPLINGS     # how the mechanism takes the joint's loa
 # s: the step the package asks for by coupling: inside the monolithic scatter in every master here, on time or one
 # step late (8 starts, docs/explanation/cosim_study.md)
 DEFAULT_STEP_S = {"hold": 0.5e-6, "linearised": 5e-6}
+# s: the step the package asks OMSimulator for, which moves the kinematics before it reads the loads ("on time"):
+# with the loads linearised the container, on time too, stays within 1 standard error at 10 us (8 starts)
+ON_TIME_STEP_S = {"hold": 0.5e-6, "linearised": 1e-5}
 RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 20th step at 0.5 us
 RESULT_FILE = f"{SSP_NAME}_res.mat"
 SIGNAL_FILTER = "resources/signalFilter.xml"
@@ -131,8 +134,10 @@ def _annotation(parent: ET.Element, kind: str) -> ET.Element:
     return ET.SubElement(annotations, _q(SSC, "Annotation"), type=kind)
 
 
-def _master_annotations(system: ET.Element, experiment: ET.Element, step_s: float) -> None:
-    """The fixed communication step where masters read one, and OMSimulator's result settings.
+def _master_annotations(system: ET.Element, experiment: ET.Element, step_s: float, on_time_step_s: float) -> None:
+    """The fixed communication step where masters read one (``on_time_step_s`` for OMSimulator, which moves the
+    kinematics before it reads the loads, ``step_s`` for OSP's libcosim, which reads them one step late), and
+    OMSimulator's result settings.
 
     OMSimulator (read first, so its annotations come first): the system's ``oms:SimulationInformation``
     with an ``oms:FixedStepMaster`` (its ``oms-ma``: a weakly coupled system at the fixed step; without it
@@ -141,11 +146,12 @@ def _master_annotations(system: ET.Element, experiment: ET.Element, step_s: floa
     ``osp:FixedStepAlgorithm``.  fmpy and ecos read no step from an SSP: their callers pass it."""
     information = ET.SubElement(ET.SubElement(_annotation(system, OMS_TYPE), _q(OMS, "Annotations")),
                                 _q(OMS, "SimulationInformation"))
-    ET.SubElement(information, _q(OMS, "FixedStepMaster"), description="oms-ma", stepSize=repr(step_s),
+    ET.SubElement(information, _q(OMS, "FixedStepMaster"), description="oms-ma", stepSize=repr(on_time_step_s),
                   relativeTolerance="0.0001")
     oms = ET.SubElement(_annotation(experiment, OMS_TYPE), _q(OMS, "Annotations"))
     ET.SubElement(oms, _q(OMS, "SimulationInformation"), resultFile=RESULT_FILE,
-                  loggingInterval=repr(max(RESULT_INTERVAL_S, step_s)), bufferSize="10", signalFilter=SIGNAL_FILTER)
+                  loggingInterval=repr(max(RESULT_INTERVAL_S, on_time_step_s)), bufferSize="10",
+                  signalFilter=SIGNAL_FILTER)
     algorithm = ET.SubElement(_annotation(experiment, OSP_TYPE), _q(OSP, "Algorithm"))
     ET.SubElement(algorithm, _q(OSP, "FixedStepAlgorithm"), baseStepSize=repr(step_s))
 
@@ -162,9 +168,10 @@ def signal_filter(recorded=RECORDED) -> bytes:
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
 
-def system_structure(fmus: dict, stop_time: float, step_s: float, load_coupling: str = "linearised") -> bytes:
-    """``SystemStructure.ssd`` for the FMUs {component: path}, at the communication step ``step_s`` [s], wired for
-    ``load_coupling`` (:func:`connections`)."""
+def system_structure(fmus: dict, stop_time: float, step_s: float, load_coupling: str = "linearised",
+                     on_time_step_s: float | None = None) -> bytes:
+    """``SystemStructure.ssd`` for the FMUs {component: path}, at the communication step ``step_s`` [s]
+    (``on_time_step_s`` for OMSimulator, default ``step_s``), wired for ``load_coupling`` (:func:`connections`)."""
     wired = connections(load_coupling)
     root = ET.Element(_q(SSD, "SystemStructureDescription"), version="1.0", name=SSP_NAME)
     system = ET.SubElement(root, _q(SSD, "System"), name=SSP_NAME,
@@ -188,7 +195,8 @@ def system_structure(fmus: dict, stop_time: float, step_s: float, load_coupling:
         unit = ET.SubElement(unit_definitions, _q(SSC, "Unit"), name=name)
         ET.SubElement(unit, _q(SSC, "BaseUnit"), {k: str(v) for k, v in _UNITS[name].items()})
     experiment = ET.SubElement(root, _q(SSD, "DefaultExperiment"), startTime="0.0", stopTime=repr(float(stop_time)))
-    _master_annotations(system, experiment, float(step_s))   # the system's: after its connections (schema)
+    _master_annotations(system, experiment, float(step_s),   # the system's: after its connections (schema)
+                        float(step_s if on_time_step_s is None else on_time_step_s))
     ET.indent(root)
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
 
@@ -207,7 +215,7 @@ def _validate(xml: bytes, schema: str, what: str) -> None:
 
 def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: JointParameters | None = None,
                stop_time: float | None = None, platforms=None, step_s: float | None = None,
-               load_coupling: str = "linearised") -> Path:
+               load_coupling: str = "linearised", step_scale: float = 1.0) -> Path:
     """Write ``out_dir/SliderCrankWithClearance.ssp`` and return its path.
 
     ``mechanism`` (default: the paper's) and ``joint`` (default: the paper's with the mechanism's
@@ -216,7 +224,8 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     ``stop_time`` the default experiment's stop time (default one crank revolution [s]);
     ``platforms`` those the FMUs carry binaries for (default: every installed one);
     ``step_s`` the communication step the package asks its masters for [s] (OMSimulator's and OSP's
-    annotations; default :data:`DEFAULT_STEP_S` of the coupling, docs/how-to/run_in_omsimulator.md);
+    annotations; default :data:`DEFAULT_STEP_S` of the coupling for OSP, :data:`ON_TIME_STEP_S` for OMSimulator,
+    both times ``step_scale``: docs/how-to/run_in_omsimulator.md);
     ``load_coupling`` how the mechanism takes the joint's loads over a step (:data:`LOAD_COUPLINGS`: "linearised",
     F0 + J (u - u0) from the joint's published linearisation, wired; "hold", the loads held).
     """
@@ -228,15 +237,17 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     stop_time = mechanism.period_s if stop_time is None else stop_time
     require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
     require("load_coupling", load_coupling, load_coupling in LOAD_COUPLINGS, f"one of {', '.join(LOAD_COUPLINGS)}")
-    step_s = DEFAULT_STEP_S[load_coupling] if step_s is None else step_s
+    on_time_step_s = ON_TIME_STEP_S[load_coupling] * step_scale if step_s is None else step_s
+    step_s = DEFAULT_STEP_S[load_coupling] * step_scale if step_s is None else step_s
     require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
+    on_time_step_s = min(on_time_step_s, stop_time)
     out_dir = Path(out_dir)
     with tempfile.TemporaryDirectory(prefix="wearjoint_ssp_") as tmp:
         fmus = {MECHANISM: build_fmu(Path(tmp) / MECHANISM, model="slider-crank", platforms=platforms,
                                      starts=sc.parameter_starts(mechanism)),
                 JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms,
                                  starts=fv.parameter_starts(joint))}
-        ssd = system_structure(fmus, stop_time, step_s, load_coupling)
+        ssd = system_structure(fmus, stop_time, step_s, load_coupling, on_time_step_s)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
         coupling = {sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLINGS.index(load_coupling))}
         parameter_sets = {MECHANISM: _parameter_set({**sc.parameter_values(mechanism), **coupling}),
