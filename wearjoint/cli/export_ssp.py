@@ -56,8 +56,12 @@ def run(args) -> int:
                           step_s=args.step, load_coupling=args.load_coupling, step_scale=scale)
         print(path)
         on_time = args.step if args.step is not None else ON_TIME_STEP_S[args.load_coupling] * scale
-        print(f"{rule.text()}; the package asks for {step:.3g} s ({on_time:.3g} s of OMSimulator, on time)",
-              file=sys.stderr)
+        asks = f"the package asks for {step:.3g} s ({on_time:.3g} s of OMSimulator, on time)"
+        if args.load_coupling == "linearised":
+            print(f"{asks}: its mechanism integrates the joint's published linearisation (with the loads held, "
+                  f"{rule.text()})", file=sys.stderr)
+        else:
+            print(f"{rule.text()}; {asks}", file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
             step = CONTAINER_STEP_S if args.container_step is None else args.container_step
             print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))
