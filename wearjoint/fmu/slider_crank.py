@@ -42,7 +42,7 @@ MAX_INTERNAL_STEP_NAME = "max_internal_step"
 MAX_INTERNAL_STEP_START = 1e-5
 LOAD_COUPLING_NAME = "load_coupling"
 LOAD_COUPLINGS = ("hold", "linearised")     # load_coupling's values by code
-LOAD_COUPLING_HOLD, LOAD_COUPLING_LINEARISED = (LOAD_COUPLINGS.index(name) for name in LOAD_COUPLINGS)
+LOAD_COUPLING_HOLD, LOAD_COUPLING_LINEARISED = range(len(LOAD_COUPLINGS))
 TIME_NAME = "time"
 # kind of a variable's value in the C model: an input, a parameter, y[index] or dy[index]
 # or the clearance joint's kinematic input[index] (core.joint_location.joint_kinematics)
