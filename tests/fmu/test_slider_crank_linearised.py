@@ -100,3 +100,20 @@ def test_the_linearised_loads_vanish_where_the_normal_force_does_not_push(fmu):
     unloaded = run(fmu, 0, 1, {**spring(), "normal_force": 0.0}, np.zeros(6))
     np.testing.assert_allclose(released, unloaded, rtol=0.0, atol=1e-12)
     assert np.abs(run(fmu, 0, 1, {**spring(), "normal_force": 1.0}, f0) - unloaded).max() > 1e-9
+
+
+def test_a_load_coupling_that_is_no_code_is_refused_naming_it(fmu, capfd):
+    """load_coupling 0.5: exitInitializationMode fails with one message naming the parameter, its value and the
+    codes allowed."""
+    from fmpy.fmi2 import FMU2Slave
+
+    slave = FMU2Slave(guid=fmu["token"], unzipDirectory=str(fmu["dir"]), modelIdentifier=sc.MODEL_IDENTIFIER,
+                      instanceName="refused")
+    slave.instantiate(loggingOn=True)
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    slave.setReal([VR[sc.LOAD_COUPLING_NAME]], [0.5])
+    with pytest.raises(Exception):
+        slave.exitInitializationMode()
+    assert "parameter load_coupling=0.5 is invalid: allowed 0 (hold), 1 (linearised)" in capfd.readouterr().out
+    slave.freeInstance()

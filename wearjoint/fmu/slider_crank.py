@@ -62,7 +62,11 @@ class Variable:
     index: int
     start: float | None = None
     allowed: Allowed | None = None   # parameters
-    n_choices: int = 0                  # > 0: a parameter taking the values 0 .. n_choices - 1 (an enumeration)
+    choices: tuple[str, ...] = ()       # a parameter taking the values 0 .. len(choices) - 1 (an enumeration)
+
+    @property
+    def n_choices(self) -> int:
+        return len(self.choices)
 
 
 # the FMU's check of each mechanism parameter's rule (wearjoint.mechanism_parameters.RULE_TEXT)
@@ -100,7 +104,7 @@ if ([_LINEARISED_LOADS[k] for k in layout.PUBLISHED_LINEARISED_LOADS] != list(fv
     raise RuntimeError("the SliderCrank's inputs and the joint's published linearisation (core/layout.py) disagree")
 PARAMETERS = tuple(
     Variable(f.fmu_name, fv.PARAMETER, f.unit, f.text, PARAMETER, i, float(_DEFAULTS[i]), _ALLOWED[f.rule],
-             len(f.choices or ()))
+             tuple(f.choices or ()))
     for i, f in enumerate(mp.MECHANISM_FIELDS)) + (
     Variable(MAX_INTERNAL_STEP_NAME, fv.PARAMETER, "s",
              "Co-Simulation: longest internal RK4 step; a communication step h is taken in ceil(h / max_internal_step) "
@@ -111,7 +115,7 @@ PARAMETERS = tuple(
              "1 = linearised: F0 + J (u - u0) from the linearisation inputs, a ClearanceWearJoint FMU's d_*_d_* and "
              "evaluated_* outputs, u the joint's kinematics along the step; a zero-order-hold master then stays "
              "accurate at several times the step)", PARAMETER, len(mp.MECHANISM_FIELDS) + 1, 0.0,
-             Allowed(0.0, high=1.0), 2),)
+             Allowed(0.0, high=1.0), LOAD_COUPLINGS),)
 
 # y = [q, q_dot] (Eq. 38): the variable holding each, its unit and what it is
 _BODY_OF = (("crank", "crank"), ("rod", "rod"), ("slider", "slider"))
@@ -193,13 +197,18 @@ def variables(starts: dict | None = None) -> tuple[Variable, ...]:
                  else v for v in VARIABLES)
 
 
+def _choice_text(choices) -> str:
+    """What an enumeration parameter allows, e.g. ``0 (hold), 1 (linearised)``."""
+    return ", ".join(f"{code} ({name})" for code, name in enumerate(choices))
+
+
 def model_variables_header(guid: str, starts: dict | None = None) -> str:
     """``model_variables.h`` of the C model (slider_crank_model.c): generated, not edited; the
     parameters' start values from ``starts`` where given there."""
     parameters = [v for v in variables(starts) if v.causality == fv.PARAMETER]
     names = [p.name for p in parameters]
     rows = parameter_rows([(p.name, p.index, p.start, p.n_choices, p.allowed, names.index(p.allowed.above)
-                            if p.allowed.above else -1, mp.RULE_TEXT[mp.CHOICE] if p.n_choices else p.allowed.text())
+                            if p.allowed.above else -1, _choice_text(p.choices) if p.choices else p.allowed.text())
                            for p in parameters])
     table = "\n".join(f"    {{{c_string(v.name)}, {v.source}, {v.index}}}," for v in VARIABLES)
     load_table_row_base = layout.LOAD_TABLE_ROW_BASE
