@@ -1,20 +1,29 @@
 """wearjoint: a planar revolute clearance joint whose bushing wears.
 
-Importing the package loads numpy and numba only; the FMI, exudyn and plotting
-layers are imported by the modules that need them.
+Importing the package loads nothing heavy: the names below are imported on first use (PEP 562), and
+numba only with the kernels (:mod:`wearjoint.core.jit` installs the package's cache locator first).  The
+command line starts its figure worker before any of them loads.
 """
-from ._compile import cache
-
-cache.install()
-
-# kernels load only after numba's cache locator is installed
-from .joint import ClearanceJoint, ContactResult, JointState, StateError  # noqa: E402
-from .parameters import (  # noqa: E402
-    JointParameters, ParameterError, SliderCrankParameters, contact_stiffness, effective_modulus,
-    paper_joint,
-)
+import importlib
 
 __version__ = "0.1.0"
 
-__all__ = ["ClearanceJoint", "ContactResult", "JointState", "JointParameters", "ParameterError",
-           "SliderCrankParameters", "StateError", "contact_stiffness", "effective_modulus", "paper_joint"]
+# public name -> the module defining it
+_EXPORTS = {
+    "ClearanceJoint": "joint", "ContactResult": "joint", "JointState": "joint", "StateError": "joint",
+    "JointParameters": "parameters", "ParameterError": "parameters", "SliderCrankParameters": "parameters",
+    "contact_stiffness": "parameters", "effective_modulus": "parameters", "paper_joint": "parameters",
+}
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'wearjoint' has no attribute {name!r}")
+    value = getattr(importlib.import_module("." + _EXPORTS[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -96,14 +96,41 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushin
     save_figure(fig, path)
 
 
-def plot_run(record, out: Path, ideal=None) -> list[str]:
-    """Write the run's standard figures into ``out``; returns their file names (``ideal``:
-    :func:`ideal_slider_acceleration` if already computed)."""
+def run_figures(record, ideal=None) -> list[tuple[str, object]]:
+    """The run's standard figures as (file name, function writing it to a path), in :func:`plot_run`'s order."""
+    return [("slider_acceleration.png", lambda path: plot_slider_acceleration(record, path, ideal)),
+            ("pin_orbit.png", lambda path: plot_pin_orbit(record, path)),
+            ("contact_force.png", lambda path: plot_contact_force(record, path)),
+            ("wear_profile.png", lambda path: plot_wear_profiles(
+                record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m}, path))]
+
+
+def plot_run(record, out: Path, ideal=None, only=None) -> list[str]:
+    """Write the run's standard figures into ``out`` (``only``: the indices of :func:`run_figures` to write);
+    returns their file names (``ideal``: :func:`ideal_slider_acceleration` if already computed)."""
     out = Path(out)
-    names = ["slider_acceleration.png", "pin_orbit.png", "contact_force.png", "wear_profile.png"]
-    plot_slider_acceleration(record, out / names[0], ideal)
-    plot_pin_orbit(record, out / names[1])
-    plot_contact_force(record, out / names[2])
-    plot_wear_profiles(record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m},
-                       out / names[3])
-    return names
+    figures = run_figures(record, ideal)
+    chosen = [figures[k] for k in (range(len(figures)) if only is None else only)]
+    for name, draw in chosen:
+        draw(out / name)
+    return [name for name, _ in chosen]
+
+
+def warm_up() -> None:
+    """Draw and encode a small figure with the standard figures' elements (fonts, mathtext, a polar axes, a
+    legend, PNG), so that the first figure of a process does not pay for loading them (the figure worker
+    does this while the run it waits for simulates)."""
+    import io
+
+    fig = plt.figure(figsize=(2, 1))
+    ax = fig.add_subplot(1, 2, 1, projection="polar")
+    ax.plot([0.0, 1.0], [0.0, 1.0], label="µ")
+    ax = fig.add_subplot(1, 2, 2)
+    ax.plot([0.0, 1.0], [0.0, 1.0], ".", ms=1.5, label="a")
+    ax.set_ylabel("[m/s$^2$] $F_N$")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.suptitle("w")
+    fig.tight_layout()
+    fig.savefig(io.BytesIO(), format="png", dpi=40)
+    plt.close(fig)

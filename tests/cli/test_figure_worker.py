@@ -1,11 +1,15 @@
 """wearjoint.figure_worker: a run's figures drawn by a second process are the ones the first draws (same files,
 same bytes), and every way the second process can fail leaves the first to draw them."""
 import json
+import pickle
+import subprocess
+import sys
 
+import numpy as np
 import pytest
 
 from wearjoint import figure_worker, plots
-from wearjoint.figure_worker import FigureWorker
+from wearjoint.figure_worker import FigureData, FigureWorker
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.results import write_results
 from wearjoint.simulate import SimulationOptions, run_simulation
@@ -54,3 +58,34 @@ def test_on_one_core_there_is_no_second_process(monkeypatch):
     monkeypatch.setattr(figure_worker, "_cores", lambda: 1)
     worker = FigureWorker()
     assert worker.process is None and worker.names() is None
+
+
+def test_the_package_and_the_command_line_load_without_numba():
+    # the figure worker starts before numba loads, and unpickles what it is sent without loading it
+    code = ("import sys, wearjoint, wearjoint.cli, wearjoint.figure_worker, wearjoint.plots\n"
+            "assert 'numba' not in sys.modules, 'numba loaded'\n"
+            "from wearjoint import ClearanceJoint, paper_joint\n"
+            "assert 'numba' in sys.modules and ClearanceJoint(paper_joint()).params.clearance_m > 0")
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_the_figure_data_are_what_the_figures_read_of_the_record(record):
+    data = pickle.loads(pickle.dumps(FigureData.of(record)))
+    assert data.last_revolution() == record.last_revolution()
+    for name in ("samples", "phi_deg", "wear_depth_m"):
+        assert np.array_equal(getattr(data, name), getattr(record, name))
+    assert (data.period_s, data.clearance_m, data.revolutions) == (record.period_s, record.clearance_m,
+                                                                    record.revolutions)
+
+
+def test_the_program_runs_the_exit_handlers_and_exits_with_the_commands_code(tmp_path):
+    marker = tmp_path / "exit_handlers_ran"
+    code = ("import atexit, sys\n"
+            f"atexit.register(lambda: open({str(marker)!r}, 'w').write('ran'))\n"
+            "sys.argv = ['wearjoint', 'simulate', '--revolutions=-1', '--out', 'x']\n"
+            "from wearjoint.cli import console\n"
+            "console()")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 2
+    assert "revolutions" in done.stderr and "-1" in done.stderr
+    assert marker.read_text() == "ran"

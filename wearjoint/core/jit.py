@@ -12,6 +12,10 @@ allocation in a kernel ("NRT required but not enabled").
 """
 from numba import njit
 
+from .._compile import cache
+
+cache.install()   # before the first kernel is decorated: numba picks a kernel's cache locator then
+
 
 def kernel(function=None, *, inline="never"):
     """Decorator: ``@kernel`` or ``@kernel(inline='always')``."""

@@ -3,7 +3,8 @@
 For each case, ``--starts`` runs (the initial crank angle spread over a turn) of the monolithic reference
 (RK4 at ``--reference-step``) and of each co-simulation configuration (``--cosim-steps``: the adaptive
 scheme's contact step, the default first; ``--tolerances``: its ``coupling_tolerance``; ``--linearised-steps``: the
-linearised scheme's contact step; ``--masters``: third-party masters on the SSP package at each of
+linearised scheme's contact step; ``--options``: any other
+:class:`~wearjoint.cosim.CoSimulationOptions`, e.g. ``scheme=linearised,step_s=2e-5,coupling_tolerance=0.01``; ``--masters``: third-party masters on the SSP package at each of
 ``--master-steps`` with its ``--load-coupling``, on the cases that start unworn), over ``--revolutions``
 revolutions of which the first
 ``--settling`` are dropped.  Per run the mean over its revolutions of: impacts per revolution, contact
@@ -138,6 +139,22 @@ def z_scores(row: dict, reference: dict) -> dict:
     return out
 
 
+def _cosim_options(text: str) -> tuple[str, dict]:
+    """``NAME=VALUE,...`` as (the text, CoSimulationOptions keyword arguments: numbers where they parse)."""
+    options = {}
+    for item in text.split(","):
+        name, _, value = item.partition("=")
+        try:
+            options[name.strip()] = float(value)
+        except ValueError:
+            options[name.strip()] = value.strip()
+    try:
+        CoSimulationOptions(**options)
+    except (TypeError, ValueError) as exc:
+        raise argparse.ArgumentTypeError(f"{text}: {exc}") from None
+    return text, options
+
+
 def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
     joint, mechanism, profile = case_setup(name, args.wear_factor)
     revolutions = args.revolutions
@@ -155,6 +172,7 @@ def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
                        for tolerance in args.tolerances]
     configurations += [(f"cosim linearised {step * 1e6:g} us", {"scheme": "linearised", "step_s": step})
                        for step in args.linearised_steps]
+    configurations += [(f"cosim {text}", options) for text, options in args.options]
     runs = [(label, lambda m, options=options: run_cosimulation(
         joint, m, CoSimulationOptions(revolutions=revolutions, **options), progress=False, initial_profile_m=profile))
         for label, options in configurations]
@@ -207,6 +225,9 @@ def main(argv=None) -> int:
     parser.add_argument("--cosim-steps", type=float, nargs="+", default=[5e-6])
     parser.add_argument("--tolerances", type=float, nargs="*", default=[])
     parser.add_argument("--linearised-steps", type=float, nargs="*", default=[])
+    parser.add_argument("--options", type=_cosim_options, nargs="*", default=[], metavar="NAME=VALUE,...",
+                        help="further co-simulation configurations, each CoSimulationOptions fields, e.g. "
+                             "scheme=linearised,step_s=2e-5,coupling_tolerance=0.01")
     parser.add_argument("--masters", nargs="*", choices=THIRD_PARTY, default=[])
     parser.add_argument("--master-steps", type=float, nargs="+", default=[5e-6])
     parser.add_argument("--load-coupling", choices=LOAD_COUPLINGS, default="linearised")
