@@ -286,6 +286,7 @@ def add_simulate_arguments(parser) -> None:
 def add_cosim_arguments(parser) -> None:
     """Options of ``wearjoint cosim``: results folder, FMU, coupling, and every model parameter."""
     from .cosim import SCHEMES, CoSimulationOptions
+    from .cosim.cosimulation import DEFAULT_STEP_S as DEFAULT_COSIM_STEP_S
     from .cosim.masters import DEFAULT_STEP_S, MASTERS
     from .fmu.fmi import INTERFACES
     from .fmu.ssp import LOAD_COUPLINGS
@@ -319,8 +320,10 @@ def add_cosim_arguments(parser) -> None:
                         "rollback to contact onsets; linearised: adaptive, the loads in contact linearised in the "
                         "kinematics with the derivatives the FMU publishes (default %(default)s)")
     g.add_argument("--step", type=float, default=None,
-                   help=f"communication step [s] (adaptive: in contact) (default {defaults.step_s:g}; with a "
-                        f"third-party master a fixed step, {DEFAULT_STEP_S['linearised']:g} linearised, "
+                   help=f"communication step [s] (adaptive: in contact; linearised: the largest in contact) (default "
+                        f"{defaults.step_s:g}, with the linearised scheme; {DEFAULT_COSIM_STEP_S['adaptive']:g} with the "
+                        "others; "
+                        f"with a third-party master a fixed step, {DEFAULT_STEP_S['linearised']:g} linearised, "
                         f"{DEFAULT_STEP_S['hold']:g} hold)")
     g.add_argument("--max-step", type=float, default=defaults.max_step_s,
                    help="largest adaptive communication step [s] (default %(default)g)")
@@ -328,11 +331,12 @@ def add_cosim_arguments(parser) -> None:
                    help="smallest adaptive communication step [s] (default %(default)g)")
     g.add_argument("--onset-penetration", type=float, default=defaults.onset_penetration_m,
                    help="how deep past a contact onset an adaptive step may end [m] (default %(default)g)")
-    g.add_argument("--coupling-tolerance", type=float, default=defaults.coupling_tolerance,
+    g.add_argument("--coupling-tolerance", type=float, default=None,
                    help="adaptive, linearised: the relative miss of the predicted contact force each contact step "
                         "aims at, between --step/16 and --step (0: the fixed rule, the step halved where the miss "
                         "passes 0.3); force jumps miss at any step, so the reported miss can stay above it; every run "
-                        "reports it in summary.json, coupling_force_miss_rms and _max (default %(default)g)")
+                        "reports it in summary.json, coupling_force_miss_rms and _max (default "
+                        f"{defaults.coupling_tolerance:g}, with the linearised scheme; 0 with the others)")
     g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help="time-series spacing [s]")
     add_initial_profile_argument(g)
     add_tolerance_arguments(parser.add_argument_group("model exchange (--fmu-interface model-exchange)"), "dopri")

@@ -193,7 +193,7 @@ def cosim_config(options) -> CosimConfig:
                                         sample_dt_s=o["sample_dt"])
     else:
         run_options = CoSimulationOptions(revolutions=o["revolutions"], scheme=o["scheme"],
-                                          step_s=defaults.step_s if step is None else step,
+                                          step_s=step,
                                           max_step_s=o["max_step"], min_step_s=o["min_step"],
                                           onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"],
                                           coupling_tolerance=o["coupling_tolerance"])

@@ -40,6 +40,7 @@ RESOLVED = {
     ("simulate", "max_step"): SimulationOptions().for_joint(JointParameters(wear_factor=0.0)).max_step_s,
     ("simulate", "free_flight_max_step"): SimulationOptions().for_joint(JointParameters()).free_flight_max_step_s,
     ("cosim", "step"): CoSimulationOptions().step_s,
+    ("cosim", "coupling_tolerance"): CoSimulationOptions().coupling_tolerance,
     ("wear-study", "wear_factor"): DEFAULT_WEAR_FACTOR,
     ("wear-study", "cycle_jump_tolerance"): WearStudyConfig.__dataclass_fields__["jump_tolerance"].default,
     ("validate", "revolutions"): FULL.revolutions,

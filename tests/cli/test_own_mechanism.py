@@ -169,7 +169,9 @@ def test_export_ssp_carries_the_mechanisms_parameter_sets(tmp_path):
 
     ssd = ElementTree.parse(tmp_path / "unzipped" / "SystemStructure.ssd").getroot()
     step = float(next(e for e in ssd.iter() if e.tag.endswith("FixedStepAlgorithm")).get("baseStepSize"))
-    scale = communication_step_rule(own_joint(), MECHANISM).on_time_s / communication_step_rule().on_time_s
+    own, paper = communication_step_rule(own_joint(), MECHANISM), communication_step_rule()
+    scale = min(own.on_time_s / paper.on_time_s, own.groove_on_time_s / paper.groove_on_time_s)   # it wears
+    assert own_joint().wear_factor > 0.0
     assert scale < 1.0 and step == pytest.approx(ssp.DEFAULT_STEP_S["linearised"] * scale, rel=1e-12)
 
 
@@ -317,13 +319,16 @@ def test_simulate_starts_from_a_profile_file_and_refuses_one_that_does_not_fit(t
 def test_cosim_study_scales_its_window_with_the_period_and_its_steps_with_the_stiffness():
     """15 ms of the paper's 0.4 s turn is 7.5 ms at 300 rpm.  The step rule's on-time limit goes as
     (m/k)^(1/2), k ~ K^(2/3) F^(1/3) and the estimated F ~ K^(2/5): a joint 8x stiffer takes 8^(-0.4) of the
-    paper's steps; a softer one keeps them."""
+    paper's steps; one that wears 8^(-0.5), its groove's stiffness (pi/2) k_f L R_i ~ K setting the limit once one
+    forms; a softer one keeps them."""
     from wearjoint.studies.cosim_study import PAPER_STEPS_S, default_steps_s, pointwise_window_s
 
     assert pointwise_window_s(MECHANISM) == pytest.approx(0.0075, rel=1e-12)
     paper = paper_joint()
     stiff = paper.replace(contact_stiffness_N_m1_5=8.0 * paper.stiffness_N_m1_5)
-    assert default_steps_s(stiff, SliderCrankParameters()) == pytest.approx([s * 8.0 ** -0.4 for s in PAPER_STEPS_S],
+    assert default_steps_s(stiff.replace(wear_factor=0.0), SliderCrankParameters()) == pytest.approx(
+        [s * 8.0 ** -0.4 for s in PAPER_STEPS_S], rel=2e-3)
+    assert default_steps_s(stiff, SliderCrankParameters()) == pytest.approx([s * 8.0 ** -0.5 for s in PAPER_STEPS_S],
                                                                              rel=2e-3)
     soft = paper.replace(contact_stiffness_N_m1_5=paper.stiffness_N_m1_5 / 8.0)
     assert default_steps_s(soft, SliderCrankParameters()) == pytest.approx(PAPER_STEPS_S, rel=1e-12)

@@ -1,5 +1,6 @@
-"""The adaptive scheme's coupling error: its estimate (the relative miss of the extrapolated contact force) in every
-run's record and summary.json, and the contact step controlled to a tolerance (``coupling_tolerance``)."""
+"""The coupling error of the adaptive scheme (and of the default, linearised): its estimate (the relative miss of the
+predicted contact force) in every run's record and summary.json, and the contact step controlled to a tolerance
+(``coupling_tolerance``)."""
 import numpy as np
 import pytest
 
@@ -10,8 +11,8 @@ REVOLUTIONS = 0.15        # 60 ms: the first impacts and a stretch of contact on
 NO_WEAR = paper_joint(wear_factor=0.0)
 
 
-def run(native_fmu, **options):
-    return run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=REVOLUTIONS, **options),
+def run(native_fmu, scheme="adaptive", **options):
+    return run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=REVOLUTIONS, scheme=scheme, **options),
                             fmu_path=native_fmu, progress=False)
 
 
@@ -55,3 +56,21 @@ def test_a_bad_tolerance_is_refused_naming_it(options, words):
     with pytest.raises(ParameterError, match="coupling_tolerance") as error:
         CoSimulationOptions(**options)
     assert words in str(error.value)
+
+
+def test_the_defaults_contact_step_follows_its_tolerance(native_fmu):
+    """The default (linearised) chooses its contact steps by the miss of its linear prediction: over the first three
+    impacts (12 ms, before the runs part), a tenth of the tolerance takes more than twice the contact steps and
+    misses less (the onsets' force jumps miss at any step: the rms falls slower than the tolerance)."""
+    assert CoSimulationOptions().scheme == "linearised" and CoSimulationOptions().coupling_tolerance == 0.01
+
+    def first_impacts(tolerance):
+        return run_cosimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.03, coupling_tolerance=tolerance),
+                                fmu_path=native_fmu, progress=False)
+
+    default, tight = first_impacts(0.01), first_impacts(0.001)
+    assert default.extra["rollbacks"] == tight.extra["rollbacks"] >= 3      # the same contact onsets
+    in_contact = [r.extra["communication_steps"] - r.extra["free_steps"] for r in (default, tight)]
+    assert in_contact[1] > 2.0 * in_contact[0]
+    assert tight.extra["coupling_force_miss_rms"] < 0.7 * default.extra["coupling_force_miss_rms"]
+    assert default.extra["shrunk_steps"] > 0.3 * in_contact[0]      # below step_s where the miss asked

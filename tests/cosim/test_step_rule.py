@@ -35,3 +35,46 @@ def test_the_step_scales_with_the_mass_stiffness_and_force():
     assert communication_step_rule().max_force_N > 1000.0
     with pytest.raises(ParameterError, match="max_force_N"):
         communication_step_rule(max_force_N=-1.0)
+
+
+@pytest.mark.parametrize("depth_in_clearances", [2.0, 5.7])
+def test_a_conforming_grooves_stiffness_is_the_foundations_over_half_the_circle(depth_in_clearances):
+    """(pi/2) k_f L R_i against the kernels: the normal force's secant slope of a pin pressed into a groove worn to
+    its own circle (no velocity: the elastic force alone), within 1.5 % (the groove conforms over a little less than
+    half the circle when it is shallow)."""
+    from wearjoint import ClearanceJoint
+    from wearjoint.cosim.step_rule import groove_stiffness_N_m
+    from wearjoint.studies.coupling_accuracy import conforming_groove
+
+    joint = JointParameters(wear_factor=0.0)
+    by_hand = 0.5 * math.pi * (3 * joint.stiffness_N_m1_5 * math.sqrt(joint.clearance_m) / (
+        4 * math.sqrt(2) * joint.contact_length_m * math.sqrt(joint.pin_radius_m * joint.bushing_radius_m))) \
+        * joint.contact_length_m * joint.pin_radius_m
+    assert groove_stiffness_N_m(joint) == pytest.approx(by_hand, rel=1e-12)
+    bushing = ClearanceJoint(joint)
+    depth = depth_in_clearances * joint.clearance_m
+    bushing.set_wear_profile(conforming_groove(joint, depth, 0.5))
+    forces = []
+    for pressed in (1e-7, 2e-7):
+        e = joint.clearance_m + depth + pressed
+        forces.append(bushing.evaluate((e * math.cos(0.5), e * math.sin(0.5), 0, 0, 0, 0), (0, 0, 0, 0, 0, 0))
+                      .normal_force_N)
+    assert (forces[1] - forces[0]) / 1e-7 == pytest.approx(by_hand, rel=0.015)
+    assert groove_stiffness_N_m(joint.replace(contact_model="deepest", contact_exponent=1.5)) == 0.0
+
+
+def test_a_wearing_joint_whose_groove_is_stiffer_gets_a_smaller_step():
+    """k_f grows as K, Hertz's contact stiffness at F_max as K^0.8 (F_max ~ K^0.4): eight times the paper's K makes
+    the groove 8x stiffer and Hertz's law 8^0.8x; the paper's measured step shrinks by the groove limits' ratio,
+    8^-0.5, for a joint that wears and by the unworn limits', 8^-0.4, for one that does not."""
+    from wearjoint.cosim.step_rule import paper_step_scale
+
+    paper = JointParameters()
+    stiff = paper.replace(contact_stiffness_N_m1_5=8 * paper.stiffness_N_m1_5)
+    rule, reference = communication_step_rule(stiff), communication_step_rule(paper)
+    assert rule.groove_stiffness_N_m / reference.groove_stiffness_N_m == pytest.approx(8.0, rel=1e-12)
+    assert rule.contact_stiffness_N_m / reference.contact_stiffness_N_m == pytest.approx(8 ** 0.8, rel=1e-12)
+    assert rule.groove_on_time_s < rule.on_time_s and reference.groove_on_time_s < reference.on_time_s
+    assert paper_step_scale(paper) == 1.0
+    assert paper_step_scale(stiff) == pytest.approx(8 ** -0.5, rel=1e-12)
+    assert paper_step_scale(stiff.replace(wear_factor=0.0)) == pytest.approx(8 ** -0.4, rel=1e-12)

@@ -59,6 +59,6 @@ def test_the_study_keeps_every_finished_row_when_a_later_one_fails(tmp_path, mon
     with pytest.raises(RuntimeError, match="the master stopped"):
         coupling_accuracy.main(arguments)
     (case,) = json.loads((tmp_path / "coupling_accuracy.json").read_text())
-    assert list(case["rows"]) == ["monolithic rk4 2.5 us", "cosim adaptive 5 us"]
+    assert list(case["rows"]) == ["monolithic rk4 2.5 us", "cosim default", "cosim adaptive 5 us"]
     assert case["rows"]["cosim adaptive 5 us"]["steps_per_revolution"] > 0
     assert "| paper | cosim adaptive 5 us |" in (tmp_path / "coupling_accuracy.md").read_text()

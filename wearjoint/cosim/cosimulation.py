@@ -34,31 +34,42 @@ from .master_loop import (
 CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
 
 
+# the defaults that depend on the scheme: the contact step (linearised: the largest one the tolerance may take) and
+# the coupling tolerance (docs/explanation/cosim_study.md, "Ensembles on worn grooves")
+DEFAULT_SCHEME = "linearised"
+DEFAULT_STEP_S = {"zoh": 5e-6, "extrapolation": 5e-6, "adaptive": 5e-6, "linearised": 1e-5}
+DEFAULT_COUPLING_TOLERANCE = {"zoh": 0.0, "extrapolation": 0.0, "adaptive": 0.0, "linearised": 0.01}
+
+
 @dataclass(frozen=True)
 class CoSimulationOptions:
     """How to co-simulate (``scheme``: :data:`SCHEMES`, described in :mod:`wearjoint.cosim`).
     ``step_s``: communication step [s] (``zoh``, ``extrapolation``: always; ``adaptive``,
-    ``linearised``: while in contact).  ``max_step_s`` / ``min_step_s``: bounds of
-    the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
+    ``linearised``: while in contact; None: the scheme's :data:`DEFAULT_STEP_S`).  ``max_step_s`` /
+    ``min_step_s``: bounds of the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
     an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s].
-    ``coupling_tolerance`` (adaptive, linearised): the relative miss of the predicted contact
-    force the contact step aims at, between step_s / 16 and step_s (0: the fixed rule, the step
-    halved where the miss passes 0.3 and grown back to step_s).  Force jumps (friction
-    reversing, the deepest point moving on) miss at any step: the run's miss can stay above it
-    (the paper's mechanism over 60 ms: 0.004 gave an rms of 0.013, the fixed rule's 0.021)."""
+    ``coupling_tolerance`` (adaptive, linearised; None: the scheme's :data:`DEFAULT_COUPLING_TOLERANCE`, 0.01
+    for linearised): the relative miss of the predicted contact force the contact step aims at, between
+    step_s / 16 and step_s (0: the fixed rule, the step halved where the miss passes 0.3 and grown back to
+    step_s).  Force jumps (friction reversing, the deepest point moving on) miss at any step: the run's miss
+    can stay above it."""
 
     revolutions: float = 2.0
-    scheme: str = "adaptive"
-    step_s: float = 5e-6     # default from wearjoint/studies/cosim_study.py (adaptive, 5 us)
+    scheme: str = DEFAULT_SCHEME
+    step_s: float | None = None
     max_step_s: float = 1e-4
     min_step_s: float = 1e-9
     onset_penetration_m: float = 1e-8
     sample_dt_s: float = 1e-5
-    coupling_tolerance: float = 0.0
+    coupling_tolerance: float | None = None
 
     def __post_init__(self):
         require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
         require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
+        if self.step_s is None:
+            object.__setattr__(self, "step_s", DEFAULT_STEP_S[self.scheme])
+        if self.coupling_tolerance is None:
+            object.__setattr__(self, "coupling_tolerance", DEFAULT_COUPLING_TOLERANCE[self.scheme])
         for name in ("step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):
             require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
         require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
@@ -141,11 +152,20 @@ class CoSimulation(OwnsFmuInstance):
             if initial_profile_m is not None:
                 self._instance.set_wear_profile(initial_profile_m, 0.0)
             self._instance.exchange(0.0)
-            self._published = (np.array([self._instance.vr[n] for n in LINEARISATION_OUTPUTS], dtype=np.uint32),
-                               np.zeros(len(LINEARISATION_OUTPUTS)))
+            self._published = self._published_linearisation()
         except BaseException:
             self.close()
             raise
+
+    def _published_linearisation(self) -> tuple[np.ndarray, np.ndarray]:
+        """(value references, scratch) of the linearisation the FMU publishes (scheme linearised; else empty)."""
+        names = LINEARISATION_OUTPUTS if self.options.scheme == "linearised" else ()
+        missing = [name for name in names if name not in self._instance.vr]
+        if missing:
+            raise ParameterError(f"parameter scheme='linearised' is invalid for the FMU {self.fmu_path}: it publishes "
+                                 f"no {missing[0]} (built before the joint published its derivatives): allowed "
+                                 "zoh, extrapolation, adaptive, or an FMU from this version (wearjoint build-fmu)")
+        return (np.array([self._instance.vr[name] for name in names], dtype=np.uint32), np.zeros(len(names)))
 
     @property
     def fmu_log(self) -> list[tuple[int, str]]:

@@ -1,10 +1,12 @@
 """Does the co-simulation's coupling answer what the monolithic engine answers?  Ensembles on four cases.
 
 For each case, ``--starts`` runs (the initial crank angle spread over a turn) of the monolithic reference
-(RK4 at ``--reference-step``) and of each co-simulation configuration (``--cosim-steps``: the adaptive
-scheme's contact step, the default first; ``--tolerances``: its ``coupling_tolerance``; ``--linearised-steps``: the
-linearised scheme's contact step; ``--options``: any other
-:class:`~wearjoint.cosim.CoSimulationOptions`, e.g. ``scheme=linearised,step_s=2e-5,coupling_tolerance=0.01``; ``--masters``: third-party masters on the SSP package at each of
+(RK4 at ``--reference-step``) and of each co-simulation configuration (the co-simulation's default first,
+unless ``--no-default``; ``--cosim-steps``: the adaptive scheme's contact step; ``--tolerances``: its
+``coupling_tolerance``; ``--linearised-steps``: the linearised scheme's fixed contact step; ``--options``: any
+other :class:`~wearjoint.cosim.CoSimulationOptions`, e.g.
+``scheme=linearised,step_s=2e-5,coupling_tolerance=0.01``; ``--masters``: third-party masters on the SSP
+package at each of
 ``--master-steps`` with its ``--load-coupling``, on the cases that start unworn), over ``--revolutions``
 revolutions of which the first
 ``--settling`` are dropped.  Per run the mean over its revolutions of: impacts per revolution, contact
@@ -22,7 +24,7 @@ clearance along the direction the contact force of an unworn run points to most
 (:func:`conforming_groove`).
 
     python -m wearjoint.studies.coupling_accuracy [--cases paper paper-worn own-wear groove] [--starts 8]
-        [--revolutions 6] [--settling 2] [--cosim-steps 5e-6 2.5e-6] [--tolerances 0.03]
+        [--revolutions 6] [--settling 2] [--no-default] [--cosim-steps 5e-6 2.5e-6] [--tolerances 0.03]
         [--linearised-steps 5e-6 1e-5] [--masters libcosim ecos fmpy-ssp omsimulator container]
         [--master-steps 5e-6] [--load-coupling linearised] [--out DIR]
 
@@ -167,8 +169,10 @@ def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
     reference = ensemble(monolithic, mechanism, args.starts, args.settling)
     rows = {f"monolithic rk4 {args.reference_step * 1e6:g} us": reference}
     log(f"{name}: reference {reference['wall_s']:.0f} s")
-    configurations = [(f"cosim adaptive {step * 1e6:g} us", {"step_s": step}) for step in args.cosim_steps]
-    configurations += [(f"cosim tolerance {tolerance:g}", {"coupling_tolerance": tolerance})
+    configurations = [("cosim default", {})] if args.default else []
+    configurations += [(f"cosim adaptive {step * 1e6:g} us", {"scheme": "adaptive", "step_s": step})
+                       for step in args.cosim_steps]
+    configurations += [(f"cosim adaptive tolerance {tolerance:g}", {"scheme": "adaptive", "coupling_tolerance": tolerance})
                        for tolerance in args.tolerances]
     configurations += [(f"cosim linearised {step * 1e6:g} us", {"scheme": "linearised", "step_s": step})
                        for step in args.linearised_steps]
@@ -222,7 +226,9 @@ def main(argv=None) -> int:
     parser.add_argument("--revolutions", type=float, default=6.0)
     parser.add_argument("--settling", type=int, default=2)
     parser.add_argument("--reference-step", type=float, default=2.5e-6)
-    parser.add_argument("--cosim-steps", type=float, nargs="+", default=[5e-6])
+    parser.add_argument("--no-default", dest="default", action="store_false",
+                        help="leave out the co-simulation's default configuration")
+    parser.add_argument("--cosim-steps", type=float, nargs="*", default=[5e-6])
     parser.add_argument("--tolerances", type=float, nargs="*", default=[])
     parser.add_argument("--linearised-steps", type=float, nargs="*", default=[])
     parser.add_argument("--options", type=_cosim_options, nargs="*", default=[], metavar="NAME=VALUE,...",

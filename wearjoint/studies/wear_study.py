@@ -124,9 +124,9 @@ class WearStudyConfig:
                                  f"{', '.join(STUDY_INTEGRATORS)}")
         if self.max_step_s is None:     # the wear-step limit of the wear actually applied
             limit = min(STUDY_STEP_S, wear_step_limit_s(self.joint, self.mechanism, DEFAULT_WEAR_STEP_SHARE))
-            if self.engine == "cosim":  # the communication step in contact: at most the co-simulation's default
-                from wearjoint.cosim import CoSimulationOptions
-                limit = min(limit, CoSimulationOptions().step_s)
+            if self.engine == "cosim":  # the communication step in contact: at most the adaptive scheme's default
+                from wearjoint.cosim.cosimulation import DEFAULT_STEP_S
+                limit = min(limit, DEFAULT_STEP_S["adaptive"])   # the scheme --engine cosim runs
             object.__setattr__(self, "max_step_s", limit)
         for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2",
                      "impact_merge_deg"):
@@ -173,11 +173,11 @@ def make_engine(config: WearStudyConfig) -> CheckpointingEngine:
                                             step_s=config.max_step_s, max_step_s=config.max_step_s,
                                             sample_dt_s=1e-5))
     from wearjoint.cosim import CoSimulation, CoSimulationOptions
-    # the communication step in contact: by default the co-simulation's 5 us (at the monolithic study's
+    # the communication step in contact: by default the adaptive scheme's 5 us (at the monolithic study's
     # 10 us the study through the FMU ended 4.4 % deeper after 4000 revolutions, at 5 us 0.12 %;
     # docs/explanation/wear_study.md)
     return CoSimulation(config.joint, config.mechanism,
-                        CoSimulationOptions(revolutions=revolutions, step_s=config.max_step_s,
+                        CoSimulationOptions(revolutions=revolutions, scheme="adaptive", step_s=config.max_step_s,
                                             max_step_s=config.max_step_s, sample_dt_s=1e-5),
                         fmu_backend=config.fmu_backend)
 
