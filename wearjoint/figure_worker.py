@@ -5,7 +5,7 @@ second process, started as the command starts (before numba loads), imports matp
 figure (fonts, mathtext) while the first simulates.  Then it draws the record the first hands it, pickled into
 a temporary file with the ideal joint's closed form (the first has its kernels loaded): through a pipe, a
 writing thread and the first process's CSV loops took turns on the GIL, 0.25 s for a revolution's samples.
-The polar profile is drawn by a forked child on the core the waiting first process leaves free; the files'
+Half the figures are drawn by a forked child on the core the waiting first process leaves free; the files'
 names go to stdout.  The figures are the same :func:`wearjoint.plots.plot_run` draws.  On one core, or when
 the second process cannot start or fails, :func:`wearjoint.results.write_results` draws them itself.
 """
@@ -21,6 +21,7 @@ import tempfile
 from dataclasses import dataclass
 
 TIMEOUT_S = 300.0       # a figure worker that has not answered by then is stopped (the first process draws)
+CHILD_FIGURES = (2, 3)  # the figures (indices of wearjoint.plots.run_figures) the worker's forked child draws
 
 
 def _cores() -> int:
@@ -129,17 +130,18 @@ def _draw() -> None:
     with open(sys.stdin.readline().rstrip("\n"), "rb") as file:
         record, out, ideal = pickle.load(file)
     names = [name for name, _ in plots.run_figures(record)]
-    # the first process waits for this one, its core is free: a forked child draws the last figure (the
-    # polar profile takes about as long as the other three)
+    # the first process waits for this one, its core is free: a forked child draws the contact force and the polar
+    # profile (0.18 s warm) while this one draws the slider's acceleration and the pin's orbit (0.15 s)
     child = os.fork() if hasattr(os, "fork") else -1
     if child == 0:
         status = 1
         try:
-            plots.plot_run(record, out, ideal, only=[len(names) - 1])
+            plots.plot_run(record, out, ideal, only=CHILD_FIGURES)
             status = 0
         finally:
             os._exit(status)
-    plots.plot_run(record, out, ideal, only=range(len(names) - 1) if child > 0 else None)
+    plots.plot_run(record, out, ideal, only=None if child < 0 else
+                   [k for k in range(len(names)) if k not in CHILD_FIGURES])
     if child > 0 and os.waitpid(child, 0)[1] != 0:
         sys.exit(1)
     print(json.dumps(names), flush=True)

@@ -122,7 +122,7 @@ def warm_up() -> None:
     does this while the run it waits for simulates)."""
     import io
 
-    fig = plt.figure(figsize=(2, 1))
+    fig = plt.figure(figsize=(4, 3))
     ax = fig.add_subplot(1, 2, 1, projection="polar")
     ax.plot([0.0, 1.0], [0.0, 1.0], label="µ")
     ax = fig.add_subplot(1, 2, 2)
