@@ -12,7 +12,7 @@ process of either interpreter, base and working tree alternately (``--repeats`` 
 untimed run of each that builds the FMU and fills the numba caches), through API both trees have:
 
 * ``cosim-wear`` -- the README's first command's engine (``wearjoint cosim``: the paper's joint, which
-  wears): adaptive, 0.2 s after 0.01 s, native FMU: real-time factor, communication steps (they follow the
+  wears): its default master, 0.2 s after 0.01 s, native FMU: real-time factor, communication steps (they follow the
   chaotic trajectory: a last-digit change in the mechanism moves them by several per cent), wall and FMI
   time per step; ``cosim-wear-long``: the same over four revolutions (1.6 s: the groove worn in, where a long
   study spends its time; the step count over 0.2 s swings by 2x with the trajectory); ``cosim``: the same

@@ -50,7 +50,7 @@ PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim
 QUICK_SKIPPED_PROBES = ("cosim-wear-long", "cold")
 PROBE_TITLES = {
     "main-job": "the README's first command, warm: `wearjoint cosim --revolutions 1 --out DIR`: wall seconds",
-    "cosim-wear": "`wearjoint cosim` with wear: adaptive master, native FMU, 0.2 s after 0.01 s",
+    "cosim-wear": "`wearjoint cosim` with wear: the default master, native FMU, 0.2 s after 0.01 s",
     "cosim-wear-long": "the same over four revolutions (1.6 s: the groove worn in)",
     "monolithic-wear": "`wearjoint simulate --revolutions 2` with wear (DOPRI)",
     "cosim": "co-simulation without wear (0.2 s after 0.01 s)",

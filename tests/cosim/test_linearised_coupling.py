@@ -125,3 +125,19 @@ def test_the_linearised_scheme_runs_on_either_backend_alike(native_fmu, built_fm
     runs = [run_cosimulation(NO_WEAR, None, options, fmu_path=path, progress=False) for path in (native_fmu, built_fmu)]
     assert runs[0].revolution_stats[0, L.S_IMPACTS] >= 1
     np.testing.assert_allclose(runs[1].samples, runs[0].samples, rtol=1e-9, atol=1e-12)
+
+
+def test_an_fmu_that_publishes_no_derivatives_is_refused_for_the_linearised_scheme(native_fmu, monkeypatch):
+    """An FMU without one of the published derivatives (one built before them) cannot run the linearised scheme:
+    the error names the scheme and the missing output; the other schemes do not read them and still run."""
+    import pytest
+
+    from wearjoint.cosim import cosimulation
+    from wearjoint.parameters import ParameterError
+
+    monkeypatch.setattr(cosimulation, "LINEARISATION_OUTPUTS", ("d_pin_force_x_d_pin_x", "d_not_published"))
+    with pytest.raises(ParameterError, match="scheme='linearised'.*d_not_published"):
+        CoSimulation(paper_joint(wear_factor=0.0), None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu)
+    with CoSimulation(paper_joint(wear_factor=0.0), None, CoSimulationOptions(revolutions=0.01, scheme="adaptive"),
+                      fmu_path=native_fmu) as adaptive:
+        assert adaptive.options.step_s == 5e-6 and adaptive.options.coupling_tolerance == 0.0
