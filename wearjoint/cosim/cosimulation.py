@@ -38,7 +38,7 @@ CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU
 # the coupling tolerance (docs/explanation/cosim_study.md, "Ensembles on worn grooves")
 DEFAULT_SCHEME = "linearised"
 DEFAULT_STEP_S = {"zoh": 5e-6, "extrapolation": 5e-6, "adaptive": 5e-6, "linearised": 1e-5}
-DEFAULT_COUPLING_TOLERANCE = {"zoh": 0.0, "extrapolation": 0.0, "adaptive": 0.0, "linearised": 0.01}
+DEFAULT_COUPLING_TOLERANCE = {"zoh": 0.0, "extrapolation": 0.0, "adaptive": 0.0, "linearised": 0.003}
 
 
 @dataclass(frozen=True)
@@ -48,10 +48,10 @@ class CoSimulationOptions:
     ``linearised``: while in contact; None: the scheme's :data:`DEFAULT_STEP_S`).  ``max_step_s`` /
     ``min_step_s``: bounds of the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
     an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s].
-    ``coupling_tolerance`` (adaptive, linearised; None: the scheme's :data:`DEFAULT_COUPLING_TOLERANCE`, 0.01
+    ``coupling_tolerance`` (adaptive, linearised; None: the scheme's :data:`DEFAULT_COUPLING_TOLERANCE`, 0.003
     for linearised): the relative miss of the predicted contact force the contact step aims at, between
-    step_s / 16 and step_s (0: the fixed rule, the step halved where the miss passes 0.3 and grown back to
-    step_s).  Force jumps (friction reversing, the deepest point moving on) miss at any step: the run's miss
+    step_s / 16 and step_s, a linearised contact starting at step_s / 4 (0: the fixed rule, the step halved where the
+    miss passes 0.3 and grown back to step_s).  Force jumps (friction reversing, the deepest point moving on) miss at any step: the run's miss
     can stay above it."""
 
     revolutions: float = 2.0
