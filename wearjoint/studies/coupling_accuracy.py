@@ -174,7 +174,8 @@ def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
                        for step in args.cosim_steps]
     configurations += [(f"cosim adaptive tolerance {tolerance:g}", {"scheme": "adaptive", "coupling_tolerance": tolerance})
                        for tolerance in args.tolerances]
-    configurations += [(f"cosim linearised {step * 1e6:g} us", {"scheme": "linearised", "step_s": step})
+    configurations += [(f"cosim linearised {step * 1e6:g} us",
+                        {"scheme": "linearised", "step_s": step, "coupling_tolerance": 0.0})
                        for step in args.linearised_steps]
     configurations += [(f"cosim {text}", options) for text, options in args.options]
     runs = [(label, lambda m, options=options: run_cosimulation(
