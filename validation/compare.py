@@ -87,7 +87,7 @@ class ValidationPlan:
     reference_step_s: float = 1e-6           # monolithic RK4 reference
     exudyn_step_s: float = 1e-5              # exudyn statistics runs (fixed step)
     exudyn_wear_step_s: float = 2e-6         # exudyn wear runs: the first impacts' wear needs it (docs/explanation/validation.md)
-    cosim_step_s: float = 2e-6               # co-simulation statistics and wear runs (step in contact)
+    cosim_step_s: float = 2e-6               # co-simulation statistics and wear runs (largest step in contact)
     window_step_s: float = 1e-6              # exudyn and co-simulation window runs (and twice that)
     sample_dt_s: float = 1e-5
     engines: tuple = ENGINES
@@ -229,7 +229,7 @@ def run_monolithic(joint, mechanism, revolutions, sample_dt_s, progress, **optio
 def engine_runner(engine: str, joint: JointParameters, fmu_backend: str = DEFAULT_BACKEND):
     """f(joint, mechanism, revolutions, step_s, sample_dt_s, progress) -> RunRecord for a
     non-reference engine; ``step_s`` is exudyn's fixed step, the co-simulation's
-    communication step in contact (the adaptive scheme, which the plan's tolerances were set with), or the largest step of the Model
+    largest communication step in contact (its default scheme), or the largest step of the Model
     Exchange run (``cosim-me``: the FMU's ME interface in the monolithic Dormand-Prince).  The co-simulation's FMU (for
     ``joint.n_points``, backend ``fmu_backend``) is resolved, and built if missing, here
     once, so that every run of a validation uses the same FMU.  Raises ImportError when
@@ -244,7 +244,7 @@ def engine_runner(engine: str, joint: JointParameters, fmu_backend: str = DEFAUL
         from wearjoint.fmu.ensure import ensure_fmu
         fmu_path = ensure_fmu(joint.n_points, backend=fmu_backend)
         return lambda j, m, rev, step, dt, progress: run_cosimulation(
-            j, m, CoSimulationOptions(revolutions=rev, scheme="adaptive", step_s=step, sample_dt_s=dt), fmu_path=fmu_path,
+            j, m, CoSimulationOptions(revolutions=rev, step_s=step, sample_dt_s=dt), fmu_path=fmu_path,
             progress=progress, fmu_backend=fmu_backend)
     if engine == "cosim-me":   # Model Exchange: the native backend's (pythonfmu is co-simulation only)
         from wearjoint.cosim.model_exchange import run_model_exchange
