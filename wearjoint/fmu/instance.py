@@ -17,6 +17,7 @@ import numpy as np
 
 from ..parameters import JointParameters, ParameterError
 from . import variables as fv
+from .extracted import extracted_fmu
 from .fmi import (
     COMPLETED_STEP_CALL, COMPONENT_CALL, DO_STEP_CALL, EVENT_INDICATORS_CALL,
     FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, raise_failed_call,
@@ -24,20 +25,6 @@ from .fmi import (
 
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
 N_INPUTS = len(INPUT_NAMES)
-_MODEL_DESCRIPTIONS: dict = {}
-
-
-def _model_description(fmu_path: Path):
-    """fmpy's parsed modelDescription (about 1 s for N_d = 1257), cached per file and mtime."""
-    from fmpy import read_model_description
-
-    key = (str(fmu_path), fmu_path.stat().st_mtime_ns)
-    if key not in _MODEL_DESCRIPTIONS:
-        _MODEL_DESCRIPTIONS[key] = read_model_description(str(fmu_path))
-    return _MODEL_DESCRIPTIONS[key]
-
-
-
 class OwnsFmuInstance:
     """An engine that owns one :class:`FmuInstance` (``_instance``, None once freed): :meth:`close`
     frees it; ``with`` closes it."""
@@ -69,24 +56,28 @@ class FmuInstance:
 
     def __init__(self, fmu_path: Path, joint: JointParameters, inputs: np.ndarray, outputs: np.ndarray,
                  output_names: tuple[str, ...], interface: str = "co-simulation"):
-        from fmpy import extract
         from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                                fmi2CallbackLoggerTYPE, fmi2FMUstate, fmi2Integer, fmi2Real, fmi2ValueReference)
 
-        md = _model_description(fmu_path)
-        self.interface = interface
-        kind = md.coSimulation if interface == "co-simulation" else md.modelExchange
-        if md.modelName != fv.MODEL_NAME or kind is None:
-            raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
-                                 f"allowed a {fv.MODEL_NAME} FMU with the {interface} interface")
-        self.vr = fv.value_references(md)
-        built = next((int(v.start) for v in md.modelVariables if v.name == fv.N_POINTS_NAME), None)
-        if built != joint.n_points:
-            raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: the FMU {fmu_path} "
-                                 f"was built for {built} points (wearjoint build-fmu --n-points N)")
-        if fv.wear_depth_name(joint.n_points) not in self.vr:
-            raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: allowed an FMU with every profile "
-                                 "point as an output (this master reads the whole profile; build-fmu --profile-stride 1)")
+        self.unzip_dir, md, self._owns_unzip_dir = extracted_fmu(fmu_path)
+        try:   # the shared extraction stays; a folder this instance owns goes with a refused FMU
+            self.interface = interface
+            kind = md.coSimulation if interface == "co-simulation" else md.modelExchange
+            if md.modelName != fv.MODEL_NAME or kind is None:
+                raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
+                                     f"allowed a {fv.MODEL_NAME} FMU with the {interface} interface")
+            self.vr = fv.value_references(md)
+            built = next((int(v.start) for v in md.modelVariables if v.name == fv.N_POINTS_NAME), None)
+            if built != joint.n_points:
+                raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: the FMU {fmu_path} "
+                                     f"was built for {built} points (wearjoint build-fmu --n-points N)")
+            if fv.wear_depth_name(joint.n_points) not in self.vr:
+                raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: allowed an FMU with every "
+                                     "profile point as an output (this master reads the whole profile; build-fmu "
+                                     "--profile-stride 1)")
+        except ParameterError:
+            self._remove_unzip_dir()
+            raise
         self.log: list[tuple[int, str]] = []
         # A plain ctypes logger (no fmpy logger proxy: that proxy is one per process).
         # pythonfmu passes the message as the format string with '%' doubled.
@@ -96,13 +87,12 @@ class FmuInstance:
         self._callbacks = fmi2CallbackFunctions(logger=self._logger, allocateMemory=defaultCallbacks.allocateMemory,
                                                 freeMemory=defaultCallbacks.freeMemory)
         self.instantiated = False
-        self.unzip_dir = extract(str(fmu_path))
         try:
             fmu_class = FMU2Slave if interface == "co-simulation" else FMU2Model
             self.fmu = fmu_class(guid=md.guid, unzipDirectory=self.unzip_dir, modelIdentifier=kind.modelIdentifier,
                                  instanceName="joint")
         except Exception as exc:  # fmpy raises a bare Exception (e.g. no binary for this platform)
-            shutil.rmtree(self.unzip_dir, ignore_errors=True)
+            self._remove_unzip_dir()
             raise FmuError(f"FMU {fmu_path} cannot be loaded: {exc}") from None
         self.state_slot = np.zeros(1, dtype=np.uintp)   # the rollback snapshot (getFMUstate), 0 when none
         self._fmi2FMUstate = fmi2FMUstate
@@ -256,4 +246,9 @@ class FmuInstance:
                 self.state_slot[0] = 0
             self.fmu.dll.fmi2Terminate(self.component)
             self.fmu.dll.fmi2FreeInstance(self.component)
-        shutil.rmtree(self.unzip_dir, ignore_errors=True)
+        self._remove_unzip_dir()
+
+    def _remove_unzip_dir(self) -> None:
+        """Remove the extracted files if this instance owns them (not the shared extraction, :mod:`.extracted`)."""
+        if self._owns_unzip_dir:
+            shutil.rmtree(self.unzip_dir, ignore_errors=True)
