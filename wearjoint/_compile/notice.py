@@ -18,15 +18,18 @@ import time
 from numba.core import event
 
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core; the
-# "-helped" one: the first of two processes, prefetch).  The machine runs at one of two speeds: simulate-helped
-# measured 31 and 34 s, simulate on one core 49 s, cosim 11 and 16 s (compile_time_s, empty caches), so each figure
-# sits between them
+# "-helped" one: the first of two processes, prefetch), and the cache file (a glob below the digest's folder) of a
+# kernel only that engine compiles: where it exists the engine's kernels are cached, and what compiles is what the
+# command adds (a wear study right after simulate: 18 functions in 2.3 s, where the cold figure said 33 s).  The
+# machine runs at one of two speeds: simulate-helped measured 31 and 34 s, simulate on one core 49 s, cosim 11 and
+# 16 s (compile_time_s, empty caches), so each figure sits between them
 ESTIMATES = {
-    "simulate": ("the monolithic engine's numba kernels", 45, 75),
-    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 39),
-    "cosim": ("the co-simulation master's numba kernels", 13, 19),
-    "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100),
-    "kernels": ("the numba kernels", 20, 90),
+    "simulate": ("the monolithic engine's numba kernels", 45, 75, "core/integrators._integrate_steps-*.nbi"),
+    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 39,
+                        "core/integrators._integrate_steps-*.nbi"),
+    "cosim": ("the co-simulation master's numba kernels", 13, 19, "cosim/master_loop.master_loop-*.nbi"),
+    "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100, None),
+    "kernels": ("the numba kernels", 20, 90, None),
 }
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
 # commands of the monolithic engine: on two cores a second process compiles its wear kernels (prefetch)
@@ -43,11 +46,22 @@ def _now() -> float:
     return time.perf_counter()
 
 
-def announce(what: str, stream=None) -> None:
-    """The one line: what compiles and about how long it takes (``what`` a key of :data:`ESTIMATES`)."""
-    text, seconds, _ = ESTIMATES[what]
-    print(f"wearjoint: compiling {text}: about {seconds} s on first use, cached for later runs",
-          file=stream or sys.stderr, flush=True)
+def engine_cached(what: str) -> bool:
+    """Whether the kernel that marks ``what``'s engine (:data:`ESTIMATES`) is in numba's cache for these sources."""
+    from .cache import KernelCacheLocator, cache_root
+
+    pattern = ESTIMATES[what][3]
+    digest = getattr(KernelCacheLocator, "digest", None)
+    return pattern is not None and digest is not None and any((cache_root() / digest).glob(pattern))
+
+
+def announce(what: str, stream=None, cached: bool = False) -> None:
+    """The one line: what compiles and about how long it takes (``what`` a key of :data:`ESTIMATES`; ``cached``:
+    its engine's kernels are, and only what the command adds compiles)."""
+    text, seconds, _, _ = ESTIMATES[what]
+    line = ("the kernels this command adds (its engine's are cached): a few seconds" if cached else
+            f"{text}: about {seconds} s on first use")
+    print(f"wearjoint: compiling {line}, cached for later runs", file=stream or sys.stderr, flush=True)
 
 
 class CompileWatch(event.Listener):
@@ -68,10 +82,12 @@ class CompileWatch(event.Listener):
         self._profile = os.environ.get(PROFILE_ENV)
         self._first = None          # when the first compilation started (clock _now)
         self._announced = False
+        self._cached = False        # the engine's kernels were cached when compiling started
 
     def on_start(self, event) -> None:
         if self.count == 0 and not self._stack and self._first is None:
             self._first = _now()
+            self._cached = not self.quiet and engine_cached(self.what)   # before this command caches anything
             if self._on_first is not None:
                 self._on_first()
                 self._on_first = None
@@ -82,7 +98,7 @@ class CompileWatch(event.Listener):
         """The notice and the count, once compiling has lasted ANNOUNCE_AFTER_S."""
         if not self.quiet and not self._announced and _now() - self._first >= ANNOUNCE_AFTER_S:
             self._announced = True
-            self._bar = announced_progress(self.what)
+            self._bar = announced_progress(self.what, self._cached)
             self._bar.update(self.count)
 
     def on_end(self, event) -> None:
@@ -137,12 +153,13 @@ def watch_command(command: str):
     return watching(COMMAND_KERNELS.get(command, "kernels"))
 
 
-def announced_progress(what: str):
-    """:func:`announce` and a progress bar of ``what``'s compilations, counted by the caller."""
+def announced_progress(what: str, cached: bool = False):
+    """:func:`announce` and a progress bar of ``what``'s compilations, counted by the caller (none where only what
+    the command adds compiles: their number is not known)."""
     from ..progress import Progress
 
-    announce(what)
-    return Progress(ESTIMATES[what][2], "compiling", unit="functions", delay_s=0.0)
+    announce(what, cached=cached)
+    return Progress(0 if cached else ESTIMATES[what][2], "compiling", unit="functions", delay_s=0.0)
 
 
 def compiled() -> None:
