@@ -55,9 +55,10 @@ def extracted_fmu(fmu_path) -> tuple[str, object, bool]:
                 description = _extract_into(fmu_path, staging)
                 (staging / _DESCRIPTION).write_bytes(pickle.dumps(description, protocol=pickle.HIGHEST_PROTOCOL))
                 (staging / _COMPLETE).write_text(str(fmu_path.resolve()))
-                os.replace(staging, folder) if not folder.exists() else None
+                if not folder.exists():
+                    os.replace(staging, folder)   # atomic; onto another process's folder it fails: ours is dropped
             finally:
-                shutil.rmtree(staging, ignore_errors=True)   # gone once renamed; another process's folder won
+                shutil.rmtree(staging, ignore_errors=True)   # gone once renamed
             _prune(root, folder.name)
         description = pickle.loads((folder / _DESCRIPTION).read_bytes())
         os.utime(folder)
