@@ -55,13 +55,20 @@ def extracted_fmu(fmu_path) -> tuple[str, object, bool]:
                 description = _extract_into(fmu_path, staging)
                 (staging / _DESCRIPTION).write_bytes(pickle.dumps(description, protocol=pickle.HIGHEST_PROTOCOL))
                 (staging / _COMPLETE).write_text(str(fmu_path.resolve()))
-                if not folder.exists():
-                    os.replace(staging, folder)   # atomic; onto another process's folder it fails: ours is dropped
+                try:
+                    os.replace(staging, folder)   # atomic
+                except OSError:
+                    if not (folder / _COMPLETE).is_file():
+                        raise
+                    # another process's extraction came first: ours is dropped, theirs used
             finally:
                 shutil.rmtree(staging, ignore_errors=True)   # gone once renamed
             _prune(root, folder.name)
         description = pickle.loads((folder / _DESCRIPTION).read_bytes())
-        os.utime(folder)
+        try:
+            os.utime(folder)          # recently used: kept by _prune
+        except OSError:               # a read-only cache is still read
+            pass
         return str(folder), description, False
     except (OSError, pickle.UnpicklingError, EOFError, AttributeError):
         own = Path(tempfile.mkdtemp(prefix="wearjoint-fmu-"))
