@@ -286,7 +286,7 @@ def add_simulate_arguments(parser) -> None:
 def add_cosim_arguments(parser) -> None:
     """Options of ``wearjoint cosim``: results folder, FMU, coupling, and every model parameter."""
     from .cosim import SCHEMES, CoSimulationOptions
-    from .cosim.cosimulation import DEFAULT_STEP_S as DEFAULT_COSIM_STEP_S
+    from .cosim.cosimulation import DEFAULT_CONTACT_STEP_S
     from .cosim.masters import DEFAULT_STEP_S, MASTERS
     from .fmu.fmi import INTERFACES
     from .fmu.ssp import LOAD_COUPLINGS
@@ -321,8 +321,8 @@ def add_cosim_arguments(parser) -> None:
                         "kinematics with the derivatives the FMU publishes (default %(default)s)")
     g.add_argument("--step", type=float, default=None,
                    help=f"communication step [s] (adaptive: in contact; linearised: the largest in contact) (default "
-                        f"{defaults.step_s:g}, with the linearised scheme; {DEFAULT_COSIM_STEP_S['adaptive']:g} with the "
-                        "others; "
+                        f"{defaults.step_s:g}, with the linearised scheme; "
+                        f"{DEFAULT_CONTACT_STEP_S['adaptive']:g} with the others; "
                         f"with a third-party master a fixed step, {DEFAULT_STEP_S['linearised']:g} linearised, "
                         f"{DEFAULT_STEP_S['hold']:g} hold)")
     g.add_argument("--max-step", type=float, default=defaults.max_step_s,

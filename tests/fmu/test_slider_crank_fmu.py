@@ -84,6 +84,7 @@ def _continuous_time_model(fmu, parameters=None) -> "FMU2Model":
     model.enterContinuousTimeMode()
     return model
 
+
 def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
     """Both versions validate; the inputs are the joint FMU's force outputs, the slider's load and the joint FMU's
     normal force and linearisation outputs (load_coupling 1), the outputs

@@ -37,22 +37,21 @@ CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU
 # the defaults that depend on the scheme: the contact step (linearised: the largest one the tolerance may take) and
 # the coupling tolerance (docs/explanation/cosim_study.md, "Ensembles on worn grooves")
 DEFAULT_SCHEME = "linearised"
-DEFAULT_STEP_S = {"zoh": 5e-6, "extrapolation": 5e-6, "adaptive": 5e-6, "linearised": 1e-5}
+DEFAULT_CONTACT_STEP_S = {"zoh": 5e-6, "extrapolation": 5e-6, "adaptive": 5e-6, "linearised": 1e-5}
 DEFAULT_COUPLING_TOLERANCE = {"zoh": 0.0, "extrapolation": 0.0, "adaptive": 0.0, "linearised": 0.003}
 
 
 @dataclass(frozen=True)
 class CoSimulationOptions:
-    """How to co-simulate (``scheme``: :data:`SCHEMES`, described in :mod:`wearjoint.cosim`).
-    ``step_s``: communication step [s] (``zoh``, ``extrapolation``: always; ``adaptive``,
-    ``linearised``: while in contact; None: the scheme's :data:`DEFAULT_STEP_S`).  ``max_step_s`` /
-    ``min_step_s``: bounds of the adaptive step [s]; ``onset_penetration_m``: how deep past a contact onset
-    an adaptive step may end [m].  ``sample_dt_s``: spacing of the time series [s].
-    ``coupling_tolerance`` (adaptive, linearised; None: the scheme's :data:`DEFAULT_COUPLING_TOLERANCE`, 0.003
-    for linearised): the relative miss of the predicted contact force the contact step aims at, between
-    step_s / 16 and step_s, a linearised contact starting at step_s / 4 (0: the fixed rule, the step halved where the
-    miss passes 0.3 and grown back to step_s).  Force jumps (friction reversing, the deepest point moving on) miss at any step: the run's miss
-    can stay above it."""
+    """How to co-simulate (``scheme``: :data:`SCHEMES`, described in :mod:`wearjoint.cosim`). ``step_s``: communication
+    step [s] (``zoh``, ``extrapolation``: always; ``adaptive``, ``linearised``: while in contact; None: the
+    scheme's :data:`DEFAULT_CONTACT_STEP_S`). ``max_step_s`` / ``min_step_s``: bounds of the adaptive step [s];
+    ``onset_penetration_m``: how deep past a contact onset an adaptive step may end [m].  ``sample_dt_s``:
+    spacing of the time series [s]. ``coupling_tolerance`` (adaptive, linearised; None: the scheme's
+    :data:`DEFAULT_COUPLING_TOLERANCE`, 0.003 for linearised): the relative miss of the predicted contact force
+    the contact step aims at, between step_s / 16 and step_s, a linearised contact starting at step_s / 4 (0:
+    the fixed rule, the step halved where the miss passes 0.3 and grown back to step_s).  Force jumps (friction
+    reversing, the deepest point moving on) miss at any step: the run's miss can stay above it."""
 
     revolutions: float = 2.0
     scheme: str = DEFAULT_SCHEME
@@ -67,7 +66,7 @@ class CoSimulationOptions:
         require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
         require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
         if self.step_s is None:
-            object.__setattr__(self, "step_s", DEFAULT_STEP_S[self.scheme])
+            object.__setattr__(self, "step_s", DEFAULT_CONTACT_STEP_S[self.scheme])
         if self.coupling_tolerance is None:
             object.__setattr__(self, "coupling_tolerance", DEFAULT_COUPLING_TOLERANCE[self.scheme])
         for name in ("step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):

@@ -25,6 +25,8 @@ from .fmi import (
 
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
 N_INPUTS = len(INPUT_NAMES)
+
+
 class OwnsFmuInstance:
     """An engine that owns one :class:`FmuInstance` (``_instance``, None once freed): :meth:`close`
     frees it; ``with`` closes it."""

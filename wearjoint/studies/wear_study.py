@@ -125,8 +125,8 @@ class WearStudyConfig:
         if self.max_step_s is None:     # the wear-step limit of the wear actually applied
             limit = min(STUDY_STEP_S, wear_step_limit_s(self.joint, self.mechanism, DEFAULT_WEAR_STEP_SHARE))
             if self.engine == "cosim":  # the communication step in contact: at most the adaptive scheme's default
-                from wearjoint.cosim.cosimulation import DEFAULT_STEP_S
-                limit = min(limit, DEFAULT_STEP_S["adaptive"])   # the scheme --engine cosim runs
+                from wearjoint.cosim.cosimulation import DEFAULT_CONTACT_STEP_S
+                limit = min(limit, DEFAULT_CONTACT_STEP_S["adaptive"])   # the scheme --engine cosim runs
             object.__setattr__(self, "max_step_s", limit)
         for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2",
                      "impact_merge_deg"):
