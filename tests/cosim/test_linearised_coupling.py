@@ -1,6 +1,8 @@
 """The linearised coupling (scheme ``linearised``): the loads in contact F0 + J (u - u0) through the master's step,
 F0 and J the joint FMU's at the step's start; the FMU takes forces and derivatives in one pass for a host that reads
 both, with the same forces."""
+import ctypes
+
 import numpy as np
 
 from wearjoint.core import layout as L
@@ -110,8 +112,8 @@ def test_reading_the_derivatives_leaves_the_fmus_forces_bit_identical(native_fmu
             # the reading instance's host reads the published derivatives at its current inputs, then the forces
             instance = reading._live_instance()
             vrs, values = reading._published
-            get_real = instance.loop_functions[6]
-            assert get_real(instance.component, vrs.ctypes.data, vrs.size, values.ctypes.data) == 0
+            assert instance.get_real(instance.component, vrs.ctypes.data_as(ctypes.POINTER(ctypes.c_uint)), vrs.size,
+                                     values.ctypes.data_as(ctypes.POINTER(ctypes.c_double))) == 0
             reached_contact |= reading.buf[B_OUTPUT + O_CONTACT] > 0.5
         assert reached_contact
     finally:

@@ -1,5 +1,5 @@
-"""The kernels' IR (wearjoint/fmu/kernel_ir.py): the IR the package ships (wearjoint/fmu/shipped_ir/) is
-compiled from these kernels, a build with empty caches takes it instead of compiling, never once the
+"""The kernels' IR (wearjoint/fmu/kernel_ir.py): the IR the package ships (wearjoint/fmu/shipped_ir/: the native
+FMUs' and the co-simulation master's) is compiled from these kernels, a build with empty caches takes it instead of compiling, never once the
 kernels or numba changed; its objects for several platforms, two cores at once."""
 import dataclasses
 import re
@@ -8,17 +8,18 @@ import pytest
 
 from wearjoint.fmu import aot, kernel_ir, platforms
 from wearjoint.fmu.build_native import MODELS
+from wearjoint.fmu.ship_ir import SHIPPED
 
 
-@pytest.mark.parametrize("model", list(MODELS))
+@pytest.mark.parametrize("model", list(SHIPPED))
 def test_the_shipped_ir_is_compiled_from_these_kernels(model):
-    spec = MODELS[model]
+    spec = SHIPPED[model]
     assert kernel_ir.shipped_key(spec).get("digest") == kernel_ir.kernel_digest(spec), (
         f"wearjoint/fmu/shipped_ir/{model}.tar.xz was compiled from other kernels: run "
         f"python -m wearjoint.fmu.ship_ir {model}")
 
 
-@pytest.mark.parametrize("model", list(MODELS))
+@pytest.mark.parametrize("model", list(SHIPPED))
 def test_the_digest_covers_every_package_module_the_entry_points_import(model):
     """Every wearjoint module the model's entry points import, at any depth and inside functions too, is hashed
     into the digest, unless it cannot reach a kernel (the package's front matter: reports, plots, progress, the
@@ -40,7 +41,7 @@ def test_the_digest_covers_every_package_module_the_entry_points_import(model):
                 return candidate
         return None
 
-    spec = MODELS[model]
+    spec = SHIPPED[model]
     seen, todo = set(), [aot.ENTRY_POINTS[model][0]]
     while todo:
         path = module_file(todo.pop())
@@ -80,9 +81,9 @@ def _no_compiling(*args, **kwargs):
     raise AssertionError("compiled the kernels although the package ships their IR")
 
 
-@pytest.mark.parametrize("model", list(MODELS))
+@pytest.mark.parametrize("model", list(SHIPPED))
 def test_a_build_with_empty_caches_takes_the_shipped_ir(model, tmp_path, monkeypatch):
-    spec = MODELS[model]
+    spec = SHIPPED[model]
     shipped = kernel_ir.shipped_key(spec).get("kernel_key")
     if shipped != kernel_ir.kernel_key(spec):
         pytest.skip(f"the shipped IR is {shipped}, this tree needs {kernel_ir.kernel_key(spec)}")

@@ -21,13 +21,15 @@ from numba.core import event
 # "-helped" one: the first of two processes, prefetch), and the cache file (a glob below the digest's folder) of a
 # kernel only that engine compiles: where it exists the engine's kernels are cached, and what compiles is what the
 # command adds (a wear study right after simulate: 18 functions in 2.3 s, where the cold figure said 33 s).  The
-# machine runs at one of two speeds: simulate-helped measured 31 and 34 s, simulate on one core 49 s, cosim 11 and
-# 16 s (compile_time_s, empty caches), so each figure sits between them
+# machine runs at one of two speeds: simulate-helped measured 31 and 34 s, simulate on one core 49 s (compile_time_s,
+# empty caches), so each figure sits between them.  cosim compiles the mechanism's kernels and its summary's (2.7 s):
+# its master loop comes compiled ahead of time (cosim.native_master)
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 45, 75, "core/integrators._integrate_steps-*.nbi"),
     "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 39,
                         "core/integrators._integrate_steps-*.nbi"),
-    "cosim": ("the co-simulation master's numba kernels", 13, 19, "cosim/master_loop.master_loop-*.nbi"),
+    "cosim": ("the co-simulation's numba kernels (its master's loop comes compiled)", 3, 13,
+              "core/slider_crank.ideal_joint_forces-*.nbi"),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100, None),
     "kernels": ("the numba kernels", 20, 90, None),
 }

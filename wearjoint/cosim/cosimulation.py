@@ -22,12 +22,13 @@ from ..parameters import (
 )
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
+from .native_master import native_master
 from .master_loop import (
     _N_Y, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
     B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
     C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME, G_FMI_TIME, G_FREE_STEPS, G_MISS_COUNT,
     G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISATION_OUTPUTS,
-    N_INPUTS, N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, _monotonic_clock, buffer_views,
+    N_INPUTS, N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, monotonic_clock, buffer_views,
     communication_step, master_loop,
 )
 
@@ -136,11 +137,17 @@ class CoSimulation(OwnsFmuInstance):
                         C_LINEARISE]] = (
             1.0 if o.scheme in ADAPTIVE_SCHEMES else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m,
             1.0 if fmu_backend == "native" else 0.0, o.coupling_tolerance, 1.0 if o.scheme == "linearised" else 0.0)
-        self._clock = _monotonic_clock()
+        self._clock = monotonic_clock()
+        self._views = buffer_views.py_func(b)     # the per-revolution statistics and the RK4 scratch in buf
         self._timespec = np.zeros(2, dtype=np.int64)
-        try:   # the mechanism's kernels compile while a missing FMU builds
-            communication_step(0.0, 0.0, False, b, *buffer_views.py_func(b), self.mechanism.workspace,
-                               np.zeros((0, L.N_SAMPLE_COLUMNS)))
+        try:   # the master's library is built (first use), or its numba kernels compile, while a missing FMU builds
+            native = native_master()
+            self._master_loop = master_loop if native is None else native.master_loop
+            if native is None:   # the FMU's inputs at the start (start_point), compiling the step
+                communication_step(0.0, 0.0, False, b, *self._views, self.mechanism.workspace,
+                                   np.zeros((0, L.N_SAMPLE_COLUMNS)))
+            else:
+                native.start_point(b)
         finally:
             if build is not None:
                 build.wait()
@@ -178,10 +185,11 @@ class CoSimulation(OwnsFmuInstance):
 
     # -- stepping
     def warm_up(self) -> None:
-        """Compile :func:`master_loop` (numba) without advancing: a call over zero time."""
+        """Load the master's loop (or compile numba's) without advancing: a call over zero time."""
         register = self._register.copy()
         register[G_T] = self.t
-        master_loop(self.t, register, self._settings, self.buf, self._saved, np.zeros((0, L.N_SAMPLE_COLUMNS)),
+        self._master_loop(self.t, register, self._settings, self.buf, *self._views, self._saved,
+                    np.zeros((0, L.N_SAMPLE_COLUMNS)),
                     self.mechanism.workspace, self._live_instance().loop_functions, self._published, self._clock,
                     self._timespec)
 
@@ -195,7 +203,7 @@ class CoSimulation(OwnsFmuInstance):
         self.buf[B_TRACK + L.K_N_SAMPLES] = 0
         wall0 = time.perf_counter()
         try:
-            failed = master_loop(t_end, register, self._settings, self.buf, self._saved, samples,
+            failed = self._master_loop(t_end, register, self._settings, self.buf, *self._views, self._saved, samples,
                                  self.mechanism.workspace, slave.loop_functions, self._published, self._clock,
                                  self._timespec)
         finally:

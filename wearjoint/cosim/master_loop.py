@@ -24,7 +24,7 @@ from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
 from ..core.linearisation import linearisation_from_published
 from ..core.slider_crank import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
-from ..fmu.fmi import c_function, failed_call
+from ..fmu.fmi import call_clock, call_do_step, call_real_values, call_with_state, failed_call, function_address
 from ..fmu.instance import N_INPUTS
 from ..fmu.variables import JACOBIAN_SLOTS, RESULT_SLOTS
 
@@ -223,9 +223,19 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
 
 
 @kernel
+def start_point(buf):
+    """What :func:`communication_step` leaves at the master's first point besides what the first step overwrites:
+    the trigonometry of the state (B_TRIG: libm's, the rotations restarted) and the FMU inputs there (B_INPUT)."""
+    y = buf[B_Y:B_Y + _N_Y]
+    mp = buf[B_MP:B_MP + L.N_MECHANISM_PARAMETERS]
+    _step_trig(buf, y, mp)
+    joint_kinematics(y, mp, buf[B_INPUT:B_INPUT + N_INPUTS])
+
+
+@kernel
 def _seconds(clock, timespec):
     """Monotonic clock [s] through libc's clock_gettime (CLOCK_MONOTONIC)."""
-    clock(1, timespec.ctypes.data)
+    call_clock(clock, 1, timespec.ctypes.data)
     return timespec[0] + 1e-9 * timespec[1]
 
 
@@ -262,11 +272,11 @@ def _save_rollback_point(buf, saved, fmi, register, t, reuse_state, timed, clock
         saved[i] = buf[i]
     c1 = _seconds(clock, timespec) if timed else 0.0
     if state_slot[0] != 0 and not reuse_state:
-        status = free_state(component, state_slot.ctypes.data)
+        status = call_with_state(free_state, component, state_slot.ctypes.data)
         state_slot[0] = 0
         if failed_call(register, G_FAILED_CALL, F_FREE_STATE, status, t):
             return F_FREE_STATE, 0.0
-    status = get_state(component, state_slot.ctypes.data)
+    status = call_with_state(get_state, component, state_slot.ctypes.data)
     return _outcome(register, F_GET_STATE, status, t, _fmi_seconds(timed, clock, timespec, c1))
 
 
@@ -276,13 +286,13 @@ def _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec):
     index of a failed call or 0, the FMI seconds if ``timed``)."""
     component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
     c2 = _seconds(clock, timespec) if timed else 0.0
-    status = do_step(component, t, t_new - t, 1)
+    status = call_do_step(do_step, component, t, t_new - t, 1)
     if failed_call(register, G_FAILED_CALL, F_DO_STEP, status, t):
         return F_DO_STEP, 0.0
-    status = set_real(component, input_vrs.ctypes.data, N_INPUTS, inputs)
+    status = call_real_values(set_real, component, input_vrs.ctypes.data, N_INPUTS, inputs)
     if failed_call(register, G_FAILED_CALL, F_SET_REAL, status, t_new):
         return F_SET_REAL, 0.0
-    status = get_real(component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
+    status = call_real_values(get_real, component, output_vrs.ctypes.data, N_OUTPUTS, outputs)
     return _outcome(register, F_GET_REAL, status, t_new, _fmi_seconds(timed, clock, timespec, c2))
 
 
@@ -294,7 +304,7 @@ def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
     for i in range(B_ROLLBACK_END):
         buf[i] = saved[i]
     c1 = _seconds(clock, timespec) if timed else 0.0
-    status = set_state(component, state_slot[0])
+    status = call_with_state(set_state, component, state_slot[0])
     return _outcome(register, F_SET_STATE, status, t, _fmi_seconds(timed, clock, timespec, c1))
 
 
@@ -341,7 +351,8 @@ def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
     component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
     derivative_vrs, derivatives = published
     c1 = _seconds(clock, timespec) if timed else 0.0
-    status = get_real(component, derivative_vrs.ctypes.data, derivative_vrs.shape[0], derivatives.ctypes.data)
+    status = call_real_values(get_real, component, derivative_vrs.ctypes.data, derivative_vrs.shape[0],
+                              derivatives.ctypes.data)
     if failed_call(register, G_FAILED_CALL, F_GET_REAL, status, t):
         buf[B_LINEARISED_AT] = -1.0
         return F_GET_REAL, 0.0
@@ -353,15 +364,17 @@ def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
 
 
 @kernel
-def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, published, clock, timespec):
+def master_loop(t_end, register, settings, buf, stats, stages, saved, samples, ws, fmi, published, clock, timespec):
     """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
     call that returned worse than fmi2Warning (details in ``register``).
 
-    ``fmi`` = (component, input value references, output value references, FMU-state
-    slot (addresses), doStep, setReal, getReal, getFMUstate, setFMUstate,
-    freeFMUstate): the FMU's C functions, called with the buffers' addresses; ``published``: what
+    ``fmi`` = (component (address), input value references, output value references, FMU-state
+    slot, then the addresses of doStep, setReal, getReal, getFMUstate, setFMUstate,
+    freeFMUstate): the FMU's C functions, called with the buffers' addresses; ``clock``: clock_gettime's
+    address (:func:`monotonic_clock`); ``published``: what
     :func:`_linearise` reads (scheme linearised).
-    Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT).
+    Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT); ``stats``, ``stages``:
+    :func:`buffer_views` (buf).
     Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
     at the start of a free-flight step, the FMU state slot the matching FMU state.
     Each iteration: the step's length, a rollback point in free flight (:func:`_save_rollback_point`), the
@@ -378,7 +391,6 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, publish
     linearise = settings[C_LINEARISE] > 0.5
     inputs = buf.ctypes.data + B_INPUT * 8
     outputs = buf.ctypes.data + B_OUTPUT * 8
-    stats, stages = buffer_views(buf)
     t = register[G_T]
     pen_before = register[G_PREVIOUS_PENETRATION]
     record = False                    # the point t was accounted when it was accepted
@@ -475,9 +487,6 @@ def master_loop(t_end, register, settings, buf, saved, samples, ws, fmi, publish
     return failed
 
 
-_CLOCK_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int, ctypes.c_void_p)
-
-
-def _monotonic_clock():
-    """libc's clock_gettime, for master_loop's split of FMI time and master time."""
-    return c_function(ctypes.CDLL(None).clock_gettime, _CLOCK_CALL)
+def monotonic_clock() -> int:
+    """The address of libc's clock_gettime, for master_loop's split of FMI time and master time."""
+    return function_address(ctypes.CDLL(None).clock_gettime)

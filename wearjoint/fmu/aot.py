@@ -73,6 +73,9 @@ ENTRY_POINTS = {
         "slider_crank_joint_kinematics": ("joint_kinematics_native", 3),
         **STATE_ENTRY_POINTS,
     }),
+    # not an FMU: the co-simulation master's loop (wearjoint.cosim.native_master)
+    "master": ("wearjoint.cosim.master_entry_points", {"wearjoint_master_loop": ("master_loop_native", 33),
+                                                       "wearjoint_start_point": ("start_point_native", 2)}),
 }
 # model -> the entry points of the second of two AOT processes, in order (the first takes the rest).  The
 # first starts with the contact's evaluation, which the second's last entry point calls again: by then it
@@ -83,6 +86,7 @@ PARTS = {
               "wearjoint_block_minima", "wearjoint_worn_volume", "wearjoint_complete_parameters", "wearjoint_advance"),
     "slider-crank": ("wearjoint_state_size", "wearjoint_write_state", "wearjoint_check_header", "wearjoint_read_state",
                      "wearjoint_check_values"),
+    "master": (),
 }
 
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)

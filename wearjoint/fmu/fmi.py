@@ -1,5 +1,6 @@
 """What the run-time side knows of FMI: status codes and names, the FMUs' backends, the error an FMU call
-raises, the C prototypes of the calls the compiled masters make, and the one place a failed call is
+raises, the C prototypes of the calls the compiled masters make (ctypes prototypes, and :func:`c_call` for a
+master compiled ahead of time, which knows the functions by address only), and the one place a failed call is
 recorded (compiled loops) and turned into an exception (:func:`raise_failed_call`)."""
 from __future__ import annotations
 
@@ -17,7 +18,6 @@ INTERFACES = ("co-simulation", "model-exchange")     # the joint FMU's interface
 # C prototypes of the FMI functions the compiled masters call (pointers as addresses)
 STATUS_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
 REAL_VALUES_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p)
-DO_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)
 SET_TIME_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double)
 COMPLETED_STEP_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
 COMPONENT_CALL = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)
@@ -30,7 +30,48 @@ class FmuError(RuntimeError):
 
 def c_function(function, prototype):
     """``function`` (a ctypes function of a loaded library) as a bare C function pointer of ``prototype``."""
-    return prototype(ctypes.cast(function, ctypes.c_void_p).value)
+    return prototype(function_address(function))
+
+
+def function_address(function) -> int:
+    """The address of ``function``, a ctypes function of a loaded library."""
+    return ctypes.cast(function, ctypes.c_void_p).value
+
+
+def c_call(*kinds):
+    """A numba intrinsic ``call(address, *arguments)``: the C function at ``address`` (an integer) called with one
+    argument per kind of ``kinds`` ("pointer": an address as an integer, "double", "int": C int, "size": size_t),
+    its C int result.  A compiled master calls the FMU's functions through these: the addresses are arguments, so
+    its code holds none and compiles ahead of time (cosim.master_entry_points)."""
+    from llvmlite import ir
+    from numba.core import types
+    from numba.extending import intrinsic
+
+    c_types = [{"pointer": ir.IntType(8).as_pointer(), "double": ir.DoubleType(), "int": ir.IntType(32),
+                "size": ir.IntType(64)}[kind] for kind in kinds]
+    numba_types = {"double": types.float64, "int": types.int32, "size": types.uint64}
+
+    def typer(address, arguments):
+        def codegen(context, builder, signature, values):
+            function = builder.inttoptr(values[0], ir.FunctionType(ir.IntType(32), c_types).as_pointer())
+            return builder.call(function, [
+                builder.inttoptr(value, c_type) if kind == "pointer"
+                else context.cast(builder, value, numba_type, numba_types[kind])
+                for kind, c_type, value, numba_type in zip(kinds, c_types, values[1:], signature.args[1:])])
+        return types.int32(address, *arguments), codegen
+
+    arity = {1: lambda typingctx, address, a: typer(address, (a,)),   # numba's intrinsics take no *arguments
+             2: lambda typingctx, address, a, b: typer(address, (a, b)),
+             4: lambda typingctx, address, a, b, c, d: typer(address, (a, b, c, d))}[len(kinds)]
+    arity.__name__ = arity.__qualname__ = "c_call_" + "_".join(kinds)    # numba keys an intrinsic by its name
+    return intrinsic(arity)
+
+
+# the FMI 2.0 co-simulation calls of cosim.master_loop and the clock it times them with, by address
+call_do_step = c_call("pointer", "double", "double", "int")           # fmi2DoStep(c, t, h, noSetFMUStatePriorToCurrentPoint)
+call_real_values = c_call("pointer", "pointer", "size", "pointer")    # fmi2SetReal / fmi2GetReal(c, vrs, n, values)
+call_with_state = c_call("pointer", "pointer")     # fmi2GetFMUstate / fmi2FreeFMUstate(c, &state), fmi2SetFMUstate(c, state)
+call_clock = c_call("int", "pointer")               # clock_gettime(clock id, &timespec)
 
 
 @kernel(inline='always')   # call sites with literal call indices: one compile each, were it a call

@@ -2,7 +2,7 @@
 
 :class:`FmuInstance` loads the FMU with fmpy (any backend: native or pythonfmu),
 sets the joint's parameters, initialises it and hands out its raw FMI functions
-as C function pointers, so that a compiled master loop calls ``fmi2DoStep`` /
+as C function pointers (Model Exchange) or addresses (co-simulation), so that a compiled master loop calls ``fmi2DoStep`` /
 ``fmi2SetReal`` / ``fmi2GetReal`` and the FMU-state functions without Python in
 between.  FMU errors raise :class:`FmuError` carrying the FMU's log.
 fmpy is imported only when an instance is made (``import wearjoint`` stays light).
@@ -19,12 +19,15 @@ from ..parameters import JointParameters, ParameterError
 from . import variables as fv
 from .extracted import extracted_fmu
 from .fmi import (
-    COMPLETED_STEP_CALL, COMPONENT_CALL, DO_STEP_CALL, EVENT_INDICATORS_CALL,
-    FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, raise_failed_call,
+    COMPLETED_STEP_CALL, COMPONENT_CALL, EVENT_INDICATORS_CALL,
+    FMI_DISCARD, FMI_WARNING, REAL_VALUES_CALL, SET_TIME_CALL, STATUS_CALL, FmuError, c_function, function_address,
+    raise_failed_call,
 )
 
 INPUT_NAMES = tuple(v.name for v in fv.INPUTS)   # pin x, y, angle, vx, vy, omega, then bushing
 N_INPUTS = len(INPUT_NAMES)
+# the FMI functions a co-simulation master's compiled loop calls, by address (FmuInstance.loop_functions)
+LOOP_FUNCTIONS = ("fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate")
 
 
 class OwnsFmuInstance:
@@ -147,9 +150,7 @@ class FmuInstance:
             return
         self.loop_functions = (
             self.component, self.input_vrs, self.output_vrs, self.state_slot,
-            c_function(dll.fmi2DoStep, DO_STEP_CALL), c_function(dll.fmi2SetReal, REAL_VALUES_CALL),
-            c_function(dll.fmi2GetReal, REAL_VALUES_CALL), c_function(dll.fmi2GetFMUstate, STATUS_CALL),
-            c_function(dll.fmi2SetFMUstate, STATUS_CALL), c_function(dll.fmi2FreeFMUstate, STATUS_CALL))
+            *(function_address(getattr(dll, name)) for name in LOOP_FUNCTIONS))
 
     def _set_parameters(self, joint: JointParameters) -> None:
         real_values, integer_values = fv.fmi_parameter_values_by_type(joint)

@@ -47,11 +47,13 @@ _KEY_MEMBER = "kernel_key.json"   # the archive's member naming what its IR was 
 
 
 def kernel_digest(spec) -> str:
-    """Hash of what the IR of ``spec`` (a :class:`build_native.NativeModel`) is compiled from: the
-    kernels' sources and its kernel header, named as in the source tree (``wearjoint/...``,
+    """Hash of what the IR of ``spec`` (a :class:`build_native.NativeModel`, or the master's
+    :data:`wearjoint.cosim.native_master.MASTER`) is compiled from: the kernels' sources and its kernel header
+    (the master has none), named as in the source tree (``wearjoint/...``,
     ``fmu_src/...``) wherever the package is installed."""
     python = source_digest([PACKAGE_DIR / name for name in (*IR_SOURCES, *spec.ir_modules)], PACKAGE_DIR.parent)
-    header = source_digest([FMU_SOURCE_DIR / spec.folder / spec.kernel_header], FMU_SOURCE_DIR.parent)
+    header = (source_digest([FMU_SOURCE_DIR / spec.folder / spec.kernel_header], FMU_SOURCE_DIR.parent)
+              if spec.kernel_header else "")
     return hashlib.sha256(f"{python}{header}".encode()).hexdigest()[:16]
 
 

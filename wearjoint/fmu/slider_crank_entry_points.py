@@ -38,7 +38,7 @@ _WORKSPACE = (_F64,) * 7
 
 
 @kernel(inline='always')
-def _workspace(jac, schur, phi, phi_dot, gamma, minv, force):
+def workspace_arrays(jac, schur, phi, phi_dot, gamma, minv, force):
     return (carray(jac, (_N, _N)), carray(schur, (_N, _N)), carray(phi, _N), carray(phi_dot, _N), carray(gamma, _N),
             carray(minv, _N), carray(force, _N))
 
@@ -61,7 +61,7 @@ def parameters_native(fields, mp, minv):
 @entry_point(types.int32(types.float64, _F64, *_WORKSPACE, _F64))
 def initial_state_native(t, mp, jac, schur, phi, phi_dot, gamma, minv, force, y):
     """The ideal mechanism's consistent state at time t [s] into y (crank at th0 - omega t); returns 0."""
-    initial_state(t, carray(mp, N_MECHANISM_PARAMETERS), _workspace(jac, schur, phi, phi_dot, gamma, minv, force),
+    initial_state(t, carray(mp, N_MECHANISM_PARAMETERS), workspace_arrays(jac, schur, phi, phi_dot, gamma, minv, force),
                   carray(y, 2 * _N))
     return 0
 
@@ -73,7 +73,7 @@ def derivative_native(t, y, mp, inputs, jac, schur, phi, phi_dot, gamma, minv, f
     u = carray(inputs, N_MECHANISM_INPUTS)
     p[MP_SLIDER_FORCE_INPUT] = u[MECHANISM_INPUT_SLIDER_FORCE]
     derivative(t, carray(y, 2 * _N), MODE_EXTERNAL, p, no_joint(p), u[:6],
-               _workspace(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N))
+               workspace_arrays(jac, schur, phi, phi_dot, gamma, minv, force), carray(dy, 2 * _N))
     return 0
 
 
@@ -87,7 +87,7 @@ def step_native(t, h, n_steps, linearised, y, mp, inputs, jac, schur, phi, phi_d
     p = carray(mp, N_MECHANISM_PARAMETERS)
     u = carray(inputs, N_MECHANISM_INPUTS)
     p[MP_SLIDER_FORCE_INPUT] = u[MECHANISM_INPUT_SLIDER_FORCE]
-    ws = _workspace(jac, schur, phi, phi_dot, gamma, minv, force)
+    ws = workspace_arrays(jac, schur, phi, phi_dot, gamma, minv, force)
     if linearised:
         lin = carray(linearisation, N_LINEARISATION)
         linearisation_from_published(u[:6], u[MECHANISM_INPUT_NORMAL_FORCE],

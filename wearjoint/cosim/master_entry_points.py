@@ -1,0 +1,51 @@
+"""The co-simulation master's loop as C entry points, for a master compiled ahead of time.
+
+:func:`master_loop_native` is :func:`wearjoint.cosim.master_loop.master_loop` on raw pointers (and
+:func:`start_point_native` its :func:`~wearjoint.cosim.master_loop.start_point`): the AOT build
+(:mod:`wearjoint.fmu.aot`, model ``master``) compiles it from the same numba kernels into a shared library
+(:mod:`wearjoint.cosim.native_master`), which the master then calls through ctypes instead of numba's dispatcher,
+so that a co-simulation needs no numba compilation of its loop.  The arguments are those of ``master_loop``, each
+array as its address (and its length where it varies), the FMU's functions and libc's clock as addresses; the
+workspace of :func:`wearjoint.core.slider_crank.make_workspace` as its seven arrays.
+"""
+from numba import carray, types
+
+from ..core import layout as L
+from ..fmu.aot import entry_point
+from ..fmu.instance import N_INPUTS
+from ..fmu.slider_crank_entry_points import workspace_arrays
+from .master_loop import B_ROLLBACK_END, N_OUTPUTS, N_REGISTER, N_SETTINGS, master_loop, start_point
+
+_F64 = types.CPointer(types.float64)
+_U32 = types.CPointer(types.uint32)
+_ADDRESS = types.intp
+SIGNATURE = types.intp(
+    types.float64, _F64, _F64, _F64, types.intp, _F64, types.intp, _F64,   # t_end, register, settings, buf, stats, stages
+    _F64, _F64, types.intp,                                                 # saved, samples
+    *(_F64,) * 7,                                                           # the workspace
+    _ADDRESS, _U32, _U32, types.CPointer(types.uintp), *(_ADDRESS,) * 6,    # fmi (master_loop)
+    _U32, types.intp, _F64,                                                 # published
+    _ADDRESS, types.CPointer(types.int64))                                  # clock, timespec
+
+
+@entry_point(SIGNATURE)
+def master_loop_native(t_end, register, settings, buf, n_buf, stats, n_revolutions, stages, saved, samples, n_samples,
+                       jac, schur, phi, phi_dot, gamma, minv, force,
+                       component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state,
+                       free_state, derivative_vrs, n_derivatives, derivatives, clock, timespec):
+    """:func:`~wearjoint.cosim.master_loop.master_loop` (same result) on the arrays at these addresses."""
+    fmi = (component, carray(input_vrs, N_INPUTS), carray(output_vrs, N_OUTPUTS), carray(state_slot, 1),
+           do_step, set_real, get_real, get_state, set_state, free_state)
+    return master_loop(t_end, carray(register, N_REGISTER), carray(settings, N_SETTINGS), carray(buf, n_buf),
+                       carray(stats, (n_revolutions, L.N_STATS)), carray(stages, (4, 2 * L.N_COORDINATES)),
+                       carray(saved, B_ROLLBACK_END), carray(samples, (n_samples, L.N_SAMPLE_COLUMNS)),
+                       workspace_arrays(jac, schur, phi, phi_dot, gamma, minv, force), fmi,
+                       (carray(derivative_vrs, n_derivatives), carray(derivatives, n_derivatives)), clock,
+                       carray(timespec, 2))
+
+
+@entry_point(types.int32(_F64, types.intp))
+def start_point_native(buf, n_buf):
+    """:func:`~wearjoint.cosim.master_loop.start_point` on the master's buffer; returns 0."""
+    start_point(carray(buf, n_buf))
+    return 0

@@ -1,0 +1,133 @@
+"""The co-simulation master's loop compiled ahead of time: a shared library in the user cache.
+
+:func:`native_master` gives :func:`wearjoint.cosim.master_entry_points.master_loop_native` and
+``start_point_native`` as Python functions: the IR of the same numba kernels the in-process master runs (the package ships it, as it ships the
+native FMUs' kernels: :mod:`wearjoint.fmu.kernel_ir`), turned into an object for this machine's architecture and
+linked with its C compiler once per kernel version (``<user cache>/master/``).  A co-simulation then compiles no
+numba code for its loop; where no library can be had (no C compiler, a platform without one) it returns None and
+the master runs numba's (:func:`wearjoint.cosim.master_loop.master_loop`): the same results bit for bit.
+"""
+from __future__ import annotations
+
+import ctypes
+import functools
+import os
+import subprocess
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from .._compile.cache import user_cache_dir
+
+_LIBRARY = "wearjoint_master"
+
+
+@dataclass(frozen=True)
+class MasterKernels:
+    """What :mod:`wearjoint.fmu.kernel_ir` needs to know of the master's kernels (as of a native FMU model's)."""
+
+    name: str = "master"
+    ir_modules: tuple = ("cosim/master_loop.py", "cosim/master_entry_points.py", "fmu/__init__.py", "fmu/fmi.py",
+                         "fmu/instance.py", "fmu/extracted.py", "fmu/variables.py", "fmu/slider_crank_entry_points.py",
+                         "fmu/state_entry_points.py")
+    kernel_header: str | None = None     # ctypes calls it: no C prototype to keep in step
+    folder: str | None = None
+
+
+MASTER = MasterKernels()
+# master_loop_native's C arguments (cosim.master_entry_points.SIGNATURE): addresses as integers (AOT: 33)
+_ARGUMENTS = (ctypes.c_double, *(ctypes.c_void_p,) * 3, ctypes.c_ssize_t, ctypes.c_void_p, ctypes.c_ssize_t,
+              *(ctypes.c_void_p,) * 3, ctypes.c_ssize_t,
+              *(ctypes.c_void_p,) * 7, *(ctypes.c_void_p,) * 10, ctypes.c_void_p, ctypes.c_ssize_t, ctypes.c_void_p,
+              ctypes.c_void_p, ctypes.c_void_p)
+
+
+def library_path() -> Path:
+    """Where the library of these kernels lives (it may not exist yet)."""
+    from ..fmu import platforms
+    from ..fmu.kernel_ir import kernel_key
+
+    target = platforms.host_platform()
+    return user_cache_dir() / "master" / f"{kernel_key(MASTER)}-{target.name}" / f"{_LIBRARY}{target.extension}"
+
+
+def build_library(path: Path) -> Path:
+    """Compile the master's kernel IR (the package's, else numba's in a fresh process) for this machine and link
+    it into ``path``; RuntimeError where that cannot be done here."""
+    from ..fmu import aot, platforms
+    from ..fmu.kernel_ir import compile_kernel_ir
+
+    target = platforms.host_platform()
+    reason = platforms.missing_reason(target)
+    if reason is not None:
+        raise RuntimeError(reason)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="wearjoint_master_") as tmp:
+        modules = compile_kernel_ir(Path(tmp) / "ir", MASTER)
+        objects = []
+        for symbol, ir_name in modules.items():
+            objects.append(str(Path(tmp) / f"{symbol}.o"))
+            Path(objects[-1]).write_bytes(aot.emit_object(Path(tmp) / "ir" / ir_name, target.triple, target.cpu))
+        partial = Path(tmp) / path.name
+        flags = [flag for flag in target.link_flags if "version-script" not in flag]
+        result = subprocess.run([platforms.compiler(target), *flags, "-o", str(partial), *objects, "-lm"],
+                                capture_output=True, text=True)
+        if result.returncode != 0:
+            raise RuntimeError(f"linking the master's library failed: {result.stderr.strip()[-2000:]}")
+        os.replace(partial, path)     # whole or not at all: another process may load it at once
+    return path
+
+
+def _c_function(library, symbol: str, arguments):
+    """``symbol`` of ``library``, compiled by numba with ``arguments``, as a Python function of them returning its
+    result (numba's calling convention: a status, the value through a pointer; the kernels have no path that
+    raises)."""
+    function = getattr(library, symbol)
+    function.argtypes = (ctypes.c_void_p, ctypes.c_void_p, *arguments)
+    function.restype = ctypes.c_int32
+    result, exception = ctypes.c_int64(), ctypes.c_void_p()
+    result_address, exception_address = ctypes.addressof(result), ctypes.addressof(exception)
+
+    def call(*values):
+        if function(result_address, exception_address, *values) != 0:
+            raise RuntimeError(f"the master's compiled {symbol} failed")
+        return result.value
+
+    return call
+
+
+class NativeMaster:
+    """:func:`~wearjoint.cosim.master_loop.master_loop` and :func:`~wearjoint.cosim.master_loop.start_point` of the
+    library at ``path``, their arguments the same (C-contiguous arrays)."""
+
+    def __init__(self, path: Path):
+        library = ctypes.CDLL(str(path))
+        self._loop = _c_function(library, "wearjoint_master_loop", _ARGUMENTS)
+        self._start_point = _c_function(library, "wearjoint_start_point", (ctypes.c_void_p, ctypes.c_ssize_t))
+
+    def master_loop(self, t_end, register, settings, buf, stats, stages, saved, samples, ws, fmi, published, clock,
+                    timespec):
+        component, input_vrs, output_vrs, state_slot, *functions = fmi
+        derivative_vrs, derivatives = published
+        return self._loop(t_end, register.ctypes.data, settings.ctypes.data, buf.ctypes.data, buf.shape[0],
+                          stats.ctypes.data, stats.shape[0], stages.ctypes.data, saved.ctypes.data,
+                          samples.ctypes.data, samples.shape[0], *(a.ctypes.data for a in ws), component,
+                          input_vrs.ctypes.data, output_vrs.ctypes.data, state_slot.ctypes.data, *functions,
+                          derivative_vrs.ctypes.data, derivative_vrs.shape[0], derivatives.ctypes.data, clock,
+                          timespec.ctypes.data)
+
+    def start_point(self, buf):
+        self._start_point(buf.ctypes.data, buf.shape[0])
+
+
+@functools.lru_cache(maxsize=1)
+def native_master() -> NativeMaster | None:
+    """The master's library (built on first use); None where it cannot be built or loaded here (the caller runs
+    numba's kernels)."""
+    try:
+        path = library_path()
+        if not path.is_file():
+            build_library(path)
+        return NativeMaster(path)
+    except (OSError, RuntimeError, subprocess.SubprocessError, AttributeError):
+        return None
