@@ -51,12 +51,12 @@ def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
     ``form="external"`` is the sum form printed in Eq. (16), R_i R_j / (R_i + R_j)
     (~5.6e9 for the paper's values; docs/reference/model.md §3.1).
     """
-    from .core.wear import materials_contact_stiffness
+    from .kernel_calls import materials_contact_stiffness
 
     modulus = effective_modulus(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa,
                                 bushing_poisson_ratio)
     if form == "internal":
-        return float(materials_contact_stiffness(pin_radius_m, bushing_radius_m, modulus))
+        return materials_contact_stiffness(pin_radius_m, bushing_radius_m, modulus)
     if form == "external":
         return 4.0 / 3.0 * modulus * math.sqrt(pin_radius_m * bushing_radius_m / (bushing_radius_m + pin_radius_m))
     raise ParameterError(f"parameter form={form!r} is invalid: allowed one of internal, external")
@@ -65,9 +65,9 @@ def contact_stiffness(pin_radius_m: float, bushing_radius_m: float,
 def effective_modulus(pin_youngs_modulus_Pa: float, pin_poisson_ratio: float,
                       bushing_youngs_modulus_Pa: float, bushing_poisson_ratio: float) -> float:
     """Composite modulus E* [Pa] of Eq. (32) (:func:`wearjoint.core.wear.effective_modulus`)."""
-    from .core.wear import effective_modulus as kernel
+    from .kernel_calls import effective_modulus as kernel
 
-    return float(kernel(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa, bushing_poisson_ratio))
+    return kernel(pin_youngs_modulus_Pa, pin_poisson_ratio, bushing_youngs_modulus_Pa, bushing_poisson_ratio)
 
 
 def restitution_of_law(law: str, restitution: float, impact_speed_m_s: float, restitution_speed_m_s: float,

@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from .core import layout as L
-from .core.geometry import bushing_point_angles
 from .fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from .joint_fields import JOINT_FIELDS
+from .kernel_calls import bushing_point_angles
 from .mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
 from .parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
 
@@ -232,7 +232,7 @@ def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:
 # ------------------------------------------------------------------ the own options of simulate, cosim, wear-study
 def add_tolerance_arguments(group, integrators: str) -> None:
     """--rtol, --atol-position, --atol-velocity of the adaptive ``integrators`` (SimulationOptions' defaults)."""
-    from .simulate import SimulationOptions
+    from .simulation_options import SimulationOptions
 
     defaults = SimulationOptions()
     group.add_argument("--rtol", type=float, default=defaults.rtol,
@@ -246,7 +246,7 @@ def add_tolerance_arguments(group, integrators: str) -> None:
 def add_integration_arguments(parser) -> None:
     """simulate's integration options (SimulationOptions' defaults)."""
     from .parameters import MAX_WEAR_STEP_S
-    from .simulate import (
+    from .simulation_options import (
         DEFAULT_WEAR_STEP_SHARE, DOPRI_WEAR_CONTACT_STEP_S, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS,
         NO_WEAR_MAX_STEP_S, SimulationOptions,
     )

@@ -3,17 +3,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import kernel_calls
 from .core import layout as L
-from .core.slider_crank import ideal_joint_forces, initial_state, make_workspace
-from .core.slider_load import mechanism_parameter_vector
-from .mechanism_parameters import FIELD_SCALES, SliderCrankParameters, field_vector
+from .mechanism_parameters import SliderCrankParameters
 
 
 def pack_mechanism_parameters(p: SliderCrankParameters) -> np.ndarray:
     """The flat parameter vector the kernels read (layout.MP_*)."""
-    mp = np.zeros(L.N_MECHANISM_PARAMETERS)
-    mechanism_parameter_vector(field_vector(p), FIELD_SCALES, mp)
-    return mp
+    return kernel_calls.mechanism_arrays(p)[0]
 
 
 class SliderCrank:
@@ -23,24 +20,17 @@ class SliderCrank:
 
     def __init__(self, params: SliderCrankParameters | None = None):
         self.params = params or SliderCrankParameters()
-        self.parameter_vector = pack_mechanism_parameters(self.params)
-        self.workspace = make_workspace(self.parameter_vector)
+        self.parameter_vector, self.workspace = kernel_calls.mechanism_arrays(self.params)
 
     def initial_state(self) -> np.ndarray:
         """y0 = [q, q_dot] with the pin centred and the ideal kinematic velocities."""
-        y = np.zeros(2 * L.N_COORDINATES)
-        initial_state(0.0, self.parameter_vector, self.workspace, y)
-        return y
+        return kernel_calls.initial_state(0.0, self.parameter_vector, self.workspace)
 
     def ideal_joint_force(self, t) -> np.ndarray:
         """|Reaction| [N] of the ideal crank-rod revolute at times t [s], with gravity and the slider's load: what
         the joint would carry without clearance (the kernels' ideal mechanism on its consistent state)."""
-        times = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.empty(times.shape)
-        n = L.N_COORDINATES
-        ideal_joint_forces(times, self.parameter_vector, self.workspace, np.zeros(L.N_RESULT), np.zeros(2 * n),
-                           np.zeros(n), np.zeros(6), out)
-        return out
+        return kernel_calls.ideal_joint_forces(np.atleast_1d(np.asarray(t, dtype=float)), self.parameter_vector,
+                                               self.workspace)
 
     def ideal_slider_acceleration(self, points: int = 721) -> tuple[np.ndarray, np.ndarray]:
         """(times [s], the ideal joint's slider acceleration [m/s^2]) at ``points`` times over one revolution,

@@ -38,7 +38,7 @@ from .run_options import (
 
 if TYPE_CHECKING:
     from .cosim import CoSimulationOptions
-    from .simulate import SimulationOptions
+    from .simulation_options import SimulationOptions
     from .studies.wear_study import WearStudyConfig
 
 RECORD_NAME = "summary.json"
@@ -100,7 +100,7 @@ class SimulateConfig:
 
 def simulation_options(options) -> SimulationOptions:
     """simulate's integration options from option values."""
-    from .simulate import SimulationOptions
+    from .simulation_options import SimulationOptions
 
     o = options
     return SimulationOptions(revolutions=o["revolutions"], integrator=o["integrator"], step_s=o["step"],
@@ -160,7 +160,7 @@ def cosim_config(options) -> CosimConfig:
     from .cosim import CoSimulationOptions
     from .cosim.masters import DEFAULT_STEP_S, MASTERS, master_available
     from .fmu.ssp import LOAD_COUPLINGS
-    from .simulate import SimulationOptions
+    from .simulation_options import SimulationOptions
 
     o, defaults = options, CoSimulationOptions()
     require("--master", o["master"], o["master"] in MASTERS, "one of " + ", ".join(MASTERS))

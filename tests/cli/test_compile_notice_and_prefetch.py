@@ -45,7 +45,7 @@ def test_an_engine_is_cached_where_its_marking_kernel_is(tmp_path, monkeypatch):
     monkeypatch.setattr(cache, "cache_root", lambda: tmp_path)
     monkeypatch.setattr(cache.KernelCacheLocator, "digest", "d1")
     assert not notice.engine_cached("cosim") and not notice.engine_cached("fmu")
-    marker = tmp_path / "d1" / "core" / "slider_crank.ideal_joint_forces-431.py311.nbi"
+    marker = tmp_path / "d1" / "cosim" / "master_loop.master_loop-350.py311.nbi"
     marker.parent.mkdir(parents=True)
     marker.write_bytes(b"")
     assert notice.engine_cached("cosim") and not notice.engine_cached("simulate")

@@ -38,7 +38,8 @@ def test_the_masters_chained_rotations_stay_within_64_ulp_of_libm():
     """The co-simulation master rotates each step's cos/sin from the last step's, 31 times between libm
     calls: over 20 000 steps of up to 3 mrad, every value stays within 64 ulp of 1 of libm's."""
     from wearjoint.core import layout as L
-    from wearjoint.cosim.master_loop import B_TRIG, _step_trig
+    from wearjoint.cosim.master_layout import B_TRIG
+    from wearjoint.cosim.master_loop import _step_trig
 
     rng = np.random.default_rng(3)
     buf = np.zeros(B_TRIG + 7)

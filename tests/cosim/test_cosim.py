@@ -15,7 +15,7 @@ pytest.importorskip("fmpy")
 from wearjoint import cli  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation  # noqa: E402
-from wearjoint.cosim import cosimulation, master_loop  # noqa: E402
+from wearjoint.cosim import cosimulation, master_layout  # noqa: E402
 from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.simulate import SimulationOptions, run_simulation  # noqa: E402
 
@@ -112,7 +112,7 @@ def test_rollbacks_on_one_reused_fmu_state_run_as_on_fresh_states(native_fmu):
     for reuse in (1.0, 0.0):
         samples = np.zeros((1400, L.N_SAMPLE_COLUMNS))
         with CoSimulation(paper_joint(), None, options, fmu_path=native_fmu, fmu_backend="native") as sim:
-            sim._settings[master_loop.C_REUSE_STATE] = reuse
+            sim._settings[master_layout.C_REUSE_STATE] = reuse
             n = sim.advance_to(0.012, samples)
             runs.append((sim.buf.copy(), sim.wear_profile()[1], samples[:n].copy(), sim.rollbacks, sim.free_steps,
                          sim.communication_steps))
@@ -190,7 +190,7 @@ def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_messa
         samples = np.zeros((1000, L.N_SAMPLE_COLUMNS))
         sim.advance_to(1e-4, samples)
         t_good = sim.t
-        sim.buf[master_loop.B_Y:master_loop.B_Y + L.N_COORDINATES] = np.nan
+        sim.buf[master_layout.B_Y:master_layout.B_Y + L.N_COORDINATES] = np.nan
         with pytest.raises(CoSimulationError, match=r"fmi2GetReal returned fmi2Error at t=.*non-finite inputs"):
             sim.advance_to(2e-4, samples)
         assert sim.t == t_good

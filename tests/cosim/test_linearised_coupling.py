@@ -10,7 +10,7 @@ from wearjoint.core.jit import kernel
 from wearjoint.core.linearisation import linearised_loads
 from wearjoint.core.joint_location import joint_kinematics
 from wearjoint.cosim import CoSimulation, CoSimulationOptions, run_cosimulation
-from wearjoint.cosim.master_loop import B_OUTPUT, O_CONTACT
+from wearjoint.cosim.master_layout import B_OUTPUT, O_CONTACT
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
 from wearjoint.slider_crank import SliderCrank

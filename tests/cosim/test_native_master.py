@@ -1,12 +1,17 @@
 """The co-simulation master compiled ahead of time (wearjoint/cosim/native_master.py): the library built from the
 shipped IR of the master's numba kernels runs numba's master step for step, to the last bit; where it cannot be
 built the master runs numba's kernels."""
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
 from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulation, CoSimulationOptions, cosimulation, native_master
-from wearjoint.cosim.master_loop import B_INPUT, B_TRIG, master_loop
+from wearjoint.cosim.master_layout import B_INPUT, B_TRIG, buffer_views
+from wearjoint.cosim.master_loop import communication_step, master_loop
+from wearjoint.mechanism_parameters import SliderForceTable
 from wearjoint.parameters import SliderCrankParameters, paper_joint
 
 
@@ -51,8 +56,8 @@ def test_the_start_point_is_what_the_first_step_leaves(native_fmu):
         numba[B_TRIG:B_TRIG + 7] = 0.0
         numba[B_INPUT:B_INPUT + 12] = 0.0
         native = numba.copy()
-        cosimulation.communication_step(0.0, 0.0, False, numba, *cosimulation.buffer_views.py_func(numba),
-                                        sim.mechanism.workspace, np.zeros((0, L.N_SAMPLE_COLUMNS)))
+        communication_step(0.0, 0.0, False, numba, *buffer_views(numba), sim.mechanism.workspace,
+                           np.zeros((0, L.N_SAMPLE_COLUMNS)))
         native_master.native_master().start_point(native)
         for part in (slice(B_TRIG, B_TRIG + 7), slice(B_INPUT, B_INPUT + 12)):
             np.testing.assert_array_equal(native[part], numba[part])
@@ -63,12 +68,51 @@ def test_without_a_c_compiler_the_master_runs_numbas_kernels(native_fmu, tmp_pat
     """No library in the cache and no compiler to link one: no error, numba's master runs (the same numbers)."""
     monkeypatch.setattr(native_master, "library_path", lambda: tmp_path / "master" / "wearjoint_master.so")
     monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
-    native_master.native_master.cache_clear()
-    try:
-        assert native_master.native_master() is None
-        with CoSimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu) as sim:
-            assert sim._master_loop is master_loop
-            assert sim.advance_to(0.002, np.zeros((300, L.N_SAMPLE_COLUMNS))) > 0 and sim.communication_steps > 0
-        assert not (tmp_path / "master").exists() or not any((tmp_path / "master").iterdir())
-    finally:
-        native_master.native_master.cache_clear()
+    monkeypatch.setattr(native_master, "_loaded", None)
+    monkeypatch.setattr(native_master, "_failed", False)
+    assert native_master.native_master(build=False) is None and not native_master._failed   # not built: not tried
+    assert native_master.native_master() is None and native_master._failed
+    with CoSimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu) as sim:
+        assert sim._master_loop is master_loop
+        assert sim.advance_to(0.002, np.zeros((300, L.N_SAMPLE_COLUMNS))) > 0 and sim.communication_steps > 0
+    assert not (tmp_path / "master").exists() or not any((tmp_path / "master").iterdir())
+
+
+def test_a_cosimulation_with_its_library_built_imports_no_numba(tmp_path):
+    """The README's first command, warm: the loop and the run's kernels come from the library, so neither numba
+    nor scipy (numba's BLAS check) is imported; the results are the same files as numba's kernels write."""
+    assert native_master.native_master() is not None
+    code = ("import sys\nfrom wearjoint.cli import main\n"
+            f"assert main(['cosim', '--revolutions', '0.05', '--no-plots', '--quiet', '--out', {str(tmp_path)!r}]) == 0\n"
+            "loaded = [name for name in ('numba', 'scipy', 'llvmlite', 'matplotlib') if name in sys.modules]\n"
+            "assert not loaded, loaded")
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=tmp_path)
+    assert (tmp_path / "summary.json").is_file() and (tmp_path / "timeseries.npz").is_file()
+
+
+def test_the_run_kernels_of_the_library_are_numbas(monkeypatch):
+    """kernel_calls gives the library's results where it is built and numba's otherwise: the same numbers, on the
+    paper's mechanism and one with its clearance at the slider and a load table on the slider."""
+    from wearjoint import kernel_calls
+
+    mechanisms = (SliderCrankParameters(), SliderCrankParameters(
+        clearance_joint="rod-slider", crank_speed_rpm=300.0,
+        slider_force_table=SliderForceTable((0.0, 90.0, 180.0, 360.0), (0.0, 400.0, 0.0, 0.0))))
+    times = np.linspace(0.0, 0.2, 41)
+
+    def results():
+        out = []
+        for mechanism in mechanisms:
+            mp, workspace = kernel_calls.mechanism_arrays(mechanism)
+            out += [mp, workspace[L.WORKSPACE_INVERSE_MASS], kernel_calls.initial_state(0.01, mp, workspace),
+                    kernel_calls.ideal_joint_forces(times, mp, workspace)]
+        return out + [kernel_calls.bushing_point_angles(1257), kernel_calls.effective_modulus(2.07e11, 0.29, 7.17e10, 0.33),
+                      kernel_calls.materials_contact_stiffness(0.01, 0.0101, 5.0e10)]
+
+    assert kernel_calls._library() is not None
+    native = results()
+    monkeypatch.setattr(kernel_calls, "_library", lambda: None)
+    numba = results()
+    for a, b in zip(native, numba):
+        np.testing.assert_array_equal(a, b)
+    assert np.ptp(native[3]) > 0.0 and np.ptp(native[7]) > np.ptp(native[3])    # the load shows in the reaction

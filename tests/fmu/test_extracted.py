@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wearjoint.cosim.master_loop import OUTPUT_NAMES
+from wearjoint.cosim.master_layout import OUTPUT_NAMES
 from wearjoint.fmu import extracted
 from wearjoint.fmu.instance import N_INPUTS, FmuInstance
 from wearjoint.parameters import paper_joint

@@ -17,24 +17,16 @@ import hashlib
 import os
 import re
 import shutil
-import sys
 from pathlib import Path
 
 from numba.core import caching, config
+
+from .user_cache import user_cache_dir
 
 KERNEL_PACKAGES = ("core", "cosim")     # whole: their modules hold kernels and the constants kernels compile in
 KEEP = 4
 KERNEL_DECORATOR = re.compile(rb"^\s*@kernel\b", re.MULTILINE)     # a line decorating a kernel, not a mention
 PACKAGE = Path(__file__).resolve().parent.parent
-
-
-def user_cache_dir() -> Path:
-    """wearjoint's folder in the user's cache (compiled kernels and built FMUs live below it)."""
-    if sys.platform == "win32":
-        return Path(os.environ.get("LOCALAPPDATA", Path.home() / "AppData" / "Local")) / "wearjoint" / "Cache"
-    if sys.platform == "darwin":
-        return Path.home() / "Library" / "Caches" / "wearjoint"
-    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "wearjoint"
 
 
 def kernel_sources(package: Path = PACKAGE) -> list[Path]:

@@ -15,22 +15,22 @@ import os
 import sys
 import time
 
-from numba.core import event
-
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core; the
 # "-helped" one: the first of two processes, prefetch), and the cache file (a glob below the digest's folder) of a
 # kernel only that engine compiles: where it exists the engine's kernels are cached, and what compiles is what the
 # command adds (a wear study right after simulate: 18 functions in 2.3 s, where the cold figure said 33 s).  The
 # machine runs at one of two speeds: simulate-helped measured 31 and 34 s, simulate on one core 49 s (compile_time_s,
-# empty caches), so each figure sits between them.  cosim compiles the mechanism's kernels and its summary's (2.7 s):
-# its master loop comes compiled ahead of time (cosim.native_master)
+# empty caches), so each figure sits between them.  cosim compiles nothing where its library is built
+# (cosim.native_master: its loop and the run's kernels compiled ahead of time; cold, 3.5 s in all); these are numba's
 ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", 45, 75, "core/integrators._integrate_steps-*.nbi"),
     "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 39,
                         "core/integrators._integrate_steps-*.nbi"),
-    "cosim": ("the co-simulation's numba kernels (its master's loop comes compiled)", 3, 13,
-              "core/slider_crank.ideal_joint_forces-*.nbi"),
+    "cosim": ("the co-simulation master's numba kernels (no library of them could be built here)", 13, 29,
+              "cosim/master_loop.master_loop-*.nbi"),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100, None),
+    "master": ("the co-simulation master's kernels, ahead of time (once per source version; two processes)", 13, 42,
+               None),
     "kernels": ("the numba kernels", 20, 90, None),
 }
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
@@ -66,9 +66,10 @@ def announce(what: str, stream=None, cached: bool = False) -> None:
     print(f"wearjoint: compiling {line}, cached for later runs", file=stream or sys.stderr, flush=True)
 
 
-class CompileWatch(event.Listener):
-    """numba's "numba:compile" events: at the first, ``on_first()`` (optional); once compiling has lasted
-    ANNOUNCE_AFTER_S, :func:`announce` and a progress bar (a terminal only) of the compilations (unless
+class CompileWatch:
+    """What :func:`watching` does with numba's "numba:compile" events: at the first, ``on_first()``
+    (optional); once compiling has lasted ANNOUNCE_AFTER_S, :func:`announce` and a progress bar (a terminal only)
+    of the compilations (unless
     ``quiet``); with :data:`PROFILE_ENV` set,
     each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after
     each compilation."""
@@ -134,14 +135,21 @@ _ACTIVE: list[CompileWatch] = []
 def watching(what: str, on_compile=None, quiet: bool = False, on_first=None):
     """Announce and count numba's compilations inside the block (``what``: a key of :data:`ESTIMATES`;
     ``on_first``: called as the first compilation starts)."""
+    from numba.core import event     # here, not at the module's import: a command that compiles nothing needs none
+
     watch = CompileWatch(what, on_compile, quiet, on_first)
-    event.register("numba:compile", watch)
+
+    class Listener(event.Listener):
+        on_start, on_end = watch.on_start, watch.on_end
+
+    listener = Listener()
+    event.register("numba:compile", listener)
     _ACTIVE.append(watch)
     try:
         yield watch
     finally:        # a bar still open here counted compilations of the run itself: no line after its results
         _ACTIVE.remove(watch)
-        event.unregister("numba:compile", watch)
+        event.unregister("numba:compile", listener)
         watch.close(final_line=False)
 
 

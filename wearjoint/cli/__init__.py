@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import atexit
+import contextlib
 import importlib
 import os
 import shlex
@@ -66,11 +67,9 @@ def main(argv: list[str] | None = None) -> int:
             parser.print_help()
             return 2
         args.figure_worker = figures
-        from .._compile.notice import watch_command
-
         try:
-            with watch_command(args.command):   # the first line of a run that compiles says so
-                module = importlib.import_module(COMMANDS[args.command][0])
+            module = importlib.import_module(COMMANDS[args.command][0])
+            with _compile_watch(module, args):   # the first line of a run that compiles says so
                 code = int(module.run(args) or 0)
         except ParameterError as exc:
             print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
@@ -96,6 +95,17 @@ def console() -> None:
         except (OSError, ValueError):     # a closed pipe (``| head``): nothing more to write there
             pass
     os._exit(code)
+
+
+def _compile_watch(module, args):
+    """The compile notice's watch of the command (:func:`wearjoint._compile.notice.watch_command`), none where its
+    module says the run compiles no numba kernel (``compiles(args)`` false): the watch imports numba."""
+    compiles = getattr(module, "compiles", None)
+    if compiles is not None and not compiles(args):
+        return contextlib.nullcontext()
+    from .._compile.notice import watch_command
+
+    return watch_command(args.command)
 
 
 def _figure_worker(command: str | None, argv: list[str]):

@@ -14,6 +14,16 @@ COMMUNICATION_KEYS = ("communication_steps", "rollbacks", "fmi_time_s", "master_
 INTEGRATOR_KEYS = ("integrator_accepted_steps", "integrator_rejected_steps")
 
 
+def compiles(args) -> bool:
+    """Whether the run may compile numba kernels: not with this package's co-simulation master once its library is
+    built (cosim.native_master: its loop and the run's kernels come compiled)."""
+    if args.master != "wearjoint" or args.fmu_interface != "co-simulation":
+        return args.fmu_interface == "model-exchange"
+    from ..cosim.native_master import native_master
+
+    return native_master(build=False) is None
+
+
 def run(args) -> int:
     """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error,
     2 on a bad option (one line naming it)."""
@@ -32,4 +42,4 @@ def run(args) -> int:
     return exit_status(record, "cosim")
 
 
-__all__ = ["add_arguments", "run"]
+__all__ = ["add_arguments", "compiles", "run"]

@@ -135,6 +135,10 @@ LOAD_TABLE_ROW_BASE = 1000
 
 # state vector y = [q (9), q_dot (9)], q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (Eq. 38)
 N_COORDINATES = 9
+# the mechanism kernels' workspace (core.slider_crank.make_workspace): jac and schur (N x N), phi, phi_dot, gamma,
+# M^-1 (Eq. 42) and the applied forces (N each)
+WORKSPACE_SHAPES = ((N_COORDINATES, N_COORDINATES),) * 2 + ((N_COORDINATES,),) * 5
+WORKSPACE_INVERSE_MASS = 5
 Y_SLIDER_X = 6
 Y_SLIDER_V = 15
 # body blocks inside q: crank 0..2, rod 3..5, slider 6..8; GROUND stands for the fixed frame (no coordinates)

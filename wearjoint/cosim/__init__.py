@@ -45,7 +45,17 @@ Schemes (``CoSimulationOptions.scheme``):
 from ..fmu.ensure import ensure_fmu
 from ..fmu.instance import INPUT_NAMES
 from .cosimulation import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation
-from .master_loop import OUTPUT_NAMES, SCHEMES, communication_step
+from .master_layout import OUTPUT_NAMES, SCHEMES
 
 __all__ = ["CoSimulation", "CoSimulationOptions", "CoSimulationError", "run_cosimulation", "ensure_fmu",
            "communication_step", "INPUT_NAMES", "OUTPUT_NAMES", "SCHEMES"]
+
+
+def __getattr__(name):
+    """``communication_step``, numba's kernel, imported when asked for (a co-simulation runs the compiled library's
+    and imports no numba)."""
+    if name == "communication_step":
+        from .master_loop import communication_step
+
+        return communication_step
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import layout as L
-from ..core.geometry import bushing_point_angles
 from ..fmu.ensure import ensure_fmu, start_fmu_build
 from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
 from ..fmu.instance import FmuInstance, OwnsFmuInstance
+from ..kernel_calls import bushing_point_angles
 from ..slider_crank import SliderCrank
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
@@ -23,13 +23,13 @@ from ..parameters import (
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
 from .native_master import native_master
-from .master_loop import (
-    _N_Y, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
+from ..fmu.instance import N_INPUTS
+from .master_layout import (
+    N_STATE, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
     B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
     C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME, G_FMI_TIME, G_FREE_STEPS, G_MISS_COUNT,
     G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISATION_OUTPUTS,
-    N_INPUTS, N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, monotonic_clock, buffer_views,
-    communication_step, master_loop,
+    N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, buffer_views, monotonic_clock,
 )
 
 CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
@@ -98,13 +98,20 @@ class CoSimulation(OwnsFmuInstance):
                  options: CoSimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,
                  initial_profile_m=None):
         self.options = options or CoSimulationOptions()
-        self.mechanism = SliderCrank(mechanism)
-        self.joint = joint or paper_joint(self.mechanism.params)
-        check_joint_fits_mechanism(self.joint, self.mechanism.params)
+        mechanism = mechanism or SliderCrankParameters()
+        self.joint = joint or paper_joint(mechanism)
+        check_joint_fits_mechanism(self.joint, mechanism)
         require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
         self._instance = None
         build = start_fmu_build(self.joint.n_points, fmu_path, fmu_backend)
+        try:   # the master's library is built (first use) while a missing FMU builds; the mechanism's kernels run there
+            native = native_master()
+            self.mechanism = SliderCrank(mechanism)
+        except BaseException:
+            if build is not None:
+                build.wait()
+            raise
         n_rev = int(math.ceil(self.options.revolutions)) + 1
         self.buf = np.zeros(B_STATS + n_rev * L.N_STATS)
         b = self.buf
@@ -115,7 +122,7 @@ class CoSimulation(OwnsFmuInstance):
         b[B_TRACK:B_TRACK + L.N_TRACK] = new_track(self.options.sample_dt_s)
         b[B_STATS:] = new_revolution_stats(n_rev).ravel()
         self.revolution_stats = b[B_STATS:].reshape((n_rev, L.N_STATS))
-        self.y = b[B_Y:B_Y + _N_Y]
+        self.y = b[B_Y:B_Y + N_STATE]
         self.outputs = b[B_OUTPUT:B_OUTPUT + N_OUTPUTS]
         self.y[:] = self.mechanism.initial_state()
         self.t = 0.0
@@ -138,15 +145,17 @@ class CoSimulation(OwnsFmuInstance):
             1.0 if o.scheme in ADAPTIVE_SCHEMES else 0.0, o.step_s, o.max_step_s, o.min_step_s, o.onset_penetration_m,
             1.0 if fmu_backend == "native" else 0.0, o.coupling_tolerance, 1.0 if o.scheme == "linearised" else 0.0)
         self._clock = monotonic_clock()
-        self._views = buffer_views.py_func(b)     # the per-revolution statistics and the RK4 scratch in buf
+        self._views = buffer_views(b)     # the per-revolution statistics and the RK4 scratch in buf
         self._timespec = np.zeros(2, dtype=np.int64)
-        try:   # the master's library is built (first use), or its numba kernels compile, while a missing FMU builds
-            native = native_master()
-            self._master_loop = master_loop if native is None else native.master_loop
-            if native is None:   # the FMU's inputs at the start (start_point), compiling the step
+        try:   # numba's kernels compile where there is no library, while a missing FMU builds
+            if native is None:   # numba's: the FMU's inputs at the start (start_point), compiling the step
+                from .master_loop import communication_step, master_loop
+
+                self._master_loop = master_loop
                 communication_step(0.0, 0.0, False, b, *self._views, self.mechanism.workspace,
                                    np.zeros((0, L.N_SAMPLE_COLUMNS)))
             else:
+                self._master_loop = native.master_loop
                 native.start_point(b)
         finally:
             if build is not None:

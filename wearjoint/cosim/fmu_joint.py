@@ -17,7 +17,7 @@ from ..core.joint_access import (
 from ..core.joint_location import bodies_kinematics
 from ..core.layout import M_ACTIVE, R_NORMAL_FORCE
 from ..core.wear import wears
-from ..fmu.fmi import failed_call
+from ..fmu.loop_calls import failed_call
 from ..fmu.variables import INPUTS
 
 # ``io`` = the inputs (the pin body's kinematics, then the bushing body's) then the outputs, whose layout.R_* slots are

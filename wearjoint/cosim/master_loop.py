@@ -7,14 +7,12 @@ recorder and the per-revolution statistics.  :func:`communication_step` advances
 the mechanism over one communication step; :func:`master_loop` runs the steps,
 calling the FMU's ``fmi2DoStep``/``fmi2SetReal``/``fmi2GetReal`` (and the FMU-state
 functions for rollbacks) through their C entry points, so the master adds no
-Python work per step.  The schemes are described in :mod:`wearjoint.cosim`.
+Python work per step.  The schemes are described in :mod:`wearjoint.cosim`, the buffer's, the register's and the
+settings' layout in :mod:`.master_layout`.
 """
 from __future__ import annotations
 
-import ctypes
 import math
-
-import numpy as np
 
 from ..core import layout as L
 from ..core.integrators import onset_retry_step, record_step, rk4_step
@@ -24,64 +22,17 @@ from ..core.joint_location import body_angle, joint_bodies, joint_kinematics
 from ..core.linearisation import linearisation_from_published
 from ..core.slider_crank import angle_trig, derivative_rotated, no_joint
 from ..core.trig import rotated_trig
-from ..fmu.fmi import call_clock, call_do_step, call_real_values, call_with_state, failed_call, function_address
+from ..fmu.loop_calls import call_clock, call_do_step, call_real_values, call_with_state, failed_call
 from ..fmu.instance import N_INPUTS
-from ..fmu.variables import JACOBIAN_SLOTS, RESULT_SLOTS
+from .master_layout import (
+    B_DY, B_EXTRAPOLATE, B_FORCES, B_INPUT, B_LAST_STEP, B_LINEARISATION, B_LINEARISE, B_LINEARISED_AT, B_MP,
+    B_OUTPUT, B_PREVIOUS_CONTACT, B_PREVIOUS_FORCES, B_RESULT, B_ROLLBACK_END, B_TRACK, B_TRIG, B_Y, C_ADAPTIVE,
+    C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP, C_TOLERANCE, F_DO_STEP,
+    F_FREE_STATE, F_GET_REAL, F_GET_STATE, F_SET_REAL, F_SET_STATE, G_CONTACT_STEP, G_FAILED_CALL, G_FMI_TIME,
+    G_FREE_STEPS, G_MISS_COUNT, G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS,
+    G_STEPS, G_T, N_OUTPUTS, N_STATE, OUTPUT_RESULT_INDEX, O_CONTACT, O_NORMAL_FORCE, O_PENETRATION,
+)
 
-SCHEMES = ("zoh", "extrapolation", "adaptive", "linearised")
-ADAPTIVE_SCHEMES = ("adaptive", "linearised")   # long steps in free flight, rollbacks to contact onsets
-
-# --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
-OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
-                "bushing_torque", "normal_force", "friction_force", "penetration", "contact",
-                "eccentricity_x", "eccentricity_y")
-OUTPUT_RESULT_INDEX = np.array([RESULT_SLOTS[name] for name in OUTPUT_NAMES])   # the FMU's table (fmu.variables)
-N_OUTPUTS = len(OUTPUT_NAMES)
-O_PENETRATION = OUTPUT_NAMES.index("penetration")
-O_CONTACT = OUTPUT_NAMES.index("contact")
-O_NORMAL_FORCE = OUTPUT_NAMES.index("normal_force")
-
-# --- the master's state buffer: one float64 array, so the per-step kernel takes few arguments.
-# Everything a rollback restores is at its start (one copy saves it).
-_N_Y = 2 * L.N_COORDINATES
-B_Y = 0                                   # mechanism state [q, q_dot]
-B_OUTPUT = B_Y + _N_Y                     # FMU outputs at t (OUTPUT_NAMES), aliased by a ctypes array
-B_PREVIOUS_FORCES = B_OUTPUT + N_OUTPUTS  # FMU forces at the accepted point before t (extrapolation)
-B_PREVIOUS_CONTACT = B_PREVIOUS_FORCES + 6   # 1.0 if the pin touched there
-B_LAST_STEP = B_PREVIOUS_CONTACT + 1      # length of the step that ended at t [s]
-B_TRIG = B_LAST_STEP + 1                  # crank angle, its cos, sin, rod angle, cos, sin at t; rotations left
-B_ROLLBACK_END = B_TRIG + 7
-B_DY = B_ROLLBACK_END                     # f(t, y) with the held forces
-B_INPUT = B_DY + _N_Y                     # FMU inputs at the end of the step, aliased by a ctypes array
-B_RESULT = B_INPUT + N_INPUTS             # outputs in the layout.R_* result layout (for record_step)
-B_FORCES = B_RESULT + L.N_RESULT          # (Fx, Fy, T) on the crank then the rod
-B_STAGES = B_FORCES + 6                   # RK4 stage scratch (4 rows of the state size)
-B_TRACK = B_STAGES + 4 * _N_Y             # record_step bookkeeping (samples, previous contact)
-B_MP = B_TRACK + L.N_TRACK                # mechanism parameter vector
-B_EXTRAPOLATE = B_MP + L.N_MECHANISM_PARAMETERS   # 1.0: extrapolate the forces during contact
-B_LINEARISE = B_EXTRAPOLATE + 1           # 1.0: linearise the loads during contact (scheme linearised)
-B_LINEARISED_AT = B_LINEARISE + 1         # the time of the linearisation at B_LINEARISATION [s] (-1: none)
-B_LINEARISATION = B_LINEARISED_AT + 1     # the FMU's loads and their Jacobian there (layout.LIN_*)
-B_STATS = B_LINEARISATION + L.N_LINEARISATION   # per-revolution statistics (rows of layout.N_STATS)
-
-
-# --- master_loop's register: the loop's state between calls, then its counters (this call, from G_STEPS
-# on: reset by the caller) and its failure
-G_T = 0                  # time reached [s]
-G_PREVIOUS_PENETRATION = 1   # FMU penetration at the accepted point before t [m]
-G_CONTACT_STEP = 2       # adaptive: the communication step in contact now [s] (0: step_s)
-G_STEPS = 3              # communication steps accepted
-G_ROLLBACKS = 4          # rollbacks
-G_FMI_TIME = 5           # wall time in FMI calls [s], estimated from every FMI_TIMING_EVERY-th iteration's
-G_FREE_STEPS = 6         # accepted steps that started in free flight
-G_SHRUNK_STEPS = 7       # accepted steps in contact shorter than step_s (the force missed its extrapolation)
-G_FAILED_CALL = 8        # index into FMI_CALLS of the call that failed, 0 if none
-G_FAILED_STATUS = 9      # its fmi2Status
-G_FAILED_TIME = 10       # the communication point it was made for [s]
-G_MISS_SQ_SUM = 11       # adaptive and linearised, steps in contact with a predicted force: the sum of the squared
-G_MISS_MAX = 12          # relative misses of the prediction (|F(t + h) - F_predicted| / max(|F(t + h)|, |F(t)|,
-G_MISS_COUNT = 13        # 100 N)), their largest and their number: the coupling's error estimate
-N_REGISTER = 14
 # the loop times the FMI calls of one iteration in this many and scales them by it: a prime, so that a periodic
 # pattern of costly steps (the FMU applies its wear batch every few steps) is sampled at every phase (with 16 a
 # batch every 6 steps was sampled at half its phases: the FMI estimate passed the wall time)
@@ -97,17 +48,6 @@ _MISS_FORCE_FLOOR = 100.0     # [N]: light contact (a few N, friction switching)
 # paper's first 15 ms left the monolithic path by 4.2e-5 m, from a quarter by 5.5e-7; the control grows it at most 2x
 # a step).  The extrapolating scheme keeps step_s (from a quarter its first 20 ms ended 10x further off)
 _FIRST_CONTROLLED_STEP_SHARE = 0.25
-FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", "fmi2SetFMUstate",
-             "fmi2FreeFMUstate")
-F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
-# the FMU outputs the linearised scheme reads in contact: its published derivatives (layout.LIN_JACOBIAN's rows
-# PUBLISHED_LINEARISED_LOADS)
-LINEARISATION_OUTPUTS = tuple(JACOBIAN_SLOTS)
-# --- master_loop's settings; C_REUSE_STATE: 1.0 if getFMUstate overwrites the state it is given (FMI's "typically";
-# the pythonfmu slave returns a new one and loses the old), else each state is freed before the next;
-# C_TOLERANCE: the relative force miss the adaptive contact step is controlled to (0: the fixed rule)
-C_ADAPTIVE, C_STEP, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_TOLERANCE, C_LINEARISE = range(8)
-N_SETTINGS = 8
 # error-controlled contact step: h_next = h * SAFETY * sqrt(tolerance / miss) (the miss of a linear extrapolation
 # is of second order in h), within [1/2, 2] times h
 _CONTROL_SAFETY = 0.9
@@ -154,14 +94,6 @@ def _step_trig(buf, y, mp):
     return cos1, sin1, cos2, sin2
 
 
-@kernel(inline='always')
-def buffer_views(buf):
-    """The 2-D views of ``buf`` that :func:`communication_step` takes: the per-revolution statistics
-    (rows of layout.N_STATS) and the RK4 stage scratch (4 rows of the state size)."""
-    return (buf[B_STATS:].reshape((-1, L.N_STATS)),
-            buf[B_STAGES:B_STAGES + 4 * _N_Y].reshape((4, _N_Y)))
-
-
 @kernel   # not inlined: the other schemes' step keeps its one RK4 call
 def _linearised_step(t, y, h, trig, mp, buf, forces, ws, dy, stages):
     """The RK4 step from t in contact with the loads F0 + J (u - u0), J the FMU's at t (B_LINEARISATION)."""
@@ -172,7 +104,7 @@ def _linearised_step(t, y, h, trig, mp, buf, forces, ws, dy, stages):
 @kernel
 def communication_step(t, h, record, buf, stats, stages, ws, samples):
     """One communication step of the master; returns the time reached [s].  ``stats``, ``stages``:
-    :func:`buffer_views` (buf), made once by the caller (a reshape per step costs a call).
+    :func:`~.master_layout.buffer_views` (buf), made once by the caller (a reshape per step costs a call).
 
     From the FMU outputs at t (``buf[B_OUTPUT:]``) sets the forces and f(t, y);
     if ``record``, accounts the point t (``record_step``, the step that ended
@@ -226,7 +158,7 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
 def start_point(buf):
     """What :func:`communication_step` leaves at the master's first point besides what the first step overwrites:
     the trigonometry of the state (B_TRIG: libm's, the rotations restarted) and the FMU inputs there (B_INPUT)."""
-    y = buf[B_Y:B_Y + _N_Y]
+    y = buf[B_Y:B_Y + N_STATE]
     mp = buf[B_MP:B_MP + L.N_MECHANISM_PARAMETERS]
     _step_trig(buf, y, mp)
     joint_kinematics(y, mp, buf[B_INPUT:B_INPUT + N_INPUTS])
@@ -247,7 +179,7 @@ def _fmi_seconds(timed, clock, timespec, start):
 
 @kernel(inline='always')
 def _outcome(register, call, status, t, seconds):
-    """A step's last FMI call checked: (``call``, its FMI_CALLS index, if it failed (recorded in ``register``) else
+    """A step's last FMI call checked: (``call``, its master_layout.FMI_CALLS index, if it failed (recorded in ``register``) else
     0, ``seconds``)."""
     return (call if failed_call(register, G_FAILED_CALL, call, status, t) else 0), seconds
 
@@ -265,7 +197,7 @@ def _free_flight_step(buf, pen, pen_before, h_max, h_contact, onset):
 @kernel(inline='always')
 def _save_rollback_point(buf, saved, fmi, register, t, reuse_state, timed, clock, timespec):
     """The state a free-flight step may come back to: ``buf`` up to B_ROLLBACK_END into ``saved`` and the FMU's
-    state (the previous one freed unless the FMU reuses it).  Returns (the FMI_CALLS index of a failed call or 0,
+    state (the previous one freed unless the FMU reuses it).  Returns (the master_layout.FMI_CALLS index of a failed call or 0,
     the FMI seconds if ``timed``)."""
     component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
     for i in range(B_ROLLBACK_END):      # element by element: a slice copy needs numba's NRT
@@ -298,7 +230,7 @@ def _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec):
 
 @kernel(inline='always')
 def _roll_back(buf, saved, fmi, register, t, timed, clock, timespec):
-    """Back to the rollback point: ``buf`` from ``saved`` and the FMU's state set.  Returns (the FMI_CALLS index of
+    """Back to the rollback point: ``buf`` from ``saved`` and the FMU's state set.  Returns (the master_layout.FMI_CALLS index of
     a failed call or 0, the FMI seconds if ``timed``)."""
     component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
     for i in range(B_ROLLBACK_END):
@@ -346,7 +278,7 @@ def _linearised_force(buf, r):
 def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
     """The FMU's loads at t (its outputs) and the linearisation it publishes there (one fmi2GetReal of its
     d_*_d_* outputs, fmu.variables.LINEARISED_ROWS) into B_LINEARISATION, its time B_LINEARISED_AT.  ``published``
-    = (their value references, scratch for their values).  Returns (the FMI_CALLS index of a failed call or 0, the
+    = (their value references, scratch for their values).  Returns (the master_layout.FMI_CALLS index of a failed call or 0, the
     FMI seconds if ``timed``)."""
     component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
     derivative_vrs, derivatives = published
@@ -365,16 +297,16 @@ def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
 
 @kernel
 def master_loop(t_end, register, settings, buf, stats, stages, saved, samples, ws, fmi, published, clock, timespec):
-    """Co-simulate from register[G_T] to t_end; returns 0, or the FMI_CALLS index of a
+    """Co-simulate from register[G_T] to t_end; returns 0, or the master_layout.FMI_CALLS index of a
     call that returned worse than fmi2Warning (details in ``register``).
 
     ``fmi`` = (component (address), input value references, output value references, FMU-state
     slot, then the addresses of doStep, setReal, getReal, getFMUstate, setFMUstate,
     freeFMUstate): the FMU's C functions, called with the buffers' addresses; ``clock``: clock_gettime's
-    address (:func:`monotonic_clock`); ``published``: what
+    address (:func:`~.master_layout.monotonic_clock`); ``published``: what
     :func:`_linearise` reads (scheme linearised).
     Inputs and outputs are read and written in ``buf`` (B_INPUT, B_OUTPUT); ``stats``, ``stages``:
-    :func:`buffer_views` (buf).
+    :func:`~.master_layout.buffer_views` (buf).
     Adaptive scheme: see the module docstring; ``saved`` holds buf[:B_ROLLBACK_END]
     at the start of a free-flight step, the FMU state slot the matching FMU state.
     Each iteration: the step's length, a rollback point in free flight (:func:`_save_rollback_point`), the
@@ -485,8 +417,3 @@ def master_loop(t_end, register, settings, buf, stats, stages, saved, samples, w
     register[G_ROLLBACKS] = rollbacks
     register[G_FMI_TIME] = fmi_time
     return failed
-
-
-def monotonic_clock() -> int:
-    """The address of libc's clock_gettime, for master_loop's split of FMI time and master time."""
-    return function_address(ctypes.CDLL(None).clock_gettime)

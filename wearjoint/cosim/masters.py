@@ -46,10 +46,9 @@ import numpy as np
 from ..analysis import past_admissible, pin_left_bushing
 from ..checks import RunDiverged
 from ..core import layout as L
-from ..core.geometry import bushing_point_angles
-from ..core.integrators import record_points
 from ..fmu import ssp
 from ..fmu import variables as fv
+from ..kernel_calls import bushing_point_angles
 from ..slider_crank import pack_mechanism_parameters
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 
@@ -364,6 +363,8 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     """The run record of a trace: per-revolution statistics and samples from the engines' recorder
     (every communication point is an accepted point; ``chunk`` points at a time), the worn profile
     where the master gave one (else NaN, the max wear depth from the joint's scalar output)."""
+    from ..core.integrators import record_points   # numba's kernel: the package's own master imports no numba
+
     mp = pack_mechanism_parameters(mechanism)
     period = mechanism.period_s
     n = trace.time_s.size

@@ -26,7 +26,7 @@ from ..results import RunParameters
 from ..runner import run_engine
 from ..simulate import Simulation, SimulationOptions
 from .fmu_joint import FMU_CALLS, FmuJoint
-from .master_loop import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
+from .master_layout import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
 
 
 

@@ -10,14 +10,13 @@ the master runs numba's (:func:`wearjoint.cosim.master_loop.master_loop`): the s
 from __future__ import annotations
 
 import ctypes
-import functools
 import os
 import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._compile.cache import user_cache_dir
+from .._compile.user_cache import user_cache_dir
 
 _LIBRARY = "wearjoint_master"
 
@@ -27,9 +26,9 @@ class MasterKernels:
     """What :mod:`wearjoint.fmu.kernel_ir` needs to know of the master's kernels (as of a native FMU model's)."""
 
     name: str = "master"
-    ir_modules: tuple = ("cosim/master_loop.py", "cosim/master_entry_points.py", "fmu/__init__.py", "fmu/fmi.py",
-                         "fmu/instance.py", "fmu/extracted.py", "fmu/variables.py", "fmu/slider_crank_entry_points.py",
-                         "fmu/state_entry_points.py")
+    ir_modules: tuple = ("cosim/master_loop.py", "cosim/master_layout.py", "cosim/master_entry_points.py",
+                         "fmu/__init__.py", "fmu/fmi.py", "fmu/loop_calls.py", "fmu/instance.py", "fmu/extracted.py",
+                         "fmu/variables.py", "fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py")
     kernel_header: str | None = None     # ctypes calls it: no C prototype to keep in step
     folder: str | None = None
 
@@ -78,14 +77,14 @@ def build_library(path: Path) -> Path:
     return path
 
 
-def _c_function(library, symbol: str, arguments):
+def _c_function(library, symbol: str, arguments, result_type=ctypes.c_int64):
     """``symbol`` of ``library``, compiled by numba with ``arguments``, as a Python function of them returning its
     result (numba's calling convention: a status, the value through a pointer; the kernels have no path that
     raises)."""
     function = getattr(library, symbol)
     function.argtypes = (ctypes.c_void_p, ctypes.c_void_p, *arguments)
     function.restype = ctypes.c_int32
-    result, exception = ctypes.c_int64(), ctypes.c_void_p()
+    result, exception = result_type(), ctypes.c_void_p()
     result_address, exception_address = ctypes.addressof(result), ctypes.addressof(exception)
 
     def call(*values):
@@ -96,14 +95,30 @@ def _c_function(library, symbol: str, arguments):
     return call
 
 
+_POINTER, _SIZE, _DOUBLE = ctypes.c_void_p, ctypes.c_ssize_t, ctypes.c_double
+
+
+def _addresses(arrays):
+    return tuple(a.ctypes.data for a in arrays)
+
+
 class NativeMaster:
-    """:func:`~wearjoint.cosim.master_loop.master_loop` and :func:`~wearjoint.cosim.master_loop.start_point` of the
-    library at ``path``, their arguments the same (C-contiguous arrays)."""
+    """The library at ``path``: :func:`~wearjoint.cosim.master_loop.master_loop` and
+    :func:`~wearjoint.cosim.master_loop.start_point`, their arguments the same (C-contiguous float64 arrays), and
+    the kernels a run calls once (:mod:`wearjoint.kernel_calls`)."""
 
     def __init__(self, path: Path):
         library = ctypes.CDLL(str(path))
         self._loop = _c_function(library, "wearjoint_master_loop", _ARGUMENTS)
-        self._start_point = _c_function(library, "wearjoint_start_point", (ctypes.c_void_p, ctypes.c_ssize_t))
+        self._start_point = _c_function(library, "wearjoint_start_point", (_POINTER, _SIZE))
+        self._parameters = _c_function(library, "wearjoint_mechanism_parameters", (_POINTER,) * 3)
+        self._initial_state = _c_function(library, "wearjoint_initial_state", (_DOUBLE, *(_POINTER,) * 9))
+        self._ideal_joint_forces = _c_function(library, "wearjoint_ideal_joint_forces",
+                                               (_POINTER, _SIZE, *(_POINTER,) * 13))
+        self._bushing_points = _c_function(library, "wearjoint_bushing_points", (*(_POINTER,) * 3, _SIZE))
+        self.effective_modulus = _c_function(library, "wearjoint_effective_modulus", (_DOUBLE,) * 4, ctypes.c_double)
+        self.materials_contact_stiffness = _c_function(library, "wearjoint_materials_contact_stiffness",
+                                                       (_DOUBLE,) * 3, ctypes.c_double)
 
     def master_loop(self, t_end, register, settings, buf, stats, stages, saved, samples, ws, fmi, published, clock,
                     timespec):
@@ -111,7 +126,7 @@ class NativeMaster:
         derivative_vrs, derivatives = published
         return self._loop(t_end, register.ctypes.data, settings.ctypes.data, buf.ctypes.data, buf.shape[0],
                           stats.ctypes.data, stats.shape[0], stages.ctypes.data, saved.ctypes.data,
-                          samples.ctypes.data, samples.shape[0], *(a.ctypes.data for a in ws), component,
+                          samples.ctypes.data, samples.shape[0], *_addresses(ws), component,
                           input_vrs.ctypes.data, output_vrs.ctypes.data, state_slot.ctypes.data, *functions,
                           derivative_vrs.ctypes.data, derivative_vrs.shape[0], derivatives.ctypes.data, clock,
                           timespec.ctypes.data)
@@ -119,15 +134,37 @@ class NativeMaster:
     def start_point(self, buf):
         self._start_point(buf.ctypes.data, buf.shape[0])
 
+    def mechanism_parameters(self, fields, mp, inverse_mass):
+        """The kernels' parameter vector from the mechanism's fields and M^-1 (the SliderCrank FMU's)."""
+        return self._parameters(*_addresses((fields, mp, inverse_mass)))
 
-@functools.lru_cache(maxsize=1)
-def native_master() -> NativeMaster | None:
-    """The master's library (built on first use); None where it cannot be built or loaded here (the caller runs
-    numba's kernels)."""
-    try:
-        path = library_path()
-        if not path.is_file():
-            build_library(path)
-        return NativeMaster(path)
-    except (OSError, RuntimeError, subprocess.SubprocessError, AttributeError):
-        return None
+    def initial_state(self, t, mp, ws, y):
+        self._initial_state(t, mp.ctypes.data, *_addresses(ws), y.ctypes.data)
+
+    def ideal_joint_forces(self, times, mp, ws, result, y, qdd, body_forces, out):
+        self._ideal_joint_forces(times.ctypes.data, times.shape[0], mp.ctypes.data, *_addresses(ws),
+                                 *_addresses((result, y, qdd, body_forces, out)))
+
+    def bushing_points(self, phi, cos_phi, sin_phi):
+        self._bushing_points(*_addresses((phi, cos_phi, sin_phi)), phi.shape[0])
+
+
+_loaded: NativeMaster | None = None    # the library this process loaded
+_failed = False                        # it could not be built or loaded here: numba's kernels from then on
+
+
+def native_master(build: bool = True) -> NativeMaster | None:
+    """The master's library, loaded once per process (built first if missing and ``build``); None where it cannot be
+    built or loaded here, or is missing and ``build`` is false: the caller runs numba's kernels."""
+    global _loaded, _failed
+    if _loaded is None and not _failed:
+        try:
+            path = library_path()
+            if not path.is_file():
+                if not build:
+                    return None
+                build_library(path)
+            _loaded = NativeMaster(path)
+        except (OSError, RuntimeError, subprocess.SubprocessError, AttributeError, ImportError):
+            _failed = True
+    return _loaded

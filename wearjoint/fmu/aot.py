@@ -74,8 +74,14 @@ ENTRY_POINTS = {
         **STATE_ENTRY_POINTS,
     }),
     # not an FMU: the co-simulation master's loop (wearjoint.cosim.native_master)
-    "master": ("wearjoint.cosim.master_entry_points", {"wearjoint_master_loop": ("master_loop_native", 33),
-                                                       "wearjoint_start_point": ("start_point_native", 2)}),
+    "master": ("wearjoint.cosim.master_entry_points", {
+        "wearjoint_master_loop": ("master_loop_native", 33), "wearjoint_start_point": ("start_point_native", 2),
+        "wearjoint_mechanism_parameters": ("parameters_native", 3),
+        "wearjoint_initial_state": ("initial_state_native", 10),
+        "wearjoint_ideal_joint_forces": ("ideal_joint_forces_native", 15),
+        "wearjoint_bushing_points": ("bushing_points_native", 4),
+        "wearjoint_effective_modulus": ("effective_modulus_native", 4),
+        "wearjoint_materials_contact_stiffness": ("materials_contact_stiffness_native", 3)}),
 }
 # model -> the entry points of the second of two AOT processes, in order (the first takes the rest).  The
 # first starts with the contact's evaluation, which the second's last entry point calls again: by then it
@@ -86,7 +92,8 @@ PARTS = {
               "wearjoint_block_minima", "wearjoint_worn_volume", "wearjoint_complete_parameters", "wearjoint_advance"),
     "slider-crank": ("wearjoint_state_size", "wearjoint_write_state", "wearjoint_check_header", "wearjoint_read_state",
                      "wearjoint_check_values"),
-    "master": (),
+    "master": ("wearjoint_ideal_joint_forces", "wearjoint_initial_state", "wearjoint_mechanism_parameters",
+               "wearjoint_bushing_points", "wearjoint_effective_modulus", "wearjoint_materials_contact_stiffness"),
 }
 
 # what a kernel object may need from outside: libm (and memset/memcpy from libc)

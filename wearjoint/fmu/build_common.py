@@ -14,7 +14,7 @@ import sys
 import zipfile
 from pathlib import Path
 
-from .._compile.cache import user_cache_dir as user_cache_dir   # built FMUs live below it
+from .._compile.user_cache import user_cache_dir as user_cache_dir   # built FMUs live below it
 from . import variables as fv
 
 FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"

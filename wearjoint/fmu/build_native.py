@@ -35,8 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from .. import __version__
-from ..core import layout, state_format
-from ..core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT
+from ..core import layout
 from ..parameters import JointParameters, ParameterError
 from . import slider_crank as sc
 from . import variables as fv
@@ -170,7 +169,7 @@ def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str 
     """Identifies the model a native build implements (its GUID): wearjoint version, the model (the
     joint: n_points), FMI version, numba version, hash of the sources, and of the parameters' start
     values where ``starts`` changes them (with the description's ``note``, where one is given)."""
-    import numba
+    from importlib.metadata import version   # not numba.__version__: a co-simulation imports no numba
 
     spec = native_model(model)
     digest = source_digest(shipped_sources(fmi_version, model), PACKAGE_DIR.parent)
@@ -178,7 +177,7 @@ def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str 
     values = ("-p" + hashlib.sha256(json.dumps([sorted(starts.items()), note] if note else sorted(starts.items()))
                                     .encode()).hexdigest()[:12]) if starts or note else ""
     stride = f"-s{profile_stride}" if profile_stride != 1 else ""
-    return (f"{__version__}-{size}{stride}-native-fmi{check_fmi_version(fmi_version)}-numba{numba.__version__}-"
+    return (f"{__version__}-{size}{stride}-native-fmi{check_fmi_version(fmi_version)}-numba{version('numba')}-"
             f"{digest}{values}")
 
 
@@ -220,6 +219,9 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
     """``model_variables.h``: the variable table as the C layer reads it (generated, not edited), the
     parameters' start values from ``starts`` where given there, the FMI 2.0 profile outputs every
     ``profile_stride``-th point (:func:`~wearjoint.fmu.variables.profile_points`)."""
+    from ..core import state_format   # numba's kernels (and the wear's constants): a co-simulation imports none
+    from ..core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT
+
     variables = fv.fmu_variables(n_points, profile_stride=profile_stride)
     n_profile = len(fv.profile_points(n_points, profile_stride))
     vr = {v.name: i for i, v in enumerate(variables)}

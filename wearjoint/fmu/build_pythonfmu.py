@@ -48,7 +48,8 @@ REQUIREMENTS = "numpy\nnumba\n"
 
 # The slave's run-time import closure within wearjoint (tests/fmu/test_fmu_build.py checks that
 # importing the slave from the FMU's resources loads exactly these).
-RUNTIME_MODULES = ("__init__.py", "_compile/__init__.py", "_compile/cache.py", "checks.py", "joint_fields.py",
+RUNTIME_MODULES = ("__init__.py", "_compile/__init__.py", "_compile/cache.py", "_compile/user_cache.py", "checks.py",
+                   "joint_fields.py",
                    "parameters.py",
                    "mechanism_parameters.py", "joint.py", "fmu/__init__.py", "fmu/variables.py",
                    "core/__init__.py", "core/layout.py", "core/jit.py", "core/geometry.py", "core/pressure.py", "core/damping.py",

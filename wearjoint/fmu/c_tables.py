@@ -3,8 +3,6 @@ from __future__ import annotations
 
 import json
 
-from ..core import state_format
-
 
 def c_string(text: str) -> str:
     """A valid C string literal for the ASCII texts used here."""
@@ -36,6 +34,8 @@ def parameter_rows(parameters) -> list[str]:
 def state_problem_tables() -> str:
     """The message of each problem a state check reports (core/state_format.py), as printf formats of
     the values as text, and the kinds (d, g, x) of those values: ``STATE_PROBLEMS``, ``STATE_PROBLEM_KINDS``."""
+    from ..core import state_format   # numba's kernels: the package's co-simulation imports none
+
     problems = state_format.printf_problems()
     return (f"#define STATE_N_PROBLEMS {len(problems)}\n"
             "static const char *const STATE_PROBLEMS[STATE_N_PROBLEMS] = {\n"

@@ -16,7 +16,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from .._compile.cache import user_cache_dir
+from .._compile.user_cache import user_cache_dir
 
 KEEP = 8                          # extracted FMUs kept (the most recently used)
 _COMPLETE = "wearjoint-extracted"  # written last: the folder is whole

@@ -175,7 +175,7 @@ class FmuInstance:
             raise_failed_call(status, call, t, self._log_tail(), refused)
 
     def check_recorded(self, record, calls: tuple[str, ...]) -> None:
-        """:meth:`check` of the failure a compiled loop recorded (:func:`wearjoint.fmu.fmi.failed_call`:
+        """:meth:`check` of the failure a compiled loop recorded (:func:`wearjoint.fmu.loop_calls.failed_call`:
         the call's index in ``calls``, its status, its time), if any."""
         if record[0] != 0.0:
             self.check(int(record[1]), calls[int(record[0])], float(record[2]))

@@ -31,7 +31,6 @@ import time
 from pathlib import Path
 
 from .._compile.prefetch import usable_cores
-from .._compile.notice import announced_progress
 from . import aot, platforms
 from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir
 
@@ -59,10 +58,9 @@ def kernel_digest(spec) -> str:
 
 def kernel_key(spec) -> str:
     """What the kernel IR of ``spec`` depends on: numba and llvmlite versions, :func:`kernel_digest`."""
-    import llvmlite
-    import numba
+    from importlib.metadata import version   # not numba.__version__: a warm co-simulation does not import numba
 
-    return f"{spec.name}-numba{numba.__version__}-llvmlite{llvmlite.__version__}-{kernel_digest(spec)}"
+    return f"{spec.name}-numba{version('numba')}-llvmlite{version('llvmlite')}-{kernel_digest(spec)}"
 
 
 def _aot_parts(model: str) -> list:
@@ -76,8 +74,10 @@ def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
     """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
     progress bar of their compilations.  They take the kernels numba's cache holds (an in-process run's:
     the same CPU) unless ``fresh`` (an empty cache)."""
+    from .._compile.notice import announced_progress   # imports numba, which a warm co-simulation does not
+
     parts = _aot_parts(model)
-    bar = announced_progress("fmu")
+    bar = announced_progress("master" if model == "master" else "fmu")
     counts = [0] * len(parts)
 
     def follow(k, stream):

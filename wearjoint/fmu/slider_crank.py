@@ -29,7 +29,6 @@ from .. import mechanism_parameters as mp
 from ..checks import ANY, NON_NEGATIVE, POSITIVE, Allowed
 from ..parameters import SliderCrankParameters
 from . import variables as fv
-from ..core import state_format
 from .c_tables import c_string, parameter_rows, state_problem_tables
 from .model_description import LOG_CATEGORIES, interfaces, root_with_interfaces_and_units
 
@@ -205,6 +204,8 @@ def _choice_text(choices) -> str:
 def model_variables_header(guid: str, starts: dict | None = None) -> str:
     """``model_variables.h`` of the C model (slider_crank_model.c): generated, not edited; the
     parameters' start values from ``starts`` where given there."""
+    from ..core import state_format   # numba's kernels: the package's co-simulation imports none
+
     parameters = [v for v in variables(starts) if v.causality == fv.PARAMETER]
     names = [p.name for p in parameters]
     rows = parameter_rows([(p.name, p.index, p.start, p.n_choices, p.allowed, names.index(p.allowed.above)
