@@ -45,6 +45,7 @@ REPO = Path(__file__).resolve().parents[1]
 BENCHMARKS = REPO / "benchmarks"
 DEFAULT_JSON = BENCHMARKS / "results" / "performance.json"
 DEFAULT_OUT = REPO / "docs" / "performance.md"
+ACCURACY_DIR = BENCHMARKS / "results" / "coupling_accuracy"   # python -m wearjoint.studies.coupling_accuracy --out
 JOBS = ("probes", "exudyn", "instructions", "floor")
 PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
 QUICK_SKIPPED_PROBES = ("cosim-wear-long", "cold")
@@ -336,6 +337,28 @@ def render_floor(rows) -> list[str]:
     return lines
 
 
+def render_accuracy(folder: Path = ACCURACY_DIR) -> list[str]:
+    """The co-simulation's ensembles against monolithic RK4 (wearjoint.studies.coupling_accuracy's table), where
+    its files are in ``folder``: not run by this script (about 10 minutes per configuration)."""
+    results, run = folder / "coupling_accuracy.json", folder / "coupling_accuracy_run.json"
+    if not results.is_file() or not run.is_file():
+        return []
+    from wearjoint.studies.coupling_accuracy import table
+
+    meta = json.loads(run.read_text())
+    command = " ".join(["python -m wearjoint.studies.coupling_accuracy", *meta["options"]])
+    commit_of = _git("log", "-1", "--format=%h", "--", str(results.relative_to(REPO)))
+    committed = f"its files last committed in `{commit_of}`" if commit_of else "its files not committed yet"
+    return ["## The co-simulation's answers against the monolithic engine", "",
+            "Ensembles of 8 starts spread over a turn (6 revolutions, the first 2 dropped): each configuration's mean "
+            "± standard error per statistic and its difference from monolithic RK4 at 2.5 µs in combined standard "
+            "errors (z; |z| ≤ 2: inside the monolithic scatter); the cases and the statistics: "
+            "[cosim_study.md](explanation/cosim_study.md#ensembles-on-worn-grooves). Communication steps per "
+            "revolution are the speed's other half.", "",
+            f"Command: `{command}` ({meta.get('started', '?')} to {meta.get('finished', 'unfinished')}, "
+            f"{committed}; not run by this script)", "", table(json.loads(results.read_text())), ""]
+
+
 def render(data: dict) -> str:
     rows = data["rows"]
     options = data["options"]
@@ -361,6 +384,7 @@ def render(data: dict) -> str:
               "[how-to: pick a step and a master](how-to/choose_step_and_master.md); "
               "how the speed came about: [CHANGELOG](../CHANGELOG.md).", ""]
     lines += render_probes([r for r in rows if r.get("job") == "probes"])
+    lines += render_accuracy()
     lines += render_exudyn([r for r in rows if r.get("job") == "exudyn"])
     lines += render_instructions([r for r in rows if r.get("job") == "instructions"])
     lines += render_floor([r for r in rows if r.get("job") == "floor"])

@@ -29,7 +29,7 @@ clearance along the direction the contact force of an unworn run points to most
         [--master-steps 5e-6] [--load-coupling linearised] [--out DIR]
 
 ``--out DIR``: coupling_accuracy.json and coupling_accuracy.md (the table), rewritten as each configuration
-finishes.
+finishes, and coupling_accuracy_run.json (the options, when it started and finished).
 """
 from __future__ import annotations
 
@@ -242,6 +242,8 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args(argv)
     results = []
+    run = {"options": list(sys.argv[1:] if argv is None else argv), "started": time.strftime("%Y-%m-%d %H:%M UTC",
+                                                                                              time.gmtime())}
 
     def save(case=None) -> None:
         """coupling_accuracy.json and .md of the finished cases and rows (and ``case``'s so far)."""
@@ -250,9 +252,11 @@ def main(argv=None) -> int:
             args.out.mkdir(parents=True, exist_ok=True)
             (args.out / "coupling_accuracy.json").write_text(json.dumps(done, indent=1))
             (args.out / "coupling_accuracy.md").write_text(table(done) + "\n")
+            (args.out / "coupling_accuracy_run.json").write_text(json.dumps(run, indent=1))
 
     for name in args.cases:
         results.append(run_case(name, args, log=lambda text: print(text, file=sys.stderr, flush=True), save=save))
+    run["finished"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     save()
     print(table(results))
     return 0
