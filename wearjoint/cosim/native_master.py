@@ -77,18 +77,18 @@ def build_library(path: Path) -> Path:
     return path
 
 
-def _c_function(library, symbol: str, arguments, result_type=ctypes.c_int64):
+def _c_function(library, symbol: str, arguments, result_type=ctypes.c_int32):
     """``symbol`` of ``library``, compiled by numba with ``arguments``, as a Python function of them returning its
-    result (numba's calling convention: a status, the value through a pointer; the kernels have no path that
-    raises)."""
+    result (numba's calling convention: a status, the value of ``result_type`` through a pointer; the kernels have
+    no path that raises).  The value's place is the call's own: ctypes releases the GIL, so threads may call at
+    once."""
     function = getattr(library, symbol)
     function.argtypes = (ctypes.c_void_p, ctypes.c_void_p, *arguments)
     function.restype = ctypes.c_int32
-    result, exception = result_type(), ctypes.c_void_p()
-    result_address, exception_address = ctypes.addressof(result), ctypes.addressof(exception)
 
     def call(*values):
-        if function(result_address, exception_address, *values) != 0:
+        result, exception = result_type(), ctypes.c_void_p()
+        if function(ctypes.byref(result), ctypes.byref(exception), *values) != 0:
             raise RuntimeError(f"the master's compiled {symbol} failed")
         return result.value
 
@@ -109,7 +109,7 @@ class NativeMaster:
 
     def __init__(self, path: Path):
         library = ctypes.CDLL(str(path))
-        self._loop = _c_function(library, "wearjoint_master_loop", _ARGUMENTS)
+        self._loop = _c_function(library, "wearjoint_master_loop", _ARGUMENTS, ctypes.c_ssize_t)
         self._start_point = _c_function(library, "wearjoint_start_point", (_POINTER, _SIZE))
         self._parameters = _c_function(library, "wearjoint_mechanism_parameters", (_POINTER,) * 3)
         self._initial_state = _c_function(library, "wearjoint_initial_state", (_DOUBLE, *(_POINTER,) * 9))
