@@ -23,7 +23,13 @@ untimed run of each that builds the FMU and fills the numba caches), through API
   --revolutions 1 --out DIR`` as a fresh process, with its figures and without (``--no-plots``);
 * ``cold`` -- ``wearjoint simulate --revolutions 0.05``, ``wearjoint build-fmu`` and ``wearjoint cosim
   --revolutions 0.02`` (the FMU and the master), each from empty numba and FMU caches: wall seconds
-  (several minutes per pair; not run by default).
+  (several minutes per pair; not run by default);
+* ``cosim-groove`` -- the co-simulation at equal accuracy where the coupling sets the steps: the case ``groove`` of
+  ``wearjoint.studies.coupling_accuracy`` (a slider-crank whose bushing holds a conforming groove 5.7 clearances
+  deep, no further wear; its mechanism, joint and profile in ``benchmarks/data/groove_case.npz``, written by
+  ``--write-groove-case``), 0.15 s after 0.01 s, each tree in the configuration whose 8-start ensembles sit within 2
+  standard errors of monolithic RK4 there: a tree with the error-controlled coupling its default, one without (no
+  ``CoSimulationOptions.coupling_tolerance``: 674f94f) its adaptive scheme at :data:`GROOVE_UNCONTROLLED_STEP_S`.
 
 Prints each figure's median per tree, working / base, and the 1-minute load before and after
 each pair (2 shared cores: compare ratios taken at similar loads); ``--json FILE`` also writes them as JSON
@@ -44,7 +50,12 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold")
+PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold", "cosim-groove")
+GROOVE_CASE = REPO / "benchmarks" / "data" / "groove_case.npz"
+# the adaptive scheme's contact step on the groove at the ensembles' accuracy (coupling_accuracy --cases groove
+# --no-default --cosim-steps 5e-6 2.5e-6 1.25e-6: impacts z +2.4 at 5 us, the largest force +2.5 at 2.5 us, every |z|
+# <= 1.3 at 1.25 us)
+GROOVE_UNCONTROLLED_STEP_S = 1.25e-6
 DEFAULT_PROBES = ("cosim-wear", "monolithic-wear", "cosim", "monolithic")
 
 
@@ -101,6 +112,43 @@ def probe_main_job() -> dict:
                             *extra], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             figures[name] = time.perf_counter() - t0
     return figures
+
+
+def write_groove_case(path: Path = GROOVE_CASE) -> None:
+    """The groove case's mechanism and joint changes (JSON) and its initial profile, from the working tree's study."""
+    import numpy as np
+
+    from wearjoint.studies import coupling_accuracy as study
+
+    profile = study.case_setup("groove", 0.0)[2]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, profile_m=profile, mechanism=json.dumps(study.GROOVE_MECHANISM), joint=json.dumps(study.GROOVE_JOINT))
+
+
+def probe_cosim_groove(warm_up: float = 0.01, duration: float = 0.15) -> dict:
+    import dataclasses
+
+    import numpy as np
+
+    from wearjoint.core import layout as L
+    from wearjoint.cosim import CoSimulation, CoSimulationOptions
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
+
+    case = np.load(GROOVE_CASE)
+    mechanism = SliderCrankParameters(**json.loads(str(case["mechanism"])))
+    joint = paper_joint(mechanism, wear_factor=0.0, **json.loads(str(case["joint"])))
+    controlled = "coupling_tolerance" in {f.name for f in dataclasses.fields(CoSimulationOptions)}
+    options = CoSimulationOptions(revolutions=(warm_up + duration) / mechanism.period_s + 0.1,
+                                  **({} if controlled else {"scheme": "adaptive", "step_s": GROOVE_UNCONTROLLED_STEP_S}))
+    samples = np.zeros((int((warm_up + duration) / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
+    with CoSimulation(joint, mechanism, options, initial_profile_m=case["profile_m"]) as sim:
+        sim.advance_to(warm_up, samples)
+        steps = sim.communication_steps
+        t0 = time.perf_counter()
+        sim.advance_to(warm_up + duration, samples)
+        wall = time.perf_counter() - t0
+        steps = sim.communication_steps - steps
+    return {"real-time factor": duration / wall, "communication steps": steps, "wall us per step": 1e6 * wall / steps}
 
 
 def probe_cold() -> dict:
@@ -191,7 +239,12 @@ def main(argv=None) -> int:
                                                                  "temporary folder, removed)")
     parser.add_argument("--json", type=Path, default=None, help="also write the medians to this JSON file")
     parser.add_argument("--probe", choices=PROBES, help=argparse.SUPPRESS)
+    parser.add_argument("--write-groove-case", action="store_true",
+                        help=f"write {GROOVE_CASE.relative_to(REPO)} (the probe cosim-groove's case) and stop")
     args = parser.parse_args(argv)
+    if args.write_groove_case:
+        write_groove_case()
+        return 0
     if args.probe:
         print(json.dumps(globals()[f"probe_{args.probe.replace('-', '_')}"]()))
         return 0
