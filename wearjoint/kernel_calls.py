@@ -24,7 +24,7 @@ def _library():
 
 def mechanism_arrays(params: SliderCrankParameters) -> tuple[np.ndarray, tuple]:
     """(the kernels' parameter vector (layout.MP_*), the mechanism kernels' workspace with M^-1 (Eq. 42))."""
-    fields = field_vector(params)
+    fields = np.ascontiguousarray(field_vector(params), dtype=float)
     mp = np.zeros(L.N_MECHANISM_PARAMETERS)
     workspace = tuple(np.zeros(shape) for shape in L.WORKSPACE_SHAPES)
     library = _library()

@@ -12,7 +12,7 @@ from wearjoint.cosim import CoSimulation, CoSimulationOptions, cosimulation, nat
 from wearjoint.cosim.master_layout import B_INPUT, B_TRIG, buffer_views
 from wearjoint.cosim.master_loop import communication_step, master_loop
 from wearjoint.mechanism_parameters import SliderForceTable
-from wearjoint.parameters import SliderCrankParameters, paper_joint
+from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 
 
 def _run(options, fmu_path, mechanism, native: bool, monkeypatch):
@@ -116,3 +116,19 @@ def test_the_run_kernels_of_the_library_are_numbas(monkeypatch):
     for a, b in zip(native, numba):
         np.testing.assert_array_equal(a, b)
     assert np.ptp(native[3]) > 0.0 and np.ptp(native[7]) > np.ptp(native[3])    # the load shows in the reaction
+
+
+def test_a_samples_array_the_compiled_loop_cannot_write_is_refused(native_fmu):
+    """The loop writes the samples by address: an array of another type, layout or width is refused in one line
+    naming it, before any step (a read-only one too)."""
+    good = np.zeros((50, L.N_SAMPLE_COLUMNS))
+    read_only = good.copy()
+    read_only.flags.writeable = False
+    with CoSimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu) as sim:
+        for bad in (good.astype(np.float32), np.asfortranarray(good), good[:, :-1], good[::2], read_only,
+                    good.tolist()):
+            with pytest.raises(ParameterError, match=r"^parameter samples=.* is invalid: allowed a C-contiguous"):
+                sim.advance_to(0.001, bad)
+        with pytest.raises(ParameterError, match="t_end"):
+            sim.advance_to(float("nan"), good)
+        assert sim.communication_steps == 0 and sim.advance_to(0.001, good) > 0

@@ -13,7 +13,7 @@ import numpy as np
 from ..core import layout as L
 from ..fmu.ensure import ensure_fmu, start_fmu_build
 from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
-from ..fmu.instance import FmuInstance, OwnsFmuInstance
+from ..fmu.instance import N_INPUTS, FmuInstance, OwnsFmuInstance
 from ..kernel_calls import bushing_point_angles
 from ..slider_crank import SliderCrank
 from ..parameters import (
@@ -22,8 +22,6 @@ from ..parameters import (
 )
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
-from .native_master import native_master
-from ..fmu.instance import N_INPUTS
 from .master_layout import (
     N_STATE, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
     B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
@@ -31,6 +29,7 @@ from .master_layout import (
     G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISATION_OUTPUTS,
     N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, buffer_views, monotonic_clock,
 )
+from .native_master import native_master
 
 CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU's log
 
@@ -198,13 +197,18 @@ class CoSimulation(OwnsFmuInstance):
         register = self._register.copy()
         register[G_T] = self.t
         self._master_loop(self.t, register, self._settings, self.buf, *self._views, self._saved,
-                    np.zeros((0, L.N_SAMPLE_COLUMNS)),
-                    self.mechanism.workspace, self._live_instance().loop_functions, self._published, self._clock,
-                    self._timespec)
+                          np.zeros((0, L.N_SAMPLE_COLUMNS)), self.mechanism.workspace,
+                          self._live_instance().loop_functions, self._published, self._clock, self._timespec)
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
-        """Co-simulate to t_end [s], writing samples into ``samples``; returns how many.
+        """Co-simulate to t_end [s], writing samples into ``samples`` (a C-contiguous, writeable float64 array of
+        layout.N_SAMPLE_COLUMNS columns; the compiled loop writes it by address); returns how many.
         An FMU error raises CoSimulationError (the instance stays allocated until close())."""
+        ok = (isinstance(samples, np.ndarray) and samples.dtype == np.float64 and samples.ndim == 2
+              and samples.shape[1] == L.N_SAMPLE_COLUMNS and samples.flags.c_contiguous and samples.flags.writeable)
+        require("samples", getattr(samples, "shape", type(samples).__name__), ok,
+                f"a C-contiguous, writeable float64 array of shape (n, {L.N_SAMPLE_COLUMNS})")
+        t_end = finite("t_end", t_end)
         slave = self._live_instance()
         register = self._register
         register[G_T] = self.t
@@ -213,8 +217,8 @@ class CoSimulation(OwnsFmuInstance):
         wall0 = time.perf_counter()
         try:
             failed = self._master_loop(t_end, register, self._settings, self.buf, *self._views, self._saved, samples,
-                                 self.mechanism.workspace, slave.loop_functions, self._published, self._clock,
-                                 self._timespec)
+                                       self.mechanism.workspace, slave.loop_functions, self._published, self._clock,
+                                       self._timespec)
         finally:
             self.t = float(register[G_T])
             self.communication_steps += int(register[G_STEPS])
