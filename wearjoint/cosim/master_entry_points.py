@@ -2,8 +2,8 @@
 
 :func:`master_loop_native` is :func:`wearjoint.cosim.master_loop.master_loop` on raw pointers (and
 :func:`start_point_native` its :func:`~wearjoint.cosim.master_loop.start_point`; the others the mechanism's
-parameter vector and start (the SliderCrank FMU's), its ideal joint's reaction, the bushing's points and the
-materials' stiffness: :mod:`wearjoint.kernel_calls` calls them): the AOT build
+parameter vector and start (the SliderCrank FMU's), its ideal joint's reaction, the bushing's points (the joint
+FMU's) and the materials' stiffness: :mod:`wearjoint.kernel_calls` calls them): the AOT build
 (:mod:`wearjoint.fmu.aot`, model ``master``) compiles it from the same numba kernels into a shared library
 (:mod:`wearjoint.cosim.native_master`), which the master then calls through ctypes instead of numba's dispatcher,
 so that a co-simulation needs no numba compilation of its loop.  The arguments are those of ``master_loop``, each
@@ -13,11 +13,11 @@ workspace of :func:`wearjoint.core.slider_crank.make_workspace` as its seven arr
 from numba import carray, types
 
 from ..core import layout as L
-from ..core.geometry import bushing_points
 from ..core.slider_crank import ideal_joint_forces
 from ..core.wear import effective_modulus, materials_contact_stiffness
 from ..fmu.aot import entry_point
 from ..fmu.instance import N_INPUTS
+from ..fmu.joint_entry_points import bushing_points_native  # noqa: F401  (the joint FMU's: aot.ENTRY_POINTS)
 from ..fmu.slider_crank_entry_points import (  # noqa: F401  (the mechanism's vectors and start: aot.ENTRY_POINTS)
     initial_state_native, parameters_native, workspace_arrays,
 )
@@ -67,13 +67,6 @@ def ideal_joint_forces_native(times, n_times, mp, jac, schur, phi, phi_dot, gamm
                        workspace_arrays(jac, schur, phi, phi_dot, gamma, minv, force), carray(result, L.N_RESULT),
                        carray(y, 2 * L.N_COORDINATES), carray(qdd, L.N_COORDINATES), carray(body_forces, 6),
                        carray(out, n_times))
-    return 0
-
-
-@entry_point(types.int32(_F64, _F64, _F64, types.intp))
-def bushing_points_native(phi, cos_phi, sin_phi, n_points):
-    """:func:`~wearjoint.core.geometry.bushing_points` (Eq. 3); returns 0."""
-    bushing_points(carray(phi, n_points), carray(cos_phi, n_points), carray(sin_phi, n_points))
     return 0
 
 

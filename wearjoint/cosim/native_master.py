@@ -28,7 +28,8 @@ class MasterKernels:
     name: str = "master"
     ir_modules: tuple = ("cosim/master_loop.py", "cosim/master_layout.py", "cosim/master_entry_points.py",
                          "fmu/__init__.py", "fmu/fmi.py", "fmu/loop_calls.py", "fmu/instance.py", "fmu/extracted.py",
-                         "fmu/variables.py", "fmu/slider_crank_entry_points.py", "fmu/state_entry_points.py")
+                         "fmu/variables.py", "fmu/joint_entry_points.py", "fmu/slider_crank_entry_points.py",
+                         "fmu/state_entry_points.py")
     kernel_header: str | None = None     # ctypes calls it: no C prototype to keep in step
     folder: str | None = None
 
