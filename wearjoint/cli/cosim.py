@@ -18,7 +18,7 @@ def compiles(args) -> bool:
     """Whether the run may compile numba kernels: not with this package's co-simulation master once its library is
     built (cosim.native_master: its loop and the run's kernels come compiled)."""
     if args.master != "wearjoint" or args.fmu_interface != "co-simulation":
-        return args.fmu_interface == "model-exchange"
+        return True             # Model Exchange runs the monolithic integrators; a third-party run's record, numba's
     from ..cosim.native_master import native_master
 
     return native_master(build=False) is None
