@@ -67,15 +67,14 @@ def ideal_joint_forces(times: np.ndarray, mp: np.ndarray, workspace: tuple) -> n
 
 
 def bushing_point_angles(n_points: int) -> np.ndarray:
-    """phi_z of the bushing's points [rad] (core.geometry.bushing_points, Eq. 3)."""
-    phi, cos_phi, sin_phi = np.empty(n_points), np.empty(n_points), np.empty(n_points)
+    """phi_z of the bushing's points [rad] (:func:`wearjoint.core.geometry.bushing_point_angles`, Eq. 3)."""
     library = _library()
     if library is None:
-        from .core.geometry import bushing_points
+        from .core.geometry import bushing_point_angles as numba_angles
 
-        bushing_points(phi, cos_phi, sin_phi)
-    else:
-        library.bushing_points(phi, cos_phi, sin_phi)
+        return numba_angles(n_points)
+    phi, cos_phi, sin_phi = np.empty(n_points), np.empty(n_points), np.empty(n_points)
+    library.bushing_points(phi, cos_phi, sin_phi)
     return phi
 
 

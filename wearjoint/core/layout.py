@@ -135,7 +135,7 @@ LOAD_TABLE_ROW_BASE = 1000
 
 # state vector y = [q (9), q_dot (9)], q = [x1 y1 th1 x2 y2 th2 x3 y3 th3] (Eq. 38)
 N_COORDINATES = 9
-# the mechanism kernels' workspace (core.slider_crank.make_workspace): jac and schur (N x N), phi, phi_dot, gamma,
+# the mechanism kernels' workspace (kernel_calls.mechanism_arrays makes it): jac and schur (N x N), phi, phi_dot, gamma,
 # M^-1 (Eq. 42) and the applied forces (N each)
 WORKSPACE_SHAPES = ((N_COORDINATES, N_COORDINATES),) * 2 + ((N_COORDINATES,),) * 5
 WORKSPACE_INVERSE_MASS = 5

@@ -22,7 +22,7 @@ from .layout import (
     MP_CRANK_INERTIA, MP_CRANK_LENGTH, MP_CRANK_MASS, MP_GRAVITY_X, MP_GRAVITY_Y, MP_OMEGA, MP_ROD_INERTIA,
     MP_ROD_LENGTH, MP_ROD_MASS, MP_SLIDER_INERTIA, MP_SLIDER_MASS, MP_THETA0, N_COORDINATES, N_RESULT,
     R_BUSHING_FX, R_BUSHING_FY, R_BUSHING_TORQUE, R_CONTACT, R_CONTACT_INDEX, R_NORMAL_FORCE, R_PIN_FX, R_PIN_FY,
-    R_PIN_TORQUE, ROD, SLIDER, WORKSPACE_INVERSE_MASS, WORKSPACE_SHAPES,
+    R_PIN_TORQUE, ROD, SLIDER,
 )
 from .linearisation import linearised_loads
 from .slider_load import slider_load
@@ -48,13 +48,6 @@ JOINT_ROWS = np.array([7, 3, 0])
 # the rows the mechanism keeps: all (ideal), or all but the clearance joint's, by location
 IDEAL_ROWS = np.arange(N_CONSTRAINTS)
 OPEN_ROWS = np.array([[0, 1, 2, 3, 4, 5, 6], [0, 1, 2, 5, 6, 7, 8], [2, 3, 4, 5, 6, 7, 8]])
-
-
-def make_workspace(mp):
-    """Scratch arrays of :func:`accelerations` (one set per host, layout.WORKSPACE_SHAPES) and M^-1 (Eq. 42)."""
-    workspace = tuple(np.zeros(shape) for shape in WORKSPACE_SHAPES)
-    inverse_mass_diagonal(mp, workspace[WORKSPACE_INVERSE_MASS])
-    return workspace
 
 
 @kernel

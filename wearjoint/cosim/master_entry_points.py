@@ -8,7 +8,7 @@ FMU's) and the materials' stiffness: :mod:`wearjoint.kernel_calls` calls them): 
 (:mod:`wearjoint.cosim.native_master`), which the master then calls through ctypes instead of numba's dispatcher,
 so that a co-simulation needs no numba compilation of its loop.  The arguments are those of ``master_loop``, each
 array as its address (and its length where it varies), the FMU's functions and libc's clock as addresses; the
-workspace of :func:`wearjoint.core.slider_crank.make_workspace` as its seven arrays.
+workspace of :func:`wearjoint.kernel_calls.mechanism_arrays` as its seven arrays.
 """
 from numba import carray, types
 

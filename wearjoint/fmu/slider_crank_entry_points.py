@@ -7,7 +7,7 @@ open: ``MODE_EXTERNAL``, or ``MODE_LINEARISED``), on arrays the C model owns and
 here allocates.  ``y`` = [q, q_dot] (18 values: crank, rod, slider, each x, y, angle), ``inputs`` (layout.
 MECHANISM_INPUT_*) = the joint's (Fx, Fy, T) on its pin body then on its bushing body (global frame, torques about
 the centres of mass), the master's load on the slider [N] (positive towards the crank's pivot), then the
-linearisation a joint FMU publishes.  The workspace of :func:`wearjoint.core.slider_crank.make_workspace` comes
+linearisation a joint FMU publishes.  The workspace of :func:`wearjoint.kernel_calls.mechanism_arrays` comes
 as seven arrays:
 ``jac`` and ``schur`` (9 x 9), ``phi``, ``phi_dot``, ``gamma``, ``minv`` (M^-1), ``force`` (9 each).
 The FMU state is written, checked and read by the state format's entry points
