@@ -81,6 +81,7 @@ static void reset(FmuModel *model)
     model->parameters_changed = 1;
     model->forces_stale = model->wear_summary_stale = model->jacobian_stale = 1;
     model->onsets_accepted = model->warned_wear_step = model->started = model->jacobian_read = 0;
+    model->jacobian_unchecked = 0;
     memset(model->memory, 0, sizeof model->memory);
     model->memory[M_START_FORCE] = NO_START_FORCE;
     memset(model->result, 0, sizeof model->result);
@@ -212,10 +213,16 @@ int joint_pack_parameters(FmuModel *model, const char *when)
 /* ------------------------------------------------------------------ the kernels */
 static int all_finite(const double *values, int n)
 {
-    double probe = 0.0;   /* 0 unless a value is infinite or NaN */
-    for (int i = 0; i < n; i++)
-        probe += values[i] * 0.0;
-    return probe == 0.0;
+    /* on the bits: a value's exponent field plus one carries into bit 63 iff it is all ones (infinite or NaN); the
+     * values are independent (a sum of values * 0, one dependent chain of additions, took 4x the cycles) */
+    const uint64_t exponent = 0x7ff0000000000000u, exponent_one = 0x0010000000000000u;
+    uint64_t carries = 0;
+    for (int i = 0; i < n; i++) {
+        uint64_t bits;
+        memcpy(&bits, &values[i], sizeof bits);
+        carries |= (bits & exponent) + exponent_one;
+    }
+    return !(carries >> 63);
 }
 
 /* 1 if the n values per result slot of ``values`` (the result: 1, the jacobian: N_INPUTS) are finite for every
@@ -276,7 +283,8 @@ int joint_evaluate(FmuModel *model, const char *function, const char *output)
     if (!outputs_finite(model, model->result, 1, "output", function, output))
         return 0;
     model->forces_stale = 0;
-    model->jacobian_stale = !with_jacobian || !all_finite(model->jacobian, N_RESULT * N_INPUTS);
+    model->jacobian_stale = !with_jacobian;
+    model->jacobian_unchecked = with_jacobian;   /* a reader checks the values it reads (joint_variables.c) */
     return 1;
 }
 
@@ -286,6 +294,10 @@ int joint_jacobian(FmuModel *model, const char *function, const char *output)
     if (!joint_evaluate(model, function, output))
         return 0;
     if (!model->jacobian_stale) {
+        if (model->jacobian_unchecked &&
+            !outputs_finite(model, model->jacobian, N_INPUTS, "the derivative of output", function, output))
+            return 0;
+        model->jacobian_unchecked = 0;
         model->jacobian_read = 1;
         return 1;
     }
@@ -299,7 +311,7 @@ int joint_jacobian(FmuModel *model, const char *function, const char *output)
         return 0;
     if (!outputs_finite(model, model->jacobian, N_INPUTS, "the derivative of output", function, output))
         return 0;
-    model->jacobian_stale = 0;
+    model->jacobian_stale = model->jacobian_unchecked = 0;
     model->jacobian_read = 1;
     return 1;
 }

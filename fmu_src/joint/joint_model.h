@@ -21,6 +21,7 @@ struct FmuModel {
     int parameters_changed;            /* since the joint parameter vector was packed */
     int forces_stale;                  /* result does not belong to the current inputs */
     int jacobian_stale;                /* jacobian does not belong to result */
+    int jacobian_unchecked;            /* jacobian was not checked for non-finite values (joint_jacobian does) */
     int jacobian_read;                 /* the host read derivatives of this evaluation: the next evaluation takes the
                                           forces and their derivatives in one pass of the kernels */
     int onsets_accepted;               /* an accepted step did the onset bookkeeping at these inputs */

@@ -3,6 +3,7 @@
  * FMI 2.0 has the wear profile as scalars wear_depth[1..N_d]; FMI 3.0 one Float64 array sized by the
  * structural parameter n_points, then the independent time.
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -64,13 +65,17 @@ int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *val
         values[0] = model->parameters[vr - VR_FIRST_PARAMETER];
     } else if (is_scalar_output(vr)) {
         const OutputInfo *o = &OUTPUTS[vr - VR_FIRST_OUTPUT];
+        /* evaluated at the first joint output after an input changed, then current: a host reads many outputs of
+         * one evaluation (a linearising master 60 derivatives a step), each checked here without a call */
+        int current = !model->forces_stale && !model->parameters_changed;
         if (o->source == OUTPUT_FROM_RESULT) {
-            /* evaluated at the first joint output after an input changed, then current */
-            if (!joint_evaluate(model, function, o->name))
+            if (!current && !joint_evaluate(model, function, o->name))
                 return 0;
             values[0] = model->result[o->index];
         } else if (o->source == OUTPUT_FROM_JACOBIAN) {
-            if (!joint_jacobian(model, function, o->name))
+            if (current && !model->jacobian_stale && isfinite(model->jacobian[o->index]))
+                model->jacobian_read = 1;   /* what joint_jacobian does then (it checks every value) */
+            else if (!joint_jacobian(model, function, o->name))
                 return 0;
             values[0] = model->jacobian[o->index];
         } else if (o->source == OUTPUT_FROM_INPUT) {

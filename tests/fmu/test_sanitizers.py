@@ -41,26 +41,29 @@ def sanitized(tmp_path_factory):
     return built
 
 
-def _trace(path, rows=400):
-    """The pin pressed into the bushing along a slowly turning direction (wear every step)."""
+def _trace(path, joint, rows=400):
+    """The pin pressed 3 um into the bushing of ``joint`` along a slowly turning direction (wear every step): the
+    pin body at the origin, the bushing body placed so that its bushing centre sits that far from the pin centre."""
     t = np.arange(rows) * 1e-5
     angle = 2 * math.pi * t / (rows * 1e-5)
-    e = 1e-4 + 3e-6
+    e = joint.clearance_m + 3e-6
     inputs = np.zeros((rows, 12))
     inputs[:, 3], inputs[:, 5], inputs[:, 11] = 0.1, -15.0, 3.0
-    inputs[:, 6], inputs[:, 7] = -e * np.cos(angle), -e * np.sin(angle)
+    inputs[:, 6] = joint.pin_offset_m[0] - joint.bushing_offset_m[0] - e * np.cos(angle)
+    inputs[:, 7] = joint.pin_offset_m[1] - joint.bushing_offset_m[1] - e * np.sin(angle)
     return write_trace_file(path, np.column_stack([t, np.full(rows, 1e-5), inputs]))
 
 
 @pytest.mark.parametrize("version", [2, 3])
 def test_c_host_on_the_sanitized_fmu_reports_nothing(sanitized, version, tmp_path):
     folder, host, guid, vr = sanitized[version]
-    trace = _trace(tmp_path / "trace.txt")
+    joint = paper_joint(wear_factor=1e4)
+    trace = _trace(tmp_path / "trace.txt", joint)
     state = tmp_path / "state.bin"
     corrupted = tmp_path / "corrupted.bin"
     set_real = "set_real" if version == 2 else "set_float64"
     get_real = "get_real" if version == 2 else "get_float64"
-    script = (start_script(version, vr, paper_joint(wear_factor=1e4), n_points=N_POINTS if version == 3 else None)
+    script = (start_script(version, vr, joint, n_points=N_POINTS if version == 3 else None)
               + trace_command(vr, trace)
               + f"get_state 0\nserialize 0 {state}\n")
     code, stdout, stderr = run_c_host(host, folder, fv.MODEL_NAME, guid, script + "free\n", timeout=1200)
