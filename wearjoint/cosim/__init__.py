@@ -36,7 +36,7 @@ Schemes (``CoSimulationOptions.scheme``):
   F0 + J (u - u0) through the RK4 stages of the next step (``core.linearisation``; no loads where the
   linear normal force reaches 0: the contact ended).  The default: its contact step chosen by the miss of
   that prediction (``coupling_tolerance`` 0.003, the step the miss is expected to meet, second order in h),
-  at most ``step_s`` = 10 us and at least 10/16 us, each contact starting at a quarter of it (the
+  at most ``step_s`` = 10 us and at least an eighth of it, each contact starting at a quarter (the
   linearisation at an onset knows nothing of the stiffening ahead).  Within 2 standard errors of the
   monolithic RK4 ensembles on the paper's mechanism unworn and worn, the own mechanism with wear and a
   5.7-clearance groove, and closer to the monolithic path over the first impacts than ``adaptive`` at 5 us

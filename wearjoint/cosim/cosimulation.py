@@ -49,7 +49,7 @@ class CoSimulationOptions:
     ``onset_penetration_m``: how deep past a contact onset an adaptive step may end [m].  ``sample_dt_s``:
     spacing of the time series [s]. ``coupling_tolerance`` (adaptive, linearised; None: the scheme's
     :data:`DEFAULT_COUPLING_TOLERANCE`, 0.003 for linearised): the relative miss of the predicted contact force
-    the contact step aims at, between step_s / 16 and step_s, a linearised contact starting at step_s / 4 (0:
+    the contact step aims at, between step_s / 8 and step_s, a linearised contact starting at step_s / 4 (0:
     the fixed rule, the step halved where the miss passes 0.3 and grown back to step_s).  Force jumps (friction
     reversing, the deepest point moving on) miss at any step: the run's miss can stay above it."""
 
