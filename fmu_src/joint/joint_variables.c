@@ -59,6 +59,19 @@ const char *model_array_sizes(const FmuModel *model, char *out, size_t size)
 
 int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *values, const char *function)
 {
+    /* a linearising master reads the N_DERIVATIVE_OUTPUTS derivatives every step: those of the current evaluation,
+     * finite, without the table's tests; the OUTPUT_FROM_JACOBIAN branch below the others (evaluated, checked and
+     * logged by joint_jacobian) */
+    unsigned derivative = vr - VR_FIRST_DERIVATIVE;
+    if (derivative < N_DERIVATIVE_OUTPUTS && !model->forces_stale && !model->parameters_changed &&
+        !model->jacobian_stale) {
+        double value = model->jacobian[OUTPUTS[vr - VR_FIRST_OUTPUT].index];
+        if (isfinite(value)) {
+            model->jacobian_read = 1;
+            values[0] = value;
+            return 1;
+        }
+    }
     if (vr < N_INPUTS) {
         values[0] = model->inputs[vr];
     } else if (is_parameter(vr, 0)) {
@@ -66,16 +79,14 @@ int model_get_float64(FmuModel *model, int fmi_version, unsigned vr, double *val
     } else if (is_scalar_output(vr)) {
         const OutputInfo *o = &OUTPUTS[vr - VR_FIRST_OUTPUT];
         /* evaluated at the first joint output after an input changed, then current: a host reads many outputs of
-         * one evaluation (a linearising master 60 derivatives a step), each checked here without a call */
+         * one evaluation, each checked here without a call */
         int current = !model->forces_stale && !model->parameters_changed;
         if (o->source == OUTPUT_FROM_RESULT) {
             if (!current && !joint_evaluate(model, function, o->name))
                 return 0;
             values[0] = model->result[o->index];
-        } else if (o->source == OUTPUT_FROM_JACOBIAN) {
-            if (current && !model->jacobian_stale && isfinite(model->jacobian[o->index]))
-                model->jacobian_read = 1;   /* what joint_jacobian does then (it checks every value) */
-            else if (!joint_jacobian(model, function, o->name))
+        } else if (o->source == OUTPUT_FROM_JACOBIAN) {   /* those the fast path above did not answer */
+            if (!joint_jacobian(model, function, o->name))
                 return 0;
             values[0] = model->jacobian[o->index];
         } else if (o->source == OUTPUT_FROM_INPUT) {

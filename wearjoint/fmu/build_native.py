@@ -248,7 +248,10 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
                                "(fmu.variables.RESULT_SLOTS), a derivative, an input nor max_wear_depth / worn_volume")
     first_output = vr[scalar_outputs[0].name]
     first_wear = len(variables) - n_profile
-    checks = [list(vr)[:len(fv.INPUTS)] == [v.name for v in fv.INPUTS],
+    derivatives = list(fv.JACOBIAN_SLOTS)        # their value references in one run: the getter's fast path
+    first_derivative = vr[derivatives[0]]
+    checks = [[vr[name] for name in derivatives] == list(range(first_derivative, first_derivative + len(derivatives))),
+              list(vr)[:len(fv.INPUTS)] == [v.name for v in fv.INPUTS],
               [vr[p.variable.name] for p in fv.PARAMETERS] == list(range(len(fv.INPUTS), len(fv.INPUTS) + len(fv.PARAMETERS))),
               [vr[v.name] for v in scalar_outputs] == list(range(first_output, first_output + len(scalar_outputs))),
               first_wear == first_output + len(scalar_outputs)]
@@ -304,6 +307,8 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
 #define VR_N_POINTS {vr[fv.N_POINTS_NAME]}
 #define VR_FIRST_OUTPUT {first_output}
 #define VR_FIRST_WEAR_DEPTH {first_wear}
+#define VR_FIRST_DERIVATIVE {first_derivative}   /* the published derivatives d_*_d_*: N_DERIVATIVE_OUTPUTS in a run */
+#define N_DERIVATIVE_OUTPUTS {len(derivatives)}
 #define N_PROFILE_OUTPUTS {n_profile}   /* FMI 2.0: wear_depth[1 + k PROFILE_STRIDE], k < N_PROFILE_OUTPUTS */
 #define PROFILE_STRIDE {max(1, profile_stride)}
 
