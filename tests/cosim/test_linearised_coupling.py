@@ -121,6 +121,40 @@ def test_reading_the_derivatives_leaves_the_fmus_forces_bit_identical(native_fmu
         reading.close()
 
 
+def test_the_masters_40_derivatives_give_the_linearisation_of_all_60(native_fmu):
+    """The master reads the published rows' columns layout.RELATIVE_COLUMNS; the linearisation it builds equals, bit
+    for bit, the one from all 60 published derivatives (those along the bushing body's translation are minus the
+    pin body's), at a point in contact."""
+    from wearjoint.core.linearisation import linearisation_from_published
+    from wearjoint.cosim.master_layout import B_INPUT, LINEARISATION_OUTPUTS, O_NORMAL_FORCE
+    from wearjoint.fmu.variables import JACOBIAN_SLOTS
+
+    assert len(LINEARISATION_OUTPUTS) == 40
+    with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.05), fmu_path=native_fmu) as sim:
+        samples = np.zeros((20000, L.N_SAMPLE_COLUMNS))
+        t = 0.0
+        while sim.buf[B_OUTPUT + O_CONTACT] < 0.5:
+            t += 1e-5
+            sim.advance_to(t, samples)
+        instance = sim._live_instance()
+
+        def read(names):
+            vrs = np.array([instance.vr[name] for name in names], dtype=np.uint32)
+            values = np.zeros(vrs.size)
+            assert instance.get_real(instance.component, vrs.ctypes.data_as(ctypes.POINTER(ctypes.c_uint)), vrs.size,
+                                     values.ctypes.data_as(ctypes.POINTER(ctypes.c_double))) == 0
+            return values
+
+        loads, normal, inputs = sim.buf[B_OUTPUT:B_OUTPUT + 6], sim.buf[B_OUTPUT + O_NORMAL_FORCE], \
+            sim.buf[B_INPUT:B_INPUT + 12]
+        every, relative = np.zeros(L.N_LINEARISATION), np.zeros(L.N_LINEARISATION)
+        linearisation_from_published(loads, normal, read(tuple(JACOBIAN_SLOTS)), L.ALL_KINEMATIC_COLUMNS, inputs,
+                                     every)
+        linearisation_from_published(loads, normal, read(LINEARISATION_OUTPUTS), L.RELATIVE_COLUMNS, inputs, relative)
+        assert np.any(every[L.LIN_JACOBIAN:L.LIN_SCRATCH] != 0.0)
+        assert np.array_equal(every, relative)
+
+
 def test_the_linearised_scheme_runs_on_either_backend_alike(native_fmu, built_fmu):
     """The pythonfmu backend publishes the same linearisation as the native one: through the first impacts the two
     runs of the linearised scheme agree to round-off."""

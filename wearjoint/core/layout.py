@@ -199,6 +199,12 @@ N_LINEARISATION = LIN_SCRATCH + 12
 # body's (Eq. 22)
 PUBLISHED_LINEARISED_LOADS = (0, 1, 2, 5, 6)
 N_PUBLISHED_LINEARISED_LOADS = len(PUBLISHED_LINEARISED_LOADS)
+# the loads depend on the bodies' relative position and velocity: the derivatives along the bushing body's x, y, vx,
+# vy (kinematic inputs 6, 7, 9, 10) are minus those along the pin body's (0, 1, 3, 4), exactly in the kernels (their
+# forward mode is linear in the direction); a master may read only the other columns of the published rows
+ALL_KINEMATIC_COLUMNS = tuple(range(N_KINEMATIC_INPUTS))
+RELATIVE_COLUMNS = (0, 1, 2, 3, 4, 5, 8, 11)
+TRANSLATION_PAIRS = ((6, 0), (7, 1), (9, 3), (10, 4))
 # the SliderCrank FMU's inputs (fmu.slider_crank.INPUTS): the joint's six loads, the slider's load, then the
 # linearisation a joint FMU publishes (integrated with load_coupling linearised): the normal force, the published
 # rows of J, the inputs u0 they were evaluated at

@@ -9,25 +9,30 @@ from .jit import kernel
 from .joint_location import joint_kinematics
 from .layout import (
     LIN_INPUTS, LIN_JACOBIAN, LIN_LOADS, LIN_SCRATCH, N_KINEMATIC_INPUTS, N_LINEARISED_LOADS,
-    PUBLISHED_LINEARISED_LOADS,
+    PUBLISHED_LINEARISED_LOADS, TRANSLATION_PAIRS,
 )
 
 
 @kernel
-def linearisation_from_published(loads, normal_force, derivatives, evaluated_inputs, linearisation):
+def linearisation_from_published(loads, normal_force, derivatives, columns, evaluated_inputs, linearisation):
     """``linearisation`` (layout.LIN_*) from what a joint FMU publishes: its six ``loads`` (the pin body's force x,
     y, torque, the bushing body's) and ``normal_force`` at the inputs ``evaluated_inputs`` (u0), ``derivatives`` the
-    rows PUBLISHED_LINEARISED_LOADS of J (row-major, 12 a row); the bushing body's force rows are minus the pin
-    body's (Eq. 22)."""
+    rows PUBLISHED_LINEARISED_LOADS of J, row-major, each the columns ``columns`` (kinematic inputs, in order): all 12
+    (layout.ALL_KINEMATIC_COLUMNS) or layout.RELATIVE_COLUMNS, the others minus their TRANSLATION_PAIRS partner's; the
+    bushing body's force rows are minus the pin body's (Eq. 22)."""
     for m in range(N_KINEMATIC_INPUTS):
         linearisation[LIN_INPUTS + m] = evaluated_inputs[m]
     for r in range(6):
         linearisation[LIN_LOADS + r] = loads[r]
     linearisation[LIN_LOADS + 6] = normal_force
+    n_columns = len(columns)
     for k in range(len(PUBLISHED_LINEARISED_LOADS)):
         row = LIN_JACOBIAN + N_KINEMATIC_INPUTS * PUBLISHED_LINEARISED_LOADS[k]
-        for m in range(N_KINEMATIC_INPUTS):
-            linearisation[row + m] = derivatives[N_KINEMATIC_INPUTS * k + m]
+        for c in range(n_columns):
+            linearisation[row + columns[c]] = derivatives[n_columns * k + c]
+        if n_columns < N_KINEMATIC_INPUTS:
+            for pair in TRANSLATION_PAIRS:
+                linearisation[row + pair[0]] = -linearisation[row + pair[1]]
     for r in range(2):
         row = LIN_JACOBIAN + N_KINEMATIC_INPUTS * r
         for m in range(N_KINEMATIC_INPUTS):

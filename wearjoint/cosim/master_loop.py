@@ -281,8 +281,9 @@ def _linearised_force(buf, r):
 
 @kernel   # not inlined: only the linearised scheme calls it (the others' loop stays as small as it was)
 def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
-    """The FMU's loads at t (its outputs) and the linearisation it publishes there (one fmi2GetReal of its
-    d_*_d_* outputs, fmu.variables.LINEARISED_ROWS) into B_LINEARISATION, its time B_LINEARISED_AT.  ``published``
+    """The FMU's loads at t (its outputs) and the linearisation it publishes there (one fmi2GetReal of the 40 of
+    its 60 d_*_d_* outputs that master_layout.LINEARISATION_OUTPUTS names, the others minus their partners',
+    layout.TRANSLATION_PAIRS) into B_LINEARISATION, its time B_LINEARISED_AT.  ``published``
     = (their value references, scratch for their values).  Returns (the master_layout.FMI_CALLS index of a failed call or 0, the
     FMI seconds if ``timed``)."""
     component, input_vrs, output_vrs, state_slot, do_step, set_real, get_real, get_state, set_state, free_state = fmi
@@ -294,7 +295,7 @@ def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
         buf[B_LINEARISED_AT] = -1.0
         return F_GET_REAL, 0.0
     linearisation_from_published(buf[B_OUTPUT:B_OUTPUT + 6], buf[B_OUTPUT + O_NORMAL_FORCE], derivatives,
-                                 buf[B_INPUT:B_INPUT + N_INPUTS],
+                                 L.RELATIVE_COLUMNS, buf[B_INPUT:B_INPUT + N_INPUTS],
                                  buf[B_LINEARISATION:B_LINEARISATION + L.N_LINEARISATION])
     buf[B_LINEARISED_AT] = t
     return 0, _fmi_seconds(timed, clock, timespec, c1)

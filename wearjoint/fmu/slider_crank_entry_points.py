@@ -18,9 +18,9 @@ from numba import carray, types
 from ..core.integrators import rk4_open_joint
 from ..core.jit import kernel
 from ..core.layout import (
-    MECHANISM_INPUT_DERIVATIVES, MECHANISM_INPUT_EVALUATED, MECHANISM_INPUT_NORMAL_FORCE, MECHANISM_INPUT_SLIDER_FORCE,
-    MODE_EXTERNAL, MODE_LINEARISED, MP_SLIDER_FORCE_INPUT, N_COORDINATES, N_KINEMATIC_INPUTS, N_LINEARISATION,
-    N_MECHANISM_FIELDS, N_MECHANISM_INPUTS, N_MECHANISM_PARAMETERS,
+    ALL_KINEMATIC_COLUMNS, MECHANISM_INPUT_DERIVATIVES, MECHANISM_INPUT_EVALUATED, MECHANISM_INPUT_NORMAL_FORCE,
+    MECHANISM_INPUT_SLIDER_FORCE, MODE_EXTERNAL, MODE_LINEARISED, MP_SLIDER_FORCE_INPUT, N_COORDINATES,
+    N_KINEMATIC_INPUTS, N_LINEARISATION, N_MECHANISM_FIELDS, N_MECHANISM_INPUTS, N_MECHANISM_PARAMETERS,
 )
 from ..core.linearisation import linearisation_from_published
 from ..core.joint_location import joint_kinematics
@@ -91,7 +91,7 @@ def step_native(t, h, n_steps, linearised, y, mp, inputs, jac, schur, phi, phi_d
     if linearised:
         lin = carray(linearisation, N_LINEARISATION)
         linearisation_from_published(u[:6], u[MECHANISM_INPUT_NORMAL_FORCE],
-                                     u[MECHANISM_INPUT_DERIVATIVES:MECHANISM_INPUT_EVALUATED],
+                                     u[MECHANISM_INPUT_DERIVATIVES:MECHANISM_INPUT_EVALUATED], ALL_KINEMATIC_COLUMNS,
                                      u[MECHANISM_INPUT_EVALUATED:], lin)
         rk4_open_joint(t, h, n_steps, carray(y, 2 * _N), MODE_LINEARISED, p, lin, carray(loads, 6), ws,
                        carray(dy, 2 * _N), carray(stages, (4, 2 * _N)))
