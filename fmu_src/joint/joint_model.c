@@ -214,7 +214,7 @@ int joint_pack_parameters(FmuModel *model, const char *when)
 static int all_finite(const double *values, int n)
 {
     /* on the bits: a value's exponent field plus one carries into bit 63 iff it is all ones (infinite or NaN); the
-     * values are independent (a sum of values * 0, one dependent chain of additions, took 4x the cycles) */
+     * values are independent (a sum of values * 0 is one dependent chain of additions, 4 cycles each) */
     const uint64_t exponent = 0x7ff0000000000000u, exponent_one = 0x0010000000000000u;
     uint64_t carries = 0;
     for (int i = 0; i < n; i++) {
