@@ -25,19 +25,6 @@ static int kernel_ok(const FmuModel *model, const char *kernel, int32_t status)
     return 0;
 }
 
-static void describe_non_finite_inputs(const FmuModel *model, char *out, size_t size)
-{
-    size_t used = 0;
-    out[0] = '\0';
-    for (int i = 0; i < N_INPUTS && used < size; i++)
-        if (model->non_finite_inputs & (1u << i)) {
-            int n = snprintf(out + used, size - used, "%s%s=%g", used ? ", " : "", INPUT_NAMES[i], model->inputs[i]);
-            if (n < 0)
-                break;
-            used += (size_t)n;
-        }
-}
-
 /* ------------------------------------------------------------------ lifetime */
 static int allocate_arrays(FmuModel *model, int64_t n_points)
 {

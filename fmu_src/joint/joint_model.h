@@ -51,4 +51,7 @@ int joint_jacobian(FmuModel *model, const char *function, const char *output);
 /* max_wear_depth and worn_volume for the current wear depths. */
 int joint_wear_summary(FmuModel *model, const char *function);
 
+/* joint_variables.c's, for the other two files: the inputs that are not finite, as name=value, into out. */
+void describe_non_finite_inputs(const FmuModel *model, char *out, size_t size);
+
 #endif

@@ -10,6 +10,20 @@
 #include "joint_model.h"
 
 /* ------------------------------------------------------------------ values */
+/* The inputs that are not finite, as name=value, into out. */
+void describe_non_finite_inputs(const FmuModel *model, char *out, size_t size)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (int i = 0; i < N_INPUTS && used < size; i++)
+        if (model->non_finite_inputs & (1u << i)) {
+            int n = snprintf(out + used, size - used, "%s%s=%g", used ? ", " : "", INPUT_NAMES[i], model->inputs[i]);
+            if (n < 0)
+                break;
+            used += (size_t)n;
+        }
+}
+
 void model_variable_name(const FmuModel *model, int fmi_version, unsigned vr, char *out, size_t size)
 {
     if (vr < N_INPUTS)
