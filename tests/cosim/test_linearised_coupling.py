@@ -126,10 +126,10 @@ def test_the_masters_40_derivatives_give_the_linearisation_of_all_60(native_fmu)
     for bit, the one from all 60 published derivatives (those along the bushing body's translation are minus the
     pin body's), at a point in contact."""
     from wearjoint.core.linearisation import linearisation_from_published
-    from wearjoint.cosim.master_layout import B_INPUT, LINEARISATION_OUTPUTS, O_NORMAL_FORCE
+    from wearjoint.cosim.master_layout import B_INPUT, MASTER_DERIVATIVE_OUTPUTS, O_NORMAL_FORCE
     from wearjoint.fmu.variables import JACOBIAN_SLOTS
 
-    assert len(LINEARISATION_OUTPUTS) == 40
+    assert len(MASTER_DERIVATIVE_OUTPUTS) == 40
     with CoSimulation(NO_WEAR, None, CoSimulationOptions(revolutions=0.05), fmu_path=native_fmu) as sim:
         samples = np.zeros((20000, L.N_SAMPLE_COLUMNS))
         t = 0.0
@@ -150,7 +150,8 @@ def test_the_masters_40_derivatives_give_the_linearisation_of_all_60(native_fmu)
         every, relative = np.zeros(L.N_LINEARISATION), np.zeros(L.N_LINEARISATION)
         linearisation_from_published(loads, normal, read(tuple(JACOBIAN_SLOTS)), L.ALL_KINEMATIC_COLUMNS, inputs,
                                      every)
-        linearisation_from_published(loads, normal, read(LINEARISATION_OUTPUTS), L.RELATIVE_COLUMNS, inputs, relative)
+        linearisation_from_published(loads, normal, read(MASTER_DERIVATIVE_OUTPUTS), L.RELATIVE_COLUMNS, inputs,
+                                     relative)
         assert np.any(every[L.LIN_JACOBIAN:L.LIN_SCRATCH] != 0.0)
         assert np.array_equal(every, relative)
 
@@ -172,7 +173,7 @@ def test_an_fmu_that_publishes_no_derivatives_is_refused_for_the_linearised_sche
     from wearjoint.cosim import cosimulation
     from wearjoint.parameters import ParameterError
 
-    monkeypatch.setattr(cosimulation, "LINEARISATION_OUTPUTS", ("d_pin_force_x_d_pin_x", "d_not_published"))
+    monkeypatch.setattr(cosimulation, "MASTER_DERIVATIVE_OUTPUTS", ("d_pin_force_x_d_pin_x", "d_not_published"))
     with pytest.raises(ParameterError, match="scheme='linearised'.*d_not_published"):
         CoSimulation(paper_joint(wear_factor=0.0), None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu)
     with CoSimulation(paper_joint(wear_factor=0.0), None, CoSimulationOptions(revolutions=0.01, scheme="adaptive"),

@@ -26,8 +26,8 @@ from .master_layout import (
     N_STATE, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
     B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
     C_TOLERANCE, FMI_CALLS, G_CONTACT_STEP, G_FAILED_CALL, G_FAILED_TIME, G_FMI_TIME, G_FREE_STEPS, G_MISS_COUNT,
-    G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T, LINEARISATION_OUTPUTS,
-    N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, buffer_views, monotonic_clock,
+    G_MISS_MAX, G_MISS_SQ_SUM, G_PREVIOUS_PENETRATION, G_ROLLBACKS, G_SHRUNK_STEPS, G_STEPS, G_T,
+    MASTER_DERIVATIVE_OUTPUTS, N_OUTPUTS, N_REGISTER, N_SETTINGS, OUTPUT_NAMES, SCHEMES, buffer_views, monotonic_clock,
 )
 from .native_master import native_master
 
@@ -173,7 +173,7 @@ class CoSimulation(OwnsFmuInstance):
 
     def _published_linearisation(self) -> tuple[np.ndarray, np.ndarray]:
         """(value references, scratch) of the linearisation the FMU publishes (scheme linearised; else empty)."""
-        names = LINEARISATION_OUTPUTS if self.options.scheme == "linearised" else ()
+        names = MASTER_DERIVATIVE_OUTPUTS if self.options.scheme == "linearised" else ()
         missing = [name for name in names if name not in self._instance.vr]
         if missing:
             raise ParameterError(f"parameter scheme='linearised' is invalid for the FMU {self.fmu_path}: it publishes "

@@ -72,7 +72,7 @@ FMI_CALLS = ("", "fmi2DoStep", "fmi2SetReal", "fmi2GetReal", "fmi2GetFMUstate", 
 F_DO_STEP, F_SET_REAL, F_GET_REAL, F_GET_STATE, F_SET_STATE, F_FREE_STATE = range(1, len(FMI_CALLS))
 # the FMU outputs the linearised scheme reads in contact: its published derivatives (layout.LIN_JACOBIAN's rows
 # PUBLISHED_LINEARISED_LOADS), the columns layout.RELATIVE_COLUMNS (40 of 60: the others are minus their partners')
-LINEARISATION_OUTPUTS = tuple(name for name, (_, column) in JACOBIAN_SLOTS.items() if column in L.RELATIVE_COLUMNS)
+MASTER_DERIVATIVE_OUTPUTS = tuple(name for name, (_, column) in JACOBIAN_SLOTS.items() if column in L.RELATIVE_COLUMNS)
 # --- master_loop's settings; C_REUSE_STATE: 1.0 if getFMUstate overwrites the state it is given (FMI's "typically";
 # the pythonfmu slave returns a new one and loses the old), else each state is freed before the next;
 # C_TOLERANCE: the relative force miss the adaptive contact step is controlled to (0: the fixed rule)

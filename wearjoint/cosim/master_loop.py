@@ -282,7 +282,7 @@ def _linearised_force(buf, r):
 @kernel   # not inlined: only the linearised scheme calls it (the others' loop stays as small as it was)
 def _linearise(buf, fmi, published, register, t, timed, clock, timespec):
     """The FMU's loads at t (its outputs) and the linearisation it publishes there (one fmi2GetReal of the 40 of
-    its 60 d_*_d_* outputs that master_layout.LINEARISATION_OUTPUTS names, the others minus their partners',
+    its 60 d_*_d_* outputs that master_layout.MASTER_DERIVATIVE_OUTPUTS names, the others minus their partners',
     layout.TRANSLATION_PAIRS) into B_LINEARISATION, its time B_LINEARISED_AT.  ``published``
     = (their value references, scratch for their values).  Returns (the master_layout.FMI_CALLS index of a failed call or 0, the
     FMI seconds if ``timed``)."""
