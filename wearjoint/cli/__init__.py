@@ -84,7 +84,12 @@ def main(argv: list[str] | None = None) -> int:
 def console() -> None:
     """The ``wearjoint`` program (and ``python -m wearjoint``): :func:`main`, then, once the exit handlers
     ran and the output is flushed, the exit without the interpreter's teardown: freeing numba's and LLVM's
-    objects took 0.25 s, a sixth of the main job.  With other threads still running, the usual exit."""
+    objects took 0.25 s, a sixth of the main job.  With other threads still running, the usual exit.
+
+    numpy's OpenBLAS runs on one thread in the program's processes unless the user's environment says otherwise
+    (OPENBLAS_NUM_THREADS): their linear algebra is small, and each process's idle BLAS thread spun for ~0.1 s
+    after numpy's import, on the core the figure worker draws on (the main job 0.64 -> 0.58 s, results identical)."""
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     code = main()
     if threading.active_count() > 1:
         sys.exit(code)
