@@ -1,8 +1,9 @@
 """A run's figures drawn by a second process that starts with the command (``python -m wearjoint.figure_worker``).
 
 matplotlib's import and the four figures of a run cost about as much wall time as a short run itself.  The
-second process, started as the command starts (before numba loads), imports matplotlib and draws a small
-figure (fonts, mathtext) while the first simulates.  Then it draws the record the first hands it, pickled into
+second process, started as the command starts (before numba loads), imports matplotlib while the first
+simulates (0.23 s: the record is there when it is done; a dummy figure drawn first to load the fonts cost 0.05-0.07
+s and saved the first figure 0.01 s).  Then it draws the record the first hands it, pickled into
 a temporary file with the ideal joint's closed form (the first has its kernels loaded): through a pipe, a
 writing thread and the first process's CSV loops took turns on the GIL, 0.25 s for a revolution's samples.
 Half the figures are drawn by a forked child on the core the waiting first process leaves free; the files'
@@ -124,9 +125,8 @@ class FigureWorker:
 
 
 def _draw() -> None:
-    from wearjoint import plots     # imported, and its first figure's costs paid, before the record arrives
+    from wearjoint import plots     # imported while the first process simulates
 
-    plots.warm_up()
     with open(sys.stdin.readline().rstrip("\n"), "rb") as file:
         record, out, ideal = pickle.load(file)
     names = [name for name, _ in plots.run_figures(record)]

@@ -75,7 +75,7 @@ def plot_pin_orbit(record, path: Path) -> None:
     ax.set_aspect("equal")
     ax.set_xlabel("eccentricity x, bushing frame [µm]")
     ax.set_ylabel("eccentricity y, bushing frame [µm]")
-    ax.set_title("pin centre relative to bushing centre")
+    ax.set_title("pin centre relative to bushing centre", y=1.0)
     ax.legend(loc="upper right", fontsize=8)
     place_axes(fig, top=0.4)
     save_figure(fig, path, lay_out=False)
@@ -101,13 +101,13 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushin
     for label, depth in profiles.items():
         ax_polar.plot(np.r_[phi, phi[:1]], np.r_[depth, depth[:1]] * 1e6, lw=1.2, label=label)
         ax.plot(phi_deg, depth * 1e6, lw=1.2, label=label)
-    ax_polar.set_title("(a) wear depth [µm], bushing frame", fontsize=10)
+    ax_polar.set_title("(a) wear depth [µm], bushing frame", fontsize=10, y=1.08)
     ax.set_xlabel("angle in the bushing frame [deg]\n(crank-rod joint: 0 = towards the slider)")
     ax.set_ylabel("wear depth [µm]")
     ax.set_xlim(0, 360)
     ax.set_xticks(range(0, 361, 45))
     ax.grid(alpha=0.3)
-    ax.set_title("(b) wear depth vs angle", fontsize=10)
+    ax.set_title("(b) wear depth vs angle", fontsize=10, y=1.0)
     ax.legend(fontsize=8)
     fig.suptitle(title)
     place_axes(fig, left=0.5, bottom=0.8, top=0.8, wspace=0.3)
@@ -132,23 +132,3 @@ def plot_run(record, out: Path, ideal=None, only=None) -> list[str]:
     for name, draw in chosen:
         draw(out / name)
     return [name for name, _ in chosen]
-
-
-def warm_up() -> None:
-    """Draw and encode a small figure with the standard figures' elements (fonts, mathtext, a polar axes, a
-    legend, PNG), so that the first figure of a process does not pay for loading them (the figure worker
-    does this while the run it waits for simulates)."""
-    import io
-
-    fig = plt.figure(figsize=(4, 3))
-    ax = fig.add_subplot(1, 2, 1, projection="polar")
-    ax.plot([0.0, 1.0], [0.0, 1.0], label="µ")
-    ax = fig.add_subplot(1, 2, 2)
-    ax.plot([0.0, 1.0], [0.0, 1.0], ".", ms=1.5, label="a")
-    ax.set_ylabel("[m/s²] [µm]")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    fig.suptitle("w")
-    fig.tight_layout()
-    fig.savefig(io.BytesIO(), format="png", dpi=40)
-    plt.close(fig)

@@ -153,6 +153,19 @@ def _json_default(obj):
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
+def write_csv(path, table: np.ndarray, names, fmt: str) -> None:
+    """``table`` (rows) as CSV with a header line of ``names``, each value printed with ``fmt``: what
+    ``np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt=fmt)`` writes, byte for byte,
+    with one formatting of the whole table instead of one per row (a revolution's samples 0.06 -> 0.05 s)."""
+    table = np.asarray(table, dtype=float)
+    table = table[:, None] if table.ndim == 1 else table
+    row = ",".join([fmt] * table.shape[1])
+    with open(path, "w") as file:
+        file.write(",".join(names) + "\n")
+        if table.size:
+            file.write(("\n".join([row] * table.shape[0]) + "\n") % tuple(table.ravel().tolist()))
+
+
 def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=None) -> dict:
     """Write the results folder (report.html last, :mod:`wearjoint.report`); returns the summary dict.  With
     ``figure_worker`` (a started :class:`wearjoint.figure_worker.FigureWorker`) the figures are drawn there while
@@ -160,17 +173,16 @@ def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     drawing = plots and figure_worker is not None and figure_worker.send(record, out)
-    np.savetxt(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]),
-               delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")
-    np.savez_compressed(out / "timeseries.npz", columns=np.array(L.SAMPLE_NAMES),
-                        **{name: record.samples[:, k] for k, name in enumerate(L.SAMPLE_NAMES)})
+    write_csv(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]), ("phi_deg", "wear_depth_m"),
+              "%.17g")
+    # uncompressed: deflate saved 28 % of a revolution's 2.3 MB at 30x the time (0.05 s, a tenth of the main job)
+    np.savez(out / "timeseries.npz", columns=np.array(L.SAMPLE_NAMES),
+             **{name: record.samples[:, k] for k, name in enumerate(L.SAMPLE_NAMES)})
     in_last = record.samples[:, L.T_TIME] > record.last_revolution() * record.period_s
-    np.savetxt(out / "last_revolution.csv", record.samples[in_last], delimiter=",",
-               header=",".join(L.SAMPLE_NAMES), comments="", fmt="%.10g")
+    write_csv(out / "last_revolution.csv", record.samples[in_last], L.SAMPLE_NAMES, "%.10g")
     events = record.impact_events()              # once each, for revolutions.csv and summary.json
     comparison = record.ideal_comparison()
-    np.savetxt(out / "revolutions.csv", record.revolution_table(events, comparison), delimiter=",",
-               header=",".join(REVOLUTION_COLUMNS), comments="", fmt="%.10g")
+    write_csv(out / "revolutions.csv", record.revolution_table(events, comparison), REVOLUTION_COLUMNS, "%.10g")
     summary = record.summary(events, comparison)
     if plots:
         names = figure_worker.names() if drawing else None
