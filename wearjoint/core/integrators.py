@@ -15,7 +15,7 @@ import numpy as np
 
 from .layout import (
     CRANK, K_N_SAMPLES, K_NEXT_SAMPLE, K_PREVIOUS_CONTACT, K_PREVIOUS_PENETRATION, K_SAMPLE_DT, M_ACTIVE,
-    MODE_CLEARANCE, MODE_EXTERNAL,
+    MODE_CLEARANCE, MODE_EXTERNAL, MODE_LINEARISED,
     MP_OMEGA, N_COORDINATES, R_CONTACT, R_ECCENTRICITY_X, R_ECCENTRICITY_Y, R_FRICTION_FORCE,
     R_NORMAL_FORCE, R_PENETRATION, R_PIN_FX, R_PIN_FY, R_TANGENTIAL_VELOCITY, S_ACC_MAX, S_ACC_MIN, S_CONTACT_TIME,
     S_ECC_MAX, S_FORCE_MAX, S_IMPACTS, S_TIME, SLIDER, T_CONTACT, T_CRANK_ANGLE, T_ECC_X, T_ECC_Y,
@@ -141,17 +141,18 @@ def record_points(t_previous, times, ys, dys, results, mp, rev_stats, samples, t
 def rk4_step(t, y, h, trig, mode, mp, joint, body_forces, ws, k1, stages):
     """One classical RK4 step of length h, y updated in place; k1 = f(t, y) and trig =
     ``angle_trig(y, mp)`` on entry, ``stages`` is (4, len(y)) scratch.  Four derivative
-    evaluations, no bookkeeping.  MODE_EXTERNAL (a co-simulation master's step) rotates the
-    stages' trigonometry from trig; the other modes call libm as the FMU's joint does, so that
-    a monolithic run and the FMU's Model Exchange run stay bit-identical."""
+    evaluations, no bookkeeping.  The open joint's modes (MODE_EXTERNAL, MODE_LINEARISED: a co-simulation
+    master's step) rotate the stages' trigonometry from trig; the others call libm as the FMU's joint does, so
+    that a monolithic run and the FMU's Model Exchange run stay bit-identical."""
     n2 = y.shape[0]
     ys = stages[3]
     previous = k1
+    open_joint = mode == MODE_EXTERNAL or mode == MODE_LINEARISED
     for s in range(3):
         c = _RK4_C[s]
         for i in range(n2):
             ys[i] = y[i] + c * h * previous[i]
-        stage = stage_trig(trig, y, ys, mp) if mode == MODE_EXTERNAL else angle_trig(ys, mp)
+        stage = stage_trig(trig, y, ys, mp) if open_joint else angle_trig(ys, mp)
         derivative_rotated(t + c * h, ys, stage, mode, mp, joint, body_forces, ws, stages[s])
         previous = stages[s]
     k2 = stages[0]
