@@ -81,7 +81,8 @@ def _git(*args: str) -> str:
 def commit() -> str:
     """The short commit, with ``+dirty`` when the code the benchmarks run differs from it."""
     short = _git("rev-parse", "--short", "HEAD") or "unknown"
-    changed = _git("status", "--porcelain", "--", "wearjoint", "fmu_src", "validation", "benchmarks", "pyproject.toml")
+    changed = _git("status", "--porcelain", "--", "wearjoint", "fmu_src", "validation", "benchmarks", "pyproject.toml",
+                   ":(exclude)benchmarks/results")     # the figures it writes are not code
     return short + ("+dirty" if changed else "")
 
 
