@@ -174,11 +174,11 @@ def test_cosim_master_that_is_not_installed_is_refused_in_one_line(tmp_path, cap
                    "(ImportError: no ecospy))")
 
 
-# the slow test's step per master (docs/explanation/cosim_study.md, Hunt-Crossley damping): the largest step inside the
-# scatter, 0.5 us for the masters that pass the loads one step late, 1 us for the container (on time); OMSimulator,
-# on time too, 0.5 us (at 1 us two statistics fell just outside, 1.42 and 1.17 x the tolerance, 2026-11-27)
-SLOW_STEP_S = {"libcosim": 0.5e-6, "ecos": 0.5e-6, "fmpy-ssp": 0.5e-6, "omsimulator": 0.5e-6, "container": 1e-6,
-               "container-fmusim": 1e-6}
+# the slow test's step per master on the default package (its mechanism integrates the joint's published
+# linearisation; docs/explanation/cosim_study.md): 5 us for the masters that pass the loads one step late, 10 us for
+# the container and OMSimulator (on time), the steps its ensembles hold at
+SLOW_STEP_S = {"libcosim": 5e-6, "ecos": 5e-6, "fmpy-ssp": 5e-6, "omsimulator": 1e-5, "container": 1e-5,
+               "container-fmusim": 1e-5}
 
 
 @pytest.fixture(scope="module")
