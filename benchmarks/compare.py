@@ -15,7 +15,10 @@ untimed run of each that builds the FMU and fills the numba caches), through API
   wears): its default master, 0.2 s after 0.01 s, native FMU: real-time factor, communication steps (they follow the
   chaotic trajectory: a last-digit change in the mechanism moves them by several per cent), wall and FMI
   time per step; ``cosim-wear-long``: the same over four revolutions (1.6 s: the groove worn in, where a long
-  study spends its time; the step count over 0.2 s swings by 2x with the trajectory); ``cosim``: the same
+  study spends its time; the step count over 0.2 s swings by 2x with the trajectory); ``cosim-wear-starts``: the
+  same 0.2 s from :data:`STARTS` initial crank angles spread over a turn, the ensemble's real-time factor (their
+  simulated time over their wall time: one start's trajectory may spend its 0.2 s in impacts, another in lasting
+  contact, whose costs per simulated second differ several-fold), steps and wall time per step; ``cosim``: the same
   without wear (``benchmarks/bench_cosim.py``'s run);
 * ``monolithic-wear`` -- ``wearjoint simulate --revolutions 2``'s engine (DOPRI default, with wear):
   real-time factor, accepted steps; ``monolithic``: 5 revolutions without wear;
@@ -50,7 +53,10 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold", "cosim-groove")
+PROBES = ("main-job", "cosim-wear", "cosim-wear-starts", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold",
+          "cosim-groove")
+# cosim-wear-starts: this many starts, the initial crank angle spread over a turn (the accuracy ensembles' spread)
+STARTS = 8
 GROOVE_CASE = REPO / "benchmarks" / "data" / "groove_case.npz"
 # the adaptive scheme's contact step on the groove at the ensembles' accuracy (coupling_accuracy --cases groove
 # --no-default --cosim-steps 5e-6 2.5e-6 1.25e-6: impacts z +2.4 at 5 us, the largest force +2.5 at 2.5 us, every |z|
@@ -79,6 +85,31 @@ def probe_cosim(wear: bool = False, duration: float = 0.2) -> dict:
         steps = sim.communication_steps - steps
         return {"real-time factor": duration / wall, "communication steps": steps,
                 "wall us per step": 1e6 * wall / steps, "FMI us per step": 1e6 * (sim.fmi_time_s - fmi) / steps}
+
+
+def probe_cosim_wear_starts(warm_up: float = 0.01, duration: float = 0.2) -> dict:
+    import dataclasses
+
+    import numpy as np
+
+    from wearjoint.core import layout as L
+    from wearjoint.cosim import CoSimulation, CoSimulationOptions
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
+
+    options = CoSimulationOptions(revolutions=(warm_up + duration) / 0.4 + 0.1)
+    samples = np.zeros((int((warm_up + duration) / options.sample_dt_s) + 16, L.N_SAMPLE_COLUMNS))
+    wall, steps = 0.0, 0
+    for k in range(STARTS):
+        mechanism = dataclasses.replace(SliderCrankParameters(), initial_crank_angle_deg=360.0 * k / STARTS)
+        with CoSimulation(paper_joint(), mechanism, options) as sim:
+            sim.advance_to(warm_up, samples)
+            before = sim.communication_steps
+            t0 = time.perf_counter()
+            sim.advance_to(warm_up + duration, samples)
+            wall += time.perf_counter() - t0
+            steps += sim.communication_steps - before
+    return {"real-time factor": STARTS * duration / wall, "communication steps": steps,
+            "wall us per step": 1e6 * wall / steps}
 
 
 def probe_monolithic(wear: bool = False) -> dict:

@@ -14,8 +14,8 @@ Two steps, each its own function:
 
 The jobs (``--skip`` takes their names):
 
-* ``probes`` -- ``benchmarks/compare.py``'s probes of the main jobs (``main-job``, ``cosim-wear``, ``cosim-wear-long``,
-  ``monolithic-wear``, ``cosim``, ``monolithic``, ``cold``), each ``--repeats`` times in a fresh process
+* ``probes`` -- ``benchmarks/compare.py``'s probes of the main jobs (``main-job``, ``cosim-wear``,
+  ``cosim-wear-starts``, ``cosim-wear-long``, ``cosim-groove``, ``monolithic-wear``, ``cosim``, ``monolithic``, ``cold``), each ``--repeats`` times in a fresh process
   (``compare.py --probe NAME``, after one untimed run that fills the caches); with ``--base REV`` instead
   ``compare.py --base REV --repeats N --json``, alternating with REV's tree, which adds a "working / REV" column;
 * ``exudyn`` -- ``benchmarks/bench_exudyn_joint.py``: the joint in exudyn, microseconds per step;
@@ -47,11 +47,14 @@ DEFAULT_JSON = BENCHMARKS / "results" / "performance.json"
 DEFAULT_OUT = REPO / "docs" / "performance.md"
 ACCURACY_DIR = BENCHMARKS / "results" / "coupling_accuracy"   # python -m wearjoint.studies.coupling_accuracy --out
 JOBS = ("probes", "exudyn", "instructions", "floor")
-PROBES = ("main-job", "cosim-wear", "cosim-wear-long", "cosim-groove", "monolithic-wear", "cosim", "monolithic", "cold")
+PROBES = ("main-job", "cosim-wear", "cosim-wear-starts", "cosim-wear-long", "cosim-groove", "monolithic-wear", "cosim",
+          "monolithic", "cold")
 QUICK_SKIPPED_PROBES = ("cosim-wear-long", "cold")
 PROBE_TITLES = {
     "main-job": "the README's first command, warm: `wearjoint cosim --revolutions 1 --out DIR`: wall seconds",
     "cosim-wear": "`wearjoint cosim` with wear: the default master, native FMU, 0.2 s after 0.01 s",
+    "cosim-wear-starts": "the same 0.2 s from 8 crank angles spread over a turn: the ensemble's real-time factor "
+                         "(one start's 0.2 s may be impacts, another's lasting contact)",
     "cosim-wear-long": "the same over four revolutions (1.6 s: the groove worn in)",
     "cosim-groove": "at equal accuracy on a groove 5.7 clearances deep (0.15 s after 0.01 s; the base at the step its "
                     "ensembles need there, 1.25 µs: compare.py's docstring)",
@@ -356,8 +359,10 @@ def render_accuracy(folder: Path = ACCURACY_DIR) -> list[str]:
             "Ensembles of 8 starts spread over a turn (6 revolutions, the first 2 dropped): each configuration's mean "
             "± standard error per statistic and its difference from monolithic RK4 at 2.5 µs in combined standard "
             "errors (z; |z| ≤ 2: inside the monolithic scatter); the cases and the statistics: "
-            "[cosim_study.md](explanation/cosim_study.md#ensembles-on-worn-grooves). Communication steps per "
-            "revolution are the speed's other half.", "",
+            "[cosim_study.md](explanation/cosim_study.md#ensembles-on-worn-grooves). The speed at that accuracy: "
+            "each configuration's real-time factor (the ensemble's simulated time over its simulations' wall time, "
+            "loading excluded; one run of the study, on an otherwise idle machine) and its communication steps per "
+            "revolution.", "",
             f"Command: `{command}` ({meta.get('started', '?')} to {meta.get('finished', 'unfinished')}, "
             f"{committed}; not run by this script)", "", table(json.loads(results.read_text())), ""]
 

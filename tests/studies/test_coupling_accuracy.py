@@ -61,4 +61,8 @@ def test_the_study_keeps_every_finished_row_when_a_later_one_fails(tmp_path, mon
     (case,) = json.loads((tmp_path / "coupling_accuracy.json").read_text())
     assert list(case["rows"]) == ["monolithic rk4 2.5 us", "cosim default", "cosim adaptive 5 us"]
     assert case["rows"]["cosim adaptive 5 us"]["steps_per_revolution"] > 0
+    # the real-time factor is the simulations' alone: above the one of the wall time with loading and compiling
+    simulated = 2 * 0.02 * coupling_accuracy.SliderCrankParameters().period_s
+    for row in case["rows"].values():
+        assert simulated / row["wall_s"] < row["realtime_factor"] < math.inf
     assert "| paper | cosim adaptive 5 us |" in (tmp_path / "coupling_accuracy.md").read_text()

@@ -114,8 +114,10 @@ def run_statistics(stats: np.ndarray, settling: int) -> dict:
 
 def ensemble(run, mechanism: SliderCrankParameters, starts: int, settling: int) -> dict:
     """Mean and standard error over ``starts`` crank angles spread over a turn of the statistics of
-    ``run(mechanism)``, its wall time and its communication steps per revolution (co-simulation)."""
-    values, wall, steps = [], 0.0, 0.0
+    ``run(mechanism)``, its wall time (``wall_s``, loading and compiling included), the real-time factor of the
+    simulations alone (their simulated time over their ``wall_time_s``) and its communication steps per revolution
+    (co-simulation)."""
+    values, wall, simulating, simulated, steps = [], 0.0, 0.0, 0.0, 0.0
     for k in range(starts):
         start = time.perf_counter()
         record = run(mechanism.replace(initial_crank_angle_deg=360.0 * k / starts))
@@ -123,8 +125,10 @@ def ensemble(run, mechanism: SliderCrankParameters, starts: int, settling: int) 
         if not record.completed:
             raise RuntimeError(f"start {k}: {record.failure}")
         values.append(run_statistics(record.revolution_stats, settling))
+        simulating += record.wall_time_s
+        simulated += record.simulated_time_s
         steps += record.extra.get("communication_steps", 0) / record.revolutions / starts
-    out = {"wall_s": wall, "steps_per_revolution": steps}
+    out = {"wall_s": wall, "realtime_factor": simulated / simulating, "steps_per_revolution": steps}
     for name in STATISTICS:
         x = np.array([v[name] for v in values])
         out[name] = {"mean": float(x.mean()), "se": float(x.std(ddof=1) / math.sqrt(x.size))}
@@ -195,16 +199,18 @@ def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
         row["z"] = z_scores(row, reference)
         rows[label] = row
         save(case)
-        log(f"{name}: {label} {row['wall_s']:.0f} s, {row['steps_per_revolution']:.0f} steps/rev, z " +
+        log(f"{name}: {label} {row['wall_s']:.0f} s, {row['realtime_factor']:.3g}x real time, "
+            f"{row['steps_per_revolution']:.0f} steps/rev, z " +
             " ".join(f"{k}={v:+.1f}" for k, v in row["z"].items()))
     return case
 
 
 def table(results: list) -> str:
-    """A markdown table: per case and configuration, the communication steps per revolution and the mean ±
-    standard error and z of each statistic (the wall times, which include compilation, are in the JSON only)."""
-    head = ("| case | configuration | steps/rev | " + " | ".join(STATISTICS) + " |\n|"
-            + " --- |" * (3 + len(STATISTICS)))
+    """A markdown table: per case and configuration, the real-time factor of the simulations (compilation and
+    loading excluded; the wall times with them are in the JSON), the communication steps per revolution and the
+    mean ± standard error and z of each statistic."""
+    head = ("| case | configuration | real-time factor | steps/rev | " + " | ".join(STATISTICS) + " |\n|"
+            + " --- |" * (4 + len(STATISTICS)))
     lines = [head]
     for case in results:
         for label, row in case["rows"].items():
@@ -215,7 +221,8 @@ def table(results: list) -> str:
                     text += f" (z {row['z'][name]:+.1f})"
                 cells.append(text)
             steps = f"{row['steps_per_revolution']:.0f}" if row["steps_per_revolution"] else ""
-            lines.append(f"| {case['case']} | {label} | {steps} | " + " | ".join(cells) + " |")
+            speed = f"{row['realtime_factor']:.3g}" if "realtime_factor" in row else ""
+            lines.append(f"| {case['case']} | {label} | {speed} | {steps} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
