@@ -53,8 +53,8 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PROBES = ("main-job", "cosim-wear", "cosim-wear-starts", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic", "cold",
-          "cosim-groove")
+PROBES = ("main-job", "cosim-wear", "cosim-wear-starts", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic",
+          "cold", "cosim-groove")
 # cosim-wear-starts: this many starts, the initial crank angle spread over a turn (the accuracy ensembles' spread)
 STARTS = 8
 GROOVE_CASE = REPO / "benchmarks" / "data" / "groove_case.npz"

@@ -15,8 +15,9 @@ Two steps, each its own function:
 The jobs (``--skip`` takes their names):
 
 * ``probes`` -- ``benchmarks/compare.py``'s probes of the main jobs (``main-job``, ``cosim-wear``,
-  ``cosim-wear-starts``, ``cosim-wear-long``, ``cosim-groove``, ``monolithic-wear``, ``cosim``, ``monolithic``, ``cold``), each ``--repeats`` times in a fresh process
-  (``compare.py --probe NAME``, after one untimed run that fills the caches); with ``--base REV`` instead
+  ``cosim-wear-starts``, ``cosim-wear-long``, ``cosim-groove``, ``monolithic-wear``, ``cosim``, ``monolithic``,
+  ``cold``), each ``--repeats`` times in a fresh process (``compare.py --probe NAME``, after one untimed run that
+  fills the caches); with ``--base REV`` instead
   ``compare.py --base REV --repeats N --json``, alternating with REV's tree, which adds a "working / REV" column;
 * ``exudyn`` -- ``benchmarks/bench_exudyn_joint.py``: the joint in exudyn, microseconds per step;
 * ``instructions`` -- ``benchmarks/bench_fmu_instructions.py`` at wear factors 500 and 10: callgrind's

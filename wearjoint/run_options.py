@@ -334,8 +334,8 @@ def add_cosim_arguments(parser) -> None:
     g.add_argument("--coupling-tolerance", type=float, default=None,
                    help="adaptive, linearised: the relative miss of the predicted contact force each contact step "
                         "aims at, between --step/8 and --step, a linearised contact starting at --step/4 (0: the fixed "
-                        "rule, the step halved where the miss "
-                        "passes 0.3); force jumps miss at any step, so the reported miss can stay above it; every run "
+                        "rule, the step halved where the miss passes 0.3); force jumps miss at any step, so the "
+                        "reported miss can stay above it; every run "
                         "reports it in summary.json, coupling_force_miss_rms and _max (default "
                         f"{defaults.coupling_tolerance:g}, with the linearised scheme; 0 with the others)")
     g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help="time-series spacing [s]")
