@@ -61,8 +61,21 @@ def test_simulate_writes_the_results_contract(tmp_path):
 def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, value, name):
     done = wearjoint("simulate", "--out", str(tmp_path / "x"), "--quiet", f"{option}={value}")
     assert done.returncode == 2
-    assert name in done.stderr and "Traceback" not in done.stderr
+    assert f"error: {option}=" in done.stderr and f"({name})" in done.stderr   # as written, and the API's name
+    assert "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "x" / "summary.json").exists()
+
+
+@pytest.mark.parametrize("command, options, message", [
+    ("cosim", ["--step", "0"], "error: --step=0.0 (step_s) is invalid: allowed > 0"),
+    ("cosim", ["--onset-penetration=-1"], "error: --onset-penetration=-1.0 (onset_penetration_m) is invalid"),
+    # the bad value is a default the user did not write: the API's name, as the Python API says it
+    ("cosim", ["--step", "2e-4"], "error: parameter max_step_s=0.0001 is invalid: allowed >= step_s = 0.0002"),
+    ("build-fmu", ["--n-points", "3"], "error: --n-points=3 (n_points) is invalid: allowed an integer >= 8"),
+])
+def test_a_bad_option_is_named_as_the_user_wrote_it(tmp_path, command, options, message):
+    done = wearjoint(command, "--out", str(tmp_path / "x"), *options)
+    assert done.returncode == 2 and message in done.stderr and "Traceback" not in done.stderr
 
 
 def test_unknown_choice_is_rejected_by_the_parser(tmp_path):

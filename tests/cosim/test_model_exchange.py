@@ -122,6 +122,6 @@ def test_cli_refuses_the_pythonfmu_backend_for_model_exchange(tmp_path, capsys):
     code = cli.main(["cosim", "--fmu-interface", "model-exchange", "--fmu-backend", "pythonfmu", "--revolutions",
                      "0.01", "--out", str(tmp_path / "x"), "--quiet"])
     err = capsys.readouterr().err
-    assert code == 2 and "fmu_backend='pythonfmu'" in err and "allowed native" in err
+    assert code == 2 and "--fmu-backend='pythonfmu' (fmu_backend) is invalid" in err and "allowed native" in err
     assert len(err.strip().splitlines()) == 1
 

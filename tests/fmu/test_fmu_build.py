@@ -166,12 +166,10 @@ def test_build_fails_clearly_without_a_c_compiler(tmp_path, monkeypatch, capsys,
 
 @pytest.mark.parametrize("backend", ["native", "pythonfmu"])
 def test_cli_reports_a_bad_n_points(capsys, tmp_path, backend):
-    import argparse
+    from wearjoint.cli import main
 
-    parser = argparse.ArgumentParser()
-    add_arguments(parser)
-    assert run(parser.parse_args(["--out", str(tmp_path), "--n-points", "3", "--backend", backend])) == 2
-    assert "n_points" in capsys.readouterr().err
+    assert main(["build-fmu", "--out", str(tmp_path), "--n-points", "3", "--backend", backend]) == 2
+    assert "--n-points=3 (n_points) is invalid" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
 
 

@@ -38,7 +38,6 @@ from test_directional_derivatives import (  # noqa: E402
 from test_directional_derivatives import STEP as DIFFERENCE_STEP  # noqa: E402
 
 from wearjoint import JointParameters, paper_joint  # noqa: E402
-from wearjoint.cli.build_fmu import add_arguments, run  # noqa: E402
 from wearjoint.fmu import platforms  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.fmu.model_description import fmi3_value_references  # noqa: E402
@@ -317,11 +316,10 @@ def test_directional_derivatives_equal_central_differences_on_each_platform(fmus
 
 # ------------------------------------------------------------------ choosing the platforms
 def _build_fmu_cli(*argv) -> int:
-    import argparse
+    """``wearjoint build-fmu ARGV``'s exit status (the program's own path: its errors, one line each)."""
+    from wearjoint.cli import main
 
-    parser = argparse.ArgumentParser()
-    add_arguments(parser)
-    return run(parser.parse_args(list(argv)))
+    return main(["build-fmu", *argv])
 
 
 def test_a_platform_without_its_toolchain_is_named_with_the_package_to_install(tmp_path, monkeypatch, capsys):
@@ -344,8 +342,9 @@ def test_a_platform_without_its_toolchain_is_named_with_the_package_to_install(t
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--platforms", "sparc"], "platforms='sparc' is invalid ('sparc' is no platform): allowed auto or a comma-separated list of linux64"),
-    (["--platforms", ","], "platforms=',' is invalid"),
+    (["--platforms", "sparc"], "--platforms='sparc' (platforms) is invalid ('sparc' is no platform): allowed auto or a "
+                               "comma-separated list of linux64"),
+    (["--platforms", ","], "--platforms=',' (platforms) is invalid"),
     (["--platforms", "win64", "--backend", "pythonfmu"], "the pythonfmu backend builds linux64 only"),
     (["--platforms", "aarch64-darwin"], "aarch64-darwin is built only on a machine of that platform (this one is linux64)"),
 ])

@@ -14,6 +14,7 @@ import atexit
 import contextlib
 import importlib
 import os
+import re
 import shlex
 import sys
 import threading
@@ -72,7 +73,8 @@ def main(argv: list[str] | None = None) -> int:
             with _compile_watch(module, args):   # the first line of a run that compiles says so
                 code = int(module.run(args) or 0)
         except ParameterError as exc:
-            print(f"wearjoint {args.command}: error: {exc}", file=sys.stderr)
+            print(f"wearjoint {args.command}: error: {as_written(str(exc), parser, args.command, argv)}",
+                  file=sys.stderr)
             return 2
     finally:
         if figures is not None:
@@ -100,6 +102,30 @@ def console() -> None:
         except (OSError, ValueError):     # a closed pipe (``| head``): nothing more to write there
             pass
     os._exit(code)
+
+
+# the unit a parameter's API name adds to its option's (``--step`` sets ``step_s``, ``--onset-penetration``
+# ``onset_penetration_m``)
+_UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2")
+
+
+def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv: list[str]) -> str:
+    """A ParameterError's ``message`` naming the parameter as the user wrote it: ``parameter step_s=0.0 is invalid:
+    ...`` from ``--step 0`` becomes ``--step=0.0 (step_s) is invalid: ...``; unchanged where no option the user
+    gave sets that parameter (a default, a value from a file, ``--param NAME=...``)."""
+    match = re.match(r"parameter (\w+)=", message)
+    if match is None:
+        return message
+    name = match.group(1)
+    given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
+    actions = next(a for a in parser._actions if a.dest == "command").choices[command]._actions
+    for action in actions:
+        option = next((o for o in action.option_strings if o in given), None)
+        if option is not None and (name == action.dest or (name.startswith(action.dest + "_")
+                                                           and name[len(action.dest) + 1:] in _UNIT_SUFFIXES)):
+            value, invalid, allowed = message[match.end():].partition(" is invalid")
+            return f"{option}={value} ({name}){invalid}{allowed}"
+    return message
 
 
 def _compile_watch(module, args):
@@ -133,4 +159,4 @@ def _report(args, argv: list[str]) -> None:
         write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), report_facts(vars(args)))
 
 
-__all__ = ["main", "build_parser", "COMMANDS"]
+__all__ = ["main", "build_parser", "as_written", "COMMANDS"]
