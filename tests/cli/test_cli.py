@@ -72,10 +72,14 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
     # the bad value is a default the user did not write: the API's name, as the Python API says it
     ("cosim", ["--step", "2e-4"], "error: parameter max_step_s=0.0001 is invalid: allowed >= step_s = 0.0002"),
     ("build-fmu", ["--n-points", "3"], "error: --n-points=3 (n_points) is invalid: allowed an integer >= 8"),
+    ("wear-study", ["--revolutions", "-5"], "error: --revolutions=-5 (revolutions) is invalid: allowed an integer >= 1"),
+    # no ensemble of no seeds: refused, not run as one seed
+    ("wear-study", ["--revolutions", "10", "--seeds", "0"], "error: --seeds=0 is invalid: allowed an integer >= 1"),
 ])
 def test_a_bad_option_is_named_as_the_user_wrote_it(tmp_path, command, options, message):
     done = wearjoint(command, "--out", str(tmp_path / "x"), *options)
     assert done.returncode == 2 and message in done.stderr and "Traceback" not in done.stderr
+    assert not (tmp_path / "x").exists()
 
 
 def test_unknown_choice_is_rejected_by_the_parser(tmp_path):

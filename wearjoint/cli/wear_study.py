@@ -11,6 +11,7 @@ from ..studies.cycle_jump import replay_volume_warning
 from ..studies.wear_calibration import calibrate_wear_coefficient
 from ..studies.wear_convergence import JUMP, run_convergence
 from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, run_wear_study
+from ..sweep.design import check_seeds
 from .study_options import config_from_args, parse_float_list
 from .sweep import add_ensemble_arguments
 
@@ -27,7 +28,7 @@ def run(args) -> int:
     from ..runner import RunDiverged
     from ..studies.wear_study import StudyDiverged
 
-    if args.seeds is not None and args.seeds > 1:
+    if args.seeds is not None and check_seeds(args.seeds) > 1:
         from .sweep import run_from_args
         return run_from_args("wear-study", args)
     config = config_from_args(args)

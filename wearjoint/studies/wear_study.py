@@ -158,7 +158,7 @@ class WearStudyConfig:
 
 def _check_int(name, value, minimum) -> None:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ParameterError(f"{name}={value!r} is invalid: allowed an integer >= {minimum}")
+        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed an integer >= {minimum}")
 
 
 # ----------------------------------------------------------------------------- engines
