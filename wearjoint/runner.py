@@ -7,6 +7,7 @@ Model Exchange); each ``run_*`` function is :func:`run_engine` on one of them.
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import dataclass
 from typing import Any, Callable, Protocol
@@ -15,7 +16,7 @@ import numpy as np
 
 from . import analysis
 from .core import layout as L
-from .checks import RunDiverged
+from .checks import RunDiverged, require
 from .parameters import JointParameters
 from .progress import Progress
 from .results import RunParameters, RunRecord
@@ -84,6 +85,31 @@ def run_engine(make_engine: Callable[[], Engine], revolutions: float, period_s: 
         run.engine.close()
 
 
+# the share of this machine's memory a run's time series may take: run_in_chunks keeps it whole, and its final
+# concatenation holds it twice
+TIME_SERIES_MEMORY_SHARE = 0.25
+
+
+def check_time_series_fits(revolutions: float, period_s: float, row_dt_s: float,
+                           row_doubles: int = L.N_SAMPLE_COLUMNS, rows: str = "sample_dt_s",
+                           remedy: str = "a longer sample_dt_s (--sample-dt), or wear-study for thousands of "
+                                         "revolutions") -> None:
+    """ParameterError naming ``revolutions`` where the time series of that many revolutions (``row_doubles``
+    doubles every ``row_dt_s``: ``rows`` says what sets it) would take more than TIME_SERIES_MEMORY_SHARE of this
+    machine's memory: a clear refusal before the run, instead of a failed allocation or the machine's swap hours
+    in.  No check where the memory cannot be read (os.sysconf)."""
+    try:
+        memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return
+    per_revolution = (period_s / row_dt_s + 1.0) * row_doubles * 8.0
+    most = TIME_SERIES_MEMORY_SHARE * memory / per_revolution
+    require("revolutions", revolutions, revolutions <= most,
+            f"<= {most:.4g} with a row every {row_dt_s:g} s ({rows}) on this machine (the time series takes "
+            f"{per_revolution / 1e6:.3g} MB a revolution, at most {TIME_SERIES_MEMORY_SHARE:g} of its "
+            f"{memory / 1e9:.3g} GB memory): {remedy}")
+
+
 def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: float, sample_dt_s: float,
                   label: str, progress: bool = True, chunks_per_revolution: int = 8,
                   joint: JointParameters | None = None) -> ChunkedRun:
@@ -97,8 +123,10 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
     Ctrl-C during the chunks stops after the current one and keeps what was finished, and so
     does a chunk after which the run has diverged (:func:`divergence` against ``joint``, by
     default the engine's joint's; ``failure`` says why).
-    If anything raises, the engine is closed before the error propagates.
+    If anything raises, the engine is closed before the error propagates.  A time series that would not fit in
+    memory is refused first (:func:`check_time_series_fits`).
     """
+    check_time_series_fits(revolutions, period_s, sample_dt_s)
     t_final = revolutions * period_s
     chunk = period_s / chunks_per_revolution
     bar = Progress(t_final, label, enabled=progress, compiling=True)

@@ -75,6 +75,9 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
     ("wear-study", ["--revolutions", "-5"], "error: --revolutions=-5 (revolutions) is invalid: allowed an integer >= 1"),
     # no ensemble of no seeds: refused, not run as one seed
     ("wear-study", ["--revolutions", "10", "--seeds", "0"], "error: --seeds=0 is invalid: allowed an integer >= 1"),
+    # a time series no machine holds: refused before anything is built, not a failed allocation's traceback
+    ("simulate", ["--revolutions", "1e12"], "error: --revolutions=1000000000000.0 (revolutions) is invalid: allowed <="),
+    ("cosim", ["--master", "container", "--revolutions", "1e12"], "(revolutions) is invalid: allowed <="),
 ])
 def test_a_bad_option_is_named_as_the_user_wrote_it(tmp_path, command, options, message):
     done = wearjoint(command, "--out", str(tmp_path / "x"), *options)
@@ -131,3 +134,20 @@ def test_compile_time_is_reported_apart_from_the_simulation_wall_time(tmp_path):
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["compile_time_s"] >= 0.5 > summary["wall_time_s"] > 0.0
     assert summary["realtime_factor"] == pytest.approx(0.01 / summary["wall_time_s"])
+
+
+def test_a_run_whose_time_series_would_not_fit_in_memory_is_refused_first(monkeypatch):
+    """On a machine of 1 GiB a quarter holds 55.92 revolutions of the paper's time series (a row of 15 doubles every
+    1e-5 s: 40 001 rows, 4.80 MB a revolution): 60 are refused before the engine is built, naming revolutions and
+    the bound; 0.01 runs."""
+    from wearjoint import runner
+    from wearjoint.parameters import ParameterError
+    from wearjoint.simulate import SimulationOptions, run_simulation
+
+    pages = {"SC_PAGE_SIZE": 4096, "SC_PHYS_PAGES": 2 ** 30 // 4096}
+    monkeypatch.setattr(runner.os, "sysconf", lambda name: pages[name])
+    joint = paper_joint(wear_factor=0.0)
+    with pytest.raises(ParameterError, match=r"parameter revolutions=60\.0 is invalid: allowed <= 55\.92 with a row "
+                                             r"every 1e-05 s \(sample_dt_s\)"):
+        run_simulation(joint, None, SimulationOptions(revolutions=60.0), progress=False)
+    assert run_simulation(joint, None, SimulationOptions(revolutions=0.01), progress=False).completed
