@@ -4,8 +4,10 @@ for any SSP master (OSP libcosim, ecos, fmpy's SSP simulator, OMSimulator); with
 ``--container-fmu`` also the same system as one fmpy container FMU, for any FMU importer."""
 from __future__ import annotations
 
+import math
 import sys
 
+from ..checks import require
 from ..cosim.step_rule import communication_step_rule, paper_step_scale
 from ..fmu import platforms
 from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, ON_TIME_STEP_S
@@ -48,6 +50,9 @@ def run(args) -> int:
     from ..fmu.ssp import CONTAINER_FILE_NAME, container_fmu, export_ssp
 
     try:
+        if args.container_step is not None:     # before anything is written
+            require("container_step_s", args.container_step, args.container_step > 0.0 and
+                    math.isfinite(args.container_step), "> 0 (the container's fixed step [s])")
         joint, mechanism = model_from_args(args)
         rule = communication_step_rule(joint, mechanism)
         scale = paper_step_scale(joint, mechanism)
