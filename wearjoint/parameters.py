@@ -20,6 +20,11 @@ from .core.layout import (   # the wear-step limit, the wear batches, admissible
     choice_names,
 )
 
+# the bushing's points (n_points): fewer do not resolve a contact arc; more than a million (some 50 MB of profile
+# arrays, the FMI 3.0 FMU's structural parameter's range) only exhaust the memory (1e9 points were the OOM killer's)
+N_POINTS_MIN = 8
+N_POINTS_MAX = 1_000_000
+
 # the values of the choice fields (their codes: core.layout.CHOICES)
 RHO_MODES = choice_names("rho_mode")
 WEAR_PLACEMENTS = choice_names("wear_placement")
@@ -135,7 +140,7 @@ class JointParameters:
 
     def __post_init__(self):
         """The rules of :data:`~wearjoint.joint_fields.JOINT_FIELDS` (the FMU's too); a pair must be two finite
-        numbers, ``n_points`` an integer >= 8; a contact stiffness of 0 means "from the materials" (None)."""
+        numbers, ``n_points`` an integer from N_POINTS_MIN to N_POINTS_MAX; a contact stiffness of 0 means "from the materials" (None)."""
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
             require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
@@ -143,8 +148,8 @@ class JointParameters:
         if self.contact_stiffness_N_m1_5 == 0.0:
             object.__setattr__(self, "contact_stiffness_N_m1_5", None)
         n = self.n_points
-        require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and n >= 8,
-                 "an integer >= 8")
+        require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and N_POINTS_MIN <= n <= N_POINTS_MAX,
+                f"an integer from {N_POINTS_MIN} to {N_POINTS_MAX}")
         check_joint_fields(self)
 
     def restitution_at(self, impact_speed_m_s: float) -> float:

@@ -71,7 +71,10 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
     ("cosim", ["--onset-penetration=-1"], "error: --onset-penetration=-1.0 (onset_penetration_m) is invalid"),
     # the bad value is a default the user did not write: the API's name, as the Python API says it
     ("cosim", ["--step", "2e-4"], "error: parameter max_step_s=0.0001 is invalid: allowed >= step_s = 0.0002"),
-    ("build-fmu", ["--n-points", "3"], "error: --n-points=3 (n_points) is invalid: allowed an integer >= 8"),
+    ("build-fmu", ["--n-points", "3"], "error: --n-points=3 (n_points) is invalid: allowed an integer from 8 to 1000000"),
+    # a profile no machine holds: refused, not the OOM killer's
+    ("simulate", ["--n-points", "1000000000"], "error: --n-points=1000000000 (n_points) is invalid: allowed an integer "
+                                               "from 8 to 1000000"),
     ("wear-study", ["--revolutions", "-5"], "error: --revolutions=-5 (revolutions) is invalid: allowed an integer >= 1"),
     # no ensemble of no seeds: refused, not run as one seed
     ("wear-study", ["--revolutions", "10", "--seeds", "0"], "error: --seeds=0 is invalid: allowed an integer >= 1"),

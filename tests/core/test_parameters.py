@@ -65,7 +65,8 @@ def test_defaults_are_the_paper_tables():
 BAD_JOINT = [
     ("bushing_radius_m", 0.0099, "pin_radius_m"),
     ("bushing_radius_m", 0.0100, "pin_radius_m"),
-    ("n_points", 7, ">= 8"),
+    ("n_points", 7, "from 8 to 1000000"),
+    ("n_points", 1_000_001, "from 8 to 1000000"),
     ("n_points", 100.5, "integer"),
     ("pin_youngs_modulus_Pa", 0.0, "> 0"),
     ("bushing_youngs_modulus_Pa", -1.0, "> 0"),

@@ -13,6 +13,7 @@ import datetime
 from xml.etree import ElementTree as ET
 
 from .. import __version__
+from ..parameters import N_POINTS_MAX, N_POINTS_MIN   # FMI 3.0: the structural parameter n_points' range
 from . import variables as fv
 
 DESCRIPTION = ("Planar revolute clearance joint with a wearing bushing (Archard wear, elastic-foundation "
@@ -133,8 +134,6 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
 
 
 # ------------------------------------------------------------------ FMI 3.0
-N_POINTS_MIN = 8              # FMI 3.0: the allowed values of the structural parameter n_points
-N_POINTS_MAX = 1_000_000
 WEAR_DEPTH_NAME = "wear_depth"  # FMI 3.0: the wear profile, one Float64 array of n_points values
 TIME_NAME = "time"
 # FMI 3.0 type of a FMI 2.0 variable type
