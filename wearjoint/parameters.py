@@ -140,7 +140,8 @@ class JointParameters:
 
     def __post_init__(self):
         """The rules of :data:`~wearjoint.joint_fields.JOINT_FIELDS` (the FMU's too); a pair must be two finite
-        numbers, ``n_points`` an integer from N_POINTS_MIN to N_POINTS_MAX; a contact stiffness of 0 means "from the materials" (None)."""
+        numbers, ``n_points`` an integer from N_POINTS_MIN to N_POINTS_MAX; a contact stiffness of 0 means "from the
+        materials" (None)."""
         for name in ("pin_offset_m", "bushing_offset_m"):
             value = getattr(self, name)
             require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
