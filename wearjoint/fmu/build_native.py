@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 from .. import __version__
 from ..core import layout
-from ..parameters import JointParameters, ParameterError
+from ..parameters import N_POINTS_MAX, N_POINTS_MIN, JointParameters, ParameterError
 from . import slider_crank as sc
 from . import variables as fv
 from . import platforms
@@ -45,8 +45,7 @@ from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, current_build, fmi2_heade
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
 from .model_description import (
-    N_POINTS_MAX, N_POINTS_MIN, TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, interfaces,
-    model_description_fmi3_xml, model_description_xml,
+    TIME_NAME, WEAR_DEPTH_NAME, fmi3_value_references, interfaces, model_description_fmi3_xml, model_description_xml,
 )
 
 FMI_VERSIONS = (2, 3)
