@@ -3,6 +3,8 @@ run that cannot go on."""
 from __future__ import annotations
 
 import math
+import numbers
+import reprlib
 from dataclasses import dataclass
 
 
@@ -22,25 +24,106 @@ def require(name: str, value, ok: bool, allowed: str) -> None:
         raise ParameterError(f"parameter {name}={value!r} is invalid: allowed {allowed}")
 
 
-def finite(name: str, value) -> float:
-    """``value`` as a finite float, else :func:`require`'s error naming ``name``."""
+def shown(value) -> str:
+    """``value`` as a message shows it: its repr, abbreviated where long (reprlib), an array as its list."""
+    return reprlib.repr(value.tolist() if getattr(value, "ndim", 0) > 0 else value)
+
+
+def refuse(name: str, value, allowed: str, why: str = "") -> None:
+    """The one-line ParameterError naming ``name``, ``value`` (:func:`shown`), ``why`` it fails (optional) and what
+    is ``allowed``."""
+    raise ParameterError(f"parameter {name}={shown(value)} is invalid{f' ({why})' if why else ''}: allowed {allowed}")
+
+
+def real_array(name: str, value, allowed: str):
+    """``value`` as a float numpy array if it holds real numbers only (no strings, booleans, complex numbers or
+    other objects), else :func:`refuse` naming ``name``."""
+    import numpy as np      # here: the command line imports this module before numpy
+
     try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite real number") from None
-    require(name, value, math.isfinite(x), "a finite real number")
+        raw = np.asarray(value)
+    except (TypeError, ValueError):     # a ragged sequence
+        raw = np.asarray(None)
+    if raw.dtype.kind not in "iuf":
+        refuse(name, value, allowed, "not real numbers")
+    return raw.astype(float)
+
+
+class ParameterTypeError(ParameterError, TypeError):
+    """A parameter value of a type the parameter does not take (a string for a number, a bool for an integer)."""
+
+
+def is_real(value) -> bool:
+    """Whether ``value`` is a real number: an int, a float or a numpy real scalar (not a bool, a string, bytes, a
+    Decimal, a complex, None or an array)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def finite(name: str, value, rule: str = "") -> float:
+    """``value`` as a float where it is a finite real number (:func:`is_real`), else :func:`require`'s error naming
+    ``name``, stating ``rule`` (the rest of the allowed range, e.g. ``> 0``) after "a finite real number"."""
+    allowed = "a finite real number" + (f" {rule}" if rule else "")
+    if not is_real(value):
+        raise ParameterTypeError(f"parameter {name}={shown(value)} is invalid: allowed {allowed}")
+    x = float(value)
+    require(name, value, math.isfinite(x), allowed)
     return x
 
 
-def is_finite_pair(value) -> bool:
+def positive(name: str, value) -> float:
+    """``value`` as a float where it is a finite real number > 0, else the error naming ``name``."""
+    x = finite(name, value, "> 0")
+    require(name, value, x > 0.0, "> 0")
+    return x
+
+
+def non_negative(name: str, value) -> float:
+    """``value`` as a float where it is a finite real number >= 0, else the error naming ``name``."""
+    x = finite(name, value, ">= 0")
+    require(name, value, x >= 0.0, ">= 0")
+    return x
+
+
+def integer(name: str, value, low: int, high: int | None = None) -> int:
+    """``value`` as an int where it is an integer (Python's or numpy's, not a bool) from ``low`` (to ``high``), else
+    the error naming ``name``."""
+    allowed = f"an integer from {low} to {high}" if high is not None else f"an integer >= {low}"
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool):
+        raise ParameterTypeError(f"parameter {name}={shown(value)} is invalid: allowed {allowed}")
+    require(name, value, low <= value and (high is None or value <= high), allowed)
+    return int(value)
+
+
+def flag(name: str, value) -> bool:
+    """``value`` as a bool where it is one (Python's or numpy's), else the error naming ``name``: a truthy string
+    or number is no answer to a yes-or-no option."""
+    import numpy as np      # here: the command line imports this module before numpy
+
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterTypeError(f"parameter {name}={shown(value)} is invalid: allowed True or False")
+    return bool(value)
+
+
+def finite_pair(name: str, value, allowed: str) -> tuple[float, float]:
+    """``value`` as two floats where it is a sequence of two finite real numbers (not a string), else the error
+    naming ``name`` and what is ``allowed``."""
     try:
-        return len(value) == 2 and all(math.isfinite(float(v)) for v in value)
-    except (TypeError, ValueError):
-        return False
+        ok = (not isinstance(value, (str, bytes)) and len(value) == 2
+              and all(is_real(v) and math.isfinite(v) for v in value))
+    except TypeError:
+        ok = False
+    if not ok:
+        raise ParameterTypeError(f"parameter {name}={shown(value)} is invalid: allowed {allowed}")
+    return float(value[0]), float(value[1])
 
 
-def positive(name: str, value) -> None:
-    require(name, value, finite(name, value) > 0.0, "> 0")
+def of_type(name: str, value, cls: type, none_means: str):
+    """``value`` where it is a ``cls`` or None (which means ``none_means``), else the error naming ``name`` and the
+    type expected (e.g. arguments given in the wrong order)."""
+    if value is not None and not isinstance(value, cls):
+        raise ParameterTypeError(f"parameter {name}={shown(value)} is invalid: allowed a {cls.__name__} or None "
+                                 f"({none_means})")
+    return value
 
 
 def choice(name: str, value, choices) -> None:
@@ -51,9 +134,11 @@ def choice(name: str, value, choices) -> None:
 class Allowed:
     """The allowed values of a real parameter: finite, within (or on) ``low`` / ``high`` where given, greater than
     the parameter named ``above``, and ``equal`` where a parameter of ``when`` = ((its name, value, label, the
-    condition as the parameter set states it), ...) has that value.  Names are those of the table the rule sits in
-    (the FMU's parameter names); the native FMUs check
-    the same rules from their generated tables (:func:`wearjoint.fmu.c_tables.parameter_rows`)."""
+    condition as the parameter set states it), ...) has that value.  With a ``note`` (ASCII: the native FMU's
+    messages carry it) ``low`` (if above 0) and ``high`` are generous, inclusive bounds on a positive (``low`` 0
+    and closed: non-negative) quantity, stated after its sign with the note (the unit, why there).  Names are
+    those of the table the rule sits in (the FMU's parameter names); the native FMUs check the same rules from
+    their generated tables (:func:`wearjoint.fmu.c_tables.parameter_rows`)."""
 
     low: float | None = None
     low_open: bool = False
@@ -62,12 +147,18 @@ class Allowed:
     above: str | None = None
     equal: float | None = None
     when: tuple[tuple[str, float, str, str], ...] = ()
+    note: str = ""
 
     def text(self, names=None) -> str:
         """The rule as :class:`ParameterError` messages state it, e.g. ``> 0`` or ``in (0, 1]``; ``names`` maps
         the table's names to those the reader knows (the parameter set's fields), and a condition is then
         stated as the parameter set states it."""
-        if self.low is not None and self.high is not None:
+        if self.note:
+            floor = f"{self.low:g}" if self.low else None
+            bounds = (f"from {floor} to {self.high:g}" if floor and self.high is not None
+                      else f"at least {floor}" if floor else f"at most {self.high:g}")
+            rule = f"{'>= 0' if self.low == 0.0 and not self.low_open else '> 0'} ({bounds} {self.note})"
+        elif self.low is not None and self.high is not None:
             rule = f"in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
         elif self.low is not None:
             rule = f"{'>' if self.low_open else '>='} {self.low:g}"

@@ -46,7 +46,8 @@ from .core.jit import kernel
 from .core.pressure import foundation_modulus_factor
 from .core.admissibility import wall_overlap
 from .core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT, advance_joint
-from .joint import ClearanceJoint, ContactResult
+from .checks import is_real, refuse
+from .joint import ClearanceJoint, ContactResult, overshoot_message
 from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
 from .runner import RunDiverged, inadmissible_message
 
@@ -58,6 +59,7 @@ _HISTORY_SLOTS = np.array([L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION
                            L.R_ECCENTRICITY_Y, L.R_PIN_FX, L.R_PIN_FY, L.R_PIN_TORQUE, L.R_BUSHING_FX, L.R_BUSHING_FY,
                            L.R_BUSHING_TORQUE])
 NEWTON_SAFETY = 10.0     # Newton's absolute tolerance over the residual's round-off floor (simulation_settings)
+MAX_STEPS = 2.0 ** 53    # simulation_settings' most steps (whole floats)
 _EPSILON = float(np.finfo(float).eps)
 
 
@@ -169,6 +171,7 @@ class _Body:
         else:
             raise ParameterError(f"{argument}={number!r} is invalid: it is an exudyn {kind} object "
                                  "(allowed: ObjectRigidBody2D or ObjectGround)")
+        self.number = int(number)       # exudyn's ObjectIndex never equals an int: compare these
         self.position = self.reference.copy()
         self.velocity = np.zeros(3)
 
@@ -176,7 +179,15 @@ class _Body:
 class ClearanceJointHandle:
     """One clearance joint in an exudyn system: :attr:`joint` (the :class:`ClearanceJoint`:
     profile, state, save/load), :meth:`result` and :meth:`history`; :attr:`object_number` is
-    its ``ObjectGenericODE2``."""
+    its ``ObjectGenericODE2``.  :attr:`t` is the time of the last accepted step [s], :attr:`accepted_steps` their
+    count over all runs.
+
+    Each solve whose start time lies before :attr:`t` (exudyn's ``SolveDynamic`` starts from the initial
+    state, at ``startTime``: a second solve of the same system) begins a new run: the joint keeps its worn
+    profile (the same bushing; the pending wear batch applied), forgets its contact memory (a new trajectory) and
+    accepts every step from the new start time; :meth:`history` gives the last run, ``history(run=k)`` an earlier
+    one (:attr:`runs`).  A solve that starts at :attr:`t` continues the run (exudyn's continuation: the final state
+    copied into the initial one, ``startTime`` the last end time)."""
 
     def __init__(self, mbs, pin: _Body, bushing: _Body, parameters: JointParameters):
         self.joint = ClearanceJoint(parameters)
@@ -188,6 +199,7 @@ class ClearanceJointHandle:
         self._system_indices = None   # the nodes' ODE2 coordinates in the system (after Assemble)
         self._history = np.zeros((1024, len(HISTORY_COLUMNS)))
         self._rows = 0
+        self._run_starts = [0]        # the first history row of each run
         self.t = 0.0
         self.accepted_steps = 0
         self._wear_share_warned = False
@@ -230,7 +242,9 @@ class ClearanceJointHandle:
         (``mbs`` comes with each call: a handle holding it would make a reference cycle through exudyn's
         C++ side, which Python's collector cannot see, and keep the whole system alive.)"""
         dt = t - self.t
-        if dt <= 0.0:             # exudyn also calls the post-step function for the initial state
+        if dt <= 0.0:             # exudyn also calls the post-step function for the initial state of each solve
+            if dt < 0.0:
+                self._new_run(t)
             return
         j = self.joint
         wear_rate = j.parameter_vector[L.P_WEAR_COEFFICIENT]
@@ -253,20 +267,36 @@ class ClearanceJointHandle:
         self.accepted_steps += 1
         if code == STEP_OVERSHOT and not self._wear_share_warned:   # (docs/reference/model.md §7)
             self._wear_share_warned = True
-            warnings.warn(f"at t = {t:.6g} s a step of {dt:.3g} s took a share k_f k_w F v dt of the contact's "
-                          f"penetration above {self.joint.params.wear_step_share:g}: the step no longer resolves the "
-                          "wear; take shorter steps or a smaller wear_factor (docs/reference/model.md §7)", RuntimeWarning,
-                          stacklevel=2)
+            warnings.warn(f"at t = {t:.6g} s {overshoot_message(dt, j.params)}", RuntimeWarning, stacklevel=2)
+
+    def _new_run(self, t: float) -> None:
+        """A solve starting at ``t`` [s], before the last accepted step: a new run (a new history segment, the
+        joint :meth:`~ClearanceJoint.restart`-ed) if the last one accepted a step, from ``t`` on."""
+        if self._rows > self._run_starts[-1]:
+            self.joint.restart()
+            self._run_starts.append(self._rows)
+        self.t = t
 
     def result(self) -> ContactResult:
         """The contact at the end of the last accepted step (before that step's wear)."""
         return ContactResult.from_array(self.joint.result.copy())
 
-    def history(self) -> dict:
-        """One row per accepted step: ``{column: array}`` with the columns of :data:`HISTORY_COLUMNS`
-        (SI units in the names; forces on each body in the global frame, the eccentricity in the
-        bushing frame, penetration negative for the gap)."""
-        return {name: self._history[:self._rows, k].copy() for k, name in enumerate(HISTORY_COLUMNS)}
+    @property
+    def runs(self) -> int:
+        """How many runs the history holds: the first, and one per solve that started before the last accepted
+        step."""
+        return len(self._run_starts)
+
+    def history(self, run: int = -1) -> dict:
+        """One row per accepted step of a run (default the last; 0 the first, as a list index):
+        ``{column: array}`` with the columns of :data:`HISTORY_COLUMNS` (SI units in the names; forces on each
+        body in the global frame, the eccentricity in the bushing frame, penetration negative for the gap)."""
+        runs = self.runs
+        require("run", run, isinstance(run, (int, np.integer)) and not isinstance(run, bool) and -runs <= run < runs,
+                f"an integer in [{-runs}, {runs - 1}] (this handle has {runs} run(s))")
+        ends = [*self._run_starts[1:], self._rows]
+        rows = slice(self._run_starts[run], ends[run])
+        return {name: self._history[rows, k].copy() for k, name in enumerate(HISTORY_COLUMNS)}
 
 
 class _PostStep:
@@ -298,7 +328,9 @@ def _post_step(mbs) -> _PostStep:
 def set_post_step(mbs, user_function: Callable | None) -> None:
     """Set the user's post-step function ``f(mbs, t) -> bool`` of a system with clearance joints:
     it runs after the joints have accepted each step (``mbs.SetPostStepUserFunction`` would replace
-    the joints' own)."""
+    the joints' own); None removes it."""
+    if not (user_function is None or callable(user_function)):
+        refuse("user_function", user_function, "a function f(mbs, t) -> bool, or None")
     _post_step(mbs).user_function = user_function
 
 
@@ -311,7 +343,7 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
     if not isinstance(parameters, JointParameters):
         raise ParameterError(f"parameters={parameters!r} is invalid: allowed a wearjoint.JointParameters")
     pin, bushing = _Body(mbs, "pin_body", pin_body), _Body(mbs, "bushing_body", bushing_body)
-    if pin_body == bushing_body:
+    if pin.number == bushing.number:
         raise ParameterError(f"bushing_body={bushing_body!r} is invalid: it is pin_body too (allowed: another body)")
     if pin.node is None and bushing.node is None:
         raise ParameterError(f"bushing_body={bushing_body!r} is invalid: pin_body is ground too "
@@ -380,8 +412,12 @@ def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate
     :data:`NEWTON_SAFETY` k eps X (3e-6 N for the paper's joint at X = 1 m), a joint load F then
     resolved to that over F.  The relative tolerance stays exudyn's; modified Newton updates the
     Jacobian after 2 iterations without convergence instead of 8 (fewer iterations per step)."""
-    require("coordinate_scale_m", coordinate_scale_m, math.isfinite(coordinate_scale_m) and coordinate_scale_m > 0.0,
-             "a finite length > 0 m")
+    require("end_time_s", end_time_s, _positive(end_time_s), "a finite time > 0 s")
+    handles = _checked_handles(handles)
+    check_step(step_s, handles)
+    require("step_s", step_s, end_time_s / step_s <= MAX_STEPS,
+            f"at least end_time_s / 2**53 = {end_time_s / MAX_STEPS:g} s")
+    require("coordinate_scale_m", coordinate_scale_m, _positive(coordinate_scale_m), "a finite length > 0 m")
     stiffness = max((contact_stiffness_bound(h.joint.params) for h in handles),
                     default=contact_stiffness_bound(JointParameters()))
     settings = exu.SimulationSettings()
@@ -400,12 +436,27 @@ def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate
 def check_step(step_s: float, handles) -> None:
     """Refuse, before a run, a fixed solver step ``step_s`` [s] the joints cannot work with: with wear, at
     most :data:`MAX_WEAR_STEP_S`.  (The joints' post-step function checks every accepted step anyway.)"""
-    if not (math.isfinite(step_s) and step_s > 0.0):
-        raise ParameterError(f"step_s={step_s!r} is invalid: allowed a finite step > 0 s")
-    wearing = [h for h in handles if h.joint.parameter_vector[L.P_WEAR_COEFFICIENT] > 0.0]
+    require("step_s", step_s, _positive(step_s), "a finite step > 0 s")
+    wearing = [h for h in _checked_handles(handles) if h.joint.parameter_vector[L.P_WEAR_COEFFICIENT] > 0.0]
     if wearing and step_s > MAX_WEAR_STEP_S:
-        raise ParameterError(f"step_s={step_s!r} is invalid with wear: allowed at most {MAX_WEAR_STEP_S!r} s "
+        raise ParameterError(f"parameter step_s={step_s!r} is invalid with wear: allowed at most {MAX_WEAR_STEP_S!r} s "
                              "(set wear_factor=0 for a longer step)")
+
+
+def _positive(value) -> bool:
+    """Whether ``value`` is a finite real number > 0."""
+    return is_real(value) and math.isfinite(value) and value > 0.0
+
+
+def _checked_handles(handles) -> tuple:
+    """``handles`` as a tuple of :class:`ClearanceJointHandle`, else ParameterError."""
+    try:
+        checked = tuple(handles)
+    except TypeError:
+        checked = (None,)
+    if isinstance(handles, str) or not all(isinstance(h, ClearanceJointHandle) for h in checked):
+        refuse("handles", handles, "a sequence of the handles add_clearance_joint returned")
+    return checked
 
 
 __all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "solve_dynamic",

@@ -17,15 +17,33 @@ import numpy as np
 
 from .core import layout as L
 from .core import state_format as SF
+from .core.admissibility import wall_overlap
 from .core.contact import contact_jacobian, evaluate_contact
 from .core.geometry import block_minimum_depth, bushing_points
 from .core.joint_access import JointArrays
 from .core.wear import (
-    advance_joint, complete_joint_parameters, equivalent_radius, hertz_half_width, worn_volume,
+    STEP_INADMISSIBLE, STEP_OVERSHOT, STEP_REFUSED, _flush_batch, advance_joint, complete_joint_parameters,
+    equivalent_radius, hertz_half_width, worn_volume,
 )
 from .joint_fields import JOINT_FIELDS, coded_value
-from .parameters import JointParameters, ParameterError
+from .checks import is_real, real_array, refuse
+from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
 
+KINEMATICS = "6 finite numbers (x [m], y [m], angle [rad], vx [m/s], vy [m/s], omega [rad/s])"
+
+
+def _numbers(*arrays) -> str:
+    """The values of ``arrays`` as one list, 6 significant digits each."""
+    return "[" + ", ".join(f"{v:.6g}" for a in arrays for v in a) + "]"
+
+
+def overshoot_message(dt: float, params: JointParameters) -> str:
+    """What a wearing step of ``dt`` [s] over the wear-step limit (STEP_OVERSHOT, docs/reference/model.md §7) is
+    told."""
+    return (f"a wearing step dt={dt!r} s is over the wear-step limit (at most {MAX_WEAR_STEP_S:g} s, and a share "
+            f"k_f k_w F v dt of at most {params.wear_step_share:g} of the contact's penetration): the step no longer "
+            "resolves the wear; take shorter steps or a smaller wear_factor (docs/reference/model.md §7; said once "
+            "per joint)")
 
 
 class StateError(ParameterError):
@@ -121,11 +139,12 @@ class JointState:
 
 
 def _split_kinematics(name: str, kinematics) -> tuple[np.ndarray, np.ndarray]:
-    k = np.asarray(kinematics, dtype=float)
+    """(position, velocity) of a body's 6 kinematics; ParameterError naming ``name`` unless :data:`KINEMATICS`."""
+    k = real_array(name, kinematics, KINEMATICS)
     if k.shape != (6,):
-        raise ParameterError(f"{name} must be 6 numbers (x, y, angle, vx, vy, omega), got shape {k.shape}")
+        refuse(name, kinematics, KINEMATICS, f"not 6 numbers: shape {k.shape}")
     if not np.all(np.isfinite(k)):
-        raise ParameterError(f"{name} has non-finite values: {k.tolist()}")
+        refuse(name, kinematics, KINEMATICS, "non-finite values")
     return k[:3].copy(), k[3:].copy()
 
 
@@ -158,6 +177,7 @@ class ClearanceJoint:
         self.work = np.zeros(2 * n)                 # scratch of the wear kernels (not state)
         self.kinematics = np.zeros(L.N_KINEMATIC_INPUTS)   # scratch of the integrators' accepted points
         self.failure = np.zeros(4)                  # the integrators' first inadmissible point (JointArrays.failure)
+        self._warned_wear_step = False              # advance warned of a step over the wear-step limit
 
     @property
     def arrays(self) -> JointArrays:
@@ -219,8 +239,9 @@ class ClearanceJoint:
                                         contact_arc_rad=arc)
 
     def advance_array(self, pos_i, vel_i, pos_j, vel_j, dt: float, held: bool = False) -> int:
-        """Hot path of :meth:`advance`: 1 if the state changed, 0 if not, -1 if the step was refused
-        (its wear would exceed the bushing radius or not be finite; nothing changed)."""
+        """Hot path of :meth:`advance`: the kernel's STEP_* code (core.wear.advance_joint): < 0 if the step was
+        refused, nothing changed (STEP_REFUSED: its wear would exceed the bushing radius or not be finite;
+        STEP_INADMISSIBLE: the pin deeper in the wall than any contact)."""
         return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, held, self.parameter_vector, self.cos_phi,
                              self.sin_phi, self.wear_depth, self.block_min, self.memory,
                              self.mask, self.work, self.result)
@@ -228,19 +249,37 @@ class ClearanceJoint:
     def advance(self, pin_kinematics, bushing_kinematics, dt: float, held: bool = False) -> ContactResult:
         """Accept a step of length dt [s] ending at these kinematics: the Archard wear of the whole step
         (docs/reference/model.md §3.7 and 3.11) with the step's mean normal force, the trapezoid of its start (the last
-        accepted point, on the profile its wear left) and the contact evaluated here; ``held``: the
+        accepted point, on the profile its wear left) and the contact evaluated here; ``held`` (a bool): the
         kinematics were held over the step (a co-simulation slave's inputs), the force evaluated here
         throughout.  Then the contact-onset bookkeeping.  Returns the contact evaluated here, before the
-        wear update.  A step whose wear would exceed the bushing radius is refused (ParameterError, the
-        joint unchanged)."""
-        if not (math.isfinite(dt) and dt >= 0.0):
-            raise ParameterError(f"dt={dt!r} is invalid: allowed a finite step >= 0 s")
+        wear update.  Refused (ParameterError, the joint unchanged): a step whose wear would exceed the bushing
+        radius, and kinematics that put the pin deeper in the bushing wall than any contact reaches
+        (docs/reference/model.md §3.14).  A wearing step over the wear-step limit (docs/reference/model.md §7) is
+        accepted with a RuntimeWarning, once per joint, as the FMU does."""
+        require("dt", dt, is_real(dt) and math.isfinite(dt) and dt >= 0.0, "a finite step >= 0 s")
+        require("held", held, isinstance(held, (bool, np.bool_)), "True or False")
         pos_i, vel_i = _split_kinematics("pin_kinematics", pin_kinematics)
         pos_j, vel_j = _split_kinematics("bushing_kinematics", bushing_kinematics)
         depth_before = self.wear_depth.copy()      # the contact's extent as evaluated, before the update
-        if self.advance_array(pos_i, vel_i, pos_j, vel_j, dt, held) < 0:
-            raise ParameterError(f"dt={dt!r} is invalid here: the step would wear the bushing by more than its radius "
-                                 f"{self.params.bushing_radius_m!r} m (or by a non-finite depth); the joint is unchanged")
+        dt = float(dt)
+        code = self.advance_array(pos_i, vel_i, pos_j, vel_j, dt, bool(held))
+        if code == STEP_INADMISSIBLE:
+            p, r = self.params, self.result
+            overlap = wall_overlap(r, self.parameter_vector, self.wear_depth)
+            raise ParameterError(
+                f"parameters pin_kinematics={_numbers(pos_i, vel_i)} and bushing_kinematics={_numbers(pos_j, vel_j)} "
+                "are invalid here: they put the pin deeper into the bushing wall or press it harder than any contact "
+                f"of this joint, {overlap:.3g} m with a normal force of {r[L.R_NORMAL_FORCE]:.3g} N: allowed at most "
+                f"{p.admissible_penetration_m:.3g} m ({L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) and "
+                f"{p.admissible_force_N:.3g} N from the last accepted point (a step too long for the contact, "
+                "docs/reference/model.md §3.14); the joint is unchanged")
+        if code == STEP_REFUSED:
+            raise ParameterError(f"parameter dt={dt!r} is invalid here: the step would wear the bushing by more than "
+                                 f"its radius {self.params.bushing_radius_m!r} m (or by a non-finite depth); the joint "
+                                 "is unchanged")
+        if code == STEP_OVERSHOT and not self._warned_wear_step:
+            self._warned_wear_step = True
+            warnings.warn(overshoot_message(dt, self.params), RuntimeWarning, stacklevel=2)
         return self._contact_result(self.result.copy(), depth_before)
 
     def replay_wear(self, loading, scale: float, passes: int = 1) -> float:
@@ -267,6 +306,15 @@ class ClearanceJoint:
             raise ParameterError(f"scale={scale!r} is invalid here: the replayed wear would exceed the bushing "
                                  f"radius {self.params.bushing_radius_m!r} m; the joint is unchanged")
         return float(largest)
+
+    def restart(self) -> None:
+        """Begin a new trajectory on this worn bushing (a host's new run from its initial state): apply the wear
+        batch still pending (core.wear.batch_wear) and forget the contact memory, as a new joint given this
+        profile."""
+        _flush_batch(self.parameter_vector, self.cos_phi, self.sin_phi, self.wear_depth, self.block_min, self.mask,
+                     self.work, self.memory)
+        self.memory[[L.M_ACTIVE, L.M_IMPACT_VELOCITY]] = 0.0
+        self.memory[L.M_START_FORCE] = L.NO_START_FORCE
 
     # ------------------------------------------------------------- wear profile
     @property
@@ -295,19 +343,22 @@ class ClearanceJoint:
 
     def set_wear_profile(self, wear_depth_m) -> None:
         """Replace the wear depth of every bushing point [m] (finite, in [0, bushing radius])."""
-        self._check_profile(wear_depth_m, "wear profile: ")
-        self.wear_depth[:] = wear_depth_m
+        self.wear_depth[:] = self._check_profile(wear_depth_m, "wear profile: ", "wear_depth_m")
         block_minimum_depth(self.wear_depth, self.block_min)
 
-    def _check_profile(self, wear_depth_m, where: str, memory=None) -> None:
-        """StateError unless ``wear_depth_m`` (and ``memory``) fit this joint: n_points, the ranges."""
-        h = np.asarray(wear_depth_m, dtype=float)
+    def _check_profile(self, wear_depth_m, where: str, name: str, memory=None) -> np.ndarray:
+        """``wear_depth_m`` as floats; ParameterError naming ``name`` unless real numbers, StateError unless it (and
+        ``memory``) fit this joint: n_points, the ranges."""
+        allowed = f"n_points={self.wear_depth.size} depths [m] in [0, {self.params.bushing_radius_m:g}]"
+        h = real_array(name, wear_depth_m, allowed)
         if h.shape != self.wear_depth.shape:
             raise StateError(f"{where}{h.size} bushing points given, this joint has n_points={self.wear_depth.size}")
-        memory = np.zeros(L.N_MEMORY) if memory is None else np.asarray(memory, dtype=float)
+        memory = np.zeros(L.N_MEMORY) if memory is None else real_array("state.memory", memory,
+                                                                          f"{L.N_MEMORY} finite numbers")
         if memory.shape != (L.N_MEMORY,):
             raise StateError(f"{where}contact memory of {memory.size} values given, the joint keeps {L.N_MEMORY}")
         check_state_values((), memory, h, self.params, where)
+        return h
 
     def save_profile(self, path) -> Path:
         """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (bushing frame)."""
@@ -339,7 +390,9 @@ class ClearanceJoint:
 
     def set_state(self, state: JointState) -> None:
         """Restore a copy; StateError (the joint unchanged) if it does not fit (n_points, ranges)."""
-        self._check_profile(state.wear_depth_m, "state: ", state.memory)
+        if not isinstance(state, JointState):
+            refuse("state", state, "a JointState (as get_state gives)")
+        self._check_profile(state.wear_depth_m, "state: ", "state.wear_depth_m", state.memory)
         self.memory[:] = state.memory
         self.wear_depth[:] = state.wear_depth_m
         block_minimum_depth(self.wear_depth, self.block_min)
@@ -350,5 +403,7 @@ class ClearanceJoint:
 
     def state_from_bytes(self, data: bytes) -> None:
         """Restore :meth:`state_to_bytes`; StateError naming the failed check (the joint unchanged)."""
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            refuse("data", data, "the bytes of a state (as state_to_bytes gives)")
         _, memory, depth = read_state_bytes(data, SF.CONTENTS_JOINT, 0, self.wear_depth.size)
         self.set_state(JointState(depth, memory))

@@ -12,10 +12,9 @@ row here and its slot.  The rows' order is the FMU's value-reference order.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
-from .checks import ANY, NON_NEGATIVE, POSITIVE, Allowed, ParameterError, require
+from .checks import ANY, NON_NEGATIVE, POSITIVE, Allowed, finite, require
 from .core import layout as L
 
 
@@ -39,10 +38,15 @@ class JointField:
 
 
 _OPEN_HALF = Allowed(0.0, True, 0.5, True)
+# bounds no joint passes, so that no value the rules admit overflows the contact's arithmetic (K, k_f, the forces, the
+# Hertz half-width stay finite): radii from a micrometre (MEMS hinges) to 100 m, a contact at least a micrometre long,
+# moduli up to ten times diamond's, a given K up to 1e20 N/m^n (the paper's: 7.95e10 N/m^1.5)
+_MODULUS = Allowed(0.0, True, 1e13, note="Pa, 10x diamond's 1.2e12 Pa")
 JOINT_FIELDS: tuple[JointField, ...] = (
-    JointField("pin_radius", "pin_radius_m", "m", "pin radius R_i", L.P_PIN_RADIUS, POSITIVE),
+    JointField("pin_radius", "pin_radius_m", "m", "pin radius R_i", L.P_PIN_RADIUS,
+               Allowed(1e-6, False, 100.0, note="m")),
     JointField("bushing_radius", "bushing_radius_m", "m", "unworn bushing radius R_j (> pin_radius)",
-               L.P_BUSHING_RADIUS, Allowed(0.0, True, above="pin_radius")),
+               L.P_BUSHING_RADIUS, Allowed(0.0, True, 100.0, above="pin_radius", note="m")),
     JointField("pin_offset_x", "pin_offset_m", "m", "pin centre in the pin body frame, x", L.P_PIN_OFFSET_X,
                component=0),
     JointField("pin_offset_y", "pin_offset_m", "m", "pin centre in the pin body frame, y", L.P_PIN_OFFSET_Y,
@@ -51,18 +55,20 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                L.P_BUSHING_OFFSET_X, component=0),
     JointField("bushing_offset_y", "bushing_offset_m", "m", "bushing centre in the bushing body frame, y",
                L.P_BUSHING_OFFSET_Y, component=1),
-    JointField("contact_length", "contact_length_m", "m", "axial contact length L", L.P_CONTACT_LENGTH, POSITIVE),
+    JointField("contact_length", "contact_length_m", "m", "axial contact length L", L.P_CONTACT_LENGTH,
+               Allowed(1e-6, note="m, a micrometre")),
     JointField("pin_youngs_modulus", "pin_youngs_modulus_Pa", "Pa", "Young's modulus of the pin",
-               L.P_PIN_YOUNGS_MODULUS, POSITIVE),
+               L.P_PIN_YOUNGS_MODULUS, _MODULUS),
     JointField("pin_poisson_ratio", "pin_poisson_ratio", "1", "Poisson ratio of the pin", L.P_PIN_POISSON_RATIO,
                _OPEN_HALF),
     JointField("bushing_youngs_modulus", "bushing_youngs_modulus_Pa", "Pa", "Young's modulus of the bushing",
-               L.P_BUSHING_YOUNGS_MODULUS, POSITIVE),
+               L.P_BUSHING_YOUNGS_MODULUS, _MODULUS),
     JointField("bushing_poisson_ratio", "bushing_poisson_ratio", "1", "Poisson ratio of the bushing",
                L.P_BUSHING_POISSON_RATIO, _OPEN_HALF),
     JointField("contact_stiffness", "contact_stiffness_N_m1_5", "N/m1.5",
                "contact stiffness K of F = K delta^n (unit N/m^n with n = contact_exponent); 0: from the radii and "
-               "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", L.P_STIFFNESS, NON_NEGATIVE,
+               "materials, 4 E* sqrt(R_i R_j / (R_j - R_i)) / 3 (Eqs. 16-17)", L.P_STIFFNESS,
+               Allowed(0.0, False, 1e20, note="N/m^n; 0: from the materials"),
                unset_is_zero=True),
     JointField("contact_exponent", "contact_exponent", "1",
                "exponent n of the contact law (1.5 with the foundation contact: a linear foundation on a circle)",
@@ -140,26 +146,27 @@ def allowed_text(f: JointField, names=None) -> str:
     return f.allowed.text(names)
 
 
+def real_field_values(params) -> dict[str, float]:
+    """The real values of ``params`` (a JointParameters; the pairs and an unset value of a row ``unset_is_zero``
+    aside) as floats by field name; ParameterError naming the first that is no finite real number
+    (:func:`~wearjoint.checks.finite`), stating its row's rule."""
+    return {f.field: finite(f.field, getattr(params, f.field), "" if f.allowed == ANY else allowed_text(f, FIELD_NAMES))
+            for f in JOINT_FIELDS if f.choices is None and f.component is None
+            and not (f.unset_is_zero and getattr(params, f.field) is None)}
+
+
 def check_joint_fields(params) -> None:
-    """ParameterError naming the first field of ``params`` (a JointParameters) outside its row's rule."""
+    """ParameterError naming the first field of ``params`` (a JointParameters, its real values finite floats:
+    :func:`real_field_values`) outside its row's rule."""
     for f in JOINT_FIELDS:
-        value = getattr(params, f.field)
         if f.choices is not None:
+            value = getattr(params, f.field)
             require(f.field, value, isinstance(value, str) and value in dict(f.choices), allowed_text(f, FIELD_NAMES))
-        else:
-            try:
-                coded_value(f, value)
-            except (TypeError, ValueError, IndexError):
-                raise ParameterError(f"parameter {f.field}={value!r} is invalid: allowed a real number "
-                                     f"{allowed_text(f, FIELD_NAMES)}") from None
     values = coded_values(params)
     for f in JOINT_FIELDS:
         if f.choices is None and not f.allowed.admits(values[f.fmu_name], values):
-            value = getattr(params, f.field)
-            finite = "" if math.isfinite(values[f.fmu_name]) or f.allowed == ANY else "a finite real number "
-            raise ParameterError(f"parameter {f.field}={value!r} is invalid: allowed {finite}"
-                                 f"{allowed_text(f, FIELD_NAMES)}")
+            require(f.field, getattr(params, f.field), False, allowed_text(f, FIELD_NAMES))
 
 
 __all__ = ["JointField", "JOINT_FIELDS", "FIELD_NAMES", "coded_value", "coded_values", "allowed_text",
-           "check_joint_fields"]
+           "real_field_values", "check_joint_fields"]

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .checks import ParameterError, finite, positive, require
+from .checks import ParameterError, finite, finite_pair, is_real, non_negative, of_type, positive, require
 from .core import layout as L
 
 # allowed rules of a row (the FMU's checks are built from the same names: fmu/slider_crank.py)
@@ -127,11 +127,7 @@ class SliderForceTable:
             raise ParameterError(f"{where}: {len(angles)} rows: {LOAD_TABLE_PROBLEMS[L.LOAD_TABLE_ROWS]}")
         for row, (angle, force) in enumerate(zip(angles, forces), start=1):
             for name, value in (("crank_angle_deg", angle), ("force_N", force)):
-                try:
-                    ok = math.isfinite(float(value))
-                except (TypeError, ValueError):
-                    ok = False
-                if not ok:
+                if not (is_real(value) and math.isfinite(value)):
                     raise ParameterError(f"{where}, row {row}: {name}={value!r} is not a finite number")
         fields = np.zeros(L.N_MECHANISM_FIELDS)
         fields[L.MP_LOAD_ROWS] = len(angles)
@@ -152,11 +148,16 @@ class SliderForceTable:
     def from_csv(cls, path) -> "SliderForceTable":
         """The table in CSV file ``path``: a header ``crank_angle_deg,force_N`` and one row per angle."""
         path = Path(path)
+        refused = f"parameter slider_force_table={str(path)!r} is invalid: allowed a text CSV file"
         try:
             with open(path, newline="", encoding="utf-8-sig") as f:     # a spreadsheet's byte-order mark dropped
                 rows = list(csv.reader(f))
         except OSError as error:
-            raise ParameterError(f"slider force table {path}: cannot read it ({error.strerror})") from None
+            raise ParameterError(f"{refused}; cannot read it ({error.strerror})") from None
+        except UnicodeDecodeError as error:
+            raise ParameterError(f"{refused} (UTF-8); byte {error.start + 1} is not UTF-8 text") from None
+        except csv.Error as error:
+            raise ParameterError(f"{refused}; it is not one ({error})") from None
         header = [c.strip() for c in rows[0]] if rows else []
         if header != ["crank_angle_deg", "force_N"]:
             raise ParameterError(f"slider force table {path}, line 1: header {','.join(header)!r}: allowed "
@@ -199,10 +200,11 @@ def _rows_as_lines(message: str, rows: list) -> str:
 def _gravity_pair(value) -> tuple[float, float]:
     """Gravity [m/s^2] as (g_x, g_y) in the mechanism's frame: a pair as given, a single value g as (0, -g)
     (its magnitude across the slide, the paper's convention)."""
-    if isinstance(value, (tuple, list, np.ndarray)):
-        require("gravity_m_s2", value, len(value) == 2, "one value g (-Y) or a pair (g_x, g_y) of finite values")
-        return finite("gravity_m_s2", value[0]), finite("gravity_m_s2", value[1])
-    return 0.0, -finite("gravity_m_s2", value)
+    allowed = "one finite value g (-Y) or a pair (g_x, g_y) of finite values"
+    if is_real(value):
+        require("gravity_m_s2", value, math.isfinite(value), allowed)
+        return 0.0, -float(value)
+    return finite_pair("gravity_m_s2", value, allowed)
 
 
 @dataclass(frozen=True)
@@ -237,6 +239,8 @@ class SliderCrankParameters:
     clearance_joint: str = "crank-rod"
 
     def __post_init__(self):
+        """The rules of :data:`MECHANISM_FIELDS` (the FMU's too): a real value an int, a float or a numpy real scalar
+        (kept as a float)."""
         object.__setattr__(self, "gravity_m_s2", _gravity_pair(self.gravity_m_s2))
         for f in _SCALARS:
             if f.component is not None or f.field == "slider_force_table":
@@ -244,17 +248,13 @@ class SliderCrankParameters:
             value = getattr(self, f.field)
             if f.rule == CHOICE:
                 require(f.field, value, value in f.choices, " or ".join(repr(c) for c in f.choices))
-            elif f.rule in (POSITIVE, ABOVE_CRANK):
-                positive(f.field, value)
-            elif f.rule == NON_NEGATIVE:
-                require(f.field, value, finite(f.field, value) >= 0.0, RULE_TEXT[NON_NEGATIVE])
-            else:
-                finite(f.field, value)
+                continue
+            check = {POSITIVE: positive, ABOVE_CRANK: positive, NON_NEGATIVE: non_negative}.get(f.rule, finite)
+            object.__setattr__(self, f.field, check(f.field, value))
         require("rod_length_m", self.rod_length_m, self.rod_length_m > self.crank_length_m,
                 f"> crank_length_m = {self.crank_length_m!r} (the crank must turn fully)")
-        table = self.slider_force_table
-        require("slider_force_table", table, table is None or isinstance(table, SliderForceTable),
-                "None or a SliderForceTable (SliderForceTable.from_csv(path) reads a file)")
+        of_type("slider_force_table", self.slider_force_table, SliderForceTable,
+                "no table; SliderForceTable.from_csv(path) reads a file")
 
     @property
     def omega_rad_s(self) -> float:

@@ -12,8 +12,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from .checks import ParameterError, finite, is_finite_pair as _is_finite_pair, require
-from .joint_fields import JOINT_FIELDS, check_joint_fields
+from .checks import ParameterError, finite, finite_pair, integer, non_negative, of_type, positive, require
+from .joint_fields import JOINT_FIELDS, check_joint_fields, real_field_values
 from .mechanism_parameters import SliderCrankParameters, SliderForceTable
 from .core.layout import (   # the wear-step limit, the wear batches, admissible states (docs/reference/model.md §3.11, §3.14, §7)
     ADMISSIBLE_PENETRATION_SHARE, MAX_WEAR_STEP_S, WEAR_BATCH_SHARE, WEAR_STEP_SHARE, WEAR_STEP_SHARE_EXPLICIT,
@@ -139,18 +139,17 @@ class JointParameters:
     wear_interval_s: float = MAX_WEAR_STEP_S
 
     def __post_init__(self):
-        """The rules of :data:`~wearjoint.joint_fields.JOINT_FIELDS` (the FMU's too); a pair must be two finite
-        numbers, ``n_points`` an integer from N_POINTS_MIN to N_POINTS_MAX; a contact stiffness of 0 means "from the
-        materials" (None)."""
+        """The rules of :data:`~wearjoint.joint_fields.JOINT_FIELDS` (the FMU's too): a real value an int, a float or
+        a numpy real scalar (kept as a float), a pair two of them, ``n_points`` an integer from N_POINTS_MIN to
+        N_POINTS_MAX; a contact stiffness of 0 means "from the materials" (None)."""
         for name in ("pin_offset_m", "bushing_offset_m"):
-            value = getattr(self, name)
-            require(name, value, _is_finite_pair(value), "a pair (x, y) of finite lengths in metres")
-            object.__setattr__(self, name, (float(value[0]), float(value[1])))
+            object.__setattr__(self, name, finite_pair(name, getattr(self, name),
+                                                       "a pair (x, y) of finite lengths in metres"))
+        object.__setattr__(self, "n_points", integer("n_points", self.n_points, N_POINTS_MIN, N_POINTS_MAX))
+        for name, value in real_field_values(self).items():
+            object.__setattr__(self, name, value)
         if self.contact_stiffness_N_m1_5 == 0.0:
             object.__setattr__(self, "contact_stiffness_N_m1_5", None)
-        n = self.n_points
-        require("n_points", n, isinstance(n, int) and not isinstance(n, bool) and N_POINTS_MIN <= n <= N_POINTS_MAX,
-                f"an integer from {N_POINTS_MIN} to {N_POINTS_MAX}")
         check_joint_fields(self)
 
     def restitution_at(self, impact_speed_m_s: float) -> float:
@@ -197,8 +196,9 @@ class JointParameters:
         k_f k_w F v dt of a conforming contact sliding at ``sliding_speed_m_s`` (the share of its penetration
         an explicit step would wear: the mean overlap is p / k_f and such a step wears k_w F p v dt) passes
         ``share`` (default :attr:`wear_step_share`, the limit; docs/reference/model.md §7); inf without wear."""
-        rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * sliding_speed_m_s
-        share = self.wear_step_share if share is None else min(share, self.wear_step_share)
+        speed = non_negative("sliding_speed_m_s", sliding_speed_m_s)
+        rate = self.foundation_modulus_N_m3 * self.wear_coefficient_m2_N * self.wear_factor * speed
+        share = self.wear_step_share if share is None else min(positive("share", share), self.wear_step_share)
         return min(MAX_WEAR_STEP_S, share / rate) if rate > 0.0 else math.inf
 
     @property
@@ -232,7 +232,7 @@ class JointParameters:
 def paper_joint(mechanism: SliderCrankParameters | None = None, **changes) -> JointParameters:
     """Joint parameters of the paper with the offsets and the effective mass of ``mechanism``
     (:meth:`SliderCrankParameters.joint_defaults`) unless ``changes`` gives them."""
-    mechanism = mechanism or SliderCrankParameters()
+    mechanism = of_type("mechanism", mechanism, SliderCrankParameters, "the paper's") or SliderCrankParameters()
     return JointParameters(**{**mechanism.joint_defaults(), **changes})
 
 

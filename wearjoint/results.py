@@ -166,6 +166,15 @@ def write_csv(path, table: np.ndarray, names, fmt: str) -> None:
             file.write(("\n".join([row] * table.shape[0]) + "\n") % tuple(table.ravel().tolist()))
 
 
+def _earlier_figures(out: Path) -> list[str]:
+    """The PNG figures an earlier run wrote into ``out`` (its summary.json's ``figures``), none if it has none."""
+    try:
+        names = json.loads((out / "summary.json").read_text()).get("figures", [])
+    except (OSError, ValueError, AttributeError):
+        return []
+    return [name for name in names if isinstance(name, str) and name.endswith(".png") and Path(name).name == name]
+
+
 def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=None) -> dict:
     """Write the results folder (report.html last, :mod:`wearjoint.report`); returns the summary dict.  With
     ``figure_worker`` (a started :class:`wearjoint.figure_worker.FigureWorker`) the figures are drawn there while
@@ -184,6 +193,9 @@ def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=
     comparison = record.ideal_comparison()
     write_csv(out / "revolutions.csv", record.revolution_table(events, comparison), REVOLUTION_COLUMNS, "%.10g")
     summary = record.summary(events, comparison)
+    if not plots:               # an earlier run's figures in this folder are not this run's (nor in its report)
+        for name in _earlier_figures(out):
+            (out / name).unlink(missing_ok=True)
     if plots:
         names = figure_worker.names() if drawing else None
         if names is None:

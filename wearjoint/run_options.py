@@ -201,19 +201,36 @@ def add_initial_profile_argument(group) -> None:
                             "point, as every run writes); with --no-wear the profile stays as given")
 
 
+PROFILE_HEADER = "phi_deg,wear_depth_m"      # profile.csv's header (docs/reference/results.md)
+
+
 def read_initial_profile(path: Path, joint) -> np.ndarray:
-    """The wear depths [m] of a profile.csv for ``joint``; ParameterError naming the file and what does not fit."""
+    """The wear depths [m] of a profile.csv for ``joint``: its header, a row per bushing point at that point's angle,
+    depths in [0, bushing radius]; ParameterError naming --initial-profile, the file and what does not fit."""
+    invalid = f"parameter --initial-profile={str(path)!r} is invalid: allowed"
     try:
+        with open(path) as f:
+            header = f.readline().strip()
         data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except (OSError, ValueError) as exc:
-        raise ParameterError(f"parameter --initial-profile={str(path)!r} is invalid: allowed a readable "
-                             f"profile.csv with columns phi_deg,wear_depth_m ({exc})") from None
+        raise ParameterError(f"{invalid} a readable profile.csv with columns {PROFILE_HEADER} ({exc})") from None
+    if header != PROFILE_HEADER:
+        raise ParameterError(f"{invalid} a profile.csv whose header is {PROFILE_HEADER}, got {header!r}")
+    if data.shape != (joint.n_points, 2):
+        raise ParameterError(f"{invalid} a profile of this joint's {joint.n_points} bushing points (--n-points), got "
+                             f"{data.shape[0]} rows of {data.shape[1]} columns")
     expected = np.degrees(bushing_point_angles(joint.n_points))
-    if data.shape != (joint.n_points, 2) or not np.allclose(data[:, 0], expected, atol=1e-6):
-        raise ParameterError(f"parameter --initial-profile={str(path)!r} is invalid: allowed a profile of this joint's "
-                             f"{joint.n_points} bushing points (--n-points) at its angles, "
-                             f"got {data.shape[0]} rows")
-    return data[:, 1]
+    off = np.flatnonzero(~np.isclose(data[:, 0], expected, rtol=0.0, atol=1e-6))
+    if off.size:
+        raise ParameterError(f"{invalid} phi_deg at this joint's bushing points' angles, ascending from "
+                             f"{expected[0]:g} deg in steps of {expected[1] - expected[0]:.6g} deg: row {off[0] + 1} "
+                             f"has {data[off[0], 0]:g} deg, not {expected[off[0]]:g}")
+    depth = data[:, 1]
+    bad = np.flatnonzero(~(np.isfinite(depth) & (depth >= 0.0) & (depth <= joint.bushing_radius_m)))
+    if bad.size:
+        raise ParameterError(f"{invalid} wear_depth_m in [0, {joint.bushing_radius_m:g}] m (the bushing radius): row "
+                             f"{bad[0] + 1} has {depth[bad[0]]:g}")
+    return depth
 
 
 def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:

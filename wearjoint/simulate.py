@@ -1,6 +1,7 @@
 """Monolithic (in-process, no FMI) simulation of the slider-crank with the clearance joint."""
 from __future__ import annotations
 
+import importlib
 import math
 
 import numpy as np
@@ -18,7 +19,8 @@ from .parameters import (
 from .results import RunParameters, RunRecord, new_revolution_stats, new_track
 from .runner import RunDiverged, inadmissible_message, run_engine
 from .simulation_options import (
-    DEFAULT_WEAR_STEP_SHARE, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, SimulationOptions, wear_step_limit_s,
+    DEFAULT_WEAR_STEP_SHARE, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, SimulationOptions, check_run_arguments,
+    wear_step_limit_s,
 )
 
 
@@ -29,6 +31,7 @@ class Simulation:
                  options: SimulationOptions | None = None, initial_profile_m=None):
         """``initial_profile_m``: the bushing's wear depth [m] at every point to start from (a worn bushing;
         default unworn), checked against the joint (n_points, finite, within the bushing radius)."""
+        check_run_arguments(joint, mechanism, options, SimulationOptions)
         self.mechanism = SliderCrank(mechanism)
         joint = joint or paper_joint(self.mechanism.params)
         self.options = (options or SimulationOptions()).for_joint(joint, self.mechanism.params)
@@ -151,7 +154,7 @@ class Simulation:
         samples = np.zeros((0, L.N_SAMPLE_COLUMNS))
         mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
         if self.options.gear_solver == "cvode":
-            import sksundae.cvode  # noqa: F401  (imported here: its import is not part of the run's time)
+            importlib.import_module("sksundae.cvode")   # here: its import is not part of the run's time
         accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False)
         record_step(self.t, 0.0, y, dy, joint.result, mp, stats, samples, track)
         for function in self._gear_functions(joint):
@@ -276,6 +279,7 @@ def run_simulation(joint: JointParameters | None = None, mechanism: SliderCrankP
     The run proceeds in chunks (:func:`wearjoint.runner.run_engine`: progress
     bar, compilation timed apart, Ctrl-C keeps the finished chunks with ``completed = False``).
     """
+    check_run_arguments(joint, mechanism, options, SimulationOptions, chunks_per_revolution=chunks_per_revolution)
     o = options or SimulationOptions()
     return run_engine(lambda: Simulation(joint, mechanism, o, initial_profile_m), o.revolutions,
                       (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s, "simulate", progress,

@@ -4,13 +4,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import zipfile
 from dataclasses import dataclass
 
-from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, finite, require
+from .checks import choice, flag, integer, of_type, positive
+from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, SliderCrankParameters, require
 
 INTEGRATORS = ("rk4", "dopri", "gear")
 GEAR_SOLVERS = ("cvode", "scipy")
 GEAR_JACOBIANS = ("exact", "numerical")
+_CHOICES = {"integrator": INTEGRATORS, "gear_solver": GEAR_SOLVERS, "gear_jacobian": GEAR_JACOBIANS}
 
 
 NO_WEAR_MAX_STEP_S = 1e-4   # largest adaptive step without wear [s]
@@ -29,6 +33,34 @@ def wear_step_limit_s(joint: JointParameters, mechanism: SliderCrankParameters |
     :meth:`JointParameters.max_wear_step_s` at the mechanism's bound on the sliding speed (``share``: a share
     below the limit's, e.g. DEFAULT_WEAR_STEP_SHARE); inf without wear."""
     return joint.max_wear_step_s((mechanism or SliderCrankParameters()).sliding_speed_bound_m_s(joint), share)
+
+
+def check_wear_step(name: str, step_s: float, joint: JointParameters,
+                    mechanism: SliderCrankParameters | None = None) -> None:
+    """ParameterError naming ``name`` unless ``step_s``, a step [s] that wears ``joint`` in ``mechanism``, is within
+    the wear-step limit (:func:`wear_step_limit_s`, docs/reference/model.md §7)."""
+    limit = wear_step_limit_s(joint, mechanism)
+    if step_s > limit:
+        raise ParameterError(f"parameter {name}={step_s!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
+                             f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
+                             f"{limit:.3g} s, a step's share k_f k_w F v dt of the penetration at most "
+                             f"{joint.wear_step_share:g} and at most {MAX_WEAR_STEP_S:g} s "
+                             "(docs/reference/model.md §7)")
+
+
+def check_run_arguments(joint, mechanism, options, options_type: type, fmu_path=None,
+                        chunks_per_revolution: int = 1) -> None:
+    """ParameterError naming the first of a run's arguments of the wrong type (the parameter sets, the options: e.g.
+    given in the wrong order), ``fmu_path`` neither None nor an FMU file (a zip archive), or ``chunks_per_revolution``
+    no integer >= 1."""
+    of_type("joint", joint, JointParameters, "the paper's joint in the mechanism, paper_joint(mechanism)")
+    of_type("mechanism", mechanism, SliderCrankParameters, "the paper's")
+    of_type("options", options, options_type, "the defaults")
+    if fmu_path is not None:   # (is_zipfile would take an int for a file descriptor)
+        path_like = isinstance(fmu_path, (str, os.PathLike))
+        require("fmu_path", str(fmu_path) if path_like else fmu_path, path_like and zipfile.is_zipfile(fmu_path),
+                "an existing FMU file (.fmu, a zip archive)")
+    integer("chunks_per_revolution", chunks_per_revolution, 1)
 
 
 @dataclass(frozen=True)
@@ -63,16 +95,15 @@ class SimulationOptions:
     gear_jacobian: str = "exact"
 
     def __post_init__(self):
-        require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
-        require("integrator", self.integrator, self.integrator in INTEGRATORS, "one of " + ", ".join(INTEGRATORS))
-        require("gear_solver", self.gear_solver, self.gear_solver in GEAR_SOLVERS, "one of " + ", ".join(GEAR_SOLVERS))
-        require("gear_jacobian", self.gear_jacobian, self.gear_jacobian in GEAR_JACOBIANS,
-                 "one of " + ", ".join(GEAR_JACOBIANS))
-        positive = ("step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s", "sample_dt_s",
-                    "onset_penetration_m") + tuple(name for name in ("max_step_s", "free_flight_max_step_s")
-                                                    if getattr(self, name) is not None)
-        for name in positive:
-            require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
+        """Every value checked (a real one an int, a float or a numpy real scalar, kept as a float; ``ideal`` a
+        bool)."""
+        for name in ("integrator", "gear_solver", "gear_jacobian"):
+            choice(name, getattr(self, name), _CHOICES[name])
+        object.__setattr__(self, "ideal", flag("ideal", self.ideal))
+        for name in ("revolutions", "step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s",
+                     "sample_dt_s", "onset_penetration_m", "max_step_s", "free_flight_max_step_s"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, positive(name, getattr(self, name)))
         largest = self.max_step_s or 1e-7                   # None: the wear-step limit, at least this
         require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
         if self.free_flight_max_step_s is not None:
@@ -80,21 +111,19 @@ class SimulationOptions:
                      self.free_flight_max_step_s >= self.min_step_s, f">= min_step_s = {self.min_step_s!r}")
 
     def for_joint(self, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> "SimulationOptions":
-        """These options for a run of ``joint`` in ``mechanism``: the default ``max_step_s`` resolved, an
-        explicit step above the wear-step limit (:func:`wear_step_limit_s`) refused when the joint wears."""
-        limit = wear_step_limit_s(joint, mechanism) if not self.ideal else math.inf
+        """These options for a run of ``joint`` in ``mechanism``: the default ``max_step_s`` resolved; with wear, an
+        RK4 ``step_s`` (whatever ``max_step_s``) or another integrator's given ``max_step_s`` above the wear-step
+        limit (:func:`wear_step_limit_s`) refused (:func:`check_wear_step`)."""
+        if not self.ideal and self.integrator == "rk4":
+            check_wear_step("step_s", self.step_s, joint, mechanism)
         if self.max_step_s is None:
             default = wear_step_limit_s(joint, mechanism, DEFAULT_WEAR_STEP_SHARE) if not self.ideal else math.inf
             if self.integrator == "dopri" and default < math.inf:
                 default = min(default, DOPRI_WEAR_CONTACT_STEP_S)
             return dataclasses.replace(self, max_step_s=min(default, NO_WEAR_MAX_STEP_S),
                                        free_flight_max_step_s=self.free_flight_max_step_s or NO_WEAR_MAX_STEP_S)
-        name, step = ("step_s", self.step_s) if self.integrator == "rk4" else ("max_step_s", self.max_step_s)
-        if step > limit:
-            raise ParameterError(f"{name}={step!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
-                                 f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
-                                 f"{limit:.3g} s, a step's share k_f k_w F v dt of the penetration at most "
-                                 f"{joint.wear_step_share:g} and at most {MAX_WEAR_STEP_S:g} s (docs/reference/model.md §7)")
+        if not self.ideal and self.integrator != "rk4":
+            check_wear_step("max_step_s", self.max_step_s, joint, mechanism)
         if self.free_flight_max_step_s is None:
             return dataclasses.replace(self, free_flight_max_step_s=self.max_step_s)
         return self

@@ -232,15 +232,15 @@ def _cosim_engine(options) -> tuple:
 
 
 # ------------------------------------------------------------------ wear-study
-def parse_int_list(name: str, text: str) -> tuple:
-    """'1000,2000' -> (1000, 2000); a clear ParameterError for anything else."""
+def parse_int_list(name: str, text: str, example: str = "1000,2000") -> tuple:
+    """'1000,2000' -> (1000, 2000); a clear ParameterError for anything else (``example``: a valid value)."""
     values = []
     for item in str(text).split(","):
         item = item.strip()
         try:
             values.append(int(item))
         except ValueError:
-            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. 1000,2000)") from None
+            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. {example})") from None
     return tuple(values)
 
 
@@ -262,7 +262,7 @@ def wear_study_config(options) -> WearStudyConfig:
 
     o = options
     joint, mechanism = model_from_options(o)
-    revolutions = parse_int_list("--revolutions", o["revolutions"])
+    revolutions = parse_int_list("--revolutions", o["revolutions"], "4000")
     if len(revolutions) != 1:
         raise ParameterError("--revolutions takes one integer")
     revolutions = revolutions[0]

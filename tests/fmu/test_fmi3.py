@@ -325,7 +325,7 @@ def test_invalid_n_points_gives_fmi3error_naming_it(fmi3):
 
 @pytest.mark.parametrize("name, value, allowed", [
     ("pin_radius", -0.01, "allowed > 0"),
-    ("bushing_radius", 0.009, "allowed > 0 and > pin_radius"),
+    ("bushing_radius", 0.009, "allowed > 0 (at most 100 m) and > pin_radius"),
     ("restitution", 1.5, "allowed in (0, 1]"),
     ("rho_mode", 7, "allowed one of 0 (conformal), 1 (paper)"),
 ])

@@ -31,27 +31,29 @@ def read_csv(path):
 
 @pytest.fixture(scope="module")
 def sweep(tmp_path_factory):
-    """2 restitutions (one invalid) x 2 seeds of a tiny simulate on a LocalCluster of 2 workers."""
+    """2 slider loads (one far too large: the run diverges as it runs) x 2 seeds of a tiny simulate on a
+    LocalCluster of 2 workers."""
     out = tmp_path_factory.mktemp("sweep") / "out"
-    done = wearjoint("sweep", "simulate", *TINY, "--vary", "restitution=0.6,1.5", "--seeds", "2", "--workers", "2",
+    done = wearjoint("sweep", "simulate", *TINY, "--vary", "slider-force-N=0,1e8", "--seeds", "2", "--workers", "2",
                      "--out", str(out), "--quiet")
     return out, done
 
 
-def test_invalid_case_is_reported_failed_and_the_others_finish(sweep):
+def test_a_failed_case_is_reported_failed_and_the_others_finish(sweep):
     out, done = sweep
     assert done.returncode == 1, done.stderr          # some cases failed
     rows = read_csv(out / "sweep.csv")
-    assert [(r["restitution"], r["seed"]) for r in rows] == [("0.6", "0"), ("0.6", "1"), ("1.5", "0"), ("1.5", "1")]
+    assert [(r["slider_force_N"], r["seed"]) for r in rows] == [("0.0", "0"), ("0.0", "1"), ("100000000.0", "0"),
+                                                                ("100000000.0", "1")]
     for r in rows[2:]:
         assert r["status"] == "failed"
-        assert "restitution" in r["error"] and "1.5" in r["error"] and "(0, 1]" in r["error"]
+        assert r["error"].startswith("the run diverged at t = ") and "into the bushing wall" in r["error"]
         assert r["max_wear_depth_m"] == ""
     for r in rows[:2]:
         assert r["status"] == "ok" and r["error"] == ""
         summary = json.loads((out / r["folder"] / "summary.json").read_text())
         assert float(r["max_wear_depth_m"]) == summary["max_wear_depth_m"] > 0
-        assert summary["parameters"]["joint"]["restitution"] == 0.6
+        assert summary["parameters"]["mechanism"]["slider_force_N"] == 0.0
     angles = [json.loads((out / r["folder"] / "summary.json").read_text())["parameters"]["mechanism"]
               ["initial_crank_angle_deg"] for r in rows[:2]]
     assert angles == [0.0, SEED_ANGLE_STEP_DEG]
@@ -66,7 +68,8 @@ def test_ensemble_holds_mean_std_min_max_per_grid_point(sweep):
     out, _ = sweep
     rows = read_csv(out / "sweep.csv")
     ensemble = read_csv(out / "ensemble.csv")
-    assert [(e["restitution"], e["n_ok"], e["n_failed"]) for e in ensemble] == [("0.6", "2", "0"), ("1.5", "0", "2")]
+    assert [(e["slider_force_N"], e["n_ok"], e["n_failed"]) for e in ensemble] == [("0.0", "2", "0"),
+                                                                                  ("100000000.0", "0", "2")]
     for key in ("max_wear_depth_m", "max_contact_force_N", "impacts_per_revolution"):
         values = np.array([float(r[key]) for r in rows[:2]])
         assert float(ensemble[0][f"{key}_mean"]) == pytest.approx(values.mean(), rel=1e-12)
@@ -76,10 +79,11 @@ def test_ensemble_holds_mean_std_min_max_per_grid_point(sweep):
     profiles = np.stack([np.loadtxt(out / r["folder"] / "profile.csv", delimiter=",", skiprows=1)[:, 1]
                          for r in rows[:2]])
     assert np.allclose(band[:, 1], profiles.mean(axis=0), rtol=1e-9, atol=0)
-    for png in ("vs_restitution.png", "profile_bands_1.png"):
+    for png in ("vs_slider_force_N.png", "profile_bands_1.png"):
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert float(ensemble[0]["max_wear_depth_m_bias_rel"]) == 0.0     # F = 1 is the brute-force reference
-    assert "point 0 (restitution=0.6)" in sweep[1].stdout and "point 1 (restitution=1.5)" in sweep[1].stdout
+    assert "point 0 (slider_force_N=0.0)" in sweep[1].stdout
+    assert "point 1 (slider_force_N=100000000.0)" in sweep[1].stdout
 
 
 def test_case_in_the_sweep_equals_the_same_case_run_alone(sweep, tmp_path):
@@ -106,14 +110,14 @@ def test_resume_runs_nothing_that_finished(sweep, tmp_path):
     shutil.copytree(out, copy)
     shutil.rmtree(copy / read_csv(copy / "sweep.csv")[1]["folder"])     # one case not done
     stamps = {p: p.stat().st_mtime_ns for p in (copy / "cases").glob("*/case.json")}
-    done = wearjoint("sweep", "simulate", *TINY, "--vary", "restitution=0.6,1.5", "--seeds", "2", "--workers", "1",
+    done = wearjoint("sweep", "simulate", *TINY, "--vary", "slider-force-N=0,1e8", "--seeds", "2", "--workers", "1",
                      "--out", str(copy), "--quiet", "--resume")
     assert done.returncode == 1, done.stderr
     summary = json.loads((copy / "sweep_summary.json").read_text())
     assert summary["cases_run"] == 1 and summary["skipped_as_done"] == 3
     assert {p: p.stat().st_mtime_ns for p in stamps} == stamps          # finished cases untouched
     assert [r["status"] for r in read_csv(copy / "sweep.csv")] == ["ok", "ok", "failed", "failed"]
-    again = wearjoint("sweep", "simulate", *TINY, "--vary", "restitution=0.6,1.5", "--seeds", "2",
+    again = wearjoint("sweep", "simulate", *TINY, "--vary", "slider-force-N=0,1e8", "--seeds", "2",
                       "--out", str(copy), "--quiet", "--resume")
     assert json.loads((copy / "sweep_summary.json").read_text())["cases_run"] == 0, again.stderr
 
@@ -129,6 +133,7 @@ def test_existing_sweep_needs_resume(sweep):
     (("--vary", "restitution=0.5,abc"), "restitution='abc'"),
     (("--vary", "restitution"), "--vary 'restitution'"),
     (("--vary", "rho-mode=flat"), "rho-mode='flat'"),
+    (("--vary", "restitution=0.6,1.5"), "--vary restitution=0.6,1.5: restitution=1.5 is invalid: allowed in (0, 1]"),
     (("--seeds", "0"), "--seeds=0"),
     (("--workers", "0"), "--workers=0"),
 ])
@@ -184,7 +189,7 @@ def test_sweep_on_a_scheduler_and_two_workers_started_by_hand(tmp_path):
                                    stdout=logs, stderr=logs) for k in range(2)]
         time.sleep(3)
         out = tmp_path / "out"
-        done = wearjoint("sweep", "simulate", *TINY, "--vary", "restitution=0.6,0.9,1.5", "--seeds", "2",
+        done = wearjoint("sweep", "simulate", *TINY, "--vary", "slider-force-N=0,100,1e8", "--seeds", "2",
                          "--scheduler", address, "--out", str(out), "--quiet")
         assert done.returncode == 1, done.stderr
         rows = read_csv(out / "sweep.csv")

@@ -143,7 +143,7 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100", "--convergence", "1,200"), "--convergence: factor 200: parameter --wear-factor"),
     (("--revolutions", "100", "--cycle-jump-tolerance", "2"), "tolerance=2.0"),
     (("--revolutions", "100", "--cycle-jump-tolerance", "0.01", "--wear-factor", "10"), "wear_factor=10.0"),
-    (("--revolutions", "100", "--cycle-jump-block", "0"), "jump_block_revolutions=0"),
+    (("--revolutions", "100", "--cycle-jump-block", "0"), "--cycle-jump-block=0 (jump_block_revolutions)"),
     (("--revolutions", "100", "--convergence", "1,-10"), "factor"),
     (("--revolutions", "100", "--convergence", "jump,x"), "--convergence: 'x' is not a number"),
 ])

@@ -3,6 +3,7 @@ files, exudyn's own contact judged without wear; a genuinely different model in 
 it fail; the comparison rules (ensemble means against the valid configurations' and the standard
 error)."""
 import json
+from dataclasses import replace
 import subprocess
 import sys
 
@@ -10,10 +11,10 @@ import numpy as np
 import pytest
 
 from wearjoint import SliderCrankParameters, against_ideal, paper_joint
-from wearjoint.cli import main as cli_main
 from wearjoint.contact_laws import contact_law_variants
 from wearjoint.core import layout as L
 from wearjoint.slider_crank import SliderCrank
+from wearjoint.validation.report import run_validation
 from wearjoint.results import RunParameters, RunRecord, new_revolution_stats
 
 pytest.importorskip("wearjoint.validation.exudyn_model")
@@ -142,10 +143,12 @@ def test_quick_validation_reports_the_contact_law_spread_beside_the_sampling_spr
 
 
 def _monolithic_quick(tmp_path, name, *extra):
+    """validate --quick --no-wear with the monolithic engine alone (the command needs another engine to compare:
+    the plan as the command builds it, through the API)."""
     out = tmp_path / name
-    status = cli_main(["validate", "--quick", "--engines", "monolithic", "--no-wear", "--quiet", "--out", str(out),
-                       *extra])
-    return status, json.loads((out / "summary.json").read_text()), (out / "report.md").read_text()
+    plan = replace(cmp.QUICK, engines=("monolithic",), run_wear=False, law_spread="--no-law-spread" not in extra)
+    summary = run_validation(plan, out, paper_joint(), SliderCrankParameters(), {}, progress=False)
+    return summary["exit_status"], json.loads((out / "summary.json").read_text()), (out / "report.md").read_text()
 
 
 def test_law_spread_never_changes_the_exit_status_and_can_be_switched_off(tmp_path, monkeypatch):

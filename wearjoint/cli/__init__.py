@@ -18,8 +18,10 @@ import re
 import shlex
 import sys
 import threading
+from pathlib import Path
 
 from ..checks import ParameterError   # light: the figure worker starts before numba loads
+from .out_folder import FILE_COMMANDS, RESULT_COMMANDS, prepare_out_folder, remove_empty_folders, results_commands
 
 # command -> (module, one-line help); kept here so that `wearjoint --help` imports no command
 COMMANDS = {
@@ -44,9 +46,16 @@ DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears
                "FMU co-simulation, validation and the paper's wear study.")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser whose error is one line (the option, what is wrong; where to look), not the usage block."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (`{self.prog} --help` lists the options)\n")
+
+
 def build_parser(command: str | None) -> argparse.ArgumentParser:
     """The parser; only ``command``'s options are added (its module imported)."""
-    parser = argparse.ArgumentParser(prog="wearjoint", description=DESCRIPTION)
+    parser = _Parser(prog="wearjoint", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module, help_text) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
@@ -68,7 +77,9 @@ def main(argv: list[str] | None = None) -> int:
             parser.print_help()
             return 2
         args.figure_worker = figures
+        made, code = [], 2
         try:
+            made = _prepare_out(args)
             module = importlib.import_module(COMMANDS[args.command][0])
             with _compile_watch(module, args):   # the first line of a run that compiles says so
                 code = int(module.run(args) or 0)
@@ -76,6 +87,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"wearjoint {args.command}: error: {as_written(str(exc), parser, args.command, argv)}",
                   file=sys.stderr)
             return 2
+        finally:
+            if code != 0:                        # a run that stopped before it wrote leaves no folder behind
+                remove_empty_folders(made)
     finally:
         if figures is not None:
             figures.close()
@@ -105,8 +119,8 @@ def console() -> None:
 
 
 # the unit a parameter's API name adds to its option's (``--step`` sets ``step_s``, ``--onset-penetration``
-# ``onset_penetration_m``)
-_UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2")
+# ``onset_penetration_m``; ``--fmu FILE`` ``fmu_path``)
+_UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2", "path")
 
 
 def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv: list[str]) -> str:
@@ -126,6 +140,14 @@ def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv
             value, invalid, allowed = message[match.end():].partition(" is invalid")
             return f"{option}={value} ({name}){invalid}{allowed}"
     return message
+
+
+def _prepare_out(args) -> list:
+    """The results folder of a command that writes one (out_folder.prepare_out_folder): the folders made."""
+    out = getattr(args, "out", None)
+    if out is None or args.command not in RESULT_COMMANDS + FILE_COMMANDS:
+        return []
+    return prepare_out_folder(args.command, out)
 
 
 def _compile_watch(module, args):
@@ -155,7 +177,8 @@ def _report(args, argv: list[str]) -> None:
     from ..targets import report_facts
 
     out = getattr(args, "out", None)
-    if out is not None and args.command != "report" and summary_path(out) is not None:
+    if (out is not None and args.command != "report" and summary_path(out) is not None
+            and set(results_commands(Path(out))) <= {args.command}):    # not calibrate's into the study it fits
         write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), report_facts(vars(args)))
 
 

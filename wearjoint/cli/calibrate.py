@@ -3,6 +3,8 @@ curve (:mod:`wearjoint.studies.calibration`), one coefficient or the mild-to-sev
 from __future__ import annotations
 
 import json
+import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -13,8 +15,11 @@ from ..studies.calibration import (
     fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
 )
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
+from .options import require_option, with_options
 
 LAWS = ("archard", "mild-severe")
+# the options whose values a fit checks against the study, by the names the fits give them
+FIT_OPTIONS = {"points": "--points", "transition_depth_m": "--transition-depth-m"}
 EXPERIMENT_POINTS = ",".join(f"{n}:{d:g}" for n, d in zip(EXPERIMENT_REVOLUTIONS, EXPERIMENT_MAX_DEPTH_M))  # Sec. 7
 
 
@@ -52,9 +57,8 @@ def _points(text: str, uncertainty: float | None = None) -> list[tuple[float, fl
             numbers = [float(v) for v in values]
         except ValueError:
             numbers = []
-        if len(numbers) not in (2, 3):
-            raise ParameterError(f"points={text!r} is invalid: allowed REVOLUTIONS:MAX_DEPTH_M[:UNCERTAINTY_M] items, "
-                                 f"e.g. {EXPERIMENT_POINTS}")
+        require_option("--points", text, len(numbers) in (2, 3) and all(map(math.isfinite, numbers)),
+                       f"REVOLUTIONS:MAX_DEPTH_M[:UNCERTAINTY_M] items of finite numbers, e.g. {EXPERIMENT_POINTS}")
         points.append((numbers[0], numbers[1], numbers[2] if len(numbers) == 3 else uncertainty))
     return sorted(points)
 
@@ -66,9 +70,32 @@ def _revolutions(text: str | None) -> list[float]:
         values = [float(v) for v in text.split(",")]
     except ValueError:
         values = []
-    if not values or not all(v > 0 and np.isfinite(v) for v in values):
-        raise ParameterError(f"predict_revolutions={text!r} is invalid: allowed N1,N2,... revolutions > 0")
+    require_option("--predict-revolutions", text, values and all(v > 0 and math.isfinite(v) for v in values),
+                   "N1,N2,... revolutions > 0")
     return values
+
+
+def _read_study(folder: str) -> tuple[dict, np.ndarray, float]:
+    """(summary, wear_growth.csv's rows, the study's k_w [m^2/N]) of a finished wear study, or --study refused in one
+    line."""
+    study = Path(folder)
+    try:
+        summary = json.loads((study / "summary.json").read_text())
+        with warnings.catch_warnings():     # a file without rows: said below, not warned
+            warnings.simplefilter("ignore", UserWarning)
+            growth = np.loadtxt(study / "wear_growth.csv", delimiter=",", skiprows=1, ndmin=2)
+        joint = summary["parameters"]["joint"]
+        k0 = float(joint["wear_coefficient_m2_N"]) * float(joint["wear_factor"])
+        if not (growth.shape[0] and growth.shape[1] >= 2 and np.isfinite(growth[:, :2]).all() and growth[0, 0] > 0
+                and np.all(np.diff(growth[:, 0]) > 0) and growth[-1, 1] > 0):
+            raise ValueError("wear_growth.csv holds no rows of rising revolutions > 0 and finite max depths reaching "
+                             "> 0")
+        if not (math.isfinite(k0) and k0 > 0):
+            raise ValueError(f"summary.json's k_w times wear factor is {k0!r}, not > 0")
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ParameterError(f"--study={folder!r} is invalid: not a finished wear study ({type(exc).__name__}: "
+                             f"{exc}); allowed a wear-study folder (summary.json, wear_growth.csv)") from None
+    return summary, growth, k0
 
 
 def _band(band, scale=1.0, unit="") -> str:
@@ -76,26 +103,46 @@ def _band(band, scale=1.0, unit="") -> str:
 
 
 def run(args) -> int:
+    summary, growth, k0 = _read_study(args.study)
     study = Path(args.study)
-    try:
-        summary = json.loads((study / "summary.json").read_text())
-        growth = np.loadtxt(study / "wear_growth.csv", delimiter=",", skiprows=1, ndmin=2)
-        joint = summary["parameters"]["joint"]
-        k0 = float(joint["wear_coefficient_m2_N"]) * float(joint["wear_factor"])
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise ParameterError(f"study={args.study!r} is invalid: not a finished wear study ({exc!r})") from None
-    if args.depth_uncertainty_m is not None and not (args.depth_uncertainty_m > 0 and
-                                                     np.isfinite(args.depth_uncertainty_m)):
-        raise ParameterError(f"depth_uncertainty_m={args.depth_uncertainty_m!r} is invalid: allowed a value > 0 [m]")
+    for option, value, allowed in (("--depth-uncertainty-m", args.depth_uncertainty_m, "> 0 [m]"),
+                                   ("--life-depth-m", args.life_depth_m, "a max depth > 0 [m]"),
+                                   ("--tolerance", args.tolerance, "a share > 0 of each measured depth")):
+        require_option(option, value, value is None or (math.isfinite(value) and value > 0), allowed)
+    for option, value in (("--predict-revolutions", args.predict_revolutions), ("--life-depth-m", args.life_depth_m)):
+        require_option(option, value, value is None or args.law == "archard", "only with --law archard")
     points = _points(args.points, args.depth_uncertainty_m)
     asked = _revolutions(args.predict_revolutions)
+    try:
+        result, fits = _fit(args, summary, growth, k0, points, asked)
+    except ParameterError as exc:     # a value beyond what the study reaches
+        raise with_options(exc, FIT_OPTIONS, {"points": args.points,
+                                              "transition_depth_m": args.transition_depth_m}) from None
+    result.update({"study": str(study), "study_wear_coefficient_m2_N": k0,
+                   "points": [{"revolutions": n, "max_wear_depth_m": d, "uncertainty_m": u} for n, d, u in points]})
+    out = Path(args.out) if args.out else study
+    out.mkdir(parents=True, exist_ok=True)
+    write_json_atomic(out / "calibration.json", result)
+    if not args.no_plots:
+        reach = [p["revolutions"] for p in result.get("predictions", []) if p["depth_m"] is not None]
+        if (result.get("life") or {}).get("revolutions"):
+            reach.append(result["life"]["revolutions"])
+        plot_calibration(growth, k0, points, fits, out / "calibration.png",
+                         max([p[0] for p in points] + reach) * 1.1)
+    print(f"results in {out}")
+    return 0
+
+
+def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked: list) -> tuple[dict, list]:
+    """The fit of ``--law`` (with its predictions), printed: (calibration.json's content, the fits to plot)."""
     if args.law == "archard":
         curve_error = float((summary.get("cycle_jumping") or {}).get("error_estimate_summed_rel_to_final_depth", 0.0))
         result = fit_archard(growth, k0, points, tolerance=args.tolerance, curve_error_rel=curve_error)
         fits = [result]
         interval = result["interval_95_m2_N"]
         ends = ["below the study's curve" if interval and interval[0] is None else None,
-                "beyond the study's curve (extend the study)" if interval and interval[1] is None else None]
+                "beyond the study's curve (a new study with more --revolutions reaches it)"
+                if interval and interval[1] is None else None]
         shown = (f", {result['confidence']:.0%} interval [" + ", ".join(
             end or f"{k:.3g}" for end, k in zip(ends, interval)) + "]" if interval else "")
         print(f"  k_w {result['wear_coefficient_m2_N']:.4g} m^2/N{shown}"
@@ -126,27 +173,16 @@ def run(args) -> int:
     else:
         transition = args.transition_depth_m
         if transition is None:
-            raise ParameterError("parameter transition_depth_m is missing: --law mild-severe needs the depth where "
-                                 "the wear turns severe as a stated input (--transition-depth-m D)")
+            raise ParameterError("--transition-depth-m is required with --law mild-severe: the fit's "
+                                 "transition_depth_m is missing (the max depth [m] where the wear turns severe, a "
+                                 "stated input)")
         result = fit_mild_severe(growth, k0, points, transition)
         fits = [fit_archard(growth, k0, points, tolerance=args.tolerance), result]
         print(f"  k_mild {result['mild_wear_coefficient_m2_N']:.4g} m^2/N up to {transition:g} m "
               f"(revolution {result['transition_revolutions']:.4g}), k_severe "
               f"{result['severe_wear_coefficient_m2_N']:.4g} m^2/N; {result['parameters_fitted']} parameters, "
               f"{result['degrees_of_freedom']} degrees of freedom left")
-    result.update({"study": str(study), "study_wear_coefficient_m2_N": k0,
-                   "points": [{"revolutions": n, "max_wear_depth_m": d, "uncertainty_m": u} for n, d, u in points]})
-    out = Path(args.out) if args.out else study
-    out.mkdir(parents=True, exist_ok=True)
-    write_json_atomic(out / "calibration.json", result)
-    if not args.no_plots:
-        reach = [p["revolutions"] for p in result.get("predictions", []) if p["depth_m"] is not None]
-        if (result.get("life") or {}).get("revolutions"):
-            reach.append(result["life"]["revolutions"])
-        plot_calibration(growth, k0, points, fits, out / "calibration.png",
-                         max([p[0] for p in points] + reach) * 1.1)
-    print(f"results in {out}")
-    return 0
+    return result, fits
 
 
 __all__ = ["add_arguments", "run"]

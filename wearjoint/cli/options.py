@@ -10,16 +10,37 @@ progress options, the FMU options and the printed summary.
 """
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
 from .. import run_options
-from ..parameters import JointParameters, SliderCrankParameters
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..run_options import (
     add_fmu_arguments, add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument,
     calibrated_wear_coefficient, gravity_value, model_from_options, read_initial_profile, restate_default,
 )
 from ..run_options import option_name as _option
+
+
+def require_option(option: str, value, ok: bool, allowed: str) -> None:
+    """ParameterError naming ``option`` as written (``--fmu``), its ``value`` and what is ``allowed`` unless ``ok``:
+    for an option whose value the API knows under another name, or not at all."""
+    if not ok:
+        raise ParameterError(f"{option}={value!r} is invalid: allowed {allowed}")
+
+
+def with_options(error: ParameterError, options: dict, written: dict | None = None) -> ParameterError:
+    """``error`` naming the option as written where its parameter has one in ``options`` (the API's name -> the
+    option), with the value as written where ``written`` has it (the API's name -> the option's value):
+    ``parameter jump_block_revolutions=0 is invalid: ...`` -> ``--cycle-jump-block=0 (jump_block_revolutions) is
+    invalid: ...``; ``error`` itself otherwise."""
+    match = re.match(r"parameter (\w+)=(.*?) (?:is|are) invalid", str(error))
+    if match is None or match.group(1) not in options:
+        return error
+    name = match.group(1)
+    value = repr(written[name]) if written and name in written else match.group(2)
+    return ParameterError(f"{options[name]}={value} ({name}) is invalid{str(error)[match.end():]}")
 
 
 def take_calibration(args, joint_values: dict) -> None:
@@ -80,5 +101,5 @@ def exit_status(record, command: str) -> int:
 
 __all__ = ["add_fmu_arguments", "add_initial_profile_argument", "add_model_arguments", "add_output_arguments",
            "add_settling_argument", "calibrated_wear_coefficient", "check_settling", "exit_status", "given_options",
-           "gravity_value", "model_from_args", "print_summary", "read_initial_profile", "restate_default",
-           "stiffness_note", "take_calibration", "SUMMARY_KEYS", "_option"]
+           "gravity_value", "model_from_args", "print_summary", "read_initial_profile", "require_option",
+           "restate_default", "stiffness_note", "take_calibration", "with_options", "SUMMARY_KEYS", "_option"]

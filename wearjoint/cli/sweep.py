@@ -11,7 +11,7 @@ import sys
 from .._compile.prefetch import usable_cores
 from ..parameters import ParameterError
 from ..sweep.bias import Bias
-from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, parse_vary, read_design
+from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, sweep_design
 from ..targets import target as sweep_target
 
 DEFAULT_SEEDS = 1   # runs per grid point when neither --seeds nor the design file says
@@ -76,21 +76,18 @@ def run_from_args(command: str, args) -> int:
     """Run the sweep ``args`` describes (TARGET's options plus the sweep's); prints the outcome."""
     from ..sweep import run_sweep
 
-    vary = parse_vary(command, getattr(args, "vary", None))
-    points, seeds = (), args.seeds
-    if getattr(args, "design", None):
-        design = read_design(command, args.design)
-        vary, points = {**design["vary"], **vary}, design["points"]
-        seeds = seeds if seeds is not None else design["seeds"]
+    design = sweep_design(command, getattr(args, "vary", None), getattr(args, "design", None))
+    seeds = args.seeds if args.seeds is not None else design["seeds"]
     seeds = check_seeds(DEFAULT_SEEDS if seeds is None else seeds)
     workers = args.workers if args.workers is not None else usable_cores()
     if isinstance(workers, bool) or workers < 1:
         raise ParameterError(f"--workers={workers!r} is invalid: allowed an integer >= 1")
     try:
-        summary = run_sweep(command, command_options(command, args), args.out, vary=vary, points=points,
-                            seeds=seeds, no_plots=getattr(args, "no_plots", False), workers=workers,
-                            scheduler=args.scheduler, resume=args.resume,
-                            retry_failed=getattr(args, "retry_failed", False), progress=not args.quiet)
+        summary = run_sweep(command, command_options(command, args), args.out, vary=design["vary"],
+                            points=design["points"], seeds=seeds, no_plots=getattr(args, "no_plots", False),
+                            workers=workers, scheduler=args.scheduler, resume=args.resume,
+                            retry_failed=getattr(args, "retry_failed", False), progress=not args.quiet,
+                            where=design["where"])
     except KeyboardInterrupt:
         summary = {"interrupted": True}
     if summary.get("interrupted"):

@@ -4,32 +4,45 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
-from ..validation.compare import ENGINES, FULL, QUICK
+from ..validation.compare import ENGINES, FULL, QUICK, REFERENCE
 from ..validation.report import run_validation
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
 
 
 def _engine_list(text: str) -> tuple:
+    """``--engines`` as names: known, none twice, the reference and at least one engine to compare with it."""
     names = tuple(n.strip() for n in text.split(",") if n.strip())
-    for name in names:
-        if name not in ENGINES:
-            raise ParameterError(f"parameter engines={text!r} is invalid: allowed names from " + ", ".join(ENGINES))
+    allowed = (f"a comma-separated list of distinct names from {', '.join(ENGINES)}, with {REFERENCE} (the "
+               "reference) and at least one engine to compare with it")
+    ok = (all(name in ENGINES for name in names) and len(set(names)) == len(names) and REFERENCE in names
+          and len(names) > 1)
+    if not ok:
+        raise ParameterError(f"--engines={text!r} is invalid: allowed {allowed}")
     return names
 
 
-def _joint_change(engine: str, assignment: str) -> tuple[str, dict]:
-    """``--perturb ENGINE NAME=VALUE`` -> (engine, {name: value typed as the JointParameters field})."""
+def _joint_change(engine: str, assignment: str, engines: tuple, joint: JointParameters) -> dict:
+    """``--perturb ENGINE NAME=VALUE`` -> {name: value typed as the JointParameters field}, refused in one line
+    naming --perturb unless ENGINE is one of ``engines`` besides the reference and ``joint`` admits the value."""
+    written = f"--perturb {engine} {assignment}"
+    compared = [e for e in engines if e != REFERENCE]
+    if engine not in compared:
+        raise ParameterError(f"{written} is invalid: allowed a perturbed engine (ENGINE) from --engines other than "
+                             f"the reference {REFERENCE}: {', '.join(compared)}")
     name, sep, text = assignment.partition("=")
     defaults = JointParameters()
     if not sep or not hasattr(defaults, name) or name.endswith("offset_m"):
-        raise ParameterError(f"parameter perturb={assignment!r} is invalid: allowed NAME=VALUE with NAME a scalar "
-                             "JointParameters field, e.g. restitution=0.5")
-    kind = type(getattr(defaults, name))
+        raise ParameterError(f"{written} is invalid: allowed NAME=VALUE with NAME a scalar JointParameters "
+                             "field, e.g. restitution=0.5")
+    default = getattr(defaults, name)
+    kind = float if default is None else type(default)     # a stiffness given instead of the materials'
     try:
         value = kind(text)
-    except ValueError:
-        raise ParameterError(f"parameter perturb={assignment!r} is invalid: {name} takes a {kind.__name__}") from None
-    return engine, {name: value}
+        joint.replace(**{name: value})
+    except ValueError as exc:   # a ParameterError too: the joint refuses the value
+        allowed = str(exc).partition(" is invalid: allowed ")[2] or ("an integer" if kind is int else "a number")
+        raise ParameterError(f"{written} is invalid: allowed {name} {allowed}") from None
+    return {name: value}
 
 
 def _number(value) -> str:
@@ -72,17 +85,17 @@ def run(args) -> int:
     not available, 2 bad parameters."""
     joint, mechanism = model_from_args(args)
     base = QUICK if args.quick else FULL
+    compared = _engine_list(args.engines)
     changes = {}
     for engine, assignment in args.perturb:
-        engine, change = _joint_change(engine, assignment)
-        changes.setdefault(engine, {}).update(change)
-    plan = replace(base, revolutions=args.revolutions or base.revolutions,
-                   ensemble=args.ensemble if args.ensemble is not None else base.ensemble,
-                   wear_revolutions=args.wear_revolutions or base.wear_revolutions,
-                   wear_factor=args.wear_factor if args.wear_factor is not None else base.wear_factor,
-                   window_s=args.window or base.window_s * mechanism.period_s / SliderCrankParameters().period_s,
-                   engines=_engine_list(args.engines), run_wear=not args.no_wear,
-                   fmu_backend=args.fmu_backend, law_spread=not args.no_law_spread)
+        changes.setdefault(engine, {}).update(_joint_change(engine, assignment, compared, joint))
+    window_s = args.window if args.window is not None else \
+        base.window_s * mechanism.period_s / SliderCrankParameters().period_s    # the same share of a turn
+    given = {"revolutions": args.revolutions, "ensemble": args.ensemble, "wear_revolutions": args.wear_revolutions,
+             "wear_factor": args.wear_factor}
+    plan = replace(base, **{name: value for name, value in given.items() if value is not None}, window_s=window_s,
+                   engines=compared, run_wear=not args.no_wear, fmu_backend=args.fmu_backend,
+                   law_spread=not args.no_law_spread)
     summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
     engines = summary["engines"]
     for m in summary["metrics"]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
+from pathlib import Path
 
 from ..parameters import ParameterError
 from ..run_options import add_wear_study_arguments
@@ -11,7 +12,9 @@ from ..studies.cycle_jump import replay_volume_warning
 from ..studies.wear_calibration import calibrate_wear_coefficient
 from ..studies.wear_convergence import JUMP, run_convergence
 from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, run_wear_study
+from ..studies.wear_study_recovery import CHECKPOINT_NAME, OPTIONS, SNAPSHOTS_NAME
 from ..sweep.design import check_seeds
+from .options import with_options
 from .study_options import config_from_args, parse_float_list
 from .sweep import add_ensemble_arguments
 
@@ -28,10 +31,15 @@ def run(args) -> int:
     from ..runner import RunDiverged
     from ..studies.wear_study import StudyDiverged
 
-    if args.seeds is not None and check_seeds(args.seeds) > 1:
+    ensemble = args.seeds is not None and check_seeds(args.seeds) > 1
+    _check_out(args, ensemble)
+    if ensemble:
         from .sweep import run_from_args
         return run_from_args("wear-study", args)
-    config = config_from_args(args)
+    try:
+        config = config_from_args(args)
+    except ParameterError as exc:       # a study setting named as the command line writes it
+        raise with_options(exc, OPTIONS) from None
     try:
         if args.convergence is not None:
             factors = [JUMP if item.strip() == JUMP else parse_float_list("--convergence", item)[0]
@@ -87,6 +95,32 @@ def run(args) -> int:
         return 1
     print(f"results in {args.out}")
     return 0
+
+
+def _check_out(args, ensemble: bool) -> None:
+    """--out refused in one line where it holds the other kind of study (a single study, an ensemble of --seeds), and
+    --resume where --out holds nothing to continue (it never starts afresh)."""
+    from ..sweep.runner import SPEC_NAME
+
+    out = Path(args.out)
+    single = (out / CHECKPOINT_NAME).is_file() or (out / SNAPSHOTS_NAME).is_file()
+    if ensemble and single:
+        raise ParameterError(f"--out={str(out)!r} is invalid with --seeds {args.seeds}: it holds a single wear study "
+                             f"({CHECKPOINT_NAME}); allowed a folder of the ensemble's own")
+    if not ensemble and (out / SPEC_NAME).is_file():
+        raise ParameterError(f"--out={str(out)!r} is invalid without --seeds: it holds an ensemble ({SPEC_NAME}); "
+                             "continue it with its --seeds N --resume, or choose another --out")
+    if not args.resume:
+        return
+    if ensemble:
+        held, what = (out / SPEC_NAME).is_file(), SPEC_NAME
+    elif args.convergence is not None or args.calibrate_max_depth_m is not None:    # a study per subfolder
+        held, what = any(out.glob(f"*/{CHECKPOINT_NAME}")), f"*/{CHECKPOINT_NAME}"
+    else:
+        held, what = (out / CHECKPOINT_NAME).is_file(), CHECKPOINT_NAME
+    if not held:
+        raise ParameterError(f"--resume is invalid with --out {str(out)!r}: it holds no study to continue (no {what}); "
+                             "allowed on a folder a wear-study checkpointed (run without --resume to start one)")
 
 
 def _angle(value) -> str:

@@ -16,10 +16,11 @@ from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
 from ..fmu.instance import N_INPUTS, FmuInstance, OwnsFmuInstance
 from ..kernel_calls import bushing_point_angles
 from ..slider_crank import SliderCrank
+from ..checks import choice, finite, non_negative, positive
 from ..parameters import (
-    JointParameters, ParameterError, SliderCrankParameters, finite, require, check_joint_fits_mechanism,
-    paper_joint,
+    JointParameters, ParameterError, SliderCrankParameters, require, check_joint_fits_mechanism, paper_joint,
 )
+from ..simulation_options import check_run_arguments, check_wear_step
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import run_engine
 from .master_layout import (
@@ -45,8 +46,9 @@ DEFAULT_COUPLING_TOLERANCE = {"zoh": 0.0, "extrapolation": 0.0, "adaptive": 0.0,
 class CoSimulationOptions:
     """How to co-simulate (``scheme``: :data:`SCHEMES`, described in :mod:`wearjoint.cosim`). ``step_s``: communication
     step [s] (``zoh``, ``extrapolation``: always; ``adaptive``, ``linearised``: while in contact; None: the
-    scheme's :data:`DEFAULT_CONTACT_STEP_S`). ``max_step_s`` / ``min_step_s``: bounds of the adaptive step [s];
-    ``onset_penetration_m``: how deep past a contact onset an adaptive step may end [m].  ``sample_dt_s``:
+    scheme's :data:`DEFAULT_CONTACT_STEP_S`; with wear at most the wear-step limit, checked when the run is built:
+    :func:`~wearjoint.simulation_options.check_wear_step`). ``max_step_s`` / ``min_step_s``: bounds of the adaptive
+    step [s]; ``onset_penetration_m``: how deep past a contact onset an adaptive step may end [m].  ``sample_dt_s``:
     spacing of the time series [s]. ``coupling_tolerance`` (adaptive, linearised; None: the scheme's
     :data:`DEFAULT_COUPLING_TOLERANCE`, 0.003 for linearised): the relative miss of the predicted contact force
     the contact step aims at, between step_s / 8 and step_s, a linearised contact starting at step_s / 4 (0:
@@ -63,20 +65,20 @@ class CoSimulationOptions:
     coupling_tolerance: float | None = None
 
     def __post_init__(self):
-        require("revolutions", self.revolutions, finite("revolutions", self.revolutions) > 0.0, "> 0")
-        require("scheme", self.scheme, self.scheme in SCHEMES, "one of " + ", ".join(SCHEMES))
+        """Every value checked (a real one an int, a float or a numpy real scalar, kept as a float)."""
+        choice("scheme", self.scheme, SCHEMES)
         if self.step_s is None:
             object.__setattr__(self, "step_s", DEFAULT_CONTACT_STEP_S[self.scheme])
         if self.coupling_tolerance is None:
             object.__setattr__(self, "coupling_tolerance", DEFAULT_COUPLING_TOLERANCE[self.scheme])
-        for name in ("step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):
-            require(name, getattr(self, name), finite(name, getattr(self, name)) > 0.0, "> 0")
+        for name in ("revolutions", "step_s", "max_step_s", "min_step_s", "onset_penetration_m", "sample_dt_s"):
+            object.__setattr__(self, name, positive(name, getattr(self, name)))
         require("min_step_s", self.min_step_s, self.min_step_s <= self.step_s, f"<= step_s = {self.step_s!r}")
         require("max_step_s", self.max_step_s, self.max_step_s >= self.step_s, f">= step_s = {self.step_s!r}")
-        require("coupling_tolerance", self.coupling_tolerance,
-                finite("coupling_tolerance", self.coupling_tolerance) >= 0.0
-                and (self.coupling_tolerance == 0.0 or self.scheme in ADAPTIVE_SCHEMES),
-                ">= 0, and 0 unless scheme is adaptive or linearised")
+        tolerance = non_negative("coupling_tolerance", self.coupling_tolerance)
+        require("coupling_tolerance", tolerance, tolerance == 0.0 or self.scheme in ADAPTIVE_SCHEMES,
+                "0 unless scheme is adaptive or linearised")
+        object.__setattr__(self, "coupling_tolerance", tolerance)
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -96,10 +98,12 @@ class CoSimulation(OwnsFmuInstance):
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                  options: CoSimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,
                  initial_profile_m=None):
+        check_run_arguments(joint, mechanism, options, CoSimulationOptions, fmu_path)
         self.options = options or CoSimulationOptions()
         mechanism = mechanism or SliderCrankParameters()
         self.joint = joint or paper_joint(mechanism)
         check_joint_fits_mechanism(self.joint, mechanism)
+        check_wear_step("step_s", self.options.step_s, self.joint, mechanism)   # every wearing step is at most step_s
         require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
         self._instance = None
@@ -321,6 +325,7 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
     keeps the finished chunks with ``completed = False``).  The FMU instance is always
     freed.  ``extra`` holds the communication statistics.
     """
+    check_run_arguments(joint, mechanism, options, CoSimulationOptions, fmu_path, chunks_per_revolution)
     o = options or CoSimulationOptions()
     return run_engine(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
                       o.revolutions, (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s, "cosim",

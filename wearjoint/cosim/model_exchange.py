@@ -11,7 +11,6 @@ options this reproduces the monolithic run step for step.
 """
 from __future__ import annotations
 
-
 import dataclasses
 
 import numpy as np
@@ -25,9 +24,9 @@ from ..parameters import JointParameters, ParameterError, SliderCrankParameters,
 from ..results import RunParameters
 from ..runner import run_engine
 from ..simulate import Simulation, SimulationOptions
+from ..simulation_options import check_run_arguments
 from .fmu_joint import FMU_CALLS, FmuJoint
 from .master_layout import OUTPUT_NAMES, OUTPUT_RESULT_INDEX
-
 
 
 class ModelExchangeSimulation(OwnsFmuInstance):
@@ -38,6 +37,7 @@ class ModelExchangeSimulation(OwnsFmuInstance):
     def __init__(self, joint: JointParameters | None = None, mechanism: SliderCrankParameters | None = None,
                  options: SimulationOptions | None = None, fmu_path=None, fmu_backend: str = DEFAULT_BACKEND,
                  initial_profile_m=None):
+        check_run_arguments(joint, mechanism, options, SimulationOptions, fmu_path)
         options = options or SimulationOptions()
         if options.integrator == "gear" or options.ideal:
             raise ParameterError(f"parameter integrator={options.integrator!r} is invalid with the FMU's Model "
@@ -120,6 +120,7 @@ def run_model_exchange(joint: JointParameters | None = None, mechanism: SliderCr
     """Simulate ``options.revolutions`` crank revolutions with the FMU's Model Exchange interface from the
     bushing's ``initial_profile_m`` (default: unworn); the run's record (as
     :func:`wearjoint.simulate.run_simulation`'s)."""
+    check_run_arguments(joint, mechanism, options, SimulationOptions, fmu_path, chunks_per_revolution)
     o = options or SimulationOptions()
     return run_engine(lambda: ModelExchangeSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
                       o.revolutions, (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s,

@@ -23,7 +23,7 @@ from .law_spread import CSV_NAME as LAW_CSV, run_law_spread
 from .problem import Problem, parse_params
 from .report import (BIAS_EFFECT, invalid_reason, output_biases, output_value, parse_outputs, plot_indices, write_indices,
                      write_samples)
-from .sample import DEFAULT_SAMPLES, METHODS, check_samples, group_size
+from .sample import DEFAULT_SAMPLES, METHODS, check_samples, check_seed, group_size
 
 SUMMARY_NAME = "summary.json"
 
@@ -58,9 +58,10 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
     ``max_samples``, default 8 x ``samples``) until the widest interval meets it; with ``law_spread`` then run
     every contact law variant at the nominal point (:func:`.law_spread.run_law_spread`).  Returns summary.json's
     content."""
-    from ..sweep.runner import SweepFolder, run_cases, start_client
+    from ..sweep.runner import SweepFolder, refuse_existing, resumed, run_cases, start_client
 
     n = check_samples(method, DEFAULT_SAMPLES.get(method) if samples is None else samples)
+    check_seed(seed)
     max_samples = max_samples if max_samples is not None else 8 * n
     check_target(target_interval, n, max_samples)
     outputs = parse_outputs(command, base, outputs)
@@ -92,8 +93,14 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
         y = {name: np.array([output_value(rows.get(cid), name) for cid in ids]) for name in outputs}
         return y, {"cases": len(cases), "cases_run": done["cases_run"], "skipped_as_done": skipped}, done["interrupted"]
 
+    if resume:
+        resumed(out, "sensitivity study")
+    else:
+        refuse_existing(out)
     law = None
     try:
+        if scheduler:
+            client()                                         # refused before anything is written
         study = until_target(problem, method, n, seed, evaluate, target_interval, max_samples)
         if law_spread and not study["stopped"]:
             law = run_law_spread(command, base, problem, out, outputs, study["y"], client, resume, workers, scheduler,

@@ -13,8 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..parameters import ParameterError
-from ..sweep.design import canonical_name, parse_value, variable_actions
-from ..run_options import model_from_options
+from ..sweep.design import canonical_name, check_grid, parse_value, variable_actions
 
 FORM = "NAME=LOW,HIGH[,log] (e.g. restitution=0.6,0.95 or wear-coefficient-m2-N=2e-11,1e-10,log)"
 
@@ -111,13 +110,11 @@ def parse_params(command: str, items, base: dict | None = None) -> Problem:
 
 
 def check_ranges(problem: Problem, base: dict) -> None:
-    """Each parameter's LOW and HIGH through the model's validation (ParameterError naming ``--param``)."""
+    """``base``, then each parameter's LOW and HIGH with it, through the target's configuration (the checks its run
+    makes before it starts; :func:`wearjoint.sweep.design.check_grid`): a one-line ParameterError naming ``--param``
+    as written, the value and what is allowed."""
     for p in problem.parameters:
-        for value in (p.low, p.high):
-            try:
-                model_from_options({**base, p.dest: value})
-            except ParameterError as exc:
-                raise ParameterError(f"--param {p.text()!r} is invalid: {exc}") from None
+        check_grid(problem.command, base, {p.name: [p.low, p.high]}, where={"vary": {p.name: f"--param {p.text()!r}"}})
 
 
 __all__ = ["Parameter", "Problem", "parse_param", "parse_params", "check_ranges", "FORM"]

@@ -37,6 +37,13 @@ def check_samples(method: str, n) -> int:
     return n
 
 
+def check_seed(seed) -> int:
+    """``seed``, or a one-line ParameterError naming ``--seed``: an integer SALib's samplers take, 0 .. 2**32 - 1."""
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2 ** 32:
+        raise ParameterError(f"--seed={seed!r} is invalid: allowed an integer in [0, {2 ** 32 - 1}]")
+    return seed
+
+
 def sample(problem: Problem, method: str, n: int, seed: int) -> np.ndarray:
     """SALib's sample matrix (rows x parameters, log parameters in log10) of ``n`` trajectories or base
     samples, drawn with ``seed``."""
@@ -50,4 +57,5 @@ def sample(problem: Problem, method: str, n: int, seed: int) -> np.ndarray:
     return sobol.sample(problem.salib(), n, calc_second_order=False, scramble=True, seed=seed)
 
 
-__all__ = ["METHODS", "MIN_SAMPLES", "DEFAULT_SAMPLES", "MORRIS_LEVELS", "group_size", "check_samples", "sample"]
+__all__ = ["METHODS", "MIN_SAMPLES", "DEFAULT_SAMPLES", "MORRIS_LEVELS", "group_size", "check_samples", "check_seed",
+           "sample"]

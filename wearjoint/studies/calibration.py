@@ -19,7 +19,11 @@ import math
 import numpy as np
 from scipy import optimize, stats
 
-from wearjoint.parameters import ParameterError
+from wearjoint.checks import ParameterError, positive
+
+# what reaches beyond a study's curve: a study's --resume continues it to its own --revolutions only
+FURTHER = ("a new wear study with more --revolutions (or a larger --wear-coefficient-m2-N) into another --out "
+           "reaches further (--resume continues a study to its own --revolutions only)")
 
 
 def master_curve(growth: np.ndarray):
@@ -36,14 +40,16 @@ def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray,
     d = np.array([p[1] for p in points], float)
     u = np.array([p[2] if len(p) > 2 and p[2] is not None else math.nan for p in points], float)
     if n.size == 0 or not (np.all(np.isfinite(n)) and np.all(n > 0) and np.all(np.isfinite(d)) and np.all(d > 0)):
-        raise ParameterError(f"points={list(points)!r} are invalid: allowed REVOLUTIONS:DEPTH_M pairs, both > 0")
-    given = np.isfinite(u)
-    if given.any() and not (given.all() and np.all(u > 0)):
-        raise ParameterError(f"points={list(points)!r} are invalid: a depth uncertainty > 0 for every point or for "
-                             "none (--depth-uncertainty-m U, or REVOLUTIONS:DEPTH_M:U)")
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed REVOLUTIONS:DEPTH_M pairs, "
+                             "both finite and > 0")
+    given = ~np.isnan(u)
+    if given.any() and not (given.all() and np.all(np.isfinite(u)) and np.all(u > 0)):
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed a finite depth uncertainty > 0 "
+                             "for every point or for none (--depth-uncertainty-m U, or REVOLUTIONS:DEPTH_M:U)")
     if d.max() > depth_reach:
-        raise ParameterError(f"points: the deepest, {d.max():g} m, is beyond the study's max depth {depth_reach:g} m "
-                             f"(after {reach:g} revolutions): run the study further or with a larger k_w")
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed max depths up to the "
+                             f"study's, {depth_reach:g} m after {reach:g} revolutions; the deepest, {d.max():g} m, is "
+                             f"beyond the study's max depth: {FURTHER}")
     return n, d, u
 
 
@@ -63,6 +69,7 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
     no measurement error)."""
     curve, inverse = master_curve(growth)
     n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1])
+    positive("tolerance", tolerance)
     start = np.log(inverse(d) / n)                       # each point's own exact s
     out = {"law": "archard", "confidence": CONFIDENCE, "degrees_of_freedom": int(n.size - 1),
            "tolerance_rel": tolerance, "each_point_alone_m2_N": [float(k0 * math.exp(x)) for x in start]}
@@ -154,11 +161,12 @@ def predictions(growth: np.ndarray, k0: float, fit: dict, revolutions) -> list[d
 def life(growth: np.ndarray, k0: float, fit: dict, depth_m: float) -> dict:
     """The revolutions to a max depth of ``depth_m`` [m] under an Archard ``fit``, with the band from its
     interval (None beyond the study's curve)."""
+    positive("depth_m", depth_m)
     _, inverse = master_curve(growth)
     x = float(inverse(depth_m))
     if not math.isfinite(x):
         return {"depth_m": depth_m, "revolutions": None, "band_95_revolutions": None,
-                "note": f"beyond the study's max depth {growth[-1, 1]:g} m: run the study further"}
+                "note": f"beyond the study's max depth {growth[-1, 1]:g} m: {FURTHER}"}
     interval = fit.get("interval_95_m2_N")
     band = ([x * k0 / interval[1], x * k0 / interval[0]] if interval and None not in interval else None)
     return {"depth_m": depth_m, "revolutions": x * k0 / fit["wear_coefficient_m2_N"], "band_95_revolutions": band}
@@ -216,10 +224,11 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
     curve, inverse = master_curve(growth)
     n, d, _ = _check_points(points, growth[-1, 0], growth[-1, 1])
     if not (math.isfinite(transition_depth_m) and 0.0 < transition_depth_m < growth[-1, 1]):
-        raise ParameterError(f"transition_depth_m={transition_depth_m!r} is invalid: allowed in (0, "
+        raise ParameterError(f"parameter transition_depth_m={transition_depth_m!r} is invalid: allowed in (0, "
                              f"{growth[-1, 1]:g}) m (the study's max depth)")
     if n.size < 2:
-        raise ParameterError("points: the mild-to-severe law needs at least two points")
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed at least two points for the "
+                             "mild-to-severe law")
     x_t = float(inverse(transition_depth_m))
 
     def predicted(params):
@@ -232,8 +241,8 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
     try:
         fit = optimize.least_squares(lambda p: np.log(predicted(p)) - np.log(d), x0=[guess.min(), guess.max()])
     except ValueError:                               # a trial law ran past the study's curve: nan residuals
-        raise ParameterError(f"points: the mild-to-severe fit needs the study's curve beyond its {growth[-1, 0]:g} "
-                             "revolutions: run the study further or with a larger k_w") from None
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: the mild-to-severe fit needs the "
+                             f"study's curve beyond its {growth[-1, 0]:g} revolutions: {FURTHER}") from None
     k_mild, k_severe = np.exp(fit.x)
     res = np.log(predicted(fit.x)) - np.log(d)
     return {"law": "mild-severe", "transition_depth_m": transition_depth_m,
@@ -242,5 +251,5 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
             "degrees_of_freedom": int(n.size - 2), "residuals_rel": [float(math.expm1(r)) for r in res]}
 
 
-__all__ = ["master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration", "predictions", "life",
-           "master_curve_check", "MASTER_CURVE_CHECKED"]
+__all__ = ["FURTHER", "master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration",
+           "predictions", "life", "master_curve_check", "MASTER_CURVE_CHECKED"]

@@ -15,7 +15,8 @@ Any slider-crank and joint (the model options of ``simulate``): the default step
 1, 2, 5 and 10 us scaled by the communication-step rule (:func:`wearjoint.cosim.step_rule.paper_step_scale`)
 and the point-wise window is the paper's 15 ms scaled with the crank period.
 
-Writes ``cosim_study.md`` (the table), ``cosim_study.json`` and ``cosim_study.png``.
+Writes ``cosim_study.md`` (the table), ``cosim_study.json`` and ``cosim_study.png``; a co-simulation that failed or
+diverged is a row that says so, without numbers.
 """
 from __future__ import annotations
 
@@ -26,16 +27,19 @@ import numpy as np
 
 from wearjoint import analysis, profile_metrics
 from wearjoint.core import layout as L
+from wearjoint.checks import RunDiverged
 from wearjoint.cosim import CoSimulationError, CoSimulationOptions, run_cosimulation
 from wearjoint.fmu.fmi import DEFAULT_BACKEND
 from wearjoint.cosim.step_rule import paper_step_scale
 from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
+from wearjoint.simulation_options import check_run_arguments, check_wear_step
 
 POINTWISE_WINDOW_S = 0.015     # on the paper's mechanism (a 0.4 s crank period); scaled with the period
 PAPER_STEPS_S = (1e-6, 2e-6, 5e-6, 1e-5)
 WEAR_FACTOR = 0.01          # reduced wear: ~0.4 um per revolution, no effect on the dynamics
+COMMUNICATION_KEYS = ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s")   # a co-simulation's
 STATISTICS = (              # (key, wearjoint.analysis.mean_revolution_statistics key, label)
     ("impacts", "impacts_per_revolution", "impacts / rev"),
     ("contact_fraction", "contact_fraction", "contact fraction"),
@@ -82,14 +86,33 @@ def compare(record: RunRecord, reference: RunRecord, window_s: float = POINTWISE
     return out
 
 
+def study_plan(revolutions: float, steps, schemes, fmu_path=None, joint: JointParameters | None = None,
+               mechanism: SliderCrankParameters | None = None) -> dict:
+    """The study's model (``joint`` at WEAR_FACTOR in ``mechanism``, defaults: the paper's), its steps (None:
+    :func:`default_steps_s`), co-simulations' options and FMU, checked before any run: ParameterError naming the
+    first bad value (a step ``step_s``, within the wear-step limit; a scheme ``scheme``; the FMU ``fmu_path``)."""
+    mechanism = mechanism or SliderCrankParameters()
+    joint = (joint or paper_joint(mechanism)).replace(wear_factor=WEAR_FACTOR)
+    steps = default_steps_s(joint, mechanism) if steps is None else list(steps)
+    cosims = [CoSimulationOptions(revolutions=revolutions, scheme=scheme, step_s=step,
+                                  max_step_s=max(step, CoSimulationOptions.max_step_s))
+              for scheme in schemes for step in steps]
+    for options in cosims[:len(steps)]:
+        check_wear_step("step_s", options.step_s, joint, mechanism)
+    check_run_arguments(joint, mechanism, None, CoSimulationOptions, fmu_path)   # a given FMU is an FMU file
+    return {"joint": joint, "mechanism": mechanism, "steps": steps, "cosims": cosims, "fmu_path": fmu_path}
+
+
 def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
               fmu_backend: str = DEFAULT_BACKEND, joint: JointParameters | None = None,
               mechanism: SliderCrankParameters | None = None) -> dict:
     """All runs and their comparison (see module docstring) for ``joint`` (its wear factor set to WEAR_FACTOR)
-    in ``mechanism`` (defaults: the paper's); ``steps`` None: :func:`default_steps_s`."""
-    mechanism = mechanism or SliderCrankParameters()
-    joint = (joint or paper_joint(mechanism)).replace(wear_factor=WEAR_FACTOR)
-    steps = default_steps_s(joint, mechanism) if steps is None else list(steps)
+    in ``mechanism`` (defaults: the paper's); ``steps`` None: :func:`default_steps_s`.  Every value is checked
+    before any run (:func:`study_plan`).  A co-simulation that failed or diverged is a row with ``completed``
+    false and ``failed`` (why), without numbers; a monolithic run that diverged leaves nothing to compare with:
+    RunDiverged."""
+    plan = study_plan(revolutions, steps, schemes, fmu_path, joint, mechanism)
+    joint, mechanism, steps, fmu_path = plan["joint"], plan["mechanism"], plan["steps"], plan["fmu_path"]
     window = pointwise_window_s(mechanism)
     monolithic = {
         "dopri (reference)": SimulationOptions(revolutions=revolutions, integrator="dopri", max_step_s=1e-5),
@@ -99,36 +122,44 @@ def run_study(revolutions: float, steps, schemes, fmu_path=None, log=print,
     records = {}
     for name, options in monolithic.items():
         records[name] = run_simulation(joint, mechanism, options, progress=False)
+        if records[name].failure:
+            raise RunDiverged(f"the monolithic run {name} failed, so the study has nothing to compare with: "
+                              f"{records[name].failure}")
         log(f"monolithic {name}: {records[name].wall_time_s:.1f} s")
     reference = records["dopri (reference)"]
     rows = []
     for name in list(monolithic)[1:]:
-        rows.append({"engine": "monolithic", "run": name, "wall_time_s": records[name].wall_time_s,
+        rows.append({"engine": "monolithic", "run": name, "completed": True, "wall_time_s": records[name].wall_time_s,
                      "realtime_factor": records[name].summary()["realtime_factor"],
                      **compare(records[name], reference, window)})
     scatter = {k: max(r[k] for r in rows) for k in rows[0] if k.endswith("_rel") or k.startswith("pointwise_")}
-    for scheme in schemes:
-        for step in steps:
-            options = CoSimulationOptions(revolutions=revolutions, scheme=scheme, step_s=step,
-                                          max_step_s=max(step, CoSimulationOptions.max_step_s))
-            try:
-                record = run_cosimulation(joint, mechanism, options, fmu_path=fmu_path, progress=False,
-                                          fmu_backend=fmu_backend)
-            except CoSimulationError as exc:
-                log(f"cosim {scheme} {step:g}: failed ({exc})")
-                rows.append({"engine": "cosim", "run": f"{scheme} {step:g}", "scheme": scheme, "step_s": step,
-                             "failed": str(exc)})
-                continue
-            row = {"engine": "cosim", "run": f"{scheme} {step:g}", "scheme": scheme, "step_s": step,
-                   "wall_time_s": record.wall_time_s, "realtime_factor": record.summary()["realtime_factor"],
-                   **{k: record.extra[k] for k in ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s")},
-                   **compare(record, reference, window)}
-            rows.append(row)
-            log(f"cosim {row['run']}: {record.wall_time_s:.1f} s")
+    for options in plan["cosims"]:
+        run = {"engine": "cosim", "run": f"{options.scheme} {options.step_s:g}", "scheme": options.scheme,
+               "step_s": options.step_s}
+        try:
+            record = run_cosimulation(joint, mechanism, options, fmu_path=fmu_path, progress=False,
+                                      fmu_backend=fmu_backend)
+            failure = record.failure
+        except CoSimulationError as exc:
+            failure = str(exc)
+        if failure:
+            log(f"cosim {run['run']}: failed ({failure})")
+            rows.append({**run, "completed": False, "failed": failure})
+            continue
+        rows.append({**run, "completed": True, "wall_time_s": record.wall_time_s,
+                     "realtime_factor": record.summary()["realtime_factor"],
+                     **{k: record.extra[k] for k in COMMUNICATION_KEYS},
+                     **compare(record, reference, window)})
+        log(f"cosim {run['run']}: {record.wall_time_s:.1f} s")
     return {"revolutions": revolutions, "wear_factor": WEAR_FACTOR, "pointwise_window_s": window,
             "fmu_backend": fmu_backend, "steps_s": steps,
             "parameters": {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()},
             "reference": revolution_statistics(reference), "scatter": scatter, "rows": rows}
+
+
+def failed_runs(study: dict) -> list[dict]:
+    """The rows of the study's runs that failed or diverged (no numbers of theirs in the table)."""
+    return [r for r in study["rows"] if "failed" in r]
 
 
 def markdown_table(study: dict) -> str:
@@ -140,7 +171,8 @@ def markdown_table(study: dict) -> str:
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in study["rows"]:
         if "failed" in r:
-            lines.append(f"| cosim {r['run']} | failed: {r['failed'][:80]} |" + " |" * (len(head) - 2))
+            lines.append(f"| cosim {r['run']} | failed, no results: {r['failed'].split(';')[0]} |"
+                         + " |" * (len(head) - 2))
             continue
         cells = [f"{r['engine']} {r['run']}", str(r.get("communication_steps", "")), str(r.get("rollbacks", "")),
                  f"{r['realtime_factor']:.3g}"]

@@ -43,7 +43,8 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
     until |depth/target - 1| <= rel_tolerance.  Every trial is a full study in out_dir/trial_<i>.
     """
     if not (math.isfinite(target_max_depth_m) and target_max_depth_m > 0.0):
-        raise ParameterError(f"target max depth {target_max_depth_m!r} m is invalid: allowed > 0")
+        raise ParameterError(f"--calibrate-max-depth-m={target_max_depth_m!r} (target_max_depth_m) is invalid: "
+                             "allowed a max depth > 0 [m]")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rate = printed_wear_rate(config)

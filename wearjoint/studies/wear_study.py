@@ -36,6 +36,7 @@ import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
                                 revolution_row, sample_statistics)
+from wearjoint.checks import choice
 from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
@@ -93,7 +94,8 @@ class WearStudyConfig:
         for s in snaps:
             _check_int("snapshots", s, 1)
             if s > self.revolutions:
-                raise ParameterError(f"snapshot {s} is beyond --revolutions {self.revolutions}")
+                raise ParameterError(f"parameter snapshots={s!r} is invalid: allowed <= revolutions={self.revolutions} "
+                                     "(not beyond the study's end)")
         snaps = tuple(sorted(set(snaps) | {self.revolutions}))
         object.__setattr__(self, "snapshots", snaps)
         if not self.joint.wear_factor > 0.0 or not self.joint.wear_coefficient_m2_N > 0.0:
@@ -107,21 +109,16 @@ class WearStudyConfig:
         _check_int("jump_block_revolutions", self.jump_block_revolutions, 1)
         if self.jump_tolerance is not None:
             if not (isinstance(self.jump_tolerance, (int, float)) and 0.0 < self.jump_tolerance < 1.0):
-                raise ParameterError(f"cycle-jump tolerance={self.jump_tolerance!r} is invalid: allowed a value "
-                                     "in (0, 1)")
+                raise ParameterError(f"parameter jump_tolerance={self.jump_tolerance!r} is invalid: allowed in (0, 1)")
             if self.joint.wear_factor != 1.0:
                 raise ParameterError(f"wear_factor={self.joint.wear_factor!r} is invalid with cycle jumping: allowed 1 "
                                      "(its blocks run at the real wear rate); the wear factor is a route of its own")
-        if self.engine not in ENGINES:
-            raise ParameterError(f"engine {self.engine!r} is invalid: allowed one of {', '.join(ENGINES)}")
+        choice("engine", self.engine, ENGINES)
         if self.engine == "cosim" and self.jump_tolerance is not None:
             raise ParameterError("cycle jumping is not available with --engine cosim (the FMU's wear profile "
                                  "cannot be set); use --wear-factor")
-        if self.fmu_backend not in BACKENDS:
-            raise ParameterError(f"fmu_backend {self.fmu_backend!r} is invalid: allowed one of {', '.join(BACKENDS)}")
-        if self.integrator not in STUDY_INTEGRATORS:
-            raise ParameterError(f"integrator {self.integrator!r} is invalid: allowed one of "
-                                 f"{', '.join(STUDY_INTEGRATORS)}")
+        choice("fmu_backend", self.fmu_backend, BACKENDS)
+        choice("integrator", self.integrator, STUDY_INTEGRATORS)
         if self.max_step_s is None:     # the wear-step limit of the wear actually applied
             limit = min(STUDY_STEP_S, wear_step_limit_s(self.joint, self.mechanism, DEFAULT_WEAR_STEP_SHARE))
             if self.engine == "cosim":  # the communication step in contact: at most the adaptive scheme's default
@@ -132,7 +129,7 @@ class WearStudyConfig:
                      "impact_merge_deg"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
-                raise ParameterError(f"{name}={value!r} is invalid: allowed a finite value > 0")
+                raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite value > 0")
         _check_int("chunks_per_revolution", self.chunks_per_revolution, 1)
 
     @property

@@ -19,6 +19,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -106,6 +107,10 @@ def case_id(command: str, options: dict) -> str:
 
 
 # ------------------------------------------------------------------ the design
+# options whose one value is a comma-separated list (GX,GY; R1,R2,...): --vary would split it into grid points
+LIST_DESTS = ("gravity_m_s2", "snapshots")
+
+
 def variable_actions(command: str) -> dict:
     """Option name as written without dashes -> action, for every option of ``command`` that
     takes one value and may be swept."""
@@ -116,23 +121,39 @@ def variable_actions(command: str) -> dict:
 
 
 def parse_value(name: str, text, action, where: str):
-    """A value of option ``name`` converted as the command's parser would (ParameterError if not)."""
+    """A value of option ``name`` converted as the command's parser would (ParameterError if not); a list (a design
+    file's) is one value only of an option of LIST_DESTS, written with commas."""
+    if isinstance(text, (list, dict)) and not (isinstance(text, list) and action.dest in LIST_DESTS):
+        raise ParameterError(f"{where}: {name}={text!r} is invalid: allowed one value")
+    text = ",".join(map(str, text)) if isinstance(text, list) else str(text).strip()
     convert = action.type or str
     try:
-        value = convert(str(text).strip())
-    except (TypeError, ValueError):
-        kind = {int: "an integer", float: "a number"}.get(convert, "a value of this option")
-        raise ParameterError(f"{where}: {name}={str(text).strip()!r} is invalid: allowed {kind}") from None
+        value = convert(text)
+    except (TypeError, ValueError, argparse.ArgumentTypeError):
+        kind = {int: "an integer", float: "a number"}.get(convert, f"a value of --{name} ({action.metavar or 'text'})")
+        raise ParameterError(f"{where}: {name}={text!r} is invalid: allowed {kind}") from None
     if action.choices is not None and value not in action.choices:
         raise ParameterError(f"{where}: {name}={value!r} is invalid: allowed one of {', '.join(action.choices)}")
     return value
 
 
-def parse_vary(command: str, items) -> dict:
-    """``["restitution=0.6,0.9", ...]`` -> {"restitution": [0.6, 0.9], ...} (values typed; a name may be the
-    option's (``friction-coefficient``) or the API's (``friction_coefficient``), keyed by the option's)."""
+def parse_values(name: str, texts: list, action, where: str) -> list:
+    """The values of a varied option ``name`` (:func:`parse_value`): one or more, each once."""
+    if not texts:
+        raise ParameterError(f"{where}: {name}=[] is invalid: allowed one or more values")
+    values = []
+    for text in texts:
+        value = parse_value(name, text, action, where)
+        if value in values:
+            raise ParameterError(f"{where}: {name}={value!r} is given twice: allowed each value once")
+        values.append(value)
+    return values
+
+
+def _vary_items(command: str, items) -> tuple:
+    """({option name: values}, {option name: the item as written, '--vary NAME=V1,V2'}) of ``--vary`` items."""
     variables = variable_actions(command)
-    grid = {}
+    grid, written = {}, {}
     for item in items or ():
         name, sep, values = str(item).partition("=")
         name = name.strip().lstrip("-")
@@ -141,8 +162,20 @@ def parse_vary(command: str, items) -> dict:
         name = canonical_name(command, variables, name, f"--vary {item!r}")
         if name in grid:
             raise ParameterError(f"--vary {item!r} is invalid: {name} is already varied (give its values once)")
-        grid[name] = [parse_value(name, v, variables[name], f"--vary {item}") for v in values.split(",")]
-    return grid
+        if variables[name].dest in LIST_DESTS:
+            raise ParameterError(f"--vary {item!r} is invalid: a value of {name} may hold commas, which --vary "
+                                 f"reads as a list of values; allowed: vary it in a --design file, [vary] {name} = "
+                                 '["V1", "V2", ...] (each value as the command line writes it) or one [[case]] '
+                                 "table per value")
+        written[name] = f"--vary {item}"
+        grid[name] = parse_values(name, values.split(","), variables[name], written[name])
+    return grid, written
+
+
+def parse_vary(command: str, items) -> dict:
+    """``["restitution=0.6,0.9", ...]`` -> {"restitution": [0.6, 0.9], ...} (values typed; a name may be the
+    option's (``friction-coefficient``) or the API's (``friction_coefficient``), keyed by the option's)."""
+    return _vary_items(command, items)[0]
 
 
 def canonical_name(command: str, variables: dict, name: str, where: str) -> str:
@@ -166,7 +199,8 @@ def canonical_name(command: str, variables: dict, name: str, where: str) -> str:
 
 def read_design(command: str, path) -> dict:
     """A TOML design: ``seeds = N``, a ``[vary]`` table (name = [values]: a full grid) and/or
-    ``[[case]]`` tables (one grid point each).  Returns {"seeds", "vary", "points"}."""
+    ``[[case]]`` tables (one grid point each).  Returns {"seeds", "vary", "points", "where"} (``where``: each
+    varied name's and each point's key in the file, {"vary": {name: key}, "points": [key, ...]})."""
     try:
         import tomllib
     except ModuleNotFoundError:                  # Python 3.10
@@ -183,25 +217,52 @@ def read_design(command: str, path) -> dict:
     if unknown:
         raise ParameterError(f"--design {path}: unknown key(s) {', '.join(sorted(unknown))}: allowed seeds, "
                              "[vary], [[case]]")
+    tables, cases = data.get("vary", {}), data.get("case", [])
+    if not isinstance(tables, dict):
+        raise ParameterError(f"--design {path}: vary={tables!r} is invalid: allowed a [vary] table of "
+                             "name = [values]")
+    if not (isinstance(cases, list) and all(isinstance(table, dict) for table in cases)):
+        raise ParameterError(f"--design {path}: case={cases!r} is invalid: allowed [[case]] tables of "
+                             "name = value")
     variables = variable_actions(command)
-    vary = {}
-    for name, values in dict(data.get("vary", {})).items():
-        where = f"--design {path} [vary] {name}"
-        name = canonical_name(command, variables, name, where)
+    vary, where = {}, {"vary": {}, "points": []}
+    for name, values in tables.items():
+        key = f"--design {path} [vary] {name}"
+        name = canonical_name(command, variables, name, key)
         if name in vary:
-            raise ParameterError(f"{where} is invalid: {name} is already in [vary] (give its values once)")
-        values = values if isinstance(values, list) else [values]
-        vary[name] = [parse_value(name, v, variables[name], where) for v in values]
+            raise ParameterError(f"{key} is invalid: {name} is already in [vary] (give its values once)")
+        vary[name] = parse_values(name, values if isinstance(values, list) else [values], variables[name], key)
+        where["vary"][name] = key
     points = []
-    for k, table in enumerate(data.get("case", [])):
-        where = f"--design {path} [[case]] {k + 1}"
+    for k, table in enumerate(cases):
+        key = f"--design {path} [[case]] {k + 1}"
         point = {}
         for name, v in table.items():
-            name = canonical_name(command, variables, name, f"{where} {name}")
-            point[name] = parse_value(name, v, variables[name], where)
+            name = canonical_name(command, variables, name, f"{key} {name}")
+            if name in point:
+                raise ParameterError(f"{key} {name} is invalid: {name} is already in this [[case]] (give it once)")
+            point[name] = parse_value(name, v, variables[name], key)
         points.append(point)
+        where["points"].append(key)
     seeds = data.get("seeds")
-    return {"seeds": seeds, "vary": vary, "points": points}
+    if seeds is not None:
+        check_seeds(seeds, f"--design {path}: seeds")
+    return {"seeds": seeds, "vary": vary, "points": points, "where": where}
+
+
+def sweep_design(command: str, items, path=None) -> dict:
+    """The design of ``--vary`` ``items`` and the ``--design`` file ``path`` together (:func:`read_design`'s dict):
+    their grids merged into one; a name varied in both is refused, as a name given twice in either."""
+    design = read_design(command, path) if path else {"seeds": None, "vary": {}, "points": [],
+                                                      "where": {"vary": {}, "points": []}}
+    grid, written = _vary_items(command, items)
+    for name in grid:
+        if name in design["vary"]:
+            raise ParameterError(f"{written[name]} is invalid: {name} is already varied in "
+                                 f"{design['where']['vary'][name]} (give its values once)")
+    design["vary"].update(grid)
+    design["where"]["vary"].update(written)
+    return design
 
 
 def check_seeds(seeds, where: str = "--seeds") -> int:
@@ -235,10 +296,9 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
         if base.get(dest) is not None:
             raise ParameterError(f"--{dest.replace('_', '-')} is not available in a sweep (it is another task)")
     variables = variable_actions(command)
-    vary = {canonical_name(command, variables, name, f"vary {name}"): values for name, values in (vary or {}).items()}
+    vary, points = by_option_name(command, vary, points)
     grid = [dict(zip(vary, values)) for values in itertools.product(*vary.values())] if vary else []
-    grid += [{canonical_name(command, variables, name, f"point {name}"): v for name, v in p.items()} for p in points]
-    grid = grid or [{}]
+    grid = grid + points or [{}]
     names = list(dict.fromkeys(name for point in grid for name in point))
     cases, seen = [], set()
     for point in grid:
@@ -264,9 +324,119 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
     return cases
 
 
+def by_option_name(command: str, vary: dict | None, points=()) -> tuple[dict, list]:
+    """``vary`` (name -> values) and ``points`` (name -> value each) keyed by option name (:func:`canonical_name`)."""
+    variables = variable_actions(command)
+    return ({canonical_name(command, variables, name, f"vary {name}"): values for name, values in (vary or {}).items()},
+            [{canonical_name(command, variables, name, f"point {name}"): v for name, v in p.items()} for p in points])
+
+
+def given_options(command: str, base: dict) -> list[tuple]:
+    """(dest, flag, value) of each of ``command``'s options in ``base`` that differs from its default (sweep and
+    output options left out)."""
+    skip = set(SWEEP_DESTS) | set(OUTPUT_DESTS)
+    actions = _option_actions(command_parser(command))
+    return [(dest, action.option_strings[-1], base[dest]) for dest, action in actions.items()
+            if dest in base and dest not in skip and base[dest] != action.default]
+
+
+def configure(command: str, options: dict):
+    """``command``'s configuration of ``options`` (the ``config`` of :func:`wearjoint.targets.target`) with the checks
+    its run makes before it starts: a monolithic engine's options resolved for the joint, which refuses a step beyond
+    the wear-step limit (:meth:`wearjoint.simulation_options.SimulationOptions.for_joint`)."""
+    from ..simulation_options import SimulationOptions
+
+    config = targets.target(command).config(options)
+    if isinstance(getattr(config, "options", None), SimulationOptions):
+        config.options.for_joint(config.joint, config.mechanism)
+    return config
+
+
+def check_grid(command: str, base: dict, vary: dict | None = None, points=(), where: dict | None = None) -> None:
+    """Every grid point of ``vary`` and ``points`` through :func:`configure` before any case runs: first ``base``
+    (named by the option that set the bad value), then each value alone, then each point.  A bad one raises a
+    one-line ParameterError naming where it was written (``where``: :func:`read_design`'s, else ``vary NAME`` and
+    ``point K``), the value and what is allowed.  A case that passes may still fail as it runs (a diverged run):
+    the sweep records it as failed."""
+    variables, where = variable_actions(command), where or {}
+    try:
+        configure(command, dict(base))
+    except ParameterError as exc:                # named by the option that set it, where one did
+        blamed = ((flag, value, _reason(str(exc), dest, value)) for dest, flag, value in given_options(command, base))
+        flag, value, reason = next((b for b in blamed if b[2] is not None), (None, None, None))
+        raise ParameterError(str(exc) if flag is None else f"{flag}={value!r} is invalid{reason}") from None
+    vary, points = by_option_name(command, vary, points)
+    named = {name: where.get("vary", {}).get(name, f"vary {name}") for name in vary}
+    trials = [(named[name], {name: value}) for name, values in vary.items() for value in values]
+    if len(vary) > 1:
+        trials += [(", ".join(named.values()), dict(zip(vary, values))) for values in itertools.product(*vary.values())]
+    labels = where.get("points") or [f"point {k + 1}" for k in range(len(points))]
+    for label, point in zip(labels, points):
+        trials += [(label, {name: value}) for name, value in point.items()]
+        trials += [(label, point)] if len(point) > 1 else []
+    for label, point in trials:
+        try:
+            configure(command, {**base, **{variables[name].dest: value for name, value in point.items()}})
+        except ParameterError as exc:
+            raise ParameterError(_blamed(label, point, variables, str(exc))) from None
+
+
+def _reason(message: str, dest: str, value) -> str | None:
+    """What ``message`` (a ParameterError's, ``parameter NAME=VALUE is invalid...``) says after ``is invalid`` (e.g.
+    ``: allowed > 0``), if it is about option ``dest`` (NAME its API name: ``step`` sets ``step_s``) at ``value``;
+    else None."""
+    subject = re.match(r"parameter (\S+?)=(.*?) is invalid(\W.*)", message)
+    if (subject is not None and dest in subject.group(1).lstrip("-").replace("-", "_")
+            and subject.group(2) in (repr(value), str(value))):
+        return subject.group(3)
+    return None
+
+
+def _blamed(where: str, point: dict, variables: dict, message: str) -> str:
+    """The one line of a bad grid point: ``WHERE: NAME=VALUE is invalid: allowed ...`` where the configuration's
+    ``message`` is about the point's one value, else the point and the message."""
+    shown = ", ".join(f"{name}={value!r}" for name, value in point.items())
+    if len(point) == 1:
+        (name, value), = point.items()
+        reason = _reason(message, variables[name].dest, value)
+        return f"{where}: {shown} is invalid{reason}" if reason else f"{where}: {shown} is invalid: {message}"
+    return f"{where}: the grid point {shown} is invalid: {message}"
+
+
+def design_record(command: str, base: dict, vary: dict | None = None, points=(), seeds: int = 1) -> dict:
+    """A sweep's design as its sweep.json records it and ``--resume`` compares it (:func:`design_changes`): the
+    command, its options that differ from their defaults (by flag), the grid and the points (by option name),
+    the seeds; as JSON reads it back."""
+    vary, points = by_option_name(command, vary, points)
+    record = {"command": command, "options": {flag: value for _, flag, value in given_options(command, base)},
+              "vary": vary, "points": points, "seeds": seeds}
+    return json.loads(json.dumps(record, default=str))
+
+
+def design_changes(old: dict, new: dict) -> list[str]:
+    """What differs from design ``old`` in ``new`` (:func:`design_record`), each as the user sets it, e.g.
+    ``--vary restitution: [0.6] there, [0.7] given``."""
+    def shown(value):
+        return "not given" if value is None else repr(value)
+
+    changes = [f"COMMAND: {old['command']} there, {new['command']} given"] if old["command"] != new["command"] else []
+    for key, label in (("options", "{}"), ("vary", "--vary {}")):
+        for name in dict.fromkeys([*old[key], *new[key]]):
+            if old[key].get(name) != new[key].get(name):
+                changes.append(f"{label.format(name)}: {shown(old[key].get(name))} there, "
+                               f"{shown(new[key].get(name))} given")
+    if old["points"] != new["points"]:
+        changes.append(f"[[case]] points: {old['points']!r} there, {new['points']!r} given")
+    if old["seeds"] != new["seeds"]:
+        changes.append(f"--seeds: {old['seeds']} there, {new['seeds']} given")
+    return changes
+
+
 __all__ = ["Case", "TARGETS", "SEED_ANGLE_STEP_DEG", "build_cases", "parse_vary", "read_design", "case_id",
            "command_parser", "command_options", "options_to_argv", "variable_actions", "canonical_name",
-           "check_seeds"]
+           "check_seeds", "check_grid", "sweep_design", "parse_values", "LIST_DESTS",
+           "design_record", "design_changes", "configure",
+           "by_option_name", "given_options"]
 
 
 def perturbed_start(mechanism: SliderCrankParameters, start: int) -> SliderCrankParameters:

@@ -23,12 +23,13 @@ from .. import targets
 from ..parameters import ParameterError
 from ..progress import Progress
 from ..results import write_json_atomic
-from .design import SEED_ANGLE_STEP_DEG, Case, variable_actions
+from .design import SEED_ANGLE_STEP_DEG, Case, design_changes, variable_actions
 
 SPEC_NAME = "sweep.json"
 CASE_NAME = "case.json"
 LEAD_COLUMNS = ("case_id", "seed", "status", "error")
 PENDING = "pending"   # the status of a case not finished (never written to sweep.csv)
+CONNECT_TIMEOUT_S = 30   # how long --scheduler's address may take to answer
 TAIL_COLUMNS = ("run_time_s", "warmup_time_s", "worker", "folder")
 SNAPSHOT_FIGURES = ("max_wear_depth_m", "worn_volume_m3", "lobe_0_depth_m", "lobe_180_depth_m", "impact_events",
                     "impact_peak_max_m_s2")
@@ -77,20 +78,55 @@ def write_csv_atomic(path: Path, rows: list[dict], lead=()) -> None:
     os.replace(tmp, path)
 
 
+def refuse_existing(out) -> None:
+    """A one-line ParameterError if ``out`` holds a sweep already (a run without ``--resume``)."""
+    if (Path(out) / SPEC_NAME).exists():
+        raise ParameterError(f"--out {out} already holds a sweep ({SPEC_NAME}); pass --resume to continue "
+                             "it or choose another --out")
+
+
+def resumed(out, what: str = "sweep") -> dict:
+    """The sweep.json of the ``what`` (a sweep, a sensitivity study) in ``out`` that ``--resume`` continues; a
+    one-line ParameterError naming --resume and the folder where it holds none."""
+    try:
+        spec = json.loads((Path(out) / SPEC_NAME).read_text())
+    except (OSError, ValueError):
+        spec = None
+    if not isinstance(spec, dict):
+        raise ParameterError(f"--resume is invalid: {out} holds no {what} to resume (no readable {SPEC_NAME}); "
+                             f"allowed the --out of an earlier {what}, or leave out --resume to start one")
+    return spec
+
+
+def check_resumed_design(out, design: dict, cases: list[Case]) -> None:
+    """A one-line ParameterError naming what differs if the sweep in ``out`` has another design than ``design``
+    (:func:`.design.design_record`; a sweep.json of an earlier version, without one: other cases)."""
+    spec = resumed(out)
+    if "design" in spec:
+        changes = design_changes(spec["design"], design)
+    else:
+        changes = [] if {c.get("case_id") for c in spec.get("cases", [])} == {c.case_id for c in cases} else \
+            [f"the cases: {len(spec.get('cases', []))} there, {len(cases)} given, not the same (its sweep.json, of an "
+             "earlier version, records no design)"]
+    if changes:
+        raise ParameterError(f"--resume is invalid: the sweep in {out} has another design: {'; '.join(changes)}; "
+                             "allowed the sweep's own design (its sweep.json), or another --out for a new sweep")
+
+
 class SweepFolder:
     """``OUT``: sweep.json, cases/CASE_ID/, sweep.csv."""
 
-    def __init__(self, out, cases: list[Case], resume: bool, retry_failed: bool = False):
+    def __init__(self, out, cases: list[Case], resume: bool, retry_failed: bool = False, design: dict | None = None):
+        """``design``: the sweep's (:func:`.design.design_record`), recorded in sweep.json for ``--resume``."""
         self.out = Path(out)
         self.cases = cases
         self.point_names = list(point_columns(cases[0])) if cases else []   # the swept values' columns
-        spec = self.out / SPEC_NAME
-        if spec.exists() and not resume:
-            raise ParameterError(f"--out {self.out} already holds a sweep ({SPEC_NAME}); pass --resume to continue "
-                                 "it or choose another --out")
+        if not resume:
+            refuse_existing(self.out)
         self.out.mkdir(parents=True, exist_ok=True)
-        write_json_atomic(spec, {"command": cases[0].command if cases else None, "cases": [c.to_dict() for c in cases],
-                                 "seed_angle_step_deg": SEED_ANGLE_STEP_DEG})
+        write_json_atomic(self.out / SPEC_NAME, {
+            "command": cases[0].command if cases else None, "cases": [c.to_dict() for c in cases],
+            "seed_angle_step_deg": SEED_ANGLE_STEP_DEG, **({"design": design} if design is not None else {})})
         self.rows = {}
         for case in cases:
             record = self.case_dir(case) / CASE_NAME
@@ -141,9 +177,10 @@ def start_client(workers: int | None, scheduler: str | None):
 
     if scheduler:
         try:
-            return Client(scheduler, timeout=30), None
-        except (OSError, TimeoutError) as exc:
-            raise ParameterError(f"--scheduler {scheduler}: cannot connect: {exc}") from None
+            return Client(scheduler, timeout=CONNECT_TIMEOUT_S), None
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise ParameterError(f"--scheduler={scheduler!r} is invalid: cannot connect: {exc}; allowed the address "
+                                 "of a running Dask scheduler (e.g. tcp://HOST:8786)") from None
     # the worker processes ignore Ctrl-C (they inherit SIG_IGN): the client stops them itself
     main = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
@@ -229,4 +266,5 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
     return timing
 
 
-__all__ = ["SweepFolder", "run_cases", "start_client", "summary_figures", "write_csv_atomic"]
+__all__ = ["SweepFolder", "run_cases", "start_client", "summary_figures", "write_csv_atomic", "refuse_existing",
+           "resumed", "check_resumed_design"]

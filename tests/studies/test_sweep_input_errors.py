@@ -1,0 +1,201 @@
+"""Bad sweep and sensitivity input is refused before anything runs or is written, with one line naming the option as
+written, its value and what is allowed (exit 2): a --resume of a folder without a sweep or of a sweep of another
+design, design files of the wrong shape, repeated values, options whose value holds commas, grid values the run
+would refuse, a --scheduler that cannot be reached, a negative --seed.  (A case that fails as it runs, a diverged
+run, is still recorded as failed, exit 1: tests/studies/test_sweep.py's sweep.)"""
+import json
+
+import pytest
+
+from wearjoint import targets
+from wearjoint.cli import main
+from wearjoint.sweep import runner
+from wearjoint.sweep.design import build_cases, command_options, design_record, read_design, sweep_design
+from wearjoint.sweep.runner import SweepFolder
+
+TINY = ("--revolutions", "0.02", "--no-plots", "--quiet")
+
+
+def refused(capsys, *args) -> str:
+    """The one line of a command refused with exit status 2."""
+    code = main(list(args))
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err, err
+    return err
+
+
+def sweep(tmp_path, *args) -> list:
+    return ["sweep", "simulate", *TINY, *args, "--out", str(tmp_path / "out")]
+
+
+def base(command="simulate", *args):
+    return command_options(command, targets.parser(command).parse_args(["--out", "x", *args]))
+
+
+def finished_sweep(out, vary, seeds=2) -> SweepFolder:
+    """A sweep of the design --revolutions 0.02 --vary ... --seeds N in ``out`` with its cases recorded ok (no run:
+    each case's summary.json holds a max wear depth)."""
+    options = base("simulate", "--revolutions", "0.02")
+    cases = build_cases("simulate", options, vary, seeds=seeds)
+    folder = SweepFolder(out, cases, resume=False, design=design_record("simulate", options, vary, (), seeds))
+    for k, case in enumerate(cases):
+        summary = json.dumps({"max_wear_depth_m": 1e-7 * (1 + k), "regime": "impacting"}).encode()
+        folder.record(case, {"status": "ok", "files": {"summary.json": summary}, "log": ""})
+    return folder
+
+
+def snapshot(out) -> dict:
+    return {p.relative_to(out).as_posix(): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
+
+
+# ------------------------------------------------------------------ --resume
+@pytest.mark.parametrize("args,named", [
+    (("--vary", "restitution=0.7", "--seeds", "2"), "--vary restitution: [0.6] there, [0.7] given"),
+    (("--vary", "restitution=0.6", "--seeds", "3"), "--seeds: 2 there, 3 given"),
+    (("--vary", "restitution=0.6", "--seeds", "2", "--friction-coefficient", "0.2"),
+     "--friction-coefficient: not given there, 0.2 given"),
+    (("--vary", "restitution=0.6", "--vary", "crank-speed-rpm=100", "--seeds", "2"),
+     "--vary crank-speed-rpm: not given there, [100.0] given"),
+])
+def test_resume_of_another_design_is_refused_naming_what_differs(tmp_path, capsys, args, named):
+    out = tmp_path / "out"
+    finished_sweep(out, {"restitution": [0.6]})
+    before = snapshot(out)
+    line = refused(capsys, *sweep(tmp_path, *args, "--resume"))
+    assert line.startswith(f"wearjoint sweep: error: --resume is invalid: the sweep in {out} has another design: ")
+    assert named in line and "allowed the sweep's own design" in line
+    assert snapshot(out) == before                            # sweep.json, sweep.csv and every case kept as they were
+
+
+def test_resume_of_the_same_design_written_otherwise_is_not_refused(tmp_path):
+    """The API name and the option's name, values written otherwise: the same design (nothing left to run)."""
+    out = tmp_path / "out"
+    finished_sweep(out, {"restitution": [0.6, 0.9]})
+    assert main(sweep(tmp_path, "--vary", "restitution=.6,0.90", "--seeds", "2", "--resume")) == 0
+    summary = json.loads((out / "sweep_summary.json").read_text())
+    assert (summary["cases_run"], summary["skipped_as_done"]) == (0, 4)
+
+
+@pytest.mark.parametrize("command,args,what", [
+    ("sweep", ("--vary", "restitution=0.6"), "sweep"),
+    ("sensitivity", ("--param", "restitution=0.6,0.9"), "sensitivity study"),
+])
+@pytest.mark.parametrize("exists", [False, True])
+def test_resume_of_a_folder_without_a_run_is_refused(tmp_path, capsys, command, args, what, exists):
+    out = tmp_path / "out"
+    if exists:
+        out.mkdir()
+        (out / "notes.txt").write_text("mine")
+    line = refused(capsys, command, "simulate", *TINY, *args, "--resume", "--out", str(out))
+    assert f"--resume is invalid: {out} holds no {what} to resume" in line
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"] if exists else not out.exists()
+
+
+# ------------------------------------------------------------------ design files and --vary
+@pytest.mark.parametrize("text,named", [
+    ("[vary]\nrestitution = []\n", "[vary] restitution: restitution=[] is invalid: allowed one or more values"),
+    ("[vary]\nrestitution = [0.6, 0.6]\n", "[vary] restitution: restitution=0.6 is given twice"),
+    ("vary = 3\n", ": vary=3 is invalid: allowed a [vary] table"),
+    ('vary = "x"\n', ": vary='x' is invalid: allowed a [vary] table"),
+    ("case = 3\n", ": case=3 is invalid: allowed [[case]] tables"),
+    ("case = [1, 2]\n", ": case=[1, 2] is invalid: allowed [[case]] tables"),
+    ('seeds = "two"\n', ": seeds='two' is invalid: allowed an integer >= 1"),
+    ("[[case]]\nrestitution = [0.6, 0.9]\n", "[[case]] 1: restitution=[0.6, 0.9] is invalid: allowed one value"),
+    ("[[case]]\nrestitution = 0.6\nRestitution = 0.7\n", "[[case]] 1 restitution is invalid: restitution is already"),
+    ("[[case]]\ngravity-m-s2 = [0, -9.81, 1]\n", "[[case]] 1: gravity-m-s2='0,-9.81,1' is invalid: allowed"),
+    ("[[case]]\nrestitution = 5\n", "[[case]] 1: restitution=5.0 is invalid: allowed in (0, 1]"),
+])
+def test_a_bad_design_file_names_the_file_and_its_key(tmp_path, capsys, text, named):
+    design = tmp_path / "design.toml"
+    design.write_text(text)
+    line = refused(capsys, *sweep(tmp_path, "--design", str(design)))
+    assert f"--design {design}" in line and named in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_name_in_the_design_and_in_vary_is_refused_and_other_names_merge(tmp_path, capsys):
+    design = tmp_path / "design.toml"
+    design.write_text("[vary]\nrestitution = [0.6]\n")
+    line = refused(capsys, *sweep(tmp_path, "--design", str(design), "--vary", "restitution=0.9"))
+    assert f"--vary restitution=0.9 is invalid: restitution is already varied in --design {design} [vary]" in line
+    merged = sweep_design("simulate", ["crank_speed_rpm=100,150"], design)
+    assert merged["vary"] == {"restitution": [0.6], "crank-speed-rpm": [100.0, 150.0]}
+    assert merged["where"]["vary"] == {"restitution": f"--design {design} [vary] restitution",
+                                       "crank-speed-rpm": "--vary crank_speed_rpm=100,150"}
+
+
+@pytest.mark.parametrize("args,named", [
+    (("--vary", "restitution=0.6,0.6"), "--vary restitution=0.6,0.6: restitution=0.6 is given twice: allowed each "
+                                        "value once"),
+    (("--vary", "gravity-m-s2=0,-9.81"), "--vary 'gravity-m-s2=0,-9.81' is invalid: a value of gravity-m-s2 may hold "
+                                         "commas"),
+    (("--vary", "gravity-m-s2=a"), "gravity-m-s2"),
+])
+def test_repeated_values_and_options_written_with_commas_are_refused_on_vary(tmp_path, capsys, args, named):
+    line = refused(capsys, *sweep(tmp_path, *args))
+    assert named in line and not (tmp_path / "out").exists()
+
+
+def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, capsys):
+    line = refused(capsys, "sweep", "wear-study", "--vary", "snapshots=2,4", "--out", str(tmp_path / "out"))
+    assert "--vary 'snapshots=2,4' is invalid" in line and "--design" in line and "[[case]]" in line
+    design = tmp_path / "design.toml"
+    design.write_text('[vary]\nsnapshots = ["5,10", [4, 10]]\n[[case]]\ngravity-m-s2 = [0, -1.62]\n')
+    d = read_design("wear-study", design)
+    assert d["vary"] == {"snapshots": ["5,10", "4,10"]} and d["points"] == [{"gravity-m-s2": (0.0, -1.62)}]
+    cases = build_cases("wear-study", base("wear-study", "--revolutions", "10"), d["vary"], d["points"])
+    assert [targets.target("wear-study").snapshots(dict(c.options)) for c in cases] == [(5, 10), (4, 10), (2, 5, 7, 10)]
+    assert targets.target("wear-study").config(dict(cases[2].options)).mechanism.gravity_m_s2 == (0.0, -1.62)
+
+
+# ------------------------------------------------------------------ grid values checked before any case runs
+@pytest.mark.parametrize("command,args,named", [
+    ("simulate", ("--vary", "restitution=5,0.9"), "--vary restitution=5,0.9: restitution=5.0 is invalid: allowed "
+                                                  "in (0, 1]"),
+    ("simulate", ("--vary", "restitution=nan"), "--vary restitution=nan: restitution=nan is invalid: allowed a finite"),
+    ("simulate", ("--vary", "revolutions=0"), "--vary revolutions=0: revolutions=0.0 is invalid: allowed > 0"),
+    ("simulate", ("--integrator", "rk4", "--vary", "step=1e-5,2e-4"),
+     "--vary step=1e-5,2e-4: step=0.0002 is invalid with wear"),
+    ("simulate", ("--restitution=5", "--vary", "friction_coefficient=0.1"), "--restitution=5.0 is invalid: allowed "
+                                                                            "in (0, 1]"),
+    ("simulate", ("--bushing-radius-m=0.02", "--pin-radius-m=0.0099", "--vary", "bushing-radius-m=0.012,0.02",
+                  "--vary", "pin-radius-m=0.0099,0.015"),          # each value fine alone, not together
+     "--vary bushing-radius-m=0.012,0.02, --vary pin-radius-m=0.0099,0.015: the grid point bushing-radius-m=0.012, "
+     "pin-radius-m=0.015 is invalid: parameter bushing_radius_m=0.012 is invalid"),
+    ("cosim", ("--vary", "master=foo"), "--vary master=foo: master='foo' is invalid: allowed one of wearjoint"),
+    ("cosim", ("--vary", "step=0"), "--vary step=0: step=0.0 is invalid: allowed > 0"),
+    ("wear-study", ("--vary", "revolutions=10,0"), "--vary revolutions=10,0: revolutions='0' is invalid: allowed an "
+                                                   "integer >= 1"),
+])
+def test_a_bad_grid_value_is_refused_before_any_case_runs(tmp_path, capsys, command, args, named):
+    line = refused(capsys, "sweep", command, "--revolutions", "1" if command == "wear-study" else "0.02", *args,
+                   "--out", str(tmp_path / "out"))
+    assert named in line and "_s=" not in line, line        # the option as written, not the API's step_s
+    assert not (tmp_path / "out").exists()
+
+
+# ------------------------------------------------------------------ --scheduler, --seed
+@pytest.mark.parametrize("command,args", [("sweep", ("--vary", "restitution=0.6")),
+                                          ("sensitivity", ("--param", "restitution=0.6,0.9"))])
+@pytest.mark.parametrize("address,named", [("notanaddress", "missing port number"),
+                                           ("tcp://127.0.0.1:1", "Timed out")])
+def test_a_scheduler_that_cannot_be_reached_is_refused_before_anything_is_written(tmp_path, capsys, monkeypatch,
+                                                                                   command, args, address, named):
+    monkeypatch.setattr(runner, "CONNECT_TIMEOUT_S", 1)
+    line = refused(capsys, command, "simulate", *TINY, *args, "--scheduler", address, "--out", str(tmp_path / "out"))
+    assert f"--scheduler={address!r} is invalid: cannot connect: " in line and named in line
+    assert "allowed the address of a running Dask scheduler" in line and not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("seed", ["-1", "4294967296"])
+def test_a_sensitivity_seed_out_of_range_is_refused(tmp_path, capsys, seed):
+    line = refused(capsys, "sensitivity", "simulate", *TINY, "--param", "restitution=0.6,0.9", f"--seed={seed}",
+                   "--out", str(tmp_path / "out"))
+    assert f"--seed={seed} is invalid: allowed an integer in [0, 4294967295]" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_sensitivity_range_the_run_refuses_names_param(tmp_path, capsys):
+    line = refused(capsys, "sensitivity", "simulate", *TINY, "--param", "revolutions=0,1", "--out",
+                   str(tmp_path / "out"))
+    assert "--param 'revolutions=0.0,1.0': revolutions=0.0 is invalid: allowed > 0" in line

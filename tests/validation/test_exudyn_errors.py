@@ -1,0 +1,117 @@
+"""``wearjoint.exudyn`` at its edges (docs/reference/exudyn.md §8): a bad argument is one ParameterError line naming
+it, its value and what is allowed, before any solve; a second solve of the same system is a new run that loses
+nothing (the README's 1 kg bar hung from ground)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+exu = pytest.importorskip("exudyn")
+from exudyn.itemInterface import (  # noqa: E402
+    LoadMassProportional, MarkerBodyMass, NodeRigidBody2D, ObjectGround, ObjectRigidBody2D,
+)
+
+from wearjoint import JointParameters  # noqa: E402
+from wearjoint.exudyn import (  # noqa: E402
+    add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic,
+)
+from wearjoint.parameters import ParameterError  # noqa: E402
+
+WEARING = JointParameters(bushing_offset_m=(0.0, 0.1), wear_factor=100)
+
+
+def hung_bar(joint=True):
+    """The README's system: (mbs, bar, ground, handle or None), not assembled."""
+    mbs = exu.SystemContainer().AddSystem()
+    bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.1001, 0])),
+                                          mass=1.0, inertia=1e-3))
+    mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=bar)),
+                                     loadVector=[0, -9.81, 0]))
+    ground = mbs.AddObject(ObjectGround())
+    return mbs, bar, ground, add_clearance_joint(mbs, ground, bar, WEARING) if joint else None
+
+
+def refused(message: str, call) -> None:
+    """``call()`` raises one ParameterError line matching ``message`` (a regex)."""
+    with pytest.raises(ParameterError) as exc_info:
+        call()
+    assert "\n" not in str(exc_info.value)
+    exc_info.match(message)
+
+
+def test_the_same_body_as_an_int_and_as_exudyns_index_is_refused():
+    """exudyn's ObjectIndex never equals an int: the bar as both is refused whichever way it is numbered."""
+    mbs, bar, _, _ = hung_bar(joint=False)
+    for pin in (bar, int(bar)):
+        refused(rf"^bushing_body={int(bar)} is invalid: it is pin_body too \(allowed: another body\)$",
+                lambda: add_clearance_joint(mbs, pin, int(bar), JointParameters()))
+
+
+@pytest.mark.parametrize("arguments, message", [
+    ((0.05, 0), r"^parameter step_s=0 is invalid: allowed a finite step > 0 s$"),
+    ((0.05, float("nan")), r"^parameter step_s=nan is invalid: allowed a finite step > 0 s$"),
+    ((0.05, -1e-5), r"^parameter step_s=-1e-05 is invalid: allowed a finite step > 0 s$"),
+    ((0.05, "1e-5"), r"^parameter step_s='1e-5' is invalid: allowed a finite step > 0 s$"),
+    ((float("inf"), 1e-5), r"^parameter end_time_s=inf is invalid: allowed a finite time > 0 s$"),
+    ((-1, 1e-5), r"^parameter end_time_s=-1 is invalid: allowed a finite time > 0 s$"),
+    ((1e300, 1e-300), r"^parameter step_s=1e-300 is invalid: allowed at least end_time_s / 2\*\*53 = 1.1\d*e\+284 s$"),
+    ((0.05, 1e-5, "abc"), r"^parameter handles='abc' is invalid: allowed a sequence of the handles add_clearance"),
+    ((0.05, 1e-5, [1]), r"^parameter handles=\[1\] is invalid: allowed a sequence of the handles add_clearance_joint"),
+    ((0.05, 1e-5, (), "1"), r"^parameter coordinate_scale_m='1' is invalid: allowed a finite length > 0 m$"),
+])
+def test_simulation_settings_refuses_bad_arguments_up_front(arguments, message):
+    refused(message, lambda: simulation_settings(*arguments))
+
+
+def test_a_step_too_long_for_a_wearing_joint_is_refused_by_the_settings_and_check_step():
+    *_, handle = hung_bar()
+    message = r"^parameter step_s=0.001 is invalid with wear: allowed at most 3e-05 s \(set wear_factor=0"
+    refused(message, lambda: simulation_settings(0.05, 1e-3, [handle]))
+    refused(message, lambda: check_step(1e-3, [handle]))
+    refused(r"^parameter step_s='1e-3' is invalid: allowed a finite step > 0 s$", lambda: check_step("1e-3", [handle]))
+    refused(r"^parameter handles=<wearjoint.ex.* is invalid: allowed a sequence", lambda: check_step(1e-5, handle))
+    assert simulation_settings(0.05, 1e-3).timeIntegration.numberOfSteps == 50       # no wearing joint: allowed
+
+
+def test_set_post_step_refuses_what_is_not_a_function_and_keeps_the_one_set():
+    mbs, *_ = hung_bar()
+    user_function = lambda mbs, t: True  # noqa: E731
+    set_post_step(mbs, user_function)
+    refused(r"^parameter user_function='x' is invalid: allowed a function f\(mbs, t\) -> bool, or None$",
+            lambda: set_post_step(mbs, "x"))
+    assert mbs.GetPostStepUserFunction()["function"].user_function is user_function
+
+
+def test_a_second_solve_is_a_new_run_on_the_worn_bushing_losing_nothing():
+    """exudyn starts each solve at its start time from the initial state: the second solve of 5 ms is a new run whose
+    every step wears (as much as a new joint's 5 ms run, on a bushing that already wore in the first 2 ms), and the
+    history keeps each run apart, the first unchanged."""
+    mbs, _, _, handle = hung_bar()
+    mbs.Assemble()
+    solve_dynamic(mbs, simulation_settings(0.002, 1e-5, [handle]))
+    first, first_volume = handle.history(), handle.joint.worn_volume_m3
+    solve_dynamic(mbs, simulation_settings(0.005, 1e-5, [handle]))
+    fresh_mbs, _, _, fresh = hung_bar()
+    fresh_mbs.Assemble()
+    solve_dynamic(fresh_mbs, simulation_settings(0.005, 1e-5, [fresh]))
+
+    assert handle.runs == 2 and handle.accepted_steps == 700
+    assert all(np.array_equal(handle.history(0)[name], first[name]) for name in first)
+    second = handle.history()
+    assert second["time_s"].size == 500 and np.allclose(second["time_s"], fresh.history()["time_s"])   # no step skipped
+    assert (handle.joint.worn_volume_m3 - first_volume) == pytest.approx(fresh.joint.worn_volume_m3, rel=0.01)
+    assert second["max_wear_depth_m"][0] >= first["max_wear_depth_m"][-1] > 0.0       # the worn profile kept
+    refused(r"^parameter run=2 is invalid: allowed an integer in \[-2, 1\] \(this handle has 2 run\(s\)\)$",
+            lambda: handle.history(2))
+
+
+def test_a_solve_continuing_at_the_last_end_time_continues_the_run():
+    """exudyn's continuation (startTime = the last end time): the same run, its history one time series."""
+    mbs, _, _, handle = hung_bar()
+    mbs.Assemble()
+    solve_dynamic(mbs, simulation_settings(0.001, 1e-5, [handle]))
+    settings = simulation_settings(0.001, 1e-5, [handle])
+    settings.timeIntegration.startTime, settings.timeIntegration.endTime = 0.001, 0.002
+    solve_dynamic(mbs, settings)
+    times = handle.history()["time_s"]
+    assert handle.runs == 1 and times.size == 200 and np.all(np.diff(times) > 0.0)
