@@ -100,3 +100,22 @@ def test_an_option_argparse_refuses_is_one_line(argv, words, capsys):
     assert stop.value.code == 2
     err = _one_line_error(capsys)
     assert words in err and "--help` lists the options" in err
+
+
+@pytest.mark.parametrize("command", ["wear-study", "sweep"])
+def test_a_sweep_of_the_wear_study_gets_its_command_line_and_calibrate_leaves_the_study_s(tmp_path, command):
+    """The report records the command line where the folder is the command's (a ``wear-study --seeds`` ensemble's
+    and a ``sweep wear-study``'s sweep.json name the wear-study both sweep), not calibrate's into a study."""
+    import argparse
+
+    from wearjoint.cli import _report
+
+    (tmp_path / "sweep_summary.json").write_text("{}")
+    (tmp_path / "sweep.json").write_text(json.dumps({"command": "wear-study", "cases": []}))
+    _report(argparse.Namespace(command=command, out=str(tmp_path)), [command, "--out", str(tmp_path)])
+    assert json.loads((tmp_path / "sweep_summary.json").read_text())["command_line"].startswith(f"wearjoint {command}")
+    study = tmp_path / "study"
+    study.mkdir()
+    (study / "summary.json").write_text(json.dumps({"command_line": "wearjoint wear-study --out study"}))
+    _report(argparse.Namespace(command="calibrate", out=str(study)), ["calibrate", "--out", str(study)])
+    assert json.loads((study / "summary.json").read_text())["command_line"] == "wearjoint wear-study --out study"

@@ -177,8 +177,10 @@ def _report(args, argv: list[str]) -> None:
     from ..targets import report_facts
 
     out = getattr(args, "out", None)
-    if (out is not None and args.command != "report" and summary_path(out) is not None
-            and set(results_commands(Path(out))) <= {args.command}):    # not calibrate's into the study it fits
+    if out is None or args.command == "report" or summary_path(out) is None:
+        return
+    owners = results_commands(Path(out))
+    if not owners or args.command in owners:      # not calibrate's into the study it fits
         write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), report_facts(vars(args)))
 
 
