@@ -90,12 +90,19 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
 def write_report(out_dir, command_line: str | None = None, facts: dict | None = None) -> Path:
     """Write ``report.html`` into the results folder ``out_dir`` (its summary and PNGs); ``command_line``: the
     command that made it, recorded into the summary too (with the version and ``facts``, entries the command
-    knows of the run: where k_w came from).  Returns the page's path."""
+    knows of the run: where k_w came from).  Returns the page's path; FileNotFoundError without a summary,
+    ValueError where it is not a JSON object."""
     out = Path(out_dir)
     path = summary_path(out)
     if path is None:
         raise FileNotFoundError(f"{out}: no {' or '.join(SUMMARY_FILES)}: not a results folder")
-    summary = json.loads(path.read_text())
+    try:
+        summary = json.loads(path.read_text())
+        why = None if isinstance(summary, dict) else "not a JSON object"
+    except ValueError as exc:     # not JSON (a run killed while writing it, another file under its name)
+        why = f"not JSON ({exc})"
+    if why is not None:
+        raise ValueError(f"{path} is invalid: {why}; rerun the command that wrote it")
     if command_line is not None:
         summary.update(command_line=command_line, wearjoint_version=__version__, **(facts or {}))
         tmp = path.with_suffix(".json.tmp")

@@ -110,11 +110,9 @@ def _check_out(args, ensemble: bool) -> None:
     if not ensemble and (out / SPEC_NAME).is_file():
         raise ParameterError(f"--out={str(out)!r} is invalid without --seeds: it holds an ensemble ({SPEC_NAME}); "
                              "continue it with its --seeds N --resume, or choose another --out")
-    if not args.resume:
+    if not args.resume or ensemble:     # an ensemble's: the sweep's --resume check (sweep.runner.resumed)
         return
-    if ensemble:
-        held, what = (out / SPEC_NAME).is_file(), SPEC_NAME
-    elif args.convergence is not None or args.calibrate_max_depth_m is not None:    # a study per subfolder
+    if args.convergence is not None or args.calibrate_max_depth_m is not None:    # a study per subfolder
         held, what = any(out.glob(f"*/{CHECKPOINT_NAME}")), f"*/{CHECKPOINT_NAME}"
     else:
         held, what = (out / CHECKPOINT_NAME).is_file(), CHECKPOINT_NAME
