@@ -16,8 +16,8 @@ same kernels as the monolithic engine and the FMU: Eqs. 1-23), so exudyn's impli
 returns the same kernel's exact derivatives (:func:`contact_jacobian`) in one compiled call.  Wear
 and the contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function
 that serves every joint of the system (one compiled call per joint) and then calls the user's own
-post-step function, if one was set before the first joint was added (one set later replaces it: use
-:func:`set_post_step`).  :func:`simulation_settings` gives exudyn's settings with Newton's absolute
+post-step function, if one was set before the first joint was added (one set later would replace it: the
+solve then stops within :data:`UNACCEPTED_FORCE_TIMES` steps, naming :func:`set_post_step`).  :func:`simulation_settings` gives exudyn's settings with Newton's absolute
 tolerance above the contact's round-off floor.  The post-step function also refuses a solver step
 longer than :data:`MAX_WEAR_STEP_S` while a joint wears (SolveDynamic then raises, naming the step) and
 warns once if a step's share k_f k_w F v dt of the contact's penetration passed its limit
@@ -60,6 +60,9 @@ _HISTORY_SLOTS = np.array([L.R_NORMAL_FORCE, L.R_FRICTION_FORCE, L.R_PENETRATION
                            L.R_BUSHING_TORQUE])
 NEWTON_SAFETY = 10.0     # Newton's absolute tolerance over the residual's round-off floor (simulation_settings)
 MAX_STEPS = 2.0 ** 53    # simulation_settings' most steps (whole floats)
+# a joint whose force has been asked at this many times after its last accepted step checks that the system's
+# post-step function is still the joints' (a step takes 1 time with generalized-alpha, up to 7 with an explicit solver)
+UNACCEPTED_FORCE_TIMES = 64
 _EPSILON = float(np.finfo(float).eps)
 
 
@@ -203,6 +206,8 @@ class ClearanceJointHandle:
         self.t = 0.0
         self.accepted_steps = 0
         self._wear_share_warned = False
+        self._force_time = math.nan     # the last time the force function was asked at, and how many times
+        self._force_times = 0           # since the last accepted step (_check_post_step)
         j = self.joint
         # the kernels' arguments, built once (every array lives as long as the joint and is updated in place)
         self._shared = (pin.reference, bushing.reference, pin.position, pin.velocity, bushing.position,
@@ -224,6 +229,11 @@ class ClearanceJointHandle:
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
         call (exudyn calls it per Newton iteration)."""
+        if t != self._force_time:
+            self._force_time = t
+            self._force_times += 1
+            if self._force_times > UNACCEPTED_FORCE_TIMES:
+                self._check_post_step(mbs)
         self._q[:], self._q_t[:] = q, q_t
         generalized_contact_forces(*self._force_arguments)
         return self._force
@@ -236,6 +246,18 @@ class ClearanceJointHandle:
         arguments = self._jacobian_arguments
         generalized_force_jacobian(*arguments, factor_q, factor_q_t)
         return arguments[-1]
+
+    def _check_post_step(self, mbs) -> None:
+        """Refuse a system whose post-step function no longer serves the joints (``mbs.SetPostStepUserFunction`` after
+        :func:`add_clearance_joint`): their wear, contact memory and history would stand still, silently."""
+        self._force_times = 0
+        current = mbs.GetPostStepUserFunction()
+        current = current.get("function") if isinstance(current, dict) else current
+        if not isinstance(current, _PostStep):
+            raise ParameterError(f"the system's post-step user function {current!r} is invalid with clearance joints: "
+                                 "set by mbs.SetPostStepUserFunction after add_clearance_joint, it replaced the joints' "
+                                 "own and they would neither wear nor record a step; allowed: "
+                                 "wearjoint.exudyn.set_post_step(mbs, f), which calls f after the joints")
 
     def _accept(self, mbs, t: float, q, q_t) -> None:
         """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row.
@@ -258,6 +280,7 @@ class ClearanceJointHandle:
             self._accept_arguments = (*self._system_indices, *self._shared, j.mask, j.work, j.result, _HISTORY_SLOTS)
         if self._rows == self._history.shape[0]:
             self._history = np.concatenate([self._history, np.zeros_like(self._history)])
+        self._force_times = 0
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
         if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
             raise RunDiverged(inadmissible_message(t, wall_overlap(j.result, j.parameter_vector, j.wear_depth),
@@ -460,4 +483,5 @@ def _checked_handles(handles) -> tuple:
 
 
 __all__ = ["add_clearance_joint", "set_post_step", "check_step", "simulation_settings", "solve_dynamic",
-           "contact_stiffness_bound", "ClearanceJointHandle", "HISTORY_COLUMNS", "MAX_WEAR_STEP_S", "NEWTON_SAFETY"]
+           "contact_stiffness_bound", "ClearanceJointHandle", "HISTORY_COLUMNS", "MAX_WEAR_STEP_S", "NEWTON_SAFETY",
+           "UNACCEPTED_FORCE_TIMES"]

@@ -13,7 +13,7 @@ from exudyn.itemInterface import (  # noqa: E402
 
 from wearjoint import JointParameters  # noqa: E402
 from wearjoint.exudyn import (  # noqa: E402
-    add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic,
+    UNACCEPTED_FORCE_TIMES, add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic,
 )
 from wearjoint.parameters import ParameterError  # noqa: E402
 
@@ -80,6 +80,28 @@ def test_set_post_step_refuses_what_is_not_a_function_and_keeps_the_one_set():
     refused(r"^parameter user_function='x' is invalid: allowed a function f\(mbs, t\) -> bool, or None$",
             lambda: set_post_step(mbs, "x"))
     assert mbs.GetPostStepUserFunction()["function"].user_function is user_function
+
+
+def test_a_post_step_function_set_over_the_joints_stops_the_solve_naming_the_fix():
+    """``mbs.SetPostStepUserFunction`` after the joint replaced the joints' post-step function: the solve ran to its
+    end with no step accepted, no wear and an empty history.  It now stops within UNACCEPTED_FORCE_TIMES steps,
+    naming set_post_step; the same function given to set_post_step runs after the joint, which wears."""
+    mbs, _, _, handle = hung_bar()
+    seen = []
+    mbs.SetPostStepUserFunction(lambda mbs_, t: seen.append(t) or True)
+    mbs.Assemble()
+    with pytest.raises(Exception, match=r"post-step user function <function .* is invalid with clearance joints: set by "
+                                        r"mbs.SetPostStepUserFunction after add_clearance_joint.*allowed: "
+                                        r"wearjoint.exudyn.set_post_step\(mbs, f\)"):
+        solve_dynamic(mbs, simulation_settings(0.005, 1e-5, [handle]))
+    assert handle.accepted_steps == 0 and 0 < len(seen) <= UNACCEPTED_FORCE_TIMES + 2
+
+    mbs, _, _, handle = hung_bar()
+    seen = []
+    set_post_step(mbs, lambda mbs_, t: seen.append(t) or True)
+    mbs.Assemble()
+    solve_dynamic(mbs, simulation_settings(0.005, 1e-5, [handle]))
+    assert handle.accepted_steps == 500 and len(seen) == 501 and handle.joint.worn_volume_m3 > 0.0
 
 
 def test_a_second_solve_is_a_new_run_on_the_worn_bushing_losing_nothing():
