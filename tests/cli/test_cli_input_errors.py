@@ -150,8 +150,10 @@ def test_calibrate_refuses_a_study_whose_growth_curve_is_empty_or_garbage(study,
                                   "value > 0"),
     (["--impact-threshold-m-s2=-1"], "--impact-threshold-m-s2=-1.0 (impact_threshold_m_s2) is invalid"),
     (["--cycle-jump-tolerance", "2"], "--cycle-jump-tolerance=2.0 (jump_tolerance) is invalid: allowed in (0, 1)"),
-    (["--calibrate-max-depth-m=-1"], "--calibrate-max-depth-m=-1.0 (target_max_depth_m) is invalid: allowed a max "
-                                     "depth > 0 [m]"),
+    (["--calibrate-max-depth-m=-1"], "--calibrate-max-depth-m=-1.0 (target_max_depth_m) is invalid: allowed a finite "
+                                     "depth > 0 m"),
+    (["--calibrate-max-depth-m=nan"], "--calibrate-max-depth-m=nan (target_max_depth_m) is invalid: allowed a finite "
+                                      "depth > 0 m"),
 ])
 def test_wear_study_names_its_settings_as_options(tmp_path, capsys, options, message):
     out = tmp_path / "w"

@@ -274,3 +274,20 @@ def test_default_route_completes_50000_revolutions_on_another_mechanism(tmp_path
     assert np.all(np.isfinite(depths)) and np.all(np.diff(depths) > 0) and depths[0] > 0
     growth = np.loadtxt(tmp_path / "wear_growth.csv", delimiter=",", skiprows=1)
     assert np.all(np.isfinite(growth)) and np.all(np.diff(growth[:, 1]) >= 0) and growth[-1, 0] == 50000
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (dict(target_max_depth_m="1e-3"), r"^parameter target_max_depth_m='1e-3' is invalid: allowed a finite depth > 0 m$"),
+    (dict(target_max_depth_m=0.0), r"^parameter target_max_depth_m=0.0 is invalid: allowed a finite depth > 0 m$"),
+    (dict(target_max_depth_m=1e-3, rel_tolerance=0.0), r"^parameter rel_tolerance=0.0 is invalid: allowed in \(0, 1\)$"),
+    (dict(target_max_depth_m=1e-3, max_trials=0), r"^parameter max_trials=0 is invalid: allowed an integer >= 1$"),
+    (dict(target_max_depth_m=1e-3, max_trials=2.0), r"^parameter max_trials=2.0 is invalid: allowed an integer >= 1$"),
+])
+def test_the_calibration_refuses_bad_arguments_before_it_runs_or_writes(tmp_path, arguments, message):
+    """The library function names its own parameters (the command line names --calibrate-max-depth-m: its test in
+    tests/cli/test_cli_input_errors.py); max_trials=0 died in min() of no trials after running nothing."""
+    from wearjoint.studies.wear_calibration import calibrate_wear_coefficient
+
+    with pytest.raises(ParameterError, match=message):
+        calibrate_wear_coefficient(small_config(), out_dir=tmp_path / "c", progress=False, **arguments)
+    assert not (tmp_path / "c").exists()

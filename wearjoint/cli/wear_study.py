@@ -9,7 +9,7 @@ from pathlib import Path
 from ..parameters import ParameterError
 from ..run_options import add_wear_study_arguments
 from ..studies.cycle_jump import replay_volume_warning
-from ..studies.wear_calibration import calibrate_wear_coefficient
+from ..studies.wear_calibration import calibrate_wear_coefficient, check_target_depth
 from ..studies.wear_convergence import JUMP, run_convergence
 from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, run_wear_study
 from ..studies.wear_study_recovery import CHECKPOINT_NAME, OPTIONS, SNAPSHOTS_NAME
@@ -38,8 +38,10 @@ def run(args) -> int:
         return run_from_args("wear-study", args)
     try:
         config = config_from_args(args)
+        if args.calibrate_max_depth_m is not None:
+            check_target_depth(args.calibrate_max_depth_m)
     except ParameterError as exc:       # a study setting named as the command line writes it
-        raise with_options(exc, OPTIONS) from None
+        raise with_options(exc, {**OPTIONS, "target_max_depth_m": "--calibrate-max-depth-m"}) from None
     try:
         if args.convergence is not None:
             factors = [JUMP if item.strip() == JUMP else parse_float_list("--convergence", item)[0]

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from wearjoint.checks import integer, is_real, require
 from wearjoint.core import layout as L
-from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
 from wearjoint.studies.wear_study import (
     CHECKPOINT_NAME, PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, make_engine,
@@ -18,6 +18,14 @@ from wearjoint.studies.wear_study import (
 
 
 # ----------------------------------------------------------------------------- calibration
+def check_target_depth(target_max_depth_m) -> float:
+    """``target_max_depth_m`` as a float where it is a finite depth > 0 [m], else the ParameterError naming it."""
+    require("target_max_depth_m", target_max_depth_m,
+            is_real(target_max_depth_m) and math.isfinite(target_max_depth_m) and target_max_depth_m > 0.0,
+            "a finite depth > 0 m")
+    return float(target_max_depth_m)
+
+
 def printed_wear_rate(config: WearStudyConfig, simulated_revolutions: int = 3) -> dict:
     """Max depth after each of the first revolutions with the printed k_w and no acceleration (F = 1)."""
     joint = config.joint.replace(wear_coefficient_m2_N=PRINTED_WEAR_COEFFICIENT_M2_N, wear_factor=1.0)
@@ -42,9 +50,9 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
     on log(depth) vs log(k_w) (depth grows monotonically with k_w), slope clipped to [0.3, 3],
     until |depth/target - 1| <= rel_tolerance.  Every trial is a full study in out_dir/trial_<i>.
     """
-    if not (math.isfinite(target_max_depth_m) and target_max_depth_m > 0.0):
-        raise ParameterError(f"--calibrate-max-depth-m={target_max_depth_m!r} (target_max_depth_m) is invalid: "
-                             "allowed a max depth > 0 [m]")
+    target_max_depth_m = check_target_depth(target_max_depth_m)
+    require("rel_tolerance", rel_tolerance, is_real(rel_tolerance) and 0.0 < rel_tolerance < 1.0, "in (0, 1)")
+    max_trials = integer("max_trials", max_trials, 1)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rate = printed_wear_rate(config)
