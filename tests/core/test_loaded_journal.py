@@ -19,6 +19,7 @@ s is the root of L A(s) = V.  The simulation is compared with that lens: volume,
 and the RMS of the profile difference relative to s.
 """
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -94,7 +95,9 @@ def run_journal(n_points, sliding="tangential", placement="foundation", share=No
             d_before, miss_before = d, miss
             d -= miss / slope
             pin[0] = d
-        forces.append(joint.advance(pin, bushing, dt, held=True).normal_force_N)
+        with warnings.catch_warnings():      # steps over the wear-step limit on purpose: the update's stability
+            warnings.filterwarnings("ignore", "a wearing step", RuntimeWarning)
+            forces.append(joint.advance(pin, bushing, dt, held=True).normal_force_N)
     archard = k_w * LOAD_N * v * steps * dt
     sink = sink_for_area(params.pin_radius_m, params.bushing_radius_m, archard / params.contact_length_m)
     lens = lens_depth(joint.phi_rad, params.pin_radius_m, params.bushing_radius_m, sink)
