@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import functools
 import json
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
@@ -165,6 +166,10 @@ def cosim_config(options) -> CosimConfig:
     o, defaults = options, CoSimulationOptions()
     require("--master", o["master"], o["master"] in MASTERS, "one of " + ", ".join(MASTERS))
     require("--fmusim", o["fmusim"], o["fmusim"] is None or o["master"] == "container", "only with --master container")
+    fmusim = None if o["fmusim"] is None else shutil.which(str(o["fmusim"]))
+    require("--fmusim", o["fmusim"], o["fmusim"] is None or fmusim is not None,
+            "an executable fmusim, its path or a name on PATH (the Modelica Reference-FMUs' importer: "
+            "github.com/modelica/Reference-FMUs)")
     coupling = o.get("load_coupling", "linearised")
     require("--load-coupling", coupling, coupling in LOAD_COUPLINGS, "one of " + ", ".join(LOAD_COUPLINGS))
     require("--load-coupling", coupling, coupling == "linearised" or o["master"] != "wearjoint",
@@ -198,7 +203,7 @@ def cosim_config(options) -> CosimConfig:
                                           onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"],
                                           coupling_tolerance=o["coupling_tolerance"])
     return CosimConfig(joint, mechanism, o["master"], o["fmu_interface"], run_options, o["revolutions"], step,
-                       o["sample_dt"], o["fmusim"], o["fmu"], o["fmu_backend"], settling, profile, coupling)
+                       o["sample_dt"], fmusim, o["fmu"], o["fmu_backend"], settling, profile, coupling)
 
 
 def cosim_record(config: CosimConfig, progress: bool = False):

@@ -81,6 +81,9 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
     # a time series no machine holds: refused before anything is built, not a failed allocation's traceback
     ("simulate", ["--revolutions", "1e12"], "error: --revolutions=1000000000000.0 (revolutions) is invalid: allowed <="),
     ("cosim", ["--master", "container", "--revolutions", "1e12"], "(revolutions) is invalid: allowed <="),
+    # a fmusim that is not there: refused before the package is built (a FileNotFoundError traceback after 5 s)
+    ("cosim", ["--master", "container", "--fmusim", "no/such/fmusim"],
+     "error: parameter --fmusim='no/such/fmusim' is invalid: allowed an executable fmusim"),
     # refused before the package is written (it named an internal step_s, after writing the SSP)
     ("export-ssp", ["--container-step", "-1"], "error: --container-step=-1.0 (container_step_s) is invalid: allowed > 0"),
 ])

@@ -2,6 +2,7 @@
 checked on master curves whose answers are known in closed form."""
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -181,6 +182,8 @@ def test_a_calibration_folder_carries_its_k_w_into_a_run_and_names_itself_as_the
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["joint"]["wear_coefficient_m2_N"] == 3.5e-13
     assert summary["wear_coefficient_source"] == f"calibration {folder}"
+    printed = capsys.readouterr().out         # the console says what the file says (it printed "given")
+    assert re.search(rf"^  wear_coefficient_source +calibration {re.escape(str(folder))}$", printed, re.M), printed
     assert cli_main(["simulate", "--revolutions", "0.02", "--calibration", str(folder), "--wear-coefficient-m2-N",
                      "1e-13", "--out", str(tmp_path / "x")]) == 2
     (folder / "calibration.json").write_text(json.dumps({"law": "mild-severe", "mild_wear_coefficient_m2_N": 1e-13}))

@@ -38,7 +38,7 @@ def run(args) -> int:
                             figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
     keys = (("master", "communication_steps") if config.master != "wearjoint" else
             INTEGRATOR_KEYS if config.interface == "model-exchange" else COMMUNICATION_KEYS)
-    print_summary(summary, args.out, keys)
+    print_summary(summary, args, keys)
     return exit_status(record, "cosim")
 
 

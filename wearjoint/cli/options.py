@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import re
 import sys
-from pathlib import Path
 
 from .. import run_options
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
@@ -81,14 +80,19 @@ SUMMARY_KEYS = ("revolutions", "realtime_factor", "compile_time_s", "max_contact
                 "max_wear_angle_deg", "worn_volume_m3", "wear_coefficient_source")
 
 
-def print_summary(summary: dict, out: Path, extra_keys=()) -> None:
-    """The summary's key figures (and ``extra_keys``), one per line, then the results folder."""
+def print_summary(summary: dict, args, extra_keys=()) -> None:
+    """The summary's key figures (and ``extra_keys``), one per line, as summary.json will state them once the
+    report adds what only the options know (:func:`wearjoint.targets.report_facts`: k_w from ``--calibration``),
+    then the results folder ``args.out``."""
+    from ..targets import report_facts
+
+    summary = {**summary, **report_facts(vars(args))}
     for k in SUMMARY_KEYS + tuple(extra_keys):
         v = summary.get(k)
         print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
     if summary.get("wear_coefficient_note"):
         print(f"note: {summary['wear_coefficient_note']}", file=sys.stderr)
-    print(f"results in {out}")
+    print(f"results in {args.out}")
 
 
 def exit_status(record, command: str) -> int:

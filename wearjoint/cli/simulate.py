@@ -14,7 +14,7 @@ def run(args) -> int:
     record = simulate_record(config, progress=not args.quiet)
     summary = write_results(record, args.out, plots=not args.no_plots,
                             figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
-    print_summary(summary, args.out, ("integrator_accepted_steps", "integrator_rejected_steps"))
+    print_summary(summary, args, ("integrator_accepted_steps", "integrator_rejected_steps"))
     return exit_status(record, "simulate")
 
 
