@@ -9,6 +9,7 @@ import pytest
 
 from wearjoint.cli import main as cli_main
 from wearjoint.parameters import ParameterError
+from wearjoint.studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from wearjoint.studies.calibration import (
     fit_archard, fit_mild_severe, life, master_curve_check, predicted_depth, predictions,
 )
@@ -114,6 +115,28 @@ def test_mild_severe_recovers_its_two_coefficients_from_two_points():
 def test_bad_points_are_refused(points, message):
     with pytest.raises(ParameterError, match=message):
         fit_archard(power_growth(), K0, points)
+
+
+def test_the_papers_experiment_is_the_default_points_only_on_a_study_of_the_papers_case(tmp_path, capsys):
+    """A study of another machine fitted the paper's experiment when --points was left out (and wrote over its
+    calibration.json): it needs the machine's own points; a study whose summary carries the experiment (the paper's
+    mechanism and joint: wear_study.py) fits it by default."""
+    study = tmp_path / "study"
+    study.mkdir()
+    np.savetxt(study / "wear_growth.csv", power_growth(rate=4e-7), delimiter=",",      # to 0.7 mm: past 0.55 mm
+               header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
+    summary = {"parameters": {"joint": {"wear_coefficient_m2_N": K0, "wear_factor": 1.0}}}
+    (study / "summary.json").write_text(json.dumps(summary))
+    assert cli_main(["calibrate", "--study", str(study), "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--points is required with --study" in err and "not a study of the paper's" in err
+    assert not (study / "calibration.json").exists()
+    summary["experiment"] = {"revolutions": [200000, 400000], "max_wear_depth_m": [1.9e-4, 5.5e-4]}
+    (study / "summary.json").write_text(json.dumps(summary))
+    assert cli_main(["calibrate", "--study", str(study), "--no-plots"]) == 0
+    fitted = json.loads((study / "calibration.json").read_text())["points"]
+    assert [(p["revolutions"], p["max_wear_depth_m"]) for p in fitted] == [(200000, 1.9e-4), (400000, 5.5e-4)]
+    assert list(EXPERIMENT_REVOLUTIONS) == [200000, 400000] and list(EXPERIMENT_MAX_DEPTH_M) == [1.9e-4, 5.5e-4]
 
 
 def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_without_a_study(tmp_path, capsys):

@@ -25,9 +25,10 @@ EXPERIMENT_POINTS = ",".join(f"{n}:{d:g}" for n, d in zip(EXPERIMENT_REVOLUTIONS
 
 def add_arguments(parser) -> None:
     parser.add_argument("--study", required=True, help="a finished wear-study folder (summary.json, wear_growth.csv)")
-    parser.add_argument("--points", default=EXPERIMENT_POINTS,
+    parser.add_argument("--points", default=None,
                         help="measured REVOLUTIONS:MAX_DEPTH_M pairs, or REVOLUTIONS:MAX_DEPTH_M:UNCERTAINTY_M, comma "
-                             "separated (default: the paper's experiment, %(default)s)")
+                             f"separated (default on a study of the paper's mechanism and joint: its experiment, "
+                             f"{EXPERIMENT_POINTS}; required on any other)")
     parser.add_argument("--depth-uncertainty-m", type=float, default=None,
                         help="archard: the standard uncertainty of every measured depth [m] (a point's own third "
                              "value takes precedence): the fit becomes a likelihood, with a test of the model and a "
@@ -111,6 +112,12 @@ def run(args) -> int:
         require_option(option, value, value is None or (math.isfinite(value) and value > 0), allowed)
     for option, value in (("--predict-revolutions", args.predict_revolutions), ("--life-depth-m", args.life_depth_m)):
         require_option(option, value, value is None or args.law == "archard", "only with --law archard")
+    if args.points is None:         # the paper's experiment, on a study of the paper's case only (its summary has it)
+        if "experiment" not in summary:
+            raise ParameterError(f"--points is required with --study {args.study!r}: not a study of the paper's "
+                                 f"mechanism and joint, whose experiment ({EXPERIMENT_POINTS}) is the default; allowed "
+                                 "this machine's measured REVOLUTIONS:MAX_DEPTH_M[:UNCERTAINTY_M] points")
+        args.points = EXPERIMENT_POINTS
     points = _points(args.points, args.depth_uncertainty_m)
     asked = _revolutions(args.predict_revolutions)
     try:
