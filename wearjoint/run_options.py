@@ -272,13 +272,14 @@ def add_integration_arguments(parser) -> None:
     g = parser.add_argument_group("integration")
     g.add_argument("--revolutions", type=float, default=defaults.revolutions, help="crank revolutions to simulate")
     g.add_argument("--integrator", choices=INTEGRATORS, default=defaults.integrator,
-                   help="rk4 (fixed step), dopri (adaptive Dormand-Prince 5(4)), gear (BDF, the paper's method)")
+                   help="rk4 (fixed step), dopri (adaptive Dormand-Prince 5(4)), gear (BDF, the paper's method) "
+                        "(default %(default)s)")
     g.add_argument("--gear-solver", choices=GEAR_SOLVERS, default=defaults.gear_solver,
-                   help="BDF of --integrator gear: SUNDIALS CVODE (scikit-sundae) or scipy's")
+                   help="BDF of --integrator gear: SUNDIALS CVODE (scikit-sundae) or scipy's (default %(default)s)")
     g.add_argument("--gear-jacobian", choices=GEAR_JACOBIANS, default=defaults.gear_jacobian,
                    help="Jacobian of --integrator gear: exact (the contact's with the mechanism's) or the solver's "
-                        "finite differences")
-    g.add_argument("--step", type=float, default=defaults.step_s, help="RK4 step [s]")
+                        "finite differences (default %(default)s)")
+    g.add_argument("--step", type=float, default=defaults.step_s, help="RK4 step [s] (default %(default)g)")
     add_tolerance_arguments(g, "dopri, gear")
     g.add_argument("--max-step", type=float, default=None,
                    help=f"largest step [s] (default {NO_WEAR_MAX_STEP_S:g}; with wear {MAX_WEAR_STEP_S:g}, dopri "

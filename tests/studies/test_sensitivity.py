@@ -21,7 +21,7 @@ from test_sweep import read_csv, wearjoint
 from test_sweep_faults import _finished, _stop, _wait_for
 from wearjoint.cli import main
 from wearjoint.contact_laws import contact_law_variants
-from wearjoint.parameters import SliderCrankParameters
+from wearjoint.parameters import ParameterError, SliderCrankParameters
 from wearjoint.sensitivity.law_spread import nominal_point, settle
 from wearjoint.sensitivity.analyse import analyse, until_target, widest_interval
 from wearjoint.sensitivity.problem import Parameter, Problem, parse_params
@@ -141,6 +141,18 @@ def test_a_run_whose_pin_left_the_bushing_is_not_analysed():
         assert invalid_reason(row) and math.isnan(output_value(row, "max_wear_depth_m"))
     assert "admissible" in invalid_reason(pressed) and "into the bushing wall" in invalid_reason(through)
     assert math.isnan(output_value({**groove, "status": "failed"}, "max_wear_depth_m"))
+
+
+def test_an_unknown_parameter_lists_only_the_real_valued_options_a_study_can_sample():
+    """The list named options a sensitivity study refuses (integrator, clearance-joint, initial-profile, ...)."""
+    with pytest.raises(ParameterError) as refused:
+        parse_params("simulate", ["frobnication=1,2"])
+    allowed = str(refused.value).partition("allowed, as the option's name or its API name with underscores: ")[2]
+    listed = set(allowed.split(", "))
+    assert {"restitution", "crank-speed-rpm", "wear-coefficient-m2-N"} <= listed
+    assert not listed & {"integrator", "clearance-joint", "initial-profile", "calibration", "contact-damping"}
+    with pytest.raises(ParameterError, match=r"integrator is not a real-valued option"):
+        parse_params("simulate", ["integrator=1,2"])
 
 
 def test_a_parameter_takes_either_spelling():

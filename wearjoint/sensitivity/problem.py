@@ -74,7 +74,8 @@ def parse_param(command: str, item: str, variables: dict) -> Parameter:
     fields = [f.strip() for f in rest.split(",")]
     if not sep or len(fields) not in (2, 3) or (len(fields) == 3 and fields[2] != "log"):
         raise ParameterError(f"{where} is invalid: allowed {FORM}")
-    name = canonical_name(command, variables, name.strip().lstrip("-"), where)
+    real = {option: action for option, action in variables.items() if action.type is float}
+    name = canonical_name(command, variables, name.strip().lstrip("-"), where, real, "takes a real value")
     action = variables[name]
     if action.type is not float:
         raise ParameterError(f"{where} is invalid: {name} is not a real-valued option (a sensitivity study "

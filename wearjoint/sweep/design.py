@@ -178,10 +178,12 @@ def parse_vary(command: str, items) -> dict:
     return _vary_items(command, items)[0]
 
 
-def canonical_name(command: str, variables: dict, name: str, where: str) -> str:
+def canonical_name(command: str, variables: dict, name: str, where: str, allowed: dict | None = None,
+                   kind: str = "takes one value") -> str:
     """The option name (without dashes) that ``name`` spells: the option's own name, its API name (the
     option's dest: the JointParameters / SliderCrankParameters field, the CSV column) or either in
-    another letter case; else a one-line ParameterError naming ``where``, the name and the allowed names."""
+    another letter case; else a one-line ParameterError naming ``where``, the name and the allowed names (those of
+    ``allowed``, default ``variables``: options that ``kind``)."""
     aliases = {}
     for option, action in variables.items():
         aliases.update({option: option, action.dest: option})
@@ -192,9 +194,9 @@ def canonical_name(command: str, variables: dict, name: str, where: str) -> str:
         return folded[name.casefold()]
     close = difflib.get_close_matches(name, list(aliases), n=1)
     hint = f" (did you mean {close[0]}?)" if close else ""
-    raise ParameterError(f"{where} is invalid: {name!r} is not an option of wearjoint {command} that takes one "
-                         f"value{hint}; allowed, as the option's name or its API name with underscores: "
-                         + ", ".join(variables))
+    raise ParameterError(f"{where} is invalid: {name!r} is not an option of wearjoint {command} that {kind}{hint}; "
+                         "allowed, as the option's name or its API name with underscores: "
+                         + ", ".join(variables if allowed is None else allowed))
 
 
 def read_design(command: str, path) -> dict:
