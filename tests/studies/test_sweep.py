@@ -401,3 +401,18 @@ def _base() -> dict:
     from wearjoint.sweep.design import command_options
 
     return command_options("simulate", command_parser("simulate").parse_args(["--out", "unused"]))
+
+
+def test_each_bias_note_names_the_figures_it_is_about():
+    """A wear study's final depth measured, its early snapshots not: the notes said 'unknown' and 'measured' side
+    by side with nothing to tell which figure each was about."""
+    from wearjoint.sweep.report import BIAS_NOTE, GridPoint, ensemble_rows
+
+    point = GridPoint([{"status": "ok", "seed": 0, "max_wear_depth_m": 1e-5}], [])
+    point.bias = {"max_wear_depth_m": wear_factor_bias(100.0, 500.0),
+                  "rev250_max_wear_depth_m": wear_factor_bias(100.0, 250.0),
+                  "rev500_max_wear_depth_m": wear_factor_bias(100.0, 500.0)}
+    notes = ensemble_rows([point])[0][BIAS_NOTE].split(" | ")
+    assert len(notes) == 2
+    assert notes[0].startswith("max_wear_depth_m, rev500_max_wear_depth_m: measured: ")
+    assert notes[1].startswith("rev250_max_wear_depth_m: unknown: not measured at F = 100")

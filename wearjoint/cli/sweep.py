@@ -123,7 +123,7 @@ def print_outcome(summary: dict, out) -> None:
                 print(f"    {regime_line(row)}")
             notes.update(dict.fromkeys(filter(None, (row.get(BIAS_NOTE) or "").split(" | "))))
     for note in notes:
-        print(f"  wear-factor bias of the max depth: {note}")
+        print(f"  wear-factor bias of {note}")
     for failure in summary["failures"][:10]:
         print(f"  failed {failure['case_id']} (seed {failure['seed']}): {failure['error']}")
     print(f"results in {out}")

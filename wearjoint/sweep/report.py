@@ -140,7 +140,10 @@ def ensemble_rows(points: list[GridPoint]) -> list[dict]:
                 row[f"{column}_bias_rel"] = point.bias[column].csv
         for column, bias in point.bias.items():
             row.setdefault(f"{column}_bias_rel", bias.csv)
-        row[BIAS_NOTE] = " | ".join(dict.fromkeys(b.note for b in point.bias.values()))
+        columns_by_note: dict[str, list[str]] = {}       # each note once, naming the figures it is about
+        for column, bias in point.bias.items():
+            columns_by_note.setdefault(bias.note, []).append(column)
+        row[BIAS_NOTE] = " | ".join(f"{', '.join(columns)}: {note}" for note, columns in columns_by_note.items())
         out.append(row)
     return out
 
