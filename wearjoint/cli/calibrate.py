@@ -27,8 +27,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--study", required=True, help="a finished wear-study folder (summary.json, wear_growth.csv)")
     parser.add_argument("--points", default=None,
                         help="measured REVOLUTIONS:MAX_DEPTH_M pairs, or REVOLUTIONS:MAX_DEPTH_M:UNCERTAINTY_M, comma "
-                             f"separated (default on a study of the paper's mechanism and joint: its experiment, "
-                             f"{EXPERIMENT_POINTS}; required on any other)")
+                             f"separated; left out, a study of the paper's mechanism and joint fits its experiment, "
+                             f"{EXPERIMENT_POINTS}, and any other study refuses to run")
     parser.add_argument("--depth-uncertainty-m", type=float, default=None,
                         help="archard: the standard uncertainty of every measured depth [m] (a point's own third "
                              "value takes precedence): the fit becomes a likelihood, with a test of the model and a "
