@@ -1,7 +1,8 @@
 """The code's shape (docs/reference/code_layout.md, the layers of docs/model.md §4): no import cycle among the
 package's modules at import time, the kernels in ``wearjoint/core`` import nothing of the package outside it (but
-numba's cache location), exudyn is imported only by ``wearjoint/exudyn.py``, ``validation/`` and the examples, ``import wearjoint`` loads none of exudyn, fmpy,
-pythonfmu, dask, and no source file is over 500 lines.  Reads the sources (``ast``) and starts one interpreter."""
+numba's cache location), exudyn is imported only by ``wearjoint/exudyn.py``, ``validation/`` and the examples,
+``import wearjoint`` loads none of exudyn, fmpy, pythonfmu, dask, numba, matplotlib, and no source file is over 500
+lines.  Reads the sources (``ast``) and starts one interpreter."""
 from __future__ import annotations
 
 import ast

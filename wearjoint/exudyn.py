@@ -17,8 +17,9 @@ returns the same kernel's exact derivatives (:func:`contact_jacobian`) in one co
 and the contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function
 that serves every joint of the system (one compiled call per joint) and then calls the user's own
 post-step function, if one was set before the first joint was added (one set later would replace it: the
-solve then stops within :data:`UNACCEPTED_FORCE_TIMES` steps, naming :func:`set_post_step`).  :func:`simulation_settings` gives exudyn's settings with Newton's absolute
-tolerance above the contact's round-off floor.  The post-step function also refuses a solver step
+solve then stops within :data:`UNACCEPTED_FORCE_TIMES` steps, naming :func:`set_post_step`).
+:func:`simulation_settings` gives exudyn's settings with Newton's absolute tolerance above the contact's round-off
+floor.  The post-step function also refuses a solver step
 longer than :data:`MAX_WEAR_STEP_S` while a joint wears (SolveDynamic then raises, naming the step) and
 warns once if a step's share k_f k_w F v dt of the contact's penetration passed its limit
 (:attr:`JointParameters.wear_step_share`, docs/reference/model.md §7).
@@ -248,8 +249,8 @@ class ClearanceJointHandle:
         return arguments[-1]
 
     def _check_post_step(self, mbs) -> None:
-        """Refuse a system whose post-step function no longer serves the joints (``mbs.SetPostStepUserFunction`` after
-        :func:`add_clearance_joint`): their wear, contact memory and history would stand still, silently."""
+        """Refuse a system whose post-step function no longer serves the joints (``mbs.SetPostStepUserFunction``
+        after :func:`add_clearance_joint`): their wear, contact memory and history would stand still, silently."""
         self._force_times = 0
         current = mbs.GetPostStepUserFunction()
         current = current.get("function") if isinstance(current, dict) else current

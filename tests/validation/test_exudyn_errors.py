@@ -90,9 +90,9 @@ def test_a_post_step_function_set_over_the_joints_stops_the_solve_naming_the_fix
     seen = []
     mbs.SetPostStepUserFunction(lambda mbs_, t: seen.append(t) or True)
     mbs.Assemble()
-    with pytest.raises(Exception, match=r"post-step user function <function .* is invalid with clearance joints: set by "
-                                        r"mbs.SetPostStepUserFunction after add_clearance_joint.*allowed: "
-                                        r"wearjoint.exudyn.set_post_step\(mbs, f\)"):
+    message = (r"post-step user function <function .* is invalid with clearance joints: set by "
+               r"mbs.SetPostStepUserFunction after add_clearance_joint.*allowed: wearjoint.exudyn.set_post_step\(mbs, f\)")
+    with pytest.raises(exu.exudynCPP.ModelError, match=message):      # exudyn's wrap of the user function's error
         solve_dynamic(mbs, simulation_settings(0.005, 1e-5, [handle]))
     assert handle.accepted_steps == 0 and 0 < len(seen) <= UNACCEPTED_FORCE_TIMES + 2
 
