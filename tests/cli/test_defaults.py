@@ -42,6 +42,10 @@ RESOLVED = {
     ("cosim", "step"): CoSimulationOptions().step_s,
     ("cosim", "coupling_tolerance"): CoSimulationOptions().coupling_tolerance,
     ("wear-study", "wear_factor"): DEFAULT_WEAR_FACTOR,
+    # the joint FMU alone: the joint's own offsets, its start values (test_model_description_start_values_are_the_
+    # joint_defaults below); the help said the crank's tip, where the FMU started at 0
+    ("build-fmu", "pin_offset_m"): JointParameters().pin_offset_m,
+    ("build-fmu", "bushing_offset_m"): JointParameters().bushing_offset_m,
     ("wear-study", "cycle_jump_tolerance"): WearStudyConfig.__dataclass_fields__["jump_tolerance"].default,
     ("validate", "revolutions"): FULL.revolutions,
     ("validate", "wear_revolutions"): FULL.wear_revolutions,

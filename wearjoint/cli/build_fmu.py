@@ -16,6 +16,7 @@ from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..mechanism_parameters import mechanism_from_options
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from .options import _option, add_model_arguments, given_options, model_from_args, take_calibration
+from ..run_options import restate_default
 
 
 DESCRIPTION = (f"build the ClearanceWearJoint FMU (FMI {' or '.join(f'{v}.0' for v in FMI_VERSIONS)}; native backend: "
@@ -53,6 +54,8 @@ def add_arguments(parser) -> None:
                              "fewer outputs keep a host's result files small; the whole profile stays in the FMU's "
                              "state, and FMI 3.0 has it as one array) (default %(default)s)")
     add_model_arguments(parser, skip=("n_points",))
+    restate_default(parser, "pin_offset_m", "0 0, the joint alone; with a slider-crank option, the crank's tip")
+    restate_default(parser, "bushing_offset_m", "0 0, the joint alone; with a slider-crank option, the rod's big end")
     parser.epilog = ("The model options become the FMU's parameter start values (native backend): the joint's with "
                      "--model joint (the slider-crank's lengths, if given, place its pin and bushing centres at the "
                      "crank tip and rod end), the slider-crank's with --model slider-crank.")
