@@ -178,8 +178,11 @@ def start_client(workers: int | None, scheduler: str | None):
     if scheduler:
         try:
             return Client(scheduler, timeout=CONNECT_TIMEOUT_S), None
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise ParameterError(f"--scheduler={scheduler!r} is invalid: cannot connect: {exc}; allowed the address "
+        except (OSError, TimeoutError, ValueError, AssertionError) as exc:
+            # AssertionError: distributed's client thread did not start its event loop within its 10 s (seen on a
+            # loaded machine, distributed/utils.py LoopRunner); nothing is connected either way
+            reason = str(exc) or "the Dask client's event loop did not start"
+            raise ParameterError(f"--scheduler={scheduler!r} is invalid: cannot connect: {reason}; allowed the address "
                                  "of a running Dask scheduler (e.g. tcp://HOST:8786)") from None
     # the worker processes ignore Ctrl-C (they inherit SIG_IGN): the client stops them itself
     main = threading.current_thread() is threading.main_thread()
