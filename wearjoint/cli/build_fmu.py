@@ -15,8 +15,8 @@ from ..cosim.step_rule import communication_step_rule
 from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..mechanism_parameters import mechanism_from_options
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
-from .options import _option, add_model_arguments, given_options, model_from_args, take_calibration
 from ..run_options import restate_default
+from .options import _option, add_model_arguments, given_options, model_from_args, take_calibration
 
 
 DESCRIPTION = (f"build the ClearanceWearJoint FMU (FMI {' or '.join(f'{v}.0' for v in FMI_VERSIONS)}; native backend: "

@@ -181,7 +181,7 @@ def start_client(workers: int | None, scheduler: str | None):
         except (OSError, TimeoutError, ValueError, AssertionError) as exc:
             # AssertionError: distributed's client thread did not start its event loop within its 10 s (seen on a
             # loaded machine, distributed/utils.py LoopRunner); nothing is connected either way
-            reason = str(exc) or "the Dask client's event loop did not start"
+            reason = "the Dask client's event loop did not start" if isinstance(exc, AssertionError) else exc
             raise ParameterError(f"--scheduler={scheduler!r} is invalid: cannot connect: {reason}; allowed the address "
                                  "of a running Dask scheduler (e.g. tcp://HOST:8786)") from None
     # the worker processes ignore Ctrl-C (they inherit SIG_IGN): the client stops them itself
