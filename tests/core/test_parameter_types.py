@@ -44,12 +44,15 @@ def test_an_rk4_step_over_the_wear_step_limit_is_refused_whatever_max_step_s():
     assert SimulationOptions(integrator="rk4", step_s=6e-5, ideal=True).for_joint(paper_joint()).step_s == 6e-5
 
 
-def test_the_cli_refuses_an_rk4_step_over_the_limit_naming_step(tmp_path, capsys):
-    code = main(["simulate", "--integrator", "rk4", "--step", "6e-5", "--revolutions", "0.01", "--quiet",
-                 "--out", str(tmp_path / "out")])
+@pytest.mark.parametrize("argv, written", [(["simulate", "--integrator", "rk4", "--step", "6e-5"], "6e-05"),
+                                           (["cosim", "--scheme", "zoh", "--step", "1e-4"], "0.0001")])
+def test_the_cli_refuses_a_step_over_the_wear_step_limit_naming_step(tmp_path, capsys, argv, written):
+    """The monolithic RK4 step and the co-simulation's contact step, each named as the command line writes it."""
+    code = main([*argv, "--revolutions", "0.01", "--quiet", "--out", str(tmp_path / "out")])
     error = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(error) == 1, error
-    assert "error: --step=6e-05 (step_s) is invalid with wear" in error[0] and "allowed at most 3e-05 s" in error[0]
+    assert f"error: --step={written} (step_s) is invalid with wear" in error[0]
+    assert "allowed at most 3e-05 s" in error[0]
     assert not (tmp_path / "out").exists()
 
 
@@ -247,12 +250,3 @@ def test_a_cosimulation_step_over_the_wear_step_limit_is_refused_up_front():
     # the same rule as the monolithic engine's, and none without wear
     check_wear_step("step_s", 1.0, paper_joint(wear_factor=0.0))
     check_wear_step("step_s", CoSimulationOptions().step_s, paper_joint())
-
-
-def test_the_cli_refuses_a_cosimulation_step_over_the_limit_naming_step(tmp_path, capsys):
-    code = main(["cosim", "--scheme", "zoh", "--step", "1e-4", "--revolutions", "0.01", "--quiet",
-                 "--out", str(tmp_path / "out")])
-    error = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(error) == 1, error
-    assert "error: --step=0.0001 (step_s) is invalid with wear" in error[0] and "at most 3e-05 s" in error[0]
-    assert not (tmp_path / "out").exists()
