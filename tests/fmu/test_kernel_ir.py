@@ -1,8 +1,9 @@
 """The kernels' IR (wearjoint/fmu/kernel_ir.py): the IR the package ships (wearjoint/fmu/shipped_ir/: the native
 FMUs' and the co-simulation master's) is compiled from these kernels, a build with empty caches takes it instead of compiling, never once the
-kernels or numba changed; its objects for several platforms, two cores at once."""
+kernels or numba changed; its objects for several platforms, two cores at once, kept in the user cache."""
 import dataclasses
 import re
+import sys
 
 import pytest
 
@@ -134,8 +135,17 @@ def _shipped_kernels(tmp_path):
 OBJECT_MAGIC = {"linux64": b"\x7fELF", "aarch64-linux": b"\x7fELF", "win64": b"\x64\x86"}
 
 
+@pytest.fixture
+def empty_cache(tmp_path, monkeypatch):
+    """An empty user cache (this process's and its children's): every object is emitted."""
+    if sys.platform in ("win32", "darwin"):
+        pytest.skip("the user cache is moved by XDG_CACHE_HOME on Linux only")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    return tmp_path / "cache" / "wearjoint" / "objects"
+
+
 @pytest.mark.parametrize("cores", [1, 2])
-def test_every_platforms_objects_are_written_on_one_or_two_cores(tmp_path, monkeypatch, cores):
+def test_every_platforms_objects_are_written_on_one_or_two_cores(tmp_path, monkeypatch, empty_cache, cores):
     monkeypatch.setattr(kernel_ir, "usable_cores", lambda: cores)
     kernel_dir, modules = _shipped_kernels(tmp_path)
     targets = [platforms.PLATFORMS[name] for name in OBJECT_MAGIC]
@@ -147,9 +157,33 @@ def test_every_platforms_objects_are_written_on_one_or_two_cores(tmp_path, monke
             assert (tmp_path / path).read_bytes().startswith(OBJECT_MAGIC[name]), path
 
 
-def test_a_platform_that_fails_in_the_second_process_is_named(tmp_path, monkeypatch):
+def test_a_platform_that_fails_in_the_second_process_is_named(tmp_path, monkeypatch, empty_cache):
     monkeypatch.setattr(kernel_ir, "usable_cores", lambda: 2)
     kernel_dir, modules = _shipped_kernels(tmp_path)
     unknown = dataclasses.replace(platforms.PLATFORMS["linux64"], name="no-such-platform")
     with pytest.raises(RuntimeError, match="objects for no-such-platform failed"):
         list(kernel_ir.emit_objects(kernel_dir, modules, [platforms.PLATFORMS["linux64"], unknown]))
+
+
+def test_a_second_emission_takes_every_object_from_the_cache_and_a_fresh_one_none(tmp_path, monkeypatch, empty_cache):
+    """The first emission writes each object into the user cache; the next (another folder, both platforms) emits
+    nothing and gives the same bytes; ``reuse=False`` (``build-fmu --force``) emits every one again.  The cache is
+    keyed by the IR: an object of other IR is not taken for it."""
+    monkeypatch.setattr(kernel_ir, "usable_cores", lambda: 1)
+    emitted = []
+    emit = aot.emit_object
+    monkeypatch.setattr(aot, "emit_object", lambda *args: emitted.append(args) or emit(*args))
+    targets = [platforms.PLATFORMS["linux64"], platforms.PLATFORMS["win64"]]
+    objects = {}
+    for run, reuse in (("first", True), ("second", True), ("fresh", False)):
+        kernel_dir, modules = _shipped_kernels(tmp_path / run)
+        before = len(emitted)
+        objects[run] = {target.name: [(tmp_path / run / path).read_bytes() for path in paths]
+                        for target, paths in kernel_ir.emit_objects(kernel_dir, modules, targets, reuse=reuse)}
+        emitted_now = len(emitted) - before
+        assert emitted_now == (0 if run == "second" else 2 * len(modules)), run
+    assert objects["second"] == objects["first"] == objects["fresh"]
+    assert len(list(empty_cache.glob("*.o"))) == 2 * len(modules)
+    ir = kernel_dir / next(iter(modules.values()))
+    ir.write_text(ir.read_text() + "\n; another module\n")
+    assert not kernel_ir.cached_object(ir, targets[0]).is_file()

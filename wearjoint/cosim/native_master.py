@@ -54,8 +54,8 @@ def library_path() -> Path:
 def build_library(path: Path) -> Path:
     """Compile the master's kernel IR (the package's, else numba's in a fresh process) for this machine and link
     it into ``path``; RuntimeError where that cannot be done here."""
-    from ..fmu import aot, platforms
-    from ..fmu.kernel_ir import compile_kernel_ir
+    from ..fmu import platforms
+    from ..fmu.kernel_ir import compile_kernel_ir, kernel_objects
 
     target = platforms.host_platform()
     reason = platforms.missing_reason(target)
@@ -64,10 +64,7 @@ def build_library(path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="wearjoint_master_") as tmp:
         modules = compile_kernel_ir(Path(tmp) / "ir", MASTER)
-        objects = []
-        for symbol, ir_name in modules.items():
-            objects.append(str(Path(tmp) / f"{symbol}.o"))
-            Path(objects[-1]).write_bytes(aot.emit_object(Path(tmp) / "ir" / ir_name, target.triple, target.cpu))
+        objects = [str(Path(tmp) / path) for path in kernel_objects(Path(tmp) / "ir", modules, target)]
         partial = Path(tmp) / path.name
         flags = [flag for flag in target.link_flags if "version-script" not in flag]
         result = subprocess.run([platforms.compiler(target), *flags, "-o", str(partial), *objects, "-lm"],

@@ -437,7 +437,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         (sources / "exports.map").write_text(EXPORTS_MAP_BY_VERSION[fmi_version])
         objects, links = {}, {}
         # each platform's compiler starts once its objects are written, each binary in its own folder
-        for t, paths in emit_objects(sources / "kernels", modules, targets):
+        for t, paths in emit_objects(sources / "kernels", modules, targets, reuse=not force):
             objects[t.name] = paths
             links[t.name] = subprocess.Popen(
                 [platforms.compiler(t), *link_arguments(t, fmi_version, objects[t.name], model,
