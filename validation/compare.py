@@ -16,7 +16,9 @@ another valid monolithic configuration's ensemble (RK4 at 1/2, 2, 5 and 10 times
 at five tolerances), or the standard error of the engine-minus-reference difference if larger;
 for the profile, the same over the wear ensembles of fewer valid configurations; for the
 point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
-engine's own (the same engine at its window step and at twice that step).  An engine whose
+engine's own (the same engine at its window step and at twice that step).  Point-wise, every run over the
+window records each point it computes and is judged there, against the reference interpolated
+(:func:`wearjoint.analysis.window_differences`).  An engine whose
 contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
 K delta^n along the line of centres with a stored, floored impact velocity, our ``deepest`` law with
 Lankarani-Nikravesh damping, :func:`.exudyn_native.native_law`) has its traces compared with the
@@ -188,7 +190,8 @@ class Runs:
     """Every record of one validation.  ``reference_ensemble`` / ``scatter`` / ``engines``:
     the no-wear ensembles (one record per perturbed start, the unperturbed first) of the
     reference, of the other valid monolithic configurations by label and of each engine;
-    ``reference``: the reference ensemble's unperturbed run; ``window``: engine -> (run at the
+    ``reference``: the reference ensemble's unperturbed run; ``window_reference``: the monolithic RK4 at h and at
+    h/2 over the point-wise window, every step recorded; ``window``: engine -> (run at the
     window step, run at twice that step); ``law_window``: engine of ``LAW_REFERENCES`` -> the
     monolithic reference with its law (RK4 at h, at h/2); ``law_ensembles``: engine -> the reference's
     ensemble run with its law; ``wear_reference`` / ``wear_scatter`` / ``wear_engines``: the wear
@@ -199,6 +202,7 @@ class Runs:
     scatter: dict
     engines: dict
     window: dict
+    window_reference: tuple = ()
     law_window: dict = field(default_factory=dict)
     law_changes: dict = field(default_factory=dict)   # engine of law_window -> the joint changes of its law
     law_ensembles: dict = field(default_factory=dict)
@@ -291,7 +295,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
     wear_engines = [e for e in available if e in WEAR_ENGINES] if plan.run_wear else []
     n_monolithic = 1 + len(RK4_STEP_FACTORS) + len(DOPRI_RTOLS)
     law_engines = [e for e in available if e in LAW_REFERENCES]
-    total = (plan.ensemble * (n_monolithic + len(available) + len(law_engines)) + 2 * len(available)
+    total = (plan.ensemble * (n_monolithic + len(available) + len(law_engines)) + 2 + 2 * len(available)
              + 2 * len(law_engines)
              + (plan.ensemble * (1 + len(WEAR_CONFIGURATIONS) + len(wear_engines)) if plan.run_wear else 0))
     log = []
@@ -327,6 +331,12 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
     reference_ensemble = ensembles.pop(f"RK4 {_us(h)}")
     engines, window, law_window, law_changes, law_ensembles = {}, {}, {}, {}, {}
     window_rev = plan.window_s * 1.02 / mechanism.period_s
+    window_dt = 0.25 * min(h, plan.window_step_s)     # below every step: each computed point recorded
+    window_text = f"first {plan.window_s * 1e3:g} ms, no wear, every point"
+    window_reference = tuple(
+        run(f"monolithic RK4 {_us(s)}, {window_text}", REFERENCE,
+            lambda s=s: run_monolithic(no_wear, mechanism, window_rev, window_dt, progress, integrator="rk4", step_s=s))
+        for s in (h, 0.5 * h))
     for engine, runner in list(available.items()):
         j = no_wear.replace(**changes.get(engine, {}))
         step = plan.engine_step_s(engine)
@@ -334,16 +344,16 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
             members = ensemble(f"{engine} step {_us(step)}, {rev:g} rev, no wear", engine,
                                lambda m: runner(j, m, rev, step, dt, progress))
             window[engine] = tuple(
-                run(f"{engine} step {_us(s)}, first {plan.window_s * 1e3:g} ms, no wear", engine,
-                    lambda s=s: runner(j, mechanism, window_rev, s, dt, progress))
+                run(f"{engine} step {_us(s)}, {window_text}", engine,
+                    lambda s=s: runner(j, mechanism, window_rev, s, window_dt, progress))
                 for s in (plan.window_step_s, 2.0 * plan.window_step_s))
             if engine in LAW_REFERENCES:
                 law_changes[engine] = LAW_REFERENCES[engine](no_wear)
                 law = no_wear.replace(**law_changes[engine])
                 law_text = ", ".join(f"{k}={v}" for k, v in law_changes[engine].items())
                 law_window[engine] = tuple(
-                    run(f"monolithic RK4 {_us(s)}, {law_text}, first {plan.window_s * 1e3:g} ms, no wear", REFERENCE,
-                        lambda s=s: run_monolithic(law, mechanism, window_rev, dt, progress, integrator="rk4",
+                    run(f"monolithic RK4 {_us(s)}, {law_text}, {window_text}", REFERENCE,
+                        lambda s=s: run_monolithic(law, mechanism, window_rev, window_dt, progress, integrator="rk4",
                                                    step_s=s))
                     for s in (h, 0.5 * h))
                 name, make = monolithic(f"RK4 {_us(h)}, {law_text}", law, rev, integrator="rk4", step_s=h)
@@ -352,8 +362,8 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         except Exception as exc:       # one broken engine must not hide the others' comparison
             failed(engine, exc)
             del available[engine]
-    runs = Runs(reference_ensemble, ensembles, engines, window, law_window, law_changes, law_ensembles, gaps=gaps,
-                errors=errors, log=log)
+    runs = Runs(reference_ensemble, ensembles, engines, window, window_reference, law_window, law_changes,
+                law_ensembles, gaps=gaps, errors=errors, log=log)
     if plan.run_wear:
         wrev = plan.wear_revolutions
 
@@ -378,7 +388,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
 # ---------------------------------------------------------------- quantities compared
 # (the definitions are wearjoint.analysis's)
 def pointwise_differences(record: RunRecord, reference: RunRecord, window_s: float) -> dict:
-    """Largest differences to ``reference`` at its sample times in [0, window_s]: the
+    """Largest differences to ``reference`` (interpolated) at ``record``'s own sample times in [0, window_s]: the
     eccentricity vector (bushing frame), the normal force and the slider acceleration."""
     d = analysis.window_differences(record.samples, reference.samples, window_s,
                                     (L.T_ECC_X, L.T_ECC_Y, L.T_NORMAL_FORCE, L.T_SLIDER_A))
@@ -435,9 +445,9 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
                                   mean[name] - reference[name], scatter))
     # point-wise, the valid monolithic pair is the step refinement (RK4 h vs h/2): DOPRI at
     # rtol 1e-6..1e-7 is already micrometres off over the window (measured), not equally accurate
-    refined_label = next(iter(runs.scatter))
+    refined_label = f"RK4 {_us(0.5 * plan.reference_step_s)}"
     for engine, (fine, coarse) in runs.window.items():
-        reference, refined = runs.law_window.get(engine, (runs.reference, runs.scatter[refined_label][0]))
+        reference, refined = runs.law_window.get(engine, runs.window_reference)
         mono = pointwise_differences(refined, reference, plan.window_s)
         diff = pointwise_differences(fine, reference, plan.window_s)
         own = pointwise_differences(coarse, fine, plan.window_s)

@@ -92,7 +92,7 @@ def test_quick_validation_passes_and_writes_report_summary_and_figures(quick):
     n_monolithic = 1 + len(cmp.RK4_STEP_FACTORS) + len(cmp.DOPRI_RTOLS)
     ensemble = summary["plan"]["ensemble"]
     assert ensemble == cmp.QUICK.ensemble >= 2
-    assert len(rows) == (ensemble * (n_monolithic + len(others) + len(cmp.LAW_REFERENCES)) + 2 * len(others)
+    assert len(rows) == (ensemble * (n_monolithic + len(others) + len(cmp.LAW_REFERENCES)) + 2 + 2 * len(others)
                          + 2 * len(cmp.LAW_REFERENCES)          # statistics ensembles, windows, the law's ensemble
                          + ensemble * (1 + len(cmp.WEAR_CONFIGURATIONS) + len(others & set(cmp.WEAR_ENGINES))))
     assert all(r["wall_time_s"] > 0 and r["realtime_factor"] > 0 for r in rows.values())

@@ -70,7 +70,7 @@ def default_steps_s(joint: JointParameters, mechanism: SliderCrankParameters) ->
 
 def pointwise_deviation(record: RunRecord, reference: RunRecord, window_s: float = POINTWISE_WINDOW_S) -> dict:
     """Max |difference| over the first ``window_s`` of slider position [m] and
-    eccentricity [m], the record interpolated at the reference's sample times."""
+    eccentricity [m], at the record's own sample times (the reference interpolated there)."""
     keys = {"slider_x_m": L.T_SLIDER_X, "eccentricity_x_m": L.T_ECC_X, "eccentricity_y_m": L.T_ECC_Y}
     d = analysis.window_differences(record.samples, reference.samples, window_s, keys.values())
     return {key: float(np.max(np.abs(d[:, k]))) for k, key in enumerate(keys)}
