@@ -45,6 +45,11 @@ _HELP = {
 }
 
 
+# the time series' rows are accepted steps' ends (results.md): the first at or after each multiple of --sample-dt
+SAMPLE_DT_HELP = ("time-series spacing [s] (default %(default)g): a row at the first step's end at or after each "
+                  "multiple of it; a longer step ({}) leaves fewer rows there")
+
+
 def gravity_value(text: str):
     """``--gravity-m-s2``: one value G, or GX,GY."""
     parts = text.split(",")
@@ -288,7 +293,8 @@ def add_integration_arguments(parser) -> None:
     free_flight = f"(default {NO_WEAR_MAX_STEP_S:g}; --max-step when that is given)"
     g.add_argument("--free-flight-max-step", type=float, default=None,
                    help="dopri: largest step that starts with no contact [s], where nothing wears " + free_flight)
-    g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help="time-series spacing [s]")
+    g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help=SAMPLE_DT_HELP.format(
+        "a dopri step in free flight, up to --free-flight-max-step"))
     g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
     add_initial_profile_argument(g)
 
@@ -356,7 +362,8 @@ def add_cosim_arguments(parser) -> None:
                         "reported miss can stay above it; every run "
                         "reports it in summary.json, coupling_force_miss_rms and _max (default "
                         f"{defaults.coupling_tolerance:g}, with the linearised scheme; 0 with the others)")
-    g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help="time-series spacing [s]")
+    g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help=SAMPLE_DT_HELP.format(
+        "an adaptive step in free flight, up to --max-step"))
     add_initial_profile_argument(g)
     add_tolerance_arguments(parser.add_argument_group("model exchange (--fmu-interface model-exchange)"), "dopri")
     add_model_arguments(parser)
