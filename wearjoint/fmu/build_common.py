@@ -11,6 +11,7 @@ import os
 import platform
 import shutil
 import sys
+import tempfile
 import zipfile
 from pathlib import Path
 
@@ -35,6 +36,20 @@ def current_build(out_dir, key: str, force: bool, file_name: str = FMU_FILE_NAME
     """``out_dir``'s FMU file ``file_name``, and whether it already is the build ``key`` (and no ``force``)."""
     target = Path(out_dir) / file_name
     return target, not force and existing_build_key(target) == key
+
+
+def write_whole(path: Path, data: bytes) -> None:
+    """``data`` into ``path`` whole or not at all, through a temporary file beside it (another process may be
+    reading or writing the same file)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, partial = tempfile.mkstemp(prefix=path.name + ".", dir=path.parent)
+    try:
+        with os.fdopen(handle, "wb") as file:
+            file.write(data)
+        os.replace(partial, path)
+    except BaseException:
+        Path(partial).unlink(missing_ok=True)
+        raise
 
 
 def existing_build_key(fmu_path: Path) -> str | None:

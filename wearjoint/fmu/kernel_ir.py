@@ -34,7 +34,7 @@ from pathlib import Path
 
 from .._compile.prefetch import usable_cores
 from . import aot, platforms
-from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir
+from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir, write_whole
 
 # what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions): every kernel
 # module (all of core/, so that a new one cannot be left out) and the modules that fix the parameter vectors
@@ -208,14 +208,9 @@ def cached_object(ir_path: Path, target: platforms.Platform) -> Path:
 
 
 def _keep(path: Path, data: bytes) -> None:
-    """``data`` into the cache file ``path`` whole or not at all (another process may be writing the same); a
-    cache that cannot be written is skipped."""
+    """``data`` into the cache file ``path`` (:func:`write_whole`); a cache that cannot be written is skipped."""
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        handle, partial = tempfile.mkstemp(prefix=path.name + ".", dir=path.parent)
-        with os.fdopen(handle, "wb") as file:
-            file.write(data)
-        os.replace(partial, path)
+        write_whole(path, data)
     except OSError:
         pass
 

@@ -1,0 +1,40 @@
+"""Native builds through the user cache (wearjoint/fmu/build_native.py): each build leaves a copy under its build
+key; the next build of the same key, into any folder, copies it and compiles nothing; other start values, or
+``force``, build."""
+import sys
+
+import pytest
+
+from wearjoint.fmu import build_native
+from wearjoint.fmu.build_common import existing_build_key
+
+pytest.importorskip("fmpy")
+
+
+@pytest.fixture
+def compilations(tmp_path, monkeypatch):
+    """An empty user cache, and the list of builds that reached the compilers."""
+    if sys.platform in ("win32", "darwin"):
+        pytest.skip("the user cache is moved by XDG_CACHE_HOME on Linux only")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    calls = []
+    emit = build_native.emit_objects
+    monkeypatch.setattr(build_native, "emit_objects", lambda *args, **kw: calls.append(args) or emit(*args, **kw))
+    # ``force`` recompiles the kernels with numba (half a minute); the shipped IR stands in for them here
+    kernel_ir = build_native.compile_kernel_ir
+    monkeypatch.setattr(build_native, "compile_kernel_ir", lambda out_dir, spec, reuse=True: kernel_ir(out_dir, spec))
+    return calls
+
+
+def test_the_same_build_elsewhere_is_copied_and_other_starts_or_force_build(tmp_path, compilations):
+    build = dict(platform_names="linux64", model="slider-crank")
+    first = build_native.build_fmu(tmp_path / "a", **build)
+    assert len(compilations) == 1
+    kept = build_native.default_fmu_path(platform_names=["linux64"], model="slider-crank")
+    assert kept.is_file() and kept.read_bytes() == first.read_bytes()
+    second = build_native.build_fmu(tmp_path / "b", **build)
+    assert len(compilations) == 1 and second.read_bytes() == first.read_bytes()
+    other = build_native.build_fmu(tmp_path / "c", starts={"slider_mass": 2.5}, **build)
+    assert len(compilations) == 2 and existing_build_key(other) != existing_build_key(first)
+    build_native.build_fmu(tmp_path / "d", force=True, **build)
+    assert len(compilations) == 3
