@@ -372,14 +372,15 @@ def add_cosim_arguments(parser) -> None:
 def add_wear_study_arguments(parser) -> None:
     """Options of ``wearjoint wear-study`` (WearStudyConfig's defaults) but its ensemble's (``--seeds``,
     ``--workers``, ``--scheduler``: :func:`wearjoint.cli.sweep.add_ensemble_arguments`)."""
-    from .cosim import CoSimulationOptions
+    from .cosim.cosimulation import DEFAULT_CONTACT_STEP_S
     from .studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
     from .studies.wear_study import DEFAULT_WEAR_FACTOR, ENGINES, STUDY_INTEGRATORS, STUDY_STEP_S, WearStudyConfig
 
     study = {f.name: f.default for f in dataclasses.fields(WearStudyConfig) if f.default is not dataclasses.MISSING}
     max_step_default = ("(default %(default)g)" if study["max_step_s"] is not None else
                         f"(default: {STUDY_STEP_S:g}, less where the run's wear needs it, through the FMU "
-                        f"{CoSimulationOptions().step_s:g}; docs/reference/model.md §7)")
+                        f"(--engine cosim, the adaptive scheme) {DEFAULT_CONTACT_STEP_S['adaptive']:g}; "
+                        "docs/reference/model.md §7)")
     add_output_arguments(parser)
     parser.add_argument("--revolutions", default=str(study["revolutions"]),
                         help="crank revolutions to reach (integer) (default %(default)s)")
