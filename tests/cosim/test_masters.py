@@ -112,6 +112,19 @@ def test_each_master_runs_through_the_joints_wear_step_warning(case, fast_wearin
     assert depth[-1] > 1e-6 and np.all(np.isfinite(trace.values))
 
 
+def test_ecos_leaves_nothing_in_the_temporary_folder(packages, tmp_path, monkeypatch):
+    """ecos unpacks the package into $TMPDIR/ecos_ssp_<uuid> and keeps it (1.2 MB a run, 100 of them after a day's
+    tests): the master runs it in a folder of its own and removes that."""
+    import tempfile
+
+    _master_or_skip("ecos")
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    monkeypatch.setattr(tempfile, "tempdir", None)     # gettempdir() reads TMPDIR again
+    trace = masters.run_ecos(packages["linearised"], 5e-6, 1e-4, paper_joint().n_points)
+    assert trace.time_s[-1] == pytest.approx(1e-4)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_container_fmu_from_export_ssp_runs_in_fmpy_and_fmusim_alike(tmp_path):
     """`export-ssp --container-fmu`'s container runs in fmusim and in fmpy's FMU2Slave through the
     same communication points to the same slider motion."""

@@ -35,6 +35,7 @@ from __future__ import annotations
 import math
 import ctypes
 import io
+import os
 import subprocess
 import tempfile
 import time
@@ -196,20 +197,27 @@ def _load_ecos():
 
 def run_ecos(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> MasterTrace:
     """The package in ecos at ``step_s`` [s] up to ``stop_time_s`` [s], its parameter set applied."""
+    from unittest import mock
+
     ecospy = _load_ecos()
     ecospy.EcosLib.set_log_level("warn")
     start = time.perf_counter()
-    simulation = ecospy.EcosSimulation(ssp_path=str(ssp_path), step_size=step_s)
-    try:
-        if not simulation.init(parameter_set=ssp.PARAMETER_SET):
-            raise RuntimeError(f"ecos could not initialise {ssp_path}: {ecospy.EcosLib.get_last_error()}")
-        names = [f"{component}::{name}" for component, name in TRACED]
-        trace = _stepwise("ecos", step_s, _steps(stop_time_s, step_s), simulation.step,
-                          lambda: [simulation.get_real(name) for name in names], time.perf_counter() - start)
-        trace.wear_depth_m = np.array([simulation.get_real(f"{ssp.JOINT}::{n}") for n in _profile_names(n_points)])
-        simulation.terminate()
-    finally:
-        simulation.free()
+    # ecos unpacks the package into $TMPDIR/ecos_ssp_<uuid> and leaves it there (1.2 MB a run): into a folder of
+    # this run's, removed after it
+    with tempfile.TemporaryDirectory(prefix="wearjoint_ecos_") as tmp:
+        with mock.patch.dict(os.environ, TMPDIR=tmp):     # the C library's getenv sees it
+            simulation = ecospy.EcosSimulation(ssp_path=str(ssp_path), step_size=step_s)
+        try:
+            if not simulation.init(parameter_set=ssp.PARAMETER_SET):
+                raise RuntimeError(f"ecos could not initialise {ssp_path}: {ecospy.EcosLib.get_last_error()}")
+            names = [f"{component}::{name}" for component, name in TRACED]
+            trace = _stepwise("ecos", step_s, _steps(stop_time_s, step_s), simulation.step,
+                              lambda: [simulation.get_real(name) for name in names], time.perf_counter() - start)
+            trace.wear_depth_m = np.array([simulation.get_real(f"{ssp.JOINT}::{n}")
+                                           for n in _profile_names(n_points)])
+            simulation.terminate()
+        finally:
+            simulation.free()
     return trace
 
 
