@@ -181,11 +181,12 @@ FIELD_TO_VARIABLE = {p.field if p.component is None else (p.field, p.component):
 
 
 @pytest.fixture(scope="module")
-def small_native(shared_build):
+def small_native(shared_build, tmp_path_factory):
     fmpy = pytest.importorskip("fmpy")
     path = shared_build(n_points=N_POINTS, backend="native")
     md = fmpy.read_model_description(str(path))
-    return {"md": md, "dir": fmpy.extract(str(path)), "vr": fv.value_references(md)}
+    return {"md": md, "dir": fmpy.extract(str(path), unzipdir=str(tmp_path_factory.mktemp("small_native"))),
+            "vr": fv.value_references(md)}
 
 
 def _instance(small_native, p: JointParameters | None, invalid: tuple | None = None):

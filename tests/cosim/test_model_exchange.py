@@ -59,7 +59,7 @@ def test_without_wear_every_step_and_statistic_is_the_monolithic_runs(native_fmu
         me.close()
 
 
-def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu):
+def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu, tmp_path):
     """Stage evaluations (setTime/setReal/getReal) change nothing; fmi2CompletedIntegratorStep
     wears the bushing over the time since the last completed step, like ClearanceJoint.advance."""
     from fmpy import extract, read_model_description
@@ -68,8 +68,8 @@ def test_wear_is_applied_only_at_completed_integrator_steps(native_fmu):
     joint = paper_joint()
     md = read_model_description(str(native_fmu))
     vr = fv.value_references(md)
-    fmu = FMU2Model(guid=md.guid, unzipDirectory=extract(str(native_fmu)), modelIdentifier=fv.MODEL_NAME,
-                    instanceName="me")
+    fmu = FMU2Model(guid=md.guid, unzipDirectory=extract(str(native_fmu), unzipdir=str(tmp_path)),
+                    modelIdentifier=fv.MODEL_NAME, instanceName="me")
     fmu.instantiate()
     try:
         enter_initialisation(fmu, vr, joint)

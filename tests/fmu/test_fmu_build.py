@@ -28,11 +28,11 @@ HOST_SCRIPT = textwrap.dedent("""
     import json, sys
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
-    fmu = sys.argv[1]
+    fmu, unzipped = sys.argv[1:3]
     md = read_model_description(fmu)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     before = set(sys.modules)
-    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu), modelIdentifier="ClearanceWearJoint",
+    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu, unzipdir=unzipped), modelIdentifier="ClearanceWearJoint",
                   instanceName="imports")
     s.instantiate()
     s.setupExperiment(startTime=0.0)
@@ -56,8 +56,8 @@ HOST_SCRIPT = textwrap.dedent("""
 
 @pytest.mark.slow   # 12 s (a fresh interpreter imports the pythonfmu slave); the default suite stays under 5 min
 def test_fmu_runtime_imports_only_numpy_numba_and_wearjoint(built_fmu, tmp_path):
-    done = subprocess.run([sys.executable, "-c", HOST_SCRIPT, str(built_fmu)], capture_output=True, text=True,
-                          cwd=tmp_path, timeout=120)
+    done = subprocess.run([sys.executable, "-c", HOST_SCRIPT, str(built_fmu), str(tmp_path / "unzipped")],
+                          capture_output=True, text=True, cwd=tmp_path, timeout=120)
     assert done.returncode == 0, done.stderr
     report = json.loads(done.stdout.strip().splitlines()[-1])
     heavy = [m for m in report["loaded"] if m.split(".")[0] in ("scipy", "matplotlib", "exudyn", "fmpy_gui")]
@@ -224,7 +224,8 @@ def test_a_pythonfmu_fmu_loaded_in_the_process_does_not_break_the_next_build(bui
         from fmpy import extract, instantiate_fmu, read_model_description
         from wearjoint.fmu.build_pythonfmu import build_fmu
         md = read_model_description({str(built_fmu)!r})
-        fmu = instantiate_fmu(extract({str(built_fmu)!r}), md, "CoSimulation")
+        fmu = instantiate_fmu(extract({str(built_fmu)!r}, unzipdir={str(tmp_path / "unzipped")!r}), md,
+                              "CoSimulation")
         fmu.setupExperiment(startTime=0.0); fmu.enterInitializationMode(); fmu.exitInitializationMode()
         assert "pythonfmu" in sys.modules and "resources" in sys.modules["pythonfmu"].__file__
         built = build_fmu({str(tmp_path)!r}, n_points=64, force=True)
