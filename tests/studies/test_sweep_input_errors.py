@@ -4,6 +4,8 @@ design, design files of the wrong shape, repeated values, options whose value ho
 would refuse, a --scheduler that cannot be reached, a negative --seed.  (A case that fails as it runs, a diverged
 run, is still recorded as failed, exit 1: tests/studies/test_sweep.py's sweep.)"""
 import json
+import subprocess
+import sys
 
 import pytest
 
@@ -202,3 +204,16 @@ def test_a_sensitivity_range_the_run_refuses_names_param(tmp_path, capsys):
     line = refused(capsys, "sensitivity", "simulate", *TINY, "--param", "revolutions=0,1", "--out",
                    str(tmp_path / "out"))
     assert "--param 'revolutions=0.0,1.0': revolutions=0.0 is invalid: allowed > 0" in line
+
+
+def test_refused_addresses_one_after_another_in_one_process_do_not_hang():
+    """A client that failed to connect is left in a reference cycle; collected during the next client's start it
+    waited for ever on that start (distributed's LoopRunner): the second refusal in one process hung.  In a
+    subprocess with a time limit, so that a hang fails the test instead of stopping the suite."""
+    code = ("from wearjoint.sweep import runner\nfrom wearjoint.checks import ParameterError\n"
+            "runner.CONNECT_TIMEOUT_S = 1\n"
+            "for address in ('notanaddress', 'tcp://127.0.0.1:1', 'notanaddress'):\n"
+            "    try:\n        runner.start_client(None, address)\n"
+            "    except ParameterError:\n        print('refused', flush=True)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=90)
+    assert done.returncode == 0 and done.stdout.split() == ["refused"] * 3, done.stderr[-2000:]
