@@ -52,6 +52,15 @@ def write_whole(path: Path, data: bytes) -> None:
         raise
 
 
+def keep_in_cache(path: Path, data: bytes) -> None:
+    """``data`` into the user-cache file ``path`` (:func:`write_whole`); a cache that cannot be written is skipped
+    (the build goes on without it)."""
+    try:
+        write_whole(path, data)
+    except OSError:
+        pass
+
+
 def existing_build_key(fmu_path: Path) -> str | None:
     """The build key an FMU was built with (resources/wearjoint_fmu.json), None if unreadable."""
     try:

@@ -42,7 +42,7 @@ from . import variables as fv
 from . import platforms
 from .kernel_ir import compile_kernel_ir, emit_objects
 from .build_common import (FMU_SOURCE_DIR, PACKAGE_DIR, current_build, existing_build_key, fmi2_headers,
-                           source_digest, user_cache_dir, write_whole)
+                           keep_in_cache, source_digest, user_cache_dir, write_whole)
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
 from .model_description import (
@@ -474,9 +474,6 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
                 if path.is_file():
                     fmu.write(path, f"sources/{path.relative_to(sources).as_posix()}")
         partial.replace(target_path)
-    if kept.resolve() != target_path.resolve():
-        try:     # for the next build of the same key, wherever it goes
-            write_whole(kept, target_path.read_bytes())
-        except OSError:
-            pass
+    if kept.resolve() != target_path.resolve():     # for the next build of the same key, wherever it goes
+        keep_in_cache(kept, target_path.read_bytes())
     return target_path

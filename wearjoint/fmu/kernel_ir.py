@@ -34,7 +34,7 @@ from pathlib import Path
 
 from .._compile.prefetch import usable_cores
 from . import aot, platforms
-from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, source_digest, user_cache_dir, write_whole
+from .build_common import FMU_SOURCE_DIR, PACKAGE_DIR, keep_in_cache, source_digest, user_cache_dir
 
 # what every model's kernel IR depends on (with its own modules, the numba and llvmlite versions): every kernel
 # module (all of core/, so that a new one cannot be left out) and the modules that fix the parameter vectors
@@ -207,14 +207,6 @@ def cached_object(ir_path: Path, target: platforms.Platform) -> Path:
     return user_cache_dir() / "objects" / f"{digest.hexdigest()[:32]}.o"
 
 
-def _keep(path: Path, data: bytes) -> None:
-    """``data`` into the cache file ``path`` (:func:`write_whole`); a cache that cannot be written is skipped."""
-    try:
-        write_whole(path, data)
-    except OSError:
-        pass
-
-
 def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform, reuse: bool = True) -> list[str]:
     """Objects of the kernels' IR for ``target`` in ``kernel_dir/<platform>/``, from the user cache where it has
     them (``reuse``: :func:`cached_object`) else emitted and kept there; their paths relative to ``kernel_dir``'s
@@ -226,7 +218,7 @@ def kernel_objects(kernel_dir: Path, modules: dict, target: platforms.Platform, 
         data = cached.read_bytes() if reuse and cached.is_file() else None
         if data is None:
             data = aot.emit_object(kernel_dir / ir_name, target.triple, target.cpu)
-            _keep(cached, data)
+            keep_in_cache(cached, data)
         (folder / f"{symbol}.o").write_bytes(data)
     return _object_paths(kernel_dir, modules, target)
 
