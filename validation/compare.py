@@ -194,7 +194,7 @@ class Runs:
     the no-wear ensembles (one record per perturbed start, the unperturbed first) of the
     reference, of the other valid monolithic configurations by label and of each engine;
     ``reference``: the reference ensemble's unperturbed run; ``window_reference``: the monolithic RK4 at h and at
-    h/2 over the point-wise window, every step recorded; ``window``: engine -> (run at the
+    h/2 over the point-wise window, every step recorded (up to WINDOW_ROWS rows); ``window``: engine -> (run at the
     window step, run at twice that step); ``law_window``: engine of ``LAW_REFERENCES`` -> the
     monolithic reference with its law (RK4 at h, at h/2); ``law_ensembles``: engine -> the reference's
     ensemble run with its law; ``wear_reference`` / ``wear_scatter`` / ``wear_engines``: the wear
