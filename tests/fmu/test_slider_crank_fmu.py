@@ -303,3 +303,46 @@ def test_model_structure_declares_the_feed_through_finite_differences_show(fmus)
         model.terminate()
         model.freeInstance()
     assert moved_somewhere == {name: declared[2][name] for name in unknowns}
+
+
+def test_the_initial_state_declares_the_parameters_finite_differences_show(fmus):
+    """At initialisation (InitialUnknowns) the positions, velocities and the joint's kinematics declare the
+    parameters that assemble the mechanism; with a three-row slider-load table on, every other parameter (the
+    masses, gravity, the loads, the table's second row, the internal step, the coupling) moved leaves them
+    unchanged to the bit, and each declared one moves one of them by more than 1e-9 of its unit."""
+    declared = {u.variable.name: {d.name for d in u.dependencies} for u in fmus[2]["md"].initialUnknowns}
+    accelerations = {a.name for a in sc.ACCELERATIONS}
+    assembled = sorted(name for name in declared if name not in accelerations)
+    assert len(assembled) == 30 and {frozenset(declared[name]) for name in assembled} == {frozenset(
+        declared[assembled[0]])}
+    vrs = [sc.VALUE_REFERENCES[name] for name in assembled]
+    table = {"slider_force_table_rows": 3.0, "slider_force_table_angle_1": 0.0, "slider_force_table_angle_2": 180.0,
+             "slider_force_table_angle_3": 360.0, "slider_force_table_force_1": 100.0,
+             "slider_force_table_force_2": -50.0, "slider_force_table_force_3": 100.0}
+
+    def initial_values(changes):
+        slave = initialised_slave(fmus[2], {**table, **changes})
+        values = np.array(slave.getReal(vrs))
+        slave.terminate()
+        slave.freeInstance()
+        return values
+
+    before = initial_values({})
+    moving = set()
+    for p in sc.PARAMETERS:
+        if p.name.startswith("slider_force_table_") and p.name not in table or p.name.endswith(("_1", "_3")):
+            continue        # rows the table does not use; its first and last rows are fixed at 0 and 360 deg
+        value = table.get(p.name, p.start)
+        if p.name == "slider_force_table_rows":
+            moved = 0.0
+        elif p.choices:
+            moved = float((int(value) + 1) % len(p.choices))
+        else:
+            moved = 1.1 * value + 0.1
+        change = np.abs(initial_values({p.name: moved}) - before).max()
+        if p.name in declared[assembled[0]]:
+            assert change > 1e-9, (p.name, change)
+            moving.add(p.name)
+        else:
+            assert change == 0.0, (p.name, change)
+    assert moving == declared[assembled[0]]

@@ -284,6 +284,12 @@ _CRANK_LOADS = ("pin_force_x", "pin_force_y", SLIDER_FORCE_NAME)
 _LOAD_DRIVEN = {"crank_ax": _CRANK_LOADS, "crank_ay": _CRANK_LOADS, "rod_ax": _MOVING_LOADS, "rod_ay": _MOVING_LOADS,
                 "rod_alpha": _MOVING_LOADS, "slider_a": _MOVING_LOADS}
 _JOINT_KINEMATICS = frozenset(v.name for v in JOINT_KINEMATICS)
+# The assembled initial state (core.slider_crank.initial_state: the ideal mechanism at the initial crank angle, Eq.
+# 39, its velocities solving the constraints with the clearance joint's rows open) and so the joint's kinematics
+# read off it depend on these parameters alone; its accelerations on every parameter (masses, gravity, loads).
+# Declaring every parameter for them too (the load table's 722 entries) made OMSimulator's dependency graph 3x
+# larger and its import and initialisation of the package twice as long.
+_ASSEMBLY_PARAMETERS = ("crank_length", "rod_length", "crank_speed", "initial_crank_angle", "clearance_joint")
 
 
 def input_dependencies(name: str) -> tuple[str, ...]:
@@ -294,9 +300,12 @@ def input_dependencies(name: str) -> tuple[str, ...]:
 def _known_dependencies(name: str, kind: str) -> tuple[str, ...]:
     """The knowns ``name`` depends on as an unknown of ``kind``: "output" (the joint's kinematics: the states;
     an acceleration: its inputs and the states), "derivative" (a velocity: itself, the state; an acceleration:
-    its inputs and the states) or "initial" (its inputs and the mechanism's parameters: geometry, initial
-    angle, speed, masses make the assembled initial state and its accelerations)."""
+    its inputs and the states) or "initial" (a position, a velocity or the joint's kinematics: the parameters of
+    the assembly, :data:`_ASSEMBLY_PARAMETERS`; an acceleration: its inputs and every parameter but the internal
+    step)."""
     accelerations = {a.name for a in ACCELERATIONS}
+    if kind == "initial" and name not in accelerations:
+        return _ASSEMBLY_PARAMETERS
     if kind == "initial":
         return (*input_dependencies(name), *(p.name for p in PARAMETERS if p.name != MAX_INTERNAL_STEP_NAME))
     if name in accelerations:
