@@ -27,6 +27,9 @@ untimed run of each that builds the FMU and fills the numba caches), through API
 * ``cold`` -- ``wearjoint simulate --revolutions 0.05``, ``wearjoint build-fmu`` and ``wearjoint cosim
   --revolutions 0.02`` (the FMU and the master), each from empty numba and FMU caches: wall seconds
   (several minutes per pair; not run by default);
+* ``export-ssp`` -- ``wearjoint export-ssp --platforms linux64 --out DIR`` as a fresh process after an earlier run
+  (warm caches): wall seconds with the same parameters as that run, and with a crank speed no run has built yet
+  (new start values: the FMUs' kernels unchanged);
 * ``cosim-groove`` -- the co-simulation at equal accuracy where the coupling sets the steps: the case ``groove`` of
   ``wearjoint.studies.coupling_accuracy`` (a slider-crank whose bushing holds a conforming groove 5.7 clearances
   deep, no further wear; its mechanism, joint and profile in ``benchmarks/data/groove_case.npz``, written by
@@ -54,7 +57,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 PROBES = ("main-job", "cosim-wear", "cosim-wear-starts", "cosim-wear-long", "monolithic-wear", "cosim", "monolithic",
-          "cold", "cosim-groove")
+          "cold", "cosim-groove", "export-ssp")
 # cosim-wear-starts: this many starts, the initial crank angle spread over a turn (the accuracy ensembles' spread)
 STARTS = 8
 GROOVE_CASE = REPO / "benchmarks" / "data" / "groove_case.npz"
@@ -141,6 +144,19 @@ def probe_main_job() -> dict:
             t0 = time.perf_counter()
             subprocess.run([sys.executable, "-m", "wearjoint", "cosim", "--revolutions", "1", "--out", f"{tmp}/out",
                             *extra], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            figures[name] = time.perf_counter() - t0
+    return figures
+
+
+def probe_export_ssp() -> dict:
+    """Wall seconds of ``export-ssp`` for linux64 (warm: the caller ran it once), again and with new start values."""
+    figures = {}
+    new_speed = f"{1000.0 + (time.time_ns() // 1000) % 10**9 * 1e-9:.9f}"     # a crank speed [rpm] no run has built
+    for name, extra in (("export-ssp again s", []), ("export-ssp new parameters s", ["--crank-speed-rpm", new_speed])):
+        with tempfile.TemporaryDirectory(prefix="compare_ssp_") as tmp:
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "wearjoint", "export-ssp", "--platforms", "linux64", "--out",
+                            f"{tmp}/out", *extra], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             figures[name] = time.perf_counter() - t0
     return figures
 
