@@ -10,6 +10,7 @@ from pathlib import Path
 
 import wearjoint
 from wearjoint._compile import cache
+from wearjoint._compile.user_cache import prune_least_recently_used
 
 PACKAGE = Path(wearjoint.__file__).parent
 
@@ -75,7 +76,7 @@ def test_old_digest_folders_are_pruned_to_the_most_recent(tmp_path):
     for i in range(cache.KEEP + 2):
         (root / f"old{i}").mkdir(parents=True)
         os.utime(root / f"old{i}", (1000 + i, 1000 + i))
-    cache._prune(root, "current")
+    prune_least_recently_used(root, "current", cache.KEEP)
     kept = sorted(p.name for p in root.iterdir())
     assert kept == [f"old{i}" for i in range(3, cache.KEEP + 2)]      # KEEP - 1 newest, and "current" to come
 

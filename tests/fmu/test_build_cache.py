@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from wearjoint.fmu import build_native
+from wearjoint.fmu import build_common, build_native
 from wearjoint.fmu.build_common import existing_build_key
 
 pytest.importorskip("fmpy")
@@ -38,3 +38,18 @@ def test_the_same_build_elsewhere_is_copied_and_other_starts_or_force_build(tmp_
     assert len(compilations) == 2 and existing_build_key(other) != existing_build_key(first)
     build_native.build_fmu(tmp_path / "d", force=True, **build)
     assert len(compilations) == 3
+
+
+def test_the_cache_keeps_the_most_recently_used_builds(tmp_path, compilations, monkeypatch):
+    """Past FMU_BUILDS_KEPT builds the least recently used go: a build copied from the cache counts as used."""
+    monkeypatch.setattr(build_common, "FMU_BUILDS_KEPT", 3)
+    build = dict(platform_names="linux64", model="slider-crank")
+    masses = (1.5, 2.5, 3.5, 4.5)
+    keys = [existing_build_key(build_native.build_fmu(tmp_path / str(mass), starts={"slider_mass": mass}, **build))
+            for mass in masses[:3]]
+    build_native.build_fmu(tmp_path / "again", starts={"slider_mass": masses[0]}, **build)     # a copy: used now
+    assert len(compilations) == 3
+    keys.append(existing_build_key(build_native.build_fmu(tmp_path / "last", starts={"slider_mass": masses[3]},
+                                                          **build)))
+    kept = build_native.default_fmu_path(platform_names=["linux64"], model="slider-crank").parent.parent
+    assert {folder.name for folder in kept.iterdir()} == {keys[0], keys[2], keys[3]}

@@ -16,12 +16,11 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-import shutil
 from pathlib import Path
 
 from numba.core import caching, config
 
-from .user_cache import user_cache_dir
+from .user_cache import prune_least_recently_used, user_cache_dir
 
 KERNEL_PACKAGES = ("core", "cosim")     # whole: their modules hold kernels and the constants kernels compile in
 KEEP = 4
@@ -71,14 +70,6 @@ class KernelCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLo
         return super().from_function(py_func, py_file)
 
 
-def _prune(root: Path, current: str) -> None:
-    """Remove all but the :data:`KEEP` most recently used digest folders under ``root`` (``current`` kept)."""
-    folders = sorted((f for f in root.iterdir() if f.is_dir() and f.name != current),
-                     key=lambda f: f.stat().st_mtime, reverse=True)
-    for stale in folders[KEEP - 1:]:
-        shutil.rmtree(stale, ignore_errors=True)
-
-
 def install() -> None:
     """Make numba cache the package's kernels through :class:`KernelCacheLocator`, the digest of this
     source version; mark its folder used and, when it is new, prune the old ones."""
@@ -90,6 +81,6 @@ def install() -> None:
         if folder.is_dir():
             os.utime(folder)
         elif folder.parent.is_dir():
-            _prune(folder.parent, folder.name)
+            prune_least_recently_used(folder.parent, folder.name, KEEP)
     except OSError:      # a read-only cache: numba's own locators then apply
         pass

@@ -15,10 +15,12 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from .._compile.user_cache import mark_used, prune_least_recently_used
 from .._compile.user_cache import user_cache_dir as user_cache_dir   # built FMUs live below it
 from . import variables as fv
 
 FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
+FMU_BUILDS_KEPT = 32     # native builds the user cache keeps, the most recently used (0.4-1.2 MB each)
 PACKAGE_DIR = Path(__file__).resolve().parent.parent   # wearjoint/
 # fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
 FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
@@ -59,6 +61,20 @@ def keep_in_cache(path: Path, data: bytes) -> None:
         write_whole(path, data)
     except OSError:
         pass
+
+
+def keep_build_in_cache(kept: Path, built: Path) -> None:
+    """The FMU ``built`` kept at ``kept`` (the user cache's ``fmu/<build key>/``) for the next build of its key,
+    wherever it goes; the cache's builds pruned to the :data:`FMU_BUILDS_KEPT` most recently used."""
+    if kept.resolve() != built.resolve():
+        keep_in_cache(kept, built.read_bytes())
+    prune_least_recently_used(kept.parent.parent, kept.parent.name, FMU_BUILDS_KEPT)
+
+
+def copy_kept_build(kept: Path, target: Path) -> None:
+    """The build the user cache keeps at ``kept`` copied to ``target``, and marked used."""
+    write_whole(target, kept.read_bytes())
+    mark_used(kept.parent)
 
 
 def existing_build_key(fmu_path: Path) -> str | None:

@@ -41,8 +41,8 @@ from . import slider_crank as sc
 from . import variables as fv
 from . import platforms
 from .kernel_ir import compile_kernel_ir, emit_objects
-from .build_common import (FMU_SOURCE_DIR, PACKAGE_DIR, current_build, existing_build_key, fmi2_headers,
-                           keep_in_cache, source_digest, user_cache_dir, write_whole)
+from .build_common import (FMU_SOURCE_DIR, PACKAGE_DIR, copy_kept_build, current_build, existing_build_key,
+                           fmi2_headers, keep_build_in_cache, source_digest, user_cache_dir)
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
 from .model_description import (
@@ -407,7 +407,8 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
     ``profile_stride`` (the joint, FMI 2.0): every how many bushing points a ``wear_depth[z]`` output is
     (1: all, 0: none; :func:`~wearjoint.fmu.variables.profile_points`), the profile whole in the FMU's state.
     An FMU there built from the same sources, model, start values, n_points, FMI version
-    and platforms is kept, and one the user cache keeps (:func:`default_fmu_path`: each build leaves a copy there) is
+    and platforms is kept, and one the user cache keeps (:func:`default_fmu_path`: each build leaves a copy there, the
+    :data:`~.build_common.FMU_BUILDS_KEPT` most recently used kept) is
     copied, unless ``force`` (which also recompiles the kernels).  Raises
     ParameterError for a bad argument, RuntimeError when the build cannot run (naming what to
     install).
@@ -426,7 +427,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
         return target_path
     kept = default_fmu_path(n_points, fmi_version, [t.name for t in targets], model, starts, profile_stride, note)
     if not force and kept.resolve() != target_path.resolve() and existing_build_key(kept) == key:
-        write_whole(target_path, kept.read_bytes())      # the same build, kept by an earlier one
+        copy_kept_build(kept, target_path)      # the same build, kept by an earlier one
         return target_path
     out_dir = Path(out_dir)
     headers = fmi_headers(fmi_version)
@@ -474,6 +475,5 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
                 if path.is_file():
                     fmu.write(path, f"sources/{path.relative_to(sources).as_posix()}")
         partial.replace(target_path)
-    if kept.resolve() != target_path.resolve():     # for the next build of the same key, wherever it goes
-        keep_in_cache(kept, target_path.read_bytes())
+    keep_build_in_cache(kept, target_path)
     return target_path

@@ -12,6 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from .._compile.user_cache import mark_used
 from ..parameters import ParameterError
 from .fmi import DEFAULT_BACKEND, FmuError
 
@@ -28,6 +29,7 @@ def ensure_fmu(n_points: int, fmu_path=None, backend: str = DEFAULT_BACKEND) -> 
         return path
     path = default_fmu_path(n_points, backend)
     if path.is_file():
+        mark_used(path.parent)
         return path
     try:
         return build_fmu(path.parent, n_points=n_points, backend=backend)

@@ -16,7 +16,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from .._compile.user_cache import user_cache_dir
+from .._compile.user_cache import mark_used, prune_least_recently_used, user_cache_dir
 
 KEEP = 8                          # extracted FMUs kept (the most recently used)
 _COMPLETE = "wearjoint-extracted"  # written last: the folder is whole
@@ -63,21 +63,11 @@ def extracted_fmu(fmu_path) -> tuple[str, object, bool]:
                     # another process's extraction came first: ours is dropped, theirs used
             finally:
                 shutil.rmtree(staging, ignore_errors=True)   # gone once renamed
-            _prune(root, folder.name)
+            prune_least_recently_used(root, folder.name, KEEP)
         description = pickle.loads((folder / _DESCRIPTION).read_bytes())
-        try:
-            os.utime(folder)          # recently used: kept by _prune
-        except OSError:               # a read-only cache is still read
-            pass
+        mark_used(folder)
         return str(folder), description, False
     except (OSError, pickle.UnpicklingError, EOFError, AttributeError):
         own = Path(tempfile.mkdtemp(prefix="wearjoint-fmu-"))
         return str(own), _extract_into(fmu_path, own), True
 
-
-def _prune(root: Path, current: str) -> None:
-    """Remove all but the KEEP most recently used extracted FMUs (``current`` always kept)."""
-    folders = sorted((p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")),
-                     key=lambda p: p.stat().st_mtime, reverse=True)
-    for folder in [p for p in folders if p.name != current][KEEP - 1:]:
-        shutil.rmtree(folder, ignore_errors=True)
