@@ -140,15 +140,21 @@ def take_calibration(options: Mapping, joint_values: dict) -> None:
 def calibrated_wear_coefficient(folder) -> float:
     """The one-k_w fit [m^2/N] of a `wearjoint calibrate` folder's calibration.json."""
     path = Path(folder) / "calibration.json"
+    fit, value = {}, None
     try:
         fit = json.loads(path.read_text())
+        fit = fit if isinstance(fit, dict) else {}
         value = float(fit["wear_coefficient_m2_N"]) if fit.get("law") == "archard" else math.nan
     except (OSError, ValueError, KeyError, TypeError):
-        value = None
+        pass
     if value is None or not (math.isfinite(value) and value > 0.0):
+        if "target_max_depth_m" in fit:    # wear-study --calibrate-max-depth-m's
+            problem = (f"holds a wear study's calibration to a depth, not a fit (give its k_w as "
+                       f"--wear-coefficient-m2-N {fit.get('effective_wear_coefficient_m2_N')})")
+        else:
+            problem = "does not" if fit.get("law") != "mild-severe" else "is a mild-severe fit"
         raise ParameterError(f"parameter calibration={str(folder)!r} is invalid: allowed a `wearjoint calibrate` "
-                             f"folder whose calibration.json holds a one-k_w (archard) fit; {path} "
-                             + ("does not" if value is None else "is a mild-severe fit"))
+                             f"folder whose calibration.json holds a one-k_w (archard) fit; {path} {problem}")
     return value
 
 

@@ -139,6 +139,26 @@ def test_the_papers_experiment_is_the_default_points_only_on_a_study_of_the_pape
     assert list(EXPERIMENT_REVOLUTIONS) == [200000, 400000] and list(EXPERIMENT_MAX_DEPTH_M) == [1.9e-4, 5.5e-4]
 
 
+@pytest.mark.parametrize("tolerance, verdict", [("0.5", "a fit"), ("0.1", "not a fit")])
+def test_calibrate_prints_whether_the_residuals_are_within_the_tolerance(tmp_path, capsys, tolerance, verdict):
+    """Two depths growing 3x where the study's curve grows 2^0.9 = 1.87x: one k_w misses each by about 24 %."""
+    study = tmp_path / "study"
+    study.mkdir()
+    np.savetxt(study / "wear_growth.csv", power_growth(), delimiter=",",
+               header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
+    (study / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
+                                                                              "wear_factor": 1.0}}}))
+    assert cli_main(["calibrate", "--study", str(study), "--points", "1000:1e-5,2000:3e-5", "--tolerance", tolerance,
+                     "--no-plots", "--out", str(tmp_path / "c")]) == 0
+    residuals = next(line for line in capsys.readouterr().out.splitlines() if "residuals" in line)
+    assert residuals.endswith(f"--tolerance {tolerance} of its depth, {verdict}"), residuals
+    fit = json.loads((tmp_path / "c" / "calibration.json").read_text())
+    assert fit["fits"] == (verdict == "a fit") and 0.2 < max(abs(r) for r in fit["residuals_rel"]) < 0.3
+    assert cli_main(["calibrate", "--study", str(study), "--points", "1000:1e-5", "--no-plots", "--out",
+                     str(tmp_path / "c")]) == 0      # a second fit into the same folder says it replaces the first
+    assert f"replacing the fit in {tmp_path / 'c' / 'calibration.json'}" in capsys.readouterr().out
+
+
 def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_without_a_study(tmp_path, capsys):
     study = tmp_path / "study"
     study.mkdir()
@@ -214,6 +234,14 @@ def test_a_calibration_folder_carries_its_k_w_into_a_run_and_names_itself_as_the
                      str(tmp_path / "y")]) == 2
     errors = capsys.readouterr().err.splitlines()
     assert "both given" in errors[-2] and "mild-severe fit" in errors[-1] and not (tmp_path / "y").exists()
+    # wear-study --calibrate-max-depth-m writes a calibration.json too: a k_w to reach a depth, not a fit
+    (folder / "calibration.json").write_text(json.dumps({"target_max_depth_m": 5.8e-4,
+                                                         "effective_wear_coefficient_m2_N": 5.63e-11}))
+    assert cli_main(["simulate", "--revolutions", "0.02", "--calibration", str(folder), "--out",
+                     str(tmp_path / "z")]) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and "a wear study's calibration to a depth" in error[0], error
+    assert "--wear-coefficient-m2-N 5.63e-11" in error[0] and "mild-severe" not in error[0]
 
 
 def test_build_fmu_takes_the_calibrated_k_w_as_the_fmus_start_value_and_names_its_source(tmp_path):

@@ -175,6 +175,7 @@ def test_a_parameter_takes_either_spelling():
     (("--param", "restitution=0.6,0.9", "--outputs", "max_wear_depth_m,depth"), "--outputs 'depth'"),
     (("--param", "restitution=0.6,0.9", "--target-interval", "0"), "--target-interval=0.0"),
     (("--param", "restitution=0.6,0.9", "--workers", "0"), "--workers=0"),
+    (("--param", "restitution=0.6,0.9", "--seeds", "2"), "--seeds=2 is invalid here"),
     ((), "--param is missing"),
 ])
 def test_bad_input_gives_one_line_naming_the_option_and_the_value(tmp_path, capsys, args, named):
@@ -182,6 +183,14 @@ def test_bad_input_gives_one_line_naming_the_option_and_the_value(tmp_path, caps
     err = capsys.readouterr().err
     assert code == 2 and named in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("target", ["simulate", "wear-study"])
+def test_the_help_lists_no_seeds_option_which_a_study_refuses(capsys, target):
+    with pytest.raises(SystemExit):
+        main(["sensitivity", target, "--help"])
+    help_text = capsys.readouterr().out
+    assert "--param" in help_text and "--seeds" not in help_text
 
 
 def test_importing_the_command_imports_neither_salib_nor_dask():

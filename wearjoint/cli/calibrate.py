@@ -129,6 +129,8 @@ def run(args) -> int:
                    "points": [{"revolutions": n, "max_wear_depth_m": d, "uncertainty_m": u} for n, d, u in points]})
     out = Path(args.out) if args.out else study
     out.mkdir(parents=True, exist_ok=True)
+    if (out / "calibration.json").is_file():      # what --calibration reads: say that it changes
+        print(f"replacing the fit in {out / 'calibration.json'} (--out DIR keeps it)")
     write_json_atomic(out / "calibration.json", result)
     if not args.no_plots:
         reach = [p["revolutions"] for p in result.get("predictions", []) if p["depth_m"] is not None]
@@ -157,7 +159,9 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
                  else ""))
         if result["note"]:
             print(f"  {result['note']}")
-        print("  residuals " + ", ".join(f"{r:+.1%}" for r in result["residuals_rel"]))
+        print("  residuals " + ", ".join(f"{r:+.1%}" for r in result["residuals_rel"])
+              + (f": each within --tolerance {args.tolerance:g} of its depth, a fit" if result["fits"]
+                 else f": beyond --tolerance {args.tolerance:g} of its depth, not a fit"))
         result["master_curve"] = master_curve_check(k0, result)
         if result["master_curve"]["note"]:
             print(f"  {result['master_curve']['note']}")

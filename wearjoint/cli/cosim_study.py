@@ -18,7 +18,7 @@ STUDY_OPTIONS = {"revolutions": "--revolutions", "step_s": "--steps", "scheme": 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--out", type=Path, required=True, help="output folder (created)")
-    parser.add_argument("--revolutions", type=float, default=2.0, help="crank revolutions per run")
+    parser.add_argument("--revolutions", type=float, default=2.0, help="crank revolutions per run (default %(default)s)")
     parser.add_argument("--steps", type=float, nargs="+", default=None,
                         help="communication steps [s] (default: " + ", ".join(f"{s:g}" for s in PAPER_STEPS_S)
                              + " on the paper's mechanism, scaled by the step rule for others: docs/explanation/cosim_study.md)")

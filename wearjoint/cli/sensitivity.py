@@ -51,6 +51,7 @@ def target_parser(target: str) -> argparse.ArgumentParser:
                         "variant)")
     if "--resume" not in parser._option_string_actions:
         g.add_argument("--resume", action="store_true", help="reuse the runs finished in --out")
+    parser._option_string_actions["--seeds"].help = argparse.SUPPRESS    # refused (run): a design row is one run
     return parser
 
 
