@@ -130,7 +130,7 @@ def run(args) -> int:
     out = Path(args.out) if args.out else study
     out.mkdir(parents=True, exist_ok=True)
     if (out / "calibration.json").is_file():      # what --calibration reads: say that it changes
-        print(f"replacing the fit in {out / 'calibration.json'} (--out DIR keeps it)")
+        print(f"replacing the fit in {out / 'calibration.json'} (another --out keeps it)")
     write_json_atomic(out / "calibration.json", result)
     if not args.no_plots:
         reach = [p["revolutions"] for p in result.get("predictions", []) if p["depth_m"] is not None]

@@ -20,7 +20,7 @@ from .._compile.user_cache import user_cache_dir as user_cache_dir   # built FMU
 from . import variables as fv
 
 FMU_FILE_NAME = f"{fv.MODEL_NAME}.fmu"
-FMU_BUILDS_KEPT = 32     # native builds the user cache keeps, the most recently used (0.4-1.2 MB each)
+FMU_BUILDS_KEPT = 32     # FMU builds the user cache keeps (fmu/<build key>/), the most recently used (0.4-1.2 MB)
 PACKAGE_DIR = Path(__file__).resolve().parent.parent   # wearjoint/
 # fmu_src is the package wearjoint.fmu_src (the folder fmu_src/ in the source tree)
 FMU_SOURCE_DIR = Path(importlib.util.find_spec("wearjoint.fmu_src").origin).resolve().parent
