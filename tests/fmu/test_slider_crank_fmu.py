@@ -330,7 +330,7 @@ def test_the_initial_state_declares_the_parameters_finite_differences_show(fmus)
     before = initial_values({})
     moving = set()
     for p in sc.PARAMETERS:
-        if p.name.startswith("slider_force_table_") and p.name not in table or p.name.endswith(("_1", "_3")):
+        if (p.name.startswith("slider_force_table_") and p.name not in table) or p.name.endswith(("_1", "_3")):
             continue        # rows the table does not use; its first and last rows are fixed at 0 and 360 deg
         value = table.get(p.name, p.start)
         if p.name == "slider_force_table_rows":

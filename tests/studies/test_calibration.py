@@ -23,6 +23,17 @@ def power_growth(rate=1.5e-7, exponent=0.9, reach=4000):
     return np.column_stack([n, rate * n ** exponent, np.zeros_like(n)])
 
 
+def written_study(folder):
+    """A finished wear study's files in ``folder`` as calibrate reads them: the growth of :func:`power_growth` at
+    k_w = K0, wear factor 1."""
+    folder.mkdir()
+    np.savetxt(folder / "wear_growth.csv", power_growth(), delimiter=",",
+               header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
+    (folder / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
+                                                                               "wear_factor": 1.0}}}))
+    return folder
+
+
 def test_one_k_w_is_recovered_with_zero_residuals_when_the_points_lie_on_the_curve():
     growth = power_growth()
     k_true = 2e-13                                   # N k / k0 within the study's 4000 revolutions
@@ -142,12 +153,7 @@ def test_the_papers_experiment_is_the_default_points_only_on_a_study_of_the_pape
 @pytest.mark.parametrize("tolerance, verdict", [("0.5", "a fit"), ("0.1", "not a fit")])
 def test_calibrate_prints_whether_the_residuals_are_within_the_tolerance(tmp_path, capsys, tolerance, verdict):
     """Two depths growing 3x where the study's curve grows 2^0.9 = 1.87x: one k_w misses each by about 24 %."""
-    study = tmp_path / "study"
-    study.mkdir()
-    np.savetxt(study / "wear_growth.csv", power_growth(), delimiter=",",
-               header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
-    (study / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
-                                                                              "wear_factor": 1.0}}}))
+    study = written_study(tmp_path / "study")
     assert cli_main(["calibrate", "--study", str(study), "--points", "1000:1e-5,2000:3e-5", "--tolerance", tolerance,
                      "--no-plots", "--out", str(tmp_path / "c")]) == 0
     residuals = next(line for line in capsys.readouterr().out.splitlines() if "residuals" in line)
@@ -160,13 +166,7 @@ def test_calibrate_prints_whether_the_residuals_are_within_the_tolerance(tmp_pat
 
 
 def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_without_a_study(tmp_path, capsys):
-    study = tmp_path / "study"
-    study.mkdir()
-    growth = power_growth()
-    np.savetxt(study / "wear_growth.csv", growth, delimiter=",", header="revolutions,max_wear_depth_m,worn_volume_m3",
-               comments="")
-    (study / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
-                                                                              "wear_factor": 1.0}}}))
+    study = written_study(tmp_path / "study")
     assert cli_main(["calibrate", "--study", str(study), "--points", "1000:1e-4", "--out", str(tmp_path / "c")]) == 0
     result = json.loads((tmp_path / "c" / "calibration.json").read_text())
     assert result["wear_coefficient_m2_N"] == pytest.approx(K0 * (1e-4 / 1.5e-7) ** (1 / 0.9) / 1000, rel=2e-3)
@@ -184,12 +184,7 @@ def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_witho
 
 
 def test_calibrate_command_predicts_with_bands_and_asks_for_a_stated_transition(tmp_path, capsys):
-    study = tmp_path / "study"
-    study.mkdir()
-    np.savetxt(study / "wear_growth.csv", power_growth(), delimiter=",",
-               header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
-    (study / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
-                                                                              "wear_factor": 1.0}}}))
+    study = written_study(tmp_path / "study")
     out = tmp_path / "c"
     assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5,300000:1.1e-4:3e-6",
                      "--depth-uncertainty-m", "2e-6", "--predict-revolutions", "500000,5000000",
