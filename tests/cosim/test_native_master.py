@@ -13,6 +13,7 @@ from wearjoint.cosim.master_layout import B_INPUT, B_TRIG, buffer_views
 from wearjoint.cosim.master_loop import communication_step, master_loop
 from wearjoint.mechanism_parameters import SliderForceTable
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
+from wearjoint.simulate import SimulationOptions, run_simulation
 
 
 def _run(options, fmu_path, mechanism, native: bool, monkeypatch):
@@ -70,12 +71,32 @@ def test_without_a_c_compiler_the_master_runs_numbas_kernels(native_fmu, tmp_pat
     monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
     monkeypatch.setattr(native_master, "_loaded", None)
     monkeypatch.setattr(native_master, "_failed", False)
+    monkeypatch.setattr(native_master, "_path", None)
     assert native_master.native_master(build=False) is None and not native_master._failed   # not built: not tried
     assert native_master.native_master() is None and native_master._failed
     with CoSimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.01), fmu_path=native_fmu) as sim:
         assert sim._master_loop is master_loop
         assert sim.advance_to(0.002, np.zeros((300, L.N_SAMPLE_COLUMNS))) > 0 and sim.communication_steps > 0
     assert not (tmp_path / "master").exists() or not any((tmp_path / "master").iterdir())
+
+
+def test_a_run_without_the_library_looks_its_path_up_once(tmp_path, monkeypatch):
+    """A monolithic run where the library is not built (nobody co-simulated yet): the kernels it calls from Python
+    ask for the library at every chunk (the divergence check's stiffness); its path, a hash of the kernels' sources,
+    is computed once, and the run gives numba's numbers (its wall time halved when it was computed each time)."""
+    lookups = []
+
+    def missing_library():
+        lookups.append(1)
+        return tmp_path / "master" / "wearjoint_master.so"
+
+    monkeypatch.setattr(native_master, "library_path", missing_library)
+    monkeypatch.setattr(native_master, "_loaded", None)
+    monkeypatch.setattr(native_master, "_failed", False)
+    monkeypatch.setattr(native_master, "_path", None)
+    run = run_simulation(paper_joint(wear_factor=0.0), options=SimulationOptions(revolutions=1.0), progress=False)
+    assert run.summary()["completed"] and len(lookups) == 1
+    assert native_master.native_master(build=False) is None and len(lookups) == 1 and not native_master._failed
 
 
 def test_a_cosimulation_with_its_library_built_imports_no_numba(tmp_path):
