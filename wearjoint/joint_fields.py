@@ -157,7 +157,8 @@ def real_field_values(params) -> dict[str, float]:
 
 def check_joint_fields(params) -> None:
     """ParameterError naming the first field of ``params`` (a JointParameters, its real values finite floats:
-    :func:`real_field_values`) outside its row's rule."""
+    :func:`real_field_values`) outside its row's rule, with the value of the field the rule compares it to (the
+    value the user set may be that one: a pin radius past the default bushing's)."""
     for f in JOINT_FIELDS:
         if f.choices is not None:
             value = getattr(params, f.field)
@@ -165,7 +166,9 @@ def check_joint_fields(params) -> None:
     values = coded_values(params)
     for f in JOINT_FIELDS:
         if f.choices is None and not f.allowed.admits(values[f.fmu_name], values):
-            require(f.field, getattr(params, f.field), False, allowed_text(f, FIELD_NAMES))
+            other = FIELD_NAMES.get(f.allowed.above)
+            compared = f" ({other} = {getattr(params, other)!r})" if other else ""
+            require(f.field, getattr(params, f.field), False, allowed_text(f, FIELD_NAMES) + compared)
 
 
 __all__ = ["JointField", "JOINT_FIELDS", "FIELD_NAMES", "coded_value", "coded_values", "allowed_text",

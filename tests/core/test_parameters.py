@@ -96,6 +96,15 @@ def test_bad_joint_parameter_is_named_in_the_error(name, value, allowed):
     assert name in text and repr(value)[:6] in text and allowed in text
 
 
+def test_a_radius_past_the_other_names_both_values():
+    """A pin radius set past the default bushing's: the error names the bushing radius the rule checks and the pin
+    radius the user set, with both values."""
+    with pytest.raises(ParameterError) as err:
+        JointParameters(pin_radius_m=0.02)
+    text = str(err.value)
+    assert "bushing_radius_m=0.0101" in text and "> pin_radius_m (pin_radius_m = 0.02)" in text and "\n" not in text
+
+
 BAD_MECHANISM = [
     ("crank_mass_kg", 0.0), ("rod_mass_kg", -1.0), ("slider_mass_kg", float("nan")),
     ("crank_length_m", 0.0), ("rod_length_m", 0.04), ("crank_inertia_kg_m2", -1e-3),
