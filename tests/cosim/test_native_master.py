@@ -83,7 +83,7 @@ def test_without_a_c_compiler_the_master_runs_numbas_kernels(native_fmu, tmp_pat
 def test_a_run_without_the_library_looks_its_path_up_once(tmp_path, monkeypatch):
     """A monolithic run where the library is not built (nobody co-simulated yet): the kernels it calls from Python
     ask for the library at every chunk (the divergence check's stiffness); its path, a hash of the kernels' sources,
-    is computed once, and the run gives numba's numbers (its wall time halved when it was computed each time)."""
+    is computed once (each time, it halved the run's real-time factor), and a later ask still finds no library."""
     lookups = []
 
     def missing_library():
