@@ -14,13 +14,12 @@ older ones removed when a new one is started.
 from __future__ import annotations
 
 import hashlib
-import os
 import re
 from pathlib import Path
 
 from numba.core import caching, config
 
-from .user_cache import prune_least_recently_used, user_cache_dir
+from .user_cache import mark_used, prune_least_recently_used, user_cache_dir
 
 KERNEL_PACKAGES = ("core", "cosim")     # whole: their modules hold kernels and the constants kernels compile in
 KEEP = 4
@@ -79,7 +78,7 @@ def install() -> None:
     folder = cache_root() / KernelCacheLocator.digest
     try:
         if folder.is_dir():
-            os.utime(folder)
+            mark_used(folder)
         elif folder.parent.is_dir():
             prune_least_recently_used(folder.parent, folder.name, KEEP)
     except OSError:      # a read-only cache: numba's own locators then apply
