@@ -4,6 +4,7 @@ import json
 import os
 import subprocess
 import sys
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -60,8 +61,8 @@ def test_a_compilation_that_lasts_announces_what_compiles_and_its_time(capsys, m
         kernel(4.0)
         kernel(2)                                   # a second specialisation: counted, not announced again
     err = capsys.readouterr().err
-    text, seconds = notice.ESTIMATES["simulate"][:2]
-    assert err.splitlines()[0] == (f"wearjoint: compiling {text}: about {seconds} s on first use, "
+    text, seconds = notice.ESTIMATES["simulate"][0], notice.cold_run("simulate")[0]
+    assert err.splitlines()[0] == (f"wearjoint: compiling {text}: about {seconds:.0f} s on first use, "
                                    "cached for later runs")
     assert err.count("wearjoint: compiling") == 1 and watch.count == 2
 
@@ -97,6 +98,65 @@ def test_a_count_still_open_when_the_command_ends_writes_no_line_after_its_resul
         kernel(4.0)
         print("results in somewhere", file=sys.stderr)
     assert capsys.readouterr().err.strip().splitlines()[-1] == "results in somewhere"
+
+
+def _compile_event(module: str, name: str):
+    """A "numba:compile" event's data as :class:`wearjoint._compile.notice.CompileWatch` reads it, for function module.name."""
+    def function():
+        pass
+    function.__module__, function.__qualname__ = module, name
+    return SimpleNamespace(data={"dispatcher": SimpleNamespace(py_func=function), "args": "()"})
+
+
+REFERENCE = {"simulate": [["m.a", 1.0], ["m.b", 2.0], ["m.c", 7.0]], "cosim": [["m.d", 0.4], ["m.e", 3.6]]}
+
+
+def test_the_time_left_is_the_references_rest_at_the_speed_so_far(monkeypatch):
+    """The reference's compilations take 10 s; those done here took twice theirs: 2 x the rest is left."""
+    monkeypatch.setattr(notice, "reference_runs", lambda: REFERENCE)
+    assert notice.cold_run("simulate") == (10.0, 3)
+    speed = notice.SpeedCalibration("simulate")
+    assert speed.left_s() == 10.0                   # nothing done: the reference's time
+    speed.add("m.a", 2.0)
+    assert speed.factor() == 2.0 and speed.left_s() == 18.0
+    speed.add("elsewhere.unknown", 50.0)            # not in the reference: says nothing of the speed
+    speed.add("m.b", 4.0)
+    assert speed.factor() == 2.0 and speed.left_s() == 14.0
+    speed.add("m.c", 700.0)                         # 706 s for 10: the factor stops at its bound
+    assert speed.factor() == notice.SPEED_FACTOR_RANGE[1] and speed.left_s() == 0.0
+    short = notice.SpeedCalibration("cosim")
+    short.add("m.d", 4.0)                           # 0.4 s of the reference: too little to measure a speed
+    assert short.factor() == 1.0 and short.left_s() == 3.6
+
+
+def test_the_watch_measures_each_compilations_own_seconds(monkeypatch):
+    """m.c compiles for 10 s, m.a inside it for 2 of them: 2 s against 1, 8 against 7, so the speed is 10/8 and
+    nothing of the reference is left; an engine the reference lacks gets the generic figures."""
+    monkeypatch.setattr(notice, "reference_runs", lambda: REFERENCE)
+    times = iter([0.0, 1.0, 3.0, 10.0])
+    monkeypatch.setattr(notice, "_clock", lambda: next(times))
+    watch = notice.CompileWatch("simulate", quiet=True)
+    outer, inner = _compile_event("m", "c"), _compile_event("m", "a")
+    watch.on_start(outer)
+    watch.on_start(inner)
+    watch.on_end(inner)
+    watch.on_end(outer)
+    assert watch.count == 2 and watch.speed.factor() == 1.25 and watch.speed.left_s() == 2.5
+    monkeypatch.setattr(notice, "reference_runs", lambda: {})
+    assert notice.cold_run("simulate") == tuple(notice.ESTIMATES["kernels"][1:3])
+
+
+def test_the_shipped_reference_holds_each_engines_cold_run():
+    """Every engine without figures of its own has a cold run in the reference, which compiled the kernel that
+    marks the engine (ESTIMATES) and took a positive time."""
+    runs = notice.reference_runs()
+    for what, (_, seconds, _, marker) in notice.ESTIMATES.items():
+        if seconds is not None:
+            continue
+        names = [name for name, _ in runs[what]]
+        kernel = marker.split("/")[1].split("-")[0]            # core/integrators._integrate_steps-*.nbi
+        assert any(name.endswith(kernel) for name in names), (what, kernel)
+        assert all(isinstance(s, float) and s >= 0.0 for _, s in runs[what]) and notice.cold_run(what)[0] > 1.0
 
 
 def test_nothing_is_said_when_nothing_compiles(capsys):

@@ -4,35 +4,46 @@ numba compiles the kernels on a command's first run (an empty cache, changed sou
 FMU's kernels are compiled ahead of time on its first build.  The first time either starts, one line
 on stderr names what compiles and roughly how long it takes here; on a terminal a progress bar
 (:mod:`wearjoint.progress`) then counts the compilations against the number a cold run makes.
-The figures (:data:`ESTIMATES`) are measured on the project's machine (docs/how-to/choose_step_and_master.md,
-"First runs and speed"); :data:`PROFILE_ENV` measures them.
+The notice's time is a cold run's on the project's machine (:data:`REFERENCE_FILE`: each compilation's own seconds
+there, written by :mod:`.reference`); the bar's time left is the reference's compilations not yet done, scaled by how
+long those done took here against there (:class:`SpeedCalibration`: a count of functions said "2 s left" where one
+function of 39 took 23 s more).  The notice itself is not scaled: the first seconds of compiling load numba's
+modules, and ran 1.6-2.8x slower than the reference where the whole run took 0.9-1.9x.
 """
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import os
 import sys
 import time
+from pathlib import Path
 
 # key -> (what compiles, seconds, numba compilations) of a cold run on the project's machine (one core; the
 # "-helped" one: the first of two processes, prefetch), and the cache file (a glob below the digest's folder) of a
 # kernel only that engine compiles: where it exists the engine's kernels are cached, and what compiles is what the
-# command adds (a wear study right after simulate: 18 functions in 2.3 s, where the cold figure said 33 s).  The
-# machine runs at one of two speeds: simulate-helped measured 31 and 34 s, simulate on one core 49 s (compile_time_s,
-# empty caches), so each figure sits between them.  cosim compiles nothing where its library is built
-# (cosim.native_master: its loop and the run's kernels compiled ahead of time; cold, 3.5 s in all); these are numba's
+# command adds (a wear study right after simulate: 18 functions in 2.3 s, where the cold figure said 33 s).  None:
+# the seconds and the count of the engine's cold run in REFERENCE_FILE.  cosim compiles nothing where its library is
+# built (cosim.native_master: its loop and the run's kernels compiled ahead of time; cold, 3.5 s in all); "fmu" and
+# "master" are compiled ahead of time in other processes (no compilation of this one to scale them by)
 ESTIMATES = {
-    "simulate": ("the monolithic engine's numba kernels", 45, 75, "core/integrators._integrate_steps-*.nbi"),
-    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", 33, 39,
+    "simulate": ("the monolithic engine's numba kernels", None, None, "core/integrators._integrate_steps-*.nbi"),
+    "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", None, None,
                         "core/integrators._integrate_steps-*.nbi"),
-    "cosim": ("the co-simulation master's numba kernels (no library of them could be built here)", 13, 29,
+    "cosim": ("the co-simulation master's numba kernels (no library of them could be built here)", None, None,
               "cosim/master_loop.master_loop-*.nbi"),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100, None),
     "master": ("the co-simulation master's kernels, ahead of time (once per source version; two processes)", 13, 42,
                None),
     "kernels": ("the numba kernels", 20, 90, None),
 }
+# each compilation (function, its own seconds) of a cold run of the engines with None above, in order
+REFERENCE_FILE = Path(__file__).with_name("compile_reference.json")
+# the speed here is measured once the compilations matched in the reference took this many seconds there; the
+# factor is kept within these bounds
+CALIBRATE_AFTER_S = 0.5
+SPEED_FACTOR_RANGE = (0.2, 5.0)
 COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
 # commands of the monolithic engine: on two cores a second process compiles its wear kernels (prefetch)
 HELPED_COMMANDS = ("simulate", "wear-study")
@@ -48,6 +59,77 @@ def _now() -> float:
     return time.perf_counter()
 
 
+def _clock() -> float:
+    """The clock of each compilation's seconds (a module function so that tests can set it)."""
+    return time.perf_counter()
+
+
+@functools.cache
+def reference_runs() -> dict:
+    """:data:`REFERENCE_FILE`: engine key -> [[function, seconds], ...], its cold run's compilations in order ({}
+    while :mod:`.reference` writes the file for the first time)."""
+    if not REFERENCE_FILE.is_file():
+        return {}
+    return json.loads(REFERENCE_FILE.read_text())["runs"]
+
+
+def cold_run(what: str) -> tuple[float, int]:
+    """(seconds, compilations) of ``what``'s cold run on the project's machine (:data:`ESTIMATES`; an engine the
+    reference lacks: the generic figures)."""
+    _, seconds, count, _ = ESTIMATES[what]
+    if seconds is None:
+        run = reference_runs().get(what)
+        if run is None:
+            return cold_run("kernels")
+        return sum(s for _, s in run), len(run)
+    return seconds, count
+
+
+def reference_seconds(what: str) -> dict[str, float]:
+    """function -> its mean seconds per compilation in ``what``'s reference run (every engine's for a key without
+    one)."""
+    runs = reference_runs()
+    rows = runs[what] if what in runs else [row for run in runs.values() for row in run]
+    sums: dict[str, list[float]] = {}
+    for name, seconds in rows:
+        sums.setdefault(name, []).append(seconds)
+    return {name: sum(values) / len(values) for name, values in sums.items()}
+
+
+def _function_name(event) -> str:
+    """module.qualname of the function a "numba:compile" event compiles."""
+    function = getattr(event.data["dispatcher"], "py_func", None)
+    return f"{function.__module__}.{function.__qualname__}" if function else str(event.data["dispatcher"])
+
+
+class SpeedCalibration:
+    """How fast compiling goes here against the reference run: the seconds the finished compilations took here
+    over their seconds there (those the reference has), and from it the cold run's time and the time left."""
+
+    def __init__(self, what: str):
+        self.total_s, _ = cold_run(what)
+        self._reference = reference_seconds(what)
+        self.here_s = 0.0          # the matched compilations' seconds here
+        self.there_s = 0.0         # ... and in the reference run
+
+    def add(self, name: str, seconds: float) -> None:
+        there = self._reference.get(name)
+        if there is not None:
+            self.here_s += seconds
+            self.there_s += there
+
+    def factor(self) -> float:
+        """Seconds here per second there (1 until CALIBRATE_AFTER_S of the reference is matched)."""
+        if self.there_s < CALIBRATE_AFTER_S:
+            return 1.0
+        low, high = SPEED_FACTOR_RANGE
+        return min(high, max(low, self.here_s / self.there_s))
+
+    def left_s(self) -> float:
+        """The seconds the compilations not yet matched take at this speed."""
+        return max(0.0, self.total_s - self.there_s) * self.factor()
+
+
 def engine_cached(what: str) -> bool:
     """Whether the kernel that marks ``what``'s engine (:data:`ESTIMATES`) is in numba's cache for these sources."""
     from .cache import KernelCacheLocator, cache_root
@@ -60,18 +142,18 @@ def engine_cached(what: str) -> bool:
 def announce(what: str, stream=None, cached: bool = False) -> None:
     """The one line: what compiles and about how long it takes (``what`` a key of :data:`ESTIMATES`; ``cached``:
     its engine's kernels are, and only what the command adds compiles)."""
-    text, seconds, _, _ = ESTIMATES[what]
+    text = ESTIMATES[what][0]
+    seconds = cold_run(what)[0]
     line = ("the kernels this command adds (its engine's are cached): a few seconds" if cached else
-            f"{text}: about {seconds} s on first use")
+            f"{text}: about {seconds:.0f} s on first use")
     print(f"wearjoint: compiling {line}, cached for later runs", file=stream or sys.stderr, flush=True)
 
 
 class CompileWatch:
     """What :func:`watching` does with numba's "numba:compile" events: at the first, ``on_first()``
     (optional); once compiling has lasted ANNOUNCE_AFTER_S, :func:`announce` and a progress bar (a terminal only)
-    of the compilations (unless
-    ``quiet``); with :data:`PROFILE_ENV` set,
-    each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after
+    of the compilations with the time left at the speed measured so far (:class:`SpeedCalibration`; unless
+    ``quiet``); with :data:`PROFILE_ENV` set, each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after
     each compilation."""
 
     def __init__(self, what: str, on_compile=None, quiet: bool = False, on_first=None):
@@ -86,6 +168,7 @@ class CompileWatch:
         self._first = None          # when the first compilation started (clock _now)
         self._announced = False
         self._cached = False        # the engine's kernels were cached when compiling started
+        self.speed = SpeedCalibration(what)
 
     def on_start(self, event) -> None:
         if self.count == 0 and not self._stack and self._first is None:
@@ -95,29 +178,32 @@ class CompileWatch:
                 self._on_first()
                 self._on_first = None
         self._announce_when_due()
-        self._stack.append([time.perf_counter(), 0.0])
+        self._stack.append([_clock(), 0.0])
 
     def _announce_when_due(self) -> None:
         """The notice and the count, once compiling has lasted ANNOUNCE_AFTER_S."""
         if not self.quiet and not self._announced and _now() - self._first >= ANNOUNCE_AFTER_S:
             self._announced = True
-            self._bar = announced_progress(self.what, self._cached)
-            self._bar.update(self.count)
+            self._bar = announced_progress(self.what, self._cached, self.speed)
+            self._update_bar()
+
+    def _update_bar(self) -> None:
+        self._bar.update(self.count, None if self._cached else self.speed.left_s())
 
     def on_end(self, event) -> None:
         start, nested = self._stack.pop()
-        seconds = time.perf_counter() - start
+        seconds = _clock() - start
         if self._stack:
             self._stack[-1][1] += seconds
         self.count += 1
+        name = _function_name(event)
+        self.speed.add(name, seconds - nested)
         self._announce_when_due()
         if self._bar is not None:
-            self._bar.update(self.count)
+            self._update_bar()
         if self._on_compile is not None:
             self._on_compile(self.count)
         if self._profile:
-            function = getattr(event.data["dispatcher"], "py_func", None)
-            name = f"{function.__module__}.{function.__qualname__}" if function else str(event.data["dispatcher"])
             with open(self._profile, "a") as out:
                 out.write(json.dumps([name, str(event.data["args"]), seconds - nested]) + "\n")
 
@@ -163,13 +249,14 @@ def watch_command(command: str):
     return watching(COMMAND_KERNELS.get(command, "kernels"))
 
 
-def announced_progress(what: str, cached: bool = False):
+def announced_progress(what: str, cached: bool = False, speed: SpeedCalibration | None = None):
     """:func:`announce` and a progress bar of ``what``'s compilations, counted by the caller (none where only what
-    the command adds compiles: their number is not known)."""
+    the command adds compiles: their number is not known); with ``speed`` the caller gives the bar the time left."""
     from ..progress import Progress
 
     announce(what, cached=cached)
-    return Progress(0 if cached else ESTIMATES[what][2], "compiling", unit="functions", delay_s=0.0)
+    return Progress(0 if cached else cold_run(what)[1], "compiling", unit="functions", delay_s=0.0,
+                    caller_eta=speed is not None)
 
 
 def compiled() -> None:

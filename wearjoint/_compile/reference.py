@@ -1,0 +1,75 @@
+"""Write the compile notice's reference (:data:`wearjoint._compile.notice.REFERENCE_FILE`) on this machine.
+
+``python -m wearjoint._compile.reference [ENGINE ...]`` runs each engine's command cold (an empty numba cache in a
+temporary folder; the other caches as they are) with :data:`~wearjoint._compile.notice.PROFILE_ENV` set, and keeps
+each compilation's own seconds: ``simulate-helped`` is ``wearjoint simulate`` on two cores (its second process
+compiles the wear's kernels), ``simulate`` the same on one core, ``cosim`` ``wearjoint cosim`` where the master's
+library cannot be loaded.  About three minutes; run it on an idle machine after a large change to the kernels (the
+notice scales the reference by the speed of the compilations it matches, so kernels added or renamed since make it
+vaguer, not wrong).
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from .notice import PROFILE_ENV, REFERENCE_FILE
+
+RUN = ("--revolutions", "0.01", "--no-plots", "--out")
+# the cosim command with the master's library unavailable: numba compiles the master's kernels
+_COSIM_WITHOUT_LIBRARY = ("import sys; from wearjoint.cosim import native_master; native_master._failed = True; "
+                          "from wearjoint.cli import main; sys.exit(main(sys.argv[1:]))")
+ENGINES = {
+    "simulate-helped": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 2),
+    "simulate": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 1),
+    "cosim": ([sys.executable, "-c", _COSIM_WITHOUT_LIBRARY, "cosim", *RUN], 1),
+}
+
+
+def profile_cold_run(command: list[str], cores: int) -> list[list]:
+    """[[function, seconds], ...] of ``command``'s compilations from an empty numba cache, on ``cores`` cores."""
+    available = sorted(os.sched_getaffinity(0))
+    if len(available) < cores:
+        raise SystemExit(f"this machine offers {len(available)} core(s); the run needs {cores}")
+    with tempfile.TemporaryDirectory(prefix="wearjoint_reference_") as tmp:
+        profile = Path(tmp) / "compile.jsonl"
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(Path(tmp) / "numba"), PROFILE_ENV: str(profile)}
+        subprocess.run([*command, str(Path(tmp) / "out")], env=env, check=True, stdout=subprocess.DEVNULL,
+                       preexec_fn=lambda: os.sched_setaffinity(0, available[:cores]))
+        rows = [json.loads(line) for line in profile.read_text().splitlines()]
+    return [[name, round(seconds, 4)] for name, _, seconds in rows]
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m wearjoint._compile.reference",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("engines", nargs="*", metavar="ENGINE", help=f"of {', '.join(ENGINES)} (default: all)")
+    args = parser.parse_args(argv)
+    unknown = [name for name in args.engines if name not in ENGINES]
+    if unknown:
+        parser.error(f"ENGINE={unknown[0]!r} is invalid: allowed one of {', '.join(ENGINES)}")
+    old = json.loads(REFERENCE_FILE.read_text()) if REFERENCE_FILE.is_file() else {"runs": {}}
+    runs = dict(old["runs"])
+    for name in args.engines or ENGINES:
+        command, cores = ENGINES[name]
+        runs[name] = profile_cold_run(command, cores)
+        print(f"{name}: {len(runs[name])} compilations, {sum(s for _, s in runs[name]):.1f} s", flush=True)
+    import numba
+
+    machine = (f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, Python "
+               f"{platform.python_version()}, numba {numba.__version__}")
+    REFERENCE_FILE.write_text(json.dumps({
+        "written": f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC by python -m "
+                   f"wearjoint._compile.reference", "machine": machine, "runs": runs}, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
