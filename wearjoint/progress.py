@@ -126,6 +126,15 @@ class Progress:
         if self._log is not None:
             self._log.compiled()
 
+    def set_total(self, total: float) -> None:
+        """The amount the bar counts to, changed (a count whose end is not known in advance)."""
+        self.total = float(total)
+        if self._bar is not None:
+            self._bar.total = self.total
+            self._bar.refresh()
+        if self._log is not None:
+            self._log.total = self.total
+
     def update(self, done: float, eta_s: float | None = None) -> None:
         """``done`` so far; ``eta_s`` the caller's estimate of the seconds left (with ``caller_eta``)."""
         if self._bar is not None:

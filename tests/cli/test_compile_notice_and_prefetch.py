@@ -146,6 +146,28 @@ def test_the_watch_measures_each_compilations_own_seconds(monkeypatch):
     assert notice.cold_run("simulate") == tuple(notice.ESTIMATES["kernels"][1:3])
 
 
+def test_the_bar_says_100_percent_only_once_compiling_is_over(capsys, monkeypatch):
+    """A run that compiles more functions than the reference's 2 (the second process had not cached one yet) counts
+    on past them: 0/2 at the notice, 1/2, 2/3, 3/4 while compiling, then 100 % of 3.  (It said 100 % for the last 21 s of a 61 s run.)
+    The log's clock runs 100 s a reading, so it writes a line at every compilation."""
+    from wearjoint import progress
+
+    monkeypatch.setattr(notice, "reference_runs", lambda: {"simulate": [["m.a", 1.0], ["m.b", 1.0]]})
+    monkeypatch.setattr(notice, "ANNOUNCE_AFTER_S", 0.0)
+    clock = iter(range(0, 10**6, 100))
+    monkeypatch.setattr(progress, "_now", lambda: float(next(clock)))
+    watch = notice.CompileWatch("simulate")
+    for name in ("a", "b", "c"):
+        event = _compile_event("m", name)
+        watch.on_start(event)
+        watch.on_end(event)
+    watch.close()
+    lines = [line for line in capsys.readouterr().err.splitlines() if line.startswith("compiling:")]
+    counts = [line.split("(")[1].split(")")[0] for line in lines]
+    assert counts[:4] == ["0/2 functions", "1/2 functions", "2/3 functions", "3/4 functions"], lines
+    assert lines[-1].startswith("compiling: 100.0% (3 functions) in ") and "100.0%" not in "".join(lines[:-1])
+
+
 def test_the_shipped_reference_holds_each_engines_cold_run():
     """Every engine without figures of its own has a cold run in the reference, which compiled the kernel that
     marks the engine (ESTIMATES) and took a positive time."""

@@ -188,6 +188,10 @@ class CompileWatch:
             self._update_bar()
 
     def _update_bar(self) -> None:
+        if not self._cached and self.count >= self._bar.total:
+            # more compilations than the reference run's (the second process had not cached one of its kernels yet):
+            # the bar must not say 100 % while a kernel compiles (it said so for the last 21 s of a 61 s run)
+            self._bar.set_total(self.count + 1)
         self._bar.update(self.count, None if self._cached else self.speed.left_s())
 
     def on_end(self, event) -> None:
@@ -208,8 +212,11 @@ class CompileWatch:
                 out.write(json.dumps([name, str(event.data["args"]), seconds - nested]) + "\n")
 
     def close(self, final_line: bool = True) -> None:
-        """Close the progress bar; without ``final_line`` (the command has ended) a log writes no last line."""
+        """Close the progress bar (compiling is over: what compiled is the whole count); without ``final_line``
+        (the command has ended) a log writes no last line."""
         if self._bar is not None:
+            if not self._cached and self.count > 0:
+                self._bar.set_total(self.count)
             self._bar.close(final_line)
             self._bar = None
 
