@@ -101,7 +101,8 @@ def test_a_count_still_open_when_the_command_ends_writes_no_line_after_its_resul
 
 
 def _compile_event(module: str, name: str):
-    """A "numba:compile" event's data as :class:`wearjoint._compile.notice.CompileWatch` reads it, for function module.name."""
+    """A "numba:compile" event's data as :class:`wearjoint._compile.notice.CompileWatch` reads it, for function
+    module.name."""
     def function():
         pass
     function.__module__, function.__qualname__ = module, name
@@ -148,7 +149,8 @@ def test_the_watch_measures_each_compilations_own_seconds(monkeypatch):
 
 def test_the_bar_says_100_percent_only_once_compiling_is_over(capsys, monkeypatch):
     """A run that compiles more functions than the reference's 2 (the second process had not cached one yet) counts
-    on past them: 0/2 at the notice, 1/2, 2/3, 3/4 while compiling, then 100 % of 3.  (It said 100 % for the last 21 s of a 61 s run.)
+    on past them: 0/2 at the notice, 1/2, 2/3, 3/4 while compiling, then 100 % of 3.  (It said 100 % for the last
+    21 s of a 61 s run.)
     The log's clock runs 100 s a reading, so it writes a line at every compilation."""
     from wearjoint import progress
 
@@ -166,6 +168,38 @@ def test_the_bar_says_100_percent_only_once_compiling_is_over(capsys, monkeypatc
     counts = [line.split("(")[1].split(")")[0] for line in lines]
     assert counts[:4] == ["0/2 functions", "1/2 functions", "2/3 functions", "3/4 functions"], lines
     assert lines[-1].startswith("compiling: 100.0% (3 functions) in ") and "100.0%" not in "".join(lines[:-1])
+
+
+def test_what_the_cache_holds_is_left_out_of_the_time(tmp_path, monkeypatch):
+    """validate after simulate: of the reference's _integrate_steps twice (30 and 28 s) the cache holds one
+    specialisation, and exudyn's kernel; numba's own functions always compile.  Left out: 29 + 2 s, 2 compilations,
+    and the notice says the 29.5 s that remain."""
+    from wearjoint._compile import cache
+
+    monkeypatch.setattr(notice, "reference_runs", lambda: {"validate": [
+        ["wearjoint.core.integrators._integrate_steps", 30.0], ["wearjoint.core.integrators._integrate_steps", 28.0],
+        ["wearjoint.exudyn.generalized_contact_forces", 2.0], ["numba.cpython.builtins.ol_int.<locals>.impl", 0.5]]})
+    monkeypatch.setattr(cache, "cache_root", lambda: tmp_path)
+    monkeypatch.setattr(cache.KernelCacheLocator, "digest", "d1")
+    assert notice.cached_in_reference("validate") == (0.0, 0)
+    for path in ("d1/core/integrators._integrate_steps-228.py311.1.nbc",
+                 "d1/exudyn.generalized_contact_forces-80.py311.1.nbc",
+                 "d1/core/integrators.record_step-79.py311.1.nbc"):       # a kernel the reference does not name
+        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / path).write_bytes(b"")
+    assert notice.cached_in_reference("validate") == (31.0, 2)
+    monkeypatch.setattr(notice, "ANNOUNCE_AFTER_S", 0.0)
+    watch = notice.CompileWatch("validate")
+    event = _compile_event("numba.cpython.builtins", "ol_int.<locals>.impl")
+    watch.on_start(event)
+    watch.on_end(event)
+    watch.close(final_line=False)
+    assert watch.speed.total_s == 29.5 and watch.speed.count == 2
+
+
+def test_validate_announces_its_own_engines_kernels():
+    with notice.watch_command("validate") as watch:
+        assert watch.what == "validate"
 
 
 def test_the_shipped_reference_holds_each_engines_cold_run():

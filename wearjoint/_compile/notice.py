@@ -5,7 +5,7 @@ FMU's kernels are compiled ahead of time on its first build.  The first time eit
 on stderr names what compiles and roughly how long it takes here; on a terminal a progress bar
 (:mod:`wearjoint.progress`) then counts the compilations against the number a cold run makes.
 The notice's time is a cold run's on the project's machine (:data:`REFERENCE_FILE`: each compilation's own seconds
-there, written by :mod:`.reference`); the bar's time left is the reference's compilations not yet done, scaled by how
+there, written by :mod:`.reference`) less what numba's cache holds of it already; the bar's time left is the reference's compilations not yet done, scaled by how
 long those done took here against there (:class:`SpeedCalibration`: a count of functions said "2 s left" where one
 function of 39 took 23 s more).  The notice itself is not scaled: the first seconds of compiling load numba's
 modules, and ran 1.6-2.8x slower than the reference where the whole run took 0.9-1.9x.
@@ -33,6 +33,8 @@ ESTIMATES = {
                         "core/integrators._integrate_steps-*.nbi"),
     "cosim": ("the co-simulation master's numba kernels (no library of them could be built here)", None, None,
               "cosim/master_loop.master_loop-*.nbi"),
+    "validate": ("the compared engines' numba kernels (the monolithic engine's, through the FMU too, and exudyn's "
+                 "joint)", None, None, "cosim/fmu_joint._accept-*.nbi"),
     "fmu": ("the FMU's kernels, ahead of time (once per source version; two processes)", 12, 100, None),
     "master": ("the co-simulation master's kernels, ahead of time (once per source version; two processes)", 13, 42,
                None),
@@ -44,7 +46,7 @@ REFERENCE_FILE = Path(__file__).with_name("compile_reference.json")
 # factor is kept within these bounds
 CALIBRATE_AFTER_S = 0.5
 SPEED_FACTOR_RANGE = (0.2, 5.0)
-COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim"}
+COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim", "validate": "validate"}
 # commands of the monolithic engine: on two cores a second process compiles its wear kernels (prefetch)
 HELPED_COMMANDS = ("simulate", "wear-study")
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
@@ -96,6 +98,35 @@ def reference_seconds(what: str) -> dict[str, float]:
     return {name: sum(values) / len(values) for name, values in sums.items()}
 
 
+def cached_in_reference(what: str) -> tuple[float, int]:
+    """(seconds, compilations) of ``what``'s reference run whose compiled code numba's cache holds for these sources
+    already (a function compiled n times there and cached in m specialisations counts min(n, m) times at its
+    mean): a command after another that shares kernels compiles only the rest (validate after simulate)."""
+    from .cache import PACKAGE, KernelCacheLocator, cache_root
+
+    digest = getattr(KernelCacheLocator, "digest", None)
+    if not digest:
+        return 0.0, 0
+    folder = cache_root() / digest
+    occurrences: dict[str, int] = {}
+    for name, _ in reference_runs().get(what, []):
+        occurrences[name] = occurrences.get(name, 0) + 1
+    means = reference_seconds(what)
+    seconds, count = 0.0, 0
+    for name, n in occurrences.items():
+        parts = name.split(".")
+        if parts[0] != PACKAGE.name or len(parts) < 3:
+            continue                               # numba's own functions: compiled afresh by every process
+        # a kernel of a subpackage (wearjoint.core.integrators._integrate_steps) is cached in its folder (core) as
+        # integrators._integrate_steps-<line>.py311.<k>.nbc, one file per specialisation
+        inside = (PACKAGE / parts[1]).is_dir()
+        stem = ".".join(parts[2:] if inside else parts[1:])
+        cached = min(n, sum(1 for _ in (folder / parts[1] if inside else folder).glob(f"{stem}-*.nbc")))
+        seconds += cached * means[name]
+        count += cached
+    return seconds, count
+
+
 def _function_name(event) -> str:
     """module.qualname of the function a "numba:compile" event compiles."""
     function = getattr(event.data["dispatcher"], "py_func", None)
@@ -104,13 +135,19 @@ def _function_name(event) -> str:
 
 class SpeedCalibration:
     """How fast compiling goes here against the reference run: the seconds the finished compilations took here
-    over their seconds there (those the reference has), and from it the cold run's time and the time left."""
+    over their seconds there (those the reference has), and from it the time left.  :meth:`leave_out` takes away
+    what the cache holds already."""
 
     def __init__(self, what: str):
-        self.total_s, _ = cold_run(what)
+        self.total_s, self.count = cold_run(what)
         self._reference = reference_seconds(what)
         self.here_s = 0.0          # the matched compilations' seconds here
         self.there_s = 0.0         # ... and in the reference run
+
+    def leave_out(self, seconds: float, count: int) -> None:
+        """The reference's compilations that will not happen here (cached already): off the total."""
+        self.total_s = max(0.0, self.total_s - seconds)
+        self.count = max(1, self.count - count)
 
     def add(self, name: str, seconds: float) -> None:
         there = self._reference.get(name)
@@ -139,11 +176,12 @@ def engine_cached(what: str) -> bool:
     return pattern is not None and digest is not None and any((cache_root() / digest).glob(pattern))
 
 
-def announce(what: str, stream=None, cached: bool = False) -> None:
+def announce(what: str, stream=None, cached: bool = False, seconds: float | None = None) -> None:
     """The one line: what compiles and about how long it takes (``what`` a key of :data:`ESTIMATES`; ``cached``:
-    its engine's kernels are, and only what the command adds compiles)."""
+    its engine's kernels are, and only what the command adds compiles; ``seconds``: the reference's time of what
+    is not cached, else a cold run's)."""
     text = ESTIMATES[what][0]
-    seconds = cold_run(what)[0]
+    seconds = cold_run(what)[0] if seconds is None else seconds
     line = ("the kernels this command adds (its engine's are cached): a few seconds" if cached else
             f"{text}: about {seconds:.0f} s on first use")
     print(f"wearjoint: compiling {line}, cached for later runs", file=stream or sys.stderr, flush=True)
@@ -151,10 +189,11 @@ def announce(what: str, stream=None, cached: bool = False) -> None:
 
 class CompileWatch:
     """What :func:`watching` does with numba's "numba:compile" events: at the first, ``on_first()``
-    (optional); once compiling has lasted ANNOUNCE_AFTER_S, :func:`announce` and a progress bar (a terminal only)
-    of the compilations with the time left at the speed measured so far (:class:`SpeedCalibration`; unless
-    ``quiet``); with :data:`PROFILE_ENV` set, each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after
-    each compilation."""
+    (optional) and what the cache holds of the reference run left out (:func:`cached_in_reference`); once
+    compiling has lasted ANNOUNCE_AFTER_S, :func:`announce` and a progress bar of the compilations with the time
+    left at the speed measured so far (:class:`SpeedCalibration`; unless ``quiet``); with :data:`PROFILE_ENV` set,
+    each compilation's own time appended there.  ``on_compile`` (optional) is called with the count after each
+    compilation."""
 
     def __init__(self, what: str, on_compile=None, quiet: bool = False, on_first=None):
         self.what = what
@@ -174,6 +213,8 @@ class CompileWatch:
         if self.count == 0 and not self._stack and self._first is None:
             self._first = _now()
             self._cached = not self.quiet and engine_cached(self.what)   # before this command caches anything
+            if not self.quiet and not self._cached and self.what in reference_runs():
+                self.speed.leave_out(*cached_in_reference(self.what))
             if self._on_first is not None:
                 self._on_first()
                 self._on_first = None
@@ -261,9 +302,9 @@ def announced_progress(what: str, cached: bool = False, speed: SpeedCalibration 
     the command adds compiles: their number is not known); with ``speed`` the caller gives the bar the time left."""
     from ..progress import Progress
 
-    announce(what, cached=cached)
-    return Progress(0 if cached else cold_run(what)[1], "compiling", unit="functions", delay_s=0.0,
-                    caller_eta=speed is not None)
+    announce(what, cached=cached, seconds=None if speed is None else speed.total_s)
+    count = cold_run(what)[1] if speed is None else speed.count
+    return Progress(0 if cached else count, "compiling", unit="functions", delay_s=0.0, caller_eta=speed is not None)
 
 
 def compiled() -> None:

@@ -4,9 +4,9 @@
 temporary folder; the other caches as they are) with :data:`~wearjoint._compile.notice.PROFILE_ENV` set, and keeps
 each compilation's own seconds: ``simulate-helped`` is ``wearjoint simulate`` on two cores (its second process
 compiles the wear's kernels), ``simulate`` the same on one core, ``cosim`` ``wearjoint cosim`` where the master's
-library cannot be loaded (Linux: the runs are pinned to their cores).  About three minutes; run it on an idle
-machine after a large change to the kernels (the bar scales the reference by the speed of the compilations it
-matches, so kernels added or renamed since make its time left vaguer, not wrong).
+library cannot be loaded, ``validate`` ``wearjoint validate --quick`` (Linux: the runs are pinned to their cores).
+About six minutes; run it on an idle machine after a large change to the kernels (the bar scales the reference by
+the speed of the compilations it matches, so kernels added or renamed since make its time left vaguer, not wrong).
 """
 from __future__ import annotations
 
@@ -30,6 +30,7 @@ ENGINES = {
     "simulate-helped": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 2),
     "simulate": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 1),
     "cosim": ([sys.executable, "-c", _COSIM_WITHOUT_LIBRARY, "cosim", *RUN], 1),
+    "validate": ([sys.executable, "-m", "wearjoint", "validate", "--quick", "--out"], 1),
 }
 
 
