@@ -20,10 +20,14 @@ def _fresh_kernel():
     return njit(lambda x: np.sqrt(x) + 1.0)
 
 
+CACHED_IN_REFERENCE = notice.cached_in_reference
+
+
 @pytest.fixture(autouse=True)
 def cold_engines(monkeypatch):
     """The engines' kernels as on first use (the suite's own runs have cached them)."""
     monkeypatch.setattr(notice, "engine_cached", lambda what: False)
+    monkeypatch.setattr(notice, "cached_in_reference", lambda what: (0.0, 0))
 
 
 def test_with_the_engines_kernels_cached_the_notice_says_a_few_seconds_and_counts_nothing(capsys, monkeypatch):
@@ -181,6 +185,7 @@ def test_what_the_cache_holds_is_left_out_of_the_time(tmp_path, monkeypatch):
         ["wearjoint.exudyn.generalized_contact_forces", 2.0], ["numba.cpython.builtins.ol_int.<locals>.impl", 0.5]]})
     monkeypatch.setattr(cache, "cache_root", lambda: tmp_path)
     monkeypatch.setattr(cache.KernelCacheLocator, "digest", "d1")
+    monkeypatch.setattr(notice, "cached_in_reference", CACHED_IN_REFERENCE)      # the real one, not cold_engines'
     assert notice.cached_in_reference("validate") == (0.0, 0)
     for path in ("d1/core/integrators._integrate_steps-228.py311.1.nbc",
                  "d1/exudyn.generalized_contact_forces-80.py311.1.nbc",
