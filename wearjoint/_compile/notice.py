@@ -5,10 +5,11 @@ FMU's kernels are compiled ahead of time on its first build.  The first time eit
 on stderr names what compiles and roughly how long it takes here; on a terminal a progress bar
 (:mod:`wearjoint.progress`) then counts the compilations against the number a cold run makes.
 The notice's time is a cold run's on the project's machine (:data:`REFERENCE_FILE`: each compilation's own seconds
-there, written by :mod:`.reference`) less what numba's cache holds of it already; the bar's time left is the reference's compilations not yet done, scaled by how
-long those done took here against there (:class:`SpeedCalibration`: a count of functions said "2 s left" where one
-function of 39 took 23 s more).  The notice itself is not scaled: the first seconds of compiling load numba's
-modules, and ran 1.6-2.8x slower than the reference where the whole run took 0.9-1.9x.
+there, written by :mod:`.reference`) less what numba's cache holds of it already; the bar's time left is the
+reference's compilations not yet done, scaled by how long those done took here against there
+(:class:`SpeedCalibration`: a count of functions said "2 s left" where one function of 39 took 23 s more).  The
+notice itself is not scaled: the first seconds of compiling load numba's modules, and ran 1.6-2.8x slower than the
+reference where the whole run took 0.9-1.9x.
 """
 from __future__ import annotations
 
