@@ -30,6 +30,37 @@ from .. import targets
 _LOCK = threading.Lock()
 _WARM_ENGINES: set = set()
 NOT_SHIPPED = ("wear_study_checkpoint.pkl",)     # a finished case needs no checkpoint
+# a case's temporary results folder: this prefix, the worker's process id, "-", a random part
+CASE_FOLDER_PREFIX = "wearjoint-case-"
+
+
+def _process_alive(pid: int) -> bool:
+    """Whether process ``pid`` exists (POSIX; elsewhere it is taken as alive: nothing is removed)."""
+    if os.name != "posix":
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:                                  # another user's process
+        return True
+    return True
+
+
+def remove_orphan_case_folders(root: Path | None = None) -> None:
+    """Remove the case folders (under ``root``, default the temporary folder) of worker processes that are gone: a
+    sweep stopped by ending its workers left each running case's folder behind, results files included (11 MB for
+    one wear-study case)."""
+    for folder in Path(root or tempfile.gettempdir()).glob(f"{CASE_FOLDER_PREFIX}*-*"):
+        pid = folder.name[len(CASE_FOLDER_PREFIX):].split("-", 1)[0]
+        if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+def new_case_folder(root: Path | None = None) -> Path:
+    """A case's temporary folder, named by this process (:func:`remove_orphan_case_folders` first)."""
+    remove_orphan_case_folders(root)
+    return Path(tempfile.mkdtemp(prefix=f"{CASE_FOLDER_PREFIX}{os.getpid()}-", dir=root))
 
 
 def warm_up(command: str, options: dict) -> float:
@@ -86,7 +117,7 @@ def run_case(case, no_plots: bool = False) -> dict:
     with _LOCK:
         warmup_s = 0.0
         log = io.StringIO()
-        folder = Path(tempfile.mkdtemp(prefix="wearjoint-case-"))
+        folder = new_case_folder()
         try:
             with contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
                 try:
