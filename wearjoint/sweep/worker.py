@@ -50,7 +50,8 @@ def _process_alive(pid: int) -> bool:
 def remove_orphan_case_folders(root: Path | None = None) -> None:
     """Remove the case folders (under ``root``, default the temporary folder) of worker processes that are gone: a
     sweep stopped by ending its workers left each running case's folder behind, results files included (11 MB for
-    one wear-study case)."""
+    one wear-study case).  Process ids are this machine's: workers in containers that share one temporary folder
+    need a TMPDIR each."""
     for folder in Path(root or tempfile.gettempdir()).glob(f"{CASE_FOLDER_PREFIX}*-*"):
         pid = folder.name[len(CASE_FOLDER_PREFIX):].split("-", 1)[0]
         if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
