@@ -214,7 +214,7 @@ class CompileWatch:
         if self.count == 0 and not self._stack and self._first is None:
             self._first = _now()
             self._cached = not self.quiet and engine_cached(self.what)   # before this command caches anything
-            if not self.quiet and not self._cached and self.what in reference_runs():
+            if not self.quiet and not self._cached:
                 self.speed.leave_out(*cached_in_reference(self.what))
             if self._on_first is not None:
                 self._on_first()
