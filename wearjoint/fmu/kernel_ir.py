@@ -74,12 +74,13 @@ def _aot_parts(model: str) -> list:
 
 def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
     """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
-    progress bar of their compilations.  They take the kernels numba's cache holds (an in-process run's:
-    the same CPU) unless ``fresh`` (an empty cache)."""
-    from .._compile.notice import announced_progress   # imports numba, which a warm co-simulation does not
+    progress bar of their compilations once they have taken ANNOUNCE_AFTER_S (as the engines' notice).  They take
+    the kernels numba's cache holds (an earlier build's: the same generic CPU) unless ``fresh`` (an empty cache)."""
+    from .._compile.notice import AHEAD_OF_TIME, ANNOUNCE_AFTER_S, announced_progress   # imports numba
 
     parts = _aot_parts(model)
-    bar = announced_progress("master" if model == "master" else "fmu")
+    key = next(key for key, name in AHEAD_OF_TIME.items() if name == model)
+    bar = None
     counts = [0] * len(parts)
 
     def follow(k, stream):
@@ -97,12 +98,21 @@ def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
                     stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent))
             readers.append(threading.Thread(target=follow, args=(k, processes[-1].stdout), daemon=True))
             readers[-1].start()
+        start = time.perf_counter()
         while any(process.poll() is None for process in processes):
-            bar.update(sum(counts))
+            if bar is None and time.perf_counter() - start >= ANNOUNCE_AFTER_S:
+                bar = announced_progress(key)
+            if bar is not None:
+                if sum(counts) >= bar.total:   # more than the reference's: not 100 % while a kernel compiles
+                    bar.set_total(sum(counts) + 1)
+                bar.update(sum(counts))
             time.sleep(0.1)
         for reader in readers:
             reader.join()
-        bar.close()
+        if bar is not None:
+            if sum(counts) > 0:
+                bar.set_total(sum(counts))
+            bar.close()
         for k, process in enumerate(processes):
             if process.returncode != 0:
                 raise RuntimeError("compiling the kernels ahead of time failed:\n"
