@@ -241,7 +241,9 @@ def test_an_ahead_of_time_build_that_lasts_says_the_references_wall_time_and_cou
         tmp_path, monkeypatch, capfd):
     """The master's build took 3 s where its notice said "about 13 s" (a hand-typed figure; a cold build here took
     30 s): the notice gives the reference's wall seconds, once the build has lasted ANNOUNCE_AFTER_S, and the count
-    is both processes' (5 + 5).  The log's clock runs 100 s a reading, so it writes its lines."""
+    is both processes' (5 + 5), and the time left is the reference's wall seconds less those gone (a count's rate said
+    "1 s left" for 30 s of the slider-crank FMU's last function).  The log's clock runs 100 s a reading, so it
+    writes its lines."""
     from wearjoint import progress
 
     clock = iter(range(0, 10**6, 100))
@@ -252,6 +254,9 @@ def test_an_ahead_of_time_build_that_lasts_says_the_references_wall_time_and_cou
     assert err[0] == ("wearjoint: compiling the co-simulation master's kernels, ahead of time (once per source "
                       f"version; two processes): about {seconds:.0f} s on first use, cached for later runs"), err
     assert err[-1].startswith("compiling: 100.0% (10 functions) in "), err
+    left = [sum(int(part) * 60**k for k, part in enumerate(reversed(line.split("ETA ~")[1].split(":"))))
+            for line in err[1:-1]]
+    assert left and all(seconds - 3.5 <= s <= seconds for s in left), (seconds, err)
 
 
 def test_a_short_ahead_of_time_build_says_nothing(tmp_path, monkeypatch, capfd):

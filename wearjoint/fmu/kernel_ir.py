@@ -22,6 +22,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -74,9 +75,10 @@ def _aot_parts(model: str) -> list:
 
 def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
     """:mod:`.aot` in fresh processes (:func:`_aot_parts`; they share numba's cache), said on stderr with a
-    progress bar of their compilations once they have taken ANNOUNCE_AFTER_S (as the engines' notice).  They take
-    the kernels numba's cache holds (an earlier build's: the same generic CPU) unless ``fresh`` (an empty cache)."""
-    from .._compile.notice import AHEAD_OF_TIME, ANNOUNCE_AFTER_S, announced_progress   # imports numba
+    progress bar of their compilations once they have taken ANNOUNCE_AFTER_S (as the engines' notice), its time
+    left the reference's wall seconds less those gone (unknown past them).  They take the kernels numba's cache
+    holds (an earlier build's: the same generic CPU) unless ``fresh`` (an empty cache)."""
+    from .._compile.notice import AHEAD_OF_TIME, ANNOUNCE_AFTER_S, announced_progress, cold_run   # imports numba
 
     parts = _aot_parts(model)
     key = next(key for key, name in AHEAD_OF_TIME.items() if name == model)
@@ -98,14 +100,15 @@ def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
                     stdout=subprocess.PIPE, stderr=errors, text=True, env=env, cwd=PACKAGE_DIR.parent))
             readers.append(threading.Thread(target=follow, args=(k, processes[-1].stdout), daemon=True))
             readers[-1].start()
-        start = time.perf_counter()
+        start, reference_s = time.perf_counter(), cold_run(key)[0]
         while any(process.poll() is None for process in processes):
-            if bar is None and time.perf_counter() - start >= ANNOUNCE_AFTER_S:
+            elapsed = time.perf_counter() - start
+            if bar is None and elapsed >= ANNOUNCE_AFTER_S:
                 bar = announced_progress(key)
             if bar is not None:
                 if sum(counts) >= bar.total:   # more than the reference's: not 100 % while a kernel compiles
                     bar.set_total(sum(counts) + 1)
-                bar.update(sum(counts))
+                bar.update(sum(counts), reference_s - elapsed if elapsed < reference_s else math.nan)
             time.sleep(0.1)
         for reader in readers:
             reader.join()
