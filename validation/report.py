@@ -91,7 +91,8 @@ def write_figures(runs: Runs, plan: ValidationPlan, out: Path) -> list[str]:
                     **runs.wear_engines}
         plot_wear_profiles(runs.wear_reference[0].phi_deg,
                            {label: ensemble_profile(members)[2] for label, members in profiles.items()},
-                           out / "worn_profiles.png", title=f"mean worn profile of {plan.ensemble} starts after "
+                           out / "worn_profiles.png", runs.wear_reference[0].parameters.mechanism.clearance_joint,
+                           title=f"mean worn profile of {plan.ensemble} starts after "
                            f"{plan.wear_revolutions:g} rev, wear factor {plan.wear_factor:g}")
         names.append("worn_profiles.png")
     return names

@@ -5,7 +5,7 @@ revolution, with the chattering revolutions) and the wear growth exponent.
 Per-revolution statistics come from the rows the engines accumulate
 (``layout.S_*``, one row per crank revolution, filled by
 ``core.integrators.record_step``); profile metrics from a worn profile
-(``phi_deg`` in the rod frame, ``wear_depth_m``).  ``summary.json`` (docs/reference/results.md §6), the
+(``phi_deg`` in the bushing frame, ``wear_depth_m``).  ``summary.json`` (docs/reference/results.md §6), the
 validation, the co-simulation study, the wear study and the benchmarks all read
 these functions.
 """

@@ -12,6 +12,11 @@ import numpy as np  # noqa: E402
 from .core import layout as L  # noqa: E402
 
 
+# the bushing's frame and where its angle 0 points, per clearance joint (docs/reference/model.md §1): the angle
+# axis of every worn-profile figure
+BUSHING_FRAMES = {"crank-rod": "rod frame: 0 = towards the slider",
+                  "rod-slider": "rod frame: 0 = away from the crank pin",
+                  "crank-ground": "ground frame: 0 = along +X"}
 # zlib's level for the PNGs: 3 encodes a run's figures in 0.7x the time of PIL's default 6, the files within 20 %
 PNG_COMPRESS_LEVEL = 3
 
@@ -92,8 +97,15 @@ def plot_contact_force(record, path: Path) -> None:
     save_figure(fig, path, lay_out=False)
 
 
-def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushing wear") -> None:
-    """Paper Fig. 7 layout: (a) polar depth, (b) depth vs bushing-frame angle, one curve per label."""
+def bushing_angle_label(clearance_joint: str | None) -> str:
+    """The worn profile's angle axis: the bushing's frame at ``clearance_joint`` (None: joints that differ)."""
+    frame = BUSHING_FRAMES.get(clearance_joint, "each point's own clearance joint")
+    return f"angle in the bushing frame [deg]\n({frame})"
+
+
+def plot_wear_profiles(phi_deg, profiles: dict, path: Path, clearance_joint: str, title: str = "bushing wear") -> None:
+    """Paper Fig. 7 layout: (a) polar depth, (b) depth vs bushing-frame angle (the frame of ``clearance_joint``'s
+    bushing), one curve per label."""
     fig = plt.figure(figsize=(11, 4.8))
     ax_polar = fig.add_subplot(1, 2, 1, projection="polar")
     ax = fig.add_subplot(1, 2, 2)
@@ -102,7 +114,7 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, title: str = "bushin
         ax_polar.plot(np.r_[phi, phi[:1]], np.r_[depth, depth[:1]] * 1e6, lw=1.2, label=label)
         ax.plot(phi_deg, depth * 1e6, lw=1.2, label=label)
     ax_polar.set_title("(a) wear depth [µm], bushing frame", fontsize=10, y=1.08)
-    ax.set_xlabel("angle in the bushing frame [deg]\n(crank-rod joint: 0 = towards the slider)")
+    ax.set_xlabel(bushing_angle_label(clearance_joint))
     ax.set_ylabel("wear depth [µm]")
     ax.set_xlim(0, 360)
     ax.set_xticks(range(0, 361, 45))
@@ -120,7 +132,8 @@ def run_figures(record, ideal=None) -> list[tuple[str, object]]:
             ("pin_orbit.png", lambda path: plot_pin_orbit(record, path)),
             ("contact_force.png", lambda path: plot_contact_force(record, path)),
             ("wear_profile.png", lambda path: plot_wear_profiles(
-                record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m}, path))]
+                record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m}, path,
+                record.parameters.mechanism.clearance_joint))]
 
 
 def plot_run(record, out: Path, ideal=None, only=None) -> list[str]:

@@ -408,3 +408,21 @@ def test_cosim_starts_from_a_profile_file_and_refuses_a_bad_one_in_one_line(tmp_
     assert "wear" in done.stderr and "Traceback" not in done.stderr
     done = wearjoint("cosim", "--master", "fmpy-ssp", "--initial-profile", str(profile), "--out", str(tmp_path / "x"))
     assert done.returncode == 2 and "--initial-profile" in done.stderr and "only with --master wearjoint" in done.stderr
+
+
+@pytest.mark.parametrize("clearance_joint, zero", [("crank-rod", "rod frame: 0 = towards the slider"),
+                                                   ("rod-slider", "rod frame: 0 = away from the crank pin"),
+                                                   ("crank-ground", "ground frame: 0 = along +X")])
+def test_the_worn_profiles_axis_names_the_bushing_frame_of_the_joint_that_wears(monkeypatch, tmp_path,
+                                                                               clearance_joint, zero):
+    """A press wearing its piston pin (rod-slider) got the crank-rod joint's axis, "0 = towards the slider".  The
+    frames are docs/reference/model.md §1's table: its bushing body and where angle 0 points."""
+    import wearjoint.plots as plots
+
+    figures = []
+    monkeypatch.setattr(plots, "save_figure", lambda fig, path, **kw: figures.append(fig))
+    mechanism = SliderCrankParameters(clearance_joint=clearance_joint)
+    record = run_simulation(paper_joint(mechanism), mechanism, SimulationOptions(revolutions=0.01))
+    plots.plot_run(record, tmp_path, only=[3])
+    (label,) = {ax.get_xlabel() for ax in figures[0].axes if ax.get_xlabel()}
+    assert label == f"angle in the bushing frame [deg]\n({zero})"

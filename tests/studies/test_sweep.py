@@ -356,6 +356,25 @@ def test_profile_bands_are_overlaid_in_one_panel_with_a_legend(monkeypatch, tmp_
     assert [label.split(" ")[0] for label in labels] == ["mu=0.05", "mu=0.1", "mu=0.2"]
 
 
+def test_the_profile_bands_axis_is_the_bushing_frame_of_the_points_joint(monkeypatch, tmp_path):
+    """Points wearing the crank's main bearing (crank-ground) are drawn in the ground frame (the axis said "rod
+    frame, 0 = towards the slider" for every sweep); a panel of points at different joints names no frame's zero."""
+    from wearjoint.sweep.report import plot_profile_bands
+
+    figures = _captured_figures(monkeypatch)
+    points = _points({0.05: [1e-6], 0.1: [1e-6]}, None)
+    phi = np.linspace(1, 360, 16)
+    bands = {k: {"final": (phi, np.vstack([np.sin(np.radians(phi)) ** 2] * 2))} for k in range(2)}
+    for point in points:
+        point.clearance_joint = "crank-ground"
+    plot_profile_bands(tmp_path, points, bands)
+    points[1].clearance_joint = "rod-slider"
+    plot_profile_bands(tmp_path, points, bands)
+    labels = [next(a for a in figure.axes if a.get_visible()).get_xlabel() for figure in figures]
+    assert labels == ["angle in the bushing frame [deg] (ground frame: 0 = along +X)",
+                      "angle in the bushing frame [deg] (each point's own clearance joint)"]
+
+
 def test_ensemble_reports_the_fraction_of_starts_in_each_regime(tmp_path):
     """Synthetic summaries through the report: 2 of 8 starts in backward whirl give 0.25, in ensemble.csv,
     in the report's per-point regimes and in the printed table's regime note; a point in one regime is

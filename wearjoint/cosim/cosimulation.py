@@ -278,7 +278,7 @@ class CoSimulation(OwnsFmuInstance):
 
     # -- results
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
-        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
+        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (the bushing frame)."""
         values = self._live_instance().wear(self.t)
         n = self.joint.n_points
         return np.degrees(bushing_point_angles(n)), values[:n], float(values[n + 1])

@@ -99,7 +99,7 @@ class ModelExchangeSimulation(OwnsFmuInstance):
         return n
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
-        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (rod frame)."""
+        """(phi_deg, wear_depth_m, worn_volume_m3) read from the FMU (the bushing frame)."""
         values = self._instance.wear(self.t)
         n = self.joint_parameters.n_points
         return self._engine.joint.phi_deg, values[:n], float(values[n + 1])

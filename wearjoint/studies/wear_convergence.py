@@ -125,6 +125,7 @@ def _plot(out: Path, folders: dict, profiles: dict, config: WearStudyConfig) -> 
     figures = []
     if reached:
         plot_wear_profiles(profile_angles_deg(config.joint.n_points), reached, out / "convergence_profiles.png",
+                           config.mechanism.clearance_joint,
                            title=f"acceleration factors at matched revolutions ({last} rev)")
         figures.append("convergence_profiles.png")
     fig, ax = plt.subplots(figsize=(7, 4.2))

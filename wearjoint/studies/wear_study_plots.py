@@ -39,7 +39,8 @@ def plot_study(phi_deg: np.ndarray, snaps: list, growth: np.ndarray, config, out
     figures = []
     if snaps:
         plot_wear_profiles(phi_deg, {f"{s['revolution']} rev": s["wear_depth_m"] for s in snaps},
-                           out / "fig7_wear_profiles.png", title="Fig. 7: worn bushing profile (rod frame)")
+                           out / "fig7_wear_profiles.png", config.mechanism.clearance_joint,
+                           title="Fig. 7: worn bushing profile")
         plot_fig8(snaps, config, out / "fig8_slider_acceleration.png")
         figures += ["fig7_wear_profiles.png", "fig8_slider_acceleration.png"]
     if len(growth) > 1:

@@ -42,7 +42,8 @@ class GridPoint:
         self.rows = rows
         self.values = {name: rows[0][name] for name in names}
         self.ok = [r for r in rows if r["status"] == "ok"]
-        self.bias: dict[str, Bias] = {}      # figure column -> the wear factor's bias (:func:`read_biases`)
+        self.bias: dict[str, Bias] = {}      # figure column -> the wear factor's bias (:func:`read_run_facts`)
+        self.clearance_joint: str | None = None     # the joint that wears (its bushing's frame: the profiles' axis)
 
     @property
     def label(self) -> str:
@@ -54,13 +55,24 @@ def values_label(pairs) -> str:
     return ", ".join(f"{name}={value:g}" if isinstance(value, float) else f"{name}={value}" for name, value in pairs)
 
 
-def read_biases(out: Path, point: GridPoint) -> dict:
-    """{figure column: Bias} of the point's runs, from its first ok case's summary.json (the seeds share it)."""
+def read_run_facts(out: Path, point: GridPoint) -> None:
+    """The point's wear-factor biases ({figure column: Bias}) and clearance joint, from its first ok case's
+    summary.json (the seeds share them)."""
     for row in point.ok:
         folder = out / row["folder"]
         if (folder / RECORD_NAME).is_file():
-            return summary_biases(read_record(folder))
-    return {}
+            summary = read_record(folder)
+            point.bias = summary_biases(summary)
+            point.clearance_joint = summary.get("parameters", {}).get("mechanism", {}).get("clearance_joint")
+            return
+
+
+def _bushing_angle_label(points) -> str:
+    """The profiles' angle axis of ``points`` (the bushing frame of their clearance joint, if they share one)."""
+    from ..plots import bushing_angle_label
+
+    joints = {point.clearance_joint for point in points}
+    return bushing_angle_label(joints.pop() if len(joints) == 1 else None).replace("\n", " ")
 
 
 def bias_label(point: GridPoint, column: str = "max_wear_depth_m") -> str:
@@ -202,7 +214,7 @@ def plot_profile_bands(out: Path, points, bands: dict) -> list[str]:
             _band(ax, phi, depth, 1e6, label=f"{points[k].label} ({details})")
         ax.set_xlim(0, 360)
         ax.set_xticks(range(0, 361, 45))
-        ax.set_xlabel("angle in the rod frame [deg] (0 = towards the slider)")
+        ax.set_xlabel(_bushing_angle_label([points[k] for k in keys[start:start + PROFILES_PER_PANEL]]))
         ax.set_ylabel("wear depth [µm]")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
@@ -227,7 +239,7 @@ def plot_fig7_bands(out: Path, points, bands: dict) -> list[str]:
             phi, depth = by_label[label]
             bias = bias_label(points[k], f"{label}_max_wear_depth_m")
             _band(ax, phi, depth, 1e6, label=f"{revolution} rev" + (f" ({bias})" if bias else ""))
-        ax.set_xlabel("angle in the rod frame [deg] (0 = towards the slider)")
+        ax.set_xlabel(_bushing_angle_label([points[k]]))
         ax.set_ylabel("wear depth [µm]")
         ax.set_xlim(0, 360)
         ax.set_xticks(range(0, 361, 45))
@@ -331,7 +343,7 @@ def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = T
     out = Path(out)
     points = grid_points(rows, names)
     for point in points:
-        point.bias = read_biases(out, point)
+        read_run_facts(out, point)
     ensemble = ensemble_rows(points)
     write_csv_atomic(out / "ensemble.csv", ensemble, lead=("point", *names, "n_ok", "n_failed", "n_pending"))
     bands = profile_bands(out, points)
@@ -355,5 +367,5 @@ def regime_line(row: dict) -> str:
     return f"regimes: {text}" + (" (MIXED: the means average over these regimes)" if mixed else "")
 
 
-__all__ = ["write_reports", "ensemble_rows", "regime_counts", "regime_fields", "regime_line", "regime_text", "grid_points", "profile_bands", "read_biases", "GridPoint",
+__all__ = ["write_reports", "ensemble_rows", "regime_counts", "regime_fields", "regime_line", "regime_text", "grid_points", "profile_bands", "read_run_facts", "GridPoint",
            "FIGURES_OF_MERIT", "BIAS_NOTE"]
