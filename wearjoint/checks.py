@@ -17,6 +17,12 @@ class RunDiverged(RuntimeError):
     message says when and why (the run pipeline keeps what came before, ``completed: false``)."""
 
 
+def worn_through_message(when: str, max_depth_m: float, bushing_radius_m: float) -> str:
+    """The bushing wore through ``when``: its deepest point ``max_depth_m`` [m] passed its radius, the deepest wear
+    a state holds (core.admissibility: a profile that can be neither restored nor continued from)."""
+    return f"the bushing wore through {when}: max depth {max_depth_m:.6g} m, its radius {bushing_radius_m:g} m"
+
+
 def require(name: str, value, ok: bool, allowed: str) -> None:
     """ParameterError naming ``name``, its ``value`` and what is ``allowed`` unless ``ok``: the one-line message
     every edge (API, CLI, FMU build, exudyn, sweep) gives for a bad value."""

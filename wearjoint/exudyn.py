@@ -285,7 +285,8 @@ class ClearanceJointHandle:
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, self._history, self._rows)
         if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
             raise RunDiverged(inadmissible_message(t, wall_overlap(j.result, j.parameter_vector, j.wear_depth),
-                                                   j.result[L.R_NORMAL_FORCE], j.params, "exudyn's step"))
+                                                   j.result[L.R_NORMAL_FORCE], j.params, "exudyn's step",
+                                                   float(j.wear_depth.max())))
         self._rows += 1
         self.t = t
         self.accepted_steps += 1

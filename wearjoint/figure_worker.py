@@ -47,11 +47,12 @@ class FigureData:
     wear_depth_m: object          # [m] at phi_deg
     revolutions: float
     last_revolution_index: int
+    clearance_joint: str          # the joint that wears (its bushing's frame: the profile's angles)
 
     @classmethod
     def of(cls, record) -> "FigureData":
         return cls(record.samples, record.period_s, record.clearance_m, record.phi_deg, record.wear_depth_m,
-                   record.revolutions, record.last_revolution())
+                   record.revolutions, record.last_revolution(), record.clearance_joint)
 
     def last_revolution(self) -> int:
         return self.last_revolution_index

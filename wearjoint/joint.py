@@ -26,7 +26,7 @@ from .core.wear import (
     equivalent_radius, hertz_half_width, worn_volume,
 )
 from .joint_fields import JOINT_FIELDS, coded_value
-from .checks import is_real, real_array, refuse
+from .checks import is_real, real_array, refuse, worn_through_message
 from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
 
 KINEMATICS = "6 finite numbers (x [m], y [m], angle [rad], vx [m/s], vy [m/s], omega [rad/s])"
@@ -263,6 +263,10 @@ class ClearanceJoint:
         depth_before = self.wear_depth.copy()      # the contact's extent as evaluated, before the update
         dt = float(dt)
         code = self.advance_array(pos_i, vel_i, pos_j, vel_j, dt, bool(held))
+        if code == STEP_INADMISSIBLE and not self.max_wear_depth_m <= self.params.bushing_radius_m:
+            raise ParameterError(worn_through_message("before this step", self.max_wear_depth_m,
+                                                      self.params.bushing_radius_m)
+                                 + ": no step goes on from it (docs/reference/model.md §3.14); the joint is unchanged")
         if code == STEP_INADMISSIBLE:
             p, r = self.params, self.result
             overlap = wall_overlap(r, self.parameter_vector, self.wear_depth)

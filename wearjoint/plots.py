@@ -133,7 +133,7 @@ def run_figures(record, ideal=None) -> list[tuple[str, object]]:
             ("contact_force.png", lambda path: plot_contact_force(record, path)),
             ("wear_profile.png", lambda path: plot_wear_profiles(
                 record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m}, path,
-                record.parameters.mechanism.clearance_joint))]
+                record.clearance_joint))]
 
 
 def plot_run(record, out: Path, ideal=None, only=None) -> list[str]:

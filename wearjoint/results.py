@@ -87,6 +87,11 @@ class RunRecord:
         """Index of the last revolution that was simulated (complete or partial)."""
         return analysis.last_revolution(self.revolution_stats)
 
+    @property
+    def clearance_joint(self) -> str:
+        """The joint that wears (its bushing's frame: the profile's angles)."""
+        return self.parameters.mechanism.clearance_joint
+
     def impact_events(self) -> dict:
         """The run's impact-vibration events per revolution (:func:`wearjoint.analysis.revolution_impact_events`)."""
         return analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism)

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import analysis
 from .core import layout as L
-from .checks import RunDiverged, require
+from .checks import RunDiverged, require, worn_through_message
 from .parameters import JointParameters
 from .progress import Progress
 from .results import RunParameters, RunRecord
@@ -207,9 +207,15 @@ def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
             "integrator or a smaller wear factor; docs/reference/model.md §3.14)")
 
 
-def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: JointParameters, where: str) -> str:
+def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: JointParameters, where: str,
+                         max_depth_m: float) -> str:
     """Why a run stopped at an inadmissible state (core.admissibility): at time ``t`` [s] ``where`` put the pin
-    ``overlap_m`` [m] into the bushing wall with a normal force ``force_N`` [N], beyond what ``joint`` admits."""
+    ``overlap_m`` [m] into the bushing wall with a normal force ``force_N`` [N], beyond what ``joint`` admits, or
+    the bushing, ``max_depth_m`` [m] deep at most, wore through."""
+    if not max_depth_m <= joint.bushing_radius_m:
+        return (worn_through_message(f"at t = {t:.6g} s", max_depth_m, joint.bushing_radius_m)
+                + " (a real bushing's wall is thinner: a smaller wear coefficient, wear factor or run; "
+                "docs/reference/model.md §3.14)")
     return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall (admissible "
             f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) with a "
             f"normal force of {force_N:.3g} N (admissible {joint.admissible_force_N:.3g} N): no contact of this joint "

@@ -176,7 +176,7 @@ class Simulation:
         failure = self.joint.failure
         if failure[0] != 0.0:
             raise RunDiverged(inadmissible_message(failure[1], failure[2], failure[3], self.joint.params,
-                                                   "an accepted step"))
+                                                   "an accepted step", float(self.joint.wear_depth.max())))
         return int(self.track[L.K_N_SAMPLES])
 
     def _gear_to(self, t_end: float, samples: np.ndarray) -> None:

@@ -355,11 +355,11 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
 /* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs
  * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
  * the step's mean force, docs/reference/model.md §3.11).
- * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, and for inputs deeper in the bushing wall
- * than any contact (Co-Simulation; Model Exchange: FMU_ERROR; docs/reference/model.md §3.14).  FMU_WARNING (logged, the
- * step accepted), once per instance: the first step's pin centre lies outside the bushing (the inputs
- * likely lack the offsets).  A wearing step over the wear-step limit (docs/reference/model.md §7) is logged as a
- * warning once per instance and returns FMU_OK: the run goes on in every master. */
+ * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, for inputs deeper in the bushing wall than
+ * any contact or a bushing worn through (Co-Simulation; Model Exchange: FMU_ERROR; docs/reference/model.md §3.14).
+ * FMU_WARNING (logged, the step accepted), once per instance: the first step's pin centre lies outside the
+ * bushing (the inputs likely lack the offsets).  A wearing step over the wear-step limit (docs/reference/model.md
+ * §7) is logged as a warning once per instance and returns FMU_OK: the run goes on in every master. */
 static int accept_step(FmuModel *model, double dt, int held, const char *function)
 {
     if (model->non_finite_inputs) {
@@ -370,8 +370,7 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
         return FMU_DISCARD;
     }
     if (!(dt >= 0.0 && isfinite(dt))) {
-        fmu_log(&model->host, FMU_ERROR, "%s: step rejected: step size %g s is not a finite value >= 0", function,
-                dt);
+        fmu_log(&model->host, FMU_ERROR, "%s: step rejected: step size %g s is not a finite value >= 0", function, dt);
         return FMU_DISCARD;
     }
     if (!joint_pack_parameters(model, function))
@@ -389,13 +388,17 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
                                             model->n_blocks, dt, held);
     if (!kernel_ok(model, "wearjoint_advance failed", status))
         return FMU_ERROR;
-    if (changed == STEP_INADMISSIBLE) {   /* deeper in the wall than any contact: nothing changed */
-        /* the pin's overlap with the wall and the admissible penetration [m], the admissible force [N] */
-        double bounds[3] = {0.0, 0.0, 0.0};
+    double radius = model->parameters[STATE_PARAMETER_BUSHING_RADIUS];
+    if (changed == STEP_INADMISSIBLE) {   /* deeper in the wall than any contact, or worn through: nothing changed */
+        double bounds[3] = {0.0, 0.0, 0.0};   /* the pin's overlap, the admissible penetration [m] and force [N] */
         int32_t ignored = 0;
         wearjoint_wall_overlap(&ignored, NULL, model->result, model->joint_parameters, model->wear_depth,
                                model->n_points, bounds);
-        fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
+        if (joint_wear_summary(model, function) && !(model->max_wear_depth <= radius))
+            fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the bushing wore through before it: "
+                    "max depth %g m, its radius %g m: nothing changed (docs/reference/model.md §3.14)", function,
+                    model->time, model->max_wear_depth, radius);
+        else fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
                 "bushing wall (along its eccentricity; admissible %g m, " ADMISSIBLE_SHARE_TEXT " of the pin radius) "
                 "with a normal force of %g N (admissible %g N): no contact of this joint reaches it, nothing "
                 "changed; the communication step is too long for the contact (docs/reference/model.md §3.14)", function,
@@ -404,8 +407,7 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
     }
     if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */
         fmu_log(&model->host, FMU_ERROR, "%s: step rejected: a step of %g s wears the bushing by more than its "
-                "radius %g m (or by a non-finite depth)", function, dt,
-                model->parameters[STATE_PARAMETER_BUSHING_RADIUS]);
+                "radius %g m (or by a non-finite depth)", function, dt, radius);
         return FMU_DISCARD;
     }
     if (changed)
@@ -488,8 +490,7 @@ int model_event_update(FmuModel *model, const char *function)
     return 1;
 }
 
-/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs; an FMU_*
- * status. */
+/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs: a status. */
 int model_completed_integrator_step(FmuModel *model, const char *function)
 {
     int status = accept_step(model, model->time - model->last_accepted_time, 0, function);

@@ -51,6 +51,7 @@ with _scipy_hidden():
 
     from wearjoint import ClearanceJoint, JointParameters, JointState, ParameterError, __version__
     from wearjoint.core import layout as L, state_format
+    from wearjoint.checks import worn_through_message
     from wearjoint.core.admissibility import wall_overlap
     from wearjoint.core.wear import STEP_INADMISSIBLE
     from wearjoint.fmu import variables as fv
@@ -270,6 +271,11 @@ class ClearanceWearJoint(Fmi2Slave):
         self._ensure_joint()
         changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
                                             self._bushing_position, self._bushing_velocity, step_size, True)
+        if changed == STEP_INADMISSIBLE and not self._joint.max_wear_depth_m <= self._joint.params.bushing_radius_m:
+            self._log_error(f"doStep at t={current_time!r} s rejected: " + worn_through_message(
+                "before it", self._joint.max_wear_depth_m, self._joint.params.bushing_radius_m)
+                + ": nothing changed (docs/reference/model.md §3.14)")
+            return False
         if changed == STEP_INADMISSIBLE:
             overlap = wall_overlap(self._joint.result, self._joint.parameter_vector, self._joint.wear_depth)
             params = self._joint.params

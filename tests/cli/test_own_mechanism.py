@@ -426,3 +426,26 @@ def test_the_worn_profiles_axis_names_the_bushing_frame_of_the_joint_that_wears(
     plots.plot_run(record, tmp_path, only=[3])
     (label,) = {ax.get_xlabel() for ax in figures[0].axes if ax.get_xlabel()}
     assert label == f"angle in the bushing frame [deg]\n({zero})"
+
+
+# a press wearing its piston pin at 2000x the paper's printed k_w: through the bushing within 10 ms
+WORN_THROUGH_PRESS = ["--crank-length-m", "0.08", "--rod-length-m", "0.3", "--slider-mass-kg", "2", "--crank-speed-rpm",
+                      "600", "--slider-force-N", "-800", "--clearance-joint", "rod-slider", "--wear-factor", "2000",
+                      "--revolutions", "0.1", "--no-plots"]
+
+
+@pytest.mark.parametrize("command", [["simulate"], ["cosim", "--step", "2e-6"],      # the step this wear allows
+                                     ["cosim", "--step", "2e-6", "--fmu-backend", "pythonfmu"]])
+def test_a_bushing_worn_through_stops_the_run_at_its_radius_saying_so(tmp_path, command):
+    """The press ran on with the pin ploughing a groove twice the bushing's radius deep (20 mm in a 10.1 mm
+    bushing, no state the joint can hold or restore) until the contact search lost it, and then blamed the step:
+    "the inputs put the pin 0.000203 m into the bushing wall ... the communication step is too long".  It stops at
+    the first step from a groove deeper than the radius and says the bushing wore through."""
+    done = subprocess.run([sys.executable, "-m", "wearjoint", *command, *WORN_THROUGH_PRESS, "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 1, done.stderr
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    radius = JointParameters().bushing_radius_m
+    assert summary["completed"] is False and "the bushing wore through" in summary["failure"]
+    assert "the bushing wore through" in done.stderr.strip().splitlines()[-1]
+    assert radius < summary["max_wear_depth_m"] < 1.01 * radius, summary["max_wear_depth_m"]

@@ -79,3 +79,32 @@ def test_a_force_past_what_the_materials_carry_is_inadmissible_at_any_eccentrici
     assert not is_admissible(result, joint.parameter_vector, joint.wear_depth)
     result[L.R_NORMAL_FORCE] = math.nan
     assert not is_admissible(result, joint.parameter_vector, joint.wear_depth)
+
+
+def test_a_pin_in_a_groove_worn_past_the_bushing_radius_is_inadmissible():
+    """A bushing worn deeper than its radius R_j (the deepest wear a state holds: no profile past it can be set or
+    restored) has worn through: the pin sitting in that groove, touching its bottom, is refused; at R_j it is not."""
+    joint = ClearanceJoint(JOINT)
+    k = 300
+    angle = (k + 1) * 2.0 * math.pi / JOINT.n_points
+    jp = joint.parameter_vector
+    for depth, admitted in ((JOINT.bushing_radius_m, True), (1.0001 * JOINT.bushing_radius_m, False)):
+        joint.wear_depth[k] = depth
+        touching = _at(JOINT, JOINT.clearance_m + depth, angle)                  # overlap 0 at the groove's bottom
+        assert wall_overlap(touching, jp, joint.wear_depth) == pytest.approx(0.0, abs=1e-15)
+        assert is_admissible(touching, jp, joint.wear_depth) == admitted, depth
+
+
+def test_a_step_from_a_bushing_worn_through_is_refused_naming_it():
+    """The joint's API refuses the step after the one that wore the bushing past its radius, with nothing changed."""
+    from wearjoint.parameters import ParameterError
+
+    joint = ClearanceJoint(JOINT)
+    joint.advance_array(*_kinematics(JOINT.clearance_m), 1e-5)                       # the first point: exempt
+    joint.wear_depth[-1] = 1.001 * JOINT.bushing_radius_m                             # at 0 rad (point N_d)
+    depth = joint.wear_depth.copy()
+    pin = [JOINT.clearance_m + depth[-1], 0.0, 0.0, 0.0, 0.0, 3.0]                 # touching the groove's bottom
+    with pytest.raises(ParameterError, match=r"^the bushing wore through before this step: max depth 0.0101101 m, "
+                                             r"its radius 0.0101 m: no step goes on"):
+        joint.advance(pin, [0.0] * 6, 1e-5)
+    assert np.array_equal(joint.wear_depth, depth)

@@ -3,8 +3,9 @@
 A pin in its worn bushing sits at |e| = c + h(phi_e) + its penetration; a co-simulation coupling that blew up
 puts it further, through the wall, or drives it into the wall so fast that the damping's force passes anything
 the materials carry.  The admissible penetration is ADMISSIBLE_PENETRATION_SHARE of the pin's radius (layout),
-the admissible force the Hertz law's K delta^n there; a state deeper or pressed harder than that, or not
-finite, is refused: the wear and contact-onset update of
+the admissible force the Hertz law's K delta^n there; a state deeper or pressed harder than that, one whose pin sits
+in a groove worn deeper than the bushing radius (the deepest wear a state holds: the bushing wore through), or one
+not finite, is refused: the wear and contact-onset update of
 an accepted step (core.wear) returns STEP_INADMISSIBLE and changes nothing (but at the joint's first accepted
 point, which a master may take before it connected the inputs).
 """
@@ -23,18 +24,25 @@ def admissible_penetration(jp):
     return ADMISSIBLE_PENETRATION_SHARE * jp[P_PIN_RADIUS]
 
 
-@kernel
-def wall_overlap(result, jp, wear_depth):
-    """How far the pin is in the bushing wall along its eccentricity [m]: |e| + R_i - (R_j + h), h the wear depth
-    of the bushing point nearest e's direction (point k at phi = (k + 1) 2 pi / N_d, Eq. 3); NaN if e is not
+@kernel(inline='always')
+def _wall_along_e(result, jp, wear_depth):
+    """(how far the pin is in the bushing wall along its eccentricity [m], |e| + R_i - (R_j + h); h [m]), h the wear
+    depth of the bushing point nearest e's direction (point k at phi = (k + 1) 2 pi / N_d, Eq. 3); NaNs if e is not
     finite."""
     ex = result[R_ECCENTRICITY_X]
     ey = result[R_ECCENTRICITY_Y]
     if not (math.isfinite(ex) and math.isfinite(ey)):
-        return math.nan
+        return math.nan, math.nan
     n = wear_depth.shape[0]
-    k = (int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1) % n
-    return math.sqrt(ex * ex + ey * ey) + jp[P_PIN_RADIUS] - jp[P_BUSHING_RADIUS] - wear_depth[k]
+    h = wear_depth[(int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1) % n]
+    return math.sqrt(ex * ex + ey * ey) + jp[P_PIN_RADIUS] - jp[P_BUSHING_RADIUS] - h, h
+
+
+@kernel
+def wall_overlap(result, jp, wear_depth):
+    """How far the pin is in the bushing wall along its eccentricity [m] (:func:`_wall_along_e`); NaN if e is not
+    finite."""
+    return _wall_along_e(result, jp, wear_depth)[0]
 
 
 @kernel(inline='always')
@@ -48,8 +56,8 @@ def admissible_force(jp):
 @kernel(inline='always')
 def is_admissible(result, jp, wear_depth):
     """True if the evaluated contact ``result`` (layout.R_*) is within the admissible penetration of the worn
-    bushing and its normal force within :func:`admissible_force`; the wall is looked up only where |e| passes the
-    unworn clearance plus that penetration."""
+    bushing, its normal force within :func:`admissible_force` and the wall along e worn at most the bushing radius
+    R_j deep; the wall is looked up only where |e| passes the unworn clearance plus that penetration."""
     if not result[R_NORMAL_FORCE] <= admissible_force(jp):
         return False
     ex = result[R_ECCENTRICITY_X]
@@ -57,7 +65,8 @@ def is_admissible(result, jp, wear_depth):
     free = jp[P_BUSHING_RADIUS] - jp[P_PIN_RADIUS] + admissible_penetration(jp)
     if ex * ex + ey * ey <= free * free:
         return True
-    return wall_overlap(result, jp, wear_depth) <= admissible_penetration(jp)
+    overlap, depth = _wall_along_e(result, jp, wear_depth)
+    return overlap <= admissible_penetration(jp) and depth <= jp[P_BUSHING_RADIUS]
 
 
 __all__ = ["admissible_force", "admissible_penetration", "is_admissible", "wall_overlap"]

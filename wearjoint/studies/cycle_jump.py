@@ -29,6 +29,7 @@ from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.progress import Progress
 from wearjoint.runner import RunDiverged, divergence
+from wearjoint.checks import worn_through_message
 
 DEFAULT_JUMP_TOLERANCE = 0.003          # local error of a jump, relative to the max depth (docs/explanation/wear_study.md)
 PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this share of the max depth (explicit bound)
@@ -185,9 +186,9 @@ def _jump(config, state, engine, replayer) -> None:
     replayer.replay_wear(js["loading"], jump / js["block_length"], passes)
     radius = config.joint.bushing_radius_m
     if not replayer.wear_depth.max() < radius:
-        raise RunDiverged(f"the bushing wore through in the jump from revolution {revolution} by {jump} revolutions: "
-                          f"max depth {replayer.wear_depth.max():.6g} m, its radius {radius:g} m (lower "
-                          "--wear-coefficient-m2-N or --revolutions)")
+        raise RunDiverged(worn_through_message(f"in the jump from revolution {revolution} by {jump} revolutions",
+                                               replayer.wear_depth.max(), radius)
+                          + " (lower --wear-coefficient-m2-N or --revolutions)")
     engine.set_wear_profile(replayer.wear_depth)
     _, depth, volume = engine.wear_profile()
     block_volume = js.get("volume_rate", 0.0) * jump

@@ -36,7 +36,7 @@ import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
                                 revolution_row, sample_statistics)
-from wearjoint.checks import choice
+from wearjoint.checks import choice, worn_through_message
 from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
@@ -350,8 +350,8 @@ def _keep_snapshot(config, state, out, phi_deg, snapshot: dict, revolution: floa
 def _check_not_worn_through(config, max_depth_m: float, revolution: float) -> None:
     """A profile deeper than the bushing's radius is no state to go on from (nor to checkpoint)."""
     if not max_depth_m < config.joint.bushing_radius_m:
-        raise RunDiverged(f"the bushing wore through by revolution {revolution:.6g}: max depth {max_depth_m:.6g} m, "
-                          f"its radius {config.joint.bushing_radius_m:g} m")
+        raise RunDiverged(worn_through_message(f"by revolution {revolution:.6g}", max_depth_m,
+                                               config.joint.bushing_radius_m))
 
 
 def _diverged(config, state, engine, out, ckpt_path, plots, compile_time_s, failure: str) -> StudyDiverged:
