@@ -2,6 +2,8 @@
 its continuity on worn profiles (two arcs included), its behaviour while a groove deepens, its
 exact derivatives against central differences, and its balance of moments."""
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -339,3 +341,26 @@ def test_the_closed_form_over_unworn_points_is_the_point_by_point_sum(worn):
                 assert (got[7], got[8]) in ((nearest, nearest_d2), (-1, math.inf)), (angle, delta, hint)
                 by_points += got[7] >= 0
     assert (by_points > 100) if worn else by_points == 0
+
+
+def test_a_non_finite_eccentricity_has_no_resultant_and_reads_no_wild_window():
+    """Finite inputs whose difference overflows give |e| = inf (or NaN, inf times a zero sine): the window's reach
+    was NaN, its half-width int(NaN), and the window about e's direction wild.  Under the FMU state machines with
+    AddressSanitizer that read past the profile (a SEGV in _unworn_window_sums); in process it gave the point
+    -2**63 or crashed.  Now: no resultant and no nearest point, in a child process that must not crash."""
+    script = """
+import math
+import numpy as np
+from wearjoint.core.pressure import foundation_resultant
+n = 64
+phi = (np.arange(n) + 1) * 2 * np.pi / n
+depth = np.zeros(n)
+depth[-3:] = 5e-5                              # a worn stretch at 0 rad: the window's point-by-point sum
+for ex, ey in ((math.inf, 0.0), (math.inf, math.inf), (-math.inf, 1.0), (math.nan, 0.0), (math.inf, math.nan)):
+    for hint in (-1, n - 1):
+        got = foundation_resultant(ex, ey, 0.01, 0.0101, np.cos(phi), np.sin(phi), depth, True, np.int64(hint))
+        assert got == (0.0,) * 7 + (-1, math.inf), (ex, ey, hint, got)
+print("ok")
+"""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", (done.returncode, done.stdout, done.stderr[-2000:])

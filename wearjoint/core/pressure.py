@@ -314,10 +314,10 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
     sums = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     nearest_d2, nearest = math.inf, -1
     e = math.sqrt(ex * ex + ey * ey)
-    if e <= 0.0:
+    if not 0.0 < e < math.inf:                   # centred, or not finite (finite inputs whose difference overflows)
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
     cos_max = reach_cosine(e, bushing_radius, pin_radius * pin_radius)
-    if cos_max >= 1.0:                           # no point can reach the pin
+    if not cos_max < 1.0:                        # no point can reach the pin (NaN: a window of no width, not a wild one)
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nearest, nearest_d2
     reach, half = reach_points(cos_max, n)
     if 2 * half + 1 >= n:           # every point; np.int64: a literal 0 is one more compilation
