@@ -11,6 +11,7 @@ point, which a master may take before it connected the inputs).
 """
 import math
 
+from .geometry import direction_point
 from .jit import kernel
 from .layout import (
     ADMISSIBLE_PENETRATION_SHARE, P_BUSHING_RADIUS, P_EXPONENT, P_PIN_RADIUS, P_STIFFNESS, R_ECCENTRICITY_X,
@@ -34,7 +35,7 @@ def _wall_along_e(result, jp, wear_depth):
     if not (math.isfinite(ex) and math.isfinite(ey)):
         return math.nan, math.nan
     n = wear_depth.shape[0]
-    h = wear_depth[(int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1) % n]
+    h = wear_depth[direction_point(ex, ey, n)]
     return math.sqrt(ex * ex + ey * ey) + jp[P_PIN_RADIUS] - jp[P_BUSHING_RADIUS] - h, h
 
 

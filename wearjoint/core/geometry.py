@@ -144,6 +144,13 @@ def _block_lower_bound_sq(e, ux, uy, bushing_radius, cos_phi, sin_phi, block_min
     return _angular_lower_bound_sq(e, c, bushing_radius + block_min[np.uint64(b)])
 
 
+@kernel(inline='always')
+def direction_point(ex, ey, n):
+    """The bushing point (of N_d = n) nearest the direction of e = (ex, ey) in the bushing frame: point k at
+    phi_k = (k + 1) 2 pi / N_d (Eq. 3); point N_d - 1 (phi = 0) for e = 0."""
+    return wrap_index(int(round(math.atan2(ey, ex) * n / TWO_PI)) - 1, n)
+
+
 @kernel
 def _direction_point(ex, ey, n):
     """|e|, the unit vector of e ((1, 0) for e = 0) and the point nearest its direction."""
@@ -154,7 +161,7 @@ def _direction_point(ex, ey, n):
     else:
         ux = 1.0
         uy = 0.0
-    return e, ux, uy, wrap_index(int(round(math.atan2(uy, ux) / (TWO_PI / n))) - 1, n)
+    return e, ux, uy, direction_point(ex, ey, n)
 
 
 @kernel(inline='always')

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .geometry import reach_cosine, reach_points, wrap_index
+from .geometry import direction_point, reach_cosine, reach_points, wrap_index
 from .jit import kernel
 
 
@@ -278,12 +278,6 @@ def _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushi
 
 
 @kernel(inline='always')
-def _nearest_point(ex, ey, n):
-    """The bushing point nearest e's direction (point k at angle (k + 1) dphi)."""
-    return int(round(math.atan2(ey, ex) * n / (2.0 * math.pi))) - 1
-
-
-@kernel(inline='always')
 def _window(centre, half, n):
     """(first, last, centre as a real index) of the window of points centre - half .. centre + half, shifted
     by n where it would start before -1 (the runs wrap indices from -1 up)."""
@@ -325,12 +319,12 @@ def foundation_resultant(ex, ey, pin_radius, bushing_radius, cos_phi, sin_phi, w
                                                    sin_phi, wear_depth, with_jacobian, sums)
     else:
         hinted = 0 <= deepest < n and wear_depth[deepest] == 0.0
-        first, last, direction = _window(deepest if hinted else _nearest_point(ex, ey, n), half, n)
+        first, last, direction = _window(deepest if hinted else direction_point(ex, ey, n), half, n)
         done, sums = _unworn_window_sums(first, last, direction, reach, ex, ey, pin_radius, bushing_radius, cos_phi,
                                          sin_phi, wear_depth, with_jacobian)
         if not done:
             if hinted:                               # the window must be about e's direction
-                first, last, direction = _window(_nearest_point(ex, ey, n), half, n)
+                first, last, direction = _window(direction_point(ex, ey, n), half, n)
             sums, nearest_d2, nearest = _resultant_run(first, last, ex, ey, pin_radius, bushing_radius, cos_phi,
                                                        sin_phi, wear_depth, with_jacobian,
                                                        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
