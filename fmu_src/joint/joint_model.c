@@ -227,9 +227,9 @@ static int outputs_finite(const FmuModel *model, const double *values, int n, co
             double largest = 0.0;
             for (int k = 0; k < N_INPUTS; k++)
                 largest = fabs(model->inputs[k]) > largest ? fabs(model->inputs[k]) : largest;
-            fmu_log(&model->host, FMU_ERROR, "%s of %s: %s %s=%g is not finite for inputs up to |%g|: allowed "
-                    "inputs whose contact geometry stays finite", function, output, what, OUTPUTS[i].name, value,
-                    largest);
+            fmu_log(&model->host, FMU_ERROR, "%s of %s: %s %s=%g is not finite for inputs up to |%g| and the "
+                    "body offsets set: allowed inputs and offsets whose contact geometry stays finite", function,
+                    output, what, OUTPUTS[i].name, value, largest);
             return 0;
         }
     }

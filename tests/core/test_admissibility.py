@@ -46,11 +46,15 @@ def _kinematics(eccentricity_m):
 
 
 def test_an_inadmissible_step_changes_nothing_but_the_first_is_exempt():
-    """The first accepted point is taken (a master may step the joint once before it connected the inputs); at a
+    """The first accepted point is taken (a master may step the joint once before it connected the inputs), but
+    an inadmissible one wears nothing and starts no contact (its sliding and force are not the mechanism's); at a
     later one deeper than the bound the step is refused and the profile, the contact memory and the volume stay."""
-    joint = ClearanceJoint(JOINT.replace(wear_factor=0.0))     # the first point's wear would deepen the groove there
+    joint = ClearanceJoint(JOINT)                                 # wear factor 1000: the sliding below would wear
     deep = JOINT.clearance_m + 2.0 * JOINT.admissible_penetration_m
     assert joint.advance_array(*_kinematics(deep), 1e-5) != STEP_INADMISSIBLE       # the first point
+    assert joint.worn_volume_m3 == 0.0 and not joint.wear_depth.any()
+    assert joint.memory[L.M_ACTIVE] == 0.0 and joint.memory[L.M_START_FORCE] == 0.0
+    assert not joint.memory[L.M_BATCH_TIME:L.M_BATCH_INDEX + 1].any()             # no wear gathered either
     before = joint.wear_depth.copy(), joint.memory.copy(), joint.worn_volume_m3
     assert joint.advance_array(*_kinematics(deep), 1e-5) == STEP_INADMISSIBLE
     assert np.array_equal(joint.wear_depth, before[0]) and np.array_equal(joint.memory, before[1])

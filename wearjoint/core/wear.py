@@ -306,9 +306,13 @@ def _accept(result, pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, 
     """:func:`accept_contact` with the contact after the wear evaluated into ``after`` (N_RESULT values; may be
     ``result`` itself); returns (its STEP_* code, True if ``after`` was evaluated)."""
     # the first accepted point is exempt: a master's first step may come before its inputs were connected
-    # (fmpy's SSP simulator steps the joint once on their start values; the FMU warns of that pin outside the bushing)
-    if memory[M_START_FORCE] != NO_START_FORCE and not is_admissible(result, jp, wear_depth):
-        return STEP_INADMISSIBLE, False
+    # (fmpy's SSP simulator steps the joint once on their start values; the FMU warns of that pin outside the bushing);
+    # inadmissible, it wears nothing and starts no contact: the next step starts from no force
+    if not is_admissible(result, jp, wear_depth):
+        if memory[M_START_FORCE] != NO_START_FORCE:
+            return STEP_INADMISSIBLE, False
+        memory[M_START_FORCE] = 0.0
+        return STEP_UNCHANGED, False
     f_n = step_mean_normal_force(result, memory, held)
     if int(jp[P_WEAR_PLACEMENT]) == PLACEMENT_FOUNDATION and jp[P_WEAR_INTERVAL] > 0.0:
         largest, share = batch_wear(result, f_n, vel_i, vel_j, dt, jp, cos_phi, sin_phi, wear_depth, block_min,
