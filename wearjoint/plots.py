@@ -127,21 +127,24 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, clearance_joint: str
 
 
 def run_figures(record, ideal=None) -> list[tuple[str, object]]:
-    """The run's standard figures as (file name, function writing it to a path), in :func:`plot_run`'s order."""
-    return [("slider_acceleration.png", lambda path: plot_slider_acceleration(record, path, ideal)),
-            ("pin_orbit.png", lambda path: plot_pin_orbit(record, path)),
-            ("contact_force.png", lambda path: plot_contact_force(record, path)),
-            ("wear_profile.png", lambda path: plot_wear_profiles(
-                record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m}, path,
-                record.clearance_joint))]
+    """The run's standard figures as (file name, function writing it to a path), in :func:`plot_run`'s order; no
+    profile figure where the run has no worn profile (a third-party master that does not give it: NaN)."""
+    figures = [("slider_acceleration.png", lambda path: plot_slider_acceleration(record, path, ideal)),
+               ("pin_orbit.png", lambda path: plot_pin_orbit(record, path)),
+               ("contact_force.png", lambda path: plot_contact_force(record, path))]
+    if np.isfinite(record.wear_depth_m).all():
+        figures.append(("wear_profile.png", lambda path: plot_wear_profiles(
+            record.phi_deg, {f"after {record.revolutions:.3g} rev": record.wear_depth_m}, path,
+            record.clearance_joint)))
+    return figures
 
 
 def plot_run(record, out: Path, ideal=None, only=None) -> list[str]:
-    """Write the run's standard figures into ``out`` (``only``: the indices of :func:`run_figures` to write);
-    returns their file names (``ideal``: :func:`ideal_slider_acceleration` if already computed)."""
+    """Write the run's standard figures into ``out`` (``only``: the indices of :func:`run_figures` to write, those
+    the run has); returns their file names (``ideal``: :func:`ideal_slider_acceleration` if already computed)."""
     out = Path(out)
     figures = run_figures(record, ideal)
-    chosen = [figures[k] for k in (range(len(figures)) if only is None else only)]
+    chosen = [figures[k] for k in (range(len(figures)) if only is None else only) if k < len(figures)]
     for name, draw in chosen:
         draw(out / name)
     return [name for name, _ in chosen]

@@ -187,8 +187,11 @@ def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     drawing = plots and figure_worker is not None and figure_worker.send(record, out)
-    write_csv(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]), ("phi_deg", "wear_depth_m"),
-              "%.17g")
+    if np.isfinite(record.wear_depth_m).all():
+        write_csv(out / "profile.csv", np.column_stack([record.phi_deg, record.wear_depth_m]),
+                  ("phi_deg", "wear_depth_m"), "%.17g")
+    else:                       # a master that gives no profile (its note in summary.json): not an earlier run's either
+        (out / "profile.csv").unlink(missing_ok=True)
     # uncompressed: deflate saved 28 % of a revolution's 2.3 MB at 30x the time (0.05 s, a tenth of the main job)
     np.savez(out / "timeseries.npz", columns=np.array(L.SAMPLE_NAMES),
              **{name: record.samples[:, k] for k, name in enumerate(L.SAMPLE_NAMES)})
@@ -198,15 +201,15 @@ def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=
     comparison = record.ideal_comparison()
     write_csv(out / "revolutions.csv", record.revolution_table(events, comparison), REVOLUTION_COLUMNS, "%.10g")
     summary = record.summary(events, comparison)
-    if not plots:               # an earlier run's figures in this folder are not this run's (nor in its report)
-        for name in _earlier_figures(out):
-            (out / name).unlink(missing_ok=True)
+    names = []
     if plots:
         names = figure_worker.names() if drawing else None
         if names is None:
             from .plots import plot_run  # matplotlib only when figures are written
             names = plot_run(record, out)
         summary["figures"] = names
+    for name in set(_earlier_figures(out)) - set(names):   # an earlier run's are not this run's (nor in its report)
+        (out / name).unlink(missing_ok=True)
     write_json_atomic(out / "summary.json", summary)
     write_report(out)
     return summary

@@ -39,6 +39,21 @@ def test_the_workers_figures_are_the_first_process_figures(record, tmp_path, mon
     assert _figures(tmp_path / "worker", drawn_there) == _figures(tmp_path / "here", drawn_here)
 
 
+def test_a_run_without_a_worn_profile_writes_neither_profile_nor_its_figure(record, tmp_path, monkeypatch):
+    """A third-party master that gives no worn profile (fmpy's SSP simulator: NaN) gets no profile.csv and no
+    profile figure, from the worker or from this process, and an earlier run's profile.csv in the folder goes."""
+    import dataclasses
+
+    blind = dataclasses.replace(record, wear_depth_m=np.full_like(record.wear_depth_m, np.nan))
+    monkeypatch.setattr(figure_worker, "_cores", lambda: 2)
+    for folder, worker in ((tmp_path / "worker", FigureWorker()), (tmp_path / "here", None)):
+        write_results(record, folder)                                   # an earlier run with its profile
+        summary = write_results(blind, folder, figure_worker=worker)
+        assert summary["figures"] == ["slider_acceleration.png", "pin_orbit.png", "contact_force.png"], folder
+        assert not {"profile.csv", "wear_profile.png"} & set(os.listdir(folder)), folder
+        assert all((folder / name).stat().st_size > 0 for name in summary["figures"])
+
+
 def test_a_worker_that_died_leaves_the_figures_to_the_first_process(record, tmp_path, monkeypatch):
     monkeypatch.setattr(figure_worker, "_cores", lambda: 2)
     worker = FigureWorker()

@@ -156,6 +156,8 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
         0.005 * SliderCrankParameters().period_s / masters.DEFAULT_STEP_S["linearised"] - 2
     series = np.load(out / "timeseries.npz")
     assert series["time_s"][-1] == pytest.approx(summary["simulated_time_s"], abs=1e-5)
+    profiled = case not in ("fmpy-ssp", "container-fmusim")     # their masters give no worn profile: no NaN file
+    assert (out / "profile.csv").is_file() == profiled and ("wear_profile" not in summary) == profiled
 
 
 @pytest.mark.parametrize("args, option, value, allowed", [

@@ -372,7 +372,8 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
                       chunk: int = 100_000) -> RunRecord:
     """The run record of a trace: per-revolution statistics and samples from the engines' recorder
     (every communication point is an accepted point; ``chunk`` points at a time), the worn profile
-    where the master gave one (else NaN, the max wear depth from the joint's scalar output)."""
+    where the master gave one (else NaN: no profile.csv nor its figure; the max wear depth from the joint's scalar
+    output)."""
     from ..core.integrators import record_points   # numba's kernel: the package's own master imports no numba
 
     mp = pack_mechanism_parameters(mechanism)
@@ -400,7 +401,8 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     extra = {"master": trace.master, "communication_steps": n - 1, "step_s": trace.step_s}
     if trace.wear_depth_m is None:
         extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
-                     wear_profile=f"not readable through {trace.master}: profile.csv holds NaN")
+                     wear_profile=f"not readable through {trace.master}: no profile.csv nor its figure; "
+                                  "max_wear_depth_m and worn_volume_m3 are the joint's outputs")
     failure = trace_divergence(trace, joint) or (
         f"the run diverged: {trace.failure}; the communication step {trace.step_s:g} s is too long for this contact "
         "(take a shorter one, or wearjoint's adaptive master; docs/explanation/cosim_study.md)" if trace.failure else "")
