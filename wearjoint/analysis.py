@@ -124,12 +124,13 @@ def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
     fraction, the impacts and the slider acceleration extremes (None if not finite); the max contact
     force and the max eccentricity over the revolutions after the first ``settling_revolutions`` (the
     start-up transient: the pin starts centred at full speed), which are reported apart under
-    ``start_up``.  A run that has not passed them keeps its transient in the statistics
-    (``statistics_from_revolution`` 0) and says so."""
+    ``start_up``.  A run that has not passed them (it ends in revolution ``settling_revolutions`` or before) keeps
+    its transient in the statistics (``statistics_from_revolution`` 0) and says so."""
     last_index = last_revolution(stats)
     last = stats[last_index]
     reached = covered(stats)
-    first = min(max(0, int(settling_revolutions)), last_index)
+    first = max(0, int(settling_revolutions))
+    first = first if first <= last_index else 0
     steady = reached & (np.arange(stats.shape[0]) >= first)
     transient = reached & (np.arange(stats.shape[0]) < first)
     out = {

@@ -25,7 +25,7 @@ from .fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from .joint_fields import JOINT_FIELDS
 from .kernel_calls import bushing_point_angles
 from .mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
-from .parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters
+from .parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters, require
 
 _HELP = {
     **{f.field: f.text for f in JOINT_FIELDS if f.component is None},
@@ -178,6 +178,8 @@ def model_from_options(options: Mapping) -> tuple[JointParameters, SliderCrankPa
     joint_values = {**mechanism.joint_defaults(), **given_options(options, JointParameters)}
     take_calibration(options, joint_values)
     if options.get("no_wear"):
+        given = options.get("wear_factor")
+        require("--wear-factor", given, given is None or given == 0.0, "only without --no-wear (its wear factor is 0)")
         joint_values["wear_factor"] = 0.0
     return JointParameters(**joint_values), mechanism
 

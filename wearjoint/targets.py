@@ -99,11 +99,30 @@ class SimulateConfig:
     load_coupling: str = "linearised"
 
 
+def refuse_unused(options, unused, allowed: str) -> None:
+    """ParameterError naming the first of ``unused`` ((option, its key in ``options``, its default)) whose value is
+    not its default: an option the run would silently ignore (``allowed``: where it does something)."""
+    for option, key, default in unused:
+        value = options.get(key, default)
+        require(option, value, value == default, allowed)
+
+
 def simulation_options(options) -> SimulationOptions:
-    """simulate's integration options from option values."""
+    """simulate's integration options from option values; an integrator's option given to another refused."""
     from .simulation_options import SimulationOptions
 
-    o = options
+    o, defaults = options, SimulationOptions()
+    tolerances = (("--rtol", "rtol", defaults.rtol), ("--atol-position", "atol_position", defaults.atol_position_m),
+                  ("--atol-velocity", "atol_velocity", defaults.atol_velocity_m_s))
+    if o["integrator"] != "rk4":
+        refuse_unused(o, (("--step", "step", defaults.step_s),), "only with --integrator rk4 (its fixed step)")
+    else:
+        refuse_unused(o, tolerances, "only with --integrator dopri or gear (rk4 steps by --step)")
+    if o["integrator"] != "gear":
+        refuse_unused(o, (("--gear-solver", "gear_solver", defaults.gear_solver),
+                          ("--gear-jacobian", "gear_jacobian", defaults.gear_jacobian)), "only with --integrator gear")
+    if o["integrator"] != "dopri":
+        refuse_unused(o, (("--free-flight-max-step", "free_flight_max_step", None),), "only with --integrator dopri")
     return SimulationOptions(revolutions=o["revolutions"], integrator=o["integrator"], step_s=o["step"],
                              rtol=o["rtol"], atol_position_m=o["atol_position"], atol_velocity_m_s=o["atol_velocity"],
                              max_step_s=o["max_step"], free_flight_max_step_s=o["free_flight_max_step"],
@@ -181,6 +200,22 @@ def cosim_config(options) -> CosimConfig:
     settling = check_settling(o)
     profile = None if o["initial_profile"] is None else read_initial_profile(o["initial_profile"], joint)
     run_options, step = None, o["step"]
+    tolerances = (("--rtol", "rtol", SimulationOptions().rtol),
+                  ("--atol-position", "atol_position", SimulationOptions().atol_position_m),
+                  ("--atol-velocity", "atol_velocity", SimulationOptions().atol_velocity_m_s))
+    coupling_options = (("--scheme", "scheme", defaults.scheme), ("--coupling-tolerance", "coupling_tolerance", None),
+                        ("--min-step", "min_step", defaults.min_step_s))
+    if o["master"] != "wearjoint":
+        refuse_unused(o, (("--fmu-interface", "fmu_interface", "co-simulation"), *coupling_options,
+                          ("--max-step", "max_step", defaults.max_step_s),
+                          ("--onset-penetration", "onset_penetration", defaults.onset_penetration_m), *tolerances),
+                      "only with --master wearjoint (a third-party master steps the SSP's Co-Simulation FMUs at "
+                      "the fixed --step)")
+    elif o["fmu_interface"] == "model-exchange":
+        refuse_unused(o, (*coupling_options, ("--step", "step", None)), "only with --fmu-interface co-simulation "
+                      "(Model Exchange integrates by Dormand-Prince: --rtol, --atol-*, --max-step)")
+    else:
+        refuse_unused(o, tolerances, "only with --fmu-interface model-exchange (Co-Simulation steps by --scheme)")
     if o["master"] != "wearjoint":
         missing = master_available(o["master"])
         if missing is not None:

@@ -231,6 +231,10 @@ def test_the_start_up_transient_is_reported_apart():
     one = analysis.run_statistics(stats[:1])      # a run that has not passed its start-up keeps it, and says so
     assert one["max_contact_force_N"] == 5400.0 and one["statistics_from_revolution"] == 0
     assert "included" in one["start_up"]
+    longer = analysis.run_statistics(stats, settling_revolutions=5)    # nor does a run shorter than the start-up
+    assert longer["max_contact_force_N"] == 5400.0 and longer["statistics_from_revolution"] == 0
+    assert longer["start_up"] == "included: the run ends in revolution 2, before the 5 start-up revolution(s) are over"
+    assert analysis.run_statistics(stats, settling_revolutions=2)["statistics_from_revolution"] == 2
 
 
 def _orbit(rate_rad_s, spin_rad_s, contact=1.0, n=400, dt=1e-5, radius=1e-4):

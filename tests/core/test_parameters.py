@@ -125,3 +125,23 @@ def test_a_value_of_the_wrong_type_is_named_in_one_line(field, value):
     naming the field and the rule, not Python's conversion error."""
     with pytest.raises(ParameterError, match=rf"^parameter {field}=.* is invalid: allowed "):
         JointParameters(**{field: value})
+
+
+def test_a_wear_factor_too_fast_for_any_step_is_refused_by_name_with_its_bound():
+    """The default largest step with wear is the wear-step limit, inversely proportional to k_w x the wear factor
+    (docs/reference/model.md §7): a factor whose limit falls below min_step_s is refused naming wear_factor (not the
+    min_step_s a user never set) and the largest factor allowed, which runs."""
+    import re
+
+    from wearjoint.parameters import paper_joint
+    from wearjoint.simulation_options import SimulationOptions
+
+    options = SimulationOptions()
+    with pytest.raises(ParameterError, match=r"^parameter wear_factor=100000000.0 is invalid: .* below min_step_s"
+                                             r" = 1e-10 s: allowed at most ") as failure:
+        options.for_joint(paper_joint(wear_factor=1e8))
+    bound = float(re.search(r"allowed at most (\S+) ", str(failure.value)).group(1))
+    assert 1e7 < bound < 1e8
+    assert options.for_joint(paper_joint(wear_factor=0.999 * bound)).max_step_s >= options.min_step_s
+    with pytest.raises(ParameterError, match="^parameter wear_factor="):
+        options.for_joint(paper_joint(wear_factor=1.001 * bound))

@@ -1,0 +1,56 @@
+"""An option the run would ignore is refused (exit 2, one line naming it, its value and where it does something):
+an integrator's option given to another integrator, a coupling option to Model Exchange or to a third-party master,
+the Model Exchange tolerances to Co-Simulation, a wear factor with --no-wear.  Left at its default it is not given, and the run goes on."""
+import pytest
+
+from wearjoint.cli import build_parser, main
+from wearjoint.targets import cosim_config, simulate_config
+
+COSIM_ME = "only with --fmu-interface co-simulation (Model Exchange integrates by Dormand-Prince: --rtol, --atol-*, " \
+           "--max-step)"
+COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps the SSP's Co-Simulation FMUs at the " \
+                    "fixed --step)"
+
+
+@pytest.mark.parametrize("command, args, option, value, allowed", [
+    ("simulate", ["--step", "1e-7"], "--step", "1e-07", "only with --integrator rk4 (its fixed step)"),
+    ("simulate", ["--integrator", "gear", "--step", "1e-7"], "--step", "1e-07", "only with --integrator rk4 (its fixed "
+                                                                               "step)"),
+    ("simulate", ["--integrator", "rk4", "--rtol", "1e-3"], "--rtol", "0.001",
+     "only with --integrator dopri or gear (rk4 steps by --step)"),
+    ("simulate", ["--gear-solver", "scipy"], "--gear-solver", "'scipy'", "only with --integrator gear"),
+    ("simulate", ["--integrator", "gear", "--free-flight-max-step", "1e-4"], "--free-flight-max-step", "0.0001",
+     "only with --integrator dopri"),
+    ("cosim", ["--fmu-interface", "model-exchange", "--scheme", "zoh"], "--scheme", "'zoh'", COSIM_ME),
+    ("cosim", ["--fmu-interface", "model-exchange", "--step", "2e-6"], "--step", "2e-06", COSIM_ME),
+    ("cosim", ["--fmu-interface", "model-exchange", "--coupling-tolerance", "0.1"], "--coupling-tolerance", "0.1",
+     COSIM_ME),
+    ("cosim", ["--master", "fmpy-ssp", "--fmu-interface", "model-exchange"], "--fmu-interface", "'model-exchange'",
+     COSIM_THIRD_PARTY),
+    ("cosim", ["--master", "fmpy-ssp", "--scheme", "zoh"], "--scheme", "'zoh'", COSIM_THIRD_PARTY),
+    ("cosim", ["--master", "fmpy-ssp", "--coupling-tolerance", "0.5"], "--coupling-tolerance", "0.5",
+     COSIM_THIRD_PARTY),
+    ("cosim", ["--rtol", "1e-3"], "--rtol", "0.001",
+     "only with --fmu-interface model-exchange (Co-Simulation steps by --scheme)"),
+    ("simulate", ["--no-wear", "--wear-factor", "5"], "--wear-factor", "5.0",
+     "only without --no-wear (its wear factor is 0)"),
+])
+def test_an_option_the_run_would_ignore_is_refused_in_one_line(command, args, option, value, allowed, tmp_path,
+                                                               capsys):
+    assert main([command, "--out", str(tmp_path), "--revolutions", "0.01", *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"wearjoint {command}: error: parameter {option}={value} is invalid: allowed {allowed}"
+    assert not (tmp_path / "summary.json").exists()
+
+
+@pytest.mark.parametrize("command, args, attribute, expected", [
+    ("simulate", ["--integrator", "rk4", "--step", "1e-7"], "step_s", 1e-7),
+    ("simulate", ["--step", "1e-6", "--rtol", "1e-6"], "rtol", 1e-6),                 # the defaults, written out
+    ("simulate", ["--integrator", "gear", "--gear-solver", "scipy", "--rtol", "1e-5"], "gear_solver", "scipy"),
+    ("cosim", ["--fmu-interface", "model-exchange", "--rtol", "1e-5", "--max-step", "1e-5"], "rtol", 1e-5),
+    ("cosim", ["--scheme", "adaptive", "--step", "2e-6", "--coupling-tolerance", "0.01"], "coupling_tolerance", 0.01),
+])
+def test_an_option_the_run_uses_is_taken(command, args, attribute, expected, tmp_path):
+    options = vars(build_parser(command).parse_args([command, "--out", str(tmp_path), *args]))
+    config = (simulate_config if command == "simulate" else cosim_config)(options)
+    assert getattr(config.options, attribute) == expected
