@@ -78,7 +78,7 @@ def run(args) -> int:
             summary = run_wear_study(config, args.out, resume=args.resume, progress=not args.quiet,
                                      plots=not args.no_plots)
             for s in summary["snapshots"]:
-                print(f"  rev {s['revolution']:6d}  max depth {s['max_wear_depth_m'] * 1e3:.4f} mm at "
+                print(f"  rev {s['revolution']:6d}  max depth {s['max_wear_depth_m'] * 1e3:.4g} mm at "
                       f"{s['max_wear_angle_deg']:.1f} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"
                       f"{_angle(s['lobe_180_angle_deg'])} deg  impact events {s['impact_events']}")
             print(f"  wall time {summary['wall_time_s']:.1f} s")
