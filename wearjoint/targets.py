@@ -97,6 +97,7 @@ class SimulateConfig:
     settling_revolutions: int = 1
     initial_profile_m: np.ndarray | None = None
     load_coupling: str = "linearised"
+    initial_profile_file: str | None = None
 
 
 def refuse_unused(options, unused, allowed: str) -> None:
@@ -134,8 +135,19 @@ def simulate_config(options) -> SimulateConfig:
     joint, mechanism = model_from_options(options)
     run_options = simulation_options(options)
     settling = check_settling(options)
-    profile = None if options["initial_profile"] is None else read_initial_profile(options["initial_profile"], joint)
-    return SimulateConfig(joint, mechanism, run_options, settling, profile)
+    given = options["initial_profile"]
+    require("--initial-profile", None if given is None else str(given), given is None or not run_options.ideal,
+            "only without --ideal (the ideal joint has no bushing)")
+    profile = None if given is None else read_initial_profile(given, joint)
+    return SimulateConfig(joint, mechanism, run_options, settling, profile,
+                          initial_profile_file=None if given is None else str(given))
+
+
+def _note_initial_profile(record, file: str | None, profile_m) -> None:
+    """summary.json's ``initial_profile`` of a run that started from a worn bushing: the file and its largest depth
+    [m] (the summary's max_wear_depth_m and worn_volume_m3 include what it held)."""
+    if profile_m is not None:
+        record.extra["initial_profile"] = {"file": file, "max_wear_depth_m": float(np.max(profile_m))}
 
 
 def simulate_record(config: SimulateConfig, progress: bool = False):
@@ -145,6 +157,7 @@ def simulate_record(config: SimulateConfig, progress: bool = False):
     record = run_simulation(config.joint, config.mechanism, config.options, progress=progress,
                             initial_profile_m=config.initial_profile_m)
     record.settling_revolutions = config.settling_revolutions
+    _note_initial_profile(record, config.initial_profile_file, config.initial_profile_m)
     return record
 
 
@@ -174,6 +187,7 @@ class CosimConfig:
     settling_revolutions: int = 1
     initial_profile_m: np.ndarray | None = None
     load_coupling: str = "linearised"
+    initial_profile_file: str | None = None
 
 
 def cosim_config(options) -> CosimConfig:
@@ -238,7 +252,8 @@ def cosim_config(options) -> CosimConfig:
                                           onset_penetration_m=o["onset_penetration"], sample_dt_s=o["sample_dt"],
                                           coupling_tolerance=o["coupling_tolerance"])
     return CosimConfig(joint, mechanism, o["master"], o["fmu_interface"], run_options, o["revolutions"], step,
-                       o["sample_dt"], fmusim, o["fmu"], o["fmu_backend"], settling, profile, coupling)
+                       o["sample_dt"], fmusim, o["fmu"], o["fmu_backend"], settling, profile, coupling,
+                       None if o["initial_profile"] is None else str(o["initial_profile"]))
 
 
 def cosim_record(config: CosimConfig, progress: bool = False):
@@ -260,6 +275,7 @@ def cosim_record(config: CosimConfig, progress: bool = False):
         record = run_cosimulation(c.joint, c.mechanism, c.options, fmu_path=c.fmu, progress=progress,
                                   fmu_backend=c.fmu_backend, initial_profile_m=c.initial_profile_m)
     record.settling_revolutions = c.settling_revolutions
+    _note_initial_profile(record, c.initial_profile_file, c.initial_profile_m)
     return record
 
 

@@ -314,6 +314,11 @@ def test_simulate_starts_from_a_profile_file_and_refuses_one_that_does_not_fit(t
     assert done.returncode == 0, done.stderr
     again = np.loadtxt(tmp_path / "again" / "profile.csv", delimiter=",", skiprows=1)
     assert first[:, 1].max() > 0.0 and np.array_equal(again, first)          # without wear it stays as given
+    said = json.loads((tmp_path / "again" / "summary.json").read_text())["initial_profile"]
+    assert said == {"file": str(tmp_path / "first" / "profile.csv"), "max_wear_depth_m": first[:, 1].max()}
+    done = wearjoint("simulate", "--ideal", "--revolutions", "0.01", "--initial-profile",
+                     str(tmp_path / "first" / "profile.csv"), "--out", str(tmp_path / "ideal"))
+    assert done.returncode == 2 and "only without --ideal (the ideal joint has no bushing)" in done.stderr
     done = wearjoint("simulate", "--revolutions", "0.01", "--n-points", "628", "--initial-profile",
                      str(tmp_path / "first" / "profile.csv"), "--out", str(tmp_path / "bad"))
     assert done.returncode == 2 and "--initial-profile" in done.stderr and "628 bushing points" in done.stderr
