@@ -133,8 +133,38 @@ def take_calibration(options: Mapping, joint_values: dict) -> None:
     if options.get("calibration") is None:
         return
     if "wear_coefficient_m2_N" in joint_values:
-        raise ParameterError("parameters calibration and wear_coefficient_m2_N are both given: allowed one")
+        raise ParameterError(f"parameter --calibration={str(options['calibration'])!r} is invalid: allowed only "
+                             "without --wear-coefficient-m2-N (one k_w)")
     joint_values["wear_coefficient_m2_N"] = calibrated_wear_coefficient(options["calibration"])
+
+
+# what a calibration carries to another run only where it is the same: the machine's mechanism (its start angle, a
+# seed, and the constraint stabilisation aside) and the joint's geometry, materials, friction and wear model
+_CALIBRATION_JOINT_FIELDS = ("pin_radius_m", "bushing_radius_m", "contact_length_m", "pin_youngs_modulus_Pa",
+                             "pin_poisson_ratio", "bushing_youngs_modulus_Pa", "bushing_poisson_ratio",
+                             "friction_coefficient", "sliding_distance", "wear_placement", "contact_model")
+_CALIBRATION_MECHANISM_SKIPPED = ("initial_crank_angle_deg", "baumgarte_alpha", "baumgarte_beta")
+
+
+def calibration_note(folder, joint: JointParameters, mechanism: SliderCrankParameters) -> str | None:
+    """A line where ``--calibration DIR``'s fit was made on a wear study of another machine than the run's
+    (``joint`` in ``mechanism``), naming what differs; None where it is the same one (or the study is gone)."""
+    try:
+        study = json.loads((Path(folder) / "calibration.json").read_text())["study"]
+        fitted = json.loads((Path(study) / "summary.json").read_text())["parameters"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    ours = {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()}
+    differ = [name for group, names in (("joint", _CALIBRATION_JOINT_FIELDS),
+                                        ("mechanism", [n for n in ours["mechanism"]
+                                                       if n not in _CALIBRATION_MECHANISM_SKIPPED]))
+              for name in names
+              if json.loads(json.dumps(ours[group].get(name))) != fitted.get(group, {}).get(name)]
+    if not differ:
+        return None
+    return (f"k_w was fitted on the wear study {study}, of another machine (its {', '.join(differ)} "
+            f"{'differ' if len(differ) > 1 else 'differs'}): its load, speed and materials set what k_w absorbs; "
+            "calibrate on a study of this one")
 
 
 def calibrated_wear_coefficient(folder) -> float:

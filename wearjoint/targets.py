@@ -33,8 +33,8 @@ from .checks import ParameterError, RunDiverged, finite, require
 from .fmu.fmi import FmuError
 from .parameters import JointParameters, SliderCrankParameters
 from .run_options import (
-    add_cosim_arguments, add_simulate_arguments, add_wear_study_arguments, check_settling, model_from_options,
-    read_initial_profile,
+    add_cosim_arguments, add_simulate_arguments, add_wear_study_arguments, calibration_note, check_settling,
+    model_from_options, read_initial_profile,
 )
 
 if TYPE_CHECKING:
@@ -385,10 +385,13 @@ def parser(name: str) -> argparse.ArgumentParser:
 
 
 def report_facts(options) -> dict:
-    """What the report states beside the summary that only the options know: where k_w came from."""
+    """What the report states beside the summary that only the options know: where k_w came from (and, from a
+    calibration on another machine, a note naming what differs)."""
     calibration = options.get("calibration")
-    return ({"wear_coefficient_source": f"calibration {calibration}", "wear_coefficient_note": None}
-            if calibration is not None else {})
+    if calibration is None:
+        return {}
+    return {"wear_coefficient_source": f"calibration {calibration}",
+            "wear_coefficient_note": calibration_note(calibration, *model_from_options(options))}
 
 
 def read_record(out) -> dict:

@@ -228,7 +228,9 @@ def test_a_calibration_folder_carries_its_k_w_into_a_run_and_names_itself_as_the
     assert cli_main(["simulate", "--revolutions", "0.02", "--calibration", str(folder), "--out",
                      str(tmp_path / "y")]) == 2
     errors = capsys.readouterr().err.splitlines()
-    assert "both given" in errors[-2] and "mild-severe fit" in errors[-1] and not (tmp_path / "y").exists()
+    assert errors[-2].endswith("--calibration='" + str(folder) + "' is invalid: allowed only without "
+                               "--wear-coefficient-m2-N (one k_w)")
+    assert "mild-severe fit" in errors[-1] and not (tmp_path / "y").exists()
     # wear-study --calibrate-max-depth-m writes a calibration.json too: a k_w to reach a depth, not a fit
     (folder / "calibration.json").write_text(json.dumps({"target_max_depth_m": 5.8e-4,
                                                          "effective_wear_coefficient_m2_N": 5.63e-11}))
@@ -237,6 +239,30 @@ def test_a_calibration_folder_carries_its_k_w_into_a_run_and_names_itself_as_the
     error = capsys.readouterr().err.strip().splitlines()
     assert len(error) == 1 and "a wear study's calibration to a depth" in error[0], error
     assert "--wear-coefficient-m2-N 5.63e-11" in error[0] and "mild-severe" not in error[0]
+
+
+def test_a_calibration_made_on_another_machine_says_what_differs(tmp_path, capsys):
+    """k_w absorbs the load, speed and materials of the study it was fitted on: a run of another machine from
+    ``--calibration`` gets a note naming what differs (summary.json, the console); the same machine none."""
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
+
+    study, folder = tmp_path / "study", tmp_path / "cal"
+    study.mkdir()
+    folder.mkdir()
+    mechanism = SliderCrankParameters(crank_speed_rpm=300.0)
+    parameters = {"joint": paper_joint(mechanism).to_dict(), "mechanism": mechanism.to_dict()}
+    (study / "summary.json").write_text(json.dumps({"parameters": parameters}))
+    (folder / "calibration.json").write_text(json.dumps({"law": "archard", "wear_coefficient_m2_N": 3.5e-13,
+                                                         "study": str(study)}))
+    notes = []
+    for name, extra in (("other", []), ("same", ["--crank-speed-rpm", "300", "--initial-crank-angle-deg", "40"])):
+        assert cli_main(["simulate", "--revolutions", "0.01", "--calibration", str(folder), "--no-plots",
+                         "--out", str(tmp_path / name), *extra]) == 0
+        notes.append(json.loads((tmp_path / name / "summary.json").read_text())["wear_coefficient_note"])
+    assert notes[0] == (f"k_w was fitted on the wear study {study}, of another machine (its crank_speed_rpm differs): "
+                        "its load, speed and materials set what k_w absorbs; calibrate on a study of this one")
+    assert notes[1] is None                  # the start angle is a seed, not another machine
+    assert f"note: {notes[0]}" in capsys.readouterr().err
 
 
 def test_build_fmu_takes_the_calibrated_k_w_as_the_fmus_start_value_and_names_its_source(tmp_path):
