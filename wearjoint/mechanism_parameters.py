@@ -178,6 +178,9 @@ class SliderForceTable:
                                          "number") from None
             angles.append(values[0])
             forces.append(values[1])
+        if not angles:
+            raise ParameterError(f"slider force table {path}: no rows after the header: allowed 2 to "
+                                 f"{L.MAX_LOAD_ROWS} rows, crank angles rising from 0 to 360 deg")
         try:
             return cls(tuple(angles), tuple(forces), source=f"slider force table {path}")
         except ParameterError as error:     # rows of the table as lines of the file (the header is line 1)
@@ -203,7 +206,7 @@ def _gravity_pair(value) -> tuple[float, float]:
     allowed = "one finite value g (-Y) or a pair (g_x, g_y) of finite values"
     if is_real(value):
         require("gravity_m_s2", value, math.isfinite(value), allowed)
-        return 0.0, -float(value)
+        return 0.0, 0.0 - float(value)        # (0 - g: g = 0 is +0, not -0)
     return finite_pair("gravity_m_s2", value, allowed)
 
 

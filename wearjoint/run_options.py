@@ -40,8 +40,9 @@ _HELP = {
     "gravity_m_s2": "gravity [m/s^2]: G for (0, -G), across the slide (the paper's), or GX,GY in the mechanism's "
                     "frame (x along the slider's axis, from the crank's pivot towards the slider)",
     "slider_force_table": "CSV file crank_angle_deg,force_N: the slider's load over a revolution, linearly "
-                          "interpolated, positive towards the crank's pivot; the angles rise from 0 to 360 and the "
-                          "360 row repeats the 0 row's load (docs/reference/model.md §3.12)",
+                          "interpolated, positive towards the crank's pivot; 2 to "
+                          f"{L.MAX_LOAD_ROWS} rows whose angles rise from 0 to 360, the 360 row repeating the 0 "
+                          "row's load (docs/reference/model.md §3.12)",
 }
 
 

@@ -57,6 +57,7 @@ def test_table_interpolates_linearly_and_is_periodic():
     ("crank_angle_deg,force_N\n0,0\n90,5\n360,3\n", "line 4: force_N=3.0: the load at 360 deg differs"),
     ("angle,force\n0,0\n360,0\n", "line 1: header"),
     ("crank_angle_deg,force_N\n0,0,1\n360,0\n", "line 2: 3 columns"),
+    ("crank_angle_deg,force_N\n\n", ": no rows after the header: allowed 2 to 361 rows"),
 ])
 def test_a_bad_table_file_is_refused_in_one_line_naming_file_line_and_problem(tmp_path, text, problem):
     path = tmp_path / "load.csv"

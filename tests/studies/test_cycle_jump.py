@@ -195,7 +195,8 @@ def test_a_jump_whose_replay_lost_volume_is_named_with_a_warning():
 @pytest.mark.parametrize("changes, message", [
     (dict(jump_tolerance=0.0), "tolerance=0.0 is invalid"),
     (dict(jump_tolerance=1.5), "tolerance=1.5 is invalid"),
-    (dict(joint=paper_joint(wear_factor=10.0)), "wear_factor=10.0 is invalid with cycle jumping"),
+    (dict(joint=paper_joint(wear_factor=10.0)), "jump_tolerance=0.003 is invalid with wear_factor=10.0: allowed "
+                                                "only at wear factor 1"),
     (dict(jump_block_revolutions=0), "jump_block_revolutions=0 is invalid"),
     (dict(engine="cosim"), "not available with --engine cosim"),
 ])

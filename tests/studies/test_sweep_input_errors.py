@@ -164,6 +164,8 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
                   "--vary", "pin-radius-m=0.0099,0.015"),          # each value fine alone, not together
      "--vary bushing-radius-m=0.012,0.02, --vary pin-radius-m=0.0099,0.015: the grid point bushing-radius-m=0.012, "
      "pin-radius-m=0.015 is invalid: parameter bushing_radius_m=0.012 is invalid"),
+    ("simulate", ("--vary", "slider-force-table=no_such_table.csv"),      # a file as written, not a PosixPath
+     "--vary slider-force-table=no_such_table.csv: slider-force-table=no_such_table.csv is invalid"),
     ("cosim", ("--vary", "master=foo"), "--vary master=foo: master='foo' is invalid: allowed one of wearjoint"),
     ("cosim", ("--vary", "step=0"), "--vary step=0: step=0.0 is invalid: allowed > 0"),
     ("wear-study", ("--vary", "revolutions=10,0"), "--vary revolutions=10,0: revolutions='0' is invalid: allowed an "

@@ -111,8 +111,9 @@ class WearStudyConfig:
             if not (isinstance(self.jump_tolerance, (int, float)) and 0.0 < self.jump_tolerance < 1.0):
                 raise ParameterError(f"parameter jump_tolerance={self.jump_tolerance!r} is invalid: allowed in (0, 1)")
             if self.joint.wear_factor != 1.0:
-                raise ParameterError(f"wear_factor={self.joint.wear_factor!r} is invalid with cycle jumping: allowed 1 "
-                                     "(its blocks run at the real wear rate); the wear factor is a route of its own")
+                raise ParameterError(f"parameter jump_tolerance={self.jump_tolerance!r} is invalid with wear_factor="
+                                     f"{self.joint.wear_factor!r}: allowed only at wear factor 1 (cycle jumping's "
+                                     "blocks run at the real wear rate); a wear factor is a route of its own")
         choice("engine", self.engine, ENGINES)
         if self.engine == "cosim" and self.jump_tolerance is not None:
             raise ParameterError("cycle jumping is not available with --engine cosim (the FMU's wear profile "

@@ -397,7 +397,8 @@ def _reason(message: str, dest: str, value) -> str | None:
 def _blamed(where: str, point: dict, variables: dict, message: str) -> str:
     """The one line of a bad grid point: ``WHERE: NAME=VALUE is invalid: allowed ...`` where the configuration's
     ``message`` is about the point's one value, else the point and the message."""
-    shown = ", ".join(f"{name}={value!r}" for name, value in point.items())
+    shown = ", ".join(f"{name}={str(value) if isinstance(value, Path) else repr(value)}"   # a file as the user wrote it
+                      for name, value in point.items())
     if len(point) == 1:
         (name, value), = point.items()
         reason = _reason(message, variables[name].dest, value)
