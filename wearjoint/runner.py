@@ -212,6 +212,10 @@ def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: Join
     """Why a run stopped at an inadmissible state (core.admissibility): at time ``t`` [s] ``where`` put the pin
     ``overlap_m`` [m] into the bushing wall with a normal force ``force_N`` [N], beyond what ``joint`` admits, or
     the bushing, ``max_depth_m`` [m] deep at most, wore through."""
+    if not (math.isfinite(overlap_m) and math.isfinite(force_N)):
+        return (f"the run diverged at t = {t:.6g} s: {where} left the joint's state not finite (NaN or infinite "
+                "eccentricity or force: a load, gravity or parameter too large for double precision, or a step far "
+                "too long); nothing after it is physical (docs/reference/model.md §3.14)")
     if not max_depth_m <= joint.bushing_radius_m:
         return (worn_through_message(f"at t = {t:.6g} s", max_depth_m, joint.bushing_radius_m)
                 + " (a real bushing's wall is thinner: a smaller wear coefficient, wear factor or run; "

@@ -99,3 +99,15 @@ def test_the_command_exits_1_naming_the_failure(capsys):
         failure, completed = "the run diverged by t = 0.15 s: the pin left the bushing", False
     assert exit_status(Record(), "simulate") == 1
     assert capsys.readouterr().err == "wearjoint simulate: error: the run diverged by t = 0.15 s: the pin left the bushing\n"
+
+
+def test_a_load_too_large_for_double_precision_is_named_not_blamed_on_the_step(tmp_path, capsys):
+    """A finite slider load of 1e300 N overflows the state on the first step: the run stops, exit 1, saying the
+    state is not finite and why that happens (it said "put the pin nan m into the wall ... take a shorter step")."""
+    from wearjoint.cli import main
+
+    assert main(["simulate", "--slider-force-N=1e300", "--revolutions", "0.01", "--no-plots", "--quiet", "--out",
+                 str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "left the joint's state not finite" in err and "too large for double precision" in err
+    assert "nan m" not in err and "shorter step" not in err
