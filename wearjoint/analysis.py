@@ -103,13 +103,16 @@ def chattering(stats: np.ndarray) -> np.ndarray:
     return stats[..., L.S_IMPACTS] > CHATTER_IMPACTS_PER_REVOLUTION
 
 
-def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray, impact_events_per_revolution=None) -> np.ndarray:
-    """One row per revolution up to the last one simulated, columns REVOLUTION_COLUMNS
-    (``max_wear_depth_m``: at the revolution's end, NaN where not reached; ``impact_events``: the
-    ``events`` of :func:`revolution_impact_events`, NaN where not given; ``chattering``: 0/1)."""
+def revolution_table(stats: np.ndarray, wear_growth_m: np.ndarray, impact_events_per_revolution=None,
+                     revolution_numbers=None) -> np.ndarray:
+    """One row per revolution up to the last one simulated, columns REVOLUTION_COLUMNS (``revolution``: 0, 1, ...,
+    or ``revolution_numbers``, the revolution each simulated one stands for in a wear study; ``max_wear_depth_m``: at
+    the revolution's end, NaN where not reached; ``impact_events``: the ``events`` of
+    :func:`revolution_impact_events`, NaN where not given; ``chattering``: 0/1)."""
     n = last_revolution(stats) + 1
     rows = stats[:n]
-    return np.column_stack([np.arange(n), rows[:, L.S_IMPACTS], contact_fraction(rows), rows[:, L.S_ACC_MAX],
+    numbers = np.arange(n) if revolution_numbers is None else _padded(revolution_numbers, n)
+    return np.column_stack([numbers, rows[:, L.S_IMPACTS], contact_fraction(rows), rows[:, L.S_ACC_MAX],
                             rows[:, L.S_ACC_MIN], rows[:, L.S_FORCE_MAX], rows[:, L.S_ECC_MAX],
                             _padded(wear_growth_m, n), _padded(impact_events_per_revolution, n),
                             chattering(rows).astype(float)])

@@ -82,6 +82,8 @@ class RunRecord:
     failure: str = ""                       # why the run stopped early when it diverged
     contact_stiffness_N_m1_5: float | None = None   # the K the joint used (given, or from its materials)
     settling_revolutions: int = 1           # the start-up transient, left out of the run's extremes
+    revolution_numbers: np.ndarray | None = None   # the revolution each row of revolution_stats is (a wear study's
+    #                                                simulated revolutions stand for others); None: 0, 1, 2, ...
 
     def last_revolution(self) -> int:
         """Index of the last revolution that was simulated (complete or partial)."""
@@ -137,7 +139,8 @@ class RunRecord:
         as :meth:`summary`'s)."""
         events = impact_events or self.impact_events()
         return np.column_stack([
-            analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"]),
+            analysis.revolution_table(self.revolution_stats, self.wear_growth_m, events["events"],
+                                      self.revolution_numbers),
             against_ideal.revolution_columns(self.samples, self.revolution_stats, self.parameters.mechanism,
                                              ideal_comparison)])
 

@@ -175,6 +175,16 @@ def test_a_jump_study_accounts_every_revolution_and_reports_its_jumps(tmp_path):
     low, high = jumps["replay_volume_ratio_range"]       # each jump wore the block's volume per revolution times N
     assert 0.99 <= low <= high <= 1.01, (low, high)
     assert jumps["replay_volume_outside"] == [] and replay_volume_warning(jumps) is None
+    # revolutions.csv: a row per simulated revolution, named by the revolution it is (jumped ones have none), its
+    # depth at its end; a block's last revolution ends where wear_growth.csv's block entry is
+    rows = np.loadtxt(tmp_path / "revolutions.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert len(rows) == jumps["simulated_revolutions"] and np.all(np.diff(rows[:, 0]) >= 1)
+    assert rows[-1, 0] == 9 and set(rows[:, 0]).isdisjoint(
+        r for j in history for r in range(j["start_revolution"], j["start_revolution"] + j["revolutions"]))
+    assert np.all(np.isfinite(rows[:, 7])) and np.all(np.diff(rows[:, 7]) >= 0.0)
+    ends = {revolution: depth for revolution, depth, _ in growth}
+    blocks_ending = [k for k, r in enumerate(rows[:, 0]) if r + 1 in ends]
+    assert blocks_ending and all(rows[k, 7] == ends[rows[k, 0] + 1] for k in blocks_ending)
 
 
 def test_a_jump_whose_replay_lost_volume_is_named_with_a_warning():

@@ -224,7 +224,7 @@ def test_a_snapshot_states_the_slider_acceleration_of_its_revolutions_csv_row(tm
     for snap, expected_row in zip(summary["snapshots"], (0, 1, 2)):     # wear factor 10: revolution R = row R/10 - 1
         assert snap["statistics_revolution"] == expected_row
         row = rows[expected_row]
-        assert int(float(row["revolution"])) == expected_row
+        assert float(row["revolution"]) == 10 * expected_row        # the first of the ten revolutions it stands for
         for key in ("slider_acc_max_m_s2", "slider_acc_min_m_s2"):
             assert snap[key] == pytest.approx(float(row[key]), rel=1e-9), key
     samples = np.load(tmp_path / "timeseries.npz")        # the last revolution's samples: within the extremes

@@ -101,7 +101,7 @@ def _next_snapshot(config, revolution: int) -> int:
 
 def new_jump_state(config) -> dict:
     """The jump route's part of the study's checkpointed state."""
-    return {"revolution": 0, "simulated_revolutions": 0,
+    return {"revolution": 0, "simulated_revolutions": 0, "simulated": [],
             "proposed_jump": FIRST_JUMP_BLOCKS * config.jump_block_revolutions, "rate": None,
             "pending_jump": None, "jumps": [], "loading": None, "block_length": 0}
 
@@ -142,7 +142,7 @@ def _block(config, state, engine, buffer, period, sample_dt, keep_snapshot) -> N
     length = min(config.jump_block_revolutions, _next_snapshot(config, revolution) - revolution)
     _, start_depth, start_volume = engine.wear_profile()
     loads, last = [], None
-    for _ in range(length):
+    for k in range(length):
         js["simulated_revolutions"] += 1
         n = engine.advance_to(js["simulated_revolutions"] * period, buffer)
         failure = divergence(engine, buffer[:n], config.joint)
@@ -150,6 +150,8 @@ def _block(config, state, engine, buffer, period, sample_dt, keep_snapshot) -> N
             raise RunDiverged(failure)
         loads.append(loading_from_samples(buffer[:n], sample_dt))
         last = buffer[:n].copy()
+        # the revolution this simulated one is (from 0) and the max depth at its end: revolutions.csv's rows
+        js.setdefault("simulated", []).append((revolution + k, float(engine.wear_profile()[1].max())))
     _, depth, volume = engine.wear_profile()
     rate = (depth - start_depth) / length
     js["volume_rate"] = (volume - start_volume) / length
@@ -201,6 +203,17 @@ def _jump(config, state, engine, replayer) -> None:
     state["growth"].append((js["revolution"], float(depth.max()), volume))
 
 
+def simulated_revolution_rows(state: dict, per: float, n: int) -> tuple:
+    """(the revolution each of a study's first ``n`` simulated revolutions is, from 0, or None for 0, 1, ...; the max
+    depth [m] at its end): with cycle jumping the blocks' own (unknown, NaN, from a checkpoint written before they
+    were kept), at wear factor ``per`` simulated revolution i is revolutions i per .. (i + 1) per - 1."""
+    if "jump" in state:
+        rows = state["jump"].get("simulated", [])[:n]
+        return ([r for r, _ in rows] if rows else None), [d for _, d in rows]
+    return (per * np.arange(n) if per != 1.0 else None,
+            [g[1] for g in state["growth"] if abs(g[0] / per - round(g[0] / per)) < 1e-9])
+
+
 def jump_summary(config, state: dict) -> dict:
     """summary.json's "cycle_jumping": the settings, every jump, and the estimates."""
     js = state["jump"]
@@ -236,4 +249,4 @@ def replay_volume_warning(cycle_jumping: dict) -> str | None:
 
 __all__ = ["DEFAULT_JUMP_TOLERANCE", "REPLAY_VOLUME_TOLERANCE", "warm_up_replay", "loading_from_samples",
            "jump_error", "next_jump", "replay_passes", "replay_volume_warning",
-           "new_jump_state", "advance_jump_study", "jump_summary"]
+           "new_jump_state", "advance_jump_study", "jump_summary", "simulated_revolution_rows"]

@@ -48,7 +48,9 @@ from wearjoint.results import RunParameters, RunRecord, write_json_atomic, write
 from wearjoint.runner import CheckpointingEngine, RunDiverged, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
-from .cycle_jump import DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, warm_up_replay
+from .cycle_jump import (
+    DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, simulated_revolution_rows, warm_up_replay,
+)
 from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
 from .wear_study_recovery import (
     ARRAY_KEYS, CHECKPOINT_FORMAT, CHECKPOINT_NAME, StudyDiverged, checkpoint_revolution, continue_segments,
@@ -450,9 +452,9 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         _, depth, volume = engine.wear_profile()
     n_complete = max(1, int(simulated + 1e-9))
     per = config.revolutions_per_simulated_revolution if not jumping else revolutions / max(simulated, 1e-300)
-    at_sim_rev_ends = [g[1] for g in state["growth"] if jumping or abs(g[0] / per - round(g[0] / per)) < 1e-9]
+    numbers, at_sim_rev_ends = simulated_revolution_rows(state, per, n_complete)     # revolutions.csv's
     record = RunRecord(
-        samples=samples, revolution_stats=engine.revolution_stats[:n_complete],
+        samples=samples, revolution_stats=engine.revolution_stats[:n_complete], revolution_numbers=numbers,
         wear_growth_m=np.asarray(at_sim_rev_ends), phi_deg=phi_deg, wear_depth_m=depth,
         worn_volume_m3=volume, simulated_time_s=simulated * period,
         wall_time_s=state["wall_time_s"], compile_time_s=compile_time_s, revolutions=revolutions,
