@@ -137,3 +137,31 @@ def test_a_solve_continuing_at_the_last_end_time_continues_the_run():
     solve_dynamic(mbs, settings)
     times = handle.history()["time_s"]
     assert handle.runs == 1 and times.size == 200 and np.all(np.diff(times) > 0.0)
+    # 600 steps of 1e-5 s end at 0.005999999999999924, a continuation starts at 0.006: the same time, no 8e-17 s step
+    mbs, _, _, handle = hung_bar()
+    mbs.Assemble()
+    solve_dynamic(mbs, simulation_settings(0.006, 1e-5, [handle]))
+    assert handle.t != 0.006 and handle.t == pytest.approx(0.006, abs=1e-15)
+    settings = simulation_settings(0.001, 1e-5, [handle])
+    settings.timeIntegration.startTime, settings.timeIntegration.endTime = 0.006, 0.007
+    solve_dynamic(mbs, settings)
+    times = handle.history()["time_s"]
+    assert handle.runs == 1 and handle.accepted_steps == times.size == 700 and np.all(np.diff(times) > 5e-6)
+
+
+def test_a_first_solve_may_start_at_any_time_and_a_later_start_is_a_new_run():
+    """A new system solved from startTime 0.5 s accepts its 100 steps of 1e-5 s from there (its initial state is no
+    0.5 s step: with wear that was refused as a step too long); a second solve starting after the last step's end
+    (not a continuation) is a new run, as one starting before it."""
+    mbs, _, _, handle = hung_bar()
+    mbs.Assemble()
+    settings = simulation_settings(0.001, 1e-5, [handle])
+    settings.timeIntegration.startTime, settings.timeIntegration.endTime = 0.5, 0.501
+    solve_dynamic(mbs, settings)
+    times = handle.history()["time_s"]
+    assert handle.runs == 1 and times.size == 100 and times[0] == pytest.approx(0.50001)
+    assert times[-1] == pytest.approx(0.501, abs=1e-12)
+    settings.timeIntegration.startTime, settings.timeIntegration.endTime = 0.7, 0.701
+    solve_dynamic(mbs, settings)
+    assert handle.runs == 2 and handle.history(0)["time_s"].size == 100
+    assert handle.history()["time_s"].size == 100 and handle.history()["time_s"][0] == pytest.approx(0.70001)
