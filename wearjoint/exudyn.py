@@ -42,11 +42,10 @@ import numpy as np
 from exudyn.itemInterface import ObjectGenericODE2
 
 from .core import layout as L
-from .core.contact import contact_jacobian, evaluate_contact
-from .core.jit import kernel
-from .core.pressure import foundation_modulus_factor
 from .core.admissibility import wall_overlap
-from .core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT, advance_joint
+from .core.generalized_coordinates import accept_step, generalized_contact_forces, generalized_force_jacobian
+from .core.pressure import foundation_modulus_factor
+from .core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT
 from .checks import is_real, refuse
 from .joint import ClearanceJoint, ContactResult, overshoot_message
 from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
@@ -65,92 +64,6 @@ MAX_STEPS = 2.0 ** 53    # simulation_settings' most steps (whole floats)
 # post-step function is still the joints' (a step takes 1 time with generalized-alpha, up to 7 with an explicit solver)
 UNACCEPTED_FORCE_TIMES = 64
 _EPSILON = float(np.finfo(float).eps)
-
-
-@kernel
-def body_kinematics(q, q_t, index, reference, position, velocity):
-    """A body's position (x [m], y [m], angle [rad]) and velocity from the coordinates ``q``, ``q_t``
-    (displacements from ``reference``) at its node's three ``index`` entries; an empty ``index``
-    (ground) leaves them unchanged."""
-    for c in range(index.shape[0]):
-        position[c] = reference[c] + q[index[c]]
-        velocity[c] = q_t[index[c]]
-
-
-@kernel
-def generalized_contact_forces(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
-                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, force):
-    """The GenericODE2's force vector at its nodes' coordinates ``q``, ``q_t``, into ``force``: the
-    bodies' kinematics, the contact (Eqs. 1-23, the joint's state read, not changed, into ``result``),
-    then (Fx [N], Fy [N], T [N m]) on the pin body at ``pin_index`` and on the bushing body at
-    ``bushing_index`` (empty: that side is ground)."""
-    body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
-    body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
-    evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result)
-    for c in range(pin_index.shape[0]):
-        force[pin_index[c]] = result[L.R_PIN_FX + c]
-    for c in range(bushing_index.shape[0]):
-        force[bushing_index[c]] = result[L.R_BUSHING_FX + c]
-
-
-@kernel
-def _jacobian_block(jacobian, rows, first_row, columns, first_input, derivative, factor_q, factor_q_t):
-    """Add -(factor_q d/dq + factor_q_t d/dq_t) of one body's (Fx, Fy, T), the ``derivative`` rows
-    from ``first_row``, in one body's coordinates (x, y, angle), whose positions and velocities are
-    the kernel's inputs ``first_input`` .. + 2 and + 3 .. + 5, at ``jacobian[rows, columns]``."""
-    for r in range(rows.shape[0]):
-        for c in range(columns.shape[0]):
-            jacobian[rows[r], columns[c]] -= (factor_q * derivative[first_row + r, first_input + c]
-                                              + factor_q_t * derivative[first_row + r, first_input + 3 + c])
-
-
-@kernel
-def generalized_force_jacobian(q, q_t, pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j,
-                               jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, derivative, jacobian,
-                               factor_q, factor_q_t):
-    """The GenericODE2's Jacobian as exudyn's ``jacobianUserFunction`` wants it, into ``jacobian``:
-    -(factor_q dF/dq + factor_q_t dF/dq_t) of the force F of :func:`generalized_contact_forces`, from
-    the contact's exact derivatives (:func:`contact_jacobian` into ``derivative``, N_RESULT x 12).
-    A node's coordinates are its body's position less a constant reference and its velocities, so
-    d(position)/dq and d(velocity)/dq_t are identities and the chain rule only picks blocks."""
-    body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
-    body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
-    contact_jacobian(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result,
-                     derivative)
-    for row in range(jacobian.shape[0]):
-        for col in range(jacobian.shape[1]):
-            jacobian[row, col] = 0.0
-    for rows, first_row in ((pin_index, L.R_PIN_FX), (bushing_index, L.R_BUSHING_FX)):
-        _jacobian_block(jacobian, rows, first_row, pin_index, 0, derivative, factor_q, factor_q_t)
-        _jacobian_block(jacobian, rows, first_row, bushing_index, 6, derivative, factor_q, factor_q_t)
-
-
-@kernel
-def history_row(t, result, wear_depth, slots, history, row):
-    """Row ``row`` of the history (HISTORY_COLUMNS): t [s], the ``slots`` of ``result``, max wear depth [m]."""
-    history[row, 0] = t
-    for k in range(slots.shape[0]):
-        history[row, 1 + k] = result[slots[k]]
-    deepest = 0.0
-    for z in range(wear_depth.shape[0]):
-        deepest = max(deepest, wear_depth[z])
-    history[row, 1 + slots.shape[0]] = deepest
-
-
-@kernel
-def accept_step(pin_index, bushing_index, reference_i, reference_j, pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi,
-                wear_depth, block_min, memory, mask, work, result, slots, q, q_t, t, dt, at_end, history, row):
-    """The post-step work of one joint in one compiled call: the bodies' kinematics at the system's
-    coordinates ``q``, ``q_t``, the wear and contact-onset update over the accepted step ``dt`` [s]
-    ending at ``t`` [s] (Eqs. 24-35, :func:`advance_joint`; ``at_end``: the solver evaluated the force only at the
-    step's end, so its wear takes that force, else the mean of its start and end), then history row ``row``; returns
-    advance_joint's code."""
-    body_kinematics(q, q_t, pin_index, reference_i, pos_i, vel_i)
-    body_kinematics(q, q_t, bushing_index, reference_j, pos_j, vel_j)
-    code = advance_joint(pos_i, vel_i, pos_j, vel_j, dt, at_end, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
-                         mask, work, result)
-    history_row(t, result, wear_depth, slots, history, row)
-    return code
 
 
 class _Body:
@@ -306,9 +219,12 @@ class ClearanceJointHandle:
         self._force_times = 0
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, at_end, self._history, self._rows)
         if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
-            raise RunDiverged(inadmissible_message(t, wall_overlap(j.result, j.parameter_vector, j.wear_depth),
-                                                   j.result[L.R_NORMAL_FORCE], j.params, "exudyn's step",
-                                                   float(j.wear_depth.max())))
+            starting = self._rows - self._run_starts[-1] <= 1     # the run's first accepted point is exempt
+            raise RunDiverged(inadmissible_message(
+                t, wall_overlap(j.result, j.parameter_vector, j.wear_depth), j.result[L.R_NORMAL_FORCE], j.params,
+                "the run's second step" if starting else "exudyn's step", float(j.wear_depth.max()),
+                "the run started there: check the bodies' initial coordinates and the joint's offsets" if starting
+                else "take a shorter step or an adaptive integrator"))
         self._rows += 1
         self.t, self._last_step = t, dt
         self.accepted_steps += 1
@@ -387,11 +303,17 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
     ``mbs.Assemble()``; any number per system.  The pin centre must lie inside the bushing at the
     initial configuration (usually within the radial clearance; a small overlap is a preload).
     Raises ParameterError naming the argument."""
+    if not isinstance(mbs, exu.MainSystem):
+        raise ParameterError(f"mbs={mbs!r} is invalid: allowed an exudyn MainSystem (exudyn.SystemContainer()"
+                             ".AddSystem())")
     if not isinstance(parameters, JointParameters):
         raise ParameterError(f"parameters={parameters!r} is invalid: allowed a wearjoint.JointParameters")
     pin, bushing = _Body(mbs, "pin_body", pin_body), _Body(mbs, "bushing_body", bushing_body)
     if pin.number == bushing.number:
         raise ParameterError(f"bushing_body={bushing_body!r} is invalid: it is pin_body too (allowed: another body)")
+    if pin.node is not None and bushing.node is not None and int(pin.node) == int(bushing.node):
+        raise ParameterError(f"bushing_body={bushing_body!r} is invalid: it moves with node {int(pin.node)}, "
+                             "pin_body's (allowed: a body on another node)")
     if pin.node is None and bushing.node is None:
         raise ParameterError(f"bushing_body={bushing_body!r} is invalid: pin_body is ground too "
                              "(allowed: a rigid body on at least one side)")

@@ -208,10 +208,10 @@ def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
 
 
 def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: JointParameters, where: str,
-                         max_depth_m: float) -> str:
+                         max_depth_m: float, advice: str = "take a shorter step or an adaptive integrator") -> str:
     """Why a run stopped at an inadmissible state (core.admissibility): at time ``t`` [s] ``where`` put the pin
     ``overlap_m`` [m] into the bushing wall with a normal force ``force_N`` [N], beyond what ``joint`` admits, or
-    the bushing, ``max_depth_m`` [m] deep at most, wore through."""
+    the bushing, ``max_depth_m`` [m] deep at most, wore through; ``advice``: what to do about a step that did."""
     if not (math.isfinite(overlap_m) and math.isfinite(force_N)):
         return (f"the run diverged at t = {t:.6g} s: {where} left the joint's state not finite (NaN or infinite "
                 "eccentricity or force: a load, gravity or parameter too large for double precision, or a step far "
@@ -223,5 +223,4 @@ def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: Join
     return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall (admissible "
             f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) with a "
             f"normal force of {force_N:.3g} N (admissible {joint.admissible_force_N:.3g} N): no contact of this joint "
-            "reaches it; nothing after it is physical (take a shorter step or an adaptive integrator; "
-            "docs/reference/model.md §3.14)")
+            f"reaches it; nothing after it is physical ({advice}; docs/reference/model.md §3.14)")

@@ -165,3 +165,18 @@ def test_a_first_solve_may_start_at_any_time_and_a_later_start_is_a_new_run():
     solve_dynamic(mbs, settings)
     assert handle.runs == 2 and handle.history(0)["time_s"].size == 100
     assert handle.history()["time_s"].size == 100 and handle.history()["time_s"][0] == pytest.approx(0.70001)
+
+
+def test_a_run_that_starts_deep_in_the_wall_is_told_to_check_its_start_not_its_step():
+    """Offsets that put the pin 1 mm into a 0.1 mm clearance's wall (inside the bushing: accepted when added, the
+    first point exempt) stop the run at its second step saying the start is wrong; no advice to shorten a step."""
+    mbs = exu.SystemContainer().AddSystem()
+    bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.101, 0])),
+                                          mass=1.0, inertia=1e-3))
+    handle = add_clearance_joint(mbs, mbs.AddObject(ObjectGround()), bar, WEARING)
+    mbs.Assemble()
+    with pytest.raises(exu.exudynCPP.ModelError, match=r"the run's second step put the pin .* \(the run started "
+                                                       r"there: check the bodies' initial coordinates and the "
+                                                       r"joint's offsets;") as failure:
+        solve_dynamic(mbs, simulation_settings(0.001, 1e-5, [handle]))
+    assert "shorter step" not in str(failure.value) and handle.accepted_steps == 1

@@ -339,8 +339,12 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
     _, mbs = new_system()
     bar = rigid_body(mbs, (0.0, -0.1, 0.0))
     ground, other_ground = mbs.AddObject(ObjectGround()), mbs.AddObject(ObjectGround())
+    twin = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.GetObject(bar)["nodeNumber"], mass=1.0, inertia=1e-3))
     params = JointParameters(bushing_offset_m=(0.0, 0.1))
+    with pytest.raises(ParameterError, match=r"^mbs=None is invalid: allowed an exudyn MainSystem"):
+        add_clearance_joint(None, ground, bar, params)
     cases = [((ground, 99, params), "bushing_body=99 is invalid: not an object of this system"),
+             ((twin, bar, params), f"bushing_body={bar} is invalid: it moves with node 0, pin_body's"),
              ((ground, bar, "paper"), "parameters='paper' is invalid"),
              ((bar, bar, params), f"bushing_body={bar} is invalid: it is pin_body too"),
              ((ground, other_ground, params), "pin_body is ground too"),
