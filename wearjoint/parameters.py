@@ -273,8 +273,8 @@ def wear_coefficient_source(joint: JointParameters, mechanism: SliderCrankParame
     note = None
     if source != "given" and not is_paper_case(joint, mechanism):
         note = (f"k_w = {k_w:g} m^2/N is the paper's ({source}: its aluminium bushing, steel pin, load and "
-                "speed); for this machine give its own (--wear-coefficient-m2-N) or calibrate one on a measured "
-                "depth (wear-study --calibrate-max-depth-m)")
+                "speed); for this machine give its own (--wear-coefficient-m2-N) or fit one to measured depths "
+                "(wearjoint calibrate on a wear study of it, docs/how-to/calibrate.md)")
     return {"wear_coefficient_source": source, "wear_coefficient_note": note}
 
 

@@ -197,6 +197,14 @@ def test_calibrate_command_predicts_with_bands_and_asks_for_a_stated_transition(
     assert result["life"]["revolutions"] < 300000
     text = capsys.readouterr().out
     assert "run the study to" in text and "95 % band" in text
+    summary = json.loads((study / "summary.json").read_text())          # a study finished by a --resume:
+    summary["command_line"] = "wearjoint wear-study --revolutions 4000 --out study --resume"     # advice anew
+    (study / "summary.json").write_text(json.dumps(summary))
+    assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5", "--predict-revolutions",
+                     "5000000", "--out", str(tmp_path / "d"), "--no-plots"]) == 0
+    advice = [line for line in capsys.readouterr().out.splitlines() if "run the study to" in line]
+    assert advice and "(the fitted k_w's 95 % interval included; wearjoint wear-study --revolutions 4000 --out " \
+                      "study, with --revolutions" in advice[0] and "--resume" not in advice[0]
     assert cli_main(["calibrate", "--study", str(study), "--law", "mild-severe", "--points",
                      "100000:4e-5,300000:1.1e-4", "--out", str(out)]) == 2
     assert "transition_depth_m is missing" in capsys.readouterr().err

@@ -168,7 +168,8 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
         result["predictions"] = predictions(growth, k0, result, asked)
         for p in result["predictions"]:
             if p["depth_m"] is None:
-                made_by = summary.get("command_line", "its wear-study command")
+                made_by = " ".join(word for word in summary.get("command_line", "its wear-study command").split()
+                                   if word != "--resume")     # the study anew, into another folder
                 print(f"  after {p['revolutions']:.4g} revolutions: beyond the study's curve ({growth[-1, 0]:.4g} "
                       f"revolutions at its k_w); run the study to {p['study_revolutions_needed']:.0f} revolutions "
                       f"(the fitted k_w's 95 % interval included; {made_by}, with --revolutions {p['study_revolutions_needed']:.0f} and another --out)")
