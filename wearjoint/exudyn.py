@@ -13,7 +13,7 @@ Each joint is one zero-mass ``ObjectGenericODE2`` on the bodies' nodes whose for
 returns the contact forces and torques of :meth:`wearjoint.ClearanceJoint.evaluate_array` (the
 same kernels as the monolithic engine and the FMU: Eqs. 1-23), so exudyn's implicit
 (generalized-alpha) and explicit solvers see them on the right-hand side; its Jacobian user function
-returns the same kernel's exact derivatives (:func:`contact_jacobian`) in one compiled call.  Wear
+returns the same kernel's exact derivatives (:func:`wearjoint.core.contact.contact_jacobian`) in one compiled call.  Wear
 and the contact-onset memory advance once per accepted step (Eqs. 24-35), in a post-step function
 that serves every joint of the system (one compiled call per joint) and then calls the user's own
 post-step function, if one was set before the first joint was added (one set later would replace it: the

@@ -37,11 +37,12 @@ def test_an_edit_outside_the_kernels_keeps_the_cache(tmp_path):
 def test_an_edit_to_a_kernel_or_a_layout_constant_starts_a_new_cache(tmp_path):
     copy = _copy(tmp_path)
     digests = [cache.kernel_digest(copy)]
-    for name in ("core/layout.py",                       # constants the kernels compile in
-                 "exudyn.py",                            # a top-level module defining kernels
-                 "fmu/slider_crank_entry_points.py",     # a kernel in another subpackage
-                 "cosim/cosimulation.py"):               # any module of cosim/
-        _append(copy / name)
+    for name, text in (("core/layout.py", None),           # constants the kernels compile in
+                       ("joint.py", "\n@kernel\ndef _added(x):\n    return x\n"),   # a top-level module gains one
+                       ("joint.py", None),                 # and its edits count from then on
+                       ("fmu/slider_crank_entry_points.py", None),     # a kernel in another subpackage
+                       ("cosim/cosimulation.py", None)):   # any module of cosim/
+        _append(copy / name, *(() if text is None else (text,)))
         digests.append(cache.kernel_digest(copy))
     assert len(set(digests)) == len(digests)
 
