@@ -108,13 +108,18 @@ def refuse_unused(options, unused, allowed: str) -> None:
         require(option, value, value == default, allowed)
 
 
+def _tolerance_options(defaults: SimulationOptions) -> tuple:
+    """The adaptive integrators' tolerance options as :func:`refuse_unused` takes them."""
+    return (("--rtol", "rtol", defaults.rtol), ("--atol-position", "atol_position", defaults.atol_position_m),
+            ("--atol-velocity", "atol_velocity", defaults.atol_velocity_m_s))
+
+
 def simulation_options(options) -> SimulationOptions:
     """simulate's integration options from option values; an integrator's option given to another refused."""
     from .simulation_options import SimulationOptions
 
     o, defaults = options, SimulationOptions()
-    tolerances = (("--rtol", "rtol", defaults.rtol), ("--atol-position", "atol_position", defaults.atol_position_m),
-                  ("--atol-velocity", "atol_velocity", defaults.atol_velocity_m_s))
+    tolerances = _tolerance_options(defaults)
     if o["integrator"] != "rk4":
         refuse_unused(o, (("--step", "step", defaults.step_s),), "only with --integrator rk4 (its fixed step)")
     else:
@@ -214,9 +219,7 @@ def cosim_config(options) -> CosimConfig:
     settling = check_settling(o)
     profile = None if o["initial_profile"] is None else read_initial_profile(o["initial_profile"], joint)
     run_options, step = None, o["step"]
-    tolerances = (("--rtol", "rtol", SimulationOptions().rtol),
-                  ("--atol-position", "atol_position", SimulationOptions().atol_position_m),
-                  ("--atol-velocity", "atol_velocity", SimulationOptions().atol_velocity_m_s))
+    tolerances = _tolerance_options(SimulationOptions())
     coupling_options = (("--scheme", "scheme", defaults.scheme), ("--coupling-tolerance", "coupling_tolerance", None),
                         ("--min-step", "min_step", defaults.min_step_s))
     if o["master"] != "wearjoint":
