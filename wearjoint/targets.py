@@ -123,7 +123,8 @@ def simulation_options(options) -> SimulationOptions:
     if o["integrator"] != "rk4":
         refuse_unused(o, (("--step", "step", defaults.step_s),), "only with --integrator rk4 (its fixed step)")
     else:
-        refuse_unused(o, tolerances, "only with --integrator dopri or gear (rk4 steps by --step)")
+        refuse_unused(o, (*tolerances, ("--max-step", "max_step", None)),
+                      "only with --integrator dopri or gear (rk4 steps by --step)")
     if o["integrator"] != "gear":
         refuse_unused(o, (("--gear-solver", "gear_solver", defaults.gear_solver),
                           ("--gear-jacobian", "gear_jacobian", defaults.gear_jacobian)), "only with --integrator gear")

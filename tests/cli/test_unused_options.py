@@ -18,6 +18,8 @@ COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps th
                                                                                "step)"),
     ("simulate", ["--integrator", "rk4", "--rtol", "1e-3"], "--rtol", "0.001",
      "only with --integrator dopri or gear (rk4 steps by --step)"),
+    ("simulate", ["--integrator", "rk4", "--max-step", "1e-5"], "--max-step", "1e-05",
+     "only with --integrator dopri or gear (rk4 steps by --step)"),
     ("simulate", ["--gear-solver", "scipy"], "--gear-solver", "'scipy'", "only with --integrator gear"),
     ("simulate", ["--integrator", "gear", "--free-flight-max-step", "1e-4"], "--free-flight-max-step", "0.0001",
      "only with --integrator dopri"),
