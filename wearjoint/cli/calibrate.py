@@ -172,7 +172,8 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
                                    if word != "--resume")     # the study anew, into another folder
                 print(f"  after {p['revolutions']:.4g} revolutions: beyond the study's curve ({growth[-1, 0]:.4g} "
                       f"revolutions at its k_w); run the study to {p['study_revolutions_needed']:.0f} revolutions "
-                      f"(the fitted k_w's 95 % interval included; {made_by}, with --revolutions {p['study_revolutions_needed']:.0f} and another --out)")
+                      f"(the fitted k_w's 95 % interval included; {made_by}, with --revolutions "
+                      f"{p['study_revolutions_needed']:.0f} and another --out)")
             else:
                 print(f"  after {p['revolutions']:.4g} revolutions: max depth {p['depth_m'] * 1e3:.4g} mm"
                       + _band(p["band_95_m"], 1e3, " mm"))
