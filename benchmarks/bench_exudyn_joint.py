@@ -37,7 +37,8 @@ from exudyn.itemInterface import (  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
-from wearjoint.exudyn import add_clearance_joint, generalized_contact_forces, simulation_settings  # noqa: E402
+from wearjoint.core.generalized_coordinates import generalized_contact_forces  # noqa: E402
+from wearjoint.exudyn import add_clearance_joint, simulation_settings  # noqa: E402
 
 LENGTH, MASS = 0.22, 0.19          # the paper's rod [m], [kg]
 STEP = 1e-5

@@ -136,7 +136,8 @@ def wears(result, f_n, jp, dt):
 @kernel(inline='always')
 def step_mean_normal_force(result, memory, held):
     """The normal force [N] the wear of an accepted step ending at the contact ``result`` takes: the
-    contact's own if the kinematics were ``held`` over the step (a co-simulation step) or before the first
+    contact's own if the host applied that force over the step, ``held`` (a co-simulation step, the kinematics
+    held; an implicit solver's, its equilibrium at the step's end: wearjoint.exudyn), or before the first
     accepted point, else the trapezoid of the step's start (memory[M_START_FORCE], the last accepted point
     on its worn profile) and its end, the mean force the host's integrator applied over a step that began
     just after a wear update (docs/reference/model.md §3.11)."""
@@ -365,8 +366,8 @@ def accept_contact_refreshing(result, pos_i, vel_i, pos_j, vel_j, dt, jp, cos_ph
 @kernel
 def advance_joint(pos_i, vel_i, pos_j, vel_j, dt, held, jp, cos_phi, sin_phi, wear_depth, block_min, memory, mask,
                   work, result):
-    """Accept the state (pos, vel) as the end of a step of length dt (``held``: the kinematics held over
-    the step): evaluate the contact there (into ``result``), then :func:`accept_contact`; returns its
+    """Accept the state (pos, vel) as the end of a step of length dt (``held``: the step's end force applied over
+    it, :func:`step_mean_normal_force`): evaluate the contact there (into ``result``), then :func:`accept_contact`; returns its
     STEP_* code (STEP_CHANGED: forces at the same kinematics would differ)."""
     evaluate_contact(pos_i, vel_i, pos_j, vel_j, jp, cos_phi, sin_phi, wear_depth, block_min,
                      memory, result)
