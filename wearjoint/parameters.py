@@ -262,16 +262,16 @@ def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> b
 PAPER_PRINTED_WEAR_COEFFICIENT_M2_N = 5.05e-10    # the paper's Table 2 (the JointParameters default)
 
 
-def wear_coefficient_source(joint: JointParameters, mechanism: SliderCrankParameters) -> dict:
+def wear_coefficient_source(joint: JointParameters, mechanism: SliderCrankParameters | None) -> dict:
     """Where the run's k_w came from (summary.json): ``wear_coefficient_source`` "paper printed" (Table 2's
     5.05e-10 m^2/N, the default), "paper calibrated" (5.576e-11, the paper's 0.58 mm after 4000 revolutions) or
     "given", and ``wear_coefficient_note``: a line where a mechanism or joint other than the paper's runs on the
-    paper's coefficient (None otherwise)."""
+    paper's coefficient (None otherwise; ``mechanism`` None: any machine's, as a joint FMU goes into any host)."""
     k_w = joint.wear_coefficient_m2_N
     source = {PAPER_PRINTED_WEAR_COEFFICIENT_M2_N: "paper printed",
               PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N: "paper calibrated"}.get(k_w, "given")
     note = None
-    if source != "given" and not is_paper_case(joint, mechanism):
+    if source != "given" and joint.wear_factor > 0.0 and (mechanism is None or not is_paper_case(joint, mechanism)):
         note = (f"k_w = {k_w:g} m^2/N is the paper's ({source}: its aluminium bushing, steel pin, load and "
                 "speed); for this machine give its own (--wear-coefficient-m2-N) or fit one to measured depths "
                 "(wearjoint calibrate on a wear study of it, docs/how-to/calibrate.md)")

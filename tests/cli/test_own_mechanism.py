@@ -148,6 +148,7 @@ def test_export_ssp_carries_the_mechanisms_parameter_sets(tmp_path):
 
     done = wearjoint("export-ssp", "--out", str(tmp_path), "--platforms", "linux64", *MODEL_OPTIONS)
     assert done.returncode == 0, done.stderr
+    assert "note: k_w = 5.05e-10 m^2/N is the paper's" in done.stderr      # this machine wears on the paper's k_w
     with zipfile.ZipFile(tmp_path / ssp.SSP_FILE_NAME) as z:
         z.extractall(tmp_path / "unzipped")
     resources = tmp_path / "unzipped" / "resources"
@@ -458,3 +459,14 @@ def test_a_bushing_worn_through_stops_the_run_at_its_radius_saying_so(tmp_path, 
     assert summary["completed"] is False and "the bushing wore through" in summary["failure"]
     assert "the bushing wore through" in done.stderr.strip().splitlines()[-1]
     assert radius < summary["max_wear_depth_m"] < 1.01 * radius, summary["max_wear_depth_m"]
+
+
+@pytest.mark.parametrize("options, noted", [([], True), (MODEL_OPTIONS, True), (["--no-wear"], False),
+                                             (["--wear-coefficient-m2-N", "2e-10"], False)])
+def test_build_fmu_says_when_the_fmu_wears_with_the_papers_coefficient(tmp_path, options, noted):
+    """A joint FMU goes into any host: built on the paper's k_w (the default), even with the paper's geometry, it
+    says so on stderr, naming the FMU parameter that sets another; not with a k_w given or without wear."""
+    done = wearjoint("build-fmu", "--out", str(tmp_path), "--platforms", "linux64", *options)
+    assert done.returncode == 0, done.stderr
+    assert ("note: k_w = 5.05e-10 m^2/N is the paper's" in done.stderr) == noted, done.stderr
+    assert ("the FMU's parameter wear_coefficient sets it" in done.stderr) == noted

@@ -14,7 +14,7 @@ from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from ..cosim.step_rule import communication_step_rule
 from ..fmu.build_native import DEFAULT_MODEL, MODELS
 from ..mechanism_parameters import mechanism_from_options
-from ..parameters import JointParameters, ParameterError, SliderCrankParameters
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters, wear_coefficient_source
 from ..run_options import restate_default
 from .options import _option, add_model_arguments, given_options, model_from_args, take_calibration
 
@@ -98,6 +98,9 @@ def run(args) -> int:
             print("start values: " + ", ".join(f"{k}={v:g}" for k, v in starts.items()), file=sys.stderr)
         if joint is not None:
             print(communication_step_rule(joint, mechanism).text(), file=sys.stderr)
+            note = wear_coefficient_source(joint, None)["wear_coefficient_note"]   # the FMU goes into any host
+            if note:
+                print(f"note: {note}; in a host, the FMU's parameter wear_coefficient sets it", file=sys.stderr)
         if args.backend == "native":
             built, skipped = platforms.select(requested)
             print(f"built: {', '.join(t.folder(version) for t in built)}", file=sys.stderr)

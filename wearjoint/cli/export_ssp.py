@@ -11,7 +11,7 @@ from ..checks import require
 from ..cosim.step_rule import communication_step_rule, paper_step_scale
 from ..fmu import platforms
 from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, ON_TIME_STEP_S
-from ..parameters import SliderCrankParameters
+from ..parameters import SliderCrankParameters, wear_coefficient_source
 from .options import add_model_arguments, model_from_args
 
 
@@ -67,6 +67,9 @@ def run(args) -> int:
                   f"{rule.text()})", file=sys.stderr)
         else:
             print(f"{rule.text()}; {asks}", file=sys.stderr)
+        note = wear_coefficient_source(joint, mechanism)["wear_coefficient_note"]
+        if note:
+            print(f"note: {note}", file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
             step = CONTAINER_STEP_S if args.container_step is None else args.container_step
             print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))
