@@ -23,14 +23,14 @@ def power_growth(rate=1.5e-7, exponent=0.9, reach=4000):
     return np.column_stack([n, rate * n ** exponent, np.zeros_like(n)])
 
 
-def written_study(folder):
+def written_study(folder, wear_factor=1.0):
     """A finished wear study's files in ``folder`` as calibrate reads them: the growth of :func:`power_growth` at
-    k_w = K0, wear factor 1."""
+    k_w = K0 (its revolutions the crank's, as a study writes them at any wear factor)."""
     folder.mkdir()
     np.savetxt(folder / "wear_growth.csv", power_growth(), delimiter=",",
                header="revolutions,max_wear_depth_m,worn_volume_m3", comments="")
     (folder / "summary.json").write_text(json.dumps({"parameters": {"joint": {"wear_coefficient_m2_N": K0,
-                                                                               "wear_factor": 1.0}}}))
+                                                                               "wear_factor": wear_factor}}}))
     return folder
 
 
@@ -87,6 +87,47 @@ def test_the_interval_covers_the_truth_and_shrinks_with_the_measurement_uncertai
     assert covered >= 90
     assert 5.0 < widths[5e-6] / widths[5e-7] < 20.0
     assert rejected <= 25                           # of 200 fits: 5 % expected (10)
+
+
+def test_the_curves_own_error_is_common_to_every_point_so_many_points_do_not_average_it_away():
+    """Depths drawn from the study's curve times (1 + eps), eps ~ N(0, c) common to all points (the study's error
+    of its curve, c = curve_error_rel), plus small Gaussian measurement errors: the 95 % interval covers the truth
+    in about 95 % of draws with 12 points (had each point carried its own curve error, it would shrink as
+    1/sqrt(12) and cover about half); with exact points 2 % deep the interval's log-width is the curve error's,
+    2 x 1.96 c / 0.9 on a curve growing as N^0.9, and covers the truth."""
+    growth, c, u = power_growth(), 0.02, 2e-7
+    k_true, revolutions = 2e-13, np.linspace(60_000.0, 800_000.0, 12)
+    depths = 1.5e-7 * (revolutions * k_true / K0) ** 0.9
+    rng = np.random.default_rng(5)
+    covered, rejected = 0, 0
+    for _ in range(200):
+        drawn = depths * (1.0 + c * rng.standard_normal()) + u * rng.standard_normal(revolutions.size)
+        interval = fit_archard(growth, K0, [(n, d, u) for n, d in zip(revolutions, drawn)],
+                               curve_error_rel=c)["interval_95_m2_N"]
+        rejected += interval is None                   # the model's test at 5 %: no interval
+        covered += interval is not None and interval[0] <= k_true <= interval[1]
+    assert rejected <= 20 and 0.9 <= covered / (200 - rejected) <= 0.99     # 0.95 expected; binomial sd 0.016
+    offset = fit_archard(growth, K0, [(n, 1.02 * d, 1e-9) for n, d in zip(revolutions, depths)], curve_error_rel=c)
+    lo, hi = offset["interval_95_m2_N"]
+    assert lo < k_true < hi and offset["consistent"]
+    assert math.log(hi / lo) == pytest.approx(math.log((1 + 1.96 * c) / (1 - 1.96 * c)) / 0.9, rel=0.02)
+
+
+def test_calibrate_on_a_wear_factor_study_fits_the_same_k_w_and_says_its_bias_is_not_in_the_interval(tmp_path,
+                                                                                                      capsys):
+    """A study at wear factor F writes its growth in crank revolutions: the same curve gives the same k_w at F 1
+    and 100 (it was F times too large); the factor's study has no error estimate, which a note says."""
+    fits = []
+    for factor in (1.0, 100.0):
+        study = written_study(tmp_path / f"study{factor:g}", wear_factor=factor)
+        assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5,300000:1.1e-4",
+                         "--depth-uncertainty-m", "2e-6", "--no-plots"]) == 0
+        fits.append(json.loads((study / "calibration.json").read_text()))
+    assert fits[0]["wear_coefficient_m2_N"] == fits[1]["wear_coefficient_m2_N"]
+    assert fits[0]["interval_95_m2_N"] == fits[1]["interval_95_m2_N"]
+    assert "curve_error_note" not in fits[0]
+    assert fits[1]["curve_error_note"].startswith("the study ran at --wear-factor 100, whose curve's error is not")
+    assert f"note: {fits[1]['curve_error_note']}" in capsys.readouterr().out
 
 
 def test_predictions_and_the_life_to_a_depth_carry_the_band_and_say_when_the_study_is_too_short():

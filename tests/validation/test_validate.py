@@ -178,6 +178,31 @@ def test_law_spread_never_changes_the_exit_status_and_can_be_switched_off(tmp_pa
     assert "- error: tsuji" in report_on
 
 
+@pytest.mark.parametrize("failure, raised", [("", KeyboardInterrupt), ("diverged at 0.01 s", cmp.RunStoppedShort)])
+def test_a_run_that_stopped_short_is_never_judged(tmp_path, monkeypatch, failure, raised):
+    """A run ended before its revolutions (Ctrl-C: completed without a failure; a divergence: with one) has
+    truncated statistics: the validation stops (the command: 130, or 1 naming the run) instead of judging them."""
+    calls = []
+
+    def second_stops(joint, *args, **kwargs):
+        record = run_monolithic(joint, *args, **kwargs)
+        calls.append(record)
+        return replace(record, completed=False, failure=failure) if len(calls) == 2 else record
+
+    monkeypatch.setattr(cmp, "run_monolithic", second_stops)
+    with pytest.raises(raised):
+        _monolithic_quick(tmp_path, "stopped", "--no-law-spread")
+    assert len(calls) == 2 and not (tmp_path / "stopped" / "summary.json").exists()
+
+
+@pytest.mark.parametrize("name", ["slider_acc_max_m_s2", "slider_acc_min_m_s2", "max_contact_force_N"])
+def test_a_statistic_whose_reference_is_zero_is_not_failed_by_round_off(name):
+    """A slider at rest (its max acceleration exactly 0 in every run, 7.8e-8 m/s² apart by round-off) or a joint
+    without contact: the rule's absolute floor, not 5 % of 0, bounds the tolerance."""
+    rule = cmp.STATISTICS[name][1]
+    assert rule.tolerance(3.5e-10, 0.0) >= 1.0 and rule.tolerance(1.0, 1000.0) == 50.0
+
+
 def test_slider_acceleration_error_counts_the_counted_revolutions_against_the_ideal_joint():
     """|a - a_ideal| over the revolutions covering more than half the longest: a sliver after the end is not
     counted; the ideal joint's own acceleration gives 0."""

@@ -1,10 +1,11 @@
 """`wearjoint validate`: the cross-check of the engines (:mod:`wearjoint.validation.compare`)."""
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
-from ..validation.compare import ENGINES, FULL, QUICK, REFERENCE
+from ..validation.compare import ENGINES, FULL, QUICK, REFERENCE, RunStoppedShort
 from ..validation.report import run_validation
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
 
@@ -96,7 +97,14 @@ def run(args) -> int:
     plan = replace(base, **{name: value for name, value in given.items() if value is not None}, window_s=window_s,
                    engines=compared, run_wear=not args.no_wear, fmu_backend=args.fmu_backend,
                    law_spread=not args.no_law_spread)
-    summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
+    try:
+        summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
+    except KeyboardInterrupt:
+        print("wearjoint validate: interrupted: nothing judged (a run stopped short)", file=sys.stderr)
+        return 130
+    except RunStoppedShort as exc:      # the reference's: nothing to judge against
+        print(f"wearjoint validate: error: the reference run {exc}", file=sys.stderr)
+        return 1
     engines = summary["engines"]
     for m in summary["metrics"]:
         if not m["passed"]:

@@ -60,13 +60,14 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
     """One k_w for all ``points`` [(revolutions, max depth [m][, its standard uncertainty [m]])], on the study
     ``growth`` run at k0 [m^2/N].
 
-    With uncertainties U_i: the likelihood of Gaussian depth errors, chi^2(s) = sum ((D_0(s N_i) - d_i) / sigma_i)^2,
-    sigma_i^2 = U_i^2 + (``curve_error_rel`` D_0(s N_i))^2 (the master curve's own error, the study's estimate);
-    the model's test chi^2_min against n - 1 degrees of freedom (``consistent``: p >= 1 - CONFIDENCE); the
-    interval where chi^2 - chi^2_min <= chi^2_1(CONFIDENCE) (profile likelihood: coverage for Gaussian errors,
-    shrinking with U to the curve's own error), none where the model is rejected.  Without uncertainties the
-    least squares of the log depths gives k_w alone: neither a test nor an interval (the residuals' misfit is
-    no measurement error)."""
+    With uncertainties U_i: the likelihood of Gaussian depth errors, chi^2(s) = r^T C^-1 r with r_i = D_0(s N_i) -
+    d_i and the covariance C_ij = U_i^2 delta_ij + c^2 D_0(s N_i) D_0(s N_j), c = ``curve_error_rel`` (the study's
+    estimate of its curve's error: one error of the whole curve, common to every point, so that many points do
+    not average it away; C^-1 by Sherman-Morrison); the model's test chi^2_min against n - 1 degrees of freedom
+    (``consistent``: p >= 1 - CONFIDENCE); the interval where chi^2 - chi^2_min <= chi^2_1(CONFIDENCE) (profile
+    likelihood: coverage for Gaussian errors, shrinking with U to the curve's own error), none where the model
+    is rejected.  Without uncertainties the least squares of the log depths gives k_w alone: neither a test nor
+    an interval (the residuals' misfit is no measurement error)."""
     curve, inverse = master_curve(growth)
     n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1])
     positive("tolerance", tolerance)
@@ -87,10 +88,12 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
                    consistent=None, note="no depth uncertainty given (--depth-uncertainty-m): k_w without an "
                                          "interval or a test of the model")
     else:
+        c2 = curve_error_rel * curve_error_rel
+
         def chi2(log_s):
             model = curve(math.exp(log_s) * n)
-            sigma2 = u * u + (curve_error_rel * model) ** 2
-            return float(np.sum((model - d) ** 2 / sigma2))
+            r, w = model - d, 1.0 / (u * u)
+            return float(np.sum(r * r * w) - c2 * np.sum(r * model * w) ** 2 / (1.0 + c2 * np.sum(model * model * w)))
 
         lo, hi = start.min() - 3.0, min(start.max() + 3.0, top)
         best = optimize.minimize_scalar(chi2, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
