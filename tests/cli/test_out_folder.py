@@ -48,7 +48,7 @@ def test_another_commands_results_are_not_overwritten(tmp_path, capsys):
 
 @pytest.mark.parametrize("marker, command", [("cosim_study.json", "cosim-study"), ("sweep.json", "sweep"),
                                              ("wear_study_checkpoint.pkl", "wear-study"),
-                                             ("samples.csv", "sensitivity")])
+                                             ("samples.csv", "sensitivity"), ("calibration.json", "calibrate")])
 def test_results_without_a_command_line_are_known_by_their_files(tmp_path, marker, command):
     (tmp_path / marker).write_text("{}")
     assert results_commands(tmp_path) == (command,)
@@ -91,8 +91,40 @@ def test_a_run_without_figures_removes_the_earlier_runs_figures(tmp_path, capsys
     capsys.readouterr()
 
 
+@pytest.mark.parametrize("study", ["sweep", "sensitivity"])
+def test_a_study_whose_out_is_a_file_or_another_commands_results_is_refused(tmp_path, capsys, study):
+    """sweep's and sensitivity's --out is their target's option, parsed by the study: checked all the same."""
+    design = ["--vary", "restitution=0.6"] if study == "sweep" else ["--param", "restitution=0.5,0.9"]
+    target = tmp_path / "afile"
+    target.write_text("x")
+    assert main([study, "simulate", "--revolutions", "0.01", *design, "--out", str(target)]) == 2
+    err = _one_line_error(capsys)
+    assert f"--out='{target}' is invalid" in err and "it is a file" in err
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "summary.json").write_text(json.dumps({"command_line": "wearjoint simulate --out run"}))
+    assert main([study, "simulate", "--revolutions", "0.01", *design, "--out", str(tmp_path / "run")]) == 2
+    assert "holds the results of `wearjoint simulate`" in _one_line_error(capsys)
+    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["summary.json"]
+
+
+def test_ctrl_c_in_any_command_is_one_line_and_exit_130(tmp_path, monkeypatch, capsys):
+    """A command that does not say itself where its finished work is (export-ssp, a third-party master) stops on
+    Ctrl-C with one line, no traceback."""
+    import wearjoint.cli.contact_law as command
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(command, "run", interrupted)
+    assert main(["contact-law", "--out", str(tmp_path / "law")]) == 130
+    assert _one_line_error(capsys) == "wearjoint contact-law: interrupted"
+    assert not (tmp_path / "law").exists()          # the folder it made, empty, goes
+
+
 @pytest.mark.parametrize("argv, words", [(["cosim", "--gravity-m-s2=1,2,3", "--out", "x"], "--gravity-m-s2"),
                                          (["calibrate", "--law", "linear"], "invalid choice: 'linear'"),
+                                         (["sweep", "simulate", "--seeds", "1.5", "--out", "x"], "--seeds"),
+                                         (["sensitivity", "simulate", "--method", "foo", "--out", "x"], "'foo'"),
                                          (["no-such-command"], "invalid choice")])
 def test_an_option_argparse_refuses_is_one_line(argv, words, capsys):
     with pytest.raises(SystemExit) as stop:

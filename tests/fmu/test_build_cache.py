@@ -34,6 +34,7 @@ def test_the_same_build_elsewhere_is_copied_and_other_starts_or_force_build(tmp_
     assert kept.is_file() and kept.read_bytes() == first.read_bytes()
     second = build_native.build_fmu(tmp_path / "b", **build)
     assert len(compilations) == 1 and second.read_bytes() == first.read_bytes()
+    assert second.stat().st_mode & 0o777 == first.stat().st_mode & 0o777    # a copy as readable as a build
     other = build_native.build_fmu(tmp_path / "c", starts={"slider_mass": 2.5}, **build)
     assert len(compilations) == 2 and existing_build_key(other) != existing_build_key(first)
     build_native.build_fmu(tmp_path / "d", force=True, **build)
@@ -53,3 +54,26 @@ def test_the_cache_keeps_the_most_recently_used_builds(tmp_path, compilations, m
                                                           **build)))
     kept = build_native.default_fmu_path(platform_names=["linux64"], model="slider-crank").parent.parent
     assert {folder.name for folder in kept.iterdir()} == {keys[0], keys[2], keys[3]}
+
+
+def test_a_file_written_whole_is_the_users_and_an_interrupted_one_leaves_nothing(tmp_path):
+    """write_whole gives the umask's permissions (not a temporary file's private 0600); replaced_whole writes a
+    file whole or leaves the earlier one and no partial file (Ctrl-C inside the block)."""
+    import os
+
+    umask = os.umask(0o022)
+    try:
+        build_common.write_whole(tmp_path / "f.fmu", b"fmu")
+        assert (tmp_path / "f.fmu").stat().st_mode & 0o777 == 0o644
+    finally:
+        os.umask(umask)
+    target = tmp_path / "p.ssp"
+    target.write_bytes(b"earlier")
+    with pytest.raises(KeyboardInterrupt):
+        with build_common.replaced_whole(target) as partial:
+            partial.write_bytes(b"half")
+            raise KeyboardInterrupt
+    assert target.read_bytes() == b"earlier" and sorted(p.name for p in tmp_path.iterdir()) == ["f.fmu", "p.ssp"]
+    with build_common.replaced_whole(target) as partial:
+        partial.write_bytes(b"whole")
+    assert target.read_bytes() == b"whole" and not partial.exists()

@@ -212,6 +212,10 @@ def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_witho
     result = json.loads((tmp_path / "c" / "calibration.json").read_text())
     assert result["wear_coefficient_m2_N"] == pytest.approx(K0 * (1e-4 / 1.5e-7) ** (1 / 0.9) / 1000, rel=2e-3)
     assert (tmp_path / "c" / "calibration.png").read_bytes()[:4] == b"\x89PNG"
+    assert cli_main(["calibrate", "--study", str(study), "--points", "2000:1.2e-4", "--out", str(tmp_path / "c"),
+                     "--no-plots"]) == 0
+    assert not (tmp_path / "c" / "calibration.png").exists()      # the earlier fit's figure goes with it
+    capsys.readouterr()
     assert cli_main(["calibrate", "--study", str(tmp_path / "nothing")]) == 2
     err = capsys.readouterr().err
     assert "not a finished wear study" in err and err.count("\n") == 1

@@ -46,7 +46,7 @@ DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears
                "FMU co-simulation, validation and the paper's wear study.")
 
 
-class _Parser(argparse.ArgumentParser):
+class OneLineErrorParser(argparse.ArgumentParser):
     """argparse's parser whose error is one line (the option, what is wrong; where to look), not the usage block."""
 
     def error(self, message):
@@ -55,7 +55,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser(command: str | None) -> argparse.ArgumentParser:
     """The parser; only ``command``'s options are added (its module imported)."""
-    parser = _Parser(prog="wearjoint", description=DESCRIPTION)
+    parser = OneLineErrorParser(prog="wearjoint", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module, help_text) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
@@ -83,6 +83,9 @@ def main(argv: list[str] | None = None) -> int:
             module = importlib.import_module(COMMANDS[args.command][0])
             with _compile_watch(module, args):   # the first line of a run that compiles says so
                 code = int(module.run(args) or 0)
+        except KeyboardInterrupt:           # a command that keeps finished work says where itself
+            print(f"wearjoint {args.command}: interrupted", file=sys.stderr)
+            code = 130
         except ParameterError as exc:
             print(f"wearjoint {args.command}: error: {as_written(str(exc), parser, args.command, argv)}",
                   file=sys.stderr)

@@ -132,7 +132,9 @@ def run(args) -> int:
     if (out / "calibration.json").is_file():      # what --calibration reads: say that it changes
         print(f"replacing the fit in {out / 'calibration.json'} (another --out keeps it)")
     write_json_atomic(out / "calibration.json", result)
-    if not args.no_plots:
+    if args.no_plots:
+        (out / "calibration.png").unlink(missing_ok=True)     # an earlier fit's
+    else:
         reach = [p["revolutions"] for p in result.get("predictions", []) if p["depth_m"] is not None]
         if (result.get("life") or {}).get("revolutions"):
             reach.append(result["life"]["revolutions"])

@@ -16,12 +16,12 @@ FILE_COMMANDS = ("build-fmu", "export-ssp")
 SHARED_FOLDERS = {"calibrate": ("wear-study",)}
 # a command's results without a summary recording its command line (written by the command itself, or a run stopped
 # before its summary): the files that mark them, the first found (a sensitivity run's sweep.json beside its samples)
-MARKER_FILES = {"cosim_study.json": "cosim-study", "contact_law.json": "contact-law",
+MARKER_FILES = {"cosim_study.json": "cosim-study", "contact_law.json": "contact-law", "calibration.json": "calibrate",
                 "wear_study_checkpoint.pkl": "wear-study", "samples.csv": "sensitivity", "sweep.json": "sweep"}
 
 
-def _refuse(out, allowed: str) -> None:
-    raise ParameterError(f"parameter out={str(out)!r} is invalid: allowed {allowed}")
+def _refuse(out, allowed: str, option: str | None) -> None:
+    raise ParameterError(f"{option or 'parameter out'}={str(out)!r} is invalid: allowed {allowed}")
 
 
 def results_commands(folder: Path) -> tuple[str, ...]:
@@ -47,19 +47,19 @@ def results_commands(folder: Path) -> tuple[str, ...]:
     return ("sweep", "wear-study") if swept == "wear-study" else ("sweep",)
 
 
-def prepare_out_folder(command: str, out) -> list[Path]:
+def prepare_out_folder(command: str, out, option: str | None = None) -> list[Path]:
     """Make the output folder ``out`` of ``command`` (its missing parents too) and return the folders made, after
     checking that it is a folder that can be made and, for a command of RESULT_COMMANDS, that it holds no other
-    command's results (a command writes over its own earlier results).  ParameterError (``--out``) otherwise,
-    nothing made."""
+    command's results (a command writes over its own earlier results).  ParameterError (``--out``; ``option``:
+    named so, where the message cannot be traced to the option) otherwise, nothing made."""
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
-        _refuse(out, "a folder (made if missing): it is a file")
+        _refuse(out, "a folder (made if missing): it is a file", option)
     if folder.is_dir() and command in RESULT_COMMANDS:
         owners = results_commands(folder)
         if owners and not set(owners) & {command, *SHARED_FOLDERS.get(command, ())}:
             _refuse(out, f"an empty folder or one of `wearjoint {command}`'s results: it holds the results of "
-                         f"`wearjoint {owners[0]}` (choose another --out)")
+                         f"`wearjoint {owners[0]}` (choose another --out)", option)
     if folder.is_dir():
         return []
     missing = []
@@ -68,13 +68,13 @@ def prepare_out_folder(command: str, out) -> list[Path]:
         missing.append(parent)
         parent = parent.parent
     if not parent.is_dir():
-        _refuse(out, f"a folder that can be made: {str(parent)!r} is a file")
+        _refuse(out, f"a folder that can be made: {str(parent)!r} is a file", option)
     for path in reversed(missing):
         try:
             path.mkdir()
         except OSError as exc:
             remove_empty_folders(missing[missing.index(path) + 1:])
-            _refuse(out, f"a folder that can be made: {exc.strerror or exc} ({str(path)!r})")
+            _refuse(out, f"a folder that can be made: {exc.strerror or exc} ({str(path)!r})", option)
     return missing
 
 

@@ -13,6 +13,7 @@ import sys
 from ..parameters import ParameterError
 from ..sensitivity.sample import DEFAULT_SAMPLES, METHODS, MIN_SAMPLES
 from ..sweep.design import TARGETS, command_options
+from .out_folder import prepare_out_folder
 from .sweep import study_parser
 
 
@@ -60,6 +61,7 @@ def run(args) -> int:
 
     a = target_parser(args.target).parse_args(args.options)
     args.out = a.out                             # the results folder, for its report (wearjoint.cli.main)
+    prepare_out_folder("sensitivity", a.out, "--out")     # --out is the target's option: checked once parsed
     if a.seeds is not None:
         raise ParameterError(f"--seeds={a.seeds!r} is invalid here: each design row is one run (--seed seeds the "
                              "sampling)")

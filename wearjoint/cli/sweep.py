@@ -13,6 +13,8 @@ from ..parameters import ParameterError
 from ..sweep.bias import Bias
 from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, sweep_design
 from ..targets import target as sweep_target
+from . import OneLineErrorParser
+from .out_folder import prepare_out_folder
 
 DEFAULT_SEEDS = 1   # runs per grid point when neither --seeds nor the design file says
 
@@ -44,7 +46,7 @@ def _add(parser, group, flag, **kwargs) -> None:
 def study_parser(study: str, target: str, description: str) -> argparse.ArgumentParser:
     """The head of the parser of ``wearjoint STUDY TARGET`` (sweep, sensitivity): TARGET's own options (the
     target's, :mod:`wearjoint.targets`) and the ensemble's; the study adds its group."""
-    parser = argparse.ArgumentParser(prog=f"wearjoint {study} {target}", allow_abbrev=False, description=description)
+    parser = OneLineErrorParser(prog=f"wearjoint {study} {target}", allow_abbrev=False, description=description)
     sweep_target(target).add_arguments(parser)
     add_ensemble_arguments(parser)
     return parser
@@ -69,6 +71,7 @@ def target_parser(target: str) -> argparse.ArgumentParser:
 def run(args) -> int:
     target = target_parser(args.target).parse_args(args.options)
     args.out = target.out                        # the results folder, for its report (wearjoint.cli.main)
+    prepare_out_folder("sweep", target.out, "--out")      # --out is the target's option: checked once parsed
     return run_from_args(args.target, target)
 
 

@@ -4,6 +4,7 @@ sources are, the user cache where built FMUs live, the build keys that say wheth
 current, the C compiler and the FMI 2.0 headers.  It imports neither backend nor the dispatcher."""
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import json
@@ -42,15 +43,32 @@ def current_build(out_dir, key: str, force: bool, file_name: str = FMU_FILE_NAME
 
 def write_whole(path: Path, data: bytes) -> None:
     """``data`` into ``path`` whole or not at all, through a temporary file beside it (another process may be
-    reading or writing the same file)."""
+    reading or writing the same file), readable as a file the user writes (the umask's permissions, not the
+    temporary file's private ones)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, partial = tempfile.mkstemp(prefix=path.name + ".", dir=path.parent)
     try:
         with os.fdopen(handle, "wb") as file:
             file.write(data)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(partial, 0o666 & ~umask)
         os.replace(partial, path)
     except BaseException:
         Path(partial).unlink(missing_ok=True)
+        raise
+
+
+@contextlib.contextmanager
+def replaced_whole(path: Path):
+    """A path beside ``path`` (``NAME.partial``) for the block to write, moved onto ``path`` when the block ends
+    and removed if it raises (Ctrl-C included): ``path`` is written whole or not at all."""
+    partial = path.with_name(path.name + ".partial")
+    try:
+        yield partial
+        partial.replace(path)
+    except BaseException:
+        partial.unlink(missing_ok=True)
         raise
 
 

@@ -42,7 +42,7 @@ from . import variables as fv
 from . import platforms
 from .kernel_ir import compile_kernel_ir, emit_objects
 from .build_common import (FMU_SOURCE_DIR, PACKAGE_DIR, copy_kept_build, current_build, existing_build_key,
-                           fmi2_headers, keep_build_in_cache, source_digest, user_cache_dir)
+                           fmi2_headers, keep_build_in_cache, replaced_whole, source_digest, user_cache_dir)
 from .c_tables import c_string as _c_string
 from .c_tables import parameter_rows, state_problem_tables
 from .model_description import (
@@ -460,8 +460,7 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
             binaries[t.binary_arcname(fmi_version, spec.identifier)] = binary.read_bytes()
             binary.unlink()
         out_dir.mkdir(parents=True, exist_ok=True)
-        partial = target_path.with_name(target_path.name + ".partial")
-        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
+        with replaced_whole(target_path) as partial, zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as fmu:
             fmu.writestr("modelDescription.xml", spec.model_description(
                 fmi_version, n_points, guid, f"wearjoint {__version__} (native)", starts, profile_stride, note))
             for arcname, data in binaries.items():
@@ -474,6 +473,5 @@ def build_fmu(out_dir, n_points: int = JointParameters.n_points, force: bool = F
             for path in sorted(sources.rglob("*")):
                 if path.is_file():
                     fmu.write(path, f"sources/{path.relative_to(sources).as_posix()}")
-        partial.replace(target_path)
     keep_build_in_cache(kept, target_path)
     return target_path

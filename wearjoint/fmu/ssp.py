@@ -26,6 +26,7 @@ from ..parameters import (
     JointParameters, SliderCrankParameters, finite, require, check_joint_fits_mechanism, paper_joint,
 )
 from . import slider_crank as sc
+from .build_common import replaced_whole
 from . import variables as fv
 
 SSP_NAME = "SliderCrankWithClearance"
@@ -256,14 +257,12 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
             _validate(xml, "SystemStructureParameterValues.xsd", f"resources/{name}.ssv")
         out_dir.mkdir(parents=True, exist_ok=True)
         target = out_dir / SSP_FILE_NAME
-        partial = target.with_name(target.name + ".partial")
-        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as ssp:
+        with replaced_whole(target) as partial, zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as ssp:
             ssp.writestr("SystemStructure.ssd", ssd)
             ssp.writestr(SIGNAL_FILTER, signal_filter())
             for name, path in fmus.items():
                 ssp.write(path, f"resources/{path.name}")
                 ssp.writestr(f"resources/{name}.ssv", parameter_sets[name])
-        partial.replace(target)
     return target
 
 
@@ -349,7 +348,6 @@ def container_fmu(ssp_path, out_path, step_s: float = CONTAINER_STEP_S) -> Path:
                                       connections=connections, variableMappings=mappings)
         (Path(tmp) / "container").mkdir()
         out_path.parent.mkdir(parents=True, exist_ok=True)
-        partial = out_path.with_name(out_path.name + ".partial")
-        create_container_fmu(configuration, Path(tmp) / "container", partial)
-        partial.replace(out_path)
+        with replaced_whole(out_path) as partial:
+            create_container_fmu(configuration, Path(tmp) / "container", partial)
     return out_path
