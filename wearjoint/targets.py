@@ -105,7 +105,7 @@ def refuse_unused(options, unused, allowed: str) -> None:
     not its default: an option the run would silently ignore (``allowed``: where it does something)."""
     for option, key, default in unused:
         value = options.get(key, default)
-        require(option, value, value == default, allowed)
+        require(option, str(value) if isinstance(value, Path) else value, value == default, allowed)
 
 
 def _tolerance_options(defaults: SimulationOptions) -> tuple:
@@ -199,6 +199,9 @@ class CosimConfig:
 def cosim_config(options) -> CosimConfig:
     from .cosim import CoSimulationOptions
     from .cosim.masters import DEFAULT_STEP_S, MASTERS, master_available
+    from .cosim.step_rule import paper_step_scale
+    from .fmu.fmi import DEFAULT_BACKEND
+    from .simulation_options import check_wear_step
     from .fmu.ssp import LOAD_COUPLINGS
     from .simulation_options import SimulationOptions
 
@@ -226,9 +229,10 @@ def cosim_config(options) -> CosimConfig:
     if o["master"] != "wearjoint":
         refuse_unused(o, (("--fmu-interface", "fmu_interface", "co-simulation"), *coupling_options,
                           ("--max-step", "max_step", defaults.max_step_s),
-                          ("--onset-penetration", "onset_penetration", defaults.onset_penetration_m), *tolerances),
-                      "only with --master wearjoint (a third-party master steps the SSP's Co-Simulation FMUs at "
-                      "the fixed --step)")
+                          ("--onset-penetration", "onset_penetration", defaults.onset_penetration_m), *tolerances,
+                          ("--fmu", "fmu", None), ("--fmu-backend", "fmu_backend", DEFAULT_BACKEND)),
+                      "only with --master wearjoint (a third-party master steps the SSP's Co-Simulation FMUs, "
+                      "export-ssp's native builds, at the fixed --step)")
     elif o["fmu_interface"] == "model-exchange":
         refuse_unused(o, (*coupling_options, ("--step", "step", None)), "only with --fmu-interface co-simulation "
                       "(Model Exchange integrates by Dormand-Prince: --rtol, --atol-*, --max-step)")
@@ -240,8 +244,13 @@ def cosim_config(options) -> CosimConfig:
             installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
             require("--master", o["master"], False,
                     f"one of the masters installed here, {', '.join(installed)} ({missing})")
-        step = DEFAULT_STEP_S[coupling] if step is None else step
-        require("--step", step, finite("--step", step) > 0.0, "a communication step > 0 [s]")
+        step = DEFAULT_STEP_S[coupling] * paper_step_scale(joint, mechanism) if step is None else step
+        require("--revolutions", o["revolutions"], finite("--revolutions", o["revolutions"]) > 0.0,
+                "> 0 crank revolutions")
+        run_s = o["revolutions"] * mechanism.period_s
+        require("--step", step, 0.0 < finite("--step", step) <= run_s,
+                f"a communication step > 0 [s] and at most the run's {run_s:g} s")
+        check_wear_step("step_s", step, joint, mechanism)       # as this package's master refuses it
     elif o["fmu_interface"] == "model-exchange":
         # --max-step left at the master's default: SimulationOptions' own (DOPRI with wear 1e-5 s, else 1e-4 s)
         max_step = None if o["max_step"] == defaults.max_step_s else o["max_step"]

@@ -1,5 +1,6 @@
 /* FMI 2.0 layer (fmi2Functions.c): the Co-Simulation calls -- fmi2DoStep (the model's step; a step
- * it cannot take gives fmi2Discard, state unchanged), the status queries, and what this FMU does not
+ * it cannot take gives fmi2Discard, state unchanged), the status queries (after fmi2Discard: fmi2Terminated and
+ * fmi2LastSuccessfulTime), and what this FMU does not
  * provide (asynchronous steps, input and output derivatives).
  */
 #include <math.h>
@@ -12,11 +13,29 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     (void)no_set_state_before;
     if (inst == NULL || !mode_is(inst, "fmi2DoStep", M(MODE_STEP_COMPLETE)))
         return fmi2Error;
-    if (!isfinite(current_time)) {
+    fmi2Status status = fmi2Discard;
+    if (isfinite(current_time))
+        status = (fmi2Status)model_do_step(inst->model, current_time, step_size, "fmi2DoStep");
+    else
         LOG(inst, fmi2Error, "fmi2DoStep: currentCommunicationPoint=%g is not finite", current_time);
-        return fmi2Discard;
+    inst->discarded = status == fmi2Discard;
+    return status;
+}
+
+/* After fmi2Discard a master asks whether the slave wants the simulation to end: it does, as the step it refused
+ * (the inputs' state is no contact of the joint's materials, or not finite) cannot be taken again; a master that
+ * can go back (fmi2SetFMUstate) and retry another step does not need to ask. */
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Boolean *value)
+{
+    Instance *inst = c;
+    if (inst == NULL || value == NULL)
+        return fmi2Error;
+    if (kind != fmi2Terminated) {
+        LOG(inst, fmi2Error, "fmi2GetBooleanStatus: only fmi2Terminated is available");
+        return fmi2Error;
     }
-    return (fmi2Status)model_do_step(inst->model, current_time, step_size, "fmi2DoStep");
+    *value = inst->discarded;
+    return fmi2OK;
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Real *value)
@@ -37,7 +56,6 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Rea
 NOT_PROVIDED(fmi2CancelStep, c, (fmi2Component c), NO_PENDING)
 NOT_PROVIDED(fmi2GetStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2Status *value), NO_PENDING)
 NOT_PROVIDED(fmi2GetIntegerStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2Integer *value), NO_PENDING)
-NOT_PROVIDED(fmi2GetBooleanStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2Boolean *value), NO_PENDING)
 NOT_PROVIDED(fmi2GetStringStatus, c, (fmi2Component c, const fmi2StatusKind kind, fmi2String *value), NO_PENDING)
 NOT_PROVIDED(fmi2SetRealInputDerivatives, c,
              (fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer order[],

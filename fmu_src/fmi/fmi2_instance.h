@@ -27,6 +27,7 @@ typedef struct {
     fmi2CallbackFunctions callbacks;
     fmi2Type type;
     Mode mode;
+    fmi2Boolean discarded;   /* the last fmi2DoStep returned fmi2Discard: the joint cannot go on (fmi2Terminated) */
 } Instance;
 
 #define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)

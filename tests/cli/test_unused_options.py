@@ -8,8 +8,8 @@ from wearjoint.targets import cosim_config, simulate_config
 
 COSIM_ME = "only with --fmu-interface co-simulation (Model Exchange integrates by Dormand-Prince: --rtol, --atol-*, " \
            "--max-step)"
-COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps the SSP's Co-Simulation FMUs at the " \
-                    "fixed --step)"
+COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps the SSP's Co-Simulation FMUs, " \
+                    "export-ssp's native builds, at the fixed --step)"
 
 
 @pytest.mark.parametrize("command, args, option, value, allowed", [

@@ -95,7 +95,8 @@ def test_each_master_converges_to_the_monolithic_engine_over_the_first_impacts(c
 @pytest.fixture(scope="module")
 def fast_wearing_package(tmp_path_factory):
     """The package of a joint at wear factor 1e5 (linux64 binaries)."""
-    return ssp.export_ssp(tmp_path_factory.mktemp("ssp_wear"), joint=paper_joint(wear_factor=1e5), platforms="linux64")
+    return ssp.export_ssp(tmp_path_factory.mktemp("ssp_wear"), joint=paper_joint(wear_factor=1e5), platforms="linux64",
+                          step_s=5e-8)         # its steps within the wear-step limit; the masters run it at 1 us
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -162,8 +163,17 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
 
 @pytest.mark.parametrize("args, option, value, allowed", [
     (["--master", "nope"], "--master", "'nope'", "one of wearjoint, libcosim, ecos, fmpy-ssp, omsimulator, container"),
-    (["--master", "libcosim", "--step", "0"], "--step", "0.0", "a communication step > 0 [s]"),
-    (["--master", "libcosim", "--step=-1e-6"], "--step", "-1e-06", "a communication step > 0 [s]"),
+    (["--master", "libcosim", "--step", "0"], "--step", "0.0", "a communication step > 0 [s] and at most the run's 0.8 s"),
+    (["--master", "libcosim", "--step=-1e-6"], "--step", "-1e-06",
+     "a communication step > 0 [s] and at most the run's 0.8 s"),
+    (["--master", "container", "--step=1", "--revolutions", "0.05"], "--step", "1.0",
+     "a communication step > 0 [s] and at most the run's 0.02 s"),
+    (["--master", "libcosim", "--revolutions", "0"], "--revolutions", "0.0", "> 0 crank revolutions"),
+    (["--master", "container", "--fmu", "x.fmu"], "--fmu", "'x.fmu'", "only with --master wearjoint (a third-party "
+     "master steps the SSP's Co-Simulation FMUs, export-ssp's native builds, at the fixed --step)"),
+    (["--master", "ecos", "--fmu-backend", "pythonfmu"], "--fmu-backend", "'pythonfmu'", "only with --master "
+     "wearjoint (a third-party master steps the SSP's Co-Simulation FMUs, export-ssp's native builds, at the fixed "
+     "--step)"),
     (["--load-coupling", "hold"], "--load-coupling", "'hold'",
      "only with a third-party --master (this package's master couples by --scheme)"),
 ])
@@ -174,6 +184,30 @@ def test_cosim_master_refuses_bad_options_in_one_line(args, option, value, allow
     err = capsys.readouterr().err.strip()
     assert err == f"wearjoint cosim: error: parameter {option}={value} is invalid: allowed {allowed}"
     assert not (tmp_path / "summary.json").exists()
+
+
+def test_a_third_party_masters_step_is_held_to_the_wear_step_limit_and_defaults_to_the_packages(tmp_path, capsys):
+    """As this package's master: a step past the wear-step limit (5.5e-8 s at wear factor 1e5) is refused, naming
+    --step; left out, the step is the package's (the measured 5 us scaled by the step rule for this machine)."""
+    from wearjoint.cosim.step_rule import paper_step_scale
+    from wearjoint.targets import cosim_config
+
+    assert main(["cosim", "--out", str(tmp_path), "--master", "container", "--wear-factor", "1e5", "--step",
+                 "1e-6"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("wearjoint cosim: error: --step=1e-06 (step_s) is invalid with wear") and \
+        "allowed at most 5.52e-08 s" in err
+    mechanism = SliderCrankParameters(crank_speed_rpm=300.0)
+    options = {**vars(_cosim_parser().parse_args(["--out", "x", "--master", "container", "--crank-speed-rpm", "300"]))}
+    config = cosim_config(options)
+    scale = paper_step_scale(paper_joint(mechanism), mechanism)
+    assert scale < 1.0 and config.step_s == pytest.approx(masters.DEFAULT_STEP_S["linearised"] * scale, rel=1e-12)
+
+
+def _cosim_parser():
+    from wearjoint.cli import build_parser
+
+    return next(a for a in build_parser("cosim")._actions if a.dest == "command").choices["cosim"]
 
 
 def test_cosim_master_that_is_not_installed_is_refused_in_one_line(tmp_path, capsys, monkeypatch):

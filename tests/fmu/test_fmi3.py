@@ -495,3 +495,15 @@ def test_cli_builds_fmi3_with_the_flag_and_fmi2_by_default(fmi3_fmu, tmp_path, c
 
     assert DEFAULT_FMI_VERSION == 2
     assert default_fmu_path(fmi_version=3) != default_fmu_path()
+
+
+def test_the_in_process_master_refuses_an_fmi3_fmu_naming_its_version(fmi3_fmu, tmp_path, capsys):
+    """`cosim --fmu` takes FMI 2.0: an FMI 3.0 build is refused in one line saying so (it had said to rebuild with
+    --profile-stride 1, which it was)."""
+    from wearjoint.cli import main
+
+    assert main(["cosim", "--fmu", str(fmi3_fmu), "--revolutions", "0.05", "--out", str(tmp_path / "r"),
+                 "--quiet", "--no-plots"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith("is invalid: allowed an FMI 2.0 FMU (it is FMI 3.0; this master takes FMI 2.0: build-fmu "
+                        "--fmi-version 2)") and err.count("\n") == 0

@@ -141,6 +141,23 @@ def test_a_joint_that_does_not_fit_the_mechanism_is_refused(tmp_path):
         ssp.export_ssp(tmp_path, joint=JointParameters(), platforms="linux64")
     with pytest.raises(ParameterError, match="stop_time"):
         ssp.export_ssp(tmp_path, stop_time=0.0, platforms="linux64")
+    # a step past the wear-step limit (3e-5 s on the paper's joint, 5.5e-8 s at wear factor 1e5), given or the default
+    with pytest.raises(ParameterError, match=r"step_s=0.001 is invalid with wear.*at most 3e-05 s"):
+        ssp.export_ssp(tmp_path, step_s=1e-3, platforms="linux64")
+    with pytest.raises(ParameterError, match=r"step_s=1e-05 is invalid with wear.*at most 5.52e-08 s"):
+        ssp.export_ssp(tmp_path, joint=paper_joint(wear_factor=1e5), platforms="linux64")
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("coupling, start", [("linearised", 1.0), ("hold", 0.0)])
+def test_the_packaged_mechanism_fmu_starts_with_the_packages_coupling(tmp_path, coupling, start):
+    """A master that applies no parameter set (fmpy's SSP simulator without parameters) runs SliderCrank.fmu's
+    start values: its load_coupling is the package's, as in mechanism.ssv."""
+    ssp.export_ssp(tmp_path, platforms="linux64", load_coupling=coupling)
+    with zipfile.ZipFile(tmp_path / ssp.SSP_FILE_NAME) as zf:
+        zf.extract("resources/SliderCrank.fmu", tmp_path)
+    variables = read_model_description(str(tmp_path / "resources" / "SliderCrank.fmu")).modelVariables
+    assert float(next(v.start for v in variables if v.name == "load_coupling")) == start
 
 
 def test_the_container_fmu_validates_and_exposes_the_system(package):

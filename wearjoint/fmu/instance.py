@@ -68,6 +68,9 @@ class FmuInstance:
         try:   # the shared extraction stays; a folder this instance owns goes with a refused FMU
             self.interface = interface
             kind = md.coSimulation if interface == "co-simulation" else md.modelExchange
+            if md.fmiVersion != "2.0":
+                raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: allowed an FMI 2.0 FMU (it "
+                                     f"is FMI {md.fmiVersion}; this master takes FMI 2.0: build-fmu --fmi-version 2)")
             if md.modelName != fv.MODEL_NAME or kind is None:
                 raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: "
                                      f"allowed a {fv.MODEL_NAME} FMU with the {interface} interface")

@@ -26,6 +26,7 @@ from ..parameters import (
     JointParameters, SliderCrankParameters, finite, require, check_joint_fits_mechanism, paper_joint,
 )
 from . import slider_crank as sc
+from ..simulation_options import check_wear_step
 from .build_common import replaced_whole
 from . import variables as fv
 
@@ -241,17 +242,18 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     on_time_step_s = ON_TIME_STEP_S[load_coupling] * step_scale if step_s is None else step_s
     step_s = DEFAULT_STEP_S[load_coupling] * step_scale if step_s is None else step_s
     require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
+    check_wear_step("step_s", max(step_s, on_time_step_s), joint, mechanism)   # every master's step wears
     on_time_step_s = min(on_time_step_s, stop_time)
     out_dir = Path(out_dir)
     with tempfile.TemporaryDirectory(prefix="wearjoint_ssp_") as tmp:
         fmus = {MECHANISM: build_fmu(Path(tmp) / MECHANISM, model="slider-crank", platforms=platforms,
-                                     starts=sc.parameter_starts(mechanism)),
+                                     starts={**sc.parameter_starts(mechanism), **coupling_start(load_coupling)}),
                 JOINT: build_fmu(Path(tmp) / JOINT, n_points=joint.n_points, platforms=platforms,
                                  starts=fv.parameter_starts(joint))}
         ssd = system_structure(fmus, stop_time, step_s, load_coupling, on_time_step_s)
         _validate(ssd, "SystemStructureDescription.xsd", "SystemStructure.ssd")
-        coupling = {sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLINGS.index(load_coupling))}
-        parameter_sets = {MECHANISM: _parameter_set({**sc.parameter_values(mechanism), **coupling}),
+        parameter_sets = {MECHANISM: _parameter_set({**sc.parameter_values(mechanism),
+                                                     sc.LOAD_COUPLING_NAME: float(sc.LOAD_COUPLINGS.index(load_coupling))}),
                           JOINT: _parameter_set(fv.fmi_parameter_values(joint))}
         for name, xml in parameter_sets.items():
             _validate(xml, "SystemStructureParameterValues.xsd", f"resources/{name}.ssv")
@@ -264,6 +266,13 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
                 ssp.write(path, f"resources/{path.name}")
                 ssp.writestr(f"resources/{name}.ssv", parameter_sets[name])
     return target
+
+
+def coupling_start(load_coupling: str) -> dict[str, float]:
+    """SliderCrank.fmu's start value of ``load_coupling`` in a package of that coupling where it is not the FMU's
+    own (hold): a master that applies no parameter set (fmpy's SSP simulator) runs the package's coupling too."""
+    index = sc.LOAD_COUPLINGS.index(load_coupling)
+    return {} if index == sc.LOAD_COUPLING_HOLD else {sc.LOAD_COUPLING_NAME: float(index)}
 
 
 CONTAINER_FILE_NAME = f"{SSP_NAME}.fmu"
