@@ -397,12 +397,18 @@ def test_call_order_null_pointers_and_unknown_references_give_fmi3error(fmi3, ca
         with pytest.raises(FMICallException) as discarded:
             fmu.doStep(0.0, 1e-3)
         assert discarded.value.status == 2
+        flags = [ctypes.c_bool(False) for _ in range(3)]
+        last = ctypes.c_double(-1.0)
+        assert step(component, 0.0, 1e-3, True, *(ctypes.byref(f) for f in flags), ctypes.byref(last)) == 2
+        assert [f.value for f in flags] == [False, True, False] and last.value == 0.0   # the step cannot be retaken
         fmu.setFloat64([VR3["pin_x"]], [0.0])
-        fmu.doStep(0.0, 1e-3)
+        assert step(component, 0.0, 1e-3, True, *(ctypes.byref(f) for f in flags), ctypes.byref(last)) == 0
+        assert [f.value for f in flags] == [False, False, False] and last.value == 1e-3
+        fmu.doStep(1e-3, 1e-3)
         vr = (fmi3ValueReference * 1)(VR3["time"])
         value = (fmi3Float64 * 1)()
         fmu.fmi3GetFloat64(component, vr, 1, value, 1)
-        assert value[0] == 1e-3
+        assert value[0] == 2e-3
         assert all(status == 3 or status == 2 for status, _, _ in log.messages)
     finally:
         fmu.terminate()
