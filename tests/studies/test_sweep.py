@@ -453,3 +453,26 @@ def test_the_next_case_removes_the_folders_of_workers_that_are_gone(tmp_path):
     folder = new_case_folder(tmp_path)
     assert not orphan.exists() and running.exists() and unnamed.exists()
     assert folder.parent == tmp_path and folder.name.startswith(f"{CASE_FOLDER_PREFIX}{os.getpid()}-")
+
+
+def test_a_case_carries_the_files_its_options_name(tmp_path):
+    """A case is its options and the contents of the files they name: an edited load table is another case (resume
+    runs it, not the one computed with the old load), and a worker that cannot read the client's file (another
+    folder or machine) runs on the contents the client read."""
+    from wearjoint.sweep.design import command_options
+    from wearjoint.sweep.worker import run_case
+
+    table = tmp_path / "load.csv"
+    rows = "crank_angle_deg,force_N\n0,0\n150,0\n170,{f}\n200,{f}\n220,0\n360,0\n"
+    table.write_text(rows.format(f=800))
+    args = ["--out", "unused", "--revolutions", "0.02", "--slider-force-table", str(table)]
+    base = command_options("simulate", command_parser("simulate").parse_args(args))
+    [case] = build_cases("simulate", base)
+    table.write_text(rows.format(f=2400))
+    [edited] = build_cases("simulate", base)
+    assert edited.case_id != case.case_id and edited.options == case.options
+    table.unlink()
+    result = run_case(case, no_plots=True)
+    assert result["status"] == "ok", result["log"][-2000:]
+    loaded = json.loads(result["files"]["summary.json"])["parameters"]["mechanism"]["slider_force_table"]
+    assert loaded["force_N"] == [0.0, 0.0, 800.0, 800.0, 0.0, 0.0]

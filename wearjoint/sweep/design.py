@@ -46,6 +46,7 @@ class Case:
     seed: int
     options: tuple          # ((dest, value), ...) sorted by dest
     case_id: str
+    inputs: tuple = ()      # ((dest, file name, bytes), ...): the files the options name (INPUT_FILES), shipped
 
     def argv(self) -> list[str]:
         """The command's options that differ from its defaults (``--out`` not included)."""
@@ -97,12 +98,34 @@ def options_to_argv(parser: argparse.ArgumentParser, options: dict) -> list[str]
     return argv
 
 
-def case_id(command: str, options: dict) -> str:
-    """16 hex digits of the SHA-256 of the command and the options that differ from its defaults (an option a later
-    version adds leaves the cases of a study it does not use as they were: ``--resume`` finds them)."""
+# the options that name an input file (dest -> the file read in the folder it names, None: the file itself): a case
+# carries their contents, so that an edited file is another case and a worker on another machine reads them
+INPUT_FILES = {"slider_force_table": None, "initial_profile": None, "calibration": "calibration.json"}
+
+
+def case_inputs(options: dict) -> tuple:
+    """((dest, file name, contents), ...) of the INPUT_FILES ``options`` name (a file that cannot be read: left to
+    the run, which refuses it naming the option)."""
+    inputs = []
+    for dest, inner in INPUT_FILES.items():
+        if options.get(dest) is not None:
+            path = Path(options[dest]) / inner if inner else Path(options[dest])
+            try:
+                inputs.append((dest, path.name, path.read_bytes()))
+            except OSError:
+                pass
+    return tuple(inputs)
+
+
+def case_id(command: str, options: dict, inputs: tuple = ()) -> str:
+    """16 hex digits of the SHA-256 of the command, the options that differ from its defaults (an option a later
+    version adds leaves the cases of a study it does not use as they were: ``--resume`` finds them) and the contents
+    of the files they name (``inputs``, :func:`case_inputs`: an edited load table is another case)."""
     defaults = {dest: action.default for dest, action in _option_actions(command_parser(command)).items()}
     given = {dest: value for dest, value in options.items() if dest not in defaults or value != defaults[dest]}
-    text = json.dumps({"command": command, "options": given}, sort_keys=True, default=str)
+    contents = {dest: hashlib.sha256(data).hexdigest() for dest, _, data in inputs}
+    text = json.dumps({"command": command, "options": given, **({"inputs": contents} if contents else {})},
+                      sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -318,11 +341,12 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
                 opts[SEED_OPTION] = angle + seed * SEED_ANGLE_STEP_DEG
                 if not math.isfinite(opts[SEED_OPTION]):
                     raise ParameterError(f"initial-crank-angle-deg={angle!r} is invalid: allowed a finite number")
-            cid = case_id(command, opts)
+            inputs = case_inputs(opts)
+            cid = case_id(command, opts, inputs)
             if cid in seen:
                 continue
             seen.add(cid)
-            cases.append(Case(command, full_point, seed, tuple(sorted(opts.items())), cid))
+            cases.append(Case(command, full_point, seed, tuple(sorted(opts.items())), cid, inputs))
     return cases
 
 

@@ -90,6 +90,22 @@ def command_line(case, folder, no_plots: bool = False) -> str:
     return "wearjoint " + " ".join(shlex.quote(a) for a in argv)
 
 
+def _written_inputs(options: dict, inputs: tuple, folder: Path) -> dict:
+    """The case's input files where this worker does not read them as the client did (another folder or machine)
+    written into ``folder`` (one subfolder each): dest -> the path its option takes (a calibration's folder, a
+    table's file)."""
+    from .design import case_inputs, INPUT_FILES
+
+    paths, here = {}, dict((dest, data) for dest, _, data in case_inputs(options))
+    for k, (dest, name, data) in enumerate(inputs):
+        if here.get(dest) == data:                  # the user's own file, as the client read it
+            continue
+        (folder / str(k)).mkdir()
+        (folder / str(k) / name).write_bytes(data)
+        paths[dest] = str(folder / str(k) if INPUT_FILES[dest] else folder / str(k) / name)
+    return paths
+
+
 def _run(case, folder: Path, no_plots: bool) -> tuple:
     """(status, error) of the case's run into ``folder``: "ok"; "failed" and the message of the exception that
     failed it; "interrupted"."""
@@ -97,8 +113,10 @@ def _run(case, folder: Path, no_plots: bool) -> tuple:
 
     spec = targets.target(case.command)
     try:
-        with watch_command(case.command):            # a case that compiles says so in its log
-            targets.run(case.command, dict(case.options), folder, plots=not no_plots,
+        with watch_command(case.command), tempfile.TemporaryDirectory(prefix=CASE_FOLDER_PREFIX) as inputs:
+            options = dict(case.options)
+            options.update(_written_inputs(options, case.inputs, Path(inputs)))    # as the client read them
+            targets.run(case.command, options, folder, plots=not no_plots,
                         command_line=command_line(case, folder, no_plots))
     except spec.failures as exc:                     # the case's failure: its message is the error
         print(f"wearjoint {case.command}: error: {exc}", file=sys.stderr)
