@@ -307,6 +307,11 @@ def test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them(tmp_path
     kept = {p.parent.name for p in _finished(out)}
     summary = json.loads((out / "summary.json").read_text())
     assert summary["interrupted"] and 2 <= len(kept) < summary["cases"], "the study finished before the stop"
+    other = [a if a != "restitution=0.6,0.95" else "restitution=0.5,0.95" for a in args]
+    refused = wearjoint(*other, "--resume")         # another study in its folder: refused, nothing changed
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+    assert "--resume is invalid: the study in" in refused.stderr and "'low': 0.6" in refused.stderr
+    assert {p.parent.name for p in _finished(out)} == kept
     done = wearjoint(*args, "--resume")
     assert done.returncode == 0, done.stderr
     summary = json.loads((out / "summary.json").read_text())

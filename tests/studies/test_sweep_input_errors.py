@@ -160,10 +160,10 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
      "--vary step=1e-5,2e-4: step=0.0002 is invalid with wear"),
     ("simulate", ("--restitution=5", "--vary", "friction_coefficient=0.1"), "--restitution=5.0 is invalid: allowed "
                                                                             "in (0, 1]"),
-    ("simulate", ("--bushing-radius-m=0.02", "--pin-radius-m=0.0099", "--vary", "bushing-radius-m=0.012,0.02",
-                  "--vary", "pin-radius-m=0.0099,0.015"),          # each value fine alone, not together
-     "--vary bushing-radius-m=0.012,0.02, --vary pin-radius-m=0.0099,0.015: the grid point bushing-radius-m=0.012, "
-     "pin-radius-m=0.015 is invalid: parameter bushing_radius_m=0.012 is invalid"),
+    ("simulate", ("--vary", "bushing-radius-m=0.01005,0.0101", "--vary", "pin-radius-m=0.0099,0.01008"),
+     # each value fine alone (with the other radius's default), not together
+     "--vary bushing-radius-m=0.01005,0.0101, --vary pin-radius-m=0.0099,0.01008: the grid point "
+     "bushing-radius-m=0.01005, pin-radius-m=0.01008 is invalid: parameter bushing_radius_m=0.01005 is invalid"),
     ("simulate", ("--vary", "slider-force-table=no_such_table.csv"),      # a file as written, not a PosixPath
      "--vary slider-force-table=no_such_table.csv: slider-force-table=no_such_table.csv is invalid"),
     ("cosim", ("--vary", "master=foo"), "--vary master=foo: master='foo' is invalid: allowed one of wearjoint"),
@@ -172,8 +172,8 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
                                                    "integer >= 1"),
 ])
 def test_a_bad_grid_value_is_refused_before_any_case_runs(tmp_path, capsys, command, args, named):
-    line = refused(capsys, "sweep", command, "--revolutions", "1" if command == "wear-study" else "0.02", *args,
-                   "--out", str(tmp_path / "out"))
+    length = [] if "revolutions=" in " ".join(args) else ["--revolutions", "1" if command == "wear-study" else "0.02"]
+    line = refused(capsys, "sweep", command, *length, *args, "--out", str(tmp_path / "out"))
     assert named in line and "_s=" not in line, line        # the option as written, not the API's step_s
     assert not (tmp_path / "out").exists()
 
@@ -219,3 +219,17 @@ def test_refused_addresses_one_after_another_in_one_process_do_not_hang():
             "    except ParameterError:\n        print('refused', flush=True)\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=90)
     assert done.returncode == 0 and done.stdout.split() == ["refused"] * 3, done.stderr[-2000:]
+
+
+@pytest.mark.parametrize("study", ["sweep", "sensitivity"])
+def test_an_option_given_beside_a_design_that_sets_it_everywhere_is_refused(tmp_path, capsys, study):
+    """`--vary restitution=0.6 --restitution 0.7` ran at 0.6 and dropped 0.7 without a word; a design whose points
+    set an option only where they name it keeps the given value as the others' (sweep_design's [[case]])."""
+    design = ["--vary", "restitution=0.6"] if study == "sweep" else ["--param", "restitution=0.5,0.9"]
+    err = refused(capsys, study, "simulate", *TINY, *design, "--restitution", "0.7", "--out", str(tmp_path / "o"))
+    assert err.endswith("--restitution=0.7 is invalid beside a design that sets restitution at every point (--vary, "
+                        "--param, --design): allowed one of the two")
+    cases = build_cases("simulate", base("simulate", "--restitution", "0.7"),
+                        points=[{"restitution": 0.6}, {"friction-coefficient": 0.2}])
+    assert [dict(c.options)["restitution"] for c in cases] == [0.6, 0.7]
+    assert not (tmp_path / "o").exists()

@@ -92,7 +92,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         finally:
             if code != 0:                        # a run that stopped before it wrote leaves no folder behind
-                remove_empty_folders(made)
+                remove_empty_folders(made + getattr(args, "out_folders_made", []))   # the studies' own (sweep)
     finally:
         if figures is not None:
             figures.close()

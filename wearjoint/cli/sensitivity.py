@@ -61,7 +61,8 @@ def run(args) -> int:
 
     a = target_parser(args.target).parse_args(args.options)
     args.out = a.out                             # the results folder, for its report (wearjoint.cli.main)
-    prepare_out_folder("sensitivity", a.out, "--out")     # --out is the target's option: checked once parsed
+    # --out is the target's option: checked once parsed; the folders it makes go if the run is refused
+    args.out_folders_made = prepare_out_folder("sensitivity", a.out, "--out")
     if a.seeds is not None:
         raise ParameterError(f"--seeds={a.seeds!r} is invalid here: each design row is one run (--seed seeds the "
                              "sampling)")

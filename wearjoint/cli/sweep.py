@@ -71,7 +71,8 @@ def target_parser(target: str) -> argparse.ArgumentParser:
 def run(args) -> int:
     target = target_parser(args.target).parse_args(args.options)
     args.out = target.out                        # the results folder, for its report (wearjoint.cli.main)
-    prepare_out_folder("sweep", target.out, "--out")      # --out is the target's option: checked once parsed
+    # --out is the target's option: checked once parsed; the folders it makes go if the run is refused
+    args.out_folders_made = prepare_out_folder("sweep", target.out, "--out")
     return run_from_args(args.target, target)
 
 

@@ -10,6 +10,7 @@ spread beside the sampling intervals; docs/explanation/sensitivity.md).
 """
 from __future__ import annotations
 
+import json
 import math
 import time
 from pathlib import Path
@@ -95,6 +96,8 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
 
     if resume:
         resumed(out, "sensitivity study")
+        check_resumed_study(out, {"command": command, "method": method, "seed": seed,
+                                  "parameters": problem.to_dict()})
     else:
         refuse_existing(out)
     law = None
@@ -153,4 +156,20 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
     return summary
 
 
-__all__ = ["run_sensitivity", "parse_params", "Problem", "METHODS", "design_cases", "check_target"]
+def check_resumed_study(out: Path, design: dict) -> None:
+    """A one-line ParameterError naming what differs if the study whose summary.json ``out`` holds had another
+    command, method, seed or parameters (names, ranges) than ``design``: --resume continues a study (with more
+    --samples, other --outputs), it does not start another in its folder."""
+    try:
+        earlier = json.loads((out / SUMMARY_NAME).read_text())
+    except (OSError, ValueError):
+        return                                 # stopped before its summary: its sweep.json's cases decide
+    differ = [f"{key}: {earlier.get(key)!r} there, {value!r} given" for key, value in design.items()
+              if json.loads(json.dumps(value)) != earlier.get(key)]
+    if differ:
+        raise ParameterError(f"--resume is invalid: the study in {out} has another design: {'; '.join(differ)}; "
+                             "allowed its own command, --method, --seed and --param (more --samples and other "
+                             "--outputs are fine), or another --out for a new study")
+
+
+__all__ = ["run_sensitivity", "check_resumed_study", "parse_params", "Problem", "METHODS", "design_cases", "check_target"]

@@ -325,6 +325,12 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
     grid = [dict(zip(vary, values)) for values in itertools.product(*vary.values())] if vary else []
     grid = grid + points or [{}]
     names = list(dict.fromkeys(name for point in grid for name in point))
+    defaults = {dest: action.default for dest, action in _option_actions(command_parser(command)).items()}
+    for name in names:                          # an option given beside a design that sets it at every point
+        dest = variables[name].dest
+        if all(name in point for point in grid) and base.get(dest, defaults.get(dest)) != defaults.get(dest):
+            raise ParameterError(f"--{name}={base[dest]!r} is invalid beside a design that sets {name} at every "
+                                 "point (--vary, --param, --design): allowed one of the two")
     cases, seen = [], set()
     for point in grid:
         options = dict(base)
