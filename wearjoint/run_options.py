@@ -147,6 +147,26 @@ _CALIBRATION_JOINT_FIELDS = ("pin_radius_m", "bushing_radius_m", "contact_length
 _CALIBRATION_MECHANISM_SKIPPED = ("initial_crank_angle_deg", "baumgarte_alpha", "baumgarte_beta")
 
 
+def calibration_facts(folder, joint: JointParameters, mechanism: SliderCrankParameters) -> dict:
+    """What a run's summary states of its ``--calibration DIR`` k_w: its source, its 95 % interval (null where the
+    fit has none) and a note (null where there is nothing to say): the fit was rejected by its test, it was made on a
+    wear study of another machine (:func:`calibration_note`), its study's curve error is not in the interval."""
+    try:
+        fit = json.loads((Path(folder) / "calibration.json").read_text())
+        fit = fit if isinstance(fit, dict) else {}
+    except (OSError, ValueError):
+        fit = {}
+    notes = []
+    if fit.get("consistent") is False:
+        notes.append(f"the fit in {folder} was rejected by its test (chi^2 {fit.get('chi2', math.nan):.3g}, p "
+                     f"{fit.get('p_value', math.nan):.2g}): one k_w does not fit its points within their "
+                     "uncertainties, and it has no interval")
+    notes += [note for note in (calibration_note(folder, joint, mechanism), fit.get("curve_error_note")) if note]
+    return {"wear_coefficient_source": f"calibration {folder}",
+            "wear_coefficient_interval_95_m2_N": fit.get("interval_95_m2_N"),
+            "wear_coefficient_note": "; ".join(notes) or None}
+
+
 def calibration_note(folder, joint: JointParameters, mechanism: SliderCrankParameters) -> str | None:
     """A line where ``--calibration DIR``'s fit was made on a wear study of another machine than the run's
     (``joint`` in ``mechanism``), naming what differs; None where it is the same one (or the study is gone)."""
@@ -460,6 +480,7 @@ def add_wear_study_arguments(parser) -> None:
 
 
 __all__ = ["gravity_value", "option_name", "add_model_arguments", "take_calibration", "calibrated_wear_coefficient",
-           "restate_default", "given_options", "model_from_options", "add_output_arguments", "add_settling_argument",
+           "calibration_facts", "calibration_note", "restate_default", "given_options", "model_from_options",
+           "add_output_arguments", "add_settling_argument",
            "check_settling", "add_initial_profile_argument", "read_initial_profile", "add_fmu_arguments",
            "add_tolerance_arguments", "add_integration_arguments", "add_simulate_arguments", "add_cosim_arguments", "add_wear_study_arguments"]

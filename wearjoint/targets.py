@@ -33,7 +33,7 @@ from .checks import ParameterError, RunDiverged, finite, require
 from .fmu.fmi import FmuError
 from .parameters import JointParameters, SliderCrankParameters
 from .run_options import (
-    add_cosim_arguments, add_simulate_arguments, add_wear_study_arguments, calibration_note, check_settling,
+    add_cosim_arguments, add_simulate_arguments, add_wear_study_arguments, calibration_facts, check_settling,
     model_from_options, read_initial_profile,
 )
 
@@ -398,13 +398,12 @@ def parser(name: str) -> argparse.ArgumentParser:
 
 
 def report_facts(options) -> dict:
-    """What the report states beside the summary that only the options know: where k_w came from (and, from a
-    calibration on another machine, a note naming what differs)."""
+    """What the report states beside the summary that only the options know: where k_w came from, with a
+    calibration's interval and note (:func:`~wearjoint.run_options.calibration_facts`)."""
     calibration = options.get("calibration")
     if calibration is None:
         return {}
-    return {"wear_coefficient_source": f"calibration {calibration}",
-            "wear_coefficient_note": calibration_note(calibration, *model_from_options(options))}
+    return calibration_facts(calibration, *model_from_options(options))
 
 
 def read_record(out) -> dict:

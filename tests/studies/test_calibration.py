@@ -333,3 +333,26 @@ def test_build_fmu_takes_the_calibrated_k_w_as_the_fmus_start_value_and_names_it
     assert f"calibration {folder}" in md.description and validate_fmu(str(fmu)) == []     # it names its source
     assert cli_main(["build-fmu", "--model", "slider-crank", "--calibration", str(folder), "--out",
                      str(tmp_path / "sc")]) == 2
+
+
+def test_a_run_on_a_calibration_carries_its_interval_and_says_when_the_fit_was_rejected(tmp_path, capsys):
+    """--calibration DIR: summary.json holds the fit's 95 % interval; a fit its test rejected (chi^2 27.4 on 1
+    degree of freedom) is still the k_w asked for, with a note saying so (it had none)."""
+    notes = {}
+    for name, fit in (("kept", {"consistent": True, "interval_95_m2_N": [3.2e-13, 3.9e-13]}),
+                      ("rejected", {"consistent": False, "chi2": 27.4, "p_value": 1.6e-7, "interval_95_m2_N": None})):
+        folder = tmp_path / f"cal_{name}"
+        folder.mkdir()
+        (folder / "calibration.json").write_text(json.dumps({"law": "archard", "wear_coefficient_m2_N": 3.5e-13,
+                                                             **fit}))
+        assert cli_main(["simulate", "--revolutions", "0.01", "--calibration", str(folder), "--no-plots", "--quiet",
+                         "--out", str(tmp_path / name)]) == 0
+        summary = json.loads((tmp_path / name / "summary.json").read_text())
+        assert summary["parameters"]["joint"]["wear_coefficient_m2_N"] == 3.5e-13
+        assert summary["wear_coefficient_interval_95_m2_N"] == fit["interval_95_m2_N"]
+        notes[name] = summary["wear_coefficient_note"]
+    assert notes["kept"] is None
+    assert notes["rejected"] == (f"the fit in {tmp_path / 'cal_rejected'} was rejected by its test (chi^2 27.4, p "
+                                 "1.6e-07): one k_w does not fit its points within their uncertainties, and it has no "
+                                 "interval")
+    assert f"note: {notes['rejected']}" in capsys.readouterr().err
