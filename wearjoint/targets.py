@@ -330,6 +330,11 @@ def wear_study_config(options) -> WearStudyConfig:
     from .studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
 
     o = options
+    if o["engine"] != "monolithic" or o["integrator"] != "dopri":
+        refuse_unused(o, (("--rtol", "rtol", WearStudyConfig.rtol),), "only with --integrator dopri and the "
+                      "monolithic --engine (rk4 steps by --max-step)")
+    if o["engine"] != "cosim":
+        refuse_unused(o, (("--fmu-backend", "fmu_backend", WearStudyConfig.fmu_backend),), "only with --engine cosim")
     joint, mechanism = model_from_options(o)
     revolutions = parse_int_list("--revolutions", o["revolutions"], "4000")
     if len(revolutions) != 1:

@@ -36,6 +36,9 @@ COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps th
      "only with --fmu-interface model-exchange (Co-Simulation steps by --scheme)"),
     ("simulate", ["--no-wear", "--wear-factor", "5"], "--wear-factor", "5.0",
      "only without --no-wear (its wear factor is 0)"),
+    ("wear-study", ["--rtol", "1e-7"], "--rtol", "1e-07",
+     "only with --integrator dopri and the monolithic --engine (rk4 steps by --max-step)"),
+    ("wear-study", ["--fmu-backend", "pythonfmu"], "--fmu-backend", "'pythonfmu'", "only with --engine cosim"),
 ])
 def test_an_option_the_run_would_ignore_is_refused_in_one_line(command, args, option, value, allowed, tmp_path,
                                                                capsys):
@@ -56,3 +59,13 @@ def test_an_option_the_run_uses_is_taken(command, args, attribute, expected, tmp
     options = vars(build_parser(command).parse_args([command, "--out", str(tmp_path), *args]))
     config = (simulate_config if command == "simulate" else cosim_config)(options)
     assert getattr(config.options, attribute) == expected
+
+
+def test_calibrate_refuses_a_transition_depth_its_archard_law_would_ignore(tmp_path, capsys):
+    (tmp_path / "summary.json").write_text('{"parameters": {"joint": {"wear_coefficient_m2_N": 1e-13, '
+                                           '"wear_factor": 1.0}}}')
+    (tmp_path / "wear_growth.csv").write_text("revolutions,max_wear_depth_m,worn_volume_m3\n1000,1e-5,0\n")
+    assert main(["calibrate", "--study", str(tmp_path), "--points", "500:5e-6", "--transition-depth-m", "1e-5"]) == 2
+    assert capsys.readouterr().err.strip() == ("wearjoint calibrate: error: --transition-depth-m=1e-05 is "
+                                               "invalid: allowed only with --law mild-severe")
+    assert not (tmp_path / "calibration.json").exists()

@@ -112,6 +112,8 @@ def run(args) -> int:
         require_option(option, value, value is None or (math.isfinite(value) and value > 0), allowed)
     for option, value in (("--predict-revolutions", args.predict_revolutions), ("--life-depth-m", args.life_depth_m)):
         require_option(option, value, value is None or args.law == "archard", "only with --law archard")
+    require_option("--transition-depth-m", args.transition_depth_m,
+                   args.transition_depth_m is None or args.law == "mild-severe", "only with --law mild-severe")
     if args.points is None:         # the paper's experiment, on a study of the paper's case only (its summary has it)
         if "experiment" not in summary:
             raise ParameterError(f"--points is required with --study {args.study!r}: not a study of the paper's "
