@@ -17,7 +17,7 @@ from pathlib import Path
 
 from . import __version__
 from .mechanism_parameters import SliderCrankParameters
-from .parameters import JointParameters
+from .parameters import JointParameters, paper_joint
 
 REPORT_NAME = "report.html"
 SUMMARY_FILES = ("summary.json", "sweep_summary.json")     # a run's or a study's, a sweep's
@@ -52,10 +52,21 @@ def _table(rows, header, table_id) -> str:
     return f'<table id="{table_id}"><tr>{head}</tr>{body}</table>'
 
 
-def _parameter_rows(given: dict, defaults) -> list:
-    """(name, value, where it came from) of a parameter set's dict against the dataclass ``defaults``."""
+def _parameter_rows(given: dict, defaults, sources: dict | None = None) -> list:
+    """(name, value, where it came from) of a parameter set's dict against the dataclass ``defaults`` (``sources``:
+    name -> where a value that is not the default came from, where that is not the user's option)."""
     reference = defaults.to_dict() if hasattr(defaults, "to_dict") else dataclasses.asdict(defaults)
-    return [(name, value, "default" if reference.get(name) == value else "given") for name, value in given.items()]
+    return [(name, value, "default" if json.loads(json.dumps(reference.get(name))) == value else
+             (sources or {}).get(name, "given")) for name, value in given.items()]
+
+
+def _joint_defaults(parameters: dict):
+    """The joint's defaults in the summary's mechanism: the paper's joint with that mechanism's offsets and effective
+    mass (:func:`paper_joint`; a run's joint takes them from its mechanism unless given)."""
+    try:
+        return paper_joint(SliderCrankParameters.from_dict(parameters["mechanism"]))
+    except (KeyError, TypeError, ValueError):
+        return JointParameters()
 
 
 def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> str:
@@ -72,14 +83,17 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
         parts.append(f"<p><strong>The run did not complete:</strong> {html.escape(str(summary.get('failure') or 'stopped'))}</p>")
     parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
-    for label, key, defaults in (("Joint", "joint", JointParameters()),
+    source = str(summary.get("wear_coefficient_source", ""))
+    sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
+    for label, key, defaults in (("Joint", "joint", _joint_defaults(parameters)),
                                  ("Mechanism", "mechanism", SliderCrankParameters())):
         if isinstance(parameters.get(key), dict):
             parts.append(f"<h2>{label} parameters</h2>")
             if key == "joint" and "wear_coefficient_source" in summary:
-                parts.append(f"<p>The wear coefficient: {html.escape(str(summary['wear_coefficient_source']))}"
+                parts.append(f"<p>The wear coefficient: {html.escape(source)}"
                              f"{'. ' + html.escape(str(summary['wear_coefficient_note'])) if summary.get('wear_coefficient_note') else ''}</p>")
-            parts.append(_table(_parameter_rows(parameters[key], defaults), ("parameter", "value", "from"), key))
+            parts.append(_table(_parameter_rows(parameters[key], defaults, sources if key == "joint" else None),
+                                ("parameter", "value", "from"), key))
     for name, data in figures:
         encoded = base64.b64encode(data).decode("ascii")
         parts.append(f'<h3>{html.escape(name)}</h3><img alt="{html.escape(name)}" src="data:image/png;base64,{encoded}">')

@@ -80,6 +80,23 @@ def test_the_parameters_say_where_they_came_from_and_the_figures_are_embedded(fo
     assert len(page.images) == len(pngs) and all(src.startswith("data:image/png;base64,") for src in page.images)
 
 
+def test_a_joints_values_its_mechanism_sets_are_defaults_and_a_calibrated_k_w_names_its_source(tmp_path):
+    """A rod-slider joint's offsets and effective mass come from its mechanism (they were marked "given"); a k_w
+    from --calibration DIR says so (it was "given")."""
+    calibration = tmp_path / "cal"
+    calibration.mkdir()
+    (calibration / "calibration.json").write_text(json.dumps({"law": "archard", "wear_coefficient_m2_N": 3.5e-13}))
+    out = tmp_path / "run"
+    assert main(["simulate", "--revolutions", "0.01", "--clearance-joint", "rod-slider", "--calibration",
+                 str(calibration), "--quiet", "--no-plots", "--out", str(out)]) == 0
+    page = Tables((out / REPORT_NAME).read_text(encoding="utf-8"))
+    joint = {name: source for name, _, source in page.tables["joint"]}
+    assert joint["pin_offset_m"] == joint["bushing_offset_m"] == joint["effective_mass_kg"] == "default"
+    assert joint["wear_coefficient_m2_N"] == f"calibration {calibration}"
+    mechanism = {name: source for name, _, source in page.tables["mechanism"]}
+    assert mechanism["clearance_joint"] == "given"
+
+
 def test_the_report_command_rewrites_a_folder_and_refuses_one_without_a_summary(folder, tmp_path, capsys):
     (folder / REPORT_NAME).unlink()
     assert main(["report", str(folder)]) == 0 and (folder / REPORT_NAME).is_file()

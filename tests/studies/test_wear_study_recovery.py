@@ -291,3 +291,22 @@ def test_the_calibration_refuses_bad_arguments_before_it_runs_or_writes(tmp_path
     with pytest.raises(ParameterError, match=message):
         calibrate_wear_coefficient(small_config(), out_dir=tmp_path / "c", progress=False, **arguments)
     assert not (tmp_path / "c").exists()
+
+
+def test_a_resume_on_another_mechanism_names_its_option_not_the_joint_fields_that_follow_it(tmp_path):
+    """The joint's offsets and effective mass follow the mechanism where they are left to it: a resume with another
+    clearance joint names --clearance-joint alone (it also listed --pin-offset-m, --bushing-offset-m and
+    --effective-mass-kg, which the user never gave); a given offset that differs is still named."""
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
+    from wearjoint.studies.wear_study_recovery import settings_changes
+
+    def settings(mechanism, **joint):
+        return {"mechanism": mechanism.to_dict(), "joint": paper_joint(mechanism, **joint).to_dict()}
+
+    paper, rod_slider = SliderCrankParameters(), SliderCrankParameters(clearance_joint="rod-slider")
+    with pytest.raises(ParameterError) as caught:
+        settings_changes(settings(rod_slider), settings(paper), tmp_path / "wear_study_checkpoint.pkl")
+    assert "parameter --clearance-joint (mechanism.clearance_joint) is 'rod-slider' in its checkpoint" in \
+        str(caught.value) and "also changed" not in str(caught.value)
+    with pytest.raises(ParameterError, match=r"also changed: --effective-mass-kg"):
+        settings_changes(settings(rod_slider), settings(paper, effective_mass_kg=0.5), tmp_path / "x.pkl")

@@ -14,6 +14,7 @@
 """
 from __future__ import annotations
 
+import json
 import os
 import pickle
 import re
@@ -122,6 +123,19 @@ def load_checkpoint(path: Path, config) -> tuple[dict, list]:
     return state, changed
 
 
+def _following(old: dict, new: dict) -> tuple:
+    """The joint's fields that follow each study's mechanism (its offsets and effective mass, left to it in both):
+    a change of the mechanism names the mechanism's option, not these."""
+    from ..mechanism_parameters import SliderCrankParameters
+
+    try:
+        derived = [SliderCrankParameters.from_dict(settings["mechanism"]).joint_defaults() for settings in (old, new)]
+    except (KeyError, TypeError, ValueError):
+        return ()
+    return tuple(k for k in derived[1] if all(json.loads(json.dumps(d[k])) == settings.get("joint", {}).get(k)
+                                             for d, settings in zip(derived, (old, new))))
+
+
 def settings_changes(old: dict, new: dict, path: Path) -> list:
     """The numerical settings (:data:`NUMERICAL`) that differ between the checkpointed study's settings
     ``old`` and ``new`` (their names); ParameterError for any other difference (the first named, with both
@@ -133,7 +147,9 @@ def settings_changes(old: dict, new: dict, path: Path) -> list:
             continue
         if key in ("joint", "mechanism"):
             before = old.get(key, {})
-            physical += [(option_name(k, key), before.get(k), v) for k, v in value.items() if before.get(k) != v]
+            follow = _following(old, new) if key == "joint" else ()
+            physical += [(option_name(k, key), before.get(k), v) for k, v in value.items()
+                         if before.get(k) != v and k not in follow]
         elif old.get(key) != value:
             if key == "jump_tolerance" and (old.get(key) is None) != (value is None):    # the route itself
                 physical.append((option_name(key) + " (None: the wear-factor route)", old.get(key), value))
