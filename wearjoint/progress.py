@@ -143,6 +143,8 @@ class Progress:
             step = min(float(done), self.total) - self._bar.n
             if step > 0.0:
                 self._bar.update(step)
+            else:                                   # nothing more done: the elapsed time still moves
+                self._bar.refresh()
         if self._log is not None:
             self._log.update(min(float(done), self.total), eta_s)
 

@@ -476,3 +476,24 @@ def test_a_case_carries_the_files_its_options_name(tmp_path):
     assert result["status"] == "ok", result["log"][-2000:]
     loaded = json.loads(result["files"]["summary.json"])["parameters"]["mechanism"]["slider_force_table"]
     assert loaded["force_N"] == [0.0, 0.0, 800.0, 800.0, 0.0, 0.0]
+
+
+def test_a_sweep_says_it_runs_while_its_cases_last(tmp_path, monkeypatch):
+    """Progress moves on a heartbeat, not only when a case ends: a long wear-study case left a log empty for
+    minutes (the log writes a line every 15 s of those updates)."""
+    from wearjoint.cli import main
+    from wearjoint.sweep import runner
+
+    updates = []
+
+    class Recorded(runner.Progress):
+        def update(self, done, eta_s=None):
+            updates.append((time.perf_counter(), done))
+            super().update(done, eta_s)
+
+    monkeypatch.setattr(runner, "Progress", Recorded)
+    monkeypatch.setattr(runner, "HEARTBEAT_S", 0.2)
+    assert main(["sweep", "simulate", "--revolutions", "1", "--integrator", "rk4", "--step", "5e-6", "--no-plots",
+                 "--quiet", "--vary", "restitution=0.6", "--workers", "1", "--out", str(tmp_path / "s")]) == 0
+    waiting = [t for t, done in updates if done == 0]
+    assert len(waiting) >= 3 and updates[-1][1] == 1           # several heartbeats before the one case ended

@@ -233,3 +233,17 @@ def test_an_option_given_beside_a_design_that_sets_it_everywhere_is_refused(tmp_
                         points=[{"restitution": 0.6}, {"friction-coefficient": 0.2}])
     assert [dict(c.options)["restitution"] for c in cases] == [0.6, 0.7]
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("args, line", [
+    (("sweep", "simulate", "--vary", "restitution=0.6", "--retry-failed"),
+     "--retry-failed is invalid without --resume: allowed with --resume"),
+    (("sensitivity", "simulate", "--param", "restitution=0.5,0.9", "--max-samples", "20"),
+     "--max-samples=20 is invalid: allowed only with --target-interval"),
+    (("sensitivity", "simulate", "--param", "restitution=0.5,0.9", "--outputs", ""),
+     "--outputs='' is invalid: allowed A,B,... numbers of the runs' summary.json"),
+])
+def test_a_study_option_that_would_do_nothing_is_refused(tmp_path, capsys, args, line):
+    err = refused(capsys, *args, *TINY, "--out", str(tmp_path / "o"))
+    assert line in err
+    assert not (tmp_path / "o").exists()

@@ -68,6 +68,10 @@ def run(args) -> int:
                              "sampling)")
     if a.workers is not None and a.workers < 1:
         raise ParameterError(f"--workers={a.workers!r} is invalid: allowed an integer >= 1")
+    if a.max_samples is not None and a.target_interval is None:
+        raise ParameterError(f"--max-samples={a.max_samples!r} is invalid: allowed only with --target-interval")
+    if a.outputs is not None and not a.outputs.strip(" ,"):
+        raise ParameterError(f"--outputs={a.outputs!r} is invalid: allowed A,B,... numbers of the runs' summary.json")
     base = command_options(args.target, a)
     problem = parse_params(args.target, a.param, base)
     command_line = shlex.join(["wearjoint", "sensitivity", args.target, *args.options])
@@ -75,7 +79,7 @@ def run(args) -> int:
         summary = run_sensitivity(args.target, base, problem, a.out, method=a.method, samples=a.samples, seed=a.seed,
                                   outputs=a.outputs, target_interval=a.target_interval, max_samples=a.max_samples,
                                   workers=a.workers, scheduler=a.scheduler, resume=a.resume, progress=not a.quiet,
-                                  command_line=command_line, law_spread=not a.no_law_spread)
+                                  command_line=command_line, law_spread=not a.no_law_spread, plots=not a.no_plots)
     except KeyboardInterrupt:
         summary = {"interrupted": True}
     if summary["interrupted"]:

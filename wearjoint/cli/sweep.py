@@ -80,6 +80,9 @@ def run_from_args(command: str, args) -> int:
     """Run the sweep ``args`` describes (TARGET's options plus the sweep's); prints the outcome."""
     from ..sweep import run_sweep
 
+    if getattr(args, "retry_failed", False) and not args.resume:
+        raise ParameterError("--retry-failed is invalid without --resume: allowed with --resume (it runs the failed "
+                             "cases of the sweep in --out again)")
     design = sweep_design(command, getattr(args, "vary", None), getattr(args, "design", None))
     seeds = args.seeds if args.seeds is not None else design["seeds"]
     seeds = check_seeds(DEFAULT_SEEDS if seeds is None else seeds)

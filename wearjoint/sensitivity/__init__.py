@@ -52,13 +52,14 @@ def check_target(target, samples: int, max_samples) -> None:
 def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str = "morris", samples: int | None = None,
                     seed: int = 0, outputs=None, target_interval: float | None = None, max_samples: int | None = None,
                     workers: int | None = None, scheduler: str | None = None, resume: bool = False,
-                    progress: bool = True, command_line: str | None = None, law_spread: bool = True) -> dict:
+                    progress: bool = True, command_line: str | None = None, law_spread: bool = True,
+                    plots: bool = True) -> dict:
     """Sample ``problem`` (``samples`` Morris trajectories or Sobol' base samples, drawn with ``seed``), run
     every row as a case of ``command`` (options ``base``, dest -> value) into ``out``, analyse ``outputs``
     (names, default :data:`.report.DEFAULT_OUTPUTS`); with ``target_interval`` double the samples (up to
     ``max_samples``, default 8 x ``samples``) until the widest interval meets it; with ``law_spread`` then run
-    every contact law variant at the nominal point (:func:`.law_spread.run_law_spread`).  Returns summary.json's
-    content."""
+    every contact law variant at the nominal point (:func:`.law_spread.run_law_spread`); ``plots``: the indices'
+    figures (an earlier run's go without them).  Returns summary.json's content."""
     from ..sweep.runner import SweepFolder, refuse_existing, resumed, run_cases, start_client
 
     n = check_samples(method, DEFAULT_SAMPLES.get(method) if samples is None else samples)
@@ -121,10 +122,13 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
                   {r["case_id"]: r for r in table}, outputs)
     biases = output_biases(out, table, outputs)
     figures = []
+    if not plots:
+        for stale in out.glob("sensitivity_*.png"):
+            stale.unlink()
     if not study["stopped"]:
         write_indices(out, method, results, biases)
         for name, result in results.items():
-            if result["indices"]:
+            if result["indices"] and plots:
                 title = (f"{command}: {name}, {method} N = {n} ({len(ids)} runs), seed {seed}\n"
                          f"wear-factor bias {biases[name].text}; 95 % intervals")
                 figures.append(plot_indices(out, method, name, result, title))

@@ -219,6 +219,9 @@ def _prepare_fmus(cases: list[Case]) -> None:
             pass                              # the cases report it
 
 
+HEARTBEAT_S = 2.0     # s: how often a sweep waiting for its cases updates its progress (a log writes every 15 s)
+
+
 def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None = None, scheduler: str | None = None,
               progress: bool = True, client=None) -> dict:
     """Run the cases not yet done; returns timings and whether Ctrl-C stopped the sweep.  ``client``: a
@@ -238,7 +241,7 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
     client, cluster = start_client(workers, scheduler) if own else (client, None)
     bar = None
     try:
-        from distributed import as_completed
+        from distributed import wait
 
         timing["cluster_start_s"] = time.perf_counter() - start
         timing["workers"] = len(client.nthreads()) if scheduler or not own else workers
@@ -246,19 +249,26 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
         futures = {client.submit(run_case, case, no_plots, key=f"wearjoint-case-{case.case_id}", pure=False): case
                    for case in todo}
         bar = Progress(len(todo), "sweep", enabled=progress, unit="case", delay_s=0.0)
+        pending, k = set(futures), 0
         try:
-            for k, future in enumerate(as_completed(futures), start=1):
-                case = futures[future]
-                try:
-                    result = future.result()
-                except Exception as exc:              # the worker died, the task could not run, ...
-                    result = {"status": "failed", "error": f"{type(exc).__name__}: {exc}", "log": repr(exc)}
-                if result["status"] != "interrupted":
-                    folder.record(case, result)
-                timing["cases_run"] += 1
-                timing["case_run_time_s"] += result.get("run_time_s", 0.0)
-                timing["warmup_time_s"] += result.get("warmup_time_s", 0.0)
-                bar.update(k)
+            while pending:
+                try:      # a wait that ends every HEARTBEAT_S: the progress says the sweep runs while cases last
+                    done, pending = wait(pending, timeout=HEARTBEAT_S, return_when="FIRST_COMPLETED")
+                except TimeoutError:
+                    bar.update(k)
+                    continue
+                for future in done:
+                    k += 1
+                    try:
+                        result = future.result()
+                    except Exception as exc:          # the worker died, the task could not run, ...
+                        result = {"status": "failed", "error": f"{type(exc).__name__}: {exc}", "log": repr(exc)}
+                    if result["status"] != "interrupted":
+                        folder.record(futures[future], result)
+                    timing["cases_run"] += 1
+                    timing["case_run_time_s"] += result.get("run_time_s", 0.0)
+                    timing["warmup_time_s"] += result.get("warmup_time_s", 0.0)
+                    bar.update(k)
         except KeyboardInterrupt:
             timing["interrupted"] = True
             client.cancel(list(futures))
