@@ -96,7 +96,7 @@ FIELD_SCALES = np.array([[f.scale for f in MECHANISM_FIELDS], [f.divisor for f i
 PAPER_GRAVITY_M_S2 = 9.81
 # what is wrong with a slider-load table, by core.slider_load.load_table_problem's kind (the FMU logs the same words)
 LOAD_TABLE_PROBLEMS = {
-    L.LOAD_TABLE_ROWS: f"the table has 0 rows (none) or an integer number from 2 to {L.MAX_LOAD_ROWS}",
+    L.LOAD_TABLE_ROWS: f"allowed a whole number of rows from 2 to {L.MAX_LOAD_ROWS} (0: no table)",
     L.LOAD_TABLE_START: "the first row is not at 0 deg: the table covers the revolution from 0 to 360 deg",
     L.LOAD_TABLE_END: "the last row is not at 360 deg: the table covers the revolution from 0 to 360 deg",
     L.LOAD_TABLE_RISE: "the crank angle does not rise above the row before's: the angles rise strictly from 0 to "
@@ -124,7 +124,8 @@ class SliderForceTable:
         if len(angles) != len(forces):
             raise ParameterError(f"{where}: {len(angles)} angles for {len(forces)} loads")
         if not 2 <= len(angles) <= L.MAX_LOAD_ROWS:
-            raise ParameterError(f"{where}: {len(angles)} rows: {LOAD_TABLE_PROBLEMS[L.LOAD_TABLE_ROWS]}")
+            raise ParameterError(f"{where}: {len(angles)} row{'' if len(angles) == 1 else 's'}: "
+                                 f"{LOAD_TABLE_PROBLEMS[L.LOAD_TABLE_ROWS]}")
         for row, (angle, force) in enumerate(zip(angles, forces), start=1):
             for name, value in (("crank_angle_deg", angle), ("force_N", force)):
                 if not (is_real(value) and math.isfinite(value)):

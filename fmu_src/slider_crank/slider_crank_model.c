@@ -94,7 +94,8 @@ static int prepare(FmuModel *model, const char *function)
             if (row > 0)
                 fmu_log(&model->host, FMU_ERROR, "%s: slider-load table, row %d: %s", function, row, text);
             else
-                fmu_log(&model->host, FMU_ERROR, "%s: slider-load table: %s", function, text);
+                fmu_log(&model->host, FMU_ERROR, "%s: slider-load table: slider_force_table_rows=%g is invalid: %s",
+                        function, model->parameters[P_LOAD_TABLE_ROWS], text);
             return 0;
         }
         model->parameters_changed = 0;

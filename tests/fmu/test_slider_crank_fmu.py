@@ -185,7 +185,8 @@ def test_loaded_and_tilted_the_derivatives_are_the_ideal_mechanisms(fmus):
     ({"slider_force_table_angle_3": 10.0}, 3, "the crank angle does not rise"),
     ({"slider_force_table_force_5": 5.0}, 5, "the load at 360 deg differs"),
     ({"slider_force_table_rows": 4.0}, 4, "the last row is not at 360 deg"),
-    ({"slider_force_table_rows": 2.5}, None, "0 rows (none) or an integer number"),
+    ({"slider_force_table_rows": 2.5}, None, "slider_force_table_rows=2.5 is invalid: allowed a whole number of rows "
+                                             "from 2 to 361 (0: no table)"),
 ])
 def test_a_bad_load_table_fails_initialisation_naming_the_row(fmus, c_host, fmi3_host, changes, row, problem):
     """A table SliderForceTable refuses is refused by the FMU at exitInitializationMode, in one line naming the

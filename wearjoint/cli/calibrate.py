@@ -170,7 +170,7 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
                  else ""))
         if result["note"]:
             print(f"  {result['note']}")
-        print("  residuals " + ", ".join(f"{r:+.1%}" for r in result["residuals_rel"])
+        print("  residuals " + ", ".join(f"{r:+.1%} at {p[0]:g} rev" for r, p in zip(result["residuals_rel"], points))
               + (f": each within --tolerance {args.tolerance:g} of its depth, a fit" if result["fits"]
                  else f": beyond --tolerance {args.tolerance:g} of its depth, not a fit"))
         result["master_curve"] = master_curve_check(k0, result)
@@ -181,12 +181,12 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
             if p["depth_m"] is None:
                 made_by = " ".join(word for word in summary.get("command_line", "its wear-study command").split()
                                    if word != "--resume")     # the study anew, into another folder
-                print(f"  after {p['revolutions']:.4g} revolutions: beyond the study's curve ({growth[-1, 0]:.4g} "
+                print(f"  after {p['revolutions']:.6g} revolutions: beyond the study's curve ({growth[-1, 0]:.4g} "
                       f"revolutions at its k_w); run the study to {p['study_revolutions_needed']:.0f} revolutions "
                       f"(the fitted k_w's 95 % interval included; {made_by}, with --revolutions "
                       f"{p['study_revolutions_needed']:.0f} and another --out)")
             else:
-                print(f"  after {p['revolutions']:.4g} revolutions: max depth {p['depth_m'] * 1e3:.4g} mm"
+                print(f"  after {p['revolutions']:.6g} revolutions: max depth {p['depth_m'] * 1e3:.4g} mm"
                       + _band(p["band_95_m"], 1e3, " mm"))
         if args.life_depth_m is not None:
             result["life"] = life(growth, k0, result, args.life_depth_m)
@@ -205,7 +205,7 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
         print(f"  k_mild {result['mild_wear_coefficient_m2_N']:.4g} m^2/N up to {transition:g} m "
               f"(revolution {result['transition_revolutions']:.4g}), k_severe "
               f"{result['severe_wear_coefficient_m2_N']:.4g} m^2/N; {result['parameters_fitted']} parameters, "
-              f"{result['degrees_of_freedom']} degrees of freedom left")
+              f"{result['degrees_of_freedom']} degree{'' if result['degrees_of_freedom'] == 1 else 's'} of freedom left")
     return result, fits
 
 

@@ -109,8 +109,8 @@ def run(args) -> int:
     for m in summary["metrics"]:
         if not m["passed"]:
             tag = "FAIL" if engines[m["engine"]]["role"] == "joint" else "DIFFERS (its own contact law, not judged)"
-            print(f"{tag} {m['group']}: {m['engine']} {m['name']}: difference {m['difference']:.4g} > tolerance "
-                  f"{m['tolerance']:.4g} (scatter {m['scatter']:.4g})")
+            print(f"{tag} {m['group']}: {m['engine']} {m['name']}: difference {m['difference']:.6g} > tolerance "
+                  f"{m['tolerance']:.6g} (scatter {m['scatter']:.4g})")
     spread = summary.get("law_spread")
     for name, answer in (spread["answers"] if spread else {}).items():     # informs, never judged
         unit = "" if answer["unit"] == "-" else f" {answer['unit']}"

@@ -228,6 +228,7 @@ def model_variables_header(guid: str, starts: dict | None = None) -> str:
 #define N_PARAMETERS {len(PARAMETERS)}
 #define P_MAX_INTERNAL_STEP {names.index(MAX_INTERNAL_STEP_NAME)}
 #define P_LOAD_COUPLING {names.index(LOAD_COUPLING_NAME)}
+#define P_LOAD_TABLE_ROWS {names.index("slider_force_table_rows")}
 #define N_LINEARISATION {layout.N_LINEARISATION}
 #define N_VARIABLES {len(VARIABLES)}
 #define FMI3_VR_TIME {FMI3_TIME_VALUE_REFERENCE}
