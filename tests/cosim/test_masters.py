@@ -275,3 +275,14 @@ def test_a_step_that_blows_the_coupling_up_ends_as_a_failed_run(case, tmp_path, 
     failure = summary["failure"]
     assert summary["completed"] is False and ("bushing wall" in failure or "admissible" in failure), failure
     assert 0.0 < summary["simulated_time_s"] < 0.05 * 0.4
+
+
+def test_the_in_process_master_refuses_an_fmi3_fmu_naming_its_version(shared_build, tmp_path, capsys):
+    """`cosim --fmu` takes FMI 2.0: an FMI 3.0 build is refused in one line saying so (it had said to rebuild with
+    --profile-stride 1, which it was)."""
+    fmi3_fmu = shared_build(backend="native", fmi_version=3)
+    assert main(["cosim", "--fmu", str(fmi3_fmu), "--revolutions", "0.05", "--out", str(tmp_path / "r"),
+                 "--quiet", "--no-plots"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith("is invalid: allowed an FMI 2.0 FMU (it is FMI 3.0; this master takes FMI 2.0: build-fmu "
+                        "--fmi-version 2)") and err.count("\n") == 0

@@ -397,18 +397,15 @@ def test_call_order_null_pointers_and_unknown_references_give_fmi3error(fmi3, ca
         with pytest.raises(FMICallException) as discarded:
             fmu.doStep(0.0, 1e-3)
         assert discarded.value.status == 2
-        flags = [ctypes.c_bool(False) for _ in range(3)]
-        last = ctypes.c_double(-1.0)
-        assert step(component, 0.0, 1e-3, True, *(ctypes.byref(f) for f in flags), ctypes.byref(last)) == 2
+        flags, last = [ctypes.c_bool(True) for _ in range(3)], ctypes.c_double(-1.0)
+        assert step(component, 0.0, 1e-3, True, *map(ctypes.byref, flags), ctypes.byref(last)) == 2
         assert [f.value for f in flags] == [False, True, False] and last.value == 0.0   # the step cannot be retaken
         fmu.setFloat64([VR3["pin_x"]], [0.0])
-        assert step(component, 0.0, 1e-3, True, *(ctypes.byref(f) for f in flags), ctypes.byref(last)) == 0
-        assert [f.value for f in flags] == [False, False, False] and last.value == 1e-3
-        fmu.doStep(1e-3, 1e-3)
+        fmu.doStep(0.0, 1e-3)
         vr = (fmi3ValueReference * 1)(VR3["time"])
         value = (fmi3Float64 * 1)()
         fmu.fmi3GetFloat64(component, vr, 1, value, 1)
-        assert value[0] == 2e-3
+        assert value[0] == 1e-3
         assert all(status == 3 or status == 2 for status, _, _ in log.messages)
     finally:
         fmu.terminate()
@@ -501,15 +498,3 @@ def test_cli_builds_fmi3_with_the_flag_and_fmi2_by_default(fmi3_fmu, tmp_path, c
 
     assert DEFAULT_FMI_VERSION == 2
     assert default_fmu_path(fmi_version=3) != default_fmu_path()
-
-
-def test_the_in_process_master_refuses_an_fmi3_fmu_naming_its_version(fmi3_fmu, tmp_path, capsys):
-    """`cosim --fmu` takes FMI 2.0: an FMI 3.0 build is refused in one line saying so (it had said to rebuild with
-    --profile-stride 1, which it was)."""
-    from wearjoint.cli import main
-
-    assert main(["cosim", "--fmu", str(fmi3_fmu), "--revolutions", "0.05", "--out", str(tmp_path / "r"),
-                 "--quiet", "--no-plots"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert err.endswith("is invalid: allowed an FMI 2.0 FMU (it is FMI 3.0; this master takes FMI 2.0: build-fmu "
-                        "--fmi-version 2)") and err.count("\n") == 0

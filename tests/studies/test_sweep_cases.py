@@ -1,0 +1,54 @@
+"""What a sweep's case is and how a sweep reports while it runs (wearjoint/sweep/design.py, worker.py, runner.py):
+the contents of the files its options name are part of the case and go with it to its worker; the progress moves
+while cases last."""
+import json
+import subprocess
+import sys
+
+from wearjoint.sweep.design import build_cases, command_parser
+
+
+def test_a_case_carries_the_files_its_options_name(tmp_path):
+    """A case is its options and the contents of the files they name: an edited load table is another case (resume
+    runs it, not the one computed with the old load), and a worker that cannot read the client's file (another
+    folder or machine) runs on the contents the client read."""
+    from wearjoint.sweep.design import command_options
+    from wearjoint.sweep.worker import run_case
+
+    table = tmp_path / "load.csv"
+    rows = "crank_angle_deg,force_N\n0,0\n150,0\n170,{f}\n200,{f}\n220,0\n360,0\n"
+    table.write_text(rows.format(f=800))
+    args = ["--out", "unused", "--revolutions", "0.02", "--slider-force-table", str(table)]
+    base = command_options("simulate", command_parser("simulate").parse_args(args))
+    [case] = build_cases("simulate", base)
+    table.write_text(rows.format(f=2400))
+    [edited] = build_cases("simulate", base)
+    assert edited.case_id != case.case_id and edited.options == case.options
+    table.unlink()
+    result = run_case(case, no_plots=True)
+    assert result["status"] == "ok", result["log"][-2000:]
+    loaded = json.loads(result["files"]["summary.json"])["parameters"]["mechanism"]["slider_force_table"]
+    assert loaded["force_N"] == [0.0, 0.0, 800.0, 800.0, 0.0, 0.0]
+
+
+def test_a_sweep_says_it_runs_while_its_cases_last(tmp_path):
+    """Progress moves on a heartbeat, not only when a case ends: a long wear-study case left a log empty for
+    minutes (the log writes a line every 15 s of those updates).  In a process of its own: a Dask cluster's workers
+    do not start inside a test worker."""
+    script = f"""
+import sys, time
+from wearjoint.cli import main
+from wearjoint.sweep import runner
+updates = []
+class Recorded(runner.Progress):
+    def update(self, done, eta_s=None):
+        updates.append(done)
+        super().update(done, eta_s)
+runner.Progress, runner.HEARTBEAT_S = Recorded, 0.2
+code = main(["sweep", "simulate", "--revolutions", "1", "--integrator", "rk4", "--step", "5e-6", "--no-plots",
+             "--quiet", "--vary", "restitution=0.6", "--workers", "1", "--out", {str(tmp_path / "s")!r}])
+print(code, updates.count(0), updates[-1])
+"""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=600)
+    code, waiting, last = done.stdout.split()[-3:]
+    assert (code, last) == ("0", "1") and int(waiting) >= 3, done.stdout + done.stderr[-2000:]
