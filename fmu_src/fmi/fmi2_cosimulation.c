@@ -22,32 +22,33 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     return status;
 }
 
+/* A status query's checks: an instance, a value to write and the one kind available (else logged). */
+static int status_query(Instance *inst, const void *value, fmi2StatusKind kind, fmi2StatusKind available,
+                        const char *function, const char *name)
+{
+    if (inst == NULL || value == NULL)
+        return 0;
+    if (kind != available)
+        LOG(inst, fmi2Error, "%s: only %s is available", function, name);
+    return kind == available;
+}
+
 /* After fmi2Discard a master asks whether the slave wants the simulation to end: it does, as the step it refused
  * (the inputs' state is no contact of the joint's materials, or not finite) cannot be taken again; a master that
  * can go back (fmi2SetFMUstate) and retry another step does not need to ask. */
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Boolean *value)
 {
-    Instance *inst = c;
-    if (inst == NULL || value == NULL)
+    if (!status_query(c, value, kind, fmi2Terminated, "fmi2GetBooleanStatus", "fmi2Terminated"))
         return fmi2Error;
-    if (kind != fmi2Terminated) {
-        LOG(inst, fmi2Error, "fmi2GetBooleanStatus: only fmi2Terminated is available");
-        return fmi2Error;
-    }
-    *value = inst->discarded;
+    *value = ((Instance *)c)->discarded;
     return fmi2OK;
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Real *value)
 {
-    Instance *inst = c;
-    if (inst == NULL || value == NULL)
+    if (!status_query(c, value, kind, fmi2LastSuccessfulTime, "fmi2GetRealStatus", "fmi2LastSuccessfulTime"))
         return fmi2Error;
-    if (kind != fmi2LastSuccessfulTime) {
-        LOG(inst, fmi2Error, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is available");
-        return fmi2Error;
-    }
-    *value = model_time(inst->model);
+    *value = model_time(((Instance *)c)->model);
     return fmi2OK;
 }
 
