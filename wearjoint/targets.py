@@ -201,7 +201,7 @@ def cosim_config(options) -> CosimConfig:
     from .cosim.masters import DEFAULT_STEP_S, MASTERS, master_available
     from .cosim.step_rule import paper_step_scale
     from .fmu.fmi import DEFAULT_BACKEND
-    from .simulation_options import check_wear_step
+    from .simulation_options import check_wear_step, wear_step_limit_s
     from .fmu.ssp import LOAD_COUPLINGS
     from .simulation_options import SimulationOptions
 
@@ -244,7 +244,9 @@ def cosim_config(options) -> CosimConfig:
             installed = [m for m in MASTERS if m == "wearjoint" or master_available(m) is None]
             require("--master", o["master"], False,
                     f"one of the masters installed here, {', '.join(installed)} ({missing})")
-        step = DEFAULT_STEP_S[coupling] * paper_step_scale(joint, mechanism) if step is None else step
+        if step is None:     # the package's step (the step rule's), within the wear-step limit
+            step = min(DEFAULT_STEP_S[coupling] * paper_step_scale(joint, mechanism),
+                       wear_step_limit_s(joint, mechanism))
         require("--revolutions", o["revolutions"], finite("--revolutions", o["revolutions"]) > 0.0,
                 "> 0 crank revolutions")
         run_s = o["revolutions"] * mechanism.period_s

@@ -190,6 +190,7 @@ def test_a_third_party_masters_step_is_held_to_the_wear_step_limit_and_defaults_
     """As this package's master: a step past the wear-step limit (5.5e-8 s at wear factor 1e5) is refused, naming
     --step; left out, the step is the package's (the measured 5 us scaled by the step rule for this machine)."""
     from wearjoint.cosim.step_rule import paper_step_scale
+    from wearjoint.simulation_options import wear_step_limit_s
     from wearjoint.targets import cosim_config
 
     assert main(["cosim", "--out", str(tmp_path), "--master", "container", "--wear-factor", "1e5", "--step",
@@ -202,6 +203,8 @@ def test_a_third_party_masters_step_is_held_to_the_wear_step_limit_and_defaults_
     config = cosim_config(options)
     scale = paper_step_scale(paper_joint(mechanism), mechanism)
     assert scale < 1.0 and config.step_s == pytest.approx(masters.DEFAULT_STEP_S["linearised"] * scale, rel=1e-12)
+    fast = cosim_config({**options, "wear_factor": 1e5})        # a wear-step limit below it: the limit
+    assert fast.step_s == wear_step_limit_s(fast.joint, mechanism) < 1e-7
 
 
 def _cosim_parser():

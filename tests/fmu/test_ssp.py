@@ -141,12 +141,22 @@ def test_a_joint_that_does_not_fit_the_mechanism_is_refused(tmp_path):
         ssp.export_ssp(tmp_path, joint=JointParameters(), platforms="linux64")
     with pytest.raises(ParameterError, match="stop_time"):
         ssp.export_ssp(tmp_path, stop_time=0.0, platforms="linux64")
-    # a step past the wear-step limit (3e-5 s on the paper's joint, 5.5e-8 s at wear factor 1e5), given or the default
+    # a step given past the wear-step limit (3e-5 s on the paper's joint, 5.5e-8 s at wear factor 1e5)
     with pytest.raises(ParameterError, match=r"step_s=0.001 is invalid with wear.*at most 3e-05 s"):
         ssp.export_ssp(tmp_path, step_s=1e-3, platforms="linux64")
-    with pytest.raises(ParameterError, match=r"step_s=1e-05 is invalid with wear.*at most 5.52e-08 s"):
-        ssp.export_ssp(tmp_path, joint=paper_joint(wear_factor=1e5), platforms="linux64")
+    with pytest.raises(ParameterError, match=r"step_s=1e-06 is invalid with wear.*at most 5.52e-08 s"):
+        ssp.export_ssp(tmp_path, joint=paper_joint(wear_factor=1e5), step_s=1e-6, platforms="linux64")
     assert not any(tmp_path.iterdir())
+
+
+def test_the_default_step_of_a_fast_wearing_package_is_its_wear_step_limit(tmp_path):
+    """At wear factor 1e5 the limit (5.52e-8 s) is below the measured 5 us: the package asks for the limit."""
+    from wearjoint.simulation_options import wear_step_limit_s
+
+    joint = paper_joint(wear_factor=1e5)
+    with zipfile.ZipFile(ssp.export_ssp(tmp_path, joint=joint, platforms="linux64")) as zf:
+        settings = _master_settings(etree.fromstring(zf.read("SystemStructure.ssd")))
+    assert settings["oms_step"] == settings["osp_step"] == pytest.approx(wear_step_limit_s(joint), rel=1e-12)
 
 
 @pytest.mark.parametrize("coupling, start", [("linearised", 1.0), ("hold", 0.0)])

@@ -26,7 +26,7 @@ from ..parameters import (
     JointParameters, SliderCrankParameters, finite, require, check_joint_fits_mechanism, paper_joint,
 )
 from . import slider_crank as sc
-from ..simulation_options import check_wear_step
+from ..simulation_options import check_wear_step, wear_step_limit_s
 from .build_common import replaced_whole
 from . import variables as fv
 
@@ -239,8 +239,9 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     stop_time = mechanism.period_s if stop_time is None else stop_time
     require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
     require("load_coupling", load_coupling, load_coupling in LOAD_COUPLINGS, f"one of {', '.join(LOAD_COUPLINGS)}")
-    on_time_step_s = ON_TIME_STEP_S[load_coupling] * step_scale if step_s is None else step_s
-    step_s = DEFAULT_STEP_S[load_coupling] * step_scale if step_s is None else step_s
+    limit = wear_step_limit_s(joint, mechanism)          # a default within the wear-step limit, a given step checked
+    on_time_step_s = min(ON_TIME_STEP_S[load_coupling] * step_scale, limit) if step_s is None else step_s
+    step_s = min(DEFAULT_STEP_S[load_coupling] * step_scale, limit) if step_s is None else step_s
     require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
     check_wear_step("step_s", max(step_s, on_time_step_s), joint, mechanism)   # every master's step wears
     on_time_step_s = min(on_time_step_s, stop_time)

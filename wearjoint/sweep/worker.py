@@ -113,7 +113,7 @@ def _run(case, folder: Path, no_plots: bool) -> tuple:
 
     spec = targets.target(case.command)
     try:
-        with watch_command(case.command), tempfile.TemporaryDirectory(prefix=CASE_FOLDER_PREFIX) as inputs:
+        with watch_command(case.command), tempfile.TemporaryDirectory(prefix="wearjoint-inputs-") as inputs:
             options = dict(case.options)
             options.update(_written_inputs(options, case.inputs, Path(inputs)))    # as the client read them
             targets.run(case.command, options, folder, plots=not no_plots,
