@@ -153,8 +153,7 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
     assert set(SUMMARY_KEYS) <= set(summary)
     assert summary["master"] == ("container-fmusim" if fmusim else master)
     assert summary["simulated_time_s"] == pytest.approx(0.005 * SliderCrankParameters().period_s, rel=1e-3)
-    assert summary["communication_steps"] >= \
-        0.005 * SliderCrankParameters().period_s / masters.DEFAULT_STEP_S["linearised"] - 2
+    assert summary["communication_steps"] == 400        # 2 ms at the paper's 5 us, whether the trace holds t = 0
     series = np.load(out / "timeseries.npz")
     assert series["time_s"][-1] == pytest.approx(summary["simulated_time_s"], abs=1e-5)
     profiled = case not in ("fmpy-ssp", "container-fmusim")     # their masters give no worn profile: no NaN file

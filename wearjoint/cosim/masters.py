@@ -399,7 +399,9 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     max_depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
     ends = np.searchsorted(trace.time_s, (np.arange(stats.shape[0]) + 1) * period * (1.0 + 1e-12), side="right") - 1
     profile = trace.wear_depth_m if trace.wear_depth_m is not None else np.full(joint.n_points, np.nan)
-    extra = {"master": trace.master, "communication_steps": n - 1, "step_s": trace.step_s}
+    # the steps from 0 to the trace's end (a master's trace may or may not hold the row at 0)
+    extra = {"master": trace.master, "communication_steps": round(trace.time_s[-1] / trace.step_s),
+             "step_s": trace.step_s}
     if trace.wear_depth_m is None:
         extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
                      wear_profile=f"not readable through {trace.master}: no profile.csv nor its figure; "
