@@ -102,8 +102,8 @@ def run(args) -> int:
     except KeyboardInterrupt:
         print("wearjoint validate: interrupted: nothing judged (a run stopped short)", file=sys.stderr)
         return 130
-    except RunStoppedShort as exc:      # the reference's: nothing to judge against
-        print(f"wearjoint validate: error: the reference run {exc}", file=sys.stderr)
+    except RunStoppedShort as exc:      # a monolithic run the comparison needs: nothing to judge against
+        print(f"wearjoint validate: error: {exc} (a monolithic run the comparison needs)", file=sys.stderr)
         return 1
     engines = summary["engines"]
     for m in summary["metrics"]:
