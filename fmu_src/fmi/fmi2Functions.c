@@ -174,6 +174,7 @@ fmi2Status fmi2Reset(fmi2Component c)
     if (!model_reset(inst->model))
         return fmi2Error;
     inst->mode = MODE_INSTANTIATED;
+    inst->discarded = fmi2False;
     return fmi2OK;
 }
 

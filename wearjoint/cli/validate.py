@@ -97,11 +97,8 @@ def run(args) -> int:
     plan = replace(base, **{name: value for name, value in given.items() if value is not None}, window_s=window_s,
                    engines=compared, run_wear=not args.no_wear, fmu_backend=args.fmu_backend,
                    law_spread=not args.no_law_spread)
-    try:
+    try:     # Ctrl-C (here, or a run it cut short) ends as cli.main says: one line, exit 130
         summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
-    except KeyboardInterrupt:
-        print("wearjoint validate: interrupted: nothing judged (a run stopped short)", file=sys.stderr)
-        return 130
     except RunStoppedShort as exc:      # a monolithic run the comparison needs: nothing to judge against
         print(f"wearjoint validate: error: {exc} (a monolithic run the comparison needs)", file=sys.stderr)
         return 1

@@ -331,7 +331,7 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
         if all(name in point for point in grid) and base.get(dest, defaults.get(dest)) != defaults.get(dest):
             raise ParameterError(f"--{name}={base[dest]!r} is invalid beside a design that sets {name} at every "
                                  "point (--vary, --param, --design): allowed one of the two")
-    cases, seen = [], set()
+    cases, seen, read = [], set(), {}
     for point in grid:
         options = dict(base)
         for name in names:                        # a point lacking a name keeps the base value
@@ -347,7 +347,10 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
                 opts[SEED_OPTION] = angle + seed * SEED_ANGLE_STEP_DEG
                 if not math.isfinite(opts[SEED_OPTION]):
                     raise ParameterError(f"initial-crank-angle-deg={angle!r} is invalid: allowed a finite number")
-            inputs = case_inputs(opts)
+            files = tuple(str(opts.get(dest)) for dest in INPUT_FILES)    # each set of files read once
+            if files not in read:
+                read[files] = case_inputs(opts)
+            inputs = read[files]
             cid = case_id(command, opts, inputs)
             if cid in seen:
                 continue
