@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .core import layout as L
-from .core.integrators import DOPRI5, RK4, accept_point, integrate, record_step
+from .core.integrators import DOPRI5, RK4, WORN_VALUES, accept_point, integrate, record_accepted
 from .core.joint_access import JointArrays
 from .core.slider_crank import derivative
 from .core.slider_crank_jacobian import make_jacobian_workspace, state_jacobian
@@ -49,6 +49,7 @@ class Simulation:
         self.y = self.mechanism.initial_state()
         self.dy = np.empty_like(self.y)
         self.body_forces = np.zeros(6)
+        self._accept_scratch = (np.empty(WORN_VALUES), np.empty_like(self.y))   # gear: record_accepted's
         first_step = self.options.step_s if self.options.integrator == "rk4" else min(1e-6, self.options.max_step_s)
         self.control = np.array([first_step, self.options.max_step_s, self.options.rtol,
                                  self.options.atol_position_m, self.options.atol_velocity_m_s,
@@ -155,8 +156,9 @@ class Simulation:
         mp, ws = self.mechanism.parameter_vector, self.mechanism.workspace
         if self.options.gear_solver == "cvode":
             importlib.import_module("sksundae.cvode")   # here: its import is not part of the run's time
-        accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False)
-        record_step(self.t, 0.0, y, dy, joint.result, mp, stats, samples, track)
+        before, record_dy = self._accept_scratch
+        worn = accept_point(self.t, y, 0.0, dy, self.mode, mp, joint, forces, ws, dy.copy(), False, before)
+        record_accepted(self.t, 0.0, y, dy, worn, True, before, mp, joint, forces, ws, record_dy, stats, samples, track)
         for function in self._gear_functions(joint):
             if function is not None:
                 function(self.t, y)
@@ -191,12 +193,13 @@ class Simulation:
             h = t - self.t
             self.t = t
             self.y[:] = y
-            accept_point(self.t, self.y, h, self.dy, self.mode, mp, joint, self.body_forces,
-                         self.mechanism.workspace, self.dy, False)
+            before, record_dy = self._accept_scratch
+            worn = accept_point(self.t, self.y, h, self.dy, self.mode, mp, joint, self.body_forces,
+                                self.mechanism.workspace, self.dy, False, before)
             if self.joint.failure[0] != 0.0:
                 break
-            record_step(self.t, h, self.y, self.dy, self.joint.result, mp, self.revolution_stats, samples,
-                        self.track)
+            record_accepted(self.t, h, self.y, self.dy, worn, True, before, mp, joint, self.body_forces,
+                            self.mechanism.workspace, record_dy, self.revolution_stats, samples, self.track)
             self.accepted += 1
 
     def _gear_functions(self, joint: JointArrays):

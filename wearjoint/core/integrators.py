@@ -23,7 +23,7 @@ from .layout import (
     T_SLIDER_X, T_TANGENTIAL_VELOCITY, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
 from .jit import kernel
-from .joint_access import JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_at, joint_failed
+from .joint_access import JOINT_CHANGED, JOINT_EVALUATED, JOINT_UNCHANGED, JOINT_WORN, accept_joint, contact_at, joint_failed
 from .joint_location import body_rate, joint_bodies
 from .slider_crank import angle_trig, derivative, derivative_evaluated, derivative_rotated, stage_trig
 
@@ -176,23 +176,63 @@ def rk4_open_joint(t, h, n_steps, y, mode, mp, joint, body_forces, ws, dy, stage
     derivative(t + h, y, mode, mp, joint, body_forces, ws, dy)
 
 
+# the first values of the joint's result (layout.R_*) a wear update changes at an accepted point, its kinematics kept:
+# the forces and torques on both bodies, the normal and friction force, the penetration
+WORN_VALUES = R_PENETRATION + 1
+
+
 @kernel(inline='always')   # one call site in the integrators' loop: inlined, a cold run compiles it once
-def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end):
-    """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint.
+def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end, before):
+    """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint; returns True if the
+    bookkeeping (may have) worn the bushing (JOINT_EVALUATED, JOINT_WORN), the contact's first WORN_VALUES values
+    before it in ``before`` (for :func:`record_accepted`).
 
     ``reuse_k_end``: ``k_end`` is f(t, y) and the joint's result array holds the contact
     evaluated there (DOPRI's last stage); both are reused unless the joint changed, and the
     contact is not evaluated again where the joint's bookkeeping left it evaluated (JOINT_EVALUATED).
     """
     pin, bushing = joint_bodies(mp)
-    state = accept_joint(joint, t, y, pin, bushing, h, reuse_k_end) if mode == MODE_CLEARANCE else JOINT_UNCHANGED
+    state = JOINT_UNCHANGED
+    if mode == MODE_CLEARANCE:
+        if not reuse_k_end:
+            contact_at(joint, t, y, pin, bushing)
+        for r in range(WORN_VALUES):
+            before[r] = joint.result[r]
+        state = accept_joint(joint, t, y, pin, bushing, h, True)
     if reuse_k_end and state == JOINT_UNCHANGED:
         for i in range(dy.shape[0]):
             dy[i] = k_end[i]
-    elif mode == MODE_CLEARANCE and state != JOINT_CHANGED:
+    elif mode == MODE_CLEARANCE and (state == JOINT_UNCHANGED or state == JOINT_EVALUATED):
         derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
     else:
         derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+    return state == JOINT_EVALUATED or state == JOINT_WORN
+
+
+@kernel(inline='always')
+def record_accepted(t, dt, y, dy, worn, implicit, before, mp, joint, body_forces, ws, record_dy, rev_stats, samples,
+                    track):
+    """:func:`record_step` of the accepted point (t, y) with f(t, y) = ``dy``; where its bookkeeping wore the
+    bushing (``worn``: :func:`accept_point`), with the forces and the penetration the integrator's steps took
+    there, the accelerations with those forces (``record_dy``, scratch).  A wear batch drops the force at once and
+    the pin sinks into the new wear over the steps after it.  An explicit step (RK4, DOPRI) runs through that
+    sawtooth: recorded at the middle of the jump, the mean of the contact before the wear (``before``) and after
+    it.  An ``implicit`` step (BDF) ends with the force before the wear: recorded there.  Recorded after the drop,
+    a run in lasting contact at fast wear sat at the sawtooth's bottom, off by up to a batch's drop (first order
+    in the step; docs/reference/model.md §3.11)."""
+    result = joint.result
+    if not worn:
+        record_step(t, dt, y, dy, result, mp, rev_stats, samples, track)
+        return
+    share = 1.0 if implicit else 0.5
+    for r in range(WORN_VALUES):
+        after = result[r]
+        result[r] = share * before[r] + (1.0 - share) * after
+        before[r] = after
+    derivative_evaluated(t, y, mp, joint, body_forces, ws, record_dy)
+    record_step(t, dt, y, record_dy, result, mp, rev_stats, samples, track)
+    for r in range(WORN_VALUES):
+        result[r] = before[r]
 
 
 def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
@@ -221,13 +261,15 @@ def integrate(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy
     k = np.empty((7, n2))                       # DOPRI stages; k[6] = f at the step's end
     k_stage = np.empty(n2)                      # f of the current stage (no views of k in the loop)
     y_new = np.empty(n2)
+    before = np.empty(WORN_VALUES)             # the contact before an accepted point's wear
+    record_dy = np.empty(n2)                    # f there with the forces recorded
     return _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
-                            rev_stats, samples, track, stages, k, k_stage, y_new)
+                            rev_stats, samples, track, stages, k, k_stage, y_new, before, record_dy)
 
 
 @kernel
 def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces, ws, dy,
-                     rev_stats, samples, track, stages, k, k_stage, y_new):
+                     rev_stats, samples, track, stages, k, k_stage, y_new, before, record_dy):
     """The loop of :func:`integrate`, on preallocated scratch (a kernel cannot allocate)."""
     n2 = y.shape[0]
     n = N_COORDINATES
@@ -257,6 +299,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             trig = angle_trig(y_new, mp) if mode == MODE_EXTERNAL else _UNUSED_TRIG   # only MODE_EXTERNAL rotates
             rk4_step(t, y_new, step, trig, mode, mp, joint, body_forces, ws, dy, stages)
             evaluated = False
+            worn = False
             if locate_onsets:
                 contact_at(joint, t + step, y_new, pin, bushing)
                 retry = onset_retry_step(memory[M_ACTIVE] < 0.5, pen_start, result[R_PENETRATION], onset_tol, step,
@@ -265,7 +308,11 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                     onset_step = retry
                     rejected += 1
                     continue
-                evaluated = accept_joint(joint, t + step, y_new, pin, bushing, step, True) != JOINT_CHANGED
+                for r in range(WORN_VALUES):
+                    before[r] = result[r]
+                state = accept_joint(joint, t + step, y_new, pin, bushing, step, True)
+                evaluated = state == JOINT_UNCHANGED or state == JOINT_EVALUATED
+                worn = state == JOINT_EVALUATED or state == JOINT_WORN
             onset_step = np.inf
             t += step
             accepted += 1
@@ -275,7 +322,8 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
                 derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
             else:
                 derivative(t, y, mode, mp, joint, body_forces, ws, dy)
-            record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
+            record_accepted(t, step, y, dy, worn, False, before, mp, joint, body_forces, ws, record_dy, rev_stats,
+                            samples, track)
             pen_start = result[R_PENETRATION]
             continue
         # Dormand-Prince 5(4)
@@ -313,8 +361,9 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             accepted += 1
             for i in range(n2):
                 y[i] = y_new[i]
-            accept_point(t, y, step, k_stage, mode, mp, joint, body_forces, ws, dy, True)
-            record_step(t, step, y, dy, result, mp, rev_stats, samples, track)
+            worn = accept_point(t, y, step, k_stage, mode, mp, joint, body_forces, ws, dy, True, before)
+            record_accepted(t, step, y, dy, worn, False, before, mp, joint, body_forces, ws, record_dy, rev_stats,
+                            samples, track)
             pen_start = result[R_PENETRATION]
             # PI step-size control (Hairer, Norsett & Wanner, dopri5: beta = 0.04)
             factor = min(5.0, max(0.1, 0.9 * max(err, 1e-10) ** -_PI_EXPONENT * err_previous ** _PI_BETA))

@@ -53,8 +53,9 @@ def contact_at(joint, t, y, pin, bushing):
 
 # accept_joint's answer: the joint did not change (``joint.result`` holds the contact at the accepted point); it
 # changed, and ``joint.result`` holds the contact there on its new state (evaluated once, where the step wore); it
-# changed otherwise (the contact must be evaluated again there)
-JOINT_UNCHANGED, JOINT_EVALUATED, JOINT_CHANGED = 0, 1, 2
+# changed otherwise (the contact must be evaluated again there); the step may have worn the bushing, and the contact
+# must be evaluated again there (an FMU's Model Exchange joint, which wears at fmi2CompletedIntegratorStep)
+JOINT_UNCHANGED, JOINT_EVALUATED, JOINT_CHANGED, JOINT_WORN = 0, 1, 2, 3
 
 
 def accept_joint(joint, t, y, pin, bushing, h, evaluated):
@@ -147,5 +148,5 @@ def _joint_failed(joint):
     return None
 
 
-__all__ = ["JOINT_CHANGED", "JOINT_EVALUATED", "JOINT_UNCHANGED", "JointArrays", "NoJoint", "accept_joint",
+__all__ = ["JOINT_CHANGED", "JOINT_EVALUATED", "JOINT_UNCHANGED", "JOINT_WORN", "JointArrays", "NoJoint", "accept_joint",
            "contact_at", "contact_forces", "is_joint_type", "joint_failed"]

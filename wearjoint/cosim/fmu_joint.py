@@ -12,7 +12,7 @@ from numba.extending import overload
 
 from ..core.jit import kernel
 from ..core.joint_access import (
-    JOINT_CHANGED, JOINT_UNCHANGED, accept_joint, contact_forces, is_joint_type, joint_failed,
+    JOINT_CHANGED, JOINT_UNCHANGED, JOINT_WORN, accept_joint, contact_forces, is_joint_type, joint_failed,
 )
 from ..core.joint_location import bodies_kinematics
 from ..core.layout import M_ACTIVE, R_NORMAL_FORCE
@@ -59,32 +59,33 @@ def _contact_forces(joint, t, y, pin, bushing):
 
 @kernel
 def _accept(joint, t, y, pin, bushing, h, evaluated):
-    """fmi2CompletedIntegratorStep (and an event iteration where a contact begins or ends).
-    "Changed" as in process: the onset memory changed, or the step may have worn the bushing;
-    otherwise DOPRI reuses its last stage (FSAL) instead of evaluating the FMU again."""
+    """fmi2CompletedIntegratorStep (and an event iteration where a contact begins or ends); the joint_access answer:
+    JOINT_CHANGED where a call failed or the onset memory changed, JOINT_WORN where the step may have worn the
+    bushing (as in process, the points are then recorded with the contact before the wear and after it), else
+    JOINT_UNCHANGED (DOPRI reuses its last stage, FSAL, instead of evaluating the FMU again)."""
     if not evaluated:
         _contact_forces(joint, t, y, pin, bushing)
     if joint.failure[0] != 0.0:
-        return True
+        return JOINT_CHANGED
     c = joint.component
     # the event indicator at the accepted point (before the step's wear): a sign change is a state event
     if failed_call(joint.failure, 0, 8, joint.get_event_indicators(c, joint.indicators.ctypes.data, 1), t):
-        return True
+        return JOINT_CHANGED
     if failed_call(joint.failure, 0, 4, joint.completed_integrator_step(c, 1, joint.flags.ctypes.data,
                                                               joint.flags.ctypes.data + 4), t):
-        return True
+        return JOINT_CHANGED
     onset = joint.indicators[0] >= 0.0
     if onset != (joint.memory[M_ACTIVE] > 0.5):   # a contact began or ended: a state event
         joint.events[0 if onset else 1] += 1
         if failed_call(joint.failure, 0, 5, joint.enter_event_mode(c), t):
-            return True
+            return JOINT_CHANGED
         if failed_call(joint.failure, 0, 6, joint.new_discrete_states(c, joint.event_info.ctypes.data), t):
-            return True
+            return JOINT_CHANGED
         if failed_call(joint.failure, 0, 7, joint.enter_continuous_time_mode(c), t):
-            return True
+            return JOINT_CHANGED
         joint.memory[M_ACTIVE] = 1.0 if onset else 0.0
-        return True
-    return wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h)
+        return JOINT_CHANGED
+    return JOINT_WORN if wears(joint.result, joint.result[R_NORMAL_FORCE], joint.parameters, h) else JOINT_UNCHANGED
 
 
 @overload(contact_forces)
@@ -100,7 +101,7 @@ def _overload_contact_forces(joint, t, y, pin, bushing, cos1, sin1, cos2, sin2):
 def _overload_accept_joint(joint, t, y, pin, bushing, h, evaluated):
     if is_joint_type(joint, FmuJoint):
         def fmu(joint, t, y, pin, bushing, h, evaluated):
-            return JOINT_CHANGED if _accept(joint, t, y, pin, bushing, h, evaluated) else JOINT_UNCHANGED
+            return _accept(joint, t, y, pin, bushing, h, evaluated)
         return fmu
     return None
 
