@@ -1,9 +1,9 @@
 """A run against the ideal joint: the designer's first answers (docs/reference/results.md §6).
 
-The slider's acceleration error |a - a_ideal| (:func:`wearjoint.analysis.slider_acc_deviation`) and the ideal
-crank-rod revolute's reaction with the same gravity and slider load
-(:meth:`wearjoint.slider_crank.SliderCrank.ideal_joint_force`), per revolution and over the run's counted revolutions
-after the start-up (as :func:`wearjoint.analysis.run_statistics` counts).  Both are taken at every sample once
+The slider's acceleration error |a - a_ideal| (:func:`wearjoint.analysis.slider_acc_deviation`; its RMS over time,
+:func:`wearjoint.analysis.time_rms`) and the ideal joint's reaction with the same gravity and slider load
+(:meth:`wearjoint.slider_crank.SliderCrank.ideal_joint_force`), per revolution and over the revolutions the run's
+extremes are taken over (:func:`wearjoint.analysis.steady_revolutions`, as ``max_contact_force_N``).  Both are taken at every sample once
 (:func:`sample_comparison`) and shared by revolutions.csv and summary.json.
 """
 from __future__ import annotations
@@ -12,7 +12,9 @@ import math
 
 import numpy as np
 
-from .analysis import counted_revolutions, last_revolution, revolution_of, slider_acc_deviation
+from .analysis import (
+    last_revolution, revolution_of, sample_durations, slider_acc_deviation, steady_revolutions, time_rms,
+)
 from .core import layout as L
 
 # revolutions.csv's columns of this module, after wearjoint.analysis.REVOLUTION_COLUMNS
@@ -30,10 +32,10 @@ def sample_comparison(samples: np.ndarray, mechanism) -> tuple[np.ndarray, np.nd
 
 
 def _after_start_up(samples: np.ndarray, stats: np.ndarray, period_s: float, settling_revolutions: int) -> np.ndarray:
-    """The samples (a mask) of the counted revolutions after the start-up; of all counted ones where none is left."""
-    counted = counted_revolutions(stats)
-    after = counted[counted >= settling_revolutions]
-    return np.isin(revolution_of(samples[:, L.T_TIME], period_s), after if after.size else counted)
+    """The samples (a mask) of the revolutions the run's extremes are taken over (:func:`analysis.steady_revolutions`:
+    after the start-up, all the run reached where it ends before that is over)."""
+    steady = np.flatnonzero(steady_revolutions(stats, settling_revolutions)[1])
+    return np.isin(revolution_of(samples[:, L.T_TIME], period_s), steady)
 
 
 def slider_acc_error_max(record) -> float:
@@ -57,10 +59,11 @@ def revolution_columns(samples: np.ndarray, stats: np.ndarray, mechanism, compar
         return out
     error, ideal = comparison if comparison is not None else sample_comparison(samples, mechanism)
     revolution = revolution_of(samples[:, L.T_TIME], mechanism.period_s)
+    durations = sample_durations(samples[:, L.T_TIME])
     for k in range(n):
         rows = revolution == k
         if rows.any():
-            out[k] = (error[rows].max(), math.sqrt(float(np.mean(error[rows] ** 2))), ideal[rows].max())
+            out[k] = (error[rows].max(), time_rms(error[rows], durations[rows]), ideal[rows].max())
     return out
 
 
@@ -73,9 +76,10 @@ def summary_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, settli
     if not inside.any():
         return dict.fromkeys(SUMMARY_KEYS)
     error, ideal = comparison if comparison is not None else sample_comparison(samples, mechanism)
+    durations = sample_durations(samples[:, L.T_TIME])[inside]
     error, largest = error[inside], float(ideal[inside].max())
     return {"slider_acc_error_max_m_s2": float(error.max()),
-            "slider_acc_error_rms_m_s2": math.sqrt(float(np.mean(error ** 2))),
+            "slider_acc_error_rms_m_s2": time_rms(error, durations),
             "ideal_joint_force_max_N": largest,
             "joint_force_over_ideal": (max_contact_force_N / largest if max_contact_force_N is not None
                                        and largest > 0.0 else None)}

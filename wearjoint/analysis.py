@@ -122,6 +122,14 @@ def _finite(x):
     return float(x) if math.isfinite(x) else None
 
 
+def steady_revolutions(stats: np.ndarray, settling_revolutions: int = 1) -> tuple[int, np.ndarray]:
+    """(the first revolution, a mask of the rows) the run's extremes are taken over: the revolutions it reached after
+    the first ``settling_revolutions`` (the start-up transient), or all it reached if it ends before they are over."""
+    first = max(0, int(settling_revolutions))
+    first = first if first <= last_revolution(stats) else 0
+    return first, covered(stats) & (np.arange(stats.shape[0]) >= first)
+
+
 def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
     """The statistics of ``summary.json`` (docs/reference/results.md §6): of the last revolution the contact
     fraction, the impacts and the slider acceleration extremes (None if not finite); the max contact
@@ -131,11 +139,8 @@ def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
     its transient in the statistics (``statistics_from_revolution`` 0) and says so."""
     last_index = last_revolution(stats)
     last = stats[last_index]
-    reached = covered(stats)
-    first = max(0, int(settling_revolutions))
-    first = first if first <= last_index else 0
-    steady = reached & (np.arange(stats.shape[0]) >= first)
-    transient = reached & (np.arange(stats.shape[0]) < first)
+    first, steady = steady_revolutions(stats, settling_revolutions)
+    transient = covered(stats) & ~steady
     out = {
         "max_contact_force_N": float(stats[steady, L.S_FORCE_MAX].max()) if steady.any() else 0.0,
         "contact_fraction": float(contact_fraction(last)) if last[L.S_TIME] > 0 else 0.0,
@@ -283,6 +288,30 @@ def crank_angle_deg(theta1_rad) -> np.ndarray:
 def revolution_of(t, period_s: float):
     """Revolution index of time(s) t [s], as the per-revolution statistics assign an accepted point."""
     return (np.asarray(t, dtype=float) / period_s * (1.0 - 1e-14)).astype(np.int64)
+
+
+def sample_durations(t) -> np.ndarray:
+    """The time [s] each sample at the times t [s] stands for: half the spacing to each neighbour (the ends: to their
+    one).  A run samples at its steps where they are longer than the sample spacing (free flight) and at that spacing
+    elsewhere: a mean over the samples weighted by these is a mean over time, not over the steps."""
+    t = np.asarray(t, dtype=float)
+    if t.size < 2:
+        return np.ones(t.size)
+    gaps = np.diff(t)
+    out = np.empty(t.size)
+    out[0], out[-1] = 0.5 * gaps[0], 0.5 * gaps[-1]
+    out[1:-1] = 0.5 * (gaps[:-1] + gaps[1:])
+    return out
+
+
+def time_rms(values, durations) -> float:
+    """The root mean square of ``values`` over time, each standing for its ``durations`` [s]
+    (:func:`sample_durations`)."""
+    values, durations = np.asarray(values, dtype=float), np.asarray(durations, dtype=float)
+    total = float(durations.sum())
+    if total <= 0.0:
+        return math.sqrt(float(np.mean(values ** 2)))
+    return math.sqrt(float((durations * values ** 2).sum()) / total)
 
 
 def _sampled_revolutions(t: np.ndarray, n: int, period_s: float) -> tuple[np.ndarray, float]:

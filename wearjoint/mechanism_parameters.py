@@ -149,7 +149,8 @@ class SliderForceTable:
     def from_csv(cls, path) -> "SliderForceTable":
         """The table in CSV file ``path``: a header ``crank_angle_deg,force_N`` and one row per angle."""
         path = Path(path)
-        refused = f"parameter slider_force_table={str(path)!r} is invalid: allowed a text CSV file"
+        invalid = f"parameter slider_force_table={str(path)!r} is invalid"     # the CLI names its option there
+        refused = f"{invalid}: allowed a text CSV file"
         try:
             with open(path, newline="", encoding="utf-8-sig") as f:     # a spreadsheet's byte-order mark dropped
                 rows = list(csv.reader(f))
@@ -161,31 +162,33 @@ class SliderForceTable:
             raise ParameterError(f"{refused}; it is not one ({error})") from None
         header = [c.strip() for c in rows[0]] if rows else []
         if header != ["crank_angle_deg", "force_N"]:
-            raise ParameterError(f"slider force table {path}, line 1: header {','.join(header)!r}: allowed "
+            raise ParameterError(f"{invalid}: line 1: header {','.join(header)!r}: allowed "
                                  "'crank_angle_deg,force_N'")
         angles, forces = [], []
         for line, row in enumerate(rows[1:], start=2):
             if not row or all(not c.strip() for c in row):
                 continue
             if len(row) != 2:
-                raise ParameterError(f"slider force table {path}, line {line}: {len(row)} columns: allowed 2 "
+                raise ParameterError(f"{invalid}: line {line}: {len(row)} columns: allowed 2 "
                                      "(crank_angle_deg,force_N)")
             values = []
             for name, text in zip(("crank_angle_deg", "force_N"), row):
                 try:
                     values.append(float(text))
                 except ValueError:
-                    raise ParameterError(f"slider force table {path}, line {line}: {name}={text.strip()!r} is not a "
-                                         "number") from None
+                    raise ParameterError(f"{invalid}: line {line}: {name}={text.strip()!r} is not a number") \
+                        from None
             angles.append(values[0])
             forces.append(values[1])
         if not angles:
-            raise ParameterError(f"slider force table {path}: no rows after the header: allowed 2 to "
+            raise ParameterError(f"{invalid}: no rows after the header: allowed 2 to "
                                  f"{L.MAX_LOAD_ROWS} rows, crank angles rising from 0 to 360 deg")
+        source = f"slider force table {path}"
         try:
-            return cls(tuple(angles), tuple(forces), source=f"slider force table {path}")
+            return cls(tuple(angles), tuple(forces), source=source)
         except ParameterError as error:     # rows of the table as lines of the file (the header is line 1)
-            raise ParameterError(_rows_as_lines(str(error), rows)) from None
+            problem = _rows_as_lines(str(error), rows).removeprefix(source).lstrip(",: ")
+            raise ParameterError(f"{invalid}: {problem}") from None
 
     def to_dict(self) -> dict:
         return {"crank_angle_deg": list(self.crank_angle_deg), "force_N": list(self.force_N), "source": self.source}
@@ -203,10 +206,12 @@ def _rows_as_lines(message: str, rows: list) -> str:
 
 def _gravity_pair(value) -> tuple[float, float]:
     """Gravity [m/s^2] as (g_x, g_y) in the mechanism's frame: a pair as given, a single value g as (0, -g)
-    (its magnitude across the slide, the paper's convention)."""
-    allowed = "one finite value g (-Y) or a pair (g_x, g_y) of finite values"
+    (its magnitude across the slide, the paper's convention: a negative one, which would point gravity up, is
+    refused; the pair says that)."""
+    allowed = ("one finite value g >= 0 (its magnitude, pointing along -y) or a pair (g_x, g_y) of finite values "
+               "(pointing up: 0,G)")
     if is_real(value):
-        require("gravity_m_s2", value, math.isfinite(value), allowed)
+        require("gravity_m_s2", value, math.isfinite(value) and value >= 0.0, allowed)
         return 0.0, 0.0 - float(value)        # (0 - g: g = 0 is +0, not -0)
     return finite_pair("gravity_m_s2", value, allowed)
 

@@ -52,21 +52,28 @@ def _table(rows, header, table_id) -> str:
     return f'<table id="{table_id}"><tr>{head}</tr>{body}</table>'
 
 
-def _parameter_rows(given: dict, defaults, sources: dict | None = None) -> list:
+def _parameter_rows(given: dict, defaults, sources: dict | None = None, derived=()) -> list:
     """(name, value, where it came from) of a parameter set's dict against the dataclass ``defaults`` (``sources``:
-    name -> where a value that is not the default came from, where that is not the user's option)."""
+    name -> where a value that is not the default came from, where that is not the user's option; ``derived``: the
+    names whose default follows the mechanism: "from the mechanism")."""
     reference = defaults.to_dict() if hasattr(defaults, "to_dict") else dataclasses.asdict(defaults)
-    return [(name, value, "default" if json.loads(json.dumps(reference.get(name))) == value else
-             (sources or {}).get(name, "given")) for name, value in given.items()]
+
+    def source(name, value):
+        if json.loads(json.dumps(reference.get(name))) == value:
+            return "from the mechanism" if name in derived else "default"
+        return (sources or {}).get(name, "given")
+    return [(name, value, source(name, value)) for name, value in given.items()]
 
 
 def _joint_defaults(parameters: dict):
-    """The joint's defaults in the summary's mechanism: the paper's joint with that mechanism's offsets and effective
-    mass (:func:`paper_joint`; a run's joint takes them from its mechanism unless given)."""
+    """(the joint's defaults in the summary's mechanism, the names among them its mechanism sets): the paper's joint
+    with that mechanism's offsets and effective mass (:func:`paper_joint`; a run's joint takes them from its
+    mechanism unless given)."""
     try:
-        return paper_joint(SliderCrankParameters.from_dict(parameters["mechanism"]))
+        mechanism = SliderCrankParameters.from_dict(parameters["mechanism"])
+        return paper_joint(mechanism), tuple(mechanism.joint_defaults())
     except (KeyError, TypeError, ValueError):
-        return JointParameters()
+        return JointParameters(), ()
 
 
 def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> str:
@@ -85,15 +92,16 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
-    for label, key, defaults in (("Joint", "joint", _joint_defaults(parameters)),
-                                 ("Mechanism", "mechanism", SliderCrankParameters())):
+    joint_defaults, derived = _joint_defaults(parameters)
+    for label, key, defaults in (("Joint", "joint", joint_defaults), ("Mechanism", "mechanism", SliderCrankParameters())):
         if isinstance(parameters.get(key), dict):
             parts.append(f"<h2>{label} parameters</h2>")
             if key == "joint" and "wear_coefficient_source" in summary:
                 parts.append(f"<p>The wear coefficient: {html.escape(source)}"
                              f"{'. ' + html.escape(str(summary['wear_coefficient_note'])) if summary.get('wear_coefficient_note') else ''}</p>")
-            parts.append(_table(_parameter_rows(parameters[key], defaults, sources if key == "joint" else None),
-                                ("parameter", "value", "from"), key))
+            joint = key == "joint"
+            parts.append(_table(_parameter_rows(parameters[key], defaults, sources if joint else None,
+                                                derived if joint else ()), ("parameter", "value", "from"), key))
     for name, data in figures:
         encoded = base64.b64encode(data).decode("ascii")
         parts.append(f'<h3>{html.escape(name)}</h3><img alt="{html.escape(name)}" src="data:image/png;base64,{encoded}">')

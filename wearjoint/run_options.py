@@ -354,7 +354,7 @@ def add_integration_arguments(parser) -> None:
                    help="dopri: largest step that starts with no contact [s], where nothing wears " + free_flight)
     g.add_argument("--sample-dt", type=float, default=defaults.sample_dt_s, help=SAMPLE_DT_HELP.format(
         "a dopri step in free flight, up to --free-flight-max-step"))
-    g.add_argument("--ideal", action="store_true", help="ideal crank-rod revolute (no clearance)")
+    g.add_argument("--ideal", action="store_true", help="the clearance joint (--clearance-joint) ideal: no clearance")
     add_initial_profile_argument(g)
 
 

@@ -14,8 +14,8 @@ def pack_mechanism_parameters(p: SliderCrankParameters) -> np.ndarray:
 
 
 class SliderCrank:
-    """Rigid slider-crank of Eqs. 38-44; ``ideal=True`` keeps the crank-rod revolute
-    as a constraint, otherwise the crank-rod joint is open (its loads come from a
+    """Rigid slider-crank of Eqs. 38-44; the ideal mechanism keeps the clearance joint's revolute
+    (``clearance_joint``) as a constraint, otherwise that joint is open (its loads come from a
     clearance joint, in-process or from a co-simulation slave)."""
 
     def __init__(self, params: SliderCrankParameters | None = None):
@@ -27,8 +27,9 @@ class SliderCrank:
         return kernel_calls.initial_state(0.0, self.parameter_vector, self.workspace)
 
     def ideal_joint_force(self, t) -> np.ndarray:
-        """|Reaction| [N] of the ideal crank-rod revolute at times t [s], with gravity and the slider's load: what
-        the joint would carry without clearance (the kernels' ideal mechanism on its consistent state)."""
+        """|Reaction| [N] of the clearance joint made ideal (``clearance_joint``'s revolute) at times t [s], with
+        gravity and the slider's load: what the joint would carry without clearance (the kernels' ideal mechanism
+        on its consistent state)."""
         return kernel_calls.ideal_joint_forces(np.atleast_1d(np.asarray(t, dtype=float)), self.parameter_vector,
                                                self.workspace)
 

@@ -222,3 +222,22 @@ def test_an_initial_profile_is_checked_when_read(tmp_path, capsys, command, chan
                   str(tmp_path / "run"))
     assert f"--initial-profile='{profile}' is invalid" in err and message in err
     assert not (tmp_path / "run").exists()
+
+
+# ----------------------------------------------------------------------------- negative numbers
+@pytest.mark.parametrize("options, message", [
+    (["--step", "-1e-6", "--integrator", "rk4"], "--step=-1e-06 (step_s) is invalid: allowed > 0"),
+    (["--wear-coefficient-m2-N", "-1E-14"], "--wear-coefficient-m2-N=-1e-14 (wear_coefficient_m2_N) is invalid: "
+                                            "allowed >= 0"),
+    (["--restitution", "-inf"], "--restitution=-inf (restitution) is invalid: allowed a finite real number in (0, 1]"),
+    (["--gravity-m-s2", "-9.81"], "--gravity-m-s2=-9.81 (gravity_m_s2) is invalid: allowed one finite value g >= 0"),
+])
+def test_a_negative_value_in_any_notation_is_read_as_the_options_value(tmp_path, capsys, options, message):
+    """argparse took -1e-6, -inf and -9.81,0 for options ("expected one argument": no value, no range named); the
+    `=` the docs asked for is not needed."""
+    err = refused(capsys, "simulate", *options, "--out", str(tmp_path / "run"))
+    assert message in err
+    assert not (tmp_path / "run").exists()
+    from wearjoint.cli import build_parser
+    args = build_parser("simulate").parse_args(["simulate", "--gravity-m-s2", "-9.81,0", "--out", "x"])
+    assert args.gravity_m_s2 == (-9.81, 0.0)

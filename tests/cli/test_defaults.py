@@ -18,6 +18,7 @@ from wearjoint.fmu.build import FMI_VERSIONS
 from wearjoint.fmu.model_description import interfaces, model_description_fmi3_xml, model_description_xml
 from wearjoint.fmu.ssp import CONTAINER_STEP_S
 from wearjoint.parameters import JointParameters, SliderCrankParameters
+from wearjoint.studies.calibration import DEFAULT_TOLERANCE
 from wearjoint.simulate import SimulationOptions
 from wearjoint.validation.compare import FULL, ValidationPlan
 from wearjoint.studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
@@ -52,6 +53,7 @@ RESOLVED = {
     ("validate", "wear_factor"): FULL.wear_factor,
     ("export-ssp", "container_step"): CONTAINER_STEP_S,
     ("wear-study", "seeds"): DEFAULT_SEEDS,
+    ("calibrate", "tolerance"): DEFAULT_TOLERANCE,      # without depth uncertainties (refused with them)
 }
 
 

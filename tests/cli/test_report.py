@@ -81,8 +81,9 @@ def test_the_parameters_say_where_they_came_from_and_the_figures_are_embedded(fo
 
 
 def test_a_joints_values_its_mechanism_sets_are_defaults_and_a_calibrated_k_w_names_its_source(tmp_path):
-    """A rod-slider joint's offsets and effective mass come from its mechanism (they were marked "given"); a k_w
-    from --calibration DIR says so (it was "given")."""
+    """A rod-slider joint's offsets and effective mass come from its mechanism, and say so (they were marked
+    "given", then "default" though another rod length moves them); a k_w from --calibration DIR says so (it was
+    "given")."""
     calibration = tmp_path / "cal"
     calibration.mkdir()
     (calibration / "calibration.json").write_text(json.dumps({"law": "archard", "wear_coefficient_m2_N": 3.5e-13}))
@@ -91,7 +92,8 @@ def test_a_joints_values_its_mechanism_sets_are_defaults_and_a_calibrated_k_w_na
                  str(calibration), "--quiet", "--no-plots", "--out", str(out)]) == 0
     page = Tables((out / REPORT_NAME).read_text(encoding="utf-8"))
     joint = {name: source for name, _, source in page.tables["joint"]}
-    assert joint["pin_offset_m"] == joint["bushing_offset_m"] == joint["effective_mass_kg"] == "default"
+    assert joint["pin_offset_m"] == joint["bushing_offset_m"] == joint["effective_mass_kg"] == "from the mechanism"
+    assert joint["pin_radius_m"] == "default"
     assert joint["wear_coefficient_m2_N"] == f"calibration {calibration}"
     mechanism = {name: source for name, _, source in page.tables["mechanism"]}
     assert mechanism["clearance_joint"] == "given"

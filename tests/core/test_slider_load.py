@@ -80,6 +80,10 @@ def test_gravity_is_a_vector_and_a_single_value_is_its_magnitude_across_the_slid
     assert SliderCrankParameters(gravity_m_s2=(9.81, 0.0)).gravity_m_s2 == (9.81, 0.0)
     with pytest.raises(ParameterError, match="gravity_m_s2"):
         SliderCrankParameters(gravity_m_s2=(1.0, 2.0, 3.0))
+    # a magnitude below 0 would point gravity up: a user writing -9.81 for "down" got (0, +9.81); the pair says up
+    with pytest.raises(ParameterError, match=r"gravity_m_s2=-9\.81 is invalid: allowed one finite value g >= 0"):
+        SliderCrankParameters(gravity_m_s2=-9.81)
+    assert SliderCrankParameters(gravity_m_s2=(0.0, 9.81)).gravity_m_s2 == (0.0, 9.81)
     with pytest.raises(ParameterError, match="slider_force_N"):
         SliderCrankParameters(slider_force_N=math.inf)
 
@@ -229,7 +233,8 @@ def test_the_cli_refuses_a_bad_table_in_one_line_and_exit_2(tmp_path, capsys, te
     code = main(["simulate", "--revolutions", "0.01", "--slider-force-table", str(path), "--out",
                  str(tmp_path / "out")])
     error = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and len(error) == 1 and problem in error[0] and str(path) in error[0], error
+    assert code == 2 and len(error) == 1 and problem in error[0], error
+    assert f"--slider-force-table={str(path)!r} (slider_force_table) is invalid" in error[0], error
     assert not (tmp_path / "out").exists()
 
 

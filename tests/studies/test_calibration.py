@@ -206,6 +206,24 @@ def test_calibrate_prints_whether_the_residuals_are_within_the_tolerance(tmp_pat
     assert f"replacing the fit in {tmp_path / 'c' / 'calibration.json'}" in capsys.readouterr().out
 
 
+def test_with_depth_uncertainties_the_test_says_whether_it_fits_not_a_share_of_the_depth(tmp_path, capsys):
+    """A press designer's two points, 12 and 35 um +- 3 um: chi^2 0.24, p 0.62, "consistent", and then "+11.3 %:
+    beyond --tolerance 0.1, not a fit" (the share ignored the uncertainties, here 25 % of 12 um).  The verdict is
+    the test's, and --tolerance with uncertainties is refused."""
+    study = written_study(tmp_path / "study")
+    uncertain = ["--points", "1000:1e-5,2000:2.3e-5", "--depth-uncertainty-m", "3e-6", "--no-plots"]
+    assert cli_main(["calibrate", "--study", str(study), *uncertain, "--out", str(tmp_path / "c")]) == 0
+    residuals = next(line for line in capsys.readouterr().out.splitlines() if "residuals" in line)
+    fit = json.loads((tmp_path / "c" / "calibration.json").read_text())
+    assert fit["consistent"] and max(abs(r) for r in fit["residuals_rel"]) > 0.1   # beyond the old 10 % share
+    assert fit["fits"] and fit["tolerance_rel"] is None
+    assert residuals.endswith("within their uncertainties (the chi^2 test), a fit"), residuals
+    assert cli_main(["calibrate", "--study", str(study), *uncertain, "--tolerance", "0.1",
+                     "--out", str(tmp_path / "d")]) == 2
+    assert "--tolerance=0.1 is invalid: allowed only without depth uncertainties" in capsys.readouterr().err
+    assert not (tmp_path / "d").exists()
+
+
 def test_calibrate_command_writes_its_json_and_figure_and_refuses_a_folder_without_a_study(tmp_path, capsys):
     study = written_study(tmp_path / "study")
     assert cli_main(["calibrate", "--study", str(study), "--points", "1000:1e-4", "--out", str(tmp_path / "c")]) == 0

@@ -46,8 +46,20 @@ DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears
                "FMU co-simulation, validation and the paper's wear study.")
 
 
+# an option's value that is a negative number or a list of numbers starting with one: argparse (3.10-3.12) takes -1e-6,
+# -inf and -9.81,0 for options and says "expected one argument", which names no value; read as values, the option's own
+# check names it and its range
+_NUMBER = r"(?:(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|inf|infinity|nan)"
+_NEGATIVE_NUMBER = re.compile(rf"^-{_NUMBER}(?:,[-+]?{_NUMBER})*$", re.IGNORECASE)
+
+
 class OneLineErrorParser(argparse.ArgumentParser):
-    """argparse's parser whose error is one line (the option, what is wrong; where to look), not the usage block."""
+    """argparse's parser whose error is one line (the option, what is wrong; where to look), not the usage block;
+    a negative number in any notation (or a list of numbers starting with one) is a value."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message} (`{self.prog} --help` lists the options)\n")

@@ -12,7 +12,7 @@ import numpy as np
 from ..parameters import ParameterError
 from ..results import write_json_atomic
 from ..studies.calibration import (
-    fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
+    DEFAULT_TOLERANCE, fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
 )
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from .options import require_option, with_options
@@ -41,8 +41,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--transition-depth-m", type=float, default=None,
                         help="mild-severe (required there): the max depth at which the wear turns severe [m], a "
                              "stated input (with two points the two rates are then determined exactly: no interval)")
-    parser.add_argument("--tolerance", type=float, default=0.1,
-                        help="archard: residuals within this share count as a fit (default %(default)g)")
+    parser.add_argument("--tolerance", type=float, default=None,
+                        help=f"archard without depth uncertainties: residuals within this share count as a fit "
+                             f"(default {DEFAULT_TOLERANCE:g}); with them the chi^2 test judges the fit")
     parser.add_argument("--out", default=None,
                         help="where to write calibration.json and calibration.png (default: --study)")
     parser.add_argument("--no-plots", action="store_true", help="skip calibration.png")
@@ -99,6 +100,15 @@ def _read_study(folder: str) -> tuple[dict, np.ndarray, float]:
     return summary, growth, k0
 
 
+def _verdict(result: dict, tolerance: float) -> str:
+    """The residuals line's end: the model's test with depth uncertainties, else --tolerance."""
+    if result.get("consistent") is not None:
+        return (": within their uncertainties (the chi^2 test), a fit" if result["fits"]
+                else ": beyond their uncertainties (the chi^2 test), not a fit")
+    return (f": each within --tolerance {tolerance:g} of its depth, a fit" if result["fits"]
+            else f": beyond --tolerance {tolerance:g} of its depth, not a fit")
+
+
 def _band(band, scale=1.0, unit="") -> str:
     return f" (95 % band {band[0] * scale:.3g} ... {band[1] * scale:.3g}{unit})" if band else " (no band)"
 
@@ -121,6 +131,9 @@ def run(args) -> int:
                                  "this machine's measured REVOLUTIONS:MAX_DEPTH_M[:UNCERTAINTY_M] points")
         args.points = EXPERIMENT_POINTS
     points = _points(args.points, args.depth_uncertainty_m)
+    require_option("--tolerance", args.tolerance, args.tolerance is None or any(u is None for _, _, u in points),
+                   "only without depth uncertainties (with them the chi^2 test judges the fit)")
+    args.tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     asked = _revolutions(args.predict_revolutions)
     try:
         result, fits = _fit(args, summary, growth, k0, points, asked)
@@ -171,8 +184,7 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
         if result["note"]:
             print(f"  {result['note']}")
         print("  residuals " + ", ".join(f"{r:+.1%} at {p[0]:g} rev" for r, p in zip(result["residuals_rel"], points))
-              + (f": each within --tolerance {args.tolerance:g} of its depth, a fit" if result["fits"]
-                 else f": beyond --tolerance {args.tolerance:g} of its depth, not a fit"))
+              + _verdict(result, args.tolerance))
         result["master_curve"] = master_curve_check(k0, result)
         if result["master_curve"]["note"]:
             print(f"  {result['master_curve']['note']}")

@@ -54,9 +54,11 @@ def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray,
 
 
 CONFIDENCE = 0.95   # of the model's test (rejected below 1 - CONFIDENCE) and of interval_95_m2_N
+DEFAULT_TOLERANCE = 0.1   # without depth uncertainties: the share of each depth within which the residuals fit
 
 
-def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, curve_error_rel: float = 0.0) -> dict:
+def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = DEFAULT_TOLERANCE,
+                curve_error_rel: float = 0.0) -> dict:
     """One k_w for all ``points`` [(revolutions, max depth [m][, its standard uncertainty [m]])], on the study
     ``growth`` run at k0 [m^2/N].
 
@@ -67,7 +69,8 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
     (``consistent``: p >= 1 - CONFIDENCE); the interval where chi^2 - chi^2_min <= chi^2_1(CONFIDENCE) (profile
     likelihood: coverage for Gaussian errors, shrinking with U to the curve's own error), none where the model
     is rejected.  Without uncertainties the least squares of the log depths gives k_w alone: neither a test nor
-    an interval (the residuals' misfit is no measurement error)."""
+    an interval (the residuals' misfit is no measurement error).  ``fits``: the test's verdict with uncertainties,
+    else every residual within ``tolerance`` of its depth."""
     curve, inverse = master_curve(growth)
     n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1])
     positive("tolerance", tolerance)
@@ -118,8 +121,11 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = 0.1, c
                        "point alone gives its own k_w (each_point_alone_m2_N); a law whose rate changes with depth "
                        "(--law mild-severe) or larger uncertainties would be needed"))
     res = log_residuals(log_s)
+    if out["consistent"] is not None:           # with uncertainties the test judges, not a share of the depths
+        out["tolerance_rel"] = None
     out.update(residuals_rel=[float(math.expm1(r)) for r in res],
-               fits=bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
+               fits=bool(out["consistent"]) if out["consistent"] is not None
+               else bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
                local_growth_exponents=[_local_exponent(curve, x, growth[-1, 0])
                                        for x in out["wear_coefficient_m2_N"] / k0 * n])
     return out
