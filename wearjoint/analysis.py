@@ -123,24 +123,29 @@ def _finite(x):
 
 
 def steady_revolutions(stats: np.ndarray, settling_revolutions: int = 1) -> tuple[int, np.ndarray]:
-    """(the first revolution, a mask of the rows) the run's extremes are taken over: the revolutions it reached after
-    the first ``settling_revolutions`` (the start-up transient), or all it reached if it ends before they are over."""
+    """(the first revolution, a mask of the rows) the run's extremes are taken over: its counted revolutions
+    (:func:`counted_revolutions`: a sliver after the last is not a revolution) after the first
+    ``settling_revolutions`` (the start-up transient), or all its counted ones if it ends before they are over."""
+    rows = np.zeros(stats.shape[0], dtype=bool)
+    rows[counted_revolutions(stats)] = True
     first = max(0, int(settling_revolutions))
-    first = first if first <= last_revolution(stats) else 0
-    return first, covered(stats) & (np.arange(stats.shape[0]) >= first)
+    first = first if rows[first:].any() else 0
+    return first, rows & (np.arange(stats.shape[0]) >= first)
 
 
 def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
-    """The statistics of ``summary.json`` (docs/reference/results.md §6): of the last revolution the contact
-    fraction, the impacts and the slider acceleration extremes (None if not finite); the max contact
-    force and the max eccentricity over the revolutions after the first ``settling_revolutions`` (the
-    start-up transient: the pin starts centred at full speed), which are reported apart under
-    ``start_up``.  A run that has not passed them (it ends in revolution ``settling_revolutions`` or before) keeps
-    its transient in the statistics (``statistics_from_revolution`` 0) and says so."""
-    last_index = last_revolution(stats)
+    """The statistics of ``summary.json`` (docs/reference/results.md §6): of the last counted revolution (a sliver
+    after it, a run of 1.02 revolutions, is none) the contact fraction, the impacts and the slider acceleration
+    extremes (None if not finite); the max contact force and the max eccentricity over the counted revolutions
+    after the first ``settling_revolutions`` (the start-up transient: the pin starts centred at full speed), which
+    are reported apart under ``start_up`` (:func:`steady_revolutions`).  A run that has not passed them (it ends in
+    revolution ``settling_revolutions`` or before) keeps its transient in the statistics
+    (``statistics_from_revolution`` 0) and says so."""
+    counted = counted_revolutions(stats)
+    last_index = int(counted[-1]) if counted.size else 0
     last = stats[last_index]
     first, steady = steady_revolutions(stats, settling_revolutions)
-    transient = covered(stats) & ~steady
+    transient = covered(stats) & (np.arange(stats.shape[0]) < first)
     out = {
         "max_contact_force_N": float(stats[steady, L.S_FORCE_MAX].max()) if steady.any() else 0.0,
         "contact_fraction": float(contact_fraction(last)) if last[L.S_TIME] > 0 else 0.0,

@@ -38,21 +38,36 @@ def test_the_time_rms_of_a_sine_does_not_move_with_the_sampling():
 
 
 def test_the_joint_force_over_the_ideal_takes_the_revolutions_of_the_max_contact_force():
-    """1.5 revolutions: the run's extremes leave out revolution 0 (the start-up); the ideal joint's largest force
+    """1.6 revolutions: the run's extremes leave out revolution 0 (the start-up); the ideal joint's largest force
     came from revolution 0 (where a press's stroke lay, 7871 N) while the clearance joint's came from revolution 1
     (4170 N), and the ratio said 0.53 where revolution 1 against itself is 1.09."""
     stats = new_revolution_stats(2)
-    stats[0, L.S_TIME], stats[1, L.S_TIME] = PERIOD, 0.5 * PERIOD
+    stats[0, L.S_TIME], stats[1, L.S_TIME] = PERIOD, 0.6 * PERIOD
     stats[0, L.S_FORCE_MAX], stats[1, L.S_FORCE_MAX] = 9000.0, 4170.0
-    times = np.linspace(0.0, 1.5 * PERIOD, 301)[1:]
+    times = np.linspace(0.0, 1.6 * PERIOD, 321)[1:]
     ideal = np.where(times < PERIOD, 7871.0, 3809.0)
-    error = np.ones_like(times)
     statistics = analysis.run_statistics(stats, 1)
     summary = against_ideal.summary_statistics(_samples(times), stats, MECHANISM, 1,
-                                               statistics["max_contact_force_N"], (error, ideal))
+                                               statistics["max_contact_force_N"], (np.ones_like(times), ideal))
     assert statistics["max_contact_force_N"] == 4170.0
     assert summary["ideal_joint_force_max_N"] == 3809.0
     assert summary["joint_force_over_ideal"] == pytest.approx(4170.0 / 3809.0)
+
+
+def test_a_sliver_after_the_last_revolution_is_no_revolution_on_either_side():
+    """1.02 revolutions: the 2 % of revolution 1 is no revolution after the start-up (the largest contact force and
+    the last revolution's impacts were its own); both sides keep revolution 0 and say so."""
+    stats = new_revolution_stats(2)
+    stats[0, [L.S_TIME, L.S_FORCE_MAX, L.S_IMPACTS]] = PERIOD, 9000.0, 40.0
+    stats[1, [L.S_TIME, L.S_FORCE_MAX, L.S_IMPACTS]] = 0.02 * PERIOD, 300.0, 1.0
+    times = np.linspace(0.0, 1.02 * PERIOD, 205)[1:]
+    ideal = np.where(times < PERIOD, 7871.0, 100.0)
+    statistics = analysis.run_statistics(stats, 1)
+    summary = against_ideal.summary_statistics(_samples(times), stats, MECHANISM, 1,
+                                               statistics["max_contact_force_N"], (np.ones_like(times), ideal))
+    assert statistics["statistics_from_revolution"] == 0 and "included" in statistics["start_up"]
+    assert statistics["max_contact_force_N"] == 9000.0 and statistics["impacts_per_revolution"] == 40
+    assert summary["joint_force_over_ideal"] == pytest.approx(9000.0 / 7871.0)
 
 
 def test_a_run_inside_its_start_up_takes_it_on_both_sides():
