@@ -372,6 +372,7 @@ class Corruption(RuleBasedStateMachine):
         self.i.fmu.enterInitializationMode()
         self.i.fmu.exitInitializationMode()
         self.time = 0.0
+        self.times = {}      # a serialised state's bytes -> its time (a step after setting it starts there)
 
     def teardown(self):
         self.i.fmu.freeInstance()
@@ -390,6 +391,7 @@ class Corruption(RuleBasedStateMachine):
         status, state = self.i.get_state()
         data = self.i.serialise(state)
         self.i.free_state(state)
+        self.times[bytes(data)] = self.time
         return data
 
     def attempt(self, kind, original, data, other=None):
@@ -403,6 +405,7 @@ class Corruption(RuleBasedStateMachine):
         COUNTS[f"accepted {kind}" + (" (unchanged bytes)" if same else "")] += 1
         assert self.i.serialise(state) == bytes(data), "an accepted state does not serialise to its bytes"
         assert self.i.set_state(state) == OK
+        self.time = self.times.get(bytes(data), self.time)
         read, values = self.i.get_reals(self.i.outputs)
         COUNTS["non-finite outputs behind OK"] += read == OK and not all(math.isfinite(v) for v in values)
         assert read != OK or all(math.isfinite(v) for v in values)

@@ -139,7 +139,7 @@ _INSTANCE_NUMBERS = itertools.count()
 class Slave:
     """One fmpy FMU2Slave instance (unique instance name) with its log messages as (status, text)."""
 
-    def __init__(self, fmu, name, parameters=None, integers=None, logging_on=True):
+    def __init__(self, fmu, name, parameters=None, integers=None, logging_on=True, stop_time=None):
         self.vr = fmu["vr"]
         name = f"{name}_{next(_INSTANCE_NUMBERS)}"
         self.log = LOGS[name]
@@ -147,11 +147,12 @@ class Slave:
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmu["dir"],
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         self.fmu.instantiate(callbacks=CALLBACKS, loggingOn=logging_on)
-        self.start(parameters, integers)
+        self.start(parameters, integers, stop_time)
 
-    def start(self, parameters=None, integers=None):
-        """setupExperiment, enterInitializationMode and the given parameter values."""
-        self.fmu.setupExperiment(startTime=0.0)
+    def start(self, parameters=None, integers=None, stop_time=None):
+        """setupExperiment (from 0, to ``stop_time`` where given), enterInitializationMode and the given parameter
+        values."""
+        self.fmu.setupExperiment(startTime=0.0, stopTime=stop_time)
         self.fmu.enterInitializationMode()
         if parameters:
             self.fmu.setReal([self.vr[k] for k in parameters], list(parameters.values()))

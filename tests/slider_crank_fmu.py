@@ -61,9 +61,11 @@ def smooth_loads(t):
                      5 * math.sin(7 * t)])
 
 
-def trace_command(tmp_path, n: int, h: float = 1e-3) -> str:
-    """The C hosts' ``trace`` command over ``n`` steps of ``h`` [s] under the smooth loads (file in tmp_path)."""
-    path = write_trace_file(tmp_path / "loads.txt", [[i * h, h, *smooth_loads(i * h)] for i in range(n)])
+def trace_command(tmp_path, n: int, h: float = 1e-3, start: float = 0.0) -> str:
+    """The C hosts' ``trace`` command over ``n`` steps of ``h`` [s] from ``start`` [s] (the FMU's time: a step from
+    another is refused) under the smooth loads (file in tmp_path)."""
+    times = [start + i * h for i in range(n)]
+    path = write_trace_file(tmp_path / f"loads_{start:g}.txt", [[t, h, *smooth_loads(t)] for t in times])
     return f"trace {path} {len(INPUT_VRS)} {','.join(map(str, INPUT_VRS))} {','.join(map(str, OUTPUT_VRS))}\n"
 
 

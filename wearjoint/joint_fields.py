@@ -42,19 +42,21 @@ _OPEN_HALF = Allowed(0.0, True, 0.5, True)
 # Hertz half-width stay finite): radii from a micrometre (MEMS hinges) to 100 m, a contact at least a micrometre long,
 # moduli up to ten times diamond's, a given K up to 1e20 N/m^n (the paper's: 7.95e10 N/m^1.5)
 _MODULUS = Allowed(0.0, True, 1e13, note="Pa, 10x diamond's 1.2e12 Pa")
+# a body frame's point within a kilometre of its origin [m] (1e300 passed, and its contact said "penetration -inf")
+_OFFSET = Allowed(-1e3, False, 1e3)
 JOINT_FIELDS: tuple[JointField, ...] = (
     JointField("pin_radius", "pin_radius_m", "m", "pin radius R_i", L.P_PIN_RADIUS,
                Allowed(1e-6, False, 100.0, note="m")),
     JointField("bushing_radius", "bushing_radius_m", "m", "unworn bushing radius R_j (> pin_radius)",
                L.P_BUSHING_RADIUS, Allowed(0.0, True, 100.0, above="pin_radius", note="m")),
     JointField("pin_offset_x", "pin_offset_m", "m", "pin centre in the pin body frame, x", L.P_PIN_OFFSET_X,
-               component=0),
+               _OFFSET, component=0),
     JointField("pin_offset_y", "pin_offset_m", "m", "pin centre in the pin body frame, y", L.P_PIN_OFFSET_Y,
-               component=1),
+               _OFFSET, component=1),
     JointField("bushing_offset_x", "bushing_offset_m", "m", "bushing centre in the bushing body frame, x",
-               L.P_BUSHING_OFFSET_X, component=0),
+               L.P_BUSHING_OFFSET_X, _OFFSET, component=0),
     JointField("bushing_offset_y", "bushing_offset_m", "m", "bushing centre in the bushing body frame, y",
-               L.P_BUSHING_OFFSET_Y, component=1),
+               L.P_BUSHING_OFFSET_Y, _OFFSET, component=1),
     JointField("contact_length", "contact_length_m", "m", "axial contact length L", L.P_CONTACT_LENGTH,
                Allowed(1e-6, note="m, a micrometre")),
     JointField("pin_youngs_modulus", "pin_youngs_modulus_Pa", "Pa", "Young's modulus of the pin",

@@ -96,6 +96,7 @@ fmi2Component fmi2Instantiate(fmi2String instance_name, fmi2Type fmu_type, fmi2S
     inst->callbacks = *functions;
     inst->type = fmu_type;
     inst->mode = MODE_INSTANTIATED;
+    inst->stop_time = INFINITY;
     inst->model = model_new(name, logging_on, log_to_host, allocate, release, &inst->callbacks);
     if (inst->model == NULL) {
         release((void *)functions, inst);
@@ -132,15 +133,10 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined, f
     Instance *inst = c;
     (void)tolerance_defined;
     (void)tolerance;
-    (void)stop_time_defined;
-    (void)stop_time;
     if (inst == NULL || !mode_is(inst, "fmi2SetupExperiment", M(MODE_INSTANTIATED)))
         return fmi2Error;
-    if (!isfinite(start_time)) {
-        LOG(inst, fmi2Error, "fmi2SetupExperiment: startTime=%g is invalid: allowed a finite time",
-                  start_time);
+    if (!start_and_stop_time(inst, "fmi2SetupExperiment", start_time, stop_time_defined, stop_time))
         return fmi2Error;
-    }
     model_set_start_time(inst->model, start_time);
     return fmi2OK;
 }
@@ -175,6 +171,7 @@ fmi2Status fmi2Reset(fmi2Component c)
         return fmi2Error;
     inst->mode = MODE_INSTANTIATED;
     inst->discarded = fmi2False;
+    inst->stop_time = INFINITY;
     return fmi2OK;
 }
 

@@ -14,10 +14,12 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real current_time, fmi2Real step_size
     if (inst == NULL || !mode_is(inst, "fmi2DoStep", M(MODE_STEP_COMPLETE)))
         return fmi2Error;
     fmi2Status status = fmi2Discard;
-    if (isfinite(current_time))
-        status = (fmi2Status)model_do_step(inst->model, current_time, step_size, "fmi2DoStep");
-    else
+    if (!isfinite(current_time))
         LOG(inst, fmi2Error, "fmi2DoStep: currentCommunicationPoint=%g is not finite", current_time);
+    else if (!step_allowed(inst, "fmi2DoStep", current_time, step_size))
+        status = fmi2Error;
+    else
+        status = (fmi2Status)model_do_step(inst->model, current_time, step_size, "fmi2DoStep");
     inst->discarded = status == fmi2Discard;
     return status;
 }

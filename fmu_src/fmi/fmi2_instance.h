@@ -28,6 +28,7 @@ typedef struct {
     fmi2Type type;
     Mode mode;
     fmi2Boolean discarded;   /* the last fmi2DoStep returned fmi2Discard: the joint cannot go on (fmi2Terminated) */
+    double stop_time;        /* the master's stop time [s] (INFINITY: none): no step passes it */
 } Instance;
 
 #define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)

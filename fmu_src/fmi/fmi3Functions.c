@@ -96,6 +96,7 @@ static Instance *instantiate(const char *function, fmi3String instance_name, fmi
     inst->log_message = log_message;
     inst->co_simulation = co_simulation;
     inst->mode = MODE_INSTANTIATED;
+    inst->stop_time = INFINITY;
     inst->model = model_new(instance_name, logging_on, log_to_host, allocate, release, inst);
     if (inst->model == NULL) {
         free(inst);
@@ -176,15 +177,10 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
     Instance *inst = instance;
     (void)tolerance_defined;
     (void)tolerance;
-    (void)stop_time_defined;
-    (void)stop_time;
     if (inst == NULL || !mode_is(inst, "fmi3EnterInitializationMode", M(MODE_INSTANTIATED)))
         return fmi3Error;
-    if (!isfinite(start_time)) {
-        LOG(inst, fmi3Error, "fmi3EnterInitializationMode: startTime=%g is invalid: allowed a finite time",
-                  start_time);
+    if (!start_and_stop_time(inst, "fmi3EnterInitializationMode", start_time, stop_time_defined, stop_time))
         return fmi3Error;
-    }
     model_set_start_time(inst->model, start_time);
     inst->mode = MODE_INITIALIZATION;
     return fmi3OK;
@@ -228,6 +224,7 @@ fmi3Status fmi3Reset(fmi3Instance instance)
     if (!model_reset(inst->model))
         return fmi3Error;
     inst->mode = MODE_INSTANTIATED;
+    inst->stop_time = INFINITY;
     return fmi3OK;
 }
 

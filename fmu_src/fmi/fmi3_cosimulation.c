@@ -37,10 +37,12 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 current_time, fmi3Float
     *early_return = fmi3False;
     *last_successful_time = model_time(inst->model);
     int status = fmi3Discard;
-    if (isfinite(current_time))
-        status = model_do_step(inst->model, current_time, step_size, "fmi3DoStep");
-    else
+    if (!isfinite(current_time))
         LOG(inst, fmi3Error, "fmi3DoStep: currentCommunicationPoint=%g is not finite", current_time);
+    else if (!step_allowed(inst, "fmi3DoStep", current_time, step_size))
+        status = fmi3Error;
+    else
+        status = model_do_step(inst->model, current_time, step_size, "fmi3DoStep");
     *last_successful_time = model_time(inst->model);
     *terminate_simulation = status == fmi3Discard;   /* the refused step cannot be taken again (fmi2Terminated) */
     return (fmi3Status)status;

@@ -28,6 +28,7 @@ typedef struct {
     fmi3LogMessageCallback log_message;
     int co_simulation;             /* 1: Co-Simulation, 0: Model Exchange */
     Mode mode;
+    double stop_time;        /* the master's stop time [s] (INFINITY: none): no step passes it */
 } Instance;
 
 #define LOG(inst, ...) fmu_log(model_host((inst)->model), __VA_ARGS__)

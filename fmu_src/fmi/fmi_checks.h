@@ -6,6 +6,8 @@
 #ifndef WEARJOINT_FMI_CHECKS_H
 #define WEARJOINT_FMI_CHECKS_H
 
+#include <float.h>
+#include <math.h>
 #include <stddef.h>
 
 #include "fmu_model.h"
@@ -28,6 +30,44 @@ static inline int change_mode(Instance *inst, const char *function, unsigned mod
         return FMU_ERROR;
     inst->mode = next;
     return FMU_OK;
+}
+
+/* The experiment's start and stop time (fmi2SetupExperiment, fmi3EnterInitializationMode): the start finite, a
+ * defined stop not before it; the stop kept for step_allowed (INFINITY if not defined).  1, or 0 logged. */
+static inline int start_and_stop_time(Instance *inst, const char *function, double start, int stop_defined,
+                                      double stop)
+{
+    if (!isfinite(start)) {
+        LOG(inst, FMU_ERROR, "%s: startTime=%g is invalid: allowed a finite time", function, start);
+        return 0;
+    }
+    if (stop_defined && !(stop >= start)) {
+        LOG(inst, FMU_ERROR, "%s: stopTime=%g is invalid: allowed a time >= startTime=%g", function, stop, start);
+        return 0;
+    }
+    inst->stop_time = stop_defined ? stop : INFINITY;
+    return 1;
+}
+
+/* A Co-Simulation step from t over h: from the FMU's time (the start time, the end of its last step or the time of
+ * a state set; to rounding, a thousandth of the step) and not past the stop time (as much).  A master that lost or
+ * repeated a step, or runs past its own stop time, is told: 1, or 0 logged. */
+static inline int step_allowed(const Instance *inst, const char *function, double t, double h)
+{
+    double time = model_time(inst->model);
+    double slack = 1e-3 * fabs(h) + 4.0 * DBL_EPSILON * fmax(fabs(t), fabs(time));
+    if (!(fabs(t - time) <= slack)) {
+        LOG(inst, FMU_ERROR, "%s: currentCommunicationPoint=%.17g s is invalid: allowed the FMU's time %.17g s (the "
+            "start time, the end of its last step or a state's time set): a step was lost or repeated", function, t,
+            time);
+        return 0;
+    }
+    if (t + h > inst->stop_time + slack) {
+        LOG(inst, FMU_ERROR, "%s: a step of %g s from %.17g s ends past the stop time %.17g s the master set: "
+            "allowed up to it", function, h, t, inst->stop_time);
+        return 0;
+    }
+    return 1;
 }
 
 /* The mode an initialised instance runs in: between steps (Co-Simulation) or Event Mode (Model Exchange). */

@@ -352,14 +352,13 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
     return status;
 }
 
-/* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs
- * were held over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange:
- * the step's mean force, docs/reference/model.md §3.11).
- * FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, for inputs deeper in the bushing wall than
- * any contact or a bushing worn through (Co-Simulation; Model Exchange: FMU_ERROR; docs/reference/model.md §3.14).
- * FMU_WARNING (logged, the step accepted), once per instance: the first step's pin centre lies outside the
- * bushing (the inputs likely lack the offsets).  A wearing step over the wear-step limit (docs/reference/model.md
- * §7) is logged as a warning once per instance and returns FMU_OK: the run goes on in every master. */
+/* Accept a step of dt [s] at the current inputs: wear and contact-onset bookkeeping; held != 0: the inputs were held
+ * over the step (Co-Simulation: the wear takes their force), else they end it (Model Exchange: the step's mean force,
+ * docs/reference/model.md §3.11).  FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, for inputs
+ * deeper in the bushing wall than any contact or a bushing worn through (Co-Simulation; Model Exchange: FMU_ERROR;
+ * docs/reference/model.md §3.14).  FMU_WARNING (logged, the step accepted), once per instance: the first step's pin
+ * centre lies outside the bushing (the inputs likely lack the offsets).  A wearing step over the wear-step limit
+ * (docs/reference/model.md §7) is logged as a warning once per instance and returns FMU_OK: the run goes on. */
 static int accept_step(FmuModel *model, double dt, int held, const char *function)
 {
     if (model->non_finite_inputs) {
@@ -400,9 +399,10 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
                     model->time, model->max_wear_depth, radius);
         else fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
                 "bushing wall (along its eccentricity; admissible %g m, " ADMISSIBLE_SHARE_TEXT " of the pin radius) "
-                "with a normal force of %g N (admissible %g N): no contact of this joint reaches it, nothing "
-                "changed; the communication step is too long for the contact (docs/reference/model.md §3.14)", function,
-                model->time, bounds[0], bounds[1], model->result[R_NORMAL_FORCE], bounds[2]);
+                "with a normal force of %g N (admissible %g N): no contact of this joint reaches it, nothing changed; "
+                "the %s step is too long for the contact, or the inputs are wrong (the bodies' offsets, the wiring; "
+                "docs/reference/model.md §3.14)", function, model->time, bounds[0], bounds[1],
+                model->result[R_NORMAL_FORCE], bounds[2], held ? "communication" : "integrator's");
         return held ? FMU_DISCARD : FMU_ERROR;
     }
     if (changed < 0) {   /* the kernels refused the step's wear (absurd or not finite): nothing changed */

@@ -41,6 +41,27 @@ def test_model_description_matches_the_variable_table(fmu):
     assert md.coSimulation.providesDirectionalDerivative == (fmu["backend"] == "native")   # pythonfmu: none
 
 
+def test_the_native_model_description_states_the_parameters_ranges(fmu):
+    """A tool shows and checks min/max (there were none): the rules' bounds, an open one as its limit (FMI's are
+    inclusive); beyond max the FMU refuses the value at initialisation, naming its range."""
+    if fmu["backend"] != "native":
+        pytest.skip("the pythonfmu backend's modelDescription is pythonfmu's")
+    variables = {v.name: v for v in fmu["md"].modelVariables}
+    bounds = {name: (float(variables[name].min), float(variables[name].max))
+              for name in ("pin_radius", "restitution", "pin_offset_x", "wear_interval")}
+    assert bounds == {"pin_radius": (1e-6, 100.0), "restitution": (0.0, 1.0), "pin_offset_x": (-1e3, 1e3),
+                      "wear_interval": (0.0, 3e-5)}
+    assert variables["friction_coefficient"].min == "0.0" and variables["rho_mode"].min is None   # an enumeration
+    from fmpy.fmi1 import FMICallException
+    from fmpy_instance import Slave
+
+    s = Slave(fmu, "beyond_max", parameters={"pin_offset_x": 1e3 * (1 + 1e-12)})
+    with pytest.raises(FMICallException) as failure:
+        s.initialise()
+    s.assert_failed_with_error(failure, "pin_offset_x", "[-1000, 1000]")
+    s.free()
+
+
 def test_parameter_defaults_are_the_papers(fmu):
     starts = {}
     for v in fmu["md"].modelVariables:

@@ -116,3 +116,26 @@ def test_a_step_into_the_bushing_wall_is_discarded_and_a_shorter_one_continues(s
         assert not slave.fmu.getBooleanStatus(fmi2Terminated)
     assert slave.get(["contact"])[0] == 1.0 and len(slave.errors()) == 1
 
+
+
+def test_a_step_from_another_time_or_past_the_stop_time_is_an_error(fmu):
+    """A master that lost or repeated a step (a communication point that is not the FMU's time) or steps past the
+    stop time it set is told: fmi2Error with one line naming the times (FMI 2.0: fmi2DoStep past the stop time is an
+    error; both were fmi2OK, the time then jumping to the master's), and the instance goes on from its own time."""
+    if fmu["backend"] != "native":
+        pytest.skip("the pythonfmu backend's call sequence is pythonfmu's")
+    s = Slave(fmu, "times", stop_time=3e-5).initialise()
+    s.set_inputs(contact_inputs())
+    s.fmu.doStep(0.0, 1e-5)
+    for t, h, words in ((7.0, 1e-5, ("currentCommunicationPoint=7 s is invalid", "1.0000000000000001e-05 s")),
+                        (0.0, 1e-5, ("currentCommunicationPoint=0 s is invalid",)),
+                        (1e-5, 1e-4, ("ends past the stop time 3.0000000000000001e-05 s",))):
+        with pytest.raises(FMICallException) as failure:
+            s.fmu.doStep(t, h)
+        s.assert_failed_with_error(failure, "fmi2DoStep", *words)
+    s.fmu.doStep(1e-5, 1e-5)
+    s.fmu.doStep(2e-5 + 1e-21, 1e-5)      # the master's time to rounding, to the stop time
+    from fmpy.fmi2 import fmi2LastSuccessfulTime
+    assert s.fmu.getRealStatus(fmi2LastSuccessfulTime) == pytest.approx(3e-5, rel=1e-12)
+    assert len(s.errors()) == 3
+    s.free()

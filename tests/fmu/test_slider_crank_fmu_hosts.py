@@ -157,7 +157,8 @@ def test_a_corrupted_state_is_refused_with_an_error_naming_the_check(fmus, c_hos
         for name, (bad, _) in cases.items():
             (tmp_path / f"{name}{version}.bin").write_bytes(bad)
             script += f"deserialize 1 {tmp_path / f'{name}{version}.bin'}\nexpect error\n"
-        script += f"deserialize 1 {good}\nset_state 1\n" + command + "terminate\nfree\n"
+        resumed = trace_command(tmp_path, n, start=n * 1e-3)      # from the restored state's time
+        script += f"deserialize 1 {good}\nset_state 1\n" + resumed + "terminate\nfree\n"
         code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script)
         assert code == 0, err
         for _, words in cases.values():

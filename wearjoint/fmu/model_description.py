@@ -34,6 +34,16 @@ def _number(value) -> str:
 DIRECTIONAL_DERIVATIVES = frozenset({fv.MODEL_NAME})
 
 
+def _bounds(p) -> dict[str, str]:
+    """``min`` and ``max`` of a real parameter ``p`` (fv.PARAMETERS) in a modelDescription: its rule's bounds, an open
+    one as the limit itself (FMI's are inclusive: a host's check admits the limit, which the FMU then refuses naming
+    its rule), none where the rule has none (the FMU checks the rest at fmi2ExitInitializationMode)."""
+    if p.choices is not None:
+        return {}
+    return {key: _number(value) for key, value in (("min", p.allowed.low), ("max", p.allowed.high))
+            if value is not None}
+
+
 def interfaces(fmi_version: int, model_identifier: str, completed_integrator_step: bool) -> tuple[dict, dict]:
     """The ``<CoSimulation>`` and ``<ModelExchange>`` attributes of a native FMU (FMI ``fmi_version``):
     FMU state get/set/serialise, variable communication steps, no early return or intermediate
@@ -106,6 +116,7 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
     for name, text in LOG_CATEGORIES.items():
         ET.SubElement(categories, "Category", name=name, description=text)
     variables = fv.fmu_variables(n_points, starts, profile_stride)
+    bounds = {p.variable.name: _bounds(p) for p in fv.PARAMETERS}
     model_variables = ET.SubElement(root, "ModelVariables")
     for vr, v in enumerate(variables):
         variability, initial = _KIND[v.causality]
@@ -117,6 +128,7 @@ def model_description_xml(n_points: int, guid: str, generation_tool: str, cosimu
         typed = {"unit": v.unit} if v.type == fv.REAL else {}
         if v.start is not None:
             typed["start"] = _number(v.start)
+        typed.update(bounds.get(v.name, {}))
         ET.SubElement(sv, v.type, typed)
     index = {v.name: i + 1 for i, v in enumerate(variables)}   # ModelStructure indices are 1-based
     parameters = tuple(p.variable.name for p in fv.PARAMETERS)
@@ -206,7 +218,7 @@ def model_description_fmi3_xml(n_points: int, instantiation_token: str, generati
                      declaredType=enumeration_type_name(v.name), start=str(v.start))
         else:
             variable(_FMI3_TYPE[v.type], v.name, v.description, fv.PARAMETER, "fixed", "exact", unit=v.unit,
-                     start=_number(v.start))
+                     start=_number(v.start), **_bounds(p))
     variable("UInt64", fv.N_POINTS_NAME,
              f"number of bushing points N_d (the size of {WEAR_DEPTH_NAME}): a structural parameter, set it in "
              f"Configuration Mode (fmi3EnterConfigurationMode), {N_POINTS_MIN} .. {N_POINTS_MAX}",
