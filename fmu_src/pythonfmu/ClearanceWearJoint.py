@@ -21,6 +21,7 @@ import ctypes
 import functools
 import json
 import math
+import re
 import sys
 from pathlib import Path
 
@@ -173,6 +174,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._joint = None
         self._initialised = False
         self._time = 0.0
+        self._stop_time = math.inf      # the master's (setup_experiment): no step passes it
         self._forces_stale = self._wear_stale = self._linearisation_stale = True
 
     # ------------------------------------------------------------- errors
@@ -216,8 +218,10 @@ class ClearanceWearJoint(Fmi2Slave):
                   for p, value in zip(fv.PARAMETERS, self._values[self._parameter_vrs].tolist())}
         try:
             params = fv.joint_parameters_from_fmi(values, self.n_points)
-        except ParameterError as exc:
-            self._abort_call(f"invalid FMU parameter: {exc}")
+        except ParameterError as exc:       # named as the parameter set names it, and as this FMU does
+            field = re.match(r"parameter (\w+)=", str(exc))
+            names = [p.variable.name for p in fv.PARAMETERS if field and p.field == field[1]]
+            self._abort_call(f"invalid FMU parameter: {exc}" + (f" (the FMU's {', '.join(names)})" if names else ""))
         with _scipy_hidden():
             self._joint = ClearanceJoint(params)
             _compile_kernels(params)
@@ -253,6 +257,7 @@ class ClearanceWearJoint(Fmi2Slave):
     @_guarded
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
         self._time = float(start_time)
+        self._stop_time = math.inf if stop_time is None else float(stop_time)
 
     @_guarded
     def exit_initialization_mode(self):
@@ -261,6 +266,16 @@ class ClearanceWearJoint(Fmi2Slave):
 
     @_guarded
     def do_step(self, current_time, step_size):
+        if not self._initialised:
+            self._abort_call("doStep: not allowed before exitInitializationMode (FMI 2.0 call sequence)")
+        slack = 1e-3 * abs(step_size) + 4.0 * sys.float_info.epsilon * max(abs(current_time), abs(self._time))
+        if not abs(current_time - self._time) <= slack:     # as the native FMU (fmu_src/fmi/fmi_checks.h)
+            self._abort_call(f"doStep: currentCommunicationPoint={current_time:.17g} s is invalid: allowed the FMU's "
+                             f"time {self._time:.17g} s (the start time, the end of its last step or a state's time set): a "
+                             "step was lost or repeated")
+        if current_time + step_size > self._stop_time + slack:
+            self._abort_call(f"doStep: a step of {step_size:g} s from {current_time:.17g} s ends past the stop time "
+                             f"{self._stop_time:.17g} s the master set: allowed up to it")
         non_finite = self._non_finite_inputs()
         if non_finite:
             self._log_error(f"doStep at t={current_time!r} s rejected: non-finite inputs ({non_finite})")
