@@ -3,8 +3,8 @@
 The slider's acceleration error |a - a_ideal| (:func:`wearjoint.analysis.slider_acc_deviation`; its RMS over time,
 :func:`wearjoint.analysis.time_rms`) and the ideal joint's reaction with the same gravity and slider load
 (:meth:`wearjoint.slider_crank.SliderCrank.ideal_joint_force`), per revolution and over the revolutions the run's
-extremes are taken over (:func:`wearjoint.analysis.steady_revolutions`, as ``max_contact_force_N``).  Both are taken at every sample once
-(:func:`sample_comparison`) and shared by revolutions.csv and summary.json.
+extremes are taken over (:func:`wearjoint.analysis.steady_revolutions`, as ``max_contact_force_N``).  Both are taken
+at every sample once (:func:`sample_comparison`) and shared by revolutions.csv and summary.json.
 """
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ def sample_comparison(samples: np.ndarray, mechanism) -> tuple[np.ndarray, np.nd
 
 def _after_start_up(samples: np.ndarray, stats: np.ndarray, period_s: float, settling_revolutions: int) -> np.ndarray:
     """The samples (a mask) of the revolutions the run's extremes are taken over (:func:`analysis.steady_revolutions`:
-    after the start-up, all the run reached where it ends before that is over)."""
+    the counted ones after the start-up, all counted ones where the run ends before that is over)."""
     steady = np.flatnonzero(steady_revolutions(stats, settling_revolutions)[1])
     return np.isin(revolution_of(samples[:, L.T_TIME], period_s), steady)
 

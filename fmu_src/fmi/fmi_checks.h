@@ -54,6 +54,8 @@ static inline int start_and_stop_time(Instance *inst, const char *function, doub
  * repeated a step, or runs past its own stop time, is told: 1, or 0 logged. */
 static inline int step_allowed(const Instance *inst, const char *function, double t, double h)
 {
+    if (!isfinite(h))
+        return 1;   /* the model refuses the step itself, naming h (fmi2Discard, as a negative one) */
     double time = model_time(inst->model);
     double slack = 1e-3 * fabs(h) + 4.0 * DBL_EPSILON * fmax(fabs(t), fabs(time));
     if (!(fabs(t - time) <= slack)) {

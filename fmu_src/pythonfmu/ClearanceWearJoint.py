@@ -269,11 +269,11 @@ class ClearanceWearJoint(Fmi2Slave):
         if not self._initialised:
             self._abort_call("doStep: not allowed before exitInitializationMode (FMI 2.0 call sequence)")
         slack = 1e-3 * abs(step_size) + 4.0 * sys.float_info.epsilon * max(abs(current_time), abs(self._time))
-        if not abs(current_time - self._time) <= slack:     # as the native FMU (fmu_src/fmi/fmi_checks.h)
+        if math.isfinite(step_size) and not abs(current_time - self._time) <= slack:   # as fmu_src/fmi/fmi_checks.h
             self._abort_call(f"doStep: currentCommunicationPoint={current_time:.17g} s is invalid: allowed the FMU's "
-                             f"time {self._time:.17g} s (the start time, the end of its last step or a state's time set): a "
-                             "step was lost or repeated")
-        if current_time + step_size > self._stop_time + slack:
+                             f"time {self._time:.17g} s (the start time, the end of its last step or a state's time "
+                             "set): a step was lost or repeated")
+        if math.isfinite(step_size) and current_time + step_size > self._stop_time + slack:
             self._abort_call(f"doStep: a step of {step_size:g} s from {current_time:.17g} s ends past the stop time "
                              f"{self._stop_time:.17g} s the master set: allowed up to it")
         non_finite = self._non_finite_inputs()

@@ -204,7 +204,7 @@ def test_c_hosts_run_it_under_valgrind_clean(fmus, c_host, fmi3_host, tmp_path):
         state = tmp_path / f"state{version}.bin"
         script = (start_script(version, {sc.MAX_INTERNAL_STEP_NAME: 1e-4}) + command
                   + f"get_state 0\nserialize 0 {state}\ndeserialize 2 {foreign}\nexpect error\n"
-                  + f"deserialize 1 {state}\nset_state 1\n" + command
+                  + f"deserialize 1 {state}\nset_state 1\n" + trace_command(tmp_path, n, start=n * 1e-3)
                   + "terminate\nfree\n" + start_script(version, {"rod_length": 0.0}) + "expect error\nfree\n"
                   + start_script(version, {}, "instantiate_me") + f"get_derivatives {2 * L.N_COORDINATES}\nfree\n")
         code, out, err = run_c_host(host, fmu["dir"], sc.MODEL_IDENTIFIER, fmu["token"], script, valgrind=True)

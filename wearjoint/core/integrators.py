@@ -23,7 +23,9 @@ from .layout import (
     T_SLIDER_X, T_TANGENTIAL_VELOCITY, T_TIME, Y_SLIDER_V, Y_SLIDER_X,
 )
 from .jit import kernel
-from .joint_access import JOINT_CHANGED, JOINT_EVALUATED, JOINT_UNCHANGED, JOINT_WORN, accept_joint, contact_at, joint_failed
+from .joint_access import (
+    JOINT_CHANGED, JOINT_EVALUATED, JOINT_UNCHANGED, JOINT_WORN, accept_joint, contact_at, joint_failed,
+)
 from .joint_location import body_rate, joint_bodies
 from .slider_crank import angle_trig, derivative, derivative_evaluated, derivative_rotated, stage_trig
 
@@ -184,8 +186,8 @@ WORN_VALUES = R_PENETRATION + 1
 @kernel(inline='always')   # one call site in the integrators' loop: inlined, a cold run compiles it once
 def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_end, before):
     """Joint bookkeeping at an accepted point, then dy = f(t, y) with the updated joint; returns True if the
-    bookkeeping (may have) worn the bushing (JOINT_EVALUATED, JOINT_WORN), the contact's first WORN_VALUES values
-    before it in ``before`` (for :func:`record_accepted`).
+    bookkeeping wore, or may have worn, the bushing (JOINT_EVALUATED, JOINT_WORN), the contact's first WORN_VALUES
+    values before it in ``before`` (for :func:`record_accepted`).
 
     ``reuse_k_end``: ``k_end`` is f(t, y) and the joint's result array holds the contact
     evaluated there (DOPRI's last stage); both are reused unless the joint changed, and the
