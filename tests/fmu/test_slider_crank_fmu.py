@@ -114,6 +114,13 @@ def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
                 assert float(variables[name].start) == default, name
         assert md.coSimulation is not None and md.modelExchange is not None
         assert len(md.derivatives) == 2 * L.N_COORDINATES
+        # the rules' bounds as min/max (an open bound as its limit), none where a rule has none
+        bounds = {name: (variables[name].min, variables[name].max) for name in
+                  ("crank_length", "clearance_joint", "slider_force_table_rows", "slider_force_table_angle_1",
+                   "gravity_y")}
+        assert bounds == {"crank_length": ("0.0", None), "clearance_joint": ("0.0", "2.0"),
+                          "slider_force_table_rows": ("0.0", "361.0"), "slider_force_table_angle_1": ("0.0", "360.0"),
+                          "gravity_y": (None, None)}, (version, bounds)
 
 
 def test_fed_the_ideal_joint_reaction_the_derivatives_are_the_ideal_mechanisms(fmus):

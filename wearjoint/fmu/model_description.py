@@ -34,14 +34,19 @@ def _number(value) -> str:
 DIRECTIONAL_DERIVATIVES = frozenset({fv.MODEL_NAME})
 
 
-def _bounds(p) -> dict[str, str]:
-    """``min`` and ``max`` of a real parameter ``p`` (fv.PARAMETERS) in a modelDescription: its rule's bounds, an open
-    one as the limit itself (FMI's are inclusive: a host's check admits the limit, which the FMU then refuses naming
-    its rule), none where the rule has none (the FMU checks the rest at fmi2ExitInitializationMode)."""
-    if p.choices is not None:
+def allowed_bounds(allowed) -> dict[str, str]:
+    """``min`` and ``max`` of a real parameter whose rule is ``allowed`` (a :class:`wearjoint.checks.Allowed`, or
+    None) in a modelDescription: the rule's bounds, an open one as the limit itself (FMI's are inclusive: a host's
+    check admits the limit, which the FMU then refuses naming its rule), none where the rule has none (the FMU checks
+    the rest at fmi2ExitInitializationMode)."""
+    if allowed is None:
         return {}
-    return {key: _number(value) for key, value in (("min", p.allowed.low), ("max", p.allowed.high))
-            if value is not None}
+    return {key: _number(value) for key, value in (("min", allowed.low), ("max", allowed.high)) if value is not None}
+
+
+def _bounds(p) -> dict[str, str]:
+    """:func:`allowed_bounds` of a joint parameter ``p`` (fv.PARAMETERS); none for an enumeration."""
+    return {} if p.choices is not None else allowed_bounds(p.allowed)
 
 
 def interfaces(fmi_version: int, model_identifier: str, completed_integrator_step: bool) -> tuple[dict, dict]:

@@ -30,7 +30,7 @@ from ..checks import ANY, NON_NEGATIVE, POSITIVE, Allowed
 from ..parameters import SliderCrankParameters
 from . import variables as fv
 from .c_tables import c_string, parameter_rows, state_problem_tables
-from .model_description import LOG_CATEGORIES, interfaces, root_with_interfaces_and_units
+from .model_description import LOG_CATEGORIES, allowed_bounds, interfaces, root_with_interfaces_and_units
 
 MODEL_IDENTIFIER = "SliderCrank"
 DESCRIPTION = ("The rigid slider-crank of Sec. 6.1 (Eqs. 38-44, Baumgarte stabilisation), crank driven "
@@ -346,7 +346,7 @@ def _fmi2_variables(root: ET.Element, starts: dict | None) -> None:
         typed = {"unit": v.unit}
         if v.causality == fv.PARAMETER:
             attributes.update(variability="fixed", initial="exact")
-            typed["start"] = repr(v.start)
+            typed.update(start=repr(v.start), **allowed_bounds(v.allowed))
         elif v.causality == fv.INPUT:
             attributes["variability"] = "continuous"
             typed["start"] = repr(v.start)
@@ -381,6 +381,8 @@ def _fmi3_variables(root: ET.Element, starts: dict | None) -> None:
         attributes["unit"] = v.unit
         if v.start is not None:
             attributes["start"] = repr(v.start)
+        if v.causality == fv.PARAMETER:
+            attributes.update(allowed_bounds(v.allowed))
         ET.SubElement(model_variables, "Float64", attributes)
     structure = ET.SubElement(root, "ModelStructure")
     element = {"output": "Output", "derivative": "ContinuousStateDerivative", "initial": "InitialUnknown"}
