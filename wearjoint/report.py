@@ -93,7 +93,8 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
     joint_defaults, derived = _joint_defaults(parameters)
-    for label, key, defaults in (("Joint", "joint", joint_defaults), ("Mechanism", "mechanism", SliderCrankParameters())):
+    for label, key, defaults in (("Joint", "joint", joint_defaults),
+                                 ("Mechanism", "mechanism", SliderCrankParameters())):
         if isinstance(parameters.get(key), dict):
             parts.append(f"<h2>{label} parameters</h2>")
             if key == "joint" and "wear_coefficient_source" in summary:

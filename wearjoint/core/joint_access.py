@@ -148,5 +148,5 @@ def _joint_failed(joint):
     return None
 
 
-__all__ = ["JOINT_CHANGED", "JOINT_EVALUATED", "JOINT_UNCHANGED", "JOINT_WORN", "JointArrays", "NoJoint", "accept_joint",
-           "contact_at", "contact_forces", "is_joint_type", "joint_failed"]
+__all__ = ["JOINT_CHANGED", "JOINT_EVALUATED", "JOINT_UNCHANGED", "JOINT_WORN",
+           "JointArrays", "NoJoint", "accept_joint", "contact_at", "contact_forces", "is_joint_type", "joint_failed"]
