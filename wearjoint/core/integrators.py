@@ -221,9 +221,14 @@ def record_accepted(t, dt, y, dy, worn, implicit, before, mp, joint, body_forces
     sawtooth: recorded at the middle of the jump, the mean of the contact before the wear (``before``) and after
     it.  An ``implicit`` step (BDF) ends with the force before the wear: recorded there.  Recorded after the drop,
     a run in lasting contact at fast wear sat at the sawtooth's bottom, off by up to a batch's drop (first order
-    in the step; docs/reference/model.md §3.11)."""
+    in the step; docs/reference/model.md §3.11).  Where nothing jumped (an FMU's step that joined its wear batch
+    without applying it), the point as it is: no second derivative."""
     result = joint.result
-    if not worn:
+    jumped = False
+    if worn:
+        for r in range(WORN_VALUES):
+            jumped = jumped or before[r] != result[r]
+    if not jumped:
         record_step(t, dt, y, dy, result, mp, rev_stats, samples, track)
         return
     share = 1.0 if implicit else 0.5
