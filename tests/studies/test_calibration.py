@@ -159,6 +159,19 @@ def test_mild_severe_recovers_its_two_coefficients_from_two_points():
     assert predicted_depth(growth, K0, np.array([n_t / 2]), fit)[0] == pytest.approx(transition / 2, rel=1e-4)
 
 
+def test_mild_severe_refuses_points_that_never_pass_the_transition():
+    """Points at or above the transition depth only measure k_mild: the fit returned its start guess as k_severe
+    (equal to k_mild, residuals 0) as if it had been measured."""
+    n = np.linspace(1.0, 8000.0, 400)
+    growth = np.column_stack([n, n * 1.5e-7, np.zeros(400)])
+    transition = 0.2e-3
+    n_t = transition / 1.5e-7 * K0 / 1e-13
+    points = [(0.5 * n_t, 0.5 * transition), (n_t, transition)]
+    with pytest.raises(ParameterError, match=r"needs a point deeper than the transition depth, 0.0002 m "
+                                             r"\(the deepest is 0.0002 m\)"):
+        fit_mild_severe(growth, K0, points, transition)
+
+
 @pytest.mark.parametrize("points, message", [
     ([(200_000, 0.0)], "are invalid"),
     ([(-1.0, 1e-4)], "are invalid"),

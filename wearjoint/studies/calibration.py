@@ -238,6 +238,10 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
     if n.size < 2:
         raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed at least two points for the "
                              "mild-to-severe law")
+    if d.max() <= transition_depth_m:               # the severe coefficient would be the start guess, unfitted
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: the mild-to-severe law needs a point "
+                             f"deeper than the transition depth, {transition_depth_m:g} m (the deepest is {d.max():g} m): "
+                             "without one the severe coefficient is not measured; fit one k_w (--law archard)")
     x_t = float(inverse(transition_depth_m))
 
     def predicted(params):
