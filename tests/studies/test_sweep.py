@@ -342,6 +342,29 @@ def test_figure_shows_the_relative_change_against_the_bias_band(monkeypatch, tmp
     assert low <= -8.4 and high >= 8.4 and "%" in ax.get_ylabel()          # the bias band is on the axis
 
 
+def test_two_swept_parameters_give_each_lines_reference_in_the_title(monkeypatch, tmp_path):
+    """Against mu, one line per value of the second parameter, each relative to its own first point: the title named
+    no reference (one was shown only for a single line), so the percentages could not be read back as depths."""
+    from wearjoint.sweep.bias import Bias
+    from wearjoint.sweep.report import GridPoint, plot_against_parameters
+
+    figures = _captured_figures(monkeypatch)
+    points = []
+    for load, scale in ((100.0, 1.0), (200.0, 2.0)):
+        for mu in (0.05, 0.1):
+            depths = [scale * (100e-6 + mu * 1e-5), scale * (101e-6 + mu * 1e-5)]
+            point = GridPoint([{"mu": mu, "load": load, "status": "ok", "max_wear_depth_m": d} for d in depths],
+                              ["mu", "load"])
+            point.bias = {"max_wear_depth_m": Bias(None, "test")}
+            points.append(point)
+    plot_against_parameters(tmp_path, points)
+    title = figures[0].axes[0].get_title()
+    first = [np.mean([scale * (100e-6 + 0.05e-5), scale * (101e-6 + 0.05e-5)]) for scale in (1.0, 2.0)]
+    assert title == f"max_wear_depth_m (0 % = {first[0]:.4g} | {first[1]:.4g})"
+    labels = [t.get_text() for t in figures[0].axes[0].get_legend().get_texts()]
+    assert labels == ["load=100", "load=200"]
+
+
 def test_profile_bands_are_overlaid_in_one_panel_with_a_legend(monkeypatch, tmp_path):
     from wearjoint.sweep.report import plot_profile_bands
 

@@ -320,7 +320,9 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
         fig, axes = plt.subplots(nrows, ncols, figsize=(3.8 * ncols + 0.5, 3.0 * nrows + 0.8), squeeze=False)
         for ax, merit in zip(axes.ravel(), merits):
             refs = _change_panel(ax, merit, lines)
-            ax.set_title(merit + (f" (0 % = {refs[0]:.4g})" if len(refs) == 1 else ""), fontsize=9)
+            # each line's 0 %, in the legend's order (a second swept parameter: one line per value)
+            ax.set_title(merit + (f" (0 % = {' | '.join(f'{ref:.4g}' for ref in refs)})" if refs else ""),
+                         fontsize=9)
             ax.set_xlabel(param, fontsize=8)
             if not numeric:
                 ax.set_xticks(range(len(values)), [str(v) for v in values])
@@ -329,7 +331,7 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
             ax.set_visible(False)
         if axes[0, 0].get_legend_handles_labels()[0]:
             axes[0, 0].legend(fontsize=6)
-        fig.suptitle(f"figures of merit against {param}: change from the first point, mean ± std over seeds "
+        fig.suptitle(f"figures of merit against {param}: change from each line's first point, mean ± std over seeds "
                      "(dots: seeds; grey: the wear factor's bias)", fontsize=10)
         names.append(f"vs_{param}.png")
         save_figure(fig, out / names[-1])
