@@ -1,8 +1,8 @@
 """``report.html``: one self-contained page of a results folder a designer can forward (docs/reference/results.md §6).
 
-The folder's summary (``summary.json``, or a sweep's ``sweep_summary.json``) as a table, every number as written
-there (units in the key names); the joint's and the mechanism's parameters with where each came from (the
-default, or given; the wear coefficient's source as the summary states it); every PNG of the folder embedded;
+The folder's summary (``summary.json``, or a sweep's ``sweep_summary.json``) as tables, every number as written
+there (units in the key names; an entry that is a table, a validation's metrics, as a table of its own); the joint's
+and the mechanism's parameters with where each came from (the default, or given; the wear coefficient's source as the summary states it); every PNG of the folder embedded;
 the command line and the version that made it.  :func:`write_report` writes it; ``wearjoint report DIR``
 (re)writes it for any results folder, and every command that writes a results folder writes it last.
 """
@@ -52,6 +52,40 @@ def _table(rows, header, table_id) -> str:
     return f'<table id="{table_id}"><tr>{head}</tr>{body}</table>'
 
 
+# the summary's entries the page shows in sections of their own (or not: the figures are embedded)
+_OWN_SECTIONS = ("parameters", "command_line", "figures")
+
+
+def _is_cell(value) -> bool:
+    """A value one table cell holds (a list of values as JSON)."""
+    if isinstance(value, list):
+        return all(_is_cell(v) and not isinstance(v, list) for v in value)
+    return value is None or isinstance(value, (bool, int, float, str))
+
+
+def _entry_section(key: str, value) -> str:
+    """A summary entry that is not one value (a validation's metrics, a study's per-revolution table): a list of
+    records as a table with a column per key, a dict of values as (quantity, value) rows, a dict of such dicts as a
+    table with a row per entry, a list of values as one line; anything else as its JSON, folded."""
+    title, table_id = f"<h3>{html.escape(key)}</h3>", f"summary-{key}"
+    if not value:
+        return title + "<p>none</p>"
+    if isinstance(value, list) and all(isinstance(row, dict) for row in value):
+        columns = list(dict.fromkeys(name for row in value for name in row))
+        return title + _table([[row.get(c) for c in columns] for row in value], columns, table_id)
+    if isinstance(value, dict) and all(_is_cell(v) for v in value.values()):
+        return title + _table(list(value.items()), ("quantity", "value"), table_id)
+    if isinstance(value, dict) and all(isinstance(row, dict) and all(_is_cell(v) for v in row.values())
+                                       for row in value.values()):
+        columns = list(dict.fromkeys(name for row in value.values() for name in row))
+        return title + _table([[name, *(row.get(c) for c in columns)] for name, row in value.items()],
+                              ("", *columns), table_id)
+    if isinstance(value, list) and _is_cell(value):
+        return title + f"<p>{html.escape(', '.join(cell_text(v) for v in value))}</p>"
+    return (title + f"<details><summary>as in the summary (JSON)</summary><pre>"
+                    f"{html.escape(json.dumps(value, indent=1))}</pre></details>")
+
+
 def _parameter_rows(given: dict, defaults, sources: dict | None = None, derived=()) -> list:
     """(name, value, where it came from) of a parameter set's dict against the dataclass ``defaults`` (``sources``:
     name -> where a value that is not the default came from, where that is not the user's option; ``derived``: the
@@ -90,6 +124,7 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
         parts.append(f"<p><strong>The run did not complete:</strong> {html.escape(str(summary.get('failure') or 'stopped'))}</p>")
     parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
+    parts += [_entry_section(k, v) for k, v in summary.items() if isinstance(v, (dict, list)) and k not in _OWN_SECTIONS]
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
     joint_defaults, derived = _joint_defaults(parameters)

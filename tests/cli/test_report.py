@@ -104,3 +104,25 @@ def test_the_report_command_rewrites_a_folder_and_refuses_one_without_a_summary(
     assert main(["report", str(folder)]) == 0 and (folder / REPORT_NAME).is_file()
     assert main(["report", str(tmp_path)]) == 2
     assert "not a results folder" in capsys.readouterr().err
+
+
+def test_a_summarys_tables_are_tables_of_the_page(tmp_path):
+    """A validation's metrics (a list of records), its per-engine verdicts (a dict of records), a plan (a dict of
+    values): the page showed only the summary's single numbers, so its verdict table was missing."""
+    from wearjoint.report import write_report
+
+    summary = {"passed": False, "metrics_failed": ["cosim: impacts"], "gaps": [],
+               "metrics": [{"name": "impacts", "value": 12.5, "tolerance": 2.0, "passed": False},
+                           {"name": "contact_fraction", "value": 0.25, "passed": True, "scatter_values": [0.2, 0.3]}],
+               "engines": {"cosim": {"metrics": 2, "failed": 1}, "exudyn": {"metrics": 3, "failed": 0}},
+               "plan": {"revolutions": 0.1, "engines": ["cosim", "exudyn"]},
+               "odd": {"nested": {"deeper": {"x": 1}}}}
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    page = Tables(write_report(tmp_path).read_text(encoding="utf-8"))
+    assert page.tables["summary-metrics"] == [["impacts", "12.5", "2.0", "False", ""],
+                                              ["contact_fraction", "0.25", "", "True", "[0.2, 0.3]"]]
+    assert page.tables["summary-engines"] == [["cosim", "2", "1"], ["exudyn", "3", "0"]]
+    assert page.tables["summary-plan"] == [["revolutions", "0.1"], ["engines", '["cosim", "exudyn"]']]
+    text = (tmp_path / REPORT_NAME).read_text(encoding="utf-8")
+    assert "<h3>gaps</h3><p>none</p>" in text and "<h3>metrics_failed</h3><p>cosim: impacts</p>" in text
+    assert "&quot;deeper&quot;: {" in text                  # what fits no table: its JSON
