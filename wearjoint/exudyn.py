@@ -29,10 +29,15 @@ every system with a clearance joint: its force and Jacobian user functions hand 
 array per call, which exudyn counts.  It is harmless: that conversion is part of the measured cost
 per step (`python benchmarks/bench_exudyn_joint.py`).  :func:`solve_dynamic` is ``exu.SolveDynamic`` without that warning.
 
+The first solve of a process compiles the joint's numba kernels unless numba's cache holds them (the first use
+after an install or a change of the sources: tens of seconds): once that has lasted two seconds, one line on stderr
+says so, with a count of the compilations on a terminal.
+
 This module and ``validation/`` are the only ones that import exudyn.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import warnings
 from typing import Callable
@@ -66,10 +71,17 @@ UNACCEPTED_FORCE_TIMES = 64
 _EPSILON = float(np.finfo(float).eps)
 
 
+_OTHER_INDICES = (exu.NodeIndex, exu.MarkerIndex, exu.LoadIndex, exu.SensorIndex)
+
+
 class _Body:
     """One side of the joint: a planar rigid body's node, or ground (fixed)."""
 
     def __init__(self, mbs, argument: str, number):
+        if isinstance(number, _OTHER_INDICES):     # a node's or marker's number: it may be an object's number too
+            raise ParameterError(f"{argument}={int(number)} is invalid: it is an exudyn {type(number).__name__}, "
+                                 "not an object's (allowed: the number mbs.AddObject returned for an "
+                                 "ObjectRigidBody2D or ObjectGround)")
         try:
             item = mbs.GetObject(number)
         except Exception:  # exudyn raises its own error types for unknown numbers
@@ -96,6 +108,27 @@ class _Body:
 
 _SAME_TIME = 1e-12     # times this close (relative, at least 1 s) are one: a continuation's start and the last end
 _SAME_STEP = 1e-6      # steps this close (relative) are the solver's fixed step: no solve starts there
+
+
+# the process's first kernel calls compile them (numba's cache keeps them for later runs): a notice and a count once
+# that has lasted a few seconds (wearjoint._compile.notice), from the first force until the first accepted step
+_first_compilation: list = []      # [ExitStack of the watch] while it runs; [None] once it is over
+
+
+def _watch_first_compilation() -> None:
+    from ._compile.notice import watching
+
+    stack = contextlib.ExitStack()
+    stack.enter_context(watching("exudyn"))
+    _first_compilation.append(stack)
+
+
+def _first_compilation_over() -> None:
+    from ._compile.notice import compiled
+
+    compiled()
+    _first_compilation.pop().close()
+    _first_compilation.append(None)
 
 
 def _solve_starts_at(mbs, t: float) -> bool:
@@ -159,6 +192,8 @@ class ClearanceJointHandle:
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
         call (exudyn calls it per Newton iteration)."""
+        if not _first_compilation:
+            _watch_first_compilation()
         if t != self._force_time:
             self._force_time = t
             self._force_times += 1
@@ -218,6 +253,8 @@ class ClearanceJointHandle:
         at_end = self._force_times == 1 and self._force_time == t
         self._force_times = 0
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, at_end, self._history, self._rows)
+        if _first_compilation and _first_compilation[-1] is not None:
+            _first_compilation_over()
         if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
             starting = self._rows - self._run_starts[-1] <= 1     # the run's first accepted point is exempt
             raise RunDiverged(inadmissible_message(

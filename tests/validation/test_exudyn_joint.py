@@ -341,6 +341,7 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
     ground, other_ground = mbs.AddObject(ObjectGround()), mbs.AddObject(ObjectGround())
     twin = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.GetObject(bar)["nodeNumber"], mass=1.0, inertia=1e-3))
     params = JointParameters(bushing_offset_m=(0.0, 0.1))
+    marker = mbs.AddMarker(MarkerBodyMass(bodyNumber=bar))
     with pytest.raises(ParameterError, match=r"^mbs=None is invalid: allowed an exudyn MainSystem"):
         add_clearance_joint(None, ground, bar, params)
     cases = [((ground, 99, params), "bushing_body=99 is invalid: not an object of this system"),
@@ -348,6 +349,9 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
              ((ground, bar, "paper"), "parameters='paper' is invalid"),
              ((bar, bar, params), f"bushing_body={bar} is invalid: it is pin_body too"),
              ((ground, other_ground, params), "pin_body is ground too"),
+             ((ground, mbs.GetObject(bar)["nodeNumber"], params),    # node 0: object 0 exists (the bar)
+              "bushing_body=0 is invalid: it is an exudyn NodeIndex, not an object's"),
+             ((marker, bar, params), f"pin_body={int(marker)} is invalid: it is an exudyn MarkerIndex"),
              ((ground, bar, JointParameters(bushing_offset_m=(0.0, 0.13))),
               "put the pin centre 0.03 m from the bushing centre at the initial configuration, outside the "
               "bushing: allowed at most its radius 0.0101 m")]

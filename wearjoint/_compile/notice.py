@@ -42,6 +42,7 @@ ESTIMATES = {
                          None, None, None),
     "master": ("the co-simulation master's kernels, ahead of time (once per source version; two processes)", None,
                None, None),
+    "exudyn": ("the exudyn joint's numba kernels", None, None, "core/generalized_coordinates.accept_step-*.nbi"),
     "kernels": ("the numba kernels", 20, 90, None),
 }
 # each compilation (function, its own seconds) of a cold run of the engines with None above, in order

@@ -4,7 +4,8 @@
 temporary folder; the other caches as they are) with :data:`~wearjoint._compile.notice.PROFILE_ENV` set, and keeps
 each compilation's own seconds: ``simulate-helped`` is ``wearjoint simulate`` on two cores (its second process
 compiles the wear's kernels), ``simulate`` the same on one core, ``cosim`` ``wearjoint cosim`` where the master's
-library cannot be loaded, ``validate`` ``wearjoint validate --quick`` (Linux: the runs are pinned to their cores).
+library cannot be loaded, ``validate`` ``wearjoint validate --quick``, ``exudyn`` the README's exudyn example (Linux: the runs are pinned to
+their cores).
 The kernels compiled ahead of time (:data:`~wearjoint._compile.notice.AHEAD_OF_TIME`: ``fmu``, ``slider-crank-fmu``,
 ``master``) are each model's IR compiled afresh as a build without shipped IR does (two processes side by side on two
 cores), and their wall seconds are kept too.  About ten minutes; run it on an idle machine after a large change to
@@ -33,11 +34,22 @@ _COSIM_WITHOUT_LIBRARY = ("import sys; from wearjoint.cosim import native_master
 _AHEAD_OF_TIME_BUILD = ("import sys, time; from pathlib import Path; from wearjoint.fmu.kernel_ir import "
                         "_compile_ir_fresh; out = Path(sys.argv[2]); out.mkdir(); start = time.perf_counter(); "
                         "_compile_ir_fresh(out, sys.argv[1], fresh=True); print(time.perf_counter() - start)")
+# the README's exudyn example (a bar hung through a wearing joint), 10 ms: the joint's force, Jacobian and step kernels
+_EXUDYN = ("import exudyn as exu; from exudyn.itemInterface import LoadMassProportional, MarkerBodyMass, "
+           "NodeRigidBody2D, ObjectGround, ObjectRigidBody2D; from wearjoint import JointParameters; "
+           "from wearjoint.exudyn import add_clearance_joint, simulation_settings, solve_dynamic; "
+           "mbs = exu.SystemContainer().AddSystem(); bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode("
+           "NodeRigidBody2D(referenceCoordinates=[0, -0.1001, 0])), mass=1.0, inertia=1e-3)); "
+           "mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=bar)), "
+           "loadVector=[0, -9.81, 0])); handle = add_clearance_joint(mbs, mbs.AddObject(ObjectGround()), bar, "
+           "JointParameters(bushing_offset_m=(0.0, 0.1), wear_factor=100)); mbs.Assemble(); "
+           "solve_dynamic(mbs, simulation_settings(0.01, 1e-5, [handle]))")
 ENGINES = {
     "simulate-helped": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 2),
     "simulate": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 1),
     "cosim": ([sys.executable, "-c", _COSIM_WITHOUT_LIBRARY, "cosim", *RUN], 1),
     "validate": ([sys.executable, "-m", "wearjoint", "validate", "--quick", "--out"], 1),
+    "exudyn": ([sys.executable, "-c", _EXUDYN], 1),
     **{key: ([sys.executable, "-c", _AHEAD_OF_TIME_BUILD, model], 2) for key, model in AHEAD_OF_TIME.items()},
 }
 
