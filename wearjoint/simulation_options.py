@@ -118,12 +118,15 @@ class SimulationOptions:
             check_wear_step("step_s", self.step_s, joint, mechanism)
         if self.max_step_s is None:
             default = wear_step_limit_s(joint, mechanism, DEFAULT_WEAR_STEP_SHARE) if not self.ideal else math.inf
-            if default < self.min_step_s:       # the limit is inversely proportional to the wear factor below 3e-5 s
+            if default < self.min_step_s:       # the limit is inversely proportional to k_w * wear_factor below 3e-5 s
+                name = "wear_factor" if joint.wear_factor != 1.0 else "wear_coefficient_m2_N"   # the one set
+                value = getattr(joint, name)
                 raise ParameterError(
-                    f"parameter wear_factor={joint.wear_factor!r} is invalid: with wear_coefficient_m2_N * "
+                    f"parameter {name}={value!r} is invalid: with wear_coefficient_m2_N * "
                     f"wear_factor = {joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N a step may wear for "
                     f"at most {default:.3g} s, below min_step_s = {self.min_step_s:g} s: allowed at most "
-                    f"{joint.wear_factor * default / self.min_step_s:.4g} with this wear coefficient and mechanism "
+                    f"{value * default / self.min_step_s:.4g} with this "
+                    f"{'wear coefficient' if name == 'wear_factor' else 'wear factor'} and mechanism "
                     "(docs/reference/model.md §7)")
             if self.integrator == "dopri" and default < math.inf:
                 default = min(default, DOPRI_WEAR_CONTACT_STEP_S)

@@ -145,3 +145,20 @@ def test_a_wear_factor_too_fast_for_any_step_is_refused_by_name_with_its_bound()
     assert options.for_joint(paper_joint(wear_factor=0.999 * bound)).max_step_s >= options.min_step_s
     with pytest.raises(ParameterError, match="^parameter wear_factor="):
         options.for_joint(paper_joint(wear_factor=1.001 * bound))
+
+
+def test_a_wear_coefficient_too_fast_for_any_step_is_refused_by_its_own_name_with_its_bound():
+    """The same limit reached by k_w at the default wear factor 1 named wear_factor=1.0, which the user never set."""
+    import re
+
+    from wearjoint.parameters import paper_joint
+    from wearjoint.simulation_options import SimulationOptions
+
+    options = SimulationOptions()
+    with pytest.raises(ParameterError, match=r"^parameter wear_coefficient_m2_N=5.0 is invalid: .* below min_step_s"
+                                             r" = 1e-10 s: allowed at most \S+ with this wear factor") as failure:
+        options.for_joint(paper_joint(wear_coefficient_m2_N=5.0))
+    bound = float(re.search(r"allowed at most (\S+) ", str(failure.value)).group(1))
+    assert options.for_joint(paper_joint(wear_coefficient_m2_N=0.999 * bound)).max_step_s >= options.min_step_s
+    with pytest.raises(ParameterError, match="^parameter wear_coefficient_m2_N="):
+        options.for_joint(paper_joint(wear_coefficient_m2_N=1.001 * bound))
