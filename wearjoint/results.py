@@ -21,6 +21,10 @@ from .parameters import JointParameters, SliderCrankParameters, wear_coefficient
 from .report import write_report
 
 REVOLUTION_COLUMNS = analysis.REVOLUTION_COLUMNS + against_ideal.REVOLUTION_COLUMNS
+# summary.json's entries that describe the clearance joint's contact: null in a run of the ideal joint
+CONTACT_ONLY = ("contact_fraction", "impacts_per_revolution", "max_wear_angle_deg", "regime", "whirl_fraction",
+                "chattering_revolution_share", "clearance_m", "admissible_penetration_m", "admissible_force_N",
+                "contact_stiffness_N_m1_5")
 
 
 def new_revolution_stats(n_revolutions: int) -> np.ndarray:
@@ -52,6 +56,11 @@ class RunParameters:
     options_key: str | None = None
     options: object = None
     details: dict = field(default_factory=dict)
+
+    @property
+    def ideal(self) -> bool:
+        """The clearance joint was run as an ideal one (``simulate --ideal``): no contact, no clearance."""
+        return bool(getattr(self.options, "ideal", False))
 
     def to_dict(self) -> dict:
         out = {"joint": self.joint.to_dict(), "mechanism": self.mechanism.to_dict()}
@@ -132,6 +141,8 @@ class RunRecord:
                                                     self.settling_revolutions, out.get("max_contact_force_N"),
                                                     ideal_comparison))
         out.update(self.extra)
+        if self.parameters.ideal:      # what only a contact has: none (they read "0.99999 in contact, 1 impact")
+            out.update(dict.fromkeys(CONTACT_ONLY))
         return out
 
     def revolution_table(self, impact_events: dict | None = None, ideal_comparison=None) -> np.ndarray:
