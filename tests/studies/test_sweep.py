@@ -284,6 +284,9 @@ def test_wear_factor_bias_is_stated_only_where_measured():
     assert wear_factor_bias(1.0, 1234).rel == 0.0 and wear_factor_bias(0.0, 10).rel == 0.0   # no factor, no wear
     assert wear_factor_bias(100.0, 5000).rel is None and wear_factor_bias(20.0, 1000).rel is None
     assert wear_factor_bias(100.0, 1000, cycle_jump=True).rel is None
+    # cycle jumping runs at F = 1: no wear-factor bias (it had said "unknown"), its own estimate named
+    jumped = wear_factor_bias(1.0, 300_000, cycle_jump=True, jump_error_rel=0.0148)
+    assert jumped.rel == 0.0 and "1.48% of the final max depth" in jumped.note
     assert wear_factor_bias(20.0, 1000).text == "unknown"
 
 

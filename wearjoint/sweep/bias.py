@@ -6,7 +6,8 @@ from the brute-force run (F = 1) by a bias that the scatter over seeds does not 
 (:data:`SOURCE`) on the paper's mechanism and joint at k_w 5.576e-11 m^2/N; a run of that case takes its bias
 from it where its factor and revolution count match.  Any other run's is unknown: its note says how to measure
 it (``wear-study --convergence jump,F``: the factor against the error-controlled cycle-jumping route on the
-same mechanism and horizon).  Without wear, or at F = 1, there is no wear-factor bias (0).
+same mechanism and horizon).  Without wear, or at F = 1 (brute force or cycle jumping, which states its own error
+estimate), there is no wear-factor bias (0).
 """
 from __future__ import annotations
 
@@ -54,15 +55,20 @@ class Bias:
 
 
 def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = False,
-                     measured_case: bool = True) -> Bias:
+                     measured_case: bool = True, jump_error_rel: float | None = None) -> Bias:
     """The bias of the max depth after ``revolutions`` crank revolutions at wear factor ``wear_factor``
-    (0: no wear); ``cycle_jump``: the run jumped over revolutions (its own error estimate is in its
-    summary.json, ``cycle_jumping``); ``measured_case``: the run is the case :data:`SOURCE` measured
-    (:func:`is_measured_case`)."""
+    (0: no wear); ``cycle_jump``: the run jumped over revolutions (at F = 1: no wear-factor bias; its own error
+    estimate, ``jump_error_rel`` where known, is in its summary.json, ``cycle_jumping``); ``measured_case``: the run
+    is the case :data:`SOURCE` measured (:func:`is_measured_case`)."""
     if not wear_factor > 0.0:
         return Bias(0.0, "none: no wear")
     if wear_factor == 1.0 and not cycle_jump:
         return Bias(0.0, "none: F = 1 (brute force)")
+    if wear_factor == 1.0:
+        estimate = ("" if jump_error_rel is None else
+                    f", {jump_error_rel:.2%} of the final max depth (summed over the jumps)")
+        return Bias(0.0, "none: F = 1 (cycle jumping, whose own error estimate is summary.json's "
+                         f"cycle_jumping{estimate})")
     if cycle_jump:
         return Bias(None, "unknown here: cycle jumping states its error estimate in summary.json's cycle_jumping")
     if not measured_case:
@@ -102,9 +108,11 @@ def summary_biases(summary: dict) -> dict:
         return {"max_wear_depth_m": wear_factor_bias(factor, factor * summary.get("revolutions", math.nan),
                                                      measured_case=measured)}
     jump = study.get("jump_tolerance") is not None
+    estimate = (summary.get("cycle_jumping") or {}).get("error_estimate_summed_rel_to_final_depth")
     out = {f"rev{s['revolution']}_max_wear_depth_m": wear_factor_bias(factor, s["revolution"], jump, measured)
            for s in summary.get("snapshots", [])}
-    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump, measured)
+    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump, measured,
+                                               estimate)
     return out
 
 
