@@ -186,6 +186,18 @@ def test_bad_input_gives_one_line_naming_the_option_and_the_value(tmp_path, caps
 
 
 @pytest.mark.parametrize("target", ["simulate", "wear-study"])
+def test_every_number_a_runs_summary_states_is_an_output(tmp_path, capsys, target):
+    """The answers against the ideal joint and the impact-event statistics are numbers of every run's summary.json,
+    as the how-to says the outputs are: they were refused (the error for an unknown one lists those allowed)."""
+    names = ["slider_acc_error_rms_m_s2", "slider_acc_error_max_m_s2", "ideal_joint_force_max_N",
+             "joint_force_over_ideal", "impact_events_per_revolution", "chattering_revolution_share", "whirl_fraction"]
+    assert main(["sensitivity", target, "--revolutions", "1", "--param", "restitution=0.6,0.9", "--outputs",
+                 "unknown_thing", "--out", str(tmp_path / "x")]) == 2
+    allowed = capsys.readouterr().err.split("allowed (comma separated) ")[1].strip().split(", ")
+    assert set(names) <= set(allowed)
+
+
+@pytest.mark.parametrize("target", ["simulate", "wear-study"])
 def test_the_help_lists_no_seeds_option_which_a_study_refuses(capsys, target):
     with pytest.raises(SystemExit):
         main(["sensitivity", target, "--help"])

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..against_ideal import SUMMARY_KEYS
 from ..analysis import pin_left_bushing
 from ..parameters import ParameterError
 from ..sweep.bias import Bias, summary_biases
@@ -24,7 +25,9 @@ from .analyse import COLUMNS, EFFECT
 
 PEAK = "slider_acc_peak_m_s2"
 DEFAULT_OUTPUTS = ("max_wear_depth_m", "worn_volume_m3", "max_contact_force_N", "impacts_per_revolution", PEAK)
-OTHER_OUTPUTS = ("max_wear_angle_deg", "wall_time_s", "realtime_factor", PEAK)
+# the other numbers of every run's summary.json (docs/reference/results.md §6)
+OTHER_OUTPUTS = ("max_wear_angle_deg", "wall_time_s", "realtime_factor", PEAK, *SUMMARY_KEYS,
+                 "impact_events_per_revolution", "chattering_revolution_share", "whirl_fraction")
 BIAS_EFFECT = ("a relative bias b shared by every run scales each run's output by 1 + b: the Sobol' indices and the "
                "ranking are unchanged, Morris mu*, sigma and mu scale by 1 + b; a bias that varies across the ranges "
                "changes them by an amount nobody measured")
