@@ -233,6 +233,12 @@ def test_an_option_given_beside_a_design_that_sets_it_everywhere_is_refused(tmp_
                         points=[{"restitution": 0.6}, {"friction-coefficient": 0.2}])
     assert [dict(c.options)["restitution"] for c in cases] == [0.6, 0.7]
     assert not (tmp_path / "o").exists()
+    err = refused(capsys, study, "simulate", *TINY, *design, "--restitution", "0.7", "--friction-coefficient", "0.2",
+                  *(["--vary", "friction-coefficient=0.1"] if study == "sweep" else
+                    ["--param", "friction-coefficient=0.05,0.2"]), "--out", str(tmp_path / "o"))
+    assert err.endswith("--restitution=0.7 and --friction-coefficient=0.2 are invalid beside a design that sets "
+                        "restitution and friction-coefficient at every point (--vary, --param, --design): allowed one "
+                        "of the two for each")     # both in one line: one at a time took a run each
 
 
 @pytest.mark.parametrize("args, line", [

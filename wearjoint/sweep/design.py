@@ -326,11 +326,14 @@ def build_cases(command: str, base: dict, vary: dict | None = None, points=(), s
     grid = grid + points or [{}]
     names = list(dict.fromkeys(name for point in grid for name in point))
     defaults = {dest: action.default for dest, action in _option_actions(command_parser(command)).items()}
-    for name in names:                          # an option given beside a design that sets it at every point
-        dest = variables[name].dest
-        if all(name in point for point in grid) and base.get(dest, defaults.get(dest)) != defaults.get(dest):
-            raise ParameterError(f"--{name}={base[dest]!r} is invalid beside a design that sets {name} at every "
-                                 "point (--vary, --param, --design): allowed one of the two")
+    twice = [name for name in names             # options given beside a design that sets them at every point
+             if all(name in point for point in grid)
+             and base.get(variables[name].dest, defaults.get(variables[name].dest)) != defaults.get(variables[name].dest)]
+    if twice:                                   # all in one line (one at a time took a run each)
+        raise ParameterError(f"{' and '.join(f'--{n}={base[variables[n].dest]!r}' for n in twice)} "
+                             f"{'is' if len(twice) == 1 else 'are'} invalid beside a design that sets "
+                             f"{' and '.join(twice)} at every point (--vary, --param, --design): allowed one of the two"
+                             f"{'' if len(twice) == 1 else ' for each'}")
     cases, seen, read = [], set(), {}
     for point in grid:
         options = dict(base)
