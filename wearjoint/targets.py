@@ -356,7 +356,8 @@ def wear_study_config(options) -> WearStudyConfig:
                            engine=o["engine"], integrator=o["integrator"], max_step_s=o["max_step"],
                            **({"rtol": o["rtol"]} if o.get("rtol") is not None else {}),
                            checkpoint_every_revolutions=o["checkpoint_every"],
-                           impact_threshold_m_s2=o["impact_threshold_m_s2"], fmu_backend=o["fmu_backend"])
+                           impact_threshold_m_s2=o["impact_threshold_m_s2"], fmu_backend=o["fmu_backend"],
+                           life_depth_m=o.get("life_depth_m"))
 
 
 def wear_study_run(config: WearStudyConfig, out, plots: bool = True, progress: bool = False) -> dict:

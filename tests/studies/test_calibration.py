@@ -144,6 +144,10 @@ def test_predictions_and_the_life_to_a_depth_carry_the_band_and_say_when_the_stu
     assert span["revolutions"] == pytest.approx(expected, rel=0.01)
     assert span["band_95_revolutions"][0] < span["revolutions"] < span["band_95_revolutions"][1]
     assert life(growth, K0, fit, 1.0)["revolutions"] is None
+    hours = life(growth, K0, fit, 1.0e-4, crank_speed_rpm=600.0)      # a life in hours of running at 600 rpm
+    assert hours["hours"] == pytest.approx(span["revolutions"] / 36_000.0, rel=1e-12)
+    assert hours["band_95_hours"] == pytest.approx([n / 36_000.0 for n in span["band_95_revolutions"]], rel=1e-12)
+    assert span["hours"] is None and span["band_95_hours"] is None      # no speed given
 
 
 def test_mild_severe_recovers_its_two_coefficients_from_two_points():

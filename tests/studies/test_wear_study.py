@@ -256,3 +256,27 @@ def test_paper_comparisons_only_on_the_paper_mechanism_and_joint(tmp_path):
     assert "experiment" not in summary["growth"]["note"]
     written = json.loads((tmp_path / "summary.json").read_text())
     assert "paper_max_depth_at_4000_rev_m" not in written and "experiment" not in written
+
+
+def test_the_life_to_a_depth_is_the_growth_curves_and_a_resumed_study_may_ask_another(tmp_path):
+    """--life-depth-m: the revolutions where wear_growth.csv's max depth reaches the depth (linear between its rows,
+    as calibrate reads a study) and the hours at the crank's speed; a depth the study does not reach has none and
+    says so; the depth is no physical setting: a study resumed with another one states that one."""
+    whole = run_wear_study(small_config(), tmp_path / "a", progress=False, plots=False)
+    growth = np.loadtxt(tmp_path / "a" / "wear_growth.csv", delimiter=",", skiprows=1)
+    revolutions, depth = np.r_[0.0, growth[:, 0]], np.r_[0.0, growth[:, 1]]
+    target = 0.6 * depth[-1]
+    expected = float(np.interp(target, depth, revolutions))
+    stopped = run_wear_study(small_config(life_depth_m=target), tmp_path / "b", progress=False, plots=False,
+                             stop_after_checkpoints=5)
+    assert stopped["finished"] is False and "life" not in stopped
+    summary = run_wear_study(small_config(life_depth_m=target), tmp_path / "b", resume=True, progress=False,
+                             plots=False)
+    assert summary["life_revolutions"] == pytest.approx(expected, rel=1e-9) and 0.0 < expected < 10.0
+    assert summary["life_hours"] == pytest.approx(expected / (60.0 * SliderCrankParameters().crank_speed_rpm),
+                                                  rel=1e-12)
+    assert summary["life"]["depth_m"] == target and "at the study's k_w" in summary["life"]["note"]
+    assert "life" not in whole
+    deeper = run_wear_study(small_config(life_depth_m=2.0 * depth[-1]), tmp_path / "b", resume=True,
+                            progress=False, plots=False)
+    assert deeper["life_revolutions"] is None and "beyond the study's max depth" in deeper["life"]["note"]

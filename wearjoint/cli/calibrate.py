@@ -201,11 +201,12 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
                 print(f"  after {p['revolutions']:.6g} revolutions: max depth {p['depth_m'] * 1e3:.4g} mm"
                       + _band(p["band_95_m"], 1e3, " mm"))
         if args.life_depth_m is not None:
-            result["life"] = life(growth, k0, result, args.life_depth_m)
-            span = result["life"]
+            rpm = (summary["parameters"].get("mechanism") or {}).get("crank_speed_rpm")
+            result["life"] = span = life(growth, k0, result, args.life_depth_m, rpm)
             print(f"  to {args.life_depth_m * 1e3:.4g} mm: " + (
-                f"{span['revolutions']:.4g} revolutions" + _band(span["band_95_revolutions"]) if span["revolutions"] is not None
-                else span["note"]))
+                f"{span['revolutions']:.4g} revolutions" + _band(span["band_95_revolutions"])
+                + (f", {span['hours']:.4g} h at {rpm:g} rpm" + _band(span["band_95_hours"], unit=" h") if rpm else "")
+                if span["revolutions"] is not None else span["note"]))
     else:
         transition = args.transition_depth_m
         if transition is None:

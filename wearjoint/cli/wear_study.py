@@ -81,6 +81,12 @@ def run(args) -> int:
                 print(f"  rev {s['revolution']:6d}  max depth {s['max_wear_depth_m'] * 1e3:.4g} mm at "
                       f"{s['max_wear_angle_deg']:.1f} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"
                       f"{_angle(s['lobe_180_angle_deg'])} deg  impact events {s['impact_events']}")
+            span = summary.get("life")
+            if span:
+                print(f"  to {span['depth_m'] * 1e3:.4g} mm: " + (
+                    f"{span['revolutions']:.4g} revolutions, {span['hours']:.4g} h at "
+                    f"{config.mechanism.crank_speed_rpm:g} rpm ({span['note']})" if span["revolutions"] is not None
+                    else span["note"]))
             print(f"  wall time {summary['wall_time_s']:.1f} s")
             warning = replay_volume_warning(summary.get("cycle_jumping") or {})
             if warning:

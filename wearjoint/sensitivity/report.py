@@ -39,6 +39,8 @@ def allowed_outputs(command: str, base: dict) -> list:
     snapshots = target(command).snapshots(base)      # a wear study's: its figures per snapshot, its growth
     if snapshots:
         names += [f"rev{r}_{key}" for r in snapshots for key in SNAPSHOT_FIGURES] + ["growth_exponent"]
+    if base.get("life_depth_m") is not None:      # a wear study's life to that depth (per hour: the speed counts)
+        names += ["life_revolutions", "life_hours"]
     return names
 
 

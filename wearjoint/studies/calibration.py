@@ -167,18 +167,36 @@ def predictions(growth: np.ndarray, k0: float, fit: dict, revolutions) -> list[d
     return out
 
 
-def life(growth: np.ndarray, k0: float, fit: dict, depth_m: float) -> dict:
-    """The revolutions to a max depth of ``depth_m`` [m] under an Archard ``fit``, with the band from its
-    interval (None beyond the study's curve)."""
+def life(growth: np.ndarray, k0: float, fit: dict, depth_m: float, crank_speed_rpm: float | None = None) -> dict:
+    """The revolutions to a max depth of ``depth_m`` [m] under an Archard ``fit`` (the study's own k_w: ``{"law":
+    "archard", "wear_coefficient_m2_N": k0}``), with the band from its interval (None beyond the study's curve) and,
+    at ``crank_speed_rpm``, the same in hours of running."""
     positive("depth_m", depth_m)
     _, inverse = master_curve(growth)
     x = float(inverse(depth_m))
     if not math.isfinite(x):
-        return {"depth_m": depth_m, "revolutions": None, "band_95_revolutions": None,
-                "note": f"beyond the study's max depth {growth[-1, 1]:g} m: {FURTHER}"}
+        return {"depth_m": depth_m, "revolutions": None, "band_95_revolutions": None, "hours": None,
+                "band_95_hours": None, "note": f"beyond the study's max depth {growth[-1, 1]:g} m: {FURTHER}"}
     interval = fit.get("interval_95_m2_N")
     band = ([x * k0 / interval[1], x * k0 / interval[0]] if interval and None not in interval else None)
-    return {"depth_m": depth_m, "revolutions": x * k0 / fit["wear_coefficient_m2_N"], "band_95_revolutions": band}
+    revolutions = x * k0 / fit["wear_coefficient_m2_N"]
+    hours = (lambda n: n / (60.0 * crank_speed_rpm)) if crank_speed_rpm else (lambda n: None)
+    return {"depth_m": depth_m, "revolutions": revolutions, "band_95_revolutions": band, "hours": hours(revolutions),
+            "band_95_hours": [hours(n) for n in band] if band and crank_speed_rpm else None}
+
+
+def study_life(growth: np.ndarray, wear_coefficient_m2_N: float, depth_m: float | None,
+               crank_speed_rpm: float) -> dict:
+    """A wear study's summary entries for its life to ``depth_m`` (None: none) at its own k_w: ``life``
+    (:func:`life`; no band, the k_w being assumed: along the master curve the life scales as 1/k_w) and its
+    revolutions and hours as single numbers, which an ensemble (``--seeds``) states with their spread."""
+    if depth_m is None:
+        return {}
+    k = wear_coefficient_m2_N
+    span = life(growth, k, {"law": "archard", "wear_coefficient_m2_N": k}, depth_m, crank_speed_rpm)
+    span["note"] = span.get("note") or (f"at the study's k_w {k:.4g} m^2/N: at c times it the life is 1/c times (the "
+                                        "master curve); measured depths give k_w with an interval: wearjoint calibrate")
+    return {"life": span, "life_revolutions": span["revolutions"], "life_hours": span["hours"]}
 
 
 def _local_exponent(curve, x: float, reach: float) -> float:
@@ -265,4 +283,4 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
 
 
 __all__ = ["FURTHER", "master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration",
-           "predictions", "life", "master_curve_check", "MASTER_CURVE_CHECKED"]
+           "predictions", "life", "study_life", "master_curve_check", "MASTER_CURVE_CHECKED"]

@@ -1,26 +1,26 @@
 """`wearjoint wear-study`: thousands of crank revolutions of bushing wear (paper Figs. 7-8).
 
-Reaching thousands of revolutions (a simulated revolution of a worn bushing costs ~0.3 s with the default
-RK4, ~1 s with DOPRI):
+Reaching thousands of revolutions (a simulated revolution of a worn bushing costs ~0.3 s with the default RK4, ~1 s
+with DOPRI):
 
-* **wear acceleration** -- the joint's ``wear_factor`` F multiplies k_w, so one simulated revolution stands
-  for F crank revolutions; the snapshot at revolution R is taken after R/F simulated revolutions (at least
-  one revolution is simulated: F <= the revolutions);
-* **cycle jumping** (the default; :mod:`wearjoint.studies.cycle_jump`) -- blocks of simulated revolutions
-  at the real wear rate, each followed by a jump that replays the block's loading through the relaxed wear
-  update, its length chosen from an error estimate (``--cycle-jump-tolerance``).
+* **wear acceleration** -- the joint's ``wear_factor`` F multiplies k_w, so one simulated revolution stands for F crank
+  revolutions; the snapshot at revolution R is taken after R/F simulated revolutions (at least one revolution is
+  simulated: F <= the revolutions);
+* **cycle jumping** (the default; :mod:`wearjoint.studies.cycle_jump`) -- blocks of simulated revolutions at the real
+  wear rate, each followed by a jump that replays the block's loading through the relaxed wear update, its length
+  chosen from an error estimate (``--cycle-jump-tolerance``).
 
-The final revolution count is always a snapshot.  At each snapshot the study keeps the worn profile and the
-slider acceleration of the simulated revolution ending there (Fig. 8).  An **impact event** is a cluster of
-samples with |a - a_ideal| > ``impact_threshold_m_s2`` (a_ideal: closed-form ideal slider-crank); clusters
-closer than ``impact_merge_deg`` of crank rotation are one event; its size is the cluster's peak |a - a_ideal|.
+The final revolution count is always a snapshot.  At each snapshot the study keeps the worn profile and the slider
+acceleration of the simulated revolution ending there (Fig. 8).  An **impact event** is a cluster of samples with
+|a - a_ideal| > ``impact_threshold_m_s2`` (a_ideal: closed-form ideal slider-crank); clusters closer than
+``impact_merge_deg`` of crank rotation are one event; its size is the cluster's peak |a - a_ideal|.  With
+``life_depth_m`` the summary states the life to that max depth at the study's k_w (``life``: revolutions and hours).
 
-Nothing is lost: every ``checkpoint_every_revolutions`` simulated revolutions the engine state
-(``checkpoint()``), the study's progress and the snapshots so far go atomically to
-``DIR/wear_study_checkpoint.pkl``; ``--resume`` continues bit-identically, or with other numerical settings
-(integrator, max step, ...) but the same physical ones.  Each snapshot's files are written as it is reached;
-a study that diverges writes what finished and says where to continue from
-(:mod:`wearjoint.studies.wear_study_recovery`).  The factor-convergence study (``--convergence``) is in
+Nothing is lost: every ``checkpoint_every_revolutions`` simulated revolutions the engine state (``checkpoint()``),
+the study's progress and the snapshots so far go atomically to ``DIR/wear_study_checkpoint.pkl``; ``--resume``
+continues bit-identically, or with other numerical settings (integrator, max step, ...) but the same physical ones.
+Each snapshot's files are written as it is reached; a study that diverges writes what finished and says where to
+continue from (:mod:`wearjoint.studies.wear_study_recovery`).  The factor-convergence study (``--convergence``) is in
 :mod:`wearjoint.studies.wear_convergence`, the calibration of an effective k_w to a target depth
 (``--calibrate-max-depth-m``) in :mod:`wearjoint.studies.wear_calibration`.
 """
@@ -36,7 +36,7 @@ import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
                                 revolution_row, sample_statistics)
-from wearjoint.checks import choice, worn_through_message
+from wearjoint.checks import choice, positive, worn_through_message
 from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
@@ -89,6 +89,7 @@ class WearStudyConfig:
     impact_threshold_m_s2: float = IMPACT_EVENT_THRESHOLD_M_S2
     impact_merge_deg: float = IMPACT_EVENT_MERGE_DEG
     fmu_backend: str = DEFAULT_BACKEND      # engine "cosim": the joint FMU's backend
+    life_depth_m: float | None = None       # the max depth [m] whose life the summary states (None: none)
 
     def __post_init__(self):
         _check_int("revolutions", self.revolutions, 1)
@@ -128,11 +129,11 @@ class WearStudyConfig:
                 from wearjoint.cosim.cosimulation import DEFAULT_CONTACT_STEP_S
                 limit = min(limit, DEFAULT_CONTACT_STEP_S["adaptive"])   # the scheme --engine cosim runs
             object.__setattr__(self, "max_step_s", limit)
-        for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2",
-                     "impact_merge_deg"):
+        for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2", "impact_merge_deg",
+                     "life_depth_m"):
             value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite value > 0")
+            if value is not None or name != "life_depth_m":
+                positive(name, value)
         _check_int("chunks_per_revolution", self.chunks_per_revolution, 1)
 
     @property
@@ -146,11 +147,8 @@ class WearStudyConfig:
 
     def to_dict(self) -> dict:
         d = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
-        d["joint"] = self.joint.to_dict()
-        d["mechanism"] = self.mechanism.to_dict()
-        d["snapshots"] = list(self.snapshots)
-        d["revolutions_per_simulated_revolution"] = self.revolutions_per_simulated_revolution
-        return d
+        return d | {"joint": self.joint.to_dict(), "mechanism": self.mechanism.to_dict(), "snapshots": list(self.snapshots),
+                    "revolutions_per_simulated_revolution": self.revolutions_per_simulated_revolution}
 
     def replace(self, **changes) -> "WearStudyConfig":
         return dataclasses.replace(self, **changes)
@@ -464,8 +462,8 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
                                  {k: v for k, v in config.to_dict().items() if k not in ("joint", "mechanism")}),
         completed=ending is None, failure=ending["failure"] if ending else "")
     summary = write_results(record, out, plots=plots and ending is None)
-    status = ending["status"] if ending else "finished"
-    paper = is_paper_case(config.joint, config.mechanism)
+    from .calibration import study_life      # its fits import scipy's optimize and stats: not at the study's import
+    status, paper = ending["status"] if ending else "finished", is_paper_case(config.joint, config.mechanism)
     summary.update({
         "status": status,
         "simulated_revolutions": simulated,
@@ -479,6 +477,7 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
                                     "size = the cluster's peak |a - a_ideal|"),
         "snapshots": [snapshot_entry(s) for s in snaps],
         "growth": growth_assessment(growth, paper) if len(growth) > 1 else None,
+        **study_life(growth, config.joint.wear_coefficient_m2_N, config.life_depth_m, config.mechanism.crank_speed_rpm),
         "numerical_settings": state["numerical_settings"],
         **({"paper_max_depth_at_4000_rev_m": PAPER_MAX_DEPTH_M,      # the paper's mechanism only
             "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS),

@@ -39,11 +39,14 @@ NUMERICAL = ("integrator", "max_step_s", "rtol", "jump_tolerance", "jump_block_r
              "checkpoint_every_revolutions")
 SEGMENT_KEYS = ("integrator", "max_step_s", "rtol", "jump_tolerance", "jump_block_revolutions")   # per segment
 DERIVED = ("revolutions_per_simulated_revolution",)
+# what a resumed study may change freely: what its summary states of the answer, not the answer
+STATED = ("life_depth_m",)
 OPTIONS = {"revolutions": "--revolutions", "snapshots": "--snapshots", "engine": "--engine",
            "integrator": "--integrator", "max_step_s": "--max-step", "rtol": "--rtol",
            "jump_tolerance": "--cycle-jump-tolerance",
            "jump_block_revolutions": "--cycle-jump-block", "checkpoint_every_revolutions": "--checkpoint-every",
-           "impact_threshold_m_s2": "--impact-threshold-m-s2", "fmu_backend": "--fmu-backend"}
+           "impact_threshold_m_s2": "--impact-threshold-m-s2", "fmu_backend": "--fmu-backend",
+           "life_depth_m": "--life-depth-m"}
 
 
 class StudyDiverged(RunDiverged):
@@ -143,7 +146,7 @@ def settings_changes(old: dict, new: dict, path: Path) -> list:
     physical, numerical = [], []
     for key in sorted(new, key=lambda k: ("mechanism", "joint").index(k) if k in ("mechanism", "joint") else 2):
         value = new[key]            # the mechanism first: the joint's offsets follow its lengths
-        if key in DERIVED or (key == "fmu_backend" and new.get("engine") != "cosim"):
+        if key in DERIVED or key in STATED or (key == "fmu_backend" and new.get("engine") != "cosim"):
             continue
         if key in ("joint", "mechanism"):
             before = old.get(key, {})
