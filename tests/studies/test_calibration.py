@@ -11,7 +11,7 @@ from wearjoint.cli import main as cli_main
 from wearjoint.parameters import ParameterError
 from wearjoint.studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from wearjoint.studies.calibration import (
-    fit_archard, fit_mild_severe, life, master_curve_check, predicted_depth, predictions,
+    falling_depths, fit_archard, fit_mild_severe, life, master_curve_check, predicted_depth, predictions,
 )
 
 K0 = 5e-11
@@ -161,6 +161,21 @@ def test_mild_severe_recovers_its_two_coefficients_from_two_points():
     assert fit["severe_wear_coefficient_m2_N"] == pytest.approx(k_severe, rel=1e-4)
     assert fit["degrees_of_freedom"] == 0 and fit["transition_revolutions"] == pytest.approx(n_t, rel=1e-4)
     assert predicted_depth(growth, K0, np.array([n_t / 2]), fit)[0] == pytest.approx(transition / 2, rel=1e-4)
+
+
+def test_depths_that_fall_as_the_revolutions_grow_are_flagged_beyond_their_uncertainty(tmp_path, capsys):
+    """A max depth cannot fall as a bushing wears: 0.06 mm at 60 000 revolutions, then 0.03 mm at 150 000 were fitted
+    in silence (a 'not a fit' verdict, exit 0)."""
+    assert "falls from 6e-05 m at 60000 revolutions to 3e-05 m at 150000" in falling_depths(
+        [(150_000, 0.03e-3, 5e-6), (60_000, 0.06e-3, 5e-6)])
+    assert falling_depths([(60_000, 0.06e-3, 5e-6), (150_000, 0.05e-3, 5e-6)]) == ""   # within 2 x hypot(U1, U2)
+    assert falling_depths([(60_000, 0.06e-3), (150_000, 0.0599e-3)]) != ""           # none given: any fall
+    assert falling_depths([(60_000, 0.03e-3), (150_000, 0.06e-3)]) == ""
+    study = written_study(tmp_path / "study")
+    assert cli_main(["calibrate", "--study", str(study), "--points", "150000:0.03e-3,60000:0.06e-3",
+                     "--depth-uncertainty-m", "5e-6", "--out", str(tmp_path / "c"), "--no-plots"]) == 0
+    assert "calibrate: warning: the measured max depth falls" in capsys.readouterr().err
+    assert "falls" in json.loads((tmp_path / "c" / "calibration.json").read_text())["warning"]
 
 
 def test_mild_severe_refuses_points_that_never_pass_the_transition():

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import warnings
 from pathlib import Path
 
@@ -12,7 +13,7 @@ import numpy as np
 from ..parameters import ParameterError
 from ..results import write_json_atomic
 from ..studies.calibration import (
-    DEFAULT_TOLERANCE, fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
+    DEFAULT_TOLERANCE, falling_depths, fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
 )
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from .options import require_option, with_options
@@ -140,6 +141,10 @@ def run(args) -> int:
     except ParameterError as exc:     # a value beyond what the study reaches
         raise with_options(exc, FIT_OPTIONS, {"points": args.points,
                                               "transition_depth_m": args.transition_depth_m}) from None
+    falling = falling_depths(points)
+    if falling:
+        result["warning"] = falling
+        print(f"wearjoint calibrate: warning: {falling}", file=sys.stderr)
     result.update({"study": str(study), "study_wear_coefficient_m2_N": k0,
                    "points": [{"revolutions": n, "max_wear_depth_m": d, "uncertainty_m": u} for n, d, u in points]})
     out = Path(args.out) if args.out else study

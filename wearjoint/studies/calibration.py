@@ -53,6 +53,17 @@ def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray,
     return n, d, u
 
 
+def falling_depths(points) -> str:
+    """'' where the measured max depths never fall as the revolutions grow (beyond twice their combined
+    uncertainty, where given), else what falls: a max depth cannot (different parts, or a mix-up)."""
+    rows = sorted((p[0], p[1], p[2] if len(p) > 2 and p[2] else 0.0) for p in points)
+    for (n1, d1, u1), (n2, d2, u2) in zip(rows, rows[1:]):
+        if d2 < d1 - 2.0 * math.hypot(u1, u2):
+            return (f"the measured max depth falls from {d1:g} m at {n1:g} revolutions to {d2:g} m at {n2:g}: a max "
+                    "depth never falls as a bushing wears (other parts? a mix-up of the points?)")
+    return ""
+
+
 CONFIDENCE = 0.95   # of the model's test (rejected below 1 - CONFIDENCE) and of interval_95_m2_N
 DEFAULT_TOLERANCE = 0.1   # without depth uncertainties: the share of each depth within which the residuals fit
 
@@ -283,4 +294,4 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
 
 
 __all__ = ["FURTHER", "master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration",
-           "predictions", "life", "study_life", "master_curve_check", "MASTER_CURVE_CHECKED"]
+           "predictions", "life", "study_life", "falling_depths", "master_curve_check", "MASTER_CURVE_CHECKED"]
