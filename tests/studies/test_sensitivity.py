@@ -240,6 +240,9 @@ def test_study_writes_its_results(studies):
         summary = json.loads((out / "summary.json").read_text())
         assert (summary["method"], summary["samples"], summary["seed"], summary["runs"]) == (method, n, 7, n * d_rows)
         assert summary["wear_factor_bias"]["max_wear_depth_m"]["text"] == "0 %"        # F = 1: no factor
+        # fewer groups than the method's default: the intervals are said to be rough (Morris N = 2 said nothing)
+        assert summary["intervals_note"].startswith(f"N = {n} ") and "rough" in summary["intervals_note"]
+        assert f"note: {summary['intervals_note']}" in done[method].stdout
         assert summary["command_line"].startswith("wearjoint sensitivity simulate --revolutions 0.05")
         samples = read_csv(out / "samples.csv")
         assert len(samples) == n * d_rows and all(r["status"] == "ok" for r in samples)

@@ -100,6 +100,8 @@ def print_outcome(summary: dict, out) -> None:
     print(f"  {method} N = {summary['samples']}, seed {summary['seed']}: {summary['runs']} runs "
           f"({summary['cases']} distinct): {summary['ok']} ok, {summary['failed']} failed, {summary['invalid']} invalid, "
           f"{summary['skipped_as_done']} already done; {summary['wall_time_s']:.1f} s")
+    if summary["intervals_note"]:
+        print(f"  note: {summary['intervals_note']}")
     if summary["target_interval"] is not None:
         print(f"  target interval {summary['target_interval']:g}: {'met' if summary['target_met'] else 'NOT met'}")
     for name, result in summary["results"].items():

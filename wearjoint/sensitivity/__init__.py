@@ -24,7 +24,7 @@ from .law_spread import CSV_NAME as LAW_CSV, run_law_spread
 from .problem import Problem, parse_params
 from .report import (BIAS_EFFECT, invalid_reason, output_biases, output_value, parse_outputs, plot_indices, write_indices,
                      write_samples)
-from .sample import DEFAULT_SAMPLES, METHODS, check_samples, check_seed, group_size
+from .sample import DEFAULT_SAMPLES, METHODS, check_samples, check_seed, few_samples_note, group_size
 
 SUMMARY_NAME = "summary.json"
 
@@ -142,6 +142,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
         "rounds": study["rounds"], "confidence_level": CONF_LEVEL, "bootstrap_resamples": RESAMPLES,
         "analysis": {name: {k: r[k] for k in ("groups", "dropped", "constant")} for name, r in results.items()},
         "widest_interval": study["rounds"][-1]["widest_interval"],
+        "intervals_note": few_samples_note(method, n),
         "convergence": {} if study["stopped"] else
         {name: [{"samples": k, "widest_interval": w} for k, w in convergence(problem, method, x, study["y"][name], seed)]
          for name in outputs},

@@ -37,6 +37,14 @@ def check_samples(method: str, n) -> int:
     return n
 
 
+def few_samples_note(method: str, n: int) -> str:
+    """What the 95 % intervals of N groups are worth below the method's default N ('' from it on)."""
+    if n >= DEFAULT_SAMPLES[method]:
+        return ""
+    return (f"N = {n} {'trajectories' if method == 'morris' else 'base samples'}: intervals bootstrapped from so "
+            f"few are rough (a screening, not an answer); N >= {DEFAULT_SAMPLES[method]} for intervals to rely on")
+
+
 def check_seed(seed) -> int:
     """``seed``, or a one-line ParameterError naming ``--seed``: an integer SALib's samplers take, 0 .. 2**32 - 1."""
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2 ** 32:
@@ -58,4 +66,4 @@ def sample(problem: Problem, method: str, n: int, seed: int) -> np.ndarray:
 
 
 __all__ = ["METHODS", "MIN_SAMPLES", "DEFAULT_SAMPLES", "MORRIS_LEVELS", "group_size", "check_samples", "check_seed",
-           "sample"]
+           "few_samples_note", "sample"]
