@@ -175,11 +175,13 @@ def record_run(run: ChunkedRun, revolution_stats: np.ndarray, revolutions: float
     statistics of the requested revolutions, times and counters."""
     phi_deg, wear_depth, worn_volume = run.engine.wear_profile()
     t = run.engine.t
+    reached = t / period_s        # the revolutions asked for where the run reached them (not 3.0000000000000004)
+    reached = revolutions if run.completed and math.isclose(reached, revolutions, rel_tol=1e-9) else reached
     return RunRecord(
         samples=run.samples, revolution_stats=revolution_stats[:int(math.ceil(revolutions))].copy(),
         wear_growth_m=run.wear_growth_m, phi_deg=phi_deg, wear_depth_m=wear_depth, worn_volume_m3=worn_volume,
         simulated_time_s=t, wall_time_s=run.wall_time_s, compile_time_s=run.compile_time_s,
-        revolutions=t / period_s, period_s=period_s, clearance_m=joint_params.clearance_m,
+        revolutions=reached, period_s=period_s, clearance_m=joint_params.clearance_m,
         contact_stiffness_N_m1_5=joint_params.stiffness_N_m1_5, parameters=parameters, extra=extra, completed=run.completed, failure=run.failure)
 
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
                                 revolution_row, sample_statistics)
-from wearjoint.checks import choice, positive, worn_through_message
+from wearjoint.checks import choice, worn_through_message
 from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
@@ -132,8 +132,8 @@ class WearStudyConfig:
         for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2", "impact_merge_deg",
                      "life_depth_m"):
             value = getattr(self, name)
-            if value is not None or name != "life_depth_m":
-                positive(name, value)
+            if (value is not None or name != "life_depth_m") and not (math.isfinite(value) and value > 0.0):
+                raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite value > 0")
         _check_int("chunks_per_revolution", self.chunks_per_revolution, 1)
 
     @property
