@@ -111,23 +111,25 @@ _SAME_STEP = 1e-6      # steps this close (relative) are the solver's fixed step
 
 
 # the process's first kernel calls compile them (numba's cache keeps them for later runs): a notice and a count once
-# that has lasted a few seconds (wearjoint._compile.notice), from the first force until the first accepted step
-_first_compilation: list = []      # [ExitStack of the watch] while it runs; [None] once it is over
+# that has lasted a few seconds (wearjoint._compile.notice), from the first force until the first accepted step; none
+# inside a command that watches its own compilations (validate)
+_first_compilation: list = []      # [(ExitStack, watch)] while it runs; [None] once it is over (or not watched)
 
 
 def _watch_first_compilation() -> None:
-    from ._compile.notice import watching
+    from ._compile.notice import watched, watching
 
+    if watched():
+        _first_compilation.append(None)
+        return
     stack = contextlib.ExitStack()
-    stack.enter_context(watching("exudyn"))
-    _first_compilation.append(stack)
+    _first_compilation.append((stack, stack.enter_context(watching("exudyn"))))
 
 
 def _first_compilation_over() -> None:
-    from ._compile.notice import compiled
-
-    compiled()
-    _first_compilation.pop().close()
+    stack, watch = _first_compilation.pop()
+    watch.close()                  # its count's last line: the compilation is over
+    stack.close()
     _first_compilation.append(None)
 
 

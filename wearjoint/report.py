@@ -2,8 +2,8 @@
 
 The folder's summary (``summary.json``, or a sweep's ``sweep_summary.json``) as tables, every number as written
 there (units in the key names; an entry that is a table, a validation's metrics, as a table of its own); the joint's
-and the mechanism's parameters with where each came from (the default, or given; the wear coefficient's source as the summary states it); every PNG of the folder embedded;
-the command line and the version that made it.  :func:`write_report` writes it; ``wearjoint report DIR``
+and the mechanism's parameters with where each came from (the default, or given; the wear coefficient's source as the
+summary states it); every PNG of the folder embedded; the command line and the version that made it.  :func:`write_report` writes it; ``wearjoint report DIR``
 (re)writes it for any results folder, and every command that writes a results folder writes it last.
 """
 from __future__ import annotations
@@ -124,7 +124,8 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
         parts.append(f"<p><strong>The run did not complete:</strong> {html.escape(str(summary.get('failure') or 'stopped'))}</p>")
     parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
-    parts += [_entry_section(k, v) for k, v in summary.items() if isinstance(v, (dict, list)) and k not in _OWN_SECTIONS]
+    parts += [_entry_section(k, v) for k, v in summary.items()
+              if isinstance(v, (dict, list)) and k not in _OWN_SECTIONS]
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
     joint_defaults, derived = _joint_defaults(parameters)

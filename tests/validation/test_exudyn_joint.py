@@ -476,3 +476,22 @@ def test_solve_dynamic_keeps_exudyns_allocation_warning_off_and_restores_its_thr
     said = [out.out + out.err for out in outputs]
     assert "memory allocations" in said[0] and "memory allocations" not in said[1]
     assert exudyn.solver.solverCheckMemoryAllocationsThreshold == threshold
+
+
+def test_the_first_solve_watches_its_compilation_unless_a_command_does(monkeypatch):
+    """The first force call of a process opens a watch of numba's compilations (its notice once they last 2 s: the
+    first solve sat silent for up to a minute), closed at the first accepted step; inside a command that watches its
+    own (validate: the compared engines' notice), none, so that nothing is announced twice."""
+    import wearjoint.exudyn as wx
+    from wearjoint._compile import notice
+
+    monkeypatch.setattr(wx, "_first_compilation", [])
+    wx._watch_first_compilation()
+    (stack, watch), = wx._first_compilation
+    assert notice.watched() and watch.what == "exudyn"
+    wx._first_compilation_over()
+    assert wx._first_compilation == [None] and not notice.watched()
+    monkeypatch.setattr(wx, "_first_compilation", [])
+    with notice.watching("validate"):
+        wx._watch_first_compilation()
+        assert wx._first_compilation == [None]

@@ -325,6 +325,11 @@ def announced_progress(what: str, cached: bool = False, speed: SpeedCalibration 
                     caller_eta=speed is not None or what in AHEAD_OF_TIME)
 
 
+def watched() -> bool:
+    """True while a :func:`watching` block runs (a command's: a library's first calls inside it need no watch)."""
+    return bool(_ACTIVE)
+
+
 def compiled() -> None:
     """Compilation is over (the run starts): close the progress bars of :func:`watching`."""
     for watch in _ACTIVE:

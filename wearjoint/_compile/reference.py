@@ -4,8 +4,8 @@
 temporary folder; the other caches as they are) with :data:`~wearjoint._compile.notice.PROFILE_ENV` set, and keeps
 each compilation's own seconds: ``simulate-helped`` is ``wearjoint simulate`` on two cores (its second process
 compiles the wear's kernels), ``simulate`` the same on one core, ``cosim`` ``wearjoint cosim`` where the master's
-library cannot be loaded, ``validate`` ``wearjoint validate --quick``, ``exudyn`` the README's exudyn example (Linux: the runs are pinned to
-their cores).
+library cannot be loaded, ``validate`` ``wearjoint validate --quick``, ``exudyn`` the README's exudyn example
+(Linux: the runs are pinned to their cores).
 The kernels compiled ahead of time (:data:`~wearjoint._compile.notice.AHEAD_OF_TIME`: ``fmu``, ``slider-crank-fmu``,
 ``master``) are each model's IR compiled afresh as a build without shipped IR does (two processes side by side on two
 cores), and their wall seconds are kept too.  About ten minutes; run it on an idle machine after a large change to

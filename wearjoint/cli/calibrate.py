@@ -13,7 +13,8 @@ import numpy as np
 from ..parameters import ParameterError
 from ..results import write_json_atomic
 from ..studies.calibration import (
-    DEFAULT_TOLERANCE, falling_depths, fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration, predictions,
+    DEFAULT_TOLERANCE, falling_depths, fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration,
+    predictions,
 )
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from .options import require_option, with_options
