@@ -57,9 +57,10 @@ from ..runner import check_time_series_fits
 
 MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")
 THIRD_PARTY = MASTERS[1:]
-# a third-party master's default communication step by the package's load coupling (inside the monolithic scatter,
-# docs/explanation/cosim_study.md)
-DEFAULT_STEP_S = {"hold": 1e-6, "linearised": 5e-6}
+# a third-party master's default communication step by the package's load coupling: the one the package asks its
+# masters for (inside the monolithic scatter on time or one step late, docs/explanation/cosim_study.md; held loads
+# at 1 us, this default until now, put the container's 8-start impacts z -5.1 off)
+DEFAULT_STEP_S = ssp.DEFAULT_STEP_S
 # what every adapter records at each communication point: (component, variable)
 MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a")
 JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
