@@ -205,8 +205,9 @@ def study_life(growth: np.ndarray, wear_coefficient_m2_N: float, depth_m: float 
         return {}
     k = wear_coefficient_m2_N
     span = life(growth, k, {"law": "archard", "wear_coefficient_m2_N": k}, depth_m, crank_speed_rpm)
-    span["note"] = span.get("note") or (f"at the study's k_w {k:.4g} m^2/N: at c times it the life is 1/c times (the "
-                                        "master curve); measured depths give k_w with an interval: wearjoint calibrate")
+    span["note"] = span.get("note") or (f"at the study's k_w {k:.4g} m^2/N; c times that k_w divides the life by c "
+                                        "(the master curve); measured depths give k_w with an interval: wearjoint "
+                                        "calibrate")
     return {"life": span, "life_revolutions": span["revolutions"], "life_hours": span["hours"]}
 
 
