@@ -127,6 +127,9 @@ def _watch_first_compilation() -> None:
 
 
 def _first_compilation_over() -> None:
+    """Close the first solve's watch if it is open (at its first accepted step, or when that solve ends without one)."""
+    if not _first_compilation or _first_compilation[-1] is None:
+        return
     stack, watch = _first_compilation.pop()
     watch.close()                  # its count's last line: the compilation is over
     stack.close()
@@ -255,8 +258,7 @@ class ClearanceJointHandle:
         at_end = self._force_times == 1 and self._force_time == t
         self._force_times = 0
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, at_end, self._history, self._rows)
-        if _first_compilation and _first_compilation[-1] is not None:
-            _first_compilation_over()
+        _first_compilation_over()
         if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
             starting = self._rows - self._run_starts[-1] <= 1     # the run's first accepted point is exempt
             raise RunDiverged(inadmissible_message(
@@ -394,7 +396,8 @@ def contact_stiffness_bound(parameters: JointParameters) -> float:
 def solve_dynamic(mbs, settings, **options):
     """``exu.SolveDynamic(mbs, settings, **options)`` without exudyn's memory-allocation warning, which a clearance
     joint's user functions always raise (a new array per call, counted by exudyn; harmless): exudyn's threshold
-    (``exudyn.solver.solverCheckMemoryAllocationsThreshold``) is lifted for the call and restored after."""
+    (``exudyn.solver.solverCheckMemoryAllocationsThreshold``) is lifted for the call and restored after.  A first
+    solve that fails before its first accepted step closes its compile watch here."""
     import exudyn.solver as solver
 
     threshold = solver.solverCheckMemoryAllocationsThreshold
@@ -403,6 +406,7 @@ def solve_dynamic(mbs, settings, **options):
         return exu.SolveDynamic(mbs, settings, **options)
     finally:
         solver.solverCheckMemoryAllocationsThreshold = threshold
+        _first_compilation_over()
 
 
 def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate_scale_m: float = 1.0

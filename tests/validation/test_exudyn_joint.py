@@ -495,3 +495,23 @@ def test_the_first_solve_watches_its_compilation_unless_a_command_does(monkeypat
     with notice.watching("validate"):
         wx._watch_first_compilation()
         assert wx._first_compilation == [None]
+
+
+def test_a_first_solve_that_fails_before_a_step_closes_its_compilation_watch(monkeypatch):
+    """A first solve refused before its first accepted step (a step too long for wear) leaves no watch open: the
+    next solve's compilations are not announced as the first's."""
+    import exudyn as exu
+
+    import wearjoint.exudyn as wx
+    from wearjoint._compile import notice
+
+    monkeypatch.setattr(wx, "_first_compilation", [])
+    sc, mbs, handle = _hung_bar(wear_factor=1.0)
+    settings = exu.SimulationSettings()
+    settings.timeIntegration.endTime = 0.01
+    settings.timeIntegration.verboseMode = 0
+    settings.solution.file.write = False
+    with pytest.raises(Exception, match="invalid with wear"):
+        wx.solve_dynamic(mbs, settings)
+    assert handle.accepted_steps == 0
+    assert wx._first_compilation == [None] and not notice.watched()
