@@ -155,10 +155,11 @@ class Allowed:
     when: tuple[tuple[str, float, str, str], ...] = ()
     note: str = ""
 
-    def text(self, names=None) -> str:
+    def text(self, names=None, values=None) -> str:
         """The rule as :class:`ParameterError` messages state it, e.g. ``> 0`` or ``in (0, 1]``; ``names`` maps
         the table's names to those the reader knows (the parameter set's fields), and a condition is then
-        stated as the parameter set states it."""
+        stated as the parameter set states it; with ``values`` (the table's values by name) only the conditions
+        that hold for them."""
         if self.note:
             floor = f"{self.low:g}" if self.low else None
             bounds = (f"from {floor} to {self.high:g}" if floor and self.high is not None
@@ -171,6 +172,8 @@ class Allowed:
         else:
             rule = "a finite real number"
         for other, value, label, stated in self.when:
+            if values is not None and values[other] != value:
+                continue
             rule += f", and {self.equal!r} with {stated if names else f'{other}={value:g} ({label})'}"
         above = names[self.above] if names and self.above else self.above
         return rule + (f" and > {above}" if self.above else "")

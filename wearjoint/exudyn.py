@@ -88,22 +88,31 @@ class _Body:
             raise ParameterError(f"{argument}={number!r} is invalid: not an object of this system "
                                  f"(allowed: the number of an ObjectRigidBody2D or ObjectGround)") from None
         kind = item["objectType"]
-        if kind == "RigidBody2D":
-            self.node = item["nodeNumber"]
-            node = mbs.GetNode(self.node)
-            self.reference = np.array(node["referenceCoordinates"], dtype=float)
-            self.initial = self.reference + np.array(node["initialCoordinates"], dtype=float)
-        elif kind == "Ground":
-            self.node = None
-            position = np.array(item["referencePosition"], dtype=float)
-            self.reference = np.array([position[0], position[1], 0.0])
-            self.initial = self.reference.copy()
-        else:
+        if kind not in ("RigidBody2D", "Ground"):
             raise ParameterError(f"{argument}={number!r} is invalid: it is an exudyn {kind} object "
                                  "(allowed: ObjectRigidBody2D or ObjectGround)")
-        self.number = int(number)       # exudyn's ObjectIndex never equals an int: compare these
-        self.position = self.reference.copy()
-        self.velocity = np.zeros(3)
+        self.argument, self.number = argument, int(number)    # exudyn's ObjectIndex never equals an int: compare these
+        self.node = item["nodeNumber"] if kind == "RigidBody2D" else None
+        self.reference, self.position, self.velocity = np.zeros(3), np.zeros(3), np.zeros(3)
+        self.read_reference(mbs)
+
+    def read_reference(self, mbs) -> None:
+        """The body's reference coordinates (x, y, angle) as the system holds them now, in place (the kernels keep
+        these arrays), and its initial ones (:attr:`initial`): a node's reference and initial coordinates, a
+        ground's reference position and its rotation about z."""
+        if self.node is not None:
+            node = mbs.GetNode(self.node)
+            self.reference[:] = node["referenceCoordinates"]
+            self.initial = self.reference + np.array(node["initialCoordinates"], dtype=float)
+            return
+        item = mbs.GetObject(self.number)
+        rotation = np.array(item["referenceRotation"], dtype=float)    # exudyn keeps it in step with referenceHT
+        if not np.allclose((*rotation[2], *rotation[:2, 2]), (0.0, 0.0, 1.0, 0.0, 0.0), rtol=0.0, atol=1e-12):
+            raise ParameterError(f"{self.argument}={self.number} is invalid: its ObjectGround's referenceRotation "
+                                 "turns it out of the x-y plane (allowed: a rotation about z)")
+        position = item["referencePosition"]
+        self.reference[:] = (position[0], position[1], math.atan2(rotation[1, 0], rotation[0, 0]))
+        self.position[:], self.initial = self.reference, self.reference.copy()       # ground does not move
 
 
 _SAME_TIME = 1e-12     # times this close (relative, at least 1 s) are one: a continuation's start and the last end
@@ -167,6 +176,7 @@ class ClearanceJointHandle:
         self._q, self._q_t, self._force = np.zeros(n), np.zeros(n), np.zeros(n)
         self._local_indices = self._indices([np.arange(3 * k, 3 * k + 3) for k in range(len(self._nodes))])
         self._system_indices = None   # the nodes' ODE2 coordinates in the system (after Assemble)
+        self._references_read = False  # the bodies' reference coordinates read at this solve's start
         self._history = np.zeros((1024, len(HISTORY_COLUMNS)))
         self._rows = 0
         self._run_starts = [0]        # the first history row of each run
@@ -200,6 +210,8 @@ class ClearanceJointHandle:
         if not _first_compilation:
             _watch_first_compilation()
         if t != self._force_time:
+            if not self._references_read or t < self.t:     # the first solve, or one from before the last step
+                self._read_references(mbs)
             self._force_time = t
             self._force_times += 1
             if self._force_times > UNACCEPTED_FORCE_TIMES:
@@ -216,6 +228,14 @@ class ClearanceJointHandle:
         arguments = self._jacobian_arguments
         generalized_force_jacobian(*arguments, factor_q, factor_q_t)
         return arguments[-1]
+
+    def _read_references(self, mbs) -> None:
+        """The bodies' reference coordinates as the system holds them at the first solve's start and at a later
+        solve's from an earlier time (a node's or a ground's may be set anew after :func:`add_clearance_joint`:
+        ``mbs.SetNodeParameter``; a continuation keeps them)."""
+        self.pin.read_reference(mbs)
+        self.bushing.read_reference(mbs)
+        self._references_read = True
 
     def _check_post_step(self, mbs) -> None:
         """Refuse a system whose post-step function no longer serves the joints (``mbs.SetPostStepUserFunction``
@@ -282,8 +302,9 @@ class ClearanceJointHandle:
         self.t = t
 
     def result(self) -> ContactResult:
-        """The contact at the end of the last accepted step (before that step's wear)."""
-        return ContactResult.from_array(self.joint.result.copy())
+        """The contact at the end of the last accepted step (before that step's wear), its extent (half-width, mean
+        pressure, contact arc) on the profile as worn now."""
+        return self.joint._contact_result(self.joint.result.copy(), self.joint.wear_depth)
 
     @property
     def runs(self) -> int:
@@ -341,12 +362,13 @@ def set_post_step(mbs, user_function: Callable | None) -> None:
 def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters) -> ClearanceJointHandle:
     """Add a wearing clearance joint between ``pin_body`` and ``bushing_body`` (object numbers of
     ``ObjectRigidBody2D`` or ``ObjectGround``) of the exudyn system ``mbs``, before
-    ``mbs.Assemble()``; any number per system.  The pin centre must lie inside the bushing at the
-    initial configuration (usually within the radial clearance; a small overlap is a preload).
+    ``mbs.Assemble()``; any number per system.  The pin centre must lie within the radial clearance at the initial
+    configuration, or past it by at most the admissible penetration (a preload; docs/reference/model.md §3.14).
     Raises ParameterError naming the argument."""
     if not isinstance(mbs, exu.MainSystem):
-        raise ParameterError(f"mbs={mbs!r} is invalid: allowed an exudyn MainSystem (exudyn.SystemContainer()"
-                             ".AddSystem())")
+        shown = repr(mbs) if "\n" not in repr(mbs) and len(repr(mbs)) <= 80 else f"<a {type(mbs).__name__}>"
+        raise ParameterError(f"mbs={shown} is invalid: allowed an exudyn MainSystem "
+                             "(exudyn.SystemContainer().AddSystem())")
     if not isinstance(parameters, JointParameters):
         raise ParameterError(f"parameters={parameters!r} is invalid: allowed a wearjoint.JointParameters")
     pin, bushing = _Body(mbs, "pin_body", pin_body), _Body(mbs, "bushing_body", bushing_body)
@@ -358,12 +380,14 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
     if pin.node is None and bushing.node is None:
         raise ParameterError(f"bushing_body={bushing_body!r} is invalid: pin_body is ground too "
                              "(allowed: a rigid body on at least one side)")
-    e, radius = _initial_eccentricity(pin, bushing, parameters), parameters.bushing_radius_m
-    if e > radius:
+    e, p = _initial_eccentricity(pin, bushing, parameters), parameters
+    if not e <= p.clearance_m + p.admissible_penetration_m:
+        where = "outside the bushing" if e > p.bushing_radius_m else "deeper in its wall than any contact reaches"
         raise ParameterError(
-            f"parameters pin_offset_m={parameters.pin_offset_m} and bushing_offset_m={parameters.bushing_offset_m} "
-            f"are invalid for these bodies: they put the pin centre {e:.6g} m from the bushing centre at the "
-            f"initial configuration, outside the bushing: allowed at most its radius {radius:.6g} m")
+            f"parameters pin_offset_m={p.pin_offset_m} and bushing_offset_m={p.bushing_offset_m} are invalid for these "
+            f"bodies: they put the pin centre {e:.6g} m from the bushing centre at the initial configuration, {where}: "
+            f"allowed at most the clearance and the admissible penetration, {p.clearance_m:.6g} + "
+            f"{p.admissible_penetration_m:.6g} m (docs/reference/model.md §3.14)")
     handle = ClearanceJointHandle(mbs, pin, bushing, parameters)
     _post_step(mbs).handles.append(handle)
     return handle

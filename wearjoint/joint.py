@@ -163,7 +163,10 @@ class ClearanceJoint:
     """
 
     def __init__(self, params: JointParameters | None = None):
-        self.params = params or JointParameters()
+        if params is not None and not isinstance(params, JointParameters):
+            raise ParameterError(f"params={params!r} is invalid: allowed a wearjoint.JointParameters (or None: the "
+                                 "paper's joint)")
+        self.params = JointParameters() if params is None else params
         n = self.params.n_points
         self.parameter_vector = pack_joint_parameters(self.params)
         self.phi_rad, self.cos_phi, self.sin_phi = np.empty(n), np.empty(n), np.empty(n)
@@ -278,9 +281,11 @@ class ClearanceJoint:
                 f"{p.admissible_force_N:.3g} N from the last accepted point (a step too long for the contact, "
                 "docs/reference/model.md §3.14); the joint is unchanged")
         if code == STEP_REFUSED:
+            p = self.params
             raise ParameterError(f"parameter dt={dt!r} is invalid here: the step would wear the bushing by more than "
-                                 f"its radius {self.params.bushing_radius_m!r} m (or by a non-finite depth); the joint "
-                                 "is unchanged")
+                                 f"its radius {p.bushing_radius_m!r} m (or by a non-finite depth) at k_w * wear_factor "
+                                 f"= {p.wear_coefficient_m2_N!r} * {p.wear_factor!r} m^2/N; allowed a shorter step or a "
+                                 "smaller wear_coefficient_m2_N or wear_factor; the joint is unchanged")
         if code == STEP_OVERSHOT and not self._warned_wear_step:
             self._warned_wear_step = True
             warnings.warn(overshoot_message(dt, self.params), RuntimeWarning, stacklevel=2)
@@ -296,7 +301,7 @@ class ClearanceJoint:
         if loading.ndim != 2 or loading.shape[1] != N_LOAD_COLUMNS or not np.all(np.isfinite(loading)):
             raise ParameterError(f"loading of shape {loading.shape} is invalid: allowed a finite (n, {N_LOAD_COLUMNS}) "
                                  "array")
-        if not (math.isfinite(scale) and scale >= 0.0):
+        if not (is_real(scale) and math.isfinite(scale) and scale >= 0.0):
             raise ParameterError(f"scale={scale!r} is invalid: allowed a finite value >= 0")
         if isinstance(passes, bool) or not isinstance(passes, (int, np.integer)) or passes < 1:
             raise ParameterError(f"passes={passes!r} is invalid: allowed an integer >= 1")
@@ -337,7 +342,7 @@ class ClearanceJoint:
 
     @property
     def max_wear_angle_deg(self) -> float:
-        """Rod-frame angle of the deepest wear, in [0, 360)."""
+        """Bushing-frame angle of the deepest wear, in [0, 360)."""
         return float(self.phi_deg[int(np.argmax(self.wear_depth))] % 360.0)
 
     @property
@@ -356,7 +361,8 @@ class ClearanceJoint:
         allowed = f"n_points={self.wear_depth.size} depths [m] in [0, {self.params.bushing_radius_m:g}]"
         h = real_array(name, wear_depth_m, allowed)
         if h.shape != self.wear_depth.shape:
-            raise StateError(f"{where}{h.size} bushing points given, this joint has n_points={self.wear_depth.size}")
+            raise StateError(f"{where}an array of shape {h.shape} given, this joint has n_points="
+                             f"{self.wear_depth.size}: allowed shape ({self.wear_depth.size},)")
         memory = np.zeros(L.N_MEMORY) if memory is None else real_array("state.memory", memory,
                                                                           f"{L.N_MEMORY} finite numbers")
         if memory.shape != (L.N_MEMORY,):
@@ -365,7 +371,8 @@ class ClearanceJoint:
         return h
 
     def save_profile(self, path) -> Path:
-        """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (bushing frame)."""
+        """Write ``phi_deg,wear_depth_m`` CSV, one row per bushing point (bushing frame): the profile only, not the
+        wear batch still pending or the contact memory (:meth:`state_to_bytes` for an exact round trip)."""
         path = Path(path)
         data = np.column_stack([self.phi_deg, self.wear_depth])
         np.savetxt(path, data, delimiter=",", header="phi_deg,wear_depth_m", comments="", fmt="%.17g")

@@ -139,13 +139,13 @@ def coded_values(params) -> dict[str, float]:
     return {f.fmu_name: coded_value(f, getattr(params, f.field)) for f in JOINT_FIELDS}
 
 
-def allowed_text(f: JointField, names=None) -> str:
-    """A row's allowed values as the error messages state them (``names``: :meth:`Allowed.text`'s)."""
+def allowed_text(f: JointField, names=None, values=None) -> str:
+    """A row's allowed values as the error messages state them (``names``, ``values``: :meth:`Allowed.text`'s)."""
     if f.choices is not None:
         if names:
             return "one of " + ", ".join(name for name, _ in f.choices)
         return "one of " + ", ".join(f"{code} ({name})" for name, code in f.choices)
-    return f.allowed.text(names)
+    return f.allowed.text(names, values)
 
 
 def real_field_values(params) -> dict[str, float]:
@@ -170,7 +170,7 @@ def check_joint_fields(params) -> None:
         if f.choices is None and not f.allowed.admits(values[f.fmu_name], values):
             other = FIELD_NAMES.get(f.allowed.above)
             compared = f" ({other} = {getattr(params, other)!r})" if other else ""
-            require(f.field, getattr(params, f.field), False, allowed_text(f, FIELD_NAMES) + compared)
+            require(f.field, getattr(params, f.field), False, allowed_text(f, FIELD_NAMES, values) + compared)
 
 
 __all__ = ["JointField", "JOINT_FIELDS", "FIELD_NAMES", "coded_value", "coded_values", "allowed_text",

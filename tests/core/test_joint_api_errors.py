@@ -44,6 +44,9 @@ def _one_line(exc_info) -> str:
     (lambda j: j.set_wear_profile(["a"] * 1257),
      r"^parameter wear_depth_m=\['a', 'a', 'a', 'a', 'a', 'a', \.\.\.\] is invalid \(not real numbers\): "
      r"allowed n_points=1257 depths \[m\] in \[0, 0.0101\]$"),
+    (lambda j: j.set_wear_profile(np.zeros((1257, 1))),
+     r"^wear profile: an array of shape \(1257, 1\) given, this joint has n_points=1257: allowed shape \(1257,\)$"),
+    (lambda j: j.replay_wear(np.zeros((1, 7)), "a"), r"^scale='a' is invalid: allowed a finite value >= 0$"),
 ])
 def test_a_bad_argument_is_one_line_naming_it_its_value_and_what_is_allowed(call, message):
     joint = ClearanceJoint(JointParameters(wear_factor=100))
@@ -53,6 +56,26 @@ def test_a_bad_argument_is_one_line_naming_it_its_value_and_what_is_allowed(call
         call(joint)
     assert _one_line(exc_info) and exc_info.match(message)
     assert joint.state_to_bytes() == before                  # nothing changed
+
+
+@pytest.mark.parametrize("params", ["x", {}, {"restitution": 0.5}, 0])
+def test_a_joint_of_anything_but_a_parameter_set_is_refused(params):
+    """Not the defaults in silence for an empty dict or 0, nor an AttributeError for a string."""
+    with pytest.raises(ParameterError, match=r"^params=.* is invalid: allowed a wearjoint.JointParameters \(or None"):
+        ClearanceJoint(params)
+    assert ClearanceJoint(None).params == JointParameters()
+
+
+def test_a_step_wearing_through_the_wall_names_the_wear_rate_it_comes_from():
+    """A wear factor fast enough that one microsecond wears more than the bushing radius: the refusal names
+    k_w * wear_factor, not the step alone."""
+    joint = ClearanceJoint(JointParameters(wear_factor=1e12))
+    with pytest.raises(ParameterError, match=r"^parameter dt=1e-06 is invalid here: the step would wear the bushing by "
+                                             r"more than its radius .* at k_w \* wear_factor = .* \* 1000000000000.0 "
+                                             r"m\^2/N; allowed a shorter step or a smaller wear_coefficient_m2_N or "
+                                             r"wear_factor; the joint is unchanged$") as exc_info:
+        joint.advance(PIN, BUSHING, 1e-6)
+    assert _one_line(exc_info) and joint.max_wear_depth_m == 0.0
 
 
 def test_numpy_numbers_and_integers_are_real_numbers():

@@ -31,6 +31,10 @@ def test_the_default_stiffness_follows_the_radii_and_materials():
     with pytest.raises(ParameterError, match=r"contact_exponent=2.0 is invalid: allowed > 0, and 1.5 with "
                                              r"contact_model='foundation' .*, and 1.5 with no contact_stiffness_N_m1_5 "
                                              r"given \(K from the materials\)"):
+        JointParameters(contact_exponent=2.0)
+    # the deepest point's law: only the condition that holds is stated
+    with pytest.raises(ParameterError, match=r"^parameter contact_exponent=2.0 is invalid: allowed > 0, and 1.5 with "
+                                             r"no contact_stiffness_N_m1_5 given \(K from the materials\)$"):
         JointParameters(contact_model="deepest", contact_exponent=2.0)
     assert JointParameters(contact_model="deepest", contact_exponent=2.0, contact_stiffness_N_m1_5=1e12).stiffness_N_m1_5 == 1e12
 

@@ -168,15 +168,25 @@ def test_a_first_solve_may_start_at_any_time_and_a_later_start_is_a_new_run():
 
 
 def test_a_run_that_starts_deep_in_the_wall_is_told_to_check_its_start_not_its_step():
-    """Offsets that put the pin 1 mm into a 0.1 mm clearance's wall (inside the bushing: accepted when added, the
-    first point exempt) stop the run at its second step saying the start is wrong; no advice to shorten a step."""
+    """A start that puts the pin 1 mm into a 0.1 mm clearance's wall is refused when the joint is added; moved there
+    for a second solve (the node's coordinates set anew, read at the solve's start; the first point exempt), it
+    stops that run at its second step saying the start is wrong; no advice to shorten a step."""
     mbs = exu.SystemContainer().AddSystem()
-    bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.101, 0])),
-                                          mass=1.0, inertia=1e-3))
-    handle = add_clearance_joint(mbs, mbs.AddObject(ObjectGround()), bar, WEARING)
+    node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.101, 0]))
+    bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=1.0, inertia=1e-3))
+    ground = mbs.AddObject(ObjectGround())
+    with pytest.raises(ParameterError, match=r"0.001 m from the bushing centre at the initial configuration, deeper in "
+                                             r"its wall than any contact reaches"):
+        add_clearance_joint(mbs, ground, bar, WEARING)
+    mbs.SetNodeParameter(node, "referenceCoordinates", [0, -0.1, 0])
+    handle = add_clearance_joint(mbs, ground, bar, WEARING)
+    mbs.Assemble()
+    solve_dynamic(mbs, simulation_settings(0.001, 1e-5, [handle]))      # within the clearance: it runs
+    steps = handle.accepted_steps
+    mbs.SetNodeParameter(node, "referenceCoordinates", [0, -0.101, 0])   # a second solve from 0, 1 mm deep
     mbs.Assemble()
     with pytest.raises(exu.exudynCPP.ModelError, match=r"the run's second step put the pin .* \(the run started "
                                                        r"there: check the bodies' initial coordinates and the "
                                                        r"joint's offsets;") as failure:
         solve_dynamic(mbs, simulation_settings(0.001, 1e-5, [handle]))
-    assert "shorter step" not in str(failure.value) and handle.accepted_steps == 1
+    assert "shorter step" not in str(failure.value) and handle.accepted_steps == steps + 1

@@ -344,6 +344,8 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
     marker = mbs.AddMarker(MarkerBodyMass(bodyNumber=bar))
     with pytest.raises(ParameterError, match=r"^mbs=None is invalid: allowed an exudyn MainSystem"):
         add_clearance_joint(None, ground, bar, params)
+    with pytest.raises(ParameterError, match=r"^mbs=<a SystemContainer> is invalid: allowed an exudyn MainSystem"):
+        add_clearance_joint(exu.SystemContainer(), ground, bar, params)     # its repr spans lines: one line here
     cases = [((ground, 99, params), "bushing_body=99 is invalid: not an object of this system"),
              ((twin, bar, params), f"bushing_body={bar} is invalid: it moves with node 0, pin_body's"),
              ((ground, bar, "paper"), "parameters='paper' is invalid"),
@@ -354,7 +356,10 @@ def test_bad_bodies_offsets_and_steps_are_refused_naming_the_argument():
              ((marker, bar, params), f"pin_body={int(marker)} is invalid: it is an exudyn MarkerIndex"),
              ((ground, bar, JointParameters(bushing_offset_m=(0.0, 0.13))),
               "put the pin centre 0.03 m from the bushing centre at the initial configuration, outside the "
-              "bushing: allowed at most its radius 0.0101 m")]
+              "bushing: allowed at most the clearance and the admissible penetration, 0.0001 . 0.0002 m"),
+             ((ground, bar, JointParameters(bushing_offset_m=(0.0, 0.101))),     # 1 mm off: a 0.9 mm overlap
+              "put the pin centre 0.001 m from the bushing centre at the initial configuration, deeper in its wall "
+              "than any contact reaches: allowed at most the clearance and the admissible penetration")]
     for args, message in cases:
         with pytest.raises(ParameterError, match=message.replace("(", r"\(").replace(")", r"\)")):
             add_clearance_joint(mbs, *args)
@@ -476,42 +481,3 @@ def test_solve_dynamic_keeps_exudyns_allocation_warning_off_and_restores_its_thr
     said = [out.out + out.err for out in outputs]
     assert "memory allocations" in said[0] and "memory allocations" not in said[1]
     assert exudyn.solver.solverCheckMemoryAllocationsThreshold == threshold
-
-
-def test_the_first_solve_watches_its_compilation_unless_a_command_does(monkeypatch):
-    """The first force call of a process opens a watch of numba's compilations (its notice once they last 2 s: the
-    first solve sat silent for up to a minute), closed at the first accepted step; inside a command that watches its
-    own (validate: the compared engines' notice), none, so that nothing is announced twice."""
-    import wearjoint.exudyn as wx
-    from wearjoint._compile import notice
-
-    monkeypatch.setattr(wx, "_first_compilation", [])
-    wx._watch_first_compilation()
-    (stack, watch), = wx._first_compilation
-    assert notice.watched() and watch.what == "exudyn"
-    wx._first_compilation_over()
-    assert wx._first_compilation == [None] and not notice.watched()
-    monkeypatch.setattr(wx, "_first_compilation", [])
-    with notice.watching("validate"):
-        wx._watch_first_compilation()
-        assert wx._first_compilation == [None]
-
-
-def test_a_first_solve_that_fails_before_a_step_closes_its_compilation_watch(monkeypatch):
-    """A first solve refused before its first accepted step (a step too long for wear) leaves no watch open: the
-    next solve's compilations are not announced as the first's."""
-    import exudyn as exu
-
-    import wearjoint.exudyn as wx
-    from wearjoint._compile import notice
-
-    monkeypatch.setattr(wx, "_first_compilation", [])
-    sc, mbs, handle = _hung_bar(wear_factor=1.0)
-    settings = exu.SimulationSettings()
-    settings.timeIntegration.endTime = 0.01
-    settings.timeIntegration.verboseMode = 0
-    settings.solution.file.write = False
-    with pytest.raises(Exception, match="invalid with wear"):
-        wx.solve_dynamic(mbs, settings)
-    assert handle.accepted_steps == 0
-    assert wx._first_compilation == [None] and not notice.watched()
