@@ -122,29 +122,35 @@ def _finite(x):
     return float(x) if math.isfinite(x) else None
 
 
-def steady_revolutions(stats: np.ndarray, settling_revolutions: int = 1) -> tuple[int, np.ndarray]:
+def steady_revolutions(stats: np.ndarray, settling_revolutions: int = 1, left_out=()) -> tuple[int, np.ndarray]:
     """(the first revolution, a mask of the rows) the run's extremes are taken over: its counted revolutions
     (:func:`counted_revolutions`: a sliver after the last is not a revolution) after the first
-    ``settling_revolutions`` (the start-up transient), or all its counted ones if it ends before they are over."""
+    ``settling_revolutions`` (the start-up transient), or all its counted ones if it ends before they are over;
+    without the rows ``left_out`` (a wear study's simulated revolutions before its last, the final state: a
+    cycle jump deepens the groove at once under a pin that has not moved, and the impact rings for a revolution
+    or two) unless nothing else is left."""
     rows = np.zeros(stats.shape[0], dtype=bool)
     rows[counted_revolutions(stats)] = True
     first = max(0, int(settling_revolutions))
     first = first if rows[first:].any() else 0
-    return first, rows & (np.arange(stats.shape[0]) >= first)
+    steady = rows & (np.arange(stats.shape[0]) >= first)
+    kept = steady.copy()
+    kept[np.asarray(left_out, dtype=np.int64)] = False
+    return first, kept if kept.any() else steady
 
 
-def run_statistics(stats: np.ndarray, settling_revolutions: int = 1) -> dict:
+def run_statistics(stats: np.ndarray, settling_revolutions: int = 1, left_out=()) -> dict:
     """The statistics of ``summary.json`` (docs/reference/results.md §6): of the last counted revolution (a sliver
     after it, a run of 1.02 revolutions, is none) the contact fraction, the impacts and the slider acceleration
     extremes (None if not finite); the max contact force and the max eccentricity over the counted revolutions
     after the first ``settling_revolutions`` (the start-up transient: the pin starts centred at full speed), which
-    are reported apart under ``start_up`` (:func:`steady_revolutions`).  A run that has not passed them (it ends in
+    are reported apart under ``start_up``, and without the rows ``left_out`` (:func:`steady_revolutions`).  A run that has not passed them (it ends in
     revolution ``settling_revolutions`` or before) keeps its transient in the statistics
     (``statistics_from_revolution`` 0) and says so."""
     counted = counted_revolutions(stats)
     last_index = int(counted[-1]) if counted.size else 0
     last = stats[last_index]
-    first, steady = steady_revolutions(stats, settling_revolutions)
+    first, steady = steady_revolutions(stats, settling_revolutions, left_out)
     transient = covered(stats) & (np.arange(stats.shape[0]) < first)
     out = {
         "max_contact_force_N": float(stats[steady, L.S_FORCE_MAX].max()) if steady.any() else 0.0,
@@ -190,9 +196,13 @@ def whirl_fraction(samples: np.ndarray) -> float:
 
 def regime(samples: np.ndarray) -> dict:
     """The run's regime: ``backward whirl`` where the pin whirls for more than WHIRL_SHARE of the time
-    (:func:`whirl_fraction`), else ``impacting``; with the whirl fraction."""
+    (:func:`whirl_fraction`), ``permanent contact`` where no sample leaves the contact (a load that never reverses),
+    else ``impacting``; with the whirl fraction."""
     share = whirl_fraction(samples)
-    return {"regime": "backward whirl" if share > WHIRL_SHARE else "impacting", "whirl_fraction": share}
+    if share > WHIRL_SHARE:
+        return {"regime": "backward whirl", "whirl_fraction": share}
+    permanent = samples.shape[0] > 0 and bool(np.all(samples[:, L.T_CONTACT] > 0.5))
+    return {"regime": "permanent contact" if permanent else "impacting", "whirl_fraction": share}
 
 
 def mean_revolution_statistics(stats: np.ndarray, period_s: float, samples: np.ndarray | None = None) -> dict:

@@ -93,6 +93,9 @@ class RunRecord:
     settling_revolutions: int = 1           # the start-up transient, left out of the run's extremes
     revolution_numbers: np.ndarray | None = None   # the revolution each row of revolution_stats is (a wear study's
     #                                                simulated revolutions stand for others); None: 0, 1, 2, ...
+    left_out_rows: tuple = ()               # rows of revolution_stats left out of the extremes (a wear study's)
+    impact_threshold_m_s2: float = analysis.IMPACT_EVENT_THRESHOLD_M_S2   # an impact-vibration event's size
+    impact_merge_deg: float = analysis.IMPACT_EVENT_MERGE_DEG              # and its clusters' merge angle
 
     def last_revolution(self) -> int:
         """Index of the last revolution that was simulated (complete or partial)."""
@@ -105,7 +108,8 @@ class RunRecord:
 
     def impact_events(self) -> dict:
         """The run's impact-vibration events per revolution (:func:`wearjoint.analysis.revolution_impact_events`)."""
-        return analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism)
+        return analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism,
+                                                 self.impact_threshold_m_s2, self.impact_merge_deg)
 
     def ideal_comparison(self) -> tuple[np.ndarray, np.ndarray]:
         """|a - a_ideal| and the ideal joint's reaction at every sample
@@ -122,7 +126,7 @@ class RunRecord:
             "wall_time_s": self.wall_time_s,
             "compile_time_s": self.compile_time_s,
             "realtime_factor": self.simulated_time_s / self.wall_time_s if self.wall_time_s > 0 else None,
-            **analysis.run_statistics(self.revolution_stats, self.settling_revolutions),
+            **analysis.run_statistics(self.revolution_stats, self.settling_revolutions, self.left_out_rows),
             **profile_metrics.deepest_point(self.phi_deg, self.wear_depth_m),
             **analysis.regime(self.samples),
             **analysis.impact_event_statistics(impact_events or self.impact_events(), self.parameters.mechanism,
@@ -137,6 +141,10 @@ class RunRecord:
             "failure": self.failure or None,
             "parameters": self.parameters.to_dict(),
         }
+        if self.revolution_numbers is not None:     # a wear study's simulated revolutions stand for these
+            numbers = np.asarray(self.revolution_numbers, dtype=float)
+            out["impact_event_revolutions"] = [int(round(numbers[k])) if k < numbers.size and np.isfinite(numbers[k])
+                                               else k for k in out["impact_event_revolutions"]]
         out.update(against_ideal.summary_statistics(self.samples, self.revolution_stats, self.parameters.mechanism,
                                                     self.settling_revolutions, out.get("max_contact_force_N"),
                                                     ideal_comparison))

@@ -10,9 +10,11 @@ import sys
 import pytest
 
 from wearjoint import targets
+from wearjoint.checks import ParameterError
 from wearjoint.cli import main
 from wearjoint.sweep import runner
-from wearjoint.sweep.design import build_cases, command_options, design_record, read_design, sweep_design
+from wearjoint.sweep.design import (build_cases, check_grid, command_options, design_record, read_design,
+                                    sweep_design)
 from wearjoint.sweep.runner import SweepFolder
 
 TINY = ("--revolutions", "0.02", "--no-plots", "--quiet")
@@ -161,9 +163,11 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
     ("simulate", ("--restitution=5", "--vary", "friction_coefficient=0.1"), "--restitution=5.0 is invalid: allowed "
                                                                             "in (0, 1]"),
     ("simulate", ("--vary", "bushing-radius-m=0.01005,0.0101", "--vary", "pin-radius-m=0.0099,0.01008"),
-     # each value fine alone (with the other radius's default), not together
-     "--vary bushing-radius-m=0.01005,0.0101, --vary pin-radius-m=0.0099,0.01008: the grid point "
-     "bushing-radius-m=0.01005, pin-radius-m=0.01008 is invalid: parameter bushing_radius_m=0.01005 is invalid"),
+     # each value fine alone (with the other radius's default), not together: named with the other's value
+     "--vary bushing-radius-m=0.01005,0.0101: bushing-radius-m=0.01005 is invalid: allowed > 0 (at most 100 m) and "
+     "> pin_radius_m (pin_radius_m = 0.01008)"),
+    ("simulate", ("--bushing-radius-m", "0.00603", "--vary", "pin-radius-m=0.006,-0.006"),   # the bad value, named
+     "--vary pin-radius-m=0.006,-0.006: pin-radius-m=-0.006 is invalid: allowed > 0"),
     ("simulate", ("--vary", "slider-force-table=no_such_table.csv"),      # a file as written, not a PosixPath
      "--vary slider-force-table=no_such_table.csv: slider-force-table=no_such_table.csv is invalid"),
     ("cosim", ("--vary", "master=foo"), "--vary master=foo: master='foo' is invalid: allowed one of wearjoint"),
@@ -176,6 +180,23 @@ def test_a_bad_grid_value_is_refused_before_any_case_runs(tmp_path, capsys, comm
     line = refused(capsys, "sweep", command, *length, *args, "--out", str(tmp_path / "out"))
     assert named in line and "_s=" not in line, line        # the option as written, not the API's step_s
     assert not (tmp_path / "out").exists()
+
+
+def test_only_the_cases_that_run_are_checked_not_the_base_a_varied_option_replaces(tmp_path):
+    """A 6 mm pin in a 6.03 mm bushing: the base's bushing is narrower than the default 10 mm pin, which no case
+    runs with (the pin radius is varied); a sensitivity box of both radii valid at every corner, though its bushing
+    is narrower than the default pin.  Neither is refused; a box one of whose corners puts the pin past the bushing
+    is, naming that corner's value."""
+    from wearjoint.sensitivity.problem import check_ranges, parse_params
+
+    small = base("simulate", "--revolutions", "0.02", "--bushing-radius-m", "0.00603")
+    check_grid("simulate", small, {"pin-radius-m": [0.006, 0.00601]})
+    box = parse_params("simulate", ["pin-radius-m=0.0050,0.0055", "bushing-radius-m=0.0060,0.0065"])
+    check_ranges(box, base("simulate", "--revolutions", "0.02"))
+    crossing = parse_params("simulate", ["pin-radius-m=0.0050,0.0062", "bushing-radius-m=0.0060,0.0065"])
+    with pytest.raises(ParameterError, match=r"^--param 'bushing-radius-m=0.006,0.0065': bushing-radius-m=0.006 is "
+                                             r"invalid: .* > pin_radius_m \(pin_radius_m = 0.0062\)$"):
+        check_ranges(crossing, base("simulate", "--revolutions", "0.02"))
 
 
 # ------------------------------------------------------------------ --scheduler, --seed

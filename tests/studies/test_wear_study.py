@@ -216,11 +216,18 @@ def _revolutions_csv(out) -> list:
 
 def test_a_snapshot_states_the_slider_acceleration_of_its_revolutions_csv_row(tmp_path):
     """One definition: each snapshot's slider acceleration extremes are revolutions.csv's row of the simulated
-    revolution ending at it (every accepted step; the 1e-5 s samples of Fig. 8 miss impact peaks)."""
-    summary = run_wear_study(small_config(revolutions=30, snapshots=(10, 20, 30)), tmp_path, progress=False,
-                             plots=False)
+    revolution ending at it (every accepted step; the 1e-5 s samples of Fig. 8 miss impact peaks).  The summary's
+    extremes are the final state's, the last simulated revolution's (revolution 20 of the study: the first of the
+    ten it stands for); its impact events follow the study's threshold, in summary.json and revolutions.csv."""
+    summary = run_wear_study(small_config(revolutions=30, snapshots=(10, 20, 30), impact_threshold_m_s2=1e9),
+                             tmp_path, progress=False, plots=False)
     rows = _revolutions_csv(tmp_path)
     assert len(rows) == 3
+    for key in ("max_contact_force_N", "max_eccentricity_m"):
+        assert summary[key] == pytest.approx(float(rows[2][key]), rel=1e-9), key
+    assert max(float(row["max_contact_force_N"]) for row in rows[1:]) > summary["max_contact_force_N"]  # not the max
+    assert summary["impact_event_revolutions"] == [20] and summary["impact_events_per_revolution"] == 0.0
+    assert float(rows[2]["impact_events"]) == 0.0 and "> 1e+09 m/s^2" in summary["impact_event_definition"]
     for snap, expected_row in zip(summary["snapshots"], (0, 1, 2)):     # wear factor 10: revolution R = row R/10 - 1
         assert snap["statistics_revolution"] == expected_row
         row = rows[expected_row]

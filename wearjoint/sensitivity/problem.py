@@ -94,7 +94,7 @@ def parse_param(command: str, item: str, variables: dict) -> Parameter:
 def parse_params(command: str, items, base: dict | None = None) -> Problem:
     """The problem of ``--param`` items (at least one, each named once); with ``base`` (the command's
     options, dest -> value), each parameter's LOW and HIGH are checked by the parameter sets' own
-    validation, the others at their base values."""
+    validation, the others at theirs (:func:`check_ranges`)."""
     variables = variable_actions(command)
     parameters = []
     for item in items or ():
@@ -110,12 +110,21 @@ def parse_params(command: str, items, base: dict | None = None) -> Problem:
     return problem
 
 
+CORNERS_CHECKED = 1024      # a box of up to 10 parameters is checked at every corner (a few ms each)
+
+
 def check_ranges(problem: Problem, base: dict) -> None:
-    """``base``, then each parameter's LOW and HIGH with it, through the target's configuration (the checks its run
-    makes before it starts; :func:`wearjoint.sweep.design.check_grid`): a one-line ParameterError naming ``--param``
-    as written, the value and what is allowed."""
+    """The corners of the parameters' box (every combination of their LOW and HIGH, up to CORNERS_CHECKED of them;
+    beyond, each parameter's LOW and HIGH with the others at ``base``) through the target's configuration (the checks
+    its run makes before it starts; :func:`wearjoint.sweep.design.check_grid`): a one-line ParameterError naming
+    ``--param`` as written, the value and what is allowed.  The rules between parameters are orderings (a bushing
+    wider than its pin): kept at the corners, they hold inside."""
+    where = {"vary": {p.name: f"--param {p.text()!r}" for p in problem.parameters}}
+    if 2 ** len(problem.parameters) <= CORNERS_CHECKED:
+        check_grid(problem.command, base, {p.name: [p.low, p.high] for p in problem.parameters}, where=where)
+        return
     for p in problem.parameters:
-        check_grid(problem.command, base, {p.name: [p.low, p.high]}, where={"vary": {p.name: f"--param {p.text()!r}"}})
+        check_grid(problem.command, base, {p.name: [p.low, p.high]}, where=where)
 
 
 __all__ = ["Parameter", "Problem", "parse_param", "parse_params", "check_ranges", "FORM"]

@@ -49,7 +49,8 @@ from wearjoint.runner import CheckpointingEngine, RunDiverged, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import (
-    DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, simulated_revolution_rows, warm_up_replay,
+    DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, simulated_revolution_rows,
+    warm_up_replay,
 )
 from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
 from .wear_study_recovery import (
@@ -460,7 +461,9 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         clearance_m=config.joint.clearance_m, contact_stiffness_N_m1_5=config.joint.stiffness_N_m1_5,
         parameters=RunParameters(config.engine, config.joint, config.mechanism, "study",
                                  {k: v for k, v in config.to_dict().items() if k not in ("joint", "mechanism")}),
-        completed=ending is None, failure=ending["failure"] if ending else "")
+        completed=ending is None, failure=ending["failure"] if ending else "",
+        left_out_rows=tuple(range(1, n_complete - 1)),    # the final state's extremes: its last revolution's
+        impact_threshold_m_s2=config.impact_threshold_m_s2, impact_merge_deg=config.impact_merge_deg)
     summary = write_results(record, out, plots=plots and ending is None)
     from .calibration import study_life      # its fits import scipy's optimize and stats: not at the study's import
     status, paper = ending["status"] if ending else "finished", is_paper_case(config.joint, config.mechanism)
@@ -472,9 +475,6 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         "effective_wear_coefficient_m2_N": config.joint.wear_coefficient_m2_N,
         "printed_wear_coefficient_m2_N": PRINTED_WEAR_COEFFICIENT_M2_N,
         "wear_coefficient_ratio_to_printed": config.joint.wear_coefficient_m2_N / PRINTED_WEAR_COEFFICIENT_M2_N,
-        "impact_event_definition": (f"cluster of samples with |a - a_ideal| > {config.impact_threshold_m_s2:g} m/s^2; "
-                                    f"clusters closer than {config.impact_merge_deg:g} deg of crank rotation merge; "
-                                    "size = the cluster's peak |a - a_ideal|"),
         "snapshots": [snapshot_entry(s) for s in snaps],
         "growth": growth_assessment(growth, paper) if len(growth) > 1 else None,
         **study_life(growth, config.joint.wear_coefficient_m2_N, config.life_depth_m, config.mechanism.crank_speed_rpm),

@@ -391,32 +391,52 @@ def configure(command: str, options: dict):
 
 
 def check_grid(command: str, base: dict, vary: dict | None = None, points=(), where: dict | None = None) -> None:
-    """Every grid point of ``vary`` and ``points`` through :func:`configure` before any case runs: first ``base``
-    (named by the option that set the bad value), then each value alone, then each point.  A bad one raises a
-    one-line ParameterError naming where it was written (``where``: :func:`read_design`'s, else ``vary NAME`` and
-    ``point K``), the value and what is allowed.  A case that passes may still fail as it runs (a diverged run):
-    the sweep records it as failed."""
+    """Every case the grid of ``vary`` and ``points`` runs through :func:`configure` before any runs: each value
+    of a single varied option, each combination of several, each point (``base`` alone where nothing varies; a
+    base value a varied option replaces is never checked alone: a small pin's bushing against the default pin).
+    A bad one raises a one-line ParameterError naming where it was written (``where``: :func:`read_design`'s, else
+    ``vary NAME`` and ``point K``; the option that set a bad base value), the value and what is allowed.  A case
+    that passes may still fail as it runs (a diverged run): the sweep records it as failed."""
     variables, where = variable_actions(command), where or {}
-    try:
-        configure(command, dict(base))
-    except ParameterError as exc:                # named by the option that set it, where one did
-        blamed = ((flag, value, _reason(str(exc), dest, value)) for dest, flag, value in given_options(command, base))
-        flag, value, reason = next((b for b in blamed if b[2] is not None), (None, None, None))
-        raise ParameterError(str(exc) if flag is None else f"{flag}={value!r} is invalid{reason}") from None
     vary, points = by_option_name(command, vary, points)
     named = {name: where.get("vary", {}).get(name, f"vary {name}") for name in vary}
-    trials = [(named[name], {name: value}) for name, values in vary.items() for value in values]
-    if len(vary) > 1:
-        trials += [(", ".join(named.values()), dict(zip(vary, values))) for values in itertools.product(*vary.values())]
+    trials = [(", ".join(named.values()), dict(zip(vary, values))) for values in itertools.product(*vary.values())]
     labels = where.get("points") or [f"point {k + 1}" for k in range(len(points))]
-    for label, point in zip(labels, points):
-        trials += [(label, {name: value}) for name, value in point.items()]
-        trials += [(label, point)] if len(point) > 1 else []
-    for label, point in trials:
+    trials += list(zip(labels, points))
+    for label, point in trials or [("", {})]:
         try:
             configure(command, {**base, **{variables[name].dest: value for name, value in point.items()}})
         except ParameterError as exc:
-            raise ParameterError(_blamed(label, point, variables, str(exc))) from None
+            raise ParameterError(_refusal(command, base, label, point, variables, str(exc))) from None
+
+
+def _refusal(command: str, base: dict, where: str, point: dict, variables: dict, message: str) -> str:
+    """The one line of a case refused with ``message``: the point's value it is about (``WHERE: NAME=VALUE is
+    invalid: allowed ...``), else the base option it is about (``--FLAG=VALUE is invalid...``), else the point and
+    the message."""
+    for name, value in point.items():
+        reason = _reason(message, variables[name].dest, value)
+        if reason:
+            return f"{_named_where(where, name, point)}: {_shown({name: value})} is invalid{reason}"
+    for dest, flag, value in given_options(command, base):
+        reason = _reason(message, dest, value)
+        if reason and dest not in {variables[name].dest for name in point}:
+            return f"{flag}={value!r} is invalid{reason}"
+    if not point:
+        return message
+    return f"{where}: {'the grid point ' if len(point) > 1 else ''}{_shown(point)} is invalid: {message}"
+
+
+def _named_where(where: str, name: str, point: dict) -> str:
+    """``where`` (a combination's, ``vary A, vary B``) cut to the part naming ``name`` where it lists one per
+    varied option."""
+    parts = where.split(", ")
+    return parts[list(point).index(name)] if len(parts) == len(point) > 1 else where
+
+
+def _shown(point: dict) -> str:
+    return ", ".join(f"{name}={str(value) if isinstance(value, Path) else repr(value)}"   # a file as the user wrote it
+                     for name, value in point.items())
 
 
 def _reason(message: str, dest: str, value) -> str | None:
@@ -428,18 +448,6 @@ def _reason(message: str, dest: str, value) -> str | None:
             and subject.group(2) in (repr(value), str(value))):
         return subject.group(3)
     return None
-
-
-def _blamed(where: str, point: dict, variables: dict, message: str) -> str:
-    """The one line of a bad grid point: ``WHERE: NAME=VALUE is invalid: allowed ...`` where the configuration's
-    ``message`` is about the point's one value, else the point and the message."""
-    shown = ", ".join(f"{name}={str(value) if isinstance(value, Path) else repr(value)}"   # a file as the user wrote it
-                      for name, value in point.items())
-    if len(point) == 1:
-        (name, value), = point.items()
-        reason = _reason(message, variables[name].dest, value)
-        return f"{where}: {shown} is invalid{reason}" if reason else f"{where}: {shown} is invalid: {message}"
-    return f"{where}: the grid point {shown} is invalid: {message}"
 
 
 def design_record(command: str, base: dict, vary: dict | None = None, points=(), seeds: int = 1) -> dict:
