@@ -205,8 +205,27 @@ def divergence(engine, samples: np.ndarray, joint: JointParameters) -> str:
                                                    samples[:, L.T_NORMAL_FORCE], joint.clearance_m,
                                                    joint.admissible_penetration_m, joint.admissible_force_N))
     when = f"at t = {samples[over[0], L.T_TIME]:.6g} s" if over.size else f"by t = {engine.t:.6g} s"
-    return (f"the run diverged {when}: {reason}; nothing after this is physical (take a shorter step, an adaptive "
-            "integrator or a smaller wear factor; docs/reference/model.md §3.14)")
+    mechanism = getattr(engine, "mechanism", None)      # the engines' SliderCrank
+    advice = (overload_advice(joint, mechanism) if mechanism is not None else None) or \
+        "take a shorter step, an adaptive integrator or a smaller wear factor"
+    return (f"the run diverged {when}: {reason}; nothing after this is physical ({advice}; "
+            "docs/reference/model.md §3.14)")
+
+
+IDEAL_FORCE_POINTS = 720      # the ideal joint's reaction over a revolution, every half degree
+
+
+def overload_advice(joint: JointParameters, mechanism) -> str | None:
+    """Where the machine's own loads put more on the ideal joint (``mechanism``: a
+    :class:`~wearjoint.slider_crank.SliderCrank`; its reaction over a revolution) than ``joint`` admits
+    (:attr:`JointParameters.admissible_force_N`): what a run that diverged should change, which no step does; else
+    None."""
+    t = np.linspace(0.0, mechanism.params.period_s, IDEAL_FORCE_POINTS, endpoint=False)
+    ideal = float(np.max(mechanism.ideal_joint_force(t)))
+    if not ideal > joint.admissible_force_N:
+        return None
+    return (f"no step helps: the machine's own loads put up to {ideal:.3g} N on the ideal joint, beyond the "
+            f"{joint.admissible_force_N:.3g} N this joint admits; a larger or stiffer joint, or smaller loads")
 
 
 def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: JointParameters, where: str,

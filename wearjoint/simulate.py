@@ -17,7 +17,7 @@ from .parameters import (
     JointParameters, ParameterError, SliderCrankParameters, require, check_joint_fits_mechanism, paper_joint,
 )
 from .results import RunParameters, RunRecord, new_revolution_stats, new_track
-from .runner import RunDiverged, inadmissible_message, run_engine
+from .runner import RunDiverged, inadmissible_message, overload_advice, run_engine
 from .simulation_options import (
     DEFAULT_WEAR_STEP_SHARE, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, SimulationOptions, check_run_arguments,
     wear_step_limit_s,
@@ -177,8 +177,10 @@ class Simulation:
             self.rejected += rej
         failure = self.joint.failure
         if failure[0] != 0.0:
+            advice = (overload_advice(self.joint.params, self.mechanism)
+                      or "take a shorter step or an adaptive integrator")
             raise RunDiverged(inadmissible_message(failure[1], failure[2], failure[3], self.joint.params,
-                                                   "an accepted step", float(self.joint.wear_depth.max())))
+                                                   "an accepted step", float(self.joint.wear_depth.max()), advice))
         return int(self.track[L.K_N_SAMPLES])
 
     def _gear_to(self, t_end: float, samples: np.ndarray) -> None:

@@ -361,10 +361,11 @@ def wear_study_config(options) -> WearStudyConfig:
 
 
 def wear_study_run(config: WearStudyConfig, out, plots: bool = True, progress: bool = False) -> dict:
-    """The study into ``out`` (StudyDiverged, a RunDiverged, once a diverged study's outputs are written)."""
-    from .studies.wear_study import run_wear_study
+    """The study into ``out``, resuming the one ``out`` holds (a sweep case stopped part-way: its checkpoint, which
+    refuses other settings) (StudyDiverged, a RunDiverged, once a diverged study's outputs are written)."""
+    from .studies.wear_study import CHECKPOINT_NAME, run_wear_study
 
-    return run_wear_study(config, out, resume=False, progress=progress, plots=plots)
+    return run_wear_study(config, out, resume=(Path(out) / CHECKPOINT_NAME).is_file(), progress=progress, plots=plots)
 
 
 def _wear_study_model(options) -> tuple:

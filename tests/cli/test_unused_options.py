@@ -39,6 +39,10 @@ COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps th
     ("wear-study", ["--rtol", "1e-7"], "--rtol", "1e-07",
      "only with --integrator dopri and the monolithic --engine (rk4 steps by --max-step)"),
     ("wear-study", ["--fmu-backend", "pythonfmu"], "--fmu-backend", "'pythonfmu'", "only with --engine cosim"),
+    ("wear-study", ["--workers", "2"], "--workers", "2", "only with --seeds N, N > 1 (the ensemble's studies spread "
+                                                          "over Dask workers; one study runs in this process)"),
+    ("wear-study", ["--seeds", "1", "--scheduler", "tcp://h:1"], "--scheduler", "'tcp://h:1'",
+     "only with --seeds N, N > 1 (the ensemble's studies spread over Dask workers; one study runs in this process)"),
 ])
 def test_an_option_the_run_would_ignore_is_refused_in_one_line(command, args, option, value, allowed, tmp_path,
                                                                capsys):

@@ -105,3 +105,35 @@ def test_unknown_target_and_bad_options_are_parameter_errors():
         targets.target("wear-study").config({**command_options("wear-study", targets.parser("wear-study").parse_args(
             ["--out", "x"])), "revolutions": "10,20"})
     assert targets.target("simulate").config(options).options.revolutions == 0.02
+
+
+def test_an_interrupted_wear_study_case_resumes_from_its_kept_folder(tmp_path, no_warm_up, monkeypatch):
+    """A wear-study case runs (on this machine's workers) in the sweep's cases/CASE_ID/running: Ctrl-C after two of
+    its three simulated revolutions keeps the folder and its checkpoint; the case run again resumes there and ends
+    with the files of a run never stopped, then leaves no running folder."""
+    from wearjoint.studies.wear_study import CHECKPOINT_NAME, run_wear_study
+    from wearjoint.sweep.runner import kept_folder
+
+    base = command_options("wear-study", targets.parser("wear-study").parse_args(
+        ["--out", "x", "--revolutions", "30", "--snapshots", "10,20,30", "--wear-factor", "10"]))
+    case = build_cases("wear-study", base)[0]
+    sweep = SweepFolder(tmp_path / "sweep", [case], resume=False)
+    running = kept_folder(sweep, case, None)
+    assert running == str(sweep.case_dir(case) / "running") and kept_folder(sweep, case, "tcp://host:8786") is None
+    assert kept_folder(sweep, _case(), None) is None               # a simulate case: a worker's temporary folder
+
+    def interrupted(config, out, plots=True, progress=False):
+        run_wear_study(config, out, progress=False, plots=plots, stop_after_checkpoints=2)
+        raise KeyboardInterrupt
+
+    study = targets.TARGETS["wear-study"]
+    monkeypatch.setitem(targets.TARGETS, "wear-study", dataclasses.replace(study, run=interrupted))
+    assert worker.run_case(case, no_plots=True, kept_folder=running)["status"] == "interrupted"
+    assert (sweep.case_dir(case) / "running" / CHECKPOINT_NAME).is_file()
+    monkeypatch.setitem(targets.TARGETS, "wear-study", study)
+    resumed = worker.run_case(case, no_plots=True, kept_folder=running)
+    whole = worker.run_case(case, no_plots=True)
+    assert resumed["status"] == whole["status"] == "ok"
+    for name in ("profile_rev10.csv", "profile_rev20.csv", "profile.csv", "wear_growth.csv"):
+        assert resumed["files"][name] == whole["files"][name], name
+    assert not (sweep.case_dir(case) / "running").exists()

@@ -146,6 +146,8 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100", "--cycle-jump-block", "0"), "--cycle-jump-block=0 (jump_block_revolutions)"),
     (("--revolutions", "100", "--convergence", "1,-10"), "factor"),
     (("--revolutions", "100", "--convergence", "jump,x"), "--convergence: 'x' is not a number"),
+    (("--revolutions", "100", "--life-depth-m", "0.0101"),          # the bushing wears through at its radius
+     "--life-depth-m=0.0101 (life_depth_m) is invalid: allowed a finite value > 0 below the bushing radius 0.0101 m"),
 ])
 def test_bad_arguments_give_one_clear_error(tmp_path, capsys, args, message):
     assert cli_main(["wear-study", "--out", str(tmp_path / "x"), "--quiet", *args]) == 2

@@ -98,7 +98,8 @@ def run_from_args(command: str, args) -> int:
     except KeyboardInterrupt:
         summary = {"interrupted": True}
     if summary.get("interrupted"):
-        print(f"wearjoint sweep: interrupted; finished cases are kept in {args.out} (continue with --resume)",
+        name = "sweep" if getattr(args, "vary", None) is not None else f"{command} --seeds"   # wear-study's ensemble
+        print(f"wearjoint {name}: interrupted; finished cases are kept in {args.out} (continue with --resume)",
               file=sys.stderr)
         return 130
     print_outcome(summary, args.out)
@@ -122,7 +123,7 @@ def print_outcome(summary: dict, out) -> None:
         for row in reader:
             snapshots = sorted((int(k[3:].split("_")[0]), k[:-5]) for k in row
                                if k.startswith("rev") and k.endswith("_max_wear_depth_m_mean"))
-            keys = ["max_wear_depth_m"] + [key for _, key in snapshots]
+            keys = ["max_wear_depth_m"] + [key for _, key in snapshots] + ["life_revolutions", "life_hours"]
             values = ", ".join(f"{name}={row[name]}" for name in names) or "base case"
             print(f"  point {row['point']} ({values}): {row['n_ok']} ok  "
                   + "  ".join(filter(None, (_mean_std(row, k) for k in keys))))

@@ -16,13 +16,13 @@ from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
 from ..fmu.instance import N_INPUTS, FmuInstance, OwnsFmuInstance
 from ..kernel_calls import bushing_point_angles
 from ..slider_crank import SliderCrank
-from ..checks import choice, finite, non_negative, positive
+from ..checks import RunDiverged, choice, finite, non_negative, positive
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, require, check_joint_fits_mechanism, paper_joint,
 )
 from ..simulation_options import check_run_arguments, check_wear_step
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
-from ..runner import run_engine
+from ..runner import overload_advice, run_engine
 from .master_layout import (
     N_STATE, ADAPTIVE_SCHEMES, B_EXTRAPOLATE, B_INPUT, B_LINEARISE, B_LINEARISED_AT, B_MP, B_OUTPUT, B_ROLLBACK_END,
     B_STATS, B_TRACK, B_Y, C_ADAPTIVE, C_LINEARISE, C_MAX_STEP, C_MIN_STEP, C_ONSET, C_REUSE_STATE, C_STEP,
@@ -238,7 +238,11 @@ class CoSimulation(OwnsFmuInstance):
             self.fmi_time_s += fmi
             self.master_time_s += wall - fmi
         if failed:   # a doStep the joint refused (its inputs through the wall, non-finite): the run diverged
-            slave.check_recorded(register[G_FAILED_CALL:G_FAILED_TIME + 1], FMI_CALLS)
+            try:
+                slave.check_recorded(register[G_FAILED_CALL:G_FAILED_TIME + 1], FMI_CALLS)
+            except RunDiverged as exc:       # where the machine's loads are beyond the joint, no step helps
+                advice = overload_advice(self.joint, self.mechanism)
+                raise RunDiverged(f"{exc} ({advice})" if advice else str(exc)) from None
         return int(self.buf[B_TRACK + L.K_N_SAMPLES])
 
     # -- checkpoints

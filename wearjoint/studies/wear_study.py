@@ -48,10 +48,8 @@ from wearjoint.results import RunParameters, RunRecord, write_json_atomic, write
 from wearjoint.runner import CheckpointingEngine, RunDiverged, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
-from .cycle_jump import (
-    DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state, simulated_revolution_rows,
-    warm_up_replay,
-)
+from .cycle_jump import (DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state,
+                         simulated_revolution_rows, warm_up_replay)
 from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
 from .wear_study_recovery import (
     ARRAY_KEYS, CHECKPOINT_FORMAT, CHECKPOINT_NAME, StudyDiverged, checkpoint_revolution, continue_segments,
@@ -133,8 +131,10 @@ class WearStudyConfig:
         for name in ("max_step_s", "rtol", "checkpoint_every_revolutions", "impact_threshold_m_s2", "impact_merge_deg",
                      "life_depth_m"):
             value = getattr(self, name)
-            if (value is not None or name != "life_depth_m") and not (math.isfinite(value) and value > 0.0):
-                raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite value > 0")
+            bound = self.joint.bushing_radius_m if name == "life_depth_m" else math.inf   # worn through there
+            if (value is not None or name != "life_depth_m") and not (math.isfinite(value) and 0.0 < value < bound):
+                raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite value > 0"
+                                     + (f" below the bushing radius {bound:g} m" if bound < math.inf else ""))
         _check_int("chunks_per_revolution", self.chunks_per_revolution, 1)
 
     @property

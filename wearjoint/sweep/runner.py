@@ -222,6 +222,18 @@ def _prepare_fmus(cases: list[Case]) -> None:
 HEARTBEAT_S = 2.0     # s: how often a sweep waiting for its cases updates its progress (a log writes every 15 s)
 
 
+RUNNING_NAME = "running"      # a wear-study case's folder while it runs: cases/CASE_ID/running
+
+
+def kept_folder(folder: SweepFolder, case: Case, scheduler: str | None) -> str | None:
+    """Where a wear-study case runs on this machine's workers (no ``scheduler``): ``cases/CASE_ID/running``, kept
+    through Ctrl-C, so that ``--resume`` continues it from its checkpoint; None (a worker's temporary folder) for
+    other cases and remote workers."""
+    if scheduler is not None or case.command != "wear-study":
+        return None
+    return str(folder.case_dir(case) / RUNNING_NAME)
+
+
 def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None = None, scheduler: str | None = None,
               progress: bool = True, client=None) -> dict:
     """Run the cases not yet done; returns timings and whether Ctrl-C stopped the sweep.  ``client``: a
@@ -246,8 +258,8 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
         timing["cluster_start_s"] = time.perf_counter() - start
         timing["workers"] = len(client.nthreads()) if scheduler or not own else workers
         run_start = time.perf_counter()
-        futures = {client.submit(run_case, case, no_plots, key=f"wearjoint-case-{case.case_id}", pure=False): case
-                   for case in todo}
+        futures = {client.submit(run_case, case, no_plots, kept_folder(folder, case, scheduler),
+                                 key=f"wearjoint-case-{case.case_id}", pure=False): case for case in todo}
         bar = Progress(len(todo), "sweep", enabled=progress, unit="case", delay_s=0.0)
         pending, k = set(futures), 0
         try:

@@ -32,6 +32,7 @@ _WARM_ENGINES: set = set()
 NOT_SHIPPED = ("wear_study_checkpoint.pkl",)     # a finished case needs no checkpoint
 # a case's temporary results folder: this prefix, the worker's process id, "-", a random part
 CASE_FOLDER_PREFIX = "wearjoint-case-"
+INPUTS_FOLDER_PREFIX = "wearjoint-inputs-"       # and of the input files written for it
 
 
 def _process_alive(pid: int) -> bool:
@@ -48,14 +49,15 @@ def _process_alive(pid: int) -> bool:
 
 
 def remove_orphan_case_folders(root: Path | None = None) -> None:
-    """Remove the case folders (under ``root``, default the temporary folder) of worker processes that are gone: a
-    sweep stopped by ending its workers left each running case's folder behind, results files included (11 MB for
-    one wear-study case).  Process ids are this machine's: workers in containers that share one temporary folder
-    need a TMPDIR each."""
-    for folder in Path(root or tempfile.gettempdir()).glob(f"{CASE_FOLDER_PREFIX}*-*"):
-        pid = folder.name[len(CASE_FOLDER_PREFIX):].split("-", 1)[0]
-        if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
-            shutil.rmtree(folder, ignore_errors=True)
+    """Remove the case and input folders (under ``root``, default the temporary folder) of worker processes that are
+    gone: a sweep stopped by ending its workers left each running case's folder behind, results files included (11
+    MB for one wear-study case).  Process ids are this machine's: workers in containers that share one temporary
+    folder need a TMPDIR each."""
+    for prefix in (CASE_FOLDER_PREFIX, INPUTS_FOLDER_PREFIX):
+        for folder in Path(root or tempfile.gettempdir()).glob(f"{prefix}*-*"):
+            pid = folder.name[len(prefix):].split("-", 1)[0]
+            if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
+                shutil.rmtree(folder, ignore_errors=True)
 
 
 def new_case_folder(root: Path | None = None) -> Path:
@@ -113,7 +115,8 @@ def _run(case, folder: Path, no_plots: bool) -> tuple:
 
     spec = targets.target(case.command)
     try:
-        with watch_command(case.command), tempfile.TemporaryDirectory(prefix="wearjoint-inputs-") as inputs:
+        with watch_command(case.command), tempfile.TemporaryDirectory(
+                prefix=f"{INPUTS_FOLDER_PREFIX}{os.getpid()}-") as inputs:
             options = dict(case.options)
             options.update(_written_inputs(options, case.inputs, Path(inputs)))    # as the client read them
             targets.run(case.command, options, folder, plots=not no_plots,
@@ -129,14 +132,18 @@ def _run(case, folder: Path, no_plots: bool) -> tuple:
     return "ok", None
 
 
-def run_case(case, no_plots: bool = False) -> dict:
+def run_case(case, no_plots: bool = False, kept_folder: str | None = None) -> dict:
     """Run ``case`` (a :class:`wearjoint.sweep.design.Case`) here; returns status ("ok", "failed" or "interrupted"),
     the error message, the captured output, the results folder's files (relative path -> bytes),
-    ``run_time_s`` (the run), ``warmup_time_s`` and the worker's name."""
+    ``run_time_s`` (the run), ``warmup_time_s`` and the worker's name.  ``kept_folder``: run in this folder
+    (a wear study's on the client's machine), kept if the run is interrupted, so that the case resumes there
+    from its checkpoint (:func:`wearjoint.targets.wear_study_run`); else a temporary one."""
     with _LOCK:
         warmup_s = 0.0
         log = io.StringIO()
-        folder = new_case_folder()
+        folder = Path(kept_folder) if kept_folder else new_case_folder()
+        folder.mkdir(parents=True, exist_ok=True)
+        status = "interrupted"
         try:
             with contextlib.redirect_stdout(log), contextlib.redirect_stderr(log):
                 try:
@@ -149,7 +156,8 @@ def run_case(case, no_plots: bool = False) -> dict:
             files = {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*"))
                      if p.is_file() and p.name not in NOT_SHIPPED}
         finally:
-            shutil.rmtree(folder, ignore_errors=True)
+            if not (kept_folder and status == "interrupted"):
+                shutil.rmtree(folder, ignore_errors=True)
     return {"status": status, "error": error, "log": log.getvalue(), "files": files, "run_time_s": run_time_s,
             "warmup_time_s": warmup_s, "worker": f"{socket.gethostname()}:{os.getpid()}"}
 
