@@ -480,3 +480,13 @@ def test_the_next_case_removes_the_folders_of_workers_that_are_gone(tmp_path):
     assert not orphan.exists() and running.exists() and unnamed.exists()
     assert folder.parent == tmp_path and folder.name.startswith(f"{CASE_FOLDER_PREFIX}{os.getpid()}-")
 
+
+
+def test_a_swept_parameters_close_values_are_labelled_apart():
+    """vs_PARAMETER.png labels each of a few values with the fewest digits that tell them apart (matplotlib's own
+    ticks ran 0.00603, 0.006035, 0.00604 together into one string)."""
+    from wearjoint.sweep.report import _distinct_labels
+
+    assert _distinct_labels([0.00603, 0.006035, 0.00604]) == ["0.00603", "0.006035", "0.00604"]
+    assert _distinct_labels([0.0100303, 0.0100304]) == ["0.0100303", "0.0100304"]
+    assert _distinct_labels([0.1, 0.2, 1e-5]) == ["0.1", "0.2", "1e-05"]

@@ -169,7 +169,8 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
     ("simulate", ("--bushing-radius-m", "0.00603", "--vary", "pin-radius-m=0.006,-0.006"),   # the bad value, named
      "--vary pin-radius-m=0.006,-0.006: pin-radius-m=-0.006 is invalid: allowed > 0"),
     ("simulate", ("--vary", "slider-force-table=no_such_table.csv"),      # a file as written, not a PosixPath
-     "--vary slider-force-table=no_such_table.csv: slider-force-table=no_such_table.csv is invalid"),
+     "--vary slider-force-table=no_such_table.csv: slider-force-table=no_such_table.csv is invalid: allowed a text "
+     "CSV file; cannot read it"),
     ("cosim", ("--vary", "master=foo"), "--vary master=foo: master='foo' is invalid: allowed one of wearjoint"),
     ("cosim", ("--vary", "step=0"), "--vary step=0: step=0.0 is invalid: allowed > 0"),
     ("wear-study", ("--vary", "revolutions=10,0"), "--vary revolutions=10,0: revolutions='0' is invalid: allowed an "

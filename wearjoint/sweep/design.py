@@ -445,7 +445,7 @@ def _reason(message: str, dest: str, value) -> str | None:
     else None."""
     subject = re.match(r"parameter (\S+?)=(.*?) is invalid(\W.*)", message)
     if (subject is not None and dest in subject.group(1).lstrip("-").replace("-", "_")
-            and subject.group(2) in (repr(value), str(value))):
+            and subject.group(2) in (repr(value), str(value), repr(str(value)))):   # a file: its path quoted
         return subject.group(3)
     return None
 

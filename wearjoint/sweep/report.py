@@ -296,6 +296,18 @@ def _change_panel(ax, merit: str, lines: dict) -> list[float]:
     return refs
 
 
+MAX_LABELLED_VALUES = 8       # a swept parameter with at most this many values has each labelled on its axis
+
+
+def _distinct_labels(values) -> list[str]:
+    """``values`` written with the fewest significant digits (at least 3) that tell them apart."""
+    for digits in range(3, 17):
+        labels = [f"{v:.{digits}g}" for v in values]
+        if len(set(labels)) == len(labels):
+            return labels
+    return [repr(v) for v in values]
+
+
 def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
     """vs_PARAMETER.png: each figure of merit against each swept parameter, as the change from the
     first grid point in % against the wear factor's bias band (:func:`_change_panel`); one line per
@@ -326,6 +338,8 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
             ax.set_xlabel(param, fontsize=8)
             if not numeric:
                 ax.set_xticks(range(len(values)), [str(v) for v in values])
+            elif len(values) <= MAX_LABELLED_VALUES:     # each value (the default ran close ones together)
+                ax.set_xticks(values, _distinct_labels(values), rotation=30, fontsize=7)
             ax.grid(alpha=0.3)
         for ax in axes.ravel()[len(merits):]:
             ax.set_visible(False)
