@@ -144,9 +144,9 @@ def run_statistics(stats: np.ndarray, settling_revolutions: int = 1, left_out=()
     after it, a run of 1.02 revolutions, is none) the contact fraction, the impacts and the slider acceleration
     extremes (None if not finite); the max contact force and the max eccentricity over the counted revolutions
     after the first ``settling_revolutions`` (the start-up transient: the pin starts centred at full speed), which
-    are reported apart under ``start_up``, and without the rows ``left_out`` (:func:`steady_revolutions`).  A run that has not passed them (it ends in
-    revolution ``settling_revolutions`` or before) keeps its transient in the statistics
-    (``statistics_from_revolution`` 0) and says so."""
+    are reported apart under ``start_up``, and without the rows ``left_out`` (:func:`steady_revolutions`).  A run
+    that has not passed them (it ends in revolution ``settling_revolutions`` or before) keeps its transient in the
+    statistics (``statistics_from_revolution`` 0) and says so."""
     counted = counted_revolutions(stats)
     last_index = int(counted[-1]) if counted.size else 0
     last = stats[last_index]
