@@ -12,9 +12,7 @@ import math
 
 import numpy as np
 
-from .analysis import (
-    last_revolution, revolution_of, sample_durations, slider_acc_deviation, steady_revolutions, time_rms,
-)
+from .analysis import last_revolution, revolution_of, sample_durations, slider_acc_deviation, steady_samples, time_rms
 from .core import layout as L
 
 # revolutions.csv's columns of this module, after wearjoint.analysis.REVOLUTION_COLUMNS
@@ -31,17 +29,11 @@ def sample_comparison(samples: np.ndarray, mechanism) -> tuple[np.ndarray, np.nd
     return slider_acc_deviation(t, samples[:, L.T_SLIDER_A], mechanism), SliderCrank(mechanism).ideal_joint_force(t)
 
 
-def _after_start_up(samples: np.ndarray, stats: np.ndarray, period_s: float, settling_revolutions: int) -> np.ndarray:
-    """The samples (a mask) of the revolutions the run's extremes are taken over (:func:`analysis.steady_revolutions`:
-    the counted ones after the start-up, all counted ones where the run ends before that is over)."""
-    steady = np.flatnonzero(steady_revolutions(stats, settling_revolutions)[1])
-    return np.isin(revolution_of(samples[:, L.T_TIME], period_s), steady)
-
 
 def slider_acc_error_max(record) -> float:
     """Largest |a - a_ideal| [m/s^2] of a run record's slider over the samples summary.json's
     ``slider_acc_error_max_m_s2`` is taken over, NaN without any."""
-    inside = _after_start_up(record.samples, record.revolution_stats, record.period_s, record.settling_revolutions)
+    inside = steady_samples(record.samples, record.revolution_stats, record.period_s, record.settling_revolutions)
     if not inside.any():
         return math.nan
     samples = record.samples[inside]
@@ -72,7 +64,7 @@ def summary_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, settli
     """summary.json's answers over the samples of the counted revolutions after the start-up (all counted ones
     where none is left): :data:`SUMMARY_KEYS`, ``joint_force_over_ideal`` being ``max_contact_force_N`` over the
     ideal's largest; None without samples (``comparison``: as :func:`revolution_columns`)."""
-    inside = _after_start_up(samples, stats, mechanism.period_s, settling_revolutions)
+    inside = steady_samples(samples, stats, mechanism.period_s, settling_revolutions)
     if not inside.any():
         return dict.fromkeys(SUMMARY_KEYS)
     error, ideal = comparison if comparison is not None else sample_comparison(samples, mechanism)

@@ -139,6 +139,13 @@ def steady_revolutions(stats: np.ndarray, settling_revolutions: int = 1, left_ou
     return first, kept if kept.any() else steady
 
 
+def steady_samples(samples: np.ndarray, stats: np.ndarray, period_s: float, settling_revolutions: int = 1,
+                   left_out=()) -> np.ndarray:
+    """The samples (a mask) of the revolutions the run's extremes are taken over (:func:`steady_revolutions`)."""
+    steady = np.flatnonzero(steady_revolutions(stats, settling_revolutions, left_out)[1])
+    return np.isin(revolution_of(samples[:, L.T_TIME], period_s), steady)
+
+
 def run_statistics(stats: np.ndarray, settling_revolutions: int = 1, left_out=()) -> dict:
     """The statistics of ``summary.json`` (docs/reference/results.md §6): of the last counted revolution (a sliver
     after it, a run of 1.02 revolutions, is none) the contact fraction, the impacts and the slider acceleration

@@ -16,9 +16,11 @@ def wrap_deg(angle):
 
 
 def deepest_point(phi_deg: np.ndarray, depth_m: np.ndarray) -> dict:
-    """Max wear depth [m] and its angle (bushing frame, deg in [0, 360))."""
+    """Max wear depth [m] and its angle (bushing frame, deg in [0, 360); None on an unworn profile, which has no
+    deepest point)."""
     deepest = int(np.argmax(depth_m))
-    return {"max_wear_depth_m": float(depth_m[deepest]), "max_wear_angle_deg": float(phi_deg[deepest] % 360.0)}
+    return {"max_wear_depth_m": float(depth_m[deepest]),
+            "max_wear_angle_deg": float(phi_deg[deepest] % 360.0) if depth_m[deepest] > 0.0 else None}
 
 
 def _half(phi_deg: np.ndarray, centre: float):

@@ -106,6 +106,12 @@ class RunRecord:
         """The joint that wears (its bushing's frame: the profile's angles)."""
         return self.parameters.mechanism.clearance_joint
 
+    def _steady_samples(self) -> np.ndarray:
+        """The samples of the revolutions the extremes are taken over (after the start-up; all where none is)."""
+        inside = analysis.steady_samples(self.samples, self.revolution_stats, self.period_s,
+                                         self.settling_revolutions, self.left_out_rows)
+        return self.samples[inside] if inside.any() else self.samples
+
     def impact_events(self) -> dict:
         """The run's impact-vibration events per revolution (:func:`wearjoint.analysis.revolution_impact_events`)."""
         return analysis.revolution_impact_events(self.samples, self.revolution_stats, self.parameters.mechanism,
@@ -128,7 +134,7 @@ class RunRecord:
             "realtime_factor": self.simulated_time_s / self.wall_time_s if self.wall_time_s > 0 else None,
             **analysis.run_statistics(self.revolution_stats, self.settling_revolutions, self.left_out_rows),
             **profile_metrics.deepest_point(self.phi_deg, self.wear_depth_m),
-            **analysis.regime(self.samples),
+            **analysis.regime(self._steady_samples()),
             **analysis.impact_event_statistics(impact_events or self.impact_events(), self.parameters.mechanism,
                                                self.settling_revolutions),
             "worn_volume_m3": self.worn_volume_m3,

@@ -83,7 +83,7 @@ def run(args) -> int:
                                      plots=not args.no_plots)
             for s in summary["snapshots"]:
                 print(f"  rev {s['revolution']:6d}  max depth {s['max_wear_depth_m'] * 1e3:.4g} mm at "
-                      f"{s['max_wear_angle_deg']:.1f} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"
+                      f"{_angle(s['max_wear_angle_deg'])} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"
                       f"{_angle(s['lobe_180_angle_deg'])} deg  impact events {s['impact_events']}")
             span = summary.get("life")
             if span:
