@@ -10,6 +10,7 @@
  * indicator, the signed penetration (a contact onset is a state event, where the approach
  * velocity is stored), and applies wear at each completed integrator step.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -463,12 +464,15 @@ int model_get_derivatives(FmuModel *model, double *dx, const char *function)
 }
 
 /* The signed penetration of the deepest bushing point at the current inputs (a contact onset is its zero
- * crossing); 0 (logged) on failure. */
+ * crossing), an exact 0 (touching) given as the contact's side, DBL_MIN: a root finder that lands on it sees the sign
+ * change there, or none, rather than a zero it cannot leave (CVODE, where the inputs move the penetration by less
+ * than its rounding over its smallest step: "root found at and very near t"); 0 (logged) on failure. */
 int model_get_event_indicators(FmuModel *model, double *z, const char *function)
 {
     if (!joint_evaluate(model, function, "the event indicator"))
         return 0;
-    z[0] = model->result[R_PENETRATION];
+    double penetration = model->result[R_PENETRATION];
+    z[0] = penetration != 0.0 ? penetration : DBL_MIN;
     return 1;
 }
 
