@@ -30,6 +30,7 @@ class JointField:
     allowed: Allowed = ANY      # the rule on the coded value (a choice: its codes)
     component: int | None = None  # the element of a pair (x, y)
     unset_is_zero: bool = False   # None ("not given") is coded as 0 (the contact stiffness: from the materials)
+    read_by: tuple[str, ...] = ()  # the contact_damping laws that read it (empty: every law)
 
     @property
     def choices(self) -> tuple[tuple[str, int], ...] | None:
@@ -92,7 +93,8 @@ JOINT_FIELDS: tuple[JointField, ...] = (
     JointField("wear_factor", "wear_factor", "1", "wear acceleration factor multiplying k_w", L.P_WEAR_FACTOR,
                NON_NEGATIVE),
     JointField("impact_velocity_floor", "impact_velocity_floor_m_s", "m/s",
-               "Lankarani-Nikravesh damping: floor on the stored impact velocity", L.P_VELOCITY_FLOOR, POSITIVE),
+               "Lankarani-Nikravesh damping: floor on the stored impact velocity", L.P_VELOCITY_FLOOR, POSITIVE,
+               read_by=("lankarani-nikravesh", "lankarani-nikravesh-exact")),
     JointField("rho_mode", "rho_mode", "", "equivalent radius of the Hertz half-width (docs/reference/model.md §3.2)",
                L.P_RHO_MODE),
     JointField("wear_placement", "wear_placement", "", "bushing points receiving the wear increment "
@@ -110,10 +112,10 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                L.P_CONTACT_DAMPING),
     JointField("restitution_speed", "restitution_speed_m_s", "m/s",
                "impact speed at which the Hunt-Crossley damping gives the restitution e_r", L.P_RESTITUTION_SPEED,
-               POSITIVE),
+               POSITIVE, read_by=("hunt-crossley",)),
     JointField("effective_mass", "effective_mass_kg", "kg",
                "Tsuji damping: the mass the contact decelerates along its normal (the restitution is e_r for it)",
-               L.P_EFFECTIVE_MASS, POSITIVE),
+               L.P_EFFECTIVE_MASS, POSITIVE, read_by=("tsuji",)),
     JointField("wear_interval", "wear_interval_s", "s",
                "the foundation's wear is applied once per this much contact time (and when a contact ends; "
                "0: at every accepted step; docs/reference/model.md §3.11)", L.P_WEAR_INTERVAL,
@@ -157,6 +159,12 @@ def real_field_values(params) -> dict[str, float]:
             and not (f.unset_is_zero and getattr(params, f.field) is None)}
 
 
+def unread_by(contact_damping: str, fields) -> list[JointField]:
+    """The rows of ``fields`` (JointParameters field names) that the damping law ``contact_damping`` does not read
+    (:attr:`JointField.read_by`): a value given for one of them changes nothing."""
+    return [f for f in JOINT_FIELDS if f.field in set(fields) and f.read_by and contact_damping not in f.read_by]
+
+
 def check_joint_fields(params) -> None:
     """ParameterError naming the first field of ``params`` (a JointParameters, its real values finite floats:
     :func:`real_field_values`) outside its row's rule, with the value of the field the rule compares it to (the
@@ -174,4 +182,4 @@ def check_joint_fields(params) -> None:
 
 
 __all__ = ["JointField", "JOINT_FIELDS", "FIELD_NAMES", "coded_value", "coded_values", "allowed_text",
-           "real_field_values", "check_joint_fields"]
+           "real_field_values", "check_joint_fields", "unread_by"]

@@ -22,7 +22,7 @@ import numpy as np
 
 from .core import layout as L
 from .fmu.fmi import BACKENDS, DEFAULT_BACKEND
-from .joint_fields import JOINT_FIELDS
+from .joint_fields import JOINT_FIELDS, unread_by
 from .kernel_calls import bushing_point_angles
 from .mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
 from .parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters, require
@@ -222,11 +222,17 @@ def given_options(options: Mapping, cls) -> dict:
             for f in dataclasses.fields(cls) if options.get(f.name) is not None}
 
 
-def model_from_options(options: Mapping) -> tuple[JointParameters, SliderCrankParameters]:
+def model_from_options(options: Mapping, every_law: bool = False) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from option values (dest -> value; an option left out or None
-    is not given)."""
+    is not given); a damping law's own parameter given with another law is refused unless ``every_law`` (a command
+    that evaluates every law: contact-law)."""
     mechanism = mechanism_from_options(given_options(options, SliderCrankParameters))
-    joint_values = {**mechanism.joint_defaults(), **given_options(options, JointParameters)}
+    given = given_options(options, JointParameters)
+    joint_values = {**mechanism.joint_defaults(), **given}
+    law = joint_values.get("contact_damping", JointParameters.contact_damping)
+    for row in () if every_law else unread_by(law, given):     # another law's parameter: it would change nothing
+        require(f"--{row.field.replace('_', '-')}", given[row.field], False,
+                f"only with --contact-damping {' or '.join(row.read_by)} (--contact-damping {law} does not read it)")
     take_calibration(options, joint_values)
     if options.get("no_wear"):
         given = options.get("wear_factor")

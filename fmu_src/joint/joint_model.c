@@ -4,12 +4,10 @@
  * kernels (joint_kernels.h): lifetime, Configuration Mode, evaluation, steps (Co-Simulation) and Model
  * Exchange; joint_variables.c maps the variables by value reference; joint_state.c is the FMU state.
  *
- * Semantics (docs/reference/fmu.md §5): the forces are direct feed-through, evaluated at the first read
- * of a joint output after an input changed; Co-Simulation accepts a step with the inputs held at
- * its start (wear, contact onsets); Model Exchange has no continuous states and one event
- * indicator, the signed penetration (a contact onset is a state event, where the approach
- * velocity is stored), and applies wear at each completed integrator step.
- */
+ * Semantics (docs/reference/fmu.md §5): the forces are direct feed-through, evaluated at the first read of a joint
+ * output after an input changed; Co-Simulation accepts a step with the inputs held at its start (wear, contact
+ * onsets); Model Exchange has no continuous states and one event indicator, the signed penetration (a contact onset
+ * is a state event, where the approach velocity is stored), and applies wear at each completed integrator step. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -463,16 +461,13 @@ int model_get_derivatives(FmuModel *model, double *dx, const char *function)
     return 1;
 }
 
-/* The signed penetration of the deepest bushing point at the current inputs (a contact onset is its zero
- * crossing), an exact 0 (touching) given as the contact's side, DBL_MIN: a root finder that lands on it sees the sign
- * change there, or none, rather than a zero it cannot leave (CVODE, where the inputs move the penetration by less
- * than its rounding over its smallest step: "root found at and very near t"); 0 (logged) on failure. */
+/* The signed penetration of the deepest bushing point at the current inputs (a contact onset is its zero crossing),
+ * touching (0) as DBL_MIN: no exact zero that CVODE's root check cannot leave; 0 (logged) on failure. */
 int model_get_event_indicators(FmuModel *model, double *z, const char *function)
 {
     if (!joint_evaluate(model, function, "the event indicator"))
         return 0;
-    double penetration = model->result[R_PENETRATION];
-    z[0] = penetration != 0.0 ? penetration : DBL_MIN;
+    z[0] = model->result[R_PENETRATION] != 0.0 ? model->result[R_PENETRATION] : DBL_MIN;
     return 1;
 }
 

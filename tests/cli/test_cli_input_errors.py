@@ -31,6 +31,8 @@ def refused(capsys, *argv) -> str:
     (["--perturb", "cosim", "restitution=5"],
      "--perturb cosim restitution=5 is invalid: allowed restitution in (0, 1]"),
     (["--perturb", "cosim", "n_points=7.5"], "--perturb cosim n_points=7.5 is invalid: allowed n_points an integer"),
+    (["--perturb", "cosim", "effective_mass_kg=50"],     # Hunt-Crossley never reads it: the validation could not fail
+     "--perturb cosim effective_mass_kg=50 is invalid: allowed effective_mass_kg only with contact_damping tsuji"),
 ])
 def test_validate_refuses_what_it_used_to_replace_or_run_as_nothing(tmp_path, capsys, options, message):
     """0 was silently the default, one engine compared nothing ("PASS: 0 of 0"), --perturb named an internal."""

@@ -39,6 +39,13 @@ COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps th
     ("wear-study", ["--rtol", "1e-7"], "--rtol", "1e-07",
      "only with --integrator dopri and the monolithic --engine (rk4 steps by --max-step)"),
     ("wear-study", ["--fmu-backend", "pythonfmu"], "--fmu-backend", "'pythonfmu'", "only with --engine cosim"),
+    ("simulate", ["--effective-mass-kg", "1"], "--effective-mass-kg", "1.0",
+     "only with --contact-damping tsuji (--contact-damping hunt-crossley does not read it)"),
+    ("cosim", ["--contact-damping", "tsuji", "--restitution-speed-m-s", "0.1"], "--restitution-speed-m-s", "0.1",
+     "only with --contact-damping hunt-crossley (--contact-damping tsuji does not read it)"),
+    ("wear-study", ["--impact-velocity-floor-m-s", "0.01"], "--impact-velocity-floor-m-s", "0.01",
+     "only with --contact-damping lankarani-nikravesh or lankarani-nikravesh-exact (--contact-damping hunt-crossley "
+     "does not read it)"),
     ("wear-study", ["--workers", "2"], "--workers", "2", "only with --seeds N, N > 1 (the ensemble's studies spread "
                                                           "over Dask workers; one study runs in this process)"),
     ("wear-study", ["--seeds", "1", "--scheduler", "tcp://h:1"], "--scheduler", "'tcp://h:1'",

@@ -92,7 +92,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    joint, _ = model_from_args(args)
+    joint, _ = model_from_args(args, every_law=True)      # the table gives every law: each reads its own parameter
     speeds = np.array(TABLE_SPEEDS_M_S)
     curves = restitution_curves(joint, speeds)
     out = Path(args.out)

@@ -61,10 +61,10 @@ def stiffness_note(joint: JointParameters, args) -> None:
               file=sys.stderr)
 
 
-def model_from_args(args) -> tuple[JointParameters, SliderCrankParameters]:
+def model_from_args(args, every_law: bool = False) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options
     (:func:`wearjoint.run_options.model_from_options`), with the note of a given contact stiffness."""
-    joint, mechanism = model_from_options(vars(args))
+    joint, mechanism = model_from_options(vars(args), every_law)
     stiffness_note(joint, args)
     return joint, mechanism
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 import sys
 from dataclasses import replace
 
+from ..joint_fields import unread_by
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..validation.compare import ENGINES, FULL, QUICK, REFERENCE, RunStoppedShort
 from ..validation.report import run_validation
@@ -39,10 +40,14 @@ def _joint_change(engine: str, assignment: str, engines: tuple, joint: JointPara
     kind = float if default is None else type(default)     # a stiffness given instead of the materials'
     try:
         value = kind(text)
-        joint.replace(**{name: value})
+        perturbed = joint.replace(**{name: value})
     except ValueError as exc:   # a ParameterError too: the joint refuses the value
         allowed = str(exc).partition(" is invalid: allowed ")[2] or ("an integer" if kind is int else "a number")
         raise ParameterError(f"{written} is invalid: allowed {name} {allowed}") from None
+    for row in unread_by(perturbed.contact_damping, [name]):    # a change the engine's law never reads
+        raise ParameterError(f"{written} is invalid: allowed {name} only with contact_damping "
+                             f"{' or '.join(row.read_by)} (the run's {perturbed.contact_damping} does not read it, "
+                             "so the validation could not fail)")
     return {name: value}
 
 

@@ -17,7 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..joint_fields import unread_by
 from ..mechanism_parameters import mechanism_from_options
+from ..sweep.design import variable_actions
 from ..sweep.runner import write_csv_atomic
 from .problem import Problem
 from .report import invalid_reason, output_value
@@ -41,10 +43,12 @@ def law_variants(base: dict, problem: Problem, point: dict) -> list:
     options = {**base, **{p.dest: point[p.name] for p in problem.parameters}}
     mechanism = mechanism_from_options(options)
     sampled = {p.dest: p.name for p in problem.parameters}
+    given = [dest for dest, value in options.items() if value is not None]
     variants = []
     for label, changes in contact_law_variants(mechanism):
         clash = [sampled[dest] for dest in changes if dest in sampled]
-        variants.append({"label": label, "changes": dict(changes),
+        unread = [row.field for row in unread_by(changes["contact_damping"], given)]   # another law's: left out
+        variants.append({"label": label, "changes": dict(changes), "unset": unread,
                          "skipped": f"--param {', '.join(clash)} is sampled (the variant would override it)"
                          if clash else ""})
     return variants
@@ -59,7 +63,9 @@ def variant_cases(command: str, base: dict, point: dict, variants: list) -> tupl
         if v["skipped"]:
             ids.append(None)
             continue
-        [cid], [case] = design_cases(command, {**base, **v["changes"]}, [point])
+        unset = set(v.get("unset", ()))      # the options of the base and the point the variant's law does not read
+        kept = {name: value for name, value in point.items() if variable_actions(command)[name].dest not in unset}
+        [cid], [case] = design_cases(command, {**base, **v["changes"], **dict.fromkeys(unset)}, [kept])
         ids.append(cid)
         cases.setdefault(cid, case)
     return ids, list(cases.values())
