@@ -464,7 +464,7 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
         for name, (unit, rule) in POINTWISE.items():
             metrics.append(_judge(GROUP_POINTWISE, name, unit, rule, engine, None, None, diff[name],
                                   {f"monolithic RK4 h vs h/2 + {engine} at 2x step": mono[name] + own[name]},
-                                  scatter_parts={f"monolithic RK4 {refined_label}": mono[name],
+                                  scatter_parts={f"monolithic {refined_label}": mono[name],
                                                  f"{engine} step x2": own[name]}))
     if runs.wear_reference:
         ref_profile, ref_profile_std, ref_h = ensemble_profile(runs.wear_reference)

@@ -8,6 +8,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 from .core import layout as L  # noqa: E402
 
@@ -114,6 +115,8 @@ def plot_wear_profiles(phi_deg, profiles: dict, path: Path, clearance_joint: str
         ax_polar.plot(np.r_[phi, phi[:1]], np.r_[depth, depth[:1]] * 1e6, lw=1.2, label=label)
         ax.plot(phi_deg, depth * 1e6, lw=1.2, label=label)
     ax_polar.set_title("(a) wear depth [µm], bushing frame", fontsize=10, y=1.08)
+    ax_polar.yaxis.set_major_locator(MaxNLocator(3))       # the depths' labels ran together at sub-µm depths
+    ax_polar.tick_params(axis="y", labelsize=7)
     ax.set_xlabel(bushing_angle_label(clearance_joint))
     ax.set_ylabel("wear depth [µm]")
     ax.set_xlim(0, 360)

@@ -63,8 +63,8 @@ def run(args) -> int:
         on_time = args.step if args.step is not None else ON_TIME_STEP_S[args.load_coupling] * scale
         asks = f"the package asks for {step:.3g} s ({on_time:.3g} s of OMSimulator, on time)"
         if args.load_coupling == "linearised":
-            print(f"{asks}: its mechanism integrates the joint's published linearisation (with the loads held, "
-                  f"{rule.text()})", file=sys.stderr)
+            print(f"{asks}: its mechanism integrates the joint's published linearisation, so it steps past the "
+                  f"held loads' stability limit (for --load-coupling hold, {rule.text()})", file=sys.stderr)
         else:
             print(f"{rule.text()}; {asks}", file=sys.stderr)
         note = wear_coefficient_source(joint, mechanism)["wear_coefficient_note"]

@@ -42,7 +42,8 @@ class StepRule:
         """One line for a command's output."""
         return (f"communication step (docs/explanation/cosim_study.md): below {self.on_time_s * 1e6:.2g} us with the inputs set "
                 f"before the loads are read, {self.one_step_late_s * 1e6:.2g} us one step late (F_max "
-                f"{self.max_force_N:.3g} N, effective mass {self.effective_mass_kg:.3g} kg), once wear forms a "
+                f"{self.max_force_N:.3g} N, the smallest mass at the pin along a contact direction "
+                f"{self.effective_mass_kg:.3g} kg), once wear forms a "
                 f"groove {self.groove_on_time_s * 1e6:.2g} us on time (its stiffness "
                 f"{self.groove_stiffness_N_m:.3g} N/m); a master inside the monolithic scatter needs about half of it")
 
