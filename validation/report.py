@@ -211,6 +211,9 @@ def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint
         "metrics_failed": [f"{m.engine}: {m.name}" for m in metrics if judged(m) and not m.passed],
         "engines": engine_verdicts(metrics),
         "reference_law_differences": [f"{m.engine}: {m.name}" for m in metrics if not judged(m) and not m.passed],
+        # a lobe on a bushing half no run wore has no angle: that metric is left out, named here
+        "metrics_undefined": [f"{engine}: {name}" for engine in runs.wear_engines for name in PROFILE
+                              if not any(m.engine == engine and m.name == name for m in metrics)],
         "gaps": runs.gaps,
         "errors": runs.errors,
         "plan": asdict(plan),
@@ -382,7 +385,8 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
     lines += ["", "## Figures", ""] + [f"![{name}]({name})" for name in summary["figures"]]
     unworn = [e for e in summary["unworn_engines"] if e in {m.engine for m in metrics}]
     notes = [f"- {e}: no wear run (exudyn's own contact cannot wear); judged on statistics and traces only"
-             for e in unworn]
+             for e in unworn] + [f"- {u}: undefined, not judged (a bushing half that a run did not wear has no lobe "
+                                 "angle to compare)" for u in summary.get("metrics_undefined", [])]
     lines += ["", "## Gaps and errors", ""] + ([f"- {g}" for g in summary["gaps"] + summary["errors"]] + notes
                                                or ["none"])
     return "\n".join(lines) + "\n"

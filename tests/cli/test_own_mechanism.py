@@ -473,20 +473,3 @@ def test_build_fmu_says_when_the_fmu_wears_with_the_papers_coefficient(tmp_path,
     assert done.returncode == 0, done.stderr
     assert ("note: k_w = 5.05e-10 m^2/N is the paper's" in done.stderr) == noted, done.stderr
     assert ("the FMU's parameter wear_coefficient sets it" in done.stderr) == noted
-
-
-def test_a_joint_that_never_leaves_contact_after_the_start_up_is_in_permanent_contact():
-    """A piston pin (the clearance at the rod-slider joint) under a steady 150 N load with gravity along the slide
-    towards the crank: after the start-up (the pin starts centred, out of contact) it never separates, so the regime
-    is permanent contact, not impacting; the joint carries the ideal joint's force; an unworn bushing has no
-    deepest point (its angle is null, not the first point's)."""
-    mechanism = SliderCrankParameters(crank_length_m=0.03, rod_length_m=0.15, rod_mass_kg=0.4,
-                                      rod_inertia_kg_m2=7.5e-4, crank_speed_rpm=240.0, slider_mass_kg=1.5,
-                                      slider_force_N=150.0, gravity_m_s2=(-9.81, 0.0), clearance_joint="rod-slider")
-    joint = paper_joint(mechanism, pin_radius_m=0.006, bushing_radius_m=0.00608, contact_length_m=0.012,
-                        wear_factor=0.0)
-    summary = run_simulation(joint, mechanism, SimulationOptions(revolutions=2), progress=False).summary()
-    assert summary["regime"] == "permanent contact" and summary["contact_fraction"] == 1.0
-    assert summary["impacts_per_revolution"] == 0 and summary["start_up"]["revolutions"] == 1
-    assert summary["max_contact_force_N"] == pytest.approx(summary["ideal_joint_force_max_N"], rel=0.01)
-    assert summary["max_wear_depth_m"] == 0.0 and summary["max_wear_angle_deg"] is None

@@ -127,7 +127,8 @@ def run(args) -> int:
                          f"{v['metrics']} within tolerance" for engine, v in engines.items() if v["role"] != "joint")
     print(f"{'PASS' if summary['passed'] else 'FAIL'}: {summary['metrics_total'] - len(summary['metrics_failed'])} of "
           f"{summary['metrics_total']} metrics of the engines running the project's joint within tolerance"
-          f"{references}; report in {args.out / 'report.md'}")
+          + (f" ({len(undefined)} undefined: {', '.join(undefined)})" if (undefined := summary["metrics_undefined"])
+             else "") + f"{references}; report in {args.out / 'report.md'}")
     return summary["exit_status"]
 
 
