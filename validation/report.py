@@ -314,7 +314,9 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         "and 10 times the step; DOPRI at rtol 1e-6 to 1e-8) runs an ensemble of perturbed starts, judged by its "
         "mean. The motion is chaotic, so each run is a sample of the same statistics; the scatter is the largest "
         "difference between the reference's mean and a valid configuration's, or the standard error of the "
-        "engine-minus-reference difference if larger; k = 2;",
+        "engine-minus-reference difference if larger; k = 2; every revolution each run covers counts, the first "
+        "(the start-up: the pin starts centred at full speed) in every engine alike, so the means compare like "
+        "with like but are not `simulate`'s settled values;",
         "- the worn profile: the same for the wear ensembles' means (the mean profile for the decorrelation), "
         "with three valid configurations (RK4 at 5 and 10 µs, DOPRI rtol 1e-6); k = 2;",
         "- point-wise traces: the monolithic step refinement (RK4 h vs h/2) plus the engine's own (its window "

@@ -86,17 +86,23 @@ def _entry_section(key: str, value) -> str:
                     f"{html.escape(json.dumps(value, indent=1))}</pre></details>")
 
 
-def _parameter_rows(given: dict, defaults, sources: dict | None = None, derived=()) -> list:
+def _parameter_rows(given: dict, defaults, sources: dict | None = None, derived=(), written=frozenset(),
+                    resolved: dict | None = None) -> list:
     """(name, value, where it came from) of a parameter set's dict against the dataclass ``defaults`` (``sources``:
     name -> where a value that is not the default came from, where that is not the user's option; ``derived``: the
-    names whose default follows the mechanism: "from the mechanism")."""
+    names whose default follows the mechanism: "from the mechanism"; ``written``: the options the command line
+    wrote, "given" even at the default; ``resolved``: name -> (the value a run derived for an unset one, whence))."""
     reference = defaults.to_dict() if hasattr(defaults, "to_dict") else dataclasses.asdict(defaults)
 
-    def source(name, value):
+    def row(name, value):
+        if value is None and name in (resolved or {}):
+            return (name, *resolved[name])
+        if f"--{name.replace('_', '-')}" in written:
+            return name, value, "given"
         if json.loads(json.dumps(reference.get(name))) == value:
-            return "from the mechanism" if name in derived else "default"
-        return (sources or {}).get(name, "given")
-    return [(name, value, source(name, value)) for name, value in given.items()]
+            return name, value, "from the mechanism" if name in derived else "default"
+        return name, value, (sources or {}).get(name, "given")
+    return [row(name, value) for name, value in given.items()]
 
 
 def _joint_defaults(parameters: dict):
@@ -129,6 +135,9 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
     joint_defaults, derived = _joint_defaults(parameters)
+    written = {token.split("=", 1)[0] for token in str(command or "").split() if token.startswith("--")}
+    stiffness = summary.get("contact_stiffness_N_m1_5")
+    resolved = {"contact_stiffness_N_m1_5": (stiffness, "from the radii and materials")} if stiffness else {}
     for label, key, defaults in (("Joint", "joint", joint_defaults),
                                  ("Mechanism", "mechanism", SliderCrankParameters())):
         if isinstance(parameters.get(key), dict):
@@ -138,7 +147,8 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
                              f"{'. ' + html.escape(str(summary['wear_coefficient_note'])) if summary.get('wear_coefficient_note') else ''}</p>")
             joint = key == "joint"
             parts.append(_table(_parameter_rows(parameters[key], defaults, sources if joint else None,
-                                                derived if joint else ()), ("parameter", "value", "from"), key))
+                                                derived if joint else (), written, resolved if joint else None),
+                                ("parameter", "value", "from"), key))
     for name, data in figures:
         encoded = base64.b64encode(data).decode("ascii")
         parts.append(f'<h3>{html.escape(name)}</h3><img alt="{html.escape(name)}" src="data:image/png;base64,{encoded}">')

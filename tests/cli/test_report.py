@@ -126,3 +126,19 @@ def test_a_summarys_tables_are_tables_of_the_page(tmp_path):
     text = (tmp_path / REPORT_NAME).read_text(encoding="utf-8")
     assert "<h3>gaps</h3><p>none</p>" in text and "<h3>metrics_failed</h3><p>cosim: impacts</p>" in text
     assert "&quot;deeper&quot;: {" in text                  # what fits no table: its JSON
+
+
+def test_a_value_written_at_its_default_is_given_and_an_unset_stiffness_is_the_materials(tmp_path):
+    """--crank-length-m 0.05 is the default's value, but written on the command line: "given" (it said "default");
+    the contact stiffness left unset is the one the run derived from the radii and materials, with its value (it
+    said "default" beside nothing)."""
+    out = tmp_path / "run"
+    assert main(["simulate", "--revolutions", "0.01", "--crank-length-m", "0.05", "--quiet", "--no-plots",
+                 "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    page = Tables((out / REPORT_NAME).read_text(encoding="utf-8"))
+    mechanism = {name: (value, source) for name, value, source in page.tables["mechanism"]}
+    assert mechanism["crank_length_m"] == ("0.05", "given") and mechanism["rod_length_m"][1] == "default"
+    joint = {name: (value, source) for name, value, source in page.tables["joint"]}
+    assert joint["contact_stiffness_N_m1_5"] == (repr(summary["contact_stiffness_N_m1_5"]),
+                                                 "from the radii and materials")
