@@ -192,6 +192,7 @@ def test_only_the_cases_that_run_are_checked_not_the_base_a_varied_option_replac
 
     small = base("simulate", "--revolutions", "0.02", "--bushing-radius-m", "0.00603")
     check_grid("simulate", small, {"pin-radius-m": [0.006, 0.00601]})
+    check_grid("simulate", small, points=[{"pin-radius-m": 0.006}, {"pin-radius-m": 0.00602}])   # a design's points
     box = parse_params("simulate", ["pin-radius-m=0.0050,0.0055", "bushing-radius-m=0.0060,0.0065"])
     check_ranges(box, base("simulate", "--revolutions", "0.02"))
     crossing = parse_params("simulate", ["pin-radius-m=0.0050,0.0062", "bushing-radius-m=0.0060,0.0065"])

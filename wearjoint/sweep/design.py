@@ -400,7 +400,8 @@ def check_grid(command: str, base: dict, vary: dict | None = None, points=(), wh
     variables, where = variable_actions(command), where or {}
     vary, points = by_option_name(command, vary, points)
     named = {name: where.get("vary", {}).get(name, f"vary {name}") for name in vary}
-    trials = [(", ".join(named.values()), dict(zip(vary, values))) for values in itertools.product(*vary.values())]
+    trials = [(", ".join(named.values()), dict(zip(vary, values)))     # the cases build_cases makes
+              for values in itertools.product(*vary.values())] if vary else []
     labels = where.get("points") or [f"point {k + 1}" for k in range(len(points))]
     trials += list(zip(labels, points))
     for label, point in trials or [("", {})]:
