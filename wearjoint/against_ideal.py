@@ -33,7 +33,8 @@ def sample_comparison(samples: np.ndarray, mechanism) -> tuple[np.ndarray, np.nd
 def slider_acc_error_max(record) -> float:
     """Largest |a - a_ideal| [m/s^2] of a run record's slider over the samples summary.json's
     ``slider_acc_error_max_m_s2`` is taken over, NaN without any."""
-    inside = steady_samples(record.samples, record.revolution_stats, record.period_s, record.settling_revolutions)
+    inside = steady_samples(record.samples, record.revolution_stats, record.period_s, record.settling_revolutions,
+                            record.left_out_rows)
     if not inside.any():
         return math.nan
     samples = record.samples[inside]
@@ -60,11 +61,12 @@ def revolution_columns(samples: np.ndarray, stats: np.ndarray, mechanism, compar
 
 
 def summary_statistics(samples: np.ndarray, stats: np.ndarray, mechanism, settling_revolutions: int,
-                       max_contact_force_N, comparison=None) -> dict:
-    """summary.json's answers over the samples of the counted revolutions after the start-up (all counted ones
-    where none is left): :data:`SUMMARY_KEYS`, ``joint_force_over_ideal`` being ``max_contact_force_N`` over the
-    ideal's largest; None without samples (``comparison``: as :func:`revolution_columns`)."""
-    inside = steady_samples(samples, stats, mechanism.period_s, settling_revolutions)
+                       max_contact_force_N, comparison=None, left_out=()) -> dict:
+    """summary.json's answers over the samples of the revolutions ``max_contact_force_N`` is taken over
+    (:func:`wearjoint.analysis.steady_samples`: after the start-up, without the rows ``left_out``):
+    :data:`SUMMARY_KEYS`, ``joint_force_over_ideal`` being ``max_contact_force_N`` over the ideal's largest; None
+    without samples (``comparison``: as :func:`revolution_columns`)."""
+    inside = steady_samples(samples, stats, mechanism.period_s, settling_revolutions, left_out)
     if not inside.any():
         return dict.fromkeys(SUMMARY_KEYS)
     error, ideal = comparison if comparison is not None else sample_comparison(samples, mechanism)

@@ -153,7 +153,7 @@ class RunRecord:
                                                else k for k in out["impact_event_revolutions"]]
         out.update(against_ideal.summary_statistics(self.samples, self.revolution_stats, self.parameters.mechanism,
                                                     self.settling_revolutions, out.get("max_contact_force_N"),
-                                                    ideal_comparison))
+                                                    ideal_comparison, self.left_out_rows))
         out.update(self.extra)
         if self.parameters.ideal:      # what only a contact has: none (they read "0.99999 in contact, 1 impact")
             out.update(dict.fromkeys(CONTACT_ONLY))

@@ -231,7 +231,7 @@ def model_from_options(options: Mapping, every_law: bool = False) -> tuple[Joint
     joint_values = {**mechanism.joint_defaults(), **given}
     law = joint_values.get("contact_damping", JointParameters.contact_damping)
     for row in () if every_law else unread_by(law, given):     # another law's parameter: it would change nothing
-        require(f"--{row.field.replace('_', '-')}", given[row.field], False,
+        require(option_name(row.field), given[row.field], False,
                 f"only with --contact-damping {' or '.join(row.read_by)} (--contact-damping {law} does not read it)")
     take_calibration(options, joint_values)
     if options.get("no_wear"):

@@ -16,43 +16,32 @@ import numpy as np
 import pytest
 
 fmpy = pytest.importorskip("fmpy")
-from fmpy import extract, read_model_description  # noqa: E402
-from fmpy.fmi2 import FMU2Model  # noqa: E402
-from fmpy_instance import enter_initialisation  # noqa: E402
+from fmpy_instance import Joint  # noqa: E402
 
 from wearjoint import JointParameters  # noqa: E402
-from wearjoint.fmu import variables as fv  # noqa: E402
 
 FMUSIM = os.environ.get("FMUSIM", "/tmp/fmusim-build/build-fmusim/fmusim")
 CLEARANCE_M = JointParameters().clearance_m
 
 
-def test_a_touching_pin_is_on_the_contacts_side_of_the_indicator(native_fmu, tmp_path):
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_touching_pin_is_on_the_contacts_side_of_the_indicator(fmus, version):
     """The pin centre exactly a clearance from the bushing centre: penetration 0 as an output, the indicator the
     smallest positive double (>= 0: contact, as the in-process Model Exchange reads it); 1 um in and out: the
-    penetration itself."""
-    md = read_model_description(str(native_fmu))
-    vr = fv.value_references(md)
-    fmu = FMU2Model(guid=md.guid, unzipDirectory=extract(str(native_fmu), unzipdir=str(tmp_path)),
-                    modelIdentifier=fv.MODEL_NAME, instanceName="touching")
-    fmu.instantiate()
+    penetration itself (FMI 2.0 and 3.0)."""
+    joint = Joint(fmus[version], version, "me").start(JointParameters(wear_factor=0.0))
     try:
-        enter_initialisation(fmu, vr, JointParameters(wear_factor=0.0))
-        fmu.exitInitializationMode()
-        fmu.newDiscreteStates()
-        fmu.enterContinuousTimeMode()
         indicator = (ctypes.c_double * 1)()
         for offset, expected in ((0.0, sys.float_info.min), (1e-6, None), (-1e-6, None)):
-            fmu.setReal([vr["pin_x"]], [CLEARANCE_M + offset])
-            penetration, = fmu.getReal([vr["penetration"]])
-            fmu.getEventIndicators(indicator, 1)
+            joint.set(["pin_x"], [CLEARANCE_M + offset])
+            penetration, = joint.get(["penetration"])
+            joint.fmu.getEventIndicators(indicator, 1)
             if expected is None:
                 assert penetration == pytest.approx(offset, abs=1e-15) and indicator[0] == penetration
             else:
                 assert penetration == 0.0 and indicator[0] == expected
     finally:
-        fmu.terminate()
-        fmu.freeInstance()
+        joint.free()
 
 
 def _orbit_csv(path: Path, stop_s: float, dt_s: float = 1e-5) -> Path:

@@ -35,9 +35,10 @@ def nominal_point(problem: Problem) -> dict:
 
 
 def law_variants(base: dict, problem: Problem, point: dict) -> list:
-    """[{"label", "changes", "skipped"}] of :func:`contact_law_variants` for the mechanism at ``point`` (the Tsuji
-    masses follow a sampled rod or slider mass); ``skipped`` names the sampled parameters a variant would override
-    ('' when it runs)."""
+    """[{"label", "changes", "unset", "skipped"}] of :func:`contact_law_variants` for the mechanism at ``point`` (the
+    Tsuji masses follow a sampled rod or slider mass); ``unset``: the given options of another law, which the
+    variant's law does not read (left out: given, they would be refused); ``skipped`` names the sampled parameters
+    a variant would override ('' when it runs)."""
     from ..contact_laws import contact_law_variants
 
     options = {**base, **{p.dest: point[p.name] for p in problem.parameters}}
@@ -59,12 +60,13 @@ def variant_cases(command: str, base: dict, point: dict, variants: list) -> tupl
     from . import design_cases
 
     ids, cases = [], {}
+    dests = {name: action.dest for name, action in variable_actions(command).items()}
     for v in variants:
         if v["skipped"]:
             ids.append(None)
             continue
         unset = set(v.get("unset", ()))      # the options of the base and the point the variant's law does not read
-        kept = {name: value for name, value in point.items() if variable_actions(command)[name].dest not in unset}
+        kept = {name: value for name, value in point.items() if dests[name] not in unset}
         [cid], [case] = design_cases(command, {**base, **v["changes"], **dict.fromkeys(unset)}, [kept])
         ids.append(cid)
         cases.setdefault(cid, case)
