@@ -9,7 +9,6 @@ monolithic scatter, judged as `wearjoint validate` judges an engine."""
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -23,11 +22,10 @@ from wearjoint.cosim import masters  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
+from third_party_tools import FMUSIM, OMSIMULATOR_PYTHON  # noqa: E402
 
 WINDOW_S, SAMPLE_S = 6e-3, 1e-4      # free flight, then the first impacts (the first near 2-3 ms)
-FMUSIM = os.environ.get("FMUSIM", "/tmp/fmusim-build/build-fmusim/fmusim")
 CASES = ("libcosim", "ecos", "fmpy-ssp", "omsimulator", "container", "container-fmusim")
-OMSIMULATOR_PYTHON = Path(__file__).resolve().parents[3] / "shared/tools/omsimulator/lib/x86_64-linux-gnu"
 if OMSIMULATOR_PYTHON.is_dir() and str(OMSIMULATOR_PYTHON) not in sys.path:
     sys.path.insert(0, str(OMSIMULATOR_PYTHON))
 SUMMARY_KEYS = ("revolutions", "simulated_time_s", "wall_time_s", "realtime_factor", "max_contact_force_N",

@@ -20,17 +20,16 @@ from wearjoint.cosim import masters  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.results import RunParameters  # noqa: E402
+from third_party_tools import OMSIMULATOR_CLI, OMSIMULATOR_MISSING, OMSIMULATOR_PYTHON  # noqa: E402
 
-OMSIMULATOR = Path(__file__).resolve().parents[3] / "shared/tools/omsimulator"
-CLI = OMSIMULATOR / "bin/OMSimulator"
-PYTHON_PACKAGE = OMSIMULATOR / "lib/x86_64-linux-gnu"
+CLI, PYTHON_PACKAGE = OMSIMULATOR_CLI, OMSIMULATOR_PYTHON
 
 
 @pytest.fixture(scope="module")
 def omsimulator():
     """The shared build's command line, its Python package importable (skip where absent)."""
     if not CLI.is_file() or not (PYTHON_PACKAGE / "libOMSimulator.so").is_file():
-        pytest.skip(f"no OMSimulator build at {OMSIMULATOR} (README in ../shared/tools/omsimulator)")
+        pytest.skip(OMSIMULATOR_MISSING)
     if str(PYTHON_PACKAGE) not in sys.path:
         sys.path.insert(0, str(PYTHON_PACKAGE))
     missing = masters.master_available("omsimulator")

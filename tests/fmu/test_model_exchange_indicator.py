@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import ctypes
 import math
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -17,10 +16,10 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy_instance import Joint  # noqa: E402
+from third_party_tools import FMUSIM  # noqa: E402
 
 from wearjoint import JointParameters  # noqa: E402
 
-FMUSIM = os.environ.get("FMUSIM", "/tmp/fmusim-build/build-fmusim/fmusim")
 CLEARANCE_M = JointParameters().clearance_m
 
 
