@@ -89,6 +89,7 @@ def main(argv: list[str] | None = None) -> int:
             parser.print_help()
             return 2
         args.figure_worker = figures
+        args.written = written_options(parser, args.command, argv)
         made, code = [], 2
         try:
             made = _prepare_out(args)
@@ -157,6 +158,22 @@ def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv
     return message
 
 
+def written_options(parser: argparse.ArgumentParser, command: str, argv: list[str]) -> frozenset:
+    """The dests of ``command``'s options written in ``argv`` (abbreviated or as ``--flag=value`` alike): ``argv``
+    parsed again with every default of the command's parser suppressed."""
+    sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+    defaults, sub._defaults = sub._defaults, {}
+    actions = [(action, action.default) for action in sub._actions]
+    try:
+        for action, _ in actions:
+            action.default = argparse.SUPPRESS
+        return frozenset(vars(parser.parse_args(argv))) - {"command"}
+    finally:
+        sub._defaults = defaults
+        for action, default in actions:
+            action.default = default
+
+
 def _prepare_out(args) -> list:
     """The results folder of a command that writes one (out_folder.prepare_out_folder): the folders made."""
     out = getattr(args, "out", None)
@@ -199,4 +216,4 @@ def _report(args, argv: list[str]) -> None:
         write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), report_facts(vars(args)))
 
 
-__all__ = ["main", "build_parser", "as_written", "COMMANDS"]
+__all__ = ["main", "build_parser", "as_written", "written_options", "COMMANDS"]

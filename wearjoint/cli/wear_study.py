@@ -6,13 +6,13 @@ import math
 import sys
 from pathlib import Path
 
-from ..parameters import ParameterError
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..run_options import add_wear_study_arguments
 from ..studies.cycle_jump import replay_volume_warning
 from ..studies.wear_calibration import calibrate_wear_coefficient, check_target_depth
 from ..studies.wear_convergence import JUMP, run_convergence
-from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, run_wear_study
-from ..studies.wear_study_recovery import CHECKPOINT_NAME, OPTIONS, SNAPSHOTS_NAME
+from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, run_wear_study
+from ..studies.wear_study_recovery import CHECKPOINT_NAME, DERIVED, OPTIONS, SNAPSHOTS_NAME, read_checkpoint
 from ..sweep.design import check_seeds
 from .options import with_options
 from .study_options import config_from_args, parse_float_list
@@ -44,6 +44,8 @@ def run(args) -> int:
         config = config_from_args(args)
         if args.calibrate_max_depth_m is not None:
             check_target_depth(args.calibrate_max_depth_m)
+        if args.resume and args.convergence is None and args.calibrate_max_depth_m is None:
+            config = _resumed_config(config, args)
     except ParameterError as exc:       # a study setting named as the command line writes it
         raise with_options(exc, {**OPTIONS, "target_max_depth_m": "--calibrate-max-depth-m"}) from None
     try:
@@ -107,6 +109,35 @@ def run(args) -> int:
         return 1
     print(f"results in {args.out}")
     return 0
+
+
+# the options (dests) that set a study's, its joint's or its mechanism's field, where not the field's name alone
+_SET_BY = {"max_step_s": ("max_step",), "jump_block_revolutions": ("cycle_jump_block",),
+           "checkpoint_every_revolutions": ("checkpoint_every",),
+           "jump_tolerance": ("cycle_jump_tolerance", "no_cycle_jump", "wear_factor", "no_wear"),
+           "wear_factor": ("wear_factor", "no_wear"), "wear_coefficient_m2_N": ("wear_coefficient_m2_N", "calibration")}
+
+
+def _resumed_config(config: WearStudyConfig, args) -> WearStudyConfig:
+    """The study ``--resume`` continues: the settings of the checkpoint in ``--out``, each one the command line
+    wrote (``args.written``) from ``config`` instead; run_wear_study then refuses a written physical setting that
+    differs, naming it.  ``config`` itself where the checkpoint's settings do not make a study (its own message)."""
+    written = getattr(args, "written", None)
+    if written is None:
+        return config
+
+    def merged(checkpointed: dict, given: dict) -> dict:
+        return {k: given[k] if set(_SET_BY.get(k, (k,))) & written else v for k, v in checkpointed.items()}
+
+    try:
+        old = read_checkpoint(Path(args.out) / CHECKPOINT_NAME)["config"]
+        study = merged({k: v for k, v in old.items() if k not in DERIVED}, config.to_dict())
+        return WearStudyConfig(**{**study, "snapshots": tuple(study["snapshots"]),
+                                  "joint": JointParameters(**merged(old["joint"], config.joint.to_dict())),
+                                  "mechanism": SliderCrankParameters.from_dict(merged(old["mechanism"],
+                                                                                      config.mechanism.to_dict()))})
+    except (ParameterError, KeyError, TypeError, ValueError):
+        return config
 
 
 def _check_out(args, ensemble: bool) -> None:

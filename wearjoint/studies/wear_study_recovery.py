@@ -3,7 +3,7 @@
 * **Checkpoints** (``wear_study_checkpoint.pkl``): the study's state pickled, then its CRC-32C, written
   atomically (tmp + rename).  ``--resume`` reads the last one; it may change the study's *numerical*
   settings (:data:`NUMERICAL`: integrator, max step, DOPRI's rtol, the cycle-jump tolerance and block, the
-  checkpoint interval) but not its *physical* ones (mechanism, joint, wear law and factor, horizon and snapshots,
+  checkpoint interval; the command takes the checkpoint's where its options leave them out) but not its *physical* ones (mechanism, joint, wear law and factor, horizon and snapshots,
   engine), which it refuses in one line naming the parameter, the checkpointed and the given value.
   ``numerical_settings`` in the checkpoint and summary.json says which settings covered which revolutions.
 * **Snapshots as they are reached**: ``profile_revR.csv`` (the profile) and ``snapshots.json`` (every
