@@ -1,4 +1,4 @@
-"""The code's shape (docs/reference/code_layout.md, the layers of docs/model.md §4): no import cycle among the
+"""The code's shape (docs/reference/code_layout.md §4, the code's layers): no import cycle among the
 package's modules at import time, the kernels in ``wearjoint/core`` import nothing of the package outside it (but
 numba's cache location), exudyn is imported only by ``wearjoint/exudyn.py``, ``validation/`` and the examples,
 ``import wearjoint`` loads none of exudyn, fmpy, pythonfmu, dask, numba, matplotlib, and no source file is over 500

@@ -1,5 +1,5 @@
-"""The joint FMU's published linearisation (docs/reference/fmu.md §2.4): the outputs d_<load>_d_<input> are the
-derivatives of its loads with respect to its inputs, the outputs evaluated_<input> the inputs they belong to, in
+"""The joint FMU's published linearisation (docs/reference/fmu.md §5, "The published linearisation"): the outputs
+d_<load>_d_<input> are the derivatives of its loads with respect to its inputs, the outputs evaluated_<input> the inputs they belong to, in
 FMI 2.0 and 3.0, at unworn, worn and gap states; against central differences of the loads (independent of the
 kernels' derivatives) and against the FMI directional derivatives of the same loads."""
 from __future__ import annotations

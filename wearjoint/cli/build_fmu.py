@@ -28,7 +28,8 @@ def add_arguments(parser) -> None:
     """Options of ``wearjoint build-fmu`` (and its description, :data:`DESCRIPTION`)."""
     parser.description = DESCRIPTION
     parser.add_argument("--out", metavar="DIR", default=None,
-                        help="directory for the FMU (default: the user cache, keyed by the sources and the backend)")
+                        help="directory for the FMU (default: the user cache, keyed by the backend, sources, model, "
+                             "start values, FMI version and platforms)")
     parser.add_argument("--model", choices=tuple(MODELS), default=DEFAULT_MODEL,
                         help="joint: ClearanceWearJoint.fmu; slider-crank: SliderCrank.fmu, the paper's slider-crank "
                              "with the crank-rod joint open (native backend; --n-points does not apply) "

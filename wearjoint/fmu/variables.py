@@ -83,10 +83,10 @@ RESULT_SLOTS: dict[str, int] = {
 }
 WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
 
-# The loads' linearisation (docs/reference/fmu.md §2.4): the derivatives of the loads a mechanism integrates with
-# respect to the 12 inputs, and the inputs they were evaluated at, so that a master holding the outputs over a step
-# lets the mechanism integrate F0 + J (u - u0) (core/linearisation.py) whatever the order it moves values in.  The
-# bushing body's force is minus the pin body's (Eq. 22): its rows are not outputs.
+# The loads' linearisation (docs/reference/fmu.md §5, "The published linearisation"): the derivatives of the loads
+# a mechanism integrates with respect to the 12 inputs, and the inputs they were evaluated at, so that a master
+# holding the outputs over a step lets the mechanism integrate F0 + J (u - u0) (core/linearisation.py) whatever the
+# order it moves values in.  The bushing body's force is minus the pin body's (Eq. 22): its rows are not outputs.
 LINEARISED_ROWS = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_torque", "normal_force")
 _DENOMINATOR = {"m": "/m", "rad": "/rad", "m/s": ".s/m", "rad/s": ".s/rad"}
 
