@@ -7,7 +7,7 @@ exudyn (:mod:`wearjoint.validation.exudyn_model`) with our contact through the h
 clearance dynamics are chaotic (docs/reference/model.md §7): trajectories are compared point by point
 only over the first impacts (``window_s``); beyond that, per-revolution statistics as the
 means of an ensemble of perturbed starts, and the worn profile of a short wear run (also an
-ensemble: one revolution's worn profile scatters by 10 % between starts).
+ensemble: one revolution's worn profile scatters by 10 % between starts; none if it wore nothing).
 
 Every tolerance is ``max(k * scatter, floor)`` (see :class:`Rule`) with the scatter
 measured in the same validation run between equally valid runs of one simulator: for
@@ -466,7 +466,7 @@ def compare(runs: Runs, plan: ValidationPlan) -> list[Metric]:
                                   {f"monolithic RK4 h vs h/2 + {engine} at 2x step": mono[name] + own[name]},
                                   scatter_parts={f"monolithic {refined_label}": mono[name],
                                                  f"{engine} step x2": own[name]}))
-    if runs.wear_reference:
+    if runs.wear_reference and max(r.wear_depth_m.max() for r in runs.wear_reference) > 0.0:
         ref_profile, ref_profile_std, ref_h = ensemble_profile(runs.wear_reference)
         scatter_profiles = {label: ensemble_profile(members) for label, members in runs.wear_scatter.items()}
         for engine, members in runs.wear_engines.items():

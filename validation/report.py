@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from wearjoint.core import layout as L
-from wearjoint.parameters import JointParameters, SliderCrankParameters, require
+from wearjoint.parameters import JointParameters, SliderCrankParameters
 from wearjoint.results import RunRecord, write_json_atomic
 from wearjoint.validation.compare import (
     compare, run_engines,
@@ -19,6 +19,7 @@ from wearjoint.validation.compare import (
     pointwise_differences, revolution_statistics,
 )
 from wearjoint.validation.law_spread import STAGE, law_spread_summary, run_law_spread
+from wearjoint.validation.spans import check_spans
 
 
 # ---------------------------------------------------------------- figures
@@ -211,7 +212,7 @@ def build_summary(runs: Runs, plan: ValidationPlan, metrics: list[Metric], joint
         "metrics_failed": [f"{m.engine}: {m.name}" for m in metrics if judged(m) and not m.passed],
         "engines": engine_verdicts(metrics),
         "reference_law_differences": [f"{m.engine}: {m.name}" for m in metrics if not judged(m) and not m.passed],
-        # a lobe on a bushing half no run wore has no angle: that metric is left out, named here
+        # a lobe on a bushing half no run wore has no angle, a wear run that wore nothing no profile: left out, named
         "metrics_undefined": [f"{engine}: {name}" for engine in runs.wear_engines for name in PROFILE
                               if not any(m.engine == engine and m.name == name for m in metrics)],
         "gaps": runs.gaps,
@@ -387,8 +388,8 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
     lines += ["", "## Figures", ""] + [f"![{name}]({name})" for name in summary["figures"]]
     unworn = [e for e in summary["unworn_engines"] if e in {m.engine for m in metrics}]
     notes = [f"- {e}: no wear run (exudyn's own contact cannot wear); judged on statistics and traces only"
-             for e in unworn] + [f"- {u}: undefined, not judged (a bushing half that a run did not wear has no lobe "
-                                 "angle to compare)" for u in summary.get("metrics_undefined", [])]
+             for e in unworn] + [f"- {u}: undefined, not judged ({_undefined_why(u)})"
+                                 for u in summary.get("metrics_undefined", [])]
     lines += ["", "## Gaps and errors", ""] + ([f"- {g}" for g in summary["gaps"] + summary["errors"]] + notes
                                                or ["none"])
     return "\n".join(lines) + "\n"
@@ -424,6 +425,13 @@ def _law_spread_lines(spread: dict) -> list[str]:
     return lines + [""]
 
 
+def _undefined_why(metric: str) -> str:
+    """Why a profile metric (``"engine: name"``) is undefined."""
+    if ": lobe_angle" in metric:
+        return "a bushing half that a run did not wear has no lobe angle to compare"
+    return "the reference's wear runs wore nothing, ending before the first contact: no profile to compare"
+
+
 __all__ = ["write_figures", "build_summary", "build_report"]
 
 
@@ -436,8 +444,7 @@ def run_validation(plan: ValidationPlan, out_dir, joint: JointParameters | None 
     engine is not available; a reference law's metrics and the law spread never change it)."""
     mechanism = mechanism or SliderCrankParameters()
     joint = joint or JointParameters(**mechanism.joint_defaults())
-    require("window_s", plan.window_s, plan.window_s <= plan.revolutions * mechanism.period_s,
-             f"<= the no-wear run ({plan.revolutions:g} rev = {plan.revolutions * mechanism.period_s:g} s)")
+    check_spans(plan, mechanism)      # a window of every engine's points within the no-wear runs, a wear run that fits
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     runs = run_engines(plan, joint, mechanism, engine_joint_changes, progress)

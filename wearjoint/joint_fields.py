@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .checks import ANY, NON_NEGATIVE, POSITIVE, Allowed, finite, require
+from .checks import ANY, Allowed, finite, require
 from .core import layout as L
 
 
@@ -45,6 +45,11 @@ _OPEN_HALF = Allowed(0.0, True, 0.5, True)
 _MODULUS = Allowed(0.0, True, 1e13, note="Pa, 10x diamond's 1.2e12 Pa")
 # a body frame's point within a kilometre of its origin [m] (1e300 passed, and its contact said "penetration -inf")
 _OFFSET = Allowed(-1e3, False, 1e3)
+# a speed of the contact [m/s]: a hundred metres a second, beyond any joint's sliding or impact
+_SPEED = Allowed(0.0, False, 100.0)
+# a restitution from 1e-3, below any material's: at 1e-4 the paper's joint chattered (83-1234 impacts a revolution
+# against 11-22 from 1e-3 up) and from 1e-8 the first impact's damping force passed the admissible force
+_RESTITUTION = Allowed(1e-3, False, 1.0)
 JOINT_FIELDS: tuple[JointField, ...] = (
     JointField("pin_radius", "pin_radius_m", "m", "pin radius R_i", L.P_PIN_RADIUS,
                Allowed(1e-6, False, 100.0, note="m")),
@@ -59,7 +64,7 @@ JOINT_FIELDS: tuple[JointField, ...] = (
     JointField("bushing_offset_y", "bushing_offset_m", "m", "bushing centre in the bushing body frame, y",
                L.P_BUSHING_OFFSET_Y, _OFFSET, component=1),
     JointField("contact_length", "contact_length_m", "m", "axial contact length L", L.P_CONTACT_LENGTH,
-               Allowed(1e-6, note="m, a micrometre")),
+               Allowed(1e-6, False, 100.0, note="m")),
     JointField("pin_youngs_modulus", "pin_youngs_modulus_Pa", "Pa", "Young's modulus of the pin",
                L.P_PIN_YOUNGS_MODULUS, _MODULUS),
     JointField("pin_poisson_ratio", "pin_poisson_ratio", "1", "Poisson ratio of the pin", L.P_PIN_POISSON_RATIO,
@@ -80,20 +85,21 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                                                                          "exponents need contact_model='deepest')"),
                    ("contact_stiffness", 0.0, "K from the materials",
                     "no contact_stiffness_N_m1_5 given (K from the materials)")))),
-    JointField("restitution", "restitution", "1", "coefficient of restitution e_r in (0, 1]", L.P_RESTITUTION,
-               Allowed(0.0, True, 1.0)),
+    JointField("restitution", "restitution", "1", "coefficient of restitution e_r in [0.001, 1]", L.P_RESTITUTION,
+               _RESTITUTION),
     JointField("friction_coefficient", "friction_coefficient", "1", "Coulomb friction coefficient mu", L.P_FRICTION,
-               NON_NEGATIVE),
+               Allowed(0.0, False, 10.0)),
     JointField("friction_v0", "friction_v0_m_s", "m/s", "friction tolerance velocity v0 (stick below)", L.P_V0,
-               NON_NEGATIVE),
+               _SPEED),
     JointField("friction_v1", "friction_v1_m_s", "m/s", "friction tolerance velocity v1 (> friction_v0, full slip "
-               "above)", L.P_V1, Allowed(0.0, True, above="friction_v0")),
+               "above)", L.P_V1, Allowed(0.0, True, _SPEED.high, above="friction_v0")),
     JointField("wear_coefficient", "wear_coefficient_m2_N", "m2/N", "Archard wear coefficient k_w",
-               L.P_ARCHARD_COEFFICIENT, NON_NEGATIVE),
+               L.P_ARCHARD_COEFFICIENT, Allowed(0.0, False, 1e-6, note="m2/N, 2000 times the paper's printed 5.05e-10")),
     JointField("wear_factor", "wear_factor", "1", "wear acceleration factor multiplying k_w", L.P_WEAR_FACTOR,
-               NON_NEGATIVE),
+               Allowed(0.0, False, 1e6, note="times; 1: the real rate")),
     JointField("impact_velocity_floor", "impact_velocity_floor_m_s", "m/s",
-               "Lankarani-Nikravesh damping: floor on the stored impact velocity", L.P_VELOCITY_FLOOR, POSITIVE,
+               "Lankarani-Nikravesh damping: floor on the stored impact velocity", L.P_VELOCITY_FLOOR,
+               Allowed(0.0, True, _SPEED.high),
                read_by=("lankarani-nikravesh", "lankarani-nikravesh-exact")),
     JointField("rho_mode", "rho_mode", "", "equivalent radius of the Hertz half-width (docs/reference/model.md §3.2)",
                L.P_RHO_MODE),
@@ -112,10 +118,10 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                L.P_CONTACT_DAMPING),
     JointField("restitution_speed", "restitution_speed_m_s", "m/s",
                "impact speed at which the Hunt-Crossley damping gives the restitution e_r", L.P_RESTITUTION_SPEED,
-               POSITIVE, read_by=("hunt-crossley",)),
+               Allowed(0.0, True, _SPEED.high), read_by=("hunt-crossley",)),
     JointField("effective_mass", "effective_mass_kg", "kg",
                "Tsuji damping: the mass the contact decelerates along its normal (the restitution is e_r for it)",
-               L.P_EFFECTIVE_MASS, POSITIVE, read_by=("tsuji",)),
+               L.P_EFFECTIVE_MASS, Allowed(1e-6, False, 1e6, note="kg"), read_by=("tsuji",)),
     JointField("wear_interval", "wear_interval_s", "s",
                "the foundation's wear is applied once per this much contact time (and when a contact ends; "
                "0: at every accepted step; docs/reference/model.md §3.11)", L.P_WEAR_INTERVAL,

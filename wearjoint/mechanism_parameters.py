@@ -16,15 +16,26 @@ from pathlib import Path
 
 import numpy as np
 
-from .checks import ParameterError, finite, finite_pair, is_real, non_negative, of_type, positive, require
+from .checks import ANY, Allowed, ParameterError, finite, finite_pair, is_real, of_type, require
 from .core import layout as L
 
-# allowed rules of a row (the FMU's checks are built from the same names: fmu/slider_crank.py)
-POSITIVE, FINITE, NON_NEGATIVE, ABOVE_CRANK, TABLE_ROWS, TABLE_ANGLE, CHOICE = (
-    "positive", "finite", "non-negative", "above-crank", "table-rows", "table-angle", "choice")
+# allowed rules of a row (the FMU's checks are built from the same rules: fmu/slider_crank.py)
+FINITE, LENGTH, ABOVE_CRANK, MASS, INERTIA, SPEED, ACCELERATION, FORCE, RATE, TABLE_ROWS, TABLE_ANGLE, CHOICE = (
+    "finite", "length", "above-crank", "mass", "inertia", "speed", "acceleration", "force", "rate", "table-rows",
+    "table-angle", "choice")
 CLEARANCE_JOINTS = L.CLEARANCE_JOINTS     # the values of clearance_joint; the FMU's: their code (L.CHOICES)
-RULE_TEXT = {POSITIVE: "> 0", FINITE: "a finite real number", NON_NEGATIVE: ">= 0",
-             ABOVE_CRANK: "> crank_length_m (the crank must turn fully)",
+# bounds no machine passes, so that no value the rules admit overflows the mechanism's arithmetic (a 1e300 kg crank
+# left the ideal joint's force NaN; 1e300 m/s^2 of gravity made the joint FMU's inputs NaN): the SI values of the
+# user's units (the crank speed in rpm); ABOVE_CRANK's ``above`` is the FMU's name of the crank length
+RULES = {FINITE: ANY, LENGTH: Allowed(1e-6, False, 100.0, note="m"),
+         ABOVE_CRANK: Allowed(1e-6, False, 100.0, above="crank_length", note="m"),
+         MASS: Allowed(1e-6, False, 1e6, note="kg"), INERTIA: Allowed(1e-12, False, 1e6, note="kg.m2"),
+         SPEED: Allowed(1e-3, False, 1e5, note="rpm"), ACCELERATION: Allowed(-1e4, False, 1e4),
+         FORCE: Allowed(-1e9, False, 1e9), RATE: Allowed(0.0, False, 1e6, note="1/s"),
+         TABLE_ROWS: Allowed(0.0, high=float(L.MAX_LOAD_ROWS)), TABLE_ANGLE: Allowed(0.0, high=360.0),
+         CHOICE: Allowed(0.0, high=float(len(L.CLEARANCE_JOINTS) - 1))}
+RULE_TEXT = {**{rule: allowed.text() for rule, allowed in RULES.items()},
+             ABOVE_CRANK: f"{RULES[LENGTH].text()} and > crank_length_m (the crank must turn fully)",
              TABLE_ROWS: f"0 (no table) or an integer from 2 to {L.MAX_LOAD_ROWS}", TABLE_ANGLE: "in [0, 360] deg",
              CHOICE: ", ".join(f"{code} ({name})" for name, code in L.CHOICES["clearance_joint"])}
 
@@ -47,32 +58,32 @@ class MechanismField:
 
 _DEG = math.pi / 180.0
 _SCALARS = (
-    MechanismField("crank_length_m", "crank_length", "m", "crank length l1 (Table 1)", POSITIVE, L.MP_CRANK_LENGTH),
-    MechanismField("crank_mass_kg", "crank_mass", "kg", "crank mass m1", POSITIVE, L.MP_CRANK_MASS),
+    MechanismField("crank_length_m", "crank_length", "m", "crank length l1 (Table 1)", LENGTH, L.MP_CRANK_LENGTH),
+    MechanismField("crank_mass_kg", "crank_mass", "kg", "crank mass m1", MASS, L.MP_CRANK_MASS),
     MechanismField("crank_inertia_kg_m2", "crank_inertia", "kg.m2",
-                   "crank moment of inertia I1 about its centre of mass", POSITIVE, L.MP_CRANK_INERTIA),
+                   "crank moment of inertia I1 about its centre of mass", INERTIA, L.MP_CRANK_INERTIA),
     MechanismField("rod_length_m", "rod_length", "m", "connecting rod length l2 (> crank_length)", ABOVE_CRANK,
                    L.MP_ROD_LENGTH),
-    MechanismField("rod_mass_kg", "rod_mass", "kg", "rod mass m2", POSITIVE, L.MP_ROD_MASS),
+    MechanismField("rod_mass_kg", "rod_mass", "kg", "rod mass m2", MASS, L.MP_ROD_MASS),
     MechanismField("rod_inertia_kg_m2", "rod_inertia", "kg.m2", "rod moment of inertia I2 about its centre of mass",
-                   POSITIVE, L.MP_ROD_INERTIA),
-    MechanismField("slider_mass_kg", "slider_mass", "kg", "slider mass m3", POSITIVE, L.MP_SLIDER_MASS),
-    MechanismField("slider_inertia_kg_m2", "slider_inertia", "kg.m2", "slider moment of inertia I3", POSITIVE,
+                   INERTIA, L.MP_ROD_INERTIA),
+    MechanismField("slider_mass_kg", "slider_mass", "kg", "slider mass m3", MASS, L.MP_SLIDER_MASS),
+    MechanismField("slider_inertia_kg_m2", "slider_inertia", "kg.m2", "slider moment of inertia I3", INERTIA,
                    L.MP_SLIDER_INERTIA),
-    MechanismField("crank_speed_rpm", "crank_speed", "rpm", "crank speed (clockwise)", POSITIVE, L.MP_OMEGA,
+    MechanismField("crank_speed_rpm", "crank_speed", "rpm", "crank speed (clockwise)", SPEED, L.MP_OMEGA,
                    2.0 * math.pi, 60.0),
     MechanismField("initial_crank_angle_deg", "initial_crank_angle", "deg",
                    "crank angle theta0 at t = 0 (theta1 = theta0 - omega t, Eq. 39)", FINITE, L.MP_THETA0, _DEG),
     MechanismField("gravity_m_s2", "gravity_x", "m/s2", "gravity along the slider's axis x (towards the slider: "
-                   "> 0)", FINITE, L.MP_GRAVITY_X, component=0),
-    MechanismField("gravity_m_s2", "gravity_y", "m/s2", "gravity across the slide (the paper's: -9.81)", FINITE,
+                   "> 0)", ACCELERATION, L.MP_GRAVITY_X, component=0),
+    MechanismField("gravity_m_s2", "gravity_y", "m/s2", "gravity across the slide (the paper's: -9.81)", ACCELERATION,
                    L.MP_GRAVITY_Y, component=1),
     MechanismField("baumgarte_alpha", "baumgarte_alpha", "1/s", "Baumgarte alpha (Eq. 44 stabilisation)",
-                   NON_NEGATIVE, L.MP_ALPHA),
+                   RATE, L.MP_ALPHA),
     MechanismField("baumgarte_beta", "baumgarte_beta", "1/s", "Baumgarte beta (Eq. 44 stabilisation)",
-                   NON_NEGATIVE, L.MP_BETA),
+                   RATE, L.MP_BETA),
     MechanismField("slider_force_N", "slider_force_constant", "N", "constant load on the slider along its axis, "
-                   "positive towards the crank's pivot (compressing the rod)", FINITE, L.MP_SLIDER_FORCE),
+                   "positive towards the crank's pivot (compressing the rod)", FORCE, L.MP_SLIDER_FORCE),
     MechanismField("slider_force_table", "slider_force_table_rows", "1", "rows of the slider-load table (0: none)",
                    TABLE_ROWS, L.MP_LOAD_ROWS),
     MechanismField("clearance_joint", "clearance_joint", "1", "the joint with the clearance: "
@@ -84,7 +95,7 @@ _TABLE = tuple(
                    f"slider-load table, row {k + 1}: crank angle theta1 mod 360", TABLE_ANGLE, L.MP_LOAD_ANGLES + k,
                    _DEG, component=k) for k in range(L.MAX_LOAD_ROWS)) + tuple(
     MechanismField("slider_force_table", f"slider_force_table_force_{k + 1}", "N",
-                   f"slider-load table, row {k + 1}: load, positive towards the crank's pivot", FINITE,
+                   f"slider-load table, row {k + 1}: load, positive towards the crank's pivot", FORCE,
                    L.MP_LOAD_FORCES + k, component=k) for k in range(L.MAX_LOAD_ROWS))
 # every slot the fields fill, in slot order (the FMU's parameter order)
 MECHANISM_FIELDS: tuple[MechanismField, ...] = tuple(sorted(_SCALARS + _TABLE, key=lambda f: f.slot))
@@ -130,6 +141,8 @@ class SliderForceTable:
             for name, value in (("crank_angle_deg", angle), ("force_N", force)):
                 if not (is_real(value) and math.isfinite(value)):
                     raise ParameterError(f"{where}, row {row}: {name}={value!r} is not a finite number")
+            if not RULES[FORCE].admits(force, {}):
+                raise ParameterError(f"{where}, row {row}: force_N={force!r} is invalid: allowed {RULES[FORCE].text()}")
         fields = np.zeros(L.N_MECHANISM_FIELDS)
         fields[L.MP_LOAD_ROWS] = len(angles)
         fields[L.MP_LOAD_ANGLES:L.MP_LOAD_ANGLES + len(angles)] = angles
@@ -208,12 +221,15 @@ def _gravity_pair(value) -> tuple[float, float]:
     """Gravity [m/s^2] as (g_x, g_y) in the mechanism's frame: a pair as given, a single value g as (0, -g)
     (its magnitude across the slide, the paper's convention: a negative one, which would point gravity up, is
     refused; the pair says that)."""
-    allowed = ("one finite value g >= 0 (its magnitude, pointing along -y) or a pair (g_x, g_y) of finite values "
-               "(pointing up: 0,G)")
+    bound = RULES[ACCELERATION].high
+    allowed = (f"one finite value g in [0, {bound:g}] (its magnitude, pointing along -y) or a pair (g_x, g_y) of "
+               f"finite values in [-{bound:g}, {bound:g}] (pointing up: 0,G)")
     if is_real(value):
-        require("gravity_m_s2", value, math.isfinite(value) and value >= 0.0, allowed)
+        require("gravity_m_s2", value, math.isfinite(value) and 0.0 <= value <= bound, allowed)
         return 0.0, 0.0 - float(value)        # (0 - g: g = 0 is +0, not -0)
-    return finite_pair("gravity_m_s2", value, allowed)
+    pair = finite_pair("gravity_m_s2", value, allowed)
+    require("gravity_m_s2", value, max(abs(pair[0]), abs(pair[1])) <= bound, allowed)
+    return pair
 
 
 @dataclass(frozen=True)
@@ -258,8 +274,10 @@ class SliderCrankParameters:
             if f.rule == CHOICE:
                 require(f.field, value, value in f.choices, " or ".join(repr(c) for c in f.choices))
                 continue
-            check = {POSITIVE: positive, ABOVE_CRANK: positive, NON_NEGATIVE: non_negative}.get(f.rule, finite)
-            object.__setattr__(self, f.field, check(f.field, value))
+            allowed = RULES[LENGTH if f.rule == ABOVE_CRANK else f.rule]    # the crank's below
+            x = finite(f.field, value, "" if allowed.low is None else allowed.text())
+            require(f.field, value, allowed.admits(x, {}), allowed.text())
+            object.__setattr__(self, f.field, x)
         require("rod_length_m", self.rod_length_m, self.rod_length_m > self.crank_length_m,
                 f"> crank_length_m = {self.crank_length_m!r} (the crank must turn fully)")
         of_type("slider_force_table", self.slider_force_table, SliderForceTable,

@@ -156,6 +156,24 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     return "".join(parts)
 
 
+def json_values(obj):
+    """``obj`` with only values JSON holds: numpy's as Python's, paths as text, a number that is not finite (NaN, inf:
+    JSON has none) as None; TypeError naming any other type."""
+    if isinstance(obj, dict):
+        return {key: json_values(value) for key, value in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_values(value) for value in obj]
+    if hasattr(obj, "tolist") and hasattr(obj, "dtype"):       # a numpy scalar or array
+        return json_values(obj.tolist())
+    if isinstance(obj, Path):
+        return str(obj)
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if obj is None or isinstance(obj, (str, int, float)):
+        return obj
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
 def write_report(out_dir, command_line: str | None = None, facts: dict | None = None) -> Path:
     """Write ``report.html`` into the results folder ``out_dir`` (its summary and PNGs); ``command_line``: the
     command that made it, recorded into the summary too (with the version and ``facts``, entries the command
@@ -175,7 +193,7 @@ def write_report(out_dir, command_line: str | None = None, facts: dict | None = 
     if command_line is not None:
         summary.update(command_line=command_line, wearjoint_version=__version__, **(facts or {}))
         tmp = path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(summary, indent=2))
+        tmp.write_text(json.dumps(json_values(summary), indent=2, allow_nan=False))
         tmp.replace(path)
     figures = [(png.name, png.read_bytes()) for png in sorted(out.glob("*.png"))]
     page = out / REPORT_NAME
@@ -185,4 +203,4 @@ def write_report(out_dir, command_line: str | None = None, facts: dict | None = 
     return page
 
 
-__all__ = ["REPORT_NAME", "SUMMARY_FILES", "cell_text", "report_html", "summary_path", "write_report"]
+__all__ = ["REPORT_NAME", "SUMMARY_FILES", "cell_text", "json_values", "report_html", "summary_path", "write_report"]

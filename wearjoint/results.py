@@ -9,6 +9,7 @@ chattering flags of :func:`wearjoint.analysis.revolution_impact_events`) and PNG
 from __future__ import annotations
 
 import json
+import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,7 +19,7 @@ import numpy as np
 from . import against_ideal, analysis, profile_metrics
 from .core import layout as L
 from .parameters import JointParameters, SliderCrankParameters, wear_coefficient_source
-from .report import write_report
+from .report import json_values, write_report
 
 REVOLUTION_COLUMNS = analysis.REVOLUTION_COLUMNS + against_ideal.REVOLUTION_COLUMNS
 # summary.json's entries that describe the clearance joint's contact: null in a run of the ideal joint
@@ -171,19 +172,11 @@ class RunRecord:
 
 
 def write_json_atomic(path: Path, data: dict) -> None:
+    """``data`` as JSON at ``path`` (tmp + rename): numpy values as Python's, a value that is not a finite number (NaN,
+    inf: JSON has none) as null."""
     tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2, default=_json_default))
+    tmp.write_text(json.dumps(json_values(data), indent=2, allow_nan=False))
     os.replace(tmp, path)
-
-
-def _json_default(obj):
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
 def write_csv(path, table: np.ndarray, names, fmt: str) -> None:

@@ -25,6 +25,12 @@ DEFAULT_WEAR_STEP_SHARE = 1.5
 # impacts per revolution came out 9 % high (84.8 +- 1.3 against 77.8-80.1 at 1e-5 s, 5e-6 s and RK4 at
 # 2.5 us, 16 starts x 10 revolutions), the paper's mechanism unchanged (docs/reference/model.md §7)
 DOPRI_WEAR_CONTACT_STEP_S = 1e-5
+# bounds no meaningful run passes (1e300 was taken: a tolerance that controls nothing; 1e9 chunks ran for minutes)
+RTOL_RANGE = (1e-12, 0.1)
+MAX_ATOL_POSITION_M = 1e-3
+MAX_ATOL_VELOCITY_M_S = 1.0
+MAX_CHUNKS_PER_REVOLUTION = 10_000
+ONSET_CLEARANCE_SHARE = 0.1     # the deepest an adaptive step may end past a contact onset, in clearances
 
 
 def wear_step_limit_s(joint: JointParameters, mechanism: SliderCrankParameters | None = None,
@@ -60,7 +66,21 @@ def check_run_arguments(joint, mechanism, options, options_type: type, fmu_path=
         path_like = isinstance(fmu_path, (str, os.PathLike))
         require("fmu_path", str(fmu_path) if path_like else fmu_path, path_like and zipfile.is_zipfile(fmu_path),
                 "an existing FMU file (.fmu, a zip archive)")
-    integer("chunks_per_revolution", chunks_per_revolution, 1)
+    integer("chunks_per_revolution", chunks_per_revolution, 1, MAX_CHUNKS_PER_REVOLUTION)
+
+
+def check_run_span(options, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> None:
+    """ParameterError unless a run of ``options`` (its ``revolutions``, ``sample_dt_s``, ``onset_penetration_m``)
+    covers one sample interval of ``mechanism``'s revolution and locates contact onsets within ONSET_CLEARANCE_SHARE
+    of ``joint``'s clearance (1e-300 revolutions ran and reported zeros; an onset 1e300 m deep located none)."""
+    period = (mechanism or SliderCrankParameters()).period_s
+    shortest = options.sample_dt_s / period
+    require("revolutions", options.revolutions, options.revolutions >= shortest,
+            f">= {shortest:.3g} (one sample interval, sample_dt_s = {options.sample_dt_s:g} s, of a {period:.4g} s "
+            "revolution)")
+    deepest = ONSET_CLEARANCE_SHARE * joint.clearance_m
+    require("onset_penetration_m", options.onset_penetration_m, options.onset_penetration_m <= deepest,
+            f"<= {deepest:.3g} m ({ONSET_CLEARANCE_SHARE:g} of the clearance {joint.clearance_m:.4g} m)")
 
 
 @dataclass(frozen=True)
@@ -104,6 +124,13 @@ class SimulationOptions:
                      "sample_dt_s", "onset_penetration_m", "max_step_s", "free_flight_max_step_s"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, positive(name, getattr(self, name)))
+        require("rtol", self.rtol, RTOL_RANGE[0] <= self.rtol <= RTOL_RANGE[1], "in [{:g}, {:g}]".format(*RTOL_RANGE))
+        require("atol_position_m", self.atol_position_m, self.atol_position_m <= MAX_ATOL_POSITION_M,
+                f"<= {MAX_ATOL_POSITION_M:g} m")
+        require("atol_velocity_m_s", self.atol_velocity_m_s, self.atol_velocity_m_s <= MAX_ATOL_VELOCITY_M_S,
+                f"<= {MAX_ATOL_VELOCITY_M_S:g} m/s")
+        if self.integrator == "rk4":
+            require("step_s", self.step_s, self.step_s >= self.min_step_s, f">= min_step_s = {self.min_step_s!r}")
         largest = self.max_step_s or 1e-7                   # None: the wear-step limit, at least this
         require("min_step_s", self.min_step_s, self.min_step_s <= largest, f"<= max_step_s = {largest!r}")
         if self.free_flight_max_step_s is not None:
@@ -113,7 +140,8 @@ class SimulationOptions:
     def for_joint(self, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> "SimulationOptions":
         """These options for a run of ``joint`` in ``mechanism``: the default ``max_step_s`` resolved; with wear, an
         RK4 ``step_s`` (whatever ``max_step_s``) or another integrator's given ``max_step_s`` above the wear-step
-        limit (:func:`wear_step_limit_s`) refused (:func:`check_wear_step`)."""
+        limit (:func:`wear_step_limit_s`) refused (:func:`check_wear_step`), and a span :func:`check_run_span` refuses."""
+        check_run_span(self, joint, mechanism)
         if not self.ideal and self.integrator == "rk4":
             check_wear_step("step_s", self.step_s, joint, mechanism)
         if self.max_step_s is None:

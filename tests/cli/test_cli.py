@@ -77,7 +77,7 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
                                                "from 8 to 1000000"),
     ("wear-study", ["--revolutions", "-5"], "error: --revolutions=-5 (revolutions) is invalid: allowed an integer >= 1"),
     # no ensemble of no seeds: refused, not run as one seed
-    ("wear-study", ["--revolutions", "10", "--seeds", "0"], "error: --seeds=0 is invalid: allowed an integer >= 1"),
+    ("wear-study", ["--revolutions", "10", "--seeds", "0"], "error: --seeds=0 is invalid: allowed an integer from 1 to 10000"),
     # a time series no machine holds: refused before anything is built, not a failed allocation's traceback
     ("simulate", ["--revolutions", "1e12"], "error: --revolutions=1000000000000.0 (revolutions) is invalid: allowed <="),
     ("cosim", ["--master", "container", "--revolutions", "1e12"], "(revolutions) is invalid: allowed <="),

@@ -29,7 +29,7 @@ def refused(capsys, *argv) -> str:
     (["--perturb", "foo", "restitution=0.5"], "--perturb foo restitution=0.5 is invalid: allowed a perturbed engine "
                                               "(ENGINE) from --engines other than the reference monolithic: cosim"),
     (["--perturb", "cosim", "restitution=5"],
-     "--perturb cosim restitution=5 is invalid: allowed restitution in (0, 1]"),
+     "--perturb cosim restitution=5 is invalid: allowed restitution in [0.001, 1]"),
     (["--perturb", "cosim", "n_points=7.5"], "--perturb cosim n_points=7.5 is invalid: allowed n_points an integer"),
     (["--perturb", "cosim", "effective_mass_kg=50"],     # Hunt-Crossley never reads it: the validation could not fail
      "--perturb cosim effective_mass_kg=50 is invalid: allowed effective_mass_kg only with contact_damping tsuji"),
@@ -231,8 +231,8 @@ def test_an_initial_profile_is_checked_when_read(tmp_path, capsys, command, chan
     (["--step", "-1e-6", "--integrator", "rk4"], "--step=-1e-06 (step_s) is invalid: allowed > 0"),
     (["--wear-coefficient-m2-N", "-1E-14"], "--wear-coefficient-m2-N=-1e-14 (wear_coefficient_m2_N) is invalid: "
                                             "allowed >= 0"),
-    (["--restitution", "-inf"], "--restitution=-inf (restitution) is invalid: allowed a finite real number in (0, 1]"),
-    (["--gravity-m-s2", "-9.81"], "--gravity-m-s2=-9.81 (gravity_m_s2) is invalid: allowed one finite value g >= 0"),
+    (["--restitution", "-inf"], "--restitution=-inf (restitution) is invalid: allowed a finite real number in [0.001, 1]"),
+    (["--gravity-m-s2", "-9.81"], "--gravity-m-s2=-9.81 (gravity_m_s2) is invalid: allowed one finite value g in [0, 10000]"),
 ])
 def test_a_negative_value_in_any_notation_is_read_as_the_options_value(tmp_path, capsys, options, message):
     """argparse took -1e-6, -inf and -9.81,0 for options ("expected one argument": no value, no range named); the

@@ -101,16 +101,19 @@ def test_the_command_exits_1_naming_the_failure(capsys):
     assert capsys.readouterr().err == "wearjoint simulate: error: the run diverged by t = 0.15 s: the pin left the bushing\n"
 
 
-def test_a_load_too_large_for_double_precision_is_named_not_blamed_on_the_step(tmp_path, capsys):
-    """A finite slider load of 1e300 N overflows the state on the first step: the run stops, exit 1, saying the
-    state is not finite and why that happens (it said "put the pin nan m into the wall ... take a shorter step")."""
+@pytest.mark.parametrize("command", ["simulate", "cosim"])
+@pytest.mark.parametrize("option, allowed", [("--slider-force-N=1e300", "allowed in [-1e+09, 1e+09]"),
+                                             ("--gravity-m-s2=1e300", "allowed one finite value g in [0, 10000]")])
+def test_a_load_too_large_for_double_precision_is_refused_naming_its_option(tmp_path, capsys, command, option, allowed):
+    """A finite slider load or gravity of 1e300 overflowed the state on the first step ("put the pin nan m into the
+    wall ... take a shorter step"; through the FMU "fmi2GetReal returned fmi2Error ... non-finite inputs" and no
+    results): refused before the run, naming the option and its range."""
     from wearjoint.cli import main
 
-    assert main(["simulate", "--slider-force-N=1e300", "--revolutions", "0.01", "--no-plots", "--quiet", "--out",
-                 str(tmp_path)]) == 1
+    assert main([command, option, "--revolutions", "0.01", "--no-plots", "--quiet", "--out", str(tmp_path / "r")]) == 2
     err = capsys.readouterr().err
-    assert "left the joint's state not finite" in err and "too large for double precision" in err
-    assert "nan m" not in err and "shorter step" not in err
+    assert err.startswith(f"wearjoint {command}: error: {option.replace('=1e300', '=1e+300')} (") and allowed in err, err
+    assert not (tmp_path / "r").exists()
 
 
 @pytest.mark.parametrize("command", ["simulate", "cosim"])

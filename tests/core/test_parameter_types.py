@@ -146,7 +146,12 @@ def test_a_load_table_that_is_not_text_is_refused_naming_the_option(tmp_path, ca
     ({"contact_stiffness_N_m1_5": 1e300}, "contact_stiffness_N_m1_5", ">= 0 (at most 1e+20 N/m^n"),
     ({"pin_youngs_modulus_Pa": 1e308, "bushing_youngs_modulus_Pa": 1e308}, "pin_youngs_modulus_Pa",
      "> 0 (at most 1e+13 Pa, 10x diamond's"),
-    ({"contact_length_m": 1e-300}, "contact_length_m", "> 0 (at least 1e-06 m"),
+    ({"contact_length_m": 1e-300}, "contact_length_m", "> 0 (from 1e-06 to 100 m)"),
+    ({"contact_length_m": 1e300}, "contact_length_m", "> 0 (from 1e-06 to 100 m)"),     # wore nothing: depth 0
+    ({"wear_coefficient_m2_N": 1e300}, "wear_coefficient_m2_N", ">= 0 (at most 1e-06 m2/N"),
+    ({"wear_factor": 1e300}, "wear_factor", ">= 0 (at most 1e+06 times"),
+    ({"friction_coefficient": 1e300}, "friction_coefficient", "in [0, 10]"),
+    ({"friction_v0_m_s": 1e300}, "friction_v0_m_s", "in [0, 100]"),
     ({"pin_radius_m": 1e-300, "bushing_radius_m": 2e-300}, "pin_radius_m", "> 0 (from 1e-06 to 100 m)"),
     ({"pin_radius_m": 1e200, "bushing_radius_m": 2e200}, "pin_radius_m", "> 0 (from 1e-06 to 100 m)"),
 ])
@@ -169,7 +174,9 @@ def test_the_joint_at_its_bounds_gives_finite_forces():
 
 
 @pytest.mark.parametrize("name, value, allowed", [
-    ("pin_youngs_modulus", 1e14, "> 0 (at most 1e+13 Pa"), ("contact_length", 1e-300, "> 0 (at least 1e-06 m"),
+    ("pin_youngs_modulus", 1e14, "> 0 (at most 1e+13 Pa"), ("contact_length", 1e-300, "> 0 (from 1e-06 to 100 m"),
+    ("contact_length", 1e300, "> 0 (from 1e-06 to 100 m"), ("wear_coefficient", 1e300, ">= 0 (at most 1e-06 m2/N"),
+    ("wear_factor", 1e300, ">= 0 (at most 1e+06 times"),
     ("contact_stiffness", 1e300, ">= 0 (at most 1e+20 N/m^n"),
 ])
 def test_the_fmus_refuse_the_bounds_too(fmu, name, value, allowed):
@@ -190,10 +197,12 @@ def test_the_fmus_refuse_the_bounds_too(fmu, name, value, allowed):
 @pytest.mark.parametrize("run, options", [(run_simulation, SimulationOptions(revolutions=0.01)),
                                           (run_cosimulation, CoSimulationOptions(revolutions=0.01)),
                                           (run_model_exchange, SimulationOptions(revolutions=0.01))])
-@pytest.mark.parametrize("chunks, error", [(0, ParameterError), (-1, ParameterError), (2.5, ParameterTypeError)])
-def test_chunks_per_revolution_must_be_an_integer_from_1(run, options, chunks, error):
+@pytest.mark.parametrize("chunks, error", [(0, ParameterError), (-1, ParameterError), (2.5, ParameterTypeError),
+                                           (10 ** 9, ParameterError)])      # 1e9 chunks ran for minutes
+def test_chunks_per_revolution_must_be_an_integer_from_1_to_10000(run, options, chunks, error):
     _refused(lambda: run(paper_joint(), SliderCrankParameters(), options, progress=False,
-                         chunks_per_revolution=chunks), "chunks_per_revolution", repr(chunks), "an integer >= 1", error)
+                         chunks_per_revolution=chunks), "chunks_per_revolution", repr(chunks), "an integer from 1 to 10000",
+             error)
 
 
 def test_an_fmu_path_that_is_not_an_fmu_is_refused(tmp_path):

@@ -76,9 +76,9 @@ BAD_JOINT = [
     ("bushing_youngs_modulus_Pa", -1.0, "> 0"),
     ("pin_poisson_ratio", 0.5, "(0, 0.5)"),
     ("bushing_poisson_ratio", 0.0, "(0, 0.5)"),
-    ("restitution", 0.0, "(0, 1]"),
-    ("restitution", 1.2, "(0, 1]"),
-    ("friction_coefficient", -0.1, ">= 0"),
+    ("restitution", 0.0, "[0.001, 1]"),
+    ("restitution", 1.2, "[0.001, 1]"),
+    ("friction_coefficient", -0.1, "in [0, 10]"),
     ("friction_v1_m_s", 1e-3, "friction_v0_m_s"),
     ("wear_coefficient_m2_N", -1e-10, ">= 0"),
     ("wear_factor", -2.0, ">= 0"),
@@ -140,29 +140,30 @@ def test_a_wear_factor_too_fast_for_any_step_is_refused_by_name_with_its_bound()
     from wearjoint.parameters import paper_joint
     from wearjoint.simulation_options import SimulationOptions
 
-    options = SimulationOptions()
-    with pytest.raises(ParameterError, match=r"^parameter wear_factor=100000000.0 is invalid: .* below min_step_s"
+    options, k_w = SimulationOptions(), 1e-6              # the largest k_w a joint takes: 1980 times the printed
+    with pytest.raises(ParameterError, match=r"^parameter wear_factor=100000.0 is invalid: .* below min_step_s"
                                              r" = 1e-10 s: allowed at most ") as failure:
-        options.for_joint(paper_joint(wear_factor=1e8))
+        options.for_joint(paper_joint(wear_coefficient_m2_N=k_w, wear_factor=1e5))
     bound = float(re.search(r"allowed at most (\S+) ", str(failure.value)).group(1))
-    assert 1e7 < bound < 1e8
-    assert options.for_joint(paper_joint(wear_factor=0.999 * bound)).max_step_s >= options.min_step_s
+    assert 5.05e3 < bound < 5.05e4            # 1e7 to 1e8 at the printed k_w
+    assert options.for_joint(paper_joint(wear_coefficient_m2_N=k_w, wear_factor=0.999 * bound)).max_step_s >= 1e-10
     with pytest.raises(ParameterError, match="^parameter wear_factor="):
-        options.for_joint(paper_joint(wear_factor=1.001 * bound))
+        options.for_joint(paper_joint(wear_coefficient_m2_N=k_w, wear_factor=1.001 * bound))
 
 
 def test_a_wear_coefficient_too_fast_for_any_step_is_refused_by_its_own_name_with_its_bound():
-    """The same limit reached by k_w at the default wear factor 1 named wear_factor=1.0, which the user never set."""
+    """The same limit reached by k_w at the default wear factor 1 (a crank at 1e5 rpm, min_step_s 1e-7 s) is named
+    wear_coefficient_m2_N, not the wear_factor=1.0 the user never set."""
     import re
 
-    from wearjoint.parameters import paper_joint
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
     from wearjoint.simulation_options import SimulationOptions
 
-    options = SimulationOptions()
-    with pytest.raises(ParameterError, match=r"^parameter wear_coefficient_m2_N=5.0 is invalid: .* below min_step_s"
-                                             r" = 1e-10 s: allowed at most \S+ with this wear factor") as failure:
-        options.for_joint(paper_joint(wear_coefficient_m2_N=5.0))
+    options, fast = SimulationOptions(min_step_s=1e-7), SliderCrankParameters(crank_speed_rpm=1e5)
+    with pytest.raises(ParameterError, match=r"^parameter wear_coefficient_m2_N=1e-06 is invalid: .* below min_step_s"
+                                             r" = 1e-07 s: allowed at most \S+ with this wear factor") as failure:
+        options.for_joint(paper_joint(fast, wear_coefficient_m2_N=1e-6), fast)
     bound = float(re.search(r"allowed at most (\S+) ", str(failure.value)).group(1))
-    assert options.for_joint(paper_joint(wear_coefficient_m2_N=0.999 * bound)).max_step_s >= options.min_step_s
+    assert options.for_joint(paper_joint(fast, wear_coefficient_m2_N=0.999 * bound), fast).max_step_s >= 1e-7
     with pytest.raises(ParameterError, match="^parameter wear_coefficient_m2_N="):
-        options.for_joint(paper_joint(wear_coefficient_m2_N=1.001 * bound))
+        options.for_joint(paper_joint(fast, wear_coefficient_m2_N=1.001 * bound), fast)

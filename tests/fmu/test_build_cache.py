@@ -77,3 +77,23 @@ def test_a_file_written_whole_is_the_users_and_an_interrupted_one_leaves_nothing
     with build_common.replaced_whole(target) as partial:
         partial.write_bytes(b"whole")
     assert target.read_bytes() == b"whole" and not partial.exists()
+
+
+@pytest.mark.parametrize("model", ["joint", "slider-crank"])
+@pytest.mark.parametrize("module", ["joint_fields.py", "mechanism_parameters.py", "checks.py", "core/damping.py",
+                                    "core/layout.py"])
+def test_the_build_key_follows_the_parameters_rules_and_every_kernel(tmp_path, monkeypatch, model, module):
+    """A change of a parameter's allowed range (the FMU's generated checks) or of any kernel module (its IR) is a new
+    build: the cache served an FMU of the old restitution range after JOINT_FIELDS changed."""
+    tree = tmp_path / "tree"
+    for source in build_native.shipped_sources(2, model):
+        copy = tree / source.relative_to(build_native.PACKAGE_DIR.parent)
+        copy.parent.mkdir(parents=True, exist_ok=True)
+        copy.write_bytes(source.read_bytes())
+    c_sources = tree / build_native.FMU_SOURCE_DIR.relative_to(build_native.PACKAGE_DIR.parent)
+    monkeypatch.setattr(build_native, "PACKAGE_DIR", tree / "wearjoint")
+    monkeypatch.setattr(build_native, "FMU_SOURCE_DIR", c_sources)
+    key = build_native.model_key(1257, 2, model)
+    path = tree / "wearjoint" / module
+    path.write_bytes(path.read_bytes() + b"\n# edited\n")
+    assert build_native.model_key(1257, 2, model) != key

@@ -326,7 +326,7 @@ def test_invalid_n_points_gives_fmi3error_naming_it(fmi3):
 @pytest.mark.parametrize("name, value, allowed", [
     ("pin_radius", -0.01, "allowed > 0"),
     ("bushing_radius", 0.009, "allowed > 0 (at most 100 m) and > pin_radius"),
-    ("restitution", 1.5, "allowed in (0, 1]"),
+    ("restitution", 1.5, "allowed in [0.001, 1]"),
     ("rho_mode", 7, "allowed one of 0 (conformal), 1 (paper)"),
 ])
 def test_bad_parameter_fails_initialisation_naming_the_variable(fmi3, name, value, allowed):

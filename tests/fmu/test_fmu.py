@@ -49,7 +49,7 @@ def test_the_native_model_description_states_the_parameters_ranges(fmu):
     variables = {v.name: v for v in fmu["md"].modelVariables}
     bounds = {name: (float(variables[name].min), float(variables[name].max))
               for name in ("pin_radius", "restitution", "pin_offset_x", "wear_interval")}
-    assert bounds == {"pin_radius": (1e-6, 100.0), "restitution": (0.0, 1.0), "pin_offset_x": (-1e3, 1e3),
+    assert bounds == {"pin_radius": (1e-6, 100.0), "restitution": (0.001, 1.0), "pin_offset_x": (-1e3, 1e3),
                       "wear_interval": (0.0, 3e-5)}
     assert variables["friction_coefficient"].min == "0.0" and variables["rho_mode"].min is None   # an enumeration
     from fmpy.fmi1 import FMICallException

@@ -17,7 +17,7 @@ from wearjoint import ClearanceJoint  # noqa: E402
 # ------------------------------------------------------------- errors
 # The FMU's status shim turns the slave's errors into fmi2Error (pythonfmu alone: fmi2Fatal).
 @pytest.mark.parametrize("name, value, allowed", [
-    ("bushing_radius", 0.0099, "pin_radius"), ("restitution", 1.5, "(0, 1]"), ("friction_v1", 1e-4, "friction_v0"),
+    ("bushing_radius", 0.0099, "pin_radius"), ("restitution", 1.5, "[0.001, 1]"), ("friction_v1", 1e-4, "friction_v0"),
     ("rho_mode", 2, "paper"), ("contact_exponent", 2.0, "1.5 with contact_model"),   # the default foundation
 ])
 def test_bad_parameter_fails_initialisation_with_fmi2_error_naming_it(fmu, name, value, allowed):

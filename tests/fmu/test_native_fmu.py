@@ -287,10 +287,10 @@ BAD_PARAMETERS = [   # FMU variable, value, words of the allowed range
     ("bushing_radius", 0.0099, "pin_radius"), ("bushing_radius", 0.0100, "pin_radius"),
     ("pin_youngs_modulus", 0.0, "> 0"), ("bushing_youngs_modulus", -1.0, "> 0"),
     ("pin_poisson_ratio", 0.5, "(0, 0.5)"), ("bushing_poisson_ratio", 0.0, "(0, 0.5)"),
-    ("restitution", 0.0, "(0, 1]"), ("restitution", 1.2, "(0, 1]"), ("friction_coefficient", -0.1, ">= 0"),
+    ("restitution", 0.0, "[0.001, 1]"), ("restitution", 1.2, "[0.001, 1]"), ("friction_coefficient", -0.1, "in [0, 10]"),
     ("friction_v1", 1e-3, "friction_v0"), ("wear_coefficient", -1e-10, ">= 0"), ("wear_factor", -2.0, ">= 0"),
     ("pin_radius", math.nan, "finite"), ("contact_stiffness", math.inf, "finite"), ("contact_length", 0.0, "> 0"),
-    ("impact_velocity_floor", 0.0, "> 0"), ("contact_exponent", -1.5, "> 0"), ("pin_offset_y", math.nan, "finite"),
+    ("impact_velocity_floor", 0.0, "in (0, 100]"), ("contact_exponent", -1.5, "> 0"), ("pin_offset_y", math.nan, "finite"),
     ("rho_mode", 2, "conformal"), ("wear_placement", 5, "patch"), ("sliding_distance", -1, "rotation"),
 ]
 

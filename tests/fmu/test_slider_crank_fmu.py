@@ -117,10 +117,10 @@ def test_fmu_validates_and_declares_the_joint_fmus_counterparts(fmus):
         # the rules' bounds as min/max (an open bound as its limit), none where a rule has none
         bounds = {name: (variables[name].min, variables[name].max) for name in
                   ("crank_length", "clearance_joint", "slider_force_table_rows", "slider_force_table_angle_1",
-                   "gravity_y")}
-        assert bounds == {"crank_length": ("0.0", None), "clearance_joint": ("0.0", "2.0"),
+                   "gravity_y", "initial_crank_angle")}
+        assert bounds == {"crank_length": ("1e-06", "100.0"), "clearance_joint": ("0.0", "2.0"),
                           "slider_force_table_rows": ("0.0", "361.0"), "slider_force_table_angle_1": ("0.0", "360.0"),
-                          "gravity_y": (None, None)}, (version, bounds)
+                          "gravity_y": ("-10000.0", "10000.0"), "initial_crank_angle": (None, None)}, (version, bounds)
 
 
 def test_fed_the_ideal_joint_reaction_the_derivatives_are_the_ideal_mechanisms(fmus):

@@ -38,12 +38,16 @@ def fmus(shared_build, tmp_path_factory):
 
 
 @pytest.mark.parametrize("name, value, allowed", [
-    ("crank_length", 0.0, "> 0"),
-    ("rod_length", 0.04, "> 0 and > crank_length (crank_length = 0.05)"),
-    ("slider_mass", -1.0, "> 0"),
-    ("crank_speed", math.inf, "a finite value > 0"),
+    ("crank_length", 0.0, "> 0 (from 1e-06 to 100 m)"),
+    ("rod_length", 0.04, "> 0 (from 1e-06 to 100 m) and > crank_length (crank_length = 0.05)"),
+    ("slider_mass", -1.0, "> 0 (from 1e-06 to 1e+06 kg)"),
+    ("crank_mass", 1e300, "> 0 (from 1e-06 to 1e+06 kg)"),       # the ideal joint's force was NaN
+    ("rod_inertia", 1e-300, "> 0 (from 1e-12 to 1e+06 kg.m2)"),
+    ("crank_speed", math.inf, "a finite value > 0 (from 0.001 to 100000 rpm)"),
     ("initial_crank_angle", math.nan, "a finite real number"),
-    ("baumgarte_beta", -0.5, ">= 0"),
+    ("gravity_y", 1e300, "in [-10000, 10000]"),                  # the joint's inputs became NaN
+    ("slider_force_constant", -1e300, "in [-1e+09, 1e+09]"),
+    ("baumgarte_beta", -0.5, ">= 0 (at most 1e+06 1/s)"),
     (sc.MAX_INTERNAL_STEP_NAME, 0.0, "> 0"),
     ("clearance_joint", 1.5, "0 (crank-rod), 1 (rod-slider), 2 (crank-ground)"),
 ])

@@ -133,7 +133,7 @@ def test_existing_sweep_needs_resume(sweep):
     (("--vary", "restitution=0.5,abc"), "restitution='abc'"),
     (("--vary", "restitution"), "--vary 'restitution'"),
     (("--vary", "rho-mode=flat"), "rho-mode='flat'"),
-    (("--vary", "restitution=0.6,1.5"), "--vary restitution=0.6,1.5: restitution=1.5 is invalid: allowed in (0, 1]"),
+    (("--vary", "restitution=0.6,1.5"), "--vary restitution=0.6,1.5: restitution=1.5 is invalid: allowed in [0.001, 1]"),
     (("--seeds", "0"), "--seeds=0"),
     (("--workers", "0"), "--workers=0"),
 ])

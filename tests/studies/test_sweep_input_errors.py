@@ -103,11 +103,11 @@ def test_resume_of_a_folder_without_a_run_is_refused(tmp_path, capsys, command, 
     ('vary = "x"\n', ": vary='x' is invalid: allowed a [vary] table"),
     ("case = 3\n", ": case=3 is invalid: allowed [[case]] tables"),
     ("case = [1, 2]\n", ": case=[1, 2] is invalid: allowed [[case]] tables"),
-    ('seeds = "two"\n', ": seeds='two' is invalid: allowed an integer >= 1"),
+    ('seeds = "two"\n', ": seeds='two' is invalid: allowed an integer from 1 to 10000"),
     ("[[case]]\nrestitution = [0.6, 0.9]\n", "[[case]] 1: restitution=[0.6, 0.9] is invalid: allowed one value"),
     ("[[case]]\nrestitution = 0.6\nRestitution = 0.7\n", "[[case]] 1 restitution is invalid: restitution is already"),
     ("[[case]]\ngravity-m-s2 = [0, -9.81, 1]\n", "[[case]] 1: gravity-m-s2='0,-9.81,1' is invalid: allowed"),
-    ("[[case]]\nrestitution = 5\n", "[[case]] 1: restitution=5.0 is invalid: allowed in (0, 1]"),
+    ("[[case]]\nrestitution = 5\n", "[[case]] 1: restitution=5.0 is invalid: allowed in [0.001, 1]"),
 ])
 def test_a_bad_design_file_names_the_file_and_its_key(tmp_path, capsys, text, named):
     design = tmp_path / "design.toml"
@@ -155,13 +155,13 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
 # ------------------------------------------------------------------ grid values checked before any case runs
 @pytest.mark.parametrize("command,args,named", [
     ("simulate", ("--vary", "restitution=5,0.9"), "--vary restitution=5,0.9: restitution=5.0 is invalid: allowed "
-                                                  "in (0, 1]"),
+                                                  "in [0.001, 1]"),
     ("simulate", ("--vary", "restitution=nan"), "--vary restitution=nan: restitution=nan is invalid: allowed a finite"),
     ("simulate", ("--vary", "revolutions=0"), "--vary revolutions=0: revolutions=0.0 is invalid: allowed > 0"),
     ("simulate", ("--integrator", "rk4", "--vary", "step=1e-5,2e-4"),
      "--vary step=1e-5,2e-4: step=0.0002 is invalid with wear"),
     ("simulate", ("--restitution=5", "--vary", "friction_coefficient=0.1"), "--restitution=5.0 is invalid: allowed "
-                                                                            "in (0, 1]"),
+                                                                            "in [0.001, 1]"),
     ("simulate", ("--vary", "bushing-radius-m=0.01005,0.0101", "--vary", "pin-radius-m=0.0099,0.01008"),
      # each value fine alone (with the other radius's default), not together: named with the other's value
      "--vary bushing-radius-m=0.01005,0.0101: bushing-radius-m=0.01005 is invalid: allowed > 0 (at most 100 m) and "

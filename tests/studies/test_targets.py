@@ -73,7 +73,7 @@ def test_a_failed_case_records_its_exceptions_message_not_what_it_printed(tmp_pa
 
 def test_a_bad_value_records_the_parameter_error_and_a_fault_its_type(tmp_path, monkeypatch, no_warm_up):
     result = worker.run_case(_case(restitution=1.5), no_plots=True)
-    assert (result["status"], result["error"]) == ("failed", "parameter restitution=1.5 is invalid: allowed in (0, 1]")
+    assert (result["status"], result["error"]) == ("failed", "parameter restitution=1.5 is invalid: allowed in [0.001, 1]")
     assert result["files"] == {}
 
     def broken_run(config, out, plots=True, progress=False):

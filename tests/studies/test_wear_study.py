@@ -138,8 +138,10 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100.5"), "not an integer"),
     (("--revolutions", "100", "--wear-factor=-5"), "wear_factor"),
     (("--revolutions", "1000", "--wear-factor", "1e6"),
-     "parameter --wear-factor (wear_factor)=1000000.0 is invalid with --revolutions 1000: allowed 0 < wear factor "
-     "<= 1000"),
+     "parameter --wear-factor (wear_factor)=1000000.0 is invalid with --revolutions 1000: allowed 0.001 <= wear "
+     "factor <= 1000"),
+    (("--revolutions", "1000", "--wear-factor", "1e-300"),     # 1e302 revolutions' table was allocated
+     "parameter --wear-factor (wear_factor)=1e-300 is invalid with --revolutions 1000: allowed 0.001 <= wear factor"),
     (("--revolutions", "100", "--convergence", "1,200"), "--convergence: factor 200: parameter --wear-factor"),
     (("--revolutions", "100", "--cycle-jump-tolerance", "2"), "tolerance=2.0"),
     (("--revolutions", "100", "--cycle-jump-tolerance", "0.01", "--wear-factor", "10"), "wear_factor=10.0"),

@@ -13,8 +13,8 @@ import numpy as np
 from ..parameters import ParameterError
 from ..results import write_json_atomic
 from ..studies.calibration import (
-    DEFAULT_TOLERANCE, falling_depths, fit_archard, fit_mild_severe, life, master_curve_check, plot_calibration,
-    predictions,
+    DEFAULT_TOLERANCE, MAX_POINT_REVOLUTIONS, MIN_DEPTH_M, falling_depths, fit_archard, fit_mild_severe,
+    life, master_curve_check, plot_calibration, predictions, uncertainty_range,
 )
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from .options import require_option, with_options
@@ -76,6 +76,8 @@ def _revolutions(text: str | None) -> list[float]:
         values = []
     require_option("--predict-revolutions", text, values and all(v > 0 and math.isfinite(v) for v in values),
                    "N1,N2,... revolutions > 0")
+    require_option("--predict-revolutions", text, all(v <= MAX_POINT_REVOLUTIONS for v in values),
+                   f"N1,N2,... revolutions up to {MAX_POINT_REVOLUTIONS:g} (beyond any machine's life)")
     return values
 
 
@@ -102,6 +104,12 @@ def _read_study(folder: str) -> tuple[dict, np.ndarray, float]:
     return summary, growth, k0
 
 
+def _bushing_radius(summary: dict) -> float | None:
+    """The study's bushing radius [m] (its summary's joint), None where it states none (a study written by hand)."""
+    radius = (summary["parameters"]["joint"] or {}).get("bushing_radius_m")
+    return float(radius) if isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0 else None
+
+
 def _verdict(result: dict, tolerance: float) -> str:
     """The residuals line's end: the model's test with depth uncertainties, else --tolerance."""
     if result.get("consistent") is not None:
@@ -122,6 +130,13 @@ def run(args) -> int:
                                    ("--life-depth-m", args.life_depth_m, "a max depth > 0 [m]"),
                                    ("--tolerance", args.tolerance, "a share > 0 of each measured depth")):
         require_option(option, value, value is None or (math.isfinite(value) and value > 0), allowed)
+    radius = _bushing_radius(summary)
+    least, most, text = uncertainty_range(radius)
+    require_option("--depth-uncertainty-m", args.depth_uncertainty_m,
+                   args.depth_uncertainty_m is None or least <= args.depth_uncertainty_m <= most, text)
+    require_option("--life-depth-m", args.life_depth_m, args.life_depth_m is None or args.life_depth_m >= MIN_DEPTH_M,
+                   f"a max depth of at least {MIN_DEPTH_M:g} m (a few atomic layers: the least wear Archard's law "
+                   "describes)")
     for option, value in (("--predict-revolutions", args.predict_revolutions), ("--life-depth-m", args.life_depth_m)):
         require_option(option, value, value is None or args.law == "archard", "only with --law archard")
     require_option("--transition-depth-m", args.transition_depth_m,
@@ -136,6 +151,9 @@ def run(args) -> int:
     require_option("--tolerance", args.tolerance, args.tolerance is None or any(u is None for _, _, u in points),
                    "only without depth uncertainties (with them the chi^2 test judges the fit)")
     args.tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
+    require_option("--tolerance", args.tolerance, args.tolerance < 1.0, "a share of each measured depth below 1 "
+                                                                        "(from 1 on, every depth below it fits)")
+    args.bushing_radius_m = radius
     asked = _revolutions(args.predict_revolutions)
     try:
         result, fits = _fit(args, summary, growth, k0, points, asked)
@@ -169,7 +187,8 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
     """The fit of ``--law`` (with its predictions), printed: (calibration.json's content, the fits to plot)."""
     if args.law == "archard":
         curve_error = float((summary.get("cycle_jumping") or {}).get("error_estimate_summed_rel_to_final_depth", 0.0))
-        result = fit_archard(growth, k0, points, tolerance=args.tolerance, curve_error_rel=curve_error)
+        result = fit_archard(growth, k0, points, tolerance=args.tolerance, curve_error_rel=curve_error,
+                             bushing_radius_m=args.bushing_radius_m)
         factor = float(summary["parameters"]["joint"]["wear_factor"])
         if factor != 1.0:       # no error estimate of its own: the factor's bias is left out of the interval
             result["curve_error_note"] = (
@@ -219,8 +238,9 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
             raise ParameterError("--transition-depth-m is required with --law mild-severe: the fit's "
                                  "transition_depth_m is missing (the max depth [m] where the wear turns severe, a "
                                  "stated input)")
-        result = fit_mild_severe(growth, k0, points, transition)
-        fits = [fit_archard(growth, k0, points, tolerance=args.tolerance), result]
+        result = fit_mild_severe(growth, k0, points, transition, bushing_radius_m=args.bushing_radius_m)
+        fits = [fit_archard(growth, k0, points, tolerance=args.tolerance, bushing_radius_m=args.bushing_radius_m),
+                result]
         print(f"  k_mild {result['mild_wear_coefficient_m2_N']:.4g} m^2/N up to {transition:g} m "
               f"(revolution {result['transition_revolutions']:.4g}), k_severe "
               f"{result['severe_wear_coefficient_m2_N']:.4g} m^2/N; {result['parameters_fitted']} parameters, "

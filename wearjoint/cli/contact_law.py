@@ -13,9 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..parameters import CONTACT_DAMPINGS, JointParameters
+from ..checks import require
+from ..parameters import CONTACT_DAMPINGS, JointParameters, SliderCrankParameters
 from ..results import write_json_atomic
-from .options import add_model_arguments, add_output_arguments, model_from_args
+from ..run_options import option_name
+from .options import add_model_arguments, add_output_arguments, given_options, model_from_args
 
 # the table's (and contact_law.csv's) impact speeds [m/s]: 1 mm/s to 1 m/s
 TABLE_SPEEDS_M_S = (1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 0.1, 0.2, 0.5, 1.0)
@@ -91,8 +93,32 @@ def add_arguments(parser) -> None:
     add_model_arguments(parser)
 
 
+def tsuji_mass_options(mechanism: SliderCrankParameters) -> list[str]:
+    """The mechanism's fields that set the Tsuji damping's effective mass at its clearance joint
+    (:attr:`SliderCrankParameters.contact_effective_mass_kg`, the joint's default ``effective_mass_kg``): the masses
+    it sums there (each probed at 1 and 2 kg) and the joint's location, which picks them."""
+    masses = [f.name for f in dataclasses.fields(SliderCrankParameters) if f.name.endswith("_mass_kg")
+              and mechanism.replace(**{f.name: 1.0}).contact_effective_mass_kg
+              != mechanism.replace(**{f.name: 2.0}).contact_effective_mass_kg]
+    return [*masses, "clearance_joint"]
+
+
+def check_mechanism_options(args, mechanism: SliderCrankParameters) -> None:
+    """A mechanism option given to contact-law, refused in one line unless it sets Tsuji's effective mass (without
+    ``--effective-mass-kg``): a single impact runs no mechanism, so the others would change nothing (its curves
+    depend on the damping law's options alone; the effective mass is reported, the mass Tsuji's e is exact for)."""
+    given = given_options(args, SliderCrankParameters)
+    used = [] if args.effective_mass_kg is not None else tsuji_mass_options(mechanism)
+    reads = ("of the mechanism it reads only what sets Tsuji's reported effective mass, "
+             + ", ".join(map(option_name, used)) if used else "--effective-mass-kg gives Tsuji's reported effective mass")
+    for name, value in given.items():
+        require(option_name(name), value, name in used,
+                f"only with a command that runs the mechanism: contact-law's single impact runs none, and {reads}")
+
+
 def run(args) -> int:
-    joint, _ = model_from_args(args, every_law=True)      # the table gives every law: each reads its own parameter
+    joint, mechanism = model_from_args(args, every_law=True)      # the table gives every law: each reads its own one
+    check_mechanism_options(args, mechanism)
     speeds = np.array(TABLE_SPEEDS_M_S)
     curves = restitution_curves(joint, speeds)
     out = Path(args.out)

@@ -10,8 +10,11 @@ import sys
 from ..checks import require
 from ..cosim.step_rule import communication_step_rule, paper_step_scale
 from ..fmu import platforms
-from ..fmu.ssp import CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, ON_TIME_STEP_S
+from ..fmu.ssp import (
+    CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, MIN_STEP_S, MIN_STEP_WHY, ON_TIME_STEP_S, check_stop_time,
+)
 from ..parameters import SliderCrankParameters, wear_coefficient_source
+from ..simulation_options import check_wear_step, wear_step_limit_s
 from .options import add_model_arguments, model_from_args
 
 
@@ -54,6 +57,9 @@ def run(args) -> int:
             require("container_step_s", args.container_step, args.container_step > 0.0 and
                     math.isfinite(args.container_step), "> 0 (the container's fixed step [s])")
         joint, mechanism = model_from_args(args)
+        if args.stop_time is not None:
+            check_stop_time(args.stop_time)
+        container_step = _container_step(args, joint, mechanism)
         rule = communication_step_rule(joint, mechanism)
         scale = paper_step_scale(joint, mechanism)
         step = args.step if args.step is not None else DEFAULT_STEP_S[args.load_coupling] * scale
@@ -71,12 +77,27 @@ def run(args) -> int:
         if note:
             print(f"note: {note}", file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
-            step = CONTAINER_STEP_S if args.container_step is None else args.container_step
-            print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), step))
+            print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), container_step))
     except (OSError, RuntimeError) as exc:     # a bad option's ParameterError: cli.main's one line, naming it
         print(f"wearjoint export-ssp: error: {exc}", file=sys.stderr)
         return 2
     return 0
+
+
+def _container_step(args, joint, mechanism) -> float:
+    """The container's fixed step [s]: ``--container-step`` from MIN_STEP_S to the package's stop time and the
+    wear-step limit (the container steps the joint FMU at it: each step wears), refused in one line naming it
+    otherwise; its default CONTAINER_STEP_S, or the wear-step limit where that is shorter."""
+    limit = wear_step_limit_s(joint, mechanism)
+    if args.container_step is None:
+        return min(CONTAINER_STEP_S, limit)
+    stop = mechanism.period_s if args.stop_time is None else args.stop_time
+    require("container_step_s", args.container_step, args.container_step >= MIN_STEP_S,
+            f">= {MIN_STEP_S:g} s ({MIN_STEP_WHY})")
+    require("container_step_s", args.container_step, args.container_step <= stop,
+            f"<= the package's stop time {stop:g} s (--stop-time)")
+    check_wear_step("container_step_s", args.container_step, joint, mechanism)
+    return args.container_step
 
 
 __all__ = ["add_arguments", "run"]

@@ -9,10 +9,12 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+from pathlib import Path
 
 from ..parameters import ParameterError
 from ..sensitivity.sample import DEFAULT_SAMPLES, METHODS, MIN_SAMPLES
 from ..sweep.design import TARGETS, command_options
+from ..sweep.limits import check_workers
 from .out_folder import prepare_out_folder
 from .sweep import study_parser
 
@@ -66,8 +68,8 @@ def run(args) -> int:
     if a.seeds is not None:
         raise ParameterError(f"--seeds={a.seeds!r} is invalid here: each design row is one run (--seed seeds the "
                              "sampling)")
-    if a.workers is not None and a.workers < 1:
-        raise ParameterError(f"--workers={a.workers!r} is invalid: allowed an integer >= 1")
+    if a.workers is not None:
+        check_workers(a.workers)
     if a.max_samples is not None and a.target_interval is None:
         raise ParameterError(f"--max-samples={a.max_samples!r} is invalid: allowed only with --target-interval")
     if a.outputs is not None and not a.outputs.strip(" ,"):
@@ -87,8 +89,26 @@ def run(args) -> int:
               file=sys.stderr)
         return 130
     print_outcome(summary, a.out)
+    failure = failure_line(summary, a.out)
+    if failure:
+        print(failure, file=sys.stderr)
+    return 1 if failure else 0
+
+
+def failure_line(summary: dict, out) -> str:
+    """The one line on stderr of a study some of whose runs (a law variant's included) failed or gave numbers that
+    are not physical: how many, where each is listed with its error, the first one's error; '' when none did."""
+    parts = []
+    if summary["failed"] or summary["invalid"]:
+        first = summary["failures"][0]["error"].split(";")[0] if summary["failures"] else ""
+        invalid = f", {summary['invalid']} gave numbers that are not physical" if summary["invalid"] else ""
+        parts.append(f"{summary['failed']} of {summary['cases']} runs failed{invalid} (each with its error: "
+                     f"{Path(out) / 'samples.csv'}, summary.json's failures; the first: {first})")
     law = summary.get("law_spread")
-    return 1 if summary["failed"] or summary["invalid"] or (law and law["failed"]) else 0
+    if law and law["failed"]:
+        parts.append(f"{law['failed']} of {len(law['variants'])} contact law variants failed or are not physical "
+                     f"(each with its error: {Path(out) / 'law_spread.csv'})")
+    return f"wearjoint sensitivity: error: {'; '.join(parts)}" if parts else ""
 
 
 def print_outcome(summary: dict, out) -> None:
@@ -123,4 +143,4 @@ def print_outcome(summary: dict, out) -> None:
     print(f"results in {out}")
 
 
-__all__ = ["add_arguments", "run", "target_parser", "print_outcome"]
+__all__ = ["add_arguments", "run", "target_parser", "print_outcome", "failure_line"]

@@ -11,7 +11,8 @@ import sys
 from .._compile.prefetch import usable_cores
 from ..parameters import ParameterError
 from ..sweep.bias import Bias
-from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, check_seeds, command_options, sweep_design
+from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, command_options, sweep_design
+from ..sweep.limits import check_seeds, check_workers
 from ..targets import target as sweep_target
 from . import OneLineErrorParser
 from .out_folder import prepare_out_folder
@@ -86,9 +87,7 @@ def run_from_args(command: str, args) -> int:
     design = sweep_design(command, getattr(args, "vary", None), getattr(args, "design", None))
     seeds = args.seeds if args.seeds is not None else design["seeds"]
     seeds = check_seeds(DEFAULT_SEEDS if seeds is None else seeds)
-    workers = args.workers if args.workers is not None else usable_cores()
-    if isinstance(workers, bool) or workers < 1:
-        raise ParameterError(f"--workers={workers!r} is invalid: allowed an integer >= 1")
+    workers = check_workers(args.workers) if args.workers is not None else usable_cores()
     try:
         summary = run_sweep(command, command_options(command, args), args.out, vary=design["vary"],
                             points=design["points"], seeds=seeds, no_plots=getattr(args, "no_plots", False),

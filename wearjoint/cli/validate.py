@@ -8,6 +8,7 @@ from ..joint_fields import unread_by
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..validation.compare import ENGINES, FULL, QUICK, REFERENCE, RunStoppedShort
 from ..validation.report import run_validation
+from ..validation.spans import WINDOW_POINTS, check_spans, default_window_s, min_window_s
 from .options import add_fmu_arguments, add_model_arguments, add_output_arguments, model_from_args, restate_default
 
 
@@ -51,8 +52,9 @@ def _joint_change(engine: str, assignment: str, engines: tuple, joint: JointPara
     return {name: value}
 
 
-def _number(value) -> str:
-    return "—" if value is None else f"{value:.3g}"
+def _number(value, spec: str = ".3g") -> str:
+    """``value`` as ``spec`` formats it, "—" for None (summary.json's for a value that is not a number)."""
+    return "—" if value is None else f"{value:{spec}}"
 
 
 def add_arguments(parser) -> None:
@@ -72,7 +74,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--window", type=float, default=None,
                         help=f"point-wise comparison over the first WINDOW seconds (default {FULL.window_s:g}; for the "
                              f"paper's {SliderCrankParameters().period_s:g} s revolution, scaled to the mechanism's "
-                             "period: the same share of a turn)")
+                             f"period: the same share of a turn; at least {min_window_s():g} s, {WINDOW_POINTS} of the "
+                             "co-simulation's free-flight steps)")
     parser.add_argument("--engines", type=str, default=",".join(ENGINES),
                         help="comma-separated engines to run (default %(default)s; monolithic is the reference)")
     parser.add_argument("--no-law-spread", action="store_true",
@@ -96,12 +99,13 @@ def run(args) -> int:
     for engine, assignment in args.perturb:
         changes.setdefault(engine, {}).update(_joint_change(engine, assignment, compared, joint))
     window_s = args.window if args.window is not None else \
-        base.window_s * mechanism.period_s / SliderCrankParameters().period_s    # the same share of a turn
+        default_window_s(base.window_s, mechanism.period_s, SliderCrankParameters().period_s)   # a turn's share
     given = {"revolutions": args.revolutions, "ensemble": args.ensemble, "wear_revolutions": args.wear_revolutions,
              "wear_factor": args.wear_factor}
     plan = replace(base, **{name: value for name, value in given.items() if value is not None}, window_s=window_s,
                    engines=compared, run_wear=not args.no_wear, fmu_backend=args.fmu_backend,
                    law_spread=not args.no_law_spread)
+    check_spans(plan, mechanism, getattr(args, "written", frozenset()))    # named as written, before any run
     try:     # Ctrl-C (here, or a run it cut short) ends as cli.main says: one line, exit 130
         summary = run_validation(plan, args.out, joint, mechanism, changes, progress=not args.quiet)
     except RunStoppedShort as exc:      # a monolithic run the comparison needs: nothing to judge against
@@ -111,8 +115,8 @@ def run(args) -> int:
     for m in summary["metrics"]:
         if not m["passed"]:
             tag = "FAIL" if engines[m["engine"]]["role"] == "joint" else "DIFFERS (its own contact law, not judged)"
-            print(f"{tag} {m['group']}: {m['engine']} {m['name']}: difference {m['difference']:.6g} > tolerance "
-                  f"{m['tolerance']:.6g} (scatter {m['scatter']:.4g})")
+            print(f"{tag} {m['group']}: {m['engine']} {m['name']}: difference {_number(m['difference'], '.6g')} > "
+                  f"tolerance {_number(m['tolerance'], '.6g')} (scatter {_number(m['scatter'], '.4g')})")
     spread = summary.get("law_spread")
     for name, answer in (spread["answers"] if spread else {}).items():     # informs, never judged
         unit = "" if answer["unit"] == "-" else f" {answer['unit']}"

@@ -13,7 +13,7 @@ from ..studies.wear_calibration import calibrate_wear_coefficient, check_target_
 from ..studies.wear_convergence import JUMP, run_convergence
 from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, run_wear_study
 from ..studies.wear_study_recovery import CHECKPOINT_NAME, DERIVED, OPTIONS, SNAPSHOTS_NAME, read_checkpoint
-from ..sweep.design import check_seeds
+from ..sweep.limits import check_seeds
 from .options import with_options
 from .study_options import config_from_args, parse_float_list
 from .sweep import add_ensemble_arguments
@@ -43,7 +43,7 @@ def run(args) -> int:
     try:
         config = config_from_args(args)
         if args.calibrate_max_depth_m is not None:
-            check_target_depth(args.calibrate_max_depth_m)
+            check_target_depth(args.calibrate_max_depth_m, config.joint.bushing_radius_m)
         if args.resume and args.convergence is None and args.calibrate_max_depth_m is None:
             config = _resumed_config(config, args)
     except ParameterError as exc:       # a study setting named as the command line writes it
@@ -73,8 +73,11 @@ def run(args) -> int:
                       + f"the table of the runs that finished is {args.out / 'convergence.csv'}", file=sys.stderr)
                 return 1
         elif args.calibrate_max_depth_m is not None:
-            result = calibrate_wear_coefficient(config, args.calibrate_max_depth_m, args.out, resume=args.resume,
-                                                progress=not args.quiet)
+            try:
+                result = calibrate_wear_coefficient(config, args.calibrate_max_depth_m, args.out, resume=args.resume,
+                                                    progress=not args.quiet)
+            except ParameterError as exc:        # a target no k_w the joint admits reaches
+                raise with_options(exc, {"target_max_depth_m": "--calibrate-max-depth-m"}) from None
             print(f"  printed k_w {PRINTED_WEAR_COEFFICIENT_M2_N:.3g} m^2/N wears "
                   f"{result['printed_rate']['mean_depth_per_revolution_m'] * 1e6:.3g} µm per revolution")
             print(f"  effective k_w {result['effective_wear_coefficient_m2_N']:.4g} m^2/N "

@@ -28,6 +28,15 @@ from .layout import (
 )
 _BISECTIONS = 100
 _TSUJI_STEP = 2e-3            # RK4 step of the dimensionless impact (it lasts ~3 units): e to ~1e-6
+# Tsuji's heavy damping, gamma above _TSUJI_HEAVY (e < 0.0115 for n = 1.5): the impact stops at x ~ s = gamma^(-2/(n+1))
+# within a time ~s, creeps back at ~1/gamma^2 and lets go there (the force would have to pull to slow it further):
+# e -> (n+1) / (2 gamma^2).  A step of _TSUJI_STEP (0.1 gamma)^(-2/(n+1)) (the same share of s at every gamma, the
+# light step at gamma = 10) ending where the force lets go takes a few thousand steps at any gamma (0.02/gamma and the
+# force-free flight back took over a minute for e = 1e-4); from _TSUJI_ASYMPTOTIC on (e < 1.25e-8) that limit is within
+# 1e-6 of the impact integrated at a 100 times shorter step (n from 1 to 6), closer than this RK4's 3e-4, and the
+# creep no longer moves x by a resolved amount from gamma ~ 1e7 (x stalls, the flight never ends).
+_TSUJI_HEAVY = 10.0
+_TSUJI_ASYMPTOTIC = 1e4
 
 
 @kernel
@@ -89,11 +98,19 @@ def _tsuji_acceleration(x, u, gamma, exponent, power):
 @kernel
 def tsuji_restitution(gamma, exponent):
     """Restitution [-] of the dimensionless impact x'' = -max(0, x^n + gamma x^((n-1)/2) x'), x(0) = 0,
-    x'(0) = 1, n = ``exponent``: RK4 until x returns to 0, the exit speed interpolated there."""
+    x'(0) = 1, n = ``exponent``: RK4 until x returns to 0, the exit speed interpolated there.  Heavily damped
+    (gamma > _TSUJI_HEAVY) the step follows the impact's time scale gamma^(-2/(n+1)) and the exit speed the speed
+    where the force lets go on the way out (from there x^((n+1)/2) + gamma x' <= 0 as x falls at constant x': a
+    force-free flight back); from _TSUJI_ASYMPTOTIC on, the limit (n+1) / (2 gamma^2)."""
+    if gamma >= _TSUJI_ASYMPTOTIC:
+        return 0.5 * (exponent + 1.0) / gamma / gamma
     power = 0.5 * (exponent - 1.0)
-    dt = _TSUJI_STEP / max(1.0, 0.1 * gamma)
+    heavy = gamma > _TSUJI_HEAVY
+    dt = _TSUJI_STEP / (0.1 * gamma) ** (2.0 / (exponent + 1.0)) if heavy else _TSUJI_STEP / max(1.0, 0.1 * gamma)
     x, u = 0.0, 1.0
     for _ in range(100_000_000):
+        if heavy and u < 0.0 and x ** exponent + gamma * x ** power * u <= 0.0:
+            return -u
         k1x, k1u = u, _tsuji_acceleration(x, u, gamma, exponent, power)
         k2x = u + 0.5 * dt * k1u
         k2u = _tsuji_acceleration(x + 0.5 * dt * k1x, k2x, gamma, exponent, power)
@@ -111,9 +128,13 @@ def tsuji_restitution(gamma, exponent):
 
 @kernel
 def tsuji_damping(restitution, exponent):
-    """gamma [-] at which the Tsuji impact of :func:`tsuji_restitution` rebounds at ``restitution``."""
+    """gamma [-] at which the Tsuji impact of :func:`tsuji_restitution` rebounds at ``restitution``: the inverse of
+    its limit (n+1) / (2 gamma^2) where that is above _TSUJI_ASYMPTOTIC, else by bisection."""
     if restitution >= 1.0:
         return 0.0
+    limit = math.sqrt(0.5 * (exponent + 1.0)) / math.sqrt(restitution)
+    if limit >= _TSUJI_ASYMPTOTIC:
+        return limit
     hi = 1.0
     while tsuji_restitution(hi, exponent) > restitution and hi < 1e6:
         hi *= 2.0

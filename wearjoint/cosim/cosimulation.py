@@ -20,7 +20,7 @@ from ..checks import RunDiverged, choice, finite, non_negative, positive
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, require, check_joint_fits_mechanism, paper_joint,
 )
-from ..simulation_options import check_run_arguments, check_wear_step
+from ..simulation_options import check_run_arguments, check_run_span, check_wear_step
 from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..runner import overload_advice, run_engine
 from .master_layout import (
@@ -78,6 +78,7 @@ class CoSimulationOptions:
         tolerance = non_negative("coupling_tolerance", self.coupling_tolerance)
         require("coupling_tolerance", tolerance, tolerance == 0.0 or self.scheme in ADAPTIVE_SCHEMES,
                 "0 unless scheme is adaptive or linearised")
+        require("coupling_tolerance", tolerance, tolerance <= 1.0, "in [0, 1] (a force's miss relative to the force)")
         object.__setattr__(self, "coupling_tolerance", tolerance)
 
     def to_dict(self) -> dict:
@@ -104,6 +105,7 @@ class CoSimulation(OwnsFmuInstance):
         self.joint = joint or paper_joint(mechanism)
         check_joint_fits_mechanism(self.joint, mechanism)
         check_wear_step("step_s", self.options.step_s, self.joint, mechanism)   # every wearing step is at most step_s
+        check_run_span(self.options, self.joint, mechanism)
         require("fmu_backend", fmu_backend, fmu_backend in BACKENDS, "one of " + ", ".join(BACKENDS))
         self.fmu_backend = fmu_backend
         self._instance = None

@@ -40,7 +40,7 @@ from ..parameters import N_POINTS_MAX, N_POINTS_MIN, JointParameters, ParameterE
 from . import slider_crank as sc
 from . import variables as fv
 from . import platforms
-from .kernel_ir import compile_kernel_ir, emit_objects
+from .kernel_ir import IR_SOURCES, compile_kernel_ir, emit_objects
 from .build_common import (FMU_SOURCE_DIR, PACKAGE_DIR, copy_kept_build, current_build, existing_build_key,
                            fmi2_headers, keep_build_in_cache, replaced_whole, source_digest, user_cache_dir)
 from .c_tables import c_string as _c_string
@@ -61,6 +61,8 @@ COMMON_C_SOURCES = ("fmu_model.c", "fmu_state.c", "fmu_model_defaults.c", "fmu_m
                     "fmi_state_functions.h", "state_format.h")
 FMI_LAYER_FOLDER = "fmi"
 N_EVENT_INDICATORS = 1   # the joint's Model Exchange: the signed penetration
+# the modules the parameters' allowed rules and their messages come from (the FMUs' checks are generated from them)
+RULE_MODULES = ("checks.py", "joint_fields.py", "mechanism_parameters.py")
 # the wearjoint modules of every model's build
 BUILD_MODULES = ("core/layout.py", "core/jit.py", "parameters.py", "fmu/aot.py", "fmu/model_description.py",
                  "fmu/variables.py", "fmu/c_tables.py", "fmu/build_native.py", "fmu/kernel_ir.py", "fmu/platforms.py")
@@ -159,9 +161,13 @@ def check_fmi_version(fmi_version) -> int:
 
 
 def shipped_sources(fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL) -> list[Path]:
+    """The files whose content decides a build of ``model``: its C sources, the build's modules, the model's, and
+    what its kernels' IR and its parameters' rules come from (a new restitution range or damping kernel served a
+    cached FMU of the old ones)."""
     spec = native_model(model)
+    modules = dict.fromkeys((*BUILD_MODULES, *spec.modules, *IR_SOURCES, *spec.ir_modules, *RULE_MODULES))
     return [*(source_file(name, model) for name in c_sources(check_fmi_version(fmi_version), model)),
-            *(PACKAGE_DIR / name for name in (*BUILD_MODULES, *spec.modules))]
+            *(PACKAGE_DIR / name for name in modules)]
 
 
 def model_key(n_points: int, fmi_version: int = DEFAULT_FMI_VERSION, model: str = DEFAULT_MODEL,

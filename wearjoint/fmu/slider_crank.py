@@ -26,7 +26,7 @@ from xml.etree import ElementTree as ET
 
 from ..core import layout
 from .. import mechanism_parameters as mp
-from ..checks import ANY, NON_NEGATIVE, POSITIVE, Allowed
+from ..checks import POSITIVE, Allowed
 from ..parameters import SliderCrankParameters
 from . import variables as fv
 from .c_tables import c_string, parameter_rows, state_problem_tables
@@ -68,11 +68,8 @@ class Variable:
         return len(self.choices)
 
 
-# the FMU's check of each mechanism parameter's rule (wearjoint.mechanism_parameters.RULE_TEXT)
-_ALLOWED = {mp.POSITIVE: POSITIVE, mp.FINITE: ANY, mp.NON_NEGATIVE: NON_NEGATIVE,
-            mp.ABOVE_CRANK: Allowed(0.0, True, above="crank_length"),
-            mp.TABLE_ROWS: Allowed(0.0, high=float(layout.MAX_LOAD_ROWS)), mp.TABLE_ANGLE: Allowed(0.0, high=360.0),
-            mp.CHOICE: Allowed(0.0, high=float(len(mp.CLEARANCE_JOINTS) - 1))}
+# the FMU's check of each mechanism parameter's rule: wearjoint.mechanism_parameters.RULES
+_ALLOWED = mp.RULES
 _DEFAULTS = mp.field_vector(SliderCrankParameters())
 
 _BODIES = (("pin", "pin body (the crank at the crank-rod and crank-ground joints, the slider at the rod-slider "

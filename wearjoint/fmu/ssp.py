@@ -60,6 +60,14 @@ DEFAULT_STEP_S = {"hold": 0.5e-6, "linearised": 5e-6}
 # s: the step the package asks OMSimulator for, which moves the kinematics before it reads the loads ("on time"):
 # with the loads linearised the container, on time too, stays within 1 standard error at 10 us (8 starts)
 ON_TIME_STEP_S = {"hold": 0.5e-6, "linearised": 1e-5}
+# s: the shortest communication step a package or container takes: 1/500 of the held loads' 0.5 us (a revolution of the
+# paper's mechanism in 4e8 steps); 1e-300 was taken, a step no master's time advances by
+MIN_STEP_S = 1e-9
+MIN_STEP_WHY = "a master's step: 1/500 of the held loads' 0.5 us"
+# s: the longest default experiment: 16 revolutions of the slowest crank a mechanism admits (1e-3 rpm), 2.5 million of
+# the paper's; the FMUs' time then still resolves a nanosecond step (1e300 was taken)
+MAX_STOP_TIME_S = 1e6
+STOP_TIME_WHY = "11.6 days of the machine: 2.5 million revolutions of the paper's mechanism"
 RESULT_INTERVAL_S = 1e-5    # s: OMSimulator's logging interval: 100 kHz, every 20th step at 0.5 us
 RESULT_FILE = f"{SSP_NAME}_res.mat"
 SIGNAL_FILTER = "resources/signalFilter.xml"
@@ -237,12 +245,15 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     joint = joint or paper_joint(mechanism)
     check_joint_fits_mechanism(joint, mechanism)
     stop_time = mechanism.period_s if stop_time is None else stop_time
-    require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
+    require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")     # its bound: check_stop_time
     require("load_coupling", load_coupling, load_coupling in LOAD_COUPLINGS, f"one of {', '.join(LOAD_COUPLINGS)}")
     limit = wear_step_limit_s(joint, mechanism)          # a default within the wear-step limit, a given step checked
     on_time_step_s = min(ON_TIME_STEP_S[load_coupling] * step_scale, limit) if step_s is None else step_s
-    step_s = min(DEFAULT_STEP_S[load_coupling] * step_scale, limit) if step_s is None else step_s
-    require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, "> 0 and <= stop_time")
+    if step_s is None:      # the package's own step: a stop time before it ends is the stop time's fault
+        step_s = min(DEFAULT_STEP_S[load_coupling] * step_scale, limit)
+        require("stop_time", stop_time, stop_time >= step_s, f">= the package's communication step {step_s:g} s")
+    require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, f"> 0 and <= stop_time = {stop_time:g} s")
+    require("step_s", step_s, step_s >= MIN_STEP_S, f">= {MIN_STEP_S:g} s ({MIN_STEP_WHY})")
     check_wear_step("step_s", max(step_s, on_time_step_s), joint, mechanism)   # every master's step wears
     on_time_step_s = min(on_time_step_s, stop_time)
     out_dir = Path(out_dir)
@@ -267,6 +278,15 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
                 ssp.write(path, f"resources/{path.name}")
                 ssp.writestr(f"resources/{name}.ssv", parameter_sets[name])
     return target
+
+
+def check_stop_time(stop_time) -> float:
+    """``stop_time`` [s] as a float where it is finite, > 0 and at most MAX_STOP_TIME_S, else the ParameterError
+    naming it: export-ssp's default experiment (a master run through :func:`export_ssp` is bounded by the memory its
+    trace takes, wearjoint.cosim.masters)."""
+    require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
+    require("stop_time", stop_time, stop_time <= MAX_STOP_TIME_S, f"at most {MAX_STOP_TIME_S:g} s ({STOP_TIME_WHY})")
+    return float(stop_time)
 
 
 def coupling_start(load_coupling: str) -> dict[str, float]:
@@ -310,6 +330,7 @@ def container_fmu(ssp_path, out_path, step_s: float = CONTAINER_STEP_S) -> Path:
     from fmpy.ssp.ssd import read_ssd
 
     require("step_s", step_s, finite("step_s", step_s) > 0.0, "> 0")
+    require("step_s", step_s, step_s >= MIN_STEP_S, f">= {MIN_STEP_S:g} s ({MIN_STEP_WHY})")
     ssd = read_ssd(str(ssp_path))
     out_path = Path(out_path)
     with tempfile.TemporaryDirectory(prefix="wearjoint_container_") as tmp:

@@ -19,8 +19,18 @@ import math
 import numpy as np
 from scipy import optimize, stats
 
-from wearjoint.checks import ParameterError, positive
+from wearjoint.checks import ParameterError, positive, require
+from wearjoint.joint_fields import JOINT_FIELDS
 
+# the ranges of a measured point: revolutions up to a trillion (190 years at 10,000 rpm, beyond any machine's life;
+# 1e300 fitted a k_w of 1e-309 and called it a fit), a max depth from a nanometre (a few atomic layers: the least wear
+# Archard's continuum law describes; 1e-300 fitted 5e-305), a depth uncertainty from a picometre (finer than any depth
+# measurement; 1e-300 squared to 0 and made chi^2 NaN) to the bushing radius (no depth is larger; 1e300 overflowed)
+MAX_POINT_REVOLUTIONS = 1e12
+MIN_DEPTH_M = 1e-9
+MIN_DEPTH_UNCERTAINTY_M = 1e-12
+# the largest bushing radius a joint admits [m]: the bound where the study's own radius is not known
+MAX_BUSHING_RADIUS_M = next(f.allowed.high for f in JOINT_FIELDS if f.field == "bushing_radius_m")
 # what reaches beyond a study's curve: a study's --resume continues it to its own --revolutions only
 FURTHER = ("a new wear study with more --revolutions (or a larger --wear-coefficient-m2-N) into another --out "
            "reaches further (--resume continues a study to its own --revolutions only)")
@@ -34,18 +44,36 @@ def master_curve(growth: np.ndarray):
     return (lambda x: np.interp(x, r, d, right=np.nan)), (lambda depth: np.interp(depth, d, r, right=np.nan))
 
 
-def _check_points(points, reach: float, depth_reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(revolutions, depths [m], uncertainties [m]: NaN where not given) of ``points``, checked."""
+def uncertainty_range(bushing_radius_m: float | None = None) -> tuple[float, float, str]:
+    """(least, largest, the range as a message states it) of a depth uncertainty [m] on a bushing of
+    ``bushing_radius_m`` (None: the largest a joint admits)."""
+    top, why = ((MAX_BUSHING_RADIUS_M, "the largest bushing radius a joint admits") if bushing_radius_m is None
+                else (bushing_radius_m, "the bushing radius: no depth is larger"))
+    return MIN_DEPTH_UNCERTAINTY_M, top, (f"from {MIN_DEPTH_UNCERTAINTY_M:g} m (finer than any depth measurement) to "
+                                          f"{top:g} m ({why})")
+
+
+def _check_points(points, reach: float, depth_reach: float,
+                  bushing_radius_m: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(revolutions, depths [m], uncertainties [m]: NaN where not given) of ``points``, checked (their uncertainties
+    against :func:`uncertainty_range`)."""
     n = np.array([p[0] for p in points], float)
     d = np.array([p[1] for p in points], float)
     u = np.array([p[2] if len(p) > 2 and p[2] is not None else math.nan for p in points], float)
     if n.size == 0 or not (np.all(np.isfinite(n)) and np.all(n > 0) and np.all(np.isfinite(d)) and np.all(d > 0)):
         raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed REVOLUTIONS:DEPTH_M pairs, "
                              "both finite and > 0")
+    if not (np.all(n <= MAX_POINT_REVOLUTIONS) and np.all(d >= MIN_DEPTH_M)):
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed revolutions up to "
+                             f"{MAX_POINT_REVOLUTIONS:g} (beyond any machine's life) and max depths from {MIN_DEPTH_M:g} "
+                             "m (a few atomic layers: the least wear Archard's law describes)")
     given = ~np.isnan(u)
     if given.any() and not (given.all() and np.all(np.isfinite(u)) and np.all(u > 0)):
         raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed a finite depth uncertainty > 0 "
                              "for every point or for none (--depth-uncertainty-m U, or REVOLUTIONS:DEPTH_M:U)")
+    least, most, text = uncertainty_range(bushing_radius_m)
+    if given.any() and not (np.all(u >= least) and np.all(u <= most)):
+        raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed depth uncertainties {text}")
     if d.max() > depth_reach:
         raise ParameterError(f"parameter points={list(points)!r} are invalid: allowed max depths up to the "
                              f"study's, {depth_reach:g} m after {reach:g} revolutions; the deepest, {d.max():g} m, is "
@@ -64,12 +92,21 @@ def falling_depths(points) -> str:
     return ""
 
 
+def check_tolerance(tolerance) -> float:
+    """``tolerance`` where it is a share in (0, 1) of a depth, else the ParameterError naming it: from 1 on, every
+    model depth below the measured one (a residual above -100 %) would count as a fit."""
+    positive("tolerance", tolerance)
+    require("tolerance", tolerance, tolerance < 1.0, "< 1 (a share of each measured depth: from 1 on, every depth "
+                                                    "below the measured one fits)")
+    return float(tolerance)
+
+
 CONFIDENCE = 0.95   # of the model's test (rejected below 1 - CONFIDENCE) and of interval_95_m2_N
 DEFAULT_TOLERANCE = 0.1   # without depth uncertainties: the share of each depth within which the residuals fit
 
 
 def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = DEFAULT_TOLERANCE,
-                curve_error_rel: float = 0.0) -> dict:
+                curve_error_rel: float = 0.0, bushing_radius_m: float | None = None) -> dict:
     """One k_w for all ``points`` [(revolutions, max depth [m][, its standard uncertainty [m]])], on the study
     ``growth`` run at k0 [m^2/N].
 
@@ -81,10 +118,11 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = DEFAUL
     likelihood: coverage for Gaussian errors, shrinking with U to the curve's own error), none where the model
     is rejected.  Without uncertainties the least squares of the log depths gives k_w alone: neither a test nor
     an interval (the residuals' misfit is no measurement error).  ``fits``: the test's verdict with uncertainties,
-    else every residual within ``tolerance`` of its depth."""
+    else every residual within ``tolerance`` (< 1) of its depth.  ``bushing_radius_m``: the study's, the largest
+    uncertainty (None: the largest radius a joint admits)."""
     curve, inverse = master_curve(growth)
-    n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1])
-    positive("tolerance", tolerance)
+    n, d, u = _check_points(points, growth[-1, 0], growth[-1, 1], bushing_radius_m)
+    check_tolerance(tolerance)
     start = np.log(inverse(d) / n)                       # each point's own exact s
     out = {"law": "archard", "confidence": CONFIDENCE, "degrees_of_freedom": int(n.size - 1),
            "tolerance_rel": tolerance, "each_point_alone_m2_N": [float(k0 * math.exp(x)) for x in start]}
@@ -257,11 +295,12 @@ def plot_calibration(growth: np.ndarray, k0: float, points, fits: list, path, n_
     save_figure(fig, path)
 
 
-def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: float) -> dict:
+def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: float,
+                    bushing_radius_m: float | None = None) -> dict:
     """k_mild up to ``transition_depth_m`` of max depth, k_severe beyond; exact for two points, least squares
-    for more."""
+    for more (``bushing_radius_m``: as :func:`fit_archard`'s)."""
     curve, inverse = master_curve(growth)
-    n, d, _ = _check_points(points, growth[-1, 0], growth[-1, 1])
+    n, d, _ = _check_points(points, growth[-1, 0], growth[-1, 1], bushing_radius_m)
     if not (math.isfinite(transition_depth_m) and 0.0 < transition_depth_m < growth[-1, 1]):
         raise ParameterError(f"parameter transition_depth_m={transition_depth_m!r} is invalid: allowed in (0, "
                              f"{growth[-1, 1]:g}) m (the study's max depth)")
@@ -295,4 +334,6 @@ def fit_mild_severe(growth: np.ndarray, k0: float, points, transition_depth_m: f
 
 
 __all__ = ["FURTHER", "master_curve", "fit_archard", "fit_mild_severe", "predicted_depth", "plot_calibration",
-           "predictions", "life", "study_life", "falling_depths", "master_curve_check", "MASTER_CURVE_CHECKED"]
+           "predictions", "life", "study_life", "falling_depths", "master_curve_check", "MASTER_CURVE_CHECKED",
+           "check_tolerance", "uncertainty_range", "MAX_POINT_REVOLUTIONS", "MIN_DEPTH_M", "MIN_DEPTH_UNCERTAINTY_M",
+           "MAX_BUSHING_RADIUS_M"]

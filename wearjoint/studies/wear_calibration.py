@@ -10,7 +10,10 @@ import numpy as np
 
 from wearjoint.checks import integer, is_real, require
 from wearjoint.core import layout as L
+from wearjoint.joint_fields import JOINT_FIELDS
 from wearjoint.results import write_json_atomic
+from wearjoint.simulation_options import DEFAULT_WEAR_STEP_SHARE, wear_step_limit_s
+from wearjoint.studies.calibration import MAX_BUSHING_RADIUS_M, MIN_DEPTH_M
 from wearjoint.studies.wear_study import (
     CHECKPOINT_NAME, PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, make_engine,
     run_wear_study,
@@ -18,11 +21,27 @@ from wearjoint.studies.wear_study import (
 
 
 # ----------------------------------------------------------------------------- calibration
-def check_target_depth(target_max_depth_m) -> float:
-    """``target_max_depth_m`` as a float where it is a finite depth > 0 [m], else the ParameterError naming it."""
+# the shallowest target [m]: calibration.MIN_DEPTH_M, a nanometre, a few atomic layers, far below a bushing's roughness
+# (0.1-1 um) and any measured wear (the secant itself resolves far less: 1e-15 m in 2 revolutions, while 1e-300 wore
+# exactly nothing and divided by it)
+MIN_TARGET_DEPTH_M = MIN_DEPTH_M
+# the largest k_w a trial may take [m^2/N] (the joint's own bound, JointParameters.wear_coefficient_m2_N)
+MAX_WEAR_COEFFICIENT_M2_N = next(f.allowed.high for f in JOINT_FIELDS if f.field == "wear_coefficient_m2_N")
+
+
+def check_target_depth(target_max_depth_m, bushing_radius_m: float | None = None) -> float:
+    """``target_max_depth_m`` as a float where it is a finite depth [m] from :data:`MIN_TARGET_DEPTH_M` to below
+    ``bushing_radius_m`` (the bushing wears through there; None: the largest radius the joint admits), else the
+    ParameterError naming it."""
     require("target_max_depth_m", target_max_depth_m,
             is_real(target_max_depth_m) and math.isfinite(target_max_depth_m) and target_max_depth_m > 0.0,
             "a finite depth > 0 m")
+    require("target_max_depth_m", target_max_depth_m, target_max_depth_m >= MIN_TARGET_DEPTH_M,
+            f"a depth of at least {MIN_TARGET_DEPTH_M:g} m (a few atomic layers: the least wear Archard's law describes)")
+    radius = MAX_BUSHING_RADIUS_M if bushing_radius_m is None else bushing_radius_m
+    require("target_max_depth_m", target_max_depth_m, target_max_depth_m < radius,
+            f"a depth below the bushing radius {radius:g} m (the bushing wears through there)"
+            if bushing_radius_m is not None else f"a depth below the bushing radius (at most {radius:g} m)")
     return float(target_max_depth_m)
 
 
@@ -50,7 +69,7 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
     on log(depth) vs log(k_w) (depth grows monotonically with k_w), slope clipped to [0.3, 3],
     until |depth/target - 1| <= rel_tolerance.  Every trial is a full study in out_dir/trial_<i>.
     """
-    target_max_depth_m = check_target_depth(target_max_depth_m)
+    target_max_depth_m = check_target_depth(target_max_depth_m, config.joint.bushing_radius_m)
     require("rel_tolerance", rel_tolerance, is_real(rel_tolerance) and 0.0 < rel_tolerance < 1.0, "in (0, 1)")
     max_trials = integer("max_trials", max_trials, 1)
     out = Path(out_dir)
@@ -59,7 +78,10 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
     k = PRINTED_WEAR_COEFFICIENT_M2_N * target_max_depth_m / (rate["mean_depth_per_revolution_m"] * config.revolutions)
     trials = []
     for i in range(max_trials):
-        cfg = config.replace(joint=config.joint.replace(wear_coefficient_m2_N=k), snapshots=(config.revolutions,))
+        k = min(k, MAX_WEAR_COEFFICIENT_M2_N)
+        joint = config.joint.replace(wear_coefficient_m2_N=k)     # a faster wear takes the shorter step it needs
+        step = min(config.max_step_s, wear_step_limit_s(joint, config.mechanism, DEFAULT_WEAR_STEP_SHARE))
+        cfg = config.replace(joint=joint, snapshots=(config.revolutions,), max_step_s=step)
         sub = out / f"trial_{i}"
         summary = run_wear_study(cfg, sub, resume=resume and (sub / CHECKPOINT_NAME).exists(), progress=progress,
                                  plots=False)
@@ -67,6 +89,7 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
         trials.append({"wear_coefficient_m2_N": k, "max_wear_depth_m": depth, "wall_time_s": summary["wall_time_s"]})
         if abs(depth / target_max_depth_m - 1.0) <= rel_tolerance:
             break
+        unreachable(target_max_depth_m, k, depth, config.revolutions, rel_tolerance)
         if len(trials) == 1:
             slope = 1.0
         else:
@@ -89,4 +112,12 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
     return result
 
 
-__all__ = ["printed_wear_rate", "calibrate_wear_coefficient"]
+def unreachable(target_max_depth_m: float, k: float, depth: float, revolutions, rel_tolerance: float) -> None:
+    """The ParameterError naming the target where a trial at the largest k_w the joint admits wore less than it."""
+    if k >= MAX_WEAR_COEFFICIENT_M2_N and depth < target_max_depth_m * (1.0 - rel_tolerance):
+        require("target_max_depth_m", target_max_depth_m, False,
+                f"a depth the study reaches with k_w at most {MAX_WEAR_COEFFICIENT_M2_N:g} m2/N: {depth:.4g} m after "
+                f"{revolutions:g} revolution{'s' if revolutions != 1 else ''} (more revolutions wear deeper)")
+
+
+__all__ = ["printed_wear_rate", "calibrate_wear_coefficient", "check_target_depth", "MIN_TARGET_DEPTH_M"]

@@ -65,6 +65,7 @@ DEFAULT_WEAR_FACTOR = 1.0               # cycle jumping's blocks run at the real
 PRINTED_WEAR_COEFFICIENT_M2_N = JointParameters().wear_coefficient_m2_N
 PAPER_MAX_DEPTH_M = 0.58e-3             # Fig. 7, after 4000 revolutions
 CONVERGENCE_TOLERANCE = 0.15            # max-depth and RMS profile difference, relative to the reference max depth
+MAX_SIMULATED_REVOLUTIONS = 1e6       # a study's (about 100 h of simulation; its per-revolution table 56 MB)
 MAX_JUMP_ROUTE_STATISTICS = 5000      # simulated revolutions of a cycle-jumping study with per-revolution statistics
 
 
@@ -103,11 +104,11 @@ class WearStudyConfig:
         if not self.joint.wear_factor > 0.0 or not self.joint.wear_coefficient_m2_N > 0.0:
             raise ParameterError(f"a wear study needs wear on: wear_factor={self.joint.wear_factor!r} and "
                                  f"wear_coefficient_m2_N={self.joint.wear_coefficient_m2_N!r} must be > 0")
-        if self.revolutions / self.joint.wear_factor < 1.0 - 1e-9:     # less than one revolution simulated
+        simulated = self.revolutions / self.joint.wear_factor
+        if not 1.0 - 1e-9 <= simulated <= MAX_SIMULATED_REVOLUTIONS:   # at least one; a 1e-300 factor allocated 1e302
             raise ParameterError(f"parameter --wear-factor (wear_factor)={self.joint.wear_factor!r} is invalid with "
-                                 f"--revolutions {self.revolutions}: allowed 0 < wear factor <= {self.revolutions} "
-                                 f"(revolutions / wear factor = {self.revolutions / self.joint.wear_factor:.3g} "
-                                 "simulated revolutions; at least one must be simulated)")
+                                 f"--revolutions {self.revolutions}: allowed {self.revolutions / MAX_SIMULATED_REVOLUTIONS:.3g} "
+                                 f"<= wear factor <= {self.revolutions} ({simulated:.3g} simulated revolutions; from 1 to 1e6)")
         _check_int("jump_block_revolutions", self.jump_block_revolutions, 1)
         if self.jump_tolerance is not None:
             if not (isinstance(self.jump_tolerance, (int, float)) and 0.0 < self.jump_tolerance < 1.0):

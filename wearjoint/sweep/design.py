@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .. import targets
+from .limits import check_seeds
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 
 TARGETS = tuple(targets.TARGETS)
@@ -290,12 +291,6 @@ def sweep_design(command: str, items, path=None) -> dict:
     return design
 
 
-def check_seeds(seeds, where: str = "--seeds") -> int:
-    if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
-        raise ParameterError(f"{where}={seeds!r} is invalid: allowed an integer >= 1")
-    return seeds
-
-
 def effective_values(command: str, options: dict) -> dict:
     """dest -> value of every model option as the command's run resolves it (an option left unset, None,
     stands for what the run uses: e.g. wear-study's wear factor, the slider-crank's joint offsets);
@@ -482,7 +477,7 @@ def design_changes(old: dict, new: dict) -> list[str]:
 
 __all__ = ["Case", "TARGETS", "SEED_ANGLE_STEP_DEG", "build_cases", "parse_vary", "read_design", "case_id",
            "command_parser", "command_options", "options_to_argv", "variable_actions", "canonical_name",
-           "check_seeds", "check_grid", "sweep_design", "parse_values", "LIST_DESTS",
+           "check_grid", "sweep_design", "parse_values", "LIST_DESTS",
            "design_record", "design_changes", "configure",
            "by_option_name", "given_options"]
 

@@ -1,0 +1,57 @@
+"""Values past any meaningful run are refused at the edge, in one line naming the option as written and its range
+(exit status 2, nothing written): they used to run for minutes, be killed for their memory, or finish with numbers
+that mean nothing (a fuzz review's cases).  And no results file holds NaN, which is not JSON."""
+import json
+
+import pytest
+
+from wearjoint.cli import main
+from wearjoint.results import write_json_atomic
+
+RUN = ["--no-plots", "--quiet"]
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["simulate", "--revolutions", "1e-300"], "--revolutions=1e-300 (revolutions) is invalid: allowed >= 2.5e-05 (one "
+                                              "sample interval"),       # ran, and reported zeros
+    (["cosim", "--revolutions", "1e-300"], "--revolutions=1e-300 (revolutions) is invalid: allowed >= 2.5e-05"),
+    (["cosim", "--onset-penetration", "1e300"], "--onset-penetration=1e+300 (onset_penetration_m) is invalid: allowed "
+                                                "<= 1e-05 m (0.1 of the clearance 0.0001 m)"),
+    (["simulate", "--integrator", "rk4", "--step", "1e-300"], "--step=1e-300 (step_s) is invalid: allowed >= "
+                                                              "min_step_s = 1e-10"),        # never finished
+    (["simulate", "--rtol", "1e300"], "--rtol=1e+300 (rtol) is invalid: allowed in [1e-12, 0.1]"),
+    (["simulate", "--atol-position", "1e300"], "--atol-position=1e+300 (atol_position_m) is invalid: allowed <= 0.001 m"),
+    (["cosim", "--coupling-tolerance", "1e300"], "--coupling-tolerance=1e+300 (coupling_tolerance) is invalid: allowed "
+                                                 "in [0, 1]"),
+    (["simulate", "--contact-length-m", "1e300"], "--contact-length-m=1e+300 (contact_length_m) is invalid: allowed > 0 "
+                                                  "(from 1e-06 to 100 m)"),     # wore nothing: depth 0
+    (["simulate", "--crank-mass-kg", "1e300"], "--crank-mass-kg=1e+300 (crank_mass_kg) is invalid: allowed > 0 (from "
+                                               "1e-06 to 1e+06 kg)"),           # the ideal joint's force NaN
+    (["simulate", "--crank-speed-rpm", "1e-300"], "--crank-speed-rpm=1e-300 (crank_speed_rpm) is invalid: allowed > 0 "
+                                                  "(from 0.001 to 100000 rpm)"),
+    (["sweep", "simulate", "--vary", "restitution=0.6,0.9", "--workers", "1000000000"],
+     "--workers=1000000000 is invalid: allowed an integer from 1 to "),          # killed for its memory
+    (["sweep", "simulate", "--vary", "restitution=0.6,0.9", "--seeds", "1000000000"],
+     "--seeds=1000000000 is invalid: allowed an integer from 1 to 10000"),      # silent for minutes
+])
+def test_a_value_past_any_meaningful_run_is_refused_naming_the_option(tmp_path, capsys, argv, message):
+    out = tmp_path / "run"
+    assert main([*argv, "--out", str(out), *RUN]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len([line for line in err.splitlines() if "error:" in line]) == 1, err
+    assert not out.exists()
+
+
+def test_a_number_that_is_not_finite_is_written_as_null(tmp_path):
+    """JSON has no NaN or infinity: a statistic that is undefined reads as null in every results file."""
+    import numpy as np
+
+    path = tmp_path / "summary.json"
+    write_json_atomic(path, {"a_N": float("nan"), "b": np.float64("inf"), "c": [1.5, np.nan], "d": np.arange(2),
+                             "e": {"f": -np.inf, "g": np.int64(3)}})
+
+    def refuse(constant):
+        raise AssertionError(f"{constant} in {path}")
+
+    assert json.loads(path.read_text(), parse_constant=refuse) == {"a_N": None, "b": None, "c": [1.5, None],
+                                                                  "d": [0, 1], "e": {"f": None, "g": 3}}
