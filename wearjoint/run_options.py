@@ -15,6 +15,7 @@ import argparse
 import dataclasses
 import json
 import math
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -281,7 +282,9 @@ def read_initial_profile(path: Path, joint) -> np.ndarray:
     try:
         with open(path) as f:
             header = f.readline().strip()
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        with warnings.catch_warnings():            # an empty file: the shape check below says so, once
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{invalid} a readable profile.csv with columns {PROFILE_HEADER} ({exc})") from None
     if header != PROFILE_HEADER:

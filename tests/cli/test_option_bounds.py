@@ -55,3 +55,24 @@ def test_a_number_that_is_not_finite_is_written_as_null(tmp_path):
 
     assert json.loads(path.read_text(), parse_constant=refuse) == {"a_N": None, "b": None, "c": [1.5, None],
                                                                   "d": [0, 1], "e": {"f": None, "g": 3}}
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["simulate", "--n-points", "1.5"], "--n-points='1.5' is invalid: allowed an integer"),
+    (["simulate", "--revolutions", "abc"], "--revolutions='abc' is invalid: allowed a number"),
+    (["sweep", "simulate", "--seeds", "nan"], "--seeds='nan' is invalid: allowed an integer"),
+])
+def test_a_value_of_the_wrong_kind_is_named_as_the_other_errors_name_theirs(tmp_path, capsys, argv, message):
+    """argparse said "argument --n-points: invalid int value: '1.5'": no "is invalid: allowed" as every other error."""
+    with pytest.raises(SystemExit) as stop:
+        main([*argv, "--out", str(tmp_path / "run")])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and message in err and err.count("\n") == 1, err
+
+
+def test_an_empty_initial_profile_is_one_line_without_numpys_warning(tmp_path, capsys):
+    empty = tmp_path / "empty.csv"
+    empty.write_text("")
+    assert main(["simulate", "--initial-profile", str(empty), "--out", str(tmp_path / "run"), *RUN]) == 2
+    err = capsys.readouterr().err
+    assert "Warning" not in err and err.count("\n") == 1 and f"--initial-profile='{empty}' is invalid" in err, err

@@ -53,6 +53,10 @@ _NUMBER = r"(?:(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|inf|infinity|nan)"
 _NEGATIVE_NUMBER = re.compile(rf"^-{_NUMBER}(?:,[-+]?{_NUMBER})*$", re.IGNORECASE)
 
 
+_INVALID_VALUE = re.compile(r"^argument ([^:]+): invalid (\w+) value: (.*)$")
+_KINDS = {"int": "an integer (digits only: not 1.5 or 1e3)", "float": "a number"}
+
+
 class OneLineErrorParser(argparse.ArgumentParser):
     """argparse's parser whose error is one line (the option, what is wrong; where to look), not the usage block;
     a negative number in any notation (or a list of numbers starting with one) is a value."""
@@ -62,6 +66,12 @@ class OneLineErrorParser(argparse.ArgumentParser):
         self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message):
+        """``message`` in one line; argparse's "argument --n: invalid int value: 'x'" as the other errors state it,
+        ``--n='x' is invalid: allowed an integer``."""
+        typed = _INVALID_VALUE.match(message)
+        if typed:
+            option, kind, value = typed.groups()
+            message = f"{option}={value} is invalid: allowed {_KINDS.get(kind, f'a {kind} value')}"
         self.exit(2, f"{self.prog}: error: {message} (`{self.prog} --help` lists the options)\n")
 
 
