@@ -122,7 +122,7 @@ class SimulationOptions:
         object.__setattr__(self, "ideal", flag("ideal", self.ideal))
         for name in ("revolutions", "step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s",
                      "sample_dt_s", "onset_penetration_m", "max_step_s", "free_flight_max_step_s"):
-            if getattr(self, name) is not None:
+            if getattr(self, name) is not None or name not in ("max_step_s", "free_flight_max_step_s"):   # None: default
                 object.__setattr__(self, name, positive(name, getattr(self, name)))
         require("rtol", self.rtol, RTOL_RANGE[0] <= self.rtol <= RTOL_RANGE[1], "in [{:g}, {:g}]".format(*RTOL_RANGE))
         require("atol_position_m", self.atol_position_m, self.atol_position_m <= MAX_ATOL_POSITION_M,

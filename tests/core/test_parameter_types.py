@@ -94,6 +94,7 @@ def test_numpy_reals_are_taken_as_floats_and_numpy_integers_as_integers():
     (SimulationOptions, {"revolutions": "0.02"}, "revolutions", "a finite real number > 0"),
     (SimulationOptions, {"integrator": "rk4", "step_s": "1e-6"}, "step_s", "a finite real number > 0"),
     (SimulationOptions, {"max_step_s": "1e-5"}, "max_step_s", "a finite real number > 0"),
+    (SimulationOptions, {"min_step_s": None}, "min_step_s", "a finite real number > 0"),   # was a TypeError
     (SimulationOptions, {"ideal": "no"}, "ideal", "True or False"),
     (SimulationOptions, {"ideal": 1}, "ideal", "True or False"),
     (CoSimulationOptions, {"revolutions": "1"}, "revolutions", "a finite real number > 0"),

@@ -77,8 +77,9 @@ class FmuInstance:
             self.vr = fv.value_references(md)
             built = next((int(v.start) for v in md.modelVariables if v.name == fv.N_POINTS_NAME), None)
             if built != joint.n_points:
-                raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: the FMU {fmu_path} "
-                                     f"was built for {built} points (wearjoint build-fmu --n-points N)")
+                raise ParameterError(f"parameter n_points={joint.n_points!r} is invalid: allowed {built}, the bushing "
+                                     f"points the FMU {fmu_path} was built for (run it with --n-points {built}, or "
+                                     f"build one for {joint.n_points}: wearjoint build-fmu --n-points {joint.n_points})")
             if fv.wear_depth_name(joint.n_points) not in self.vr:
                 raise ParameterError(f"parameter fmu_path={str(fmu_path)!r} is invalid: allowed an FMU with every "
                                      "profile point as an output (this master reads the whole profile; build-fmu "
