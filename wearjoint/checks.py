@@ -192,3 +192,13 @@ class Allowed:
 
 
 ANY, POSITIVE, NON_NEGATIVE = Allowed(), Allowed(0.0, True), Allowed(0.0)
+
+
+def path(text: str):
+    """A path the command line takes (argparse's ``type``; its name ``path`` in argparse's message): not empty, which
+    ``Path`` reads as the current folder (``--out ''`` wrote the results there)."""
+    from pathlib import Path
+
+    if not text.strip():
+        raise ValueError("an empty path")
+    return Path(text)

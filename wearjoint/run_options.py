@@ -27,6 +27,7 @@ from .joint_fields import JOINT_FIELDS, unread_by
 from .kernel_calls import bushing_point_angles
 from .mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
 from .parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters, require
+from .checks import path as path_argument
 
 _HELP = {
     **{f.field: f.text for f in JOINT_FIELDS if f.component is None},
@@ -107,7 +108,7 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
             group.add_argument(option_name(f.name), dest=f.name, type=gravity_value, default=None, metavar="G|GX,GY",
                                help=_HELP[f.name] + " (default 0,-9.81)")
         elif f.name == "slider_force_table":
-            group.add_argument(option_name(f.name), dest=f.name, type=Path, default=None, metavar="FILE",
+            group.add_argument(option_name(f.name), dest=f.name, type=path_argument, default=None, metavar="FILE",
                                help=_HELP[f.name])
         elif isinstance(default, tuple):
             group.add_argument(option_name(f.name), dest=f.name, type=float, nargs=2, default=None,
@@ -124,7 +125,7 @@ def add_model_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
     _add_dataclass_options(joint, JointParameters, skip)
     joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
     if "wear_coefficient_m2_N" not in skip:
-        joint.add_argument("--calibration", type=Path, default=None, metavar="DIR",
+        joint.add_argument("--calibration", type=path_argument, default=None, metavar="DIR",
                            help="take k_w from a `wearjoint calibrate` folder (its calibration.json's one-k_w fit) "
                                 "instead of --wear-coefficient-m2-N; summary.json names it as the source")
 
@@ -244,7 +245,7 @@ def model_from_options(options: Mapping, every_law: bool = False) -> tuple[Joint
 
 def add_output_arguments(parser: argparse.ArgumentParser, plots: bool = True) -> None:
     """--out DIR (required), --no-plots (if ``plots``) and --quiet."""
-    parser.add_argument("--out", type=Path, required=True, help="results folder (created)")
+    parser.add_argument("--out", type=path_argument, required=True, help="results folder (created)")
     if plots:
         parser.add_argument("--no-plots", action="store_true", help="skip the PNG figures")
     parser.add_argument("--quiet", action="store_true", help="no progress output")
@@ -267,7 +268,7 @@ def check_settling(options: Mapping) -> int:
 
 def add_initial_profile_argument(group) -> None:
     """--initial-profile FILE: a worn bushing to start from."""
-    group.add_argument("--initial-profile", type=Path, default=None, metavar="FILE",
+    group.add_argument("--initial-profile", type=path_argument, default=None, metavar="FILE",
                        help="start from this worn bushing: a profile.csv (phi_deg,wear_depth_m, one row per bushing "
                             "point, as every run writes); with --no-wear the profile stays as given")
 
@@ -311,7 +312,7 @@ def add_fmu_arguments(parser, fmu_file: bool = True, when: str = "") -> None:
     ``when`` qualifies the help (e.g. "with --engine cosim")."""
     qualifier = f" ({when})" if when else ""
     if fmu_file:
-        parser.add_argument("--fmu", type=Path, default=None,
+        parser.add_argument("--fmu", type=path_argument, default=None,
                             help="ClearanceWearJoint.fmu to use (default: the cached build of --fmu-backend, "
                                  f"built if missing){qualifier}")
     parser.add_argument("--fmu-backend", choices=BACKENDS, default=DEFAULT_BACKEND,

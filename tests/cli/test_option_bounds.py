@@ -76,3 +76,17 @@ def test_an_empty_initial_profile_is_one_line_without_numpys_warning(tmp_path, c
     assert main(["simulate", "--initial-profile", str(empty), "--out", str(tmp_path / "run"), *RUN]) == 2
     err = capsys.readouterr().err
     assert "Warning" not in err and err.count("\n") == 1 and f"--initial-profile='{empty}' is invalid" in err, err
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["simulate", "--out", ""], "--out"),            # Path('') is the current folder: the results went there
+    (["simulate", "--slider-force-table", "", "--out", "OUT"], "--slider-force-table"),
+    (["report", ""], "folder"),
+])
+def test_an_empty_path_is_refused_not_read_as_the_current_folder(tmp_path, capsys, monkeypatch, argv, option):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as stop:
+        main([str(tmp_path / "run") if a == "OUT" else a for a in argv])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and f"{option}='' is invalid: allowed a path, not an empty one" in err, err
+    assert not any(tmp_path.iterdir())

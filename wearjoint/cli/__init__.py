@@ -54,7 +54,8 @@ _NEGATIVE_NUMBER = re.compile(rf"^-{_NUMBER}(?:,[-+]?{_NUMBER})*$", re.IGNORECAS
 
 
 _INVALID_VALUE = re.compile(r"^argument ([^:]+): invalid (\w+) value: (.*)$")
-_KINDS = {"int": "an integer (digits only: not 1.5 or 1e3)", "float": "a number"}
+_KINDS = {"int": "an integer (digits only: not 1.5 or 1e3)", "float": "a number",
+          "path": "a path, not an empty one (that would be the current folder)"}
 
 
 class OneLineErrorParser(argparse.ArgumentParser):

@@ -6,7 +6,7 @@ import json
 import sys
 from pathlib import Path
 
-from ..checks import RunDiverged
+from ..checks import RunDiverged, path as path_argument
 from ..cosim.master_layout import SCHEMES
 from ..parameters import ParameterError
 from ..studies.cosim_study import PAPER_STEPS_S, failed_runs, markdown_table, run_study, study_plan, write_study
@@ -17,7 +17,7 @@ STUDY_OPTIONS = {"revolutions": "--revolutions", "step_s": "--steps", "scheme": 
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--out", type=Path, required=True, help="output folder (created)")
+    parser.add_argument("--out", type=path_argument, required=True, help="output folder (created)")
     parser.add_argument("--revolutions", type=float, default=2.0, help="crank revolutions per run (default %(default)s)")
     parser.add_argument("--steps", type=float, nargs="+", default=None,
                         help="communication steps [s] (default: " + ", ".join(f"{s:g}" for s in PAPER_STEPS_S)
@@ -25,7 +25,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--schemes", nargs="+", default=["zoh", "extrapolation", "adaptive"],
                         help="coupling schemes (default zoh extrapolation adaptive; any of " + ", ".join(SCHEMES) + ")")
     add_fmu_arguments(parser)
-    parser.add_argument("--replot", type=Path, default=None, metavar="JSON",
+    parser.add_argument("--replot", type=path_argument, default=None, metavar="JSON",
                         help="only redo the table and figure from a previous cosim_study.json")
     add_model_arguments(parser, skip=("wear_factor",))
     parser.epilog = ("The model options set the mechanism and the joint (its wear factor is the study's 0.01); "

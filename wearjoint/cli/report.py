@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
+from ..checks import path as path_argument
 from ..report import write_report
 
 
 def add_arguments(p) -> None:
-    p.add_argument("folder", type=Path, help="a results folder (summary.json or sweep_summary.json, PNGs)")
+    p.add_argument("folder", type=path_argument, help="a results folder (summary.json or sweep_summary.json, PNGs)")
 
 
 def run(args) -> int:
