@@ -107,6 +107,8 @@ POINTS = ["--points", "1000:5e-6,2000:8e-6"]
     (["--points", "1000:-5e-6"], "--points='1000:-5e-6' (points) is invalid: allowed REVOLUTIONS:DEPTH_M pairs, "
                                  "both finite and > 0"),
     (["--points", "1000:1e-3"], "--points='1000:1e-3' (points) is invalid: allowed max depths up to the study's"),
+    # argparse said "expected one argument": a negative first number was an option
+    (["--points", "-1:1e-5"], "--points='-1:1e-5' (points) is invalid: allowed REVOLUTIONS:DEPTH_M pairs"),
     (["--law", "mild-severe"], "--transition-depth-m is required with --law mild-severe"),
     (["--law", "mild-severe", "--transition-depth-m", "1"], "--transition-depth-m=1.0 (transition_depth_m) is "
                                                             "invalid: allowed in (0, "),

@@ -46,11 +46,11 @@ DESCRIPTION = ("wearjoint: a planar revolute clearance joint whose bushing wears
                "FMU co-simulation, validation and the paper's wear study.")
 
 
-# an option's value that is a negative number or a list of numbers starting with one: argparse (3.10-3.12) takes -1e-6,
-# -inf and -9.81,0 for options and says "expected one argument", which names no value; read as values, the option's own
-# check names it and its range
+# an option's value that is a negative number or a list of numbers starting with one (by commas, or colons: calibrate's
+# points): argparse (3.10-3.12) takes -1e-6, -inf, -9.81,0 and -1:1e-5 for options and says "expected one argument",
+# which names no value; read as values, the option's own check names it and its range
 _NUMBER = r"(?:(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|inf|infinity|nan)"
-_NEGATIVE_NUMBER = re.compile(rf"^-{_NUMBER}(?:,[-+]?{_NUMBER})*$", re.IGNORECASE)
+_NEGATIVE_NUMBER = re.compile(rf"^-{_NUMBER}(?:[,:][-+]?{_NUMBER})*$", re.IGNORECASE)
 
 
 _INVALID_VALUE = re.compile(r"^argument ([^:]+): invalid (\w+) value: (.*)$")
