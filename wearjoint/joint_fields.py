@@ -156,6 +156,11 @@ def allowed_text(f: JointField, names=None, values=None) -> str:
     return f.allowed.text(names, values)
 
 
+def largest_value(field: str) -> float:
+    """The largest value the rules admit for the JointParameters field ``field`` (its row's ``high``)."""
+    return next(f.allowed.high for f in JOINT_FIELDS if f.field == field)
+
+
 def real_field_values(params) -> dict[str, float]:
     """The real values of ``params`` (a JointParameters; the pairs and an unset value of a row ``unset_is_zero``
     aside) as floats by field name; ParameterError naming the first that is no finite real number
@@ -188,4 +193,4 @@ def check_joint_fields(params) -> None:
 
 
 __all__ = ["JointField", "JOINT_FIELDS", "FIELD_NAMES", "coded_value", "coded_values", "allowed_text",
-           "real_field_values", "check_joint_fields", "unread_by"]
+           "real_field_values", "check_joint_fields", "unread_by", "largest_value"]

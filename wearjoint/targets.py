@@ -250,6 +250,9 @@ def cosim_config(options) -> CosimConfig:
         require("--revolutions", o["revolutions"], finite("--revolutions", o["revolutions"]) > 0.0,
                 "> 0 crank revolutions")
         run_s = o["revolutions"] * mechanism.period_s
+        if o["step"] is None:       # the package's own step: a run shorter than it is the run's fault
+            require("--revolutions", o["revolutions"], run_s >= step, f">= {step / mechanism.period_s:.3g} (one "
+                    f"communication step of the package, {step:g} s, of a {mechanism.period_s:.4g} s revolution)")
         require("--step", step, 0.0 < finite("--step", step) <= run_s,
                 f"a communication step > 0 [s] and at most the run's {run_s:g} s")
         check_wear_step("step_s", step, joint, mechanism)       # as this package's master refuses it

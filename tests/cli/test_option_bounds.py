@@ -15,6 +15,8 @@ RUN = ["--no-plots", "--quiet"]
     (["simulate", "--revolutions", "1e-300"], "--revolutions=1e-300 (revolutions) is invalid: allowed >= 2.5e-05 (one "
                                               "sample interval"),       # ran, and reported zeros
     (["cosim", "--revolutions", "1e-300"], "--revolutions=1e-300 (revolutions) is invalid: allowed >= 2.5e-05"),
+    (["cosim", "--master", "container", "--revolutions", "1e-300"],      # named the --step it never wrote
+     "--revolutions=1e-300 is invalid: allowed >= 1.25e-05 (one communication step of the package"),
     (["cosim", "--onset-penetration", "1e300"], "--onset-penetration=1e+300 (onset_penetration_m) is invalid: allowed "
                                                 "<= 1e-05 m (0.1 of the clearance 0.0001 m)"),
     (["simulate", "--integrator", "rk4", "--step", "1e-300"], "--step=1e-300 (step_s) is invalid: allowed >= "

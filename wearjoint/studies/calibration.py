@@ -20,7 +20,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from wearjoint.checks import ParameterError, positive, require
-from wearjoint.joint_fields import JOINT_FIELDS
+from wearjoint.joint_fields import largest_value
 
 # the ranges of a measured point: revolutions up to a trillion (190 years at 10,000 rpm, beyond any machine's life;
 # 1e300 fitted a k_w of 1e-309 and called it a fit), a max depth from a nanometre (a few atomic layers: the least wear
@@ -30,7 +30,7 @@ MAX_POINT_REVOLUTIONS = 1e12
 MIN_DEPTH_M = 1e-9
 MIN_DEPTH_UNCERTAINTY_M = 1e-12
 # the largest bushing radius a joint admits [m]: the bound where the study's own radius is not known
-MAX_BUSHING_RADIUS_M = next(f.allowed.high for f in JOINT_FIELDS if f.field == "bushing_radius_m")
+MAX_BUSHING_RADIUS_M = largest_value("bushing_radius_m")
 # what reaches beyond a study's curve: a study's --resume continues it to its own --revolutions only
 FURTHER = ("a new wear study with more --revolutions (or a larger --wear-coefficient-m2-N) into another --out "
            "reaches further (--resume continues a study to its own --revolutions only)")

@@ -10,7 +10,7 @@ import numpy as np
 
 from wearjoint.checks import integer, is_real, require
 from wearjoint.core import layout as L
-from wearjoint.joint_fields import JOINT_FIELDS
+from wearjoint.joint_fields import largest_value
 from wearjoint.results import write_json_atomic
 from wearjoint.simulation_options import DEFAULT_WEAR_STEP_SHARE, wear_step_limit_s
 from wearjoint.studies.calibration import MAX_BUSHING_RADIUS_M, MIN_DEPTH_M
@@ -26,7 +26,7 @@ from wearjoint.studies.wear_study import (
 # exactly nothing and divided by it)
 MIN_TARGET_DEPTH_M = MIN_DEPTH_M
 # the largest k_w a trial may take [m^2/N] (the joint's own bound, JointParameters.wear_coefficient_m2_N)
-MAX_WEAR_COEFFICIENT_M2_N = next(f.allowed.high for f in JOINT_FIELDS if f.field == "wear_coefficient_m2_N")
+MAX_WEAR_COEFFICIENT_M2_N = largest_value("wear_coefficient_m2_N")
 
 
 def check_target_depth(target_max_depth_m, bushing_radius_m: float | None = None) -> float:
