@@ -37,9 +37,8 @@ def test_rk4_and_dopri_agree_pointwise_over_the_first_15_ms():
 
 
 def test_rk4_halving_the_step_converges():
-    """The fixed-step method itself, with contact-onset location off (a step may end up to
-    10 um, the deepest onset allowed, a tenth of the clearance, inside a contact: no 8 us step ends that deep):
-    the error falls with the step, first order through the onsets
+    """The fixed-step method itself, with contact-onset location as loose as the options allow (a step may end up
+    to a tenth of the clearance, 10 um, inside a contact before it is located): the error falls with the step, first order through the onsets
     and irregularly, as where a step ends in an onset is irregular (measured 1.5e-7, 1.0e-7,
     1.2e-7, 5.0e-8 m at 8, 4, 2, 1 us): at 1 us it is the smallest and below half that at 8 us."""
     times = np.arange(1, 41) * 2.5e-4       # 10 ms, three impacts
