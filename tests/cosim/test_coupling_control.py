@@ -87,3 +87,34 @@ def test_the_wear_of_a_step_does_not_drive_the_contact_step_below_an_eighth_of_s
     contact_steps = record.extra["communication_steps"] - record.extra["free_steps"]
     assert record.extra["coupling_force_miss_rms"] > 0.01          # the wear's miss: over 3x the tolerance
     assert contact_steps <= record.simulated_time_s / (options.step_s / 8) + 1
+
+
+@pytest.mark.parametrize("scheme", ["adaptive", "extrapolation"])
+def test_a_step_after_a_much_shorter_one_holds_its_forces(native_fmu, scheme):
+    """The forces' slope over a step shortened to end a span (1e-12 s, say) is rounding noise, or a wear batch's
+    drop over no time: extrapolated over a whole step it threw the pin 0.5 mm into the wall of a wearing joint
+    (the own-mechanism case of wearjoint.studies.coupling_accuracy from 90 degrees, at a chunk's end).  A step
+    after one shorter than half of it holds the forces at t; after one of its own length it extrapolates them."""
+    from wearjoint.cosim import CoSimulation
+    from wearjoint.cosim.master_layout import (B_FORCES, B_LAST_STEP, B_OUTPUT, B_PREVIOUS_FORCES, O_CONTACT,
+                                              buffer_views)
+    from wearjoint.cosim.master_loop import communication_step
+    from wearjoint.core import layout as L
+
+    options = CoSimulationOptions(revolutions=REVOLUTIONS, scheme=scheme, step_s=5e-6)
+    with CoSimulation(NO_WEAR, None, options, fmu_path=native_fmu) as sim:
+        samples = np.zeros((20000, L.N_SAMPLE_COLUMNS))
+        t = 0.03
+        sim.advance_to(t, samples)
+        while sim.outputs[O_CONTACT] < 0.5:          # on to a point in contact
+            t += 1e-5
+            sim.advance_to(t, samples)
+        held = {}
+        for last_step in (1e-12, 5e-6):
+            buf = sim.buf.copy()
+            buf[B_LAST_STEP] = last_step
+            buf[B_PREVIOUS_FORCES:B_PREVIOUS_FORCES + 6] = buf[B_OUTPUT:B_OUTPUT + 6] - 1000.0    # a jump
+            communication_step(sim.t, 5e-6, False, buf, *buffer_views(buf), sim.mechanism.workspace, samples)
+            held[last_step] = buf[B_FORCES:B_FORCES + 6] - buf[B_OUTPUT:B_OUTPUT + 6]
+    np.testing.assert_array_equal(held[1e-12], 0.0)
+    np.testing.assert_allclose(held[5e-6], 0.5 * 1000.0)       # the mean of the extrapolation over the step

@@ -68,11 +68,12 @@ def _linearises(buf, t):
 
 
 @kernel(inline='always')
-def _extrapolates(buf):
-    """True if the next step holds extrapolated forces: the scheme extrapolates and the pin
-    touched the bushing at t and at the accepted point before."""
+def _extrapolates(buf, h):
+    """True if the step h from t holds extrapolated forces: the scheme extrapolates, the pin touched the bushing
+    at t and at the accepted point before, and that point lies at least h / 2 before t (a step shortened to end
+    a call's span, 1e-12 s say, leaves a slope of rounding noise, which extrapolating over h would amplify)."""
     return (buf[B_EXTRAPOLATE] > 0.5 and buf[B_OUTPUT + O_CONTACT] > 0.5 and buf[B_PREVIOUS_CONTACT] > 0.5
-            and buf[B_LAST_STEP] > 0.0)
+            and buf[B_LAST_STEP] >= 0.5 * h)
 
 
 # the cos/sin of the step's angles are rotated from the last step's (core/trig.py) this many
@@ -142,7 +143,7 @@ def communication_step(t, h, record, buf, stats, stages, ws, samples):
         if _linearises(buf, t):
             _linearised_step(t, y, h, trig, mp, buf, forces, ws, dy, stages)
         else:
-            if _extrapolates(buf):
+            if _extrapolates(buf, h):
                 # in contact at t and at the point before: hold the mean over [t, t + h]
                 # of the forces' linear extrapolation instead of their value at t
                 slope = 0.5 * h / buf[B_LAST_STEP]
@@ -347,13 +348,9 @@ def master_loop(t_end, register, settings, buf, stats, stages, saved, samples, w
         iteration += 1
         pen = buf[B_OUTPUT + O_PENETRATION]
         free = buf[B_OUTPUT + O_CONTACT] < 0.5
-        # forces predicted for the step's end where the contact persists (extrapolation)
-        extrapolating = adaptive and _extrapolates(buf)
         linearising = linearise and _linearises(buf, t)
         fx_t = buf[B_OUTPUT]
         fy_t = buf[B_OUTPUT + 1]
-        fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
-        fy_slope = (fy_t - buf[B_PREVIOUS_FORCES + 1]) / buf[B_LAST_STEP] if extrapolating else 0.0
         if free:     # a contact starts at step_s, or linearised under a tolerance at a quarter of it
             h_touching = (max(h_min, _FIRST_CONTROLLED_STEP_SHARE * h_contact) if linearise and tolerance > 0.0
                           else h_contact)
@@ -369,6 +366,10 @@ def master_loop(t_end, register, settings, buf, stats, stages, saved, samples, w
         else:
             h = h_touching if adaptive else h_contact
         h = min(h, t_end - t)
+        # forces predicted for the step's end where the contact persists (extrapolation)
+        extrapolating = adaptive and _extrapolates(buf, h)
+        fx_slope = (fx_t - buf[B_PREVIOUS_FORCES]) / buf[B_LAST_STEP] if extrapolating else 0.0
+        fy_slope = (fy_t - buf[B_PREVIOUS_FORCES + 1]) / buf[B_LAST_STEP] if extrapolating else 0.0
         t_new = communication_step(t, h, record, buf, stats, stages, ws, samples)
         record = False
         failed, seconds = _exchange(fmi, inputs, outputs, register, t, t_new, timed, clock, timespec)
