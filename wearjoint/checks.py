@@ -12,7 +12,13 @@ class ParameterError(ValueError):
     """A parameter value outside its allowed range."""
 
 
-class RunDiverged(RuntimeError):
+class RunStopped(RuntimeError):
+    """A run that cannot go on: an engine's call failed after the run began (an FMU's, say), or
+    :class:`RunDiverged`; the message says when and why (the run pipeline keeps what came before,
+    ``completed: false``)."""
+
+
+class RunDiverged(RunStopped):
     """A run that cannot go on: its state left what the joint admits (docs/reference/model.md §3.14) or is not finite; the
     message says when and why (the run pipeline keeps what came before, ``completed: false``)."""
 

@@ -51,10 +51,10 @@ from .core.admissibility import wall_overlap
 from .core.generalized_coordinates import accept_step, generalized_contact_forces, generalized_force_jacobian
 from .core.pressure import foundation_modulus_factor
 from .core.wear import STEP_INADMISSIBLE, STEP_OVERSHOT
-from .checks import is_real, refuse
+from .checks import RunDiverged, is_real, refuse
 from .joint import ClearanceJoint, ContactResult, overshoot_message
 from .parameters import MAX_WEAR_STEP_S, JointParameters, ParameterError, require
-from .runner import RunDiverged, inadmissible_message
+from .runner import inadmissible_message
 
 # the columns of ClearanceJointHandle.history(), one row per accepted step
 HISTORY_COLUMNS = ("time_s", "normal_force_N", "friction_force_N", "penetration_m", "eccentricity_x_m",

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import analysis
 from .core import layout as L
-from .checks import RunDiverged, require, worn_through_message
+from .checks import RunStopped, require, worn_through_message
 from .parameters import JointParameters
 from .progress import Progress
 from .results import RunParameters, RunRecord
@@ -154,7 +154,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
                 if failure:
                     completed, failure = False, failure + "; the results up to there are written"
                     break
-        except RunDiverged as exc:          # an engine refused an inadmissible state (docs/reference/model.md §3.14)
+        except RunStopped as exc:   # an engine refused an inadmissible state (docs/reference/model.md §3.14), or its call failed
             completed, failure = False, f"{exc}; the results before it are written"
         except KeyboardInterrupt:
             completed = False

@@ -17,7 +17,8 @@ from .parameters import (
     JointParameters, ParameterError, SliderCrankParameters, require, check_joint_fits_mechanism, paper_joint,
 )
 from .results import RunParameters, RunRecord, new_revolution_stats, new_track
-from .runner import RunDiverged, inadmissible_message, overload_advice, run_engine
+from .checks import RunDiverged
+from .runner import inadmissible_message, overload_advice, run_engine
 from .simulation_options import (
     DEFAULT_WEAR_STEP_SHARE, GEAR_JACOBIANS, GEAR_SOLVERS, INTEGRATORS, SimulationOptions, check_run_arguments,
     wear_step_limit_s,

@@ -9,7 +9,7 @@ An entry (:class:`Target`) knows
   configuration (parameter sets, run options); a bad value raises :class:`~wearjoint.checks.ParameterError` with
   the command's one-line message;
 * ``run(config, out, plots, progress)``: the run into the results folder ``out``, returning its summary; a run that
-  fails raises one of ``failures`` (ParameterError, RunDiverged, FmuError, ...: the message says why) once what
+  fails raises one of ``failures`` (ParameterError, RunStopped, FmuError, ...: the message says why) once what
   the run keeps of itself is written;
 * ``model(options)``: the parameter sets the run resolves; ``engine(options)``: whose kernels it runs (a worker warms
   them once); ``snapshots(options)``: the revolutions whose figures its summary holds per snapshot.
@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from .checks import ParameterError, RunDiverged, finite, require
+from .checks import ParameterError, RunStopped, finite, require
 from .fmu.fmi import FmuError
 from .parameters import JointParameters, SliderCrankParameters
 from .run_options import (
@@ -60,10 +60,11 @@ class Target:
 
 
 def finished(record) -> None:
-    """A written run's outcome (its :class:`~wearjoint.results.RunRecord`) as an exception: RunDiverged saying why
-    it diverged, KeyboardInterrupt if Ctrl-C stopped it; nothing if it completed."""
+    """A written run's outcome (its :class:`~wearjoint.results.RunRecord`) as an exception: RunStopped saying why
+    it stopped (diverged, or an FMU's call failed), KeyboardInterrupt if Ctrl-C stopped it; nothing if it
+    completed."""
     if record.failure:
-        raise RunDiverged(record.failure)
+        raise RunStopped(record.failure)
     if not record.completed:
         raise KeyboardInterrupt
 
@@ -383,14 +384,14 @@ def _wear_study_engine(options) -> tuple:
 # ------------------------------------------------------------------ the registry
 TARGETS = {t.name: t for t in (
     Target("simulate", add_simulate_arguments, simulate_config, simulate_run, model_from_options, _monolithic,
-           _no_snapshots, failures=(ParameterError, RunDiverged)),
+           _no_snapshots, failures=(ParameterError, RunStopped)),
     # an FMU that failed (FmuError), a diverged run, a third-party master that failed: RuntimeErrors all, as
     # `wearjoint cosim` reports them
     Target("cosim", add_cosim_arguments, cosim_config, cosim_run, model_from_options, _cosim_engine, _no_snapshots,
            failures=(ParameterError, RuntimeError)),
     Target("wear-study", add_wear_study_arguments, wear_study_config, wear_study_run, _wear_study_model,
            _wear_study_engine, lambda options: wear_study_config(options).snapshots,
-           failures=(ParameterError, RunDiverged, FmuError)),
+           failures=(ParameterError, RunStopped, FmuError)),
 )}
 
 

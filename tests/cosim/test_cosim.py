@@ -6,6 +6,7 @@ tolerance taken from two equally valid monolithic runs (RK4 1 us and DOPRI).
 """
 import json
 import pickle
+import re
 
 import numpy as np
 import pytest
@@ -16,7 +17,9 @@ from wearjoint import cli  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation  # noqa: E402
 from wearjoint.cosim import cosimulation, master_layout  # noqa: E402
+from wearjoint.checks import RunStopped  # noqa: E402
 from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint  # noqa: E402
+from wearjoint.results import write_results  # noqa: E402
 from wearjoint.simulate import SimulationOptions, run_simulation  # noqa: E402
 
 WINDOW_S = 0.015
@@ -191,9 +194,35 @@ def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_messa
         sim.advance_to(1e-4, samples)
         t_good = sim.t
         sim.buf[master_layout.B_Y:master_layout.B_Y + L.N_COORDINATES] = np.nan
-        with pytest.raises(CoSimulationError, match=r"fmi2GetReal returned fmi2Error at t=.*non-finite inputs"):
+        with pytest.raises(RunStopped, match=r"fmi2GetReal returned fmi2Error at t=.*non-finite inputs"):
             sim.advance_to(2e-4, samples)
         assert sim.t == t_good
+
+
+def test_a_run_an_fmu_error_stops_keeps_and_writes_what_came_before(native_fmu, tmp_path, monkeypatch):
+    """An FMU call that fails mid-run (getReal of non-finite kinematics, from the third chunk on) stops the run
+    there: its first two chunks (25 ms of the paper's 0.4 s revolution each) are the record, ``completed: false``
+    with the FMU's message, and the results folder is written."""
+    advance = CoSimulation.advance_to
+    calls = []
+
+    def poisoned(self, t_end, samples):
+        calls.append(t_end)
+        if len(calls) == 3:
+            self.buf[master_layout.B_Y] = np.nan
+        return advance(self, t_end, samples)
+
+    monkeypatch.setattr(CoSimulation, "advance_to", poisoned)
+    record = run_cosimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.5), fmu_path=native_fmu,
+                              progress=False)
+    assert not record.completed
+    assert re.search(r"fmi2GetReal returned fmi2Error at t=0\.1\d* s.*non-finite inputs.*results before it are "
+                     r"written", record.failure)
+    assert record.simulated_time_s == pytest.approx(0.1) and record.samples[-1, L.T_TIME] == pytest.approx(0.1)
+    assert record.worn_volume_m3 > 0.0
+    summary = write_results(record, tmp_path / "out", plots=False)
+    on_disk = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert on_disk["completed"] is False and on_disk["failure"] == record.failure == summary["failure"]
 
 
 def test_fmu_engine_refuses_to_set_the_wear_profile():

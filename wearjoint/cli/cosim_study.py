@@ -6,7 +6,7 @@ import json
 import sys
 from pathlib import Path
 
-from ..checks import RunDiverged, path as path_argument
+from ..checks import RunStopped, path as path_argument
 from ..cosim.master_layout import SCHEMES
 from ..parameters import ParameterError
 from ..studies.cosim_study import PAPER_STEPS_S, failed_runs, markdown_table, run_study, study_plan, write_study
@@ -52,7 +52,7 @@ def run(args) -> int:
             study = run_study(args.revolutions, args.steps, args.schemes, fmu_path=args.fmu,
                               log=lambda m: print(m, file=sys.stderr, flush=True), fmu_backend=args.fmu_backend,
                               joint=joint, mechanism=mechanism)
-        except RunDiverged as exc:
+        except RunStopped as exc:
             print(f"wearjoint cosim-study: error: {exc}", file=sys.stderr)
             return 1
     print(write_study(study, args.out))

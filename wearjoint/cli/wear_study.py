@@ -28,7 +28,7 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     from ..cosim import CoSimulationError
-    from ..runner import RunDiverged
+    from ..checks import RunStopped
     from ..studies.wear_study import StudyDiverged
 
     ensemble = args.seeds is not None and check_seeds(args.seeds) > 1
@@ -107,7 +107,7 @@ def run(args) -> int:
         print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out} "
               "(continue with --resume)", file=sys.stderr)
         return 130
-    except (CoSimulationError, RunDiverged) as exc:
+    except (CoSimulationError, RunStopped) as exc:
         print(f"wearjoint wear-study: error: {exc}; finished work is checkpointed in {args.out}", file=sys.stderr)
         return 1
     print(f"results in {args.out}")

@@ -16,7 +16,7 @@ from ..fmu.fmi import BACKENDS, DEFAULT_BACKEND, FmuError
 from ..fmu.instance import N_INPUTS, FmuInstance, OwnsFmuInstance
 from ..kernel_calls import bushing_point_angles
 from ..slider_crank import SliderCrank
-from ..checks import RunDiverged, choice, finite, non_negative, positive
+from ..checks import RunDiverged, RunStopped, choice, finite, non_negative, positive
 from ..parameters import (
     JointParameters, ParameterError, SliderCrankParameters, require, check_joint_fits_mechanism, paper_joint,
 )
@@ -245,6 +245,8 @@ class CoSimulation(OwnsFmuInstance):
             except RunDiverged as exc:       # where the machine's loads are beyond the joint, no step helps
                 advice = overload_advice(self.joint, self.mechanism)
                 raise RunDiverged(f"{exc} ({advice})" if advice else str(exc)) from None
+            except FmuError as exc:          # another call failed: the run stops there, what came before is kept
+                raise RunStopped(str(exc)) from None
         return int(self.buf[B_TRACK + L.K_N_SAMPLES])
 
     # -- checkpoints

@@ -28,8 +28,8 @@ from wearjoint.core import layout as L
 from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.progress import Progress
-from wearjoint.runner import RunDiverged, divergence
-from wearjoint.checks import worn_through_message
+from wearjoint.runner import divergence
+from wearjoint.checks import RunDiverged, worn_through_message
 
 DEFAULT_JUMP_TOLERANCE = 0.003          # local error of a jump, relative to the max depth (docs/explanation/wear_study.md)
 PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this share of the max depth (explicit bound)

@@ -36,7 +36,7 @@ import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
                                 revolution_row, sample_statistics)
-from wearjoint.checks import choice, worn_through_message
+from wearjoint.checks import RunDiverged, RunStopped, choice, worn_through_message
 from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
@@ -45,7 +45,7 @@ from wearjoint.joint import StateError
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, is_paper_case
 from wearjoint.progress import Progress
 from wearjoint.results import RunParameters, RunRecord, write_json_atomic, write_results
-from wearjoint.runner import CheckpointingEngine, RunDiverged, divergence
+from wearjoint.runner import CheckpointingEngine, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
 from .cycle_jump import (DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state,
@@ -245,8 +245,8 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
         try:
             return advance(config, state, engine, out, ckpt_path, progress, plots, stop_after_checkpoints,
                            compile_time_s)
-        except (RunDiverged, StateError) as exc:     # StateError: a profile out of range (set by a jump)
-            failure = str(exc) if isinstance(exc, RunDiverged) else (
+        except (RunStopped, StateError) as exc:     # StateError: a profile out of range (set by a jump)
+            failure = str(exc) if isinstance(exc, RunStopped) else (
                 f"the bushing wore through ({exc})" if "deeper than the bushing radius" in str(exc) else
                 f"the state left its range ({exc})")
             raise _diverged(config, state, engine, out, ckpt_path, plots, compile_time_s, failure) from None

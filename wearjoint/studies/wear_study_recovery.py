@@ -26,7 +26,7 @@ from wearjoint.core import state_format
 from wearjoint.joint import ClearanceJoint, StateError
 from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
-from wearjoint.runner import RunDiverged
+from wearjoint.checks import RunDiverged
 from wearjoint.simulate import SimulationOptions
 
 CHECKPOINT_NAME = "wear_study_checkpoint.pkl"
