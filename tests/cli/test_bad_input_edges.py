@@ -171,6 +171,29 @@ def test_contact_law_refuses_a_mechanism_option_it_would_ignore(tmp_path, capsys
     assert not out.exists()
 
 
+@pytest.mark.parametrize("options, option", [
+    (["--pin-radius-m", "0.009"], "--pin-radius-m=0.009"),
+    (["--wear-factor", "10"], "--wear-factor=10.0"),
+    (["--friction-coefficient", "0.3"], "--friction-coefficient=0.3"),
+    (["--bushing-youngs-modulus-Pa", "1e11"], "--bushing-youngs-modulus-Pa=100000000000.0"),
+])
+def test_contact_law_refuses_a_joint_option_it_would_ignore(tmp_path, capsys, options, option):
+    """A single impact's restitution reads the damping law's options alone: the radii, materials, friction and wear
+    left contact_law.csv byte for byte the same."""
+    out = tmp_path / "law"
+    line = refused(capsys, "contact-law", "--out", str(out), *FLAGS, *options)
+    assert f"parameter {option} is invalid: allowed only with a command that runs the joint" in line
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("options", [["--impact-velocity-floor-m-s", "0.01", "--contact-damping", "lankarani-nikravesh"],
+                                     ["--contact-model", "deepest", "--contact-exponent", "1.2",
+                                      "--contact-stiffness-N-m1-5", "1e10"]])
+def test_contact_law_takes_the_joint_options_its_laws_read(tmp_path, options):
+    out = tmp_path / "law"
+    assert main(["contact-law", "--out", str(out), *FLAGS, *options]) == 0 and (out / "contact_law.csv").exists()
+
+
 def test_contact_law_takes_the_masses_of_tsujis_effective_mass(tmp_path):
     out = tmp_path / "law"
     assert main(["contact-law", "--out", str(out), *FLAGS, "--slider-mass-kg", "5", "--rod-mass-kg", "1"]) == 0

@@ -116,8 +116,24 @@ def check_mechanism_options(args, mechanism: SliderCrankParameters) -> None:
                 f"only with a command that runs the mechanism: contact-law's single impact runs none, and {reads}")
 
 
+# the joint's fields a single impact's restitution reads: the laws' own, the law marked, the exponent (and what admits
+# one other than 1.5) and the mass reported with Tsuji's; the radii, materials, friction and wear change nothing
+READ_JOINT_FIELDS = ("restitution", "restitution_speed_m_s", "impact_velocity_floor_m_s", "contact_damping",
+                     "contact_exponent", "contact_model", "contact_stiffness_N_m1_5", "effective_mass_kg")
+
+
+def check_joint_options(args) -> None:
+    """A joint option given to contact-law, refused in one line unless a single impact's restitution reads it
+    (:data:`READ_JOINT_FIELDS`): the others would leave its table and curves as they are."""
+    for name, value in given_options(args, JointParameters).items():
+        require(option_name(name), value, name in READ_JOINT_FIELDS,
+                "only with a command that runs the joint: a single impact's restitution reads of the joint only "
+                + ", ".join(map(option_name, READ_JOINT_FIELDS)))
+
+
 def run(args) -> int:
     joint, mechanism = model_from_args(args, every_law=True)      # the table gives every law: each reads its own one
+    check_joint_options(args)
     check_mechanism_options(args, mechanism)
     speeds = np.array(TABLE_SPEEDS_M_S)
     curves = restitution_curves(joint, speeds)

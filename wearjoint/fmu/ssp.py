@@ -16,6 +16,8 @@ checked against the SSP 1.0 schemas fmpy ships before the package is written.
 """
 from __future__ import annotations
 
+import math
+
 import tempfile
 import uuid
 import zipfile
@@ -245,7 +247,7 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     joint = joint or paper_joint(mechanism)
     check_joint_fits_mechanism(joint, mechanism)
     stop_time = mechanism.period_s if stop_time is None else stop_time
-    require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")     # its bound: check_stop_time
+    stop_time = check_stop_time(stop_time, most=math.inf)      # a master's run is bounded by its trace's memory
     require("load_coupling", load_coupling, load_coupling in LOAD_COUPLINGS, f"one of {', '.join(LOAD_COUPLINGS)}")
     limit = wear_step_limit_s(joint, mechanism)          # a default within the wear-step limit, a given step checked
     on_time_step_s = min(ON_TIME_STEP_S[load_coupling] * step_scale, limit) if step_s is None else step_s
@@ -280,12 +282,12 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     return target
 
 
-def check_stop_time(stop_time) -> float:
-    """``stop_time`` [s] as a float where it is finite, > 0 and at most MAX_STOP_TIME_S, else the ParameterError
-    naming it: export-ssp's default experiment (a master run through :func:`export_ssp` is bounded by the memory its
-    trace takes, wearjoint.cosim.masters)."""
+def check_stop_time(stop_time, most: float = MAX_STOP_TIME_S) -> float:
+    """``stop_time`` [s] as a float where it is finite, > 0 and at most ``most`` (MAX_STOP_TIME_S: export-ssp's
+    default experiment; :func:`export_ssp` takes any, a master run through it bounded by the memory its trace takes,
+    wearjoint.cosim.masters), else the ParameterError naming it."""
     require("stop_time", stop_time, finite("stop_time", stop_time) > 0.0, "> 0")
-    require("stop_time", stop_time, stop_time <= MAX_STOP_TIME_S, f"at most {MAX_STOP_TIME_S:g} s ({STOP_TIME_WHY})")
+    require("stop_time", stop_time, stop_time <= most, f"at most {most:g} s ({STOP_TIME_WHY})")
     return float(stop_time)
 
 
