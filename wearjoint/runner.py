@@ -154,7 +154,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
                 if failure:
                     completed, failure = False, failure + "; the results up to there are written"
                     break
-        except RunStopped as exc:   # an engine refused an inadmissible state (docs/reference/model.md §3.14), or its call failed
+        except RunStopped as exc:   # an inadmissible state refused (docs/reference/model.md §3.14), or a failed call
             completed, failure = False, f"{exc}; the results before it are written"
         except KeyboardInterrupt:
             completed = False

@@ -17,7 +17,6 @@ checked against the SSP 1.0 schemas fmpy ships before the package is written.
 from __future__ import annotations
 
 import math
-
 import tempfile
 import uuid
 import zipfile
