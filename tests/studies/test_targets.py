@@ -8,7 +8,7 @@ import json
 import pytest
 
 from wearjoint import targets
-from wearjoint.checks import RunDiverged
+from wearjoint.checks import RunDiverged, RunStopped
 from wearjoint.cli import build_parser
 from wearjoint.parameters import ParameterError
 from wearjoint.sweep import worker
@@ -87,9 +87,9 @@ def test_a_bad_value_records_the_parameter_error_and_a_fault_its_type(tmp_path, 
 
 def test_a_target_raises_its_failure_after_writing_what_the_run_keeps(tmp_path):
     """A real diverged run (RK4 at a far too long step, without wear: with wear the step is refused up front):
-    RunDiverged with the record's failure, the results before it written, the report states the command line."""
+    RunStopped with the record's failure, the results before it written, the report states the command line."""
     options = dict(_case(integrator="rk4", step=2e-4, revolutions=0.05, no_wear=True).options)
-    with pytest.raises(RunDiverged, match="the run diverged at t = ") as failure:
+    with pytest.raises(RunStopped, match="the run diverged at t = ") as failure:
         targets.run("simulate", options, tmp_path, plots=False, command_line="wearjoint simulate --step=0.0002")
     record = targets.read_record(tmp_path)
     assert record["completed"] is False and record["failure"] == str(failure.value)
