@@ -17,6 +17,7 @@ from wearjoint import cli  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim import CoSimulation, CoSimulationError, CoSimulationOptions, run_cosimulation  # noqa: E402
 from wearjoint.cosim import cosimulation, master_layout  # noqa: E402
+from wearjoint.cosim.model_exchange import ModelExchangeSimulation, run_model_exchange  # noqa: E402
 from wearjoint.checks import RunStopped  # noqa: E402
 from wearjoint.parameters import JointParameters, SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.results import write_results  # noqa: E402
@@ -199,22 +200,28 @@ def test_fmu_error_inside_the_communication_loop_stops_there_with_the_fmus_messa
         assert sim.t == t_good
 
 
-def test_a_run_an_fmu_error_stops_keeps_and_writes_what_came_before(native_fmu, tmp_path, monkeypatch):
+@pytest.mark.parametrize("interface", ["co-simulation", "model-exchange"])
+def test_a_run_an_fmu_error_stops_keeps_and_writes_what_came_before(native_fmu, tmp_path, monkeypatch, interface):
     """An FMU call that fails mid-run (getReal of non-finite kinematics, from the third chunk on) stops the run
     there: its first two chunks (25 ms of the paper's 0.4 s revolution each) are the record, ``completed: false``
     with the FMU's message, and the results folder is written."""
-    advance = CoSimulation.advance_to
+    engine, run = ((CoSimulation, lambda: run_cosimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.5),
+                                                           fmu_path=native_fmu, progress=False))
+                   if interface == "co-simulation" else
+                   (ModelExchangeSimulation, lambda: run_model_exchange(paper_joint(), None,
+                                                                        SimulationOptions(revolutions=0.5),
+                                                                        fmu_path=native_fmu, progress=False)))
+    advance = engine.advance_to
     calls = []
 
     def poisoned(self, t_end, samples):
         calls.append(t_end)
         if len(calls) == 3:
-            self.buf[master_layout.B_Y] = np.nan
+            self.y[0] = np.nan
         return advance(self, t_end, samples)
 
-    monkeypatch.setattr(CoSimulation, "advance_to", poisoned)
-    record = run_cosimulation(paper_joint(), None, CoSimulationOptions(revolutions=0.5), fmu_path=native_fmu,
-                              progress=False)
+    monkeypatch.setattr(engine, "advance_to", poisoned)
+    record = run()
     assert not record.completed
     assert re.search(r"fmi2GetReal returned fmi2Error at t=0\.1\d* s.*non-finite inputs.*results before it are "
                      r"written", record.failure)

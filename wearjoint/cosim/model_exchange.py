@@ -20,6 +20,7 @@ from ..core.integrators import integrate
 from ..fmu.ensure import ensure_fmu
 from ..fmu.fmi import DEFAULT_BACKEND, FmuError
 from ..fmu.instance import N_INPUTS, FmuInstance, OwnsFmuInstance
+from ..checks import RunStopped
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters, paper_joint
 from ..results import RunParameters
 from ..runner import run_engine
@@ -95,7 +96,10 @@ class ModelExchangeSimulation(OwnsFmuInstance):
 
     def advance_to(self, t_end: float, samples: np.ndarray) -> int:
         n = self._engine.advance_to(t_end, samples)
-        self._check()
+        try:
+            self._check()
+        except FmuError as exc:      # a call failed (not a refused step): the run stops there, what came before kept
+            raise RunStopped(str(exc)) from None
         return n
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:
