@@ -93,7 +93,8 @@ def test_the_wear_of_a_step_does_not_drive_the_contact_step_below_an_eighth_of_s
 def test_a_step_after_a_much_shorter_one_holds_its_forces(native_fmu, scheme):
     """The forces' slope over a step shortened to end a span (1e-12 s, say) is rounding noise, or a wear batch's
     drop over no time: extrapolated over a whole step it threw the pin 0.5 mm into the wall of a wearing joint
-    (the own-mechanism case of wearjoint.studies.coupling_accuracy from 90 degrees, at a chunk's end).  A step
+    (the own-mechanism case of wearjoint.studies.coupling_accuracy from 90 degrees, at a chunk's end, with a wear
+    batching under trial).  A step
     after one shorter than half of it holds the forces at t; after one of its own length it extrapolates them."""
     from wearjoint.cosim import CoSimulation
     from wearjoint.cosim.master_layout import (B_FORCES, B_LAST_STEP, B_OUTPUT, B_PREVIOUS_FORCES, O_CONTACT,
