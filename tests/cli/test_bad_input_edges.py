@@ -115,7 +115,7 @@ POINTS = ("--points", "2:9e-6,4:1.4e-5")
     (["--points", "2:1e-300"], "--points='2:1e-300' (points) is invalid: allowed revolutions up to 1e+12 (beyond any "
                                "machine's life) and max depths from 1e-09 m"),
     # every residual within 1e300 of its depth: anything fits
-    ([*POINTS, "--tolerance", "1e300"], "--tolerance=1e+300 is invalid: allowed a share of each measured depth below 1"),
+    ([*POINTS, "--tolerance", "1e300"], "--tolerance=1e+300 (tolerance) is invalid: allowed a share of each measured depth below 1"),
     ([*POINTS, "--predict-revolutions", "1e300"], "--predict-revolutions='1e300' is invalid: allowed N1,N2,... "
                                                   "revolutions up to 1e+12"),
     ([*POINTS, "--life-depth-m", "1e-300"], "--life-depth-m=1e-300 is invalid: allowed a max depth of at least 1e-09 m"),

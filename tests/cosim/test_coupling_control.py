@@ -4,7 +4,11 @@ predicted contact force) in every run's record and summary.json, and the contact
 import numpy as np
 import pytest
 
-from wearjoint.cosim import CoSimulationOptions, run_cosimulation
+from wearjoint.core import layout as L
+from wearjoint.cosim import CoSimulation, CoSimulationOptions, run_cosimulation
+from wearjoint.cosim.master_layout import (B_FORCES, B_LAST_STEP, B_OUTPUT, B_PREVIOUS_FORCES, O_CONTACT,
+                                           buffer_views)
+from wearjoint.cosim.master_loop import communication_step
 from wearjoint.parameters import ParameterError, paper_joint
 
 REVOLUTIONS = 0.15        # 60 ms: the first impacts and a stretch of contact on the paper's mechanism
@@ -96,12 +100,6 @@ def test_a_step_after_a_much_shorter_one_holds_its_forces(native_fmu, scheme):
     (the own-mechanism case of wearjoint.studies.coupling_accuracy from 90 degrees, at a chunk's end, with a wear
     batching under trial).  A step
     after one shorter than half of it holds the forces at t; after one of its own length it extrapolates them."""
-    from wearjoint.cosim import CoSimulation
-    from wearjoint.cosim.master_layout import (B_FORCES, B_LAST_STEP, B_OUTPUT, B_PREVIOUS_FORCES, O_CONTACT,
-                                              buffer_views)
-    from wearjoint.cosim.master_loop import communication_step
-    from wearjoint.core import layout as L
-
     options = CoSimulationOptions(revolutions=REVOLUTIONS, scheme=scheme, step_s=5e-6)
     with CoSimulation(NO_WEAR, None, options, fmu_path=native_fmu) as sim:
         samples = np.zeros((20000, L.N_SAMPLE_COLUMNS))

@@ -13,8 +13,8 @@ import numpy as np
 from ..parameters import ParameterError
 from ..results import write_json_atomic
 from ..studies.calibration import (
-    DEFAULT_TOLERANCE, MAX_POINT_REVOLUTIONS, MIN_DEPTH_M, falling_depths, fit_archard, fit_mild_severe,
-    life, master_curve_check, plot_calibration, predictions, uncertainty_range,
+    DEFAULT_TOLERANCE, MAX_POINT_REVOLUTIONS, MIN_DEPTH_M, check_tolerance, falling_depths, fit_archard,
+    fit_mild_severe, life, master_curve_check, plot_calibration, predictions, uncertainty_range,
 )
 from ..studies.wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS
 from .options import require_option, with_options
@@ -151,8 +151,10 @@ def run(args) -> int:
     require_option("--tolerance", args.tolerance, args.tolerance is None or any(u is None for _, _, u in points),
                    "only without depth uncertainties (with them the chi^2 test judges the fit)")
     args.tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
-    require_option("--tolerance", args.tolerance, args.tolerance < 1.0, "a share of each measured depth below 1 "
-                                                                        "(from 1 on, every depth below it fits)")
+    try:
+        check_tolerance(args.tolerance)
+    except ParameterError as exc:
+        raise with_options(exc, {"tolerance": "--tolerance"}) from None
     args.bushing_radius_m = radius
     asked = _revolutions(args.predict_revolutions)
     try:

@@ -96,8 +96,8 @@ def check_tolerance(tolerance) -> float:
     """``tolerance`` where it is a share in (0, 1) of a depth, else the ParameterError naming it: from 1 on, every
     model depth below the measured one (a residual above -100 %) would count as a fit."""
     positive("tolerance", tolerance)
-    require("tolerance", tolerance, tolerance < 1.0, "< 1 (a share of each measured depth: from 1 on, every depth "
-                                                    "below the measured one fits)")
+    require("tolerance", tolerance, tolerance < 1.0, "a share of each measured depth below 1 (from 1 on, every depth "
+                                                    "below it fits)")
     return float(tolerance)
 
 
