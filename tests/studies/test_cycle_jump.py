@@ -1,12 +1,13 @@
 """Cycle jumping (wearjoint.studies.cycle_jump, core.cycle_jump): the replay of a loading against
 Archard's volume and against a simulated revolution, the jump controller, a jump study's accounts."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from wearjoint.core import layout as L
-from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
+from wearjoint.core.cycle_jump import LOAD_DURATION, LOAD_NORMAL_FORCE, LOAD_RELATIVE_OMEGA, N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.parameters import ParameterError, SliderCrankParameters, paper_joint
 from wearjoint.simulate import Simulation, SimulationOptions
@@ -79,6 +80,26 @@ def test_replay_keeps_archards_volume_on_the_flank_of_a_groove_deeper_than_the_c
     archard = p.wear_coefficient_m2_N * force * omega * t
     removed = joint.worn_volume_m3 - before
     assert archard * radius <= removed <= archard * (radius + 2 * d), (removed, archard * radius)
+
+
+def test_replay_places_a_pin_that_touches_only_the_shoulder_of_a_groove_deepened_since_its_row():
+    """A row of the paper's default wear study (printed k_w, revolution ~1100: tests/data/deep_groove_row.npz, its
+    profile the one the jump had worn by then, 1.85 mm deep): at its recorded eccentricity the pin sits 0.09 mm
+    short of the groove's bottom, its nearest point the shoulder 80 degrees off, whose gap moving the pin changes by
+    a hundredth of the move.  The placement must still reach the recorded penetration and the row remove Archard's
+    volume k_w F R_j |omega| t up to the worn radius (the secant steps alone fell micrometres short: nothing)."""
+    data = np.load(Path(__file__).parents[1] / "data" / "deep_groove_row.npz")
+    p = paper_joint(wear_factor=1.0)
+    joint = ClearanceJoint(p)
+    joint.set_wear_profile(data["wear_depth_m"])
+    row = data["row"][None, :]
+    before = joint.worn_volume_m3
+    joint.replay_wear(row, 1.0)
+    archard = (p.wear_coefficient_m2_N * row[0, LOAD_NORMAL_FORCE] * abs(row[0, LOAD_RELATIVE_OMEGA])
+               * row[0, LOAD_DURATION])
+    removed = joint.worn_volume_m3 - before
+    depth = data["wear_depth_m"].max()
+    assert archard * p.bushing_radius_m <= removed <= archard * (p.bushing_radius_m + 2 * depth), removed
 
 
 def test_replay_refuses_bad_loading_and_absurd_wear_leaving_the_joint_unchanged():
@@ -173,6 +194,8 @@ def test_a_jump_study_accounts_every_revolution_and_reports_its_jumps(tmp_path):
     assert np.all(np.diff(growth[:, 0]) > 0) and np.all(np.diff(growth[:, 1]) >= 0.0)
     assert [s["revolution"] for s in whole["snapshots"]] == [5, 10]
     low, high = jumps["replay_volume_ratio_range"]       # each jump wore the block's volume per revolution times N
+    # times the growth of what the block's loading wears as the profile deepens (the worn radius it slides at)
+    assert all(1.0 <= j["replay_volume_growth"] < 1.001 for j in history)
     assert 0.99 <= low <= high <= 1.01, (low, high)
     assert jumps["replay_volume_outside"] == [] and replay_volume_warning(jumps) is None
     # revolutions.csv: a row per simulated revolution, named by the revolution it is (jumped ones have none), its

@@ -16,7 +16,8 @@ from .contact import evaluate_contact
 from .foundation_wear import WEAR_REFUSED
 from .jit import kernel
 from .layout import (
-    P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, R_PENETRATION, R_TANGENTIAL_VELOCITY,
+    P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, R_PENETRATION,
+    R_TANGENTIAL_VELOCITY,
 )
 from .wear import apply_wear
 
@@ -26,6 +27,7 @@ LOAD_ECC_X, LOAD_ECC_Y, LOAD_PENETRATION, LOAD_NORMAL_FORCE, LOAD_RELATIVE_OMEGA
 N_LOAD_COLUMNS = 7
 PLACEMENT_ITERATIONS = 30
 PLACEMENT_TOLERANCE = 1e-3     # of the recorded penetration
+PLACEMENT_BISECTIONS = 60       # the fallback's halvings of a bracket of at most the clearance plus the depth
 MIN_PLACEMENT_SLOPE = 0.01     # a measured slope below this keeps the previous one (a step across a contact change)
 
 
@@ -49,22 +51,45 @@ def _place_at_penetration(distance, target, ux, uy, vel_i, vel_j, pos_i, pos_j, 
     """The pin along (ux, uy), from ``distance`` [m], where its penetration of the profile is ``target`` [m];
     ``result`` the contact there.  Secant steps on the penetration's measured slope in the distance (1 where
     the worn surface is normal to the direction; on the flank of a groove deeper than the clearance it falls
-    to a third and less), the first step with slope 1."""
+    to a third and less), the first step with slope 1.  Where they do not reach it (the pin on the axis of a
+    groove deepened since the row was recorded, touching its flanks at a slope of 1e-2: they fell short by
+    micrometres and the row wore nothing), bisection between the distances seen below and above the target."""
     slope = 1.0
     previous_distance, previous_penetration = distance, 0.0
+    below, above = 0.0, math.inf            # distances whose penetration is below / above the target
     for iteration in range(PLACEMENT_ITERATIONS):
         _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
                    result)
         penetration = result[R_PENETRATION]
         miss = target - penetration
         if abs(miss) <= PLACEMENT_TOLERANCE * target:
-            break
+            return
+        if miss > 0.0:
+            below = max(below, distance)
+        else:
+            above = min(above, distance)
         if iteration > 0 and distance != previous_distance:
             measured = (penetration - previous_penetration) / (distance - previous_distance)
             if measured > MIN_PLACEMENT_SLOPE:
                 slope = min(measured, 1.0)
         previous_distance, previous_penetration = distance, penetration
         distance += miss / slope
+    if above == math.inf:                   # past it: the pin's reach beyond the deepest point by the target
+        deepest = 0.0
+        for z in range(wear_depth.shape[0]):
+            deepest = max(deepest, wear_depth[z])
+        above = jp[P_BUSHING_RADIUS] - jp[P_PIN_RADIUS] + deepest + 2.0 * target
+    for _ in range(PLACEMENT_BISECTIONS):
+        distance = 0.5 * (below + above)
+        _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory,
+                   result)
+        miss = target - result[R_PENETRATION]
+        if abs(miss) <= PLACEMENT_TOLERANCE * target:
+            return
+        if miss > 0.0:
+            below = distance
+        else:
+            above = distance
 
 
 @kernel
