@@ -22,7 +22,8 @@ from .core.contact import contact_jacobian, evaluate_contact
 from .core.geometry import block_minimum_depth, bushing_points
 from .core.joint_access import JointArrays
 from .core.wear import (
-    STEP_INADMISSIBLE, STEP_OVERSHOT, STEP_REFUSED, _flush_batch, advance_joint, complete_joint_parameters,
+    STEP_INADMISSIBLE, STEP_OVERSHOT, STEP_REFUSED, _flush_batch, accept_linearised_contact, advance_joint,
+    complete_joint_parameters,
     equivalent_radius, hertz_half_width, worn_volume,
 )
 from .joint_fields import JOINT_FIELDS, coded_value
@@ -248,6 +249,14 @@ class ClearanceJoint:
         return advance_joint(pos_i, vel_i, pos_j, vel_j, dt, held, self.parameter_vector, self.cos_phi,
                              self.sin_phi, self.wear_depth, self.block_min, self.memory,
                              self.mask, self.work, self.result)
+
+    def accept_linearised_array(self, pos_i, vel_i, pos_j, vel_j, dt: float, jacobian: np.ndarray) -> int:
+        """:meth:`advance_array` of a held step whose host applies the loads linearised here (``self.result`` and
+        ``jacobian``: :meth:`linearise_array` at these kinematics): the wear takes that linearised force's mean over
+        the step (core.wear.accept_linearised_contact)."""
+        return accept_linearised_contact(self.result, jacobian, pos_i, vel_i, pos_j, vel_j, dt, self.parameter_vector,
+                                         self.cos_phi, self.sin_phi, self.wear_depth, self.block_min, self.memory,
+                                         self.mask, self.work)
 
     def advance(self, pin_kinematics, bushing_kinematics, dt: float, held: bool = False) -> ContactResult:
         """Accept a step of length dt [s] ending at these kinematics: the Archard wear of the whole step

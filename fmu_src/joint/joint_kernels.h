@@ -38,11 +38,12 @@ int32_t wearjoint_advance(int32_t *changed, void *excinfo, const double *kinemat
                           int64_t n_blocks, double dt, int64_t held);
 
 /* wearjoint_advance when result already holds the evaluation at these kinematics and this state:
- * the wear and onset update only. */
+ * the wear and onset update only; held == 2 (HELD_LINEARISED): held, and jacobian holds the derivatives at these
+ * kinematics a linearising host read (the wear takes the linearised force's mean over the step). */
 int32_t wearjoint_accept(int32_t *changed, void *excinfo, const double *kinematics, const double *joint_parameters,
                          const double *cos_phi, const double *sin_phi, double *wear_depth, double *block_min,
-                         double *memory, double *result, void *mask, double *work, int64_t n_points,
-                         int64_t n_blocks, double dt, int64_t held);
+                         double *memory, double *result, const double *jacobian, void *mask, double *work,
+                         int64_t n_points, int64_t n_blocks, double dt, int64_t held);
 
 /* Contact-onset bookkeeping for the evaluation in result (a Model Exchange event): a new contact
  * stores its approach velocity, leaving contact clears it; *changed = 1 if the memory changed. */

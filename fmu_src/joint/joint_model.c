@@ -373,7 +373,8 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
     }
     if (!joint_pack_parameters(model, function))
         return FMU_ERROR;
-    /* the forces read since the inputs changed are the evaluation the step accepts: no second one */
+    /* the forces read since the inputs changed are the step's evaluation; derivatives read there: a linearising host */
+    int linearising = held && !model->forces_stale && !model->jacobian_stale && model->jacobian_read;
     int32_t changed = 0;
     int32_t status = model->forces_stale
                          ? wearjoint_advance(&changed, NULL, model->inputs, model->joint_parameters, model->cos_phi,
@@ -382,8 +383,8 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
                                              model->n_blocks, dt, held)
                          : wearjoint_accept(&changed, NULL, model->inputs, model->joint_parameters, model->cos_phi,
                                             model->sin_phi, model->wear_depth, model->block_min, model->memory,
-                                            model->result, model->mask, model->work, model->n_points,
-                                            model->n_blocks, dt, held);
+                                            model->result, model->jacobian, model->mask, model->work,
+                                            model->n_points, model->n_blocks, dt, linearising ? HELD_LINEARISED : held);
     if (!kernel_ok(model, "wearjoint_advance failed", status))
         return FMU_ERROR;
     double radius = model->parameters[STATE_PARAMETER_BUSHING_RADIUS];

@@ -7,7 +7,8 @@ of the native FMU (fmu_src/fmi/fmi2Functions.c).
   indexed by value reference; a getReal brings what it asks for up to date first: the joint's
   outputs (direct feed-through) from the current inputs, the wear profile and its summary after
   a step or an FMU state changed them.
-* ``doStep(t, h)`` advances wear and contact memory with the inputs held at t.
+* ``doStep(t, h)`` advances wear and contact memory with the inputs held at t (the wear with the linearised force's
+  mean where the host read the loads' derivatives at t, as the native FMU).
 * Parameters are read at exitInitializationMode (the kernels compile there) and fixed afterwards.
 * Errors are logged with fmi2Error and flagged to the status shim (fmu_src/pythonfmu/status_shim.c, the
   FMU's binary), which returns fmi2Error where pythonfmu alone gives fmi2Fatal (:meth:`_abort_call`).
@@ -284,8 +285,11 @@ class ClearanceWearJoint(Fmi2Slave):
             self._log_error(f"doStep rejected: step size {step_size!r} s is not a finite value >= 0")
             return False
         self._ensure_joint()
-        changed = self._joint.advance_array(self._pin_position, self._pin_velocity,
-                                            self._bushing_position, self._bushing_velocity, step_size, True)
+        kinematics = (self._pin_position, self._pin_velocity, self._bushing_position, self._bushing_velocity)
+        if not (self._forces_stale or self._linearisation_stale):   # the host read the loads' derivatives here
+            changed = self._joint.accept_linearised_array(*kinematics, step_size, self._jacobian)
+        else:
+            changed = self._joint.advance_array(*kinematics, step_size, True)
         if changed == STEP_INADMISSIBLE and not self._joint.max_wear_depth_m <= self._joint.params.bushing_radius_m:
             self._log_error(f"doStep at t={current_time!r} s rejected: " + worn_through_message(
                 "before it", self._joint.max_wear_depth_m, self._joint.params.bushing_radius_m)

@@ -8,7 +8,6 @@ from wearjoint.core import layout as L
 from wearjoint.cosim import CoSimulation, CoSimulationOptions, run_cosimulation
 from wearjoint.cosim.master_layout import (B_FORCES, B_LAST_STEP, B_OUTPUT, B_PREVIOUS_FORCES, O_CONTACT,
                                            buffer_views)
-from wearjoint.cosim.cosimulation import accelerated_wear_warning
 from wearjoint.cosim.master_loop import communication_step
 from wearjoint.parameters import ParameterError, paper_joint
 from wearjoint.simulate import SimulationOptions, run_simulation
@@ -95,24 +94,19 @@ def test_the_wear_of_a_step_does_not_drive_the_contact_step_below_an_eighth_of_s
     assert contact_steps <= record.simulated_time_s / (options.step_s / 8) + 1
 
 
-def test_at_accelerated_wear_the_adaptive_scheme_wears_the_monolithic_volume_and_the_linearised_says_it_does_not(
-        native_fmu):
-    """Wear factor 100, one revolution (the pin settles in its groove): RK4 at 10 us (whose volume does not move with
-    the step: docs/explanation/numerics.md) against the co-simulation.  The adaptive scheme, the one the warning
-    names, wears the same volume within 0.1 %; the linearised coupling wears over 1 % less (4.4 % measured) and its
-    record says so.  A fix of the linearised coupling's wear fails the second assertion: then drop the warning."""
+@pytest.mark.parametrize("scheme", ["linearised", "adaptive"])
+def test_at_accelerated_wear_the_cosimulation_wears_the_monolithic_volume(native_fmu, scheme):
+    """Wear factor 100, one revolution (the pin settles in its groove, a contact step wears ~7 % of the
+    penetration): RK4 at 10 us (whose volume does not move with the step: docs/explanation/numerics.md) against the
+    co-simulation, within 0.3 %.  The linearised coupling's wear takes the mean of the force it applies over a step
+    (the FMU's step, its derivatives read: core.wear.accept_linearised_contact); with the force at the step's start
+    it wore 4.4 % short here, the adaptive scheme's extrapolated force 0.01 % (measured)."""
     joint = paper_joint(wear_factor=100.0)
     monolithic = run_simulation(joint, None, SimulationOptions(revolutions=1, integrator="rk4", step_s=1e-5),
                                 progress=False)
-    adaptive = run_cosimulation(joint, None, CoSimulationOptions(revolutions=1, scheme="adaptive", step_s=1e-5),
-                                fmu_path=native_fmu, progress=False)
-    linearised = run_cosimulation(joint, None, CoSimulationOptions(revolutions=1), fmu_path=native_fmu,
-                                  progress=False)
-    assert adaptive.worn_volume_m3 == pytest.approx(monolithic.worn_volume_m3, rel=1e-3)
-    assert "coupling_warning" not in adaptive.extra
-    assert linearised.worn_volume_m3 < 0.99 * monolithic.worn_volume_m3
-    assert "scheme 'adaptive'" in linearised.extra["coupling_warning"]
-    assert accelerated_wear_warning(paper_joint(wear_factor=9.0), CoSimulationOptions()) is None
+    cosim = run_cosimulation(joint, None, CoSimulationOptions(revolutions=1, scheme=scheme), fmu_path=native_fmu,
+                             progress=False)
+    assert cosim.worn_volume_m3 == pytest.approx(monolithic.worn_volume_m3, rel=3e-3)
 
 
 @pytest.mark.parametrize("scheme", ["adaptive", "extrapolation"])

@@ -9,9 +9,10 @@ import pytest
 
 pytest.importorskip("fmpy")
 from test_directional_derivatives import (  # noqa: E402
-    INPUT_NAMES, STATES, TOLERANCE, central_differences, normalised_error, started,
+    INPUT_NAMES, STATES, TOLERANCE, ContactState, central_differences, normalised_error, started,
 )
 
+from wearjoint import paper_joint  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 
 ROWS = list(fv.LINEARISED_ROWS)
@@ -40,6 +41,33 @@ def test_published_derivatives_are_the_loads_derivatives(fmus, version, state):
         assert not joint.errors()
     finally:
         joint.free()
+
+
+@pytest.mark.parametrize("version", (2, 3))
+def test_a_step_whose_master_read_the_derivatives_wears_with_the_linear_forces_mean(fmus, version):
+    """docs/reference/model.md §3.11: the same Co-Simulation step from the same contact (approaching at 0.05 m/s,
+    its force rising ~25 % over 10 us; every step's wear at once), once after its published derivatives were read
+    (a linearising master) and once not: the worn volumes stand as that linear normal force's mean over the step,
+    F + h/2 dF_N/dq . dq/dt (the derivatives read, the inputs' velocities), to the force F the held step takes."""
+    state = ContactState("unworn-approaching", 1.0, 3e-6, 0.05, 0.2, params=paper_joint(wear_interval_s=0.0))
+    step, x = 1e-5, np.array(state.inputs())
+    normal = [fv.derivative_name("normal_force", name) for name in INPUT_NAMES]
+    volumes, rates = [], []
+    for read in (False, True):
+        joint = started(fmus, version, "cs", state)
+        try:
+            joint.set(INPUT_NAMES, x)
+            force, before = joint.get(["normal_force", "worn_volume"])
+            if read:
+                d = joint.get(normal)            # d/d(x, y, angle, vx, vy, omega), pin then bushing
+                rates.append(d[[0, 1, 2, 6, 7, 8]] @ x[[3, 4, 5, 9, 10, 11]])
+            joint.do_step(0.0, step)
+            volumes.append(joint.get(["worn_volume"])[0] - before)
+            assert not joint.errors()
+        finally:
+            joint.free()
+    assert rates[0] * step > 0.1 * force
+    assert volumes[1] / volumes[0] == pytest.approx(1.0 + 0.5 * step * rates[0] / force, rel=1e-5)
 
 
 def test_a_derivatives_own_derivative_is_refused_by_name(fmus):

@@ -34,8 +34,6 @@ def run(args) -> int:
     except (CoSimulationError, RuntimeError) as exc:
         print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
         return 1
-    if record.extra.get("coupling_warning"):
-        print(f"wearjoint cosim: warning: {record.extra['coupling_warning']}", file=sys.stderr)
     summary = write_results(record, args.out, plots=not args.no_plots,
                             figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
     keys = (("master", "communication_steps") if config.master != "wearjoint" else

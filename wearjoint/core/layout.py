@@ -13,6 +13,9 @@ WEAR_STEP_SHARE = 4.0            # the largest lambda of one accepted step of th
 WEAR_STEP_SHARE_EXPLICIT = 0.3   # the largest share of the penetration one explicit (patch, penetration) step wears
 MAX_WEAR_STEP_S = 3e-5           # and never a longer accepted step with wear [s] (the statistics, docs/reference/model.md §7)
 WEAR_BATCH_SHARE = 0.1           # the largest lambda of a wear batch: its lag stays a tenth of the overlap (§3.11)
+# the joint FMU's accept entry point's ``held``: 0 the step's end kinematics, 1 held over it, 2 held and its host
+# linearising the loads at its start (the wear takes that linearised force's mean: core.wear.accept_linearised_contact)
+HELD_LINEARISED = 2
 # --- admissible states (docs/reference/model.md §3.14): a pin further into the bushing wall than this share of its radius is no
 # contact of the joint's materials (at 2 % the mean pressure over the pin's projected area passes any bushing's yield)
 ADMISSIBLE_PENETRATION_SHARE = 0.02

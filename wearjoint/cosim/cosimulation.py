@@ -40,10 +40,6 @@ CoSimulationError = FmuError   # an FMI call failed; the message carries the FMU
 DEFAULT_SCHEME = "linearised"
 DEFAULT_CONTACT_STEP_S = {"zoh": 5e-6, "extrapolation": 5e-6, "adaptive": 5e-6, "linearised": 1e-5}
 DEFAULT_COUPLING_TOLERANCE = {"zoh": 0.0, "extrapolation": 0.0, "adaptive": 0.0, "linearised": 0.003}
-# from this wear factor on, the linearised coupling's wear falls measurably short: the paper's groove 1.8 % less volume
-# at 10, 3.6 % less depth at 100, than every monolithic integrator and the adaptive scheme; nothing detectable at 1
-# (docs/explanation/numerics.md, "The wear step")
-LINEARISED_WEAR_FACTOR_LIMIT = 10.0
 
 
 @dataclass(frozen=True)
@@ -339,19 +335,6 @@ def run_cosimulation(joint: JointParameters | None = None, mechanism: SliderCran
     """
     check_run_arguments(joint, mechanism, options, CoSimulationOptions, fmu_path, chunks_per_revolution)
     o = options or CoSimulationOptions()
-    record = run_engine(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
-                        o.revolutions, (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s, "cosim",
-                        progress, chunks_per_revolution)
-    warning = accelerated_wear_warning(joint or paper_joint(), o)
-    if warning:
-        record.extra["coupling_warning"] = warning
-    return record
-
-
-def accelerated_wear_warning(joint: JointParameters, options: CoSimulationOptions) -> str | None:
-    """The line that says the linearised coupling's wear falls short at this wear factor, else None."""
-    if options.scheme != "linearised" or not joint.wear_factor >= LINEARISED_WEAR_FACTOR_LIMIT:
-        return None
-    return (f"at wear_factor={joint.wear_factor:g} the linearised coupling wears less than the monolithic engine and "
-            f"the adaptive scheme (the paper's groove: 1.8 % of the volume at 10, 3.6 % of the depth at 100; "
-            f"docs/explanation/numerics.md): take the wear from scheme 'adaptive' (--scheme adaptive)")
+    return run_engine(lambda: CoSimulation(joint, mechanism, o, fmu_path, fmu_backend, initial_profile_m),
+                      o.revolutions, (mechanism or SliderCrankParameters()).period_s, o.sample_dt_s, "cosim",
+                      progress, chunks_per_revolution)

@@ -56,7 +56,7 @@ ENTRY_POINTS = {
         "wearjoint_evaluate": ("evaluate_native", 11),
         "wearjoint_jacobian": ("jacobian_native", 11),
         "wearjoint_advance": ("advance_native", 14),
-        "wearjoint_accept": ("accept_native", 14),
+        "wearjoint_accept": ("accept_native", 15),
         "wearjoint_update_contact_memory": ("update_contact_memory_native", 3),
         "wearjoint_bushing_points": ("bushing_points_native", 4),
         "wearjoint_block_minima": ("block_minima_native", 4),

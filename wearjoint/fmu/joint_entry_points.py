@@ -14,8 +14,10 @@ from numba import carray, types
 from ..core.admissibility import admissible_force, admissible_penetration, wall_overlap
 from ..core.contact import contact_jacobian, evaluate_contact, update_contact_memory
 from ..core.geometry import block_minimum_depth, bushing_points
-from ..core.layout import N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
-from ..core.wear import accept_contact, advance_joint, complete_joint_parameters, worn_volume
+from ..core.layout import HELD_LINEARISED, N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
+from ..core.wear import (
+    accept_contact, accept_linearised_contact, advance_joint, complete_joint_parameters, worn_volume,
+)
 from .aot import entry_point
 from .state_entry_points import (  # noqa: F401  (the joint FMU's state entry points, aot.ENTRY_POINTS)
     check_header_native, check_values_native, read_state_native, state_size_native, write_state_native,
@@ -30,6 +32,8 @@ EVALUATE_SIGNATURE = types.int32(*_ARRAYS, *_SIZES)
 ADVANCE_SIGNATURE = types.int32(*_ARRAYS, _F64, *_SIZES, types.float64, types.int64)
 # jacobian: evaluate's arrays with ``jacobian`` (N_RESULT x 12 doubles, row-major) in place of ``mask``
 JACOBIAN_SIGNATURE = types.int32(*_ARRAYS[:-1], _F64, *_SIZES)
+# accept: advance's with ``jacobian`` before ``mask`` (read where held is HELD_LINEARISED)
+ACCEPT_SIGNATURE = types.int32(*_ARRAYS[:-1], _F64, types.voidptr, _F64, *_SIZES, types.float64, types.int64)
 
 
 @entry_point(EVALUATE_SIGNATURE)
@@ -69,19 +73,22 @@ def advance_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memo
     return changed
 
 
-@entry_point(ADVANCE_SIGNATURE)
-def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, mask, work, n_points,
-                  n_blocks, dt, held):
+@entry_point(ACCEPT_SIGNATURE)
+def accept_native(kinematics, jp, cos_phi, sin_phi, wear_depth, block_min, memory, result, jacobian, mask, work,
+                  n_points, n_blocks, dt, held):
     """:func:`advance_native` when ``result`` already holds the evaluation at these kinematics and
     this state (the forces were read since the inputs last changed): the wear and onset update
-    only, without evaluating the contact again; returns as :func:`advance_native`."""
+    only, without evaluating the contact again; ``held`` 2: held, and ``jacobian`` (N_RESULT x 12, row-major) holds
+    the derivatives at these kinematics a linearising host read (:func:`accept_linearised_contact`; else unread);
+    returns as :func:`advance_native`."""
     k = carray(kinematics, 12)
-    changed = accept_contact(carray(result, N_RESULT), k[0:3], k[3:6], k[6:9], k[9:12], dt, held != 0,
-                             carray(jp, N_JOINT_PARAMETERS),
-                             carray(cos_phi, n_points), carray(sin_phi, n_points), carray(wear_depth, n_points),
-                             carray(block_min, n_blocks), carray(memory, N_MEMORY),
-                             carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points))
-    return changed
+    arrays = (carray(jp, N_JOINT_PARAMETERS), carray(cos_phi, n_points), carray(sin_phi, n_points),
+              carray(wear_depth, n_points), carray(block_min, n_blocks), carray(memory, N_MEMORY),
+              carray(mask, n_points, dtype=np.bool_), carray(work, 2 * n_points))
+    if held == HELD_LINEARISED:
+        return accept_linearised_contact(carray(result, N_RESULT), carray(jacobian, (N_RESULT, 12)), k[0:3], k[3:6],
+                                         k[6:9], k[9:12], dt, *arrays)
+    return accept_contact(carray(result, N_RESULT), k[0:3], k[3:6], k[6:9], k[9:12], dt, held != 0, *arrays)
 
 
 @entry_point(types.int32(_F64, _F64, _F64, types.int64))
