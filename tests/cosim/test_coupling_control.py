@@ -96,8 +96,8 @@ def test_the_wear_of_a_step_does_not_drive_the_contact_step_below_an_eighth_of_s
 
 @pytest.mark.parametrize("scheme", ["linearised", "adaptive"])
 def test_at_accelerated_wear_the_cosimulation_wears_the_monolithic_volume(native_fmu, scheme):
-    """Wear factor 100, one revolution (the pin settles in its groove, a contact step wears ~7 % of the
-    penetration): RK4 at 10 us (whose volume does not move with the step: docs/explanation/numerics.md) against the
+    """Wear factor 100, one revolution (the pin settles in its groove; a 10 us step wears up to 0.7 of the
+    penetration: docs/explanation/numerics.md's lambda): RK4 at 10 us (whose volume does not move with the step: docs/explanation/numerics.md) against the
     co-simulation, within 0.3 %.  The linearised coupling's wear takes the mean of the force it applies over a step
     (the FMU's step, its derivatives read: core.wear.accept_linearised_contact); with the force at the step's start
     it wore 4.4 % short here, the adaptive scheme's extrapolated force 0.01 % (measured)."""

@@ -16,8 +16,8 @@ from .contact import evaluate_contact
 from .foundation_wear import WEAR_REFUSED
 from .jit import kernel
 from .layout import (
-    P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS, R_PENETRATION,
-    R_TANGENTIAL_VELOCITY,
+    P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
+    R_PENETRATION, R_TANGENTIAL_VELOCITY,
 )
 from .wear import apply_wear
 
@@ -51,9 +51,10 @@ def _place_at_penetration(distance, target, ux, uy, vel_i, vel_j, pos_i, pos_j, 
     """The pin along (ux, uy), from ``distance`` [m], where its penetration of the profile is ``target`` [m];
     ``result`` the contact there.  Secant steps on the penetration's measured slope in the distance (1 where
     the worn surface is normal to the direction; on the flank of a groove deeper than the clearance it falls
-    to a third and less), the first step with slope 1.  Where they do not reach it (the pin on the axis of a
-    groove deepened since the row was recorded, touching its flanks at a slope of 1e-2: they fell short by
-    micrometres and the row wore nothing), bisection between the distances seen below and above the target."""
+    to a third and less), the first step with slope 1.  Where they do not reach it (the pin short of the bottom
+    of a groove deepened since the row was recorded, touching only a shoulder whose gap a move changes by a
+    hundredth of it: they fell short and the row wore nothing), bisection between the distances seen below and
+    above the target."""
     slope = 1.0
     previous_distance, previous_penetration = distance, 0.0
     below, above = 0.0, math.inf            # distances whose penetration is below / above the target
