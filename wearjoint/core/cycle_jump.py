@@ -14,6 +14,7 @@ import math
 
 from .contact import evaluate_contact
 from .foundation_wear import WEAR_REFUSED
+from .geometry import max_depth
 from .jit import kernel
 from .layout import (
     P_BUSHING_OFFSET_X, P_BUSHING_OFFSET_Y, P_BUSHING_RADIUS, P_PIN_OFFSET_X, P_PIN_OFFSET_Y, P_PIN_RADIUS,
@@ -76,10 +77,7 @@ def _place_at_penetration(distance, target, ux, uy, vel_i, vel_j, pos_i, pos_j, 
         previous_distance, previous_penetration = distance, penetration
         distance += miss / slope
     if above == math.inf:                   # past it: the pin's reach beyond the deepest point by the target
-        deepest = 0.0
-        for z in range(wear_depth.shape[0]):
-            deepest = max(deepest, wear_depth[z])
-        above = jp[P_BUSHING_RADIUS] - jp[P_PIN_RADIUS] + deepest + 2.0 * target
+        above = jp[P_BUSHING_RADIUS] - jp[P_PIN_RADIUS] + max_depth(wear_depth) + 2.0 * target
     for _ in range(PLACEMENT_BISECTIONS):
         distance = 0.5 * (below + above)
         _place_pin(distance, ux, uy, vel_i, vel_j, pos_i, pos_j, jp, cos_phi, sin_phi, wear_depth, block_min, memory,

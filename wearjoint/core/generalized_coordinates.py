@@ -5,6 +5,7 @@ functions on arrays, the joint's kernels (core.contact, core.wear) inside.
 """
 from . import layout as L
 from .contact import contact_jacobian, evaluate_contact
+from .geometry import max_depth
 from .jit import kernel
 from .wear import advance_joint
 
@@ -73,10 +74,7 @@ def history_row(t, result, wear_depth, slots, history, row):
     history[row, 0] = t
     for k in range(slots.shape[0]):
         history[row, 1 + k] = result[slots[k]]
-    deepest = 0.0
-    for z in range(wear_depth.shape[0]):
-        deepest = max(deepest, wear_depth[z])
-    history[row, 1 + slots.shape[0]] = deepest
+    history[row, 1 + slots.shape[0]] = max_depth(wear_depth)
 
 
 @kernel

@@ -75,6 +75,15 @@ def block_minimum_depth(wear_depth, block_min):
         block_min[b] = block_minimum(wear_depth, b)
 
 
+@kernel
+def max_depth(wear_depth):
+    """The largest wear depth of the profile [m] (0 unworn)."""
+    deepest = 0.0
+    for z in range(wear_depth.shape[0]):
+        deepest = max(deepest, wear_depth[z])
+    return deepest
+
+
 @kernel(inline='always')
 def distance_sq(z, ex, ey, bushing_radius, cos_phi, sin_phi, wear_depth):
     """|d_z|^2 [m^2]: squared distance from the pin centre (eccentricity e) to bushing point z
