@@ -238,12 +238,14 @@ def start_script(fmi_version: int, vr: dict, params, interface: str = "instantia
     return script
 
 
-def trace_command(vr: dict, path, me: bool = False, order: str = "") -> str:
-    """``trace`` (``trace_me``) of the rows in ``path`` through the 12 inputs, reading every scalar output."""
+def trace_command(vr: dict, path, me: bool = False, order: str = "", also_read: tuple = ()) -> str:
+    """``trace`` (``trace_me``) of the rows in ``path`` through the 12 inputs, reading every scalar output, then the
+    outputs named in ``also_read`` (their columns follow the scalar outputs')."""
     from wearjoint.fmu import variables as fv
 
+    outputs = [vr[v.name] for v in fv.SCALAR_OUTPUTS] + [vr[name] for name in also_read]
     return (f"{'trace_me' if me else 'trace'} {path} 12 {','.join(str(vr[v.name]) for v in fv.INPUTS)} "
-            f"{','.join(str(vr[v.name]) for v in fv.SCALAR_OUTPUTS)} {order}\n")
+            f"{','.join(map(str, outputs))} {order}\n")
 
 
 def profile_command(fmi_version: int, vr: dict, n_points: int) -> str:

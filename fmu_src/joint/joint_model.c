@@ -1,8 +1,8 @@
 /* ClearanceWearJoint as a model of the generic FMI layers (fmu_model.h), in three files by concern on the
  * joint's data (struct FmuModel, joint_model.h): this one owns the joint's memory and data (inputs,
  * parameters, the kernels' arrays), checks parameters against the generated table and calls the compiled
- * kernels (joint_kernels.h): lifetime, Configuration Mode, evaluation, steps (Co-Simulation) and Model
- * Exchange; joint_variables.c maps the variables by value reference; joint_state.c is the FMU state.
+ * kernels (joint_kernels.h): lifetime, evaluation, steps (Co-Simulation) and Model Exchange;
+ * joint_variables.c maps the variables by value reference; joint_state.c is the FMU state and its size.
  *
  * Semantics (docs/reference/fmu.md §5): the forces are direct feed-through, evaluated at the first read of a joint
  * output after an input changed; Co-Simulation accepts a step with the inputs held at its start (wear, contact
@@ -75,8 +75,7 @@ static void reset(FmuModel *model)
     memset(model->block_min, 0, (size_t)model->n_blocks * sizeof(double));
 }
 
-/* Re-size the bushing to n_points (>= 8) and restore the defaults; 0 (logged) on failure. */
-static int resize(FmuModel *model, int64_t n_points)
+int joint_resize(FmuModel *model, int64_t n_points)
 {
     if (n_points != model->n_points && !allocate_arrays(model, n_points))
         return 0;
@@ -116,7 +115,7 @@ FmuHost *model_host(FmuModel *model) { return &model->host; }
 /* Back to the start values, n_points (FMI 3.0) too. */
 int model_reset(FmuModel *model)
 {
-    if (!resize(model, N_POINTS))
+    if (!joint_resize(model, N_POINTS))
         return 0;
     model->configured_n_points = N_POINTS;
     return 1;
@@ -134,28 +133,6 @@ int model_exit_initialization(FmuModel *model, const char *function)
     if (!joint_pack_parameters(model, function))
         return 0;
     model->last_accepted_time = model->time;
-    return 1;
-}
-
-/* ------------------------------------------------------------------ FMI 3.0 Configuration Mode */
-void model_enter_configuration(FmuModel *model) { model->configured_n_points = (uint64_t)model->n_points; }
-
-/* Re-size the bushing to the n_points set; inputs, parameters and the time set before are kept. */
-int model_exit_configuration(FmuModel *model)
-{
-    if ((int64_t)model->configured_n_points == model->n_points)
-        return 1;
-    double inputs[N_INPUTS], parameters[N_PARAMETERS];
-    double time = model->time;
-    memcpy(inputs, model->inputs, sizeof inputs);
-    memcpy(parameters, model->parameters, sizeof parameters);
-    if (!resize(model, (int64_t)model->configured_n_points))
-        return 0;   /* out of memory (logged): the old size stays */
-    for (int i = 0; i < N_INPUTS; i++)
-        joint_set_input(model, i, inputs[i]);
-    for (int i = 0; i < N_PARAMETERS; i++)
-        joint_set_parameter(model, i, parameters[i]);
-    model->time = model->last_accepted_time = time;
     return 1;
 }
 
@@ -373,7 +350,13 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
     }
     if (!joint_pack_parameters(model, function))
         return FMU_ERROR;
-    /* the forces read since the inputs changed are the step's evaluation; derivatives read there: a linearising host */
+    /* the forces read since the inputs changed are the step's evaluation; derivatives read there: a linearising host,
+     * as one that read them before it set these inputs (one step late: libcosim, fmpy's SSP master), whose loads and
+     * derivatives are evaluated here, in one pass, and still read (its next reading takes both) */
+    int late = held && model->forces_stale && model->jacobian_read;
+    if (late && !joint_evaluate(model, function, "the step's loads"))
+        return FMU_ERROR;
+    model->jacobian_read |= late;
     int linearising = held && !model->forces_stale && !model->jacobian_stale && model->jacobian_read;
     int32_t changed = 0;
     int32_t status = model->forces_stale

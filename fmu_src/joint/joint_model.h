@@ -39,7 +39,9 @@ struct FmuModel {
     uint64_t configured_n_points;      /* FMI 3.0 Configuration Mode: the value set for n_points */
 };
 
-/* joint_model.c's, for the other two files. */
+/* joint_model.c's, for the other two files.  Re-size the bushing to n_points (>= 8) and restore the defaults;
+ * 0 (logged) on failure. */
+int joint_resize(FmuModel *model, int64_t n_points);
 void joint_set_input(FmuModel *model, int index, double value);
 void joint_set_parameter(FmuModel *model, int index, double value);
 /* Check the parameters (the first bad one is logged, naming it) and pack the kernels' vector. */

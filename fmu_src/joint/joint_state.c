@@ -1,7 +1,8 @@
-/* ClearanceWearJoint's FMU state (fmu_model.h, "FMU state"; the joint's data: joint_model.h).  In memory the
- * joint's values copied as they are (n_points, time, initialised flag, inputs, parameters, contact memory,
- * wear depths, block minima); serialised the state format of wearjoint/core/state_format.py (header,
- * CRC-32C), contents "FMU instance", written and checked by kernels (state_format.h).
+/* ClearanceWearJoint's FMU state (fmu_model.h, "FMU state"; the joint's data: joint_model.h) and its size, the
+ * bushing's points (FMI 3.0 Configuration Mode).  In memory the joint's values copied as they are (n_points, time,
+ * initialised flag, inputs, parameters, contact memory, wear depths, block minima); serialised the state format of
+ * wearjoint/core/state_format.py (header, CRC-32C), contents "FMU instance", written and checked by kernels
+ * (state_format.h).
  */
 #include <string.h>
 
@@ -103,5 +104,27 @@ int model_deserialize_state(FmuModel *model, const unsigned char *bytes, size_t 
     }
     state[AT_N_POINTS] = (double)model->n_points;
     wearjoint_block_minima(&status, NULL, wear, wear + model->n_points, model->n_points, model->n_blocks);
+    return 1;
+}
+
+/* ------------------------------------------------------------------ FMI 3.0 Configuration Mode */
+void model_enter_configuration(FmuModel *model) { model->configured_n_points = (uint64_t)model->n_points; }
+
+/* Re-size the bushing to the n_points set; inputs, parameters and the time set before are kept. */
+int model_exit_configuration(FmuModel *model)
+{
+    if ((int64_t)model->configured_n_points == model->n_points)
+        return 1;
+    double inputs[N_INPUTS], parameters[N_PARAMETERS];
+    double time = model->time;
+    memcpy(inputs, model->inputs, sizeof inputs);
+    memcpy(parameters, model->parameters, sizeof parameters);
+    if (!joint_resize(model, (int64_t)model->configured_n_points))
+        return 0;   /* out of memory (logged): the old size stays */
+    for (int i = 0; i < N_INPUTS; i++)
+        joint_set_input(model, i, inputs[i]);
+    for (int i = 0; i < N_PARAMETERS; i++)
+        joint_set_parameter(model, i, parameters[i]);
+    model->time = model->last_accepted_time = time;
     return 1;
 }

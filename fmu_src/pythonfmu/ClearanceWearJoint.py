@@ -177,6 +177,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._time = 0.0
         self._stop_time = math.inf      # the master's (setup_experiment): no step passes it
         self._forces_stale = self._wear_stale = self._linearisation_stale = True
+        self._derivatives_read = False  # the host read derivatives since the loads were last evaluated (a linearising host)
 
     # ------------------------------------------------------------- errors
     def _abort_call(self, message: str):
@@ -248,7 +249,7 @@ class ClearanceWearJoint(Fmi2Slave):
             else:
                 joint.evaluate_array(*kinematics)
             self._values[self._result_vrs] = joint.result[self._result_slots]
-            self._forces_stale = False
+            self._forces_stale = self._derivatives_read = False
         if self._wear_stale and _WEAR in needs:
             self._values[self._depth_vrs] = joint.wear_depth
             self._values[self._summary_vrs] = (joint.max_wear_depth_m, joint.worn_volume_m3)
@@ -286,6 +287,9 @@ class ClearanceWearJoint(Fmi2Slave):
             return False
         self._ensure_joint()
         kinematics = (self._pin_position, self._pin_velocity, self._bushing_position, self._bushing_velocity)
+        if self._forces_stale and self._derivatives_read:    # read before these inputs were set (a master one step
+            self._refresh(self._derivative_vrs[:1], {_LINEARISATION})   # late): the loads and derivatives here
+            self._derivatives_read = True                     # still read, as the native FMU's joint_model.c
         if not (self._forces_stale or self._linearisation_stale):   # the host read the loads' derivatives here
             changed = self._joint.accept_linearised_array(*kinematics, step_size, self._jacobian)
         else:
@@ -322,6 +326,7 @@ class ClearanceWearJoint(Fmi2Slave):
             self._abort_call(f"getReal: not Real variables: {', '.join(bad)}")
         if needs - {_NOTHING}:
             self._refresh(vrs, needs)
+        self._derivatives_read = self._derivatives_read or _LINEARISATION in needs
         values = self._values
         return [values[vr] for vr in vrs]
 

@@ -17,6 +17,7 @@ from libcosimpy.CosimObserver import CosimObserver  # noqa: E402
 from libcosimpy.CosimSlave import CosimLocalSlave  # noqa: E402
 
 from wearjoint import ClearanceJoint, JointParameters  # noqa: E402
+from wearjoint.core.layout import N_RESULT  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
 
 STEP_S = 1e-5
@@ -59,12 +60,18 @@ def test_libcosim_forces_match_the_joint(any_fmu):
             assert execution.real_initial_value(index, vr[name], values[name])
 
     joint = ClearanceJoint(params)
+    jacobian = np.zeros((N_RESULT, 12))
     got, expected = [], []
     for x in approach(params):
         assert override.slave_real_values(index, inputs, x)
         assert execution.step(1)
         got.append(observer.last_real_values(index, outputs))
-        joint.advance(x[:6], x[6:], STEP_S, held=True)   # doStep: left endpoint = these inputs, held
+        # doStep: left endpoint = these inputs, held; the last-value observer read every variable after the step
+        # before, the loads' derivatives too (a linearising master one step late, docs/reference/model.md §3.11): the
+        # wear takes the linear force's mean at these inputs
+        kinematics = (np.array(x[0:3]), np.array(x[3:6]), np.array(x[6:9]), np.array(x[9:12]))
+        joint.linearise_array(*kinematics, jacobian)
+        joint.accept_linearised_array(*kinematics, STEP_S, jacobian)
         r = joint.evaluate(x[:6], x[6:])               # outputs read after the step
         expected.append([*r.pin_force, *r.bushing_force, r.normal_force_N, r.friction_force_N,
                          float(r.in_contact), joint.max_wear_depth_m, joint.worn_volume_m3])

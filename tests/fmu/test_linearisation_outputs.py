@@ -70,6 +70,48 @@ def test_a_step_whose_master_read_the_derivatives_wears_with_the_linear_forces_m
     assert volumes[1] / volumes[0] == pytest.approx(1.0 + 0.5 * step * rates[0] / force, rel=1e-5)
 
 
+@pytest.fixture(scope="module")
+def pythonfmu_fmus(built_fmu, tmp_path_factory):
+    """The pythonfmu backend's FMI 2.0 FMU as tests/conftest.py's ``fmus`` gives the native ones."""
+    from fmpy import extract, read_model_description
+
+    md = read_model_description(str(built_fmu))
+    return {2: {"path": built_fmu, "md": md, "vr": fv.value_references(md),
+                "dir": extract(str(built_fmu), unzipdir=str(tmp_path_factory.mktemp("linearised_py_x")))}}
+
+
+@pytest.mark.parametrize("backend, version", [("native", 2), ("native", 3), ("pythonfmu", 2)])
+def test_a_step_whose_master_read_the_derivatives_one_step_late_wears_as_one_on_time(request, backend, version):
+    """A master that reads the loads and their derivatives before it sets the step's inputs (libcosim and fmpy's
+    SSP master: its mechanism integrates the linearisation of the point before) gets the same wear as one that reads
+    them at those inputs, bit for bit: the FMU evaluates the loads and derivatives there itself; a master that read
+    no derivatives, the held force's (docs/reference/model.md §3.11)."""
+    fmus = request.getfixturevalue("fmus" if backend == "native" else "pythonfmu_fmus")
+    state = ContactState("unworn-approaching", 1.0, 3e-6, 0.05, 0.2, params=paper_joint(wear_interval_s=0.0))
+    step, x = 1e-5, np.array(state.inputs())
+    before = x.copy()
+    before[:2] -= 5e-7 * x[3:5] / np.hypot(x[3], x[4])          # the point before: 0.5 um back along the approach
+    normal = [fv.derivative_name("normal_force", name) for name in INPUT_NAMES]
+    volumes = {}
+    for order in ("on time", "one step late", "held one step late"):
+        joint = started(fmus, version, "cs", state)
+        try:
+            joint.set(INPUT_NAMES, x if order == "on time" else before)
+            joint.get(["normal_force"])
+            if order != "held one step late":
+                joint.get(normal)
+            if order != "on time":
+                joint.set(INPUT_NAMES, x)
+            start = joint.get(["worn_volume"])[0]
+            joint.do_step(0.0, step)
+            volumes[order] = joint.get(["worn_volume"])[0] - start
+            assert not joint.errors()
+        finally:
+            joint.free()
+    assert volumes["one step late"] == volumes["on time"]
+    assert volumes["on time"] > 1.1 * volumes["held one step late"] > 0.0
+
+
 def test_a_derivatives_own_derivative_is_refused_by_name(fmus):
     """fmi2GetDirectionalDerivative of a published derivative is an error naming it (second derivatives are not
     provided); an evaluated input's derivative is its seed for its input."""
