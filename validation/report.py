@@ -147,6 +147,11 @@ def _shown(value, unit: str) -> str:
     return f"{value * scale:.4g}"
 
 
+def _revolutions(count: float) -> str:
+    """``1 revolution``, ``2.5 revolutions``."""
+    return f"{count:g} revolution{'' if count == 1 else 's'}"
+
+
 def _shown_unit(unit: str) -> str:
     return _DISPLAY.get(unit, (1.0, unit))[1]
 
@@ -294,10 +299,10 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         "| engine | runs | metrics within tolerance | verdict | outside tolerance |", "|---|---|---|---|---|",
         *(f"| {engine} | {_ROLE_TEXT[v['role']]} | {v['within_tolerance']} of {v['metrics']} | {v['verdict']} | "
           f"{', '.join(v['failed']) or '—'} |" for engine, v in summary["engines"].items()), "",
-        f"No-wear runs: {plan['revolutions']:g} revolutions, {plan['ensemble']} perturbed starts per engine and "
+        f"No-wear runs: {_revolutions(plan['revolutions'])}, {plan['ensemble']} perturbed starts per engine and "
         "configuration (initial crank angle + k × 1e-6°); point-wise window: first "
         f"{plan['window_s'] * 1e3:g} ms; "
-        f"wear run: {plan['wear_revolutions']:g} revolutions at wear factor {plan['wear_factor']:g}"
+        f"wear run: {_revolutions(plan['wear_revolutions'])} at wear factor {plan['wear_factor']:g}"
         + ("" if plan["run_wear"] else " (skipped)") + ". Reference: monolithic RK4 at "
         f"{_us(plan['reference_step_s'])}. exudyn (generalized-alpha) at {_us(plan['exudyn_step_s'])}, "
         f"co-simulation ({DEFAULT_SCHEME}, {plan['fmu_backend']} FMU) at most {_us(plan['cosim_step_s'])} in "

@@ -69,8 +69,16 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
 @pytest.mark.parametrize("command, options, message", [
     ("cosim", ["--step", "0"], "error: --step=0.0 (step_s) is invalid: allowed > 0"),
     ("cosim", ["--onset-penetration=-1"], "error: --onset-penetration=-1.0 (onset_penetration_m) is invalid"),
-    # the bad value is a default the user did not write: the API's name, as the Python API says it
-    ("cosim", ["--step", "2e-4"], "error: parameter max_step_s=0.0001 is invalid: allowed >= step_s = 0.0002"),
+    # the bad value is a default the user did not write, its rule against one the user wrote: that option named as
+    # written, then the default, the option that sets it and the rule
+    ("cosim", ["--step", "2e-4"], "error: --step=2e-4 (step_s) is invalid against max_step_s=0.0001 (not given; "
+                                  "--max-step sets it): allowed max_step_s >= step_s = 0.0002"),
+    ("simulate", ["--crank-length-m=0.3"], "error: --crank-length-m=0.3 (crank_length_m) is invalid against "
+                                           "rod_length_m=0.22 (not given; --rod-length-m sets it): allowed rod_length_m "
+                                           "> crank_length_m = 0.3 (the crank must turn fully)"),
+    ("simulate", ["--pin-radius-m", "0.02"], "error: --pin-radius-m=0.02 (pin_radius_m) is invalid against "
+                                             "bushing_radius_m=0.0101 (not given; --bushing-radius-m sets it): allowed "
+                                             "bushing_radius_m > 0 (at most 100 m) and > pin_radius_m"),
     ("build-fmu", ["--n-points", "3"], "error: --n-points=3 (n_points) is invalid: allowed an integer from 8 to 1000000"),
     # a profile no machine holds: refused, not the OOM killer's
     ("simulate", ["--n-points", "1000000000"], "error: --n-points=1000000000 (n_points) is invalid: allowed an integer "

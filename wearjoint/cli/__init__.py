@@ -152,8 +152,10 @@ _UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2
 
 def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv: list[str]) -> str:
     """A ParameterError's ``message`` naming the parameter as the user wrote it: ``parameter step_s=0.0 is invalid:
-    ...`` from ``--step 0`` becomes ``--step=0.0 (step_s) is invalid: ...``; unchanged where no option the user
-    gave sets that parameter (a default, a value from a file, ``--param NAME=...``)."""
+    ...`` from ``--step 0`` becomes ``--step=0.0 (step_s) is invalid: ...``.  Where no option the user gave sets
+    that parameter (a default) but its rule names one that does (``--step 2e-4`` against the default max_step_s),
+    that option is named: ``--step=2e-4 (step_s) is invalid against max_step_s=0.0001 (not given; --max-step sets
+    it): allowed max_step_s >= step_s = 0.0002``; else unchanged (a value from a file, ``--param NAME=...``)."""
     match = re.match(r"parameter (\w+)=", message)
     if match is None:
         return message
@@ -162,11 +164,39 @@ def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv
     actions = next(a for a in parser._actions if a.dest == "command").choices[command]._actions
     for action in actions:
         option = next((o for o in action.option_strings if o in given), None)
-        if option is not None and (name == action.dest or (name.startswith(action.dest + "_")
-                                                           and name[len(action.dest) + 1:] in _UNIT_SUFFIXES)):
+        if option is not None and _sets(action, name):
             value, invalid, allowed = message[match.end():].partition(" is invalid")
             return f"{option}={value} ({name}){invalid}{allowed}"
+    value, invalid, allowed = message[match.end():].partition(" is invalid: allowed ")
+    for action in actions:
+        option = next((o for o in action.option_strings if o in given), None)
+        other = next((n for n in _set_names(action) if re.search(rf"[<>]=? *{n}\b", allowed)), None)   # "> pin_radius_m"
+        if option is not None and other is not None and invalid:
+            own = next((a.option_strings[0] for a in actions if a.option_strings and _sets(a, name)), None)
+            return (f"{option}={_written_value(option, argv)} ({other}) is invalid against {name}={value} "
+                    f"(not given{f'; {own} sets it' if own else ''}): allowed {name} {allowed}")
     return message
+
+
+def _sets(action: argparse.Action, name: str) -> bool:
+    """True if the option ``action`` sets the parameter ``name`` (its dest, or its dest with a unit's suffix)."""
+    return name == action.dest or (name.startswith(action.dest + "_") and name[len(action.dest) + 1:] in _UNIT_SUFFIXES)
+
+
+def _set_names(action: argparse.Action) -> list[str]:
+    """The names the parameter an option sets may have in a message: its dest and its dest with a unit's suffix."""
+    return [action.dest, *(f"{action.dest}_{suffix}" for suffix in _UNIT_SUFFIXES)] if action.option_strings else []
+
+
+def _written_value(option: str, argv: list[str]) -> str:
+    """The value of ``option`` as written in ``argv`` (``--x 1e-3`` or ``--x=1e-3``; the last one given)."""
+    value = ""
+    for k, a in enumerate(argv):
+        if a == option and k + 1 < len(argv):
+            value = argv[k + 1]
+        elif a.startswith(option + "="):
+            value = a[len(option) + 1:]
+    return value
 
 
 def written_options(parser: argparse.ArgumentParser, command: str, argv: list[str]) -> frozenset:
