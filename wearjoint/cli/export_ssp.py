@@ -67,10 +67,11 @@ def run(args) -> int:
                           step_s=args.step, load_coupling=args.load_coupling, step_scale=scale)
         print(path)
         on_time = args.step if args.step is not None else ON_TIME_STEP_S[args.load_coupling] * scale
-        asks = f"the package asks for {step:.3g} s ({on_time:.3g} s of OMSimulator, on time)"
+        asks = (f"the package asks its masters for a communication step of {step:.3g} s, OMSimulator, which reads "
+                f"the loads on time, for {on_time:.3g} s")
         if args.load_coupling == "linearised":
-            print(f"{asks}: its mechanism integrates the joint's published linearisation, so it steps past the "
-                  f"held loads' stability limit (for --load-coupling hold, {rule.text()})", file=sys.stderr)
+            print(f"{asks}; its mechanism integrates the joint's published linearisation, past the held loads' "
+                  f"limit (with --load-coupling hold: {rule.text()})", file=sys.stderr)
         else:
             print(f"{rule.text()}; {asks}", file=sys.stderr)
         note = wear_coefficient_source(joint, mechanism)["wear_coefficient_note"]
