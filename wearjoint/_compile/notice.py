@@ -18,6 +18,7 @@ import functools
 import json
 import os
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -61,6 +62,10 @@ PROFILE_ENV = "WEARJOINT_COMPILE_PROFILE"
 # compilations shorter than this say nothing (a few kernels of a new specialisation, not a cold run: a notice of
 # the cold run's time would be wrong by tenfold); the notice and the count start once compiling has lasted it
 ANNOUNCE_AFTER_S = 2.0
+# while compiling, the notice (once due) and the bar's elapsed time are brought up to date this often by a thread of
+# their own: numba's events come when a compilation starts or ends, and one may last 16 s (a cold simulate said
+# nothing for its first 17.7 s, then nothing more until its results at 34.6 s)
+TICK_S = 0.5
 
 
 def _now() -> float:
@@ -85,8 +90,8 @@ def reference_runs() -> dict:
 
 
 def reference_walls() -> dict:
-    """Key of :data:`AHEAD_OF_TIME` -> the wall seconds of its cold build in the reference (its processes run side
-    by side: their compilations' seconds add up to more)."""
+    """Key of :data:`AHEAD_OF_TIME`, and ``simulate-helped`` -> the wall seconds of its cold build or command in the
+    reference (its processes run side by side: their compilations' seconds add up to more)."""
     return _reference().get("walls", {})
 
 
@@ -223,18 +228,35 @@ class CompileWatch:
         self._announced = False
         self._cached = False        # the engine's kernels were cached when compiling started
         self.speed = SpeedCalibration(what)
+        self._lock = threading.RLock()      # the events' thread and the ticker's
+        self._stopped = threading.Event()
 
     def on_start(self, event) -> None:
-        if self.count == 0 and not self._stack and self._first is None:
-            self._first = _now()
-            self._cached = not self.quiet and engine_cached(self.what)   # before this command caches anything
-            if not self.quiet and not self._cached:
-                self.speed.leave_out(*cached_in_reference(self.what))
-            if self._on_first is not None:
-                self._on_first()
-                self._on_first = None
-        self._announce_when_due()
-        self._stack.append([_clock(), 0.0])
+        with self._lock:
+            if self.count == 0 and not self._stack and self._first is None:
+                self._first = _now()
+                self._cached = not self.quiet and engine_cached(self.what)   # before this command caches anything
+                if not self.quiet and not self._cached:
+                    self.speed.leave_out(*cached_in_reference(self.what))
+                if self._on_first is not None:
+                    self._on_first()
+                    self._on_first = None
+                if not self.quiet:
+                    threading.Thread(target=self._tick, name="wearjoint-compile-notice", daemon=True).start()
+            self._announce_when_due()
+            self._stack.append([_clock(), 0.0])
+
+    def _tick(self) -> None:
+        """Every TICK_S until :meth:`close`, while a compilation runs: the notice once due, and the bar again (its
+        elapsed time moves)."""
+        while not self._stopped.wait(TICK_S):
+            with self._lock:
+                if self._stopped.is_set():
+                    return
+                if self._stack:
+                    self._announce_when_due()
+                    if self._bar is not None:
+                        self._update_bar()
 
     def _announce_when_due(self) -> None:
         """The notice and the count, once compiling has lasted ANNOUNCE_AFTER_S."""
@@ -251,16 +273,17 @@ class CompileWatch:
         self._bar.update(self.count, None if self._cached else self.speed.left_s())
 
     def on_end(self, event) -> None:
-        start, nested = self._stack.pop()
-        seconds = _clock() - start
-        if self._stack:
-            self._stack[-1][1] += seconds
-        self.count += 1
-        name = _function_name(event)
-        self.speed.add(name, seconds - nested)
-        self._announce_when_due()
-        if self._bar is not None:
-            self._update_bar()
+        with self._lock:
+            start, nested = self._stack.pop()
+            seconds = _clock() - start
+            if self._stack:
+                self._stack[-1][1] += seconds
+            self.count += 1
+            name = _function_name(event)
+            self.speed.add(name, seconds - nested)
+            self._announce_when_due()
+            if self._bar is not None:
+                self._update_bar()
         if self._on_compile is not None:
             self._on_compile(self.count)
         if self._profile:
@@ -268,13 +291,15 @@ class CompileWatch:
                 out.write(json.dumps([name, str(event.data["args"]), seconds - nested]) + "\n")
 
     def close(self, final_line: bool = True) -> None:
-        """Close the progress bar (compiling is over: what compiled is the whole count); without ``final_line``
-        (the command has ended) a log writes no last line."""
-        if self._bar is not None:
-            if not self._cached and self.count > 0:
-                self._bar.set_total(self.count)
-            self._bar.close(final_line)
-            self._bar = None
+        """Close the progress bar (compiling is over: what compiled is the whole count) and stop the ticker;
+        without ``final_line`` (the command has ended) a log writes no last line."""
+        with self._lock:
+            self._stopped.set()
+            if self._bar is not None:
+                if not self._cached and self.count > 0:
+                    self._bar.set_total(self.count)
+                self._bar.close(final_line)
+                self._bar = None
 
 
 _ACTIVE: list[CompileWatch] = []
