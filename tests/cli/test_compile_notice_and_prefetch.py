@@ -77,6 +77,7 @@ def test_a_short_compilation_says_nothing_and_a_long_one_says_it_once_due(capsys
     ANNOUNCE_AFTER_S of compiling nothing is said; past it the notice comes once, counting what compiled."""
     clock = iter([0.0, 0.5, 1.0, 1.5, 2.5, 3.0, 3.5, 4.0])
     monkeypatch.setattr(notice, "_now", lambda: next(clock))
+    monkeypatch.setattr(notice, "TICK_S", 3600.0)   # the clock's readings are the events' alone (no ticker's)
     short, long = _fresh_kernel(), _fresh_kernel()
     with notice.watching("simulate") as watch:
         short(4.0)                                  # clock 0 (first), 0.5 (its start), 1.0 (its end)
@@ -203,6 +204,7 @@ def test_the_bar_says_100_percent_only_once_compiling_is_over(capsys, monkeypatc
     monkeypatch.setattr(notice, "ANNOUNCE_AFTER_S", 0.0)
     clock = iter(range(0, 10**6, 100))
     monkeypatch.setattr(progress, "_now", lambda: float(next(clock)))
+    monkeypatch.setattr(notice, "TICK_S", 3600.0)   # a line per compilation, none of a ticker's
     watch = notice.CompileWatch("simulate")
     for name in ("a", "b", "c"):
         event = _compile_event("m", name)
