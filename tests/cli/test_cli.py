@@ -67,8 +67,8 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
 
 
 @pytest.mark.parametrize("command, options, message", [
-    ("cosim", ["--step", "0"], "error: --step=0.0 (step_s) is invalid: allowed > 0"),
-    ("cosim", ["--onset-penetration=-1"], "error: --onset-penetration=-1.0 (onset_penetration_m) is invalid"),
+    ("cosim", ["--step", "0"], "error: --step=0 (step_s) is invalid: allowed > 0"),
+    ("cosim", ["--onset-penetration=-1"], "error: --onset-penetration=-1 (onset_penetration_m) is invalid"),
     # the bad value is a default the user did not write, its rule against one the user wrote: that option named as
     # written, then the default, the option that sets it and the rule
     ("cosim", ["--step", "2e-4"], "error: --step=2e-4 (step_s) is invalid against max_step_s=0.0001 (not given; "
@@ -87,13 +87,13 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
     # no ensemble of no seeds: refused, not run as one seed
     ("wear-study", ["--revolutions", "10", "--seeds", "0"], "error: --seeds=0 is invalid: allowed an integer from 1 to 10000"),
     # a time series no machine holds: refused before anything is built, not a failed allocation's traceback
-    ("simulate", ["--revolutions", "1e12"], "error: --revolutions=1000000000000.0 (revolutions) is invalid: allowed <="),
+    ("simulate", ["--revolutions", "1e12"], "error: --revolutions=1e12 (revolutions) is invalid: allowed <="),
     ("cosim", ["--master", "container", "--revolutions", "1e12"], "(revolutions) is invalid: allowed <="),
     # a fmusim that is not there: refused before the package is built (a FileNotFoundError traceback after 5 s)
     ("cosim", ["--master", "container", "--fmusim", "no/such/fmusim"],
      "error: parameter --fmusim='no/such/fmusim' is invalid: allowed an executable fmusim"),
     # refused before the package is written (it named an internal step_s, after writing the SSP)
-    ("export-ssp", ["--container-step", "-1"], "error: --container-step=-1.0 (container_step_s) is invalid: allowed > 0"),
+    ("export-ssp", ["--container-step", "-1"], "error: --container-step=-1 (container_step_s) is invalid: allowed > 0"),
 ])
 def test_a_bad_option_is_named_as_the_user_wrote_it(tmp_path, command, options, message):
     done = wearjoint(command, "--out", str(tmp_path / "x"), *options)

@@ -19,9 +19,9 @@ def refused(capsys, *argv) -> str:
 
 # ----------------------------------------------------------------------------- validate
 @pytest.mark.parametrize("options, message", [
-    (["--window", "0"], "--window=0.0 (window_s) is invalid: allowed > 0"),
-    (["--revolutions", "0"], "--revolutions=0.0 (revolutions) is invalid: allowed > 0"),
-    (["--wear-revolutions", "0"], "--wear-revolutions=0.0 (wear_revolutions) is invalid: allowed > 0"),
+    (["--window", "0"], "--window=0 (window_s) is invalid: allowed > 0"),
+    (["--revolutions", "0"], "--revolutions=0 (revolutions) is invalid: allowed > 0"),
+    (["--wear-revolutions", "0"], "--wear-revolutions=0 (wear_revolutions) is invalid: allowed > 0"),
     (["--engines", "monolithic"], "--engines='monolithic' is invalid: allowed a comma-separated list of distinct "
                                   "names from monolithic, cosim"),
     (["--engines", "monolithic,monolithic"], "--engines='monolithic,monolithic' is invalid: allowed"),
@@ -230,8 +230,8 @@ def test_an_initial_profile_is_checked_when_read(tmp_path, capsys, command, chan
 
 # ----------------------------------------------------------------------------- negative numbers
 @pytest.mark.parametrize("options, message", [
-    (["--step", "-1e-6", "--integrator", "rk4"], "--step=-1e-06 (step_s) is invalid: allowed > 0"),
-    (["--wear-coefficient-m2-N", "-1E-14"], "--wear-coefficient-m2-N=-1e-14 (wear_coefficient_m2_N) is invalid: "
+    (["--step", "-1e-6", "--integrator", "rk4"], "--step=-1e-6 (step_s) is invalid: allowed > 0"),
+    (["--wear-coefficient-m2-N", "-1E-14"], "--wear-coefficient-m2-N=-1E-14 (wear_coefficient_m2_N) is invalid: "
                                             "allowed >= 0"),
     (["--restitution", "-inf"], "--restitution=-inf (restitution) is invalid: allowed a finite real number in [0.001, 1]"),
     (["--gravity-m-s2", "-9.81"], "--gravity-m-s2=-9.81 (gravity_m_s2) is invalid: allowed one finite value g in [0, 10000]"),

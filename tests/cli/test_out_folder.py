@@ -75,7 +75,7 @@ def test_an_interrupted_wear_study_ensemble_resumes_into_its_folder(tmp_path):
 def test_a_refused_run_leaves_no_folder_behind(tmp_path, capsys):
     out = tmp_path / "a" / "b"
     assert main(["simulate", "--revolutions", "0", "--out", str(out)]) == 2
-    assert "--revolutions=0.0" in _one_line_error(capsys)
+    assert "--revolutions=0" in _one_line_error(capsys)
     assert not (tmp_path / "a").exists()
 
 

@@ -79,7 +79,7 @@ def test_the_cli_states_the_stiffness_it_uses_and_notes_an_override(tmp_path):
     assert summary["contact_stiffness_N_m1_5"] == 4e10
     done = wearjoint("simulate", "--revolutions", "0.01", "--out", str(tmp_path / "bad"), "--contact-model", "deepest",
                      "--contact-exponent", "2")
-    assert done.returncode == 2 and "--contact-exponent=2.0 (contact_exponent) is invalid" in done.stderr
+    assert done.returncode == 2 and "--contact-exponent=2 (contact_exponent) is invalid" in done.stderr
     assert len(done.stderr.strip().splitlines()) <= 3 and "Traceback" not in done.stderr
 
 

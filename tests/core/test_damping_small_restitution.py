@@ -55,4 +55,4 @@ def test_contact_law_reports_the_smallest_restitution_a_joint_takes_and_refuses_
         assert np.allclose(table["restitution_" + law], 1e-3, rtol=1e-6, atol=0.0)
     capsys.readouterr()
     assert main(["contact-law", "--restitution", "1e-4", "--out", str(tmp_path / "refused"), "--quiet"]) == 2
-    assert "--restitution=0.0001 (restitution) is invalid: allowed in [0.001, 1]" in capsys.readouterr().err
+    assert "--restitution=1e-4 (restitution) is invalid: allowed in [0.001, 1]" in capsys.readouterr().err

@@ -112,7 +112,7 @@ def test_a_load_too_large_for_double_precision_is_refused_naming_its_option(tmp_
 
     assert main([command, option, "--revolutions", "0.01", "--no-plots", "--quiet", "--out", str(tmp_path / "r")]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"wearjoint {command}: error: {option.replace('=1e300', '=1e+300')} (") and allowed in err, err
+    assert err.startswith(f"wearjoint {command}: error: {option} (") and allowed in err, err
     assert not (tmp_path / "r").exists()
 
 

@@ -193,7 +193,7 @@ def test_a_third_party_masters_step_is_held_to_the_wear_step_limit_and_defaults_
     assert main(["cosim", "--out", str(tmp_path), "--master", "container", "--wear-factor", "1e5", "--step",
                  "1e-6"]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("wearjoint cosim: error: --step=1e-06 (step_s) is invalid with wear") and \
+    assert err.startswith("wearjoint cosim: error: --step=1e-6 (step_s) is invalid with wear") and \
         "allowed at most 5.52e-08 s" in err
     mechanism = SliderCrankParameters(crank_speed_rpm=300.0)
     options = {**vars(_cosim_parser().parse_args(["--out", "x", "--master", "container", "--crank-speed-rpm", "300"]))}

@@ -151,8 +151,8 @@ _UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2
 
 
 def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv: list[str]) -> str:
-    """A ParameterError's ``message`` naming the parameter as the user wrote it: ``parameter step_s=0.0 is invalid:
-    ...`` from ``--step 0`` becomes ``--step=0.0 (step_s) is invalid: ...``.  Where no option the user gave sets
+    """A ParameterError's ``message`` naming the parameter and its value as the user wrote them: ``parameter
+    step_s=0.0 is invalid: ...`` from ``--step 0`` becomes ``--step=0 (step_s) is invalid: ...``.  Where no option the user gave sets
     that parameter (a default) but its rule names one that does (``--step 2e-4`` against the default max_step_s),
     that option is named: ``--step=2e-4 (step_s) is invalid against max_step_s=0.0001 (not given; --max-step sets
     it): allowed max_step_s >= step_s = 0.0002``; else unchanged (a value from a file, ``--param NAME=...``)."""
@@ -166,6 +166,8 @@ def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv
         option = next((o for o in action.option_strings if o in given), None)
         if option is not None and _sets(action, name):
             value, invalid, allowed = message[match.end():].partition(" is invalid")
+            if action.nargs is None and value[:1] not in "'\"" and _written_value(option, argv):   # -1, not -1.0
+                value = _written_value(option, argv)
             return f"{option}={value} ({name}){invalid}{allowed}"
     value, invalid, allowed = message[match.end():].partition(" is invalid: allowed ")
     for action in actions:
