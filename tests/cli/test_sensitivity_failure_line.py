@@ -1,18 +1,34 @@
 """`wearjoint sensitivity` whose runs fail: exit status 1 with one line on stderr saying how many failed and where each
 is listed (it said nothing there: the failures went to stdout only), and a summary.json without NaN."""
+import contextlib
 import json
+import socket
 import subprocess
 import sys
 
 import pytest
 
 
+@contextlib.contextmanager
+def _port_in_use(port: int):
+    """``port`` of this machine taken while the block runs (by this socket, or already by another process)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as held:
+        with contextlib.suppress(OSError):
+            held.bind(("", port))
+            held.listen()
+        yield
+
+
 def test_a_study_whose_runs_fail_says_so_on_stderr_in_one_line(tmp_path):
-    """A slider load far too large: every run's pin goes through the bushing wall (diverged)."""
+    """A slider load far too large: every run's pin goes through the bushing wall (diverged).  With Dask's default
+    dashboard port taken (another study running) the line is still the only one: the local cluster said "UserWarning:
+    Port 8787 is already in use" on stderr."""
     out = tmp_path / "s"
-    done = subprocess.run([sys.executable, "-m", "wearjoint", "sensitivity", "simulate", "--workers", "1", "--samples",
-                           "2", "--no-law-spread", "--revolutions", "0.02", "--param", "slider-force-N=1e7,1e8,log",
-                           "--out", str(out), "--no-plots", "--quiet"], capture_output=True, text=True, timeout=600)
+    with _port_in_use(8787):
+        done = subprocess.run([sys.executable, "-m", "wearjoint", "sensitivity", "simulate", "--workers", "1", "--samples",
+                               "2", "--no-law-spread", "--revolutions", "0.02", "--param",
+                               "slider-force-N=1e7,1e8,log", "--out", str(out), "--no-plots", "--quiet"],
+                              capture_output=True, text=True, timeout=600)
     assert done.returncode == 1, done.stderr
     lines = [line for line in done.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr

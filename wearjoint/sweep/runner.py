@@ -193,8 +193,11 @@ def start_client(workers: int | None, scheduler: str | None):
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
         # the workers' own log: critical only.  A case's failure comes back through its future; at ERROR a worker
-        # whose heartbeat crossed the scheduler's shutdown printed a traceback after a finished sweep
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+        # whose heartbeat crossed the scheduler's shutdown printed a traceback after a finished sweep.  The
+        # scheduler's HTTP server on a free port of this machine alone, no dashboard: without an address it takes
+        # 8787, and a second study running at once warned on stderr that the port was in use
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
                                silence_logs=logging.CRITICAL)
     finally:
         if main:
