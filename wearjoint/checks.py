@@ -31,9 +31,11 @@ def worn_through_message(when: str, max_depth_m: float, bushing_radius_m: float)
 
 def require(name: str, value, ok: bool, allowed: str) -> None:
     """ParameterError naming ``name``, its ``value`` and what is ``allowed`` unless ``ok``: the one-line message
-    every edge (API, CLI, FMU build, exudyn, sweep) gives for a bad value."""
+    every edge (API, CLI, FMU build, exudyn, sweep) gives for a bad value; a command-line option (``--master``) is
+    named as it is written, without "parameter"."""
     if not ok:
-        raise ParameterError(f"parameter {name}={value!r} is invalid: allowed {allowed}")
+        named = name if name.startswith("-") else f"parameter {name}"
+        raise ParameterError(f"{named}={value!r} is invalid: allowed {allowed}")
 
 
 def shown(value) -> str:

@@ -136,7 +136,7 @@ def take_calibration(options: Mapping, joint_values: dict) -> None:
     if options.get("calibration") is None:
         return
     if "wear_coefficient_m2_N" in joint_values:
-        raise ParameterError(f"parameter --calibration={str(options['calibration'])!r} is invalid: allowed only "
+        raise ParameterError(f"--calibration={str(options['calibration'])!r} is invalid: allowed only "
                              "without --wear-coefficient-m2-N (one k_w)")
     joint_values["wear_coefficient_m2_N"] = calibrated_wear_coefficient(options["calibration"])
 
@@ -262,7 +262,7 @@ def check_settling(options: Mapping) -> int:
     """The --settling-revolutions value, refused in one line unless an integer >= 0."""
     settling = options["settling_revolutions"]
     if settling < 0:
-        raise ParameterError(f"parameter --settling-revolutions={settling} is invalid: allowed an integer >= 0")
+        raise ParameterError(f"--settling-revolutions={settling} is invalid: allowed an integer >= 0")
     return settling
 
 
@@ -279,7 +279,7 @@ PROFILE_HEADER = "phi_deg,wear_depth_m"      # profile.csv's header (docs/refere
 def read_initial_profile(path: Path, joint) -> np.ndarray:
     """The wear depths [m] of a profile.csv for ``joint``: its header, a row per bushing point at that point's angle,
     depths in [0, bushing radius]; ParameterError naming --initial-profile, the file and what does not fit."""
-    invalid = f"parameter --initial-profile={str(path)!r} is invalid: allowed"
+    invalid = f"--initial-profile={str(path)!r} is invalid: allowed"
     try:
         with open(path) as f:
             header = f.readline().strip()

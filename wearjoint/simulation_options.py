@@ -64,9 +64,19 @@ def check_run_arguments(joint, mechanism, options, options_type: type, fmu_path=
     of_type("options", options, options_type, "the defaults")
     if fmu_path is not None:   # (is_zipfile would take an int for a file descriptor)
         path_like = isinstance(fmu_path, (str, os.PathLike))
-        require("fmu_path", str(fmu_path) if path_like else fmu_path, path_like and zipfile.is_zipfile(fmu_path),
-                "an existing FMU file (.fmu, a zip archive)")
+        require("fmu_path", str(fmu_path) if path_like else fmu_path, path_like and _is_fmu(fmu_path),
+                "an existing FMU file (.fmu: a zip archive with a modelDescription.xml)")
     integer("chunks_per_revolution", chunks_per_revolution, 1, MAX_CHUNKS_PER_REVOLUTION)
+
+
+def _is_fmu(path) -> bool:
+    """True if ``path`` is a zip archive with a modelDescription.xml at its root (any other zip ran into fmpy's
+    FileNotFoundError)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            return "modelDescription.xml" in archive.namelist()
+    except (OSError, zipfile.BadZipFile):
+        return False
 
 
 def check_run_span(options, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> None:

@@ -69,6 +69,11 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
 @pytest.mark.parametrize("command, options, message", [
     ("cosim", ["--step", "0"], "error: --step=0 (step_s) is invalid: allowed > 0"),
     ("cosim", ["--onset-penetration=-1"], "error: --onset-penetration=-1 (onset_penetration_m) is invalid"),
+    # the rule compares with a default the user did not write: the option that sets it named too
+    ("cosim", ["--min-step", "1e-4"], "error: --min-step=1e-4 (min_step_s) is invalid: allowed <= step_s = 1e-05 "
+                                      "(step_s: not given; --step sets it)\n"),
+    ("cosim", ["--min-step", "1e-4", "--step", "2e-5"], "error: --min-step=1e-4 (min_step_s) is invalid: allowed <= "
+                                                        "step_s = 2e-05\n"),
     # the bad value is a default the user did not write, its rule against one the user wrote: that option named as
     # written, then the default, the option that sets it and the rule
     ("cosim", ["--step", "2e-4"], "error: --step=2e-4 (step_s) is invalid against max_step_s=0.0001 (not given; "
@@ -91,7 +96,7 @@ def test_bad_parameter_exits_with_a_message_and_no_traceback(tmp_path, option, v
     ("cosim", ["--master", "container", "--revolutions", "1e12"], "(revolutions) is invalid: allowed <="),
     # a fmusim that is not there: refused before the package is built (a FileNotFoundError traceback after 5 s)
     ("cosim", ["--master", "container", "--fmusim", "no/such/fmusim"],
-     "error: parameter --fmusim='no/such/fmusim' is invalid: allowed an executable fmusim"),
+     "error: --fmusim='no/such/fmusim' is invalid: allowed an executable fmusim"),
     # refused before the package is written (it named an internal step_s, after writing the SSP)
     ("export-ssp", ["--container-step", "-1"], "error: --container-step=-1 (container_step_s) is invalid: allowed > 0"),
 ])

@@ -97,11 +97,11 @@ POINTS = ["--points", "1000:5e-6,2000:8e-6"]
 
 
 @pytest.mark.parametrize("options, message", [
-    (["--life-depth-m=-1"], "--life-depth-m=-1.0 is invalid: allowed a max depth > 0 [m]"),
+    (["--life-depth-m=-1"], "--life-depth-m=-1 is invalid: allowed a max depth > 0 [m]"),
     (["--life-depth-m", "nan"], "--life-depth-m=nan is invalid: allowed a max depth > 0 [m]"),
     (["--tolerance", "nan"], "--tolerance=nan is invalid: allowed a share > 0"),
-    (["--tolerance=-1"], "--tolerance=-1.0 is invalid: allowed a share > 0"),
-    (["--depth-uncertainty-m", "0"], "--depth-uncertainty-m=0.0 is invalid: allowed > 0 [m]"),
+    (["--tolerance=-1"], "--tolerance=-1 is invalid: allowed a share > 0"),
+    (["--depth-uncertainty-m", "0"], "--depth-uncertainty-m=0 is invalid: allowed > 0 [m]"),
     (["--predict-revolutions", "x"], "--predict-revolutions='x' is invalid: allowed N1,N2,... revolutions > 0"),
     (["--points", "1000:5e-6:nan"], "--points='1000:5e-6:nan' is invalid: allowed REVOLUTIONS:MAX_DEPTH_M"),
     (["--points", "1000:-5e-6"], "--points='1000:-5e-6' (points) is invalid: allowed REVOLUTIONS:DEPTH_M pairs, "
@@ -110,10 +110,10 @@ POINTS = ["--points", "1000:5e-6,2000:8e-6"]
     # argparse said "expected one argument": a negative first number was an option
     (["--points", "-1:1e-5"], "--points='-1:1e-5' (points) is invalid: allowed REVOLUTIONS:DEPTH_M pairs"),
     (["--law", "mild-severe"], "--transition-depth-m is required with --law mild-severe"),
-    (["--law", "mild-severe", "--transition-depth-m", "1"], "--transition-depth-m=1.0 (transition_depth_m) is "
+    (["--law", "mild-severe", "--transition-depth-m", "1"], "--transition-depth-m=1 (transition_depth_m) is "
                                                             "invalid: allowed in (0, "),
     (["--law", "mild-severe", "--transition-depth-m", "5e-6", "--life-depth-m", "1e-6"],
-     "--life-depth-m=1e-06 is invalid: allowed only with --law archard"),
+     "--life-depth-m=1e-6 is invalid: allowed only with --law archard"),
 ])
 def test_calibrate_refuses_bad_values_naming_the_option(study, tmp_path, capsys, options, message):
     """-1 m gave "0 revolutions", nan wrote NaN into calibration.json, messages named points=, transition_depth_m=."""
@@ -150,11 +150,11 @@ def test_calibrate_refuses_a_study_whose_growth_curve_is_empty_or_garbage(study,
 # ----------------------------------------------------------------------------- wear-study
 @pytest.mark.parametrize("options, message", [
     (["--cycle-jump-block", "0"], "--cycle-jump-block=0 (jump_block_revolutions) is invalid: allowed an integer >= 1"),
-    (["--checkpoint-every", "0"], "--checkpoint-every=0.0 (checkpoint_every_revolutions) is invalid: allowed a finite "
+    (["--checkpoint-every", "0"], "--checkpoint-every=0 (checkpoint_every_revolutions) is invalid: allowed a finite "
                                   "value > 0"),
-    (["--impact-threshold-m-s2=-1"], "--impact-threshold-m-s2=-1.0 (impact_threshold_m_s2) is invalid"),
-    (["--cycle-jump-tolerance", "2"], "--cycle-jump-tolerance=2.0 (jump_tolerance) is invalid: allowed in (0, 1)"),
-    (["--calibrate-max-depth-m=-1"], "--calibrate-max-depth-m=-1.0 (target_max_depth_m) is invalid: allowed a finite "
+    (["--impact-threshold-m-s2=-1"], "--impact-threshold-m-s2=-1 (impact_threshold_m_s2) is invalid"),
+    (["--cycle-jump-tolerance", "2"], "--cycle-jump-tolerance=2 (jump_tolerance) is invalid: allowed in (0, 1)"),
+    (["--calibrate-max-depth-m=-1"], "--calibrate-max-depth-m=-1 (target_max_depth_m) is invalid: allowed a finite "
                                      "depth > 0 m"),
     (["--calibrate-max-depth-m=nan"], "--calibrate-max-depth-m=nan (target_max_depth_m) is invalid: allowed a finite "
                                       "depth > 0 m"),

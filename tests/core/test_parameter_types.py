@@ -207,14 +207,21 @@ def test_chunks_per_revolution_must_be_an_integer_from_1_to_10000(run, options, 
 
 
 def test_an_fmu_path_that_is_not_an_fmu_is_refused(tmp_path):
+    """Not a zip, missing, a folder, or a zip without a modelDescription.xml (it died in fmpy's FileNotFoundError,
+    leaving a temporary folder behind)."""
+    import zipfile
+
     text = tmp_path / "joint.fmu"
     text.write_text("not a zip archive")
-    for path in (text, tmp_path / "missing.fmu", tmp_path):
+    archive = tmp_path / "archive.fmu"
+    with zipfile.ZipFile(archive, "w") as z:
+        z.writestr("hello.txt", "no model description")
+    allowed = "an existing FMU file (.fmu: a zip archive with a modelDescription.xml)"
+    for path in (text, tmp_path / "missing.fmu", tmp_path, archive):
         _refused(lambda: CoSimulation(paper_joint(), SliderCrankParameters(), CoSimulationOptions(revolutions=0.01),
-                                      fmu_path=path), "fmu_path", repr(str(path)),
-                 "an existing FMU file (.fmu, a zip archive)")
+                                      fmu_path=path), "fmu_path", repr(str(path)), allowed)
         _refused(lambda: run_model_exchange(paper_joint(), None, SimulationOptions(revolutions=0.01), fmu_path=path),
-                 "fmu_path", repr(str(path)), "an existing FMU file (.fmu, a zip archive)")
+                 "fmu_path", repr(str(path)), allowed)
 
 
 @pytest.mark.parametrize("mechanism", [JointParameters(), 0, {}, "paper"])

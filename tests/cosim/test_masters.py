@@ -160,12 +160,12 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
 
 @pytest.mark.parametrize("args, option, value, allowed", [
     (["--master", "nope"], "--master", "'nope'", "one of wearjoint, libcosim, ecos, fmpy-ssp, omsimulator, container"),
-    (["--master", "libcosim", "--step", "0"], "--step", "0.0", "a communication step > 0 [s] and at most the run's 0.8 s"),
-    (["--master", "libcosim", "--step=-1e-6"], "--step", "-1e-06",
+    (["--master", "libcosim", "--step", "0"], "--step", "0", "a communication step > 0 [s] and at most the run's 0.8 s"),
+    (["--master", "libcosim", "--step=-1e-6"], "--step", "-1e-6",
      "a communication step > 0 [s] and at most the run's 0.8 s"),
-    (["--master", "container", "--step=1", "--revolutions", "0.05"], "--step", "1.0",
+    (["--master", "container", "--step=1", "--revolutions", "0.05"], "--step", "1",
      "a communication step > 0 [s] and at most the run's 0.02 s"),
-    (["--master", "libcosim", "--revolutions", "0"], "--revolutions", "0.0", "> 0 crank revolutions"),
+    (["--master", "libcosim", "--revolutions", "0"], "--revolutions", "0", "> 0 crank revolutions"),
     (["--master", "container", "--fmu", "x.fmu"], "--fmu", "'x.fmu'", "only with --master wearjoint (a third-party "
      "master steps the SSP's Co-Simulation FMUs, export-ssp's native builds, at the fixed --step)"),
     (["--master", "ecos", "--fmu-backend", "pythonfmu"], "--fmu-backend", "'pythonfmu'", "only with --master "
@@ -179,7 +179,7 @@ def test_cosim_master_refuses_bad_options_in_one_line(args, option, value, allow
     option, its value and what is allowed."""
     assert main(["cosim", "--out", str(tmp_path), *args]) == 2
     err = capsys.readouterr().err.strip()
-    assert err == f"wearjoint cosim: error: parameter {option}={value} is invalid: allowed {allowed}"
+    assert err == f"wearjoint cosim: error: {option}={value} is invalid: allowed {allowed}"
     assert not (tmp_path / "summary.json").exists()
 
 
@@ -218,7 +218,7 @@ def test_cosim_master_that_is_not_installed_is_refused_in_one_line(tmp_path, cap
                         lambda m: f"{m} needs ecospy and tbb (ImportError: no ecospy)" if m == "ecos" else None)
     assert main(["cosim", "--out", str(tmp_path), "--master", "ecos"]) == 2
     err = capsys.readouterr().err.strip()
-    assert err == ("wearjoint cosim: error: parameter --master='ecos' is invalid: allowed one of the masters "
+    assert err == ("wearjoint cosim: error: --master='ecos' is invalid: allowed one of the masters "
                    "installed here, wearjoint, libcosim, fmpy-ssp, omsimulator, container (ecos needs ecospy and tbb "
                    "(ImportError: no ecospy))")
 

@@ -231,7 +231,7 @@ def test_a_jump_whose_replay_lost_volume_is_named_with_a_warning():
     (dict(joint=paper_joint(wear_factor=10.0)), "jump_tolerance=0.003 is invalid with wear_factor=10.0: allowed "
                                                 "only at wear factor 1"),
     (dict(jump_block_revolutions=0), "jump_block_revolutions=0 is invalid"),
-    (dict(engine="cosim"), "not available with --engine cosim"),
+    (dict(engine="cosim"), "engine=.cosim. is invalid with cycle jumping"),
 ])
 def test_jump_settings_are_checked(changes, message):
     with pytest.raises(ParameterError, match=message):

@@ -245,7 +245,7 @@ def test_convergence_against_the_jump_route_runs_it_at_the_real_wear_rate():
 def test_wear_factor_leaving_less_than_one_simulated_revolution_is_refused():
     with pytest.raises(ParameterError) as caught:
         small_config(revolutions=1000, snapshots=(1000,), joint=paper_joint(wear_factor=1e6))
-    assert str(caught.value) == ("parameter --wear-factor (wear_factor)=1000000.0 is invalid with --revolutions 1000: "
+    assert str(caught.value) == ("--wear-factor=1000000.0 (wear_factor) is invalid with --revolutions 1000: "
                                  "allowed 0.001 <= wear factor <= 1000 (0.001 simulated revolutions; from 1 to 1e6)")
     assert small_config(revolutions=20, snapshots=(20,), joint=paper_joint(wear_factor=20.0)).simulated_revolutions == 1
 

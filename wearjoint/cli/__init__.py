@@ -155,20 +155,25 @@ def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv
     step_s=0.0 is invalid: ...`` from ``--step 0`` becomes ``--step=0 (step_s) is invalid: ...``.  Where no option the user gave sets
     that parameter (a default) but its rule names one that does (``--step 2e-4`` against the default max_step_s),
     that option is named: ``--step=2e-4 (step_s) is invalid against max_step_s=0.0001 (not given; --max-step sets
-    it): allowed max_step_s >= step_s = 0.0002``; else unchanged (a value from a file, ``--param NAME=...``)."""
+    it): allowed max_step_s >= step_s = 0.0002``; a message that names the option already (``--step=1e-07 is invalid:
+    ...``) gets the value as written (``--step=1e-7``); else unchanged (a value from a file, ``--param NAME=...``)."""
+    given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
+    actions = next(a for a in parser._actions if a.dest == "command").choices[command]._actions
+    named = re.match(r"(--[\w-]+)=(\S+)( .*)$", message, re.DOTALL)
+    if named is not None:
+        option, value, rest = named.groups()
+        action = next((a for a in actions if option in a.option_strings), None)
+        return f"{option}={_as_typed(action, option, value, argv) if option in given else value}{rest}"
     match = re.match(r"parameter (\w+)=", message)
     if match is None:
         return message
     name = match.group(1)
-    given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
-    actions = next(a for a in parser._actions if a.dest == "command").choices[command]._actions
     for action in actions:
         option = next((o for o in action.option_strings if o in given), None)
         if option is not None and _sets(action, name):
             value, invalid, allowed = message[match.end():].partition(" is invalid")
-            if action.nargs is None and value[:1] not in "'\"" and _written_value(option, argv):   # -1, not -1.0
-                value = _written_value(option, argv)
-            return f"{option}={value} ({name}){invalid}{allowed}"
+            return (f"{option}={_as_typed(action, option, value, argv)} ({name}){invalid}{allowed}"
+                    f"{_defaults_named(allowed, name, actions, given)}")
     value, invalid, allowed = message[match.end():].partition(" is invalid: allowed ")
     for action in actions:
         option = next((o for o in action.option_strings if o in given), None)
@@ -178,6 +183,26 @@ def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv
             return (f"{option}={_written_value(option, argv)} ({other}) is invalid against {name}={value} "
                     f"(not given{f'; {own} sets it' if own else ''}): allowed {name} {allowed}")
     return message
+
+
+def _defaults_named(allowed: str, name: str, actions, given: set) -> str:
+    """`` (step_s: not given; --step sets it)`` for each parameter but ``name`` that the rule ``allowed`` compares
+    with (``<= step_s = 1e-05``) and that no option the user gave sets: the option to change, as well as this one."""
+    notes = []
+    for action in actions:
+        other = next((n for n in _set_names(action) if n != name and re.search(rf"\b{n} *=", allowed)), None)
+        if other is not None and not given.intersection(action.option_strings):
+            notes.append(f" ({other}: not given; {action.option_strings[0]} sets it)")
+    return "".join(notes)
+
+
+def _as_typed(action: argparse.Action | None, option: str, value: str, argv: list[str]) -> str:
+    """``value`` (a message's, parsed: ``-1.0``) as ``option`` was written in ``argv`` (``-1``) where that is one
+    token; a quoted value (a string's repr) stays as it is."""
+    typed = _written_value(option, argv)
+    if action is None or action.nargs is not None or value[:1] in "'\"" or not typed:
+        return value
+    return typed
 
 
 def _sets(action: argparse.Action, name: str) -> bool:

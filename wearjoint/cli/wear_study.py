@@ -34,7 +34,7 @@ def run(args) -> int:
     ensemble = args.seeds is not None and check_seeds(args.seeds) > 1
     for flag, value in (("--workers", args.workers), ("--scheduler", args.scheduler)):
         if value is not None and not ensemble:       # one study runs here, on one core
-            raise ParameterError(f"parameter {flag}={value!r} is invalid: allowed only with --seeds N, N > 1 (the "
+            raise ParameterError(f"{flag}={value!r} is invalid: allowed only with --seeds N, N > 1 (the "
                                  "ensemble's studies spread over Dask workers; one study runs in this process)")
     _check_out(args, ensemble)
     if ensemble:

@@ -69,5 +69,9 @@ def extracted_fmu(fmu_path) -> tuple[str, object, bool]:
         return str(folder), description, False
     except (OSError, pickle.UnpicklingError, EOFError, AttributeError):
         own = Path(tempfile.mkdtemp(prefix="wearjoint-fmu-"))
-        return str(own), _extract_into(fmu_path, own), True
+        try:
+            return str(own), _extract_into(fmu_path, own), True
+        except BaseException:
+            shutil.rmtree(own, ignore_errors=True)    # the caller never learns of the folder: not left behind
+            raise
 

@@ -436,10 +436,10 @@ def _shown(point: dict) -> str:
 
 
 def _reason(message: str, dest: str, value) -> str | None:
-    """What ``message`` (a ParameterError's, ``parameter NAME=VALUE is invalid...``) says after ``is invalid`` (e.g.
-    ``: allowed > 0``), if it is about option ``dest`` (NAME its API name: ``step`` sets ``step_s``) at ``value``;
-    else None."""
-    subject = re.match(r"parameter (\S+?)=(.*?) is invalid(\W.*)", message)
+    """What ``message`` (a ParameterError's, ``parameter NAME=VALUE is invalid...`` or ``--FLAG=VALUE is
+    invalid...``) says after ``is invalid`` (e.g. ``: allowed > 0``), if it is about option ``dest`` (NAME its API
+    name: ``step`` sets ``step_s``) at ``value``; else None."""
+    subject = re.match(r"(?:parameter |(?=--))(\S+?)=(.*?) is invalid(\W.*)", message)
     if (subject is not None and dest in subject.group(1).lstrip("-").replace("-", "_")
             and subject.group(2) in (repr(value), str(value), repr(str(value)))):   # a file: its path quoted
         return subject.group(3)
