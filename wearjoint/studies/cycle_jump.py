@@ -30,7 +30,7 @@ from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.progress import Progress
 from wearjoint.runner import divergence
-from wearjoint.checks import RunDiverged, worn_through_message
+from wearjoint.checks import ParameterError, RunDiverged, worn_through_message
 
 DEFAULT_JUMP_TOLERANCE = 0.003          # local error of a jump, relative to the max depth (docs/explanation/wear_study.md)
 PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this share of the max depth (explicit bound)
@@ -44,6 +44,34 @@ REPLAY_VOLUME_TOLERANCE = 0.01
 # the growth of a block's volume over a jump is measured on every this-many-th row of its loading (the same rows on
 # the jump's first and last profile: a ratio; all rows doubled the default study's replay time)
 GROWTH_ROW_STRIDE = 16
+MAX_SIMULATED_REVOLUTIONS = 1e6       # a study without jumps (about 100 h of simulation; its per-revolution table 56 MB)
+MAX_JUMPED_REVOLUTIONS = 1e12         # a cycle-jumping study's span (its simulated revolutions: the jumps decide)
+
+
+def check_route(revolutions: int, wear_factor: float, jump_tolerance: float | None, engine: str) -> None:
+    """ParameterError unless a study's route holds: cycle jumping (``jump_tolerance`` in (0, 1)) at wear factor 1
+    on the monolithic engine over at most MAX_JUMPED_REVOLUTIONS (it simulates what the jumps need: 150 revolutions
+    for 2.1e6); without it revolutions / wear factor simulated revolutions, from 1 to MAX_SIMULATED_REVOLUTIONS."""
+    if jump_tolerance is not None:
+        if not (isinstance(jump_tolerance, (int, float)) and 0.0 < jump_tolerance < 1.0):
+            raise ParameterError(f"parameter jump_tolerance={jump_tolerance!r} is invalid: allowed in (0, 1)")
+        if wear_factor != 1.0:
+            raise ParameterError(f"parameter jump_tolerance={jump_tolerance!r} is invalid with wear_factor="
+                                 f"{wear_factor!r}: allowed only at wear factor 1 (cycle jumping's blocks run at the "
+                                 "real wear rate); a wear factor is a route of its own")
+        if revolutions > MAX_JUMPED_REVOLUTIONS:
+            raise ParameterError(f"parameter revolutions={revolutions!r} is invalid: allowed at most "
+                                 f"{MAX_JUMPED_REVOLUTIONS:g} with cycle jumping")
+        if engine == "cosim":
+            raise ParameterError(f"parameter engine='cosim' is invalid with cycle jumping (jump_tolerance="
+                                 f"{jump_tolerance!r}): allowed only with a wear factor instead (--wear-factor F: the "
+                                 "FMU's wear profile cannot be set, so a co-simulated study cannot jump)")
+        return
+    simulated = revolutions / wear_factor
+    if not 1.0 - 1e-9 <= simulated <= MAX_SIMULATED_REVOLUTIONS:   # at least one; a 1e-300 factor allocated 1e302
+        raise ParameterError(f"--wear-factor={wear_factor!r} (wear_factor) is invalid with --revolutions {revolutions}: "
+                             f"allowed {revolutions / MAX_SIMULATED_REVOLUTIONS:.3g} <= wear factor <= {revolutions} "
+                             f"({simulated:.3g} simulated revolutions; from 1 to 1e6)")
 
 
 def loading_from_samples(samples: np.ndarray, sample_dt_s: float) -> np.ndarray:

@@ -48,7 +48,7 @@ from wearjoint.results import RunParameters, RunRecord, write_json_atomic, write
 from wearjoint.runner import CheckpointingEngine, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
 
-from .cycle_jump import (DEFAULT_JUMP_TOLERANCE, advance_jump_study, jump_summary, new_jump_state,
+from .cycle_jump import (DEFAULT_JUMP_TOLERANCE, advance_jump_study, check_route, jump_summary, new_jump_state,
                          simulated_revolution_rows, warm_up_replay)
 from .wear_study_plots import EXPERIMENT_MAX_DEPTH_M, EXPERIMENT_REVOLUTIONS, growth_assessment
 from .wear_study_recovery import (
@@ -65,8 +65,6 @@ DEFAULT_WEAR_FACTOR = 1.0               # cycle jumping's blocks run at the real
 PRINTED_WEAR_COEFFICIENT_M2_N = JointParameters().wear_coefficient_m2_N
 PAPER_MAX_DEPTH_M = 0.58e-3             # Fig. 7, after 4000 revolutions
 CONVERGENCE_TOLERANCE = 0.15            # max-depth and RMS profile difference, relative to the reference max depth
-MAX_SIMULATED_REVOLUTIONS = 1e6       # a study's (about 100 h of simulation; its per-revolution table 56 MB)
-MAX_JUMPED_REVOLUTIONS = 1e12         # a cycle-jumping study's span (its simulated revolutions: the jumps decide)
 MAX_JUMP_ROUTE_STATISTICS = 5000      # simulated revolutions of a cycle-jumping study with per-revolution statistics
 
 
@@ -106,28 +104,8 @@ class WearStudyConfig:
             raise ParameterError(f"a wear study needs wear on: wear_factor={self.joint.wear_factor!r} and "
                                  f"wear_coefficient_m2_N={self.joint.wear_coefficient_m2_N!r} must be > 0")
         _check_int("jump_block_revolutions", self.jump_block_revolutions, 1)
-        if self.jump_tolerance is not None:
-            if not (isinstance(self.jump_tolerance, (int, float)) and 0.0 < self.jump_tolerance < 1.0):
-                raise ParameterError(f"parameter jump_tolerance={self.jump_tolerance!r} is invalid: allowed in (0, 1)")
-            if self.joint.wear_factor != 1.0:
-                raise ParameterError(f"parameter jump_tolerance={self.jump_tolerance!r} is invalid with wear_factor="
-                                     f"{self.joint.wear_factor!r}: allowed only at wear factor 1 (cycle jumping's "
-                                     "blocks run at the real wear rate); a wear factor is a route of its own")
-            if self.revolutions > MAX_JUMPED_REVOLUTIONS:   # simulated: as many as the jumps need (2.1e6: 150)
-                raise ParameterError(f"parameter revolutions={self.revolutions!r} is invalid: allowed at most "
-                                     f"{MAX_JUMPED_REVOLUTIONS:g} with cycle jumping")
-        simulated = self.revolutions / self.joint.wear_factor
-        if self.jump_tolerance is None and not 1.0 - 1e-9 <= simulated <= MAX_SIMULATED_REVOLUTIONS:
-            # at least one simulated revolution; a 1e-300 factor allocated 1e302
-            raise ParameterError(f"--wear-factor={self.joint.wear_factor!r} (wear_factor) is invalid with "
-                                 f"--revolutions {self.revolutions}: allowed {self.revolutions / MAX_SIMULATED_REVOLUTIONS:.3g} "
-                                 f"<= wear factor <= {self.revolutions} ({simulated:.3g} simulated revolutions; from 1 to 1e6)")
         choice("engine", self.engine, ENGINES)
-        if self.engine == "cosim" and self.jump_tolerance is not None:
-            raise ParameterError(f"parameter engine='cosim' is invalid with cycle jumping (jump_tolerance="
-                                 f"{self.jump_tolerance!r}): allowed only with a wear factor instead "
-                                 "(--wear-factor F: the FMU's wear profile cannot be set, so a co-simulated study "
-                                 "cannot jump)")
+        check_route(self.revolutions, self.joint.wear_factor, self.jump_tolerance, self.engine)
         choice("fmu_backend", self.fmu_backend, BACKENDS)
         choice("integrator", self.integrator, STUDY_INTEGRATORS)
         if self.max_step_s is None:     # the wear-step limit of the wear actually applied
