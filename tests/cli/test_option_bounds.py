@@ -63,6 +63,14 @@ def test_a_number_that_is_not_finite_is_written_as_null(tmp_path):
     (["simulate", "--n-points", "1.5"], "--n-points='1.5' is invalid: allowed an integer"),
     (["simulate", "--revolutions", "abc"], "--revolutions='abc' is invalid: allowed a number"),
     (["sweep", "simulate", "--seeds", "nan"], "--seeds='nan' is invalid: allowed an integer"),
+    # a joint's or a mechanism's parameter: its table's range too (it said "allowed a number" alone)
+    (["simulate", "--pin-radius-m", "abc"], "--pin-radius-m='abc' is invalid: allowed a number > 0 (from 1e-06 to "
+                                            "100 m) ("),
+    (["cosim", "--restitution", "x"], "--restitution='x' is invalid: allowed a number in [0.001, 1] ("),
+    (["simulate", "--rod-length-m", "x"], "--rod-length-m='x' is invalid: allowed a number > 0 (from 1e-06 to 100 m) "
+                                          "and > crank_length_m (the crank must turn fully) ("),
+    (["simulate", "--crank-speed-rpm", "x"], "--crank-speed-rpm='x' is invalid: allowed a number > 0 (from 0.001 to "
+                                             "100000 rpm) ("),
 ])
 def test_a_value_of_the_wrong_kind_is_named_as_the_other_errors_name_theirs(tmp_path, capsys, argv, message):
     """argparse said "argument --n-points: invalid int value: '1.5'": no "is invalid: allowed" as every other error."""

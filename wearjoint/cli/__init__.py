@@ -68,12 +68,30 @@ class OneLineErrorParser(argparse.ArgumentParser):
 
     def error(self, message):
         """``message`` in one line; argparse's "argument --n: invalid int value: 'x'" as the other errors state it,
-        ``--n='x' is invalid: allowed an integer``."""
+        ``--n='x' is invalid: allowed an integer``, with the range of a parameter the tables rule
+        (``--pin-radius-m='abc' is invalid: allowed a number > 0 (from 1e-06 to 100 m)``)."""
         typed = _INVALID_VALUE.match(message)
         if typed:
             option, kind, value = typed.groups()
-            message = f"{option}={value} is invalid: allowed {_KINDS.get(kind, f'a {kind} value')}"
+            action = next((a for a in self._actions if option in a.option_strings), None)
+            rule = _table_rule(action.dest) if action is not None and kind in ("int", "float") else ""
+            message = f"{option}={value} is invalid: allowed {_KINDS.get(kind, f'a {kind} value')}{rule}"
         self.exit(2, f"{self.prog}: error: {message} (`{self.prog} --help` lists the options)\n")
+
+
+def _table_rule(dest: str) -> str:
+    """`` > 0 (from 1e-06 to 100 m)``: the rule of the joint's or the mechanism's parameter ``dest`` as its table
+    states it (joint_fields, mechanism_parameters), '' for any other option."""
+    from ..checks import ANY
+    from ..joint_fields import FIELD_NAMES, JOINT_FIELDS, allowed_text
+    from ..mechanism_parameters import FINITE, MECHANISM_FIELDS, RULE_TEXT, TABLE_ANGLE, TABLE_ROWS
+
+    joint = next((f for f in JOINT_FIELDS if f.field == dest and f.component is None and f.choices is None
+                  and f.allowed != ANY), None)
+    mechanism = next((f for f in MECHANISM_FIELDS if f.field == dest and f.component is None and f.choices is None
+                      and f.rule not in (FINITE, TABLE_ROWS, TABLE_ANGLE)), None)
+    rule = allowed_text(joint, FIELD_NAMES) if joint else RULE_TEXT[mechanism.rule] if mechanism else ""
+    return f" {rule}" if rule else ""
 
 
 def build_parser(command: str | None) -> argparse.ArgumentParser:
