@@ -315,7 +315,8 @@ def parse_int_list(name: str, text: str, example: str = "1000,2000") -> tuple:
         try:
             values.append(int(item))
         except ValueError:
-            raise ParameterError(f"{name}: {item!r} is not an integer (expected e.g. {example})") from None
+            raise ParameterError(f"{name}={item!r} is invalid: allowed an integer (digits only: not 1.5 or 1e3; "
+                                 f"e.g. {example})") from None
     return tuple(values)
 
 

@@ -151,7 +151,7 @@ def test_calibrate_refuses_a_study_whose_growth_curve_is_empty_or_garbage(study,
 @pytest.mark.parametrize("options, message", [
     (["--cycle-jump-block", "0"], "--cycle-jump-block=0 (jump_block_revolutions) is invalid: allowed an integer >= 1"),
     (["--checkpoint-every", "0"], "--checkpoint-every=0 (checkpoint_every_revolutions) is invalid: allowed a finite "
-                                  "value > 0"),
+                                  "real number > 0"),
     (["--impact-threshold-m-s2=-1"], "--impact-threshold-m-s2=-1 (impact_threshold_m_s2) is invalid"),
     (["--cycle-jump-tolerance", "2"], "--cycle-jump-tolerance=2 (jump_tolerance) is invalid: allowed in (0, 1)"),
     (["--calibrate-max-depth-m=-1"], "--calibrate-max-depth-m=-1 (target_max_depth_m) is invalid: allowed a finite "

@@ -61,7 +61,7 @@ def test_a_number_that_is_not_finite_is_written_as_null(tmp_path):
 
 @pytest.mark.parametrize("argv, message", [
     (["simulate", "--n-points", "1.5"], "--n-points='1.5' is invalid: allowed an integer"),
-    (["simulate", "--revolutions", "abc"], "--revolutions='abc' is invalid: allowed a number"),
+    (["simulate", "--revolutions", "abc"], "--revolutions='abc' is invalid: allowed a finite real number > 0 ("),
     (["sweep", "simulate", "--seeds", "nan"], "--seeds='nan' is invalid: allowed an integer"),
     # a joint's or a mechanism's parameter: its table's range too (it said "allowed a number" alone)
     (["simulate", "--pin-radius-m", "abc"], "--pin-radius-m='abc' is invalid: allowed a number > 0 (from 1e-06 to "
@@ -71,6 +71,13 @@ def test_a_number_that_is_not_finite_is_written_as_null(tmp_path):
                                           "and > crank_length_m (the crank must turn fully) ("),
     (["simulate", "--crank-speed-rpm", "x"], "--crank-speed-rpm='x' is invalid: allowed a number > 0 (from 0.001 to "
                                              "100000 rpm) ("),
+    # a run option: the range its class's own check states (it said "allowed a number" alone)
+    (["simulate", "--step", "x"], "--step='x' is invalid: allowed a finite real number > 0 ("),
+    (["cosim", "--coupling-tolerance", "x"], "--coupling-tolerance='x' is invalid: allowed a finite real number >= 0 ("),
+    (["wear-study", "--life-depth-m", "x"], "--life-depth-m='x' is invalid: allowed a finite real number > 0 below the "
+                                            "bushing radius 0.0101 m ("),
+    (["wear-study", "--checkpoint-every", "x"], "--checkpoint-every='x' is invalid: allowed a finite real number > 0 ("),
+    (["wear-study", "--max-step", "x"], "--max-step='x' is invalid: allowed a finite real number > 0 ("),
 ])
 def test_a_value_of_the_wrong_kind_is_named_as_the_other_errors_name_theirs(tmp_path, capsys, argv, message):
     """argparse said "argument --n-points: invalid int value: '1.5'": no "is invalid: allowed" as every other error."""

@@ -1,9 +1,11 @@
 """`wearjoint wear-study`: resume after a kill, outputs, lobes, impact events, factor convergence, bad arguments."""
 import json
+import math
 import subprocess
 import sys
 
 import numpy as np
+
 import pytest
 
 from wearjoint.analysis import impact_events
@@ -134,8 +136,9 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
 
 @pytest.mark.parametrize("args,message", [
     (("--revolutions", "100", "--snapshots", "50,200"), "beyond"),
-    (("--revolutions", "100", "--snapshots", "50.5,100"), "not an integer"),
-    (("--revolutions", "100.5"), "not an integer"),
+    (("--revolutions", "100", "--snapshots", "50.5,100"), "--snapshots='50.5' is invalid: allowed an integer (digits"),
+    (("--revolutions", "100.5"), "--revolutions='100.5' is invalid: allowed an integer (digits only"),
+    (("--revolutions", "1e999"), "--revolutions='1e999' is invalid: allowed an integer (digits only"),
     (("--revolutions", "100", "--wear-factor=-5"), "wear_factor"),
     (("--revolutions", "1000", "--wear-factor", "1e6"),
      "--wear-factor=1e6 (wear_factor) is invalid with --revolutions 1000: allowed 0.001 <= wear "
@@ -149,7 +152,7 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100", "--convergence", "1,-10"), "factor"),
     (("--revolutions", "100", "--convergence", "jump,x"), "--convergence: 'x' is not a number"),
     (("--revolutions", "100", "--life-depth-m", "0.0101"),          # the bushing wears through at its radius
-     "--life-depth-m=0.0101 (life_depth_m) is invalid: allowed a finite value > 0 below the bushing radius 0.0101 m"),
+     "--life-depth-m=0.0101 (life_depth_m) is invalid: allowed a finite real number > 0 below the bushing radius 0.0101 m"),
 ])
 def test_bad_arguments_give_one_clear_error(tmp_path, capsys, args, message):
     assert cli_main(["wear-study", "--out", str(tmp_path / "x"), "--quiet", *args]) == 2
@@ -169,6 +172,23 @@ def test_cycle_jumping_spans_more_revolutions_than_a_study_simulates():
     with pytest.raises(ParameterError, match=r"^parameter revolutions=2000000000000 is invalid: allowed at most 1e\+12 "
                                              r"with cycle jumping$"):
         WearStudyConfig(**study, revolutions=2 * 10 ** 12)
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"joint": {}}, "parameter joint={} is invalid: allowed a JointParameters"),
+    ({"mechanism": None}, "parameter mechanism=None is invalid: allowed a SliderCrankParameters"),
+    ({"max_step_s": "1e-5"}, "parameter max_step_s='1e-5' is invalid: allowed a finite real number > 0"),
+    ({"rtol": math.nan}, "parameter rtol=nan is invalid: allowed a finite real number > 0"),
+    ({"life_depth_m": 0.02}, "parameter life_depth_m=0.02 is invalid: allowed a finite real number > 0 below the "
+                             "bushing radius 0.0101 m"),
+])
+def test_a_study_configured_from_python_refuses_a_wrong_value_in_one_line(changes, message):
+    """A string step died in a TypeError ("must be real number, not str") and a dict for the joint in an
+    AttributeError: each is the one-line error of any other bad value."""
+    values = dict(joint=paper_joint(), mechanism=SliderCrankParameters()) | changes
+    with pytest.raises(ParameterError) as refused:
+        WearStudyConfig(**values)
+    assert str(refused.value) == message
 
 
 def test_bad_argument_exit_status_from_the_shell(tmp_path):

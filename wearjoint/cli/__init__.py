@@ -69,13 +69,18 @@ class OneLineErrorParser(argparse.ArgumentParser):
     def error(self, message):
         """``message`` in one line; argparse's "argument --n: invalid int value: 'x'" as the other errors state it,
         ``--n='x' is invalid: allowed an integer``, with the range of a parameter the tables rule
-        (``--pin-radius-m='abc' is invalid: allowed a number > 0 (from 1e-06 to 100 m)``)."""
+        (``--pin-radius-m='abc' is invalid: allowed a number > 0 (from 1e-06 to 100 m)``) or, for the command's other
+        options, the range their own check states (``--step='x' is invalid: allowed a finite real number > 0``)."""
         typed = _INVALID_VALUE.match(message)
         if typed:
             option, kind, value = typed.groups()
             action = next((a for a in self._actions if option in a.option_strings), None)
-            rule = _table_rule(action.dest) if action is not None and kind in ("int", "float") else ""
-            message = f"{option}={value} is invalid: allowed {_KINDS.get(kind, f'a {kind} value')}{rule}"
+            known = action is not None and kind in ("int", "float")
+            table = _table_rule(action.dest) if known else ""
+            checked = _option_rule(self.prog.split()[-1], action.dest, value) if known and not table else None
+            allowed = (f"{_KINDS.get(kind, f'a {kind} value')}{table}" if checked is None
+                       else f"{checked} (digits only: not 1.5 or 1e3)" if kind == "int" else checked)
+            message = f"{option}={value} is invalid: allowed {allowed}"
         self.exit(2, f"{self.prog}: error: {message} (`{self.prog} --help` lists the options)\n")
 
 
@@ -92,6 +97,38 @@ def _table_rule(dest: str) -> str:
                       and f.rule not in (FINITE, TABLE_ROWS, TABLE_ANGLE)), None)
     rule = allowed_text(joint, FIELD_NAMES) if joint else RULE_TEXT[mechanism.rule] if mechanism else ""
     return f" {rule}" if rule else ""
+
+
+# command -> the class (module, name) whose fields its run options set, beside the joint's and the mechanism's
+_OPTION_CLASSES = {"simulate": ("wearjoint.simulation_options", "SimulationOptions"),
+                   "cosim": ("wearjoint.cosim.cosimulation", "CoSimulationOptions"),
+                   "wear-study": ("wearjoint.studies.wear_study", "WearStudyConfig")}
+
+
+def _option_rule(command: str, dest: str, shown_value: str) -> str | None:
+    """What the run option ``dest`` of ``command`` allows, as its class's own check states it for the value argparse
+    could not read (``shown_value``, a repr): ``a finite real number > 0``; None where that class has no such field."""
+    import ast
+    import dataclasses
+
+    from ..mechanism_parameters import SliderCrankParameters
+    from ..parameters import JointParameters
+
+    if command not in _OPTION_CLASSES:
+        return None
+    module, name = _OPTION_CLASSES[command]
+    cls = getattr(importlib.import_module(module), name)
+    fields = {f.name for f in dataclasses.fields(cls)}
+    field = next((n for n in (dest, *(f"{dest}_{s}" for s in _UNIT_SUFFIXES)) if n in fields), None)
+    if field is None:
+        return None
+    models = {"joint": JointParameters(), "mechanism": SliderCrankParameters()}    # WearStudyConfig requires them
+    try:
+        cls(**{n: m for n, m in models.items() if n in fields}, **{field: ast.literal_eval(shown_value)})
+    except ParameterError as exc:
+        head, found, allowed = str(exc).partition(" is invalid: allowed ")
+        return allowed if found and head.startswith(f"parameter {field}=") else None
+    return None
 
 
 def build_parser(command: str | None) -> argparse.ArgumentParser:
@@ -165,7 +202,7 @@ def console() -> None:
 
 # the unit a parameter's API name adds to its option's (``--step`` sets ``step_s``, ``--onset-penetration``
 # ``onset_penetration_m``; ``--fmu FILE`` ``fmu_path``)
-_UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2", "path")
+_UNIT_SUFFIXES = ("s", "m", "N", "deg", "rad", "kg", "Pa", "m_s", "m_s2", "kg_m2", "path", "revolutions")
 
 
 def as_written(message: str, parser: argparse.ArgumentParser, command: str, argv: list[str]) -> str:

@@ -36,7 +36,7 @@ import numpy as np
 
 from wearjoint.analysis import (IMPACT_EVENT_MERGE_DEG, IMPACT_EVENT_THRESHOLD_M_S2, impact_events,
                                 revolution_row, sample_statistics)
-from wearjoint.checks import RunDiverged, RunStopped, choice, worn_through_message
+from wearjoint.checks import RunDiverged, RunStopped, choice, finite, require, worn_through_message
 from wearjoint.profile_metrics import profile_features
 from wearjoint.core import layout as L
 from wearjoint.core.geometry import bushing_point_angles
@@ -91,6 +91,9 @@ class WearStudyConfig:
     life_depth_m: float | None = None       # the max depth [m] whose life the summary states (None: none)
 
     def __post_init__(self):
+        require("joint", self.joint, isinstance(self.joint, JointParameters), "a JointParameters")
+        require("mechanism", self.mechanism, isinstance(self.mechanism, SliderCrankParameters),
+                "a SliderCrankParameters")
         _check_int("revolutions", self.revolutions, 1)
         snaps = tuple(self.snapshots)
         for s in snaps:
@@ -118,9 +121,9 @@ class WearStudyConfig:
                      "life_depth_m"):
             value = getattr(self, name)
             bound = self.joint.bushing_radius_m if name == "life_depth_m" else math.inf   # worn through there
-            if (value is not None or name != "life_depth_m") and not (math.isfinite(value) and 0.0 < value < bound):
-                raise ParameterError(f"parameter {name}={value!r} is invalid: allowed a finite value > 0"
-                                     + (f" below the bushing radius {bound:g} m" if bound < math.inf else ""))
+            rule = "> 0" + (f" below the bushing radius {bound:g} m" if bound < math.inf else "")
+            if value is not None or name != "life_depth_m":
+                require(name, value, 0.0 < finite(name, value, rule) < bound, f"a finite real number {rule}")
         _check_int("chunks_per_revolution", self.chunks_per_revolution, 1)
 
     @property
