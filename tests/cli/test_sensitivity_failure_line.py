@@ -2,6 +2,7 @@
 is listed (it said nothing there: the failures went to stdout only), and a summary.json without NaN."""
 import contextlib
 import json
+import os
 import socket
 import subprocess
 import sys
@@ -23,13 +24,16 @@ def test_a_study_whose_runs_fail_says_so_on_stderr_in_one_line(tmp_path):
     """A slider load far too large: every run's pin goes through the bushing wall (diverged).  With Dask's default
     dashboard port taken (another study running) the line is still the only one: the local cluster said "UserWarning:
     Port 8787 is already in use" on stderr."""
-    out = tmp_path / "s"
+    out, temporary = tmp_path / "s", tmp_path / "tmp"
+    temporary.mkdir()
     with _port_in_use(8787):
         done = subprocess.run([sys.executable, "-m", "wearjoint", "sensitivity", "simulate", "--workers", "1", "--samples",
                                "2", "--no-law-spread", "--revolutions", "0.02", "--param",
                                "slider-force-N=1e7,1e8,log", "--out", str(out), "--no-plots", "--quiet"],
-                              capture_output=True, text=True, timeout=600)
+                              capture_output=True, text=True, timeout=600, env={**os.environ, "TMPDIR": str(temporary)})
     assert done.returncode == 1, done.stderr
+    # the workers' scratch space goes with the cluster (Dask's default left TMPDIR/dask-scratch-space behind)
+    assert [p.name for p in temporary.iterdir() if "dask" in p.name] == []
     lines = [line for line in done.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
     assert lines[0].startswith("wearjoint sensitivity: error: 4 of 4 runs failed (each with its error: "

@@ -16,8 +16,10 @@ import logging
 import os
 import shutil
 import signal
+import tempfile
 import threading
 import time
+import weakref
 from pathlib import Path
 
 from .. import targets
@@ -174,6 +176,7 @@ class SweepFolder:
 # ------------------------------------------------------------------ Dask
 def start_client(workers: int | None, scheduler: str | None):
     """(client, cluster or None): the cluster at ``scheduler``, or a LocalCluster of processes."""
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -196,9 +199,18 @@ def start_client(workers: int | None, scheduler: str | None):
         # whose heartbeat crossed the scheduler's shutdown printed a traceback after a finished sweep.  The
         # scheduler's HTTP server on a free port of this machine alone, no dashboard: without an address it takes
         # 8787, and a second study running at once warned on stderr that the port was in use
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
-                               silence_logs=logging.CRITICAL)
+        # the workers' scratch space in a folder of this cluster's own, removed with it (Dask's default,
+        # TMPDIR/dask-scratch-space, stayed behind after every study)
+        scratch = tempfile.mkdtemp(prefix="wearjoint-dask-")
+        try:
+            with dask.config.set({"temporary-directory": scratch}):    # the nannies' lock files too
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
+                                       silence_logs=logging.CRITICAL, local_directory=scratch)
+        except BaseException:
+            shutil.rmtree(scratch, ignore_errors=True)
+            raise
+        weakref.finalize(cluster, shutil.rmtree, scratch, ignore_errors=True)
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
