@@ -139,6 +139,8 @@ def test_impact_events_are_clusters_of_deviation_from_the_ideal_joint():
     (("--revolutions", "100", "--snapshots", "50.5,100"), "--snapshots='50.5' is invalid: allowed an integer (digits"),
     (("--revolutions", "100.5"), "--revolutions='100.5' is invalid: allowed an integer (digits only"),
     (("--revolutions", "1e999"), "--revolutions='1e999' is invalid: allowed an integer (digits only"),
+    # the wear-step limit names the study's option (it said "parameter step_s=0.001", an option wear-study has not)
+    (("--revolutions", "100", "--max-step", "1e-3"), "--max-step=1e-3 (max_step_s) is invalid with wear ("),
     (("--revolutions", "100", "--wear-factor=-5"), "wear_factor"),
     (("--revolutions", "1000", "--wear-factor", "1e6"),
      "--wear-factor=1e6 (wear_factor) is invalid with --revolutions 1000: allowed 0.001 <= wear "

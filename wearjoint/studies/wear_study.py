@@ -47,6 +47,7 @@ from wearjoint.progress import Progress
 from wearjoint.results import RunParameters, RunRecord, write_json_atomic, write_results
 from wearjoint.runner import CheckpointingEngine, divergence
 from wearjoint.simulate import DEFAULT_WEAR_STEP_SHARE, Simulation, SimulationOptions, wear_step_limit_s
+from wearjoint.simulation_options import check_wear_step
 
 from .cycle_jump import (DEFAULT_JUMP_TOLERANCE, advance_jump_study, check_route, jump_summary, new_jump_state,
                          simulated_revolution_rows, warm_up_replay)
@@ -125,6 +126,7 @@ class WearStudyConfig:
             if value is not None or name != "life_depth_m":
                 require(name, value, 0.0 < finite(name, value, rule) < bound, f"a finite real number {rule}")
         _check_int("chunks_per_revolution", self.chunks_per_revolution, 1)
+        check_wear_step("max_step_s", self.max_step_s, self.joint, self.mechanism)   # as the study names it
 
     @property
     def revolutions_per_simulated_revolution(self) -> float:
