@@ -225,6 +225,18 @@ def test_a_jump_whose_replay_lost_volume_is_named_with_a_warning():
     assert "1 jump(s) (from revolution 4) replayed 0.943-1" in warning and "outside 0.99-1.01" in warning
 
 
+def test_the_jumps_whose_estimate_passed_the_tolerance_are_listed():
+    """A jump is not redone (its estimate follows the next block): the summary names those over the tolerance."""
+    estimates = (0.044, None, 0.003, 0.0031, 0.001)     # None: the last jump, no block after it
+    state = {"jump": {"jumps": [{"start_revolution": 10 * k, "revolutions": 4, "passes": 1, "error_estimate_rel": e,
+                                 "error_estimate_m": None if e is None else e * 1e-4, "replay_volume_ratio": 1.0}
+                                for k, e in enumerate(estimates)], "simulated_revolutions": 10},
+             "growth": [(50, 1e-4, 1e-10)]}
+    summary = jump_summary(jump_config(), state)
+    assert summary["tolerance_rel"] == 0.003 and summary["jumps_over_tolerance"] == [0, 30]
+    assert summary["largest_error_estimate_rel"] == 0.044
+
+
 @pytest.mark.parametrize("changes, message", [
     (dict(jump_tolerance=0.0), "tolerance=0.0 is invalid"),
     (dict(jump_tolerance=1.5), "tolerance=1.5 is invalid"),

@@ -272,6 +272,9 @@ def jump_summary(config, state: dict) -> dict:
             "jumped_revolutions": int(sum(j["revolutions"] for j in js["jumps"])),
             "largest_jump_revolutions": max((j["revolutions"] for j in js["jumps"]), default=0),
             "largest_error_estimate_rel": max(estimates, default=0.0),
+            "jumps_over_tolerance": [j["start_revolution"] for j in js["jumps"]
+                                     if j["error_estimate_rel"] is not None
+                                     and j["error_estimate_rel"] > config.jump_tolerance],
             "error_estimate_summed_rel_to_final_depth": float(summed / depth) if depth > 0.0 else 0.0,
             "replay_volume_ratio_range": [min(ratios), max(ratios)] if ratios else None,
             "replay_volume_ratio_allowed": [1.0 - REPLAY_VOLUME_TOLERANCE, 1.0 + REPLAY_VOLUME_TOLERANCE],
