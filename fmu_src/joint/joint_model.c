@@ -314,6 +314,20 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
                     "bushing_offset_x=%g, bushing_offset_y=%g m, each in its body's frame)?", function, model->time,
                     e, radius, p[P_PIN_OFFSET_X], p[P_PIN_OFFSET_Y], p[P_BUSHING_OFFSET_X], p[P_BUSHING_OFFSET_Y]);
             status = FMU_WARNING;
+        } else {
+            double bounds[3] = {0.0, 0.0, 0.0};   /* the pin's overlap, the admissible penetration [m] and force [N] */
+            int32_t inadmissible = 0;
+            wearjoint_wall_overlap(&inadmissible, NULL, model->result, model->joint_parameters, model->wear_depth,
+                                   model->n_points, bounds);
+            if (inadmissible) {
+                fmu_log(&model->host, FMU_WARNING, "%s: at t=%.17g s the inputs put the pin %g m into the bushing "
+                        "wall (admissible %g m) with a normal force of %g N (admissible %g N): this first step is "
+                        "taken, as a master may step once on start values, but wears nothing and starts no contact; "
+                        "a later step there is discarded (the bodies' offsets, the wiring? docs/reference/model.md "
+                        "§3.14)", function, model->time, bounds[0], bounds[1], model->result[R_NORMAL_FORCE],
+                        bounds[2]);
+                status = FMU_WARNING;
+            }
         }
     }
     if (changed == STEP_OVERSHOT && !model->warned_wear_step) {
@@ -333,7 +347,7 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
  * docs/reference/model.md §3.11).  FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, for inputs
  * deeper in the bushing wall than any contact or a bushing worn through (Co-Simulation; Model Exchange: FMU_ERROR;
  * docs/reference/model.md §3.14).  FMU_WARNING (logged, the step accepted), once per instance: the first step's pin
- * centre lies outside the bushing (the inputs likely lack the offsets).  A wearing step over the wear-step limit
+ * centre lies outside the bushing (the inputs likely lack the offsets), or deeper in its wall than any contact.  A wearing step over the wear-step limit
  * (docs/reference/model.md §7) is logged as a warning once per instance and returns FMU_OK: the run goes on. */
 static int accept_step(FmuModel *model, double dt, int held, const char *function)
 {

@@ -1,7 +1,7 @@
 """The joint FMU warns, once per instance, where the other engines refuse or a user has likely erred
 (docs/reference/fmu.md §5): a wearing step over the wear-step limit (longer than 3e-5 s, or a share
 lambda = k_f k_w F v dt of a conforming contact's penetration above 4, docs/reference/model.md §7), and a first step whose
-inputs put the pin centre outside the bushing (offsets forgotten).  Seen through fmpy's logger with
+inputs put the pin centre outside the bushing (offsets forgotten) or deeper in its wall than any contact.  Seen through fmpy's logger with
 the status fmi2Warning / fmi3Warning; the step is accepted, the wear-step one with fmi2OK / fmi3OK."""
 import math
 
@@ -95,6 +95,30 @@ def test_a_first_step_with_the_pin_outside_the_bushing_names_the_offsets(fmus, v
             joint.do_step(1e-6, 1e-6)
         assert refused.value.status == DISCARD and "bushing wall" in joint.errors()
         assert len(warnings_of(joint)) == 1                                         # said once
+    finally:
+        joint.free()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_first_step_with_the_pin_deep_in_the_wall_warns_and_wears_nothing(fmus, version):
+    """0.4 mm into the wall, four clearances (a new user's inputs, 229 kN): the first step was taken with fmi2OK and
+    no word, the second discarded.  Now the first says so (the step is still taken: a master may step once on start
+    values) and wears nothing."""
+    params = joint_parameters(1.0)
+    joint = started(fmus, version, params)
+    try:
+        inputs = list(sliding_in_contact(params, 1.0))
+        inputs[0] = params.bushing_radius_m - params.pin_radius_m + 4e-4
+        joint.set(INPUTS, inputs)
+        assert joint.do_step(0.0, 1e-6) == WARNING and joint.errors() == ""
+        (said,) = warnings_of(joint)
+        assert "the inputs put the pin 0.0004 m into the bushing wall (admissible" in said, said
+        assert "first step is taken" in said and "wears nothing" in said
+        assert joint.get(["max_wear_depth"])[0] == 0.0
+        with pytest.raises(FMICallException) as refused:
+            joint.do_step(1e-6, 1e-6)
+        assert refused.value.status == DISCARD and "bushing wall" in joint.errors()
+        assert len(warnings_of(joint)) == 1
     finally:
         joint.free()
 

@@ -11,7 +11,7 @@ objects, so a call costs about as much as the kernel.
 import numpy as np
 from numba import carray, types
 
-from ..core.admissibility import admissible_force, admissible_penetration, wall_overlap
+from ..core.admissibility import admissible_force, admissible_penetration, is_admissible, wall_overlap
 from ..core.contact import contact_jacobian, evaluate_contact, update_contact_memory
 from ..core.geometry import block_minimum_depth, bushing_points
 from ..core.layout import HELD_LINEARISED, N_JOINT_PARAMETERS, N_MEMORY, N_RESULT
@@ -114,13 +114,15 @@ def worn_volume_native(jp, wear_depth, n_points):
 @entry_point(types.int32(_F64, _F64, _F64, types.int64, _F64))
 def wall_overlap_native(result, jp, wear_depth, n_points, out):
     """out = [how far the pin of the evaluation ``result`` is in the bushing wall [m], the admissible penetration
-    [m], the admissible normal force [N]] (core.admissibility); returns 0."""
+    [m], the admissible normal force [N]] (core.admissibility); returns 0 where that contact is admissible, else 1."""
     p = carray(jp, N_JOINT_PARAMETERS)
     o = carray(out, 3)
-    o[0] = wall_overlap(carray(result, N_RESULT), p, carray(wear_depth, n_points))
+    r = carray(result, N_RESULT)
+    depth = carray(wear_depth, n_points)
+    o[0] = wall_overlap(r, p, depth)
     o[1] = admissible_penetration(p)
     o[2] = admissible_force(p)
-    return 0
+    return 0 if is_admissible(r, p, depth) else 1
 
 
 @entry_point(types.int32(_F64))
