@@ -215,6 +215,10 @@ def test_the_bar_says_100_percent_only_once_compiling_is_over(capsys, monkeypatc
     counts = [line.split("(")[1].split(")")[0] for line in lines]
     assert counts[:4] == ["0/2 functions", "1/2 functions", "2/3 functions", "3/4 functions"], lines
     assert lines[-1].startswith("compiling: 100.0% (3 functions) in ") and "100.0%" not in "".join(lines[:-1])
+    # past the reference's count the time left is the count's rate, not the reference's seconds (a new user's run
+    # said "ETA ~0:00:26" at 31 of 32, 3 s before its end)
+    assert "ETA ~" in lines[0] and not any("ETA ~" in line for line in lines[2:4]), lines
+    assert all(", ETA 0:" in line for line in lines[2:4]), lines
 
 
 def test_what_the_cache_holds_is_left_out_of_the_time(tmp_path, monkeypatch):

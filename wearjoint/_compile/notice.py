@@ -270,7 +270,10 @@ class CompileWatch:
             # more compilations than the reference run's (the second process had not cached one of its kernels yet):
             # the bar must not say 100 % while a kernel compiles (it said so for the last 21 s of a 61 s run)
             self._bar.set_total(self.count + 1)
-        self._bar.update(self.count, None if self._cached else self.speed.left_s())
+        # past the reference run's count the compilations are not the reference's: the time left is the count's
+        # rate (the reference's seconds said "ETA ~0:00:26" at 31 of 32, 3 s before the end)
+        beyond = self.count >= self.speed.count
+        self._bar.update(self.count, None if self._cached or beyond else self.speed.left_s())
 
     def on_end(self, event) -> None:
         with self._lock:
