@@ -51,7 +51,10 @@ def test_the_native_model_description_states_the_parameters_ranges(fmu):
               for name in ("pin_radius", "restitution", "pin_offset_x", "wear_interval")}
     assert bounds == {"pin_radius": (1e-6, 100.0), "restitution": (0.001, 1.0), "pin_offset_x": (-1e3, 1e3),
                       "wear_interval": (0.0, 3e-5)}
-    assert variables["friction_coefficient"].min == "0.0" and variables["rho_mode"].min is None   # an enumeration
+    assert variables["friction_coefficient"].min == "0.0"
+    # an enumeration: its codes (contact_damping 0..3: Hunt-Crossley, Lankarani-Nikravesh, Tsuji, L-N exact)
+    assert (variables["contact_damping"].min, variables["contact_damping"].max) == ("0", "3")
+    assert (variables["rho_mode"].min, variables["rho_mode"].max) == ("0", "1")
     from fmpy.fmi1 import FMICallException
     from fmpy_instance import Slave
 

@@ -45,8 +45,9 @@ def allowed_bounds(allowed) -> dict[str, str]:
 
 
 def _bounds(p) -> dict[str, str]:
-    """:func:`allowed_bounds` of a joint parameter ``p`` (fv.PARAMETERS); none for an enumeration."""
-    return {} if p.choices is not None else allowed_bounds(p.allowed)
+    """:func:`allowed_bounds` of a joint parameter ``p`` (fv.PARAMETERS); an enumeration's (an FMI 2.0 Integer) its
+    codes' range."""
+    return {"min": "0", "max": str(len(p.choices) - 1)} if p.choices is not None else allowed_bounds(p.allowed)
 
 
 def interfaces(fmi_version: int, model_identifier: str, completed_integrator_step: bool) -> tuple[dict, dict]:
