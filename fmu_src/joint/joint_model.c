@@ -347,8 +347,9 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
  * docs/reference/model.md §3.11).  FMU_DISCARD (logged, state unchanged) for non-finite inputs or dt, for inputs
  * deeper in the bushing wall than any contact or a bushing worn through (Co-Simulation; Model Exchange: FMU_ERROR;
  * docs/reference/model.md §3.14).  FMU_WARNING (logged, the step accepted), once per instance: the first step's pin
- * centre lies outside the bushing (the inputs likely lack the offsets), or deeper in its wall than any contact.  A wearing step over the wear-step limit
- * (docs/reference/model.md §7) is logged as a warning once per instance and returns FMU_OK: the run goes on. */
+ * centre lies outside the bushing (the inputs likely lack the offsets), or deeper in its wall than any contact.  A
+ * wearing step over the wear-step limit (docs/reference/model.md §7) is logged as a warning once per instance and
+ * returns FMU_OK: the run goes on. */
 static int accept_step(FmuModel *model, double dt, int held, const char *function)
 {
     if (model->non_finite_inputs) {

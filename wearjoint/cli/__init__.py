@@ -128,6 +128,8 @@ def _option_rule(command: str, dest: str, shown_value: str) -> str | None:
     except ParameterError as exc:
         head, found, allowed = str(exc).partition(" is invalid: allowed ")
         return allowed if found and head.startswith(f"parameter {field}=") else None
+    except (TypeError, ValueError, ArithmeticError):    # a check that does not name it: the kind alone
+        return None
     return None
 
 
