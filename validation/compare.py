@@ -18,8 +18,7 @@ for the profile, the same over the wear ensembles of fewer valid configurations;
 point-wise traces, the monolithic step refinement (RK4 h vs h/2) plus the
 engine's own (the same engine at its window step and at twice that step).  Point-wise, every run over the
 window records each point it computes and is judged there, against the reference interpolated
-(:func:`wearjoint.analysis.window_differences`).  An engine whose
-contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
+(:func:`wearjoint.analysis.window_differences`).  An engine whose contact law is another member of our family (``LAW_REFERENCES``: exudyn's own contact is
 K delta^n along the line of centres with a stored, floored impact velocity, our ``deepest`` law with
 Lankarani-Nikravesh damping, :func:`.exudyn_native.native_law`) has its traces compared with the
 monolithic reference run with that law, and its statistics with an ensemble of that law; its
@@ -41,6 +40,7 @@ from wearjoint import analysis, profile_metrics
 from wearjoint.analysis import ensemble_statistics, revolution_statistics
 from wearjoint.core import layout as L
 from wearjoint.fmu.fmi import BACKENDS, DEFAULT_BACKEND
+from wearjoint.interrupts import stopped_by_ctrl_c
 from wearjoint.parameters import JointParameters, ParameterError, SliderCrankParameters, finite, require
 from wearjoint.results import RunRecord
 from wearjoint.simulate import SimulationOptions, run_simulation
@@ -311,7 +311,7 @@ def run_engines(plan: ValidationPlan, joint: JointParameters, mechanism: SliderC
         _log(progress, f"[{len(log) + 1}/{total}] {label} ...")
         record = make()
         if not record.completed:        # truncated statistics are judged never: Ctrl-C stops it, a divergence fails
-            raise RunStoppedShort(f"{label}: {record.failure}") if record.failure else KeyboardInterrupt
+            raise KeyboardInterrupt if stopped_by_ctrl_c(record) else RunStoppedShort(f"{label}: {record.failure}")
         log.append((label, engine, record))
         _log(progress, f"[{len(log)}/{total}] {label}: {record.simulated_time_s:.4g} s simulated in "
                        f"{record.wall_time_s:.1f} s wall")

@@ -16,6 +16,7 @@ import atexit
 import json
 import os
 import pickle
+import signal
 import subprocess
 import sys
 import tempfile
@@ -126,6 +127,9 @@ class FigureWorker:
 
 
 def _draw() -> None:
+    # Ctrl-C reaches the whole process group: the first process decides (it keeps a finished run's results and stops
+    # this one itself), so a figure is not cut off while it waits for them
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     from wearjoint import plots     # imported while the first process simulates
 
     with open(sys.stdin.readline().rstrip("\n"), "rb") as file:

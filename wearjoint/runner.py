@@ -17,6 +17,7 @@ import numpy as np
 from . import analysis
 from .core import layout as L
 from .checks import RunStopped, require, worn_through_message
+from .interrupts import INTERRUPTED, writing_results
 from .parameters import JointParameters
 from .progress import Progress
 from .results import RunParameters, RunRecord
@@ -69,7 +70,7 @@ class ChunkedRun:
     wall_time_s: float           # the simulation itself, compilation excluded
     compile_time_s: float        # building the engine (FMU load and instantiation) and JIT compilation
     completed: bool              # False if Ctrl-C stopped the run, or it diverged
-    failure: str = ""            # why the run stopped early when it diverged ('' otherwise)
+    failure: str = ""            # why the run stopped early ('' if it completed)
 
 
 def run_engine(make_engine: Callable[[], Engine], revolutions: float, period_s: float, sample_dt_s: float,
@@ -157,7 +158,9 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
         except RunStopped as exc:   # an inadmissible state refused (docs/reference/model.md §3.14), or a failed call
             completed, failure = False, f"{exc}; the results before it are written"
         except KeyboardInterrupt:
-            completed = False
+            completed, failure = False, (f"{INTERRUPTED} at t = {engine.t:.6g} s of {t_final:.6g} s; the results up "
+                                         "to there are written")
+        writing_results()           # a Ctrl-C from here on waits for the results (interrupts.results_kept)
         wall = time.perf_counter() - wall0
     except BaseException:
         if engine is not None:

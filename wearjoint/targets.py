@@ -31,6 +31,7 @@ import numpy as np
 
 from .checks import ParameterError, RunStopped, finite, require
 from .fmu.fmi import FmuError
+from .interrupts import results_kept, stopped_by_ctrl_c
 from .parameters import JointParameters, SliderCrankParameters
 from .run_options import (
     add_cosim_arguments, add_simulate_arguments, add_wear_study_arguments, calibration_facts, check_settling,
@@ -60,13 +61,13 @@ class Target:
 
 
 def finished(record) -> None:
-    """A written run's outcome (its :class:`~wearjoint.results.RunRecord`) as an exception: RunStopped saying why
-    it stopped (diverged, or an FMU's call failed), KeyboardInterrupt if Ctrl-C stopped it; nothing if it
+    """A written run's outcome (its :class:`~wearjoint.results.RunRecord`) as an exception: KeyboardInterrupt if
+    Ctrl-C stopped it, RunStopped saying why it stopped (diverged, or an FMU's call failed); nothing if it
     completed."""
+    if stopped_by_ctrl_c(record):
+        raise KeyboardInterrupt
     if record.failure:
         raise RunStopped(record.failure)
-    if not record.completed:
-        raise KeyboardInterrupt
 
 
 def _write(record, out, plots: bool) -> dict:
@@ -169,7 +170,8 @@ def simulate_record(config: SimulateConfig, progress: bool = False):
 
 
 def simulate_run(config: SimulateConfig, out, plots: bool = True, progress: bool = False) -> dict:
-    return _write(simulate_record(config, progress), out, plots)
+    with results_kept():        # Ctrl-C after the run waits for its results
+        return _write(simulate_record(config, progress), out, plots)
 
 
 # ------------------------------------------------------------------ cosim
@@ -299,7 +301,8 @@ def cosim_record(config: CosimConfig, progress: bool = False):
 
 
 def cosim_run(config: CosimConfig, out, plots: bool = True, progress: bool = False) -> dict:
-    return _write(cosim_record(config, progress), out, plots)
+    with results_kept():        # Ctrl-C after the run waits for its results
+        return _write(cosim_record(config, progress), out, plots)
 
 
 def _cosim_engine(options) -> tuple:

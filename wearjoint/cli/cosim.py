@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..cosim import CoSimulationError
+from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_cosim_arguments as add_arguments
 from ..targets import cosim_config, cosim_record
@@ -29,16 +30,17 @@ def run(args) -> int:
     2 on a bad option (one line naming it)."""
     config = cosim_config(vars(args))
     stiffness_note(config.joint, args)
-    try:
-        record = cosim_record(config, progress=not args.quiet)
-    except (CoSimulationError, RuntimeError) as exc:
-        print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
-        return 1
-    summary = write_results(record, args.out, plots=not args.no_plots,
-                            figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
-    keys = (("master", "communication_steps") if config.master != "wearjoint" else
-            INTEGRATOR_KEYS if config.interface == "model-exchange" else COMMUNICATION_KEYS)
-    print_summary(summary, args, keys)
+    with results_kept():           # Ctrl-C after the run waits for its results
+        try:
+            record = cosim_record(config, progress=not args.quiet)
+        except (CoSimulationError, RuntimeError) as exc:
+            print(f"wearjoint cosim: error: {exc}", file=sys.stderr)
+            return 1
+        summary = write_results(record, args.out, plots=not args.no_plots,
+                                figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
+        keys = (("master", "communication_steps") if config.master != "wearjoint" else
+                INTEGRATOR_KEYS if config.interface == "model-exchange" else COMMUNICATION_KEYS)
+        print_summary(summary, args, keys)
     return exit_status(record, "cosim")
 
 

@@ -14,6 +14,7 @@ import re
 import sys
 
 from .. import run_options
+from ..interrupts import stopped_by_ctrl_c
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..run_options import (
     add_fmu_arguments, add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument,
@@ -96,11 +97,13 @@ def print_summary(summary: dict, args, extra_keys=()) -> None:
 
 
 def exit_status(record, command: str) -> int:
-    """A run's exit status: 0; 1 (its failure said in one line on stderr) if it diverged; 130 if Ctrl-C stopped it."""
+    """A run's exit status: 0; 130 if Ctrl-C stopped it; 1 (its failure said in one line on stderr) if it diverged."""
+    if stopped_by_ctrl_c(record):
+        return 130
     if record.failure:
         print(f"wearjoint {command}: error: {record.failure}", file=sys.stderr)
         return 1
-    return 0 if record.completed else 130
+    return 0
 
 
 __all__ = ["add_fmu_arguments", "add_initial_profile_argument", "add_model_arguments", "add_output_arguments",

@@ -2,6 +2,7 @@
 target's, :mod:`wearjoint.targets`)."""
 from __future__ import annotations
 
+from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_simulate_arguments as add_arguments
 from ..targets import simulate_config, simulate_record
@@ -11,10 +12,11 @@ from .options import exit_status, print_summary, stiffness_note
 def run(args) -> int:
     config = simulate_config(vars(args))
     stiffness_note(config.joint, args)
-    record = simulate_record(config, progress=not args.quiet)
-    summary = write_results(record, args.out, plots=not args.no_plots,
-                            figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
-    print_summary(summary, args, ("integrator_accepted_steps", "integrator_rejected_steps"))
+    with results_kept():           # Ctrl-C after the run waits for its results
+        record = simulate_record(config, progress=not args.quiet)
+        summary = write_results(record, args.out, plots=not args.no_plots,
+                                figure_worker=getattr(args, "figure_worker", None))   # started by cli.main
+        print_summary(summary, args, ("integrator_accepted_steps", "integrator_rejected_steps"))
     return exit_status(record, "simulate")
 
 
