@@ -290,6 +290,19 @@ def test_wear_factor_bias_is_stated_only_where_measured():
     assert wear_factor_bias(20.0, 1000).text == "unknown"
 
 
+def test_runs_that_agree_in_bias_share_it_whatever_their_own_estimates():
+    """A sensitivity study's cycle-jumping runs (F = 1 each, their own jump estimates in the notes) said "bias
+    unknown: the runs differ in wear factor or revolutions"; runs that differ in value are unknown still."""
+    from wearjoint.sweep.bias import common_bias
+
+    runs = {wear_factor_bias(1.0, 20, cycle_jump=True, jump_error_rel=e) for e in (0.0047, 0.0031)}
+    shared = common_bias(runs)
+    assert shared.rel == 0.0 and shared.text == "0 %" and "%" not in shared.note and "each run's" in shared.note
+    assert common_bias({wear_factor_bias(1.0, 20)}) == wear_factor_bias(1.0, 20)
+    assert common_bias(runs | {wear_factor_bias(20.0, 1000)}).rel is None
+    assert common_bias({wear_factor_bias(1.0, 20), wear_factor_bias(0.0, 20)}).note == "none"   # both none
+
+
 def test_the_measured_bias_belongs_to_the_paper_case_only():
     """The table was measured on the paper's mechanism and joint at k_w 5.576e-11: another mechanism, joint
     geometry or k_w gets unknown and the command that measures it for its own case and horizon."""

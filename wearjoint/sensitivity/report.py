@@ -17,7 +17,7 @@ import numpy as np
 from ..against_ideal import SUMMARY_KEYS
 from ..analysis import pin_left_bushing
 from ..parameters import ParameterError
-from ..sweep.bias import Bias, summary_biases
+from ..sweep.bias import Bias, common_bias, summary_biases
 from ..sweep.report import FIGURES_OF_MERIT
 from ..sweep.runner import SNAPSHOT_FIGURES, write_csv_atomic
 from ..targets import RECORD_NAME, read_record, target
@@ -95,9 +95,7 @@ def output_biases(out: Path, rows: list, outputs: list) -> dict:
             bias = biases.get(name) or (depth if depth.rel == 0.0 else
                                         Bias(None, "unknown: the wear factor's bias is measured for the max depth only"))
             found[name].add(bias)
-    return {name: (next(iter(b)) if len(b) == 1 else
-                   Bias(None, "unknown: the runs differ in wear factor or revolutions") if b else
-                   Bias(None, "unknown: no run finished")) for name, b in found.items()}
+    return {name: common_bias(b) if b else Bias(None, "unknown: no run finished") for name, b in found.items()}
 
 
 def write_samples(out: Path, problem, x_rows: list, group: int, ids: list, rows: dict, outputs: list) -> None:

@@ -12,6 +12,7 @@ estimate), there is no wear-factor bias (0).
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, PAPER_JOINT_GEOMETRY, JointParameters,
@@ -83,6 +84,21 @@ def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = 
                       f"{', '.join(f'{f:g}' for f in WEAR_FACTOR_BIAS)} at {revs} rev)")
 
 
+def common_bias(biases: set) -> Bias:
+    """One :class:`Bias` for several runs' (a set, not empty): theirs where they agree in value, its note without
+    what follows its last ", " where the notes differ there (a run's own figure: cycle jumping's estimate), else
+    unknown."""
+    values = {b.rel for b in biases}
+    if len(values) != 1 or None in values:
+        return Bias(None, "unknown: the runs differ in wear factor or revolutions")
+    notes = sorted({b.note for b in biases})
+    shared = os.path.commonprefix(notes)
+    cut = shared.rfind(", ")
+    note = (notes[0] if len(notes) == 1 else f"{shared[:cut]}, each run's in its own)" if cut > 0
+            else shared.rstrip(": ") or "the same in every run")
+    return Bias(values.pop(), note)
+
+
 def is_measured_case(joint: dict, mechanism: dict) -> bool:
     """Are a summary's parameter dicts the case :data:`SOURCE` measured: the paper's mechanism and joint geometry
     (:func:`wearjoint.parameters.is_paper_case`) at its wear coefficient?"""
@@ -116,4 +132,5 @@ def summary_biases(summary: dict) -> dict:
     return out
 
 
-__all__ = ["Bias", "WEAR_FACTOR_BIAS", "SOURCE", "UNKNOWN", "wear_factor_bias", "summary_biases", "is_measured_case"]
+__all__ = ["Bias", "WEAR_FACTOR_BIAS", "SOURCE", "UNKNOWN", "wear_factor_bias", "summary_biases", "common_bias",
+           "is_measured_case"]
