@@ -54,12 +54,12 @@ def snapshot(out) -> dict:
 
 # ------------------------------------------------------------------ --resume
 @pytest.mark.parametrize("args,named", [
-    (("--vary", "restitution=0.7", "--seeds", "2"), "--vary restitution: [0.6] there, [0.7] given"),
-    (("--vary", "restitution=0.6", "--seeds", "3"), "--seeds: 2 there, 3 given"),
+    (("--vary", "restitution=0.7", "--seeds", "2"), "--vary restitution: [0.6] there, [0.7] now"),
+    (("--vary", "restitution=0.6", "--seeds", "3"), "--seeds: 2 there, 3 now"),
     (("--vary", "restitution=0.6", "--seeds", "2", "--friction-coefficient", "0.2"),
-     "--friction-coefficient: not given there, 0.2 given"),
+     "--friction-coefficient: not given there, 0.2 now"),
     (("--vary", "restitution=0.6", "--vary", "crank-speed-rpm=100", "--seeds", "2"),
-     "--vary crank-speed-rpm: not given there, [100.0] given"),
+     "--vary crank-speed-rpm: not given there, [100.0] now"),
 ])
 def test_resume_of_another_design_is_refused_naming_what_differs(tmp_path, capsys, args, named):
     out = tmp_path / "out"

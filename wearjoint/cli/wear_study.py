@@ -155,7 +155,8 @@ def _check_out(args, ensemble: bool) -> None:
                              f"({CHECKPOINT_NAME}); allowed a folder of the ensemble's own")
     if not ensemble and (out / SPEC_NAME).is_file():
         raise ParameterError(f"--out={str(out)!r} is invalid without --seeds: it holds an ensemble ({SPEC_NAME}); "
-                             "continue it with its --seeds N --resume, or choose another --out")
+                             "continue it with the options that started it, --seeds N included, and --resume, or "
+                             "choose another --out")
     if not args.resume or ensemble:     # an ensemble's: the sweep's --resume check (sweep.runner.resumed)
         return
     if args.convergence is not None or args.calibrate_max_depth_m is not None:    # a study per subfolder

@@ -169,7 +169,7 @@ def check_resumed_study(out: Path, design: dict) -> None:
         earlier = json.loads((out / SUMMARY_NAME).read_text())
     except (OSError, ValueError):
         return                                 # stopped before its summary: its sweep.json's cases decide
-    differ = [f"{key}: {earlier.get(key)!r} there, {value!r} given" for key, value in design.items()
+    differ = [f"{key}: {earlier.get(key)!r} there, {value!r} now" for key, value in design.items()
               if json.loads(json.dumps(value)) != earlier.get(key)]
     if differ:
         raise ParameterError(f"--resume is invalid: the study in {out} has another design: {'; '.join(differ)}; "

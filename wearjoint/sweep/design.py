@@ -458,20 +458,20 @@ def design_record(command: str, base: dict, vary: dict | None = None, points=(),
 
 def design_changes(old: dict, new: dict) -> list[str]:
     """What differs from design ``old`` in ``new`` (:func:`design_record`), each as the user sets it, e.g.
-    ``--vary restitution: [0.6] there, [0.7] given``."""
+    ``--vary restitution: [0.6] there, [0.7] now``."""
     def shown(value):
         return "not given" if value is None else repr(value)
 
-    changes = [f"COMMAND: {old['command']} there, {new['command']} given"] if old["command"] != new["command"] else []
+    changes = [f"COMMAND: {old['command']} there, {new['command']} now"] if old["command"] != new["command"] else []
     for key, label in (("options", "{}"), ("vary", "--vary {}")):
         for name in dict.fromkeys([*old[key], *new[key]]):
             if old[key].get(name) != new[key].get(name):
                 changes.append(f"{label.format(name)}: {shown(old[key].get(name))} there, "
-                               f"{shown(new[key].get(name))} given")
+                               f"{shown(new[key].get(name))} now")
     if old["points"] != new["points"]:
-        changes.append(f"[[case]] points: {old['points']!r} there, {new['points']!r} given")
+        changes.append(f"[[case]] points: {old['points']!r} there, {new['points']!r} now")
     if old["seeds"] != new["seeds"]:
-        changes.append(f"--seeds: {old['seeds']} there, {new['seeds']} given")
+        changes.append(f"--seeds: {old['seeds']} there, {new['seeds']} now")
     return changes
 
 

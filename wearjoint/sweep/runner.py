@@ -109,11 +109,12 @@ def check_resumed_design(out, design: dict, cases: list[Case]) -> None:
         changes = design_changes(spec["design"], design)
     else:
         changes = [] if {c.get("case_id") for c in spec.get("cases", [])} == {c.case_id for c in cases} else \
-            [f"the cases: {len(spec.get('cases', []))} there, {len(cases)} given, not the same (its sweep.json, of an "
+            [f"the cases: {len(spec.get('cases', []))} there, {len(cases)} now, not the same (its sweep.json, of an "
              "earlier version, records no design)"]
     if changes:
         raise ParameterError(f"--resume is invalid: the sweep in {out} has another design: {'; '.join(changes)}; "
-                             "allowed the sweep's own design (its sweep.json), or another --out for a new sweep")
+                             "allowed the sweep's own design (the options that started it, again, with --resume: its "
+                             "sweep.json's design), or another --out for a new sweep")
 
 
 class SweepFolder:
