@@ -58,8 +58,10 @@ def test_points_one_k_w_cannot_join_within_their_uncertainty_are_inconsistent_an
     low, high = sorted(fit["residuals_rel"])
     assert low < 0.0 < high and high - low > 0.2    # one over, one under
     single = fit_archard(power_growth(rate=4e-7), K0, [(400_000, 0.55e-3, 1e-5)])
-    assert single["degrees_of_freedom"] == 0 and single["p_value"] is None and single["consistent"]
-    lo, hi = single["interval_95_m2_N"]             # one point: its own interval, from its uncertainty alone
+    # one point: nothing to test (it said consistent: true), its own interval, from its uncertainty alone
+    assert single["degrees_of_freedom"] == 0 and single["p_value"] is None and single["consistent"] is None
+    assert single["fits"] is None and "no test of the model" in single["note"]
+    lo, hi = single["interval_95_m2_N"]
     assert lo < single["wear_coefficient_m2_N"] < hi
 
 
@@ -298,11 +300,39 @@ def test_calibrate_command_predicts_with_bands_and_asks_for_a_stated_transition(
     assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5", "--predict-revolutions",
                      "5000000", "--out", str(tmp_path / "d"), "--no-plots"]) == 0
     advice = [line for line in capsys.readouterr().out.splitlines() if "run the study to" in line]
-    assert advice and "(the fitted k_w's 95 % interval included; wearjoint wear-study --revolutions 4000 --out " \
-                      "study, with --revolutions" in advice[0] and "--resume" not in advice[0]
+    # a resumed study's line may lack its options: the command that made it, with what to change
+    assert advice and re.search(r"run the study to (\d+) revolutions \(the fitted k_w's 95 % interval included\): "
+                                r"the command that made the study with --revolutions \1 and --out NEW_FOLDER$",
+                                advice[0]), advice
+    summary["command_line"] = "wearjoint wear-study --revolutions 4000 --crank-speed-rpm 150 --out study"
+    (study / "summary.json").write_text(json.dumps(summary))
+    assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5", "--predict-revolutions",
+                     "5000000", "--out", str(tmp_path / "d"), "--no-plots"]) == 0
+    advice = [line for line in capsys.readouterr().out.splitlines() if "run the study to" in line]
+    assert re.search(r"run the study to (\d+) revolutions .*: wearjoint wear-study --crank-speed-rpm 150 "
+                     r"--revolutions \1 --out NEW_FOLDER$", advice[0]), advice
     assert cli_main(["calibrate", "--study", str(study), "--law", "mild-severe", "--points",
                      "100000:4e-5,300000:1.1e-4", "--out", str(out)]) == 2
     assert "transition_depth_m is missing" in capsys.readouterr().err
+
+
+def test_a_figure_without_a_band_says_why(tmp_path, capsys):
+    """A rejected fit's life said "1.305e+06 revolutions (no band), 181.2 h" as though it were an answer; one point
+    said "within their uncertainties (the chi^2 test), a fit", a test that one point cannot make."""
+    study = written_study(tmp_path / "study")
+    rejected = ["--points", "100000:2e-5,300000:1.5e-4", "--depth-uncertainty-m", "2e-6"]
+    assert cli_main(["calibrate", "--study", str(study), *rejected, "--life-depth-m", "1e-4", "--out",
+                     str(tmp_path / "r"), "--no-plots"]) == 0
+    text = capsys.readouterr().out
+    assert "not a fit" in text and "revolutions (no band: one k_w does not fit these points (the chi^2 test): the " \
+                                   "figure holds only if it did)" in text, text
+    assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5", "--life-depth-m", "1e-4",
+                     "--out", str(tmp_path / "u"), "--no-plots"]) == 0
+    assert "(no band: no interval without the depths' uncertainty (--depth-uncertainty-m))" in capsys.readouterr().out
+    assert cli_main(["calibrate", "--study", str(study), "--points", "100000:4.1e-5:2e-6", "--out",
+                     str(tmp_path / "one"), "--no-plots"]) == 0
+    text = capsys.readouterr().out
+    assert "chi^2 test" not in text and "no test of the model" in text, text
 
 
 def test_a_fit_far_from_the_studys_k_w_says_to_run_the_study_at_it():

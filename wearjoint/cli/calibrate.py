@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import shlex
 import sys
 import warnings
 from pathlib import Path
@@ -112,15 +113,44 @@ def _bushing_radius(summary: dict) -> float | None:
 
 def _verdict(result: dict, tolerance: float) -> str:
     """The residuals line's end: the model's test with depth uncertainties, else --tolerance."""
-    if result.get("consistent") is not None:
-        return (": within their uncertainties (the chi^2 test), a fit" if result["fits"]
-                else ": beyond their uncertainties (the chi^2 test), not a fit")
+    if result.get("tolerance_rel") is None:       # with uncertainties: the test's verdict (one point: none)
+        return ("" if result["fits"] is None else ": within their uncertainties (the chi^2 test), a fit"
+                if result["fits"] else ": beyond their uncertainties (the chi^2 test), not a fit")
     return (f": each within --tolerance {tolerance:g} of its depth, a fit" if result["fits"]
             else f": beyond --tolerance {tolerance:g} of its depth, not a fit")
 
 
-def _band(band, scale=1.0, unit="") -> str:
-    return f" (95 % band {band[0] * scale:.3g} ... {band[1] * scale:.3g}{unit})" if band else " (no band)"
+def _longer_study(command_line: str | None, revolutions: str) -> str:
+    """The study's command (its summary's ``command_line``) to ``revolutions`` into a new folder: its --revolutions,
+    --out and --resume replaced; without it, what to change in the command that made the study."""
+    words = shlex.split(command_line or "")
+    if words[:2] != ["wearjoint", "wear-study"] or "--resume" in words:   # a resumed study's line lacks its options
+        return f"the command that made the study with --revolutions {revolutions} and --out NEW_FOLDER"
+    kept, rest = [], iter(words)
+    for word in rest:
+        if word.split("=", 1)[0] in ("--revolutions", "--out"):
+            if "=" not in word:
+                next(rest, None)                 # its value
+            continue
+        kept.append(word)
+    return shlex.join([*kept, "--revolutions", revolutions, "--out", "NEW_FOLDER"])
+
+
+def _band(band, scale=1.0, unit="", why: str = "") -> str:
+    """`` (95 % band LOW ... HIGH UNIT)``, or `` (no band: WHY)``."""
+    return (f" (95 % band {band[0] * scale:.3g} ... {band[1] * scale:.3g}{unit})" if band
+            else f" (no band: {why})" if why else " (no band)")
+
+
+def _no_band(result: dict, needed: float | None = None) -> str:
+    """Why a prediction or a life of an Archard fit ``result`` has no band (``needed``: the study revolutions its
+    band's end needs, where that is why)."""
+    if result.get("consistent") is False:
+        return "one k_w does not fit these points (the chi^2 test): the figure holds only if it did"
+    if result.get("interval_95_m2_N") is None:
+        return "no interval without the depths' uncertainty (--depth-uncertainty-m)"
+    return (f"an end of the interval lies beyond the study's curve; a study to {needed:.0f} revolutions reaches it"
+            if needed else "an end of the interval lies beyond the study's curve")
 
 
 def run(args) -> int:
@@ -218,21 +248,20 @@ def _fit(args, summary: dict, growth: np.ndarray, k0: float, points: list, asked
         result["predictions"] = predictions(growth, k0, result, asked)
         for p in result["predictions"]:
             if p["depth_m"] is None:
-                made_by = " ".join(word for word in summary.get("command_line", "its wear-study command").split()
-                                   if word != "--resume")     # the study anew, into another folder
+                needed = f"{p['study_revolutions_needed']:.0f}"
                 print(f"  after {p['revolutions']:.6g} revolutions: beyond the study's curve ({growth[-1, 0]:.4g} "
-                      f"revolutions at its k_w); run the study to {p['study_revolutions_needed']:.0f} revolutions "
-                      f"(the fitted k_w's 95 % interval included; {made_by}, with --revolutions "
-                      f"{p['study_revolutions_needed']:.0f} and another --out)")
+                      f"revolutions at its k_w); run the study to {needed} revolutions (the fitted k_w's 95 % "
+                      f"interval included): {_longer_study(summary.get('command_line'), needed)}")
             else:
                 print(f"  after {p['revolutions']:.6g} revolutions: max depth {p['depth_m'] * 1e3:.4g} mm"
-                      + _band(p["band_95_m"], 1e3, " mm"))
+                      + _band(p["band_95_m"], 1e3, " mm", _no_band(result, p.get("study_revolutions_needed"))))
         if args.life_depth_m is not None:
             rpm = (summary["parameters"].get("mechanism") or {}).get("crank_speed_rpm")
             result["life"] = span = life(growth, k0, result, args.life_depth_m, rpm)
             print(f"  to {args.life_depth_m * 1e3:.4g} mm: " + (
-                f"{span['revolutions']:.4g} revolutions" + _band(span["band_95_revolutions"])
-                + (f", {span['hours']:.4g} h at {rpm:g} rpm" + _band(span["band_95_hours"], unit=" h") if rpm else "")
+                f"{span['revolutions']:.4g} revolutions" + _band(span["band_95_revolutions"], why=_no_band(result))
+                + (f", {span['hours']:.4g} h at {rpm:g} rpm"
+                   + (_band(span["band_95_hours"], unit=" h") if span["band_95_hours"] else "") if rpm else "")
                 if span["revolutions"] is not None else span["note"]))
     else:
         transition = args.transition_depth_m

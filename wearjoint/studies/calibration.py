@@ -103,6 +103,8 @@ def check_tolerance(tolerance) -> float:
 
 CONFIDENCE = 0.95   # of the model's test (rejected below 1 - CONFIDENCE) and of interval_95_m2_N
 DEFAULT_TOLERANCE = 0.1   # without depth uncertainties: the share of each depth within which the residuals fit
+ONE_POINT = ("one measured point: k_w matches it exactly, its interval from the point's uncertainty alone; no test "
+             "of the model (that needs two points or more)")
 
 
 def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = DEFAULT_TOLERANCE,
@@ -152,7 +154,7 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = DEFAUL
         log_s, chi2_min = float(best.x), float(best.fun)
         dof = n.size - 1
         p_value = float(stats.chi2.sf(chi2_min, dof)) if dof > 0 else None
-        consistent = p_value is None or p_value >= 1.0 - CONFIDENCE
+        consistent = None if p_value is None else p_value >= 1.0 - CONFIDENCE     # one point: nothing to test
         limit = chi2_min + float(stats.chi2.ppf(CONFIDENCE, 1))
         bounds = []
         for edge in (lo, hi):
@@ -162,19 +164,17 @@ def fit_archard(growth: np.ndarray, k0: float, points, tolerance: float = DEFAUL
             else:                                        # not reached within the study's curve
                 bounds.append(None)
         out.update(wear_coefficient_m2_N=k0 * math.exp(log_s), chi2=chi2_min, p_value=p_value,
-                   consistent=bool(consistent), depth_uncertainty_m=u.tolist(), curve_error_rel=curve_error_rel,
-                   interval_95_m2_N=bounds if consistent else None,
-                   note="" if consistent else (
+                   consistent=consistent, depth_uncertainty_m=u.tolist(), curve_error_rel=curve_error_rel,
+                   interval_95_m2_N=bounds if consistent is not False else None, tolerance_rel=None,
+                   note=ONE_POINT if consistent is None else "" if consistent else (
                        f"one k_w does not fit these points within their uncertainties (chi^2 = {chi2_min:.3g} on "
                        f"{dof} degree{'s' if dof > 1 else ''} of freedom, p = {p_value:.2g}): no interval; each "
                        "point alone gives its own k_w (each_point_alone_m2_N); a law whose rate changes with depth "
                        "(--law mild-severe) or larger uncertainties would be needed"))
     res = log_residuals(log_s)
-    if out["consistent"] is not None:           # with uncertainties the test judges, not a share of the depths
-        out["tolerance_rel"] = None
+    with_uncertainty = out["tolerance_rel"] is None      # the test judges (one point: nothing), not a share
     out.update(residuals_rel=[float(math.expm1(r)) for r in res],
-               fits=bool(out["consistent"]) if out["consistent"] is not None
-               else bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
+               fits=out["consistent"] if with_uncertainty else bool(np.all(np.abs(np.expm1(res)) <= tolerance)),
                local_growth_exponents=[_local_exponent(curve, x, growth[-1, 0])
                                        for x in out["wear_coefficient_m2_N"] / k0 * n])
     return out
