@@ -279,50 +279,6 @@ def test_a_friction_sweep_shows_the_wear_factor_bias_next_to_the_answer(tmp_path
     assert "docs/explanation/wear_study.md" in done.stdout
 
 
-def test_wear_factor_bias_is_stated_only_where_measured():
-    assert wear_factor_bias(100.0, 1000).rel == WEAR_FACTOR_BIAS[100.0][1000]
-    assert wear_factor_bias(1.0, 1234).rel == 0.0 and wear_factor_bias(0.0, 10).rel == 0.0   # no factor, no wear
-    assert wear_factor_bias(100.0, 5000).rel is None and wear_factor_bias(20.0, 1000).rel is None
-    assert wear_factor_bias(100.0, 1000, cycle_jump=True).rel is None
-    # cycle jumping runs at F = 1: no wear-factor bias (it had said "unknown"), its own estimate named
-    jumped = wear_factor_bias(1.0, 300_000, cycle_jump=True, jump_error_rel=0.0148)
-    assert jumped.rel == 0.0 and "1.48% of the final max depth" in jumped.note
-    assert wear_factor_bias(20.0, 1000).text == "unknown"
-
-
-def test_runs_that_agree_in_bias_share_it_whatever_their_own_estimates():
-    """A sensitivity study's cycle-jumping runs (F = 1 each, their own jump estimates in the notes) said "bias
-    unknown: the runs differ in wear factor or revolutions"; runs that differ in value are unknown still."""
-    from wearjoint.sweep.bias import common_bias
-
-    runs = {wear_factor_bias(1.0, 20, cycle_jump=True, jump_error_rel=e) for e in (0.0047, 0.0031)}
-    shared = common_bias(runs)
-    assert shared.rel == 0.0 and shared.text == "0 %" and "%" not in shared.note and "each run's" in shared.note
-    assert common_bias({wear_factor_bias(1.0, 20)}) == wear_factor_bias(1.0, 20)
-    assert common_bias(runs | {wear_factor_bias(20.0, 1000)}).rel is None
-    assert common_bias({wear_factor_bias(1.0, 20), wear_factor_bias(0.0, 20)}).note == "none"   # both none
-
-
-def test_the_measured_bias_belongs_to_the_paper_case_only():
-    """The table was measured on the paper's mechanism and joint at k_w 5.576e-11: another mechanism, joint
-    geometry or k_w gets unknown and the command that measures it for its own case and horizon."""
-    from wearjoint.parameters import SliderCrankParameters, paper_joint
-    from wearjoint.sweep.bias import summary_biases
-
-    def summary(mechanism=SliderCrankParameters(), **changes):
-        joint = paper_joint(mechanism, **{"wear_coefficient_m2_N": 5.576e-11, "wear_factor": 100.0, **changes})
-        return {"revolutions": 10.0, "parameters": {"joint": joint.to_dict(), "mechanism": mechanism.to_dict()}}
-
-    assert summary_biases(summary())["max_wear_depth_m"].rel == WEAR_FACTOR_BIAS[100.0][1000]
-    seeded = summary(SliderCrankParameters(initial_crank_angle_deg=0.5))
-    assert summary_biases(seeded)["max_wear_depth_m"].rel == WEAR_FACTOR_BIAS[100.0][1000]
-    for other in (summary(SliderCrankParameters(crank_speed_rpm=300.0)), summary(bushing_radius_m=0.0102),
-                  summary(wear_coefficient_m2_N=1e-12)):
-        bias = summary_biases(other)["max_wear_depth_m"]
-        assert bias.rel is None
-        assert "--convergence jump,100 --revolutions 1000" in bias.note
-
-
 def _points(values_by_x: dict, bias_rel):
     """Grid points of one swept parameter 'mu' whose ok seeds have these max wear depths."""
     from wearjoint.sweep.bias import Bias
