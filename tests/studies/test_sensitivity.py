@@ -466,3 +466,15 @@ def test_the_docs_study_ranks_the_dominant_parameters_alike_in_morris_and_sobol(
     for method, table in tables.items():
         for rows in table.values():
             assert rows[-1]["parameter"] == DUMMY and float(rows[-1]["ST" if method == "sobol" else "mu_star"]) == 0.0
+
+
+def test_an_interval_of_an_index_that_cannot_be_negative_stops_at_zero():
+    """μ* (a mean of absolute changes) and Sobol's shares of a variance: a new user's indices.csv said mu_star_low
+    -7.87e-08; μ, a signed mean, keeps its symmetric interval."""
+    from wearjoint.sensitivity.report import interval
+
+    assert interval({"mu_star": 3.8e-8, "mu_star_conf": 1.2e-7}, "mu_star") == (0.0, pytest.approx(1.58e-7))
+    assert interval({"S1": -0.02, "S1_conf": 0.05}, "S1") == (0.0, pytest.approx(0.03))
+    assert interval({"ST": 0.5, "ST_conf": 0.1}, "ST") == (pytest.approx(0.4), pytest.approx(0.6))
+    assert interval({"mu": -1.0, "mu_conf": 0.5}, "mu") == (-1.5, -0.5)
+

@@ -116,6 +116,17 @@ def ranked(method: str, result: dict) -> list:
     return sorted(result["indices"], key=lambda r: -r[EFFECT[method]])
 
 
+# indices that are never negative (a mean of absolute changes, shares of a variance): their intervals stop at 0
+NON_NEGATIVE = ("mu_star", "S1", "ST")
+
+
+def interval(row: dict, index: str) -> tuple[float, float]:
+    """(low, high): ``row[index]`` -/+ its 95 % half-interval ``row[index + "_conf"]`` (SALib's), the low end at least
+    0 for an index that cannot be negative (μ* = 3.8e-8 with a half-interval of 1.2e-7 gave -7.9e-8)."""
+    low, high = row[index] - row[f"{index}_conf"], row[index] + row[f"{index}_conf"]
+    return (max(low, 0.0) if index in NON_NEGATIVE else low), high
+
+
 def write_indices(out: Path, method: str, results: dict, biases: dict) -> None:
     """indices.csv: per output and parameter (ranked by effect): the indices, each interval's low and high ends,
     the complete groups used and the output's wear-factor bias."""
@@ -124,7 +135,7 @@ def write_indices(out: Path, method: str, results: dict, biases: dict) -> None:
         for rank, r in enumerate(ranked(method, result), start=1):
             ends = {}
             for c in (c for c in COLUMNS[method] if f"{c}_conf" in r):
-                ends[f"{c}_low"], ends[f"{c}_high"] = r[c] - r[f"{c}_conf"], r[c] + r[f"{c}_conf"]
+                ends[f"{c}_low"], ends[f"{c}_high"] = interval(r, c)
             table.append({"output": output, "rank": rank, **r, **ends, "groups": result["groups"],
                           "bias_rel": biases[output].csv})
     write_csv_atomic(Path(out) / "indices.csv", table, lead=("output", "rank", "parameter", "api_name"))
@@ -139,14 +150,14 @@ def plot_indices(out: Path, method: str, output: str, result: dict, title: str) 
     fig, ax = plt.subplots(figsize=(7.5, 1.2 + 0.45 * len(rows)))
     if method == "sobol":
         for key, shift, color in (("ST", 0.2, "tab:orange"), ("S1", -0.2, "tab:blue")):
-            ax.barh(y + shift, [r[key] for r in rows], height=0.38, xerr=[r[f"{key}_conf"] for r in rows],
-                    color=color, capsize=3, label=f"{key} ± 95 % interval")
+            ax.barh(y + shift, [r[key] for r in rows], height=0.38, xerr=_whiskers(rows, key), color=color,
+                    capsize=3, label=f"{key} ± 95 % interval")
         ax.axvline(0.0, color="k", lw=0.6)
         ax.set_xlabel("Sobol' index (share of the output's variance)")
     else:
         top = max([r["mu_star"] for r in rows] + [r["sigma"] for r in rows])
         scale = 10.0 ** math.floor(math.log10(top)) if top > 0.0 else 1.0
-        ax.barh(y, [r["mu_star"] / scale for r in rows], height=0.6, xerr=[r["mu_star_conf"] / scale for r in rows],
+        ax.barh(y, [r["mu_star"] / scale for r in rows], height=0.6, xerr=_whiskers(rows, "mu_star", scale),
                 capsize=3, color="tab:blue", label="μ* ± 95 % interval")
         ax.plot([r["sigma"] / scale for r in rows], y, "kx", label="σ")
         ax.set_xlabel(f"Morris μ* / {scale:.0e}: mean |change of {output}| over a parameter's range")
@@ -158,5 +169,12 @@ def plot_indices(out: Path, method: str, output: str, result: dict, title: str) 
     return name
 
 
+def _whiskers(rows: list, index: str, scale: float = 1.0) -> list:
+    """matplotlib's xerr of the bars of ``index``: each row's :func:`interval` below and above its value."""
+    ends = [interval(r, index) for r in rows]
+    return [[max(r[index] - low, 0.0) / scale for r, (low, _) in zip(rows, ends)],   # an estimate below 0: none
+            [(high - r[index]) / scale for r, (_, high) in zip(rows, ends)]]
+
+
 __all__ = ["DEFAULT_OUTPUTS", "PEAK", "BIAS_EFFECT", "allowed_outputs", "parse_outputs", "output_value", "invalid_reason",
-           "output_biases", "write_samples", "write_indices", "plot_indices", "ranked"]
+           "output_biases", "write_samples", "interval", "write_indices", "plot_indices", "ranked"]
