@@ -3,12 +3,14 @@
 The folder's summary (``summary.json``, or a sweep's ``sweep_summary.json``) as tables, every number as written
 there (units in the key names; an entry that is a table, a validation's metrics, as a table of its own); the joint's
 and the mechanism's parameters with where each came from (the default, or given; the wear coefficient's source as the
-summary states it); every PNG of the folder embedded; the command line and the version that made it.  :func:`write_report` writes it; ``wearjoint report DIR``
+summary states it); a study's answer tables (:data:`ANSWER_TABLES`: a sweep's ensemble, a sensitivity study's
+indices); every PNG of the folder embedded; the command line and the version that made it.  :func:`write_report` writes it; ``wearjoint report DIR``
 (re)writes it for any results folder, and every command that writes a results folder writes it last.
 """
 from __future__ import annotations
 
 import base64
+import csv
 import dataclasses
 import html
 import json
@@ -116,8 +118,24 @@ def _joint_defaults(parameters: dict):
         return JointParameters(), ()
 
 
-def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> str:
-    """The page: ``summary`` (a summary.json's content), ``figures`` (name, PNG bytes), ``title``."""
+# a study's answer that its summary leaves to a table file: a sweep's mean, spread and bias per grid point, a
+# sensitivity study's indices with their intervals (a new user's reports held counts and timings alone)
+ANSWER_TABLES = ("ensemble.csv", "indices.csv")
+MAX_TABLE_ROWS = 500
+
+
+def _answer_table(name: str, rows: list[list[str]]) -> str:
+    """A table file's rows (the first its header) as a section of the page, at most MAX_TABLE_ROWS of them."""
+    header, body = rows[0], rows[1:]
+    shown = body[:MAX_TABLE_ROWS]
+    more = (f"<p>{len(body) - len(shown)} more rows in {html.escape(name)}</p>" if len(body) > len(shown) else "")
+    return f"<h2>{html.escape(name)}</h2>" + _table(shown, header, f"table-{name}") + more
+
+
+def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str,
+                tables: list[tuple[str, list]] = ()) -> str:
+    """The page: ``summary`` (a summary.json's content), ``figures`` (name, PNG bytes), ``title``; ``tables``: (file
+    name, its rows as text, the header first) of :data:`ANSWER_TABLES`."""
     scalars = [(k, v) for k, v in summary.items() if not isinstance(v, (dict, list)) and k != "command_line"]
     parameters = summary.get("parameters")
     parameters = parameters if isinstance(parameters, dict) else {}     # a sensitivity study's: its sampled ones
@@ -131,7 +149,8 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str) -> 
     parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
     parts += [_entry_section(k, v) for k, v in summary.items()
-              if isinstance(v, (dict, list)) and k not in _OWN_SECTIONS]
+              if isinstance(v, (dict, list)) and (k not in _OWN_SECTIONS or k == "parameters" and not parameters)]
+    parts += [_answer_table(name, rows) for name, rows in tables if rows]
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
     joint_defaults, derived = _joint_defaults(parameters)
@@ -198,9 +217,16 @@ def write_report(out_dir, command_line: str | None = None, facts: dict | None = 
     figures = [(png.name, png.read_bytes()) for png in sorted(out.glob("*.png"))]
     page = out / REPORT_NAME
     tmp = page.with_suffix(".html.tmp")
-    tmp.write_text(report_html(summary, figures, f"wearjoint results: {out.name}"), encoding="utf-8")
+    tables = []
+    for name in ANSWER_TABLES:
+        try:
+            with open(out / name, newline="") as file:
+                tables.append((name, list(csv.reader(file))))
+        except OSError:          # none in this folder
+            pass
+    tmp.write_text(report_html(summary, figures, f"wearjoint results: {out.name}", tables), encoding="utf-8")
     tmp.replace(page)
     return page
 
 
-__all__ = ["REPORT_NAME", "SUMMARY_FILES", "cell_text", "json_values", "report_html", "summary_path", "write_report"]
+__all__ = ["REPORT_NAME", "SUMMARY_FILES", "ANSWER_TABLES", "cell_text", "json_values", "report_html", "summary_path", "write_report"]

@@ -128,6 +128,29 @@ def test_a_summarys_tables_are_tables_of_the_page(tmp_path):
     assert "&quot;deeper&quot;: {" in text                  # what fits no table: its JSON
 
 
+def test_a_studys_answer_tables_and_sampled_parameters_are_in_its_page(tmp_path):
+    """A sweep's report held counts and timings but not its mean and spread (ensemble.csv), a sensitivity study's
+    not its indices (indices.csv) nor its sampled parameters (a list, not the joint's and mechanism's dicts)."""
+    from wearjoint.report import write_report
+
+    sweep = tmp_path / "sweep"
+    sweep.mkdir()
+    (sweep / "sweep_summary.json").write_text(json.dumps({"cases": 6, "ok": 6}))
+    (sweep / "ensemble.csv").write_text("friction_coefficient,n,max_wear_depth_m_mean,max_wear_depth_m_std\n"
+                                        "0.05,3,5.932e-05,3.9e-07\n0.15,3,6.1e-05,4.4e-07\n")
+    page = Tables(write_report(sweep).read_text(encoding="utf-8"))
+    assert page.tables["table-ensemble.csv"] == [["0.05", "3", "5.932e-05", "3.9e-07"],
+                                                 ["0.15", "3", "6.1e-05", "4.4e-07"]]
+    study = tmp_path / "sensitivity"
+    study.mkdir()
+    (study / "summary.json").write_text(json.dumps({"method": "morris", "parameters": [
+        {"name": "friction_coefficient", "low": 0.05, "high": 0.15, "log": False}]}))
+    (study / "indices.csv").write_text("output,rank,parameter,mu_star,mu_star_low\nmax_wear_depth_m,1,mu,4.7e-06,0.0\n")
+    page = Tables(write_report(study).read_text(encoding="utf-8"))
+    assert page.tables["table-indices.csv"] == [["max_wear_depth_m", "1", "mu", "4.7e-06", "0.0"]]
+    assert page.tables["summary-parameters"] == [["friction_coefficient", "0.05", "0.15", "False"]]
+
+
 def test_a_value_written_at_its_default_is_given_and_an_unset_stiffness_is_the_materials(tmp_path):
     """--crank-length-m 0.05 is the default's value, but written on the command line: "given" (it said "default");
     the contact stiffness left unset is the one the run derived from the radii and materials, with its value (it
