@@ -170,6 +170,22 @@ def test_lankarani_nikravesh_rebounds_at_its_own_value_not_the_asked_one(e, expe
     assert impact_restitution(p, 0.05, 1.0) == pytest.approx(own, rel=5e-3)
 
 
+@pytest.mark.parametrize("law, e, expected", [("tsuji", 0.3, 0.2957), ("tsuji", 0.9, 0.8983),
+                                               ("hunt-crossley", 0.3, None), ("lankarani-nikravesh-exact", 0.3, None)])
+def test_only_tsujis_restitution_reads_the_shape_of_the_foundations_force(law, e, expected):
+    """At 1 m/s, deep into the wall (docs/reference/model.md §3.5, `contact-law`'s note): the laws that multiply the
+    elastic force rebound as their closed form whatever its shape; Tsuji's, reading its secant stiffness, a little
+    lower with the foundation's resultant than with K delta^1.5, which it is solved for."""
+    p = JointParameters(wear_factor=0.0, contact_damping=law, restitution=e, effective_mass_kg=0.89)
+    foundation = impact_restitution(p, 1.0, 0.89)
+    assert impact_restitution(p.replace(contact_model="deepest"), 1.0, 0.89) == pytest.approx(p.restitution_at(1.0),
+                                                                                                rel=1e-3)
+    if expected is None:
+        assert foundation == pytest.approx(p.restitution_at(1.0), rel=1e-3)
+    else:
+        assert foundation < e and foundation == pytest.approx(expected, abs=3e-4)
+
+
 def test_damping_parameters_are_named_when_bad():
     with pytest.raises(ParameterError, match="impact_speed_m_s=-1"):
         DEEPEST.restitution_at(-1.0)
