@@ -103,14 +103,19 @@ def test_cosim_master_omsimulator_agrees_with_fmpys_container(omsimulator, packa
     assert np.abs(got - expected).max() < 1e-6 * np.ptp(expected)
 
 
-def test_cosim_master_omsimulator_writes_the_results_folder(omsimulator, tmp_path):
-    """`wearjoint cosim --master omsimulator` writes summary.json naming the master."""
+def test_cosim_master_omsimulator_writes_the_results_folder(omsimulator, tmp_path, monkeypatch):
+    """`wearjoint cosim --master omsimulator` writes summary.json naming the master; OMSimulator's log stays where
+    it says it saved it (the user's cache: it was a temporary folder, removed), its warnings in the summary."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     out = tmp_path / "out"
     assert main(["cosim", "--out", str(out), "--master", "omsimulator", "--revolutions", "0.005", "--quiet",
                  "--no-plots"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["master"] == "omsimulator"
     assert summary["simulated_time_s"] == pytest.approx(0.005 * SliderCrankParameters().period_s, rel=1e-3)
+    log = (tmp_path / "cache" / "wearjoint" / "omsimulator" / "last_run.log").read_text()
+    warned = [line for line in log.splitlines() if "warning" in line.lower() or "error" in line.lower()]
+    assert summary.get("master_log_warnings", []) == warned
 
 
 def _result_signal(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:

@@ -45,6 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._compile.user_cache import user_cache_dir
 from ..analysis import past_admissible, pin_left_bushing
 from ..checks import RunDiverged
 from ..core import layout as L
@@ -97,6 +98,7 @@ class MasterTrace:
     wall_time_s: float
     load_time_s: float
     failure: str = ""        # why the master stopped early ('' if it reached the stop time)
+    log: tuple = ()          # the warnings and errors of the master's own log (OMSimulator's), as its lines
 
 
 def _steps(stop_time_s: float, step_s: float) -> int:
@@ -260,14 +262,15 @@ def _load_omsimulator():
 
 
 def run_omsimulator(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> MasterTrace:
-    """The package in OMSimulator at ``step_s`` [s] up to ``stop_time_s`` [s]: its log to a file (the
-    temporary folder's ``omsimulator.log``, quoted in the error if a call fails)."""
+    """The package in OMSimulator at ``step_s`` [s] up to ``stop_time_s`` [s]: its log to a file that stays
+    (the last run's, in the user's cache; quoted in the error if a call fails), its warnings and errors in the trace."""
     capi = _load_omsimulator()
     lib = capi.obj
     lib.oms_importFile.argtypes = [ctypes.c_char_p, ctypes.POINTER(ctypes.c_char_p)]
     n = _steps(stop_time_s, step_s)
+    log = user_cache_dir() / "omsimulator" / "last_run.log"     # OMSimulator prints its path: it stays
+    log.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="wearjoint_omsimulator_") as tmp:
-        log = Path(tmp) / "omsimulator.log"
 
         def check(status, what: str) -> None:
             if getattr(status, "value", status) != 0:   # oms_status_ok; warnings too end the run (OMSimulator's)
@@ -309,7 +312,9 @@ def run_omsimulator(ssp_path, step_s: float, stop_time_s: float, n_points: int) 
         finally:
             if model is not None:
                 capi.delete(model)
-            capi.setLogFile("")   # back to the console: the file goes with the folder
+            capi.setLogFile("")   # back to the console (it prints where the log is)
+    trace.log = tuple(line for line in log.read_text(errors="replace").splitlines()
+                      if "warning" in line.lower() or "error" in line.lower())
     return trace
 
 
@@ -402,7 +407,7 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     profile = trace.wear_depth_m if trace.wear_depth_m is not None else np.full(joint.n_points, np.nan)
     # the steps from 0 to the trace's end (a master's trace may or may not hold the row at 0)
     extra = {"master": trace.master, "communication_steps": round(trace.time_s[-1] / trace.step_s),
-             "step_s": trace.step_s}
+             "step_s": trace.step_s, **({"master_log_warnings": list(trace.log)} if trace.log else {})}
     if trace.wear_depth_m is None:
         extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
                      wear_profile=f"not readable through {trace.master}: no profile.csv nor its figure; "
