@@ -3,7 +3,7 @@ and says so; once the run is over it waits for the results.  A new user's Ctrl-C
 a CSV and one figure and no summary.json, and an interrupted `simulate` said `failure: null`.
 
 Each case runs the command in a process of its own session, where SIGINT goes to the whole process group as a
-terminal's Ctrl-C does (the figure worker included)."""
+terminal's Ctrl-C does (the figure worker included).  An interrupted wear study says how far its checkpoint reached."""
 import json
 import signal
 import subprocess
@@ -86,3 +86,34 @@ def test_an_interrupt_is_held_only_once_the_run_is_over():
         signal.raise_signal(signal.SIGINT)
         held.append("went on")
     assert held == ["went on"] and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+STUDY_SCRIPT = textwrap.dedent("""
+    import os, signal, sys
+    import wearjoint.studies.wear_study as study
+    from wearjoint.cli import main
+
+    written, write = [], study.write_checkpoint_atomic
+    def interrupted_after_the_third_checkpoint(*args):
+        write(*args)
+        written.append(1)
+        if len(written) == 3:
+            os.kill(os.getpid(), signal.SIGINT)
+    study.write_checkpoint_atomic = interrupted_after_the_third_checkpoint
+    sys.exit(main(["wear-study", "--revolutions", "40", "--snapshots", "20,40", "--quiet", "--no-plots",
+                   "--out", sys.argv[1]]))
+""")
+
+
+def test_an_interrupted_wear_study_says_how_far_its_checkpoint_reached(tmp_path):
+    """It said "finished work is checkpointed in D" and nothing on disk said how far (snapshots.json's last
+    revolution is the last snapshot's)."""
+    from wearjoint.studies.wear_study_recovery import CHECKPOINT_NAME, checkpoint_revolution, read_checkpoint
+
+    out = tmp_path / "study"
+    done = subprocess.run([sys.executable, "-c", STUDY_SCRIPT, str(out)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 130, done.stderr
+    reached = checkpoint_revolution(read_checkpoint(out / CHECKPOINT_NAME))
+    assert 0 < reached < 40
+    assert done.stderr.strip().endswith(f"interrupted; finished work is checkpointed in {out} up to revolution "
+                                        f"{reached:.6g} (continue with --resume)"), done.stderr

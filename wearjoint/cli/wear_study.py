@@ -6,13 +6,15 @@ import math
 import sys
 from pathlib import Path
 
+from ..joint import StateError
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..run_options import add_wear_study_arguments
 from ..studies.cycle_jump import replay_volume_warning
 from ..studies.wear_calibration import calibrate_wear_coefficient, check_target_depth
 from ..studies.wear_convergence import JUMP, run_convergence
 from ..studies.wear_study import PRINTED_WEAR_COEFFICIENT_M2_N, WearStudyConfig, run_wear_study
-from ..studies.wear_study_recovery import CHECKPOINT_NAME, DERIVED, OPTIONS, SNAPSHOTS_NAME, read_checkpoint
+from ..studies.wear_study_recovery import (CHECKPOINT_NAME, DERIVED, OPTIONS, SNAPSHOTS_NAME, checkpoint_revolution,
+                                          read_checkpoint)
 from ..sweep.limits import check_seeds
 from .options import with_options
 from .study_options import config_from_args, parse_float_list
@@ -104,8 +106,8 @@ def run(args) -> int:
         print(f"wearjoint wear-study: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
-        print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out} "
-              "(continue with --resume)", file=sys.stderr)
+        print(f"wearjoint wear-study: interrupted; finished work is checkpointed in {args.out}"
+              f"{_reached(Path(args.out))} (continue with --resume)", file=sys.stderr)
         return 130
     except (CoSimulationError, RunStopped) as exc:
         print(f"wearjoint wear-study: error: {exc}; finished work is checkpointed in {args.out}", file=sys.stderr)
@@ -166,6 +168,15 @@ def _check_out(args, ensemble: bool) -> None:
     if not held:
         raise ParameterError(f"--resume is invalid with --out {str(out)!r}: it holds no study to continue (no {what}); "
                              "allowed on a folder a wear-study checkpointed (run without --resume to start one)")
+
+
+def _reached(out: Path) -> str:
+    """`` up to revolution N`` of a single study's checkpoint in ``out`` ('' where there is none to read: an ensemble,
+    a study stopped before its first checkpoint)."""
+    try:
+        return f" up to revolution {checkpoint_revolution(read_checkpoint(out / CHECKPOINT_NAME)):.6g}"
+    except (ParameterError, StateError, KeyError, TypeError):
+        return ""
 
 
 def _angle(value) -> str:
