@@ -430,9 +430,13 @@ def test_the_nominal_point_is_the_middle_of_each_range():
 @pytest.mark.slow
 def test_study_on_a_running_scheduler_with_two_workers(tmp_path):
     """--scheduler: the runs go to a cluster the study did not start (here one started by this test)."""
+    import dask
     from distributed import LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    scratch = str(tmp_path / "dask")             # the cluster's scratch space and lock files, not TMPDIR's
+    with dask.config.set({"temporary-directory": scratch}), LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+            local_directory=scratch) as cluster:
         out = tmp_path / "out"
         done = wearjoint("sensitivity", "simulate", *TINY, *PARAMS, "--samples", "3", "--scheduler",
                          cluster.scheduler_address, "--out", str(out), "--quiet")

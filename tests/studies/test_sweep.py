@@ -435,18 +435,19 @@ def test_each_bias_note_names_the_figures_it_is_about():
 def test_the_next_case_removes_the_folders_of_workers_that_are_gone(tmp_path):
     """A sweep stopped by ending its workers leaves each running case's temporary folder (results files and all):
     the next case on the machine removes those of processes that no longer exist, and only those."""
-    from wearjoint.sweep.worker import CASE_FOLDER_PREFIX, new_case_folder
+    from wearjoint.sweep.worker import CASE_FOLDER_PREFIX, DASK_FOLDER_PREFIX, new_case_folder
 
     ended = subprocess.Popen([sys.executable, "-c", "pass"])
     ended.wait()
     orphan = tmp_path / f"{CASE_FOLDER_PREFIX}{ended.pid}-abc"
     running = tmp_path / f"{CASE_FOLDER_PREFIX}{os.getppid()}-def"      # the process that started this one
     unnamed = tmp_path / f"{CASE_FOLDER_PREFIX}ghi"                     # no process id in its name: not ours to judge
-    for folder in (orphan, running, unnamed):
+    scratch = tmp_path / f"{DASK_FOLDER_PREFIX}{ended.pid}-jkl"         # a killed study's cluster's scratch space
+    for folder in (orphan, running, unnamed, scratch):
         folder.mkdir()
         (folder / "last_revolution.csv").write_text("t\n0\n")
     folder = new_case_folder(tmp_path)
-    assert not orphan.exists() and running.exists() and unnamed.exists()
+    assert not orphan.exists() and not scratch.exists() and running.exists() and unnamed.exists()
     assert folder.parent == tmp_path and folder.name.startswith(f"{CASE_FOLDER_PREFIX}{os.getpid()}-")
 
 

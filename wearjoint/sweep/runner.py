@@ -201,8 +201,11 @@ def start_client(workers: int | None, scheduler: str | None):
         # scheduler's HTTP server on a free port of this machine alone, no dashboard: without an address it takes
         # 8787, and a second study running at once warned on stderr that the port was in use
         # the workers' scratch space in a folder of this cluster's own, removed with it (Dask's default,
-        # TMPDIR/dask-scratch-space, stayed behind after every study)
-        scratch = tempfile.mkdtemp(prefix="wearjoint-dask-")
+        # TMPDIR/dask-scratch-space, stayed behind after every study), or by a later study if this process is killed
+        from .worker import DASK_FOLDER_PREFIX, remove_orphan_case_folders
+
+        remove_orphan_case_folders()
+        scratch = tempfile.mkdtemp(prefix=f"{DASK_FOLDER_PREFIX}{os.getpid()}-")
         try:
             with dask.config.set({"temporary-directory": scratch}):    # the nannies' lock files too
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,

@@ -33,6 +33,7 @@ NOT_SHIPPED = ("wear_study_checkpoint.pkl",)     # a finished case needs no chec
 # a case's temporary results folder: this prefix, the worker's process id, "-", a random part
 CASE_FOLDER_PREFIX = "wearjoint-case-"
 INPUTS_FOLDER_PREFIX = "wearjoint-inputs-"       # and of the input files written for it
+DASK_FOLDER_PREFIX = "wearjoint-dask-"           # and of a local cluster's scratch space (the process that started it)
 
 
 def _process_alive(pid: int) -> bool:
@@ -50,10 +51,10 @@ def _process_alive(pid: int) -> bool:
 
 def remove_orphan_case_folders(root: Path | None = None) -> None:
     """Remove the case and input folders (under ``root``, default the temporary folder) of worker processes that are
-    gone: a sweep stopped by ending its workers left each running case's folder behind, results files included (11
-    MB for one wear-study case).  Process ids are this machine's: workers in containers that share one temporary
-    folder need a TMPDIR each."""
-    for prefix in (CASE_FOLDER_PREFIX, INPUTS_FOLDER_PREFIX):
+    gone, and the scratch spaces of local clusters whose process is: a sweep stopped by ending its workers left each
+    running case's folder behind, results files included (11 MB for one wear-study case), one killed its cluster's.
+    Process ids are this machine's: workers in containers that share one temporary folder need a TMPDIR each."""
+    for prefix in (CASE_FOLDER_PREFIX, INPUTS_FOLDER_PREFIX, DASK_FOLDER_PREFIX):
         for folder in Path(root or tempfile.gettempdir()).glob(f"{prefix}*-*"):
             pid = folder.name[len(prefix):].split("-", 1)[0]
             if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
