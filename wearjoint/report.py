@@ -229,4 +229,5 @@ def write_report(out_dir, command_line: str | None = None, facts: dict | None = 
     return page
 
 
-__all__ = ["REPORT_NAME", "SUMMARY_FILES", "ANSWER_TABLES", "cell_text", "json_values", "report_html", "summary_path", "write_report"]
+__all__ = ["REPORT_NAME", "SUMMARY_FILES", "ANSWER_TABLES", "cell_text", "json_values", "report_html", "summary_path",
+           "write_report"]

@@ -270,6 +270,7 @@ def run_omsimulator(ssp_path, step_s: float, stop_time_s: float, n_points: int) 
     n = _steps(stop_time_s, step_s)
     log = user_cache_dir() / "omsimulator" / "last_run.log"     # OMSimulator prints its path: it stays
     log.parent.mkdir(parents=True, exist_ok=True)
+    log.unlink(missing_ok=True)                                   # the last run's only
     with tempfile.TemporaryDirectory(prefix="wearjoint_omsimulator_") as tmp:
 
         def check(status, what: str) -> None:
