@@ -314,8 +314,8 @@ def run_omsimulator(ssp_path, step_s: float, stop_time_s: float, n_points: int) 
             if model is not None:
                 capi.delete(model)
             capi.setLogFile("")   # back to the console (it prints where the log is)
-    trace.log = tuple(line for line in log.read_text(errors="replace").splitlines()
-                      if "warning" in line.lower() or "error" in line.lower())
+    trace.log = tuple(line for line in (log.read_text(errors="replace") if log.is_file() else "").splitlines()
+                      if "warning" in line.lower() or "error" in line.lower())     # no file: it logged nothing
     return trace
 
 

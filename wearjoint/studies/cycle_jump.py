@@ -30,7 +30,7 @@ from wearjoint.core.cycle_jump import N_LOAD_COLUMNS
 from wearjoint.joint import ClearanceJoint
 from wearjoint.progress import Progress
 from wearjoint.runner import divergence
-from wearjoint.checks import ParameterError, RunDiverged, worn_through_message
+from wearjoint.checks import ParameterError, RunDiverged, finite, require, worn_through_message
 
 DEFAULT_JUMP_TOLERANCE = 0.003          # local error of a jump, relative to the max depth (docs/explanation/wear_study.md)
 PASS_INCREMENT_SHARE = 0.05             # one replay pass wears at most this share of the max depth (explicit bound)
@@ -53,8 +53,8 @@ def check_route(revolutions: int, wear_factor: float, jump_tolerance: float | No
     on the monolithic engine over at most MAX_JUMPED_REVOLUTIONS (it simulates what the jumps need: 150 revolutions
     for 2.1e6); without it revolutions / wear factor simulated revolutions, from 1 to MAX_SIMULATED_REVOLUTIONS."""
     if jump_tolerance is not None:
-        if not (isinstance(jump_tolerance, (int, float)) and 0.0 < jump_tolerance < 1.0):
-            raise ParameterError(f"parameter jump_tolerance={jump_tolerance!r} is invalid: allowed in (0, 1)")
+        require("jump_tolerance", jump_tolerance, 0.0 < finite("jump_tolerance", jump_tolerance, "in (0, 1)") < 1.0,
+                "in (0, 1)")
         if wear_factor != 1.0:
             raise ParameterError(f"parameter jump_tolerance={jump_tolerance!r} is invalid with wear_factor="
                                  f"{wear_factor!r}: allowed only at wear factor 1 (cycle jumping's blocks run at the "
