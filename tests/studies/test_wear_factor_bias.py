@@ -8,21 +8,22 @@ def test_wear_factor_bias_is_stated_only_where_measured():
     assert wear_factor_bias(1.0, 1234).rel == 0.0 and wear_factor_bias(0.0, 10).rel == 0.0   # no factor, no wear
     assert wear_factor_bias(100.0, 5000).rel is None and wear_factor_bias(20.0, 1000).rel is None
     assert wear_factor_bias(100.0, 1000, cycle_jump=True).rel is None
-    # cycle jumping runs at F = 1: no wear-factor bias (it had said "unknown"), its own estimate named
-    jumped = wear_factor_bias(1.0, 300_000, cycle_jump=True, jump_error_rel=0.0148)
-    assert jumped.rel == 0.0 and "1.48% of the final max depth" in jumped.note
+    # cycle jumping runs at F = 1: no wear-factor bias (it had said "unknown"), where its own estimate is named
+    jumped = wear_factor_bias(1.0, 300_000, cycle_jump=True)
+    assert jumped.rel == 0.0 and "summary.json's cycle_jumping" in jumped.note
     assert wear_factor_bias(20.0, 1000).text == "unknown"
 
 
-def test_runs_that_agree_in_bias_share_it_whatever_their_own_estimates():
-    """A sensitivity study's cycle-jumping runs (F = 1 each, their own jump estimates in the notes) said "bias
-    unknown: the runs differ in wear factor or revolutions"; runs that differ in value are unknown still."""
-    runs = {wear_factor_bias(1.0, 20, cycle_jump=True, jump_error_rel=e) for e in (0.0047, 0.0031)}
+def test_runs_that_agree_in_bias_share_it():
+    """A sensitivity study's cycle-jumping runs (F = 1 each) said "bias unknown: the runs differ in wear factor or
+    revolutions"; runs that differ in value are unknown still, runs of one value with different reasons name both."""
+    runs = {wear_factor_bias(1.0, 20, cycle_jump=True), wear_factor_bias(1.0, 40, cycle_jump=True)}
     shared = common_bias(runs)
-    assert shared.rel == 0.0 and shared.text == "0 %" and "%" not in shared.note and "each run's" in shared.note
+    assert shared.rel == 0.0 and shared.text == "0 %" and "each run's summary.json" in shared.note
     assert common_bias({wear_factor_bias(1.0, 20)}) == wear_factor_bias(1.0, 20)
     assert common_bias(runs | {wear_factor_bias(20.0, 1000)}).rel is None
-    assert common_bias({wear_factor_bias(1.0, 20), wear_factor_bias(0.0, 20)}).note == "none"   # both none
+    both = common_bias({wear_factor_bias(1.0, 20), wear_factor_bias(0.0, 20)})
+    assert both.rel == 0.0 and both.note == "none: F = 1 (brute force); none: no wear"
 
 
 def test_the_measured_bias_belongs_to_the_paper_case_only():

@@ -12,7 +12,6 @@ estimate), there is no wear-factor bias (0).
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 
 from ..parameters import (PAPER_CALIBRATED_WEAR_COEFFICIENT_M2_N, PAPER_JOINT_GEOMETRY, JointParameters,
@@ -56,20 +55,18 @@ class Bias:
 
 
 def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = False,
-                     measured_case: bool = True, jump_error_rel: float | None = None) -> Bias:
+                     measured_case: bool = True) -> Bias:
     """The bias of the max depth after ``revolutions`` crank revolutions at wear factor ``wear_factor``
-    (0: no wear); ``cycle_jump``: the run jumped over revolutions (at F = 1: no wear-factor bias; its own error
-    estimate, ``jump_error_rel`` where known, is in its summary.json, ``cycle_jumping``); ``measured_case``: the run
-    is the case :data:`SOURCE` measured (:func:`is_measured_case`)."""
+    (0: no wear); ``cycle_jump``: the run jumped over revolutions (at F = 1: no wear-factor bias; each run states
+    its own error estimate in its summary.json, ``cycle_jumping``); ``measured_case``: the run is the case
+    :data:`SOURCE` measured (:func:`is_measured_case`)."""
     if not wear_factor > 0.0:
         return Bias(0.0, "none: no wear")
     if wear_factor == 1.0 and not cycle_jump:
         return Bias(0.0, "none: F = 1 (brute force)")
     if wear_factor == 1.0:
-        estimate = ("" if jump_error_rel is None else
-                    f", {jump_error_rel:.2%} of the final max depth (summed over the jumps)")
-        return Bias(0.0, "none: F = 1 (cycle jumping, whose own error estimate is summary.json's "
-                         f"cycle_jumping{estimate})")
+        return Bias(0.0, "none: F = 1 (cycle jumping, whose own error estimate is each run's summary.json's "
+                         "cycle_jumping)")
     if cycle_jump:
         return Bias(None, "unknown here: cycle jumping states its error estimate in summary.json's cycle_jumping")
     if not measured_case:
@@ -85,18 +82,12 @@ def wear_factor_bias(wear_factor: float, revolutions: float, cycle_jump: bool = 
 
 
 def common_bias(biases: set) -> Bias:
-    """One :class:`Bias` for several runs' (a set, not empty): theirs where they agree in value, its note without
-    what follows its last ", " where the notes differ there (a run's own figure: cycle jumping's estimate), else
-    unknown."""
+    """One :class:`Bias` for several runs' (a set, not empty): theirs where they agree in value (the notes of
+    the runs joined by "; " where they differ: no wear in some, F = 1 in others), else unknown."""
     values = {b.rel for b in biases}
     if len(values) != 1 or None in values:
         return Bias(None, "unknown: the runs differ in wear factor or revolutions")
-    notes = sorted({b.note for b in biases})
-    shared = os.path.commonprefix(notes)
-    cut = shared.rfind(", ")
-    note = (notes[0] if len(notes) == 1 else f"{shared[:cut]}, each run's in its own)" if cut > 0
-            else shared.rstrip(": ") or "the same in every run")
-    return Bias(values.pop(), note)
+    return Bias(values.pop(), "; ".join(sorted({b.note for b in biases})))
 
 
 def is_measured_case(joint: dict, mechanism: dict) -> bool:
@@ -124,11 +115,9 @@ def summary_biases(summary: dict) -> dict:
         return {"max_wear_depth_m": wear_factor_bias(factor, factor * summary.get("revolutions", math.nan),
                                                      measured_case=measured)}
     jump = study.get("jump_tolerance") is not None
-    estimate = (summary.get("cycle_jumping") or {}).get("error_estimate_summed_rel_to_final_depth")
     out = {f"rev{s['revolution']}_max_wear_depth_m": wear_factor_bias(factor, s["revolution"], jump, measured)
            for s in summary.get("snapshots", [])}
-    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump, measured,
-                                               estimate)
+    out["max_wear_depth_m"] = wear_factor_bias(factor, summary.get("revolutions", math.nan), jump, measured)
     return out
 
 
