@@ -13,9 +13,13 @@
 #error "the kernels write the state's float64 values in the machine's byte order: little-endian only"
 #endif
 
-/* The head: time, initialised flag, inputs, parameters (core/state_format.py FMU_HEAD_*).  In memory a state
- * is n_points, the head, the contact memory, the wear depths and their block minima. */
-enum { HEAD_TIME, HEAD_INITIALISED, HEAD_INPUTS, HEAD_PARAMETERS = HEAD_INPUTS + N_INPUTS };
+/* The head: time, initialised flag, inputs, parameters (core/state_format.py FMU_HEAD_*), then what the host's
+ * calls left that the next step depends on: it read the loads' derivatives (a linearising host), an accepted
+ * step did the onset bookkeeping at these inputs.  In memory a state is n_points, the head, the contact memory,
+ * the wear depths and their block minima. */
+enum { HEAD_TIME, HEAD_INITIALISED, HEAD_INPUTS, HEAD_PARAMETERS = HEAD_INPUTS + N_INPUTS,
+       HEAD_DERIVATIVES_READ = HEAD_PARAMETERS + N_PARAMETERS, HEAD_ONSETS_ACCEPTED, HEAD_END };
+_Static_assert(HEAD_END == STATE_N_HEAD, "the state head's layout and STATE_N_HEAD (fmu/variables.py) disagree");
 enum { AT_N_POINTS, AT_HEAD, AT_MEMORY = AT_HEAD + STATE_N_HEAD, AT_WEAR = AT_MEMORY + N_MEMORY };
 
 size_t model_state_size(const FmuModel *model)
@@ -31,6 +35,8 @@ void model_get_state(const FmuModel *model, double *state, int initialised)
     head[HEAD_INITIALISED] = initialised ? 1.0 : 0.0;
     memcpy(head + HEAD_INPUTS, model->inputs, sizeof model->inputs);
     memcpy(head + HEAD_PARAMETERS, model->parameters, sizeof model->parameters);
+    head[HEAD_DERIVATIVES_READ] = model->jacobian_read ? 1.0 : 0.0;
+    head[HEAD_ONSETS_ACCEPTED] = model->onsets_accepted ? 1.0 : 0.0;
     memcpy(state + AT_MEMORY, model->memory, sizeof model->memory);
     memcpy(state + AT_WEAR, model->wear_depth, (size_t)model->n_points * sizeof(double));
     memcpy(state + AT_WEAR + model->n_points, model->block_min, (size_t)model->n_blocks * sizeof(double));
@@ -52,7 +58,8 @@ int model_set_state(FmuModel *model, const double *state, int *initialised, cons
     memcpy(model->wear_depth, state + AT_WEAR, (size_t)model->n_points * sizeof(double));
     memcpy(model->block_min, state + AT_WEAR + model->n_points, (size_t)model->n_blocks * sizeof(double));
     model->forces_stale = model->wear_summary_stale = 1;
-    model->onsets_accepted = 0;
+    model->jacobian_read = head[HEAD_DERIVATIVES_READ] != 0.0;
+    model->onsets_accepted = head[HEAD_ONSETS_ACCEPTED] != 0.0;   /* after the inputs: setting them clears it */
     return joint_pack_parameters(model, function);
 }
 

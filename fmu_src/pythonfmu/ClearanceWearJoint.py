@@ -60,7 +60,8 @@ with _scipy_hidden():
     from wearjoint.joint import check_state_values, read_state_bytes, state_bytes
 
 # FMU state: the state format of ClearanceJoint (docs/reference/fmu.md), contents "FMU instance": its head is
-# the time [s], 1.0 if initialised, the inputs and the parameters (fv.PARAMETERS order)
+# the time [s], 1.0 if initialised, the inputs, the parameters (fv.PARAMETERS order), 1.0 if the host read the
+# loads' derivatives, and the native FMU's Model Exchange onsets flag (0 here)
 _N_INPUTS = len(fv.INPUTS)
 _INPUT_NAMES = [v.name for v in fv.INPUTS]
 # what a getReal of a value reference needs brought up to date first
@@ -374,7 +375,8 @@ class ClearanceWearJoint(Fmi2Slave):
         self._ensure_joint()
         joint = self._joint
         head = np.concatenate(([self._time, 1.0 if self._initialised else 0.0], self._inputs,
-                               np.frombuffer(self._parameter_block)))
+                               np.frombuffer(self._parameter_block),
+                               [1.0 if self._derivatives_read else 0.0, 0.0]))   # no Model Exchange: no onsets flag
         return state_bytes(state_format.CONTENTS_FMU, head, joint.memory, joint.wear_depth)
 
     @_guarded
@@ -382,7 +384,7 @@ class ClearanceWearJoint(Fmi2Slave):
         try:
             head, memory, wear_depth = read_state_bytes(state, state_format.CONTENTS_FMU, fv.STATE_HEAD_SIZE,
                                                         self.n_points)
-            parameters = head[2 + _N_INPUTS:]
+            parameters = head[2 + _N_INPUTS:2 + _N_INPUTS + len(fv.PARAMETERS)]
             values = {p.variable.name: int(v) if p.variable.type == fv.INTEGER and v.is_integer() else v
                       for p, v in zip(fv.PARAMETERS, parameters.tolist())}
             check_state_values(head, memory, wear_depth, fv.joint_parameters_from_fmi(values, self.n_points))
@@ -395,6 +397,7 @@ class ClearanceWearJoint(Fmi2Slave):
         self._time = float(head[0])
         self._initialised = head[1] == 1.0
         self._forces_stale = self._wear_stale = self._linearisation_stale = True
+        self._derivatives_read = head[-2] != 0.0
 
     @staticmethod
     def _fmu_state_to_bytes(state):

@@ -88,8 +88,8 @@ class ContactState:
 
     def fmu_state(self) -> bytes:
         """The FMU state (contents "FMU instance") of an initialised instance with these parameters, inputs,
-        contact memory (the wear batch empty) and wear profile."""
-        head = [0.0, 1.0, *self.inputs(), *fv.fmi_parameter_values(self.params).values()]
+        contact memory (the wear batch empty) and wear profile, of a host that has read no derivatives."""
+        head = [0.0, 1.0, *self.inputs(), *fv.fmi_parameter_values(self.params).values(), 0.0, 0.0]
         memory = [*self.memory, *[0.0] * (N_MEMORY - len(self.memory))]
         return state_bytes(CONTENTS_FMU, head, memory, self.wear())
 

@@ -15,12 +15,18 @@ from wearjoint.fmu import variables as fv  # noqa: E402
 from wearjoint.joint import read_state_bytes, state_bytes  # noqa: E402
 
 
-def _run(slave, fmu, steps, t0, dt=1e-5):
-    """Steps with a slowly changing input; every output after every step."""
-    names = SCALAR_NAMES + fmu["wear"]
+def _run(slave, fmu, steps, t0, dt=1e-5, derivatives=False):
+    """Steps with a slowly changing input; every output after every step (``derivatives``: the loads' derivatives
+    too, as a linearising master reads them)."""
+    names = SCALAR_NAMES + (list(fv.JACOBIAN_SLOTS) if derivatives else []) + fmu["wear"]
     rows = []
     for k in range(steps):
-        slave.set_inputs(contact_inputs(depth=3e-6 + 1e-7 * k, direction=1.0 + 0.01 * k))
+        depth, direction = 3e-6 + 1e-7 * k, 1.0 + 0.01 * k
+        inputs = contact_inputs(depth=depth, direction=direction)
+        e, de, dtheta = P.clearance_m + depth, 1e-7 / dt, 0.01 / dt      # the pin centre's velocity: e' u + e theta' t
+        inputs[3] += de * np.cos(direction) - e * dtheta * np.sin(direction)
+        inputs[4] += de * np.sin(direction) + e * dtheta * np.cos(direction)
+        slave.set_inputs(inputs)
         slave.fmu.doStep(t0 + k * dt, dt)
         rows.append(slave.get(names))
     return np.array(rows)
@@ -42,6 +48,21 @@ def test_fmu_state_round_trip_is_exact(slave, fmu):
         restored = other.fmu.deSerializeFMUstate(serialised)
         other.fmu.setFMUstate(restored)
         assert np.array_equal(_run(other, fmu, 15, 1e-4), first)
+    finally:
+        other.free()
+
+
+def test_a_linearising_hosts_state_restores_into_another_instance(slave, fmu):
+    """A host that reads the loads' derivatives (a linearising master) has each step wear with the linearised
+    force.  Its state restored into a fresh instance stepped once with the held force instead (the state did not
+    say the host linearises): the first forces read were 3 % off."""
+    _run(slave, fmu, 10, 0.0, derivatives=True)
+    serialised = slave.fmu.serializeFMUstate(slave.fmu.getFMUstate())
+    first = _run(slave, fmu, 15, 1e-4, derivatives=True)
+    other = Slave(fmu, "restored").initialise()
+    try:
+        other.fmu.setFMUstate(other.fmu.deSerializeFMUstate(serialised))
+        assert np.array_equal(_run(other, fmu, 15, 1e-4, derivatives=True), first)
     finally:
         other.free()
 

@@ -23,7 +23,8 @@ from .layout import (
 
 MAGIC = b"WJSTATE\0"
 MAGIC_WORD = int.from_bytes(MAGIC, "little")
-FORMAT_VERSION = 3    # 2: the contact memory holds the start force of the next step; 3: and the wear batch
+FORMAT_VERSION = 4    # 2: the contact memory holds the start force of the next step; 3: and the wear batch;
+# 4: an FMU instance's head ends with the flags its host's calls left (derivatives read, onsets accepted)
 CONTENTS_JOINT = 1   # contact memory and wear depths (ClearanceJoint)
 CONTENTS_FMU = 2     # time, initialised flag, inputs, parameters, then a joint's (an FMU instance)
 CONTENTS_MECHANISM = 3   # time, initialised flag, inputs, parameters, y = [q, q_dot] (a SliderCrank FMU instance)

@@ -161,8 +161,9 @@ def _parameter(row: JointField) -> ParameterField:
 
 
 PARAMETERS: tuple[ParameterField, ...] = tuple(_parameter(row) for row in JOINT_FIELDS)
-# an FMU state's head values (the state format, docs/reference/fmu.md): time, initialised flag, inputs, parameters
-STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS)
+# an FMU state's head values (the state format, docs/reference/fmu.md): time, initialised flag, inputs, parameters,
+# then the two flags the host's calls leave for the next step: derivatives read (a linearising host), onsets accepted
+STATE_HEAD_SIZE = 2 + len(INPUTS) + len(PARAMETERS) + 2
 
 N_POINTS_NAME = "n_points"
 
