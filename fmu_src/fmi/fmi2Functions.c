@@ -119,12 +119,12 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean logging_on, size_t n
                                const fmi2String categories[])
 {
     Instance *inst = c;
-    (void)categories;
-    (void)n_categories;
     if (inst == NULL)
         return fmi2Error;
-    model_host(inst->model)->logging_on = logging_on;
-    return fmi2OK;
+    /* FMI 2.0: "If loggingOn=fmi2True and nCategories > 0, then only debug messages according to the categories
+     * argument shall be printed." */
+    return fmu_set_debug_logging(model_host(inst->model), logging_on, n_categories, categories, logging_on,
+                                 "fmi2SetDebugLogging") ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined, fmi2Real tolerance,

@@ -60,12 +60,11 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean logging_on, si
                                const fmi3String categories[])
 {
     Instance *inst = instance;
-    (void)n_categories;
-    (void)categories;
     if (inst == NULL)
         return fmi3Error;
-    model_host(inst->model)->logging_on = logging_on;
-    return fmi3OK;
+    /* FMI 3.0: "If nCategories > 0, loggingOn applies only to the specified categories." */
+    return fmu_set_debug_logging(model_host(inst->model), logging_on, n_categories, categories, 0,
+                                 "fmi3SetDebugLogging") ? fmi3OK : fmi3Error;
 }
 
 static Instance *instantiate(const char *function, fmi3String instance_name, fmi3String token, fmi3Boolean logging_on,

@@ -28,7 +28,7 @@ void *fmu_new_instance(size_t size, const char *name, int logging_on, FmuLogFunc
     host->allocate = allocate;
     host->release = release;
     host->environment = environment;
-    host->logging_on = logging_on;
+    host->log_categories = logging_on ? FMU_LOG_EVERY : 0u;
     return host;
 }
 
@@ -39,9 +39,38 @@ void fmu_free_instance(void *instance)
     host.release(host.environment, instance);
 }
 
+/* the names of the FMU_LOG_* bits, lowest first */
+static const char *const LOG_CATEGORY_NAMES[] = {"logStatusWarning", "logAll", "logStatusError"};
+
+int fmu_set_debug_logging(FmuHost *host, int logging_on, size_t n, const char *const categories[], int only_these,
+                          const char *function)
+{
+    unsigned chosen = n == 0 ? (unsigned)FMU_LOG_EVERY : 0u;
+    for (size_t i = 0; i < n; i++) {
+        const char *name = categories == NULL ? NULL : categories[i];
+        unsigned bit = 0;
+        for (unsigned k = 0; name != NULL && k < sizeof LOG_CATEGORY_NAMES / sizeof *LOG_CATEGORY_NAMES; k++)
+            if (strcmp(name, LOG_CATEGORY_NAMES[k]) == 0)
+                bit = 1u << k;
+        if (bit == 0) {
+            fmu_log(host, FMU_ERROR, "%s: categories[%zu]=%s%s%s is invalid: allowed logStatusError, logStatusWarning "
+                    "or logAll (the model description's LogCategories)", function, i, name ? "\"" : "",
+                    name ? name : "NULL", name ? "\"" : "");
+            return 0;
+        }
+        chosen |= bit;
+    }
+    if (!logging_on)
+        host->log_categories &= ~chosen;
+    else
+        host->log_categories = only_these ? chosen : host->log_categories | chosen;
+    return 1;
+}
+
 void fmu_log(const FmuHost *host, int status, const char *format, ...)
 {
-    if (status < FMU_ERROR && !host->logging_on)
+    unsigned category_bit = status == FMU_WARNING ? (unsigned)FMU_LOG_WARNINGS : (unsigned)FMU_LOG_OTHERS;
+    if (status < FMU_ERROR && !(host->log_categories & category_bit))
         return;
     char text[1024];
     va_list args;

@@ -36,8 +36,12 @@ typedef struct {
     FmuReleaseFunction *release;
     void *environment;   /* the FMI layer's, passed to the three functions above */
     char *name;          /* the instance name (a copy, fmu_new_instance) */
-    int logging_on;      /* messages below FMU_ERROR only when on */
+    unsigned log_categories;   /* FMU_LOG_* bits: the categories logged (errors always are) */
 } FmuHost;
+
+/* modelDescription's <LogCategories> (fmu/model_description.py LOG_CATEGORIES) as bits: a message below FMU_ERROR
+ * is logged when its category's bit is set (fmuSetDebugLogging); errors always are. */
+enum { FMU_LOG_WARNINGS = 1, FMU_LOG_OTHERS = 2, FMU_LOG_ERRORS = 4, FMU_LOG_EVERY = 7 };
 
 /* MinGW checks "printf" formats against msvcrt's printf, which knows no %zu; the FMU is built with
  * __USE_MINGW_ANSI_STDIO=1 (C99 printf from libmingwex), whose formats are GNU printf's. */
@@ -57,6 +61,11 @@ void *fmu_new_instance(size_t size, const char *name, int logging_on, FmuLogFunc
 /* Release an instance of fmu_new_instance (what it owns besides is released before). */
 void fmu_free_instance(void *instance);
 void fmu_log(const FmuHost *host, int status, const char *format, ...) __attribute__((format(FMU_PRINTF_FORMAT, 3, 4)));
+/* fmi2/fmi3SetDebugLogging: ``logging_on`` for the ``n`` categories named (every category where n is 0); with
+ * ``only_these`` (FMI 2.0's loggingOn with categories) the others off.  0 (logged, nothing changed) where a name is
+ * not a category of the model description. */
+int fmu_set_debug_logging(FmuHost *host, int logging_on, size_t n, const char *const categories[], int only_these,
+                          const char *function);
 /* The shortest text that reads back as exactly x, written as Python's repr writes floats. */
 const char *fmu_shortest(double x, char *out, size_t size);
 /* The message of a problem a state check found (core/state_format.py): ``format``, one of the

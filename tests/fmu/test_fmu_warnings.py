@@ -132,3 +132,41 @@ def test_a_first_step_inside_the_bushing_says_nothing(fmus, version):
         assert joint.do_step(0.0, 1e-6) == 0 and warnings_of(joint) == [] and joint.errors() == ""
     finally:
         joint.free()
+
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_debug_logging_follows_the_model_descriptions_categories(fmus, version):
+    """setDebugLogging's categories: a wear-step warning comes under logStatusWarning, not with logStatusError
+    alone; a name not among the model description's LogCategories is an error naming it, nothing changed (both
+    ignored the categories: the warning came through, a misspelt name was taken)."""
+    from wearjoint.fmu.model_description import LOG_CATEGORIES
+
+    assert [c.name for c in fmus[version]["md"].logCategories] == list(LOG_CATEGORIES)
+    params = joint_parameters(1.0)
+
+    def warned(*calls):
+        """Wear-step warnings logged by a step over the limit (5e-5 s) after these setDebugLogging calls
+        (loggingOn, categories) on an instance made with logging on; a call with a misspelt name is refused."""
+        joint = started(fmus, version, params)
+        try:
+            for on, categories in calls:
+                if "logStatusWarnings" in categories:
+                    with pytest.raises(FMICallException) as refused:
+                        joint.fmu.setDebugLogging(on, categories)
+                    assert refused.value.status == 3
+                    assert 'categories[0]="logStatusWarnings" is invalid: allowed logStatusError, logStatusWarning ' \
+                           "or logAll" in joint.errors()
+                else:
+                    joint.fmu.setDebugLogging(on, categories)
+            joint.set(INPUTS, sliding_in_contact(params, 1.0))
+            assert joint.do_step(0.0, 5e-5) == 0
+            return len(warnings_of(joint))
+        finally:
+            joint.free()
+
+    off = (False, [])
+    assert warned() == 1 and warned(off) == 0 and warned(off, (True, [])) == 1
+    assert warned(off, (True, ["logStatusError"])) == 0 and warned(off, (True, ["logStatusWarning"])) == 1
+    assert warned((False, ["logStatusWarning"])) == 0 and warned((False, ["logAll"])) == 1
+    assert warned((False, ["logStatusWarnings"])) == 1            # refused: nothing changed
