@@ -128,7 +128,7 @@ def test_crc32c_gives_the_published_check_values():
 
 
 def test_state_layout_is_the_documented_one():
-    """docs/reference/fmu.md: magic, version 3, contents 1, n_points, payload bytes; float64 memory (active flag,
+    """docs/reference/fmu.md: magic, version 4, contents 1, n_points, payload bytes; float64 memory (active flag,
     onset velocity, start force, the wear batch's seven values) and depths; CRC-32C of everything before it (little-endian throughout)."""
     import struct
 
@@ -140,7 +140,7 @@ def test_state_layout_is_the_documented_one():
     joint.memory[:] = memory
     data = joint.state_to_bytes()
     assert data[:8] == b"WJSTATE\0"
-    assert struct.unpack_from("<4I", data, 8) == (3, 1, 16, 8 * 26)
+    assert struct.unpack_from("<4I", data, 8) == (4, 1, 16, 8 * 26)
     assert struct.unpack_from("<26d", data, 24) == (*memory, *joint.wear_depth)
     assert len(data) == 24 + 8 * 26 + 4
     assert struct.unpack_from("<I", data, len(data) - 4)[0] == crc32c(np.frombuffer(data, np.uint8), len(data) - 4)
@@ -172,8 +172,8 @@ def test_each_refusal_names_the_check_and_the_two_things_compared():
     assert "CRC-32C is 0x" in _restore_refused(bytes(flipped)) and "the bytes are corrupted" in _restore_refused(
         bytes(flipped))
     newer = bytearray(good)
-    newer[8] = 4
-    assert _restore_refused(bytes(newer)) == "the state has format version 4, this build reads version 3"
+    newer[8] = 5
+    assert _restore_refused(bytes(newer)) == "the state has format version 5, this build reads version 4"
     assert _restore_refused(good, ClearanceJoint(JointParameters(n_points=100))) == (
         f"the state holds {n} bushing points, this joint has n_points=100")
     fmu_state = state_bytes(CONTENTS_FMU, [0.0, 1.0], joint.memory, joint.wear_depth)
