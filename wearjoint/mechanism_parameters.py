@@ -126,7 +126,7 @@ class SliderForceTable:
 
     crank_angle_deg: tuple[float, ...]
     force_N: tuple[float, ...]
-    source: str = "slider_force_table"
+    source: str = dataclasses.field(default="slider_force_table", compare=False)   # the file, not the load
 
     def __post_init__(self):
         angles = tuple(self.crank_angle_deg)
@@ -205,6 +205,14 @@ class SliderForceTable:
 
     def to_dict(self) -> dict:
         return {"crank_angle_deg": list(self.crank_angle_deg), "force_N": list(self.force_N), "source": self.source}
+
+
+def same_setting(name: str, a, b) -> bool:
+    """Are two mechanism dicts' values of field ``name`` (``to_dict``'s, as JSON reads them back) the same
+    setting: a load table's rows, whichever file they were read from (its ``source``)?"""
+    if name == "slider_force_table" and isinstance(a, dict) and isinstance(b, dict):
+        a, b = ({k: v for k, v in table.items() if k != "source"} for table in (a, b))
+    return a == b
 
 
 def _rows_as_lines(message: str, rows: list) -> str:
@@ -402,4 +410,5 @@ def field_vector(p: SliderCrankParameters) -> np.ndarray:
 
 
 __all__ = ["SliderCrankParameters", "SliderForceTable", "LOAD_TABLE_PROBLEMS", "MechanismField", "MECHANISM_FIELDS",
-           "FIELD_SCALES", "field_vector", "mechanism_from_options", "RULE_TEXT", "PAPER_GRAVITY_M_S2", "CLEARANCE_JOINTS"]
+           "FIELD_SCALES", "field_vector", "mechanism_from_options", "RULE_TEXT", "PAPER_GRAVITY_M_S2", "CLEARANCE_JOINTS",
+           "same_setting"]

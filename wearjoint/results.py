@@ -228,7 +228,7 @@ def write_results(record: RunRecord, out_dir, plots: bool = True, figure_worker=
         if names is None:
             from .plots import plot_run  # matplotlib only when figures are written
             names = plot_run(record, out)
-        summary["figures"] = names
+    summary["figures"] = names                     # none with --no-plots
     for name in set(_earlier_figures(out)) - set(names):   # an earlier run's are not this run's (nor in its report)
         (out / name).unlink(missing_ok=True)
     write_json_atomic(out / "summary.json", summary)

@@ -25,7 +25,7 @@ from .core import layout as L
 from .fmu.fmi import BACKENDS, DEFAULT_BACKEND
 from .joint_fields import JOINT_FIELDS, unread_by
 from .kernel_calls import bushing_point_angles
-from .mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options
+from .mechanism_parameters import MECHANISM_FIELDS, mechanism_from_options, same_setting
 from .parameters import OPTION_CHOICES, JointParameters, ParameterError, SliderCrankParameters, require
 from .checks import path as path_argument
 
@@ -182,7 +182,7 @@ def calibration_note(folder, joint: JointParameters, mechanism: SliderCrankParam
                                         ("mechanism", [n for n in ours["mechanism"]
                                                        if n not in _CALIBRATION_MECHANISM_SKIPPED]))
               for name in names
-              if json.loads(json.dumps(ours[group].get(name))) != fitted.get(group, {}).get(name)]
+              if not same_setting(name, json.loads(json.dumps(ours[group].get(name))), fitted.get(group, {}).get(name))]
     if not differ:
         return None
     return (f"k_w was fitted on the wear study {study}, of another machine (its {', '.join(differ)} "
@@ -351,8 +351,8 @@ def add_integration_arguments(parser) -> None:
     g.add_argument("--gear-solver", choices=GEAR_SOLVERS, default=defaults.gear_solver,
                    help="BDF of --integrator gear: SUNDIALS CVODE (scikit-sundae) or scipy's (default %(default)s)")
     g.add_argument("--gear-jacobian", choices=GEAR_JACOBIANS, default=defaults.gear_jacobian,
-                   help="Jacobian of --integrator gear: exact (the contact's with the mechanism's) or the solver's "
-                        "finite differences (default %(default)s)")
+                   help="Jacobian of --integrator gear: exact (the contact's with the mechanism's; the crank-rod "
+                        "joint's) or the solver's finite differences (default: exact where there is one)")
     g.add_argument("--step", type=float, default=defaults.step_s, help="RK4 step [s] (default %(default)g)")
     add_tolerance_arguments(g, "dopri, gear")
     g.add_argument("--max-step", type=float, default=None,

@@ -102,8 +102,8 @@ class SimulationOptions:
     may not exceed, ``step_s`` of RK4 included; DOPRI with wear at most DOPRI_WEAR_CONTACT_STEP_S),
     by ``gear_solver`` (``cvode``: SUNDIALS CVODE through scikit-sundae; ``scipy``: scipy's BDF) with
     ``gear_jacobian`` (``exact``: the mechanism's Jacobian with the contact's,
-    :mod:`wearjoint.core.slider_crank_jacobian`; ``numerical``: the solver's finite differences, which
-    the ideal mechanism always uses).  ``onset_penetration_m``: how deep past a
+    :mod:`wearjoint.core.slider_crank_jacobian`, the crank-rod joint's only; ``numerical``: the solver's finite
+    differences, which the ideal mechanism always uses; None: exact where there is one).  ``onset_penetration_m``: how deep past a
     contact onset an adaptive step may end (event location, see
     ``core.integrators.integrate``).  ``free_flight_max_step_s`` (dopri): the largest step that starts with
     no contact active, where nothing wears (None: 1e-4 s with the default ``max_step_s``, else
@@ -122,13 +122,14 @@ class SimulationOptions:
     sample_dt_s: float = 1e-5
     ideal: bool = False
     gear_solver: str = "cvode"
-    gear_jacobian: str = "exact"
+    gear_jacobian: str | None = None
 
     def __post_init__(self):
         """Every value checked (a real one an int, a float or a numpy real scalar, kept as a float; ``ideal`` a
         bool)."""
         for name in ("integrator", "gear_solver", "gear_jacobian"):
-            choice(name, getattr(self, name), _CHOICES[name])
+            if getattr(self, name) is not None or name != "gear_jacobian":    # None: exact where there is one
+                choice(name, getattr(self, name), _CHOICES[name])
         object.__setattr__(self, "ideal", flag("ideal", self.ideal))
         for name in ("revolutions", "step_s", "rtol", "atol_position_m", "atol_velocity_m_s", "min_step_s",
                      "sample_dt_s", "onset_penetration_m", "max_step_s", "free_flight_max_step_s"):
@@ -150,7 +151,12 @@ class SimulationOptions:
     def for_joint(self, joint: JointParameters, mechanism: SliderCrankParameters | None = None) -> "SimulationOptions":
         """These options for a run of ``joint`` in ``mechanism``: the default ``max_step_s`` resolved; with wear, an
         RK4 ``step_s`` (whatever ``max_step_s``) or another integrator's given ``max_step_s`` above the wear-step
-        limit (:func:`wear_step_limit_s`) refused (:func:`check_wear_step`), and a span :func:`check_run_span` refuses."""
+        limit (:func:`wear_step_limit_s`) refused (:func:`check_wear_step`), and a span :func:`check_run_span` refuses;
+        the default ``gear_jacobian`` exact with the clearance at the crank-rod joint, else numerical."""
+        if self.gear_jacobian is None:
+            crank_rod = mechanism is None or mechanism.clearance_joint == "crank-rod"
+            return dataclasses.replace(self, gear_jacobian="exact" if crank_rod else "numerical").for_joint(joint,
+                                                                                                             mechanism)
         check_run_span(self, joint, mechanism)
         if not self.ideal and self.integrator == "rk4":
             check_wear_step("step_s", self.step_s, joint, mechanism)

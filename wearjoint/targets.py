@@ -110,6 +110,17 @@ def refuse_unused(options, unused, allowed: str) -> None:
         require(option, str(value) if isinstance(value, Path) else value, value == default, allowed)
 
 
+def refuse_unread_wear(options) -> None:
+    """The wear options that a run wearing nothing (``--no-wear``; ``--ideal``: no bushing) would ignore, refused
+    (``--wear-factor`` with ``--no-wear`` is model_from_options's)."""
+    why = "--no-wear" if options.get("no_wear") else "--ideal" if options.get("ideal") else None
+    if why is not None:
+        factor = 0.0 if options.get("wear_factor") == 0.0 else None          # --no-wear's own value, written
+        refuse_unused(options, (("--wear-coefficient-m2-N", "wear_coefficient_m2_N", None),
+                                ("--calibration", "calibration", None), ("--wear-factor", "wear_factor", factor)),
+                      f"only without {why} (the run wears nothing)")
+
+
 def _tolerance_options(defaults: SimulationOptions) -> tuple:
     """The adaptive integrators' tolerance options as :func:`refuse_unused` takes them."""
     return (("--rtol", "rtol", defaults.rtol), ("--atol-position", "atol_position", defaults.atol_position_m),
@@ -140,6 +151,7 @@ def simulation_options(options) -> SimulationOptions:
 
 
 def simulate_config(options) -> SimulateConfig:
+    refuse_unread_wear(options)
     joint, mechanism = model_from_options(options)
     run_options = simulation_options(options)
     settling = check_settling(options)
@@ -209,6 +221,7 @@ def cosim_config(options) -> CosimConfig:
     from .simulation_options import SimulationOptions
 
     o, defaults = options, CoSimulationOptions()
+    refuse_unread_wear(o)
     require("--master", o["master"], o["master"] in MASTERS, "one of " + ", ".join(MASTERS))
     require("--fmusim", o["fmusim"], o["fmusim"] is None or o["master"] == "container", "only with --master container")
     fmusim = None if o["fmusim"] is None else shutil.which(str(o["fmusim"]))
@@ -345,6 +358,7 @@ def wear_study_config(options) -> WearStudyConfig:
                       "monolithic --engine (rk4 steps by --max-step)")
     if o["engine"] != "cosim":
         refuse_unused(o, (("--fmu-backend", "fmu_backend", WearStudyConfig.fmu_backend),), "only with --engine cosim")
+    refuse_unread_wear(o)
     joint, mechanism = model_from_options(o)
     revolutions = parse_int_list("--revolutions", o["revolutions"], "4000")
     if len(revolutions) != 1:

@@ -119,6 +119,10 @@ POINTS = ("--points", "2:9e-6,4:1.4e-5")
     ([*POINTS, "--predict-revolutions", "1e300"], "--predict-revolutions='1e300' is invalid: allowed N1,N2,... "
                                                   "revolutions up to 1e+12"),
     ([*POINTS, "--life-depth-m", "1e-300"], "--life-depth-m=1e-300 is invalid: allowed a max depth of at least 1e-09 m"),
+    # deeper than the bushing (wear-study refused it, calibrate advised a longer study)
+    ([*POINTS, "--life-depth-m", "0.1"], "--life-depth-m=0.1 is invalid: allowed a max depth of at least 1e-09 m (a "
+                                         "few atomic layers: the least wear Archard's law describes) below the bushing "
+                                         "radius 0.0101 m (worn through there)"),
 ])
 def test_calibrate_bounds_its_values_naming_the_option(study, tmp_path, capsys, options, message):
     out = tmp_path / "c"

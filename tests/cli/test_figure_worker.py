@@ -120,3 +120,12 @@ def test_the_program_runs_blas_on_one_thread_unless_the_user_says_otherwise(tmp_
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split() == [expected, "False"]
+
+
+def test_a_run_without_figures_lists_none_and_leaves_none(record, tmp_path):
+    """--no-plots: summary.json's figures is [] (a new user found no key where results.md lists the figures
+    written), and an earlier run's figures in the folder go."""
+    write_results(record, tmp_path)
+    summary = write_results(record, tmp_path, plots=False)
+    assert summary["figures"] == [] and json.loads((tmp_path / "summary.json").read_text())["figures"] == []
+    assert not list(tmp_path.glob("*.png"))

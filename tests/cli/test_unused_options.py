@@ -1,6 +1,6 @@
 """An option the run would ignore is refused (exit 2, one line naming it, its value and where it does something):
 an integrator's option given to another integrator, a coupling option to Model Exchange or to a third-party master,
-the Model Exchange tolerances to Co-Simulation, a wear factor with --no-wear.  Left at its default it is not given, and the run goes on."""
+the Model Exchange tolerances to Co-Simulation, a wear option with --no-wear or --ideal.  Left at its default it is not given, and the run goes on."""
 import pytest
 
 from wearjoint.cli import build_parser, main
@@ -35,7 +35,16 @@ COSIM_THIRD_PARTY = "only with --master wearjoint (a third-party master steps th
     ("cosim", ["--rtol", "1e-3"], "--rtol", "1e-3",
      "only with --fmu-interface model-exchange (Co-Simulation steps by --scheme)"),
     ("simulate", ["--no-wear", "--wear-factor", "5"], "--wear-factor", "5",
-     "only without --no-wear (its wear factor is 0)"),
+     "only without --no-wear (the run wears nothing)"),
+    # a new user's, taken without a word: k_w of a run without wear, a wear factor of the ideal joint
+    ("simulate", ["--no-wear", "--wear-coefficient-m2-N", "1e-12"], "--wear-coefficient-m2-N", "1e-12",
+     "only without --no-wear (the run wears nothing)"),
+    ("cosim", ["--no-wear", "--calibration", "cal"], "--calibration", "'cal'",
+     "only without --no-wear (the run wears nothing)"),
+    ("wear-study", ["--no-wear", "--wear-coefficient-m2-N", "1e-12"], "--wear-coefficient-m2-N", "1e-12",
+     "only without --no-wear (the run wears nothing)"),
+    ("simulate", ["--ideal", "--wear-factor", "10"], "--wear-factor", "10",
+     "only without --ideal (the run wears nothing)"),
     ("wear-study", ["--rtol", "1e-7"], "--rtol", "1e-7",
      "only with --integrator dopri and the monolithic --engine (rk4 steps by --max-step)"),
     ("wear-study", ["--fmu-backend", "pythonfmu"], "--fmu-backend", "'pythonfmu'", "only with --engine cosim"),

@@ -157,10 +157,16 @@ def test_jacobian_leaves_the_joint_state_alone():
 @pytest.mark.parametrize("location", ["rod-slider", "crank-ground"])
 def test_the_exact_jacobian_is_the_crank_rod_joints_and_refused_elsewhere_in_one_line(location):
     """The exact Jacobian differentiates the crank-rod joint's closed-form solve: with the clearance at another
-    joint ``gear`` runs on the solver's finite differences, and asking for ``exact`` there is refused."""
+    joint ``gear`` runs on the solver's finite differences by default (a new user's default was refused there), and
+    asking for ``exact`` there is refused."""
     mechanism = SliderCrankParameters(clearance_joint=location)
     with pytest.raises(ParameterError, match=r"^parameter gear_jacobian='exact' is invalid: allowed 'numerical' "
                                              rf"with clearance_joint='{location}'"):
-        Simulation(paper_joint(mechanism), mechanism, SimulationOptions(integrator="gear", revolutions=0.01))
-    Simulation(paper_joint(mechanism), mechanism, SimulationOptions(integrator="gear", gear_jacobian="numerical",
-                                                                    revolutions=0.01))
+        Simulation(paper_joint(mechanism), mechanism, SimulationOptions(integrator="gear", gear_jacobian="exact",
+                                                                        revolutions=0.01))
+    for options in (SimulationOptions(integrator="gear", revolutions=0.01),
+                    SimulationOptions(integrator="gear", gear_jacobian="numerical", revolutions=0.01)):
+        assert Simulation(paper_joint(mechanism), mechanism, options).options.gear_jacobian == "numerical"
+    crank_rod = SliderCrankParameters()
+    default = Simulation(paper_joint(crank_rod), crank_rod, SimulationOptions(integrator="gear", revolutions=0.01))
+    assert default.options.gear_jacobian == "exact"

@@ -398,6 +398,34 @@ def test_a_calibration_made_on_another_machine_says_what_differs(tmp_path, capsy
     assert f"note: {notes[0]}" in capsys.readouterr().err
 
 
+def test_a_load_table_is_the_same_load_from_any_path(tmp_path):
+    """A new user's study read its load table as /abs/gas.csv; the same file as gas.csv, or a copy, was "another
+    machine (its slider_force_table differs)": the table's rows are the load, not the file's name."""
+    from wearjoint.mechanism_parameters import SliderForceTable
+    from wearjoint.parameters import SliderCrankParameters, paper_joint
+    from wearjoint.run_options import calibration_note
+
+    rows = "crank_angle_deg,force_N\n0,100\n180,900\n360,100\n"
+    (tmp_path / "a.csv").write_text(rows)
+    (tmp_path / "b.csv").write_text(rows)
+    (tmp_path / "c.csv").write_text(rows.replace("900", "950"))
+
+    def machine(csv):
+        return SliderCrankParameters(slider_force_table=SliderForceTable.from_csv(csv))
+
+    study, folder = tmp_path / "study", tmp_path / "cal"
+    study.mkdir()
+    folder.mkdir()
+    fitted = machine(tmp_path / "a.csv")
+    (study / "summary.json").write_text(json.dumps({"parameters": {"joint": paper_joint(fitted).to_dict(),
+                                                                   "mechanism": fitted.to_dict()}}))
+    (folder / "calibration.json").write_text(json.dumps({"study": str(study)}))
+    assert machine(tmp_path / "b.csv") == fitted
+    assert calibration_note(folder, paper_joint(fitted), machine(tmp_path / "b.csv")) is None
+    other = machine(tmp_path / "c.csv")
+    assert "its slider_force_table differs" in calibration_note(folder, paper_joint(other), other)
+
+
 def test_build_fmu_takes_the_calibrated_k_w_as_the_fmus_start_value_and_names_its_source(tmp_path):
     from fmpy import read_model_description
     from fmpy.validation import validate_fmu

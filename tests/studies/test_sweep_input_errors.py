@@ -162,6 +162,10 @@ def test_wear_study_snapshots_are_varied_in_a_design_file_not_on_vary(tmp_path, 
      "--vary step=1e-5,2e-4: step=0.0002 is invalid with wear"),
     ("simulate", ("--restitution=5", "--vary", "friction_coefficient=0.1"), "--restitution=5.0 is invalid: allowed "
                                                                             "in [0.001, 1]"),
+    # a base value refused against a varied one: the point named (a new user's line named --rod-length-m alone)
+    ("simulate", ("--rod-length-m", "0.28", "--vary", "crank-length-m=0.06,0.3"),
+     "--rod-length-m=0.28 is invalid with crank-length-m=0.3 (--vary crank-length-m=0.06,0.3): allowed > "
+     "crank_length_m"),
     ("simulate", ("--vary", "bushing-radius-m=0.01005,0.0101", "--vary", "pin-radius-m=0.0099,0.01008"),
      # each value fine alone (with the other radius's default), not together: named with the other's value
      "--vary bushing-radius-m=0.01005,0.0101: bushing-radius-m=0.01005 is invalid: allowed > 0 (at most 100 m) and "

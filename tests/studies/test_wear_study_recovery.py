@@ -309,3 +309,20 @@ def test_a_resume_on_another_mechanism_names_its_option_not_the_joint_fields_tha
         str(caught.value) and "also changed" not in str(caught.value)
     with pytest.raises(ParameterError, match=r"also changed: --effective-mass-kg"):
         settings_changes(settings(rod_slider), settings(paper, effective_mass_kg=0.5), tmp_path / "x.pkl")
+
+
+def test_a_resume_with_the_load_table_read_from_another_path_is_the_same_study(tmp_path):
+    """The checkpoint records the load table's rows and the file they came from: the same rows from another path
+    (a relative one, a copy) continue the study; other rows are refused, naming --slider-force-table."""
+    from wearjoint.mechanism_parameters import SliderForceTable
+    from wearjoint.studies.wear_study_recovery import settings_changes
+
+    def settings(csv, rows="crank_angle_deg,force_N\n0,100\n180,900\n360,100\n"):
+        (tmp_path / csv).write_text(rows)
+        mechanism = SliderCrankParameters(slider_force_table=SliderForceTable.from_csv(tmp_path / csv))
+        return {"mechanism": mechanism.to_dict(), "joint": paper_joint(mechanism).to_dict()}
+
+    assert settings_changes(settings("a.csv"), settings("b.csv"), tmp_path / "x.pkl") == []
+    with pytest.raises(ParameterError, match=r"parameter --slider-force-table"):
+        settings_changes(settings("a.csv"), settings("c.csv", "crank_angle_deg,force_N\n0,1\n360,1\n"),
+                         tmp_path / "x.pkl")

@@ -308,6 +308,19 @@ def test_tolerance_is_k_times_scatter_or_the_floor():
     assert cmp._judge("g", "x", "N", rule, "e", 95.0, 100.0, -5.0, {"a": 3.0}).passed
 
 
+def test_an_impact_count_is_not_failed_below_one_onset_in_the_span():
+    """A new user's `validate --quick` (0.1 revolution, two starts 1e-6 deg apart: scatter 0) failed on 13 against 14
+    onsets, 130 against 140 per revolution, with the tolerance 5 % of 130: one onset is the count's resolution."""
+    rule = cmp.STATISTICS["impacts_per_revolution"][1]
+    assert rule.tolerance(0.0, 130.0, span_revolutions=0.1) == pytest.approx(10.0)      # one onset in 0.1 rev
+    assert rule.tolerance(0.0, 130.0, span_revolutions=5.0) == pytest.approx(6.5)       # 5 %: finer than an onset
+    assert cmp._judge("g", "impacts_per_revolution", "1/rev", rule, "e", 140.0, 130.0, 10.0, {"a": 0.0},
+                      span_revolutions=0.1).passed
+    assert not cmp._judge("g", "impacts_per_revolution", "1/rev", rule, "e", 150.0, 130.0, 20.0, {"a": 0.0},
+                          span_revolutions=0.1).passed
+    assert cmp.STATISTICS["contact_fraction"][1].tolerance(0.0, 0.2, span_revolutions=0.1) == 0.02   # not a count
+
+
 def test_pointwise_differences_and_profile_quantities():
     t = np.arange(0.0, 0.02, 1e-5)
     ref = np.zeros((t.size, L.N_SAMPLE_COLUMNS))

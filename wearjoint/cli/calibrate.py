@@ -164,9 +164,10 @@ def run(args) -> int:
     least, most, text = uncertainty_range(radius)
     require_option("--depth-uncertainty-m", args.depth_uncertainty_m,
                    args.depth_uncertainty_m is None or least <= args.depth_uncertainty_m <= most, text)
-    require_option("--life-depth-m", args.life_depth_m, args.life_depth_m is None or args.life_depth_m >= MIN_DEPTH_M,
+    require_option("--life-depth-m", args.life_depth_m,
+                   args.life_depth_m is None or MIN_DEPTH_M <= args.life_depth_m < (radius or math.inf),
                    f"a max depth of at least {MIN_DEPTH_M:g} m (a few atomic layers: the least wear Archard's law "
-                   "describes)")
+                   "describes)" + (f" below the bushing radius {radius:g} m (worn through there)" if radius else ""))
     for option, value in (("--predict-revolutions", args.predict_revolutions), ("--life-depth-m", args.life_depth_m)):
         require_option(option, value, value is None or args.law == "archard", "only with --law archard")
     require_option("--transition-depth-m", args.transition_depth_m,

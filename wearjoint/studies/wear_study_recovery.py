@@ -24,6 +24,7 @@ import numpy as np
 
 from wearjoint.core import state_format
 from wearjoint.joint import ClearanceJoint, StateError
+from wearjoint.mechanism_parameters import same_setting
 from wearjoint.parameters import ParameterError
 from wearjoint.results import write_json_atomic
 from wearjoint.checks import RunDiverged
@@ -152,7 +153,7 @@ def settings_changes(old: dict, new: dict, path: Path) -> list:
             before = old.get(key, {})
             follow = _following(old, new) if key == "joint" else ()
             physical += [(option_name(k, key), before.get(k), v) for k, v in value.items()
-                         if before.get(k) != v and k not in follow]
+                         if not same_setting(k, before.get(k), v) and k not in follow]
         elif old.get(key) != value:
             if key == "jump_tolerance" and (old.get(key) is None) != (value is None):    # the route itself
                 physical.append((option_name(key) + " (None: the wear-factor route)", old.get(key), value))

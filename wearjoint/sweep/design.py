@@ -416,8 +416,9 @@ def _refusal(command: str, base: dict, where: str, point: dict, variables: dict,
             return f"{_named_where(where, name, point)}: {_shown({name: value})} is invalid{reason}"
     for dest, flag, value in given_options(command, base):
         reason = _reason(message, dest, value)
-        if reason and dest not in {variables[name].dest for name in point}:
-            return f"{flag}={value!r} is invalid{reason}"
+        if reason and dest not in {variables[name].dest for name in point}:   # with the point's value it cites
+            cited = {n: v for n, v in point.items() if variables[n].dest in reason}
+            return f"{flag}={value!r} is invalid{f' with {_shown(cited)} ({where})' if cited else ''}{reason}"
     if not point:
         return message
     return f"{where}: {'the grid point ' if len(point) > 1 else ''}{_shown(point)} is invalid: {message}"
