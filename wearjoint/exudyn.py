@@ -31,13 +31,12 @@ per step (`python benchmarks/bench_exudyn_joint.py`).  :func:`solve_dynamic` is 
 
 The first solve of a process compiles the joint's numba kernels unless numba's cache holds them (the first use
 after an install or a change of the sources: tens of seconds): once that has lasted two seconds, one line on stderr
-says so, with a count of the compilations on a terminal.
+says so, then a count of the compilations (:func:`wearjoint._compile.notice.first_use_starts`).
 
 This module and ``validation/`` are the only ones that import exudyn.
 """
 from __future__ import annotations
 
-import contextlib
 import math
 import warnings
 from typing import Callable
@@ -46,6 +45,7 @@ import exudyn as exu
 import numpy as np
 from exudyn.itemInterface import ObjectGenericODE2
 
+from ._compile.notice import first_use_over, first_use_starts
 from .core import layout as L
 from .core.admissibility import wall_overlap
 from .core.generalized_coordinates import accept_step, generalized_contact_forces, generalized_force_jacobian
@@ -119,30 +119,14 @@ _SAME_TIME = 1e-12     # times this close (relative, at least 1 s) are one: a co
 _SAME_STEP = 1e-6      # steps this close (relative) are the solver's fixed step: no solve starts there
 
 
-# the process's first kernel calls compile them (numba's cache keeps them for later runs): a notice and a count once
-# that has lasted a few seconds (wearjoint._compile.notice), from the first force until the first accepted step; none
-# inside a command that watches its own compilations (validate)
-_first_compilation: list = []      # [(ExitStack, watch)] while it runs; [None] once it is over (or not watched)
+# the error a joint's user function raised in the solve under way: exudyn passes on its text inside its own error,
+# solve_dynamic raises it as it is
+_RAISED: list = []
 
 
-def _watch_first_compilation() -> None:
-    from ._compile.notice import watched, watching
-
-    if watched():
-        _first_compilation.append(None)
-        return
-    stack = contextlib.ExitStack()
-    _first_compilation.append((stack, stack.enter_context(watching("exudyn"))))
-
-
-def _first_compilation_over() -> None:
-    """Close the first solve's watch if it is open (at its first accepted step, or when that solve ends without one)."""
-    if not _first_compilation or _first_compilation[-1] is None:
-        return
-    stack, watch = _first_compilation.pop()
-    watch.close()                  # its count's last line: the compilation is over
-    stack.close()
-    _first_compilation.append(None)
+def _kept(error: Exception) -> Exception:
+    _RAISED[:] = [error]
+    return error
 
 
 def _solve_starts_at(mbs, t: float) -> bool:
@@ -207,8 +191,7 @@ class ClearanceJointHandle:
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
         call (exudyn calls it per Newton iteration)."""
-        if not _first_compilation:
-            _watch_first_compilation()
+        first_use_starts("exudyn")        # the process's first calls compile the kernels (unless numba's cache has them)
         if t != self._force_time:
             if not self._references_read or t < self.t:     # the first solve, or one from before the last step
                 self._read_references(mbs)
@@ -244,29 +227,29 @@ class ClearanceJointHandle:
         current = mbs.GetPostStepUserFunction()
         current = current.get("function") if isinstance(current, dict) else current
         if not isinstance(current, _PostStep):
-            raise ParameterError(f"the system's post-step user function {current!r} is invalid with clearance joints: "
+            raise _kept(ParameterError(f"the system's post-step user function {current!r} is invalid with clearance joints: "
                                  "set by mbs.SetPostStepUserFunction after add_clearance_joint, it replaced the joints' "
                                  "own and they would neither wear nor record a step; allowed: "
-                                 "wearjoint.exudyn.set_post_step(mbs, f), which calls f after the joints")
+                                 "wearjoint.exudyn.set_post_step(mbs, f), which calls f after the joints"))
 
     def _accept(self, mbs, t: float, q, q_t) -> None:
         """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row.
         (``mbs`` comes with each call: a handle holding it would make a reference cycle through exudyn's
         C++ side, which Python's collector cannot see, and keep the whole system alive.)"""
         dt = t - self.t
-        if math.isnan(dt) or abs(dt) <= _SAME_TIME * max(1.0, abs(t)):
-            self.t = t            # exudyn calls the post-step function for the initial state of each solve: the first
-            return                # one, or a continuation's (its start time the last end time, to rounding)
+        if math.isnan(dt) or abs(dt) <= _SAME_TIME * max(1.0, abs(t)):   # exudyn's call for a solve's initial state
+            self.t, self._force_times = t, 0    # (the first, or a continuation's: its start the last end, to rounding);
+            return                # the force there (initial accelerations) is the first step's start, not inside it
         if dt < 0.0 or (not abs(dt - self._last_step) <= _SAME_STEP * dt and _solve_starts_at(mbs, t)):
             self._new_run(t)      # a solve from an earlier time, or a later one than the last step's end
             return
         j = self.joint
         wear_rate = j.parameter_vector[L.P_WEAR_COEFFICIENT]
         if wear_rate > 0.0 and dt > MAX_WEAR_STEP_S * (1.0 + 1e-9):
-            raise ParameterError(f"the solver's step {dt:.6g} s (t = {t:.6g} s) is invalid with wear: allowed at most "
-                                 f"{MAX_WEAR_STEP_S:g} s; set timeIntegration.numberOfSteps to at least endTime / "
-                                 f"{MAX_WEAR_STEP_S:g}, e.g. settings = wearjoint.exudyn.simulation_settings(end_time_s, "
-                                 "1e-5), or wear_factor=0 (docs/reference/model.md §7)")
+            raise _kept(ParameterError(f"the solver's step {dt:.6g} s (t = {t:.6g} s) is invalid with wear: allowed "
+                                       f"at most {MAX_WEAR_STEP_S:g} s; set timeIntegration.numberOfSteps to at least "
+                                       f"endTime / {MAX_WEAR_STEP_S:g}, e.g. settings = wearjoint.exudyn."
+                                       "simulation_settings(end_time_s, 1e-5), or wear_factor=0 (docs/reference/model.md §7)"))
         if self._system_indices is None:
             self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
             self._accept_arguments = (*self._system_indices, *self._shared, j.mask, j.work, j.result, _HISTORY_SLOTS)
@@ -278,14 +261,14 @@ class ClearanceJointHandle:
         at_end = self._force_times == 1 and self._force_time == t
         self._force_times = 0
         code = accept_step(*self._accept_arguments, q, q_t, t, dt, at_end, self._history, self._rows)
-        _first_compilation_over()
+        first_use_over()
         if code == STEP_INADMISSIBLE:            # nothing changed (docs/reference/model.md §3.14)
             starting = self._rows - self._run_starts[-1] <= 1     # the run's first accepted point is exempt
-            raise RunDiverged(inadmissible_message(
+            raise _kept(RunDiverged(inadmissible_message(
                 t, wall_overlap(j.result, j.parameter_vector, j.wear_depth), j.result[L.R_NORMAL_FORCE], j.params,
                 "the run's second step" if starting else "exudyn's step", float(j.wear_depth.max()),
                 "the run started there: check the bodies' initial coordinates and the joint's offsets" if starting
-                else "take a shorter step or an adaptive integrator"))
+                else "take a shorter step or an adaptive integrator")))
         self._rows += 1
         self.t, self._last_step = t, dt
         self.accepted_steps += 1
@@ -380,7 +363,16 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
     if pin.node is None and bushing.node is None:
         raise ParameterError(f"bushing_body={bushing_body!r} is invalid: pin_body is ground too "
                              "(allowed: a rigid body on at least one side)")
-    e, p = _initial_eccentricity(pin, bushing, parameters), parameters
+    for body in (pin, bushing):
+        require(body.argument, body.number, np.isfinite(body.initial).all(), "a body whose coordinates (x, y, angle) "
+                f"are finite at the initial configuration (they are {tuple(body.initial.tolist())})")
+    p, dispatcher = parameters, _post_step(mbs)
+    place = {(pin.number, tuple(p.pin_offset_m)), (bushing.number, tuple(p.bushing_offset_m))}
+    for k, other in enumerate(dispatcher.handles):      # one bushing: two joints would each carry half the load
+        require("bushing_body", bushing_body, place != {(other.pin.number, tuple(other.joint.params.pin_offset_m)), (
+            other.bushing.number, tuple(other.joint.params.bushing_offset_m))}, f"a place no other joint has: joint {k} "
+                "of this system joins these bodies at these offsets already (two would each carry half the load)")
+    e = _initial_eccentricity(pin, bushing, parameters)
     if not e <= p.clearance_m + p.admissible_penetration_m:
         where = "outside the bushing" if e > p.bushing_radius_m else "deeper in its wall than any contact reaches"
         raise ParameterError(
@@ -389,7 +381,7 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
             f"allowed at most the clearance and the admissible penetration, {p.clearance_m:.6g} + "
             f"{p.admissible_penetration_m:.6g} m (docs/reference/model.md §3.14)")
     handle = ClearanceJointHandle(mbs, pin, bushing, parameters)
-    _post_step(mbs).handles.append(handle)
+    dispatcher.handles.append(handle)
     return handle
 
 
@@ -421,16 +413,23 @@ def solve_dynamic(mbs, settings, **options):
     """``exu.SolveDynamic(mbs, settings, **options)`` without exudyn's memory-allocation warning, which a clearance
     joint's user functions always raise (a new array per call, counted by exudyn; harmless): exudyn's threshold
     (``exudyn.solver.solverCheckMemoryAllocationsThreshold``) is lifted for the call and restored after.  A first
-    solve that fails before its first accepted step closes its compile watch here."""
+    solve that fails before its first accepted step closes its compile watch here.  An error a joint raised inside
+    the solve (a step too long for wear, a run that blew up) is raised as it is (ParameterError, RunDiverged), not
+    as exudyn's error around its text."""
     import exudyn.solver as solver
 
     threshold = solver.solverCheckMemoryAllocationsThreshold
     solver.solverCheckMemoryAllocationsThreshold = math.inf
+    _RAISED.clear()
     try:
         return exu.SolveDynamic(mbs, settings, **options)
+    except Exception:
+        if _RAISED:
+            raise _RAISED.pop() from None
+        raise
     finally:
         solver.solverCheckMemoryAllocationsThreshold = threshold
-        _first_compilation_over()
+        first_use_over()
 
 
 def simulation_settings(end_time_s: float, step_s: float, handles=(), coordinate_scale_m: float = 1.0

@@ -41,10 +41,10 @@ def _numbers(*arrays) -> str:
 def overshoot_message(dt: float, params: JointParameters) -> str:
     """What a wearing step of ``dt`` [s] over the wear-step limit (STEP_OVERSHOT, docs/reference/model.md §7) is
     told."""
-    return (f"a wearing step dt={dt!r} s is over the wear-step limit (at most {MAX_WEAR_STEP_S:g} s, and a share "
-            f"k_f k_w F v dt of at most {params.wear_step_share:g} of the contact's penetration): the step no longer "
-            "resolves the wear; take shorter steps or a smaller wear_factor (docs/reference/model.md §7; said once "
-            "per joint)")
+    which = (f"longer than {MAX_WEAR_STEP_S:g} s" if dt > MAX_WEAR_STEP_S else f"within {MAX_WEAR_STEP_S:g} s, but "
+             f"the share k_f k_w F v dt of the contact's penetration it wears passed {params.wear_step_share:g}")
+    return (f"a wearing step dt={dt!r} s is over the wear-step limit ({which}): the step no longer resolves the wear; "
+            "take shorter steps or a smaller wear_factor (docs/reference/model.md §7; said once per joint)")
 
 
 class StateError(ParameterError):

@@ -92,7 +92,7 @@ def test_a_step_over_the_wear_step_limit_warns_once_per_joint_naming_dt_and_the_
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         joint.advance(PIN, BUSHING, 1e-5)                    # within the limit: silent
-    with pytest.warns(RuntimeWarning, match=r"a wearing step dt=0\.01 s is over the wear-step limit \(at most 3e-05 s"):
+    with pytest.warns(RuntimeWarning, match=r"a wearing step dt=0\.01 s is over the wear-step limit \(longer than 3e-05 s"):
         joint.advance(PIN, BUSHING, 0.01)
     assert joint.max_wear_depth_m > 0.0                      # accepted
     with warnings.catch_warnings():
@@ -100,6 +100,10 @@ def test_a_step_over_the_wear_step_limit_warns_once_per_joint_naming_dt_and_the_
         joint.advance(PIN, BUSHING, 0.01)                    # said once per joint
     with pytest.warns(RuntimeWarning, match=r"dt=0\.001 s is over the wear-step limit"):
         ClearanceJoint(JointParameters(wear_factor=100)).advance(PIN, BUSHING, 1e-3)
+    # within 3e-5 s the share of the penetration a step wears is what passed: said so (it named both limits)
+    with pytest.warns(RuntimeWarning, match=r"dt=2e-05 s is over the wear-step limit \(within 3e-05 s, but the share "
+                                            r"k_f k_w F v dt of the contact's penetration it wears passed 4\)"):
+        ClearanceJoint(JointParameters(wear_factor=1e4)).advance(PIN, BUSHING, 2e-5)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ClearanceJoint(JointParameters(wear_factor=0.0)).advance(PIN, BUSHING, 0.01)   # no wear: no limit

@@ -8,7 +8,7 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy.fmi1 import FMICallException  # noqa: E402
-from fmpy_instance import P, SCALAR_NAMES, Slave, contact_inputs  # noqa: E402
+from fmpy_instance import INPUT_NAMES, P, SCALAR_NAMES, Slave, contact_inputs  # noqa: E402
 
 from wearjoint.core import state_format  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
@@ -107,3 +107,35 @@ def test_a_bad_deserialised_state_fails_with_fmi2_error(slave, fmu):
     slave.fmu.setFMUstate(slave.fmu.deSerializeFMUstate(good))
     assert slave.get(["max_wear_depth"])[0] > 0.0
     gc.collect()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_state_carries_the_flags_the_hosts_calls_left(fmus, version):
+    """What the next step depends on besides the values: a Model Exchange step completed at these inputs (its
+    contact-onset bookkeeping done: an event update there does nothing) and a host that read the loads' derivatives
+    (its next step wears with the linearised force).  Restored into a fresh instance, a state serialises to the
+    same bytes, the flags included; neither was in the state."""
+    from fmpy_instance import JOINT, Joint
+
+    def serialised(joint):
+        f = joint.fmu
+        return f.serializeFMUstate(f.getFMUstate()) if version == 2 else f.serializeFMUState(f.getFMUState())
+
+    def head(data):
+        return read_state_bytes(data, state_format.CONTENTS_FMU, fv.STATE_HEAD_SIZE, JOINT.n_points)[0]
+
+    for kind in ("me", "cs"):
+        a, b = Joint(fmus[version], version, kind).start(), Joint(fmus[version], version, kind).start()
+        try:
+            a.set(INPUT_NAMES, contact_inputs(params=JOINT))
+            if kind == "me":
+                a.fmu.completedIntegratorStep() if version == 2 else a.fmu.completedIntegratorStep(True)
+            else:
+                a.get(list(fv.JACOBIAN_SLOTS)[:1])
+            data = serialised(a)
+            assert list(head(data)[-2:]) == ([0.0, 1.0] if kind == "me" else [1.0, 0.0])
+            b.restore(data)
+            assert serialised(b) == data
+        finally:
+            a.free()
+            b.free()

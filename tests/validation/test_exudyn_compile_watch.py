@@ -8,7 +8,7 @@ import pytest
 exu = pytest.importorskip("exudyn")
 from exudyn.itemInterface import NodeRigidBody2D, ObjectGround, ObjectRigidBody2D  # noqa: E402
 
-from wearjoint import JointParameters  # noqa: E402
+from wearjoint import JointParameters, ParameterError  # noqa: E402
 from wearjoint.exudyn import add_clearance_joint  # noqa: E402
 
 
@@ -16,19 +16,18 @@ def test_the_first_solve_watches_its_compilation_unless_a_command_does(monkeypat
     """The first force call of a process opens a watch of numba's compilations (its notice once they last 2 s: the
     first solve sat silent for up to a minute), closed at the first accepted step; inside a command that watches its
     own (validate: the compared engines' notice), none, so that nothing is announced twice."""
-    import wearjoint.exudyn as wx
     from wearjoint._compile import notice
 
-    monkeypatch.setattr(wx, "_first_compilation", [])
-    wx._watch_first_compilation()
-    (stack, watch), = wx._first_compilation
+    monkeypatch.setattr(notice, "_first_use", [])
+    notice.first_use_starts("exudyn")
+    (stack, watch), = notice._first_use
     assert notice.watched() and watch.what == "exudyn"
-    wx._first_compilation_over()
-    assert wx._first_compilation == [None] and not notice.watched()
-    monkeypatch.setattr(wx, "_first_compilation", [])
+    notice.first_use_over()
+    assert notice._first_use == [None] and not notice.watched()
+    monkeypatch.setattr(notice, "_first_use", [])
     with notice.watching("validate"):
-        wx._watch_first_compilation()
-        assert wx._first_compilation == [None]
+        notice.first_use_starts("exudyn")
+        assert notice._first_use == [None]
 
 
 def test_a_first_solve_that_fails_before_a_step_closes_its_compilation_watch(monkeypatch):
@@ -37,7 +36,7 @@ def test_a_first_solve_that_fails_before_a_step_closes_its_compilation_watch(mon
     import wearjoint.exudyn as wx
     from wearjoint._compile import notice
 
-    monkeypatch.setattr(wx, "_first_compilation", [])
+    monkeypatch.setattr(notice, "_first_use", [])
     mbs = exu.SystemContainer().AddSystem()          # a 1 kg bar hung from ground through a wearing joint
     bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.1001, 0])),
                                           mass=1.0, inertia=1e-3))
@@ -48,7 +47,7 @@ def test_a_first_solve_that_fails_before_a_step_closes_its_compilation_watch(mon
     settings.timeIntegration.endTime = 0.01
     settings.timeIntegration.verboseMode = 0
     settings.solution.file.write = False
-    with pytest.raises(Exception, match="invalid with wear"):
+    with pytest.raises(ParameterError, match="invalid with wear"):
         wx.solve_dynamic(mbs, settings)
     assert handle.accepted_steps == 0
-    assert wx._first_compilation == [None] and not notice.watched()
+    assert notice._first_use == [None] and not notice.watched()

@@ -15,6 +15,7 @@ from wearjoint import JointParameters  # noqa: E402
 from wearjoint.exudyn import (  # noqa: E402
     UNACCEPTED_FORCE_TIMES, add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic,
 )
+from wearjoint.checks import RunDiverged  # noqa: E402
 from wearjoint.parameters import ParameterError  # noqa: E402
 
 WEARING = JointParameters(bushing_offset_m=(0.0, 0.1), wear_factor=100)
@@ -92,7 +93,7 @@ def test_a_post_step_function_set_over_the_joints_stops_the_solve_naming_the_fix
     mbs.Assemble()
     message = (r"post-step user function <function .* is invalid with clearance joints: set by "
                r"mbs.SetPostStepUserFunction after add_clearance_joint.*allowed: wearjoint.exudyn.set_post_step\(mbs, f\)")
-    with pytest.raises(exu.exudynCPP.ModelError, match=message):      # exudyn's wrap of the user function's error
+    with pytest.raises(ParameterError, match=message):        # the joint's own error, not exudyn's wrap of its text
         solve_dynamic(mbs, simulation_settings(0.005, 1e-5, [handle]))
     assert handle.accepted_steps == 0 and 0 < len(seen) <= UNACCEPTED_FORCE_TIMES + 2
 
@@ -185,8 +186,79 @@ def test_a_run_that_starts_deep_in_the_wall_is_told_to_check_its_start_not_its_s
     steps = handle.accepted_steps
     mbs.SetNodeParameter(node, "referenceCoordinates", [0, -0.101, 0])   # a second solve from 0, 1 mm deep
     mbs.Assemble()
-    with pytest.raises(exu.exudynCPP.ModelError, match=r"the run's second step put the pin .* \(the run started "
-                                                       r"there: check the bodies' initial coordinates and the "
-                                                       r"joint's offsets;") as failure:
+    with pytest.raises(RunDiverged, match=r"the run's second step put the pin .* \(the run started "
+                                          r"there: check the bodies' initial coordinates and the "
+                                          r"joint's offsets;") as failure:
         solve_dynamic(mbs, simulation_settings(0.001, 1e-5, [handle]))
     assert "shorter step" not in str(failure.value) and handle.accepted_steps == steps + 1
+
+
+def test_a_joints_error_inside_the_solve_is_raised_as_it_is():
+    """A step too long for wear, found by the joint inside exudyn's solve: exudyn wraps the user function's error in
+    its own (ModelError, the message inside its text with exudyn's frames), which ``except ParameterError`` missed;
+    solve_dynamic raises the joint's ParameterError, one line."""
+    mbs, _, _, handle = hung_bar()
+    mbs.Assemble()
+    settings = simulation_settings(0.001, 1e-5, [handle])
+    settings.timeIntegration.numberOfSteps = 10                    # 1e-4 s steps, over the wear-step limit
+    refused(r"^the solver's step 0.0001 s \(t = 0.0001 s\) is invalid with wear: allowed at most 3e-05 s",
+            lambda: solve_dynamic(mbs, settings))
+
+
+def test_a_joint_at_a_place_that_has_one_and_a_body_at_nan_are_refused():
+    """Two joints between the same bodies at the same offsets (one bushing) each carried half the load, without a
+    word; a body whose initial coordinates are not finite was blamed on the joint's offsets ("nan m from the bushing
+    centre")."""
+    mbs, bar, ground, _ = hung_bar()
+    refused(r"^parameter bushing_body=.* is invalid: allowed a place no other joint has: joint 0 of this system joins "
+            r"these bodies at these offsets already", lambda: add_clearance_joint(mbs, ground, bar, WEARING))
+    other = JointParameters(bushing_offset_m=(0.0, 0.1), pin_offset_m=(0.0, 1e-5), wear_factor=100)
+    add_clearance_joint(mbs, ground, bar, other)                   # another place on the same bodies: taken
+    mbs = exu.SystemContainer().AddSystem()
+    bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode(NodeRigidBody2D(
+        referenceCoordinates=[float("nan"), -0.1001, 0])), mass=1.0, inertia=1e-3))
+    refused(r"^parameter bushing_body=.* is invalid: allowed a body whose coordinates \(x, y, angle\) are finite at "
+            r"the initial configuration \(they are \(nan, -0.1001, 0.0\)\)",
+            lambda: add_clearance_joint(mbs, mbs.AddObject(ObjectGround()), bar, WEARING))
+
+
+
+def test_a_joint_restored_into_a_new_system_goes_on_as_the_continuation():
+    """A swinging bar: its joint's state saved at 2 ms and restored into a new system started from the same
+    coordinates goes on bit for bit as exudyn's continuation of the first.  The force at the new solve's start
+    (exudyn's initial accelerations) was counted as inside its first step, which then wore with the explicit
+    solvers' mean force instead of the step's end force (9.8e-12 m apart in a new user's pendulum)."""
+    def swinging():
+        mbs = exu.SystemContainer().AddSystem()
+        node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.1001, 0], initialVelocities=[0.2, 0, 2.0]))
+        bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=1.0, inertia=1e-3))
+        mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=bar)),
+                                         loadVector=[0, -9.81, 0]))
+        handle = add_clearance_joint(mbs, mbs.AddObject(ObjectGround()), bar, WEARING)
+        mbs.Assemble()
+        return mbs, handle
+
+    def from_to(mbs, handle, start, end):
+        settings = simulation_settings(end - start, 1e-5, [handle])
+        settings.timeIntegration.startTime, settings.timeIntegration.endTime = start, end
+        solve_dynamic(mbs, settings)
+
+    def final_into_initial(mbs, q, v):
+        mbs.systemData.SetODE2Coordinates(q, configuration=exu.ConfigurationType.Initial)
+        mbs.systemData.SetODE2Coordinates_t(v, configuration=exu.ConfigurationType.Initial)
+
+    first, kept = swinging()
+    from_to(first, kept, 0.0, 0.002)
+    saved = kept.joint.state_to_bytes()
+    q, v = first.systemData.GetODE2Coordinates(), first.systemData.GetODE2Coordinates_t()
+    final_into_initial(first, q, v)
+    from_to(first, kept, 0.002, 0.004)
+    second, restored = swinging()
+    final_into_initial(second, q, v)
+    restored.joint.state_from_bytes(saved)
+    from_to(second, restored, 0.002, 0.004)
+    went_on = kept.history()
+    assert kept.runs == 1 and went_on["max_wear_depth_m"][-1] > went_on["max_wear_depth_m"][-201] > 0.0   # wearing
+    assert np.array_equal(restored.history()["time_s"], went_on["time_s"][-200:])
+    assert np.array_equal(restored.joint.wear_depth, kept.joint.wear_depth)
+    assert np.array_equal(restored.history()["normal_force_N"], went_on["normal_force_N"][-200:])

@@ -362,3 +362,29 @@ def compiled() -> None:
     """Compilation is over (the run starts): close the progress bars of :func:`watching`."""
     for watch in _ACTIVE:
         watch.close()
+
+
+# a library's first kernel calls in the process (the exudyn helper's: from its first force until its first accepted
+# step): [(ExitStack, watch)] while they run, [None] once over or watched by a command (validate: its own notice)
+_first_use: list = []
+
+
+def first_use_starts(what: str) -> None:
+    """Watch the process's first kernel calls of ``what`` (:func:`watching`), once; none inside a command's watch."""
+    if _first_use:
+        return
+    if watched():
+        _first_use.append(None)
+        return
+    stack = contextlib.ExitStack()
+    _first_use.append((stack, stack.enter_context(watching(what))))
+
+
+def first_use_over() -> None:
+    """Close the first use's watch if it is open (its count's last line: the compilation is over)."""
+    if not _first_use or _first_use[-1] is None:
+        return
+    stack, watch = _first_use.pop()
+    watch.close()
+    stack.close()
+    _first_use.append(None)
