@@ -326,3 +326,16 @@ def test_a_resume_with_the_load_table_read_from_another_path_is_the_same_study(t
     with pytest.raises(ParameterError, match=r"parameter --slider-force-table"):
         settings_changes(settings("a.csv"), settings("c.csv", "crank_angle_deg,force_N\n0,1\n360,1\n"),
                          tmp_path / "x.pkl")
+
+
+def test_a_resumed_study_keeps_the_command_that_started_it(tmp_path):
+    """summary.json's and report.html's command line was the resuming one (``--out X --resume``), the study's
+    options gone: it is the starting one, kept in the checkpoint, and ``resumed_by`` lists the others."""
+    out = tmp_path / "study"
+    started = ["wear-study", "--revolutions", "2", "--snapshots", "1,2", "--no-plots", "--quiet", "--out", str(out)]
+    assert cli_main(started) == 0
+    assert cli_main(["wear-study", "--out", str(out), "--resume", "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["command_line"] == "wearjoint " + " ".join(started)
+    assert summary["resumed_by"] == [f"wearjoint wear-study --out {out} --resume --quiet"]
+    assert "--snapshots 1,2" in (out / "report.html").read_text()

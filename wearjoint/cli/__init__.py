@@ -13,6 +13,7 @@ import argparse
 import atexit
 import contextlib
 import importlib
+import json
 import os
 import re
 import shlex
@@ -158,6 +159,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         args.figure_worker = figures
         args.written = written_options(parser, args.command, argv)
+        args.command_line = "wearjoint " + " ".join(shlex.quote(a) for a in argv)
         made, code = [], 2
         try:
             made = _prepare_out(args)
@@ -338,7 +340,10 @@ def _report(args, argv: list[str]) -> None:
         return
     owners = results_commands(Path(out))
     if not owners or args.command in owners:      # not calibrate's into the study it fits
-        write_report(out, "wearjoint " + " ".join(shlex.quote(a) for a in argv), report_facts(vars(args)))
+        line = "wearjoint " + " ".join(shlex.quote(a) for a in argv)
+        summary = json.loads(summary_path(out).read_text()) if getattr(args, "resume", False) else {}
+        started = summary.get("command_line") if summary.get("resumed_by") else None   # a resumed wear study's start
+        write_report(out, started or line, report_facts(vars(args)))
 
 
 __all__ = ["main", "build_parser", "as_written", "written_options", "COMMANDS"]

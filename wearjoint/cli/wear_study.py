@@ -87,7 +87,7 @@ def run(args) -> int:
                   f"{result['reached_max_depth_m'] * 1e3:.4g} mm after {config.revolutions} revolutions")
         else:
             summary = run_wear_study(config, args.out, resume=args.resume, progress=not args.quiet,
-                                     plots=not args.no_plots)
+                                     plots=not args.no_plots, command_line=getattr(args, "command_line", None))
             for s in summary["snapshots"]:
                 print(f"  rev {s['revolution']:6d}  max depth {s['max_wear_depth_m'] * 1e3:.4g} mm at "
                       f"{_angle(s['max_wear_angle_deg'])} deg  lobes {_angle(s['lobe_0_angle_deg'])}/"

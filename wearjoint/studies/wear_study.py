@@ -193,8 +193,10 @@ def _stops(config: WearStudyConfig) -> list[tuple[float, int | None]]:
 
 
 def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progress: bool = True,
-                   plots: bool = True, stop_after_checkpoints: int | None = None) -> dict:
-    """Run (or with ``resume`` continue) the study into ``out_dir``; returns summary.json's content.
+                   plots: bool = True, stop_after_checkpoints: int | None = None, command_line: str | None = None) -> dict:
+    """Run (or with ``resume`` continue) the study into ``out_dir``; returns summary.json's content.  Its
+    ``command_line`` (the CLI's) is kept in the checkpoint: summary.json names the one that started the study, and
+    ``resumed_by`` those that continued it.
 
     ``resume`` may change the numerical settings (:data:`wear_study_recovery.NUMERICAL`), not the physical
     ones.  A study that diverges writes its outputs for what finished (``"status": "diverged"``) and raises
@@ -222,11 +224,13 @@ def run_wear_study(config: WearStudyConfig, out_dir, resume: bool = False, progr
         if state is None:
             state = {"format": CHECKPOINT_FORMAT, "config": config.to_dict(), "next_stop": 0, "snapshots": [],
                      "pending_samples": {}, "growth": [], "wall_time_s": 0.0, "last_checkpoint_revolution": 0.0,
-                     "finished": False}
+                     "finished": False, "command_line": command_line}
             if config.jump_tolerance is not None:
                 state["jump"] = new_jump_state(config)
         else:
             _restore(engine, state["engine"], keep_numerics=bool({"integrator", "max_step_s", "rtol"} & {*changed}))
+            if command_line is not None:
+                state["resumed_by"] = [*state.get("resumed_by", []), command_line]
         if not state["finished"]:
             state["config"] = config.to_dict()     # the settings it continues with (the segments keep the history)
             continue_segments(state, state["config"])
@@ -470,6 +474,7 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         "growth": growth_assessment(growth, paper) if len(growth) > 1 else None,
         **study_life(growth, config.joint.wear_coefficient_m2_N, config.life_depth_m, config.mechanism.crank_speed_rpm),
         "numerical_settings": state["numerical_settings"],
+        "command_line": state.get("command_line"), "resumed_by": state.get("resumed_by", []),
         **({"paper_max_depth_at_4000_rev_m": PAPER_MAX_DEPTH_M,      # the paper's mechanism only
             "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS),
                            "max_wear_depth_m": list(EXPERIMENT_MAX_DEPTH_M)}} if paper else {}),
