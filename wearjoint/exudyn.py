@@ -191,7 +191,7 @@ class ClearanceJointHandle:
     def generalized_force(self, mbs, t, item, q, q_t):
         """GenericODE2 force user function: (Fx, Fy, T) on each node's body, applied; one compiled
         call (exudyn calls it per Newton iteration)."""
-        first_use_starts("exudyn")        # the process's first calls compile the kernels (unless numba's cache has them)
+        first_use_starts("exudyn")        # the first calls compile the kernels (unless numba's cache has them)
         if t != self._force_time:
             if not self._references_read or t < self.t:     # the first solve, or one from before the last step
                 self._read_references(mbs)
@@ -227,10 +227,10 @@ class ClearanceJointHandle:
         current = mbs.GetPostStepUserFunction()
         current = current.get("function") if isinstance(current, dict) else current
         if not isinstance(current, _PostStep):
-            raise _kept(ParameterError(f"the system's post-step user function {current!r} is invalid with clearance joints: "
-                                 "set by mbs.SetPostStepUserFunction after add_clearance_joint, it replaced the joints' "
-                                 "own and they would neither wear nor record a step; allowed: "
-                                 "wearjoint.exudyn.set_post_step(mbs, f), which calls f after the joints"))
+            raise _kept(ParameterError(f"the system's post-step user function {current!r} is invalid with clearance "
+                                       "joints: set by mbs.SetPostStepUserFunction after add_clearance_joint, it "
+                                       "replaced the joints' own and they would neither wear nor record a step; allowed: "
+                                       "wearjoint.exudyn.set_post_step(mbs, f), which calls f after the joints"))
 
     def _accept(self, mbs, t: float, q, q_t) -> None:
         """Wear and contact-onset bookkeeping over the accepted step ending at t, then one history row.
@@ -248,8 +248,8 @@ class ClearanceJointHandle:
         if wear_rate > 0.0 and dt > MAX_WEAR_STEP_S * (1.0 + 1e-9):
             raise _kept(ParameterError(f"the solver's step {dt:.6g} s (t = {t:.6g} s) is invalid with wear: allowed "
                                        f"at most {MAX_WEAR_STEP_S:g} s; set timeIntegration.numberOfSteps to at least "
-                                       f"endTime / {MAX_WEAR_STEP_S:g}, e.g. settings = wearjoint.exudyn."
-                                       "simulation_settings(end_time_s, 1e-5), or wear_factor=0 (docs/reference/model.md §7)"))
+                                       f"endTime / {MAX_WEAR_STEP_S:g}, e.g. settings = wearjoint.exudyn.simulation_"
+                                       "settings(end_time_s, 1e-5), or wear_factor=0 (docs/reference/model.md §7)"))
         if self._system_indices is None:
             self._system_indices = self._indices([mbs.systemData.GetNodeLTGODE2(body.node) for body in self._nodes])
             self._accept_arguments = (*self._system_indices, *self._shared, j.mask, j.work, j.result, _HISTORY_SLOTS)
@@ -322,12 +322,12 @@ class _PostStep:
         return True if self.user_function is None else self.user_function(mbs, t)
 
 
-def _post_step(mbs) -> _PostStep:
-    """The system's :class:`_PostStep`, installed over the user's function if there is none yet."""
+def _post_step(mbs, install: bool = True) -> _PostStep | None:
+    """The system's :class:`_PostStep`, installed over the user's function if there is none yet (else None)."""
     current = mbs.GetPostStepUserFunction()          # 0, or {"function": f, "type": "Python"}
     current = current.get("function") if isinstance(current, dict) else None
-    if isinstance(current, _PostStep):
-        return current
+    if isinstance(current, _PostStep) or not install:
+        return current if isinstance(current, _PostStep) else None
     dispatcher = _PostStep(current if callable(current) else None)
     mbs.SetPostStepUserFunction(dispatcher)
     return dispatcher
@@ -366,12 +366,13 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
     for body in (pin, bushing):
         require(body.argument, body.number, np.isfinite(body.initial).all(), "a body whose coordinates (x, y, angle) "
                 f"are finite at the initial configuration (they are {tuple(body.initial.tolist())})")
-    p, dispatcher = parameters, _post_step(mbs)
+    p = parameters
     place = {(pin.number, tuple(p.pin_offset_m)), (bushing.number, tuple(p.bushing_offset_m))}
-    for k, other in enumerate(dispatcher.handles):      # one bushing: two joints would each carry half the load
-        require("bushing_body", bushing_body, place != {(other.pin.number, tuple(other.joint.params.pin_offset_m)), (
-            other.bushing.number, tuple(other.joint.params.bushing_offset_m))}, f"a place no other joint has: joint {k} "
-                "of this system joins these bodies at these offsets already (two would each carry half the load)")
+    for k, other in enumerate(getattr(_post_step(mbs, install=False), "handles", ())):   # one bushing: half the load each
+        there = {(other.pin.number, tuple(other.joint.params.pin_offset_m)),
+                 (other.bushing.number, tuple(other.joint.params.bushing_offset_m))}
+        require("bushing_body", bushing_body, place != there, f"a place no other joint has: joint {k} of this system "
+                "joins these bodies at these offsets already (two would each carry half the load)")
     e = _initial_eccentricity(pin, bushing, parameters)
     if not e <= p.clearance_m + p.admissible_penetration_m:
         where = "outside the bushing" if e > p.bushing_radius_m else "deeper in its wall than any contact reaches"
@@ -381,7 +382,7 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
             f"allowed at most the clearance and the admissible penetration, {p.clearance_m:.6g} + "
             f"{p.admissible_penetration_m:.6g} m (docs/reference/model.md §3.14)")
     handle = ClearanceJointHandle(mbs, pin, bushing, parameters)
-    dispatcher.handles.append(handle)
+    _post_step(mbs).handles.append(handle)
     return handle
 
 

@@ -159,7 +159,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         args.figure_worker = figures
         args.written = written_options(parser, args.command, argv)
-        args.command_line = "wearjoint " + " ".join(shlex.quote(a) for a in argv)
+        args.command_line = _command_line(argv)
         made, code = [], 2
         try:
             made = _prepare_out(args)
@@ -340,10 +340,14 @@ def _report(args, argv: list[str]) -> None:
         return
     owners = results_commands(Path(out))
     if not owners or args.command in owners:      # not calibrate's into the study it fits
-        line = "wearjoint " + " ".join(shlex.quote(a) for a in argv)
         summary = json.loads(summary_path(out).read_text()) if getattr(args, "resume", False) else {}
         started = summary.get("command_line") if summary.get("resumed_by") else None   # a resumed wear study's start
-        write_report(out, started or line, report_facts(vars(args)))
+        write_report(out, started or _command_line(argv), report_facts(vars(args)))
+
+
+def _command_line(argv: list[str]) -> str:
+    """The command as a shell would run it again."""
+    return "wearjoint " + " ".join(shlex.quote(a) for a in argv)
 
 
 __all__ = ["main", "build_parser", "as_written", "written_options", "COMMANDS"]
