@@ -474,7 +474,8 @@ def write_study_outputs(config: WearStudyConfig, state: dict, engine, out: Path,
         "growth": growth_assessment(growth, paper) if len(growth) > 1 else None,
         **study_life(growth, config.joint.wear_coefficient_m2_N, config.life_depth_m, config.mechanism.crank_speed_rpm),
         "numerical_settings": state["numerical_settings"],
-        "command_line": state.get("command_line"), "resumed_by": state.get("resumed_by", []),
+        **({"command_line": state.get("command_line"), "resumed_by": state["resumed_by"]}   # absent through the API
+           if state.get("resumed_by") else {}),
         **({"paper_max_depth_at_4000_rev_m": PAPER_MAX_DEPTH_M,      # the paper's mechanism only
             "experiment": {"revolutions": list(EXPERIMENT_REVOLUTIONS),
                            "max_wear_depth_m": list(EXPERIMENT_MAX_DEPTH_M)}} if paper else {}),
