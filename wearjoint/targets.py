@@ -112,7 +112,8 @@ def refuse_unused(options, unused, allowed: str) -> None:
 
 def refuse_unread_wear(options) -> None:
     """The wear options that a run wearing nothing (``--no-wear``; ``--ideal``: no bushing) would ignore, refused
-    (``--wear-factor`` with ``--no-wear`` is model_from_options's)."""
+    (model_from_options refuses ``--wear-factor`` with ``--no-wear`` for the other commands: build-fmu keeps k_w,
+    which the FMU's wear_factor parameter may switch on)."""
     why = "--no-wear" if options.get("no_wear") else "--ideal" if options.get("ideal") else None
     if why is not None:
         factor = 0.0 if options.get("wear_factor") == 0.0 else None          # --no-wear's own value, written

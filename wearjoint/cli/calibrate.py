@@ -121,10 +121,11 @@ def _verdict(result: dict, tolerance: float) -> str:
 
 
 def _longer_study(command_line: str | None, revolutions: str) -> str:
-    """The study's command (its summary's ``command_line``) to ``revolutions`` into a new folder: its --revolutions,
-    --out and --resume replaced; without it, what to change in the command that made the study."""
+    """The study's command (its summary's ``command_line``) to ``revolutions`` into a new folder: its --revolutions
+    and --out replaced; without it, what to change in the command that made the study."""
     words = shlex.split(command_line or "")
-    if words[:2] != ["wearjoint", "wear-study"] or "--resume" in words:   # a resumed study's line lacks its options
+    if words[:2] != ["wearjoint", "wear-study"] or "--resume" in words:   # an older version's resumed study: its
+        # summary kept the resuming line alone, without the study's options
         return f"the command that made the study with --revolutions {revolutions} and --out NEW_FOLDER"
     kept, rest = [], iter(words)
     for word in rest:
