@@ -15,7 +15,11 @@ class ParameterError(ValueError):
 class RunStopped(RuntimeError):
     """A run that cannot go on: an engine's call failed after the run began (an FMU's, say), or
     :class:`RunDiverged`; the message says when and why (the run pipeline keeps what came before,
-    ``completed: false``)."""
+    ``completed: false``: the ``samples_written`` samples the engine's call wrote before it stopped among them)."""
+
+    def __init__(self, message: str = "", samples_written: int = 0):
+        super().__init__(message)
+        self.samples_written = samples_written
 
 
 class RunDiverged(RunStopped):

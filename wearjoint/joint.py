@@ -286,7 +286,7 @@ class ClearanceJoint:
                 f"parameters pin_kinematics={_numbers(pos_i, vel_i)} and bushing_kinematics={_numbers(pos_j, vel_j)} "
                 "are invalid here: they put the pin deeper into the bushing wall or press it harder than any contact "
                 f"of this joint, {overlap:.3g} m with a normal force of {r[L.R_NORMAL_FORCE]:.3g} N: allowed at most "
-                f"{p.admissible_penetration_m:.3g} m ({L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) and "
+                f"{p.admissible_penetration_m:.3g} m ({L.ADMISSIBLE_PENETRATION_SHARE:g} times the pin radius) and "
                 f"{p.admissible_force_N:.3g} N from the last accepted point (a step too long for the contact, "
                 "docs/reference/model.md §3.14); the joint is unchanged")
         if code == STEP_REFUSED:

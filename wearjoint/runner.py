@@ -156,6 +156,7 @@ def run_in_chunks(make_engine: Callable[[], Any], revolutions: float, period_s: 
                     completed, failure = False, failure + "; the results up to there are written"
                     break
         except RunStopped as exc:   # an inadmissible state refused (docs/reference/model.md §3.14), or a failed call
+            samples.append(buffer[:exc.samples_written].copy())     # the chunk's samples before it
             completed, failure = False, f"{exc}; the results before it are written"
         except KeyboardInterrupt:
             completed, failure = False, (f"{INTERRUPTED} at t = {engine.t:.6g} s of {t_final:.6g} s; the results up "
@@ -245,6 +246,6 @@ def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: Join
                 + " (a real bushing's wall is thinner: a smaller wear coefficient, wear factor or run; "
                 "docs/reference/model.md §3.14)")
     return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall (admissible "
-            f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:.0%} of the pin radius) with a "
+            f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:g} times the pin radius) with a "
             f"normal force of {force_N:.3g} N (admissible {joint.admissible_force_N:.3g} N): no contact of this joint "
             f"reaches it; nothing after it is physical ({advice}; docs/reference/model.md §3.14)")

@@ -181,7 +181,8 @@ class Simulation:
             advice = (overload_advice(self.joint.params, self.mechanism)
                       or "take a shorter step or an adaptive integrator")
             raise RunDiverged(inadmissible_message(failure[1], failure[2], failure[3], self.joint.params,
-                                                   "an accepted step", float(self.joint.wear_depth.max()), advice))
+                                                   "an accepted step", float(self.joint.wear_depth.max()), advice),
+                              int(self.track[L.K_N_SAMPLES]))
         return int(self.track[L.K_N_SAMPLES])
 
     def _gear_to(self, t_end: float, samples: np.ndarray) -> None:

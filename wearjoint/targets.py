@@ -297,8 +297,13 @@ def cosim_record(config: CosimConfig, progress: bool = False):
     if c.master != "wearjoint":
         from .cosim.masters import run_master
 
+        from .cosim.step_rule import unchecked_step_note
+
         record = run_master(c.master, c.joint, c.mechanism, c.revolutions, c.step_s, c.sample_dt_s, fmusim=c.fmusim,
                             load_coupling=c.load_coupling)
+        note = unchecked_step_note(c.step_s, c.load_coupling, c.joint, c.mechanism)
+        if note:
+            record.extra["communication_step_note"] = note
     elif c.interface == "model-exchange":
         from .cosim.model_exchange import run_model_exchange
 
@@ -352,6 +357,7 @@ def wear_study_config(options) -> WearStudyConfig:
     command's)."""
     from .studies.cycle_jump import DEFAULT_JUMP_TOLERANCE
     from .studies.wear_study import DEFAULT_WEAR_FACTOR, WearStudyConfig
+    from .studies.wear_study_recovery import quartile_snapshots
 
     o = options
     if o["engine"] != "monolithic" or o["integrator"] != "dopri":
@@ -368,7 +374,7 @@ def wear_study_config(options) -> WearStudyConfig:
     if o["snapshots"] is not None:
         snapshots = parse_int_list("--snapshots", o["snapshots"])
     else:
-        snapshots = tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
+        snapshots = quartile_snapshots(revolutions)
     jump_tolerance = o["cycle_jump_tolerance"]
     if jump_tolerance is None and o["wear_factor"] is None and not o["no_cycle_jump"]:
         jump_tolerance = DEFAULT_JUMP_TOLERANCE

@@ -396,7 +396,7 @@ static int accept_step(FmuModel *model, double dt, int held, const char *functio
                     "max depth %g m, its radius %g m: nothing changed (docs/reference/model.md §3.14)", function,
                     model->time, model->max_wear_depth, radius);
         else fmu_log(&model->host, FMU_ERROR, "%s: step at t=%.17g s rejected: the inputs put the pin %g m into the "
-                "bushing wall (along its eccentricity; admissible %g m, " ADMISSIBLE_SHARE_TEXT " of the pin radius) "
+                "bushing wall (along its eccentricity; admissible %g m, " ADMISSIBLE_SHARE_TEXT " the pin radius) "
                 "with a normal force of %g N (admissible %g N): no contact of this joint reaches it, nothing changed; "
                 "the %s step is too long for the contact, or the inputs are wrong (the bodies' offsets, the wiring; "
                 "docs/reference/model.md §3.14)", function, model->time, bounds[0], bounds[1],

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from wearjoint import analysis
+from wearjoint.checks import RunDiverged
 from wearjoint.cli.options import exit_status
 from wearjoint.core import layout as L
 from wearjoint.parameters import JointParameters
@@ -79,6 +80,30 @@ def test_a_diverging_run_stops_after_the_chunk_keeping_the_chunks_before():
     assert run.engine.t == pytest.approx(0.15)                   # the third chunk of 0.05 s, not the eighth
     times = run.samples[:, L.T_TIME]                              # the chunks before are kept
     assert times[-1] == pytest.approx(0.15) and times[0] <= 1e-3 and np.all(np.diff(times) > 0)
+
+
+class EngineRefusedMidChunk(EngineLeavingTheBushing):
+    """A stand-in engine whose call stops at ``stop_at_s`` inside a chunk, as an engine whose joint refused a step
+    does (RunDiverged), with the samples it wrote before."""
+
+    def __init__(self, stop_at_s):
+        super().__init__(diverge_at_s=math.inf)
+        self.stop_at_s = stop_at_s
+
+    def advance_to(self, t_end, samples):
+        if t_end < self.stop_at_s:
+            return super().advance_to(t_end, samples)
+        n = super().advance_to(self.stop_at_s, samples)
+        raise RunDiverged(f"the run diverged at t = {self.stop_at_s:g} s: a step refused", n)
+
+
+def test_a_run_stopped_inside_a_chunk_keeps_that_chunks_samples_before_it():
+    """A co-simulation whose coupling blew up 9 ms into its first chunk wrote an empty time series."""
+    run = run_in_chunks(lambda: EngineRefusedMidChunk(stop_at_s=0.07), revolutions=1.0, period_s=PERIOD_S,
+                        sample_dt_s=1e-3, label="test", progress=False)
+    assert not run.completed and "diverged at t = 0.07 s" in run.failure
+    times = run.samples[:, L.T_TIME]
+    assert times.size == 70 and times[-1] == pytest.approx(0.07) and np.all(np.diff(times) > 0)
 
 
 def test_a_physical_run_completes_and_a_worn_groove_is_no_divergence():

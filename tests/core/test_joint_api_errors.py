@@ -121,7 +121,7 @@ def test_a_pin_too_deep_in_the_wall_is_named_and_the_joint_unchanged():
     assert text.startswith("parameters pin_kinematics=[0, 0, 0, 0, 0, 10] and bushing_kinematics=[-0.005, 0, 0, 0, 0, "
                            "0] are invalid here: they put the pin deeper into the bushing wall or press it harder than "
                            "any contact of this joint, 0.0049 m with a normal force of ")
-    assert "allowed at most 0.0002 m (2% of the pin radius)" in text and "dt" not in text
+    assert "allowed at most 0.0002 m (0.02 times the pin radius)" in text and "dt" not in text
     assert joint.state_to_bytes() == before
 
 

@@ -9,6 +9,7 @@ monolithic scatter, judged as `wearjoint validate` judges an engine."""
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -18,7 +19,7 @@ import pytest
 pytest.importorskip("fmpy")
 from wearjoint.cli import main  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
-from wearjoint.cosim import masters  # noqa: E402
+from wearjoint.cosim import master_trace, masters  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.simulate import Simulation, SimulationOptions, run_simulation  # noqa: E402
@@ -75,8 +76,8 @@ def test_each_master_converges_to_the_monolithic_engine_over_the_first_impacts(c
     master, fmusim = _master_or_skip(case)
     extra = {"fmusim": fmusim} if fmusim else {}
     times = (np.arange(reference.size) + 1) * SAMPLE_S
-    column = masters.TRACED.index((ssp.MECHANISM, "slider_x"))
-    contact = masters.TRACED.index((ssp.JOINT, "contact"))
+    column = master_trace.TRACED.index((ssp.MECHANISM, "slider_x"))
+    contact = master_trace.TRACED.index((ssp.JOINT, "contact"))
     errors = {}
     for coupling, step in (("hold", 2e-6), ("hold", 1e-6), ("hold", 5e-7), ("linearised", 5e-6)):
         trace = masters.RUNNERS[master](packages[coupling], step, WINDOW_S, paper_joint().n_points, **extra)
@@ -106,7 +107,7 @@ def test_each_master_runs_through_the_joints_wear_step_warning(case, fast_wearin
     trace = masters.RUNNERS[master](fast_wearing_package, 1e-6, 4e-3, paper_joint().n_points,
                                     **({"fmusim": fmusim} if fmusim else {}))
     assert trace.time_s[-1] == pytest.approx(4e-3, abs=0.5e-6)
-    depth = trace.values[:, masters.TRACED.index((ssp.JOINT, "max_wear_depth"))]
+    depth = trace.values[:, master_trace.TRACED.index((ssp.JOINT, "max_wear_depth"))]
     # the first contact (near 3.1 ms) wears at once: masters reading the loads one step late never see it open
     assert depth[-1] > 1e-6 and np.all(np.isfinite(trace.values))
 
@@ -130,7 +131,7 @@ def test_container_fmu_from_export_ssp_runs_in_fmpy_and_fmusim_alike(tmp_path):
     _master_or_skip("container-fmusim")
     assert main(["export-ssp", "--out", str(tmp_path), "--platforms", "linux64", "--container-fmu"]) == 0
     stop, step = 2e-3, ssp.CONTAINER_STEP_S
-    names = [ssp.container_variable(c, n) for c, n in masters.TRACED]
+    names = [ssp.container_variable(c, n) for c, n in master_trace.TRACED]
     fmu = tmp_path / ssp.CONTAINER_FILE_NAME
     in_fmusim = masters._fmusim(FMUSIM, fmu, names, step, round(stop / step), 0.0)
     in_fmpy = masters.run_container(tmp_path / ssp.SSP_FILE_NAME, step, stop, paper_joint().n_points)
@@ -150,6 +151,8 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert set(SUMMARY_KEYS) <= set(summary)
     assert summary["master"] == ("container-fmusim" if fmusim else master)
+    assert summary["parameters"]["load_coupling"] == "linearised"      # the package's, which sets the step
+    assert "communication_step_note" not in summary                     # its own step is the checked one
     assert summary["simulated_time_s"] == pytest.approx(0.005 * SliderCrankParameters().period_s, rel=1e-3)
     assert summary["communication_steps"] == 400        # 2 ms at the paper's 5 us, whether the trace holds t = 0
     series = np.load(out / "timeseries.npz")
@@ -282,7 +285,7 @@ def test_each_master_wears_the_monolithic_volume_at_accelerated_wear(case, fast_
     package, volume, n_points = fast_wear
     trace = masters.RUNNERS[master](package, SLOW_STEP_S[case], 0.4, n_points,
                                     **({"fmusim": fmusim} if fmusim else {}))
-    worn = trace.values[-1, masters.TRACED.index((ssp.JOINT, "worn_volume"))]
+    worn = trace.values[-1, master_trace.TRACED.index((ssp.JOINT, "worn_volume"))]
     assert worn == pytest.approx(volume, rel=0.015)
 
 
@@ -304,6 +307,15 @@ def test_a_step_that_blows_the_coupling_up_ends_as_a_failed_run(case, tmp_path, 
     failure = summary["failure"]
     assert summary["completed"] is False and ("bushing wall" in failure or "admissible" in failure), failure
     assert 0.0 < summary["simulated_time_s"] < 0.05 * 0.4
+    # the time series up to the failure (the in-process master's had been empty: its chunk's samples were dropped),
+    # nothing past it (ecos stepped on to 0.02 s and had written an eccentricity of 3e7 m and 4.5e8 N)
+    failed_at = float(re.search(r"t = ([0-9.e+-]+) s", failure).group(1))
+    series = np.load(out / "timeseries.npz")["time_s"]
+    assert summary["simulated_time_s"] <= failed_at and 0.0 < series[-1] <= failed_at and series.size > 100, series
+    joint = paper_joint()
+    if case != "own-zoh":   # the in-process master accounts the point whose step the joint refused (its force past)
+        assert summary["max_contact_force_N"] <= joint.admissible_force_N, summary
+    assert summary["max_eccentricity_m"] <= joint.clearance_m + joint.admissible_penetration_m + 1e-6, summary
 
 
 def test_the_in_process_master_refuses_an_fmi3_fmu_naming_its_version(shared_build, tmp_path, capsys):
@@ -315,3 +327,21 @@ def test_the_in_process_master_refuses_an_fmi3_fmu_naming_its_version(shared_bui
     err = capsys.readouterr().err.strip()
     assert err.endswith("is invalid: allowed an FMI 2.0 FMU (it is FMI 3.0; this master takes FMI 2.0: build-fmu "
                         "--fmi-version 2)") and err.count("\n") == 0
+
+
+def test_a_step_past_the_checked_one_is_noted_in_the_output_and_summary(tmp_path, capsys):
+    """A package at 10 times its step completed without a word with a third of the contact: a --step more than
+    twice the checked step of its load coupling is noted on stderr and in summary.json; the checked step is not."""
+    from wearjoint.cosim.step_rule import unchecked_step_note
+
+    joint, mechanism = paper_joint(), SliderCrankParameters()
+    assert unchecked_step_note(1e-5, "linearised", joint, mechanism) == ""          # twice 5 us: checked
+    assert "4 times the checked step of --load-coupling linearised here (5e-06 s" in unchecked_step_note(
+        2e-5, "linearised", joint, mechanism)
+    _master_or_skip("fmpy-ssp")
+    out = tmp_path / "out"
+    assert main(["cosim", "--master", "fmpy-ssp", "--step", "2e-5", "--revolutions", "0.005", "--no-plots",
+                 "--out", str(out)]) == 0
+    said = [line for line in capsys.readouterr().err.splitlines() if line.startswith("note: --step 2e-05 s is 4 times")]
+    assert len(said) == 1
+    assert json.loads((out / "summary.json").read_text())["communication_step_note"] == said[0][len("note: "):]

@@ -16,7 +16,7 @@ import pytest
 
 pytest.importorskip("fmpy")
 from wearjoint.cli import main  # noqa: E402
-from wearjoint.cosim import masters  # noqa: E402
+from wearjoint.cosim import master_trace, masters  # noqa: E402
 from wearjoint.fmu import ssp  # noqa: E402
 from wearjoint.parameters import SliderCrankParameters, paper_joint  # noqa: E402
 from wearjoint.results import RunParameters  # noqa: E402
@@ -92,12 +92,12 @@ def test_cosim_master_omsimulator_agrees_with_fmpys_container(omsimulator, packa
     trace = masters.run_omsimulator(package, step, stop, joint.n_points)
     assert trace.time_s[-1] == pytest.approx(stop, abs=0.5 * step)
     assert np.isfinite(trace.values).all() and np.isfinite(trace.wear_depth_m).all()
-    assert trace.values[:, masters.TRACED.index((ssp.JOINT, "contact"))].max() == 1.0
-    record = masters.record_from_trace(trace, joint, mechanism, 1e-4, RunParameters("cosim", joint, mechanism))
+    assert trace.values[:, master_trace.TRACED.index((ssp.JOINT, "contact"))].max() == 1.0
+    record = master_trace.record_from_trace(trace, joint, mechanism, 1e-4, RunParameters("cosim", joint, mechanism))
     assert np.isfinite(record.revolution_stats).all() and record.worn_volume_m3 > 0.0
     window = slice(0, round(0.02 / step) + 1)
     reference = masters.run_container(package, step, 0.02, joint.n_points)
-    column = masters.TRACED.index((ssp.MECHANISM, "slider_a"))
+    column = master_trace.TRACED.index((ssp.MECHANISM, "slider_a"))
     got, expected = trace.values[window, column], reference.values[:, column]
     assert got.shape == expected.shape
     assert np.abs(got - expected).max() < 1e-6 * np.ptp(expected)

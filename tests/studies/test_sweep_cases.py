@@ -33,10 +33,11 @@ def test_a_case_carries_the_files_its_options_name(tmp_path):
 
 def test_a_sweep_says_it_runs_while_its_cases_last(tmp_path):
     """Progress moves on a heartbeat, not only when a case ends: a long wear-study case left a log empty for
-    minutes (the log writes a line every 15 s of those updates).  In a process of its own: a Dask cluster's workers
-    do not start inside a test worker."""
+    minutes (the log writes a line every 15 s of those updates).  A wear-study case moves the bar by the share of
+    revolutions its last checkpoint reached (snapshots.json's checkpointed_revolution; an ensemble had shown 0/4 for
+    minutes).  In a process of its own: a Dask cluster's workers do not start inside a test worker."""
     script = f"""
-import sys, time
+import json
 from wearjoint.cli import main
 from wearjoint.sweep import runner
 updates = []
@@ -44,11 +45,14 @@ class Recorded(runner.Progress):
     def update(self, done, eta_s=None):
         updates.append(done)
         super().update(done, eta_s)
-runner.Progress, runner.HEARTBEAT_S = Recorded, 0.2
-code = main(["sweep", "simulate", "--revolutions", "1", "--integrator", "rk4", "--step", "5e-6", "--no-plots",
-             "--quiet", "--vary", "restitution=0.6", "--workers", "1", "--out", {str(tmp_path / "s")!r}])
-print(code, updates.count(0), updates[-1])
+runner.Progress, runner.HEARTBEAT_S = Recorded, 0.1
+code = main(["wear-study", "--revolutions", "40", "--wear-factor", "10", "--seeds", "2", "--workers", "1",
+             "--no-plots", "--quiet", "--out", {str(tmp_path / "s")!r}])
+print(json.dumps([code, sorted({{round(u % 1, 3) for u in updates}}), updates[-1], updates.count(0)]))
 """
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=600)
-    code, waiting, last = done.stdout.split()[-3:]
-    assert (code, last) == ("0", "1") and int(waiting) >= 3, done.stdout + done.stderr[-2000:]
+    code, shares, last, waiting = json.loads(done.stdout.splitlines()[-1]) if done.stdout else (None, [], None, 0)
+    assert (code, last) == (0, 2) and waiting >= 3, done.stdout + done.stderr[-2000:]
+    # four simulated revolutions a case, a checkpoint after each (the last one's share shown as 0.999 until the
+    # case ends): quarters between the cases' ends
+    assert {0.25, 0.5, 0.75} <= set(shares) <= {0.0, 0.25, 0.5, 0.75, 0.999}, (shares, done.stderr[-2000:])

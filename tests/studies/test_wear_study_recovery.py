@@ -200,6 +200,14 @@ def test_resume_refusal_from_the_command_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert "parameter --crank-length-m (mechanism.crank_length_m) is 0.05 in its checkpoint, 0.06 given" in err
+    # --snapshots left out follows --revolutions (its quarters): the refusal names --revolutions only
+    longer = [o for o in options if o not in ("--snapshots", "5,10")]
+    longer[longer.index("--revolutions") + 1] = "20"
+    assert cli_main([*longer, "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "parameter --revolutions (revolutions) is 10 in its checkpoint, 20 given;" in err and "also" not in err
+    # left out with the same --revolutions, the checkpoint's own snapshots: the study continues
+    assert cli_main([*[o for o in options if o not in ("--snapshots", "5,10")], "--resume"]) == 0
 
 
 def test_convergence_runs_the_listed_factors_and_keeps_those_that_finish(tmp_path, monkeypatch):

@@ -36,6 +36,8 @@ ESTIMATES = {
                         "core/integrators._integrate_steps-*.nbi"),
     "cosim": ("the co-simulation master's numba kernels (no library of them could be built here)", None, None,
               "cosim/master_loop.master_loop-*.nbi"),
+    "cosim-me": ("the monolithic engine's numba kernels, around the FMU's Model Exchange interface", None, None,
+                 "cosim/fmu_joint._accept-*.nbi"),
     "validate": ("the compared engines' numba kernels (the monolithic engine's, through the FMU too, and exudyn's "
                  "joint)", None, None, "cosim/fmu_joint._accept-*.nbi"),
     "fmu": ("the joint FMU's kernels, ahead of time (once per source version; two processes)", None, None, None),
@@ -54,7 +56,8 @@ CALIBRATE_AFTER_S = 0.5
 SPEED_FACTOR_RANGE = (0.2, 5.0)
 # the keys of the kernels compiled ahead of time -> their model (:data:`wearjoint.fmu.aot.ENTRY_POINTS`)
 AHEAD_OF_TIME = {"fmu": "joint", "slider-crank-fmu": "slider-crank", "master": "master"}
-COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-study": "cosim", "validate": "validate"}
+COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-me": "cosim-me", "cosim-study": "cosim",
+                   "validate": "validate"}
 # commands of the monolithic engine: on two cores a second process compiles its wear kernels (prefetch)
 HELPED_COMMANDS = ("simulate", "wear-study")
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
@@ -331,7 +334,8 @@ def watching(what: str, on_compile=None, quiet: bool = False, on_first=None):
 
 
 def watch_command(command: str):
-    """:func:`watching` for a command of the CLI (its kernels' estimate, or the generic one); a command
+    """:func:`watching` for a command of the CLI (its kernels' estimate, or the generic one; ``cosim-me``: cosim
+    through the FMU's Model Exchange interface); a command
     of :data:`HELPED_COMMANDS` on two cores or more starts :mod:`.prefetch` as it starts compiling."""
     from . import prefetch
 

@@ -50,6 +50,7 @@ ENGINES = {
     "simulate-helped": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 2),
     "simulate": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 1),
     "cosim": ([sys.executable, "-c", _COSIM_WITHOUT_LIBRARY, "cosim", *RUN], 1),
+    "cosim-me": ([sys.executable, "-m", "wearjoint", "cosim", "--fmu-interface", "model-exchange", *RUN], 1),
     "validate": ([sys.executable, "-m", "wearjoint", "validate", "--quick", "--out"], 1),
     "exudyn": ([sys.executable, "-c", _EXUDYN], 1),
     **{key: ([sys.executable, "-c", _AHEAD_OF_TIME_BUILD, model], 2) for key, model in AHEAD_OF_TIME.items()},

@@ -310,14 +310,16 @@ def _prepare_out(args) -> list:
 
 
 def _compile_watch(module, args):
-    """The compile notice's watch of the command (:func:`wearjoint._compile.notice.watch_command`), none where its
-    module says the run compiles no numba kernel (``compiles(args)`` false): the watch imports numba."""
+    """The compile notice's watch of the command (:func:`wearjoint._compile.notice.watch_command`; of the kernels
+    its module's ``compiled_kernels(args)`` names, if it has one), none where its module says the run compiles no
+    numba kernel (``compiles(args)`` false): the watch imports numba."""
     compiles = getattr(module, "compiles", None)
     if compiles is not None and not compiles(args):
         return contextlib.nullcontext()
     from .._compile.notice import watch_command
 
-    return watch_command(args.command)
+    kernels = getattr(module, "compiled_kernels", None)
+    return watch_command(kernels(args) if kernels is not None else args.command)
 
 
 def _figure_worker(command: str | None, argv: list[str]):

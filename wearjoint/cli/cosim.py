@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..cosim import CoSimulationError
+from ..cosim.step_rule import unchecked_step_note
 from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_cosim_arguments as add_arguments
@@ -25,11 +26,21 @@ def compiles(args) -> bool:
     return native_master(build=False) is None
 
 
+def compiled_kernels(args) -> str:
+    """The compile notice's key of the kernels the run compiles (wearjoint._compile.notice.ESTIMATES): through the
+    FMU's Model Exchange interface the monolithic engine's, else the co-simulation master's."""
+    return "cosim-me" if args.master == "wearjoint" and args.fmu_interface == "model-exchange" else "cosim"
+
+
 def run(args) -> int:
     """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error,
     2 on a bad option (one line naming it)."""
     config = cosim_config(vars(args))
     stiffness_note(config.joint, args)
+    if config.master != "wearjoint" and not args.quiet:
+        note = unchecked_step_note(config.step_s, config.load_coupling, config.joint, config.mechanism)
+        if note:
+            print(f"note: {note}", file=sys.stderr)
     with results_kept():           # Ctrl-C after the run waits for its results
         try:
             record = cosim_record(config, progress=not args.quiet)
@@ -44,4 +55,4 @@ def run(args) -> int:
     return exit_status(record, "cosim")
 
 
-__all__ = ["add_arguments", "compiles", "run"]
+__all__ = ["add_arguments", "compiled_kernels", "compiles", "run"]

@@ -8,7 +8,7 @@ import math
 import sys
 
 from ..checks import require
-from ..cosim.step_rule import communication_step_rule, paper_step_scale
+from ..cosim.step_rule import communication_step_rule, paper_step_scale, unchecked_step_note
 from ..fmu import platforms
 from ..fmu.ssp import (
     CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, MIN_STEP_S, MIN_STEP_WHY, ON_TIME_STEP_S, check_stop_time,
@@ -74,9 +74,10 @@ def run(args) -> int:
                   f"limit (with --load-coupling hold: {rule.text()})", file=sys.stderr)
         else:
             print(f"{rule.text()}; {asks}", file=sys.stderr)
-        note = wear_coefficient_source(joint, mechanism)["wear_coefficient_note"]
-        if note:
-            print(f"note: {note}", file=sys.stderr)
+        for note in (unchecked_step_note(step, args.load_coupling, joint, mechanism),
+                     wear_coefficient_source(joint, mechanism)["wear_coefficient_note"]):
+            if note:
+                print(f"note: {note}", file=sys.stderr)
         if args.container_fmu or args.container_step is not None:
             print(container_fmu(path, path.with_name(CONTAINER_FILE_NAME), container_step))
     except (OSError, RuntimeError) as exc:     # a bad option's ParameterError: cli.main's one line, naming it

@@ -137,6 +137,8 @@ def _resumed_config(config: WearStudyConfig, args) -> WearStudyConfig:
     try:
         old = read_checkpoint(Path(args.out) / CHECKPOINT_NAME)["config"]
         study = merged({k: v for k, v in old.items() if k not in DERIVED}, config.to_dict())
+        if study["revolutions"] != old["revolutions"] and "snapshots" not in written:
+            study["snapshots"] = config.snapshots            # they follow --revolutions: its quarters
         return WearStudyConfig(**{**study, "snapshots": tuple(study["snapshots"]),
                                   "joint": JointParameters(**merged(old["joint"], config.joint.to_dict())),
                                   "mechanism": SliderCrankParameters.from_dict(merged(old["mechanism"],

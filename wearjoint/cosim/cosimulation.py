@@ -239,15 +239,16 @@ class CoSimulation(OwnsFmuInstance):
             fmi = min(register[G_FMI_TIME], wall)
             self.fmi_time_s += fmi
             self.master_time_s += wall - fmi
+        written = int(self.buf[B_TRACK + L.K_N_SAMPLES])
         if failed:   # a doStep the joint refused (its inputs through the wall, non-finite): the run diverged
             try:
                 slave.check_recorded(register[G_FAILED_CALL:G_FAILED_TIME + 1], FMI_CALLS)
             except RunDiverged as exc:       # where the machine's loads are beyond the joint, no step helps
                 advice = overload_advice(self.joint, self.mechanism)
-                raise RunDiverged(f"{exc} ({advice})" if advice else str(exc)) from None
+                raise RunDiverged(f"{exc} ({advice})" if advice else str(exc), written) from None
             except FmuError as exc:          # another call failed: the run stops there, what came before is kept
-                raise RunStopped(str(exc)) from None
-        return int(self.buf[B_TRACK + L.K_N_SAMPLES])
+                raise RunStopped(str(exc), written) from None
+        return written
 
     # -- checkpoints
     def checkpoint(self) -> dict:

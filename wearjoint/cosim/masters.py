@@ -1,11 +1,10 @@
 """Third-party co-simulation masters running ``SliderCrankWithClearance.ssp`` (``wearjoint cosim --master``).
 
 Each adapter runs the package (or its fmpy container FMU) at a fixed communication step for the
-requested time and returns a :class:`MasterTrace`: the traced outputs (:data:`TRACED`) at every
-communication point and, where the master lets one read it, the final worn profile.
-:func:`record_from_trace` turns a trace into the :class:`wearjoint.results.RunRecord` every engine
-writes, the per-revolution statistics accounted by the engines' own recorder
-(:func:`wearjoint.core.integrators.record_points`).
+requested time and returns a :class:`wearjoint.cosim.master_trace.MasterTrace`: the traced outputs at every
+communication point and, where the master lets one read it, the final worn profile, which
+:func:`wearjoint.cosim.master_trace.record_from_trace` turns into the :class:`wearjoint.results.RunRecord` every
+engine writes.
 
 * ``libcosim`` -- OSP libcosim (``libcosimpy``): ``CosimExecution.from_ssp_file``, stepped one
   communication step at a time, a last-value observer read after each.
@@ -25,14 +24,15 @@ writes, the per-revolution statistics accounted by the engines' own recorder
   fixed internal step = the communication step), run by fmpy's ``FMU2Slave`` or, given its path,
   by fmusim (the Reference-FMUs' importer; no worn profile from its CSV).
 
-Every master holds each FMU's inputs over a step (zero-order hold): first order in the step and
-unstable from a few microseconds on this stiff contact.  libcosim, ecos and fmpy's simulator read
+Every master holds each FMU's inputs over a step (zero-order hold).  libcosim, ecos and fmpy's simulator read
 the joint's loads before they set its new inputs, so the mechanism gets them one step late; the
 container sets the kinematics first and reads the loads evaluated at them (docs/explanation/cosim_study.md).
+ecos is traced after it moved the connections (the joint's rows at their point, the slider's acceleration with the
+new loads); libcosim and fmpy's simulator before (their joint rows realigned, :func:`align_joint`; the slider's
+acceleration its step's end's): the same motion, accelerations one coupling jump apart.
 """
 from __future__ import annotations
 
-import math
 import ctypes
 import io
 import os
@@ -40,21 +40,17 @@ import subprocess
 import tempfile
 import time
 import zipfile
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .._compile.user_cache import user_cache_dir
-from ..analysis import past_admissible, pin_left_bushing
 from ..checks import RunDiverged
-from ..core import layout as L
 from ..fmu import ssp
 from ..fmu import variables as fv
-from ..kernel_calls import bushing_point_angles
-from ..slider_crank import pack_mechanism_parameters
-from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
+from ..results import RunParameters, RunRecord
 from ..runner import check_time_series_fits
+from .master_trace import JOINT_TRACED, MECHANISM_TRACED, TRACED, MasterTrace, align_joint, record_from_trace
 
 MASTERS = ("wearjoint", "libcosim", "ecos", "fmpy-ssp", "omsimulator", "container")
 THIRD_PARTY = MASTERS[1:]
@@ -62,18 +58,6 @@ THIRD_PARTY = MASTERS[1:]
 # masters for (inside the monolithic scatter on time or one step late, docs/explanation/cosim_study.md; held loads
 # at 1 us, this default until now, put the container's 8-start impacts z -5.1 off)
 DEFAULT_STEP_S = ssp.DEFAULT_STEP_S
-# what every adapter records at each communication point: (component, variable)
-MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a")
-JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
-                "eccentricity_x", "eccentricity_y", "max_wear_depth", "worn_volume")
-TRACED = tuple((ssp.MECHANISM, n) for n in MECHANISM_TRACED) + tuple((ssp.JOINT, n) for n in JOINT_TRACED)
-_COLUMN = {key: k for k, key in enumerate(TRACED)}
-# where record_step finds each traced quantity: the state y, its derivative dy, the joint's result
-_Y = {"crank_angle": L.CRANK + 2, "slider_x": L.Y_SLIDER_X, "slider_v": L.Y_SLIDER_V}
-_DY = {"slider_a": L.N_COORDINATES + L.SLIDER}
-_RESULT = {"pin_force_x": L.R_PIN_FX, "pin_force_y": L.R_PIN_FY, "normal_force": L.R_NORMAL_FORCE,
-           "friction_force": L.R_FRICTION_FORCE, "penetration": L.R_PENETRATION, "contact": L.R_CONTACT,
-           "eccentricity_x": L.R_ECCENTRICITY_X, "eccentricity_y": L.R_ECCENTRICITY_Y}
 _PACKAGES = {"libcosim": "libcosimpy", "ecos": "ecospy and tbb", "fmpy-ssp": "fmpy", "container": "fmpy",
              "omsimulator": "the OMSimulator Python package (pip install omsimulator, or an OMSimulator build's "
                             "lib/x86_64-linux-gnu on PYTHONPATH)"}
@@ -81,24 +65,6 @@ _PACKAGES = {"libcosim": "libcosimpy", "ecos": "ecospy and tbb", "fmpy-ssp": "fm
 
 class MasterUnavailable(ImportError):
     """The master's package is not installed."""
-
-
-@dataclass
-class MasterTrace:
-    """A third-party master's run: ``values[i, k]`` is ``TRACED[k]`` at ``time_s[i]`` [s] (the
-    communication points from 0); ``wear_depth_m`` the final profile, None where unreadable;
-    ``wall_time_s`` the stepping loop, ``load_time_s`` loading and initialising the FMUs; ``failure`` why the
-    master stopped before the stop time."""
-
-    master: str
-    step_s: float
-    time_s: np.ndarray
-    values: np.ndarray
-    wear_depth_m: np.ndarray | None
-    wall_time_s: float
-    load_time_s: float
-    failure: str = ""        # why the master stopped early ('' if it reached the stop time)
-    log: tuple = ()          # the warnings and errors of the master's own log (OMSimulator's), as its lines
 
 
 def _steps(stop_time_s: float, step_s: float) -> int:
@@ -127,19 +93,6 @@ def _stepwise(master, step_s, n, do_step, read, load_time_s) -> MasterTrace:
         values[i] = read()
     wall = time.perf_counter() - start
     return MasterTrace(master, step_s, np.arange(values.shape[0]) * step_s, values, None, wall, load_time_s, failure)
-
-
-_JOINT_COLUMNS = [k for (component, _), k in _COLUMN.items() if component == ssp.JOINT]
-
-
-def _align_joint(trace: MasterTrace) -> MasterTrace:
-    """A master that reads the joint's outputs right after its doStep, before it moves the step's
-    connections, sees them one step behind the mechanism's (forces at the kinematics the step began
-    with; fmpy's simulator moreover starts every connector at 0, so its first joint row is of zero
-    kinematics): each joint row moved to the point it belongs to, the last point dropped."""
-    trace.values[:-1, _JOINT_COLUMNS] = trace.values[1:, _JOINT_COLUMNS]
-    trace.values, trace.time_s = trace.values[:-1], trace.time_s[:-1]
-    return trace
 
 
 def _profile_names(n_points: int) -> list[str]:
@@ -175,7 +128,7 @@ def run_libcosim(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
         trace = _stepwise("libcosim", step_s, _steps(stop_time_s, step_s), lambda: execution.step(1),
                           lambda: [x for index, r in groups for x in observer.last_real_values(index, r)],
                           time.perf_counter() - start)
-        trace = _align_joint(trace)
+        trace = align_joint(trace)
         trace.time_s += step_s
         profile = [refs[ssp.JOINT][n] for n in _profile_names(n_points)]
         trace.wear_depth_m = np.array(observer.last_real_values(slaves[ssp.JOINT], profile))
@@ -249,7 +202,7 @@ def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
                           "run (docs/explanation/cosim_study.md)") from None
     wall = time.perf_counter() - start
     values = np.column_stack([rows[f"{component}.{name}"] for component, name in TRACED])
-    return _align_joint(MasterTrace("fmpy-ssp", step_s, (np.arange(len(rows)) + 1) * step_s, values, None, wall, load))
+    return align_joint(MasterTrace("fmpy-ssp", step_s, (np.arange(len(rows)) + 1) * step_s, values, None, wall, load))
 
 
 def _load_omsimulator():
@@ -354,7 +307,9 @@ def run_container(ssp_path, step_s: float, stop_time_s: float, n_points: int, fm
 
 
 def _fmusim(fmusim: str, fmu: Path, names, step_s: float, n: int, load_time_s: float) -> MasterTrace:
-    """The container in fmusim, every communication point written to its CSV."""
+    """The container in fmusim, every communication point written to its CSV; a run fmusim ends with an error (the
+    joint refused a step) is the trace of the rows it wrote, its ``failure`` fmusim's message (none written: an
+    error)."""
     out = fmu.with_suffix(".csv")
     # fmusim stops a few steps short of --stop-time (its time accumulates): ask for more, keep n steps
     command = [fmusim, "--interface-type", "cs", "--stop-time", repr((n + 20) * step_s), "--output-interval",
@@ -363,86 +318,18 @@ def _fmusim(fmusim: str, fmu: Path, names, step_s: float, n: int, load_time_s: f
     start = time.perf_counter()
     done = subprocess.run(command, capture_output=True, text=True)
     wall = time.perf_counter() - start
-    if done.returncode != 0:
-        message = (done.stderr or done.stdout).strip()[-500:]
-        raise RuntimeError(f"fmusim exited with status {done.returncode}: {message}")
-    rows = np.genfromtxt(out, delimiter=",", names=True, deletechars="")
+    failure = "" if done.returncode == 0 else \
+        f"fmusim exited with status {done.returncode}: {(done.stderr or done.stdout).strip()[-500:]}"
+    rows = np.atleast_1d(np.genfromtxt(out, delimiter=",", names=True, deletechars="")) if out.is_file() else []
+    if failure and len(rows) < 2:
+        raise RuntimeError(failure)
     rows = rows[:n + 1]
     values = np.column_stack([rows[name] for name in names])
-    return MasterTrace("container-fmusim", step_s, np.asarray(rows["time"]), values, None, wall, load_time_s)
+    return MasterTrace("container-fmusim", step_s, np.asarray(rows["time"]), values, None, wall, load_time_s, failure)
 
 
 RUNNERS = {"libcosim": run_libcosim, "ecos": run_ecos, "fmpy-ssp": run_fmpy_ssp, "omsimulator": run_omsimulator,
            "container": run_container}
-
-
-def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, parameters: RunParameters,
-                      chunk: int = 100_000) -> RunRecord:
-    """The run record of a trace: per-revolution statistics and samples from the engines' recorder
-    (every communication point is an accepted point; ``chunk`` points at a time), the worn profile
-    where the master gave one (else NaN: no profile.csv nor its figure; the max wear depth from the joint's scalar
-    output)."""
-    from ..core.integrators import record_points   # numba's kernel: the package's own master imports no numba
-
-    mp = pack_mechanism_parameters(mechanism)
-    period = mechanism.period_s
-    n = trace.time_s.size
-    revolutions = trace.time_s[-1] / period
-    stats = new_revolution_stats(int(np.ceil(revolutions * (1.0 - 1e-12))))
-    samples = np.zeros((int(trace.time_s[-1] / sample_dt_s) + 2, L.N_SAMPLE_COLUMNS))
-    track = new_track(sample_dt_s)
-    ys, dys, results = np.zeros((chunk, 2 * L.N_COORDINATES)), np.zeros((chunk, 2 * L.N_COORDINATES)), \
-        np.zeros((chunk, L.N_RESULT))
-    where = [(k, array, table[name]) for (_, name), k in _COLUMN.items()
-             for array, table in ((ys, _Y), (dys, _DY), (results, _RESULT)) if name in table]
-    for first in range(0, n, chunk):
-        rows = slice(first, min(n, first + chunk))
-        m = rows.stop - rows.start
-        for k, array, index in where:
-            array[:m, index] = trace.values[rows, k]
-        # the step ending at a chunk's first point began at the previous chunk's last (the first: none)
-        record_points(trace.time_s[max(0, first - 1)], trace.time_s[rows], ys[:m], dys[:m], results[:m], mp, stats,
-                      samples, track)
-    max_depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
-    ends = np.searchsorted(trace.time_s, (np.arange(stats.shape[0]) + 1) * period * (1.0 + 1e-12), side="right") - 1
-    profile = trace.wear_depth_m if trace.wear_depth_m is not None else np.full(joint.n_points, np.nan)
-    # the steps from 0 to the trace's end (a master's trace may or may not hold the row at 0)
-    extra = {"master": trace.master, "communication_steps": round(trace.time_s[-1] / trace.step_s),
-             "step_s": trace.step_s, **({"master_log_warnings": list(trace.log)} if trace.log else {})}
-    if trace.wear_depth_m is None:
-        extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
-                     wear_profile=f"not readable through {trace.master}: no profile.csv nor its figure; "
-                                  "max_wear_depth_m and worn_volume_m3 are the joint's outputs")
-    failure = trace_divergence(trace, joint) or (
-        f"the run diverged: {trace.failure}; the communication step {trace.step_s:g} s is too long for this contact "
-        "(take a shorter one, or wearjoint's adaptive master; docs/explanation/cosim_study.md)" if trace.failure else "")
-    return RunRecord(samples=samples[:int(track[L.K_N_SAMPLES])], revolution_stats=stats, wear_growth_m=max_depth[ends],
-                     phi_deg=np.degrees(bushing_point_angles(joint.n_points)), wear_depth_m=profile,
-                     worn_volume_m3=float(trace.values[-1, _COLUMN[(ssp.JOINT, "worn_volume")]]),
-                     simulated_time_s=float(trace.time_s[-1]), wall_time_s=trace.wall_time_s,
-                     compile_time_s=trace.load_time_s, revolutions=float(revolutions), period_s=period,
-                     clearance_m=joint.clearance_m, contact_stiffness_N_m1_5=joint.stiffness_N_m1_5,
-                     parameters=parameters, extra=extra, completed=not failure, failure=failure)
-
-
-def trace_divergence(trace: MasterTrace, joint) -> str:
-    """'' if every communication point of ``trace`` is physical, else why the first that is not is not: the pin
-    further into the bushing wall than ``joint`` admits (:func:`wearjoint.analysis.pin_left_bushing` with the
-    wear depth the joint reported there) or a value not finite."""
-    e = np.hypot(trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_x")]],
-                 trace.values[:, _COLUMN[(ssp.JOINT, "eccentricity_y")]])
-    depth = trace.values[:, _COLUMN[(ssp.JOINT, "max_wear_depth")]]
-    force = trace.values[:, _COLUMN[(ssp.JOINT, "normal_force")]]
-    bad = np.flatnonzero(past_admissible(e, depth, force, joint.clearance_m, joint.admissible_penetration_m,
-                                         joint.admissible_force_N) | ~np.isfinite(trace.values).all(axis=1))
-    if not bad.size:
-        return ""
-    k = bad[0]
-    reason = pin_left_bushing(float(e[k]) if np.isfinite(trace.values[k]).all() else math.nan, joint.clearance_m,
-                              float(depth[k]), joint.admissible_penetration_m, float(force[k]), joint.admissible_force_N)
-    return (f"the run diverged at t = {trace.time_s[k]:.6g} s: {reason}; nothing after this is physical ("
-            f"{trace.master}'s communication step {trace.step_s:g} s is too long for this contact: take a shorter "
-            "one, or wearjoint's adaptive master; docs/explanation/cosim_study.md)")
 
 
 def _recorded_doubles(master: str, ssp_path) -> int:
@@ -458,9 +345,9 @@ def _recorded_doubles(master: str, ssp_path) -> int:
 
 
 def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, step_s: float, sample_dt_s: float,
-                fmusim: str | None = None) -> RunRecord:
-    """``revolutions`` crank revolutions of the package ``ssp_path`` (exported with ``joint`` and
-    ``mechanism``) through the third-party ``master`` at the communication step ``step_s`` [s]."""
+                fmusim: str | None = None, load_coupling: str | None = None) -> RunRecord:
+    """``revolutions`` crank revolutions of the package ``ssp_path`` (exported with ``joint``, ``mechanism`` and,
+    if given, ``load_coupling``) through the third-party ``master`` at the communication step ``step_s`` [s]."""
     if master not in RUNNERS:
         raise ValueError(f"master={master!r}: allowed one of {', '.join(THIRD_PARTY)}")
     stop_time = revolutions * mechanism.period_s
@@ -469,7 +356,8 @@ def run_package(master: str, ssp_path, joint, mechanism, revolutions: float, ste
     extra = {"fmusim": fmusim} if master == "container" and fmusim else {}
     trace = RUNNERS[master](ssp_path, step_s, stop_time, joint.n_points, **extra)
     parameters = RunParameters("cosim", joint, mechanism,
-                               details={"master": master, "communication_step_s": step_s, "fmusim": fmusim})
+                               details={"master": master, "communication_step_s": step_s, "fmusim": fmusim,
+                                        **({"load_coupling": load_coupling} if load_coupling else {})})
     return record_from_trace(trace, joint, mechanism, sample_dt_s, parameters)
 
 
@@ -481,7 +369,7 @@ def run_master(master: str, joint, mechanism, revolutions: float, step_s: float,
         path = ssp.export_ssp(tmp, mechanism=mechanism, joint=joint, stop_time=revolutions * mechanism.period_s,
                               platforms="linux64", step_s=min(step_s, revolutions * mechanism.period_s),
                               load_coupling=load_coupling)
-        return run_package(master, path, joint, mechanism, revolutions, step_s, sample_dt_s, fmusim)
+        return run_package(master, path, joint, mechanism, revolutions, step_s, sample_dt_s, fmusim, load_coupling)
 
 
 def master_available(master: str) -> str | None:

@@ -98,8 +98,10 @@ class ModelExchangeSimulation(OwnsFmuInstance):
         n = self._engine.advance_to(t_end, samples)
         try:
             self._check()
+        except RunStopped as exc:    # a refused step: the samples before it kept
+            raise type(exc)(str(exc), n) from None
         except FmuError as exc:      # a call failed (not a refused step): the run stops there, what came before kept
-            raise RunStopped(str(exc)) from None
+            raise RunStopped(str(exc), n) from None
         return n
 
     def wear_profile(self) -> tuple[np.ndarray, np.ndarray, float]:

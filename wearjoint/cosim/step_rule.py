@@ -108,5 +108,24 @@ def paper_step_scale(joint: JointParameters | None = None, mechanism: SliderCran
     return min(1.0, scale)
 
 
-__all__ = ["StepRule", "communication_step_rule", "effective_mass_kg", "estimated_max_force_N", "groove_stiffness_N_m",
+# a given step longer than this many times the package's is an answer no ensemble checked: said so
+CHECKED_STEP_FACTOR = 2.0
+
+
+def unchecked_step_note(step_s: float, load_coupling: str, joint: JointParameters,
+                        mechanism: SliderCrankParameters) -> str:
+    """'' for a fixed-step master's ``step_s`` [s] within CHECKED_STEP_FACTOR times the step the SSP package asks
+    for with ``load_coupling`` (wearjoint.fmu.ssp.DEFAULT_STEP_S, scaled by :func:`paper_step_scale`), else a note
+    that its answers are not checked (a package at 10 times its step completed with a third of the contact)."""
+    from ..fmu.ssp import DEFAULT_STEP_S
+
+    package = DEFAULT_STEP_S[load_coupling] * paper_step_scale(joint, mechanism)
+    if not step_s > CHECKED_STEP_FACTOR * package:
+        return ""
+    return (f"--step {step_s:g} s is {step_s / package:.3g} times the checked step of --load-coupling {load_coupling} "
+            f"here ({package:.3g} s, whose ensembles sit inside the monolithic scatter): answers at it are not "
+            "checked and may be far off or blow up (docs/how-to/choose_step_and_master.md)")
+
+
+__all__ = ["StepRule", "communication_step_rule", "unchecked_step_note", "effective_mass_kg", "estimated_max_force_N", "groove_stiffness_N_m",
            "paper_step_scale"]

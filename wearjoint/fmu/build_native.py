@@ -302,7 +302,7 @@ def model_variables_header(n_points: int, guid: str, starts: dict | None = None,
 #define STEP_OVERSHOT {STEP_OVERSHOT}
 #define STEP_INADMISSIBLE {STEP_INADMISSIBLE}
 #define HELD_LINEARISED {layout.HELD_LINEARISED}
-#define ADMISSIBLE_SHARE_TEXT "{layout.ADMISSIBLE_PENETRATION_SHARE:.0%}%"
+#define ADMISSIBLE_SHARE_TEXT "{layout.ADMISSIBLE_PENETRATION_SHARE:g} times"
 #define MAX_WEAR_STEP_S {layout.MAX_WEAR_STEP_S!r}
 #define WEAR_STEP_SHARE {layout.WEAR_STEP_SHARE!r}
 #define WEAR_STEP_SHARE_EXPLICIT {layout.WEAR_STEP_SHARE_EXPLICIT!r}

@@ -298,6 +298,7 @@ def _advance_study(config, state, engine, out, ckpt_path, progress, plots, stop_
                 state["engine"] = engine.checkpoint()
                 extend_segment(state, sim_rev * per)
                 write_checkpoint_atomic(ckpt_path, state)
+                write_snapshot_index(out, config, state, "running", checkpointed_revolution=sim_rev * per)
                 written += 1
                 if stop_after_checkpoints is not None and written >= stop_after_checkpoints and not final:
                     return {"finished": False, "checkpoint": str(ckpt_path)}
@@ -328,6 +329,7 @@ def _advance_jump_route(config, state, engine, out, ckpt_path, progress, plots, 
         state["engine"] = engine.checkpoint()
         extend_segment(state, state["jump"]["revolution"])
         write_checkpoint_atomic(ckpt_path, state)
+        write_snapshot_index(out, config, state, "running", checkpointed_revolution=state["jump"]["revolution"])
         written.append(1)
         return state["finished"] or stop_after_checkpoints is None or len(written) < stop_after_checkpoints
 

@@ -127,6 +127,11 @@ def load_checkpoint(path: Path, config) -> tuple[dict, list]:
     return state, changed
 
 
+def quartile_snapshots(revolutions: int) -> tuple:
+    """The snapshots of a study of ``revolutions`` whose ``--snapshots`` was left out: its quarters."""
+    return tuple(sorted({max(1, revolutions * q // 4) for q in (1, 2, 3, 4)}))
+
+
 def _following(old: dict, new: dict) -> tuple:
     """The joint's fields that follow each study's mechanism (its offsets and effective mass, left to it in both):
     a change of the mechanism names the mechanism's option, not these."""
@@ -155,6 +160,9 @@ def settings_changes(old: dict, new: dict, path: Path) -> list:
             physical += [(option_name(k, key), before.get(k), v) for k, v in value.items()
                          if not same_setting(k, before.get(k), v) and k not in follow]
         elif old.get(key) != value:
+            if (key == "snapshots" and old.get("revolutions") != new["revolutions"]
+                    and value == list(quartile_snapshots(new["revolutions"]))):
+                continue                                # the quarters of a changed --revolutions: named there
             if key == "jump_tolerance" and (old.get(key) is None) != (value is None):    # the route itself
                 physical.append((option_name(key) + " (None: the wear-factor route)", old.get(key), value))
             else:

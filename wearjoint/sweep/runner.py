@@ -253,6 +253,19 @@ def kept_folder(folder: SweepFolder, case: Case, scheduler: str | None) -> str |
     return str(folder.case_dir(case) / RUNNING_NAME)
 
 
+def running_share(kept: str | None) -> float:
+    """The share [0, 1) of a running wear-study case done, by its last checkpoint (``checkpointed_revolution`` in its
+    kept folder's snapshots.json); 0 for other cases, remote ones and a study before its first checkpoint."""
+    if kept is None:
+        return 0.0
+    from ..studies.wear_study_recovery import SNAPSHOTS_NAME
+    try:
+        index = json.loads((Path(kept) / SNAPSHOTS_NAME).read_text())
+        return min(max(float(index["checkpointed_revolution"]) / float(index["revolutions"]), 0.0), 0.999)
+    except (OSError, ValueError, KeyError, TypeError, ZeroDivisionError):
+        return 0.0
+
+
 def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None = None, scheduler: str | None = None,
               progress: bool = True, client=None) -> dict:
     """Run the cases not yet done; returns timings and whether Ctrl-C stopped the sweep.  ``client``: a
@@ -277,7 +290,8 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
         timing["cluster_start_s"] = time.perf_counter() - start
         timing["workers"] = len(client.nthreads()) if scheduler or not own else workers
         run_start = time.perf_counter()
-        futures = {client.submit(run_case, case, no_plots, kept_folder(folder, case, scheduler),
+        kept = {case.case_id: kept_folder(folder, case, scheduler) for case in todo}
+        futures = {client.submit(run_case, case, no_plots, kept[case.case_id],
                                  key=f"wearjoint-case-{case.case_id}", pure=False): case for case in todo}
         bar = Progress(len(todo), "sweep", enabled=progress, unit="case", delay_s=0.0)
         pending, k = set(futures), 0
@@ -286,8 +300,7 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
                 try:      # a wait that ends every HEARTBEAT_S: the progress says the sweep runs while cases last
                     done, pending = wait(pending, timeout=HEARTBEAT_S, return_when="FIRST_COMPLETED")
                 except TimeoutError:
-                    bar.update(k)
-                    continue
+                    done = ()
                 for future in done:
                     k += 1
                     try:
@@ -299,7 +312,8 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
                     timing["cases_run"] += 1
                     timing["case_run_time_s"] += result.get("run_time_s", 0.0)
                     timing["warmup_time_s"] += result.get("warmup_time_s", 0.0)
-                    bar.update(k)
+                # wear studies count by their checkpoints: a case takes minutes
+                bar.update(k + sum(running_share(kept[futures[f].case_id]) for f in pending))
         except KeyboardInterrupt:
             timing["interrupted"] = True
             client.cancel(list(futures))
