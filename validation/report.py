@@ -284,6 +284,32 @@ def _law_lines(summary: dict) -> list[str]:
     return lines
 
 
+def _machine_lines(mechanism: dict, plan: dict, reference_std: dict) -> list[str]:
+    """report.md's lines on the machine compared (where the clearance is, gravity, the slider's load) and the two
+    cases whose verdicts say less than they seem to: a load table the no-wear runs' crank angles never reach (a
+    quick run of a press covered 360 to 324 deg, where its table is 0 N), an ensemble whose starts did not spread
+    (its scatter 0, the tolerances their floors)."""
+    table, gx_gy = mechanism.get("slider_force_table"), mechanism["gravity_m_s2"]
+    load = (f"{table.get('source') or 'a load table'} (up to {max(abs(f) for f in table['force_N']):.4g} N)"
+            if table else f"a constant {mechanism['slider_force_N']:g} N")
+    lines = [f"Machine: the clearance at the {mechanism['clearance_joint']} joint, {mechanism['crank_speed_rpm']:g} "
+             f"rpm, gravity ({gx_gy[0]:g}, {gx_gy[1]:g}) m/s², the slider's load: {load}.", ""]
+    if table and any(table["force_N"]):
+        span = min(360.0 * plan["revolutions"], 360.0)        # the crank turns backwards: theta0 - omega t
+        covered = (mechanism["initial_crank_angle_deg"] - np.linspace(0.0, span, 721)) % 360.0
+        if not np.any(np.interp(covered, table["crank_angle_deg"], table["force_N"])):
+            start = mechanism["initial_crank_angle_deg"] % 360.0
+            lines += [f"**Note**: the no-wear runs' crank angles ({start:g}° back to {(start - span) % 360.0:g}°) "
+                      "never reach the load table's load: the comparison is of the unloaded machine (more "
+                      "--revolutions, or --initial-crank-angle-deg, cover it).", ""]
+    if plan["ensemble"] > 1 and reference_std.get("impacts_per_revolution") == 0.0:
+        lines += [f"**Note**: the reference's {plan['ensemble']} perturbed starts did not spread (standard deviation "
+                  "0 of its impacts per revolution): over these revolutions the motion is not chaotic here, no "
+                  "scatter is measured, and the statistics' tolerances are the configurations' differences and the "
+                  "floors.", ""]
+    return lines
+
+
 def build_report(summary: dict, metrics: list[Metric]) -> str:
     """report.md: verdict, tolerance rules, one table per group, run times, gaps."""
     from wearjoint.cosim.cosimulation import DEFAULT_SCHEME   # the co-simulation's modules load with its engine
@@ -309,6 +335,7 @@ def build_report(summary: dict, metrics: list[Metric]) -> str:
         f"contact; both at {_us(plan['window_step_s'])} and twice that over the window, every point they compute "
         "compared with the reference's trace there.", "",
     ]
+    lines += _machine_lines(summary["parameters"]["mechanism"], plan, summary["ensemble_std"].get(REFERENCE, {}))
     if summary["engine_joint_changes"]:
         lines += [f"**Self-check**: engines given a different joint: `{summary['engine_joint_changes']}` "
                   "(the comparison must fail).", ""]

@@ -478,10 +478,10 @@ def add_wear_study_arguments(parser) -> None:
     parser.add_argument("--impact-threshold-m-s2", type=float, default=study["impact_threshold_m_s2"],
                         help="impact event: |a - a_ideal| above this [m/s^2] (default %(default)g)")
     parser.add_argument("--life-depth-m", type=float, default=None, metavar="DEPTH",
-                        help="state the life to this max wear depth [m] at the study's k_w, in revolutions and hours "
-                             "(summary.json's life; within the study's revolutions)")
+                        help="state the life to this max wear depth [m] at the study's k_w, in revolutions and hours")
     parser.add_argument("--resume", action="store_true",
-                        help="continue the study checkpointed in --out (the options left out are its checkpoint's)")
+                        help="continue the study checkpointed in --out (the options left out are its checkpoint's; "
+                             "with --seeds, give the options that started it)")
     task = parser.add_argument_group("other tasks")
     task.add_argument("--convergence", default=None, metavar="F1,F2,...",
                       help="convergence study of the acceleration factors (first = reference: 1 for brute force, "

@@ -245,6 +245,12 @@ def inadmissible_message(t: float, overlap_m: float, force_N: float, joint: Join
         return (worn_through_message(f"at t = {t:.6g} s", max_depth_m, joint.bushing_radius_m)
                 + " (a real bushing's wall is thinner: a smaller wear coefficient, wear factor or run; "
                 "docs/reference/model.md §3.14)")
+    if overlap_m > joint.bushing_radius_m:     # the joint came apart: its contact law has no meaning there
+        return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m past the bushing wall, "
+                f"more than the bushing's radius {joint.bushing_radius_m:g} m: the joint came apart (the contact law, "
+                f"which gave {force_N:.3g} N there, has no meaning so far out; admissible "
+                f"{joint.admissible_penetration_m:.3g} m); nothing after it is physical ({advice}; "
+                "docs/reference/model.md §3.14)")
     return (f"the run diverged at t = {t:.6g} s: {where} put the pin {overlap_m:.3g} m into the bushing wall (admissible "
             f"{joint.admissible_penetration_m:.3g} m, {L.ADMISSIBLE_PENETRATION_SHARE:g} times the pin radius) with a "
             f"normal force of {force_N:.3g} N (admissible {joint.admissible_force_N:.3g} N): no contact of this joint "

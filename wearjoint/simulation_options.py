@@ -49,9 +49,10 @@ def check_wear_step(name: str, step_s: float, joint: JointParameters,
     if step_s > limit:
         raise ParameterError(f"parameter {name}={step_s!r} is invalid with wear (wear_coefficient_m2_N * wear_factor = "
                              f"{joint.wear_coefficient_m2_N * joint.wear_factor:.4g} m^2/N): allowed at most "
-                             f"{limit:.3g} s, a step's share k_f k_w F v dt of the penetration at most "
-                             f"{joint.wear_step_share:g} and at most {MAX_WEAR_STEP_S:g} s "
-                             "(docs/reference/model.md §7)")
+                             f"{limit:.3g} s (" + ("the longest step with wear" if limit >= MAX_WEAR_STEP_S else
+                                                   "where a step's share k_f k_w F v dt of the penetration reaches "
+                                                   f"{joint.wear_step_share:g}")
+                             + "; docs/reference/model.md §7)")
 
 
 def check_run_arguments(joint, mechanism, options, options_type: type, fmu_path=None,

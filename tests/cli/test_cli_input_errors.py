@@ -245,3 +245,18 @@ def test_a_negative_value_in_any_notation_is_read_as_the_options_value(tmp_path,
     from wearjoint.cli import build_parser
     args = build_parser("simulate").parse_args(["simulate", "--gravity-m-s2", "-9.81,0", "--out", "x"])
     assert args.gravity_m_s2 == (-9.81, 0.0)
+
+
+def test_calibrate_on_an_ensemble_folder_points_to_its_cases(study, tmp_path, capsys):
+    """A --seeds folder holds its studies under cases/: it had been refused as "not a finished wear study
+    (FileNotFoundError: ...summary.json)" although it had finished."""
+    ensemble = tmp_path / "seeds"
+    case = ensemble / "cases" / "0123456789abcdef"
+    case.mkdir(parents=True)
+    (ensemble / "sweep.json").write_text("{}")
+    for name in ("summary.json", "wear_growth.csv"):
+        (case / name).write_text((study / name).read_text())
+    line = refused(capsys, "calibrate", "--study", str(ensemble), *POINTS, "--out", str(tmp_path / "c"))
+    assert line.rstrip().endswith(f"--study='{ensemble}' is invalid: it holds an ensemble of wear studies (--seeds; sweep.json);"
+                         f" allowed one wear study's folder, e.g. one of its cases: {case}"), line
+    assert main(["calibrate", "--study", str(case), *POINTS, "--no-plots", "--out", str(tmp_path / "c")]) == 0

@@ -160,3 +160,14 @@ def test_a_load_beyond_the_joint_is_named_not_blamed_on_the_step(tmp_path, capsy
                  str(tmp_path)]) == 1
     err = capsys.readouterr().err
     assert "no step helps: the machine's own loads put up to" in err and "shorter step or an adaptive" not in err
+
+
+def test_a_pin_past_the_whole_bushing_is_said_to_have_left_the_joint():
+    """RK4 at 0.3 ms put the pin 902 m "into the bushing wall with a normal force of 0 N": the contact law is no
+    measure that far out, and the message says the joint came apart instead."""
+    from wearjoint.runner import inadmissible_message
+
+    far = inadmissible_message(0.0036, 902.0, 0.0, JOINT, "an accepted step", 0.0)
+    assert "put the pin 902 m past the bushing wall, more than the bushing's radius" in far and "came apart" in far
+    near = inadmissible_message(0.0036, 5e-4, 3e5, JOINT, "an accepted step", 0.0)
+    assert "put the pin 0.0005 m into the bushing wall" in near and "came apart" not in near

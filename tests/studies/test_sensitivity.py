@@ -294,6 +294,20 @@ def test_more_samples_resume_reuses_every_finished_run(studies, tmp_path):
         [r["case_id"] for r in read_csv(root / "sobol" / "samples.csv")]
 
 
+def test_a_resumed_analysis_of_fewer_outputs_leaves_no_earlier_figure(studies, tmp_path):
+    """--resume with other --outputs rewrote indices.csv and summary.json but left the earlier analysis's figures,
+    which report.html embedded beside the new ones."""
+    root, _ = studies
+    out = tmp_path / "sobol"
+    shutil.copytree(root / "sobol", out)
+    assert len(list(out.glob("sensitivity_*.png"))) > 1
+    done = wearjoint("sensitivity", "simulate", *(a for a in TINY if a != "--no-plots"), *PARAMS, "--method", "sobol",
+                     "--samples", "8", "--seed", "7", "--outputs", "max_wear_depth_m", "--out", str(out), "--quiet",
+                     "--resume")
+    assert done.returncode == 0, done.stderr
+    assert [p.name for p in out.glob("sensitivity_*.png")] == ["sensitivity_max_wear_depth_m.png"]
+
+
 def _default_sigint() -> None:
     """In the child before it starts: Ctrl-C as a terminal delivers it.  A child inherits an ignored SIGINT,
     and a pytest-xdist worker may run this test with SIGINT ignored; Python then never raises
@@ -481,4 +495,6 @@ def test_an_interval_of_an_index_that_cannot_be_negative_stops_at_zero():
     assert interval({"S1": -0.02, "S1_conf": 0.05}, "S1") == (0.0, pytest.approx(0.03))
     assert interval({"ST": 0.5, "ST_conf": 0.1}, "ST") == (pytest.approx(0.4), pytest.approx(0.6))
     assert interval({"mu": -1.0, "mu_conf": 0.5}, "mu") == (-1.5, -0.5)
+    assert interval({"S1": 0.9, "S1_conf": 0.83}, "S1") == (pytest.approx(0.07), 1.0)     # a share of the variance
+    assert interval({"mu_star": 0.9, "mu_star_conf": 0.83}, "mu_star")[1] == pytest.approx(1.73)   # not a share
 

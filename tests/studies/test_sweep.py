@@ -314,6 +314,16 @@ def test_figure_shows_the_relative_change_against_the_bias_band(monkeypatch, tmp
     assert low <= -8.4 and high >= 8.4 and "%" in ax.get_ylabel()          # the bias band is on the axis
 
 
+def test_a_grid_over_decades_is_drawn_on_a_log_axis(monkeypatch, tmp_path):
+    """k_w over 1e-12..1e-9 on a linear axis: three of four points together at the left, their labels overlapping."""
+    from wearjoint.sweep.report import plot_against_parameters
+
+    figures = _captured_figures(monkeypatch)
+    plot_against_parameters(tmp_path, _points({1e-12: [1e-6], 1e-11: [2e-6], 1e-10: [3e-6], 1e-9: [4e-6]}, None))
+    plot_against_parameters(tmp_path, _points({0.05: [1e-6], 0.1: [2e-6], 0.2: [3e-6]}, None))
+    assert [fig.axes[0].get_xscale() for fig in figures] == ["log", "linear"]
+
+
 def test_two_swept_parameters_give_each_lines_reference_in_the_title(monkeypatch, tmp_path):
     """Against mu, one line per value of the second parameter, each relative to its own first point: the title named
     no reference (one was shown only for a single line), so the percentages could not be read back as depths."""
@@ -460,3 +470,31 @@ def test_a_swept_parameters_close_values_are_labelled_apart():
     assert _distinct_labels([0.00603, 0.006035, 0.00604]) == ["0.00603", "0.006035", "0.00604"]
     assert _distinct_labels([0.0100303, 0.0100304]) == ["0.0100303", "0.0100304"]
     assert _distinct_labels([0.1, 0.2, 1e-5]) == ["0.1", "0.2", "1e-05"]
+
+
+def test_a_cases_command_line_gives_back_its_pairs():
+    """A case's command line (case.json, its summary's) is the run outside the sweep: gravity's pair had been written
+    as two words, `--gravity-m-s2 0.0 -9.81`, which the command refuses ("unrecognized arguments: -9.81")."""
+    given = ["--out", "x", "--gravity-m-s2=0,-9.81", "--bushing-offset-m", "-0.11", "0.001"]
+    base = {k: v for k, v in vars(command_parser("simulate").parse_args(given)).items()
+            if k not in ("out", "quiet", "no_plots")}
+    [case] = build_cases("simulate", base)
+    assert "--gravity-m-s2=0.0,-9.81" in case.argv()
+    parsed = vars(command_parser("simulate").parse_args([*case.argv(), "--out", "x"]))
+    assert {k: parsed[k] for k in dict(case.options)} == dict(case.options)
+    assert parsed["gravity_m_s2"] == (0.0, -9.81) and list(parsed["bushing_offset_m"]) == [-0.11, 0.001]
+
+
+def test_an_ensembles_wear_angle_is_a_circular_mean():
+    """Seeds with their deepest point at 8.3, 185.6, 185.6 and 185.9 deg had an ensemble mean of 141 deg, where no
+    lobe is; angles across 0/360 deg average to 0, not 180."""
+    from wearjoint.sweep.report import circular_mean_std_deg, ensemble_rows
+
+    mean, std = circular_mean_std_deg(np.array([359.0, 1.0]))
+    assert min(mean, 360.0 - mean) == pytest.approx(0.0, abs=1e-9) and std == pytest.approx(1.0, rel=1e-3)
+    point = _points({0.1: [1e-6] * 4}, None)[0]
+    for row, angle in zip(point.ok, (8.3, 185.6, 185.6, 185.9)):
+        row["max_wear_angle_deg"] = angle
+    row = ensemble_rows([point])[0]
+    assert 180.0 < row["max_wear_angle_deg_mean"] < 186.0 and (row["max_wear_angle_deg_min"],
+                                                               row["max_wear_angle_deg_max"]) == (8.3, 185.9)

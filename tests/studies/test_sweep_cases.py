@@ -56,3 +56,19 @@ print(json.dumps([code, sorted({{round(u % 1, 3) for u in updates}}), updates[-1
     # four simulated revolutions a case, a checkpoint after each (the last one's share shown as 0.999 until the
     # case ends): quarters between the cases' ends
     assert {0.25, 0.5, 0.75} <= set(shares) <= {0.0, 0.25, 0.5, 0.75, 0.999}, (shares, done.stderr[-2000:])
+
+
+def test_an_ensemble_says_how_many_seeds_reached_the_life_depth(tmp_path, capsys):
+    """A --seeds study whose depth stopped short of --life-depth-m printed no life at all (the mean had no numbers):
+    each case's row says whether it reached the depth, and the ensemble how many did."""
+    from wearjoint.cli.sweep import print_outcome
+    from wearjoint.sweep.runner import summary_figures
+
+    assert summary_figures({"life": {"revolutions": None}, "life_revolutions": None})["life_reached"] == 0
+    assert summary_figures({"life": {"revolutions": 1090.0}, "life_revolutions": 1090.0})["life_reached"] == 1
+    assert "life_reached" not in summary_figures({"max_wear_depth_m": 1e-5})
+    (tmp_path / "ensemble.csv").write_text("point,n_ok,n_failed,max_wear_depth_m_mean,max_wear_depth_m_std,"
+                                           "life_reached_mean\n0,2,0,1.9e-05,1e-09,0.5\n")
+    print_outcome({"cases": 2, "grid_points": 1, "seeds": 2, "ok": 2, "failed": 0, "skipped_as_done": 0,
+                   "wall_time_s": 1.0, "failures": []}, tmp_path)
+    assert "the life's depth (--life-depth-m) reached by 1 of 2 seeds" in capsys.readouterr().out

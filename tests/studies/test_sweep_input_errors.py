@@ -200,7 +200,7 @@ def test_only_the_cases_that_run_are_checked_not_the_base_a_varied_option_replac
     box = parse_params("simulate", ["pin-radius-m=0.0050,0.0055", "bushing-radius-m=0.0060,0.0065"])
     check_ranges(box, base("simulate", "--revolutions", "0.02"))
     crossing = parse_params("simulate", ["pin-radius-m=0.0050,0.0062", "bushing-radius-m=0.0060,0.0065"])
-    with pytest.raises(ParameterError, match=r"^--param 'bushing-radius-m=0.006,0.0065': bushing-radius-m=0.006 is "
+    with pytest.raises(ParameterError, match=r"^--param 'bushing-radius-m=0.0060,0.0065': bushing-radius-m=0.006 is "
                                              r"invalid: .* > pin_radius_m \(pin_radius_m = 0.0062\)$"):
         check_ranges(crossing, base("simulate", "--revolutions", "0.02"))
 
@@ -232,7 +232,7 @@ def test_a_sensitivity_seed_out_of_range_is_refused(tmp_path, capsys, seed):
 def test_a_sensitivity_range_the_run_refuses_names_param(tmp_path, capsys):
     line = refused(capsys, "sensitivity", "simulate", *TINY, "--param", "revolutions=0,1", "--out",
                    str(tmp_path / "out"))
-    assert "--param 'revolutions=0.0,1.0': revolutions=0.0 is invalid: allowed > 0" in line
+    assert "--param 'revolutions=0,1': revolutions=0.0 is invalid: allowed > 0" in line     # as the user wrote it
 
 
 def test_refused_addresses_one_after_another_in_one_process_do_not_hang():
@@ -280,3 +280,27 @@ def test_a_study_option_that_would_do_nothing_is_refused(tmp_path, capsys, args,
     err = refused(capsys, *args, *TINY, "--out", str(tmp_path / "o"))
     assert line in err
     assert not (tmp_path / "o").exists()
+
+
+def test_a_scheduler_without_workers_is_refused_after_waiting_and_a_sweep_with_workers_and_scheduler_too(
+        tmp_path, capsys):
+    """A sweep on a scheduler with no worker had waited for ever, saying 0/1 case every 16 s: it is refused after
+    NO_WORKER_WAIT_S, naming the scheduler.  In a subprocess (a scheduler of its own, no worker); --workers with
+    --scheduler, which had been ignored, is refused before anything starts."""
+    out = tmp_path / "out"
+    code = ("import sys\nfrom distributed import LocalCluster\nfrom wearjoint.cli import main\n"
+            "from wearjoint.sweep import runner\nrunner.NO_WORKER_WAIT_S = 1\n"
+            "with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:\n"
+            f"    code = main(['sweep', 'simulate', '--revolutions', '0.01', '--vary', 'restitution=0.6', '--out', "
+            f"{str(out)!r}, '--scheduler', cluster.scheduler_address])\n"
+            "print(code, cluster.scheduler_address)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    returned, address = done.stdout.split()[-2:]
+    errors = [line for line in done.stderr.splitlines() if "error:" in line]
+    assert returned == "2" and len(errors) == 1, done.stderr[-2000:]
+    assert errors[0].endswith(f"--scheduler={address!r} is invalid: the scheduler has no worker (waited 1 s); "
+                              f"allowed a scheduler with workers (start one: dask worker {address})"), errors
+    line = refused(capsys, "sweep", "simulate", *TINY, "--vary", "restitution=0.6", "--workers", "1", "--scheduler",
+                   "tcp://127.0.0.1:1", "--out", str(tmp_path / "both"))
+    assert "--workers=1 is invalid with --scheduler='tcp://127.0.0.1:1': allowed without it" in line
+    assert not (tmp_path / "both").exists()

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from wearjoint import SliderCrankParameters, against_ideal, paper_joint
+from wearjoint.mechanism_parameters import SliderForceTable
 from wearjoint.contact_laws import contact_law_variants
 from wearjoint.core import layout as L
 from wearjoint.slider_crank import SliderCrank
@@ -373,3 +374,22 @@ def test_a_reference_law_is_reported_per_engine_and_never_fails_the_run():
     assert verdicts["cosim"]["verdict"] == "pass"
     assert report._status([metric("cosim", False), metric("exudyn-native", True)], ran) == 1
     assert report.engine_verdicts([metric("exudyn-discrete", False)])["exudyn-discrete"]["verdict"] == "fail"
+
+
+def test_the_report_states_the_machine_and_what_its_verdicts_cannot_say():
+    """A press's quick validate covered crank angles 360 to 324 deg, where its table is 0 N, and its two starts did not
+    spread: report.md named neither the load, nor gravity, nor the joint, and said the scatter was measured."""
+    from validation.report import _machine_lines
+
+    press = SliderCrankParameters(crank_speed_rpm=100.0, gravity_m_s2=(0.0, -9.81), clearance_joint="rod-slider",
+                                  slider_force_table=SliderForceTable((0.0, 3.0, 20.0, 30.0, 360.0),
+                                                                      (0.0, 4000.0, 4000.0, 0.0, 0.0), source="press.csv"))
+    plan = {"revolutions": 0.1, "ensemble": 2}
+    lines = _machine_lines(press.to_dict(), plan, {"impacts_per_revolution": 0.0})
+    assert lines[0] == ("Machine: the clearance at the rod-slider joint, 100 rpm, gravity (0, -9.81) m/s², the slider's "
+                        "load: press.csv (up to 4000 N).")
+    assert any("never reach the load table's load" in line and "(0° back to 324°)" in line for line in lines)
+    assert any("perturbed starts did not spread" in line for line in lines)
+    # a run over the whole turn meets the load; a spread ensemble is a measured scatter
+    whole = _machine_lines(press.to_dict(), {"revolutions": 1.0, "ensemble": 2}, {"impacts_per_revolution": 1.5})
+    assert len(whole) == 2 and whole[0] == lines[0]

@@ -85,7 +85,14 @@ def _revolutions(text: str | None) -> list[float]:
 def _read_study(folder: str) -> tuple[dict, np.ndarray, float]:
     """(summary, wear_growth.csv's rows, the study's k_w [m^2/N]) of a finished wear study, or --study refused in one
     line."""
+    from ..sweep.runner import SPEC_NAME
+
     study = Path(folder)
+    if (study / SPEC_NAME).is_file():       # a --seeds ensemble (a sweep): each of its studies is a case folder
+        cases = sorted(p.parent for p in study.glob("cases/*/summary.json"))
+        raise ParameterError(f"--study={folder!r} is invalid: it holds an ensemble of wear studies (--seeds; "
+                             f"{SPEC_NAME}); allowed one wear study's folder, e.g. one of its cases"
+                             + (f": {cases[0]}" if cases else " (cases/CASE_ID: none finished yet)"))
     try:
         summary = json.loads((study / "summary.json").read_text())
         with warnings.catch_warnings():     # a file without rows: said below, not warned

@@ -14,7 +14,7 @@ from pathlib import Path
 from ..parameters import ParameterError
 from ..sensitivity.sample import DEFAULT_SAMPLES, METHODS, MIN_SAMPLES
 from ..sweep.design import TARGETS, command_options
-from ..sweep.limits import check_workers
+from ..sweep.limits import check_cluster, check_workers
 from .out_folder import prepare_out_folder
 from .sweep import study_parser
 
@@ -68,6 +68,7 @@ def run(args) -> int:
     if a.seeds is not None:
         raise ParameterError(f"--seeds={a.seeds!r} is invalid here: each design row is one run (--seed seeds the "
                              "sampling)")
+    check_cluster(a.workers, a.scheduler)
     if a.workers is not None:
         check_workers(a.workers)
     if a.max_samples is not None and a.target_interval is None:

@@ -12,7 +12,7 @@ from .._compile.prefetch import usable_cores
 from ..parameters import ParameterError
 from ..sweep.bias import Bias
 from ..sweep.design import SEED_ANGLE_STEP_DEG, TARGETS, command_options, sweep_design
-from ..sweep.limits import check_seeds, check_workers
+from ..sweep.limits import check_cluster, check_seeds, check_workers
 from ..targets import target as sweep_target
 from . import OneLineErrorParser
 from .out_folder import prepare_out_folder
@@ -87,6 +87,7 @@ def run_from_args(command: str, args) -> int:
     design = sweep_design(command, getattr(args, "vary", None), getattr(args, "design", None))
     seeds = args.seeds if args.seeds is not None else design["seeds"]
     seeds = check_seeds(DEFAULT_SEEDS if seeds is None else seeds)
+    check_cluster(args.workers, args.scheduler)
     workers = check_workers(args.workers) if args.workers is not None else usable_cores()
     try:
         summary = run_sweep(command, command_options(command, args), args.out, vary=design["vary"],
@@ -112,7 +113,11 @@ def print_outcome(summary: dict, out) -> None:
 
     from ..sweep.report import BIAS_NOTE, regime_line
 
-    print(f"  {summary['cases']} cases ({summary['grid_points']} grid points x {summary['seeds']} seeds): "
+    def counted(n: int, what: str) -> str:
+        return f"{n} {what}{'' if n == 1 else 's'}"
+
+    print(f"  {counted(summary['cases'], 'case')} ({counted(summary['grid_points'], 'grid point')} x "
+          f"{counted(summary['seeds'], 'seed')}): "
           f"{summary['ok']} ok, {summary['failed']} failed, {summary['skipped_as_done']} already done; "
           f"{summary['wall_time_s']:.1f} s")
     notes = {}
@@ -128,6 +133,10 @@ def print_outcome(summary: dict, out) -> None:
                   + "  ".join(filter(None, (_mean_std(row, k) for k in keys))))
             if regime_line(row):
                 print(f"    {regime_line(row)}")
+            if row.get("life_reached_mean") and float(row["life_reached_mean"]) < 1.0:
+                reached = round(float(row["life_reached_mean"]) * int(row["n_ok"]))
+                print(f"    the life's depth (--life-depth-m) reached by {reached} of {row['n_ok']} seeds: the others "
+                      "stop short of it (a longer study: more --revolutions)")
             notes.update(dict.fromkeys(filter(None, (row.get(BIAS_NOTE) or "").split(" | "))))
     for note in notes:
         print(f"  wear-factor bias of {note}")

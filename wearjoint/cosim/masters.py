@@ -196,8 +196,8 @@ def run_fmpy_ssp(ssp_path, step_s: float, stop_time_s: float, n_points: int) -> 
                             parameter_set=SimpleNamespace(parameters=parameters))
     except Exception as exc:      # fmpy's FMICallException: its simulator keeps no rows of a run it aborts
         raise RunDiverged(f"the run diverged: fmpy's SSP simulator stopped ({exc}): the joint FMU refuses inputs deeper "
-                          "in the bushing wall than any contact (fmi2Discard; this master does not show the FMU's log, "
-                          "--master wearjoint at this step does); the "
+                          "in the bushing wall than any contact (fmi2Discard: the FMU's log line on stderr names the "
+                          "inputs); the "
                           f"communication step {step_s:g} s is too long for this contact; fmpy keeps no rows of the "
                           "run (docs/explanation/cosim_study.md)") from None
     wall = time.perf_counter() - start

@@ -59,7 +59,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
     (names, default :data:`.report.DEFAULT_OUTPUTS`); with ``target_interval`` double the samples (up to
     ``max_samples``, default 8 x ``samples``) until the widest interval meets it; with ``law_spread`` then run
     every contact law variant at the nominal point (:func:`.law_spread.run_law_spread`); ``plots``: the indices'
-    figures (an earlier run's go without them).  Returns summary.json's content."""
+    figures (an earlier analysis's go whenever this one is written, or without them).  Returns summary.json's content."""
     from ..sweep.runner import SweepFolder, refuse_existing, resumed, run_cases, start_client
 
     n = check_samples(method, DEFAULT_SAMPLES.get(method) if samples is None else samples)
@@ -122,7 +122,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
                   {r["case_id"]: r for r in table}, outputs)
     biases = output_biases(out, table, outputs)
     figures = []
-    if not plots:
+    if not plots or not study["stopped"]:     # an earlier analysis's (other --outputs or --samples) go: not mixed
         for stale in out.glob("sensitivity_*.png"):
             stale.unlink()
     if not study["stopped"]:

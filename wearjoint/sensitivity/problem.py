@@ -8,7 +8,7 @@ design module.  A ``log`` parameter is sampled uniformly in log10 of its value (
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,6 +28,7 @@ class Parameter:
     low: float
     high: float
     log: bool = False
+    written: str = field(default="", compare=False)     # the --param item as the user wrote it (for messages)
 
     @property
     def bounds(self) -> list:
@@ -39,7 +40,8 @@ class Parameter:
         return np.clip(10.0 ** column if self.log else column, self.low, self.high)
 
     def text(self) -> str:
-        return f"{self.name}={self.low!r},{self.high!r}" + (",log" if self.log else "")
+        """The ``--param`` item as written (else NAME=LOW,HIGH[,log] from the values)."""
+        return self.written or f"{self.name}={self.low!r},{self.high!r}" + (",log" if self.log else "")
 
 
 @dataclass(frozen=True)
@@ -88,7 +90,7 @@ def parse_param(command: str, item: str, variables: dict) -> Parameter:
         raise ParameterError(f"{where} is invalid: LOW={low!r} >= HIGH={high!r}; allowed LOW < HIGH")
     if log and not low > 0.0:
         raise ParameterError(f"{where} is invalid: a log range must lie above 0 (LOW={low!r}); allowed 0 < LOW < HIGH")
-    return Parameter(name, action.dest, low, high, log)
+    return Parameter(name, action.dest, low, high, log, str(item))
 
 
 def parse_params(command: str, items, base: dict | None = None) -> Problem:

@@ -118,13 +118,15 @@ def ranked(method: str, result: dict) -> list:
 
 # indices that are never negative (a mean of absolute changes, shares of a variance): their intervals stop at 0
 NON_NEGATIVE = ("mu_star", "S1", "ST")
+SHARES = ("S1", "ST")          # shares of the output's variance: at most 1
 
 
 def interval(row: dict, index: str) -> tuple[float, float]:
     """(low, high): ``row[index]`` -/+ its 95 % half-interval ``row[index + "_conf"]`` (SALib's), the low end at least
-    0 for an index that cannot be negative (μ* = 3.8e-8 with a half-interval of 1.2e-7 gave -7.9e-8)."""
+    0 for an index that cannot be negative (μ* = 3.8e-8 with a half-interval of 1.2e-7 gave -7.9e-8), the high end
+    at most 1 for a share of the variance (S1's 1.73 at N = 8)."""
     low, high = row[index] - row[f"{index}_conf"], row[index] + row[f"{index}_conf"]
-    return (max(low, 0.0) if index in NON_NEGATIVE else low), high
+    return (max(low, 0.0) if index in NON_NEGATIVE else low), (min(high, 1.0) if index in SHARES else high)
 
 
 def write_indices(out: Path, method: str, results: dict, biases: dict) -> None:
@@ -173,7 +175,7 @@ def _whiskers(rows: list, index: str, scale: float = 1.0) -> list:
     """matplotlib's xerr of the bars of ``index``: each row's :func:`interval` below and above its value."""
     ends = [interval(r, index) for r in rows]
     return [[max(r[index] - low, 0.0) / scale for r, (low, _) in zip(rows, ends)],   # an estimate below 0: none
-            [(high - r[index]) / scale for r, (_, high) in zip(rows, ends)]]
+            [max(high - r[index], 0.0) / scale for r, (_, high) in zip(rows, ends)]]   # a share above 1: none
 
 
 __all__ = ["DEFAULT_OUTPUTS", "PEAK", "BIAS_EFFECT", "allowed_outputs", "parse_outputs", "output_value", "invalid_reason",

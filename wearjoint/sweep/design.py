@@ -92,6 +92,8 @@ def options_to_argv(parser: argparse.ArgumentParser, options: dict) -> list[str]
         flag = action.option_strings[-1]
         if isinstance(action, argparse._StoreTrueAction):
             argv.append(flag)
+        elif isinstance(value, (list, tuple)) and action.nargs is None:     # one argument holding a pair (gravity)
+            argv.append(f"{flag}={','.join(map(_text, value))}")
         elif isinstance(value, (list, tuple)):
             argv += [flag, *map(_text, value)]
         else:

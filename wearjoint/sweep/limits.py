@@ -25,4 +25,12 @@ def check_workers(workers, where: str = "--workers") -> int:
     return workers
 
 
-__all__ = ["MAX_SEEDS", "WORKERS_PER_CORE", "check_seeds", "check_workers"]
+def check_cluster(workers, scheduler) -> None:
+    """``--workers`` sizes a cluster of this machine: refused with ``--scheduler``, whose workers run the cases (it had
+    been ignored, and sweep_summary.json gave the scheduler's count)."""
+    if workers is not None and scheduler is not None:
+        raise ParameterError(f"--workers={workers!r} is invalid with --scheduler={scheduler!r}: allowed without it (the "
+                             "scheduler's own workers run the cases; --workers sizes a cluster on this machine)")
+
+
+__all__ = ["MAX_SEEDS", "WORKERS_PER_CORE", "check_cluster", "check_seeds", "check_workers"]

@@ -128,6 +128,15 @@ def regime_fields(points: list[GridPoint]) -> list[dict]:
     return out
 
 
+def circular_mean_std_deg(angles_deg: np.ndarray) -> tuple[float, float]:
+    """(circular mean in [0, 360), circular standard deviation sqrt(-2 ln R)) [deg] of angles on the bushing: the
+    arithmetic mean of lobes at 8 and 186 deg had said 141 deg, where no lobe is."""
+    z = np.exp(1j * np.radians(angles_deg)).mean()
+    spread = math.sqrt(max(-2.0 * math.log(min(abs(z), 1.0)), 0.0)) if abs(z) > 0.0 else math.inf
+    mean = float(np.degrees(np.angle(z)))
+    return (mean + 360.0 if mean < 0.0 else mean), float(np.degrees(spread))
+
+
 def ensemble_rows(points: list[GridPoint]) -> list[dict]:
     """ensemble.csv's rows (see the module docstring)."""
     out = []
@@ -144,8 +153,9 @@ def ensemble_rows(points: list[GridPoint]) -> list[dict]:
             values = values[np.isfinite(values)]
             if values.size == 0:
                 continue
-            row[f"{column}_mean"] = float(values.mean())
-            row[f"{column}_std"] = float(values.std(ddof=1)) if values.size > 1 else ""
+            mean, std = circular_mean_std_deg(values) if column.endswith("_angle_deg") else (
+                float(values.mean()), float(values.std(ddof=1)) if values.size > 1 else "")
+            row[f"{column}_mean"], row[f"{column}_std"] = mean, (std if values.size > 1 else "")
             row[f"{column}_min"] = float(values.min())
             row[f"{column}_max"] = float(values.max())
             if column in point.bias:                  # the systematic uncertainty next to the answer
@@ -308,6 +318,9 @@ def _distinct_labels(values) -> list[str]:
     return [repr(v) for v in values]
 
 
+LOG_AXIS_SPAN = 100.0      # a swept parameter whose values span this factor or more is drawn on a log axis
+
+
 def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
     """vs_PARAMETER.png: each figure of merit against each swept parameter, as the change from the
     first grid point in % against the wear factor's bias band (:func:`_change_panel`); one line per
@@ -336,6 +349,9 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
             ax.set_title(merit + (f" (0 % = {' | '.join(f'{ref:.4g}' for ref in refs)})" if refs else ""),
                          fontsize=9)
             ax.set_xlabel(param, fontsize=8)
+            if numeric and min(values) > 0.0 and max(values) >= LOG_AXIS_SPAN * min(values):
+                ax.set_xscale("log")             # a grid over decades (k_w 1e-12..1e-9 had run together at the left)
+                ax.minorticks_off()
             if not numeric:
                 ax.set_xticks(range(len(values)), [str(v) for v in values])
             elif len(values) <= MAX_LABELLED_VALUES:     # each value (the default ran close ones together)

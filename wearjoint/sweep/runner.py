@@ -16,6 +16,7 @@ import logging
 import os
 import shutil
 import signal
+import sys
 import tempfile
 import threading
 import time
@@ -33,6 +34,7 @@ CASE_NAME = "case.json"
 LEAD_COLUMNS = ("case_id", "seed", "status", "error")
 PENDING = "pending"   # the status of a case not finished (never written to sweep.csv)
 CONNECT_TIMEOUT_S = 30   # how long --scheduler's address may take to answer
+NO_WORKER_WAIT_S = 30.0   # how long a scheduler without workers is waited for before the sweep is refused
 TAIL_COLUMNS = ("run_time_s", "warmup_time_s", "worker", "folder")
 SNAPSHOT_FIGURES = ("max_wear_depth_m", "worn_volume_m3", "lobe_0_depth_m", "lobe_180_depth_m", "impact_events",
                     "impact_peak_max_m_s2")
@@ -40,8 +42,8 @@ SNAPSHOT_FIGURES = ("max_wear_depth_m", "worn_volume_m3", "lobe_0_depth_m", "lob
 
 def summary_figures(summary: dict) -> dict:
     """The numbers of a case's summary.json as flat columns: every top-level number, the run's ``regime``
-    (:func:`wearjoint.analysis.regime`), and for a wear study ``rev{R}_{figure}`` per snapshot and the
-    growth exponent."""
+    (:func:`wearjoint.analysis.regime`), and for a wear study ``rev{R}_{figure}`` per snapshot, the
+    growth exponent and with a life's depth ``life_reached`` (1 or 0)."""
     row = {k: v for k, v in summary.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
     if isinstance(summary.get("regime"), str):
         row["regime"] = summary["regime"]
@@ -52,6 +54,8 @@ def summary_figures(summary: dict) -> dict:
     growth = summary.get("growth", {})
     if isinstance(growth.get("growth_exponent"), (int, float)):
         row["growth_exponent"] = growth["growth_exponent"]
+    if isinstance(summary.get("life"), dict):     # --life-depth-m: 0 where the study stopped short of the depth
+        row["life_reached"] = int(summary["life"].get("revolutions") is not None)
     return row
 
 
@@ -82,10 +86,11 @@ def write_csv_atomic(path: Path, rows: list[dict], lead=()) -> None:
 
 
 def refuse_existing(out) -> None:
-    """A one-line ParameterError if ``out`` holds a sweep already (a run without ``--resume``)."""
+    """A one-line ParameterError if ``out`` holds a sweep or a sensitivity study already (a run without
+    ``--resume``)."""
     if (Path(out) / SPEC_NAME).exists():
-        raise ParameterError(f"--out {out} already holds a sweep ({SPEC_NAME}); pass --resume to continue "
-                             "it or choose another --out")
+        raise ParameterError(f"--out {out} already holds a sweep or sensitivity study ({SPEC_NAME}); pass --resume to "
+                             "continue it or choose another --out")
 
 
 def resumed(out, what: str = "sweep") -> dict:
@@ -175,6 +180,18 @@ class SweepFolder:
 
 
 # ------------------------------------------------------------------ Dask
+def _wait_for_a_worker(client, scheduler: str) -> None:
+    """Return once the scheduler has a worker; ParameterError (the client closed) after NO_WORKER_WAIT_S without
+    one (a sweep had waited for ever, saying 0/1 case every 16 s)."""
+    try:
+        client.wait_for_workers(1, timeout=NO_WORKER_WAIT_S)
+    except TimeoutError:
+        client.close()
+        raise ParameterError(f"--scheduler={scheduler!r} is invalid: the scheduler has no worker (waited "
+                             f"{NO_WORKER_WAIT_S:g} s); allowed a scheduler with workers (start one: dask worker "
+                             f"{scheduler})") from None
+
+
 def start_client(workers: int | None, scheduler: str | None):
     """(client, cluster or None): the cluster at ``scheduler``, or a LocalCluster of processes."""
     import dask
@@ -182,11 +199,14 @@ def start_client(workers: int | None, scheduler: str | None):
 
     if scheduler:
         try:
-            return Client(scheduler, timeout=CONNECT_TIMEOUT_S), None
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT_S)
         except (OSError, TimeoutError, ValueError, AssertionError) as exc:
             # AssertionError: distributed's client thread did not start its event loop within its 10 s (seen on a
             # loaded machine, distributed/utils.py LoopRunner); nothing is connected either way
             reason = "the Dask client's event loop did not start" if isinstance(exc, AssertionError) else str(exc)
+        else:
+            _wait_for_a_worker(client, scheduler)
+            return client, None
         # the failed client, left in a reference cycle, is closed now: collected later, inside the next client's
         # start in this process, its close waited for ever on that start (distributed's LoopRunner; seen in the tests)
         gc.collect()
@@ -253,6 +273,17 @@ def kept_folder(folder: SweepFolder, case: Case, scheduler: str | None) -> str |
     return str(folder.case_dir(case) / RUNNING_NAME)
 
 
+def _say_no_worker(client, scheduler: str, told: bool) -> bool:
+    """Whether the scheduler has no worker now, said once on stderr when it starts having none (the sweep had
+    waited silently, its ETA growing, after its workers were killed)."""
+    if client.nthreads():
+        return False
+    if not told:
+        print(f"wearjoint: the scheduler {scheduler} has no worker now: the sweep waits for one (start one: dask worker "
+              f"{scheduler}; Ctrl-C stops the sweep, --resume continues it)", file=sys.stderr, flush=True)
+    return True
+
+
 def running_share(kept: str | None) -> float:
     """The share [0, 1) of a running wear-study case done, by its last checkpoint (``checkpointed_revolution`` in its
     kept folder's snapshots.json); 0 for other cases, remote ones and a study before its first checkpoint."""
@@ -294,13 +325,14 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
         futures = {client.submit(run_case, case, no_plots, kept[case.case_id],
                                  key=f"wearjoint-case-{case.case_id}", pure=False): case for case in todo}
         bar = Progress(len(todo), "sweep", enabled=progress, unit="case", delay_s=0.0)
-        pending, k = set(futures), 0
+        pending, k, told = set(futures), 0, False
         try:
             while pending:
                 try:      # a wait that ends every HEARTBEAT_S: the progress says the sweep runs while cases last
                     done, pending = wait(pending, timeout=HEARTBEAT_S, return_when="FIRST_COMPLETED")
                 except TimeoutError:
                     done = ()
+                    told = scheduler is not None and _say_no_worker(client, scheduler, told)
                 for future in done:
                     k += 1
                     try:
