@@ -44,8 +44,9 @@ def slider_acc_error_max(record) -> float:
 
 def revolution_columns(samples: np.ndarray, stats: np.ndarray, mechanism, comparison=None) -> np.ndarray:
     """Per revolution 0 .. last (rows), :data:`REVOLUTION_COLUMNS`: the largest and the RMS |a - a_ideal| of the
-    samples in it and the ideal joint's largest reaction at those times [N]; NaN where a revolution has no sample
-    (``comparison``: :func:`sample_comparison` of ``samples`` where the caller has it)."""
+    samples in it and the ideal joint's largest reaction at those times [N]; NaN where a revolution has fewer than two
+    samples (a wear study's last revolution starts with the previous one's last point: one sample is no statistic of
+    it) (``comparison``: :func:`sample_comparison` of ``samples`` where the caller has it)."""
     n = last_revolution(stats) + 1
     out = np.full((n, len(REVOLUTION_COLUMNS)), np.nan)
     if samples.shape[0] == 0:
@@ -55,7 +56,7 @@ def revolution_columns(samples: np.ndarray, stats: np.ndarray, mechanism, compar
     durations = sample_durations(samples[:, L.T_TIME])
     for k in range(n):
         rows = revolution == k
-        if rows.any():
+        if np.count_nonzero(rows) > 1:
             out[k] = (error[rows].max(), time_rms(error[rows], durations[rows]), ideal[rows].max())
     return out
 

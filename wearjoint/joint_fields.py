@@ -85,8 +85,9 @@ JOINT_FIELDS: tuple[JointField, ...] = (
                                                                          "exponents need contact_model='deepest')"),
                    ("contact_stiffness", 0.0, "K from the materials",
                     "no contact_stiffness_N_m1_5 given (K from the materials)")))),
-    JointField("restitution", "restitution", "1", "coefficient of restitution e_r in [0.001, 1]", L.P_RESTITUTION,
-               _RESTITUTION),
+    JointField("restitution", "restitution", "1", "coefficient of restitution e_r in [0.001, 1]: a single impact's "
+               "rebound (hunt-crossley: at restitution_speed; tsuji, lankarani-nikravesh-exact: at any speed)",
+               L.P_RESTITUTION, _RESTITUTION),
     JointField("friction_coefficient", "friction_coefficient", "1", "Coulomb friction coefficient mu", L.P_FRICTION,
                Allowed(0.0, False, 10.0)),
     JointField("friction_v0", "friction_v0_m_s", "m/s", "friction tolerance velocity v0 (stick below)", L.P_V0,

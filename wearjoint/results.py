@@ -140,6 +140,7 @@ class RunRecord:
                                                self.settling_revolutions),
             "worn_volume_m3": self.worn_volume_m3,
             **wear_coefficient_source(self.parameters.joint, self.parameters.mechanism),
+            **({"wear_coefficient_note": None} if self.parameters.ideal else {}),   # the ideal joint wears nothing
             "clearance_m": self.clearance_m,
             "admissible_penetration_m": self.parameters.joint.admissible_penetration_m,
             "admissible_force_N": self.parameters.joint.admissible_force_N,

@@ -481,7 +481,7 @@ def add_wear_study_arguments(parser) -> None:
                         help="state the life to this max wear depth [m] at the study's k_w, in revolutions and hours")
     parser.add_argument("--resume", action="store_true",
                         help="continue the study checkpointed in --out (the options left out are its checkpoint's; "
-                             "with --seeds, give the options that started it)")
+                             "an ensemble of seeds: give the options that started it)")
     task = parser.add_argument_group("other tasks")
     task.add_argument("--convergence", default=None, metavar="F1,F2,...",
                       help="convergence study of the acceleration factors (first = reference: 1 for brute force, "

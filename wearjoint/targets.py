@@ -365,6 +365,9 @@ def wear_study_config(options) -> WearStudyConfig:
                       "monolithic --engine (rk4 steps by --max-step)")
     if o["engine"] != "cosim":
         refuse_unused(o, (("--fmu-backend", "fmu_backend", WearStudyConfig.fmu_backend),), "only with --engine cosim")
+    elif "integrator" in (o.get("written") or ()):    # the default's value written too: it was recorded as used
+        require("--integrator", o["integrator"], False, "only with the monolithic --engine (the co-simulation steps "
+                "by its adaptive master, --max-step its longest step in contact)")
     refuse_unread_wear(o)
     joint, mechanism = model_from_options(o)
     revolutions = parse_int_list("--revolutions", o["revolutions"], "4000")

@@ -194,6 +194,12 @@ def test_report_names_a_corrupt_summary(tmp_path, capsys, text, why):
     assert f"{tmp_path / 'summary.json'} is invalid: {why}" in line and not (tmp_path / "report.html").exists()
 
 
+def test_report_names_a_folder_that_does_not_exist(tmp_path, capsys):
+    """It had said "no summary.json or sweep_summary.json: not a results folder" of a folder that is not there."""
+    line = refused(capsys, "report", str(tmp_path / "nowhere"))
+    assert f"FOLDER='{tmp_path / 'nowhere'}' is invalid: no such folder; allowed a results folder" in line
+
+
 def test_the_study_fixture_is_a_real_study(study):
     growth = np.loadtxt(study / "wear_growth.csv", delimiter=",", skiprows=1, ndmin=2)
     assert growth.shape == (2, 3) and 5e-6 < growth[-1, 1] < 2e-5      # the points above lie on its curve
@@ -260,3 +266,43 @@ def test_calibrate_on_an_ensemble_folder_points_to_its_cases(study, tmp_path, ca
     assert line.rstrip().endswith(f"--study='{ensemble}' is invalid: it holds an ensemble of wear studies (--seeds; sweep.json);"
                          f" allowed one wear study's folder, e.g. one of its cases: {case}"), line
     assert main(["calibrate", "--study", str(case), *POINTS, "--no-plots", "--out", str(tmp_path / "c")]) == 0
+
+
+@pytest.mark.parametrize("integrator", ["dopri", "rk4"])
+def test_a_cosim_wear_study_refuses_an_integrator_it_does_not_use(tmp_path, capsys, integrator):
+    """--engine cosim steps by the co-simulation's master: --integrator dopri (the default's value, written) had been
+    taken without a word and recorded in summary.json as the study's integrator."""
+    line = refused(capsys, "wear-study", "--engine", "cosim", "--wear-factor", "100", "--integrator", integrator,
+                   "--revolutions", "100", "--out", str(tmp_path / "w"))
+    assert line.rstrip().endswith(f"--integrator={integrator!r} is invalid: allowed only with the monolithic --engine "
+                                  "(the co-simulation steps by its adaptive master, --max-step its longest step in "
+                                  "contact)"), line
+
+
+@pytest.mark.parametrize("options,said", [
+    (("--calibrate-max-depth-m", "1e-4", "--convergence", "jump,10"),
+     "--calibrate-max-depth-m=1e-4 is invalid: allowed without --convergence"),
+    (("--convergence", "jump,10", "--wear-factor", "10"), "--wear-factor=10 is invalid: allowed without --convergence"),
+    (("--convergence", "jump,10", "--life-depth-m", "1e-3"), "--life-depth-m=1e-3 is invalid: allowed without "
+                                                             "--convergence"),
+    (("--no-cycle-jump", "--cycle-jump-block", "4"), "--cycle-jump-block=4 is invalid: allowed only with cycle jumping"),
+    (("--wear-factor", "100", "--cycle-jump-block", "4"), "--cycle-jump-block=4 is invalid: allowed only with cycle "
+                                                          "jumping")])
+def test_a_wear_study_refuses_what_its_task_leaves_unread(tmp_path, capsys, options, said):
+    """Each had run with the option ignored: the convergence study without the calibration, its F = 10 row the same
+    without --wear-factor, no life stated, the block recorded though nothing jumped."""
+    line = refused(capsys, "wear-study", "--revolutions", "200", *options, "--out", str(tmp_path / "w"))
+    assert said in line and not (tmp_path / "w").exists(), line
+
+
+@pytest.mark.parametrize("argv,named", [(("cosim", "--ideal"), "wearjoint cosim: error: unrecognized arguments: --ideal"),
+                                        (("cosim-study", "--quiet"), "wearjoint cosim-study: error: unrecognized "
+                                                                     "arguments: --quiet")])
+def test_an_unknown_option_is_named_by_its_command(tmp_path, capsys, argv, named):
+    """The command's own parser says it: the top-level parser's "wearjoint: error: unrecognized arguments" did not
+    name the command whose --help lists the options."""
+    with pytest.raises(SystemExit) as exited:          # argparse's exit, as at any other option it refuses
+        main([*argv, "--out", str(tmp_path / "o")])
+    line = capsys.readouterr().err
+    assert exited.value.code == 2 and line.count("\n") == 1, line
+    assert line.startswith(named) and f"`wearjoint {argv[0]} --help` lists the options" in line, line

@@ -234,7 +234,12 @@ def test_the_start_up_transient_is_reported_apart():
     assert "included" in one["start_up"]
     longer = analysis.run_statistics(stats, settling_revolutions=5)    # nor does a run shorter than the start-up
     assert longer["max_contact_force_N"] == 5400.0 and longer["statistics_from_revolution"] == 0
-    assert longer["start_up"] == "included: the run ends in revolution 2, before the 5 start-up revolution(s) are over"
+    assert longer["start_up"] == ("included: the run ends in revolution 2, before more than half of revolution 5 (the "
+                                  "first after the 5 start-up revolution(s)) is run")
+    # a run of 1.3 revolutions ends in revolution 1 (it had said 0: the last counted one)
+    sliver = stats[:2].copy()
+    sliver[1, L.S_TIME] = 0.3 * 0.2 / 1.0
+    assert analysis.run_statistics(sliver)["start_up"].startswith("included: the run ends in revolution 1, ")
     assert analysis.run_statistics(stats, settling_revolutions=2)["statistics_from_revolution"] == 2
 
 

@@ -89,3 +89,15 @@ def test_calibrate_refuses_a_transition_depth_its_archard_law_would_ignore(tmp_p
     assert capsys.readouterr().err.strip() == ("wearjoint calibrate: error: --transition-depth-m=1e-5 is "
                                                "invalid: allowed only with --law mild-severe")
     assert not (tmp_path / "calibration.json").exists()
+
+
+def test_an_ideal_run_says_nothing_of_the_wear_coefficient(tmp_path, capsys):
+    """--ideal (no bushing, no wear) on another joint had printed the note that k_w is the paper's, for a run that
+    wears nothing; the summary says where k_w came from and no note."""
+    import json
+
+    out = tmp_path / "ideal"
+    assert main(["simulate", "--ideal", "--pin-radius-m", "0.009", "--revolutions", "0.02", "--no-plots", "--out",
+                 str(out)]) == 0
+    assert "k_w" not in capsys.readouterr().err
+    assert json.loads((out / "summary.json").read_text())["wear_coefficient_note"] is None

@@ -72,3 +72,19 @@ def test_an_ensemble_says_how_many_seeds_reached_the_life_depth(tmp_path, capsys
     print_outcome({"cases": 2, "grid_points": 1, "seeds": 2, "ok": 2, "failed": 0, "skipped_as_done": 0,
                    "wall_time_s": 1.0, "failures": []}, tmp_path)
     assert "the life's depth (--life-depth-m) reached by 1 of 2 seeds" in capsys.readouterr().out
+
+
+def test_a_case_folder_names_itself_as_its_out(tmp_path):
+    """A case's summary.json and report.html said --out /tmp/wearjoint-case-8933-0qsdptzu (its worker's folder, gone)
+    or cases/ID/running: the client rewrites them to name the case's folder."""
+    from wearjoint.report import write_report
+    from wearjoint.sweep.runner import _moved_report
+
+    folder = tmp_path / "sweep dir" / "cases" / "0123456789abcdef"
+    folder.mkdir(parents=True)
+    (folder / "summary.json").write_text(json.dumps({"revolutions": 0.1}))
+    write_report(folder, command_line="wearjoint simulate --revolutions 0.1 --out /tmp/wearjoint-case-1-x --quiet")
+    _moved_report(folder)
+    said = json.loads((folder / "summary.json").read_text())["command_line"]
+    assert said == f"wearjoint simulate --revolutions 0.1 --out '{folder}' --quiet"
+    assert "wearjoint-case-1-x" not in (folder / "report.html").read_text()

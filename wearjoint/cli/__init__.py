@@ -153,7 +153,10 @@ def main(argv: list[str] | None = None) -> int:
     figures = _figure_worker(command, argv)
     try:
         parser = build_parser(command)
-        args = parser.parse_args(argv)
+        args, extras = parser.parse_known_args(argv)
+        if extras:                  # named by the command's parser: "wearjoint cosim: error: ..."
+            commands = next(a for a in parser._actions if a.dest == "command").choices
+            (commands[args.command] if args.command else parser).error(f"unrecognized arguments: {' '.join(extras)}")
         if args.command is None:
             parser.print_help()
             return 2

@@ -14,6 +14,11 @@ def add_arguments(p) -> None:
 def run(args) -> int:
     """Exit status 0, or 2 with one line naming the folder or its summary file when there is none or it is not a
     JSON object."""
+    if not args.folder.is_dir():
+        print(f"wearjoint report: error: FOLDER={str(args.folder)!r} is invalid: "
+              f"{'it is a file' if args.folder.exists() else 'no such folder'}; allowed a results folder "
+              "(summary.json or sweep_summary.json, PNGs)", file=sys.stderr)
+        return 2
     try:
         page = write_report(args.folder)
     except (FileNotFoundError, ValueError) as exc:

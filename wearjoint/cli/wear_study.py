@@ -39,6 +39,7 @@ def run(args) -> int:
             raise ParameterError(f"{flag}={value!r} is invalid: allowed only with --seeds N, N > 1 (the "
                                  "ensemble's studies spread over Dask workers; one study runs in this process)")
     _check_out(args, ensemble)
+    _refuse_unread(args)
     if ensemble:
         from .sweep import run_from_args
         return run_from_args("wear-study", args)
@@ -145,6 +146,26 @@ def _resumed_config(config: WearStudyConfig, args) -> WearStudyConfig:
                                                                                       config.mechanism.to_dict()))})
     except (ParameterError, KeyError, TypeError, ValueError):
         return config
+
+
+def _refuse_unread(args) -> None:
+    """The options the command's task leaves unread, refused in one line (each had been taken without a word):
+    another task beside --convergence, a life or a wear factor beside a task that runs studies of its own, a
+    cycle-jump block without cycle jumping."""
+    task = ("--convergence" if args.convergence is not None else
+            "--calibrate-max-depth-m" if args.calibrate_max_depth_m is not None else None)
+    unread = [(f"--calibrate-max-depth-m={args.calibrate_max_depth_m!r}", "without --convergence (one task a "
+               "command)", args.convergence is not None and args.calibrate_max_depth_m is not None),
+              (f"--life-depth-m={args.life_depth_m!r}", f"without {task} (its studies state none: calibrate "
+               "--life-depth-m on a study)", task is not None and args.life_depth_m is not None),
+              (f"--wear-factor={args.wear_factor!r}", "without --convergence (the factors are --convergence's)",
+               args.convergence is not None and args.wear_factor is not None),
+              (f"--cycle-jump-block={args.cycle_jump_block!r}", "only with cycle jumping (not with --no-cycle-jump "
+               "or --wear-factor)", task is None and args.cycle_jump_block != WearStudyConfig.jump_block_revolutions
+               and (args.no_cycle_jump or args.wear_factor is not None))]
+    for option, allowed, refused in unread:
+        if refused:
+            raise ParameterError(f"{option} is invalid: allowed {allowed}")
 
 
 def _check_out(args, ensemble: bool) -> None:

@@ -70,10 +70,13 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     from ..core.integrators import record_points   # numba's kernel: the package's own master imports no numba
 
     bad, failure = trace_divergence(trace, joint)
-    if bad is not None:           # what came before written: a master that went on past it (ecos) keeps nothing after
-        if trace.time_s.size - bad > 1:     # nor its final profile, which the steps after it may have worn
-            trace.wear_depth_m = None
+    # what came before written: a master that went on past it (ecos) keeps nothing after, nor its final profile,
+    # which the steps after it may have worn
+    went_on = bad is not None and trace.time_s.size - bad > 1
+    if bad is not None:
         trace.values, trace.time_s = trace.values[:max(bad, 1)], trace.time_s[:max(bad, 1)]
+    if went_on:
+        trace.wear_depth_m = None
     mp = pack_mechanism_parameters(mechanism)
     period = mechanism.period_s
     n = trace.time_s.size
@@ -101,8 +104,9 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
              "step_s": trace.step_s, **({"master_log_warnings": list(trace.log)} if trace.log else {})}
     if trace.wear_depth_m is None:
         extra.update(max_wear_depth_m=float(max_depth[-1]), max_wear_angle_deg=None,
-                     wear_profile=f"not readable through {trace.master}: no profile.csv nor its figure; "
-                                  "max_wear_depth_m and worn_volume_m3 are the joint's outputs")
+                     wear_profile=(f"read after {trace.master} went on past the failure: left out"
+                                   if went_on else f"not readable through {trace.master}")
+                     + ": no profile.csv nor its figure; max_wear_depth_m and worn_volume_m3 are the joint's outputs")
     failure = failure or (
         f"the run diverged: {trace.failure}; the communication step {trace.step_s:g} s is too long for this contact "
         "(take a shorter one, or wearjoint's adaptive master; docs/explanation/cosim_study.md)" if trace.failure else "")

@@ -14,6 +14,8 @@ import gc
 import json
 import logging
 import os
+import re
+import shlex
 import shutil
 import signal
 import sys
@@ -159,6 +161,7 @@ class SweepFolder:
             (folder / name).parent.mkdir(parents=True, exist_ok=True)
             (folder / name).write_bytes(data)
         (folder / "log.txt").write_text(result.get("log", ""))
+        _moved_report(folder)
         figures = {}
         if result["status"] == "ok" and (folder / targets.RECORD_NAME).is_file():
             figures = summary_figures(targets.read_record(folder))
@@ -279,9 +282,23 @@ def _say_no_worker(client, scheduler: str, told: bool) -> bool:
     if client.nthreads():
         return False
     if not told:
-        print(f"wearjoint: the scheduler {scheduler} has no worker now: the sweep waits for one (start one: dask worker "
-              f"{scheduler}; Ctrl-C stops the sweep, --resume continues it)", file=sys.stderr, flush=True)
+        print(f"wearjoint: the scheduler {scheduler} has no worker now: the sweep waits for one (start one: dask "
+              f"worker {scheduler}; Ctrl-C stops the sweep, --resume continues it)", file=sys.stderr, flush=True)
     return True
+
+
+def _moved_report(folder: Path) -> None:
+    """A case's summary.json and report.html written by its worker name the worker's folder (a temporary one, gone;
+    or cases/CASE_ID/running) as --out: rewritten to name the folder they are in now."""
+    from ..report import summary_path, write_report
+
+    path = summary_path(folder)
+    if path is None or not (folder / "report.html").is_file():
+        return
+    said = json.loads(path.read_text()).get("command_line")
+    if isinstance(said, str) and " --out " in said:
+        here = f" --out {shlex.quote(str(folder))}"
+        write_report(folder, command_line=re.sub(r" --out (?:'[^']*'|\S+)", lambda _: here, said, count=1))
 
 
 def running_share(kept: str | None) -> float:
