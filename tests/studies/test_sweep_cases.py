@@ -88,3 +88,16 @@ def test_a_case_folder_names_itself_as_its_out(tmp_path):
     said = json.loads((folder / "summary.json").read_text())["command_line"]
     assert said == f"wearjoint simulate --revolutions 0.1 --out '{folder}' --quiet"
     assert "wearjoint-case-1-x" not in (folder / "report.html").read_text()
+
+
+def test_a_cases_command_line_gives_back_its_pairs():
+    """A case's command line (case.json, its summary's) is the run outside the sweep: gravity's pair had been written
+    as two words, `--gravity-m-s2 0.0 -9.81`, which the command refuses ("unrecognized arguments: -9.81")."""
+    given = ["--out", "x", "--gravity-m-s2=0,-9.81", "--bushing-offset-m", "-0.11", "0.001"]
+    base = {k: v for k, v in vars(command_parser("simulate").parse_args(given)).items()
+            if k not in ("out", "quiet", "no_plots")}
+    [case] = build_cases("simulate", base)
+    assert "--gravity-m-s2=0.0,-9.81" in case.argv()
+    parsed = vars(command_parser("simulate").parse_args([*case.argv(), "--out", "x"]))
+    assert {k: parsed[k] for k in dict(case.options)} == dict(case.options)
+    assert parsed["gravity_m_s2"] == (0.0, -9.81) and list(parsed["bushing_offset_m"]) == [-0.11, 0.001]

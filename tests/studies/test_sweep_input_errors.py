@@ -288,8 +288,10 @@ def test_a_scheduler_without_workers_is_refused_after_waiting_and_a_sweep_with_w
     NO_WORKER_WAIT_S, naming the scheduler.  In a subprocess (a scheduler of its own, no worker); --workers with
     --scheduler, which had been ignored, is refused before anything starts."""
     out = tmp_path / "out"
-    code = ("import sys\nfrom distributed import LocalCluster\nfrom wearjoint.cli import main\n"
+    code = ("import sys, dask\nfrom distributed import LocalCluster\nfrom wearjoint.cli import main\n"
             "from wearjoint.sweep import runner\nrunner.NO_WORKER_WAIT_S = 1\n"
+            # the scheduler's lock files in this test's folder, not TMPDIR/dask-scratch-space
+            f"dask.config.set({{'temporary-directory': {str(tmp_path)!r}}})\n"
             "with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:\n"
             f"    code = main(['sweep', 'simulate', '--revolutions', '0.01', '--vary', 'restitution=0.6', '--out', "
             f"{str(out)!r}, '--scheduler', cluster.scheduler_address])\n"
