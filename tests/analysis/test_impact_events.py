@@ -129,6 +129,23 @@ def test_one_revolution_is_used_and_coarse_samples_are_noted():
     assert "coarser than 1/360 revolution" in out["impact_event_definition"]
 
 
+@pytest.mark.parametrize("dt,noted", [(1e-5, False), (1e-4, False), (2e-4, True)])
+def test_samples_in_contact_coarser_than_a_burst_resolves_are_noted(dt, noted):
+    """At --sample-dt 3e-4 s (1/1333 revolution, inside the 1/360 note) the paper's events per revolution moved from
+    1.67 to 4.0; 1e-4 s gave 1e-5's count.  The spacing judged is the samples' in contact (free flight's long steps
+    left out): every sample here is in contact."""
+    samples = trace([(peak_time(0, 5.0), 1000.0)], revolutions=1.0, dt=dt)
+    samples[:, L.T_CONTACT] = 1.0
+    per = analysis.revolution_impact_events(samples, stats_rows([10], 1.0), MECH)
+    assert per["contact_sample_spacing_s"] == pytest.approx(dt)
+    said = analysis.impact_event_statistics(per, MECH)["impact_event_definition"]
+    assert ("coarser than 0.00015 s" in said) == noted and "1/360" not in said
+    samples[:, L.T_CONTACT] = 0.0                      # no contact: nothing to judge, nothing said
+    per = analysis.revolution_impact_events(samples, stats_rows([10], 1.0), MECH)
+    assert math.isnan(per["contact_sample_spacing_s"])
+    assert "coarser" not in analysis.impact_event_statistics(per, MECH)["impact_event_definition"]
+
+
 def test_the_angle_wraps_into_0_360():
     assert analysis.crank_angle_deg([-1e-17, -math.pi / 2, 2 * math.pi + 0.1, -4 * math.pi]).tolist() == \
         pytest.approx([0.0, 270.0, math.degrees(0.1), 0.0])

@@ -76,18 +76,26 @@ def test_an_ensemble_says_how_many_seeds_reached_the_life_depth(tmp_path, capsys
 
 def test_a_case_folder_names_itself_as_its_out(tmp_path):
     """A case's summary.json and report.html said --out /tmp/wearjoint-case-8933-0qsdptzu (its worker's folder, gone)
-    or cases/ID/running: the client rewrites them to name the case's folder."""
-    from wearjoint.report import write_report
-    from wearjoint.sweep.runner import _moved_report
+    or cases/ID/running: the client rewrites them, as it records the case, to name the case's folder."""
+    import shlex
 
-    folder = tmp_path / "sweep dir" / "cases" / "0123456789abcdef"
-    folder.mkdir(parents=True)
-    (folder / "summary.json").write_text(json.dumps({"revolutions": 0.1}))
-    write_report(folder, command_line="wearjoint simulate --revolutions 0.1 --out /tmp/wearjoint-case-1-x --quiet")
-    _moved_report(folder)
-    said = json.loads((folder / "summary.json").read_text())["command_line"]
-    assert said == f"wearjoint simulate --revolutions 0.1 --out '{folder}' --quiet"
-    assert "wearjoint-case-1-x" not in (folder / "report.html").read_text()
+    from wearjoint.report import write_report
+    from wearjoint.sweep.design import command_options
+    from wearjoint.sweep.runner import SweepFolder
+
+    base = command_options("simulate", command_parser("simulate").parse_args(["--out", "x", "--revolutions", "0.1"]))
+    [case] = build_cases("simulate", base)
+    worker = tmp_path / "wearjoint-case-1-x"
+    worker.mkdir()
+    (worker / "summary.json").write_text(json.dumps({"revolutions": 0.1}))
+    write_report(worker, command_line=f"wearjoint simulate --revolutions 0.1 --out {worker} --quiet --no-plots")
+    files = {p.name: p.read_bytes() for p in worker.iterdir()}
+    folder = SweepFolder(tmp_path / "sweep dir", [case], resume=False)
+    folder.record(case, {"status": "ok", "files": files, "log": ""}, no_plots=True)
+    here = folder.case_dir(case)
+    said = json.loads((here / "summary.json").read_text())["command_line"]
+    assert said == f"wearjoint simulate --revolutions=0.1 --out {shlex.quote(str(here))} --quiet --no-plots"
+    assert str(worker) not in (here / "report.html").read_text()
 
 
 def test_a_cases_command_line_gives_back_its_pairs():

@@ -6,6 +6,7 @@ import math
 import sys
 from pathlib import Path
 
+from ..checks import require
 from ..joint import StateError
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..run_options import add_wear_study_arguments
@@ -154,18 +155,16 @@ def _refuse_unread(args) -> None:
     cycle-jump block without cycle jumping."""
     task = ("--convergence" if args.convergence is not None else
             "--calibrate-max-depth-m" if args.calibrate_max_depth_m is not None else None)
-    unread = [(f"--calibrate-max-depth-m={args.calibrate_max_depth_m!r}", "without --convergence (one task a "
-               "command)", args.convergence is not None and args.calibrate_max_depth_m is not None),
-              (f"--life-depth-m={args.life_depth_m!r}", f"without {task} (its studies state none: calibrate "
-               "--life-depth-m on a study)", task is not None and args.life_depth_m is not None),
-              (f"--wear-factor={args.wear_factor!r}", "without --convergence (the factors are --convergence's)",
-               args.convergence is not None and args.wear_factor is not None),
-              (f"--cycle-jump-block={args.cycle_jump_block!r}", "only with cycle jumping (not with --no-cycle-jump "
-               "or --wear-factor)", task is None and args.cycle_jump_block != WearStudyConfig.jump_block_revolutions
-               and (args.no_cycle_jump or args.wear_factor is not None))]
-    for option, allowed, refused in unread:
-        if refused:
-            raise ParameterError(f"{option} is invalid: allowed {allowed}")
+    converging = args.convergence is not None
+    require("--calibrate-max-depth-m", args.calibrate_max_depth_m, not (converging and args.calibrate_max_depth_m
+            is not None), "without --convergence (one task a command)")
+    require("--life-depth-m", args.life_depth_m, task is None or args.life_depth_m is None,
+            f"without {task} (its studies state none: calibrate --life-depth-m on a study)")
+    require("--wear-factor", args.wear_factor, not (converging and args.wear_factor is not None),
+            "without --convergence (the factors are --convergence's)")
+    require("--cycle-jump-block", args.cycle_jump_block, task is not None or args.cycle_jump_block
+            == WearStudyConfig.jump_block_revolutions or not (args.no_cycle_jump or args.wear_factor is not None),
+            "only with cycle jumping (not with --no-cycle-jump or --wear-factor)")
 
 
 def _check_out(args, ensemble: bool) -> None:

@@ -14,8 +14,6 @@ import gc
 import json
 import logging
 import os
-import re
-import shlex
 import shutil
 import signal
 import sys
@@ -152,8 +150,11 @@ class SweepFolder:
     def todo(self) -> list[Case]:
         return [c for c in self.cases if c.case_id not in self.rows]
 
-    def record(self, case: Case, result: dict) -> dict:
-        """Write a finished case's folder (files, log.txt, then case.json) and sweep.csv; returns its row."""
+    def record(self, case: Case, result: dict, no_plots: bool = False) -> dict:
+        """Write a finished case's folder (files, log.txt, then case.json; ``no_plots``: the case ran without its
+        figures) and sweep.csv; returns its row."""
+        from .worker import command_line
+
         folder = self.case_dir(case)
         shutil.rmtree(folder, ignore_errors=True)
         folder.mkdir(parents=True)
@@ -161,7 +162,7 @@ class SweepFolder:
             (folder / name).parent.mkdir(parents=True, exist_ok=True)
             (folder / name).write_bytes(data)
         (folder / "log.txt").write_text(result.get("log", ""))
-        _moved_report(folder)
+        _moved_report(folder, command_line(case, folder, no_plots))
         figures = {}
         if result["status"] == "ok" and (folder / targets.RECORD_NAME).is_file():
             figures = summary_figures(targets.read_record(folder))
@@ -287,18 +288,14 @@ def _say_no_worker(client, scheduler: str, told: bool) -> bool:
     return True
 
 
-def _moved_report(folder: Path) -> None:
+def _moved_report(folder: Path, command: str) -> None:
     """A case's summary.json and report.html written by its worker name the worker's folder (a temporary one, gone;
-    or cases/CASE_ID/running) as --out: rewritten to name the folder they are in now."""
+    or cases/CASE_ID/running) as --out: rewritten with ``command``, the case's command into the folder they are in
+    now."""
     from ..report import summary_path, write_report
 
-    path = summary_path(folder)
-    if path is None or not (folder / "report.html").is_file():
-        return
-    said = json.loads(path.read_text()).get("command_line")
-    if isinstance(said, str) and " --out " in said:
-        here = f" --out {shlex.quote(str(folder))}"
-        write_report(folder, command_line=re.sub(r" --out (?:'[^']*'|\S+)", lambda _: here, said, count=1))
+    if summary_path(folder) is not None and (folder / "report.html").is_file():
+        write_report(folder, command_line=command)
 
 
 def running_share(kept: str | None) -> float:
@@ -357,7 +354,7 @@ def run_cases(folder: SweepFolder, no_plots: bool = False, workers: int | None =
                     except Exception as exc:          # the worker died, the task could not run, ...
                         result = {"status": "failed", "error": f"{type(exc).__name__}: {exc}", "log": repr(exc)}
                     if result["status"] != "interrupted":
-                        folder.record(futures[future], result)
+                        folder.record(futures[future], result, no_plots)
                     timing["cases_run"] += 1
                     timing["case_run_time_s"] += result.get("run_time_s", 0.0)
                     timing["warmup_time_s"] += result.get("warmup_time_s", 0.0)
