@@ -43,7 +43,7 @@ from exudyn.itemInterface import (
 
 from wearjoint.core import layout as L
 from wearjoint.core.damping import hunt_crossley_damping
-from wearjoint.exudyn import _Body, _initial_eccentricity
+from wearjoint.exudyn import _Body, _start_eccentricity
 from wearjoint.parameters import JointParameters, ParameterError
 
 HUNT_CROSSLEY = 1                  # exudyn's impactModel number
@@ -99,7 +99,7 @@ class NativeContact:
         self.params = parameters
         self.pin, self.bushing = _Body(mbs, "pin_body", pin_body), _Body(mbs, "bushing_body", bushing_body)
         # exudyn's contact state starts as the initial configuration's (gap c - |e| [m]; no stored impact)
-        data = (parameters.clearance_m - _initial_eccentricity(self.pin, self.bushing, parameters), 0.0, 0.0, 0.0)
+        data = (parameters.clearance_m - _start_eccentricity(self.pin, self.bushing, parameters), 0.0, 0.0, 0.0)
         self.bodies = (pin_body, bushing_body)
         offsets = (parameters.pin_offset_m, parameters.bushing_offset_m)
         self.markers = tuple(mbs.AddMarker(MarkerBodyRigid(bodyNumber=body, localPosition=[*offset, 0.0]))

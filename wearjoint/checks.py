@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 import reprlib
 from dataclasses import dataclass
 
@@ -40,6 +41,19 @@ def require(name: str, value, ok: bool, allowed: str) -> None:
     if not ok:
         named = name if name.startswith("-") else f"parameter {name}"
         raise ParameterError(f"{named}={value!r} is invalid: allowed {allowed}")
+
+
+def with_options(error: ParameterError, options: dict, written: dict | None = None) -> ParameterError:
+    """``error`` naming the option as written where its parameter has one in ``options`` (the API's name -> the
+    option), with the value as written where ``written`` has it (the API's name -> the option's value):
+    ``parameter jump_block_revolutions=0 is invalid: ...`` -> ``--cycle-jump-block=0 (jump_block_revolutions) is
+    invalid: ...``; ``error`` itself otherwise."""
+    match = re.match(r"parameter (\w+)=(.*?) (?:is|are) invalid", str(error))
+    if match is None or match.group(1) not in options:
+        return error
+    name = match.group(1)
+    value = repr(written[name]) if written and name in written else match.group(2)
+    return ParameterError(f"{options[name]}={value} ({name}) is invalid{str(error)[match.end():]}")
 
 
 def shown(value) -> str:

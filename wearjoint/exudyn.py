@@ -214,10 +214,11 @@ class ClearanceJointHandle:
 
     def _read_references(self, mbs) -> None:
         """The bodies' reference coordinates as the system holds them at the first solve's start and at a later
-        solve's from an earlier time (a node's or a ground's may be set anew after :func:`add_clearance_joint`:
-        ``mbs.SetNodeParameter``; a continuation keeps them)."""
+        solve's from an earlier time (set anew after :func:`add_clearance_joint` by ``mbs.SetNodeParameter``; a
+        continuation keeps them), the start checked again (its second step had blamed the step)."""
         self.pin.read_reference(mbs)
         self.bushing.read_reference(mbs)
+        _start_eccentricity(self.pin, self.bushing, self.joint.params, " this solve starts from")
         self._references_read = True
 
     def _check_post_step(self, mbs) -> None:
@@ -367,40 +368,39 @@ def add_clearance_joint(mbs, pin_body, bushing_body, parameters: JointParameters
         require(body.argument, body.number, np.isfinite(body.initial).all(), "a body whose coordinates (x, y, angle) "
                 f"are finite at the initial configuration (they are {tuple(body.initial.tolist())})")
     p = parameters
-    place = {(pin.number, tuple(p.pin_offset_m)), (bushing.number, tuple(p.bushing_offset_m))}
     for k, other in enumerate(getattr(_post_step(mbs, install=False), "handles", ())):   # one bushing: half the load each
-        there = {(other.pin.number, tuple(other.joint.params.pin_offset_m)),
-                 (other.bushing.number, tuple(other.joint.params.bushing_offset_m))}
-        require("bushing_body", bushing_body, place != there, f"a place no other joint has: joint {k} of this system "
-                "joins these bodies at these offsets already (two would each carry half the load)")
-    e = _initial_eccentricity(pin, bushing, parameters)
-    if not e <= p.clearance_m + p.admissible_penetration_m:
-        where = "outside the bushing" if e > p.bushing_radius_m else "deeper in its wall than any contact reaches"
-        raise ParameterError(
-            f"parameters pin_offset_m={p.pin_offset_m} and bushing_offset_m={p.bushing_offset_m} are invalid for these "
-            f"bodies: they put the pin centre {e:.6g} m from the bushing centre at the initial configuration, {where}: "
-            f"allowed at most the clearance and the admissible penetration, {p.clearance_m:.6g} + "
-            f"{p.admissible_penetration_m:.6g} m (docs/reference/model.md §3.14)")
+        q = other.joint.params            # within the clearance: 1 nm apart had passed
+        near, there = max(p.clearance_m, q.clearance_m), ((other.pin.number, q.pin_offset_m),
+                                                          (other.bushing.number, q.bushing_offset_m))
+        same = all(any(b == c and math.dist(o, u) <= near for c, u in there)
+                   for b, o in ((pin.number, p.pin_offset_m), (bushing.number, p.bushing_offset_m)))
+        require("bushing_body", bushing_body, not same, f"a place no other joint has: joint {k} of this system joins "
+                f"these bodies within the clearance ({near:g} m) of these offsets (two would each carry half the load)")
+    _start_eccentricity(pin, bushing, p)
     handle = ClearanceJointHandle(mbs, pin, bushing, parameters)
     _post_step(mbs).handles.append(handle)
     return handle
 
 
-def _initial_eccentricity(pin: _Body, bushing: _Body, p: JointParameters) -> float:
-    """|pin centre - bushing centre| [m] at the bodies' initial coordinates."""
-    def centre(body: _Body, offset) -> tuple[float, float]:
-        c, s = math.cos(body.initial[2]), math.sin(body.initial[2])
-        return body.initial[0] + c * offset[0] - s * offset[1], body.initial[1] + s * offset[0] + c * offset[1]
-    (xi, yi), (xj, yj) = centre(pin, p.pin_offset_m), centre(bushing, p.bushing_offset_m)
-    return math.hypot(xi - xj, yi - yj)
+def _start_eccentricity(pin: _Body, bushing: _Body, p: JointParameters, when: str = "") -> float:
+    """|pin centre - bushing centre| [m] at the bodies' initial coordinates; ParameterError unless within the clearance
+    and the admissible penetration (§3.14; ``when`` qualifies "the initial configuration")."""
+    pin_centre, bushing_centre = (complex(*body.initial[:2]) + np.exp(1j * body.initial[2]) * complex(*offset)
+                                  for body, offset in ((pin, p.pin_offset_m), (bushing, p.bushing_offset_m)))
+    if not (e := abs(pin_centre - bushing_centre)) <= p.clearance_m + p.admissible_penetration_m:
+        where = "outside the bushing" if e > p.bushing_radius_m else "deeper in its wall than any contact reaches"
+        raise _kept(ParameterError(   # kept: raised inside a solve, solve_dynamic raises it as it is
+            f"parameters pin_offset_m={p.pin_offset_m} and bushing_offset_m={p.bushing_offset_m} are invalid for these "
+            f"bodies: they put the pin centre {e:.6g} m from the bushing centre at the initial configuration{when}, "
+            f"{where}: allowed at most the clearance and the admissible penetration, {p.clearance_m:.6g} + "
+            f"{p.admissible_penetration_m:.6g} m (docs/reference/model.md §3.14)"))
+    return e
 
 
 def contact_stiffness_bound(parameters: JointParameters) -> float:
-    """An upper bound [N/m] of the joint's force derivative in the eccentricity, friction included:
-    (1 + mu) times, with the foundation, its stiffness in full conformity, pi k_f L R_j (the
-    resultant's Jacobian is k_f L R_j/R_i int d d^T dphi over the arcs in contact, |d| = R_i, at
-    most pi k_f L R_j ~ 1.67 K sqrt(c)); with the deepest point, n K c^(n-1), K delta^n's at a
-    penetration of the clearance c."""
+    """An upper bound [N/m] of the joint's force derivative in the eccentricity, friction included: (1 + mu) times,
+    with the foundation, its stiffness in full conformity, pi k_f L R_j ~ 1.67 K sqrt(c) (the resultant's Jacobian
+    k_f L R_j/R_i int d d^T dphi over the arcs in contact, |d| = R_i); with the deepest point, n K c^(n-1)."""
     p = parameters
     if p.contact_model == "foundation":
         kappa = foundation_modulus_factor(p.stiffness_N_m1_5, p.pin_radius_m, p.bushing_radius_m)

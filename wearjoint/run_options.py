@@ -48,9 +48,8 @@ _HELP = {
 }
 
 
-# the time series' rows are accepted steps' ends (results.md): the first at or after each multiple of --sample-dt
 SAMPLE_DT_HELP = ("time-series spacing [s] (default %(default)g): a row at the first step's end at or after each "
-                  "multiple of it; a longer step ({}) leaves fewer rows there")
+                  "multiple of it (to a thousandth of that step); a longer step ({}) leaves fewer rows there")
 
 
 def gravity_value(text: str):
@@ -119,11 +118,12 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
 
 
 def add_model_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
-    """Options for every mechanism and joint parameter but those of ``skip`` (the command's own), plus --no-wear."""
+    """Options for every mechanism and joint parameter but those of ``skip`` (the command's own), and --no-wear."""
     _add_dataclass_options(parser.add_argument_group("slider-crank (paper Table 1)"), SliderCrankParameters)
     joint = parser.add_argument_group("clearance joint (paper Table 2, docs/reference/model.md §3)")
     _add_dataclass_options(joint, JointParameters, skip)
-    joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
+    if "wear_factor" not in skip:             # not where the command sets it (cosim-study)
+        joint.add_argument("--no-wear", action="store_true", help="switch wear off (wear_factor = 0)")
     if "wear_coefficient_m2_N" not in skip:
         joint.add_argument("--calibration", type=path_argument, default=None, metavar="DIR",
                            help="take k_w from a `wearjoint calibrate` folder (its calibration.json's one-k_w fit) "

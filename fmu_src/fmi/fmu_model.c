@@ -64,7 +64,17 @@ int fmu_set_debug_logging(FmuHost *host, int logging_on, size_t n, const char *c
         host->log_categories &= ~chosen;
     else
         host->log_categories = only_these ? chosen : host->log_categories | chosen;
+    host->warnings_silenced = !(host->log_categories & FMU_LOG_WARNINGS);
     return 1;
+}
+
+static void log_message(const FmuHost *host, int status, const char *format, va_list args)
+{
+    char text[1024];
+    vsnprintf(text, sizeof text, format, args);
+    const char *category = status >= FMU_ERROR ? "logStatusError" : status == FMU_WARNING ? "logStatusWarning"
+                                                                                           : "logAll";
+    host->log(host->environment, host->name, status, category, text);
 }
 
 void fmu_log(const FmuHost *host, int status, const char *format, ...)
@@ -72,14 +82,20 @@ void fmu_log(const FmuHost *host, int status, const char *format, ...)
     unsigned category_bit = status == FMU_WARNING ? (unsigned)FMU_LOG_WARNINGS : (unsigned)FMU_LOG_OTHERS;
     if (status < FMU_ERROR && !(host->log_categories & category_bit))
         return;
-    char text[1024];
     va_list args;
     va_start(args, format);
-    vsnprintf(text, sizeof text, format, args);
+    log_message(host, status, format, args);
     va_end(args);
-    const char *category = status >= FMU_ERROR ? "logStatusError" : status == FMU_WARNING ? "logStatusWarning"
-                                                                                           : "logAll";
-    host->log(host->environment, host->name, status, category, text);
+}
+
+void fmu_log_returned_warning(const FmuHost *host, const char *format, ...)
+{
+    if (host->warnings_silenced)
+        return;
+    va_list args;
+    va_start(args, format);
+    log_message(host, FMU_WARNING, format, args);
+    va_end(args);
 }
 
 const char *fmu_shortest(double x, char *out, size_t size)

@@ -37,6 +37,7 @@ typedef struct {
     void *environment;   /* the FMI layer's, passed to the three functions above */
     char *name;          /* the instance name (a copy, fmu_new_instance) */
     unsigned log_categories;   /* FMU_LOG_* bits: the categories logged (errors always are) */
+    int warnings_silenced;     /* the host switched logStatusWarning off (fmuSetDebugLogging): no returned warning */
 } FmuHost;
 
 /* modelDescription's <LogCategories> (fmu/model_description.py LOG_CATEGORIES) as bits: a message below FMU_ERROR
@@ -61,6 +62,11 @@ void *fmu_new_instance(size_t size, const char *name, int logging_on, FmuLogFunc
 /* Release an instance of fmu_new_instance (what it owns besides is released before). */
 void fmu_free_instance(void *instance);
 void fmu_log(const FmuHost *host, int status, const char *format, ...) __attribute__((format(FMU_PRINTF_FORMAT, 3, 4)));
+/* The message of a call that returns a warning: logged with logging off too, unless the host switched
+ * logStatusWarning off (a call returning fmi2Warning has called the logger, FMI 2.0 §2.1.3; fmusim, which stops at a
+ * warning, had ended a run with an empty log). */
+void fmu_log_returned_warning(const FmuHost *host, const char *format, ...)
+    __attribute__((format(FMU_PRINTF_FORMAT, 2, 3)));
 /* fmi2/fmi3SetDebugLogging: ``logging_on`` for the ``n`` categories named (every category where n is 0); with
  * ``only_these`` (FMI 2.0's loggingOn with categories) the others off.  0 (logged, nothing changed) where a name is
  * not a category of the model description. */

@@ -16,6 +16,9 @@
 #include "joint_model.h"
 #include "joint_kernels.h"
 
+/* Model Exchange: a time this share of the last completed step's end (of 1 ms at least) before it is that end */
+#define TIME_ROUNDING 1e-12
+
 static int kernel_ok(const FmuModel *model, const char *kernel, int32_t status)
 {
     if (status == 0)
@@ -308,7 +311,7 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
         double e = hypot(model->result[R_ECCENTRICITY_X], model->result[R_ECCENTRICITY_Y]);
         double radius = p[P_BUSHING_RADIUS];
         if (e > radius) {
-            fmu_log(&model->host, FMU_WARNING, "%s: at t=%.17g s the inputs put the pin centre %g m from the "
+            fmu_log_returned_warning(&model->host, "%s: at t=%.17g s the inputs put the pin centre %g m from the "
                     "bushing centre, outside the bushing (radius %g m): the contact force is meaningless.  The "
                     "inputs are the bodies' reference points; are the offsets set (pin_offset_x=%g, pin_offset_y=%g, "
                     "bushing_offset_x=%g, bushing_offset_y=%g m, each in its body's frame)?", function, model->time,
@@ -320,7 +323,7 @@ static int step_warnings(FmuModel *model, double dt, int32_t changed, const char
             wearjoint_wall_overlap(&inadmissible, NULL, model->result, model->joint_parameters, model->wear_depth,
                                    model->n_points, bounds);
             if (inadmissible) {
-                fmu_log(&model->host, FMU_WARNING, "%s: at t=%.17g s the inputs put the pin %g m into the bushing "
+                fmu_log_returned_warning(&model->host, "%s: at t=%.17g s the inputs put the pin %g m into the bushing "
                         "wall (admissible %g m) with a normal force of %g N (admissible %g N): this first step is "
                         "taken, as a master may step once on start values, but wears nothing and starts no contact; "
                         "a later step there is discarded (the bodies' offsets, the wiring? docs/reference/model.md "
@@ -442,23 +445,13 @@ int model_set_time(FmuModel *model, double time, const char *function)
     return 1;
 }
 
+/* none to get, set or differentiate */
 int model_get_continuous_states(FmuModel *model, double *x, const char *function)
-{
-    (void)model, (void)x, (void)function;
-    return 1;
-}
-
+{ return (void)model, (void)x, (void)function, 1; }
 int model_set_continuous_states(FmuModel *model, const double *x, const char *function)
-{
-    (void)model, (void)x, (void)function;
-    return 1;
-}
-
+{ return (void)model, (void)x, (void)function, 1; }
 int model_get_derivatives(FmuModel *model, double *dx, const char *function)
-{
-    (void)model, (void)dx, (void)function;
-    return 1;
-}
+{ return (void)model, (void)dx, (void)function, 1; }
 
 /* The signed penetration of the deepest bushing point at the current inputs (a contact onset is its zero crossing),
  * touching (0) as DBL_MIN: no exact zero that CVODE's root check cannot leave; 0 (logged) on failure. */
@@ -488,10 +481,19 @@ int model_event_update(FmuModel *model, const char *function)
     return 1;
 }
 
-/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs: a status. */
+/* Wear and the onset bookkeeping over the step since the last completed one, at the current inputs: a status.  A time
+ * before that step's end by rounding (TIME_ROUNDING; CVODE's event location in fmusim: 1.4e-16 s) is a step of none. */
 int model_completed_integrator_step(FmuModel *model, const char *function)
 {
-    int status = accept_step(model, model->time - model->last_accepted_time, 0, function);
+    double dt = model->time - model->last_accepted_time;
+    if (dt < 0.0 && -dt <= TIME_ROUNDING * fmax(fabs(model->last_accepted_time), 1e-3))
+        dt = 0.0;
+    else if (dt < 0.0) {
+        fmu_log(&model->host, FMU_ERROR, "%s: step rejected: the time t=%.17g s is before the last completed step's "
+                "end, %.17g s", function, model->time, model->last_accepted_time);
+        return FMU_ERROR;
+    }
+    int status = accept_step(model, dt, 0, function);
     if (status <= FMU_WARNING)
         model->last_accepted_time = model->time;
     return status;

@@ -297,10 +297,13 @@ def test_a_wear_study_refuses_what_its_task_leaves_unread(tmp_path, capsys, opti
 
 @pytest.mark.parametrize("argv,named", [(("cosim", "--ideal"), "wearjoint cosim: error: unrecognized arguments: --ideal"),
                                         (("cosim-study", "--quiet"), "wearjoint cosim-study: error: unrecognized "
-                                                                     "arguments: --quiet")])
+                                                                     "arguments: --quiet"),
+                                        (("cosim-study", "--no-wear"), "wearjoint cosim-study: error: unrecognized "
+                                                                       "arguments: --no-wear")])
 def test_an_unknown_option_is_named_by_its_command(tmp_path, capsys, argv, named):
     """The command's own parser says it: the top-level parser's "wearjoint: error: unrecognized arguments" did not
-    name the command whose --help lists the options."""
+    name the command whose --help lists the options.  cosim-study sets its own wear factor: its --help had listed
+    --no-wear, which it then refused."""
     with pytest.raises(SystemExit) as exited:          # argparse's exit, as at any other option it refuses
         main([*argv, "--out", str(tmp_path / "o")])
     line = capsys.readouterr().err

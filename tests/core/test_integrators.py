@@ -192,3 +192,29 @@ def test_the_free_flight_cap_defaults_to_max_step_when_that_is_given():
         SimulationOptions(free_flight_max_step_s=0.0)
     with pytest.raises(ParameterError, match=r"free_flight_max_step_s=1e-11 is invalid: allowed >= min_step_s"):
         SimulationOptions(free_flight_max_step_s=1e-11)
+
+
+@pytest.mark.parametrize("step, sample_dt", [(5e-6, 3e-5), (1e-5, 1e-4), (2.5e-6, 1e-5)])
+def test_a_fixed_step_run_samples_on_the_sample_grid(step, sample_dt):
+    """Points at the sums of a fixed step (a fixed-step master's time, which ends a rounding short of the grid):
+    every sample is at a multiple of the interval to rounding, none a step late.  A row had been written at
+    2.045e-3 s for 2.04e-3 with 5 µs steps and 30 µs samples."""
+    from wearjoint.core.integrators import record_step
+    from wearjoint.slider_crank import pack_mechanism_parameters
+    from wearjoint.joint import ClearanceJoint
+    from wearjoint.results import new_revolution_stats, new_track
+
+    mp = pack_mechanism_parameters(SliderCrankParameters())
+    joint = ClearanceJoint(paper_joint())
+    stats, track = new_revolution_stats(1), new_track(sample_dt)
+    samples = np.zeros((20000, L.N_SAMPLE_COLUMNS))
+    y, dy = np.zeros(2 * L.N_COORDINATES), np.zeros(2 * L.N_COORDINATES)
+    t, times = 0.0, []
+    for _ in range(40000):
+        t += step
+        times.append(t)
+        record_step(t, step, y, dy, joint.result, mp, stats, samples, track)
+    first, *written = samples[:int(track[L.K_N_SAMPLES]), L.T_TIME]     # the first point: the sample at t = 0
+    on_grid = np.round(np.array(written) / sample_dt) * sample_dt
+    assert first == times[0] and len(written) == int(times[-1] / sample_dt + 1e-6)
+    assert np.all(np.abs(written - on_grid) < 1e-3 * step) and np.all(np.diff(on_grid) > 0.5 * sample_dt)

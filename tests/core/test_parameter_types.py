@@ -146,7 +146,9 @@ def test_a_load_table_that_is_not_text_is_refused_naming_the_option(tmp_path, ca
 @pytest.mark.parametrize("changes, name, allowed", [
     ({"contact_stiffness_N_m1_5": 1e300}, "contact_stiffness_N_m1_5", ">= 0 (at most 1e+20 N/m^n"),
     ({"pin_youngs_modulus_Pa": 1e308, "bushing_youngs_modulus_Pa": 1e308}, "pin_youngs_modulus_Pa",
-     "> 0 (at most 1e+13 Pa, 10x diamond's"),
+     "> 0 (from 100000 to 1e+13 Pa, from foam rubber's 1e5 Pa to 10x diamond's"),
+    ({"bushing_youngs_modulus_Pa": 71.7}, "bushing_youngs_modulus_Pa", "> 0 (from 100000 to 1e+13 Pa"),   # GPa as Pa
+    ({"pin_youngs_modulus_Pa": 2.1e4}, "pin_youngs_modulus_Pa", "> 0 (from 100000 to 1e+13 Pa"),
     ({"contact_length_m": 1e-300}, "contact_length_m", "> 0 (from 1e-06 to 100 m)"),
     ({"contact_length_m": 1e300}, "contact_length_m", "> 0 (from 1e-06 to 100 m)"),     # wore nothing: depth 0
     ({"wear_coefficient_m2_N": 1e300}, "wear_coefficient_m2_N", ">= 0 (at most 1e-06 m2/N"),
@@ -175,7 +177,9 @@ def test_the_joint_at_its_bounds_gives_finite_forces():
 
 
 @pytest.mark.parametrize("name, value, allowed", [
-    ("pin_youngs_modulus", 1e14, "> 0 (at most 1e+13 Pa"), ("contact_length", 1e-300, "> 0 (from 1e-06 to 100 m"),
+    ("pin_youngs_modulus", 1e14, "> 0 (from 100000 to 1e+13 Pa"),
+    ("bushing_youngs_modulus", 71.7, "> 0 (from 100000 to 1e+13 Pa"),
+    ("contact_length", 1e-300, "> 0 (from 1e-06 to 100 m"),
     ("contact_length", 1e300, "> 0 (from 1e-06 to 100 m"), ("wear_coefficient", 1e300, ">= 0 (at most 1e-06 m2/N"),
     ("wear_factor", 1e300, ">= 0 (at most 1e+06 times"),
     ("contact_stiffness", 1e300, ">= 0 (at most 1e+20 N/m^n"),

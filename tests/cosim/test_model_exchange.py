@@ -6,11 +6,12 @@ import pytest
 
 fmpy = pytest.importorskip("fmpy")
 
-from wearjoint import ClearanceJoint, paper_joint  # noqa: E402
+from wearjoint import ClearanceJoint, JointParameters, paper_joint  # noqa: E402
 from wearjoint.core import layout as L  # noqa: E402
 from wearjoint.cosim.model_exchange import ModelExchangeSimulation  # noqa: E402
 from wearjoint.fmu import variables as fv  # noqa: E402
-from fmpy_instance import enter_initialisation  # noqa: E402
+from fmpy.fmi1 import FMICallException  # noqa: E402
+from fmpy_instance import Joint, contact_inputs, enter_initialisation  # noqa: E402
 from wearjoint.simulate import Simulation, SimulationOptions  # noqa: E402
 
 
@@ -125,3 +126,28 @@ def test_cli_refuses_the_pythonfmu_backend_for_model_exchange(tmp_path, capsys):
     assert code == 2 and "--fmu-backend='pythonfmu' (fmu_backend) is invalid" in err and "allowed native" in err
     assert len(err.strip().splitlines()) == 1
 
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_time_before_the_last_completed_step_by_rounding_is_a_step_of_none(fmus, version):
+    """CVODE's event location in fmusim set a time 1.4e-16 s before the last completed one, and the run ended with
+    "step size -1.4e-16 s is not a finite value >= 0": rounding is a step of none, nothing worn; a time truly before
+    it is refused, naming both times."""
+    params = JointParameters(wear_factor=100.0)
+    joint = Joint(fmus[version], version, "me").start(params)
+    try:
+        joint.set([v.name for v in fv.INPUTS], contact_inputs(params=params))
+        t = 1e-5
+        joint.fmu.setTime(t)
+        joint.fmu.completedIntegratorStep()
+        depth = joint.get(["max_wear_depth"])[0]
+        joint.fmu.setTime(t - 1.4e-16)
+        joint.fmu.completedIntegratorStep()
+        assert depth > 0.0 and joint.get(["max_wear_depth"])[0] == depth and joint.errors() == ""
+        joint.fmu.setTime(t - 1e-6)
+        with pytest.raises(FMICallException):
+            joint.fmu.completedIntegratorStep()
+        assert "step rejected: the time t=9.0000000000000002e-06 s is before the last completed step's end, " \
+               "9.99999999986" in joint.errors()
+    finally:
+        joint.free()

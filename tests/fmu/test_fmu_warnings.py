@@ -100,6 +100,29 @@ def test_a_first_step_with_the_pin_outside_the_bushing_names_the_offsets(fmus, v
 
 
 @pytest.mark.parametrize("version", [2, 3])
+def test_a_warning_status_is_logged_with_logging_off(fmus, version):
+    """A call that returns a warning has called the logger (FMI 2.0 §2.1.3): fmusim ends its run at a warning, and
+    with logging off (its default) the run had ended with an empty log.  A host that switches logStatusWarning off
+    silences it; the wear-step warning, returned with OK, stays a logging-on message."""
+    for silenced in (False, True):
+        params = joint_parameters(100.0)
+        joint = Joint(fmus[version], version, "cs", logging_on=False).start(params)
+        try:
+            if silenced:
+                joint.fmu.setDebugLogging(False, ["logStatusWarning"])
+            inputs = list(sliding_in_contact(params, 1.0))
+            inputs[0] = 0.2                             # offsets forgotten: the pin 0.2 m from the bushing
+            joint.set(INPUTS, inputs)
+            assert joint.do_step(0.0, 1e-6) == WARNING
+            said = warnings_of(joint)
+            assert len(said) == (0 if silenced else 1) and all("are the offsets set" in text for text in said)
+            joint.set(INPUTS, sliding_in_contact(params, 1.0))
+            assert joint.do_step(1e-6, 5e-5) == 0 and len(joint.log) == len(said)    # over the wear-step limit
+        finally:
+            joint.free()
+
+
+@pytest.mark.parametrize("version", [2, 3])
 def test_a_first_step_with_the_pin_deep_in_the_wall_warns_and_wears_nothing(fmus, version):
     """0.4 mm into the wall, four clearances (a new user's inputs, 229 kN): the first step was taken with fmi2OK and
     no word, the second discarded.  Now the first says so (the step is still taken: a master may step once on start

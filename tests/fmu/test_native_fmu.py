@@ -6,6 +6,7 @@ in the test_fmu*.py files; this file holds what is particular to the native bina
 """
 import ctypes
 import math
+import shutil
 import subprocess
 import zipfile
 from pathlib import Path
@@ -105,6 +106,19 @@ def test_sources_relink_into_a_working_binary(native, tmp_path, c_host):
 
 
 # ------------------------------------------------------------- the same numbers as the joint in process
+def test_the_sources_relink_under_the_fmi3_platform_name(fmus, tmp_path):
+    """``sh sources/build.sh x86_64-linux``, the name of the FMI 3.0 FMU's binaries/ folder, relinks the shipped
+    binary (it had said "unknown platform 'x86_64-linux' (this FMU carries: linux64)")."""
+    shutil.copytree(fmus[3]["dir"], tmp_path / "fmu")
+    sources = tmp_path / "fmu" / "sources"
+    done = subprocess.run(["sh", str(sources / "build.sh"), "x86_64-linux"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    relinked = sources / f"{fv.MODEL_NAME}.so"
+    assert relinked.read_bytes() == (tmp_path / "fmu" / "binaries" / "x86_64-linux" / relinked.name).read_bytes()
+    done = subprocess.run(["sh", str(sources / "build.sh"), "sparc"], capture_output=True, text=True)
+    assert done.returncode == 2 and "this FMU carries: linux64 (x86_64-linux)" in done.stderr
+
+
 @pytest.fixture(scope="module")
 def slider_crank_trace():
     """TRACE_REVOLUTIONS of the slider-crank with wear, every TRACE_STEP."""

@@ -15,7 +15,6 @@ from wearjoint import JointParameters  # noqa: E402
 from wearjoint.exudyn import (  # noqa: E402
     UNACCEPTED_FORCE_TIMES, add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic,
 )
-from wearjoint.checks import RunDiverged  # noqa: E402
 from wearjoint.parameters import ParameterError  # noqa: E402
 
 WEARING = JointParameters(bushing_offset_m=(0.0, 0.1), wear_factor=100)
@@ -170,8 +169,9 @@ def test_a_first_solve_may_start_at_any_time_and_a_later_start_is_a_new_run():
 
 def test_a_run_that_starts_deep_in_the_wall_is_told_to_check_its_start_not_its_step():
     """A start that puts the pin 1 mm into a 0.1 mm clearance's wall is refused when the joint is added; moved there
-    for a second solve (the node's coordinates set anew, read at the solve's start; the first point exempt), it
-    stops that run at its second step saying the start is wrong; no advice to shorten a step."""
+    for a second solve (the node's coordinates set anew, read at the solve's start), it is refused as that solve
+    starts, with the same words and no step taken (it had stopped the run at its second step with "a normal force
+    of 0 N"); no advice to shorten a step."""
     mbs = exu.SystemContainer().AddSystem()
     node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0, -0.101, 0]))
     bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=node, mass=1.0, inertia=1e-3))
@@ -186,11 +186,10 @@ def test_a_run_that_starts_deep_in_the_wall_is_told_to_check_its_start_not_its_s
     steps = handle.accepted_steps
     mbs.SetNodeParameter(node, "referenceCoordinates", [0, -0.101, 0])   # a second solve from 0, 1 mm deep
     mbs.Assemble()
-    with pytest.raises(RunDiverged, match=r"the run's second step put the pin .* \(the run started "
-                                          r"there: check the bodies' initial coordinates and the "
-                                          r"joint's offsets;") as failure:
+    with pytest.raises(ParameterError, match=r"0.001 m from the bushing centre at the initial configuration this "
+                                             r"solve starts from, deeper in its wall") as failure:
         solve_dynamic(mbs, simulation_settings(0.001, 1e-5, [handle]))
-    assert "shorter step" not in str(failure.value) and handle.accepted_steps == steps + 1
+    assert "shorter step" not in str(failure.value) and handle.accepted_steps == steps
 
 
 def test_a_joints_error_inside_the_solve_is_raised_as_it_is():
@@ -207,13 +206,18 @@ def test_a_joints_error_inside_the_solve_is_raised_as_it_is():
 
 def test_a_joint_at_a_place_that_has_one_and_a_body_at_nan_are_refused():
     """Two joints between the same bodies at the same offsets (one bushing) each carried half the load, without a
-    word; a body whose initial coordinates are not finite was blamed on the joint's offsets ("nan m from the bushing
-    centre")."""
+    word, and so did one 1 nm off; a body whose initial coordinates are not finite was blamed on the joint's offsets
+    ("nan m from the bushing centre")."""
     mbs, bar, ground, _ = hung_bar()
-    refused(r"^parameter bushing_body=.* is invalid: allowed a place no other joint has: joint 0 of this system joins "
-            r"these bodies at these offsets already", lambda: add_clearance_joint(mbs, ground, bar, WEARING))
-    other = JointParameters(bushing_offset_m=(0.0, 0.1), pin_offset_m=(0.0, 1e-5), wear_factor=100)
-    add_clearance_joint(mbs, ground, bar, other)                   # another place on the same bodies: taken
+    for offset in ((0.0, 0.1), (1e-9, 0.1), (0.0, 0.1 + 0.9e-4)):          # within the clearance, 1e-4 m
+        same = JointParameters(bushing_offset_m=offset, wear_factor=100)
+        refused(r"^parameter bushing_body=.* is invalid: allowed a place no other joint has: joint 0 of this system "
+                r"joins these bodies within the clearance \(0.0001 m\) of these offsets",
+                lambda: add_clearance_joint(mbs, ground, bar, same))
+    refused(r"joint 0 of this system joins these bodies within the clearance", lambda: add_clearance_joint(
+        mbs, bar, ground, JointParameters(pin_offset_m=(0.0, 0.1), bushing_offset_m=(0.0, 0.0))))   # roles swapped
+    other = JointParameters(bushing_offset_m=(0.05, 0.1), pin_offset_m=(0.05, 0.0), wear_factor=100)
+    add_clearance_joint(mbs, ground, bar, other)                   # a second bearing 5 cm along: taken
     mbs = exu.SystemContainer().AddSystem()
     bar = mbs.AddObject(ObjectRigidBody2D(nodeNumber=mbs.AddNode(NodeRigidBody2D(
         referenceCoordinates=[float("nan"), -0.1001, 0])), mass=1.0, inertia=1e-3))

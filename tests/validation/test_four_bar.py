@@ -54,7 +54,12 @@ def test_the_example_writes_its_results(tmp_path, capsys):
     assert summary["max_rocker_angle_error_rad"] < 0.01
     assert (tmp_path / "four_bar.png").stat().st_size > 10_000 and (tmp_path / "timeseries.npz").is_file()
     assert four_bar.main(["--out", str(tmp_path), "--clearance-m", "0.01"]) == 2
-    assert "clearance_m=0.01 is invalid" in capsys.readouterr().err
+    assert "four_bar: error: --clearance-m=0.01 (clearance_m) is invalid" in capsys.readouterr().err
+    # named as written (it said step_s)
+    assert four_bar.main(["--out", str(tmp_path), "--step", "1e-4"]) == 2
+    assert "four_bar: error: --step=0.0001 (step_s) is invalid with wear" in capsys.readouterr().err
+    assert four_bar.main(["--out", str(tmp_path), "--clearance-m=-1e-4"]) == 2
+    assert "four_bar: error: --clearance-m=-0.0001 (clearance_m) is invalid" in capsys.readouterr().err
 
 
 def test_the_example_writes_what_it_has_when_exudyn_stops(tmp_path, monkeypatch, capsys):

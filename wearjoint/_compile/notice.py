@@ -34,6 +34,9 @@ ESTIMATES = {
     "simulate": ("the monolithic engine's numba kernels", None, None, "core/integrators._integrate_steps-*.nbi"),
     "simulate-helped": ("the monolithic engine's numba kernels (the wear's in a second process)", None, None,
                         "core/integrators._integrate_steps-*.nbi"),
+    "simulate-gear": ("the monolithic engine's numba kernels for BDF (`--integrator gear`: with the mechanism's "
+                      "Jacobian; the wear's in a second process)", None, None,
+                      "core/slider_crank_jacobian.state_jacobian-*.nbi"),
     "cosim": ("the co-simulation master's numba kernels (no library of them could be built here)", None, None,
               "cosim/master_loop.master_loop-*.nbi"),
     "cosim-me": ("the monolithic engine's numba kernels, around the FMU's Model Exchange interface", None, None,
@@ -56,10 +59,11 @@ CALIBRATE_AFTER_S = 0.5
 SPEED_FACTOR_RANGE = (0.2, 5.0)
 # the keys of the kernels compiled ahead of time -> their model (:data:`wearjoint.fmu.aot.ENTRY_POINTS`)
 AHEAD_OF_TIME = {"fmu": "joint", "slider-crank-fmu": "slider-crank", "master": "master"}
-COMMAND_KERNELS = {"simulate": "simulate", "cosim": "cosim", "cosim-me": "cosim-me", "cosim-study": "cosim",
-                   "validate": "validate"}
-# commands of the monolithic engine: on two cores a second process compiles its wear kernels (prefetch)
-HELPED_COMMANDS = ("simulate", "wear-study")
+COMMAND_KERNELS = {"simulate": "simulate", "simulate-gear": "simulate-gear", "cosim": "cosim", "cosim-me": "cosim-me",
+                   "cosim-study": "cosim", "validate": "validate"}
+# commands (or their kernels' keys) of the monolithic engine -> the key of their run on two cores, where a second
+# process compiles the wear's kernels (prefetch)
+HELPED_COMMANDS = {"simulate": "simulate-helped", "wear-study": "simulate-helped", "simulate-gear": "simulate-gear"}
 # a file to append each compilation to (JSON lines: function, argument types, seconds exclusive of nested ones)
 PROFILE_ENV = "WEARJOINT_COMPILE_PROFILE"
 # compilations shorter than this say nothing (a few kernels of a new specialisation, not a cold run: a notice of
@@ -340,7 +344,7 @@ def watch_command(command: str):
     from . import prefetch
 
     if command in HELPED_COMMANDS and prefetch.usable_cores() > 1:
-        return watching("simulate-helped", on_first=prefetch.start)
+        return watching(HELPED_COMMANDS[command], on_first=prefetch.start)
     return watching(COMMAND_KERNELS.get(command, "kernels"))
 
 

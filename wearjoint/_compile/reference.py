@@ -3,13 +3,14 @@
 ``python -m wearjoint._compile.reference [ENGINE ...]`` runs each engine's command cold (an empty numba cache in a
 temporary folder; the other caches as they are) with :data:`~wearjoint._compile.notice.PROFILE_ENV` set, and keeps
 each compilation's own seconds: ``simulate-helped`` is ``wearjoint simulate`` on two cores (its second process
-compiles the wear's kernels), ``simulate`` the same on one core, ``cosim`` ``wearjoint cosim`` where the master's
+compiles the wear's kernels), ``simulate`` the same on one core, ``simulate-gear`` with ``--integrator gear`` on two
+cores, ``cosim`` ``wearjoint cosim`` where the master's
 library cannot be loaded, ``validate`` ``wearjoint validate --quick``, ``exudyn`` the README's exudyn example
 (Linux: the runs are pinned to their cores).
 The kernels compiled ahead of time (:data:`~wearjoint._compile.notice.AHEAD_OF_TIME`: ``fmu``, ``slider-crank-fmu``,
 ``master``) are each model's IR compiled afresh as a build without shipped IR does (two processes side by side on two
 cores), and their wall seconds are kept too, as ``simulate-helped``'s (its command's: the compilations of its two
-processes overlap).  About ten minutes; run it on an idle machine after a large change to
+processes overlap; ``simulate-gear``'s likewise).  About ten minutes; run it on an idle machine after a large change to
 the kernels (the bar scales the reference by the speed of the compilations it matches, so kernels added or renamed
 since make its time left vaguer, not wrong).
 """
@@ -49,6 +50,7 @@ _EXUDYN = ("import exudyn as exu; from exudyn.itemInterface import LoadMassPropo
 ENGINES = {
     "simulate-helped": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 2),
     "simulate": ([sys.executable, "-m", "wearjoint", "simulate", *RUN], 1),
+    "simulate-gear": ([sys.executable, "-m", "wearjoint", "simulate", "--integrator", "gear", *RUN], 2),
     "cosim": ([sys.executable, "-c", _COSIM_WITHOUT_LIBRARY, "cosim", *RUN], 1),
     "cosim-me": ([sys.executable, "-m", "wearjoint", "cosim", "--fmu-interface", "model-exchange", *RUN], 1),
     "validate": ([sys.executable, "-m", "wearjoint", "validate", "--quick", "--out"], 1),

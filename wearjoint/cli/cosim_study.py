@@ -38,9 +38,6 @@ def run(args) -> int:
     if args.replot is not None:
         study = _read_study(args.replot)
     else:
-        if args.no_wear:          # a ParameterError is one line from the CLI's dispatch (exit status 2)
-            raise ParameterError("--no-wear is not allowed here: the study compares the profiles worn at wear "
-                                 "factor 0.01")
         joint, mechanism = model_from_args(args)
         require_option("--schemes", " ".join(args.schemes), len(set(args.schemes)) == len(args.schemes),
                        "distinct names from " + ", ".join(SCHEMES))

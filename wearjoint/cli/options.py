@@ -10,10 +10,10 @@ progress options, the FMU options and the printed summary.
 """
 from __future__ import annotations
 
-import re
 import sys
 
 from .. import run_options
+from ..checks import with_options
 from ..interrupts import stopped_by_ctrl_c
 from ..parameters import JointParameters, ParameterError, SliderCrankParameters
 from ..run_options import (
@@ -28,19 +28,6 @@ def require_option(option: str, value, ok: bool, allowed: str) -> None:
     for an option whose value the API knows under another name, or not at all."""
     if not ok:
         raise ParameterError(f"{option}={value!r} is invalid: allowed {allowed}")
-
-
-def with_options(error: ParameterError, options: dict, written: dict | None = None) -> ParameterError:
-    """``error`` naming the option as written where its parameter has one in ``options`` (the API's name -> the
-    option), with the value as written where ``written`` has it (the API's name -> the option's value):
-    ``parameter jump_block_revolutions=0 is invalid: ...`` -> ``--cycle-jump-block=0 (jump_block_revolutions) is
-    invalid: ...``; ``error`` itself otherwise."""
-    match = re.match(r"parameter (\w+)=(.*?) (?:is|are) invalid", str(error))
-    if match is None or match.group(1) not in options:
-        return error
-    name = match.group(1)
-    value = repr(written[name]) if written and name in written else match.group(2)
-    return ParameterError(f"{options[name]}={value} ({name}) is invalid{str(error)[match.end():]}")
 
 
 def take_calibration(args, joint_values: dict) -> None:

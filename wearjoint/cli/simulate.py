@@ -9,6 +9,12 @@ from ..targets import simulate_config, simulate_record
 from .options import exit_status, print_summary, stiffness_note
 
 
+def compiled_kernels(args) -> str:
+    """The compile notice's key of the kernels the run compiles (wearjoint._compile.notice.ESTIMATES): BDF's
+    (the mechanism's Jacobian too) or the explicit integrators'."""
+    return "simulate-gear" if args.integrator == "gear" else "simulate"
+
+
 def run(args) -> int:
     config = simulate_config(vars(args))
     stiffness_note(config.joint, args)

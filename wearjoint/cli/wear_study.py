@@ -79,7 +79,8 @@ def run(args) -> int:
         elif args.calibrate_max_depth_m is not None:
             try:
                 result = calibrate_wear_coefficient(config, args.calibrate_max_depth_m, args.out, resume=args.resume,
-                                                    progress=not args.quiet)
+                                                    progress=not args.quiet,
+                                                    command_line=getattr(args, "command_line", None))
             except ParameterError as exc:        # a target no k_w the joint admits reaches
                 raise with_options(exc, {"target_max_depth_m": "--calibrate-max-depth-m"}) from None
             print(f"  printed k_w {PRINTED_WEAR_COEFFICIENT_M2_N:.3g} m^2/N wears "

@@ -31,6 +31,7 @@ from .slider_crank import angle_trig, derivative, derivative_evaluated, derivati
 
 RK4 = 0
 DOPRI5 = 1
+SAMPLE_TIME_SLACK = 1e-3     # a point this share of the step that ended there before a sample time is on it
 _PI_BETA = 0.04
 _PI_EXPONENT = 0.2 - 0.75 * _PI_BETA
 
@@ -103,7 +104,10 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
         row[S_ECC_MAX] = max(row[S_ECC_MAX], ecc)
     track[K_PREVIOUS_CONTACT] = 1.0 if contact else 0.0
     track[K_PREVIOUS_PENETRATION] = result[R_PENETRATION]
-    if t >= track[K_NEXT_SAMPLE]:
+    # a point a sliver of its step before the sample time is on it: a fixed-step master's time, a sum of its steps,
+    # ends 1e-18 s short of a multiple of the sample interval and had put that sample one step late
+    slack = SAMPLE_TIME_SLACK * dt
+    if t >= track[K_NEXT_SAMPLE] - slack:
         i = int(track[K_N_SAMPLES])
         if i < samples.shape[0]:
             s = samples[i]
@@ -124,7 +128,7 @@ def record_step(t, dt, y, dy, result, mp, rev_stats, samples, track):
             s[T_RELATIVE_OMEGA] = body_rate(y, pin) - body_rate(y, bushing)
             s[T_TANGENTIAL_VELOCITY] = result[R_TANGENTIAL_VELOCITY]
             track[K_N_SAMPLES] = i + 1
-        while track[K_NEXT_SAMPLE] <= t:
+        while track[K_NEXT_SAMPLE] <= t + slack:
             track[K_NEXT_SAMPLE] += track[K_SAMPLE_DT]
 
 

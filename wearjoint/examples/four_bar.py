@@ -28,6 +28,7 @@ from exudyn.itemInterface import (
     NodeRigidBody2D, ObjectConnectorCoordinate, ObjectGround, ObjectJointRevolute2D, ObjectRigidBody2D,
 )
 
+from wearjoint.checks import with_options
 from wearjoint.exudyn import add_clearance_joint, check_step, set_post_step, simulation_settings, solve_dynamic
 from wearjoint.parameters import JointParameters, ParameterError, require
 from wearjoint.progress import Progress
@@ -232,6 +233,11 @@ def _figures(out: Path, run: dict, model: FourBarModel) -> None:
     plt.close(fig)
 
 
+# the options by the names the model's checks give their values
+OPTIONS = {"revolutions": "--revolutions", "clearance_m": "--clearance-m", "wear_factor": "--wear-factor",
+           "step_s": "--step"}
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description="A four-bar with two wearing clearance joints in exudyn")
     parser.add_argument("--out", required=True, metavar="DIR")
@@ -246,8 +252,8 @@ def main(argv=None) -> int:
         require("revolutions", args.revolutions, math.isfinite(args.revolutions) and args.revolutions > 0, "> 0")
         model = FourBarModel(clearance_m=args.clearance_m, wear_factor=args.wear_factor)
         run = model.simulate(args.revolutions * 60.0 / model.linkage.crank_speed_rpm, args.step, progress=True)
-    except ParameterError as exc:
-        print(f"four_bar: error: {exc}", file=sys.stderr)
+    except ParameterError as exc:        # named as written: --step, not step_s
+        print(f"four_bar: error: {with_options(exc, OPTIONS)}", file=sys.stderr)
         return 2
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -11,6 +11,7 @@ import numpy as np
 from wearjoint.checks import integer, is_real, require
 from wearjoint.core import layout as L
 from wearjoint.joint_fields import largest_value
+from wearjoint.report import write_report
 from wearjoint.results import write_json_atomic
 from wearjoint.simulation_options import DEFAULT_WEAR_STEP_SHARE, wear_step_limit_s
 from wearjoint.studies.calibration import MAX_BUSHING_RADIUS_M, MIN_DEPTH_M
@@ -62,12 +63,14 @@ def printed_wear_rate(config: WearStudyConfig, simulated_revolutions: int = 3) -
 
 
 def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: float, out_dir, resume: bool = False,
-                               progress: bool = True, rel_tolerance: float = 0.05, max_trials: int = 6) -> dict:
+                               progress: bool = True, rel_tolerance: float = 0.05, max_trials: int = 6,
+                               command_line: str | None = None) -> dict:
     """Effective k_w whose study (same acceleration, ``config.revolutions``) ends at the target max depth.
 
     Start: linear extrapolation of the printed-k_w rate over the first revolutions; then a secant
     on log(depth) vs log(k_w) (depth grows monotonically with k_w), slope clipped to [0.3, 3],
-    until |depth/target - 1| <= rel_tolerance.  Every trial is a full study in out_dir/trial_<i>.
+    until |depth/target - 1| <= rel_tolerance.  Every trial is a full study in out_dir/trial_<i>, whose
+    summary.json and report name ``command_line`` (the CLI's) with the trial and its k_w.
     """
     target_max_depth_m = check_target_depth(target_max_depth_m, config.joint.bushing_radius_m)
     require("rel_tolerance", rel_tolerance, is_real(rel_tolerance) and 0.0 < rel_tolerance < 1.0, "in (0, 1)")
@@ -83,8 +86,11 @@ def calibrate_wear_coefficient(config: WearStudyConfig, target_max_depth_m: floa
         step = min(config.max_step_s, wear_step_limit_s(joint, config.mechanism, DEFAULT_WEAR_STEP_SHARE))
         cfg = config.replace(joint=joint, snapshots=(config.revolutions,), max_step_s=step)
         sub = out / f"trial_{i}"
+        made_by = None if command_line is None else f"{command_line} (its trial {i}: k_w {k:.6g} m^2/N)"
         summary = run_wear_study(cfg, sub, resume=resume and (sub / CHECKPOINT_NAME).exists(), progress=progress,
-                                 plots=False)
+                                 plots=False, command_line=made_by)
+        if made_by is not None:
+            write_report(sub, made_by)
         depth = summary["max_wear_depth_m"]
         trials.append({"wear_coefficient_m2_N": k, "max_wear_depth_m": depth, "wall_time_s": summary["wall_time_s"]})
         if abs(depth / target_max_depth_m - 1.0) <= rel_tolerance:
