@@ -376,9 +376,11 @@ def link_arguments(target: platforms.Platform, fmi_version: int, objects, model:
 def _build_script(targets, fmi_version: int, objects_by_platform: dict, model: str) -> str:
     """``build.sh PLATFORM``: relinks one platform's binary into the sources folder (``$CC`` overrides
     its compiler)."""
-    names = " ".join(t.name if t.name == t.fmi3_folder else f"{t.name} ({t.fmi3_folder})" for t in targets)
-    cases = "".join(     # each platform by either name: an FMI 3.0 FMU's binaries/ folder has the tuple (x86_64-linux)
-        f"  {t.name if t.name == t.fmi3_folder else t.name + '|' + t.fmi3_folder}) cc=${{CC:-{'gcc' if t.name == 'linux64' else t.cross_compiler or 'cc'}}}; "
+    # each platform by either name: an FMI 3.0 FMU's binaries/ folder has the tuple (x86_64-linux)
+    aliases = {t.name: (t.name,) if t.name == t.fmi3_folder else (t.name, t.fmi3_folder) for t in targets}
+    names = " ".join(a[0] if len(a) == 1 else f"{a[0]} ({a[1]})" for a in aliases.values())
+    cases = "".join(
+        f"  {'|'.join(aliases[t.name])}) cc=${{CC:-{'gcc' if t.name == 'linux64' else t.cross_compiler or 'cc'}}}; "
         f"args='{' '.join(link_arguments(t, fmi_version, objects_by_platform[t.name], model))}' ;;\n" for t in targets)
     return ("#!/bin/sh\n# Relink this FMU's binary for one platform from these sources: sh build.sh PLATFORM\n"
             f"# (one of: {names}; default {targets[0].name}).  The kernels' objects are kernels/PLATFORM/*.o, all\n"
