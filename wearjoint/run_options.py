@@ -15,6 +15,7 @@ import argparse
 import dataclasses
 import json
 import math
+import re
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
@@ -53,16 +54,17 @@ SAMPLE_DT_HELP = ("time-series spacing [s] (default %(default)g): a row at the f
 
 
 def gravity_value(text: str):
-    """``--gravity-m-s2``: one value G, or GX,GY."""
+    """``--gravity-m-s2``: one value G, or GX,GY (two bare integers refused: ``9,81``, a decimal comma or a pair?)."""
     parts = text.split(",")
+    if re.fullmatch(r"\s*[+-]?\d+,\d+\s*", text) and float(text.replace(",", ".")) != 0.0:
+        raise argparse.ArgumentTypeError(f"{text!r} is ambiguous (a decimal comma or a pair?): write "
+                                         f"{text.replace(',', '.')} for G, or {parts[0]}.0,{parts[1]} for the pair")
     try:
         values = [float(p) for p in parts]
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r}: allowed G or GX,GY (numbers)") from None
-    if len(values) == 1:
-        return values[0]
-    if len(values) == 2:
-        return tuple(values)
+    if len(values) in (1, 2):
+        return values[0] if len(values) == 1 else tuple(values)
     raise argparse.ArgumentTypeError(f"{text!r}: allowed G or GX,GY (one or two numbers)")
 
 
@@ -98,11 +100,9 @@ def _add_dataclass_options(group, cls, skip=()) -> None:
         default = f.default
         remark = _OFFSETS.get(f.name) or _UNSET.get(f.name) or f"(default {_default_text(default)})"
         help_text = " ".join(filter(None, (_HELP.get(f.name), remark)))
-        if f.name == "clearance_joint":
-            group.add_argument(option_name(f.name), dest=f.name, choices=L.CLEARANCE_JOINTS, default=None,
-                               help=help_text)
-        elif f.name in OPTION_CHOICES:
-            group.add_argument(option_name(f.name), dest=f.name, choices=OPTION_CHOICES[f.name], default=None, help=help_text)
+        choices = L.CLEARANCE_JOINTS if f.name == "clearance_joint" else OPTION_CHOICES.get(f.name)
+        if choices is not None:
+            group.add_argument(option_name(f.name), dest=f.name, choices=choices, default=None, help=help_text)
         elif f.name == "gravity_m_s2":
             group.add_argument(option_name(f.name), dest=f.name, type=gravity_value, default=None, metavar="G|GX,GY",
                                help=_HELP[f.name] + " (default 0,-9.81)")
@@ -495,6 +495,6 @@ def add_wear_study_arguments(parser) -> None:
 
 __all__ = ["gravity_value", "option_name", "add_model_arguments", "take_calibration", "calibrated_wear_coefficient",
            "calibration_facts", "calibration_note", "restate_default", "given_options", "model_from_options",
-           "add_output_arguments", "add_settling_argument",
-           "check_settling", "add_initial_profile_argument", "read_initial_profile", "add_fmu_arguments",
-           "add_tolerance_arguments", "add_integration_arguments", "add_simulate_arguments", "add_cosim_arguments", "add_wear_study_arguments"]
+           "add_output_arguments", "add_settling_argument", "check_settling", "add_initial_profile_argument",
+           "read_initial_profile", "add_fmu_arguments", "add_tolerance_arguments", "add_integration_arguments",
+           "add_simulate_arguments", "add_cosim_arguments", "add_wear_study_arguments"]

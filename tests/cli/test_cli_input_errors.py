@@ -253,6 +253,21 @@ def test_a_negative_value_in_any_notation_is_read_as_the_options_value(tmp_path,
     assert args.gravity_m_s2 == (-9.81, 0.0)
 
 
+@pytest.mark.parametrize("text, meant", [("9,81", "9.81"), ("-9,81", "-9.81"), ("5,0", "5.0")])
+def test_a_gravity_written_with_a_decimal_comma_is_refused_not_read_as_a_pair(tmp_path, capsys, text, meant):
+    """--gravity-m-s2=9,81 ran with gravity (9, 81) m/s^2, 81.5 m/s^2 along the slide's normal: a European 9.81."""
+    with pytest.raises(SystemExit) as exited:          # argparse's exit, as at any other option it refuses
+        main(["simulate", f"--gravity-m-s2={text}", "--out", str(tmp_path / "run")])
+    err = capsys.readouterr().err
+    assert exited.value.code == 2 and err.count("\n") == 1, err
+    assert f"--gravity-m-s2: '{text}' is ambiguous" in err and f"write {meant} for G" in err
+    assert not (tmp_path / "run").exists()
+    from wearjoint.cli import build_parser
+    for given, read in (("9.81,0", (9.81, 0.0)), ("0,-9", (0.0, -9.0)), ("0,0", (0.0, 0.0)), ("9.0,81", (9.0, 81.0))):
+        assert build_parser("simulate").parse_args(["simulate", f"--gravity-m-s2={given}", "--out", "x"]).gravity_m_s2 \
+            == read
+
+
 def test_calibrate_on_an_ensemble_folder_points_to_its_cases(study, tmp_path, capsys):
     """A --seeds folder holds its studies under cases/: it had been refused as "not a finished wear study
     (FileNotFoundError: ...summary.json)" although it had finished."""
