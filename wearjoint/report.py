@@ -55,7 +55,7 @@ def _table(rows, header, table_id) -> str:
 
 
 # the summary's entries the page shows in sections of their own (or not: the figures are embedded)
-_OWN_SECTIONS = ("parameters", "command_line", "figures")
+_OWN_SECTIONS = ("parameters", "parameter_spread", "command_line", "figures")
 
 
 def _is_cell(value) -> bool:
@@ -153,6 +153,9 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str,
     parts += [_answer_table(name, rows) for name, rows in tables if rows]
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
+    spread = summary.get("parameter_spread")          # a sweep's: {name: [its values over the cases, whence]}
+    spread = {k: v for k, v in spread.items() if isinstance(v, list) and len(v) == 2} if isinstance(spread, dict) else {}
+    sources.update({name: whence for name, (_, whence) in spread.items()})
     joint_defaults, derived = _joint_defaults(parameters)
     written = {token.split("=", 1)[0] for token in str(command or "").split() if token.startswith("--")}
     stiffness = summary.get("contact_stiffness_N_m1_5")
@@ -165,7 +168,8 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str,
                 parts.append(f"<p>The wear coefficient: {html.escape(source)}"
                              f"{'. ' + html.escape(str(summary['wear_coefficient_note'])) if summary.get('wear_coefficient_note') else ''}</p>")
             joint = key == "joint"
-            parts.append(_table(_parameter_rows(parameters[key], defaults, sources if joint else None,
+            given = {name: spread[name][0] if name in spread else value for name, value in parameters[key].items()}
+            parts.append(_table(_parameter_rows(given, defaults, sources,
                                                 derived if joint else (), written, resolved if joint else None),
                                 ("parameter", "value", "from"), key))
     for name, data in figures:

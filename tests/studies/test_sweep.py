@@ -62,6 +62,12 @@ def test_a_failed_case_is_reported_failed_and_the_others_finish(sweep):
     sweep_summary = json.loads((out / "sweep_summary.json").read_text())
     assert sweep_summary["command_line"].startswith("wearjoint sweep simulate") and (out / "report.html").is_file()
     assert all((out / r["folder"] / "report.html").is_file() for r in rows[:2])
+    # its parameters: each swept one over the grid, the failed point's value too (the report had none)
+    assert sweep_summary["parameter_spread"] == {"slider_force_N": [[0.0, 1e8], "swept (--vary)"],
+                                                 "initial_crank_angle_deg": [[0.0, SEED_ANGLE_STEP_DEG],
+                                                                             "the seeds' start angles (--seeds)"]}
+    page = (out / "report.html").read_text()
+    assert "<td class=\"\">slider_force_N</td><td class=\"\">[0.0, 100000000.0]</td><td class=\"\">swept (--vary)" in page
 
 
 def test_ensemble_holds_mean_std_min_max_per_grid_point(sweep):

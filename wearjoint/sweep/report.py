@@ -67,6 +67,48 @@ def read_run_facts(out: Path, point: GridPoint) -> None:
             return
 
 
+PARAMETER_SECTIONS = ("joint", "mechanism")       # the sections of a case's parameters the report tables
+SHOWN_VALUES = 12                                  # a parameter that takes more values over the cases: its range
+
+
+def _distinct(values) -> list:
+    """``values`` without repeats, in their order (lists among them: no hashing)."""
+    kept = []
+    for value in values:
+        if value not in kept:
+            kept.append(value)
+    return kept
+
+
+def parameter_spread(out: Path, rows: list[dict], names: list[str]) -> tuple[dict, dict]:
+    """(the joint and mechanism parameters of the sweep's first ok case, {section: {name: value}} as its summary.json
+    has them; {name: [its values, where they came from]} of each that differs between them: the grid's ``--vary``
+    (every grid point's value, a failed point's too), the seeds' start angles, or a swept option it follows; more than
+    SHOWN_VALUES numbers as ``from MIN to MAX, N values``); ({}, {}) before a case finished."""
+    first, seen = {}, {}
+    for row in rows:
+        folder = out / row["folder"] if row["status"] == "ok" else None
+        if folder is None or not (folder / RECORD_NAME).is_file():
+            continue
+        parameters = read_record(folder).get("parameters", {})
+        first = first or {section: parameters[section] for section in PARAMETER_SECTIONS if section in parameters}
+        for section in PARAMETER_SECTIONS:
+            for name, value in (parameters.get(section) or {}).items():
+                seen[name] = _distinct([*seen.get(name, []), value])
+    for name in names:                     # a swept parameter: every grid point's value, a failed one's too
+        if name in seen:
+            seen[name] = _distinct(row[name] for row in rows)
+    spread = {}
+    for name, values in seen.items():
+        if len(values) > 1 or name in names:
+            numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
+            shown = (values if len(values) <= SHOWN_VALUES or not numbers
+                     else f"from {min(values):g} to {max(values):g}, {len(values)} values")
+            spread[name] = [shown, "swept (--vary)" if name in names else "the seeds' start angles (--seeds)"
+                            if name == "initial_crank_angle_deg" else "follows a swept option"]
+    return first, spread
+
+
 def _bushing_angle_label(points) -> str:
     """The profiles' angle axis of ``points`` (the bushing frame of their clearance joint, if they share one)."""
     from ..plots import bushing_angle_label
@@ -371,7 +413,7 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
 def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = True) -> dict:
     """ensemble.csv, the profile bands and (``plots``) the figures from ``rows`` (every case's, in
     design order; ``names``: the swept values' columns); returns the ensemble rows, the figures'
-    file names and the notes on the wear factor's bias."""
+    file names, the notes on the wear factor's bias and the cases' parameters (:func:`parameter_spread`)."""
     out = Path(out)
     points = grid_points(rows, names)
     for point in points:
@@ -386,7 +428,9 @@ def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = T
     notes = list(dict.fromkeys(b.note for point in points for b in point.bias.values()))
     regimes = [{"point": k, "values": point.values, "regimes": regime_counts(point), "text": row["regimes"],
                 "mixed": bool(row["mixed_regimes"])} for k, (point, row) in enumerate(zip(points, ensemble))]
-    return {"ensemble": ensemble, "figures": figures, "wear_factor_bias": notes, "regimes": regimes}
+    parameters, spread = parameter_spread(out, rows, names)
+    return {"ensemble": ensemble, "figures": figures, "wear_factor_bias": notes, "regimes": regimes,
+            "parameters": parameters, "parameter_spread": spread}
 
 
 def regime_line(row: dict) -> str:
