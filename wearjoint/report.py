@@ -55,7 +55,7 @@ def _table(rows, header, table_id) -> str:
 
 
 # the summary's entries the page shows in sections of their own (or not: the figures are embedded)
-_OWN_SECTIONS = ("parameters", "parameter_spread", "command_line", "figures")
+_OWN_SECTIONS = ("parameters", "case_parameters", "parameter_spread", "command_line", "figures")
 
 
 def _is_cell(value) -> bool:
@@ -137,8 +137,10 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str,
     """The page: ``summary`` (a summary.json's content), ``figures`` (name, PNG bytes), ``title``; ``tables``: (file
     name, its rows as text, the header first) of :data:`ANSWER_TABLES`."""
     scalars = [(k, v) for k, v in summary.items() if not isinstance(v, (dict, list)) and k != "command_line"]
-    parameters = summary.get("parameters")
-    parameters = parameters if isinstance(parameters, dict) else {}     # a sensitivity study's: its sampled ones
+    # a run's joint and mechanism; a sweep's or a sensitivity study's (whose "parameters" are its sampled ones): their
+    # cases' (``case_parameters`` with ``parameter_spread``, :func:`wearjoint.sweep.report.parameter_spread`)
+    parameters = next((p for p in (summary.get("parameters"), summary.get("case_parameters")) if isinstance(p, dict)),
+                      {})
     parts = [f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>"
              f"<style>{_STYLE}</style></head><body><h1>{html.escape(title)}</h1>"]
     command = summary.get("command_line")
@@ -149,11 +151,11 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str,
     parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
     parts += [_entry_section(k, v) for k, v in summary.items()
-              if isinstance(v, (dict, list)) and (k not in _OWN_SECTIONS or k == "parameters" and not parameters)]
+              if isinstance(v, (dict, list)) and (k not in _OWN_SECTIONS or k == "parameters" and not isinstance(v, dict))]
     parts += [_answer_table(name, rows) for name, rows in tables if rows]
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
-    spread = summary.get("parameter_spread")          # a sweep's: {name: [its values over the cases, whence]}
+    spread = summary.get("parameter_spread")          # {name: [its values over the cases, whence]}
     spread = {k: v for k, v in spread.items() if isinstance(v, list) and len(v) == 2} if isinstance(spread, dict) else {}
     sources.update({name: whence for name, (_, whence) in spread.items()})
     joint_defaults, derived = _joint_defaults(parameters)

@@ -60,6 +60,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
     ``max_samples``, default 8 x ``samples``) until the widest interval meets it; with ``law_spread`` then run
     every contact law variant at the nominal point (:func:`.law_spread.run_law_spread`); ``plots``: the indices'
     figures (an earlier analysis's go whenever this one is written, or without them).  Returns summary.json's content."""
+    from ..sweep.report import parameter_spread
     from ..sweep.runner import SweepFolder, refuse_existing, resumed, run_cases, start_client
 
     n = check_samples(method, DEFAULT_SAMPLES.get(method) if samples is None else samples)
@@ -121,6 +122,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
     write_samples(out, problem, problem.points(x), group_size(method, len(problem.parameters)), ids,
                   {r["case_id"]: r for r in table}, outputs)
     biases = output_biases(out, table, outputs)
+    case_parameters, spread = parameter_spread(out, table, [p.dest for p in problem.parameters], "sampled (--param)")
     figures = []
     if not plots or not study["stopped"]:     # an earlier analysis's (other --outputs or --samples) go: not mixed
         for stale in out.glob("sensitivity_*.png"):
@@ -155,6 +157,7 @@ def run_sensitivity(command: str, base: dict, problem: Problem, out, method: str
         "law_spread": law,
         "files": ["samples.csv", "indices.csv", "sweep.csv", "sweep.json", "cases/", *figures,
                   *(law["files"] if law else ())],
+        "case_parameters": case_parameters, "parameter_spread": spread,
     }
     write_json_atomic(out / SUMMARY_NAME, summary)
     summary["results"] = results

@@ -64,7 +64,7 @@ def run_sweep(command: str, base: dict, out, vary: dict | None = None, points=()
         "failures": [{"case_id": r["case_id"], "seed": r["seed"], "error": r["error"]}
                      for r in table if r["status"] == "failed"],
         "files": ["sweep.csv", "ensemble.csv", "sweep.json", "bands/", "cases/", *report["figures"]],
-        "parameters": report["parameters"], "parameter_spread": report["parameter_spread"],
+        "case_parameters": report["case_parameters"], "parameter_spread": report["parameter_spread"],
     }
     write_json_atomic(Path(out) / SUMMARY_NAME, summary)
     return summary

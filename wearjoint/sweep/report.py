@@ -80,11 +80,13 @@ def _distinct(values) -> list:
     return kept
 
 
-def parameter_spread(out: Path, rows: list[dict], names: list[str]) -> tuple[dict, dict]:
+def parameter_spread(out: Path, rows: list[dict], names: list[str], varied_by: str = "swept (--vary)"
+                     ) -> tuple[dict, dict]:
     """(the joint and mechanism parameters of the sweep's first ok case, {section: {name: value}} as its summary.json
-    has them; {name: [its values, where they came from]} of each that differs between them: the grid's ``--vary``
-    (every grid point's value, a failed point's too), the seeds' start angles, or a swept option it follows; more than
-    SHOWN_VALUES numbers as ``from MIN to MAX, N values``); ({}, {}) before a case finished."""
+    has them; {name: [its values, where they came from]} of each that differs between them: ``varied_by`` for
+    ``names``, the design's (every case's value, a failed one's too), the seeds' start angles, or an option of the
+    design it follows; more than SHOWN_VALUES numbers as ``from MIN to MAX, N values``); ({}, {}) before a case
+    finished."""
     first, seen = {}, {}
     for row in rows:
         folder = out / row["folder"] if row["status"] == "ok" else None
@@ -97,15 +99,15 @@ def parameter_spread(out: Path, rows: list[dict], names: list[str]) -> tuple[dic
                 seen[name] = _distinct([*seen.get(name, []), value])
     for name in names:                     # a swept parameter: every grid point's value, a failed one's too
         if name in seen:
-            seen[name] = _distinct(row[name] for row in rows)
+            seen[name] = _distinct(row[name] for row in rows if name in row)
     spread = {}
     for name, values in seen.items():
         if len(values) > 1 or name in names:
             numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
             shown = (values if len(values) <= SHOWN_VALUES or not numbers
                      else f"from {min(values):g} to {max(values):g}, {len(values)} values")
-            spread[name] = [shown, "swept (--vary)" if name in names else "the seeds' start angles (--seeds)"
-                            if name == "initial_crank_angle_deg" else "follows a swept option"]
+            spread[name] = [shown, varied_by if name in names else "the seeds' start angles (--seeds)"
+                            if name == "initial_crank_angle_deg" else "follows an option of the design"]
     return first, spread
 
 
@@ -430,7 +432,7 @@ def write_reports(out: Path, rows: list[dict], names: list[str], plots: bool = T
                 "mixed": bool(row["mixed_regimes"])} for k, (point, row) in enumerate(zip(points, ensemble))]
     parameters, spread = parameter_spread(out, rows, names)
     return {"ensemble": ensemble, "figures": figures, "wear_factor_bias": notes, "regimes": regimes,
-            "parameters": parameters, "parameter_spread": spread}
+            "case_parameters": parameters, "parameter_spread": spread}
 
 
 def regime_line(row: dict) -> str:
