@@ -157,6 +157,13 @@ def test_cosim_master_writes_the_results_folder(case, tmp_path):
     assert summary["communication_steps"] == 400        # 2 ms at the paper's 5 us, whether the trace holds t = 0
     series = np.load(out / "timeseries.npz")
     assert series["time_s"][-1] == pytest.approx(summary["simulated_time_s"], abs=1e-5)
+    # the crank's rate minus the rod's, the ideal slider-crank's closed form within the clearance's play (it had been
+    # 0: the bodies' rates were not traced, and the regime could never be a whirl)
+    m = SliderCrankParameters()
+    theta, rate = series["crank_angle_rad"], -m.omega_rad_s       # driven clockwise
+    rod_rate = -m.crank_length_m * np.cos(theta) * rate / (m.rod_length_m * np.sqrt(
+        1.0 - (m.crank_length_m * np.sin(theta) / m.rod_length_m) ** 2))
+    np.testing.assert_allclose(series["relative_omega_rad_s"], rate - rod_rate, atol=0.03 * m.omega_rad_s)
     profiled = case not in ("fmpy-ssp", "container-fmusim")     # their masters give no worn profile: no NaN file
     assert (out / "profile.csv").is_file() == profiled and ("wear_profile" not in summary) == profiled
 

@@ -18,12 +18,13 @@ from ..results import RunParameters, RunRecord, new_revolution_stats, new_track
 from ..slider_crank import pack_mechanism_parameters
 
 # what every adapter records at each communication point: (component, variable)
-MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a")
+MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a", "pin_omega", "bushing_omega")
 JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
                 "eccentricity_x", "eccentricity_y", "max_wear_depth", "worn_volume")
 TRACED = tuple((ssp.MECHANISM, n) for n in MECHANISM_TRACED) + tuple((ssp.JOINT, n) for n in JOINT_TRACED)
 _COLUMN = {key: k for k, key in enumerate(TRACED)}
-# where record_step finds each traced quantity: the state y, its derivative dy, the joint's result
+# where record_step finds each traced quantity: the state y, its derivative dy, the joint's result (and
+# the joint's bodies' angular velocities, by the clearance joint's place: record_from_trace)
 _Y = {"crank_angle": L.CRANK + 2, "slider_x": L.Y_SLIDER_X, "slider_v": L.Y_SLIDER_V}
 _DY = {"slider_a": L.N_COORDINATES + L.SLIDER}
 _RESULT = {"pin_force_x": L.R_PIN_FX, "pin_force_y": L.R_PIN_FY, "normal_force": L.R_NORMAL_FORCE,
@@ -68,6 +69,7 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     points at a time), the worn profile where the master gave one at that point (else NaN: no profile.csv nor its
     figure; the max wear depth from the joint's scalar output)."""
     from ..core.integrators import record_points   # numba's kernel: the package's own master imports no numba
+    from ..core.joint_location import JOINT_BODIES
 
     bad, failure = trace_divergence(trace, joint)
     # what came before written: a master that went on past it (ecos) keeps nothing after, nor its final profile,
@@ -86,8 +88,13 @@ def record_from_trace(trace: MasterTrace, joint, mechanism, sample_dt_s: float, 
     track = new_track(sample_dt_s)
     ys, dys, results = np.zeros((chunk, 2 * L.N_COORDINATES)), np.zeros((chunk, 2 * L.N_COORDINATES)), \
         np.zeros((chunk, L.N_RESULT))
+    # the pin body's and the bushing body's angular velocities (the mechanism's outputs to the joint) where
+    # record_step reads them: a relative_omega_rad_s of 0 had made every third-party run's regime "impacting"
+    bodies = JOINT_BODIES[L.CLEARANCE_JOINTS.index(mechanism.clearance_joint)]
+    rates = {name: L.N_COORDINATES + int(body) + 2 for name, body in zip(("pin_omega", "bushing_omega"), bodies)
+             if body != L.GROUND}
     where = [(k, array, table[name]) for (_, name), k in _COLUMN.items()
-             for array, table in ((ys, _Y), (dys, _DY), (results, _RESULT)) if name in table]
+             for array, table in ((ys, {**_Y, **rates}), (dys, _DY), (results, _RESULT)) if name in table]
     for first in range(0, n, chunk):
         rows = slice(first, min(n, first + chunk))
         m = rows.stop - rows.start
