@@ -214,11 +214,11 @@ class CosimConfig:
 
 def cosim_config(options) -> CosimConfig:
     from .cosim import CoSimulationOptions
-    from .cosim.masters import DEFAULT_STEP_S, MASTERS, master_available
+    from .cosim.masters import MASTERS, master_available
     from .cosim.step_rule import paper_step_scale
     from .fmu.fmi import DEFAULT_BACKEND
     from .simulation_options import check_wear_step, wear_step_limit_s
-    from .fmu.ssp import LOAD_COUPLINGS
+    from .fmu.ssp import LOAD_COUPLINGS, package_step_s
     from .simulation_options import SimulationOptions
 
     o, defaults = options, CoSimulationOptions()
@@ -262,8 +262,8 @@ def cosim_config(options) -> CosimConfig:
             require("--master", o["master"], False,
                     f"one of the masters installed here, {', '.join(installed)} ({missing})")
         if step is None:     # the package's step (the step rule's), within the wear-step limit
-            step = min(DEFAULT_STEP_S[coupling] * paper_step_scale(joint, mechanism),
-                       wear_step_limit_s(joint, mechanism))
+            step = package_step_s(coupling, paper_step_scale(joint, mechanism), wear_step_limit_s(joint, mechanism),
+                                  mechanism.period_s)
         require("--revolutions", o["revolutions"], finite("--revolutions", o["revolutions"]) > 0.0,
                 "> 0 crank revolutions")
         run_s = o["revolutions"] * mechanism.period_s

@@ -209,9 +209,12 @@ def test_a_third_party_masters_step_is_held_to_the_wear_step_limit_and_defaults_
     options = {**vars(_cosim_parser().parse_args(["--out", "x", "--master", "container", "--crank-speed-rpm", "300"]))}
     config = cosim_config(options)
     scale = paper_step_scale(paper_joint(mechanism), mechanism)
-    assert scale < 1.0 and config.step_s == pytest.approx(masters.DEFAULT_STEP_S["linearised"] * scale, rel=1e-12)
-    fast = cosim_config({**options, "wear_factor": 1e5})        # a wear-step limit below it: the limit
-    assert fast.step_s == wear_step_limit_s(fast.joint, mechanism) < 1e-7
+    steps = -(-mechanism.period_s // (masters.DEFAULT_STEP_S["linearised"] * scale))    # whole steps per revolution
+    assert scale < 1.0 and config.step_s == pytest.approx(mechanism.period_s / steps, rel=1e-12)
+    fast = cosim_config({**options, "wear_factor": 1e5})        # a wear-step limit below it: the limit, to whole steps
+    limit, steps = wear_step_limit_s(fast.joint, mechanism), mechanism.period_s / fast.step_s
+    assert limit < 1e-7 and steps == pytest.approx(round(steps), abs=1e-6) and fast.step_s <= limit < \
+        mechanism.period_s / (round(steps) - 1)
 
 
 def _cosim_parser():

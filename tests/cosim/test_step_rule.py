@@ -78,3 +78,23 @@ def test_a_wearing_joint_whose_groove_is_stiffer_gets_a_smaller_step():
     assert paper_step_scale(paper) == 1.0
     assert paper_step_scale(stiff) == pytest.approx(8 ** -0.5, rel=1e-12)
     assert paper_step_scale(stiff.replace(wear_factor=0.0)) == pytest.approx(8 ** -0.4, rel=1e-12)
+
+
+@pytest.mark.parametrize("coupling, scale, limit, on_time, expected_steps", [
+    ("linearised", 1.0, math.inf, False, 80_000),            # the paper's 5 us: 80 000 to its 0.4 s revolution
+    ("linearised", 1.0, math.inf, True, 40_000),             # OMSimulator's 10 us
+    ("hold", 1.0, math.inf, False, 800_000),                 # the held loads' 0.5 us
+    ("linearised", 0.655, math.inf, False, 122_138),         # 3.275 us: 122 137.4 steps, so one more
+    ("linearised", 1.0, 4.9e-6, False, 81_633),              # within the wear-step limit
+])
+def test_the_packages_step_divides_the_crank_revolution(coupling, scale, limit, on_time, expected_steps):
+    """A step that did not divide the revolution (the scaled 3.2751 us) ended a one-revolution run 3.5e-6 revolutions
+    late, a sliver revolution of its own in revolutions.csv: the package's step is the longest at most the scaled one
+    that a whole number of steps per revolution gives."""
+    from wearjoint.fmu.ssp import DEFAULT_STEP_S, ON_TIME_STEP_S, package_step_s
+
+    period = SliderCrankParameters().period_s
+    step = package_step_s(coupling, scale, limit, period, on_time=on_time)
+    wanted = min((ON_TIME_STEP_S if on_time else DEFAULT_STEP_S)[coupling] * scale, limit)
+    assert period / step == pytest.approx(expected_steps, abs=1e-6) and step <= wanted
+    assert period / (expected_steps - 1) > wanted          # one step fewer would be longer than asked

@@ -12,6 +12,7 @@ from ..cosim.step_rule import communication_step_rule, paper_step_scale, uncheck
 from ..fmu import platforms
 from ..fmu.ssp import (
     CONTAINER_STEP_S, DEFAULT_STEP_S, LOAD_COUPLINGS, MIN_STEP_S, MIN_STEP_WHY, ON_TIME_STEP_S, check_stop_time,
+    package_step_s,
 )
 from ..parameters import SliderCrankParameters, wear_coefficient_source
 from ..simulation_options import check_wear_step, wear_step_limit_s
@@ -62,11 +63,13 @@ def run(args) -> int:
         container_step = _container_step(args, joint, mechanism)
         rule = communication_step_rule(joint, mechanism)
         scale = paper_step_scale(joint, mechanism)
-        step = args.step if args.step is not None else DEFAULT_STEP_S[args.load_coupling] * scale
+        limit = wear_step_limit_s(joint, mechanism)
+        step, on_time = ((args.step, args.step) if args.step is not None else
+                         (package_step_s(args.load_coupling, scale, limit, mechanism.period_s, on_time=on_time)
+                          for on_time in (False, True)))
         path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms,
                           step_s=args.step, load_coupling=args.load_coupling, step_scale=scale)
         print(path)
-        on_time = args.step if args.step is not None else ON_TIME_STEP_S[args.load_coupling] * scale
         asks = (f"the package asks its masters for a communication step of {step:.3g} s, OMSimulator, which reads "
                 f"the loads on time, for {on_time:.3g} s")
         if args.load_coupling == "linearised":

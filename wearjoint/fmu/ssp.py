@@ -224,6 +224,16 @@ def _validate(xml: bytes, schema: str, what: str) -> None:
                            + "; ".join(f"line {e.line}: {e.message}" for e in checker.error_log))
 
 
+def package_step_s(load_coupling: str, step_scale: float, limit_s: float, period_s: float,
+                   on_time: bool = False) -> float:
+    """The communication step the package asks for [s]: :data:`DEFAULT_STEP_S` (``on_time``: :data:`ON_TIME_STEP_S`,
+    OMSimulator's) of ``load_coupling`` times ``step_scale`` (the step rule's), within ``limit_s`` (the wear-step
+    limit), shortened to a whole number of steps per crank revolution of ``period_s`` [s] (3.2751 us had ended a
+    revolution's run 3.5e-6 revolutions late, a sliver revolution of its own in revolutions.csv)."""
+    step = min((ON_TIME_STEP_S if on_time else DEFAULT_STEP_S)[load_coupling] * step_scale, limit_s)
+    return period_s / math.ceil(period_s / step * (1.0 - 1e-12))
+
+
 def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: JointParameters | None = None,
                stop_time: float | None = None, platforms=None, step_s: float | None = None,
                load_coupling: str = "linearised", step_scale: float = 1.0) -> Path:
@@ -249,9 +259,10 @@ def export_ssp(out_dir, mechanism: SliderCrankParameters | None = None, joint: J
     stop_time = check_stop_time(stop_time, most=math.inf)      # a master's run is bounded by its trace's memory
     require("load_coupling", load_coupling, load_coupling in LOAD_COUPLINGS, f"one of {', '.join(LOAD_COUPLINGS)}")
     limit = wear_step_limit_s(joint, mechanism)          # a default within the wear-step limit, a given step checked
-    on_time_step_s = min(ON_TIME_STEP_S[load_coupling] * step_scale, limit) if step_s is None else step_s
+    on_time_step_s = (package_step_s(load_coupling, step_scale, limit, mechanism.period_s, on_time=True)
+                      if step_s is None else step_s)
     if step_s is None:      # the package's own step: a stop time before it ends is the stop time's fault
-        step_s = min(DEFAULT_STEP_S[load_coupling] * step_scale, limit)
+        step_s = package_step_s(load_coupling, step_scale, limit, mechanism.period_s)
         require("stop_time", stop_time, stop_time >= step_s, f">= the package's communication step {step_s:g} s")
     require("step_s", step_s, 0.0 < finite("step_s", step_s) <= stop_time, f"> 0 and <= stop_time = {stop_time:g} s")
     require("step_s", step_s, step_s >= MIN_STEP_S, f">= {MIN_STEP_S:g} s ({MIN_STEP_WHY})")
