@@ -382,7 +382,9 @@ def revolution_impact_events(samples: np.ndarray, stats: np.ndarray, mechanism,
     angles = [[] for _ in range(n)]
     for cluster in clusters:
         peak = cluster[np.argmax(deviation[cluster])]
-        k = int(revolution_of(t[peak], period))
+        # a peak on a revolution's boundary (to rounding) is the next revolution's, whose start (theta1 = 0) it is: a
+        # run that ended as a burst began had counted it in its last revolution, beside that revolution's own start
+        k = int(t[peak] / period * (1.0 + 1e-12))
         if 0 <= k < n:
             angles[k].append(float(crank_angle_deg(samples[peak, L.T_CRANK_ANGLE])))
     events = np.array([len(a) for a in angles], dtype=float)

@@ -98,6 +98,20 @@ def test_bursts_merge_within_the_merge_angle_and_separate_beyond():
         assert per["angles_deg"][0][0] == pytest.approx((30.0 - 0.3 * 360.0) % 360.0, abs=1.01 * deg_per_sample())
 
 
+def test_a_peak_on_a_revolution_boundary_is_the_next_revolutions_and_one_at_the_runs_end_is_none():
+    """Spikes at the samples t = T and t = 2 T, the end of a two-revolution run: the first starts revolution 1 (theta1
+    = 30 deg, the start angle), the second would start revolution 2, which the run does not hold.  It had been
+    counted in revolution 1 beside that revolution's own start: 3.5 events per revolution where 3 happened."""
+    samples = trace([], revolutions=2.0)
+    ends = [int(np.argmin(np.abs(samples[:, L.T_TIME] - k * PERIOD))) for k in (1, 2)]
+    assert ends[1] == samples.shape[0] - 1 and samples[ends[0], L.T_TIME] == pytest.approx(PERIOD, abs=1e-15)
+    for i in ends:
+        samples[i, L.T_SLIDER_A] += 900.0
+    per = analysis.revolution_impact_events(samples, stats_rows([0, 0], 1.0), MECH)
+    assert per["events"].tolist() == [0, 1]
+    assert per["angles_deg"][1] == [pytest.approx(30.0, abs=1e-6)]
+
+
 def test_no_event_below_the_threshold_or_without_bursts():
     samples = trace([(peak_time(0, 100.0), 90.0)], revolutions=1.0)      # peak 90 m/s^2 < 100
     per = analysis.revolution_impact_events(samples, stats_rows([130], 1.0), MECH)
