@@ -52,3 +52,19 @@ def test_a_sensitivity_studys_page_shows_its_sampled_ranges_and_the_parameters_i
     joint, mechanism = ({row[0]: row[1:] for row in tables[key]} for key in ("joint", "mechanism"))
     assert joint["restitution"][1] == "sampled (--param)" and mechanism["crank_speed_rpm"] == ["4000.0", "given"]
     assert joint["pin_radius_m"] == ["0.01", "default"]
+
+
+def test_a_swept_files_ticks_are_its_names_unless_two_share_one(monkeypatch, tmp_path):
+    """A swept load table's ticks had been its full paths, running into each other: its file names now, its paths
+    where two files share a name."""
+    import wearjoint.plots
+    from wearjoint.sweep.report import GridPoint, plot_against_parameters
+
+    figures = []
+    monkeypatch.setattr(wearjoint.plots, "save_figure", lambda fig, path: figures.append(fig))
+    for tables in (["/data/press/a_1kN.csv", "/data/press/b_2kN.csv"], ["/x/load.csv", "/y/load.csv"]):
+        points = [GridPoint([{"slider_force_table": t, "status": "ok", "max_wear_depth_m": d}], ["slider_force_table"])
+                  for t, d in zip(tables, (1e-6, 2e-6))]
+        plot_against_parameters(tmp_path, points)
+    labels = [[tick.get_text() for tick in fig.axes[0].get_xticklabels()] for fig in figures]
+    assert labels == [["a_1kN.csv", "b_2kN.csv"], ["/x/load.csv", "/y/load.csv"]]

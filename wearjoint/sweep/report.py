@@ -396,8 +396,10 @@ def plot_against_parameters(out: Path, points: list[GridPoint]) -> list[str]:
             if numeric and min(values) > 0.0 and max(values) >= LOG_AXIS_SPAN * min(values):
                 ax.set_xscale("log")             # a grid over decades (k_w 1e-12..1e-9 had run together at the left)
                 ax.minorticks_off()
-            if not numeric:
-                ax.set_xticks(range(len(values)), [str(v) for v in values])
+            if not numeric:       # a file's name, not its path (a load table's full paths had run into each other)
+                names = [Path(str(v)).name or str(v) for v in values]
+                ax.set_xticks(range(len(values)), names if len(set(names)) == len(names) else [str(v) for v in values],
+                              rotation=15, fontsize=7)
             elif len(values) <= MAX_LABELLED_VALUES:     # each value (the default ran close ones together)
                 ax.set_xticks(values, _distinct_labels(values), rotation=30, fontsize=7)
             ax.grid(alpha=0.3)
