@@ -64,9 +64,10 @@ def run(args) -> int:
         rule = communication_step_rule(joint, mechanism)
         scale = paper_step_scale(joint, mechanism)
         limit = wear_step_limit_s(joint, mechanism)
-        step, on_time = ((args.step, args.step) if args.step is not None else
-                         (package_step_s(args.load_coupling, scale, limit, mechanism.period_s, on_time=on_time)
-                          for on_time in (False, True)))
+        step = on_time = args.step
+        if args.step is None:        # the package's own steps (export_ssp's), for OSP's masters and OMSimulator
+            step = package_step_s(args.load_coupling, scale, limit, mechanism.period_s)
+            on_time = package_step_s(args.load_coupling, scale, limit, mechanism.period_s, on_time=True)
         path = export_ssp(args.out, mechanism, joint, stop_time=args.stop_time, platforms=args.platforms,
                           step_s=args.step, load_coupling=args.load_coupling, step_scale=scale)
         print(path)
