@@ -151,12 +151,14 @@ def report_html(summary: dict, figures: list[tuple[str, bytes]], title: str,
     parts.append("<h2>Summary</h2><p>Units are in the names (docs/reference/results.md §6).</p>")
     parts.append(_table(scalars, ("quantity", "value"), "summary"))
     parts += [_entry_section(k, v) for k, v in summary.items()
-              if isinstance(v, (dict, list)) and (k not in _OWN_SECTIONS or k == "parameters" and not isinstance(v, dict))]
+              if isinstance(v, (dict, list))
+              and (k not in _OWN_SECTIONS or k == "parameters" and not isinstance(v, dict))]
     parts += [_answer_table(name, rows) for name, rows in tables if rows]
     source = str(summary.get("wear_coefficient_source", ""))
     sources = {"wear_coefficient_m2_N": source} if source.startswith("calibration") else {}
     spread = summary.get("parameter_spread")          # {name: [its values over the cases, whence]}
-    spread = {k: v for k, v in spread.items() if isinstance(v, list) and len(v) == 2} if isinstance(spread, dict) else {}
+    spread = ({k: v for k, v in spread.items() if isinstance(v, list) and len(v) == 2} if isinstance(spread, dict)
+              else {})
     sources.update({name: whence for name, (_, whence) in spread.items()})
     joint_defaults, derived = _joint_defaults(parameters)
     written = {token.split("=", 1)[0] for token in str(command or "").split() if token.startswith("--")}

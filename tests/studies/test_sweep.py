@@ -67,7 +67,8 @@ def test_a_failed_case_is_reported_failed_and_the_others_finish(sweep):
                                                  "initial_crank_angle_deg": [[0.0, SEED_ANGLE_STEP_DEG],
                                                                              "the seeds' start angles (--seeds)"]}
     page = (out / "report.html").read_text()
-    assert "<td class=\"\">slider_force_N</td><td class=\"\">[0.0, 100000000.0]</td><td class=\"\">swept (--vary)" in page
+    assert ('<td class="">slider_force_N</td><td class="">[0.0, 100000000.0]</td><td class="">swept (--vary)'
+            in page)
 
 
 def test_ensemble_holds_mean_std_min_max_per_grid_point(sweep):

@@ -7,8 +7,8 @@ import sys
 
 
 def test_the_sweeps_parameters_say_which_differ_between_its_cases_and_why(tmp_path):
-    """Synthetic cases: the swept value, the seeds' angles and a parameter that follows an option of the design each as the
-    list of their values with where they came from; one the cases share as its value; a long numeric list as its
+    """Synthetic cases: the swept value, the seeds' angles and a parameter that follows an option of the design, each
+    as the list of its values with where they came from; one the cases share as its value; a long numeric list as its
     range; no case finished: nothing."""
     from wearjoint.sweep.report import SHOWN_VALUES, parameter_spread
 
