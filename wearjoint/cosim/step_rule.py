@@ -115,11 +115,11 @@ CHECKED_STEP_FACTOR = 2.0
 def unchecked_step_note(step_s: float, load_coupling: str, joint: JointParameters,
                         mechanism: SliderCrankParameters) -> str:
     """'' for a fixed-step master's ``step_s`` [s] within CHECKED_STEP_FACTOR times the step the SSP package asks
-    for with ``load_coupling`` (wearjoint.fmu.ssp.DEFAULT_STEP_S, scaled by :func:`paper_step_scale`), else a note
+    for with ``load_coupling`` (wearjoint.fmu.ssp.package_step_s, scaled by :func:`paper_step_scale`), else a note
     that its answers are not checked (a package at 10 times its step completed with a third of the contact)."""
-    from ..fmu.ssp import DEFAULT_STEP_S
+    from ..fmu.ssp import package_step_s
 
-    package = DEFAULT_STEP_S[load_coupling] * paper_step_scale(joint, mechanism)
+    package = package_step_s(load_coupling, paper_step_scale(joint, mechanism), math.inf, mechanism.period_s)
     if not step_s > CHECKED_STEP_FACTOR * package:
         return ""
     return (f"--step {step_s:g} s is {step_s / package:.3g} times the checked step of --load-coupling {load_coupling} "
