@@ -359,8 +359,10 @@ def render_accuracy(folder: Path = ACCURACY_DIR) -> list[str]:
     return ["## The co-simulation's answers against the monolithic engine", "",
             "Ensembles of 8 starts spread over a turn (6 revolutions, the first 2 dropped): each configuration's mean "
             "± standard error per statistic and its difference from monolithic RK4 at 2.5 µs in combined standard "
-            "errors (z; |z| ≤ 2: inside the monolithic scatter); the cases and the statistics: "
-            "[cosim_study.md](explanation/cosim_study.md#ensembles-on-worn-grooves). The speed at that accuracy: "
+            "errors (z; |z| ≤ 2: inside the monolithic scatter) and in per cent of its mean; the cases and the "
+            "statistics: [cosim_study.md](explanation/cosim_study.md#ensembles-on-worn-grooves) (a joint where the "
+            "default is 12 % off: [its fifth case](explanation/cosim_study.md#a-pin-that-whirls-joint-j-tight-joint-"
+            "where-the-default-is-12--off)). The speed at that accuracy: "
             "each configuration's real-time factor (the ensemble's simulated time over its simulations' wall time, "
             "loading excluded; one run of the study, on an otherwise idle machine) and its communication steps per "
             "revolution.", "",

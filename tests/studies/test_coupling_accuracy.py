@@ -6,7 +6,7 @@ import pytest
 
 from wearjoint.core.geometry import bushing_point_angles
 from wearjoint.parameters import paper_joint
-from wearjoint.studies.coupling_accuracy import conforming_groove, z_scores
+from wearjoint.studies.coupling_accuracy import case_setup, conforming_groove, relative_differences, table, z_scores
 
 JOINT = paper_joint(wear_factor=0.0)
 
@@ -41,6 +41,33 @@ def test_z_is_the_difference_in_combined_standard_errors():
     assert z["impacts_per_revolution"] == pytest.approx(8.0 / 5.0)
     nil = {"mean": 1.0, "se": 0.0}
     assert z_scores({k: nil for k in names}, {k: nil for k in names})["contact_fraction"] == 0.0
+
+
+def test_the_table_gives_each_statistics_difference_in_standard_errors_and_in_per_cent_of_the_reference():
+    """Where the runs settle on one periodic motion the standard errors vanish and z alone says nothing of size: a
+    row 0.1 % off the reference is z -21 (tight-joint's co-simulation at 1 us), so each cell gives both."""
+    names = ("impacts_per_revolution", "contact_fraction", "max_normal_force_N", "chattering_share")
+    reference = {k: {"mean": 2937.25, "se": 0.05} for k in names}
+    row = {k: {"mean": 2933.46, "se": 0.17} for k in names}
+    row["chattering_share"] = {"mean": 1.0, "se": 0.0}
+    reference["chattering_share"] = {"mean": 1.0, "se": 0.0}
+    assert relative_differences(row, reference)["max_normal_force_N"] == pytest.approx(100 * (2933.46 - 2937.25) / 2937.25)
+    assert relative_differences(row, reference)["chattering_share"] == 0.0
+    row["z"] = z_scores(row, reference)
+    text = table([{"case": "tight-joint", "rows": {"monolithic rk4 2.5 us": {**reference, "steps_per_revolution": 0.0},
+                                                    "cosim step_s=1e-6": {**row, "steps_per_revolution": 1.0}}}])
+    assert "2.93e+03 ± 0.17 (z -21.4, -0.1 %)" in text
+    assert "| tight-joint | monolithic rk4 2.5 us |  |  | 2.94e+03 ± 0.05 |" in text
+
+
+def test_the_tight_joint_case_is_joint_j_in_the_papers_mechanism():
+    """docs/how-to/choose_step_and_master.md's joint J: a 15 mm pin, 0.05 mm clearance, 10 mm long, a bronze bushing,
+    friction 0.15, unworn and not wearing, in the paper's slider-crank."""
+    joint, mechanism, profile = case_setup("tight-joint", 1.0)
+    assert (joint.pin_radius_m, joint.bushing_radius_m - joint.pin_radius_m) == pytest.approx((0.015, 5e-5))
+    assert (joint.contact_length_m, joint.friction_coefficient, joint.wear_factor) == (0.01, 0.15, 0.0)
+    assert (joint.bushing_youngs_modulus_Pa, joint.bushing_poisson_ratio) == (110e9, 0.34)
+    assert profile is None and mechanism == case_setup("paper", 1.0)[1]
 
 
 def test_the_study_keeps_every_finished_row_when_a_later_one_fails(tmp_path, monkeypatch):

@@ -1,4 +1,4 @@
-"""Does the co-simulation's coupling answer what the monolithic engine answers?  Ensembles on four cases.
+"""Does the co-simulation's coupling answer what the monolithic engine answers?  Ensembles on five cases.
 
 For each case, ``--starts`` runs (the initial crank angle spread over a turn) of the monolithic reference
 (RK4 at ``--reference-step``) and of each co-simulation configuration (the co-simulation's default first,
@@ -13,17 +13,19 @@ revolutions of which the first
 fraction, largest normal force, share of chattering revolutions (more than
 :data:`wearjoint.analysis.CHATTER_IMPACTS_PER_REVOLUTION` onsets).  Per configuration the ensemble's mean
 and standard error, and the difference from the reference in combined standard errors
-(|z| <= 2: inside the monolithic scatter).
+(|z| <= 2: inside the monolithic scatter) and in per cent of the reference's mean (what counts where the runs
+settle on one periodic motion and the standard errors vanish: ``tight-joint``).
 
 Cases (``--cases``): ``paper`` (the paper's slider-crank, unworn, no wear); ``paper-worn`` (its bushing
 with a conforming groove 0.58 mm deep, the depth of the paper's 4000-revolution study, no further wear);
 ``own-wear`` (the own-mechanism example of docs/how-to/validate_own_mechanism.md, wearing; wear factor
-``--wear-factor``); ``groove`` (a third slider-crank with a conforming groove 5.7 clearances deep, no
+``--wear-factor``); ``tight-joint`` (the paper's mechanism with joint J of docs/how-to/choose_step_and_master.md: a
+15 mm pin in a bronze bushing with 0.05 mm clearance, 10 mm long, friction 0.15; unworn, no wear); ``groove`` (a third slider-crank with a conforming groove 5.7 clearances deep, no
 further wear).  A conforming groove: the bushing worn to the pin's circle pushed ``depth`` past the
 clearance along the direction in which an unworn run wore most (:data:`LOADED_DIRECTION_RAD`,
 :func:`conforming_groove`).
 
-    python -m wearjoint.studies.coupling_accuracy [--cases paper paper-worn own-wear groove] [--starts 8]
+    python -m wearjoint.studies.coupling_accuracy [--cases paper paper-worn own-wear tight-joint groove] [--starts 8]
         [--revolutions 6] [--settling 2] [--no-default] [--cosim-steps 5e-6 2.5e-6] [--tolerances 0.03]
         [--linearised-steps 5e-6 1e-5] [--masters libcosim ecos fmpy-ssp omsimulator container]
         [--master-steps 5e-6] [--load-coupling linearised] [--out DIR]
@@ -53,12 +55,14 @@ from wearjoint.simulate import SimulationOptions, run_simulation
 
 SAMPLE_DT_S = 1e-4       # a third-party master's time series (the statistics come from every communication point)
 STATISTICS = ("impacts_per_revolution", "contact_fraction", "max_normal_force_N", "chattering_share")
-CASES = ("paper", "paper-worn", "own-wear", "groove")
+CASES = ("paper", "paper-worn", "own-wear", "tight-joint", "groove")
 PAPER_WORN_DEPTH_M = 0.58e-3
 GROOVE_CLEARANCES = 5.7
 OWN_MECHANISM = dict(crank_length_m=0.08, rod_length_m=0.3, crank_speed_rpm=300.0, slider_mass_kg=1.2)
 OWN_JOINT = dict(pin_radius_m=0.012, bushing_radius_m=0.01215, contact_length_m=0.01,
                  bushing_youngs_modulus_Pa=110e9, bushing_poisson_ratio=0.34)
+TIGHT_JOINT = dict(pin_radius_m=0.015, bushing_radius_m=0.01505, contact_length_m=0.01, bushing_youngs_modulus_Pa=110e9,
+                   bushing_poisson_ratio=0.34, friction_coefficient=0.15)
 GROOVE_MECHANISM = dict(crank_length_m=0.06, rod_length_m=0.25, crank_speed_rpm=200.0, slider_mass_kg=1.5,
                         rod_mass_kg=0.3, rod_inertia_kg_m2=0.0018)
 GROOVE_JOINT = dict(pin_radius_m=0.008, bushing_radius_m=0.00812, contact_length_m=0.008)
@@ -88,6 +92,9 @@ def case_setup(name: str, wear_factor: float) -> tuple[JointParameters, SliderCr
     if name == "own-wear":
         mechanism = SliderCrankParameters(**OWN_MECHANISM)
         return paper_joint(mechanism, wear_factor=wear_factor, **OWN_JOINT), mechanism, None
+    if name == "tight-joint":
+        mechanism = SliderCrankParameters()
+        return paper_joint(mechanism, wear_factor=0.0, **TIGHT_JOINT), mechanism, None
     if name == "paper-worn":
         mechanism, changes, depth = SliderCrankParameters(), {}, PAPER_WORN_DEPTH_M
     elif name == "groove":
@@ -139,6 +146,15 @@ def z_scores(row: dict, reference: dict) -> dict:
         a, b = row[name], reference[name]
         se = math.hypot(a["se"], b["se"])
         out[name] = (a["mean"] - b["mean"]) / se if se > 0 else 0.0
+    return out
+
+
+def relative_differences(row: dict, reference: dict) -> dict:
+    """The differences of the means from the reference's in per cent of the reference's mean (0 where both are 0)."""
+    out = {}
+    for name in STATISTICS:
+        a, b = row[name]["mean"], reference[name]["mean"]
+        out[name] = 100.0 * (a - b) / abs(b) if b != 0.0 else (0.0 if a == 0.0 else math.copysign(math.inf, a))
     return out
 
 
@@ -205,17 +221,20 @@ def run_case(name: str, args, log=print, save=lambda case: None) -> dict:
 def table(results: list) -> str:
     """A markdown table: per case and configuration, the real-time factor of the simulations (compilation and
     loading excluded; the wall times with them are in the JSON), the communication steps per revolution and the
-    mean ± standard error and z of each statistic."""
+    mean ± standard error, z and the relative difference from the case's reference (its first row) of each
+    statistic."""
     head = ("| case | configuration | real-time factor | steps/rev | " + " | ".join(STATISTICS) + " |\n|"
             + " --- |" * (4 + len(STATISTICS)))
     lines = [head]
     for case in results:
+        reference = next(iter(case["rows"].values()))
         for label, row in case["rows"].items():
             cells = []
+            relative = relative_differences(row, reference)
             for name in STATISTICS:
                 text = f"{row[name]['mean']:.3g} ± {row[name]['se']:.2g}"
                 if "z" in row:
-                    text += f" (z {row['z'][name]:+.1f})"
+                    text += f" (z {row['z'][name]:+.1f}, {relative[name]:+.1f} %)"
                 cells.append(text)
             steps = f"{row['steps_per_revolution']:.0f}" if row["steps_per_revolution"] else ""
             speed = f"{row['realtime_factor']:.3g}" if "realtime_factor" in row else ""
