@@ -20,10 +20,10 @@ Cases (``--cases``): ``paper`` (the paper's slider-crank, unworn, no wear); ``pa
 with a conforming groove 0.58 mm deep, the depth of the paper's 4000-revolution study, no further wear);
 ``own-wear`` (the own-mechanism example of docs/how-to/validate_own_mechanism.md, wearing; wear factor
 ``--wear-factor``); ``tight-joint`` (the paper's mechanism with joint J of docs/how-to/choose_step_and_master.md: a
-15 mm pin in a bronze bushing with 0.05 mm clearance, 10 mm long, friction 0.15; unworn, no wear); ``groove`` (a third slider-crank with a conforming groove 5.7 clearances deep, no
-further wear).  A conforming groove: the bushing worn to the pin's circle pushed ``depth`` past the
-clearance along the direction in which an unworn run wore most (:data:`LOADED_DIRECTION_RAD`,
-:func:`conforming_groove`).
+15 mm pin in a bronze bushing with 0.05 mm clearance, 10 mm long, friction 0.15; unworn, no wear); ``groove`` (a
+third slider-crank with a conforming groove 5.7 clearances deep, no further wear).  A conforming groove: the
+bushing worn to the pin's circle pushed ``depth`` past the clearance along the direction in which an unworn run wore
+most (:data:`LOADED_DIRECTION_RAD`, :func:`conforming_groove`).
 
     python -m wearjoint.studies.coupling_accuracy [--cases paper paper-worn own-wear tight-joint groove] [--starts 8]
         [--revolutions 6] [--settling 2] [--no-default] [--cosim-steps 5e-6 2.5e-6] [--tolerances 0.03]
