@@ -78,11 +78,14 @@ def test_each_master_converges_to_the_monolithic_engine_over_the_first_impacts(c
     times = (np.arange(reference.size) + 1) * SAMPLE_S
     column = master_trace.TRACED.index((ssp.MECHANISM, "slider_x"))
     contact = master_trace.TRACED.index((ssp.JOINT, "contact"))
+    sliding = master_trace.TRACED.index((ssp.JOINT, "tangential_velocity"))
     errors = {}
     for coupling, step in (("hold", 2e-6), ("hold", 1e-6), ("hold", 5e-7), ("linearised", 5e-6)):
         trace = masters.RUNNERS[master](packages[coupling], step, WINDOW_S, paper_joint().n_points, **extra)
         assert trace.time_s[-1] == pytest.approx(WINDOW_S, abs=0.5 * step)
         assert trace.values[:, contact].max() == 1.0
+        touching = trace.values[:, contact] == 1.0      # the joint's v_T traced: sliding in contact, 0 out of it
+        assert np.all(trace.values[~touching, sliding] == 0.0) and np.abs(trace.values[touching, sliding]).max() > 0.01
         errors[coupling, step] = np.abs(np.interp(times, trace.time_s, trace.values[:, column]) - reference).max()
     held = [errors["hold", step] for step in (2e-6, 1e-6, 5e-7)]
     assert held[0] > held[1] > held[2], errors

@@ -19,7 +19,7 @@ ADAPTIVE_SCHEMES = ("adaptive", "linearised")   # long steps in free flight, rol
 # --- the FMU outputs the master reads, in this order, and where each goes in a result (layout.R_*)
 OUTPUT_NAMES = ("pin_force_x", "pin_force_y", "pin_torque", "bushing_force_x", "bushing_force_y",
                 "bushing_torque", "normal_force", "friction_force", "penetration", "contact",
-                "eccentricity_x", "eccentricity_y")
+                "eccentricity_x", "eccentricity_y", "tangential_velocity")
 OUTPUT_RESULT_INDEX = np.array([RESULT_SLOTS[name] for name in OUTPUT_NAMES])   # the FMU's table (fmu.variables)
 N_OUTPUTS = len(OUTPUT_NAMES)
 O_PENETRATION = OUTPUT_NAMES.index("penetration")

@@ -20,7 +20,7 @@ from ..slider_crank import pack_mechanism_parameters
 # what every adapter records at each communication point: (component, variable)
 MECHANISM_TRACED = ("crank_angle", "slider_x", "slider_v", "slider_a", "pin_omega", "bushing_omega")
 JOINT_TRACED = ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
-                "eccentricity_x", "eccentricity_y", "max_wear_depth", "worn_volume")
+                "eccentricity_x", "eccentricity_y", "tangential_velocity", "max_wear_depth", "worn_volume")
 TRACED = tuple((ssp.MECHANISM, n) for n in MECHANISM_TRACED) + tuple((ssp.JOINT, n) for n in JOINT_TRACED)
 _COLUMN = {key: k for k, key in enumerate(TRACED)}
 # where record_step finds each traced quantity: the state y, its derivative dy, the joint's result (and
@@ -29,7 +29,8 @@ _Y = {"crank_angle": L.CRANK + 2, "slider_x": L.Y_SLIDER_X, "slider_v": L.Y_SLID
 _DY = {"slider_a": L.N_COORDINATES + L.SLIDER}
 _RESULT = {"pin_force_x": L.R_PIN_FX, "pin_force_y": L.R_PIN_FY, "normal_force": L.R_NORMAL_FORCE,
            "friction_force": L.R_FRICTION_FORCE, "penetration": L.R_PENETRATION, "contact": L.R_CONTACT,
-           "eccentricity_x": L.R_ECCENTRICITY_X, "eccentricity_y": L.R_ECCENTRICITY_Y}
+           "eccentricity_x": L.R_ECCENTRICITY_X, "eccentricity_y": L.R_ECCENTRICITY_Y,
+           "tangential_velocity": L.R_TANGENTIAL_VELOCITY}
 
 @dataclass
 class MasterTrace:

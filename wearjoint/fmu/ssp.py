@@ -75,7 +75,8 @@ SIGNAL_FILTER = "resources/signalFilter.xml"
 # what OMSimulator records by default: the mechanism's crank and slider, the joint's scalar results
 RECORDED = tuple((MECHANISM, n) for n in ("crank_angle", "slider_x", "slider_v", "slider_a")) + tuple(
     (JOINT, n) for n in ("pin_force_x", "pin_force_y", "normal_force", "friction_force", "penetration", "contact",
-                         "eccentricity_x", "eccentricity_y", "max_wear_depth", "worn_volume"))
+                         "eccentricity_x", "eccentricity_y", "tangential_velocity", "max_wear_depth",
+                         "worn_volume"))
 
 for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("oms", OMS), ("osp", OSP)):
     ET.register_namespace(_prefix, _uri)

@@ -67,6 +67,8 @@ SCALAR_OUTPUTS: tuple[FmuVariable, ...] = tuple(FmuVariable(name, OUTPUT, REAL, 
     ("contact_angle", "rad", "angle of the contact point (of the eccentricity without contact), bushing frame, 0..2 pi"),
     ("eccentricity_x", "m", "pin centre minus bushing centre, x, bushing frame"),
     ("eccentricity_y", "m", "pin centre minus bushing centre, y, bushing frame"),
+    ("tangential_velocity", "m/s", "sliding velocity v_T of the pin's contact point relative to the bushing's, along the "
+                                   "contact tangent (Eq. 14; 0 out of contact)"),
     ("max_wear_depth", "m", "largest wear depth of the bushing profile"),
     ("worn_volume", "m3", "volume removed from the bushing: contact length times worn area"),
 ))
@@ -80,6 +82,7 @@ RESULT_SLOTS: dict[str, int] = {
     "friction_force": layout.R_FRICTION_FORCE, "penetration": layout.R_PENETRATION,
     "contact": layout.R_CONTACT, "contact_angle": layout.R_CONTACT_ANGLE,
     "eccentricity_x": layout.R_ECCENTRICITY_X, "eccentricity_y": layout.R_ECCENTRICITY_Y,
+    "tangential_velocity": layout.R_TANGENTIAL_VELOCITY,
 }
 WEAR_SUMMARY_NAMES = ("max_wear_depth", "worn_volume")
 
