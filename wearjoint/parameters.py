@@ -259,6 +259,20 @@ def is_paper_case(joint: JointParameters, mechanism: SliderCrankParameters) -> b
             and all(getattr(joint, name) == getattr(paper, name) for name in PAPER_JOINT_GEOMETRY))
 
 
+def joint_size_note(joint: JointParameters, mechanism: SliderCrankParameters) -> dict:
+    """``joint_size_note`` (summary.json): a line where a length of the joint (its radii, its contact length) is longer
+    than the mechanism's crank and rod both, as a length given in millimetres where metres are asked is (10 for a
+    10 mm pin: every range check passes it); None otherwise."""
+    reach = max(mechanism.crank_length_m, mechanism.rod_length_m)
+    for name in PAPER_JOINT_GEOMETRY:
+        value = getattr(joint, name)
+        if value > reach:
+            return {"joint_size_note": f"{name}={value:g} is longer than the mechanism's crank and rod "
+                                       f"({mechanism.crank_length_m:g} m, {mechanism.rod_length_m:g} m): the joint's "
+                                       "lengths are in metres"}
+    return {"joint_size_note": None}
+
+
 PAPER_PRINTED_WEAR_COEFFICIENT_M2_N = 5.05e-10    # the paper's Table 2 (the JointParameters default)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from . import against_ideal, analysis, profile_metrics
 from .core import layout as L
-from .parameters import JointParameters, SliderCrankParameters, wear_coefficient_source
+from .parameters import JointParameters, SliderCrankParameters, joint_size_note, wear_coefficient_source
 from .report import json_values, write_report
 
 REVOLUTION_COLUMNS = analysis.REVOLUTION_COLUMNS + against_ideal.REVOLUTION_COLUMNS
@@ -140,6 +140,7 @@ class RunRecord:
                                                self.settling_revolutions),
             "worn_volume_m3": self.worn_volume_m3,
             **wear_coefficient_source(self.parameters.joint, self.parameters.mechanism),
+            **joint_size_note(self.parameters.joint, self.parameters.mechanism),
             **({"wear_coefficient_note": None} if self.parameters.ideal else {}),   # the ideal joint wears nothing
             "clearance_m": self.clearance_m,
             "admissible_penetration_m": self.parameters.joint.admissible_penetration_m,

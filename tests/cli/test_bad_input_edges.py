@@ -202,3 +202,13 @@ def test_contact_law_takes_the_masses_of_tsujis_effective_mass(tmp_path):
     out = tmp_path / "law"
     assert main(["contact-law", "--out", str(out), *FLAGS, "--slider-mass-kg", "5", "--rod-mass-kg", "1"]) == 0
     assert json.loads((out / "contact_law.json").read_text())["effective_mass_kg"] == pytest.approx(6.0)
+
+
+def test_a_pin_radius_in_millimetres_runs_with_a_note_saying_the_lengths_are_in_metres(tmp_path, capsys):
+    """Every range check passes 10 for a 10 mm pin (a 10 m pin): the run says so on stderr and in summary.json."""
+    out = tmp_path / "mm"
+    assert main(["simulate", "--pin-radius-m", "10", "--bushing-radius-m", "10.1", "--revolutions", "0.01",
+                 "--no-plots", "--out", str(out)]) == 0
+    note = json.loads((out / "summary.json").read_text())["joint_size_note"]
+    assert note.startswith("pin_radius_m=10 is longer than the mechanism's crank and rod")
+    assert f"note: {note}" in capsys.readouterr().err

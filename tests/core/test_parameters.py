@@ -167,3 +167,20 @@ def test_a_wear_coefficient_too_fast_for_any_step_is_refused_by_its_own_name_wit
     assert options.for_joint(paper_joint(fast, wear_coefficient_m2_N=0.999 * bound), fast).max_step_s >= 1e-7
     with pytest.raises(ParameterError, match="^parameter wear_coefficient_m2_N="):
         options.for_joint(paper_joint(fast, wear_coefficient_m2_N=1.001 * bound), fast)
+
+
+@pytest.mark.parametrize("changes, named", [
+    ({}, None),                                                            # the paper's 10 mm pin
+    ({"pin_radius_m": 0.1, "bushing_radius_m": 0.1001}, None),             # an eccentric sheave: past the crank only
+    ({"pin_radius_m": 10.0, "bushing_radius_m": 10.1}, "pin_radius_m=10"),  # 10 mm written where metres are asked
+    ({"contact_length_m": 12.0}, "contact_length_m=12"),
+])
+def test_a_joint_longer_than_the_crank_and_rod_both_gets_a_note_naming_the_length(changes, named):
+    from wearjoint.parameters import joint_size_note
+
+    note = joint_size_note(JointParameters(**changes), SliderCrankParameters())["joint_size_note"]
+    if named is None:
+        assert note is None
+    else:
+        assert note.startswith(f"{named} is longer than the mechanism's crank and rod (0.05 m, 0.22 m)")
+        assert note.endswith("lengths are in metres")

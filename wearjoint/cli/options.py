@@ -78,8 +78,9 @@ def print_summary(summary: dict, args, extra_keys=()) -> None:
     for k in SUMMARY_KEYS + tuple(extra_keys):
         v = summary.get(k)
         print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
-    if summary.get("wear_coefficient_note"):
-        print(f"note: {summary['wear_coefficient_note']}", file=sys.stderr)
+    for note in ("joint_size_note", "wear_coefficient_note"):
+        if summary.get(note):
+            print(f"note: {summary[note]}", file=sys.stderr)
     print(f"results in {args.out}")
 
 
