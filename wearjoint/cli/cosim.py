@@ -10,7 +10,7 @@ from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_cosim_arguments as add_arguments
 from ..targets import cosim_config, cosim_record
-from .options import exit_status, print_summary, stiffness_note
+from .options import exit_status, print_summary, model_notes
 
 COMMUNICATION_KEYS = ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s")
 INTEGRATOR_KEYS = ("integrator_accepted_steps", "integrator_rejected_steps")
@@ -36,7 +36,7 @@ def run(args) -> int:
     """Run, write the results folder, print the summary; 1 with a one-line message on an FMU error,
     2 on a bad option (one line naming it)."""
     config = cosim_config(vars(args))
-    stiffness_note(config.joint, args)
+    model_notes(config.joint, config.mechanism, args)
     if config.master != "wearjoint" and not args.quiet:
         note = unchecked_step_note(config.step_s, config.load_coupling, config.joint, config.mechanism)
         if note:

@@ -15,7 +15,7 @@ import sys
 from .. import run_options
 from ..checks import with_options
 from ..interrupts import stopped_by_ctrl_c
-from ..parameters import JointParameters, ParameterError, SliderCrankParameters
+from ..parameters import JointParameters, ParameterError, SliderCrankParameters, joint_size_note
 from ..run_options import (
     add_fmu_arguments, add_initial_profile_argument, add_model_arguments, add_output_arguments, add_settling_argument,
     calibrated_wear_coefficient, gravity_value, model_from_options, read_initial_profile, restate_default,
@@ -41,19 +41,26 @@ def given_options(args, cls) -> dict:
     return run_options.given_options(vars(args), cls)
 
 
-def stiffness_note(joint: JointParameters, args) -> None:
-    """The note that a given contact stiffness overrides the one the radii and materials give (unless --quiet)."""
-    if joint.contact_stiffness_N_m1_5 is not None and not getattr(args, "quiet", False):
+def model_notes(joint: JointParameters, mechanism: SliderCrankParameters, args) -> None:
+    """Before a run (unless --quiet): the note that a given contact stiffness overrides the one the radii and materials
+    give, and the note that a length of the joint is longer than the crank and rod both (summary.json's
+    ``joint_size_note``: before the run, since such a run may diverge)."""
+    if getattr(args, "quiet", False):
+        return
+    if joint.contact_stiffness_N_m1_5 is not None:
         print(f"note: --contact-stiffness-N-m1-5 {joint.contact_stiffness_N_m1_5:g} overrides the "
               f"{joint.stiffness_from_materials():.4g} N/m^1.5 the radii and materials give (Eqs. 16-17)",
               file=sys.stderr)
+    size = joint_size_note(joint, mechanism)["joint_size_note"]
+    if size:
+        print(f"note: {size}", file=sys.stderr)
 
 
 def model_from_args(args, every_law: bool = False) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options
     (:func:`wearjoint.run_options.model_from_options`), with the note of a given contact stiffness."""
     joint, mechanism = model_from_options(vars(args), every_law)
-    stiffness_note(joint, args)
+    model_notes(joint, mechanism, args)
     return joint, mechanism
 
 
@@ -78,9 +85,8 @@ def print_summary(summary: dict, args, extra_keys=()) -> None:
     for k in SUMMARY_KEYS + tuple(extra_keys):
         v = summary.get(k)
         print(f"  {k:28s} {v:.6g}" if isinstance(v, float) else f"  {k:28s} {v}")
-    for note in ("joint_size_note", "wear_coefficient_note"):
-        if summary.get(note):
-            print(f"note: {summary[note]}", file=sys.stderr)
+    if summary.get("wear_coefficient_note"):
+        print(f"note: {summary['wear_coefficient_note']}", file=sys.stderr)
     print(f"results in {args.out}")
 
 
@@ -96,5 +102,5 @@ def exit_status(record, command: str) -> int:
 
 __all__ = ["add_fmu_arguments", "add_initial_profile_argument", "add_model_arguments", "add_output_arguments",
            "add_settling_argument", "calibrated_wear_coefficient", "check_settling", "exit_status", "given_options",
-           "gravity_value", "model_from_args", "print_summary", "read_initial_profile", "require_option",
-           "restate_default", "stiffness_note", "take_calibration", "with_options", "SUMMARY_KEYS", "_option"]
+           "gravity_value", "model_from_args", "model_notes", "print_summary", "read_initial_profile", "require_option",
+           "restate_default", "take_calibration", "with_options", "SUMMARY_KEYS", "_option"]

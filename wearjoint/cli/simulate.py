@@ -6,7 +6,7 @@ from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_simulate_arguments as add_arguments
 from ..targets import simulate_config, simulate_record
-from .options import exit_status, print_summary, stiffness_note
+from .options import exit_status, print_summary, model_notes
 
 
 def compiled_kernels(args) -> str:
@@ -17,7 +17,7 @@ def compiled_kernels(args) -> str:
 
 def run(args) -> int:
     config = simulate_config(vars(args))
-    stiffness_note(config.joint, args)
+    model_notes(config.joint, config.mechanism, args)
     with results_kept():           # Ctrl-C after the run waits for its results
         record = simulate_record(config, progress=not args.quiet)
         summary = write_results(record, args.out, plots=not args.no_plots,

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 from ..studies.wear_study import WearStudyConfig
 from ..targets import parse_float_list, parse_int_list, wear_study_config
-from .options import stiffness_note
+from .options import model_notes
 
 
 def config_from_args(args) -> WearStudyConfig:
     config = wear_study_config(vars(args))
-    stiffness_note(config.joint, args)
+    model_notes(config.joint, config.mechanism, args)
     return config
 
 
