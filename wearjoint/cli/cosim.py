@@ -10,7 +10,7 @@ from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_cosim_arguments as add_arguments
 from ..targets import cosim_config, cosim_record
-from .options import exit_status, print_summary, model_notes
+from .options import exit_status, model_notes, print_summary
 
 COMMUNICATION_KEYS = ("communication_steps", "rollbacks", "fmi_time_s", "master_time_s")
 INTEGRATOR_KEYS = ("integrator_accepted_steps", "integrator_rejected_steps")

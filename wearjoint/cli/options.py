@@ -58,7 +58,7 @@ def model_notes(joint: JointParameters, mechanism: SliderCrankParameters, args) 
 
 def model_from_args(args, every_law: bool = False) -> tuple[JointParameters, SliderCrankParameters]:
     """Build (and validate) the parameter sets from parsed options
-    (:func:`wearjoint.run_options.model_from_options`), with the note of a given contact stiffness."""
+    (:func:`wearjoint.run_options.model_from_options`), with their notes (:func:`model_notes`)."""
     joint, mechanism = model_from_options(vars(args), every_law)
     model_notes(joint, mechanism, args)
     return joint, mechanism

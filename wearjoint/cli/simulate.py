@@ -6,7 +6,7 @@ from ..interrupts import results_kept
 from ..results import write_results
 from ..run_options import add_simulate_arguments as add_arguments
 from ..targets import simulate_config, simulate_record
-from .options import exit_status, print_summary, model_notes
+from .options import exit_status, model_notes, print_summary
 
 
 def compiled_kernels(args) -> str:

@@ -230,7 +230,7 @@ def table(results: list) -> str:
         reference = next(iter(case["rows"].values()))
         for label, row in case["rows"].items():
             cells = []
-            relative = relative_differences(row, reference)
+            relative = relative_differences(row, reference) if "z" in row else {}
             for name in STATISTICS:
                 text = f"{row[name]['mean']:.3g} ± {row[name]['se']:.2g}"
                 if "z" in row:
