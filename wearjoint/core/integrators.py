@@ -52,6 +52,12 @@ _DOPRI_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253
                      22.0 / 525.0, -1.0 / 40.0])
 _RK4_C = np.array([0.5, 0.5, 1.0])
 _UNUSED_TRIG = (0.0, 0.0, 0.0, 0.0)    # rk4_step's trig where the mode calls libm per stage
+# the derivative where it runs once per step or once per run, not per stage: compiled once and called from those
+# six sites.  Inlined at each, a cold run compiled the mechanism's derivative six more times per specialisation
+# (15 of a cold simulate's 52 s); Dormand-Prince with wear over two revolutions runs as fast, within this machine's
+# noise (the stages keep it inlined: the derivative's tail called at every evaluation made RK4 12 % slower)
+_derivative_per_step = kernel(derivative.py_func)
+_derivative_evaluated_per_step = kernel(derivative_evaluated.py_func)
 
 
 @kernel
@@ -209,9 +215,9 @@ def accept_point(t, y, h, k_end, mode, mp, joint, body_forces, ws, dy, reuse_k_e
         for i in range(dy.shape[0]):
             dy[i] = k_end[i]
     elif mode == MODE_CLEARANCE and (state == JOINT_UNCHANGED or state == JOINT_EVALUATED):
-        derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
+        _derivative_evaluated_per_step(t, y, mp, joint, body_forces, ws, dy)
     else:
-        derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+        _derivative_per_step(t, y, mode, mp, joint, body_forces, ws, dy)
     return state == JOINT_EVALUATED or state == JOINT_WORN
 
 
@@ -240,7 +246,7 @@ def record_accepted(t, dt, y, dy, worn, implicit, before, mp, joint, body_forces
         after = result[r]
         result[r] = share * before[r] + (1.0 - share) * after
         before[r] = after
-    derivative_evaluated(t, y, mp, joint, body_forces, ws, record_dy)
+    _derivative_evaluated_per_step(t, y, mp, joint, body_forces, ws, record_dy)
     record_step(t, dt, y, record_dy, result, mp, rev_stats, samples, track)
     for r in range(WORN_VALUES):
         result[r] = before[r]
@@ -300,7 +306,7 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
     accepted = 0
     rejected = 0
     onset_step = np.inf                         # RK4: a shortened step that ends just past a contact onset
-    derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+    _derivative_per_step(t, y, mode, mp, joint, body_forces, ws, dy)
     pen_start = result[R_PENETRATION]
     while t < t_end * (1.0 - 1e-15) - 1e-300 and not joint_failed(joint):
         if method == RK4:
@@ -330,9 +336,9 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             for i in range(n2):
                 y[i] = y_new[i]
             if evaluated:                       # the joint's result holds its contact at (t, y)
-                derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
+                _derivative_evaluated_per_step(t, y, mp, joint, body_forces, ws, dy)
             else:
-                derivative(t, y, mode, mp, joint, body_forces, ws, dy)
+                _derivative_per_step(t, y, mode, mp, joint, body_forces, ws, dy)
             record_accepted(t, step, y, dy, worn, False, before, mp, joint, body_forces, ws, record_dy, rev_stats,
                             samples, track)
             pen_start = result[R_PENETRATION]
