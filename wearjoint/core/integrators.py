@@ -52,10 +52,10 @@ _DOPRI_E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253
                      22.0 / 525.0, -1.0 / 40.0])
 _RK4_C = np.array([0.5, 0.5, 1.0])
 _UNUSED_TRIG = (0.0, 0.0, 0.0, 0.0)    # rk4_step's trig where the mode calls libm per stage
-# the derivative where it runs once per step or once per run, not per stage: compiled once and called from those
-# six sites.  Inlined at each, a cold run compiled the mechanism's derivative six more times per specialisation
-# (15 of a cold simulate's 52 s); Dormand-Prince with wear over two revolutions runs as fast, within this machine's
-# noise (the stages keep it inlined: the derivative's tail called at every evaluation made RK4 12 % slower)
+# the derivative where it runs once per Dormand-Prince step or once per run, not per stage: compiled once and called
+# from those four sites.  Inlined at each, a cold run compiled the mechanism's derivative four more times per
+# specialisation; DOPRI with wear over two revolutions runs as fast, within this machine's noise.  RK4's per-step
+# derivative stays inlined: called, its 1 us step took 4-5 % longer (and called at every stage, 12 %)
 _derivative_per_step = kernel(derivative.py_func)
 _derivative_evaluated_per_step = kernel(derivative_evaluated.py_func)
 
@@ -336,9 +336,9 @@ def _integrate_steps(method, t, t_end, y, control, mode, mp, joint, body_forces,
             for i in range(n2):
                 y[i] = y_new[i]
             if evaluated:                       # the joint's result holds its contact at (t, y)
-                _derivative_evaluated_per_step(t, y, mp, joint, body_forces, ws, dy)
+                derivative_evaluated(t, y, mp, joint, body_forces, ws, dy)
             else:
-                _derivative_per_step(t, y, mode, mp, joint, body_forces, ws, dy)
+                derivative(t, y, mode, mp, joint, body_forces, ws, dy)
             record_accepted(t, step, y, dy, worn, False, before, mp, joint, body_forces, ws, record_dy, rev_stats,
                             samples, track)
             pen_start = result[R_PENETRATION]
