@@ -12,6 +12,7 @@ import textwrap
 
 import pytest
 
+from terminal_signals import default_sigint
 from wearjoint.interrupts import INTERRUPTED, results_kept, writing_results
 
 SCRIPT = textwrap.dedent("""
@@ -46,7 +47,7 @@ def _interrupted(tmp_path, command: str, while_writing: bool):
     out = tmp_path / "run"
     script = SCRIPT.format(module=command, command=command, while_writing=while_writing)
     done = subprocess.run([sys.executable, "-c", script, str(out)], capture_output=True, text=True, timeout=600,
-                          start_new_session=True)
+                          start_new_session=True, preexec_fn=default_sigint)
     return done, out
 
 
@@ -111,7 +112,8 @@ def test_an_interrupted_wear_study_says_how_far_its_checkpoint_reached(tmp_path)
     from wearjoint.studies.wear_study_recovery import CHECKPOINT_NAME, checkpoint_revolution, read_checkpoint
 
     out = tmp_path / "study"
-    done = subprocess.run([sys.executable, "-c", STUDY_SCRIPT, str(out)], capture_output=True, text=True, timeout=600)
+    done = subprocess.run([sys.executable, "-c", STUDY_SCRIPT, str(out)], capture_output=True, text=True, timeout=600,
+                          preexec_fn=default_sigint)
     assert done.returncode == 130, done.stderr
     reached = checkpoint_revolution(read_checkpoint(out / CHECKPOINT_NAME))
     assert 0 < reached < 40

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from terminal_signals import default_sigint
 from test_sweep import read_csv, wearjoint
 from test_sweep_faults import _finished, _stop, _wait_for
 from wearjoint.cli import main
@@ -308,13 +309,6 @@ def test_a_resumed_analysis_of_fewer_outputs_leaves_no_earlier_figure(studies, t
     assert [p.name for p in out.glob("sensitivity_*.png")] == ["sensitivity_max_wear_depth_m.png"]
 
 
-def _default_sigint() -> None:
-    """In the child before it starts: Ctrl-C as a terminal delivers it.  A child inherits an ignored SIGINT,
-    and a pytest-xdist worker may run this test with SIGINT ignored; Python then never raises
-    KeyboardInterrupt."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 def test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them(tmp_path):
     out = tmp_path / "out"
     # 12 runs of ~0.5 s (RK4 at 1 us over a quarter revolution) one after the other: the study is still running
@@ -324,7 +318,7 @@ def test_a_stopped_study_keeps_its_finished_runs_and_resume_reuses_them(tmp_path
             "--outputs", "max_wear_depth_m", "--workers", "1", "--out", str(out), "--quiet"]
     here = signal.getsignal(signal.SIGINT)
     client = subprocess.Popen([sys.executable, "-m", "wearjoint.cli", *args], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint)
+                              stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint)
     try:
         _wait_for(lambda: len(_finished(out)) >= 2 or client.poll() is not None, 900, "two finished runs")
         finished_before = len(_finished(out))
