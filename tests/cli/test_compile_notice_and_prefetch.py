@@ -307,6 +307,45 @@ def test_an_ahead_of_time_build_that_lasts_says_the_references_wall_time_and_cou
     assert left and all(seconds - 3.5 <= s <= seconds + 0.5 for s in left), (seconds, err)   # shown to the second
 
 
+def test_a_build_beside_another_running_build_says_their_time_together(tmp_path, monkeypatch, capfd):
+    """A change to the kernels rebuilt the joint FMU (another process) and the master at once: their notices said
+    18 s and 13 s, their references alone, where they took 35 s and 29 s sharing the cores.  With another live
+    process's FMU build marked in the cache, the master's notice gives the two references summed."""
+    from wearjoint._compile import concurrent_builds
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        folder = concurrent_builds._folder()
+        folder.mkdir(parents=True)
+        (folder / f"fmu.{other.pid}").touch()
+        _ahead_of_time_build(tmp_path, monkeypatch, 0.2)
+    finally:
+        other.kill()
+        other.wait()
+    first = capfd.readouterr().err.splitlines()[0]
+    together = notice.reference_walls()["master"] + notice.reference_walls()["fmu"]
+    assert f": about {together:.0f} s on first use" in first, first
+    assert [marker.name for marker in folder.iterdir()] == [f"fmu.{other.pid}"]   # its own marker gone with it
+
+
+def test_only_other_live_builds_count_and_a_dead_ones_marker_is_removed(tmp_path, monkeypatch):
+    from wearjoint._compile import concurrent_builds
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    finished = subprocess.Popen([sys.executable, "-c", "pass"])
+    finished.wait()
+    folder = concurrent_builds._folder()
+    folder.mkdir(parents=True)
+    (folder / f"slider-crank-fmu.{finished.pid}").touch()
+    (folder / f"fmu.{os.getppid()}").touch()               # this process's parent: alive
+    with concurrent_builds.running("master"):
+        assert (folder / f"master.{os.getpid()}").is_file()
+        assert concurrent_builds.others("master") == ["fmu"]
+        assert concurrent_builds.others("fmu") == ["fmu", "master"]   # the parent's build is another process's
+    assert sorted(marker.name for marker in folder.iterdir()) == [f"fmu.{os.getppid()}"]
+
+
 def test_a_short_ahead_of_time_build_says_nothing(tmp_path, monkeypatch, capfd):
     _ahead_of_time_build(tmp_path, monkeypatch, 5.0)
     assert capfd.readouterr().err == ""

@@ -348,14 +348,16 @@ def watch_command(command: str):
     return watching(COMMAND_KERNELS.get(command, "kernels"))
 
 
-def announced_progress(what: str, cached: bool = False, speed: SpeedCalibration | None = None):
+def announced_progress(what: str, cached: bool = False, speed: SpeedCalibration | None = None,
+                       seconds: float | None = None):
     """:func:`announce` and a progress bar of ``what``'s compilations, counted by the caller (none where only what
     the command adds compiles: their number is not known); with ``speed``, or for a build ahead of time
     (:data:`AHEAD_OF_TIME`: its last functions take most of its time, so a count's rate says "1 s left" for 30),
-    the caller gives the bar the time left."""
+    the caller gives the bar the time left.  ``seconds``: the time to announce (a build ahead of time beside others:
+    their references summed, :mod:`.concurrent_builds`), else the reference's or ``speed``'s."""
     from ..progress import Progress
 
-    announce(what, cached=cached, seconds=None if speed is None else speed.total_s)
+    announce(what, cached=cached, seconds=seconds if seconds is not None else None if speed is None else speed.total_s)
     count = cold_run(what)[1] if speed is None else speed.count
     return Progress(0 if cached else count, "compiling", unit="functions", delay_s=0.0,
                     caller_eta=speed is not None or what in AHEAD_OF_TIME)

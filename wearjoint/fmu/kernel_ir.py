@@ -78,6 +78,7 @@ def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
     progress bar of their compilations once they have taken ANNOUNCE_AFTER_S (as the engines' notice), its time
     left the reference's wall seconds less those gone (unknown past them).  They take the kernels numba's cache
     holds (an earlier build's: the same generic CPU) unless ``fresh`` (an empty cache)."""
+    from .._compile import concurrent_builds
     from .._compile.notice import AHEAD_OF_TIME, ANNOUNCE_AFTER_S, announced_progress, cold_run   # imports numba
 
     parts = _aot_parts(model)
@@ -90,7 +91,8 @@ def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
             if line.strip().isdigit():
                 counts[k] = int(line)
 
-    with tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryDirectory() as logs:
+    with (tempfile.TemporaryDirectory(prefix="wearjoint_numba_") as cache, tempfile.TemporaryDirectory() as logs,
+          concurrent_builds.running(key)):
         env = {**os.environ, **AOT_ENVIRONMENT, **({"NUMBA_CACHE_DIR": cache} if fresh else {})}
         processes, readers = [], []
         for k, part in enumerate(parts):
@@ -103,8 +105,9 @@ def _compile_ir_fresh(out_dir: Path, model: str, fresh: bool) -> dict:
         start, reference_s = time.perf_counter(), cold_run(key)[0]
         while any(process.poll() is None for process in processes):
             elapsed = time.perf_counter() - start
-            if bar is None and elapsed >= ANNOUNCE_AFTER_S:
-                bar = announced_progress(key)
+            if bar is None and elapsed >= ANNOUNCE_AFTER_S:   # builds running at once share the cores
+                reference_s += sum(cold_run(other)[0] for other in concurrent_builds.others(key))
+                bar = announced_progress(key, seconds=reference_s)
             if bar is not None:
                 if sum(counts) >= bar.total:   # more than the reference's: not 100 % while a kernel compiles
                     bar.set_total(sum(counts) + 1)

@@ -26,6 +26,7 @@ import traceback
 from pathlib import Path
 
 from .. import targets
+from ..processes import process_alive
 
 _LOCK = threading.Lock()
 _WARM_ENGINES: set = set()
@@ -36,19 +37,6 @@ INPUTS_FOLDER_PREFIX = "wearjoint-inputs-"       # and of the input files writte
 DASK_FOLDER_PREFIX = "wearjoint-dask-"           # and of a local cluster's scratch space (the process that started it)
 
 
-def _process_alive(pid: int) -> bool:
-    """Whether process ``pid`` exists (POSIX; elsewhere it is taken as alive: nothing is removed)."""
-    if os.name != "posix":
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:                                  # another user's process
-        return True
-    return True
-
-
 def remove_orphan_case_folders(root: Path | None = None) -> None:
     """Remove the case and input folders (under ``root``, default the temporary folder) of worker processes that are
     gone, and the scratch spaces of local clusters whose process is: a sweep stopped by ending its workers left each
@@ -57,7 +45,7 @@ def remove_orphan_case_folders(root: Path | None = None) -> None:
     for prefix in (CASE_FOLDER_PREFIX, INPUTS_FOLDER_PREFIX, DASK_FOLDER_PREFIX):
         for folder in Path(root or tempfile.gettempdir()).glob(f"{prefix}*-*"):
             pid = folder.name[len(prefix):].split("-", 1)[0]
-            if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
+            if pid.isdigit() and int(pid) != os.getpid() and not process_alive(int(pid)):
                 shutil.rmtree(folder, ignore_errors=True)
 
 
