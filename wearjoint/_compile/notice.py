@@ -41,6 +41,8 @@ ESTIMATES = {
               "cosim/master_loop.master_loop-*.nbi"),
     "cosim-me": ("the monolithic engine's numba kernels, around the FMU's Model Exchange interface", None, None,
                  "cosim/fmu_joint._accept-*.nbi"),
+    "cosim-trace": ("the numba kernels that make the master's trace the run's record", None, None,
+                    "core/integrators.record_points-*.nbi"),
     "validate": ("the compared engines' numba kernels (the monolithic engine's, through the FMU too, and exudyn's "
                  "joint)", None, None, "cosim/fmu_joint._accept-*.nbi"),
     "fmu": ("the joint FMU's kernels, ahead of time (once per source version; two processes)", None, None, None),
@@ -60,7 +62,7 @@ SPEED_FACTOR_RANGE = (0.2, 5.0)
 # the keys of the kernels compiled ahead of time -> their model (:data:`wearjoint.fmu.aot.ENTRY_POINTS`)
 AHEAD_OF_TIME = {"fmu": "joint", "slider-crank-fmu": "slider-crank", "master": "master"}
 COMMAND_KERNELS = {"simulate": "simulate", "simulate-gear": "simulate-gear", "cosim": "cosim", "cosim-me": "cosim-me",
-                   "cosim-study": "cosim", "validate": "validate"}
+                   "cosim-trace": "cosim-trace", "cosim-study": "cosim", "validate": "validate"}
 # commands (or their kernels' keys) of the monolithic engine -> the key of their run on two cores, where a second
 # process compiles the wear's kernels (prefetch)
 HELPED_COMMANDS = {"simulate": "simulate-helped", "wear-study": "simulate-helped", "simulate-gear": "simulate-gear"}

@@ -28,8 +28,11 @@ def compiles(args) -> bool:
 
 def compiled_kernels(args) -> str:
     """The compile notice's key of the kernels the run compiles (wearjoint._compile.notice.ESTIMATES): through the
-    FMU's Model Exchange interface the monolithic engine's, else the co-simulation master's."""
-    return "cosim-me" if args.master == "wearjoint" and args.fmu_interface == "model-exchange" else "cosim"
+    FMU's Model Exchange interface the monolithic engine's, in a third-party master those that make its trace the
+    run's record, else the co-simulation master's."""
+    if args.master != "wearjoint":
+        return "cosim-trace"
+    return "cosim-me" if args.fmu_interface == "model-exchange" else "cosim"
 
 
 def run(args) -> int:
