@@ -266,8 +266,7 @@ def test_the_shipped_reference_holds_each_engines_cold_run():
         names = [name for name, _ in runs[what]]
         kernel = "wearjoint." if marker is None else marker.split("/")[1].split("-")[0]   # core/integrators._integ...
         assert any(kernel in name for name in names), (what, kernel)
-        # a cold run compiles for a second or more (a third-party master's trace made a record: 0.9 s)
-        assert all(isinstance(s, float) and s >= 0.0 for _, s in runs[what]) and notice.cold_run(what)[0] > 0.5
+        assert all(isinstance(s, float) and s >= 0.0 for _, s in runs[what]) and notice.cold_run(what)[0] > 1.0
         if what in walls:
             assert notice.cold_run(what) == (walls[what], len(runs[what])) and walls[what] > 1.0
     assert set(walls) == {*notice.AHEAD_OF_TIME, "simulate-helped", "simulate-gear"}
@@ -444,7 +443,7 @@ def test_the_fmu_build_splits_its_kernels_by_the_cores_it_may_use(monkeypatch, c
 def test_cosim_announces_the_kernels_its_interface_compiles(options, kernels):
     """cosim through the FMU's Model Exchange interface compiles the monolithic engine around the FMU (93 functions,
     about 3 minutes on a loaded machine), where its notice had said the master's 29 functions in 15 s; in libcosim
-    it compiles what makes the trace the run's record (18 functions, 4.6 s), where it said the master's, 18 s."""
+    it compiles what makes the trace the run's record (6 functions, 0.9 s), where it said the master's, 18 s."""
     from wearjoint.cli import build_parser, cosim
 
     args = build_parser("cosim").parse_args(["cosim", "--out", "unused", *options])

@@ -3,7 +3,8 @@ so that a build's compile notice gives the time the builds running together take
 
 A change to the kernels rebuilds the joint FMU's and the master's (a cold `cosim`): the FMU in a second process, the
 master in the first, each in two processes of its own.  Their notices gave each its reference alone (18 s, 13 s)
-where they took 35–37 s and 29–30 s side by side; the sum of the references, 32 s, is within 16 % of both.
+where they took 35 s and 29 s side by side (with the markers, 37 s and 30 s); the sum of the references, 32 s, is
+within 16 % of each.
 """
 from __future__ import annotations
 

@@ -5,8 +5,7 @@ temporary folder; the other caches as they are) with :data:`~wearjoint._compile.
 each compilation's own seconds: ``simulate-helped`` is ``wearjoint simulate`` on two cores (its second process
 compiles the wear's kernels), ``simulate`` the same on one core, ``simulate-gear`` with ``--integrator gear`` on two
 cores, ``cosim`` ``wearjoint cosim`` where the master's
-library cannot be loaded, ``cosim-trace`` ``wearjoint cosim --master container`` (a third-party master's trace made
-the run's record), ``validate`` ``wearjoint validate --quick``, ``exudyn`` the README's exudyn example
+library cannot be loaded, ``validate`` ``wearjoint validate --quick``, ``exudyn`` the README's exudyn example
 (Linux: the runs are pinned to their cores).
 The kernels compiled ahead of time (:data:`~wearjoint._compile.notice.AHEAD_OF_TIME`: ``fmu``, ``slider-crank-fmu``,
 ``master``) are each model's IR compiled afresh as a build without shipped IR does (two processes side by side on two
@@ -54,7 +53,6 @@ ENGINES = {
     "simulate-gear": ([sys.executable, "-m", "wearjoint", "simulate", "--integrator", "gear", *RUN], 2),
     "cosim": ([sys.executable, "-c", _COSIM_WITHOUT_LIBRARY, "cosim", *RUN], 1),
     "cosim-me": ([sys.executable, "-m", "wearjoint", "cosim", "--fmu-interface", "model-exchange", *RUN], 1),
-    "cosim-trace": ([sys.executable, "-m", "wearjoint", "cosim", "--master", "container", *RUN], 1),
     "validate": ([sys.executable, "-m", "wearjoint", "validate", "--quick", "--out"], 1),
     "exudyn": ([sys.executable, "-c", _EXUDYN], 1),
     **{key: ([sys.executable, "-c", _AHEAD_OF_TIME_BUILD, model], 2) for key, model in AHEAD_OF_TIME.items()},
